@@ -1,0 +1,149 @@
+// Model: everything loaded from a scenario. Immutable after load (DESIGN.md, "model / state split").
+//
+// Frames (DESIGN.md): W world, ENU, z up, water surface at z = water.surface_z; B vehicle body frame
+// (x forward, y left, z up), the frame odometry reports; L link frame; G collision-geometry frame;
+// T thruster. Poses are X_AB (pose of B in A), positions p_AB, rotations R_AB.
+// Units: SI everywhere (m, kg, s, rad, N). Degrees exist only in YAML keys ending in `_deg` and are
+// converted on load.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hadal {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+enum class VehicleType { kAuv, kRov, kLander, kSurfaceVessel, kGlider, kCrawler };
+
+enum class CollisionShapeType { kBox, kSphere, kCylinder, kCapsule };
+
+// A collision primitive attached to a link. Cylinders and capsules have their axis along G's z axis
+// (as SDF/URDF); `length` is the length of the cylindrical part (a capsule's total length is
+// length + 2 radius).
+struct CollisionShape {
+  CollisionShapeType type = CollisionShapeType::kBox;
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  // full extents along G's x, y, z [m]
+  double radius = 0.0;                                 // sphere, cylinder, capsule [m]
+  double length = 0.0;                                 // cylinder, capsule [m]
+  Eigen::Isometry3d X_LG = Eigen::Isometry3d::Identity();
+};
+
+// Lumped buoyancy of a link: the displaced volume of the fully submerged link and the centre of
+// buoyancy (centroid of that volume).
+struct BuoyancySpec {
+  double volume = 0.0;                          // [m^3]
+  Eigen::Vector3d p_LCb = Eigen::Vector3d::Zero();  // centre of buoyancy in L [m]
+};
+
+struct LinkSpec {
+  std::string name;
+  double mass = 0.0;                                      // [kg], > 0
+  Eigen::Matrix3d I_Lcm = Eigen::Matrix3d::Identity();    // inertia about the link's CoM, L axes [kg m^2]
+  Eigen::Vector3d p_LLcm = Eigen::Vector3d::Zero();       // centre of mass in L [m]
+  Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();  // link frame in the vehicle body frame
+  std::vector<CollisionShape> collisions;
+  BuoyancySpec buoyancy;
+};
+
+// A propeller thruster. Thrust T = K_T rho D^4 n|n| along axis_L, reaction torque
+// Q = -handedness K_Q rho D^5 n|n| about axis_L; rotor speed n [rev/s] follows the commanded speed
+// with a first-order lag of time constant rotor_time_constant.
+struct ThrusterSpec {
+  std::string name;
+  int link_index = 0;                                   // index into VehicleSpec::links
+  Eigen::Vector3d p_LT = Eigen::Vector3d::Zero();       // propeller position in L [m]
+  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitX();    // unit thrust direction for n > 0, in L
+  double propeller_diameter = 0.0;                      // D [m]
+  double thrust_coefficient = 0.0;                      // K_T [-]
+  double torque_coefficient = 0.0;                      // K_Q [-]
+  double rotor_time_constant = 0.0;                     // tau [s], >= 0 (0: rotor follows instantly)
+  double max_rotor_speed = 0.0;                         // n_max [rev/s] (YAML: max_rpm)
+  int handedness = 1;                                   // +1 right-handed, -1 left-handed propeller
+};
+
+enum class FluidModelType { kLumped };
+
+// Fossen-style lumped fluid model: buoyancy rho g V at the centre of buoyancy, and damping in the body
+// frame, tau = -(D_l + D_q |nu|) nu with nu = [u v w p q r] relative to the water. Coefficients are
+// magnitudes (>= 0): linear [N s/m x3, N m s/rad x3], quadratic [N s^2/m^2 x3, N m s^2/rad^2 x3].
+struct FluidSpec {
+  FluidModelType model = FluidModelType::kLumped;
+  Vector6d linear_damping = Vector6d::Zero();
+  Vector6d quadratic_damping = Vector6d::Zero();
+};
+
+// Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
+// thrusters take these normalised setpoints (one per thruster, in [-1, 1]).
+struct SetpointKeyframe {
+  double time = 0.0;  // [s]
+  std::vector<double> setpoints;
+};
+
+struct VehicleSpec {
+  std::string name;                 // DDS topics are rt/<name>/...
+  VehicleType type = VehicleType::kAuv;
+  std::string source_file;          // file the vehicle definition came from (scenario or include)
+  std::vector<LinkSpec> links;      // links[0] is the base link; links are rigidly attached to B
+  std::vector<ThrusterSpec> thrusters;
+  FluidSpec fluid;
+  Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_WB_initial = Eigen::Vector3d::Zero();  // initial linear velocity in W [m/s]
+  std::vector<SetpointKeyframe> schedule;   // used until a client first commands the vehicle
+  double command_timeout = 1.0;             // watchdog [s of sim time]
+  double odometry_rate_hz = 50.0;
+  double thruster_state_rate_hz = 20.0;
+
+  int link_index(const std::string& link_name) const;
+};
+
+enum class SeabedType { kPlane };
+
+struct SeabedSpec {
+  SeabedType type = SeabedType::kPlane;
+  double z = -100.0;  // height of the flat seabed in W [m]
+};
+
+struct WaterSpec {
+  double surface_z = 0.0;  // water surface height in W [m]
+  double density = 1025.0;  // [kg/m^3], constant for now
+};
+
+// Geodetic position of W's origin (WGS84), for geo-referenced sensors.
+struct GeodeticOrigin {
+  double latitude = 0.0;   // [rad] (YAML: latitude_deg)
+  double longitude = 0.0;  // [rad] (YAML: longitude_deg)
+  double altitude = 0.0;   // height above the ellipsoid [m]
+};
+
+struct WorldSpec {
+  Eigen::Vector3d gravity_W = Eigen::Vector3d(0.0, 0.0, -9.80665);  // [m/s^2]
+  double physics_rate_hz = 500.0;
+  std::uint64_t seed = 0;
+  WaterSpec water;
+  SeabedSpec seabed;
+  GeodeticOrigin origin;
+  std::string frame_id = "world";  // header.frame_id of world-frame messages
+  double clock_rate_hz = 100.0;    // rt/clock
+  double status_rate_hz = 10.0;    // rt/hadal/status
+
+  double step_size() const { return 1.0 / physics_rate_hz; }
+};
+
+struct Model {
+  std::string scenario_file;
+  WorldSpec world;
+  std::vector<VehicleSpec> vehicles;
+
+  // Index of the vehicle with this name, or -1.
+  int vehicle_index(const std::string& name) const;
+};
+
+const char* to_string(VehicleType type);
+std::optional<VehicleType> vehicle_type_from_string(const std::string& text);
+
+}  // namespace hadal

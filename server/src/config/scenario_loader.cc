@@ -1,0 +1,601 @@
+#include "hadal/config/scenario_loader.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <utility>
+
+#include "yaml_reader.h"
+
+namespace hadal::config {
+
+std::string Diagnostic::format() const {
+  // Line 0 means "no position" (e.g. a file that cannot be opened); an empty path is the document root.
+  std::string out = file;
+  if (line > 0) out += ":" + std::to_string(line) + ":" + std::to_string(column);
+  out += ": error: ";
+  if (!path.empty()) out += path + ": ";
+  return out + message;
+}
+
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Inertia tensors typed by hand are rounded to 3-4 digits; a 0.1 % tolerance on the triangle inequality
+// still admits the limiting cases (thin rod, flat plate) written that way.
+constexpr double kTriangleRelativeTolerance = 1e-3;
+
+// Keys of a vehicle definition: an included file's root, or inline in the scenario's vehicle entry.
+const std::vector<std::string> kDefinitionKeys = {"type", "links", "thrusters", "fluid"};
+const std::vector<std::string> kVehicleEntryKeys = {
+    "name", "include", "initial_pose", "initial_velocity", "command_timeout_s", "odometry_rate_hz",
+    "thruster_state_rate_hz", "schedule", "type", "links", "thrusters", "fluid"};
+
+std::vector<std::pair<std::string, VehicleType>> vehicle_type_choices() {
+  std::vector<std::pair<std::string, VehicleType>> choices;
+  for (VehicleType type : {VehicleType::kAuv, VehicleType::kRov, VehicleType::kLander,
+                           VehicleType::kSurfaceVessel, VehicleType::kGlider, VehicleType::kCrawler}) {
+    choices.emplace_back(to_string(type), type);
+  }
+  return choices;
+}
+
+std::string join_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i > 0 ? ", " : "") + names[i];
+  return out;
+}
+
+std::string quoted(const std::string& text) { return "'" + text + "'"; }
+
+// Vehicle names become DDS/ROS topic segments (rt/<name>/...).
+bool is_valid_vehicle_name(const std::string& name) {
+  if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) return false;
+  return std::all_of(name.begin(), name.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+// R = Rz(yaw) Ry(pitch) Rx(roll), angles in radians.
+Eigen::Matrix3d rotation_from_rpy(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+// {position: [x, y, z], rpy_deg: [roll, pitch, yaw]}, both optional.
+bool read_pose(const Value& value, Eigen::Isometry3d* X) {
+  const MapReader map(value, {"position", "rpy_deg"});
+  if (!map.ok()) return false;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();
+  const bool ok = map.read_vector3("position", Need::kOptional, Range::finite(), &position) &
+                  map.read_vector3("rpy_deg", Need::kOptional, Range::finite(), &rpy_deg);
+  if (!ok) return false;
+  X->setIdentity();
+  X->linear() = rotation_from_rpy(rpy_deg * kDegToRad);
+  X->translation() = position;
+  return true;
+}
+
+// Reads a publication rate [Hz]: > 0 and, when the physics rate is known, at most the physics rate.
+bool read_rate(const MapReader& map, const std::string& key, std::optional<double> physics_rate_hz,
+               double* out) {
+  const std::optional<Value> value = map.optional(key);
+  if (!value) return true;
+  const std::optional<double> rate = value->number(Range::positive());
+  if (!rate) return false;
+  if (physics_rate_hz && *rate > *physics_rate_hz) {
+    value->error("must be <= world.physics_rate_hz (" + format_number(*physics_rate_hz) + ") (got " +
+                 value->node().Scalar() + ")");
+    return false;
+  }
+  *out = *rate;
+  return true;
+}
+
+// Rejects names used twice in one list; `names` maps each name to the path that used it first.
+bool check_unique(const Value& name_value, const std::string& name, const std::string& what,
+                  const std::string& owner_path, std::map<std::string, std::string>* names) {
+  const auto [it, inserted] = names->emplace(name, owner_path);
+  if (!inserted) {
+    name_value.error("duplicate " + what + " name " + quoted(name) + " (first used by " + it->second + ")");
+  }
+  return inserted;
+}
+
+// --- vehicle definition ------------------------------------------------------------------------------
+
+// What a vehicle definition (inline or included) yields, plus what cross-checks need to know about it.
+struct VehicleDefinition {
+  std::string source_file;
+  VehicleType type = VehicleType::kAuv;
+  std::vector<LinkSpec> links;
+  std::vector<ThrusterSpec> thrusters;
+  FluidSpec fluid;
+  // Thruster count and names, or nullopt when the thruster list itself is unusable (not a list, a
+  // thruster without a valid name): the schedule's setpoint count is then not checked.
+  std::optional<std::size_t> thruster_count;
+  std::optional<std::vector<std::string>> thruster_names;
+};
+
+// ixx, iyy, izz > 0 and products (default 0) form I_Lcm = [[ixx ixy ixz] [ixy iyy iyz] [ixz iyz izz]]
+// (tensor entries, as URDF/SDF). A physical body has a positive-definite I whose principal moments
+// satisfy the triangle inequalities A + B >= C (because A + B - C = 2 * integral of z^2 dm).
+bool read_inertia(const Value& value, Eigen::Matrix3d* I_out) {
+  const MapReader map(value, {"ixx", "iyy", "izz", "ixy", "ixz", "iyz"});
+  if (!map.ok()) return false;
+  double ixx = 0.0, iyy = 0.0, izz = 0.0, ixy = 0.0, ixz = 0.0, iyz = 0.0;
+  const bool ok = map.read_number("ixx", Need::kRequired, Range::positive(), &ixx) &
+                  map.read_number("iyy", Need::kRequired, Range::positive(), &iyy) &
+                  map.read_number("izz", Need::kRequired, Range::positive(), &izz) &
+                  map.read_number("ixy", Need::kOptional, Range::finite(), &ixy) &
+                  map.read_number("ixz", Need::kOptional, Range::finite(), &ixz) &
+                  map.read_number("iyz", Need::kOptional, Range::finite(), &iyz);
+  if (!ok) return false;
+
+  Eigen::Matrix3d I;
+  I << ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz;
+  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
+  if (!(moments.minCoeff() > 0.0)) {
+    value.error("must be positive definite (principal moments " + format_approximate(moments[0]) + ", " +
+                format_approximate(moments[1]) + ", " + format_approximate(moments[2]) + ")");
+    return false;
+  }
+  const double tolerance = kTriangleRelativeTolerance * moments.maxCoeff();
+  // Diagonal entries obey the inequalities in any axes, so check them first for a readable message.
+  const struct {
+    double a, b, c;
+    const char* text;
+  } diagonal_checks[] = {{ixx, iyy, izz, "ixx + iyy >= izz"},
+                         {iyy, izz, ixx, "iyy + izz >= ixx"},
+                         {izz, ixx, iyy, "izz + ixx >= iyy"}};
+  for (const auto& check : diagonal_checks) {
+    if (check.a + check.b < check.c - tolerance) {
+      value.error(std::string("violates the triangle inequality ") + check.text + " (" +
+                  format_number(check.a) + " + " + format_number(check.b) + " < " + format_number(check.c) +
+                  ")");
+      return false;
+    }
+  }
+  // Eigenvalues are sorted ascending: the binding inequality is m0 + m1 >= m2.
+  if (moments[0] + moments[1] < moments[2] - tolerance) {
+    value.error("violates the triangle inequality for principal moments (" + format_approximate(moments[0]) +
+                " + " + format_approximate(moments[1]) + " < " + format_approximate(moments[2]) + ")");
+    return false;
+  }
+  *I_out = I;
+  return true;
+}
+
+bool read_collision(const Value& value, CollisionShape* shape) {
+  const MapReader map(value, {"shape", "size", "radius", "length", "pose"});
+  if (!map.ok()) return false;
+  static const std::vector<std::pair<std::string, CollisionShapeType>> kShapes = {
+      {"box", CollisionShapeType::kBox},
+      {"sphere", CollisionShapeType::kSphere},
+      {"cylinder", CollisionShapeType::kCylinder},
+      {"capsule", CollisionShapeType::kCapsule}};
+  const bool shape_ok = map.read_choice("shape", Need::kRequired, kShapes, &shape->type);
+  // Values are checked whatever the shape; which of them the shape needs is checked below.
+  bool ok = shape_ok;
+  ok &= map.read_vector3("size", Need::kOptional, Range::positive(), &shape->box_size);
+  ok &= map.read_number("radius", Need::kOptional, Range::positive(), &shape->radius);
+  ok &= map.read_number("length", Need::kOptional, Range::positive(), &shape->length);
+  if (const auto pose = map.optional("pose")) ok &= read_pose(*pose, &shape->X_LG);
+  if (!shape_ok) return false;
+
+  const std::string shape_name = map.optional("shape")->node().Scalar();
+  const bool is_box = shape->type == CollisionShapeType::kBox;
+  const bool is_round = !is_box;
+  const bool has_length =
+      shape->type == CollisionShapeType::kCylinder || shape->type == CollisionShapeType::kCapsule;
+  const std::pair<const char*, bool> keys[] = {
+      {"size", is_box}, {"radius", is_round}, {"length", has_length}};
+  for (const auto& [key, needed] : keys) {
+    if (needed && !map.has(key)) {
+      map.required(key, "needed by shape " + quoted(shape_name));
+      ok = false;
+    } else if (!needed && map.has(key)) {
+      map.error_at_key(key, "key " + quoted(key) + " is not used by shape " + quoted(shape_name));
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+bool read_buoyancy(const Value& value, BuoyancySpec* buoyancy) {
+  const MapReader map(value, {"volume", "center"});
+  if (!map.ok()) return false;
+  return map.read_number("volume", Need::kRequired, Range::non_negative(), &buoyancy->volume) &
+         map.read_vector3("center", Need::kOptional, Range::finite(), &buoyancy->p_LCb);
+}
+
+// Reads a required `name` and reports it if already in `seen` (name -> path of its first user). False
+// only when there is no usable name: a duplicate still names something that references can match.
+bool read_unique_name(const MapReader& map, const std::string& what, std::map<std::string, std::string>* seen,
+                      std::string* name) {
+  const auto value = map.required("name");
+  if (!value) return false;
+  const auto text = value->string();
+  if (!text) return false;
+  *name = *text;
+  check_unique(*value, *text, what, map.value().path(), seen);
+  return true;
+}
+
+// Returns the link's name when it has a valid one (nullopt otherwise).
+std::optional<std::string> read_link(const Value& value, std::map<std::string, std::string>* seen_names,
+                                     LinkSpec* link) {
+  const MapReader map(value, {"name", "pose", "mass", "center_of_mass", "inertia", "collisions", "buoyancy"});
+  if (!map.ok()) return std::nullopt;
+  const bool name_ok = read_unique_name(map, "link", seen_names, &link->name);
+  if (const auto pose = map.optional("pose")) read_pose(*pose, &link->X_BL);
+  map.read_number("mass", Need::kRequired, Range::positive(), &link->mass);
+  map.read_vector3("center_of_mass", Need::kOptional, Range::finite(), &link->p_LLcm);
+  if (const auto inertia = map.required("inertia")) read_inertia(*inertia, &link->I_Lcm);
+  if (const auto collisions = map.optional("collisions")) {
+    if (const auto items = collisions->list()) {
+      for (const Value& item : *items) {
+        CollisionShape shape;
+        read_collision(item, &shape);
+        link->collisions.push_back(shape);
+      }
+    }
+  }
+  if (const auto buoyancy = map.optional("buoyancy")) read_buoyancy(*buoyancy, &link->buoyancy);
+  if (!name_ok) return std::nullopt;
+  return link->name;
+}
+
+// `link_names` is nullopt when some link has no valid name: an unmatched thruster link is then not
+// reported (it may name that link).
+std::optional<std::string> read_thruster(const Value& value,
+                                         const std::optional<std::vector<std::string>>& link_names,
+                                         std::map<std::string, std::string>* seen_names,
+                                         ThrusterSpec* thruster) {
+  const MapReader map(value,
+                      {"name", "link", "position", "direction", "propeller_diameter", "thrust_coefficient",
+                       "torque_coefficient", "rotor_time_constant_s", "max_rpm", "handedness"});
+  if (!map.ok()) return std::nullopt;
+  const bool name_ok = read_unique_name(map, "thruster", seen_names, &thruster->name);
+
+  if (const auto link = map.required("link")) {
+    if (const auto link_name = link->string()) {
+      const auto& names = link_names.value_or(std::vector<std::string>());
+      const auto it = std::find(names.begin(), names.end(), *link_name);
+      if (it != names.end()) {
+        thruster->link_index = static_cast<int>(it - names.begin());
+      } else if (link_names) {
+        link->error("no link named " + quoted(*link_name) + " in this vehicle (links: " + join_names(names) +
+                    ")");
+      }
+    }
+  }
+  map.read_vector3("position", Need::kRequired, Range::finite(), &thruster->p_LT);
+  if (const auto direction = map.required("direction")) {
+    if (const auto axis = direction->vector3()) {
+      // Below 1e-9 the normalised axis would be dominated by rounding.
+      if (axis->norm() < 1e-9) {
+        direction->error("must be non-zero (got [" + format_number(axis->x()) + ", " +
+                         format_number(axis->y()) + ", " + format_number(axis->z()) + "])");
+      } else {
+        thruster->axis_L = axis->normalized();
+      }
+    }
+  }
+  map.read_number("propeller_diameter", Need::kRequired, Range::positive(), &thruster->propeller_diameter);
+  map.read_number("thrust_coefficient", Need::kRequired, Range::positive(), &thruster->thrust_coefficient);
+  thruster->torque_coefficient = 0.05;
+  map.read_number("torque_coefficient", Need::kOptional, Range::non_negative(),
+                  &thruster->torque_coefficient);
+  thruster->rotor_time_constant = 0.1;
+  map.read_number("rotor_time_constant_s", Need::kOptional, Range::non_negative(),
+                  &thruster->rotor_time_constant);
+  double max_rpm = 0.0;
+  if (map.read_number("max_rpm", Need::kRequired, Range::positive(), &max_rpm)) {
+    thruster->max_rotor_speed = max_rpm / 60.0;
+  }
+  map.read_choice<int>("handedness", Need::kOptional, {{"right", 1}, {"left", -1}}, &thruster->handedness);
+  if (!name_ok) return std::nullopt;
+  return thruster->name;
+}
+
+void read_fluid(const Value& value, FluidSpec* fluid) {
+  const MapReader map(value, {"model", "linear_damping", "quadratic_damping"});
+  if (!map.ok()) return;
+  map.read_choice<FluidModelType>("model", Need::kOptional, {{"lumped", FluidModelType::kLumped}},
+                                  &fluid->model);
+  const std::pair<const char*, Vector6d*> dampings[] = {{"linear_damping", &fluid->linear_damping},
+                                                        {"quadratic_damping", &fluid->quadratic_damping}};
+  for (const auto& [key, out] : dampings) {
+    if (const auto damping = map.optional(key)) {
+      if (const auto values = damping->numbers(6, Range::non_negative())) {
+        *out = Eigen::Map<const Vector6d>(values->data());
+      }
+    }
+  }
+}
+
+// Reads the definition keys (type, links, thrusters, fluid) of `map`: the included file's root, or the
+// scenario's vehicle entry for an inline definition.
+VehicleDefinition read_definition(const MapReader& map) {
+  VehicleDefinition definition;
+  definition.source_file = map.value().file();
+  map.read_choice("type", Need::kRequired, vehicle_type_choices(), &definition.type);
+
+  std::optional<std::vector<std::string>> link_names;  // nullopt: not all links have a usable name
+  if (const auto links = map.required("links")) {
+    if (const auto items = links->list()) {
+      if (items->empty()) links->error("must not be empty (links[0] is the base link)");
+      link_names.emplace();
+      std::map<std::string, std::string> seen;
+      for (std::size_t i = 0; i < items->size(); ++i) {
+        LinkSpec link;
+        const auto name = read_link((*items)[i], &seen, &link);
+        if (name && link_names) {
+          link_names->push_back(*name);
+        } else {
+          link_names.reset();
+        }
+        definition.links.push_back(std::move(link));
+      }
+    }
+  }
+
+  definition.thruster_count = 0;
+  definition.thruster_names.emplace();
+  if (const auto thrusters = map.optional("thrusters")) {
+    const auto items = thrusters->list();
+    if (!items) {
+      definition.thruster_count.reset();
+      definition.thruster_names.reset();
+    } else {
+      definition.thruster_count = items->size();
+      std::map<std::string, std::string> seen;
+      for (std::size_t i = 0; i < items->size(); ++i) {
+        ThrusterSpec thruster;
+        const auto name = read_thruster((*items)[i], link_names, &seen, &thruster);
+        if (name && definition.thruster_names) {
+          definition.thruster_names->push_back(*name);
+        } else {
+          definition.thruster_names.reset();
+        }
+        definition.thrusters.push_back(std::move(thruster));
+      }
+    }
+  }
+
+  if (const auto fluid = map.optional("fluid")) read_fluid(*fluid, &definition.fluid);
+  return definition;
+}
+
+// --- scenario ------------------------------------------------------------------------------------------
+
+class ScenarioLoader {
+ public:
+  LoadResult load(const std::string& path);
+
+ private:
+  void read_world(const Value& value, WorldSpec* world);
+  void read_vehicle(const Value& value, VehicleSpec* vehicle);
+  // The definition in `include` (a path relative to the including file), loaded once per resolved path.
+  // nullopt when the file cannot be opened (reported at `include`) or does not parse.
+  const std::optional<VehicleDefinition>& included_definition(const Value& include, const std::string& path);
+  void read_schedule(const Value& value, const VehicleDefinition* definition,
+                     std::vector<SetpointKeyframe>* schedule);
+
+  DiagnosticSink sink_;
+  std::optional<double> physics_rate_hz_;  // nullopt when world.physics_rate_hz is invalid
+  struct IncludedFile {
+    std::string open_error;                       // set when the file cannot be opened
+    std::optional<VehicleDefinition> definition;  // nullopt when it cannot be opened or parsed
+  };
+  std::map<std::string, IncludedFile> includes_;      // by resolved path
+  std::map<std::string, std::string> vehicle_names_;  // name -> path of the entry that used it first
+};
+
+LoadResult ScenarioLoader::load(const std::string& path) {
+  Model model;
+  model.scenario_file = path;
+  std::string open_error;
+  const std::optional<YAML::Node> root = parse_yaml_file(path, &sink_, &open_error);
+  if (!root && !open_error.empty()) {
+    sink_.report(path, YAML::Mark::null_mark(), "", "cannot open scenario file (" + open_error + ")");
+  }
+  if (root) {
+    const auto source = std::make_shared<const Source>(Source{path, &sink_});
+    const MapReader map(Value::root(*root, source), {"world", "vehicles"});
+    if (const auto world = map.required("world")) read_world(*world, &model.world);
+    if (const auto vehicles = map.required("vehicles")) {
+      if (const auto items = vehicles->list()) {
+        if (items->empty()) vehicles->error("must not be empty");
+        for (std::size_t i = 0; i < items->size(); ++i) {
+          VehicleSpec vehicle;
+          read_vehicle((*items)[i], &vehicle);
+          model.vehicles.push_back(std::move(vehicle));
+        }
+      }
+    }
+  }
+
+  LoadResult result;
+  result.errors = sink_.sorted();
+  if (result.errors.empty()) result.model = std::move(model);
+  return result;
+}
+
+void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
+  const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
+                              "status_rate_hz", "water", "seabed", "origin"});
+  if (!map.ok()) return;
+  if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
+                      &world->physics_rate_hz)) {
+    physics_rate_hz_ = world->physics_rate_hz;
+  }
+  map.read_vector3("gravity", Need::kOptional, Range::finite(), &world->gravity_W);
+  if (const auto seed = map.optional("seed")) {
+    if (const auto value = seed->non_negative_integer()) world->seed = *value;
+  }
+  map.read_string("frame_id", Need::kOptional, &world->frame_id);
+  // The clock cannot tick faster than physics: the default follows a slower physics rate.
+  world->clock_rate_hz = std::min(world->clock_rate_hz, world->physics_rate_hz);
+  read_rate(map, "clock_rate_hz", physics_rate_hz_, &world->clock_rate_hz);
+  read_rate(map, "status_rate_hz", physics_rate_hz_, &world->status_rate_hz);
+
+  if (const auto water_value = map.optional("water")) {
+    const MapReader water(*water_value, {"surface_z", "density"});
+    if (water.ok()) {
+      water.read_number("surface_z", Need::kOptional, Range::finite(), &world->water.surface_z);
+      water.read_number("density", Need::kOptional, Range::left_open(0.0, 2000.0), &world->water.density);
+    }
+  }
+  if (const auto seabed_value = map.optional("seabed")) {
+    const MapReader seabed(*seabed_value, {"type", "z"});
+    if (seabed.ok()) {
+      seabed.read_choice<SeabedType>("type", Need::kOptional, {{"plane", SeabedType::kPlane}},
+                                     &world->seabed.type);
+      seabed.read_number("z", Need::kOptional, Range::finite(), &world->seabed.z);
+    }
+  }
+  if (const auto origin_value = map.optional("origin")) {
+    const MapReader origin(*origin_value, {"latitude_deg", "longitude_deg", "altitude"});
+    if (origin.ok()) {
+      double latitude_deg = 0.0, longitude_deg = 0.0;
+      if (origin.read_number("latitude_deg", Need::kOptional, Range::closed(-90.0, 90.0), &latitude_deg)) {
+        world->origin.latitude = latitude_deg * kDegToRad;
+      }
+      if (origin.read_number("longitude_deg", Need::kOptional, Range::closed(-180.0, 180.0),
+                             &longitude_deg)) {
+        world->origin.longitude = longitude_deg * kDegToRad;
+      }
+      origin.read_number("altitude", Need::kOptional, Range::finite(), &world->origin.altitude);
+    }
+  }
+}
+
+void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
+  const MapReader map(value, kVehicleEntryKeys);
+  if (!map.ok()) return;
+
+  if (const auto name = map.required("name")) {
+    if (const auto text = name->string()) {
+      vehicle->name = *text;
+      if (!is_valid_vehicle_name(*text)) {
+        name->error("must match [A-Za-z][A-Za-z0-9_]* (got " + quoted(*text) + ")");
+      } else {
+        check_unique(*name, *text, "vehicle", value.path(), &vehicle_names_);
+      }
+    }
+  }
+
+  // The definition: either `include` or inline keys, never both.
+  std::vector<std::string> inline_keys;
+  for (const std::string& key : kDefinitionKeys) {
+    if (map.has(key)) inline_keys.push_back(quoted(key));
+  }
+  std::optional<VehicleDefinition> inline_definition;
+  const VehicleDefinition* definition = nullptr;
+  if (const auto include = map.optional("include")) {
+    if (!inline_keys.empty()) {
+      map.error_at_key(
+          "include", "cannot be combined with an inline definition (found " + join_names(inline_keys) + ")");
+    } else if (const auto include_path = include->string()) {
+      const auto& included = included_definition(*include, *include_path);
+      if (included) definition = &*included;
+    }
+  } else if (!inline_keys.empty()) {
+    inline_definition = read_definition(map);
+    definition = &*inline_definition;
+  } else {
+    value.error("needs either 'include' or an inline definition ('type', 'links', ...)");
+  }
+  if (definition) {
+    vehicle->source_file = definition->source_file;
+    vehicle->type = definition->type;
+    vehicle->links = definition->links;
+    vehicle->thrusters = definition->thrusters;
+    vehicle->fluid = definition->fluid;
+  }
+
+  if (const auto pose = map.optional("initial_pose")) read_pose(*pose, &vehicle->X_WB_initial);
+  map.read_vector3("initial_velocity", Need::kOptional, Range::finite(), &vehicle->v_WB_initial);
+  map.read_number("command_timeout_s", Need::kOptional, Range::positive(), &vehicle->command_timeout);
+  read_rate(map, "odometry_rate_hz", physics_rate_hz_, &vehicle->odometry_rate_hz);
+  read_rate(map, "thruster_state_rate_hz", physics_rate_hz_, &vehicle->thruster_state_rate_hz);
+  if (const auto schedule = map.optional("schedule")) {
+    read_schedule(*schedule, definition, &vehicle->schedule);
+  }
+}
+
+const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(const Value& include,
+                                                                            const std::string& path) {
+  const std::string resolved = (std::filesystem::path(include.file()).parent_path() / path).string();
+  auto [it, first_use] = includes_.try_emplace(resolved);
+  IncludedFile& included = it->second;
+  if (first_use) {
+    const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
+    if (root) {
+      const auto source = std::make_shared<const Source>(Source{resolved, &sink_});
+      const MapReader map(Value::root(*root, source), kDefinitionKeys);
+      if (map.ok()) included.definition = read_definition(map);
+    }
+  }
+  // Errors inside the file are reported once; a file that cannot be opened at every include naming it.
+  if (!included.open_error.empty()) {
+    include.error("cannot open " + quoted(resolved) + " (" + included.open_error + ")");
+  }
+  return included.definition;
+}
+
+void ScenarioLoader::read_schedule(const Value& value, const VehicleDefinition* definition,
+                                   std::vector<SetpointKeyframe>* schedule) {
+  const auto items = value.list();
+  if (!items) return;
+  std::optional<double> previous_time;
+  for (const Value& item : *items) {
+    const MapReader map(item, {"time_s", "setpoints"});
+    if (!map.ok()) continue;
+    SetpointKeyframe keyframe;
+    if (const auto time = map.required("time_s")) {
+      const auto t = time->number(Range::non_negative());
+      if (t && previous_time && *t <= *previous_time) {
+        time->error("must be greater than the previous time_s (" + format_number(*previous_time) + ") (got " +
+                    time->node().Scalar() + ")");
+      }
+      if (t) {
+        keyframe.time = *t;
+        previous_time = t;  // compare the next entry with this one, so one misplaced entry is one error
+      }
+    }
+    if (const auto setpoints = map.required("setpoints")) {
+      if (const auto values = setpoints->numbers(std::nullopt, Range::closed(-1.0, 1.0))) {
+        keyframe.setpoints = *values;
+      }
+      // Cross-file check: the count comes from the (possibly included) vehicle definition.
+      const std::size_t count = setpoints->node().size();
+      if (setpoints->node().IsSequence() && definition && definition->thruster_count &&
+          count != *definition->thruster_count) {
+        const std::string names =
+            definition->thruster_names ? " (" + join_names(*definition->thruster_names) + ")" : "";
+        setpoints->error("expected " + std::to_string(*definition->thruster_count) +
+                         " setpoints, one per thruster" + names + " (got " + std::to_string(count) + ")");
+      }
+    }
+    schedule->push_back(std::move(keyframe));
+  }
+}
+
+}  // namespace
+
+LoadResult load_scenario_file(const std::string& path) {
+  ScenarioLoader loader;
+  return loader.load(path);
+}
+
+}  // namespace hadal::config

@@ -1,0 +1,212 @@
+// Strict YAML reading (DESIGN.md, "strict configuration"): typed getters over yaml-cpp nodes that turn
+// every problem into a Diagnostic instead of throwing, so that one load reports all errors at once.
+//
+//   DiagnosticSink  collects diagnostics; sorts them by file (in the order files were opened, so a
+//                   scenario's errors come before those of the files it includes), line, column.
+//   Value           one node + the file holding it + its path (`vehicles[0].links[1].mass`), with
+//                   typed conversions (number in a Range, non-negative integer, string, n-vector,
+//                   list, one-of-choices) that report at the node and return nullopt on error.
+//   MapReader       a map node with a declared set of allowed keys: reports unknown keys (with a
+//                   "did you mean" suggestion by edit distance), duplicate keys and non-string keys on
+//                   construction; hands out values by key and reports missing required keys at the map.
+//
+// Numbers follow the YAML 1.2 core schema for plain (unquoted) scalars: decimal integers and floats,
+// `.inf`/`.nan` (which are rejected as non-finite). Quoted scalars are strings, never numbers.
+// Positions are reported 1-based (yaml-cpp marks are 0-based).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hadal/config/scenario_loader.h"
+
+namespace hadal::config {
+
+class DiagnosticSink {
+ public:
+  // Registers a file so that its diagnostics sort after those of files opened before it.
+  void add_file(const std::string& file);
+  // `mark` is yaml-cpp's 0-based mark; a null mark (or one with negative line) yields line 0 column 0,
+  // meaning "no position" (e.g. a file that cannot be opened).
+  void report(const std::string& file, const YAML::Mark& mark, std::string path, std::string message);
+
+  bool empty() const { return diagnostics_.empty(); }
+  // All diagnostics sorted by (file order, line, column); ties keep the order of reporting.
+  std::vector<Diagnostic> sorted() const;
+
+ private:
+  std::vector<std::string> files_;
+  std::vector<Diagnostic> diagnostics_;
+};
+
+// Reads and parses a whole YAML file holding exactly one document. Returns nullopt if the file cannot be
+// read (then *open_error says why and nothing is reported: the caller knows where to report it), or if it
+// does not parse or holds several documents (reported at the parser's mark, path `yaml`). An empty file
+// yields a null node.
+std::optional<YAML::Node> parse_yaml_file(const std::string& file, DiagnosticSink* sink,
+                                          std::string* open_error);
+
+// An interval of accepted numbers. Every Range also requires the number to be finite.
+struct Range {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_inclusive = true;
+  bool max_inclusive = true;
+
+  static Range finite() { return {}; }
+  static Range positive() { return {0.0, kInfinity, false, true}; }               // > 0
+  static Range non_negative() { return {0.0, kInfinity, true, true}; }            // >= 0
+  static Range closed(double lo, double hi) { return {lo, hi, true, true}; }      // [lo, hi]
+  static Range left_open(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
+
+  bool contains(double x) const;
+  // "> 0", ">= 0", "<= 5", "in [50, 100000]", "in (0, 2000]", or "finite".
+  std::string describe() const;
+
+  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
+};
+
+// Shortest text that reads back as `x` ("500", "100000", "0.1", "1e-07"): for values from the file.
+std::string format_number(double x);
+// Six significant digits ("-1", "6.445"): for computed values, whose last bits are rounding noise.
+std::string format_approximate(double x);
+
+// The closest candidate to `word` by case-insensitive edit distance (insertions, deletions, substitutions,
+// adjacent transpositions), if close enough to be a plausible typo (distance <= max(1, candidate length /
+// 3)); ties go to the earlier candidate.
+std::optional<std::string> closest_match(const std::string& word, const std::vector<std::string>& candidates);
+
+// A source file being read: where its diagnostics go.
+struct Source {
+  std::string file;
+  DiagnosticSink* sink = nullptr;
+};
+
+class Value {
+ public:
+  Value(YAML::Node node, std::shared_ptr<const Source> source, std::string path, YAML::Mark mark);
+  // The root of a parsed document (empty path).
+  static Value root(YAML::Node node, std::shared_ptr<const Source> source);
+
+  const YAML::Node& node() const { return node_; }
+  const std::string& path() const { return path_; }
+  const std::string& file() const { return source_->file; }
+  const YAML::Mark& mark() const { return mark_; }
+  bool is_map() const { return node_.IsMap(); }
+
+  // Reports `message` at this node.
+  void error(const std::string& message) const;
+  // What the node holds, for "(got ...)": 'text' for plain scalars, the string "text" for quoted ones,
+  // null, a list of 2, a map, an empty document.
+  std::string describe() const;
+
+  // Element `index` of a list node (path `path[index]`).
+  Value element(std::size_t index) const;
+  // Another node of the same file, at `path` and `mark` (e.g. the value of a map entry).
+  Value in_same_file(YAML::Node node, std::string path, YAML::Mark mark) const;
+  // Reports `message` in this node's file at another position.
+  void error_at(const YAML::Mark& mark, const std::string& path, const std::string& message) const;
+
+  // Typed conversions. On failure they report at this node (or the offending element) and return nullopt.
+  std::optional<double> number(const Range& range = Range::finite()) const;
+  std::optional<std::uint64_t> non_negative_integer() const;
+  std::optional<std::string> string() const;  // any non-empty scalar
+  std::optional<std::vector<Value>> list() const;
+  // A list of numbers, each in `each`; with `count`, exactly that many. All bad elements are reported.
+  std::optional<std::vector<double>> numbers(std::optional<std::size_t> count,
+                                             const Range& each = Range::finite()) const;
+  std::optional<Eigen::Vector3d> vector3(const Range& each = Range::finite()) const;
+  // One of named choices; the error lists them all.
+  template <typename E>
+  std::optional<E> choice(const std::vector<std::pair<std::string, E>>& choices) const;
+
+ private:
+  // Reports "must be one of ..." for `text` (kept out of the template).
+  void report_bad_choice(const std::vector<std::string>& names) const;
+
+  YAML::Node node_;
+  std::shared_ptr<const Source> source_;
+  std::string path_;
+  YAML::Mark mark_;
+};
+
+enum class Need { kOptional, kRequired };
+
+class MapReader {
+ public:
+  // Checks that `value` is a map (reporting "expected a map" otherwise) whose keys are plain strings,
+  // unique, and among `allowed`; each violation is reported at its key.
+  MapReader(Value value, std::vector<std::string> allowed);
+
+  bool ok() const { return ok_; }  // the value is a map
+  const Value& value() const { return value_; }
+
+  bool has(const std::string& key) const;
+  // The value of `key`, or nullopt when absent. `key` must be one of the allowed keys.
+  std::optional<Value> optional(const std::string& key) const;
+  // Like optional(), but reports "missing required key 'key'" at the map when absent; `why` is appended
+  // in parentheses when given.
+  std::optional<Value> required(const std::string& key, const std::string& why = "") const;
+  std::optional<Value> get(const std::string& key, Need need) const;
+  // Reports `message` at the key node of `key` (which must be present), with path `map.key`.
+  void error_at_key(const std::string& key, const std::string& message) const;
+
+  // Shorthands: read `key` into *out (unchanged when an optional key is absent). They return false when
+  // the value is invalid or a required key is missing, true otherwise.
+  bool read_number(const std::string& key, Need need, const Range& range, double* out) const;
+  bool read_vector3(const std::string& key, Need need, const Range& each, Eigen::Vector3d* out) const;
+  bool read_string(const std::string& key, Need need, std::string* out) const;
+  template <typename E>
+  bool read_choice(const std::string& key, Need need, const std::vector<std::pair<std::string, E>>& choices,
+                   E* out) const;
+
+ private:
+  struct Entry {
+    std::string key;
+    YAML::Node key_node;
+    Value value;
+  };
+  const Entry* find(const std::string& key) const;
+  void check_allowed(const std::string& key) const;
+
+  Value value_;
+  std::vector<std::string> allowed_;
+  std::vector<Entry> entries_;  // first occurrence of each key, in file order
+  bool ok_ = false;
+};
+
+// Path of key `key` inside the map at `path` ("a.b" or "b" at the root).
+std::string child_path(const std::string& path, const std::string& key);
+
+template <typename E>
+std::optional<E> Value::choice(const std::vector<std::pair<std::string, E>>& choices) const {
+  if (const auto text = string()) {
+    for (const auto& [name, item] : choices) {
+      if (*text == name) return item;
+    }
+    std::vector<std::string> names;
+    for (const auto& entry : choices) names.push_back(entry.first);
+    report_bad_choice(names);
+  }
+  return std::nullopt;
+}
+
+template <typename E>
+bool MapReader::read_choice(const std::string& key, Need need,
+                            const std::vector<std::pair<std::string, E>>& choices, E* out) const {
+  const std::optional<Value> value = get(key, need);
+  if (!value) return need == Need::kOptional;
+  const std::optional<E> result = value->choice(choices);
+  if (result) *out = *result;
+  return result.has_value();
+}
+
+}  // namespace hadal::config

@@ -1,0 +1,45 @@
+#include "hadal/core/model.h"
+
+namespace hadal {
+
+int VehicleSpec::link_index(const std::string& link_name) const {
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    if (links[i].name == link_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int Model::vehicle_index(const std::string& name) const {
+  for (std::size_t i = 0; i < vehicles.size(); ++i) {
+    if (vehicles[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+namespace {
+struct VehicleTypeName {
+  VehicleType type;
+  const char* name;
+};
+constexpr VehicleTypeName kVehicleTypeNames[] = {
+    {VehicleType::kAuv, "auv"},         {VehicleType::kRov, "rov"},
+    {VehicleType::kLander, "lander"},   {VehicleType::kSurfaceVessel, "surface_vessel"},
+    {VehicleType::kGlider, "glider"},   {VehicleType::kCrawler, "crawler"},
+};
+}  // namespace
+
+const char* to_string(VehicleType type) {
+  for (const auto& entry : kVehicleTypeNames) {
+    if (entry.type == type) return entry.name;
+  }
+  return "unknown";
+}
+
+std::optional<VehicleType> vehicle_type_from_string(const std::string& text) {
+  for (const auto& entry : kVehicleTypeNames) {
+    if (text == entry.name) return entry.type;
+  }
+  return std::nullopt;
+}
+
+}  // namespace hadal
