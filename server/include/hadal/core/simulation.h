@@ -1,0 +1,65 @@
+// Simulation: the fixed-step loop body of hadald, independent of DDS.
+//
+// One step (DESIGN.md, "data flow of one step"):
+//   commands -> actuator setpoints -> rotor dynamics -> forces (thrusters, fluid, gravity)
+//   -> Bullet step -> state snapshot -> non-finite check.
+// Setpoint source per vehicle: the scenario schedule until a client first commands the vehicle, then
+// client setpoints guarded by the watchdog (no fresh command for command_timeout seconds of sim
+// time -> setpoints 0, kFaultCommandTimeout set). Non-finite policy (DESIGN.md 7): a vehicle whose
+// pose, velocity, rotor speed or client setpoints become NaN/Inf is put back at X_WB_initial at rest,
+// rotors stopped, client setpoints zeroed; kFaultNonFiniteState stays set (latched) and fault_resets
+// counts the resets. Not thread-safe: the caller serialises access.
+#pragma once
+
+#include "hadal/core/model.h"
+#include "hadal/core/state.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hadal {
+
+namespace physics {
+class BulletWorld;
+struct MassProperties;
+}
+
+class Simulation {
+ public:
+  // Throws std::invalid_argument if the model cannot be simulated (physics_rate_hz not > 0, a vehicle
+  // without positive mass, a thruster on a missing link).
+  explicit Simulation(Model model);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  const Model& model() const { return model_; }
+  const SimState& state() const { return state_; }
+  double time() const { return state_.time; }
+
+  // Composite mass properties of a vehicle (centre of mass, inertia, principal frame), index < count.
+  const physics::MassProperties& mass_properties(int vehicle_index) const;
+
+  // Restores a state previously returned by state() (same model; throws std::invalid_argument if the
+  // vehicle or thruster counts differ). A vehicle whose restored state is not finite gets the
+  // non-finite policy at once (reset, kFaultNonFiniteState, fault_resets + 1), so NaN never enters
+  // Bullet. Contact caches are cleared: restoring the same state twice continues bit-identically.
+  void set_state(const SimState& state);
+
+  // Validates and applies a client command for a vehicle: one setpoint per thruster, each finite and
+  // in [-1, 1]. Returns an empty string when accepted, otherwise the reason (state untouched).
+  std::string set_thruster_setpoints(int vehicle_index, const std::vector<double>& setpoints);
+
+  // Advances by one physics step of model().world.step_size() seconds.
+  void step();
+
+ private:
+  Model model_;
+  SimState state_;
+  std::unique_ptr<physics::BulletWorld> world_;
+  struct VehicleRuntime;                 // per-vehicle thrusters and fluid model (simulation.cc)
+  std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
+};
+
+}  // namespace hadal

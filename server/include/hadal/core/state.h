@@ -1,0 +1,52 @@
+// State: everything that evolves during a run (DESIGN.md, "model / state split"). A plain copyable
+// value: Simulation::state() snapshots it after every step and Simulation::set_state() restores it.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace hadal {
+
+// Pose and velocity of a vehicle body frame B in the world W.
+struct RigidBodyState {
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();  // velocity of B's origin, expressed in W [m/s]
+  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();  // angular velocity of B, expressed in W [rad/s]
+};
+
+struct ThrusterState {
+  double setpoint = 0.0;     // normalised command in [-1, 1] currently applied
+  double rotor_speed = 0.0;  // n [rev/s]
+  double thrust = 0.0;       // along the thruster axis [N]
+  double torque = 0.0;       // reaction torque about the thruster axis [N m]
+};
+
+// Bits of VehicleState::faults (reported per vehicle on rt/hadal/status).
+enum VehicleFault : std::uint32_t {
+  kFaultNone = 0,
+  kFaultCommandTimeout = 1u << 0,  // watchdog: no fresh client setpoint, thrusters spinning down
+  kFaultNonFiniteState = 1u << 1,  // NaN/Inf detected in the body state; the vehicle was reset
+};
+
+enum class CommandSource : std::uint8_t { kNone, kSchedule, kClient };
+
+struct VehicleState {
+  RigidBodyState body;
+  std::vector<ThrusterState> thrusters;  // one per ThrusterSpec, same order
+  CommandSource command_source = CommandSource::kNone;
+  std::vector<double> client_setpoints;  // last accepted client command
+  double last_command_time = -std::numeric_limits<double>::infinity();  // sim time [s]
+  std::uint32_t faults = kFaultNone;
+  std::uint64_t fault_resets = 0;  // how many times the non-finite policy reset this vehicle
+};
+
+struct SimState {
+  double time = 0.0;  // sim time [s]
+  std::uint64_t step_count = 0;
+  std::vector<VehicleState> vehicles;  // one per VehicleSpec, same order
+};
+
+}  // namespace hadal

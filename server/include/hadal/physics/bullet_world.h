@@ -1,0 +1,81 @@
+// BulletWorld: the rigid-body world of a scenario in double-precision Bullet.
+//
+// Each vehicle is ONE Bullet rigid body: all links are rigidly attached to the body frame B, so the
+// vehicle's mass properties are the composite of its links (physics/mass_properties). Bullet places
+// a body's origin at its centre of mass with principal axes, so Bullet holds the pose of the
+// principal frame P and this class converts at the boundary:
+//   X_WP = X_WB * X_BP,   v_WP = v_WB + w_WB x (p_WP - p_WB),   w_WP = w_WB.
+// Collision primitives of all links go into one btCompoundShape with child poses
+// X_PG = X_BP^-1 X_BL X_LG (cylinder/capsule along G-z: btCylinderShapeZ / btCapsuleShapeZ); a
+// vehicle without shapes gets an empty compound and collides with nothing. The seabed is a static
+// plane z = seabed.z with normal +z. Gravity (WorldSpec::gravity_W) is applied by Bullet at each
+// centre of mass.
+//
+// Integration: one fixed step per call, stepSimulation(dt, 0, dt) -- semi-implicit Euler
+// (v += a dt, then p += v dt), no sub-stepping, no interpolation. Sleeping is disabled.
+//
+// State: the pose and velocity of every body are written in with set_body_state() and read back
+// with body_state(). Bullet's only other persistent state is its contact cache (persistent
+// manifolds, used for warm starting, and the broadphase pair cache). clear_contacts() rebuilds the
+// world's collision bookkeeping from scratch, so that restoring the same SimState twice gives
+// bit-identical continuations; a run restored while a vehicle is in contact can differ from the
+// uninterrupted run in the last bits (the contact cache is not part of SimState).
+//
+// Contact parameters: friction 0.5 (vehicle) x 0.8 (seabed) = 0.4 combined (Bullet multiplies
+// them), restitution 0 -- a vehicle settling on sediment does not bounce. Collision margin:
+// Bullet's 0.04 m default is meant for metre-scale game objects; boxes and cylinders use
+// min(0.01 m, 20 % of their smallest half extent), kept inside the shape, so small parts keep
+// their size.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+
+#include "hadal/core/model.h"
+#include "hadal/core/state.h"
+#include "hadal/physics/mass_properties.h"
+
+namespace hadal::physics {
+
+class BulletWorld {
+ public:
+  // Builds the seabed and one body per model vehicle at X_WB_initial / v_WB_initial. Throws
+  // std::invalid_argument if a vehicle has no positive, finite mass.
+  explicit BulletWorld(const Model& model);
+  ~BulletWorld();
+  BulletWorld(const BulletWorld&) = delete;
+  BulletWorld& operator=(const BulletWorld&) = delete;
+
+  int num_vehicles() const;
+  const MassProperties& mass_properties(int vehicle) const;
+
+  // Pose and velocity of the vehicle's body frame B.
+  RigidBodyState body_state(int vehicle) const;
+
+  // Writes pose and velocity of B into Bullet and discards forces accumulated for the next step.
+  // `body` must be finite (a NaN bounding box would poison the broadphase tree); re-enables a body
+  // Bullet disabled after its bounding box overflowed.
+  void set_body_state(int vehicle, const RigidBodyState& body);
+
+  // Drops all contact manifolds and broadphase pairs and re-inserts the bodies in model order, so
+  // collision bookkeeping no longer depends on history. Allocates; not for the per-step path.
+  void clear_contacts();
+
+  // Accumulate for the next step() only (Bullet clears forces after each step).
+  // Force f_W applied at the world point p_WQ [N, m].
+  void add_force_W(int vehicle, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WQ);
+  // Pure moment [N m], expressed in W.
+  void add_torque_W(int vehicle, const Eigen::Vector3d& tau_W);
+
+  // Advances by exactly one step of dt seconds.
+  void step(double dt);
+
+  // Number of contact points of the vehicle's body in the current contact manifolds.
+  int num_contact_points(int vehicle) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hadal::physics

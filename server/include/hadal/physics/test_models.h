@@ -1,0 +1,61 @@
+// Small scenario models built in code, for unit tests and benchmarks that must not depend on the
+// YAML loader. Everything here is plain data; units SI.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hadal/core/model.h"
+#include "hadal/physics/mass_properties.h"
+
+namespace hadal::physics::testing {
+
+// A homogeneous box link of full extents `size` whose centre of mass, centre of buoyancy and single
+// box collision shape sit at the link origin; `volume` is its displaced volume (pass size.prod()
+// for a closed hull).
+inline LinkSpec box_link(std::string name, double mass, const Eigen::Vector3d& size, double volume,
+                         const Eigen::Isometry3d& X_BL = Eigen::Isometry3d::Identity()) {
+  LinkSpec link;
+  link.name = std::move(name);
+  link.mass = mass;
+  link.I_Lcm = solid_box_inertia(mass, size);
+  link.X_BL = X_BL;
+  CollisionShape box;
+  box.type = CollisionShapeType::kBox;
+  box.box_size = size;
+  link.collisions.push_back(box);
+  link.buoyancy.volume = volume;
+  return link;
+}
+
+// A thruster on links[0] at p_LT pushing along axis_L, with tau = 0, n_max = 50 rev/s and
+// K_T rho D^4 ~ 0.5 N s^2 at rho = 1000 (T_max ~ 1.2 kN).
+inline ThrusterSpec simple_thruster(std::string name, const Eigen::Vector3d& p_LT,
+                                    const Eigen::Vector3d& axis_L) {
+  ThrusterSpec thruster;
+  thruster.name = std::move(name);
+  thruster.p_LT = p_LT;
+  thruster.axis_L = axis_L;
+  thruster.propeller_diameter = 0.2;
+  thruster.thrust_coefficient = 0.3;
+  thruster.torque_coefficient = 0.05;
+  thruster.rotor_time_constant = 0.0;
+  thruster.max_rotor_speed = 50.0;
+  return thruster;
+}
+
+// A world with the water surface at z = 0, the seabed at z = -100 m, rho = 1000 kg/m^3, 500 Hz, and
+// the given vehicles.
+inline Model water_model(std::vector<VehicleSpec> vehicles) {
+  Model model;
+  model.world.water.surface_z = 0.0;
+  model.world.water.density = 1000.0;
+  model.world.seabed.z = -100.0;
+  model.world.physics_rate_hz = 500.0;
+  model.vehicles = std::move(vehicles);
+  return model;
+}
+
+}  // namespace hadal::physics::testing

@@ -1,0 +1,384 @@
+#include "hadal/core/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+#include "hadal/physics/mass_properties.h"
+#include "hadal/physics/test_models.h"
+
+namespace hadal {
+namespace {
+
+namespace testing = physics::testing;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Eigen::Isometry3d at(const Eigen::Vector3d& p, double yaw = 0.0) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  X.translation() = p;
+  return X;
+}
+
+// A neutrally buoyant 1 x 0.4 x 0.4 m box AUV (rho V = m at rho = 1000) with a main thruster on the
+// body x axis behind the centre of mass, a heave and a sway thruster, and diagonal damping.
+VehicleSpec box_auv(const Eigen::Isometry3d& X_WB, double buoyancy_ratio = 1.0) {
+  VehicleSpec vehicle;
+  vehicle.name = "auv";
+  const Eigen::Vector3d size(1.0, 0.4, 0.4);
+  const double mass = 1000.0 * size.prod();
+  vehicle.links.push_back(testing::box_link("hull", mass, size, buoyancy_ratio * size.prod()));
+  vehicle.thrusters = {
+      testing::simple_thruster("main", Eigen::Vector3d(-0.6, 0, 0), Eigen::Vector3d::UnitX()),
+      testing::simple_thruster("heave", Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitZ()),
+      testing::simple_thruster("sway", Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitY())};
+  vehicle.fluid.linear_damping << 20, 50, 50, 5, 5, 5;
+  vehicle.fluid.quadratic_damping << 40, 100, 100, 5, 5, 5;
+  vehicle.X_WB_initial = X_WB;
+  return vehicle;
+}
+
+Model one_auv_model(const Eigen::Isometry3d& X_WB = at(Eigen::Vector3d(0, 0, -20))) {
+  return testing::water_model({box_auv(X_WB)});
+}
+
+// Bitwise equality of doubles (NaN-safe, distinguishes -0.0).
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+
+::testing::AssertionResult bit_identical(const SimState& a, const SimState& b) {
+  if (!same_bits(a.time, b.time) || a.step_count != b.step_count) {
+    return ::testing::AssertionFailure() << "time/step_count differ";
+  }
+  for (std::size_t i = 0; i < a.vehicles.size(); ++i) {
+    const VehicleState& va = a.vehicles[i];
+    const VehicleState& vb = b.vehicles[i];
+    for (int k = 0; k < 16; ++k) {
+      if (!same_bits(va.body.X_WB.matrix().data()[k], vb.body.X_WB.matrix().data()[k])) {
+        return ::testing::AssertionFailure() << "X_WB differs at " << k;
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!same_bits(va.body.v_WB[k], vb.body.v_WB[k]) ||
+          !same_bits(va.body.w_WB[k], vb.body.w_WB[k])) {
+        return ::testing::AssertionFailure() << "velocity differs at " << k;
+      }
+    }
+    for (std::size_t k = 0; k < va.thrusters.size(); ++k) {
+      const ThrusterState& ta = va.thrusters[k];
+      const ThrusterState& tb = vb.thrusters[k];
+      if (!same_bits(ta.setpoint, tb.setpoint) || !same_bits(ta.rotor_speed, tb.rotor_speed) ||
+          !same_bits(ta.thrust, tb.thrust) || !same_bits(ta.torque, tb.torque)) {
+        return ::testing::AssertionFailure() << "thruster " << k << " differs";
+      }
+    }
+    if (va.faults != vb.faults || va.fault_resets != vb.fault_resets ||
+        va.command_source != vb.command_source) {
+      return ::testing::AssertionFailure() << "faults/command source differ";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+void run(Simulation& sim, int steps) {
+  for (int k = 0; k < steps; ++k) sim.step();
+}
+
+TEST(SimulationTest, ForwardThrustMovesAlongBodyX) {
+  // Main thruster on the body x axis (through the centre of mass) of a neutrally buoyant vehicle:
+  // translation stays on the line through p0 along R_WB x. The propeller torque only rolls the
+  // vehicle about that same axis. Direction error is round-off (1e-9 rad bound), depth change too.
+  for (double yaw : {0.0, 1.0}) {
+    const Eigen::Vector3d p0(3.0, -2.0, -20.0);
+    Model model = one_auv_model(at(p0, yaw));
+    model.vehicles[0].command_timeout = 10.0;  // one command for the whole 2 s run
+    Simulation sim(std::move(model));
+    ASSERT_EQ(sim.set_thruster_setpoints(0, {0.5, 0.0, 0.0}), "");
+    run(sim, 1000);
+    const RigidBodyState& body = sim.state().vehicles[0].body;
+    const Eigen::Vector3d moved = body.X_WB.translation() - p0;
+    const Eigen::Vector3d x_W(std::cos(yaw), std::sin(yaw), 0.0);
+    EXPECT_GT(moved.dot(x_W), 1.0) << "yaw " << yaw;
+    EXPECT_LT((moved - moved.dot(x_W) * x_W).norm(), 1e-9 * moved.norm()) << "yaw " << yaw;
+    EXPECT_GT(sim.state().vehicles[0].thrusters[0].thrust, 0.0);
+    EXPECT_LT(sim.state().vehicles[0].thrusters[0].torque, 0.0);  // right-handed, n > 0
+  }
+}
+
+TEST(SimulationTest, PositivelyBuoyantVehicleRises) {
+  Model model = testing::water_model({box_auv(at(Eigen::Vector3d(0, 0, -20)), 1.1)});
+  Simulation sim(std::move(model));
+  run(sim, 500);
+  const RigidBodyState& body = sim.state().vehicles[0].body;
+  EXPECT_GT(body.X_WB.translation().z(), -19.9);
+  EXPECT_GT(body.v_WB.z(), 0.0);
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kNone);
+}
+
+TEST(SimulationTest, TimeIsStepCountTimesStepSize) {
+  Simulation sim(one_auv_model());
+  run(sim, 777);
+  EXPECT_EQ(sim.state().step_count, 777u);
+  EXPECT_EQ(sim.time(), 777 * sim.model().world.step_size());
+}
+
+TEST(SimulationTest, WatchdogZeroesStaleCommandsAndANewCommandClearsIt) {
+  // 256 Hz makes dt = 2^-8 and every sim time exact, so the freshness boundary is tested exactly:
+  // a command at t = 0 with timeout 0.5 s drives the step starting at t = 0.5 and not the next.
+  Model model = one_auv_model();
+  model.world.physics_rate_hz = 256.0;
+  model.vehicles[0].command_timeout = 0.5;
+  Simulation sim(std::move(model));
+  ASSERT_EQ(sim.set_thruster_setpoints(0, {0.8, 0.0, -0.2}), "");
+  run(sim, 129);  // the last step started at t = 128 / 256 = 0.5
+  const VehicleState* vehicle = &sim.state().vehicles[0];
+  EXPECT_EQ(vehicle->thrusters[0].setpoint, 0.8);
+  EXPECT_EQ(vehicle->thrusters[2].setpoint, -0.2);
+  EXPECT_EQ(vehicle->faults & kFaultCommandTimeout, 0u);
+  EXPECT_EQ(vehicle->command_source, CommandSource::kClient);
+
+  sim.step();  // started at t = 0.5 + 1/256: stale
+  vehicle = &sim.state().vehicles[0];
+  EXPECT_EQ(vehicle->thrusters[0].setpoint, 0.0);
+  EXPECT_EQ(vehicle->thrusters[2].setpoint, 0.0);
+  EXPECT_NE(vehicle->faults & kFaultCommandTimeout, 0u);
+  const double n_before = vehicle->thrusters[0].rotor_speed;
+  run(sim, 10);
+  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].rotor_speed, 0.0);  // tau = 0: stopped at once
+  EXPECT_EQ(n_before, 0.0);
+
+  ASSERT_EQ(sim.set_thruster_setpoints(0, {-0.3, 0.1, 0.0}), "");
+  EXPECT_EQ(sim.state().vehicles[0].faults & kFaultCommandTimeout, 0u);
+  EXPECT_EQ(sim.state().vehicles[0].last_command_time, sim.time());
+  sim.step();
+  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].setpoint, -0.3);
+  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].rotor_speed, -0.3 * 50.0);
+  EXPECT_EQ(sim.state().vehicles[0].faults & kFaultCommandTimeout, 0u);
+}
+
+TEST(SimulationTest, ScheduleIsAZeroOrderHoldUntilAClientTakesOver) {
+  // 256 Hz: keyframe times 0.25 and 0.5 s are exact step boundaries (64 and 128).
+  Model model = one_auv_model();
+  model.world.physics_rate_hz = 256.0;
+  model.vehicles[0].schedule = {{0.25, {0.5, 0.0, 0.0}}, {0.5, {-0.5, 0.25, 0.0}}};
+  Simulation sim(std::move(model));
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kSchedule);
+  auto setpoint = [&](int k) { return sim.state().vehicles[0].thrusters[k].setpoint; };
+
+  run(sim, 64);  // steps starting at 0 .. 63/256: before the first keyframe
+  EXPECT_EQ(setpoint(0), 0.0);
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kSchedule);
+  sim.step();  // started at 0.25
+  EXPECT_EQ(setpoint(0), 0.5);
+  run(sim, 63);  // last started at 127/256
+  EXPECT_EQ(setpoint(0), 0.5);
+  sim.step();  // started at 0.5
+  EXPECT_EQ(setpoint(0), -0.5);
+  EXPECT_EQ(setpoint(1), 0.25);
+  run(sim, 100);
+  EXPECT_EQ(setpoint(0), -0.5);  // held after the last keyframe
+
+  // Hand-over: the client's command wins from now on, the schedule is never used again.
+  ASSERT_EQ(sim.set_thruster_setpoints(0, {0.1, 0.2, 0.3}), "");
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kClient);
+  sim.step();
+  EXPECT_EQ(setpoint(0), 0.1);
+  EXPECT_EQ(setpoint(2), 0.3);
+  // After the watchdog expires the thrusters stop instead of falling back to the schedule.
+  run(sim, 300);
+  EXPECT_EQ(setpoint(0), 0.0);
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kClient);
+  EXPECT_NE(sim.state().vehicles[0].faults & kFaultCommandTimeout, 0u);
+}
+
+TEST(SimulationTest, KeyframeIsNotDelayedByRoundOffOfSimTime) {
+  // At 60 Hz, 222 * (1/60) = 3.6999999999999997 < 3.7: the keyframe must still apply to the step
+  // that starts at step 222, not one step later.
+  Model model = one_auv_model();
+  model.world.physics_rate_hz = 60.0;
+  model.vehicles[0].schedule = {{3.7, {1.0, 0.0, 0.0}}};
+  Simulation sim(std::move(model));
+  run(sim, 222);
+  ASSERT_LT(sim.time(), 3.7);
+  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].setpoint, 0.0);
+  sim.step();  // starts at step 222
+  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].setpoint, 1.0);
+}
+
+TEST(SimulationTest, RejectsInvalidCommandsWithAReason) {
+  Simulation sim(one_auv_model());
+  const SimState before = sim.state();
+  EXPECT_EQ(sim.set_thruster_setpoints(7, {0, 0, 0}), "unknown vehicle index 7");
+  EXPECT_EQ(sim.set_thruster_setpoints(-1, {0, 0, 0}), "unknown vehicle index -1");
+  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, 0}),
+            "expected 3 setpoints (main, heave, sway), got 2");
+  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, kNaN, 0}), "setpoint[1] is NaN");
+  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, 0, -kInf}), "setpoint[2] is -inf");
+  EXPECT_EQ(sim.set_thruster_setpoints(0, {1.5, 0, 0}), "setpoint[0] = 1.5 is outside [-1, 1]");
+  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, -1.0000001, 0}),
+            "setpoint[1] = -1.0000001 is outside [-1, 1]");
+  EXPECT_TRUE(bit_identical(sim.state(), before));
+  EXPECT_TRUE(sim.state().vehicles[0].client_setpoints.empty());
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kNone);
+  EXPECT_EQ(sim.set_thruster_setpoints(0, {1.0, -1.0, 0.0}), "");
+}
+
+TEST(SimulationTest, RestoredStateContinuesBitIdentically) {
+  // A vehicle with an offset centre of mass and rotated principal axes, yawed, thrusters with rotor
+  // lag, moving and turning: every conversion and every state variable is exercised.
+  Model model = one_auv_model(at(Eigen::Vector3d(1, 2, -30), 0.4));
+  VehicleSpec& vehicle = model.vehicles[0];
+  Eigen::Isometry3d X_BL = at(Eigen::Vector3d(0.3, 0.1, 0.15), 0.5);
+  vehicle.links.push_back(
+      testing::box_link("pod", 20.0, Eigen::Vector3d(0.3, 0.2, 0.2), 0.004, X_BL));
+  for (ThrusterSpec& thruster : vehicle.thrusters) thruster.rotor_time_constant = 0.1;
+  vehicle.v_WB_initial = Eigen::Vector3d(0.2, -0.1, 0.05);
+
+  Simulation original(model);
+  ASSERT_FALSE(original.mass_properties(0).X_BP.isApprox(Eigen::Isometry3d::Identity()));
+  ASSERT_EQ(original.set_thruster_setpoints(0, {0.7, -0.3, 0.4}), "");
+  run(original, 200);
+  const SimState snapshot = original.state();
+  run(original, 300);
+  const SimState uninterrupted = original.state();
+
+  Simulation fresh(model);
+  fresh.set_state(snapshot);
+  EXPECT_TRUE(bit_identical(fresh.state(), snapshot));
+  run(fresh, 300);
+  EXPECT_TRUE(bit_identical(fresh.state(), uninterrupted));
+
+  original.set_state(snapshot);  // rewind the same instance
+  run(original, 300);
+  EXPECT_TRUE(bit_identical(original.state(), uninterrupted));
+  EXPECT_GT(uninterrupted.vehicles[0].body.w_WB.norm(), 1e-3);  // it really turned
+}
+
+TEST(SimulationTest, RestoringAStateInContactIsDeterministic) {
+  // Resting on the seabed, contact caches are not part of SimState; two restores of the same state
+  // must still agree bit for bit.
+  Model model = one_auv_model(at(Eigen::Vector3d(0, 0, -99.79), 0.2));
+  model.vehicles[0].links[0].mass *= 2.0;  // sinks
+  Simulation original(model);
+  run(original, 500);
+  const SimState snapshot = original.state();
+  Simulation a(model), b(model);
+  a.set_state(snapshot);
+  b.set_state(snapshot);
+  run(b, 50);  // history in b before restoring again
+  b.set_state(snapshot);
+  run(a, 300);
+  run(b, 300);
+  EXPECT_TRUE(bit_identical(a.state(), b.state()));
+  EXPECT_NEAR(a.state().vehicles[0].body.X_WB.translation().z(), -99.8, 5e-3);  // resting
+}
+
+TEST(SimulationTest, NonFiniteStateFromSetStateIsResetAndFlagged) {
+  const Model model = one_auv_model(at(Eigen::Vector3d(0, 0, -20), 0.3));
+  Simulation sim(model);
+  ASSERT_EQ(sim.set_thruster_setpoints(0, {0.5, 0.5, 0.5}), "");
+  run(sim, 100);
+  SimState bad = sim.state();
+  bad.vehicles[0].body.v_WB.y() = kNaN;
+  sim.set_state(bad);
+  const VehicleState& vehicle = sim.state().vehicles[0];
+  EXPECT_NE(vehicle.faults & kFaultNonFiniteState, 0u);
+  EXPECT_EQ(vehicle.fault_resets, 1u);
+  EXPECT_TRUE(vehicle.body.X_WB.isApprox(model.vehicles[0].X_WB_initial, 0.0));
+  EXPECT_TRUE(vehicle.body.v_WB.isZero(0.0));
+  EXPECT_EQ(vehicle.thrusters[0].rotor_speed, 0.0);
+  EXPECT_EQ(vehicle.client_setpoints, std::vector<double>({0.0, 0.0, 0.0}));
+
+  // From then on it moves exactly like a vehicle that starts at rest at the initial pose.
+  Simulation reference(model);
+  ASSERT_EQ(reference.set_thruster_setpoints(0, {0.0, 0.0, 0.0}), "");
+  run(sim, 50);
+  run(reference, 50);
+  EXPECT_EQ(sim.state().vehicles[0].body.X_WB.matrix(),
+            reference.state().vehicles[0].body.X_WB.matrix());
+  EXPECT_NE(sim.state().vehicles[0].faults & kFaultNonFiniteState, 0u);  // latched
+  EXPECT_EQ(sim.state().vehicles[0].fault_resets, 1u);
+}
+
+TEST(SimulationTest, NonFiniteStateFromTheStepIsResetAndFlagged) {
+  // 1e300 m/s against quadratic damping overflows the force to -inf inside the step; Bullet
+  // integrates it to NaN (and disables the body when its bounding box overflows). The check after
+  // the step resets the vehicle and it simulates normally afterwards.
+  const Model model = one_auv_model();
+  Simulation sim(model);
+  SimState wild = sim.state();
+  wild.vehicles[0].body.v_WB = Eigen::Vector3d(1e300, 0.0, 0.0);
+  sim.set_state(wild);
+  EXPECT_EQ(sim.state().vehicles[0].fault_resets, 0u);  // finite so far
+  sim.step();
+  const VehicleState& vehicle = sim.state().vehicles[0];
+  EXPECT_NE(vehicle.faults & kFaultNonFiniteState, 0u);
+  EXPECT_EQ(vehicle.fault_resets, 1u);
+  EXPECT_TRUE(vehicle.body.X_WB.isApprox(model.vehicles[0].X_WB_initial, 0.0));
+  EXPECT_EQ(sim.state().step_count, 1u);
+
+  Simulation reference(model);
+  ASSERT_EQ(sim.set_thruster_setpoints(0, {1.0, 0.0, 0.0}), "");
+  ASSERT_EQ(reference.set_thruster_setpoints(0, {1.0, 0.0, 0.0}), "");
+  run(sim, 100);
+  run(reference, 100);
+  EXPECT_EQ(sim.state().vehicles[0].body.X_WB.matrix(),
+            reference.state().vehicles[0].body.X_WB.matrix());
+  EXPECT_EQ(sim.state().vehicles[0].fault_resets, 1u);
+}
+
+TEST(SimulationTest, TwoLinkCompositeMassProperties) {
+  // Two boxes 2 m apart on B-x (masses 3 and 1): com at x = 0.5, I_yy gains mu d^2 = 0.75 * 4 = 3.
+  VehicleSpec vehicle;
+  vehicle.links = {testing::box_link("fore", 3.0, Eigen::Vector3d(0.1, 0.1, 0.1), 0.0,
+                                     at(Eigen::Vector3d(1, 0, 0))),
+                   testing::box_link("aft", 1.0, Eigen::Vector3d(0.1, 0.1, 0.1), 0.0,
+                                     at(Eigen::Vector3d(-1, 0, 0)))};
+  Model model = testing::water_model({vehicle});
+  model.world.gravity_W.setZero();
+  Simulation sim(model);
+  const physics::MassProperties& props = sim.mass_properties(0);
+  const double I_box = 4.0 * 0.02 / 12.0;  // sum of m (0.1^2 + 0.1^2) / 12
+  EXPECT_DOUBLE_EQ(props.mass, 4.0);
+  EXPECT_TRUE(props.p_BBcm.isApprox(Eigen::Vector3d(0.5, 0, 0)));
+  EXPECT_NEAR(props.I_BBcm_B(0, 0), I_box, 1e-12);
+  EXPECT_NEAR(props.I_BBcm_B(1, 1), I_box + 3.0, 1e-12);
+  EXPECT_NEAR(props.I_BBcm_B(2, 2), I_box + 3.0, 1e-12);
+
+  // Spinning about B-z at rate w with no forces: the centre of mass stays put while B's origin
+  // circles it, v_WB = w x (p_WB - p_WBcm), and after a quarter turn the vehicle is yawed by pi/2.
+  // Bullet's exponential-map rotation update is exact for a constant axis; round-off: 1e-9.
+  SimState spin = sim.state();
+  const double w = 0.5;
+  spin.vehicles[0].body.w_WB = Eigen::Vector3d(0, 0, w);
+  spin.vehicles[0].body.v_WB = Eigen::Vector3d(0, -0.5 * w, 0);  // w x (0 - (0.5, 0, 0))
+  sim.set_state(spin);
+  const double quarter_turn = EIGEN_PI / 2 / w;
+  const int steps = static_cast<int>(std::lround(quarter_turn * sim.model().world.physics_rate_hz));
+  run(sim, steps);
+  const RigidBodyState& body = sim.state().vehicles[0].body;
+  const double yaw = w * steps * sim.model().world.step_size();
+  EXPECT_LT((body.X_WB * props.p_BBcm - Eigen::Vector3d(0.5, 0, 0)).norm(), 1e-9);
+  EXPECT_NEAR(std::atan2(body.X_WB.linear()(1, 0), body.X_WB.linear()(0, 0)), yaw, 1e-9);
+  const Eigen::Vector3d p_WBcm = body.X_WB * props.p_BBcm;
+  EXPECT_LT((body.v_WB - body.w_WB.cross(body.X_WB.translation() - p_WBcm)).norm(), 1e-9);
+}
+
+TEST(SimulationTest, RejectsUnsimulatableModelsAndForeignStates) {
+  Model model = one_auv_model();
+  model.vehicles[0].thrusters[1].link_index = 3;
+  EXPECT_THROW(Simulation{model}, std::invalid_argument);
+  Simulation sim(one_auv_model());
+  SimState other = sim.state();
+  other.vehicles[0].thrusters.pop_back();
+  EXPECT_THROW(sim.set_state(other), std::invalid_argument);
+  other.vehicles.clear();
+  EXPECT_THROW(sim.set_state(other), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hadal
