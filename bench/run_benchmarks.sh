@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Runs Hadal's benchmarks and prints one JSON object per measurement (results go to BENCHMARKS.md).
+#   bench/run_benchmarks.sh [BUILD_DIR]     (default build/)
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+build=${1:-build}
+export ROS_LOCALHOST_ONLY=1
+
+# 1. Simulation core only (no DDS), default scenario.
+"$build/bin/hadal_bench_step_rate" configs/scenarios/default.yaml --sim-seconds 60 --repetitions 3
+
+# 2. The whole server in fast mode (simulation + DDS publishing of clock, odometry, thruster state,
+#    status), default scenario, 600 s of sim time, on a domain of its own.
+for r in 1 2 3; do
+  out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode fast --duration 600 --domain-id 231 \
+        --discovery-wait 0 --no-status-line 2>/dev/null)
+  /usr/bin/python3 - "$out" <<'PY'
+import json, re, sys
+text = sys.argv[1]
+m = re.search(r"sim time ([\d.]+) s in ([\d.]+) s wall, RTF ([\d.]+), (\d+) steps", text)
+sim, wall, rtf, steps = float(m[1]), float(m[2]), float(m[3]), int(m[4])
+print(json.dumps({"benchmark": "hadald_fast_mode", "scenario": "configs/scenarios/default.yaml",
+                  "sim_s": sim, "wall_s": wall, "steps": steps,
+                  "steps_per_s": round(steps / wall), "rtf": round(rtf, 1)}))
+PY
+done

@@ -1,0 +1,112 @@
+// libhadal_client: a thin C++ client of hadald over DDS.
+//
+// Subscribe to odometry, clock, status and thruster state with callbacks; command thrusters; step a
+// lockstep server. The public API has no DDS types in it: samples arrive as the plain structs below
+// (SI units, frames as in the README's topic table). Callbacks run on DDS threads: keep them short and
+// synchronise what they touch.
+//
+//   hadal::Client client({.domain_id = 0});
+//   if (!client.wait_for_server(10.0)) ...;
+//   client.on_odometry("auv", [](const hadal::Odometry& o) { ... });
+//   client.set_thrusters("auv", {0.5, 0.0, 0.0});
+//   double t = client.step(100);  // lockstep servers only
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hadal {
+
+// nav_msgs/Odometry of rt/<vehicle>/odometry: pose of the body frame B in the world frame W (ENU),
+// twist of B expressed in B.
+struct Odometry {
+  double stamp = 0.0;  // sim time [s]
+  std::string frame_id;        // world frame
+  std::string child_frame_id;  // <vehicle>/base_link
+  std::array<double, 3> p_WB{};          // position [m]
+  std::array<double, 4> q_WB{0, 0, 0, 1};  // orientation quaternion x, y, z, w
+  std::array<double, 3> v_WB_B{};        // linear velocity of B in W, expressed in B [m/s]
+  std::array<double, 3> w_WB_B{};        // angular velocity of B in W, expressed in B [rad/s]
+};
+
+enum class ServerMode : std::uint8_t { kRealtime = 0, kFast = 1, kLockstep = 2 };
+
+// hadal_msgs/SimStatus of rt/hadal/status.
+struct SimStatus {
+  double sim_time = 0.0;          // [s]
+  double wall_time = 0.0;         // since the server started [s]
+  double real_time_factor = 0.0;
+  std::uint64_t step_count = 0;
+  double step_size = 0.0;         // [s]
+  ServerMode mode = ServerMode::kRealtime;
+  std::vector<std::string> vehicle_names;
+  std::vector<std::uint32_t> vehicle_faults;  // bits: 1 command timeout, 2 non-finite state reset
+  std::uint64_t rejected_commands = 0;
+  std::string last_error;
+};
+
+// hadal_msgs/ThrusterState of rt/<vehicle>/thrusters/state.
+struct ThrusterStates {
+  double stamp = 0.0;  // sim time [s]
+  std::vector<std::string> names;
+  std::vector<double> setpoint;     // [-1, 1]
+  std::vector<double> rotor_speed;  // [rev/s]
+  std::vector<double> thrust;       // [N]
+  std::vector<double> torque;       // [N m]
+  std::uint8_t command_source = 0;  // 0 none, 1 scenario schedule, 2 client
+};
+
+struct ClientOptions {
+  int domain_id = 0;  // 0..232, as hadald --domain-id
+  std::string name = "hadal_client";
+};
+
+// Thrown by step() when the server refuses a request or does not answer in time.
+class ClientError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Client {
+ public:
+  explicit Client(const ClientOptions& options = {});
+  ~Client();
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+
+  // Waits until a status sample from a server arrived (so discovery is done). False on timeout.
+  bool wait_for_server(double timeout_s);
+  // Waits until every subscription made so far (on_odometry, on_clock, ...) is matched with a server
+  // writer, so no sample published from now on is missed. False on timeout.
+  bool wait_for_subscriptions(double timeout_s);
+  // The most recent status, if any arrived.
+  std::optional<SimStatus> latest_status() const;
+
+  void on_clock(std::function<void(double sim_time_s)> callback);
+  void on_status(std::function<void(const SimStatus&)> callback);
+  void on_odometry(const std::string& vehicle, std::function<void(const Odometry&)> callback);
+  void on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback);
+
+  // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
+  // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The
+  // setpoints are also attached to the next step() request, so in lockstep they take effect exactly
+  // before that request's first step. The server validates them: a rejected command shows up in
+  // SimStatus::rejected_commands / last_error.
+  void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints);
+
+  // Lockstep: advances the server by `steps` physics steps and returns the sim time reached [s].
+  // Throws ClientError if the server refuses the request or does not reply within timeout_s.
+  double step(std::uint32_t steps, double timeout_s = 30.0);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hadal

@@ -1,0 +1,276 @@
+#include "hadal_client/client.h"
+
+#include "hadal/dds/participant.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/dds/topic_names.h"
+#include "hadal/dds/topic_registry.h"
+
+#include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include <hadal_msgsPubSubTypes.h>
+#include <nav_msgsPubSubTypes.h>
+#include <rosgraph_msgsPubSubTypes.h>
+#include <std_msgsPubSubTypes.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <random>
+#include <thread>
+#include <unistd.h>
+
+namespace hadal {
+
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+constexpr int kHistoryDepth = 100;
+
+// Calls `handle(msg)` for every valid sample a reader has.
+template <class Msg, class Handler>
+class TakeAllListener : public fdds::DataReaderListener {
+ public:
+  explicit TakeAllListener(Handler handler) : handler_(std::move(handler)) {}
+  void on_data_available(fdds::DataReader* reader) override {
+    Msg msg;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) handler_(msg);
+    }
+  }
+
+ private:
+  Handler handler_;
+};
+
+template <class Msg, class Handler>
+std::unique_ptr<fdds::DataReaderListener> make_listener(Handler handler) {
+  return std::make_unique<TakeAllListener<Msg, Handler>>(std::move(handler));
+}
+
+Odometry from_msg(const nav_msgs::msg::Odometry& m) {
+  Odometry o;
+  o.stamp = dds::from_time_msg(m.header().stamp());
+  o.frame_id = m.header().frame_id();
+  o.child_frame_id = m.child_frame_id();
+  const auto& pose = m.pose().pose();
+  o.p_WB = {pose.position().x(), pose.position().y(), pose.position().z()};
+  o.q_WB = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(), pose.orientation().w()};
+  const auto& twist = m.twist().twist();
+  o.v_WB_B = {twist.linear().x(), twist.linear().y(), twist.linear().z()};
+  o.w_WB_B = {twist.angular().x(), twist.angular().y(), twist.angular().z()};
+  return o;
+}
+
+SimStatus from_msg(const hadal_msgs::msg::SimStatus& m) {
+  SimStatus s;
+  s.sim_time = m.sim_time();
+  s.wall_time = m.wall_time();
+  s.real_time_factor = m.real_time_factor();
+  s.step_count = m.step_count();
+  s.step_size = m.step_size();
+  s.mode = static_cast<ServerMode>(m.mode());
+  s.vehicle_names = m.vehicle_names();
+  s.vehicle_faults = m.vehicle_faults();
+  s.rejected_commands = m.rejected_commands();
+  s.last_error = m.last_error();
+  return s;
+}
+
+ThrusterStates from_msg(const hadal_msgs::msg::ThrusterState& m) {
+  ThrusterStates t;
+  t.stamp = dds::from_time_msg(m.header().stamp());
+  t.names = m.name();
+  t.setpoint = m.setpoint();
+  t.rotor_speed = m.rotor_speed();
+  t.thrust = m.thrust();
+  t.torque = m.torque();
+  t.command_source = m.command_source();
+  return t;
+}
+
+bool wait_for_match(fdds::DataWriter* writer, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  fdds::PublicationMatchedStatus status;
+  while (std::chrono::steady_clock::now() < deadline) {
+    writer->get_publication_matched_status(status);
+    if (status.current_count > 0) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  writer->get_publication_matched_status(status);
+  return status.current_count > 0;
+}
+
+}  // namespace
+
+struct Client::Impl {
+  fdds::DomainParticipant* participant = nullptr;
+  std::unique_ptr<dds::TopicRegistry> registry;
+  std::vector<std::unique_ptr<fdds::DataReaderListener>> listeners;
+  std::vector<fdds::DataReader*> readers;
+  std::map<std::string, fdds::DataWriter*> setpoint_writers;
+  fdds::DataWriter* step_writer = nullptr;
+
+  mutable std::mutex mutex;
+  std::condition_variable changed;
+  std::optional<SimStatus> status;
+  std::vector<std::function<void(const SimStatus&)>> status_callbacks;
+  std::map<std::uint64_t, hadal_msgs::msg::StepReply> replies;
+  std::map<std::string, std::vector<double>> pending_setpoints;  // attached to the next step()
+  std::uint64_t next_request_id = 0;
+
+  template <class PubSubType, class Msg, class Handler>
+  void subscribe(const std::string& topic, Handler handler) {
+    auto listener = make_listener<Msg>(std::move(handler));
+    fdds::DataReader* reader = registry->reader<PubSubType>(topic, kHistoryDepth, listener.get());
+    std::lock_guard<std::mutex> lock(mutex);
+    readers.push_back(reader);
+    listeners.push_back(std::move(listener));
+  }
+};
+
+Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  d.participant = dds::create_participant(options.domain_id, options.name);
+  d.registry = std::make_unique<dds::TopicRegistry>(d.participant);
+  // Request ids unique across clients of one server: a random 32-bit prefix per client.
+  std::random_device entropy;
+  d.next_request_id = (static_cast<std::uint64_t>(entropy()) << 32) ^ static_cast<std::uint64_t>(::getpid());
+  d.next_request_id &= ~std::uint64_t{0xFFFFFFFF};
+
+  d.subscribe<hadal_msgs::msg::SimStatusPubSubType, hadal_msgs::msg::SimStatus>(
+      dds::status_topic(), [&d](const hadal_msgs::msg::SimStatus& m) {
+        const SimStatus s = from_msg(m);
+        std::vector<std::function<void(const SimStatus&)>> callbacks;
+        {
+          std::lock_guard<std::mutex> lock(d.mutex);
+          d.status = s;
+          callbacks = d.status_callbacks;
+          d.changed.notify_all();
+        }
+        for (const auto& callback : callbacks) callback(s);
+      });
+  d.subscribe<hadal_msgs::msg::StepReplyPubSubType, hadal_msgs::msg::StepReply>(
+      dds::step_reply_topic(), [&d](const hadal_msgs::msg::StepReply& m) {
+        std::lock_guard<std::mutex> lock(d.mutex);
+        d.replies[m.request_id()] = m;
+        d.changed.notify_all();
+      });
+  d.step_writer = d.registry->writer<hadal_msgs::msg::StepRequestPubSubType>(dds::step_request_topic(),
+                                                                            kHistoryDepth);
+}
+
+Client::~Client() { dds::delete_participant(impl_->participant); }
+
+bool Client::wait_for_server(double timeout_s) {
+  std::unique_lock<std::mutex> lock(impl_->mutex);
+  return impl_->changed.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                                 [this] { return impl_->status.has_value(); });
+}
+
+bool Client::wait_for_subscriptions(double timeout_s) {
+  std::vector<fdds::DataReader*> readers;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    readers = impl_->readers;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (fdds::DataReader* reader : readers) {
+    fdds::SubscriptionMatchedStatus status;
+    while (true) {
+      reader->get_subscription_matched_status(status);
+      if (status.current_count > 0) break;
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+  return true;
+}
+
+std::optional<SimStatus> Client::latest_status() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->status;
+}
+
+void Client::on_clock(std::function<void(double)> callback) {
+  impl_->subscribe<rosgraph_msgs::msg::ClockPubSubType, rosgraph_msgs::msg::Clock>(
+      dds::clock_topic(),
+      [callback = std::move(callback)](const rosgraph_msgs::msg::Clock& m) { callback(dds::from_time_msg(m.clock())); });
+}
+
+void Client::on_status(std::function<void(const SimStatus&)> callback) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->status_callbacks.push_back(std::move(callback));
+}
+
+void Client::on_odometry(const std::string& vehicle, std::function<void(const Odometry&)> callback) {
+  impl_->subscribe<nav_msgs::msg::OdometryPubSubType, nav_msgs::msg::Odometry>(
+      dds::odometry_topic(vehicle),
+      [callback = std::move(callback)](const nav_msgs::msg::Odometry& m) { callback(from_msg(m)); });
+}
+
+void Client::on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::ThrusterStatePubSubType, hadal_msgs::msg::ThrusterState>(
+      dds::thruster_state_topic(vehicle),
+      [callback = std::move(callback)](const hadal_msgs::msg::ThrusterState& m) { callback(from_msg(m)); });
+}
+
+void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
+  Impl& d = *impl_;
+  fdds::DataWriter* writer = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    d.pending_setpoints[vehicle] = setpoints;
+    auto found = d.setpoint_writers.find(vehicle);
+    if (found != d.setpoint_writers.end()) writer = found->second;
+  }
+  if (writer == nullptr) {
+    writer = d.registry->writer<std_msgs::msg::Float64MultiArrayPubSubType>(
+        dds::thruster_setpoints_topic(vehicle), kHistoryDepth);
+    wait_for_match(writer, 2.0);
+    std::lock_guard<std::mutex> lock(d.mutex);
+    d.setpoint_writers[vehicle] = writer;
+  }
+  std_msgs::msg::Float64MultiArray msg;
+  msg.data(setpoints);
+  writer->write(&msg);
+}
+
+double Client::step(std::uint32_t steps, double timeout_s) {
+  Impl& d = *impl_;
+  if (!wait_for_match(d.step_writer, timeout_s)) {
+    throw ClientError("no lockstep server on this domain (rt/hadal/step_request has no reader)");
+  }
+  hadal_msgs::msg::StepRequest request;
+  std::uint64_t id = 0;
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    id = ++d.next_request_id;
+    request.request_id(id);
+    request.steps(steps);
+    for (const auto& [vehicle, setpoints] : d.pending_setpoints) {
+      request.vehicle_names().push_back(vehicle);
+      request.setpoint_counts().push_back(static_cast<std::uint32_t>(setpoints.size()));
+      request.setpoints().insert(request.setpoints().end(), setpoints.begin(), setpoints.end());
+    }
+    d.pending_setpoints.clear();
+  }
+  d.step_writer->write(&request);
+
+  std::unique_lock<std::mutex> lock(d.mutex);
+  if (!d.changed.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                          [&] { return d.replies.count(id) > 0; })) {
+    throw ClientError("no step reply from the server within " + std::to_string(timeout_s) + " s");
+  }
+  const hadal_msgs::msg::StepReply reply = d.replies[id];
+  d.replies.erase(id);
+  if (!reply.accepted()) throw ClientError("step request refused: " + reply.error());
+  return reply.sim_time_s();
+}
+
+}  // namespace hadal

@@ -1,0 +1,23 @@
+// DDS topic names, following ROS 2's conventions: DDS topic = "rt/" + ROS topic without the leading
+// slash, so ROS 2 nodes subscribe to /clock, /<vehicle>/odometry ... with no bridge.
+#pragma once
+
+#include <string>
+
+namespace hadal::dds {
+
+inline std::string clock_topic() { return "rt/clock"; }
+inline std::string status_topic() { return "rt/hadal/status"; }
+inline std::string step_request_topic() { return "rt/hadal/step_request"; }
+inline std::string step_reply_topic() { return "rt/hadal/step_reply"; }
+inline std::string odometry_topic(const std::string& vehicle) { return "rt/" + vehicle + "/odometry"; }
+inline std::string thruster_setpoints_topic(const std::string& vehicle) {
+  return "rt/" + vehicle + "/thrusters/setpoints";
+}
+inline std::string thruster_state_topic(const std::string& vehicle) {
+  return "rt/" + vehicle + "/thrusters/state";
+}
+// Frame id of a vehicle's body frame B in message headers (REP-105 style).
+inline std::string base_frame_id(const std::string& vehicle) { return vehicle + "/base_link"; }
+
+}  // namespace hadal::dds

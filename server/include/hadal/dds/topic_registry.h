@@ -1,0 +1,84 @@
+// Registers message types and creates topics once per participant (Fast DDS refuses a second
+// create_topic with the same name), plus the QoS Hadal uses on every endpoint.
+//
+// QoS: writers are RELIABLE + VOLATILE with KEEP_LAST history, which matches both reliable and
+// best-effort readers (ROS 2 sensor-data QoS included); readers are RELIABLE + VOLATILE.
+#pragma once
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace hadal::dds {
+
+class TopicRegistry {
+ public:
+  explicit TopicRegistry(eprosima::fastdds::dds::DomainParticipant* participant)
+      : participant_(participant) {
+    publisher_ = participant_->create_publisher(eprosima::fastdds::dds::PUBLISHER_QOS_DEFAULT);
+    subscriber_ = participant_->create_subscriber(eprosima::fastdds::dds::SUBSCRIBER_QOS_DEFAULT);
+    if (publisher_ == nullptr || subscriber_ == nullptr) {
+      throw std::runtime_error("could not create a DDS publisher/subscriber");
+    }
+  }
+
+  // The topic `name` of message type PubSubType (a fastddsgen XxxPubSubType).
+  template <class PubSubType>
+  eprosima::fastdds::dds::Topic* topic(const std::string& name) {
+    auto found = topics_.find(name);
+    if (found != topics_.end()) return found->second;
+    eprosima::fastdds::dds::TypeSupport type(new PubSubType());
+    const std::string type_name = type.get_type_name();
+    if (participant_->find_type(type_name).empty()) {
+      type.register_type(participant_);
+    }
+    eprosima::fastdds::dds::Topic* created =
+        participant_->create_topic(name, type_name, eprosima::fastdds::dds::TOPIC_QOS_DEFAULT);
+    if (created == nullptr) throw std::runtime_error("could not create DDS topic " + name);
+    topics_.emplace(name, created);
+    return created;
+  }
+
+  template <class PubSubType>
+  eprosima::fastdds::dds::DataWriter* writer(const std::string& topic_name, int history_depth,
+                                            eprosima::fastdds::dds::DataWriterListener* listener = nullptr) {
+    eprosima::fastdds::dds::DataWriterQos qos = eprosima::fastdds::dds::DATAWRITER_QOS_DEFAULT;
+    qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+    qos.durability().kind = eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = history_depth;
+    auto* writer = publisher_->create_datawriter(topic<PubSubType>(topic_name), qos, listener);
+    if (writer == nullptr) throw std::runtime_error("could not create a DDS writer on " + topic_name);
+    return writer;
+  }
+
+  template <class PubSubType>
+  eprosima::fastdds::dds::DataReader* reader(const std::string& topic_name, int history_depth,
+                                            eprosima::fastdds::dds::DataReaderListener* listener) {
+    eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
+    qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+    qos.durability().kind = eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = history_depth;
+    auto* reader = subscriber_->create_datareader(topic<PubSubType>(topic_name), qos, listener);
+    if (reader == nullptr) throw std::runtime_error("could not create a DDS reader on " + topic_name);
+    return reader;
+  }
+
+ private:
+  eprosima::fastdds::dds::DomainParticipant* participant_;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+};
+
+}  // namespace hadal::dds

@@ -1,0 +1,140 @@
+#include "cli.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace hadal::app {
+
+namespace {
+
+bool parse_double(const std::string& text, double& out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(text.c_str(), &end);
+  return errno == 0 && end == text.c_str() + text.size() && std::isfinite(out);
+}
+
+bool parse_uint64(const std::string& text, std::uint64_t& out) {
+  if (text.empty() || text[0] == '-' || text[0] == '+') return false;
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtoull(text.c_str(), &end, 10);
+  return errno == 0 && end == text.c_str() + text.size();
+}
+
+bool parse_domain(const std::string& text, int& out) {
+  std::uint64_t value = 0;
+  if (!parse_uint64(text, value) || value > 232) return false;
+  out = static_cast<int>(value);
+  return true;
+}
+
+}  // namespace
+
+const char* to_string(RunMode mode) {
+  switch (mode) {
+    case RunMode::kRealtime: return "realtime";
+    case RunMode::kFast: return "fast";
+    case RunMode::kLockstep: return "lockstep";
+  }
+  return "unknown";
+}
+
+std::string usage() {
+  return "usage: hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep]\n"
+         "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
+         "                            [--discovery-wait SECONDS] [--no-status-line]\n"
+         "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
+         "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
+         "                   lockstep: advance only on rt/hadal/step_request\n"
+         "  --rtf F          real-time factor in realtime mode, > 0 (default 1)\n"
+         "  --seed N         override the scenario's world.seed\n"
+         "  --domain-id N    DDS domain 0..232 (default: $ROS_DOMAIN_ID, else 0)\n"
+         "  --discovery-wait S  wall seconds to let DDS discovery match running subscribers before\n"
+         "                   the first step (default 1 in fast mode, 0 otherwise)\n"
+         "  --no-status-line no per-second status line on stderr\n"
+         "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
+}
+
+CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_id_env) {
+  CliParse parse;
+  CliOptions& o = parse.options;
+  if (ros_domain_id_env != nullptr && *ros_domain_id_env != '\0' &&
+      !parse_domain(ros_domain_id_env, o.domain_id)) {
+    parse.error = "ROS_DOMAIN_ID must be an integer in 0..232 (got '" + std::string(ros_domain_id_env) + "')";
+    return parse;
+  }
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "-h" || arg == "--help") {
+      o.help = true;
+      return parse;
+    }
+    if (arg == "--no-status-line") {
+      o.status_line = false;
+      continue;
+    }
+    if (arg.rfind("--", 0) == 0) {
+      if (i + 1 >= args.size()) {
+        parse.error = "option " + arg + " needs a value";
+        return parse;
+      }
+      const std::string& value = args[++i];
+      if (arg == "--duration") {
+        double d = 0.0;
+        if (!parse_double(value, d) || d <= 0.0) {
+          parse.error = "--duration must be a number of seconds > 0 (got '" + value + "')";
+          return parse;
+        }
+        o.duration = d;
+      } else if (arg == "--discovery-wait") {
+        double w = 0.0;
+        if (!parse_double(value, w) || w < 0.0) {
+          parse.error = "--discovery-wait must be a number of seconds >= 0 (got '" + value + "')";
+          return parse;
+        }
+        o.discovery_wait = w;
+      } else if (arg == "--mode") {
+        if (value == "realtime") o.mode = RunMode::kRealtime;
+        else if (value == "fast") o.mode = RunMode::kFast;
+        else if (value == "lockstep") o.mode = RunMode::kLockstep;
+        else {
+          parse.error = "--mode must be realtime, fast or lockstep (got '" + value + "')";
+          return parse;
+        }
+      } else if (arg == "--rtf") {
+        if (!parse_double(value, o.real_time_factor) || o.real_time_factor <= 0.0) {
+          parse.error = "--rtf must be a number > 0 (got '" + value + "')";
+          return parse;
+        }
+      } else if (arg == "--seed") {
+        std::uint64_t seed = 0;
+        if (!parse_uint64(value, seed)) {
+          parse.error = "--seed must be a non-negative integer (got '" + value + "')";
+          return parse;
+        }
+        o.seed = seed;
+      } else if (arg == "--domain-id") {
+        if (!parse_domain(value, o.domain_id)) {
+          parse.error = "--domain-id must be an integer in 0..232 (got '" + value + "')";
+          return parse;
+        }
+      } else {
+        parse.error = "unknown option " + arg;
+        return parse;
+      }
+      continue;
+    }
+    if (!o.scenario_file.empty()) {
+      parse.error = "more than one scenario file given ('" + o.scenario_file + "' and '" + arg + "')";
+      return parse;
+    }
+    o.scenario_file = arg;
+  }
+  if (o.scenario_file.empty()) parse.error = "no scenario file given";
+  return parse;
+}
+
+}  // namespace hadal::app

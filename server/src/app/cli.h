@@ -1,0 +1,47 @@
+// hadald command line:
+//   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
+//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--no-status-line]
+// --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hadal::app {
+
+enum class RunMode { kRealtime, kFast, kLockstep };
+
+const char* to_string(RunMode mode);
+
+struct CliOptions {
+  std::string scenario_file;
+  std::optional<double> duration;  // sim seconds; none: run until stopped
+  RunMode mode = RunMode::kRealtime;
+  double real_time_factor = 1.0;   // realtime mode: sim seconds per wall second
+  std::optional<std::uint64_t> seed;
+  int domain_id = 0;
+  bool status_line = true;
+  // Wall seconds to wait after start-up before the first step, so subscribers that are already
+  // running are matched before the first samples (a fast run can be over before DDS discovery is).
+  // Default: 1 s in fast mode, 0 otherwise.
+  std::optional<double> discovery_wait;
+
+  double effective_discovery_wait() const {
+    return discovery_wait ? *discovery_wait : (mode == RunMode::kFast ? 1.0 : 0.0);
+  }
+  bool help = false;
+};
+
+struct CliParse {
+  CliOptions options;
+  std::string error;  // non-empty: print it with the usage and exit 2
+};
+
+// `args` excludes argv[0]. `ros_domain_id_env` is $ROS_DOMAIN_ID (or null).
+CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_id_env);
+
+std::string usage();
+
+}  // namespace hadal::app

@@ -1,0 +1,65 @@
+#include "cli.h"
+
+#include <gtest/gtest.h>
+
+namespace hadal::app {
+namespace {
+
+TEST(CliTest, DefaultsAndAllOptions) {
+  CliParse p = parse_cli({"s.yaml"}, nullptr);
+  ASSERT_EQ(p.error, "");
+  EXPECT_EQ(p.options.scenario_file, "s.yaml");
+  EXPECT_EQ(p.options.mode, RunMode::kRealtime);
+  EXPECT_FALSE(p.options.duration.has_value());
+  EXPECT_EQ(p.options.domain_id, 0);
+
+  p = parse_cli({"--mode", "lockstep", "s.yaml", "--duration", "5", "--rtf", "2.5", "--seed", "7",
+                 "--domain-id", "42", "--no-status-line"},
+                nullptr);
+  ASSERT_EQ(p.error, "");
+  EXPECT_EQ(p.options.mode, RunMode::kLockstep);
+  EXPECT_DOUBLE_EQ(*p.options.duration, 5.0);
+  EXPECT_DOUBLE_EQ(p.options.real_time_factor, 2.5);
+  EXPECT_EQ(*p.options.seed, 7u);
+  EXPECT_EQ(p.options.domain_id, 42);
+  EXPECT_FALSE(p.options.status_line);
+  EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
+}
+
+TEST(CliTest, DiscoveryWaitDefaultsToOneSecondInFastMode) {
+  EXPECT_DOUBLE_EQ(parse_cli({"s.yaml", "--mode", "fast"}, nullptr).options.effective_discovery_wait(), 1.0);
+  EXPECT_DOUBLE_EQ(parse_cli({"s.yaml"}, nullptr).options.effective_discovery_wait(), 0.0);
+  EXPECT_DOUBLE_EQ(
+      parse_cli({"s.yaml", "--mode", "fast", "--discovery-wait", "0"}, nullptr).options.effective_discovery_wait(),
+      0.0);
+  EXPECT_EQ(parse_cli({"s.yaml", "--discovery-wait", "-1"}, nullptr).error,
+            "--discovery-wait must be a number of seconds >= 0 (got '-1')");
+}
+
+TEST(CliTest, DomainFromEnvironmentUnlessGiven) {
+  EXPECT_EQ(parse_cli({"s.yaml"}, "17").options.domain_id, 17);
+  EXPECT_EQ(parse_cli({"s.yaml", "--domain-id", "3"}, "17").options.domain_id, 3);
+  EXPECT_NE(parse_cli({"s.yaml"}, "300").error, "");
+}
+
+TEST(CliTest, BadInputIsReported) {
+  EXPECT_EQ(parse_cli({}, nullptr).error, "no scenario file given");
+  EXPECT_EQ(parse_cli({"s.yaml", "--mode", "turbo"}, nullptr).error,
+            "--mode must be realtime, fast or lockstep (got 'turbo')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--duration", "-1"}, nullptr).error,
+            "--duration must be a number of seconds > 0 (got '-1')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--duration", "nan"}, nullptr).error,
+            "--duration must be a number of seconds > 0 (got 'nan')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--rtf", "0"}, nullptr).error, "--rtf must be a number > 0 (got '0')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--seed", "-3"}, nullptr).error,
+            "--seed must be a non-negative integer (got '-3')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--domain-id", "233"}, nullptr).error,
+            "--domain-id must be an integer in 0..232 (got '233')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--frobnicate", "1"}, nullptr).error, "unknown option --frobnicate");
+  EXPECT_EQ(parse_cli({"s.yaml", "--duration"}, nullptr).error, "option --duration needs a value");
+  EXPECT_EQ(parse_cli({"a.yaml", "b.yaml"}, nullptr).error,
+            "more than one scenario file given ('a.yaml' and 'b.yaml')");
+}
+
+}  // namespace
+}  // namespace hadal::app

@@ -1,0 +1,65 @@
+// hadald: the Hadal simulation server. See cli.h for the command line and README.md for the topics.
+#include "cli.h"
+#include "hadal/config/scenario_loader.h"
+#include "server_loop.h"
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void handle_stop_signal(int) { g_stop.store(true); }
+
+void install_signal_handlers() {
+  struct sigaction action {};
+  action.sa_handler = handle_stop_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace hadal;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  const app::CliParse cli = app::parse_cli(args, std::getenv("ROS_DOMAIN_ID"));
+  if (cli.options.help) {
+    std::fputs(app::usage().c_str(), stdout);
+    return 0;
+  }
+  if (!cli.error.empty()) {
+    std::fprintf(stderr, "hadald: error: %s\n%s", cli.error.c_str(), app::usage().c_str());
+    return 2;
+  }
+
+  config::LoadResult loaded = config::load_scenario_file(cli.options.scenario_file);
+  if (!loaded.ok()) {
+    for (const auto& error : loaded.errors) std::fprintf(stderr, "%s\n", error.format().c_str());
+    std::fprintf(stderr, "hadald: %zu error(s) in the scenario; nothing started\n", loaded.errors.size());
+    return 1;
+  }
+  Model model = std::move(*loaded.model);
+  if (cli.options.seed) model.world.seed = *cli.options.seed;
+
+  install_signal_handlers();
+  std::fprintf(stderr, "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d\n",
+               cli.options.scenario_file.c_str(), model.vehicles.size(), model.world.physics_rate_hz,
+               app::to_string(cli.options.mode), cli.options.domain_id);
+  try {
+    const app::RunSummary summary = app::run_server(model, cli.options, g_stop);
+    std::fputs(summary.format().c_str(), stdout);
+    std::fflush(stdout);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hadald: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

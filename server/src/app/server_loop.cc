@@ -1,0 +1,274 @@
+#include "server_loop.h"
+
+#include "hadal/core/rate_divider.h"
+#include "hadal/core/simulation.h"
+#include "../dds/server_endpoints.h"
+
+#include <hadal_msgs.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+namespace hadal::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::uint8_t mode_code(RunMode mode) {
+  namespace C = hadal_msgs::msg::SimStatus_Constants;
+  switch (mode) {
+    case RunMode::kRealtime: return C::MODE_REALTIME;
+    case RunMode::kFast: return C::MODE_FAST;
+    case RunMode::kLockstep: return C::MODE_LOCKSTEP;
+  }
+  return C::MODE_REALTIME;
+}
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+class Runner {
+ public:
+  Runner(const Model& model, const CliOptions& options, const std::atomic<bool>& stop)
+      : model_(model), options_(options), stop_(stop), sim_(model), dds_(model, options.domain_id) {
+    clock_divider_ = RateDivider(model.world.clock_rate_hz);
+    const std::size_t n = model.vehicles.size();
+    odometry_dividers_.reserve(n);
+    for (const auto& v : model.vehicles) {
+      odometry_dividers_.emplace_back(v.odometry_rate_hz);
+      thruster_dividers_.emplace_back(v.thruster_state_rate_hz);
+    }
+    last_command_stamp_.assign(n, std::numeric_limits<std::int64_t>::min());
+    distance_.assign(n, 0.0);
+    reported_resets_.assign(n, 0);
+    for (const auto& v : sim_.state().vehicles) start_positions_.push_back(v.body.X_WB.translation());
+    previous_positions_ = start_positions_;
+  }
+
+  RunSummary run() {
+    start_wall_ = Clock::now();
+    last_status_wall_ = start_wall_;
+    publish_status(0.0);
+    const double discovery_wait = options_.effective_discovery_wait();
+    const Clock::time_point wait_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                          std::chrono::duration<double>(discovery_wait));
+    while (!stop_.load() && Clock::now() < wait_end) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      service_wall_clock();
+    }
+    start_wall_ = Clock::now();
+    last_status_wall_ = start_wall_;
+    last_line_wall_ = start_wall_;
+    publish_due();
+    switch (options_.mode) {
+      case RunMode::kRealtime:
+      case RunMode::kFast: run_free(); break;
+      case RunMode::kLockstep: run_lockstep(); break;
+    }
+    publish_status(seconds_since(start_wall_));
+    dds_.flush(1.0);
+    return summary();
+  }
+
+ private:
+  bool duration_reached() const {
+    // Half a step of slack: sim time is k * dt, so the last step lands within rounding of the duration.
+    return options_.duration && sim_.time() >= *options_.duration - 0.5 * model_.world.step_size();
+  }
+
+  void run_free() {
+    const double dt = model_.world.step_size();
+    const bool realtime = options_.mode == RunMode::kRealtime;
+    const std::uint64_t first_step = sim_.state().step_count;
+    while (!stop_.load() && !duration_reached()) {
+      if (realtime) {
+        const double target_s =
+            static_cast<double>(sim_.state().step_count - first_step) * dt / options_.real_time_factor;
+        std::this_thread::sleep_until(start_wall_ + std::chrono::duration_cast<Clock::duration>(
+                                                        std::chrono::duration<double>(target_s)));
+      }
+      step_once();
+      service_wall_clock();
+    }
+  }
+
+  void run_lockstep() {
+    while (!stop_.load() && !duration_reached()) {
+      auto request = dds_.wait_step_request(std::chrono::milliseconds(50));
+      service_wall_clock();
+      if (!request) continue;
+      if (!request->error.empty()) {
+        reject("step request " + std::to_string(request->request_id) + ": " + request->error);
+        dds_.publish_step_reply(request->request_id, false, request->error, sim_.state());
+        continue;
+      }
+      std::string refused;
+      for (const auto& command : request->commands) {
+        const std::string reason = apply_command(command);
+        if (!reason.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
+      }
+      if (!refused.empty()) {
+        reject("step request " + std::to_string(request->request_id) + ": " + refused);
+        dds_.publish_step_reply(request->request_id, false, refused, sim_.state());
+        continue;
+      }
+      for (std::uint32_t i = 0; i < request->steps && !stop_.load() && !duration_reached(); ++i) {
+        step_once();
+      }
+      dds_.publish_step_reply(request->request_id, true, "", sim_.state());
+    }
+  }
+
+  // Returns the rejection reason, or "" when the command was applied or superseded.
+  std::string apply_command(const dds::InboundCommand& command) {
+    if (!command.error.empty()) return command.error;
+    const auto v = static_cast<std::size_t>(command.vehicle_index);
+    // DDS does not order samples across topics: a command older than one already applied is stale.
+    if (command.source_stamp_ns < last_command_stamp_[v]) return "";
+    const std::string reason = sim_.set_thruster_setpoints(command.vehicle_index, command.setpoints);
+    if (reason.empty()) last_command_stamp_[v] = command.source_stamp_ns;
+    return reason;
+  }
+
+  void step_once() {
+    for (const auto& command : dds_.take_commands()) {
+      const std::string reason = apply_command(command);
+      if (!reason.empty()) reject(model_.vehicles[command.vehicle_index].name + ": " + reason);
+    }
+    sim_.step();
+    const SimState& state = sim_.state();
+    for (std::size_t i = 0; i < state.vehicles.size(); ++i) {
+      const Eigen::Vector3d p = state.vehicles[i].body.X_WB.translation();
+      distance_[i] += (p - previous_positions_[i]).norm();
+      previous_positions_[i] = p;
+      if (state.vehicles[i].fault_resets != reported_resets_[i]) {
+        reported_resets_[i] = state.vehicles[i].fault_resets;
+        std::fprintf(stderr, "hadald: %s: non-finite state at t = %.3f s, vehicle reset to its initial pose\n",
+                     model_.vehicles[i].name.c_str(), state.time);
+      }
+    }
+    publish_due();
+  }
+
+  void publish_due() {
+    const SimState& state = sim_.state();
+    if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
+    for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
+      if (odometry_dividers_[i].due(state.time)) dds_.publish_odometry(static_cast<int>(i), state);
+      if (thruster_dividers_[i].due(state.time)) dds_.publish_thruster_state(static_cast<int>(i), state);
+    }
+  }
+
+  void reject(const std::string& reason) {
+    ++rejected_;
+    last_error_ = reason;
+    // At most one line per wall second, so a misbehaving client cannot flood the log.
+    const double now = seconds_since(start_wall_);
+    if (now - last_reject_print_ >= 1.0 || rejected_ == 1) {
+      std::fprintf(stderr, "hadald: rejected command: %s\n", reason.c_str());
+      last_reject_print_ = now;
+    }
+  }
+
+  void service_wall_clock() {
+    const Clock::time_point now = Clock::now();
+    const double status_period = 1.0 / model_.world.status_rate_hz;
+    if (std::chrono::duration<double>(now - last_status_wall_).count() >= status_period) {
+      publish_status(std::chrono::duration<double>(now - last_status_wall_).count());
+      last_status_wall_ = now;
+      for (const auto& report : dds_.take_reports()) std::fprintf(stderr, "hadald: %s\n", report.c_str());
+    }
+    if (options_.status_line && options_.mode != RunMode::kLockstep &&
+        std::chrono::duration<double>(now - last_line_wall_).count() >= 1.0) {
+      const double wall = std::chrono::duration<double>(now - last_line_wall_).count();
+      const double sim_dt = sim_.time() - last_line_sim_;
+      const double steps = static_cast<double>(sim_.state().step_count - last_line_steps_);
+      if (last_line_wall_ != Clock::time_point{}) {
+        std::fprintf(stderr, "hadald: sim %.3f s  RTF %.2f  %.0f steps/s\n", sim_.time(), sim_dt / wall,
+                     steps / wall);
+      }
+      last_line_wall_ = now;
+      last_line_sim_ = sim_.time();
+      last_line_steps_ = sim_.state().step_count;
+    }
+  }
+
+  void publish_status(double wall_period) {
+    dds::StatusReport report;
+    report.sim_time = sim_.time();
+    report.wall_time = seconds_since(start_wall_);
+    report.real_time_factor = wall_period > 0.0 ? (sim_.time() - last_status_sim_) / wall_period : 0.0;
+    last_status_sim_ = sim_.time();
+    report.step_count = sim_.state().step_count;
+    report.step_size = model_.world.step_size();
+    report.mode = mode_code(options_.mode);
+    for (const auto& v : sim_.state().vehicles) report.vehicle_faults.push_back(v.faults);
+    report.rejected_commands = rejected_;
+    report.last_error = last_error_;
+    dds_.publish_status(report);
+  }
+
+  RunSummary summary() const {
+    RunSummary s;
+    s.sim_time = sim_.time();
+    s.wall_time = seconds_since(start_wall_);
+    s.steps = sim_.state().step_count;
+    s.rejected_commands = rejected_;
+    for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
+      const Eigen::Vector3d p = sim_.state().vehicles[i].body.X_WB.translation();
+      s.vehicles.push_back({model_.vehicles[i].name, distance_[i], (p - start_positions_[i]).norm()});
+    }
+    for (const auto& count : dds_.published_counts()) s.samples_published.emplace_back(count.topic, count.samples);
+    return s;
+  }
+
+  using InboundCommandRef = const dds::InboundCommand&;
+
+  const Model& model_;
+  const CliOptions& options_;
+  const std::atomic<bool>& stop_;
+  Simulation sim_;
+  dds::ServerEndpoints dds_;
+  RateDivider clock_divider_;
+  std::vector<RateDivider> odometry_dividers_, thruster_dividers_;
+  std::vector<std::int64_t> last_command_stamp_;
+  std::vector<double> distance_;
+  std::vector<std::uint64_t> reported_resets_;
+  std::vector<Eigen::Vector3d> start_positions_, previous_positions_;
+  Clock::time_point start_wall_, last_status_wall_, last_line_wall_{};
+  double last_line_sim_ = 0.0, last_status_sim_ = 0.0, last_reject_print_ = 0.0;
+  std::uint64_t last_line_steps_ = 0, rejected_ = 0;
+  std::string last_error_;
+};
+
+}  // namespace
+
+std::string RunSummary::format() const {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(3);
+  out << "hadald summary\n";
+  out << "  sim time " << sim_time << " s in " << wall_time << " s wall, RTF "
+      << (wall_time > 0.0 ? sim_time / wall_time : 0.0) << ", " << steps << " steps\n";
+  for (const auto& v : vehicles) {
+    out << "  " << v.name << ": distance travelled " << v.distance_travelled << " m (net displacement "
+        << v.net_displacement << " m)\n";
+  }
+  out << "  samples published:\n";
+  for (const auto& [topic, count] : samples_published) out << "    " << topic << " " << count << "\n";
+  out << "  rejected commands: " << rejected_commands << "\n";
+  return out.str();
+}
+
+RunSummary run_server(const Model& model, const CliOptions& options, const std::atomic<bool>& stop) {
+  Runner runner(model, options, stop);
+  return runner.run();
+}
+
+}  // namespace hadal::app

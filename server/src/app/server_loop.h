@@ -1,0 +1,42 @@
+// The hadald run loop: fixed-step simulation driven in realtime, fast or lockstep mode, with the DDS
+// endpoints serviced at step boundaries.
+//
+// Realtime mode sleeps to an absolute schedule (step k starts at wall t0 + k dt / rtf), so the
+// real-time factor does not drift over long runs; when a step overruns, later steps run back to back
+// until the schedule is caught up. Fast mode never sleeps. Lockstep mode steps only when a
+// rt/hadal/step_request arrives, runs exactly the requested number of steps and then replies.
+// Publication rates (clock, odometry, thruster state) are in sim time; the status heartbeat is in
+// wall time (so an idle lockstep server is still discoverable).
+#pragma once
+
+#include "cli.h"
+#include "hadal/core/model.h"
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hadal::app {
+
+struct VehicleSummary {
+  std::string name;
+  double distance_travelled = 0.0;  // path length of B's origin [m]
+  double net_displacement = 0.0;    // |p_end - p_start| [m]
+};
+
+struct RunSummary {
+  double sim_time = 0.0;
+  double wall_time = 0.0;
+  std::uint64_t steps = 0;
+  std::uint64_t rejected_commands = 0;
+  std::vector<VehicleSummary> vehicles;
+  std::vector<std::pair<std::string, std::uint64_t>> samples_published;  // per topic
+
+  std::string format() const;
+};
+
+// Runs until `stop` is set or the duration is reached. Throws std::runtime_error if DDS cannot start.
+RunSummary run_server(const Model& model, const CliOptions& options, const std::atomic<bool>& stop);
+
+}  // namespace hadal::app

@@ -1,0 +1,24 @@
+// Conversions between Hadal's state and the ROS 2 message types on the wire.
+//
+// Odometry follows nav_msgs/Odometry's convention: pose of the body frame B in the world frame
+// (header.frame_id, ENU), twist expressed in the child frame B (v_WB_B, w_WB_B). Covariances are zero:
+// this is ground truth.
+#pragma once
+
+#include "hadal/core/model.h"
+#include "hadal/core/state.h"
+
+#include "hadal/dds/time_msg.h"
+
+#include <hadal_msgs.h>
+#include <nav_msgs.h>
+
+namespace hadal::dds {
+
+void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
+                   const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
+
+void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
+                         hadal_msgs::msg::ThrusterState& msg);
+
+}  // namespace hadal::dds

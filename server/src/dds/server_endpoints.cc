@@ -1,0 +1,332 @@
+#include "server_endpoints.h"
+
+#include "hadal/dds/participant.h"
+#include "hadal/dds/topic_names.h"
+#include "hadal/dds/topic_registry.h"
+#include "message_conversion.h"
+
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include <hadal_msgsPubSubTypes.h>
+#include <nav_msgsPubSubTypes.h>
+#include <rosgraph_msgsPubSubTypes.h>
+#include <std_msgsPubSubTypes.h>
+
+#include <set>
+
+namespace hadal::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+constexpr int kStateHistoryDepth = 10;
+constexpr int kCommandHistoryDepth = 32;
+
+std::int64_t source_stamp_ns(const fdds::SampleInfo& info) {
+  return info.source_timestamp.to_ns();
+}
+
+// Setpoints carried by a std_msgs/Float64MultiArray: data[layout.data_offset:].
+InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float64MultiArray& msg,
+                                  std::int64_t stamp_ns) {
+  InboundCommand command;
+  command.vehicle_index = vehicle_index;
+  command.source_stamp_ns = stamp_ns;
+  const std::size_t offset = msg.layout().data_offset();
+  if (offset > msg.data().size()) {
+    command.error = "layout.data_offset " + std::to_string(offset) + " exceeds data length " +
+                    std::to_string(msg.data().size());
+    return command;
+  }
+  command.setpoints.assign(msg.data().begin() + static_cast<std::ptrdiff_t>(offset), msg.data().end());
+  return command;
+}
+
+}  // namespace
+
+struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
+  const Model& model;
+  fdds::DomainParticipant* participant = nullptr;
+  std::unique_ptr<TopicRegistry> registry;
+
+  fdds::DataWriter* clock_writer = nullptr;
+  fdds::DataWriter* status_writer = nullptr;
+  fdds::DataWriter* reply_writer = nullptr;
+  std::vector<fdds::DataWriter*> odometry_writers;
+  std::vector<fdds::DataWriter*> thruster_writers;
+  std::vector<fdds::DataReader*> setpoint_readers;
+  fdds::DataReader* step_reader = nullptr;
+
+  // Counts indexed like topic_names.
+  std::vector<std::string> topic_names;
+  std::vector<std::uint64_t> counts;
+  std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0;
+  std::vector<std::size_t> odometry_slot, thruster_slot;
+
+  // Reused messages: the publish path does not allocate once strings and sequences have their size.
+  rosgraph_msgs::msg::Clock clock_msg;
+  nav_msgs::msg::Odometry odometry_msg;
+  hadal_msgs::msg::ThrusterState thruster_msg;
+  hadal_msgs::msg::SimStatus status_msg;
+
+  mutable std::mutex mutex;
+  std::condition_variable step_ready;
+  std::vector<InboundCommand> commands;
+  std::deque<InboundStepRequest> step_requests;
+  std::vector<std::string> reports;
+  std::set<std::string> reported_topics;
+  bool interrupted = false;
+
+  // One listener per setpoints reader, so the vehicle index is known without a lookup.
+  struct SetpointListener : public fdds::DataReaderListener {
+    Impl* owner = nullptr;
+    int vehicle_index = -1;
+    void on_data_available(fdds::DataReader* reader) override {
+      std_msgs::msg::Float64MultiArray msg;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        InboundCommand command = command_from_array(vehicle_index, msg, source_stamp_ns(info));
+        std::lock_guard<std::mutex> lock(owner->mutex);
+        owner->commands.push_back(std::move(command));
+      }
+    }
+  };
+  std::vector<std::unique_ptr<SetpointListener>> setpoint_listeners;
+
+  struct StepListener : public fdds::DataReaderListener {
+    Impl* owner = nullptr;
+    void on_data_available(fdds::DataReader* reader) override {
+      hadal_msgs::msg::StepRequest msg;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        InboundStepRequest request = owner->parse_step_request(msg, source_stamp_ns(info));
+        std::lock_guard<std::mutex> lock(owner->mutex);
+        owner->step_requests.push_back(std::move(request));
+        owner->step_ready.notify_all();
+      }
+    }
+  } step_listener;
+
+  explicit Impl(const Model& m) : model(m) {}
+
+  InboundStepRequest parse_step_request(const hadal_msgs::msg::StepRequest& msg, std::int64_t stamp) const {
+    InboundStepRequest request;
+    request.request_id = msg.request_id();
+    request.steps = msg.steps();
+    request.source_stamp_ns = stamp;
+    if (msg.steps() == 0) {
+      request.error = "steps must be >= 1";
+      return request;
+    }
+    if (msg.vehicle_names().size() != msg.setpoint_counts().size()) {
+      request.error = "vehicle_names and setpoint_counts differ in length";
+      return request;
+    }
+    std::size_t cursor = 0;
+    for (std::size_t i = 0; i < msg.vehicle_names().size(); ++i) {
+      const std::string& name = msg.vehicle_names()[i];
+      const int index = model.vehicle_index(name);
+      if (index < 0) {
+        request.error = "unknown vehicle '" + name + "'";
+        return request;
+      }
+      const std::size_t count = msg.setpoint_counts()[i];
+      if (cursor + count > msg.setpoints().size()) {
+        request.error = "setpoint_counts add up to more than the " +
+                        std::to_string(msg.setpoints().size()) + " setpoints attached";
+        return request;
+      }
+      InboundCommand command;
+      command.vehicle_index = index;
+      command.source_stamp_ns = stamp;
+      command.setpoints.assign(msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor),
+                               msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor + count));
+      cursor += count;
+      request.commands.push_back(std::move(command));
+    }
+    if (cursor != msg.setpoints().size()) {
+      request.error = "setpoint_counts add up to " + std::to_string(cursor) + " but " +
+                      std::to_string(msg.setpoints().size()) + " setpoints are attached";
+    }
+    return request;
+  }
+
+  // A writer on rt/<name>/thrusters/setpoints for a vehicle the scenario does not have.
+  void on_publisher_discovery(fdds::DomainParticipant*,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) return;
+    const std::string topic = info.info.topicName().to_string();
+    const std::string prefix = "rt/";
+    const std::string suffix = "/thrusters/setpoints";
+    if (topic.size() <= prefix.size() + suffix.size() || topic.compare(0, prefix.size(), prefix) != 0 ||
+        topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      return;
+    }
+    const std::string vehicle = topic.substr(prefix.size(), topic.size() - prefix.size() - suffix.size());
+    if (model.vehicle_index(vehicle) >= 0) return;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!reported_topics.insert(topic).second) return;
+    std::string known;
+    for (const auto& v : model.vehicles) known += (known.empty() ? "" : ", ") + v.name;
+    reports.push_back("commands on " + topic + " are ignored: unknown vehicle '" + vehicle +
+                      "' (vehicles: " + known + ")");
+  }
+
+  std::size_t add_count(const std::string& topic) {
+    topic_names.push_back(topic);
+    counts.push_back(0);
+    return counts.size() - 1;
+  }
+
+  void write(fdds::DataWriter* writer, void* msg, std::size_t slot) {
+    if (writer->write(msg)) ++counts[slot];
+  }
+};
+
+ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std::make_unique<Impl>(model)) {
+  Impl& d = *impl_;
+  d.participant = create_participant(domain_id, "hadald");
+  d.registry = std::make_unique<TopicRegistry>(d.participant);
+  TopicRegistry& r = *d.registry;
+
+  d.clock_writer = r.writer<rosgraph_msgs::msg::ClockPubSubType>(clock_topic(), kStateHistoryDepth);
+  d.clock_slot = d.add_count(clock_topic());
+  d.status_writer = r.writer<hadal_msgs::msg::SimStatusPubSubType>(status_topic(), kStateHistoryDepth);
+  d.status_slot = d.add_count(status_topic());
+  d.reply_writer = r.writer<hadal_msgs::msg::StepReplyPubSubType>(step_reply_topic(), kCommandHistoryDepth);
+  d.reply_slot = d.add_count(step_reply_topic());
+
+  for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
+    const std::string& name = model.vehicles[i].name;
+    d.odometry_writers.push_back(
+        r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), kStateHistoryDepth));
+    d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
+    d.thruster_writers.push_back(
+        r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
+    d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
+
+    auto listener = std::make_unique<Impl::SetpointListener>();
+    listener->owner = &d;
+    listener->vehicle_index = static_cast<int>(i);
+    d.setpoint_readers.push_back(r.reader<std_msgs::msg::Float64MultiArrayPubSubType>(
+        thruster_setpoints_topic(name), kCommandHistoryDepth, listener.get()));
+    d.setpoint_listeners.push_back(std::move(listener));
+  }
+  d.step_listener.owner = &d;
+  d.step_reader = r.reader<hadal_msgs::msg::StepRequestPubSubType>(step_request_topic(), kCommandHistoryDepth,
+                                                                   &d.step_listener);
+  // Discovery callbacks only after everything they touch exists.
+  d.participant->set_listener(&d, fdds::StatusMask::none());
+}
+
+ServerEndpoints::~ServerEndpoints() {
+  Impl& d = *impl_;
+  d.participant->set_listener(nullptr);
+  delete_participant(d.participant);
+}
+
+std::vector<InboundCommand> ServerEndpoints::take_commands() {
+  std::vector<InboundCommand> taken;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  taken.swap(impl_->commands);
+  return taken;
+}
+
+std::optional<InboundStepRequest> ServerEndpoints::wait_step_request(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(impl_->mutex);
+  impl_->step_ready.wait_for(lock, timeout,
+                             [this] { return impl_->interrupted || !impl_->step_requests.empty(); });
+  if (impl_->step_requests.empty()) return std::nullopt;
+  InboundStepRequest request = std::move(impl_->step_requests.front());
+  impl_->step_requests.pop_front();
+  return request;
+}
+
+void ServerEndpoints::interrupt() {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->interrupted = true;
+  impl_->step_ready.notify_all();
+}
+
+std::vector<std::string> ServerEndpoints::take_reports() {
+  std::vector<std::string> taken;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  taken.swap(impl_->reports);
+  return taken;
+}
+
+void ServerEndpoints::publish_clock(double time_s) {
+  impl_->clock_msg.clock(to_time_msg(time_s));
+  impl_->write(impl_->clock_writer, &impl_->clock_msg, impl_->clock_slot);
+}
+
+void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state) {
+  const auto i = static_cast<std::size_t>(vehicle_index);
+  fill_odometry(impl_->model.world.frame_id, impl_->model.vehicles[i].name, state.time,
+                state.vehicles[i].body, impl_->odometry_msg);
+  impl_->write(impl_->odometry_writers[i], &impl_->odometry_msg, impl_->odometry_slot[i]);
+}
+
+void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& state) {
+  const auto i = static_cast<std::size_t>(vehicle_index);
+  fill_thruster_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->thruster_msg);
+  impl_->write(impl_->thruster_writers[i], &impl_->thruster_msg, impl_->thruster_slot[i]);
+}
+
+void ServerEndpoints::publish_status(const StatusReport& report) {
+  hadal_msgs::msg::SimStatus& msg = impl_->status_msg;
+  msg.header().stamp(to_time_msg(report.sim_time));
+  msg.header().frame_id(impl_->model.world.frame_id);
+  msg.sim_time(report.sim_time);
+  msg.wall_time(report.wall_time);
+  msg.real_time_factor(report.real_time_factor);
+  msg.step_count(report.step_count);
+  msg.step_size(report.step_size);
+  msg.mode(report.mode);
+  msg.vehicle_names().clear();
+  for (const auto& v : impl_->model.vehicles) msg.vehicle_names().push_back(v.name);
+  msg.vehicle_faults(report.vehicle_faults);
+  msg.rejected_commands(report.rejected_commands);
+  msg.last_error(report.last_error);
+  impl_->write(impl_->status_writer, &msg, impl_->status_slot);
+}
+
+void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,
+                                         const SimState& state) {
+  hadal_msgs::msg::StepReply msg;
+  msg.request_id(request_id);
+  msg.accepted(accepted);
+  msg.error(error);
+  msg.sim_time(to_time_msg(state.time));
+  msg.sim_time_s(state.time);
+  msg.step_count(state.step_count);
+  impl_->write(impl_->reply_writer, &msg, impl_->reply_slot);
+}
+
+void ServerEndpoints::flush(double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer};
+  writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
+  writers.insert(writers.end(), impl_->thruster_writers.begin(), impl_->thruster_writers.end());
+  for (fdds::DataWriter* writer : writers) {
+    const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+    if (left <= 0.0) break;
+    writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(left));
+  }
+}
+
+std::vector<TopicCount> ServerEndpoints::published_counts() const {
+  std::vector<TopicCount> result;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  for (std::size_t i = 0; i < impl_->topic_names.size(); ++i) {
+    result.push_back({impl_->topic_names[i], impl_->counts[i]});
+  }
+  return result;
+}
+
+}  // namespace hadal::dds

@@ -1,0 +1,93 @@
+// hadald's DDS side: every topic the server publishes or subscribes (README "Topics").
+//
+// Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/<vehicle>/odometry and
+// rt/<vehicle>/thrusters/state; subscribes rt/<vehicle>/thrusters/setpoints and
+// rt/hadal/step_request. Incoming samples are queued by the DDS threads and taken by the step loop
+// at step boundaries, so the loop never waits on DDS. Writers to setpoint topics of vehicles that do
+// not exist are reported (a typo in a vehicle name is otherwise silent in DDS).
+#pragma once
+
+#include "hadal/core/model.h"
+#include "hadal/core/state.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hadal::dds {
+
+// A thruster command from rt/<vehicle>/thrusters/setpoints, or attached to a step request.
+struct InboundCommand {
+  int vehicle_index = -1;
+  std::vector<double> setpoints;
+  std::int64_t source_stamp_ns = 0;  // writer's source timestamp: later commands win
+  std::string error;                 // non-empty: malformed before it reached the simulation
+};
+
+struct InboundStepRequest {
+  std::uint64_t request_id = 0;
+  std::uint32_t steps = 0;
+  std::vector<InboundCommand> commands;  // setpoints attached to the request
+  std::int64_t source_stamp_ns = 0;
+  std::string error;  // non-empty: the request is malformed and is refused as a whole
+};
+
+struct StatusReport {
+  double sim_time = 0.0;
+  double wall_time = 0.0;
+  double real_time_factor = 0.0;
+  std::uint64_t step_count = 0;
+  double step_size = 0.0;
+  std::uint8_t mode = 0;  // hadal_msgs SimStatus MODE_*
+  std::vector<std::uint32_t> vehicle_faults;
+  std::uint64_t rejected_commands = 0;
+  std::string last_error;
+};
+
+struct TopicCount {
+  std::string topic;
+  std::uint64_t samples = 0;
+};
+
+class ServerEndpoints {
+ public:
+  ServerEndpoints(const Model& model, int domain_id);
+  ~ServerEndpoints();
+  ServerEndpoints(const ServerEndpoints&) = delete;
+  ServerEndpoints& operator=(const ServerEndpoints&) = delete;
+
+  // Commands received since the last call, in arrival order.
+  std::vector<InboundCommand> take_commands();
+  // The next step request, waiting up to `timeout` for one.
+  std::optional<InboundStepRequest> wait_step_request(std::chrono::milliseconds timeout);
+  // Wakes a wait_step_request() (used on shutdown).
+  void interrupt();
+  // Human-readable reports from the DDS threads (e.g. a writer for an unknown vehicle).
+  std::vector<std::string> take_reports();
+
+  void publish_clock(double time_s);
+  void publish_odometry(int vehicle_index, const SimState& state);
+  void publish_thruster_state(int vehicle_index, const SimState& state);
+  void publish_status(const StatusReport& report);
+  void publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,
+                          const SimState& state);
+
+  // Waits up to timeout_s for matched reliable readers to acknowledge everything written, so the
+  // last samples of a run are not lost when the participant goes away.
+  void flush(double timeout_s);
+
+  // Samples written per published topic since start (for the run summary).
+  std::vector<TopicCount> published_counts() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hadal::dds

@@ -1,0 +1,326 @@
+// End-to-end tests: a real hadald process, real Fast DDS, driven through libhadal_client.
+// Each test reserves its own DDS domain (DomainLease), so ctest -j runs them side by side.
+#include "hadal_client/client.h"
+#include "server_process.h"
+
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <dirent.h>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+
+namespace hadal::test {
+namespace {
+
+// Keep discovery on this machine even when the binary is run by hand (ctest sets it too).
+const bool kLocalhostOnly = [] { return ::setenv("ROS_LOCALHOST_ONLY", "1", 1) == 0; }();
+
+constexpr double kWait = 20.0;  // generous wall-clock bound for DDS events [s]; not a speed assertion
+
+const char* kClientScenario = "tests/integration/scenarios/auv_client.yaml";
+
+// Thread-safe log of samples keyed by sim time.
+template <class Sample>
+class SampleLog {
+ public:
+  void add(const Sample& s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    samples_[s.stamp] = s;
+  }
+  bool has(double stamp) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = samples_.lower_bound(stamp - 1e-9);
+    return it != samples_.end() && it->first <= stamp + 1e-9;
+  }
+  Sample at(double stamp) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return samples_.lower_bound(stamp - 1e-9)->second;
+  }
+  std::map<double, Sample> all() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return samples_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<double, Sample> samples_;
+};
+
+// A lockstep hadald on its own domain, with a connected client.
+class LockstepServer {
+ public:
+  explicit LockstepServer(const std::string& scenario = kClientScenario,
+                          const std::vector<std::string>& extra = {})
+      : server_(args(scenario, extra)), client_(ClientOptions{domain_.id(), "hadald_test"}) {}
+
+  void connect() {
+    ASSERT_TRUE(client_.wait_for_server(kWait)) << "no status from hadald; stderr:\n" << server_.err();
+    ASSERT_TRUE(client_.wait_for_subscriptions(kWait));
+  }
+
+  Client& client() { return client_; }
+  ServerProcess& server() { return server_; }
+
+ private:
+  std::vector<std::string> args(const std::string& scenario, const std::vector<std::string>& extra) {
+    std::vector<std::string> a = {source_path(scenario), "--mode", "lockstep", "--domain-id",
+                                  std::to_string(domain_.id()), "--no-status-line"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  }
+
+  DomainLease domain_;
+  ServerProcess server_;
+  Client client_;
+};
+
+double dot_xy(const std::array<double, 3>& a, double x, double y) { return a[0] * x + a[1] * y; }
+
+TEST(HadaldTest, ForwardThrustMovesAlongBodyX) {
+  LockstepServer s;
+  SampleLog<Odometry> odometry;
+  s.client().on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
+  s.connect();
+
+  double t = s.client().step(10);  // one odometry period (50 Hz at 500 Hz), so a sample exists
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
+  const Odometry start = odometry.at(t);
+  for (int i = 0; i < 10; ++i) {  // 5 s, commands refreshed every 0.5 s (watchdog: 1 s)
+    s.client().set_thrusters("auv", {0.8, 0.0, 0.0});
+    t = s.client().step(250);
+  }
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
+  const Odometry end = odometry.at(t);
+
+  // The scenario yaws the AUV 30 deg: body x in W is (cos 30, sin 30, 0).
+  const double cx = std::cos(M_PI / 6.0), cy = std::sin(M_PI / 6.0);
+  std::array<double, 3> d{end.p_WB[0] - start.p_WB[0], end.p_WB[1] - start.p_WB[1], end.p_WB[2] - start.p_WB[2]};
+  const double along = dot_xy(d, cx, cy);
+  const double across = dot_xy(d, -cy, cx);
+  // 16 N of thrust against ~2 N s/m + 1.6 N s^2/m^2 of drag: several metres in 5 s.
+  EXPECT_GT(along, 3.0);
+  EXPECT_LT(std::abs(across), 0.05 * along);
+  EXPECT_GT(end.v_WB_B[0], 1.0);                          // moving forward in its own frame
+  EXPECT_LT(std::abs(end.v_WB_B[1]), 0.05 * end.v_WB_B[0]);
+  EXPECT_EQ(end.frame_id, "world");
+  EXPECT_EQ(end.child_frame_id, "auv/base_link");
+}
+
+TEST(HadaldTest, PositiveBuoyancyWithoutThrustRises) {
+  LockstepServer s;
+  SampleLog<Odometry> odometry;
+  s.client().on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
+  s.connect();
+  double t = s.client().step(10);
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
+  const Odometry start = odometry.at(t);
+  t = s.client().step(2500);  // 5 s, no command at all
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
+  const Odometry end = odometry.at(t);
+  // Net lift 1025 * 0.0296 * g - 30 g = 3.3 N on 30 kg: ~0.4 m in 5 s against the heave damping.
+  EXPECT_GT(end.p_WB[2] - start.p_WB[2], 0.1);
+  EXPECT_LT(std::abs(end.p_WB[0] - start.p_WB[0]), 0.05);
+}
+
+TEST(HadaldTest, WatchdogStopsThrustersAfterCommandTimeout) {
+  LockstepServer s;
+  SampleLog<ThrusterStates> thrusters;
+  s.client().on_thruster_state("auv", [&](const ThrusterStates& x) { thrusters.add(x); });
+  s.connect();
+
+  s.client().set_thrusters("auv", {1.0, 0.0, 0.0});
+  double t = s.client().step(250);  // 0.5 s after the command: still fresh
+  ASSERT_TRUE(wait_until([&] { return thrusters.has(t); }, kWait));
+  const ThrusterStates fresh = thrusters.at(t);
+  EXPECT_EQ(fresh.setpoint[0], 1.0);
+  EXPECT_EQ(fresh.command_source, 2);  // client
+  EXPECT_GT(fresh.rotor_speed[0], 0.9 * 25.0);  // 1500 rpm = 25 rev/s, tau 0.1 s: > 99 % after 5 tau
+
+  t = s.client().step(300);  // 1.1 s after the command: timed out 0.1 s ago
+  ASSERT_TRUE(wait_until([&] { return thrusters.has(t); }, kWait));
+  const ThrusterStates timed_out = thrusters.at(t);
+  EXPECT_EQ(timed_out.setpoint[0], 0.0);
+  EXPECT_LT(timed_out.rotor_speed[0], fresh.rotor_speed[0]);
+  ASSERT_TRUE(wait_until(
+      [&] {
+        auto st = s.client().latest_status();
+        return st && st->step_count >= 550 && !st->vehicle_faults.empty() && (st->vehicle_faults[0] & 1u);
+      },
+      kWait))
+      << "status never reported FAULT_COMMAND_TIMEOUT";
+
+  t = s.client().step(500);  // 10 rotor time constants later: stopped
+  ASSERT_TRUE(wait_until([&] { return thrusters.has(t); }, kWait));
+  EXPECT_LT(std::abs(thrusters.at(t).rotor_speed[0]), 0.01);
+  EXPECT_EQ(thrusters.at(t).thrust[0], thrusters.at(t).thrust[0]);  // finite (not NaN)
+
+  s.client().set_thrusters("auv", {0.5, 0.0, 0.0});  // a fresh command clears the fault
+  t = s.client().step(10);
+  ASSERT_TRUE(wait_until([&] { return thrusters.has(t); }, kWait));
+  EXPECT_EQ(thrusters.at(t).setpoint[0], 0.5);
+  ASSERT_TRUE(wait_until(
+      [&] {
+        auto st = s.client().latest_status();
+        return st && st->step_count >= 1060 && (st->vehicle_faults[0] & 1u) == 0;
+      },
+      kWait));
+}
+
+std::map<double, Odometry> lockstep_run(std::uint64_t seed) {
+  LockstepServer s(kClientScenario, {"--seed", std::to_string(seed)});
+  SampleLog<Odometry> odometry;
+  s.client().on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
+  s.connect();
+  const std::vector<std::pair<std::vector<double>, std::uint32_t>> plan = {
+      {{0.5, 0.2, -0.3}, 100}, {{0.9, -0.5, 0.4}, 137}, {{-0.2, 0.0, 1.0}, 250}, {{1.0, 1.0, -1.0}, 13},
+      {{0.3, -0.1, 0.0}, 500}};
+  double t = 0.0;
+  for (const auto& [setpoints, steps] : plan) {
+    s.client().set_thrusters("auv", setpoints);
+    t = s.client().step(steps);
+  }
+  // 1000 steps at 500 Hz; odometry at 50 Hz: samples at 0.02 ... 2.00 s.
+  EXPECT_NEAR(t, 2.0, 1e-12);
+  EXPECT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
+  std::map<double, Odometry> samples = odometry.all();
+  samples.erase(0.0);  // published before the client matched: may or may not have arrived
+  return samples;
+}
+
+TEST(HadaldTest, LockstepRunsWithSameSeedAndCommandsAreBitIdentical) {
+  const std::map<double, Odometry> a = lockstep_run(1234);
+  const std::map<double, Odometry> b = lockstep_run(1234);
+  ASSERT_EQ(a.size(), 100u);
+  ASSERT_EQ(b.size(), 100u);
+  auto ia = a.begin();
+  auto ib = b.begin();
+  for (; ia != a.end(); ++ia, ++ib) {
+    ASSERT_EQ(ia->first, ib->first);
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(ia->second.p_WB[k], ib->second.p_WB[k]) << "t = " << ia->first;
+      ASSERT_EQ(ia->second.v_WB_B[k], ib->second.v_WB_B[k]) << "t = " << ia->first;
+      ASSERT_EQ(ia->second.w_WB_B[k], ib->second.w_WB_B[k]) << "t = " << ia->first;
+    }
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(ia->second.q_WB[k], ib->second.q_WB[k]) << "t = " << ia->first;
+  }
+  // The commands did something (the comparison is not between two resting vehicles).
+  EXPECT_GT(std::abs(a.rbegin()->second.p_WB[0]) + std::abs(a.rbegin()->second.p_WB[1]), 0.1);
+}
+
+TEST(HadaldTest, MalformedCommandsAreRejectedAndTheServerKeepsRunning) {
+  LockstepServer s;
+  s.connect();
+  auto expect_refused = [&](const std::string& vehicle, const std::vector<double>& setpoints,
+                            const std::string& reason) {
+    s.client().set_thrusters(vehicle, setpoints);
+    try {
+      s.client().step(10);
+      ADD_FAILURE() << "step with bad setpoints was accepted: " << reason;
+    } catch (const ClientError& e) {
+      EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("auv", {std::nan(""), 0.0, 0.0}, "setpoint[0] is NaN");
+  expect_refused("auv", {0.5, 0.0}, "expected 3 setpoints");
+  expect_refused("auv", {0.0, 1.5, 0.0}, "outside [-1, 1]");
+  expect_refused("ghost", {0.1}, "unknown vehicle 'ghost'");
+
+  s.client().set_thrusters("auv", {0.5, 0.0, 0.0});
+  EXPECT_NEAR(s.client().step(10), 0.02, 1e-12);  // nothing was stepped by the refused requests
+  EXPECT_TRUE(s.server().running());
+  ASSERT_TRUE(wait_until(
+      [&] {
+        auto st = s.client().latest_status();
+        return st && st->rejected_commands >= 4;
+      },
+      kWait));
+  EXPECT_TRUE(wait_until([&] { return s.server().err().find("unknown vehicle 'ghost'") != std::string::npos; },
+                         kWait))
+      << s.server().err();
+}
+
+TEST(HadaldTest, MalformedScenarioExitsBeforeAnythingStarts) {
+  const std::string path = "/tmp/hadald-test-bad-" + std::to_string(::getpid()) + ".yaml";
+  {
+    std::ofstream f(path);
+    f << "world:\n  physics_rate_hz: -5\nvehicles: []\n";
+  }
+  ServerProcess server({path, "--mode", "fast", "--no-status-line"});
+  EXPECT_EQ(server.wait(kWait), 1);
+  const std::string err = server.err();
+  EXPECT_NE(err.find(path + ":2:20: error: world.physics_rate_hz: "), std::string::npos) << err;
+  EXPECT_NE(err.find(path + ":3:11: error: vehicles: "), std::string::npos) << err;
+  EXPECT_NE(err.find("nothing started"), std::string::npos) << err;
+  EXPECT_EQ(server.out(), "");
+  std::remove(path.c_str());
+}
+
+TEST(HadaldTest, FastModeRunsTheDefaultScenarioForItsDurationAndSummarises) {
+  DomainLease domain;
+  ServerProcess server({source_path("configs/scenarios/default.yaml"), "--duration", "5", "--mode", "fast",
+                        "--domain-id", std::to_string(domain.id()), "--no-status-line", "--discovery-wait", "0"});
+  ASSERT_EQ(server.wait(120.0), 0) << server.err();
+  const std::string out = server.out();
+  // 5 s of sim time: clock at 100 Hz and odometry at 50 Hz, both including t = 0.
+  EXPECT_NE(out.find("sim time 5.000 s"), std::string::npos) << out;
+  EXPECT_NE(out.find("2500 steps"), std::string::npos) << out;
+  EXPECT_NE(out.find("rt/clock 501\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("rt/auv/odometry 251\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("auv: distance travelled "), std::string::npos) << out;
+}
+
+std::set<std::string> fastdds_shm_files() {
+  std::set<std::string> names;
+  if (DIR* dir = ::opendir("/dev/shm")) {
+    while (dirent* e = ::readdir(dir)) {
+      const std::string name = e->d_name;
+      if (name.rfind("fastrtps_", 0) == 0 || name.rfind("sem.fastrtps_", 0) == 0) names.insert(name);
+    }
+    ::closedir(dir);
+  }
+  return names;
+}
+
+TEST(HadaldTest, SigtermStopsARealtimeServerCleanly) {
+  DomainLease domain;
+  const std::set<std::string> before = fastdds_shm_files();
+  {
+    ServerProcess server({source_path("configs/scenarios/default.yaml"), "--mode", "realtime", "--domain-id",
+                          std::to_string(domain.id())});
+    {
+      Client client(ClientOptions{domain.id(), "hadald_test"});
+      ASSERT_TRUE(client.wait_for_server(kWait)) << server.err();
+      ASSERT_TRUE(wait_until(
+          [&] {
+            auto st = client.latest_status();
+            return st && st->sim_time > 1.0;
+          },
+          kWait));
+    }
+    EXPECT_EQ(server.stop(SIGTERM), 0) << server.err();
+    EXPECT_NE(server.out().find("hadald summary"), std::string::npos);
+    EXPECT_NE(server.err().find("RTF"), std::string::npos);  // the per-second status line
+  }
+  // Shared-memory port segments of this test's domain (ports 7400 + 250 d ... + 249, e.g.
+  // fastrtps_port21660, ..._el, sem.fastrtps_port21660_mutex) must be gone once both processes have
+  // exited. Segments of other domains belong to concurrently running tests and are not looked at.
+  const int base = 7400 + 250 * domain.id();
+  std::set<std::string> leftovers;
+  for (const auto& name : fastdds_shm_files()) {
+    const auto at = name.find("fastrtps_port");
+    if (at == std::string::npos || before.count(name) != 0) continue;
+    const int port = std::atoi(name.c_str() + at + 13);
+    if (port >= base && port < base + 250) leftovers.insert(name);
+  }
+  EXPECT_TRUE(leftovers.empty()) << "left in /dev/shm: " << *leftovers.begin();
+}
+
+}  // namespace
+}  // namespace hadal::test

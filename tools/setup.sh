@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs every Hadal dependency from Debian 12 packages (idempotent: only missing packages are
+# installed; apt-get as root, sudo otherwise) and builds everything into build/ (hadald lands in
+# build/bin/hadald). Extra arguments are passed to CMake's configure step.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libeigen3-dev libyaml-cpp-dev libbullet-dev
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
+  cyclonedds-dev cyclonedds-tools
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3
+)
+
+missing=()
+for package in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  if [[ $(id -u) -eq 0 ]]; then SUDO=(); else SUDO=(sudo); fi
+  "${SUDO[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" apt-get install -y -qq "${missing[@]}"
+fi
+
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@"
+cmake --build build -j"$jobs"
