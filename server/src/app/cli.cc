@@ -53,7 +53,7 @@ std::string usage() {
          "  --seed N         override the scenario's world.seed\n"
          "  --domain-id N    DDS domain 0..232 (default: $ROS_DOMAIN_ID, else 0)\n"
          "  --discovery-wait S  wall seconds to let DDS discovery match running subscribers before\n"
-         "                   the first step (default 1 in fast mode, 0 otherwise)\n"
+         "                   the first step (default 2 in fast mode, 0 otherwise)\n"
          "  --no-status-line no per-second status line on stderr\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
 }

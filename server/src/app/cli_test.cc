@@ -26,8 +26,8 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
 }
 
-TEST(CliTest, DiscoveryWaitDefaultsToOneSecondInFastMode) {
-  EXPECT_DOUBLE_EQ(parse_cli({"s.yaml", "--mode", "fast"}, nullptr).options.effective_discovery_wait(), 1.0);
+TEST(CliTest, DiscoveryWaitDefaultsToTwoSecondsInFastMode) {
+  EXPECT_DOUBLE_EQ(parse_cli({"s.yaml", "--mode", "fast"}, nullptr).options.effective_discovery_wait(), 2.0);
   EXPECT_DOUBLE_EQ(parse_cli({"s.yaml"}, nullptr).options.effective_discovery_wait(), 0.0);
   EXPECT_DOUBLE_EQ(
       parse_cli({"s.yaml", "--mode", "fast", "--discovery-wait", "0"}, nullptr).options.effective_discovery_wait(),

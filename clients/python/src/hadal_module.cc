@@ -1,0 +1,182 @@
+// Python bindings of libhadal_client (module hadal._hadal; the public package is `hadal`).
+//
+// Python sees a polling API rather than callbacks: the binding subscribes on first use and keeps the
+// latest sample per topic, so no Python code ever runs on a DDS thread (no GIL hand-offs, no
+// deadlock at shutdown). Blocking calls release the GIL. Vectors come back as numpy arrays.
+#include "hadal_client/client.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <optional>
+
+namespace py = pybind11;
+
+namespace {
+
+template <std::size_t N>
+py::array_t<double> to_numpy(const std::array<double, N>& values) {
+  py::array_t<double> out(N);
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+py::array_t<double> to_numpy(const std::vector<double>& values) {
+  py::array_t<double> out(values.size());
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+// Latest sample per key, with a wait for a sample at or after a sim time.
+template <class Sample>
+class Latest {
+ public:
+  void put(const std::string& key, const Sample& s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    samples_[key] = s;
+    changed_.notify_all();
+  }
+  std::optional<Sample> get(const std::string& key) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto found = samples_.find(key);
+    if (found == samples_.end()) return std::nullopt;
+    return found->second;
+  }
+  std::optional<Sample> wait(const std::string& key, double min_stamp, double timeout_s) const {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool ok = changed_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
+      auto found = samples_.find(key);
+      return found != samples_.end() && found->second.stamp >= min_stamp - 1e-9;
+    });
+    if (!ok) return std::nullopt;
+    return samples_.at(key);
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  std::map<std::string, Sample> samples_;
+};
+
+class PyClient {
+ public:
+  PyClient(int domain_id, const std::string& name) : client_(hadal::ClientOptions{domain_id, name}) {}
+
+  bool wait_for_server(double timeout_s) { return client_.wait_for_server(timeout_s); }
+  bool wait_for_subscriptions(double timeout_s) { return client_.wait_for_subscriptions(timeout_s); }
+  std::optional<hadal::SimStatus> status() const { return client_.latest_status(); }
+
+  void subscribe(const std::string& vehicle) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!subscribed_.emplace(vehicle, true).second) return;
+    client_.on_odometry(vehicle, [this, vehicle](const hadal::Odometry& o) { odometry_.put(vehicle, o); });
+    client_.on_thruster_state(vehicle,
+                              [this, vehicle](const hadal::ThrusterStates& t) { thrusters_.put(vehicle, t); });
+  }
+  std::optional<hadal::Odometry> odometry(const std::string& vehicle) {
+    subscribe(vehicle);
+    return odometry_.get(vehicle);
+  }
+  std::optional<hadal::Odometry> wait_odometry(const std::string& vehicle, double min_stamp, double timeout_s) {
+    subscribe(vehicle);
+    return odometry_.wait(vehicle, min_stamp, timeout_s);
+  }
+  std::optional<hadal::ThrusterStates> thruster_state(const std::string& vehicle) {
+    subscribe(vehicle);
+    return thrusters_.get(vehicle);
+  }
+  std::optional<hadal::ThrusterStates> wait_thruster_state(const std::string& vehicle, double min_stamp,
+                                                           double timeout_s) {
+    subscribe(vehicle);
+    return thrusters_.wait(vehicle, min_stamp, timeout_s);
+  }
+  void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
+    client_.set_thrusters(vehicle, setpoints);
+  }
+  double step(std::uint32_t steps, double timeout_s) { return client_.step(steps, timeout_s); }
+
+ private:
+  hadal::Client client_;
+  std::mutex mutex_;
+  std::map<std::string, bool> subscribed_;
+  Latest<hadal::Odometry> odometry_;
+  Latest<hadal::ThrusterStates> thrusters_;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_hadal, m) {
+  m.doc() = "Python client of the Hadal deep-sea simulator (hadald) over DDS";
+  py::register_exception<hadal::ClientError>(m, "ClientError", PyExc_RuntimeError);
+
+  py::enum_<hadal::ServerMode>(m, "ServerMode")
+      .value("REALTIME", hadal::ServerMode::kRealtime)
+      .value("FAST", hadal::ServerMode::kFast)
+      .value("LOCKSTEP", hadal::ServerMode::kLockstep);
+
+  py::class_<hadal::Odometry>(m, "Odometry",
+                              "Ground-truth odometry: pose of body frame B in world W (ENU), twist in B")
+      .def_readonly("stamp", &hadal::Odometry::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::Odometry::frame_id)
+      .def_readonly("child_frame_id", &hadal::Odometry::child_frame_id)
+      .def_property_readonly("p_WB", [](const hadal::Odometry& o) { return to_numpy(o.p_WB); }, "position [m]")
+      .def_property_readonly("q_WB", [](const hadal::Odometry& o) { return to_numpy(o.q_WB); },
+                             "orientation quaternion (x, y, z, w)")
+      .def_property_readonly("v_WB_B", [](const hadal::Odometry& o) { return to_numpy(o.v_WB_B); },
+                             "linear velocity expressed in B [m/s]")
+      .def_property_readonly("w_WB_B", [](const hadal::Odometry& o) { return to_numpy(o.w_WB_B); },
+                             "angular velocity expressed in B [rad/s]")
+      .def("__repr__", [](const hadal::Odometry& o) {
+        return "Odometry(stamp=" + std::to_string(o.stamp) + ", p_WB=[" + std::to_string(o.p_WB[0]) + ", " +
+               std::to_string(o.p_WB[1]) + ", " + std::to_string(o.p_WB[2]) + "])";
+      });
+
+  py::class_<hadal::ThrusterStates>(m, "ThrusterStates")
+      .def_readonly("stamp", &hadal::ThrusterStates::stamp, "sim time [s]")
+      .def_readonly("names", &hadal::ThrusterStates::names)
+      .def_property_readonly("setpoint", [](const hadal::ThrusterStates& t) { return to_numpy(t.setpoint); })
+      .def_property_readonly("rotor_speed", [](const hadal::ThrusterStates& t) { return to_numpy(t.rotor_speed); },
+                             "[rev/s]")
+      .def_property_readonly("thrust", [](const hadal::ThrusterStates& t) { return to_numpy(t.thrust); }, "[N]")
+      .def_property_readonly("torque", [](const hadal::ThrusterStates& t) { return to_numpy(t.torque); }, "[N m]")
+      .def_readonly("command_source", &hadal::ThrusterStates::command_source,
+                    "0 none, 1 scenario schedule, 2 client");
+
+  py::class_<hadal::SimStatus>(m, "SimStatus")
+      .def_readonly("sim_time", &hadal::SimStatus::sim_time)
+      .def_readonly("wall_time", &hadal::SimStatus::wall_time)
+      .def_readonly("real_time_factor", &hadal::SimStatus::real_time_factor)
+      .def_readonly("step_count", &hadal::SimStatus::step_count)
+      .def_readonly("step_size", &hadal::SimStatus::step_size)
+      .def_readonly("mode", &hadal::SimStatus::mode)
+      .def_readonly("vehicle_names", &hadal::SimStatus::vehicle_names)
+      .def_readonly("vehicle_faults", &hadal::SimStatus::vehicle_faults)
+      .def_readonly("rejected_commands", &hadal::SimStatus::rejected_commands)
+      .def_readonly("last_error", &hadal::SimStatus::last_error);
+
+  using release = py::call_guard<py::gil_scoped_release>;
+  py::class_<PyClient>(m, "Client")
+      .def(py::init<int, const std::string&>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
+           release())
+      .def("wait_for_server", &PyClient::wait_for_server, py::arg("timeout_s") = 10.0, release(),
+           "Wait for the server's status topic; False on timeout")
+      .def("wait_for_subscriptions", &PyClient::wait_for_subscriptions, py::arg("timeout_s") = 10.0, release())
+      .def("status", &PyClient::status, "Latest SimStatus, or None")
+      .def("subscribe", &PyClient::subscribe, py::arg("vehicle"), release(),
+           "Subscribe to a vehicle's odometry and thruster state (done on first use otherwise)")
+      .def("odometry", &PyClient::odometry, py::arg("vehicle"), release(), "Latest Odometry, or None")
+      .def("wait_odometry", &PyClient::wait_odometry, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(), "Odometry with stamp >= min_stamp, or None on timeout")
+      .def("thruster_state", &PyClient::thruster_state, py::arg("vehicle"), release())
+      .def("wait_thruster_state", &PyClient::wait_thruster_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release())
+      .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
+           "Normalised setpoints in [-1, 1], one per thruster in scenario order")
+      .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),
+           "Lockstep: advance the server by `steps` physics steps; returns the sim time reached [s]");
+}

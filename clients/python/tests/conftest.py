@@ -1,0 +1,50 @@
+"""pytest fixtures: a real hadald process on a DDS domain reserved for the test."""
+
+import fcntl
+import os
+import subprocess
+import sys
+
+import pytest
+
+HADALD = os.environ.get("HADALD", os.path.join(os.path.dirname(__file__), "../../../build/bin/hadald"))
+SOURCE_DIR = os.environ.get("HADAL_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "../../.."))
+os.environ.setdefault("ROS_LOCALHOST_ONLY", "1")
+
+
+def scenario(relative):
+    return os.path.join(SOURCE_DIR, relative)
+
+
+@pytest.fixture
+def domain_id():
+    """A DDS domain id in 200..229 no other test holds (flock, as the C++ tests' DomainLease)."""
+    for candidate in range(200, 230):
+        handle = open(f"/tmp/hadal-dds-domain-{candidate}.lock", "a")
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        yield candidate
+        handle.close()
+        return
+    pytest.fail("no free DDS domain id")
+
+
+@pytest.fixture
+def lockstep_server(domain_id):
+    """hadald in lockstep mode on the test scenario; yields (process, domain_id)."""
+    process = subprocess.Popen(
+        [HADALD, scenario("tests/integration/scenarios/auv_client.yaml"), "--mode", "lockstep",
+         "--domain-id", str(domain_id), "--no-status-line"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    yield process, domain_id
+    if process.poll() is None:
+        process.terminate()
+        try:
+            process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            process.kill()
+    out, err = process.communicate()
+    sys.stderr.write(err)

@@ -1,0 +1,72 @@
+"""The Python client against a real hadald over real DDS."""
+
+import math
+import signal
+
+import numpy as np
+import pytest
+
+import hadal
+
+WAIT_S = 20.0  # generous bound on DDS events; not a speed assertion
+
+
+def connect(domain_id):
+    client = hadal.Client(domain_id=domain_id, name="pytest")
+    client.subscribe("auv")
+    assert client.wait_for_server(WAIT_S), "no status from hadald"
+    assert client.wait_for_subscriptions(WAIT_S)
+    return client
+
+
+def test_drive_forward_in_lockstep(lockstep_server):
+    _, domain_id = lockstep_server
+    client = connect(domain_id)
+    status = client.status()
+    assert status.mode == hadal.ServerMode.LOCKSTEP
+    assert status.vehicle_names == ["auv"]
+
+    t = client.step(10)
+    start = client.wait_odometry("auv", min_stamp=t, timeout_s=WAIT_S)
+    assert start is not None
+    for _ in range(6):  # 3 s, commands refreshed every 0.5 s (watchdog 1 s)
+        client.set_thrusters("auv", [0.8, 0.0, 0.0])
+        t = client.step(250)
+    end = client.wait_odometry("auv", min_stamp=t, timeout_s=WAIT_S)
+    assert end is not None and abs(end.stamp - t) < 1e-9
+
+    assert isinstance(end.p_WB, np.ndarray) and end.p_WB.shape == (3,)
+    assert abs(np.linalg.norm(end.q_WB) - 1.0) < 1e-9
+    # The scenario yaws the AUV 30 deg: it moves along its body x axis, (cos 30, sin 30) in W.
+    body_x = np.array([math.cos(math.pi / 6), math.sin(math.pi / 6), 0.0])
+    travelled = end.p_WB - start.p_WB
+    assert travelled @ body_x > 1.5
+    assert end.v_WB_B[0] > 1.0
+    assert end.frame_id == "world" and end.child_frame_id == "auv/base_link"
+
+    thrusters = client.wait_thruster_state("auv", min_stamp=t, timeout_s=WAIT_S)
+    assert thrusters.names == ["main", "heave", "sway"]
+    np.testing.assert_array_equal(thrusters.setpoint, [0.8, 0.0, 0.0])
+    assert thrusters.command_source == 2
+    assert thrusters.thrust[0] > 0.0
+
+
+def test_bad_commands_raise_and_the_server_keeps_running(lockstep_server):
+    process, domain_id = lockstep_server
+    client = connect(domain_id)
+    client.set_thrusters("auv", [float("nan"), 0.0, 0.0])
+    with pytest.raises(hadal.ClientError, match=r"setpoint\[0\] is NaN"):
+        client.step(10)
+    client.set_thrusters("auv", [0.1, 0.2])
+    with pytest.raises(hadal.ClientError, match="expected 3 setpoints"):
+        client.step(10)
+    client.set_thrusters("auv", [0.1, 0.0, 0.0])
+    assert client.step(10) == pytest.approx(0.02, abs=1e-12)
+    assert process.poll() is None
+
+
+def test_server_stops_cleanly_on_sigterm(lockstep_server):
+    process, domain_id = lockstep_server
+    connect(domain_id)
+    process.send_signal(signal.SIGTERM)
+    assert process.wait(timeout=WAIT_S) == 0

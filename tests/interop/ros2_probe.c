@@ -1,0 +1,798 @@
+/* hadal-ros2-probe: reads hadald's ROS 2 topics with Cyclone DDS (the DDS under rmw_cyclonedds) and,
+ * optionally, commands the thrusters, to show that hadald is ROS 2 compatible on the wire.
+ *
+ * Readers use the ROS 2 DDS names and layouts (ros2_types.idl, final extensibility = XCDR1):
+ *   rt/clock                      rosgraph_msgs::msg::dds_::Clock_      RELIABLE, VOLATILE (ROS 2 default)
+ *   rt/<vehicle>/odometry         nav_msgs::msg::dds_::Odometry_        RELIABLE and, on a second reader,
+ *                                                                       BEST_EFFORT (ROS 2 sensor-data QoS)
+ *   rt/<vehicle>/thrusters/state  hadal_msgs::msg::dds_::ThrusterState_ (did our commands arrive?)
+ *   rt/hadal/status               hadal_msgs::msg::dds_::SimStatus_     (rejected commands, if any)
+ * Writer (with --publish-setpoints): rt/<vehicle>/thrusters/setpoints std_msgs::msg::dds_::Float64MultiArray_
+ * at --rate-hz (10 Hz), RELIABLE, VOLATILE.
+ *
+ * Prints one JSON object on stdout; exits 0 when at least one clock and one odometry sample arrived,
+ * 1 otherwise, 2 on a usage or DDS set-up error.
+ *
+ * Discovery stays on loopback unless told otherwise: with ROS_LOCALHOST_ONLY=1 (or
+ * ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST), or when nothing else is configured, the probe sets
+ * CYCLONEDDS_URI to a loopback-only, unicast-only configuration before creating its participant
+ * (hadald does the same with Fast DDS). A CYCLONEDDS_URI set by the user is left alone;
+ * --network-discovery keeps Cyclone's defaults (multicast on the default interface).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "dds/dds.h"
+#include "ros2_types.h"
+
+#define MAX_SETPOINTS 16
+#define MAX_REMOTE 32
+#define TAKE_BATCH 64
+
+static volatile sig_atomic_t g_stop = 0;
+static void on_signal(int sig) {
+  (void)sig;
+  g_stop = 1;
+}
+
+static double unix_now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---------------------------------------------------------------------------------------------- */
+/* Options                                                                                        */
+
+typedef struct {
+  int domain;
+  const char *vehicle;
+  double seconds;        /* hard wall-clock limit */
+  double idle_s;         /* stop once both topics were seen and nothing arrived for this long */
+  unsigned long enough;  /* stop once clock and odometry counts both reach this */
+  double rate_hz;
+  size_t n_setpoints;
+  double setpoints[MAX_SETPOINTS];
+  bool publish;
+  bool network_discovery;
+  const char *trace_file;
+} options_t;
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: hadal-ros2-probe [--domain N] [--vehicle NAME] [--seconds T] [--idle S] [--enough K]\n"
+          "                        [--publish-setpoints a,b,c] [--rate-hz R] [--network-discovery]\n"
+          "                        [--cyclone-trace FILE]\n"
+          "  --domain N              DDS domain id (default: $ROS_DOMAIN_ID or 0)\n"
+          "  --vehicle NAME          vehicle whose topics are read (default: auv)\n"
+          "  --seconds T             stop after T wall-clock seconds (default: 10)\n"
+          "  --idle S                stop when both topics were seen and nothing arrived for S seconds\n"
+          "  --enough K              stop when K clock and K odometry samples arrived\n"
+          "  --publish-setpoints L   write setpoints L (comma-separated) to rt/NAME/thrusters/setpoints\n"
+          "  --rate-hz R             setpoint rate (default: 10)\n"
+          "  --network-discovery     keep Cyclone's default (multicast) discovery unless\n"
+          "                          ROS_LOCALHOST_ONLY=1; default is loopback only\n"
+          "  --cyclone-trace FILE    write Cyclone's trace (finest) to FILE\n");
+}
+
+static bool parse_double(const char *s, double *out) {
+  char *end = NULL;
+  errno = 0;
+  double v = strtod(s, &end);
+  if (errno != 0 || end == s || *end != '\0' || !isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+static bool parse_setpoints(const char *s, options_t *o) {
+  o->n_setpoints = 0;
+  const char *p = s;
+  while (*p != '\0') {
+    if (o->n_setpoints == MAX_SETPOINTS) return false;
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(p, &end);
+    if (errno != 0 || end == p || !isfinite(v)) return false;
+    o->setpoints[o->n_setpoints++] = v;
+    if (*end == ',') {
+      p = end + 1;
+      if (*p == '\0') return false;
+    } else if (*end == '\0') {
+      p = end;
+    } else {
+      return false;
+    }
+  }
+  return o->n_setpoints > 0;
+}
+
+static int parse_options(int argc, char **argv, options_t *o) {
+  memset(o, 0, sizeof(*o));
+  o->vehicle = "auv";
+  o->seconds = 10.0;
+  o->rate_hz = 10.0;
+  const char *env_domain = getenv("ROS_DOMAIN_ID");
+  if (env_domain != NULL && *env_domain != '\0') o->domain = atoi(env_domain);
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
+    double d;
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      usage(stdout);
+      exit(0);
+    } else if (strcmp(a, "--network-discovery") == 0) {
+      o->network_discovery = true;
+      continue;
+    }
+    static const char *const with_value[] = {"--domain", "--vehicle", "--seconds", "--idle", "--enough",
+                                             "--rate-hz", "--publish-setpoints", "--cyclone-trace"};
+    bool known = false;
+    for (size_t k = 0; k < sizeof(with_value) / sizeof(with_value[0]); ++k) known |= strcmp(a, with_value[k]) == 0;
+    if (!known) {
+      fprintf(stderr, "hadal-ros2-probe: unknown option %s\n", a);
+      return -1;
+    }
+    if (v == NULL) {
+      fprintf(stderr, "hadal-ros2-probe: %s needs a value\n", a);
+      return -1;
+    }
+    ++i;
+    if (strcmp(a, "--domain") == 0) {
+      if (!parse_double(v, &d) || d < 0 || d > 232 || d != floor(d)) {
+        fprintf(stderr, "hadal-ros2-probe: --domain must be an integer in 0..232 (got %s)\n", v);
+        return -1;
+      }
+      o->domain = (int)d;
+    } else if (strcmp(a, "--vehicle") == 0) {
+      if (*v == '\0') return -1;
+      o->vehicle = v;
+    } else if (strcmp(a, "--seconds") == 0) {
+      if (!parse_double(v, &o->seconds) || o->seconds <= 0) {
+        fprintf(stderr, "hadal-ros2-probe: --seconds must be > 0 (got %s)\n", v);
+        return -1;
+      }
+    } else if (strcmp(a, "--idle") == 0) {
+      if (!parse_double(v, &o->idle_s) || o->idle_s <= 0) {
+        fprintf(stderr, "hadal-ros2-probe: --idle must be > 0 (got %s)\n", v);
+        return -1;
+      }
+    } else if (strcmp(a, "--enough") == 0) {
+      if (!parse_double(v, &d) || d < 1 || d != floor(d)) {
+        fprintf(stderr, "hadal-ros2-probe: --enough must be an integer >= 1 (got %s)\n", v);
+        return -1;
+      }
+      o->enough = (unsigned long)d;
+    } else if (strcmp(a, "--rate-hz") == 0) {
+      if (!parse_double(v, &o->rate_hz) || o->rate_hz <= 0 || o->rate_hz > 1000) {
+        fprintf(stderr, "hadal-ros2-probe: --rate-hz must be in (0, 1000] (got %s)\n", v);
+        return -1;
+      }
+    } else if (strcmp(a, "--publish-setpoints") == 0) {
+      if (!parse_setpoints(v, o)) {
+        fprintf(stderr,
+                "hadal-ros2-probe: --publish-setpoints wants 1..%d comma-separated numbers (got %s)\n",
+                MAX_SETPOINTS, v);
+        return -1;
+      }
+      o->publish = true;
+    } else if (strcmp(a, "--cyclone-trace") == 0) {
+      o->trace_file = v;
+    } else {
+      fprintf(stderr, "hadal-ros2-probe: unknown option %s\n", a);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* ---------------------------------------------------------------------------------------------- */
+/* Cyclone configuration: loopback only                                                           */
+
+static bool env_is(const char *name, const char *value) {
+  const char *v = getenv(name);
+  return v != NULL && strcmp(v, value) == 0;
+}
+
+/* Returns a short description of where the configuration came from, for the JSON report. */
+static const char *configure_discovery(const options_t *o, char *xml, size_t xml_size) {
+  const char *user_uri = getenv("CYCLONEDDS_URI");
+  if (user_uri != NULL && *user_uri != '\0') return "user CYCLONEDDS_URI";
+  const bool localhost_only =
+      env_is("ROS_LOCALHOST_ONLY", "1") || env_is("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST");
+  if (!localhost_only && o->network_discovery) return "cyclone defaults";
+  /* Loopback interface, no multicast, SPDP by unicast to 127.0.0.1 for participant indices 0..31 (the
+   * ports hadald's Fast DDS participant also announces itself on under ROS_LOCALHOST_ONLY=1). */
+  char tracing[1024] = "";
+  if (o->trace_file != NULL) {
+    snprintf(tracing, sizeof(tracing),
+             "<Tracing><Verbosity>finest</Verbosity><OutputFile>%s</OutputFile></Tracing>", o->trace_file);
+  }
+  snprintf(xml, xml_size,
+           "<CycloneDDS><Domain id=\"any\">"
+           "<General><Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces>"
+           "<AllowMulticast>false</AllowMulticast></General>"
+           "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
+           "<MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>"
+           "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
+           "%s</Domain></CycloneDDS>",
+           tracing);
+  setenv("CYCLONEDDS_URI", xml, 1);
+  return localhost_only ? "probe loopback (ROS_LOCALHOST_ONLY)" : "probe loopback (default)";
+}
+
+/* ---------------------------------------------------------------------------------------------- */
+/* Statistics                                                                                     */
+
+typedef struct {
+  int32_t sec;
+  uint32_t nanosec;
+} stamp_t;
+
+static double stamp_s(stamp_t t) { return (double)t.sec + 1e-9 * (double)t.nanosec; }
+
+typedef struct {
+  unsigned long count;
+  double first_match_s; /* probe-relative wall time of the first match; < 0 if never */
+  double first_sample_s;
+  uint32_t matched_now;
+} endpoint_stats_t;
+
+typedef struct {
+  endpoint_stats_t clock;
+  endpoint_stats_t odom_reliable;
+  endpoint_stats_t odom_best_effort;
+  endpoint_stats_t thruster_state;
+  endpoint_stats_t status;
+  endpoint_stats_t setpoint_writer; /* count = samples written */
+
+  unsigned long clock_seen; /* counted per sample (endpoint counts are updated per batch) */
+  stamp_t clock_first, clock_last;
+  bool clock_non_decreasing;
+  unsigned long clock_decreases;
+
+  /* last odometry sample (reliable reader) */
+  stamp_t odom_stamp;
+  char odom_frame_id[128];
+  char odom_child_frame_id[128];
+  double pos[3], quat[4], lin[3], ang[3];
+  /* sanity over every odometry sample, both readers */
+  unsigned long odom_insane;
+  char odom_insane_reason[256];
+  double quat_norm_max_error;
+
+  /* thruster state */
+  unsigned long thruster_client_samples; /* command_source == SOURCE_CLIENT (2) */
+  bool setpoints_echoed;                 /* a client-commanded sample carried exactly our setpoints */
+  uint8_t last_command_source;
+  size_t last_thruster_n;
+  double last_thruster_setpoints[MAX_SETPOINTS];
+
+  /* status */
+  unsigned long long rejected_commands;
+  char last_error[256];
+  size_t n_faults;
+  double vehicle_faults[MAX_SETPOINTS]; /* FAULT_* bits per vehicle (as numbers for the JSON writer) */
+  double last_status_sim_time;
+  uint8_t mode;
+
+  double last_sample_s; /* probe-relative time of the last clock/odometry sample */
+
+  size_t n_remote;
+  struct {
+    char topic[128];
+    char type[160];
+  } remote[MAX_REMOTE];
+} stats_t;
+
+static void endpoint_init(endpoint_stats_t *e) {
+  memset(e, 0, sizeof(*e));
+  e->first_match_s = -1.0;
+  e->first_sample_s = -1.0;
+}
+
+static void copy_str(char *dst, size_t size, const char *src) {
+  snprintf(dst, size, "%s", src != NULL ? src : "");
+}
+
+static void note_insane(stats_t *s, const char *reason) {
+  if (s->odom_insane++ == 0) copy_str(s->odom_insane_reason, sizeof(s->odom_insane_reason), reason);
+}
+
+static bool all_finite(const double *v, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!isfinite(v[i])) return false;
+  return true;
+}
+
+static void on_odometry(stats_t *s, const nav_msgs_msg_dds__Odometry_ *m, bool keep_as_last) {
+  const geometry_msgs_msg_dds__Pose_ *pose = &m->pose.pose;
+  const geometry_msgs_msg_dds__Twist_ *twist = &m->twist.twist;
+  double pos[3] = {pose->position.x, pose->position.y, pose->position.z};
+  double quat[4] = {pose->orientation.x, pose->orientation.y, pose->orientation.z, pose->orientation.w};
+  double lin[3] = {twist->linear.x, twist->linear.y, twist->linear.z};
+  double ang[3] = {twist->angular.x, twist->angular.y, twist->angular.z};
+  if (!all_finite(pos, 3) || !all_finite(quat, 4) || !all_finite(lin, 3) || !all_finite(ang, 3) ||
+      !all_finite(m->pose.covariance, 36) || !all_finite(m->twist.covariance, 36)) {
+    note_insane(s, "non-finite number in odometry");
+  }
+  const double norm = sqrt(quat[0] * quat[0] + quat[1] * quat[1] + quat[2] * quat[2] + quat[3] * quat[3]);
+  const double err = fabs(norm - 1.0);
+  if (!(err <= 1e-6)) {
+    char reason[128];
+    snprintf(reason, sizeof(reason), "orientation quaternion norm %.17g", norm);
+    note_insane(s, reason);
+  }
+  if (isfinite(err) && err > s->quat_norm_max_error) s->quat_norm_max_error = err;
+  if (m->header.frame_id == NULL || m->header.frame_id[0] == '\0') note_insane(s, "empty header.frame_id");
+  if (m->child_frame_id == NULL || m->child_frame_id[0] == '\0') note_insane(s, "empty child_frame_id");
+  if (m->header.stamp.nanosec >= 1000000000u) note_insane(s, "header.stamp.nanosec >= 1e9");
+  if (!keep_as_last) return;
+  s->odom_stamp.sec = m->header.stamp.sec;
+  s->odom_stamp.nanosec = m->header.stamp.nanosec;
+  copy_str(s->odom_frame_id, sizeof(s->odom_frame_id), m->header.frame_id);
+  copy_str(s->odom_child_frame_id, sizeof(s->odom_child_frame_id), m->child_frame_id);
+  memcpy(s->pos, pos, sizeof(pos));
+  memcpy(s->quat, quat, sizeof(quat));
+  memcpy(s->lin, lin, sizeof(lin));
+  memcpy(s->ang, ang, sizeof(ang));
+}
+
+static void on_clock(stats_t *s, const rosgraph_msgs_msg_dds__Clock_ *m) {
+  stamp_t t = {m->clock.sec, m->clock.nanosec};
+  if (s->clock_seen++ == 0) {
+    s->clock_first = t;
+  } else if (t.sec < s->clock_last.sec || (t.sec == s->clock_last.sec && t.nanosec < s->clock_last.nanosec)) {
+    s->clock_non_decreasing = false;
+    ++s->clock_decreases;
+  }
+  if (t.nanosec >= 1000000000u) s->clock_non_decreasing = false;
+  s->clock_last = t;
+}
+
+static void on_thruster_state(stats_t *s, const options_t *o, const hadal_msgs_msg_dds__ThrusterState_ *m) {
+  s->last_command_source = m->command_source;
+  size_t n = m->setpoint._length;
+  s->last_thruster_n = n;
+  for (size_t i = 0; i < n && i < MAX_SETPOINTS; ++i) s->last_thruster_setpoints[i] = m->setpoint._buffer[i];
+  if (m->command_source != 2) return;
+  ++s->thruster_client_samples;
+  if (!o->publish || n != o->n_setpoints) return;
+  for (size_t i = 0; i < n; ++i)
+    if (m->setpoint._buffer[i] != o->setpoints[i]) return;
+  s->setpoints_echoed = true;
+}
+
+static void on_status(stats_t *s, const hadal_msgs_msg_dds__SimStatus_ *m) {
+  s->rejected_commands = (unsigned long long)m->rejected_commands;
+  copy_str(s->last_error, sizeof(s->last_error), m->last_error);
+  s->last_status_sim_time = m->sim_time;
+  s->mode = m->mode;
+  s->n_faults = m->vehicle_faults._length < MAX_SETPOINTS ? m->vehicle_faults._length : MAX_SETPOINTS;
+  for (size_t i = 0; i < s->n_faults; ++i) s->vehicle_faults[i] = (double)m->vehicle_faults._buffer[i];
+}
+
+/* ---------------------------------------------------------------------------------------------- */
+/* JSON output                                                                                    */
+
+static void json_string(FILE *f, const char *s) {
+  fputc('"', f);
+  for (const unsigned char *p = (const unsigned char *)(s != NULL ? s : ""); *p; ++p) {
+    switch (*p) {
+      case '"': fputs("\\\"", f); break;
+      case '\\': fputs("\\\\", f); break;
+      case '\n': fputs("\\n", f); break;
+      case '\r': fputs("\\r", f); break;
+      case '\t': fputs("\\t", f); break;
+      default:
+        if (*p < 0x20) fprintf(f, "\\u%04x", *p);
+        else fputc(*p, f);
+    }
+  }
+  fputc('"', f);
+}
+
+static void json_number(FILE *f, double v) {
+  if (isfinite(v)) fprintf(f, "%.17g", v);
+  else fputs("null", f);
+}
+
+static void json_vec(FILE *f, const double *v, size_t n) {
+  fputc('[', f);
+  for (size_t i = 0; i < n; ++i) {
+    if (i) fputs(", ", f);
+    json_number(f, v[i]);
+  }
+  fputc(']', f);
+}
+
+static void json_stamp(FILE *f, stamp_t t) {
+  fprintf(f, "{\"sec\": %d, \"nanosec\": %u, \"s\": ", (int)t.sec, (unsigned)t.nanosec);
+  json_number(f, stamp_s(t));
+  fputc('}', f);
+}
+
+static void json_endpoint(FILE *f, const char *name, const endpoint_stats_t *e, const char *count_name) {
+  fprintf(f, "\"%s\": {\"%s\": %lu, \"matched_at_end\": %u, \"first_match_s\": ", name, count_name, e->count,
+          (unsigned)e->matched_now);
+  json_number(f, e->first_match_s >= 0 ? e->first_match_s : NAN);
+  fputs(", \"first_sample_s\": ", f);
+  json_number(f, e->first_sample_s >= 0 ? e->first_sample_s : NAN);
+  fputc('}', f);
+}
+
+static void print_report(const options_t *o, const stats_t *s, const char *config_source, double start_unix,
+                         double elapsed,
+                         const char *stop_reason, bool sane, bool ok) {
+  FILE *f = stdout;
+  fputs("{", f);
+  fprintf(f, "\"probe\": \"hadal-ros2-probe\", \"dds\": \"cyclonedds\", \"domain\": %d, \"vehicle\": ", o->domain);
+  json_string(f, o->vehicle);
+  fputs(", \"discovery_config\": ", f);
+  json_string(f, config_source);
+  fputs(", \"start_unix_s\": ", f);
+  fprintf(f, "%.6f", start_unix);
+  fputs(", \"elapsed_s\": ", f);
+  json_number(f, elapsed);
+  fputs(", \"stop_reason\": ", f);
+  json_string(f, stop_reason);
+
+  fprintf(f, ", \"clock\": {\"count\": %lu, \"matched_at_end\": %u, \"first_match_s\": ", s->clock.count,
+          (unsigned)s->clock.matched_now);
+  json_number(f, s->clock.first_match_s >= 0 ? s->clock.first_match_s : NAN);
+  fputs(", \"first_sample_s\": ", f);
+  json_number(f, s->clock.first_sample_s >= 0 ? s->clock.first_sample_s : NAN);
+  if (s->clock.count > 0) {
+    fputs(", \"first\": ", f);
+    json_stamp(f, s->clock_first);
+    fputs(", \"last\": ", f);
+    json_stamp(f, s->clock_last);
+  } else {
+    fputs(", \"first\": null, \"last\": null", f);
+  }
+  fprintf(f, ", \"non_decreasing\": %s, \"decreases\": %lu}", s->clock_non_decreasing ? "true" : "false",
+          s->clock_decreases);
+
+  fprintf(f, ", \"odometry\": {\"count\": %lu, \"matched_at_end\": %u, \"first_match_s\": ", s->odom_reliable.count,
+          (unsigned)s->odom_reliable.matched_now);
+  json_number(f, s->odom_reliable.first_match_s >= 0 ? s->odom_reliable.first_match_s : NAN);
+  fputs(", \"first_sample_s\": ", f);
+  json_number(f, s->odom_reliable.first_sample_s >= 0 ? s->odom_reliable.first_sample_s : NAN);
+  fprintf(f, ", \"best_effort_count\": %lu, \"best_effort_matched_at_end\": %u", s->odom_best_effort.count,
+          (unsigned)s->odom_best_effort.matched_now);
+  if (s->odom_reliable.count > 0) {
+    const double *q = s->quat;
+    fputs(",   \"last\": {\"stamp\": ", f);
+    json_stamp(f, s->odom_stamp);
+    fputs(", \"frame_id\": ", f);
+    json_string(f, s->odom_frame_id);
+    fputs(", \"child_frame_id\": ", f);
+    json_string(f, s->odom_child_frame_id);
+    fputs(", \"position\": ", f);
+    json_vec(f, s->pos, 3);
+    fputs(", \"orientation_xyzw\": ", f);
+    json_vec(f, s->quat, 4);
+    fputs(", \"orientation_norm\": ", f);
+    json_number(f, sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]));
+    fputs(", \"linear_velocity\": ", f);
+    json_vec(f, s->lin, 3);
+    fputs(", \"angular_velocity\": ", f);
+    json_vec(f, s->ang, 3);
+    fputc('}', f);
+  } else {
+    fputs(", \"last\": null", f);
+  }
+  fprintf(f, ", \"insane_samples\": %lu, \"insane_reason\": ", s->odom_insane);
+  json_string(f, s->odom_insane_reason);
+  fputs(", \"quaternion_norm_max_error\": ", f);
+  json_number(f, s->quat_norm_max_error);
+  fputc('}', f);
+
+  fputs(", ", f);
+  json_endpoint(f, "setpoints", &s->setpoint_writer, "written");
+  fputs(", \"setpoints_sent\": ", f);
+  if (o->publish) json_vec(f, o->setpoints, o->n_setpoints);
+  else fputs("null", f);
+
+  fprintf(f, ", \"thruster_state\": {\"count\": %lu, \"client_commanded\": %lu, \"setpoints_echoed\": %s, "
+             "\"last_command_source\": %u, \"last_setpoints\": ",
+          s->thruster_state.count, s->thruster_client_samples, s->setpoints_echoed ? "true" : "false",
+          (unsigned)s->last_command_source);
+  json_vec(f, s->last_thruster_setpoints, s->last_thruster_n < MAX_SETPOINTS ? s->last_thruster_n : MAX_SETPOINTS);
+  fputc('}', f);
+
+  fprintf(f, ", \"status\": {\"count\": %lu, \"mode\": %u, \"sim_time\": ", s->status.count, (unsigned)s->mode);
+  json_number(f, s->last_status_sim_time);
+  fprintf(f, ", \"rejected_commands\": %llu, \"last_error\": ", s->rejected_commands);
+  json_string(f, s->last_error);
+  fputs(", \"vehicle_faults\": ", f);
+  json_vec(f, s->vehicle_faults, s->n_faults);
+  fputc('}', f);
+
+  fputs(", \"remote_publications\": [", f);
+  for (size_t i = 0; i < s->n_remote; ++i) {
+    fputs(i ? ", " : "", f);
+    fputs("{\"topic\": ", f);
+    json_string(f, s->remote[i].topic);
+    fputs(", \"type\": ", f);
+    json_string(f, s->remote[i].type);
+    fputc('}', f);
+  }
+  fputs("]", f);
+
+  fprintf(f, ", \"sane\": %s, \"ok\": %s}\n", sane ? "true" : "false", ok ? "true" : "false");
+  fflush(f);
+}
+
+/* ---------------------------------------------------------------------------------------------- */
+/* DDS                                                                                            */
+
+typedef struct {
+  const char *name;
+  dds_entity_t reader;
+} reader_t;
+
+static dds_entity_t make_topic(dds_entity_t pp, const dds_topic_descriptor_t *desc, const char *name) {
+  dds_entity_t t = dds_create_topic(pp, desc, name, NULL, NULL);
+  if (t < 0) fprintf(stderr, "hadal-ros2-probe: dds_create_topic(%s): %s\n", name, dds_strretcode(-t));
+  return t;
+}
+
+static dds_entity_t make_reader(dds_entity_t pp, dds_entity_t topic, bool reliable, int32_t depth) {
+  dds_qos_t *qos = dds_create_qos();
+  if (reliable) dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  else dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+  dds_entity_t rd = dds_create_reader(pp, topic, qos, NULL);
+  dds_delete_qos(qos);
+  if (rd < 0) fprintf(stderr, "hadal-ros2-probe: dds_create_reader: %s\n", dds_strretcode(-rd));
+  return rd;
+}
+
+static void update_reader_match(endpoint_stats_t *e, dds_entity_t rd, double t) {
+  dds_subscription_matched_status_t st;
+  if (dds_get_subscription_matched_status(rd, &st) != DDS_RETCODE_OK) return;
+  e->matched_now = st.current_count;
+  if (st.total_count > 0 && e->first_match_s < 0) e->first_match_s = t;
+}
+
+static void update_writer_match(endpoint_stats_t *e, dds_entity_t wr, double t) {
+  dds_publication_matched_status_t st;
+  if (dds_get_publication_matched_status(wr, &st) != DDS_RETCODE_OK) return;
+  e->matched_now = st.current_count;
+  if (st.total_count > 0 && e->first_match_s < 0) e->first_match_s = t;
+}
+
+static bool guid_prefix_equal(const dds_guid_t *a, const dds_guid_t *b) {
+  return memcmp(a->v, b->v, 12) == 0;
+}
+
+static void note_remote_publication(stats_t *s, const dds_guid_t *own, const dds_builtintopic_endpoint_t *ep) {
+  if (guid_prefix_equal(&ep->participant_key, own)) return;
+  if (ep->topic_name == NULL || strncmp(ep->topic_name, "rt/", 3) != 0) return;
+  for (size_t i = 0; i < s->n_remote; ++i)
+    if (strcmp(s->remote[i].topic, ep->topic_name) == 0 &&
+        strcmp(s->remote[i].type, ep->type_name ? ep->type_name : "") == 0)
+      return;
+  if (s->n_remote == MAX_REMOTE) return;
+  copy_str(s->remote[s->n_remote].topic, sizeof(s->remote[0].topic), ep->topic_name);
+  copy_str(s->remote[s->n_remote].type, sizeof(s->remote[0].type), ep->type_name);
+  ++s->n_remote;
+}
+
+enum which { W_CLOCK, W_ODOM_REL, W_ODOM_BE, W_THRUSTER, W_STATUS, W_BUILTIN, W_COUNT };
+
+/* Takes everything available from reader `w`; returns the number of valid samples. */
+static unsigned long drain(enum which w, dds_entity_t rd, stats_t *s, const options_t *o, const dds_guid_t *own,
+                           double t) {
+  void *samples[TAKE_BATCH];
+  dds_sample_info_t infos[TAKE_BATCH];
+  unsigned long valid = 0;
+  for (;;) {
+    memset(samples, 0, sizeof(samples)); /* NULL buffers: Cyclone loans the samples */
+    int32_t n = dds_take(rd, samples, infos, TAKE_BATCH, TAKE_BATCH);
+    if (n <= 0) break;
+    for (int32_t i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      ++valid;
+      switch (w) {
+        case W_CLOCK: on_clock(s, samples[i]); break;
+        case W_ODOM_REL: on_odometry(s, samples[i], true); break;
+        case W_ODOM_BE: on_odometry(s, samples[i], false); break;
+        case W_THRUSTER: on_thruster_state(s, o, samples[i]); break;
+        case W_STATUS: on_status(s, samples[i]); break;
+        case W_BUILTIN: note_remote_publication(s, own, samples[i]); break;
+        default: break;
+      }
+    }
+    dds_return_loan(rd, samples, n);
+    if (n < TAKE_BATCH) break;
+  }
+  endpoint_stats_t *e = NULL;
+  switch (w) {
+    case W_CLOCK: e = &s->clock; break;
+    case W_ODOM_REL: e = &s->odom_reliable; break;
+    case W_ODOM_BE: e = &s->odom_best_effort; break;
+    case W_THRUSTER: e = &s->thruster_state; break;
+    case W_STATUS: e = &s->status; break;
+    default: break;
+  }
+  if (e != NULL && valid > 0) {
+    if (e->count == 0) e->first_sample_s = t;
+    e->count += valid;
+  }
+  return valid;
+}
+
+int main(int argc, char **argv) {
+  options_t o;
+  if (parse_options(argc, argv, &o) != 0) {
+    usage(stderr);
+    return 2;
+  }
+  const double t0 = now_s();
+  const double t0_unix = unix_now_s(); /* lets a driver relate the probe's times to other processes */
+  static char xml[2048];
+  const char *config_source = configure_discovery(&o, xml, sizeof(xml));
+
+  struct sigaction sa;
+  memset(&sa, 0, sizeof(sa));
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+
+  stats_t s;
+  memset(&s, 0, sizeof(s));
+  endpoint_init(&s.clock);
+  endpoint_init(&s.odom_reliable);
+  endpoint_init(&s.odom_best_effort);
+  endpoint_init(&s.thruster_state);
+  endpoint_init(&s.status);
+  endpoint_init(&s.setpoint_writer);
+  s.clock_non_decreasing = true;
+
+  dds_entity_t pp = dds_create_participant((dds_domainid_t)o.domain, NULL, NULL);
+  if (pp < 0) {
+    fprintf(stderr, "hadal-ros2-probe: dds_create_participant(%d): %s\n", o.domain, dds_strretcode(-pp));
+    return 2;
+  }
+  dds_guid_t own_guid;
+  memset(&own_guid, 0, sizeof(own_guid));
+  dds_get_guid(pp, &own_guid);
+
+  char odom_name[256], thruster_state_name[256], setpoints_name[256];
+  snprintf(odom_name, sizeof(odom_name), "rt/%s/odometry", o.vehicle);
+  snprintf(thruster_state_name, sizeof(thruster_state_name), "rt/%s/thrusters/state", o.vehicle);
+  snprintf(setpoints_name, sizeof(setpoints_name), "rt/%s/thrusters/setpoints", o.vehicle);
+
+  dds_entity_t t_clock = make_topic(pp, &rosgraph_msgs_msg_dds__Clock__desc, "rt/clock");
+  dds_entity_t t_odom = make_topic(pp, &nav_msgs_msg_dds__Odometry__desc, odom_name);
+  dds_entity_t t_thr = make_topic(pp, &hadal_msgs_msg_dds__ThrusterState__desc, thruster_state_name);
+  dds_entity_t t_status = make_topic(pp, &hadal_msgs_msg_dds__SimStatus__desc, "rt/hadal/status");
+  if (t_clock < 0 || t_odom < 0 || t_thr < 0 || t_status < 0) return 2;
+
+  dds_entity_t rd[W_COUNT];
+  rd[W_CLOCK] = make_reader(pp, t_clock, true, 100);
+  rd[W_ODOM_REL] = make_reader(pp, t_odom, true, 100);
+  rd[W_ODOM_BE] = make_reader(pp, t_odom, false, 5); /* rclcpp SensorDataQoS: best effort, depth 5 */
+  rd[W_THRUSTER] = make_reader(pp, t_thr, true, 100);
+  rd[W_STATUS] = make_reader(pp, t_status, true, 10);
+  rd[W_BUILTIN] = dds_create_reader(pp, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, NULL, NULL);
+  for (int i = 0; i < W_COUNT; ++i)
+    if (rd[i] < 0) return 2;
+
+  dds_entity_t wr = 0;
+  std_msgs_msg_dds__Float64MultiArray_ cmd;
+  std_msgs_msg_dds__MultiArrayDimension_ dim;
+  memset(&cmd, 0, sizeof(cmd));
+  if (o.publish) {
+    dds_entity_t t_sp = make_topic(pp, &std_msgs_msg_dds__Float64MultiArray__desc, setpoints_name);
+    if (t_sp < 0) return 2;
+    dds_qos_t *qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 10);
+    wr = dds_create_writer(pp, t_sp, qos, NULL);
+    dds_delete_qos(qos);
+    if (wr < 0) {
+      fprintf(stderr, "hadal-ros2-probe: dds_create_writer(%s): %s\n", setpoints_name, dds_strretcode(-wr));
+      return 2;
+    }
+    dim.label = "thrusters";
+    dim.size = (uint32_t)o.n_setpoints;
+    dim.stride = (uint32_t)o.n_setpoints;
+    cmd.layout.dim._maximum = 1;
+    cmd.layout.dim._length = 1;
+    cmd.layout.dim._buffer = &dim;
+    cmd.layout.dim._release = false;
+    cmd.layout.data_offset = 0;
+    cmd.data._maximum = (uint32_t)o.n_setpoints;
+    cmd.data._length = (uint32_t)o.n_setpoints;
+    cmd.data._buffer = o.setpoints;
+    cmd.data._release = false;
+  }
+
+  dds_entity_t ws = dds_create_waitset(pp);
+  for (int i = 0; i < W_COUNT; ++i) {
+    dds_entity_t cond = dds_create_readcondition(rd[i], DDS_ANY_STATE);
+    dds_waitset_attach(ws, cond, (dds_attach_t)i);
+  }
+
+  /* Everything exists: a driver can start the server now. */
+  fprintf(stderr, "hadal-ros2-probe: ready (domain %d, %s)\n", o.domain, config_source);
+  fflush(stderr);
+
+  const double period = 1.0 / o.rate_hz;
+  double next_write = now_s() - t0;
+  const char *stop_reason = "time limit";
+  s.last_sample_s = -1.0;
+  for (;;) {
+    double t = now_s() - t0;
+    if (g_stop) {
+      stop_reason = "signal";
+      break;
+    }
+    if (t >= o.seconds) {
+      stop_reason = "time limit";
+      break;
+    }
+    double wait = 0.05;
+    if (o.publish && next_write - t < wait) wait = next_write - t;
+    if (o.seconds - t < wait) wait = o.seconds - t;
+    if (wait > 0) dds_waitset_wait(ws, NULL, 0, DDS_SECS(wait));
+
+    t = now_s() - t0;
+    for (int i = 0; i < W_COUNT; ++i) {
+      unsigned long got = drain((enum which)i, rd[i], &s, &o, &own_guid, t);
+      if (got > 0 && (i == W_CLOCK || i == W_ODOM_REL || i == W_ODOM_BE)) s.last_sample_s = t;
+    }
+    update_reader_match(&s.clock, rd[W_CLOCK], t);
+    update_reader_match(&s.odom_reliable, rd[W_ODOM_REL], t);
+    update_reader_match(&s.odom_best_effort, rd[W_ODOM_BE], t);
+    update_reader_match(&s.thruster_state, rd[W_THRUSTER], t);
+    update_reader_match(&s.status, rd[W_STATUS], t);
+    if (o.publish) {
+      update_writer_match(&s.setpoint_writer, wr, t);
+      if (t >= next_write) {
+        dds_return_t rc = dds_write(wr, &cmd);
+        if (rc == DDS_RETCODE_OK) ++s.setpoint_writer.count;
+        else fprintf(stderr, "hadal-ros2-probe: dds_write(%s): %s\n", setpoints_name, dds_strretcode(-rc));
+        next_write += period;
+        if (next_write < t) next_write = t + period; /* do not burst after a stall */
+      }
+    }
+    const bool seen_both = s.clock.count > 0 && s.odom_reliable.count > 0;
+    if (o.enough > 0 && s.clock.count >= o.enough && s.odom_reliable.count >= o.enough) {
+      stop_reason = "enough samples";
+      break;
+    }
+    if (o.idle_s > 0 && seen_both && t - s.last_sample_s >= o.idle_s) {
+      stop_reason = "idle (publisher gone quiet)";
+      break;
+    }
+  }
+  const double elapsed = now_s() - t0;
+
+  const bool ok = s.clock.count > 0 && s.odom_reliable.count > 0;
+  const bool sane = ok && s.odom_insane == 0 && s.clock_non_decreasing && s.odom_frame_id[0] != '\0' &&
+                    s.odom_child_frame_id[0] != '\0';
+  print_report(&o, &s, config_source, t0_unix, elapsed, stop_reason, sane, ok);
+
+  dds_delete(pp);
+  return ok ? 0 : 1;
+}
