@@ -11,7 +11,7 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest
 )
 
 missing=()
@@ -28,5 +28,6 @@ if ((${#missing[@]})); then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@"
+# Debian's interpreter for the Python client, whatever python3 comes first on PATH.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 "$@"
 cmake --build build -j"$jobs"
