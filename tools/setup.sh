@@ -10,7 +10,7 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libbullet-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   cyclonedds-dev cyclonedds-tools
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
 )
 

@@ -109,16 +109,18 @@ class Runner {
         dds_.publish_step_reply(request->request_id, false, request->error, sim_.state());
         continue;
       }
+      // All attached commands are checked before any is applied: a refused request changes nothing.
       std::string refused;
       for (const auto& command : request->commands) {
-        const std::string reason = apply_command(command);
-        if (!reason.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
+        const std::string reason = sim_.check_thruster_setpoints(command.vehicle_index, command.setpoints);
+        if (!reason.empty() && refused.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
       }
       if (!refused.empty()) {
         reject("step request " + std::to_string(request->request_id) + ": " + refused);
         dds_.publish_step_reply(request->request_id, false, refused, sim_.state());
         continue;
       }
+      for (const auto& command : request->commands) apply_command(command);
       for (std::uint32_t i = 0; i < request->steps && !stop_.load() && !duration_reached(); ++i) {
         step_once();
       }

@@ -187,8 +187,8 @@ void Simulation::set_state(const SimState& state) {
   world_->clear_contacts();
 }
 
-std::string Simulation::set_thruster_setpoints(int vehicle_index,
-                                               const std::vector<double>& setpoints) {
+std::string Simulation::check_thruster_setpoints(int vehicle_index,
+                                                 const std::vector<double>& setpoints) const {
   if (vehicle_index < 0 || vehicle_index >= static_cast<int>(model_.vehicles.size())) {
     return "unknown vehicle index " + std::to_string(vehicle_index);
   }
@@ -213,6 +213,13 @@ std::string Simulation::set_thruster_setpoints(int vehicle_index,
     if (value < -1.0 || value > 1.0)
       return label + " = " + format_number(value) + " is outside [-1, 1]";
   }
+  return {};
+}
+
+std::string Simulation::set_thruster_setpoints(int vehicle_index,
+                                               const std::vector<double>& setpoints) {
+  std::string reason = check_thruster_setpoints(vehicle_index, setpoints);
+  if (!reason.empty()) return reason;
   VehicleState& vehicle = state_.vehicles[vehicle_index];
   vehicle.client_setpoints.assign(setpoints.begin(), setpoints.end());
   vehicle.last_command_time = state_.time;

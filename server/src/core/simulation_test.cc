@@ -227,6 +227,16 @@ TEST(SimulationTest, RejectsInvalidCommandsWithAReason) {
   EXPECT_EQ(sim.set_thruster_setpoints(0, {1.0, -1.0, 0.0}), "");
 }
 
+TEST(SimulationTest, CheckingACommandValidatesWithoutApplying) {
+  Simulation sim(one_auv_model());
+  const SimState before = sim.state();
+  EXPECT_EQ(sim.check_thruster_setpoints(0, {0, kNaN, 0}), "setpoint[1] is NaN");
+  EXPECT_EQ(sim.check_thruster_setpoints(3, {0, 0, 0}), "unknown vehicle index 3");
+  EXPECT_EQ(sim.check_thruster_setpoints(0, {0.5, 0.0, 0.0}), "");
+  EXPECT_TRUE(bit_identical(sim.state(), before));  // a valid command is not applied either
+  EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kNone);
+}
+
 TEST(SimulationTest, RestoredStateContinuesBitIdentically) {
   // A vehicle with an offset centre of mass and rotated principal axes, yawed, thrusters with rotor
   // lag, moving and turning: every conversion and every state variable is exercised.

@@ -50,6 +50,8 @@ class Simulation {
   // Validates and applies a client command for a vehicle: one setpoint per thruster, each finite and
   // in [-1, 1]. Returns an empty string when accepted, otherwise the reason (state untouched).
   std::string set_thruster_setpoints(int vehicle_index, const std::vector<double>& setpoints);
+  // The validation alone: "" if set_thruster_setpoints would accept the command, else the reason.
+  std::string check_thruster_setpoints(int vehicle_index, const std::vector<double>& setpoints) const;
 
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
