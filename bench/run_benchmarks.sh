@@ -10,17 +10,27 @@ export ROS_LOCALHOST_ONLY=1
 "$build/bin/hadal_bench_step_rate" configs/scenarios/default.yaml --sim-seconds 60 --repetitions 3
 
 # 2. The whole server in fast mode (simulation + DDS publishing of clock, odometry, thruster state,
-#    status), default scenario, 600 s of sim time, on a domain of its own.
-for r in 1 2 3; do
-  out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode fast --duration 600 --domain-id 231 \
-        --discovery-wait 0 --no-status-line 2>/dev/null)
-  /usr/bin/python3 - "$out" <<'PY'
+#    status), default scenario, 3600 s of sim time, on a domain of its own.
+# 3. Realtime mode holding a requested real-time factor (absolute schedule): 300 s of sim time at
+#    --rtf 10 should take 30 s of wall time; the figure is the achieved RTF.
+summarise() {  # NAME REQUESTED_RTF SUMMARY_TEXT
+  /usr/bin/python3 - "$1" "$2" "$3" <<'PY'
 import json, re, sys
-text = sys.argv[1]
+name, requested, text = sys.argv[1], sys.argv[2], sys.argv[3]
 m = re.search(r"sim time ([\d.]+) s in ([\d.]+) s wall, RTF ([\d.]+), (\d+) steps", text)
 sim, wall, rtf, steps = float(m[1]), float(m[2]), float(m[3]), int(m[4])
-print(json.dumps({"benchmark": "hadald_fast_mode", "scenario": "configs/scenarios/default.yaml",
-                  "sim_s": sim, "wall_s": wall, "steps": steps,
-                  "steps_per_s": round(steps / wall), "rtf": round(rtf, 1)}))
+row = {"benchmark": name, "scenario": "configs/scenarios/default.yaml", "sim_s": sim, "wall_s": wall,
+       "steps": steps, "steps_per_s": round(steps / wall), "rtf": round(sim / wall, 3)}
+if requested != "-":
+    row["requested_rtf"] = float(requested)
+print(json.dumps(row))
 PY
+}
+for r in 1 2 3; do
+  out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode fast --duration 3600 --domain-id 231 \
+        --discovery-wait 0 --no-status-line 2>/dev/null)
+  summarise hadald_fast_mode - "$out"
 done
+out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode realtime --rtf 10 --duration 300 \
+      --domain-id 231 --no-status-line 2>/dev/null)
+summarise hadald_realtime_mode 10 "$out"
