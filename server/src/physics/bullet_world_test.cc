@@ -12,12 +12,15 @@ namespace {
 
 constexpr double kG = 9.80665;
 
-Eigen::Isometry3d at(const Eigen::Vector3d& p,
-                     const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.linear() = R;
-  X.translation() = p;
-  return X;
+using testing::at;
+
+// Two boxes on a diagonal: the centre of mass is offset from B and the principal axes are rotated,
+// so the X_WB <-> X_WP conversion is exercised.
+std::vector<LinkSpec> two_box_links() {
+  return {testing::box_link("a", 30.0, Eigen::Vector3d(0.4, 0.2, 0.2), 0.0,
+                            at(Eigen::Vector3d(0.5, 0.3, 0.1))),
+          testing::box_link("b", 10.0, Eigen::Vector3d(0.2, 0.2, 0.2), 0.0,
+                            at(Eigen::Vector3d(-0.4, -0.2, 0.0)))};
 }
 
 VehicleSpec box_vehicle(double mass, const Eigen::Vector3d& size, double volume,
@@ -43,10 +46,7 @@ TEST(BulletWorldTest, FreeFallMatchesSemiImplicitEulerClosedForm) {
   // principal axes are rotated (two boxes on a diagonal), so the X_WB <-> X_WP conversion is
   // exercised.
   VehicleSpec vehicle;
-  vehicle.links = {testing::box_link("a", 30.0, Eigen::Vector3d(0.4, 0.2, 0.2), 0.0,
-                                     at(Eigen::Vector3d(0.5, 0.3, 0.1))),
-                   testing::box_link("b", 10.0, Eigen::Vector3d(0.2, 0.2, 0.2), 0.0,
-                                     at(Eigen::Vector3d(-0.4, -0.2, 0.0)))};
+  vehicle.links = two_box_links();
   const Eigen::Vector3d p0(5.0, -3.0, 50.0);
   vehicle.X_WB_initial =
       at(p0, Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix());
@@ -222,10 +222,7 @@ TEST(BulletWorldTest, PrimitivesRestOnTheSeabedAtTheirHalfHeight) {
 TEST(BulletWorldTest, StateRoundTripsThroughPrincipalFrame) {
   // Writing a state and reading it back only costs the round-off of X_WB X_BP X_PB: 1e-12.
   VehicleSpec vehicle;
-  vehicle.links = {testing::box_link("a", 30.0, Eigen::Vector3d(0.4, 0.2, 0.2), 0.0,
-                                     at(Eigen::Vector3d(0.5, 0.3, 0.1))),
-                   testing::box_link("b", 10.0, Eigen::Vector3d(0.2, 0.2, 0.2), 0.0,
-                                     at(Eigen::Vector3d(-0.4, -0.2, 0.0)))};
+  vehicle.links = two_box_links();
   BulletWorld world(testing::water_model({vehicle}));
   RigidBodyState in;
   in.X_WB = at(Eigen::Vector3d(1, 2, -3),

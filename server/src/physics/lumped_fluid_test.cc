@@ -28,13 +28,7 @@ VehicleSpec box_vehicle(double volume) {
   return vehicle;
 }
 
-Eigen::Isometry3d at(const Eigen::Vector3d& p,
-                     const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.linear() = R;
-  X.translation() = p;
-  return X;
-}
+using testing::at;
 
 TEST(LumpedFluidTest, FullySubmergedBuoyancyIsRhoGVAtCentreOfBuoyancy) {
   VehicleSpec vehicle = box_vehicle(1.0);

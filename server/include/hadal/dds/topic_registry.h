@@ -52,10 +52,7 @@ class TopicRegistry {
   eprosima::fastdds::dds::DataWriter* writer(const std::string& topic_name, int history_depth,
                                             eprosima::fastdds::dds::DataWriterListener* listener = nullptr) {
     eprosima::fastdds::dds::DataWriterQos qos = eprosima::fastdds::dds::DATAWRITER_QOS_DEFAULT;
-    qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
-    qos.durability().kind = eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
-    qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = history_depth;
+    set_endpoint_qos(qos, history_depth);
     auto* writer = publisher_->create_datawriter(topic<PubSubType>(topic_name), qos, listener);
     if (writer == nullptr) throw std::runtime_error("could not create a DDS writer on " + topic_name);
     return writer;
@@ -65,16 +62,22 @@ class TopicRegistry {
   eprosima::fastdds::dds::DataReader* reader(const std::string& topic_name, int history_depth,
                                             eprosima::fastdds::dds::DataReaderListener* listener) {
     eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
-    qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
-    qos.durability().kind = eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
-    qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = history_depth;
+    set_endpoint_qos(qos, history_depth);
     auto* reader = subscriber_->create_datareader(topic<PubSubType>(topic_name), qos, listener);
     if (reader == nullptr) throw std::runtime_error("could not create a DDS reader on " + topic_name);
     return reader;
   }
 
  private:
+  // RELIABLE + VOLATILE + KEEP_LAST(depth), for writers and readers alike.
+  template <class EndpointQos>
+  static void set_endpoint_qos(EndpointQos& qos, int history_depth) {
+    qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+    qos.durability().kind = eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = history_depth;
+  }
+
   eprosima::fastdds::dds::DomainParticipant* participant_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;

@@ -12,6 +12,15 @@
 
 namespace hadal::physics::testing {
 
+// The pose with rotation R and translation p.
+inline Eigen::Isometry3d at(const Eigen::Vector3d& p,
+                            const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R;
+  X.translation() = p;
+  return X;
+}
+
 // A homogeneous box link of full extents `size` whose centre of mass, centre of buoyancy and single
 // box collision shape sit at the link origin; `volume` is its displaced volume (pass size.prod()
 // for a closed hull).
