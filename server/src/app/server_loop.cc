@@ -54,6 +54,7 @@ class Runner {
   RunSummary run() {
     start_wall_ = Clock::now();
     last_status_wall_ = start_wall_;
+    last_status_publish_wall_ = start_wall_;
     publish_status(0.0);
     const double discovery_wait = options_.effective_discovery_wait();
     const Clock::time_point wait_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -64,6 +65,7 @@ class Runner {
     }
     start_wall_ = Clock::now();
     last_status_wall_ = start_wall_;
+    last_status_publish_wall_ = start_wall_;
     last_line_wall_ = start_wall_;
     publish_due();
     switch (options_.mode) {
@@ -182,9 +184,14 @@ class Runner {
   void service_wall_clock() {
     const Clock::time_point now = Clock::now();
     const double status_period = 1.0 / model_.world.status_rate_hz;
-    if (std::chrono::duration<double>(now - last_status_wall_).count() >= status_period) {
-      publish_status(std::chrono::duration<double>(now - last_status_wall_).count());
-      last_status_wall_ = now;
+    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(status_period));
+    if (now >= last_status_wall_ + period) {
+      publish_status(std::chrono::duration<double>(now - last_status_publish_wall_).count());
+      last_status_publish_wall_ = now;
+      // Absolute schedule (k periods after start), so the heartbeat keeps its rate; after a stall it
+      // resumes from now instead of bursting.
+      last_status_wall_ += period;
+      if (now >= last_status_wall_ + period) last_status_wall_ = now;
       for (const auto& report : dds_.take_reports()) std::fprintf(stderr, "hadald: %s\n", report.c_str());
     }
     if (options_.status_line && options_.mode != RunMode::kLockstep &&
@@ -244,7 +251,7 @@ class Runner {
   std::vector<double> distance_;
   std::vector<std::uint64_t> reported_resets_;
   std::vector<Eigen::Vector3d> start_positions_, previous_positions_;
-  Clock::time_point start_wall_, last_status_wall_, last_line_wall_{};
+  Clock::time_point start_wall_, last_status_wall_, last_status_publish_wall_, last_line_wall_{};
   double last_line_sim_ = 0.0, last_status_sim_ = 0.0, last_reject_print_ = 0.0;
   std::uint64_t last_line_steps_ = 0, rejected_ = 0;
   std::string last_error_;
