@@ -5,7 +5,7 @@
 // (SI units, frames as in the README's topic table). Callbacks run on DDS threads: keep them short and
 // synchronise what they touch.
 //
-//   hadal::Client client({.domain_id = 0});
+//   hadal::Client client(hadal::ClientOptions{0, "my_controller"});  // domain 0
 //   if (!client.wait_for_server(10.0)) ...;
 //   client.on_odometry("auv", [](const hadal::Odometry& o) { ... });
 //   client.set_thrusters("auv", {0.5, 0.0, 0.0});
