@@ -1,0 +1,119 @@
+// RayBatch and RayHits: the rays a sensor casts against the world for one state snapshot, and what they
+// hit, as structure-of-arrays (one entry per ray in every array, float like Embree).
+//
+// A ray is  p_W(t) = p_WO + t d_W,  t in [t_near, t_far],  expressed in the world frame W, with
+//   p_WO  origin O of the ray in W [m]
+//   d_W   direction in W, unit length (|d|^2 within 1e-5 of 1), so that t is a distance in metres
+//   t_near, t_far  0 <= t_near <= t_far [m]; t_far may be +inf
+// The batch also carries the snapshot it belongs to (sim time, step count, the pose X_WB of every
+// body, indexed like SimState::vehicles), so that rays cast for step k see the bodies where they were
+// at step k however long the job waits in the ray-cast service's queue.
+//
+// A hit reports, per ray i:
+//   distance[i]   t of the nearest hit in [t_near, t_far] [m]; +inf for a miss. The hit point is
+//                 p_WO + distance d_W.
+//   n_W_*[i]      unit geometric normal of the hit triangle in W, oriented by the triangle's winding
+//                 (right-hand rule v0 -> v1 -> v2: outward for TriangleMesh's counter-clockwise
+//                 convention). It is NOT flipped towards the ray: dot(n_W, d_W) > 0 means the ray hit a
+//                 back face (e.g. it started inside a hull). (0, 0, 0) for a miss.
+//   body[i]       index of the body whose instance was hit (index into SimState::vehicles),
+//                 kStaticBody (-1) for the static world, kNoHit (-2) for a miss.
+//   mesh[i]       id returned by EmbreeScene::add_static_mesh / add_body_mesh, kNoHit for a miss.
+//   material[i]   material id given for that mesh, plus TriangleMesh::triangle_materials[triangle] when
+//                 the mesh has per-triangle materials; kInvalidIndex for a miss.
+//   triangle[i]   index of the triangle in that mesh (TriangleMesh::indices[3 triangle ...]);
+//                 kInvalidIndex for a miss.
+#pragma once
+
+#include "hadal/core/state.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace hadal::geometry {
+
+inline constexpr std::int32_t kStaticBody = -1;  // RayHits::body of a hit on the static world
+inline constexpr std::int32_t kNoHit = -2;       // RayHits::body and RayHits::mesh of a miss
+inline constexpr std::uint32_t kInvalidIndex = std::numeric_limits<std::uint32_t>::max();
+
+// How the rays of a batch relate to each other; chooses Embree's traversal mode. Coherent: neighbours
+// in the arrays start near each other and point in similar directions (a camera's pixels in row-major
+// or tile order). Incoherent: anything else (DVL beams of many vehicles, scattered rays).
+enum class RayCoherence { kCoherent, kIncoherent };
+
+struct RayBatch {
+  // The snapshot the rays belong to (copied into RayHits).
+  double sim_time = 0.0;  // [s]
+  std::uint64_t step_count = 0;
+  std::vector<Eigen::Isometry3d> X_WB;  // pose of body B in W, one per body index (SimState::vehicles)
+
+  RayCoherence coherence = RayCoherence::kIncoherent;
+
+  std::vector<float> p_WO_x, p_WO_y, p_WO_z;  // ray origins in W [m]
+  std::vector<float> d_W_x, d_W_y, d_W_z;     // unit ray directions in W
+  std::vector<float> t_near, t_far;           // [m]
+
+  std::size_t size() const { return p_WO_x.size(); }
+
+  // True when all eight arrays have the same length.
+  bool consistent() const {
+    const std::size_t n = p_WO_x.size();
+    return p_WO_y.size() == n && p_WO_z.size() == n && d_W_x.size() == n && d_W_y.size() == n &&
+           d_W_z.size() == n && t_near.size() == n && t_far.size() == n;
+  }
+
+  void reserve(std::size_t n) {
+    for (auto* v : {&p_WO_x, &p_WO_y, &p_WO_z, &d_W_x, &d_W_y, &d_W_z, &t_near, &t_far}) v->reserve(n);
+  }
+
+  void add_ray(const Eigen::Vector3f& p_WO, const Eigen::Vector3f& d_W, float t_min = 0.0f,
+               float t_max = std::numeric_limits<float>::infinity()) {
+    p_WO_x.push_back(p_WO.x());
+    p_WO_y.push_back(p_WO.y());
+    p_WO_z.push_back(p_WO.z());
+    d_W_x.push_back(d_W.x());
+    d_W_y.push_back(d_W.y());
+    d_W_z.push_back(d_W.z());
+    t_near.push_back(t_min);
+    t_far.push_back(t_max);
+  }
+
+  // Takes sim time, step count and every vehicle's body pose from a state snapshot.
+  void set_snapshot(const SimState& state) {
+    sim_time = state.time;
+    step_count = state.step_count;
+    X_WB.clear();
+    X_WB.reserve(state.vehicles.size());
+    for (const VehicleState& vehicle : state.vehicles) X_WB.push_back(vehicle.body.X_WB);
+  }
+};
+
+struct RayHits {
+  double sim_time = 0.0;  // of the snapshot the rays were cast in [s]
+  std::uint64_t step_count = 0;
+
+  std::vector<float> distance;              // [m], +inf for a miss
+  std::vector<float> n_W_x, n_W_y, n_W_z;   // unit geometric normal in W (winding-oriented)
+  std::vector<std::int32_t> body;           // body index, kStaticBody, or kNoHit
+  std::vector<std::int32_t> mesh;           // scene mesh id or kNoHit
+  std::vector<std::uint32_t> material;      // material id or kInvalidIndex
+  std::vector<std::uint32_t> triangle;      // triangle index in the mesh or kInvalidIndex
+
+  std::size_t size() const { return distance.size(); }
+  bool hit(std::size_t i) const { return std::isfinite(distance[i]); }
+
+  void resize(std::size_t n) {
+    for (auto* v : {&distance, &n_W_x, &n_W_y, &n_W_z}) v->resize(n);
+    body.resize(n);
+    mesh.resize(n);
+    material.resize(n);
+    triangle.resize(n);
+  }
+};
+
+}  // namespace hadal::geometry
