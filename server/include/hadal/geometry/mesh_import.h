@@ -7,12 +7,31 @@
 // truncated/corrupt GLB, glTF with a missing .bin, NaN/Inf vertices, meshes with no triangles all
 // come back as one error naming the file and the problem. Degenerate (zero-area) triangles are
 // dropped and counted.
+//
+// Vertex p of a mesh held by node N (file frame F, Hadal world frame W):
+//   p_W = R_WF * scale * X_FN * p_N,   X_FN = X_F,root * ... * X_parent,N (accumulated transforms)
+//   R_WF = identity for UpAxis::kZ; for UpAxis::kY +90 deg about x: (x, y, z) -> (x, -z, y).
+// Normals use the inverse transpose of the linear part and are renormalised (rotated, not scaled);
+// a node transform with a negative determinant (mirror) has its triangles' winding reversed so
+// normals stay outward. Meshes without normals get area-weighted vertex normals; when some meshes
+// carry UVs, the others get (0, 0). The per-mesh material becomes a per-triangle index into the
+// materials actually used (triangle_materials stays empty when only one is used).
+// Degenerate: repeated vertex indices, or an exactly zero cross product e1 x e2 (computed in double
+// from the float positions: coincident or exactly collinear corners).
+//
+// Speed: assimp reads with no post-processing (aiProcess_Triangulate only when a mesh holds
+// polygons; never aiProcess_ValidateDataStructure: the conversion checks every index itself), and
+// the conversion runs on up to hardware_concurrency() threads for large meshes. GLB headers and
+// chunk lengths are validated before assimp sees the file; referenced files (.bin, .mtl) are opened
+// only if they are regular files. Hadal never installs an assimp logger, so assimp stays silent
+// (its default NullLogger) and nothing is printed to stdout.
 #pragma once
 
 #include "hadal/geometry/triangle_mesh.h"
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace hadal::geometry {
 
@@ -22,6 +41,10 @@ struct ImportOptions {
   double scale = 1.0;  // file units -> metres, > 0
   UpAxis up_axis = UpAxis::kZ;
   bool load_textures = true;
+  // Free assimp's scene on a background thread once its data has been copied out (assimp allocates
+  // every face separately: ~20 ms per million triangles the caller need not wait for; only scenes
+  // of 64k faces or more are handed over). false: freed before import_mesh returns.
+  bool background_cleanup = true;
 };
 
 struct ImportResult {
@@ -29,8 +52,18 @@ struct ImportResult {
   std::string error;                 // "<file>: <problem>" on failure
   std::size_t degenerate_triangles_dropped = 0;
   double load_seconds = 0.0;         // wall time of the whole import
+  std::vector<std::string> warnings;  // "<file>: <problem>", non-fatal (e.g. an OBJ's missing .mtl)
+
+  bool ok() const { return mesh.has_value(); }
 };
 
 ImportResult import_mesh(const std::string& path, const ImportOptions& options = {});
+
+// The extensions import_mesh accepts (lower case, with the dot), in the order errors list them.
+const std::vector<std::string>& supported_mesh_extensions();
+
+// Blocks until every scene handed to the background thread so far has been freed (benchmarks,
+// memory measurements).
+void wait_for_background_cleanup();
 
 }  // namespace hadal::geometry

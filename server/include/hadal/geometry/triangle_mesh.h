@@ -3,7 +3,8 @@
 //
 // positions: x0 y0 z0 x1 y1 z1 ... (float, 3 per vertex) [m]
 // normals:   3 per vertex, or empty                     [unit]
-// uvs:       2 per vertex, or empty                     [texture coordinates]
+// uvs:       2 per vertex, or empty                     [texture coordinates, v up: texel row
+//            (1 - v) * height, row 0 at the image top; assimp's and OpenGL's convention]
 // indices:   3 per triangle, counter-clockwise seen from outside (outward normal by the right-hand rule)
 // triangle_materials: one index into `materials` per triangle, or empty (all material 0)
 // Positions are float (Embree's and the GPU's format); properties that need precision (volume,

@@ -1,0 +1,270 @@
+// Integration test of the two asset CLIs as users run them: hadal-make-asset writes a file,
+// hadal-mesh-info prints one JSON object about it (parsed here), or fails with the documented exit
+// codes and nothing on stdout.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Minimal JSON reader (objects, arrays, numbers, strings without escapes beyond \" and \\,
+// true/false/null): enough for hadal-mesh-info's output, and strict, so malformed output fails.
+struct Json {
+  enum class Type { kNull, kBool, kNumber, kString, kArray, kObject } type = Type::kNull;
+  bool boolean = false;
+  double number = 0.0;
+  std::string string;
+  std::vector<Json> array;
+  std::map<std::string, Json> object;
+
+  const Json& operator[](const std::string& key) const {
+    static const Json missing;
+    const auto it = object.find(key);
+    return it == object.end() ? missing : it->second;
+  }
+  const Json& operator[](std::size_t i) const { return array.at(i); }
+};
+
+class JsonParser {
+ public:
+  explicit JsonParser(const std::string& text) : s_(text) {}
+  bool parse(Json& out) {
+    if (!value(out)) return false;
+    space();
+    return i_ == s_.size();
+  }
+
+ private:
+  void space() {
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
+  }
+  bool literal(const char* word) {
+    const std::string w = word;
+    if (s_.compare(i_, w.size(), w) != 0) return false;
+    i_ += w.size();
+    return true;
+  }
+  bool string(std::string& out) {
+    if (s_[i_] != '"') return false;
+    for (++i_; i_ < s_.size() && s_[i_] != '"'; ++i_) {
+      if (s_[i_] == '\\' && i_ + 1 < s_.size()) ++i_;
+      out += s_[i_];
+    }
+    return i_ < s_.size() && s_[i_++] == '"';
+  }
+  bool value(Json& out) {
+    space();
+    if (i_ >= s_.size()) return false;
+    const char c = s_[i_];
+    if (c == '{') {
+      out.type = Json::Type::kObject;
+      ++i_;
+      space();
+      if (s_[i_] == '}') return ++i_, true;
+      for (;;) {
+        space();
+        std::string key;
+        if (!string(key)) return false;
+        space();
+        if (s_[i_++] != ':') return false;
+        if (!value(out.object[key])) return false;
+        space();
+        if (s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        return s_[i_++] == '}';
+      }
+    }
+    if (c == '[') {
+      out.type = Json::Type::kArray;
+      ++i_;
+      space();
+      if (s_[i_] == ']') return ++i_, true;
+      for (;;) {
+        out.array.emplace_back();
+        if (!value(out.array.back())) return false;
+        space();
+        if (s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        return s_[i_++] == ']';
+      }
+    }
+    if (c == '"') {
+      out.type = Json::Type::kString;
+      return string(out.string);
+    }
+    if (literal("true")) return out.type = Json::Type::kBool, out.boolean = true, true;
+    if (literal("false")) return out.type = Json::Type::kBool, true;
+    if (literal("null")) return true;
+    char* end = nullptr;
+    out.number = std::strtod(s_.c_str() + i_, &end);
+    if (end == s_.c_str() + i_) return false;
+    out.type = Json::Type::kNumber;
+    i_ = static_cast<std::size_t>(end - s_.c_str());
+    return true;
+  }
+  const std::string& s_;
+  std::size_t i_ = 0;
+};
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+class MeshInfoCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (fs::temp_directory_path() / "hadal_mesh_info_XXXXXX").string();
+    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  RunResult run(const std::string& args) const {
+    const std::string err_file = dir_ + "/stderr.txt";
+    RunResult r;
+    FILE* pipe = popen((args + " 2>" + err_file).c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    std::size_t n;
+    while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) r.out.append(buffer, n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream err(err_file);
+    std::stringstream text;
+    text << err.rdbuf();
+    r.err = text.str();
+    return r;
+  }
+  RunResult make_asset(const std::string& args) const {
+    return run(std::string(HADAL_MAKE_ASSET) + " " + args);
+  }
+  RunResult mesh_info(const std::string& args) const {
+    return run(std::string(HADAL_MESH_INFO) + " " + args);
+  }
+
+  static Json parse_one_line(const std::string& out) {
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;  // exactly one JSON object
+    Json json;
+    EXPECT_TRUE(JsonParser(out).parse(json)) << out;
+    return json;
+  }
+
+  std::string dir_;
+};
+
+TEST_F(MeshInfoCliTest, ReportsAGeneratedOffsetBox) {
+  const std::string file = dir_ + "/box.glb";
+  const RunResult made = make_asset("box " + file + " --size 1 2 3 --center 4 0 -2");
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  const RunResult info = mesh_info(file);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(info.err, "");
+  const Json j = parse_one_line(info.out);
+  EXPECT_EQ(j["file"].string, file);
+  EXPECT_EQ(j["triangles"].number, 12);
+  EXPECT_EQ(j["vertices"].number, 24);
+  EXPECT_TRUE(j["closed"].boolean);
+  EXPECT_EQ(j["boundary_edges"].number, 0);
+  EXPECT_EQ(j["degenerate_dropped"].number, 0);
+  // Exactly representable corners: the closed forms hold to double round-off.
+  EXPECT_NEAR(j["volume"].number, 6.0, 1e-12);
+  EXPECT_NEAR(j["surface_area"].number, 22.0, 1e-12);
+  const double centroid[3] = {4, 0, -2}, lo[3] = {3.5, -1, -3.5}, hi[3] = {4.5, 1, -0.5};
+  const double I[3] = {6.0 / 12 * (4 + 9), 6.0 / 12 * (1 + 9), 6.0 / 12 * (1 + 4)};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(j["centroid"][k].number, centroid[k], 1e-12);
+    EXPECT_NEAR(j["bounds"]["min"][k].number, lo[k], 1e-12);
+    EXPECT_NEAR(j["bounds"]["max"][k].number, hi[k], 1e-12);
+    for (std::size_t l = 0; l < 3; ++l)
+      EXPECT_NEAR(j["inertia"][k][l].number, k == l ? I[k] : 0.0, 1e-12);
+  }
+  EXPECT_GT(j["load_seconds"].number, 0.0);
+  EXPECT_EQ(j["load_seconds"].type, Json::Type::kNumber);
+}
+
+TEST_F(MeshInfoCliTest, ScaleAndUpAxisOptions) {
+  // File y-up box 1 x 2 x 3 at the origin; --up-axis y maps (x, y, z) -> (x, -z, y), --scale 2.
+  const std::string file = dir_ + "/box.gltf";
+  ASSERT_EQ(make_asset("box " + file + " --size 1 2 3").exit_code, 0);
+  const RunResult info = mesh_info(file + " --scale 2 --up-axis y");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const Json j = parse_one_line(info.out);
+  EXPECT_NEAR(j["volume"].number, 6.0 * 8.0, 1e-12);
+  const double hi[3] = {1, 3, 2};
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(j["bounds"]["max"][k].number, hi[k], 1e-12);
+}
+
+TEST_F(MeshInfoCliTest, OpenSeabedHasNullVolume) {
+  const std::string file = dir_ + "/seabed.obj";
+  ASSERT_EQ(make_asset("seabed " + file + " --triangles 2000 --extent 50").exit_code, 0);
+  const RunResult info = mesh_info(file);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const Json j = parse_one_line(info.out);
+  EXPECT_FALSE(j["closed"].boolean);
+  EXPECT_EQ(j["closed"].type, Json::Type::kBool);
+  EXPECT_EQ(j["triangles"].number, 2 * 32 * 32);  // round(sqrt(2000 / 2)) = 32 cells a side
+  EXPECT_EQ(j["boundary_edges"].number, 4 * 32);
+  EXPECT_EQ(j["volume"].type, Json::Type::kNull);
+  EXPECT_EQ(j["inertia"].type, Json::Type::kNull);
+}
+
+TEST_F(MeshInfoCliTest, EveryGeneratorShapeWritesALoadableFile) {
+  for (const std::string shape : {"box", "sphere", "cylinder", "torpedo", "frame", "lander",
+                                  "seabed", "two-node", "textured-quad"}) {
+    SCOPED_TRACE(shape);
+    const std::string file = dir_ + "/" + shape + ".glb";
+    const RunResult made = make_asset(shape + " " + file);
+    ASSERT_EQ(made.exit_code, 0) << made.err;
+    const RunResult info = mesh_info(file);
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const Json j = parse_one_line(info.out);
+    const bool open = shape == "seabed" || shape == "textured-quad";
+    EXPECT_EQ(j["closed"].boolean, !open);
+    EXPECT_EQ(j["textures"].number, shape == "textured-quad" ? 1 : 0);
+  }
+}
+
+TEST_F(MeshInfoCliTest, ErrorsGoToStderrWithExitCodes) {
+  const RunResult missing = mesh_info(dir_ + "/nothing.glb");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_EQ(missing.out, "");
+  EXPECT_EQ(missing.err, "hadal-mesh-info: " + dir_ + "/nothing.glb: file not found\n");
+
+  const RunResult unsupported = mesh_info(dir_ + "/model.3ds");
+  EXPECT_EQ(unsupported.exit_code, 1);
+  EXPECT_EQ(unsupported.out, "");
+
+  for (const std::string args : {"", "a.glb b.glb", "a.glb --up-axis x", "a.glb --scale -2",
+                                 "a.glb --scale", "a.glb --bogus"}) {
+    SCOPED_TRACE(args);
+    const RunResult usage = mesh_info(args);
+    EXPECT_EQ(usage.exit_code, 2);
+    EXPECT_EQ(usage.out, "");
+    EXPECT_NE(usage.err.find("usage: hadal-mesh-info FILE"), std::string::npos);
+  }
+  const RunResult bad_shape = make_asset("pyramid " + dir_ + "/x.glb");
+  EXPECT_EQ(bad_shape.exit_code, 2);
+  const RunResult bad_format = make_asset("box " + dir_ + "/x.fbx");
+  EXPECT_EQ(bad_format.exit_code, 1);
+  EXPECT_NE(bad_format.err.find("unsupported extension '.fbx'"), std::string::npos)
+      << bad_format.err;
+}
+
+}  // namespace
