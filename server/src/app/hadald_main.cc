@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   }
 
   config::LoadResult loaded = config::load_scenario_file(cli.options.scenario_file);
+  for (const auto& warning : loaded.warnings) std::fprintf(stderr, "%s\n", warning.format().c_str());
   if (!loaded.ok()) {
     for (const auto& error : loaded.errors) std::fprintf(stderr, "%s\n", error.format().c_str());
     std::fprintf(stderr, "hadald: %zu error(s) in the scenario; nothing started\n", loaded.errors.size());

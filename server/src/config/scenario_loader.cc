@@ -9,6 +9,9 @@
 #include <memory>
 #include <utility>
 
+#include "hadal/geometry/mesh_import.h"
+#include "hadal/geometry/mesh_properties.h"
+#include "hadal/geometry/terrain.h"
 #include "yaml_reader.h"
 
 namespace hadal::config {
@@ -17,7 +20,7 @@ std::string Diagnostic::format() const {
   // Line 0 means "no position" (e.g. a file that cannot be opened); an empty path is the document root.
   std::string out = file;
   if (line > 0) out += ":" + std::to_string(line) + ":" + std::to_string(column);
-  out += ": error: ";
+  out += warning ? ": warning: " : ": error: ";
   if (!path.empty()) out += path + ": ";
   return out + message;
 }
@@ -209,6 +212,160 @@ bool read_collision(const Value& value, CollisionShape* shape) {
   return ok;
 }
 
+// Applies X_AM to a mesh's vertices and normals (float storage, double pose).
+void transform_mesh(const Eigen::Isometry3d& X_AM, geometry::TriangleMesh* mesh) {
+  const Eigen::Matrix3f R = X_AM.linear().cast<float>();
+  const Eigen::Vector3f t = X_AM.translation().cast<float>();
+  for (std::size_t v = 0; v < mesh->num_vertices(); ++v) {
+    Eigen::Map<Eigen::Vector3f> p(&mesh->positions[3 * v]);
+    p = R * p + t;
+  }
+  for (std::size_t v = 0; v + 2 < mesh->normals.size(); v += 3) {
+    Eigen::Map<Eigen::Vector3f> n(&mesh->normals[v]);
+    n = R * n;
+  }
+}
+
+// Samples a procedural or heightmap seabed may have (16 M: 64 MB of float heights, ~32 M triangles).
+constexpr double kMaxSeabedSamples = 16777216.0;
+
+// Builds the seabed surface of `seabed` (already validated keys); reports load problems at `file_value`
+// (the file key's value) or at the map.
+void build_seabed_mesh(const MapReader& map, SeabedSpec* seabed) {
+  using geometry::TriangleMesh;
+  switch (seabed->type) {
+    case SeabedType::kPlane:
+      return;
+    case SeabedType::kProcedural: {
+      seabed->procedural.z_datum = seabed->z;
+      const double samples = (seabed->procedural.size_x / seabed->procedural.resolution + 1.0) *
+                             (seabed->procedural.size_y / seabed->procedural.resolution + 1.0);
+      if (samples > kMaxSeabedSamples) {
+        map.value().error("size / resolution gives " + format_approximate(samples) +
+                          " height samples; at most 16777216 are allowed");
+        return;
+      }
+      seabed->mesh = std::make_shared<const TriangleMesh>(
+          geometry::heightfield_to_mesh(geometry::procedural_seabed(seabed->procedural)));
+      return;
+    }
+    case SeabedType::kHeightmap: {
+      const geometry::HeightmapLoad load = geometry::load_heightmap(seabed->heightmap);
+      if (!load.field) {
+        map.optional("file")->error(load.error);
+        return;
+      }
+      seabed->mesh = std::make_shared<const TriangleMesh>(geometry::heightfield_to_mesh(*load.field));
+      return;
+    }
+    case SeabedType::kMesh: {
+      geometry::ImportResult imported = geometry::import_mesh(seabed->file, seabed->import);
+      if (!imported.mesh) {
+        map.optional("file")->error(imported.error);
+        return;
+      }
+      transform_mesh(seabed->X_WM, &*imported.mesh);
+      seabed->mesh = std::make_shared<const TriangleMesh>(std::move(*imported.mesh));
+      return;
+    }
+  }
+}
+
+// world.seabed: type plane | mesh | heightmap | procedural, each with its own keys.
+void read_seabed(const Value& value, std::uint64_t world_seed, SeabedSpec* seabed) {
+  const MapReader map(value, {"type", "z", "file", "scale", "up_axis", "pose", "meters_per_pixel", "height_range",
+                              "size", "resolution", "relief", "ridge_height", "slope_deg", "plain_radius", "seed"});
+  if (!map.ok()) return;
+  static const std::vector<std::pair<std::string, SeabedType>> kTypes = {{"plane", SeabedType::kPlane},
+                                                                         {"mesh", SeabedType::kMesh},
+                                                                         {"heightmap", SeabedType::kHeightmap},
+                                                                         {"procedural", SeabedType::kProcedural}};
+  if (!map.read_choice("type", Need::kOptional, kTypes, &seabed->type)) return;
+  const std::string type_name = map.has("type") ? map.optional("type")->node().Scalar() : "plane";
+
+  // Which keys each type takes; the rest are errors naming the type.
+  const SeabedType type = seabed->type;
+  const bool is_mesh = type == SeabedType::kMesh, is_heightmap = type == SeabedType::kHeightmap,
+             is_procedural = type == SeabedType::kProcedural, is_plane = type == SeabedType::kPlane;
+  const std::pair<const char*, bool> used[] = {
+      {"z", is_plane || is_procedural}, {"file", is_mesh || is_heightmap}, {"scale", is_mesh},
+      {"up_axis", is_mesh},           {"pose", is_mesh},                  {"meters_per_pixel", is_heightmap},
+      {"height_range", is_heightmap}, {"size", is_procedural},            {"resolution", is_procedural},
+      {"relief", is_procedural},      {"ridge_height", is_procedural},    {"slope_deg", is_procedural},
+      {"plain_radius", is_procedural}, {"seed", is_procedural}};
+  bool ok = true;
+  for (const auto& [key, needed] : used) {
+    if (!needed && map.has(key)) {
+      map.error_at_key(key, "key " + quoted(key) + " is not used by seabed type " + quoted(type_name));
+      ok = false;
+    }
+  }
+
+  ok &= map.read_number("z", Need::kOptional, Range::finite(), &seabed->z);
+  if (is_mesh || is_heightmap) {
+    std::string file;
+    if (map.read_string("file", Need::kRequired, &file)) {
+      const auto file_value = map.optional("file");
+      seabed->file = (std::filesystem::path(file_value->file()).parent_path() / file).string();
+      seabed->heightmap.file = seabed->file;
+    } else {
+      ok = false;
+    }
+  }
+  if (is_mesh) {
+    ok &= map.read_number("scale", Need::kOptional, Range::positive(), &seabed->import.scale);
+    static const std::vector<std::pair<std::string, geometry::UpAxis>> kAxes = {{"z", geometry::UpAxis::kZ},
+                                                                                 {"y", geometry::UpAxis::kY}};
+    ok &= map.read_choice("up_axis", Need::kOptional, kAxes, &seabed->import.up_axis);
+    if (const auto pose = map.optional("pose")) ok &= read_pose(*pose, &seabed->X_WM);
+  }
+  if (is_heightmap) {
+    ok &= map.read_number("meters_per_pixel", Need::kRequired, Range::positive(), &seabed->heightmap.meters_per_pixel);
+    if (const auto range = map.required("height_range")) {
+      if (const auto values = range->numbers(2)) {
+        if ((*values)[1] > (*values)[0]) {
+          seabed->heightmap.height_min = (*values)[0];
+          seabed->heightmap.height_max = (*values)[1];
+        } else {
+          range->error("must be [min, max] with max > min (got [" + format_number((*values)[0]) + ", " +
+                       format_number((*values)[1]) + "])");
+          ok = false;
+        }
+      } else {
+        ok = false;
+      }
+    } else {
+      ok = false;
+    }
+  }
+  if (is_procedural) {
+    geometry::ProceduralSeabedSpec& p = seabed->procedural;
+    p.seed = world_seed;
+    if (const auto size = map.optional("size")) {
+      if (const auto values = size->numbers(2, Range::left_open(0.0, 100000.0))) {
+        p.size_x = (*values)[0];
+        p.size_y = (*values)[1];
+      } else {
+        ok = false;
+      }
+    }
+    ok &= map.read_number("resolution", Need::kOptional, Range::positive(), &p.resolution);
+    ok &= map.read_number("relief", Need::kOptional, Range::non_negative(), &p.relief);
+    ok &= map.read_number("ridge_height", Need::kOptional, Range::non_negative(), &p.ridge_height);
+    double slope_deg = p.slope / kDegToRad;
+    if (map.read_number("slope_deg", Need::kOptional, Range::right_open(0.0, 60.0), &slope_deg)) {
+      p.slope = slope_deg * kDegToRad;
+    } else {
+      ok = false;
+    }
+    ok &= map.read_number("plain_radius", Need::kOptional, Range::non_negative(), &p.plain_radius);
+    if (const auto seed = map.optional("seed")) {
+      if (const auto s = seed->non_negative_integer()) p.seed = *s; else ok = false;
+    }
+  }
+  if (ok) build_seabed_mesh(map, seabed);
+}
+
 bool read_buoyancy(const Value& value, BuoyancySpec* buoyancy) {
   const MapReader map(value, {"volume", "center"});
   if (!map.ok()) return false;
@@ -230,15 +387,86 @@ bool read_unique_name(const MapReader& map, const std::string& what, std::map<st
 }
 
 // Returns the link's name when it has a valid one (nullopt otherwise).
+// link.mesh: {file, scale, up_axis, pose}. Imports the file into L and computes its volume properties;
+// the returned properties are those of the mesh in L.
+std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkMesh* link_mesh) {
+  const MapReader map(value, {"file", "scale", "up_axis", "pose"});
+  if (!map.ok()) return std::nullopt;
+  bool ok = true;
+  std::string file;
+  if (map.read_string("file", Need::kRequired, &file)) {
+    link_mesh->file = (std::filesystem::path(map.optional("file")->file()).parent_path() / file).string();
+  } else {
+    ok = false;
+  }
+  ok &= map.read_number("scale", Need::kOptional, Range::positive(), &link_mesh->import.scale);
+  static const std::vector<std::pair<std::string, geometry::UpAxis>> kAxes = {{"z", geometry::UpAxis::kZ},
+                                                                               {"y", geometry::UpAxis::kY}};
+  ok &= map.read_choice("up_axis", Need::kOptional, kAxes, &link_mesh->import.up_axis);
+  if (const auto pose = map.optional("pose")) ok &= read_pose(*pose, &link_mesh->X_LM);
+  if (!ok) return std::nullopt;
+
+  geometry::ImportResult imported = geometry::import_mesh(link_mesh->file, link_mesh->import);
+  if (!imported.mesh) {
+    map.optional("file")->error(imported.error);
+    return std::nullopt;
+  }
+  geometry::TriangleMesh& mesh = *imported.mesh;
+  transform_mesh(link_mesh->X_LM, &mesh);
+  geometry::MeshProperties properties = geometry::compute_mesh_properties(mesh);
+  link_mesh->closed = properties.closed;
+  link_mesh->volume = properties.volume;
+  link_mesh->p_LMc = properties.centroid;
+  link_mesh->mesh = std::make_shared<const geometry::TriangleMesh>(std::move(mesh));
+  if (properties.closed && !(properties.volume > 0.0)) {
+    value.error("mesh '" + file + "' encloses a volume of " + format_approximate(properties.volume) +
+                " m^3 (faces oriented inward?)");
+    return std::nullopt;
+  }
+  return properties;
+}
+
 std::optional<std::string> read_link(const Value& value, std::map<std::string, std::string>* seen_names,
                                      LinkSpec* link) {
-  const MapReader map(value, {"name", "pose", "mass", "center_of_mass", "inertia", "collisions", "buoyancy"});
+  const MapReader map(value, {"name", "pose", "mass", "center_of_mass", "inertia", "collisions", "buoyancy",
+                              "mesh", "density"});
   if (!map.ok()) return std::nullopt;
   const bool name_ok = read_unique_name(map, "link", seen_names, &link->name);
   if (const auto pose = map.optional("pose")) read_pose(*pose, &link->X_BL);
-  map.read_number("mass", Need::kRequired, Range::positive(), &link->mass);
-  map.read_vector3("center_of_mass", Need::kOptional, Range::finite(), &link->p_LLcm);
-  if (const auto inertia = map.required("inertia")) read_inertia(*inertia, &link->I_Lcm);
+
+  std::optional<geometry::MeshProperties> mesh_properties;
+  if (const auto mesh = map.optional("mesh")) {
+    LinkMesh link_mesh;
+    mesh_properties = read_link_mesh(*mesh, &link_mesh);
+    if (mesh_properties) link->mesh = std::move(link_mesh);
+  }
+
+  double density = 0.0;
+  const bool has_density = map.has("density");
+  if (has_density && map.read_number("density", Need::kOptional, Range::positive(), &density)) {
+    if (!map.has("mesh")) {
+      map.error_at_key("density", "key 'density' needs 'mesh' (mass properties from the mesh's volume)");
+    } else if (mesh_properties && !link->mesh->closed) {
+      map.optional("mesh")->error("mesh is open (" + std::to_string(mesh_properties->boundary_edges) +
+                                  " boundary edges): mass from 'density' needs a closed mesh");
+    } else if (mesh_properties) {
+      // Mass properties of the homogeneous solid the mesh encloses, already in L.
+      link->mass = density * mesh_properties->volume;
+      link->p_LLcm = mesh_properties->centroid;
+      link->I_Lcm = density * mesh_properties->inertia_unit_density;
+    }
+    for (const char* key : {"mass", "center_of_mass", "inertia"}) {
+      if (map.has(key)) {
+        map.error_at_key(key, std::string("key '") + key + "' cannot be combined with 'density' (the mesh and " +
+                                  "density give it)");
+      }
+    }
+  } else if (!has_density) {
+    map.read_number("mass", Need::kRequired, Range::positive(), &link->mass);
+    map.read_vector3("center_of_mass", Need::kOptional, Range::finite(), &link->p_LLcm);
+    if (const auto inertia = map.required("inertia")) read_inertia(*inertia, &link->I_Lcm);
+  }
+
   if (const auto collisions = map.optional("collisions")) {
     if (const auto items = collisions->list()) {
       for (const Value& item : *items) {
@@ -248,7 +476,19 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
       }
     }
   }
-  if (const auto buoyancy = map.optional("buoyancy")) read_buoyancy(*buoyancy, &link->buoyancy);
+  if (const auto buoyancy = map.optional("buoyancy")) {
+    read_buoyancy(*buoyancy, &link->buoyancy);
+  } else if (link->mesh) {
+    // A hull mesh displaces the volume it encloses, centred on its centroid.
+    if (link->mesh->closed) {
+      link->buoyancy.volume = link->mesh->volume;
+      link->buoyancy.p_LCb = link->mesh->p_LMc;
+    } else {
+      map.optional("mesh")->warn("mesh is open (" + std::to_string(mesh_properties->boundary_edges) +
+                                 " boundary edges): its volume is undefined, so the link gets no buoyancy; "
+                                 "give buoyancy: {volume, center} or close the mesh");
+    }
+  }
   if (!name_ok) return std::nullopt;
   return link->name;
 }
@@ -425,7 +665,9 @@ LoadResult ScenarioLoader::load(const std::string& path) {
   }
 
   LoadResult result;
-  result.errors = sink_.sorted();
+  for (Diagnostic& diagnostic : sink_.sorted()) {
+    (diagnostic.warning ? result.warnings : result.errors).push_back(std::move(diagnostic));
+  }
   if (result.errors.empty()) result.model = std::move(model);
   return result;
 }
@@ -455,14 +697,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
       water.read_number("density", Need::kOptional, Range::left_open(0.0, 2000.0), &world->water.density);
     }
   }
-  if (const auto seabed_value = map.optional("seabed")) {
-    const MapReader seabed(*seabed_value, {"type", "z"});
-    if (seabed.ok()) {
-      seabed.read_choice<SeabedType>("type", Need::kOptional, {{"plane", SeabedType::kPlane}},
-                                     &world->seabed.type);
-      seabed.read_number("z", Need::kOptional, Range::finite(), &world->seabed.z);
-    }
-  }
+  if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
   if (const auto origin_value = map.optional("origin")) {
     const MapReader origin(*origin_value, {"latitude_deg", "longitude_deg", "altitude"});
     if (origin.ok()) {

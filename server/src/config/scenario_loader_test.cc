@@ -1,6 +1,10 @@
 #include "hadal/config/scenario_loader.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hadal/assets/mesh_generators.h"
+#include "hadal/assets/scene_writer.h"
 #include <unistd.h>
 
 #include <cmath>
@@ -89,8 +93,12 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_EQ(model.world.status_rate_hz, 10.0);
   EXPECT_EQ(model.world.water.surface_z, 0.0);
   EXPECT_EQ(model.world.water.density, 1025.0);
-  EXPECT_EQ(model.world.seabed.type, SeabedType::kPlane);
+  EXPECT_EQ(model.world.seabed.type, SeabedType::kProcedural);
   EXPECT_EQ(model.world.seabed.z, -100.0);
+  ASSERT_NE(model.world.seabed.mesh, nullptr);
+  EXPECT_EQ(model.world.seabed.mesh->num_triangles(), 80000u);  // (400 / 2)^2 cells x 2
+  EXPECT_EQ(model.world.seabed.procedural.seed, 42u);             // world.seed
+  EXPECT_NEAR(model.world.seabed.procedural.slope, M_PI / 180.0, kTol);
   EXPECT_NEAR(model.world.origin.latitude, 43.0 * M_PI / 180.0, kTol);
   EXPECT_NEAR(model.world.origin.longitude, 5.0 * M_PI / 180.0, kTol);
   EXPECT_EQ(model.world.origin.altitude, 0.0);
@@ -658,7 +666,164 @@ world:
              path + ":9:24: error: vehicles[0].command_timeout_s: must be > 0 (got 0)",
              path + ":11:9: error: world.seed: expected a non-negative integer (got '-1')",
              path + ":12:13: error: world.frame_id: must not be empty",
-             path + ":13:18: error: world.seabed.type: must be 'plane' (got 'mesh')"}));
+             path + ":13:11: error: world.seabed: missing required key 'file'"}));
+}
+
+TEST_F(ScenarioLoaderTest, SeabedTypesBuildTheirSurface) {
+  // A 3 x 2 pixel 16-bit heightmap next to the scenario; 2 m per pixel.
+  cv::Mat image(2, 3, CV_16UC1, cv::Scalar(0));
+  image.at<std::uint16_t>(0, 2) = 65535;
+  fs::create_directories(dir_ / "maps");
+  ASSERT_TRUE(cv::imwrite((dir_ / "maps" / "h.png").string(), image));
+  const std::string heightmap = write("scenarios/h.yaml", std::string(R"(world:
+  seabed: {type: heightmap, file: ../maps/h.png, meters_per_pixel: 2, height_range: [-120, -100]}
+vehicles:)") + kInlineVehicle);
+  const LoadResult h = load_scenario_file(heightmap);
+  for (const Diagnostic& d : h.errors) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(h.ok());
+  const SeabedSpec& seabed = h.model->world.seabed;
+  ASSERT_NE(seabed.mesh, nullptr);
+  EXPECT_EQ(seabed.mesh->num_vertices(), 6u);
+  EXPECT_EQ(seabed.mesh->num_triangles(), 4u);
+  EXPECT_EQ(seabed.heightmap.height_min, -120.0);
+  // Pixel (row 0, col 2) is the north-east corner: x = +2, y = +1, z = height_max.
+  EXPECT_EQ(seabed.mesh->positions[3 * 5 + 0], 2.0f);
+  EXPECT_EQ(seabed.mesh->positions[3 * 5 + 1], 1.0f);
+  EXPECT_EQ(seabed.mesh->positions[3 * 5 + 2], -100.0f);
+
+  const std::string procedural = write("p.yaml", std::string(R"(world:
+  seed: 5
+  seabed: {type: procedural, z: -80, size: [100, 50], resolution: 5, seed: 9}
+vehicles:)") + kInlineVehicle);
+  const LoadResult p = load_scenario_file(procedural);
+  ASSERT_TRUE(p.ok());
+  EXPECT_EQ(p.model->world.seabed.procedural.seed, 9u);  // its own seed wins over world.seed
+  EXPECT_EQ(p.model->world.seabed.procedural.z_datum, -80.0);
+  EXPECT_EQ(p.model->world.seabed.mesh->num_triangles(), 20u * 10u * 2u);
+
+  const std::string plane = write("q.yaml", std::string("world: {seabed: {z: -30}}\nvehicles:") + kInlineVehicle);
+  const LoadResult q = load_scenario_file(plane);
+  ASSERT_TRUE(q.ok());
+  EXPECT_EQ(q.model->world.seabed.mesh, nullptr);  // a plane needs no mesh
+}
+
+TEST_F(ScenarioLoaderTest, SeabedKeysAndFilesAreChecked) {
+  const std::string keys = write("k.yaml", R"(world:
+  seabed:
+    type: procedural
+    file: x.png
+    size: [0, 10]
+    slope_deg: 60
+vehicles: [])");
+  const std::vector<std::string> key_errors = errors_of(keys);
+  ASSERT_GE(key_errors.size(), 3u);
+  EXPECT_EQ(key_errors[0], keys + ":4:5: error: world.seabed.file: key 'file' is not used by seabed type 'procedural'");
+  EXPECT_EQ(key_errors[1], keys + ":5:12: error: world.seabed.size[0]: must be in (0, 100000] (got 0)");
+  EXPECT_EQ(key_errors[2], keys + ":6:16: error: world.seabed.slope_deg: must be in [0, 60) (got 60)");
+
+  const std::string range = write("r.yaml", R"(world:
+  seabed: {type: heightmap, file: h.png, meters_per_pixel: 1, height_range: [0, -5]}
+vehicles: [])");
+  EXPECT_EQ(errors_of(range)[0],
+            range + ":2:77: error: world.seabed.height_range: must be [min, max] with max > min (got [0, -5])");
+
+  const std::string missing = write("m.yaml", R"(world:
+  seabed: {type: heightmap, file: nowhere.png, meters_per_pixel: 1, height_range: [-5, 0]}
+vehicles: [])");
+  EXPECT_EQ(errors_of(missing)[0], missing + ":2:35: error: world.seabed.file: " + (dir_ / "nowhere.png").string() +
+                                       ": cannot open heightmap (file not found)");
+
+  const std::string mesh = write("n.yaml", R"(world:
+  seabed: {type: mesh, file: nowhere.glb, scale: 0.001, up_axis: y}
+vehicles: [])");
+  const std::vector<std::string> mesh_errors = errors_of(mesh);
+  ASSERT_FALSE(mesh_errors.empty());
+  // The importer's message names the file; the loader places it at the file key's value.
+  EXPECT_EQ(mesh_errors[0].rfind(mesh + ":2:30: error: world.seabed.file: " + (dir_ / "nowhere.glb").string() + ": ", 0),
+            0u)
+      << mesh_errors[0];
+
+  const std::string huge = write("g.yaml", R"(world:
+  seabed: {type: procedural, size: [100000, 100000], resolution: 1}
+vehicles: [])");
+  EXPECT_EQ(errors_of(huge)[0], huge + ":2:11: error: world.seabed: size / resolution gives 1.00002e+10 height "
+                                       "samples; at most 16777216 are allowed");
+}
+
+TEST_F(ScenarioLoaderTest, LinkMassPropertiesAndBuoyancyFromAClosedMesh) {
+  // A 2 m x 1 m x 0.5 m box hull (generated, exported as GLB) placed 1 m forward in L, density 1000.
+  ASSERT_EQ(assets::write_scene(assets::single_mesh_scene(assets::make_box(2.0, 1.0, 0.5)),
+                                (dir_ / "hull.glb").string()),
+            "");
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: box
+    type: rov
+    links:
+      - name: hull
+        mesh: {file: hull.glb, pose: {position: [1, 0, 0]}}
+        density: 1000
+)");
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& d : result.errors) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(result.ok());
+  EXPECT_TRUE(result.warnings.empty());
+  const LinkSpec& link = result.model->vehicles[0].links[0];
+  ASSERT_TRUE(link.mesh.has_value());
+  EXPECT_TRUE(link.mesh->closed);
+  // Closed forms of a homogeneous box, V = a b c = 1 m^3, I = m/12 diag(b^2+c^2, a^2+c^2, a^2+b^2).
+  // The vertices are floats (2, 1, 0.5, 1 are exact in float), so 1e-9 relative covers the algebra.
+  EXPECT_NEAR(link.mass, 1000.0, 1e-6);
+  EXPECT_NEAR((link.p_LLcm - Eigen::Vector3d(1.0, 0.0, 0.0)).norm(), 0.0, 1e-9);
+  const Eigen::Matrix3d I_expected = Eigen::Vector3d(1.25, 4.25, 5.0).asDiagonal() * (1000.0 / 12.0);
+  EXPECT_LT((link.I_Lcm - I_expected).norm(), 1e-9 * I_expected.norm());
+  // No buoyancy key: the closed hull displaces its own volume at its centroid.
+  EXPECT_NEAR(link.buoyancy.volume, 1.0, 1e-9);
+  EXPECT_NEAR((link.buoyancy.p_LCb - Eigen::Vector3d(1.0, 0.0, 0.0)).norm(), 0.0, 1e-9);
+}
+
+TEST_F(ScenarioLoaderTest, OpenMeshesWarnForBuoyancyAndCannotGiveMass) {
+  ASSERT_EQ(assets::write_scene(assets::textured_quad_scene(4, 4), (dir_ / "quad.glb").string()), "");
+  const std::string warn = write("w.yaml", R"(world: {}
+vehicles:
+  - name: plate
+    type: lander
+    links:
+      - name: hull
+        mesh: {file: quad.glb}
+        mass: 5
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+)");
+  const LoadResult w = load_scenario_file(warn);
+  ASSERT_TRUE(w.ok());
+  ASSERT_EQ(w.warnings.size(), 1u);
+  EXPECT_EQ(w.warnings[0].format(),
+            warn + ":7:15: warning: vehicles[0].links[0].mesh: mesh is open (4 boundary edges): its volume is "
+                   "undefined, so the link gets no buoyancy; give buoyancy: {volume, center} or close the mesh");
+  EXPECT_EQ(w.model->vehicles[0].links[0].buoyancy.volume, 0.0);
+
+  const std::string error = write("e.yaml", R"(world: {}
+vehicles:
+  - name: plate
+    type: lander
+    links:
+      - name: hull
+        mesh: {file: quad.glb}
+        density: 1000
+        mass: 5
+  - name: other
+    type: lander
+    links:
+      - name: hull
+        density: 1000
+)");
+  EXPECT_EQ(errors_of(error),
+            (Lines{error + ":7:15: error: vehicles[0].links[0].mesh: mesh is open (4 boundary edges): mass from "
+                           "'density' needs a closed mesh",
+                   error + ":9:9: error: vehicles[0].links[0].mass: key 'mass' cannot be combined with 'density' "
+                           "(the mesh and density give it)",
+                   error + ":14:9: error: vehicles[1].links[0].density: key 'density' needs 'mesh' (mass "
+                           "properties from the mesh's volume)"}));
 }
 
 TEST(DiagnosticTest, FormatsPositionAndPath) {

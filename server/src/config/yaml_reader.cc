@@ -112,7 +112,7 @@ void DiagnosticSink::add_file(const std::string& file) {
 }
 
 void DiagnosticSink::report(const std::string& file, const YAML::Mark& mark, std::string path,
-                            std::string message) {
+                            std::string message, bool warning) {
   add_file(file);
   Diagnostic diagnostic;
   diagnostic.file = file;
@@ -120,6 +120,7 @@ void DiagnosticSink::report(const std::string& file, const YAML::Mark& mark, std
   diagnostic.column = diagnostic.line > 0 ? one_based(mark.column) : 0;
   diagnostic.path = std::move(path);
   diagnostic.message = std::move(message);
+  diagnostic.warning = warning;
   diagnostics_.push_back(std::move(diagnostic));
 }
 
@@ -243,6 +244,10 @@ Value Value::root(YAML::Node node, std::shared_ptr<const Source> source) {
 
 void Value::error(const std::string& message) const {
   source_->sink->report(source_->file, mark_, path_, message);
+}
+
+void Value::warn(const std::string& message) const {
+  source_->sink->report(source_->file, mark_, path_, message, /*warning=*/true);
 }
 
 std::string Value::describe() const {

@@ -36,9 +36,10 @@ class DiagnosticSink {
   void add_file(const std::string& file);
   // `mark` is yaml-cpp's 0-based mark; a null mark (or one with negative line) yields line 0 column 0,
   // meaning "no position" (e.g. a file that cannot be opened).
-  void report(const std::string& file, const YAML::Mark& mark, std::string path, std::string message);
+  void report(const std::string& file, const YAML::Mark& mark, std::string path, std::string message,
+              bool warning = false);
 
-  bool empty() const { return diagnostics_.empty(); }
+  bool empty() const { return diagnostics_.empty(); }  // no errors and no warnings
   // All diagnostics sorted by (file order, line, column); ties keep the order of reporting.
   std::vector<Diagnostic> sorted() const;
 
@@ -66,6 +67,7 @@ struct Range {
   static Range non_negative() { return {0.0, kInfinity, true, true}; }            // >= 0
   static Range closed(double lo, double hi) { return {lo, hi, true, true}; }      // [lo, hi]
   static Range left_open(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
+  static Range right_open(double lo, double hi) { return {lo, hi, true, false}; }  // [lo, hi)
 
   bool contains(double x) const;
   // "> 0", ">= 0", "<= 5", "in [50, 100000]", "in (0, 2000]", or "finite".
@@ -104,6 +106,8 @@ class Value {
 
   // Reports `message` at this node.
   void error(const std::string& message) const;
+  // Reports a warning at this node (the load goes on).
+  void warn(const std::string& message) const;
   // What the node holds, for "(got ...)": 'text' for plain scalars, the string "text" for quoted ones,
   // null, a list of 2, a map, an empty document.
   std::string describe() const;

@@ -12,6 +12,7 @@ namespace {
 constexpr double kVehicleFriction = 0.5;
 constexpr double kSeabedFriction = 0.8;
 constexpr double kRestitution = 0.0;
+constexpr double kSeabedMeshMargin = 0.001;  // [m]
 constexpr double kMaxMargin = 0.01;      // [m]
 constexpr double kMarginFraction = 0.2;  // of the smallest half extent
 
@@ -82,7 +83,11 @@ struct BulletWorld::Impl {
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
 
-  std::unique_ptr<btStaticPlaneShape> seabed_shape;
+  // The seabed: a plane, or a BVH over the model's seabed mesh (shared, never modified, so Bullet
+  // reads its float vertex and index arrays in place).
+  std::shared_ptr<const geometry::TriangleMesh> seabed_mesh;
+  std::unique_ptr<btTriangleIndexVertexArray> seabed_arrays;
+  std::unique_ptr<btCollisionShape> seabed_shape;
   std::unique_ptr<btRigidBody> seabed;
   std::vector<Vehicle> vehicles;
 
@@ -101,7 +106,27 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
   Impl& w = *impl_;
   w.world.setGravity(to_bt(model.world.gravity_W));
 
-  w.seabed_shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), model.world.seabed.z);
+  const SeabedSpec& seabed = model.world.seabed;
+  if (seabed.type == SeabedType::kPlane || !seabed.mesh) {
+    w.seabed_shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), seabed.z);
+  } else {
+    w.seabed_mesh = seabed.mesh;
+    const geometry::TriangleMesh& mesh = *w.seabed_mesh;
+    btIndexedMesh part;
+    part.m_numTriangles = static_cast<int>(mesh.num_triangles());
+    part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(mesh.indices.data());
+    part.m_triangleIndexStride = 3 * sizeof(std::uint32_t);
+    part.m_indexType = PHY_INTEGER;
+    part.m_numVertices = static_cast<int>(mesh.num_vertices());
+    part.m_vertexBase = reinterpret_cast<const unsigned char*>(mesh.positions.data());
+    part.m_vertexStride = 3 * sizeof(float);
+    part.m_vertexType = PHY_FLOAT;
+    w.seabed_arrays = std::make_unique<btTriangleIndexVertexArray>();
+    w.seabed_arrays->addIndexedMesh(part, PHY_INTEGER);
+    w.seabed_shape = std::make_unique<btBvhTriangleMeshShape>(w.seabed_arrays.get(), true);
+    // Bullet's default 4 cm margin would float bodies above the surface; 1 mm keeps contact stable.
+    w.seabed_shape->setMargin(kSeabedMeshMargin);
+  }
   btRigidBody::btRigidBodyConstructionInfo seabed_info(0.0, nullptr, w.seabed_shape.get());
   seabed_info.m_friction = kSeabedFriction;
   seabed_info.m_restitution = kRestitution;

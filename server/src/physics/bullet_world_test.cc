@@ -1,4 +1,5 @@
 #include "hadal/physics/bullet_world.h"
+#include "hadal/geometry/terrain.h"
 
 #include <gtest/gtest.h>
 
@@ -217,6 +218,45 @@ TEST(BulletWorldTest, PrimitivesRestOnTheSeabedAtTheirHalfHeight) {
   }
   EXPECT_LT(world.body_state(4).X_WB.translation().z(), -60.0);
   EXPECT_EQ(world.num_contact_points(4), 0);
+}
+
+TEST(BulletWorldTest, BoxesRestOnAMeshSeabedAtTheLocalHeight) {
+  // A terrace: z = -50 for x <= -2, -48 for x >= 2, a ramp between. Boxes 0.3 m high dropped at
+  // x = -6 and x = +6 rest with their bottoms on the local surface. The mesh carries a 1 mm collision
+  // margin outside the surface (bullet_world.cc), so the rest height is surface + 0.15 m + 1 mm; 1 mm of
+  // tolerance covers the solver's residual penetration.
+  geometry::HeightField field;
+  field.nx = 21;
+  field.ny = 11;
+  field.dx = field.dy = 1.0;
+  field.x0 = -10.0;
+  field.y0 = -5.0;
+  for (int j = 0; j < field.ny; ++j) {
+    for (int i = 0; i < field.nx; ++i) {
+      const double x = field.x0 + i;
+      field.heights.push_back(static_cast<float>(x <= -2.0 ? -50.0 : x >= 2.0 ? -48.0 : -49.0 + 0.5 * x));
+    }
+  }
+  Model model;
+  model.world.water.surface_z = -1000.0;
+  model.world.seabed.type = SeabedType::kMesh;
+  model.world.seabed.mesh = std::make_shared<const geometry::TriangleMesh>(geometry::heightfield_to_mesh(field));
+  const double surface[] = {-50.0, -48.0};
+  for (int k = 0; k < 2; ++k) {
+    VehicleSpec vehicle;
+    vehicle.name = k == 0 ? "low" : "high";
+    vehicle.links = {testing::box_link("box", 20.0, Eigen::Vector3d(0.6, 0.4, 0.3), 0.0)};
+    vehicle.X_WB_initial.translation() = Eigen::Vector3d(k == 0 ? -6.0 : 6.0, 0.3, surface[k] + 0.15 + 0.05);
+    model.vehicles.push_back(vehicle);
+  }
+  BulletWorld world(model);
+  for (int k = 0; k < 1000; ++k) world.step(model.world.step_size());
+  for (int k = 0; k < 2; ++k) {
+    const RigidBodyState s = world.body_state(k);
+    EXPECT_NEAR(s.X_WB.translation().z(), surface[k] + 0.15 + 0.001, 1e-3) << model.vehicles[k].name;
+    EXPECT_LT(s.v_WB.norm(), 1e-3) << model.vehicles[k].name;
+    EXPECT_GT(world.num_contact_points(k), 0) << model.vehicles[k].name;
+  }
 }
 
 TEST(BulletWorldTest, StateRoundTripsThroughPrincipalFrame) {

@@ -21,14 +21,16 @@ struct Diagnostic {
   int column = 0;  // 1-based
   std::string path;  // e.g. vehicles[0].thrusters[1].max_rpm
   std::string message;
+  bool warning = false;  // a warning does not stop the load
 
-  // "file:line:col: error: path: message"
+  // "file:line:col: error: path: message" (or "warning:")
   std::string format() const;
 };
 
 struct LoadResult {
   std::optional<Model> model;  // set only when errors is empty
   std::vector<Diagnostic> errors;
+  std::vector<Diagnostic> warnings;  // e.g. an open mesh used for buoyancy; printed, never fatal
 
   bool ok() const { return model.has_value() && errors.empty(); }
 };

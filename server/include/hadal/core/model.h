@@ -7,9 +7,14 @@
 // converted on load.
 #pragma once
 
+#include "hadal/geometry/mesh_import.h"
+#include "hadal/geometry/terrain.h"
+#include "hadal/geometry/triangle_mesh.h"
+
 #include <Eigen/Geometry>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +45,19 @@ struct BuoyancySpec {
   Eigen::Vector3d p_LCb = Eigen::Vector3d::Zero();  // centre of buoyancy in L [m]
 };
 
+// The surface of a link from a mesh file (YAML link.mesh), with its vertices in L. Used for mass
+// properties (with link.density), default buoyancy (closed meshes) and, later, ray casts and
+// surface hydrodynamics.
+struct LinkMesh {
+  std::string file;  // resolved path
+  geometry::ImportOptions import;
+  Eigen::Isometry3d X_LM = Eigen::Isometry3d::Identity();  // pose of the file's frame in L
+  std::shared_ptr<const geometry::TriangleMesh> mesh;      // vertices in L [m]
+  bool closed = false;                                     // watertight and consistently oriented
+  double volume = 0.0;                                     // enclosed volume (closed meshes) [m^3]
+  Eigen::Vector3d p_LMc = Eigen::Vector3d::Zero();         // centroid of that volume in L [m]
+};
+
 struct LinkSpec {
   std::string name;
   double mass = 0.0;                                      // [kg], > 0
@@ -48,6 +66,7 @@ struct LinkSpec {
   Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();  // link frame in the vehicle body frame
   std::vector<CollisionShape> collisions;
   BuoyancySpec buoyancy;
+  std::optional<LinkMesh> mesh;
 };
 
 // A propeller thruster. Thrust T = K_T rho D^4 n|n| along axis_L, reaction torque
@@ -101,11 +120,22 @@ struct VehicleSpec {
   int link_index(const std::string& link_name) const;
 };
 
-enum class SeabedType { kPlane };
+enum class SeabedType { kPlane, kMesh, kHeightmap, kProcedural };
 
+// The seabed: an infinite plane, or a triangle-mesh surface built at load time from a mesh file, a
+// heightmap image or seeded procedural bathymetry (hadal/geometry/terrain.h). YAML: world.seabed.
 struct SeabedSpec {
   SeabedType type = SeabedType::kPlane;
-  double z = -100.0;  // height of the flat seabed in W [m]
+  double z = -100.0;  // plane: its height in W; procedural: height of the sediment plain [m]
+  // kMesh: the file (resolved relative to the scenario), its units and up axis, and the pose X_WM of
+  // the file's frame in W.
+  std::string file;
+  geometry::ImportOptions import;
+  Eigen::Isometry3d X_WM = Eigen::Isometry3d::Identity();
+  geometry::HeightmapSpec heightmap;          // kHeightmap (file in heightmap.file)
+  geometry::ProceduralSeabedSpec procedural;  // kProcedural (z_datum = z)
+  // The surface in W for every type but kPlane, built by the loader; shared, never modified.
+  std::shared_ptr<const geometry::TriangleMesh> mesh;
 };
 
 struct WaterSpec {
