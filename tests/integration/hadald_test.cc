@@ -8,6 +8,7 @@
 #include <signal.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <dirent.h>
 #include <fstream>
@@ -274,6 +275,28 @@ TEST(HadaldTest, FastModeRunsTheDefaultScenarioForItsDurationAndSummarises) {
   EXPECT_NE(out.find("rt/clock 501\n"), std::string::npos) << out;
   EXPECT_NE(out.find("rt/auv/odometry 251\n"), std::string::npos) << out;
   EXPECT_NE(out.find("auv: distance travelled "), std::string::npos) << out;
+  EXPECT_NE(out.find("altitude 5"), std::string::npos) << out;  // ~50 m over the generated seabed
+}
+
+TEST(HadaldTest, SummaryAltitudeIsARayCastToTheSeabed) {
+  // The client scenario has a plane seabed at z = -100 and the AUV starts at z = -50 with no command:
+  // it only rises (positive buoyancy). The summary's altitude comes from a ray cast straight down
+  // through the ray-cast service, so altitude = 50 m + the vertical displacement; both are printed to
+  // 1 mm, hence the 2 mm tolerance.
+  DomainLease domain;
+  ServerProcess server({source_path(kClientScenario), "--duration", "3", "--mode", "fast", "--domain-id",
+                        std::to_string(domain.id()), "--no-status-line", "--discovery-wait", "0"});
+  ASSERT_EQ(server.wait(120.0), 0) << server.err();
+  const std::string out = server.out();
+  double travelled = 0.0, net = 0.0, altitude = 0.0;
+  const auto at = out.find("auv: distance travelled");
+  ASSERT_NE(at, std::string::npos) << out;
+  ASSERT_EQ(std::sscanf(out.c_str() + at, "auv: distance travelled %lf m (net displacement %lf m), altitude %lf m",
+                        &travelled, &net, &altitude),
+            3)
+      << out;
+  EXPECT_GT(net, 0.05);
+  EXPECT_NEAR(altitude, 50.0 + net, 0.002);
 }
 
 std::set<std::string> fastdds_shm_files() {

@@ -2,6 +2,9 @@
 
 #include "hadal/core/rate_divider.h"
 #include "hadal/core/simulation.h"
+#include "hadal/geometry/ray_batch.h"
+#include "hadal/geometry/raycast_service.h"
+#include "hadal/geometry/world_scene.h"
 #include "../dds/server_endpoints.h"
 
 #include <hadal_msgs.h>
@@ -33,10 +36,21 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+geometry::RaycastServiceOptions raycast_options(const Model& model) {
+  geometry::RaycastServiceOptions options;
+  options.num_threads = model.world.raycast_threads;
+  return options;
+}
+
 class Runner {
  public:
   Runner(const Model& model, const CliOptions& options, const std::atomic<bool>& stop)
-      : model_(model), options_(options), stop_(stop), sim_(model), dds_(model, options.domain_id) {
+      : model_(model),
+        options_(options),
+        stop_(stop),
+        sim_(model),
+        dds_(model, options.domain_id),
+        raycast_(geometry::build_world_scene(model), raycast_options(model)) {
     clock_divider_ = RateDivider(model.world.clock_rate_hz);
     const std::size_t n = model.vehicles.size();
     odometry_dividers_.reserve(n);
@@ -224,15 +238,28 @@ class Runner {
     dds_.publish_status(report);
   }
 
-  RunSummary summary() const {
+  // One ray straight down from each vehicle, against the last snapshot (the sensors' service, so the
+  // scene the daemon built is exercised end to end).
+  std::vector<double> altitudes() {
+    geometry::RayBatch batch;
+    batch.set_snapshot(sim_.state());
+    for (const auto& vehicle : sim_.state().vehicles) {
+      batch.add_ray(vehicle.body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, -1.0f));
+    }
+    const geometry::RayHits hits = raycast_.submit(std::move(batch)).get();
+    return std::vector<double>(hits.distance.begin(), hits.distance.end());
+  }
+
+  RunSummary summary() {
     RunSummary s;
+    const std::vector<double> altitude = altitudes();
     s.sim_time = sim_.time();
     s.wall_time = seconds_since(start_wall_);
     s.steps = sim_.state().step_count;
     s.rejected_commands = rejected_;
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       const Eigen::Vector3d p = sim_.state().vehicles[i].body.X_WB.translation();
-      s.vehicles.push_back({model_.vehicles[i].name, distance_[i], (p - start_positions_[i]).norm()});
+      s.vehicles.push_back({model_.vehicles[i].name, distance_[i], (p - start_positions_[i]).norm(), altitude[i]});
     }
     for (const auto& count : dds_.published_counts()) s.samples_published.emplace_back(count.topic, count.samples);
     return s;
@@ -245,6 +272,7 @@ class Runner {
   const std::atomic<bool>& stop_;
   Simulation sim_;
   dds::ServerEndpoints dds_;
+  geometry::RaycastService raycast_;
   RateDivider clock_divider_;
   std::vector<RateDivider> odometry_dividers_, thruster_dividers_;
   std::vector<std::int64_t> last_command_stamp_;
@@ -268,7 +296,12 @@ std::string RunSummary::format() const {
       << (wall_time > 0.0 ? sim_time / wall_time : 0.0) << ", " << steps << " steps\n";
   for (const auto& v : vehicles) {
     out << "  " << v.name << ": distance travelled " << v.distance_travelled << " m (net displacement "
-        << v.net_displacement << " m)\n";
+        << v.net_displacement << " m), ";
+    if (std::isfinite(v.altitude)) {
+      out << "altitude " << v.altitude << " m\n";
+    } else {
+      out << "no seabed below\n";
+    }
   }
   out << "  samples published:\n";
   for (const auto& [topic, count] : samples_published) out << "    " << topic << " " << count << "\n";

@@ -23,6 +23,7 @@ struct VehicleSummary {
   std::string name;
   double distance_travelled = 0.0;  // path length of B's origin [m]
   double net_displacement = 0.0;    // |p_end - p_start| [m]
+  double altitude = 0.0;            // range straight down (-z) to the seabed at the end, ray-cast; inf: none
 };
 
 struct RunSummary {

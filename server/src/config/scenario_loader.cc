@@ -674,7 +674,7 @@ LoadResult ScenarioLoader::load(const std::string& path) {
 
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
-                              "status_rate_hz", "water", "seabed", "origin"});
+                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
                       &world->physics_rate_hz)) {
@@ -689,6 +689,14 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   world->clock_rate_hz = std::min(world->clock_rate_hz, world->physics_rate_hz);
   read_rate(map, "clock_rate_hz", physics_rate_hz_, &world->clock_rate_hz);
   read_rate(map, "status_rate_hz", physics_rate_hz_, &world->status_rate_hz);
+  double raycast_threads = 0.0;
+  if (map.read_number("raycast_threads", Need::kOptional, Range::closed(0.0, 256.0), &raycast_threads)) {
+    if (raycast_threads != std::floor(raycast_threads)) {
+      map.optional("raycast_threads")->error("must be a whole number (got " + format_number(raycast_threads) + ")");
+    } else {
+      world->raycast_threads = static_cast<int>(raycast_threads);
+    }
+  }
 
   if (const auto water_value = map.optional("water")) {
     const MapReader water(*water_value, {"surface_z", "density"});

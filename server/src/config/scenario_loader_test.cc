@@ -826,6 +826,17 @@ vehicles:
                            "properties from the mesh's volume)"}));
 }
 
+TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {
+  const std::string good = write("g.yaml", std::string("world: {raycast_threads: 3}\nvehicles:") + kInlineVehicle);
+  const LoadResult g = load_scenario_file(good);
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(g.model->world.raycast_threads, 3);
+  const std::string bad = write("b.yaml", "world:\n  raycast_threads: 1.5\nvehicles: []\n");
+  EXPECT_EQ(errors_of(bad)[0], bad + ":2:20: error: world.raycast_threads: must be a whole number (got 1.5)");
+  const std::string negative = write("n.yaml", "world:\n  raycast_threads: -1\nvehicles: []\n");
+  EXPECT_EQ(errors_of(negative)[0], negative + ":2:20: error: world.raycast_threads: must be in [0, 256] (got -1)");
+}
+
 TEST(DiagnosticTest, FormatsPositionAndPath) {
   Diagnostic diagnostic{"a.yaml", 12, 14, "vehicles[0].thrusters[1].max_rpm", "must be > 0 (got -5)"};
   EXPECT_EQ(diagnostic.format(),

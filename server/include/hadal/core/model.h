@@ -160,6 +160,7 @@ struct WorldSpec {
   std::string frame_id = "world";  // header.frame_id of world-frame messages
   double clock_rate_hz = 100.0;    // rt/clock
   double status_rate_hz = 10.0;    // rt/hadal/status
+  int raycast_threads = 0;         // ray-cast worker threads; 0: one per hardware thread
 
   double step_size() const { return 1.0 / physics_rate_hz; }
 };
