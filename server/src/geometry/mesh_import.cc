@@ -1,4 +1,5 @@
 #include "hadal/geometry/mesh_import.h"
+#include "parallel_for.h"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/material.h>
@@ -270,34 +271,6 @@ class RecordingIOSystem : public Assimp::DefaultIOSystem {
   mutable std::vector<std::string> missing_;
 };
 
-// Runs task(i) for i in [0, count) on up to `workers` threads (the caller's included). An exception
-// thrown by a task (std::bad_alloc) is rethrown here after every thread has joined.
-void parallel_for(std::size_t count, unsigned workers,
-                  const std::function<void(std::size_t)>& task) {
-  workers = static_cast<unsigned>(std::min<std::size_t>(workers, count));
-  if (workers <= 1) {
-    for (std::size_t i = 0; i < count; ++i) task(i);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto run = [&] {
-    try {
-      for (std::size_t i = next++; i < count; i = next++) task(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
-      next = count;  // the other threads stop at their next task
-    }
-  };
-  std::vector<std::thread> threads;
-  threads.reserve(workers - 1);
-  for (unsigned w = 1; w < workers; ++w) threads.emplace_back(run);
-  run();
-  for (auto& t : threads) t.join();
-  if (failure) std::rethrow_exception(failure);
-}
 
 // Destroys assimp importers (and the scenes they own) on one background thread. Freeing a scene
 // costs about 20 ms per million triangles (assimp allocates every face's indices separately) and

@@ -1,4 +1,5 @@
 #include "hadal/geometry/mesh_properties.h"
+#include "parallel_for.h"
 
 #include <algorithm>
 #include <array>
@@ -19,34 +20,6 @@ namespace {
 
 constexpr std::size_t kChunk = 1 << 16;  // triangles per work item
 
-// Runs task(i) for i in [0, count) on up to `workers` threads (the caller's included). An exception
-// thrown by a task (std::bad_alloc) is rethrown here after every thread has joined.
-void parallel_for(std::size_t count, unsigned workers,
-                  const std::function<void(std::size_t)>& task) {
-  workers = static_cast<unsigned>(std::min<std::size_t>(workers, count));
-  if (workers <= 1) {
-    for (std::size_t i = 0; i < count; ++i) task(i);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto run = [&] {
-    try {
-      for (std::size_t i = next++; i < count; i = next++) task(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
-      next = count;  // the other threads stop at their next task
-    }
-  };
-  std::vector<std::thread> threads;
-  threads.reserve(workers - 1);
-  for (unsigned w = 1; w < workers; ++w) threads.emplace_back(run);
-  run();
-  for (auto& t : threads) t.join();
-  if (failure) std::rethrow_exception(failure);
-}
 
 // Stable LSD radix sort of `keys` on bits [low_bit, 64) in 11-bit digits; digits that are equal
 // in every key are skipped. `scratch` is resized to keys.size().
