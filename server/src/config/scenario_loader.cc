@@ -12,6 +12,7 @@
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/terrain.h"
+#include "hadal/physics/seawater.h"
 #include "yaml_reader.h"
 
 namespace hadal::config {
@@ -268,6 +269,121 @@ void build_seabed_mesh(const MapReader& map, SeabedSpec* seabed) {
       seabed->mesh = std::make_shared<const TriangleMesh>(std::move(*imported.mesh));
       return;
     }
+  }
+}
+
+// world.water.current: uniform + exponentially decaying shear + Gauss-Markov (hadal/physics/ocean.h).
+void read_current(const Value& value, CurrentSpec* current) {
+  const MapReader map(value, {"uniform", "shear", "gauss_markov"});
+  if (!map.ok()) return;
+  map.read_vector3("uniform", Need::kOptional, Range::finite(), &current->uniform_W);
+  if (const auto shear_value = map.optional("shear")) {
+    const MapReader shear(*shear_value, {"surface", "decay_depth"});
+    if (shear.ok()) {
+      shear.read_vector3("surface", Need::kRequired, Range::finite(), &current->shear_surface_W);
+      shear.read_number("decay_depth", Need::kRequired, Range::positive(), &current->shear_decay_depth);
+    }
+  }
+  if (const auto gm_value = map.optional("gauss_markov")) {
+    const MapReader gm(*gm_value, {"sigma", "time_constant_s"});
+    if (gm.ok()) {
+      gm.read_vector3("sigma", Need::kRequired, Range::non_negative(), &current->gauss_markov_sigma_W);
+      // A slowly varying current: below 1 s it would be turbulence, and the lazily generated record
+      // (64 samples per time constant) would grow large.
+      gm.read_number("time_constant_s", Need::kRequired, Range::closed(1.0, 1e7),
+                     &current->gauss_markov_time_constant);
+    }
+  }
+}
+
+// world.water: surface, density model (constant | ramp | ctd) with its own keys, pressure, current.
+void read_water(const Value& value, WaterSpec* water) {
+  const MapReader map(value, {"surface_z", "density", "density_model", "rho0", "pycnocline_depth",
+                              "pycnocline_density_increase", "ctd", "temperature_degc", "salinity",
+                              "atmospheric_pressure", "bulk_modulus", "current"});
+  if (!map.ok()) return;
+  map.read_number("surface_z", Need::kOptional, Range::finite(), &water->surface_z);
+  map.read_number("atmospheric_pressure", Need::kOptional, Range::closed(0.0, 1e7), &water->atmospheric_pressure);
+  map.read_number("bulk_modulus", Need::kOptional, Range::positive(), &water->bulk_modulus);
+  if (const auto current = map.optional("current")) read_current(*current, &water->current);
+
+  static const std::vector<std::pair<std::string, DensityModel>> kModels = {
+      {"constant", DensityModel::kConstant}, {"ramp", DensityModel::kRamp}, {"ctd", DensityModel::kCtd}};
+  if (!map.read_choice("density_model", Need::kOptional, kModels, &water->density_model)) return;
+  const std::string model_name = map.has("density_model") ? map.optional("density_model")->node().Scalar()
+                                                          : "constant";
+  const DensityModel model = water->density_model;
+  const bool is_constant = model == DensityModel::kConstant, is_ramp = model == DensityModel::kRamp,
+             is_ctd = model == DensityModel::kCtd;
+  const std::pair<const char*, bool> used[] = {{"density", is_constant},
+                                               {"rho0", is_ramp},
+                                               {"pycnocline_depth", is_ramp},
+                                               {"pycnocline_density_increase", is_ramp},
+                                               {"ctd", is_ctd},
+                                               {"temperature_degc", !is_ctd},
+                                               {"salinity", !is_ctd}};
+  for (const auto& [key, needed] : used) {
+    if (!needed && map.has(key)) {
+      map.error_at_key(key, "key " + quoted(key) + " is not used by density_model " + quoted(model_name));
+    }
+  }
+
+  const Range kTemperature = Range::closed(-2.5, 40.0), kSalinity = Range::closed(0.0, 42.0);
+  if (is_constant) {
+    map.read_number("density", Need::kOptional, Range::left_open(0.0, 2000.0), &water->density);
+  }
+  if (!is_ctd) {
+    map.read_number("temperature_degc", Need::kOptional, kTemperature, &water->temperature);
+    map.read_number("salinity", Need::kOptional, kSalinity, &water->salinity);
+  }
+  if (is_ramp) {
+    map.read_number("rho0", Need::kOptional, Range::left_open(0.0, 2000.0), &water->rho0);
+    map.read_number("pycnocline_depth", Need::kOptional, Range::positive(), &water->pycnocline_depth);
+    map.read_number("pycnocline_density_increase", Need::kOptional, Range::closed(0.0, 100.0),
+                    &water->pycnocline_density_increase);
+    water->density = water->rho0;  // the lumped fluid model sees the surface density
+  }
+  if (is_ctd) {
+    const auto ctd = map.required("ctd", "needed by density_model 'ctd'");
+    if (!ctd) return;
+    const auto rows = ctd->list();
+    if (!rows) return;
+    if (rows->size() < 2) {
+      ctd->error("needs at least 2 rows (got " + std::to_string(rows->size()) + ")");
+      return;
+    }
+    bool ok = true;
+    // Depth of the previous row, when that row's depth was valid.
+    bool has_previous = false;
+    double previous_depth = 0.0;
+    for (std::size_t i = 0; i < rows->size(); ++i) {
+      const MapReader row((*rows)[i], {"depth", "temperature_degc", "salinity"});
+      if (!row.ok()) {
+        ok = false;
+        has_previous = false;
+        continue;
+      }
+      CtdSample sample;
+      const bool depth_ok = row.read_number("depth", Need::kRequired, Range::closed(0.0, 11000.0), &sample.depth);
+      ok &= depth_ok;
+      ok &= row.read_number("temperature_degc", Need::kRequired, kTemperature, &sample.temperature);
+      ok &= row.read_number("salinity", Need::kRequired, kSalinity, &sample.salinity);
+      if (depth_ok && has_previous && !(sample.depth > previous_depth)) {
+        row.optional("depth")->error("must be greater than the previous row's depth (" +
+                                     format_number(previous_depth) + ")");
+        ok = false;
+      }
+      has_previous = depth_ok;
+      previous_depth = sample.depth;
+      water->ctd.push_back(sample);
+    }
+    if (!ok) {
+      water->ctd.clear();
+      return;
+    }
+    // The lumped fluid model sees the surface density of the cast (EOS-80 at zero sea pressure).
+    const CtdSample& top = water->ctd.front();
+    water->density = physics::density_eos80(top.salinity, physics::its90_to_ipts68(top.temperature), 0.0);
   }
 }
 
@@ -698,13 +814,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
     }
   }
 
-  if (const auto water_value = map.optional("water")) {
-    const MapReader water(*water_value, {"surface_z", "density"});
-    if (water.ok()) {
-      water.read_number("surface_z", Need::kOptional, Range::finite(), &world->water.surface_z);
-      water.read_number("density", Need::kOptional, Range::left_open(0.0, 2000.0), &world->water.density);
-    }
-  }
+  if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
   if (const auto origin_value = map.optional("origin")) {
     const MapReader origin(*origin_value, {"latitude_deg", "longitude_deg", "altitude"});

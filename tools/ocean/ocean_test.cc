@@ -1,0 +1,262 @@
+// Integration test of hadal-ocean as users run it: a scenario file in, one JSON object per depth out
+// (parsed here and checked against the closed forms), or the documented exit codes with nothing on stdout.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Minimal JSON reader (objects, arrays, numbers, strings without escapes beyond \" and \\,
+// true/false/null): enough for hadal-ocean's output, and strict, so malformed output fails.
+struct Json {
+  enum class Type { kNull, kBool, kNumber, kString, kArray, kObject } type = Type::kNull;
+  bool boolean = false;
+  double number = 0.0;
+  std::string string;
+  std::vector<Json> array;
+  std::map<std::string, Json> object;
+
+  const Json& operator[](const std::string& key) const {
+    static const Json missing;
+    const auto it = object.find(key);
+    return it == object.end() ? missing : it->second;
+  }
+  const Json& operator[](std::size_t i) const { return array.at(i); }
+};
+
+class JsonParser {
+ public:
+  explicit JsonParser(const std::string& text) : s_(text) {}
+  bool parse(Json& out) {
+    if (!value(out)) return false;
+    space();
+    return i_ == s_.size();
+  }
+
+ private:
+  void space() {
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
+  }
+  bool literal(const char* word) {
+    const std::string w = word;
+    if (s_.compare(i_, w.size(), w) != 0) return false;
+    i_ += w.size();
+    return true;
+  }
+  bool string(std::string& out) {
+    if (s_[i_] != '"') return false;
+    for (++i_; i_ < s_.size() && s_[i_] != '"'; ++i_) {
+      if (s_[i_] == '\\' && i_ + 1 < s_.size()) ++i_;
+      out += s_[i_];
+    }
+    return i_ < s_.size() && s_[i_++] == '"';
+  }
+  bool value(Json& out) {
+    space();
+    if (i_ >= s_.size()) return false;
+    const char c = s_[i_];
+    if (c == '{') {
+      out.type = Json::Type::kObject;
+      ++i_;
+      space();
+      if (s_[i_] == '}') return ++i_, true;
+      for (;;) {
+        space();
+        std::string key;
+        if (!string(key)) return false;
+        space();
+        if (s_[i_++] != ':') return false;
+        if (!value(out.object[key])) return false;
+        space();
+        if (s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        return s_[i_++] == '}';
+      }
+    }
+    if (c == '[') {
+      out.type = Json::Type::kArray;
+      ++i_;
+      space();
+      if (s_[i_] == ']') return ++i_, true;
+      for (;;) {
+        out.array.emplace_back();
+        if (!value(out.array.back())) return false;
+        space();
+        if (s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        return s_[i_++] == ']';
+      }
+    }
+    if (c == '"') {
+      out.type = Json::Type::kString;
+      return string(out.string);
+    }
+    if (literal("true")) return out.type = Json::Type::kBool, out.boolean = true, true;
+    if (literal("false")) return out.type = Json::Type::kBool, true;
+    if (literal("null")) return true;
+    char* end = nullptr;
+    out.number = std::strtod(s_.c_str() + i_, &end);
+    if (end == s_.c_str() + i_) return false;
+    out.type = Json::Type::kNumber;
+    i_ = static_cast<std::size_t>(end - s_.c_str());
+    return true;
+  }
+  const std::string& s_;
+  std::size_t i_ = 0;
+};
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+class OceanCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (fs::temp_directory_path() / "hadal_ocean_cli_XXXXXX").string();
+    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string path = dir_ + "/" + name;
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  RunResult ocean(const std::string& args) const {
+    const std::string err_file = dir_ + "/stderr.txt";
+    RunResult r;
+    FILE* pipe = popen((std::string(HADAL_OCEAN) + " " + args + " 2>" + err_file).c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    std::size_t n;
+    while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) r.out.append(buffer, n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream err(err_file);
+    std::stringstream text;
+    text << err.rdbuf();
+    r.err = text.str();
+    return r;
+  }
+
+  static std::vector<Json> parse_lines(const std::string& out) {
+    std::vector<Json> lines;
+    std::istringstream stream(out);
+    for (std::string line; std::getline(stream, line);) {
+      lines.emplace_back();
+      EXPECT_TRUE(JsonParser(line).parse(lines.back())) << line;
+    }
+    return lines;
+  }
+
+  std::string dir_;
+};
+
+constexpr const char* kVehicles = R"(vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30, inertia: {ixx: 1, iyy: 1, izz: 1}}
+)";
+
+TEST_F(OceanCliTest, PrintsTheRampWaterColumn) {
+  const std::string scenario = write("ramp.yaml", std::string(R"(world:
+  gravity: [0, 0, -9.81]
+  water:
+    surface_z: 5
+    density_model: ramp
+    current:
+      uniform: [0.2, 0, 0]
+      shear: {surface: [0, 0.4, 0], decay_depth: 100}
+)") + kVehicles);
+  const RunResult r = ocean(scenario + " --depths 0,500,1000,6000 --time 12.5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  const std::vector<Json> lines = parse_lines(r.out);
+  ASSERT_EQ(lines.size(), 4u);
+  const double g = 9.81, p_atm = 101325.0, p1000 = p_atm + g * (1025000.0 + 1537.5);
+  const double depth[] = {0, 500, 1000, 6000};
+  const double pressure[] = {p_atm, p_atm + g * (1025.0 * 500 + 3.075 * 500 * 500 / 2000), p1000,
+                             p1000 + g * 1028.075 * 5000};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Json& j = lines[i];
+    EXPECT_EQ(j["depth"].number, depth[i]);
+    EXPECT_EQ(j["z"].number, 5.0 - depth[i]);
+    // Printed with round-trip precision: the closed form holds to 1e-9 relative (issue 4).
+    EXPECT_NEAR(j["pressure"].number, pressure[i], 1e-9 * pressure[i]);
+    EXPECT_NEAR(j["density"].number, 1025.0 + 3.075 * std::min(depth[i], 1000.0) / 1000.0, 1e-9);
+    EXPECT_NEAR(j["kappa"].number, 1.0 - pressure[i] / 2.2e9, 1e-12);
+    EXPECT_EQ(j["temperature_degc"].number, 4.0);
+    EXPECT_EQ(j["salinity"].number, 35.0);
+    // Chen-Millero at 4 degC, S = 35: ~1466 m/s at the surface, rising with pressure (~1.6 m/s per 100 m).
+    EXPECT_GT(j["sound_speed"].number, 1460.0);
+    EXPECT_LT(j["sound_speed"].number, 1570.0);
+    ASSERT_EQ(j["current"].array.size(), 3u);
+    EXPECT_NEAR(j["current"][0].number, 0.2, 1e-15);
+    EXPECT_NEAR(j["current"][1].number, 0.4 * std::exp(-depth[i] / 100.0), 1e-15);
+    EXPECT_EQ(j["current"][2].number, 0.0);
+  }
+  EXPECT_LT(lines[0]["sound_speed"].number, lines[3]["sound_speed"].number);
+}
+
+TEST_F(OceanCliTest, DefaultDepthsAndCtdWater) {
+  const std::string scenario = write("ctd.yaml", std::string(R"(world:
+  water:
+    density_model: ctd
+    ctd:
+      - {depth: 0, temperature_degc: 20, salinity: 35}
+      - {depth: 1000, temperature_degc: 4, salinity: 34.6}
+)") + kVehicles);
+  const RunResult r = ocean(scenario);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<Json> lines = parse_lines(r.out);
+  ASSERT_EQ(lines.size(), 9u);
+  EXPECT_EQ(lines[2]["depth"].number, 100.0);
+  EXPECT_NEAR(lines[2]["temperature_degc"].number, 18.4, 1e-12);
+  // EOS-80 at 20 degC, S = 35, p = 0: 1024.76 kg/m^3; compression makes the deep water denser.
+  EXPECT_NEAR(lines[0]["density"].number, 1024.76, 0.01);
+  EXPECT_GT(lines[8]["density"].number, lines[4]["density"].number);
+}
+
+TEST_F(OceanCliTest, ScenarioErrorsExitOneWithPositions) {
+  const std::string scenario = write("bad.yaml", std::string(R"(world:
+  water: {density_model: ramp, density: 1030}
+)") + kVehicles);
+  const RunResult r = ocean(scenario);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, scenario + ":2:32: error: world.water.density: key 'density' is not used by density_model "
+                              "'ramp'\n");
+}
+
+TEST_F(OceanCliTest, UsageErrorsExitTwo) {
+  for (const std::string args : {"", "a.yaml b.yaml", "s.yaml --depths 1,x", "s.yaml --time -1",
+                                 "s.yaml --time", "s.yaml --bogus"}) {
+    const RunResult r = ocean(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.out, "") << args;
+    EXPECT_NE(r.err.find("usage: hadal-ocean"), std::string::npos) << args;
+  }
+}
+
+}  // namespace
