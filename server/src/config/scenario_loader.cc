@@ -662,19 +662,52 @@ std::optional<std::string> read_thruster(const Value& value,
   return thruster->name;
 }
 
-void read_fluid(const Value& value, FluidSpec* fluid) {
-  const MapReader map(value, {"model", "linear_damping", "quadratic_damping"});
+void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* coefficients) {
+  const MapReader map(value, {"drag", "skin_friction", "lift", "magnus"});
   if (!map.ok()) return;
-  map.read_choice<FluidModelType>("model", Need::kOptional, {{"lumped", FluidModelType::kLumped}},
-                                  &fluid->model);
-  const std::pair<const char*, Vector6d*> dampings[] = {{"linear_damping", &fluid->linear_damping},
-                                                        {"quadratic_damping", &fluid->quadratic_damping}};
-  for (const auto& [key, out] : dampings) {
-    if (const auto damping = map.optional(key)) {
-      if (const auto values = damping->numbers(6, Range::non_negative())) {
-        *out = Eigen::Map<const Vector6d>(values->data());
+  map.read_number("drag", Need::kOptional, Range::non_negative(), &coefficients->drag);
+  map.read_number("skin_friction", Need::kOptional, Range::non_negative(), &coefficients->skin_friction);
+  map.read_number("lift", Need::kOptional, Range::non_negative(), &coefficients->lift);
+  map.read_number("magnus", Need::kOptional, Range::non_negative(), &coefficients->magnus);
+}
+
+// `links` are the vehicle's links as read (a surface-model vehicle needs faces from some link).
+void read_fluid(const Value& value, const std::vector<LinkSpec>& links, FluidSpec* fluid) {
+  const MapReader map(value, {"model", "linear_damping", "quadratic_damping", "hydrodynamics"});
+  if (!map.ok()) return;
+  static const std::vector<std::pair<std::string, FluidModelType>> kModels = {
+      {"lumped", FluidModelType::kLumped}, {"surface", FluidModelType::kSurface}};
+  if (!map.read_choice("model", Need::kOptional, kModels, &fluid->model)) return;
+  const bool is_lumped = fluid->model == FluidModelType::kLumped;
+  const std::string model_name = is_lumped ? "lumped" : "surface";
+  const std::pair<const char*, bool> used[] = {
+      {"linear_damping", is_lumped}, {"quadratic_damping", is_lumped}, {"hydrodynamics", !is_lumped}};
+  for (const auto& [key, needed] : used) {
+    if (!needed && map.has(key)) {
+      map.error_at_key(key, "key " + quoted(key) + " is not used by fluid model " + quoted(model_name));
+    }
+  }
+  if (is_lumped) {
+    const std::pair<const char*, Vector6d*> dampings[] = {{"linear_damping", &fluid->linear_damping},
+                                                          {"quadratic_damping", &fluid->quadratic_damping}};
+    for (const auto& [key, out] : dampings) {
+      if (const auto damping = map.optional(key)) {
+        if (const auto values = damping->numbers(6, Range::non_negative())) {
+          *out = Eigen::Map<const Vector6d>(values->data());
+        }
       }
     }
+    return;
+  }
+  if (const auto hydrodynamics = map.optional("hydrodynamics")) {
+    read_hydrodynamics(*hydrodynamics, &fluid->hydrodynamics);
+  }
+  const bool has_faces = std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {
+    return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) || !link.collisions.empty();
+  });
+  if (!has_faces) {
+    map.optional("model")->error(
+        "fluid model 'surface' needs a hydrodynamic mesh: no link has a 'mesh' or 'collisions'");
   }
 }
 
@@ -727,7 +760,7 @@ VehicleDefinition read_definition(const MapReader& map) {
     }
   }
 
-  if (const auto fluid = map.optional("fluid")) read_fluid(*fluid, &definition.fluid);
+  if (const auto fluid = map.optional("fluid")) read_fluid(*fluid, definition.links, &definition.fluid);
   return definition;
 }
 

@@ -285,6 +285,69 @@ vehicles:)") + kInlineVehicle + "    Mass: 3\n");
                    path + ":19:5: error: vehicles[0].Mass: unknown key 'Mass'"}));
 }
 
+TEST_F(ScenarioLoaderTest, SurfaceFluidModelWithHydrodynamicCoefficients) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - name: hull
+        mass: 30.0
+        inertia: {ixx: 0.09, iyy: 6.4, izz: 6.4}
+        collisions: [{shape: sphere, radius: 0.2}]
+    fluid:
+      model: surface
+      hydrodynamics: {drag: 0.8, skin_friction: 0.003, lift: 0, magnus: 0.01}
+  - name: rov
+    type: rov
+    links:
+      - name: hull
+        mass: 30.0
+        inertia: {ixx: 0.09, iyy: 6.4, izz: 6.4}
+        collisions: [{shape: box, size: [1, 1, 1]}]
+    fluid: {model: surface}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const FluidSpec& auv = result.model->vehicles[0].fluid;
+  EXPECT_EQ(auv.model, FluidModelType::kSurface);
+  EXPECT_EQ(auv.hydrodynamics.drag, 0.8);
+  EXPECT_EQ(auv.hydrodynamics.skin_friction, 0.003);
+  EXPECT_EQ(auv.hydrodynamics.lift, 0.0);
+  EXPECT_EQ(auv.hydrodynamics.magnus, 0.01);
+  EXPECT_TRUE(auv.hydrodynamics.buoyancy);
+  const FluidSpec& rov = result.model->vehicles[1].fluid;
+  EXPECT_EQ(rov.model, FluidModelType::kSurface);
+  EXPECT_EQ(rov.hydrodynamics.drag, 1.0);  // HydrodynamicCoefficients defaults
+  EXPECT_EQ(rov.hydrodynamics.skin_friction, 0.004);
+  EXPECT_EQ(rov.hydrodynamics.lift, 1.0);
+  EXPECT_EQ(rov.hydrodynamics.magnus, 0.0);
+}
+
+TEST_F(ScenarioLoaderTest, FluidKeysArePerModel) {
+  const std::string surface = write("surface.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle +
+                                                        R"(    fluid:
+      model: surface
+      linear_damping: [1, 1, 1, 1, 1, 1]
+      hydrodynamics: {drag: -1, magnus: -0.5}
+)");
+  EXPECT_EQ(errors_of(surface),
+            (Lines{surface + ":18:14: error: vehicles[0].fluid.model: fluid model 'surface' needs a hydrodynamic "
+                             "mesh: no link has a 'mesh' or 'collisions'",
+                   surface + ":19:7: error: vehicles[0].fluid.linear_damping: key 'linear_damping' is not used "
+                             "by fluid model 'surface'",
+                   surface + ":20:29: error: vehicles[0].fluid.hydrodynamics.drag: must be >= 0 (got -1)",
+                   surface + ":20:41: error: vehicles[0].fluid.hydrodynamics.magnus: must be >= 0 (got -0.5)"}));
+  const std::string lumped = write("lumped.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle +
+                                                      R"(    fluid:
+      quadratic_damping: [1, 1, 1, 1, 1, 1]
+      hydrodynamics: {drag: 1}
+)");
+  EXPECT_EQ(errors_of(lumped),
+            (Lines{lumped + ":19:7: error: vehicles[0].fluid.hydrodynamics: key 'hydrodynamics' is not used by "
+                            "fluid model 'lumped'"}));
+}
+
 TEST_F(ScenarioLoaderTest, WrongTypes) {
   const std::string path = write("s.yaml", R"(world:
   gravity: down

@@ -7,9 +7,13 @@
 #include <stdexcept>
 #include <utility>
 
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/bullet_world.h"
 #include "hadal/physics/lumped_fluid.h"
 #include "hadal/physics/mass_properties.h"
+#include "hadal/physics/ocean.h"
+#include "hadal/physics/ocean_fluid.h"
+#include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/physics/thruster.h"
 
 namespace hadal {
@@ -18,6 +22,10 @@ namespace hadal {
 struct Simulation::VehicleRuntime {
   std::vector<physics::Thruster> thrusters;
   physics::LumpedFluid fluid;
+  // Surface fluid model only (null for the lumped model): the kernel over the vehicle's
+  // hydrodynamic mesh in B, and the composite centre of mass p_BBcm it takes moments about.
+  std::unique_ptr<physics::SurfaceHydrodynamics> surface;
+  Eigen::Vector3d p_BBcm = Eigen::Vector3d::Zero();
 };
 
 namespace {
@@ -135,6 +143,28 @@ void validate(const Model& model) {
   }
 }
 
+// The vehicle's hydrodynamic mesh in B: per link its mesh (in L) if it has one, else its collision
+// primitives tessellated (geometry/primitive_mesh.h), moved by X_BL (and X_LG). Overlapping parts
+// are not merged: each closed part displaces its own volume, so overlaps count twice.
+geometry::TriangleMesh hydrodynamic_mesh_B(const VehicleSpec& spec) {
+  geometry::TriangleMesh mesh_B;
+  for (const LinkSpec& link : spec.links) {
+    if (link.mesh && link.mesh->mesh) {
+      geometry::append_transformed(*link.mesh->mesh, link.X_BL, &mesh_B);
+      continue;
+    }
+    for (const CollisionShape& shape : link.collisions) {
+      geometry::append_transformed(geometry::tessellate(shape), link.X_BL * shape.X_LG, &mesh_B);
+    }
+  }
+  if (mesh_B.num_triangles() == 0) {
+    throw std::invalid_argument("vehicle '" + spec.name +
+                                "': fluid model 'surface' needs a hydrodynamic mesh: no link has a "
+                                "mesh or collision shapes");
+  }
+  return mesh_B;
+}
+
 const Model& validated(const Model& model) {
   validate(model);
   return model;
@@ -153,8 +183,15 @@ Simulation::Simulation(Model model)
       thrusters.emplace_back(thruster, spec.links[thruster.link_index].X_BL,
                              model_.world.water.density, dt);
     }
-    runtime_.push_back(
-        VehicleRuntime{std::move(thrusters), physics::LumpedFluid(spec, model_.world)});
+    VehicleRuntime runtime{std::move(thrusters), physics::LumpedFluid(spec, model_.world), nullptr,
+                           Eigen::Vector3d::Zero()};
+    if (spec.fluid.model == FluidModelType::kSurface) {
+      runtime.surface = std::make_unique<physics::SurfaceHydrodynamics>(hydrodynamic_mesh_B(spec),
+                                                                        spec.fluid.hydrodynamics);
+      runtime.p_BBcm = world_->mass_properties(static_cast<int>(runtime_.size())).p_BBcm;
+      if (!ocean_) ocean_ = std::make_unique<physics::Ocean>(model_.world);
+    }
+    runtime_.push_back(std::move(runtime));
     state_.vehicles.push_back(initial_vehicle_state(spec));
   }
 }
@@ -236,7 +273,7 @@ void Simulation::step() {
 
   for (int i = 0; i < num_vehicles; ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
-    const VehicleRuntime& runtime = runtime_[i];
+    VehicleRuntime& runtime = runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
 
     // (1) setpoints.
@@ -260,10 +297,26 @@ void Simulation::step() {
       world_->add_torque_W(i, wrench.tau_W);
     }
 
-    // (3) lumped fluid: buoyancy and damping (gravity is Bullet's).
-    const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(vehicle.body, kWaterAtRest_W);
-    world_->add_force_W(i, fluid.f_W(), vehicle.body.X_WB.translation());
-    world_->add_torque_W(i, fluid.tau_W());
+    // (3) fluid (gravity is Bullet's).
+    if (runtime.surface) {
+      // Surface model: buoyancy, drag, friction, lift and Magnus from the faces, in the Ocean at the
+      // step's start time; f_W acts at the centre of mass and tau_W is about it.
+      physics::BodyMotion motion;
+      motion.X_WB = vehicle.body.X_WB;
+      motion.p_WBcm = vehicle.body.X_WB * runtime.p_BBcm;
+      motion.v_WBcm =
+          vehicle.body.v_WB + vehicle.body.w_WB.cross(motion.p_WBcm - vehicle.body.X_WB.translation());
+      motion.w_WB = vehicle.body.w_WB;
+      const physics::HydrodynamicWrench fluid =
+          runtime.surface->compute(motion, physics::OceanFluid(*ocean_, t));
+      world_->add_force_W(i, fluid.f_W, motion.p_WBcm);
+      world_->add_torque_W(i, fluid.tau_W);
+    } else {
+      // Lumped model: buoyancy and damping.
+      const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(vehicle.body, kWaterAtRest_W);
+      world_->add_force_W(i, fluid.f_W(), vehicle.body.X_WB.translation());
+      world_->add_torque_W(i, fluid.tau_W());
+    }
   }
 
   // (4) Bullet.

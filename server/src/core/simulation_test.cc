@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
 
+#include "hadal/geometry/mesh_properties.h"
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/mass_properties.h"
 #include "hadal/physics/test_models.h"
 
@@ -388,6 +391,123 @@ TEST(SimulationTest, RejectsUnsimulatableModelsAndForeignStates) {
   EXPECT_THROW(sim.set_state(other), std::invalid_argument);
   other.vehicles.clear();
   EXPECT_THROW(sim.set_state(other), std::invalid_argument);
+}
+
+// --- surface fluid model ---------------------------------------------------------------------------
+
+// A vehicle of one link with one collision shape, fluid model surface with coefficients `c`.
+VehicleSpec surface_vehicle(const CollisionShape& shape, double mass, const Eigen::Matrix3d& I,
+                            const physics::HydrodynamicCoefficients& c, const Eigen::Vector3d& p_W) {
+  VehicleSpec vehicle;
+  vehicle.name = "body";
+  LinkSpec link;
+  link.name = "hull";
+  link.mass = mass;
+  link.I_Lcm = I;
+  link.collisions.push_back(shape);
+  vehicle.links.push_back(link);
+  vehicle.fluid.model = FluidModelType::kSurface;
+  vehicle.fluid.hydrodynamics = c;
+  vehicle.X_WB_initial = at(p_W);
+  return vehicle;
+}
+
+CollisionShape box_shape(const Eigen::Vector3d& size) {
+  CollisionShape box;
+  box.type = CollisionShapeType::kBox;
+  box.box_size = size;
+  return box;
+}
+
+physics::HydrodynamicCoefficients drag_only(double drag) {
+  physics::HydrodynamicCoefficients c;
+  c.drag = drag;
+  c.skin_friction = 0.0;
+  c.lift = 0.0;
+  c.magnus = 0.0;
+  return c;
+}
+
+// Wall-sided box floating at draft T = m / (rho A), A the waterplane area, whatever g (rho = 1000
+// here). Released 2 cm above equilibrium; C_D = 20 damps the heave (period 0.7 s) in a few seconds
+// and does not move the equilibrium. After 10 s, the draft stays within 1 % of T over the next
+// second (more than one heave period).
+TEST(SimulationTest, SurfaceModelBoxFloatsAtDraftMOverRhoA) {
+  const Eigen::Vector3d size(1.0, 0.6, 0.4);
+  const double rho = 1000.0, mass = 0.3 * rho * size.prod();
+  const double draft = mass / (rho * size.x() * size.y());  // 0.12 m
+  const double z_eq = -draft + 0.5 * size.z();
+  Simulation sim(testing::water_model({surface_vehicle(box_shape(size), mass,
+                                                       physics::solid_box_inertia(mass, size),
+                                                       drag_only(20.0), Eigen::Vector3d(0, 0, z_eq + 0.02))}));
+  run(sim, 5000);
+  double min_draft = 1.0, max_draft = 0.0;
+  for (int k = 0; k < 500; ++k) {
+    sim.step();
+    const double draft_now = 0.5 * size.z() - sim.state().vehicles[0].body.X_WB.translation().z();
+    min_draft = std::min(min_draft, draft_now);
+    max_draft = std::max(max_draft, draft_now);
+  }
+  EXPECT_GT(min_draft, 0.99 * draft);
+  EXPECT_LT(max_draft, 1.01 * draft);
+  EXPECT_LT(sim.state().vehicles[0].body.w_WB.norm(), 1e-3);  // no heel or trim from a symmetric box
+}
+
+// A sphere twice as dense as the water falls at the terminal velocity of the kernel's drag law:
+// (m - rho V) g = 1/2 rho C_D K v^2 with K = sum over the faces the flow hits (n_z < 0) of
+// A |n_z|^3 and V the mesh's volume (buoyancy integrates the pressure over the same mesh). After
+// 8 s (~15 time constants v_t / g') within 2 %; measured to O(dt) integration error.
+TEST(SimulationTest, SurfaceModelSphereReachesTerminalVelocity) {
+  const double rho = 1000.0, g = 9.80665, R = 0.2, C_D = 1.0;
+  CollisionShape sphere;
+  sphere.type = CollisionShapeType::kSphere;
+  sphere.radius = R;
+  const geometry::MeshProperties mesh = geometry::compute_mesh_properties(geometry::tessellate(sphere));
+  double K = 0.0;
+  for (std::size_t f = 0; f < mesh.face_area.size(); ++f) {
+    if (mesh.normal_z[f] < 0.0) K -= mesh.face_area[f] * std::pow(mesh.normal_z[f], 3);
+  }
+  const double mass = 2.0 * rho * mesh.volume;
+  const double v_t = std::sqrt((mass - rho * mesh.volume) * g / (0.5 * rho * C_D * K));
+  Simulation sim(testing::water_model({surface_vehicle(sphere, mass, physics::solid_sphere_inertia(mass, R),
+                                                       drag_only(C_D), Eigen::Vector3d(0, 0, -10))}));
+  run(sim, 4000);
+  const RigidBodyState& body = sim.state().vehicles[0].body;
+  EXPECT_NEAR(-body.v_WB.z(), v_t, 0.02 * v_t);
+  EXPECT_LT(body.v_WB.head<2>().norm(), 1e-3 * v_t);
+}
+
+// A neutrally buoyant box in a uniform current (world.water.current.uniform) drifts with it: the
+// relative flow decays like 1 / (1 + t / tau), tau = m / (1/2 rho C_D A |u|) ~ 0.4 s with C_D = 20,
+// so after 10 s the velocity is within 2 % of the current.
+TEST(SimulationTest, SurfaceModelBodyDriftsWithAUniformCurrent) {
+  const Eigen::Vector3d size(1.0, 0.4, 0.4), current_W(0.5, -0.2, 0.0);
+  const double rho = 1000.0, mass = rho * size.prod();
+  physics::HydrodynamicCoefficients c = drag_only(20.0);
+  c.skin_friction = 0.004;
+  Model model = testing::water_model({surface_vehicle(box_shape(size), mass,
+                                                      physics::solid_box_inertia(mass, size), c,
+                                                      Eigen::Vector3d(0, 0, -20))});
+  model.world.water.current.uniform_W = current_W;
+  Simulation sim(std::move(model));
+  run(sim, 5000);
+  const RigidBodyState& body = sim.state().vehicles[0].body;
+  EXPECT_LT((body.v_WB - current_W).norm(), 0.02 * current_W.norm()) << body.v_WB.transpose();
+  EXPECT_NEAR(body.X_WB.translation().z(), -20.0, 0.01);
+}
+
+TEST(SimulationTest, SurfaceModelVehicleWithoutFacesIsRejected) {
+  VehicleSpec vehicle = surface_vehicle(box_shape(Eigen::Vector3d(1, 1, 1)), 1.0,
+                                        Eigen::Matrix3d::Identity(), {}, Eigen::Vector3d(0, 0, -5));
+  vehicle.links[0].collisions.clear();
+  try {
+    Simulation sim(testing::water_model({vehicle}));
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "vehicle 'body': fluid model 'surface' needs a hydrodynamic mesh: no link has a mesh or "
+                 "collision shapes");
+  }
 }
 
 }  // namespace

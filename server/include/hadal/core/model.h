@@ -10,6 +10,7 @@
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
+#include "hadal/physics/surface_hydrodynamics.h"
 
 #include <Eigen/Geometry>
 
@@ -85,15 +86,20 @@ struct ThrusterSpec {
   int handedness = 1;                                   // +1 right-handed, -1 left-handed propeller
 };
 
-enum class FluidModelType { kLumped };
+enum class FluidModelType { kLumped, kSurface };
 
-// Fossen-style lumped fluid model: buoyancy rho g V at the centre of buoyancy, and damping in the body
-// frame, tau = -(D_l + D_q |nu|) nu with nu = [u v w p q r] relative to the water. Coefficients are
-// magnitudes (>= 0): linear [N s/m x3, N m s/rad x3], quadratic [N s^2/m^2 x3, N m s^2/rad^2 x3].
+// kLumped (default): Fossen-style lumped fluid model: buoyancy rho g V at the centre of buoyancy, and
+// damping in the body frame, tau = -(D_l + D_q |nu|) nu with nu = [u v w p q r] relative to the water.
+// Coefficients are magnitudes (>= 0): linear [N s/m x3, N m s/rad x3], quadratic [N s^2/m^2 x3,
+// N m s^2/rad^2 x3].
+// kSurface: per-face forces on the links' hydrodynamic meshes (physics/surface_hydrodynamics.h) in
+// the scenario's Ocean; buoyancy comes from pressure integration, so links' buoyancy volumes are not
+// used. Coefficients in `hydrodynamics` (its `buoyancy` flag is always true from YAML).
 struct FluidSpec {
   FluidModelType model = FluidModelType::kLumped;
   Vector6d linear_damping = Vector6d::Zero();
   Vector6d quadratic_damping = Vector6d::Zero();
+  physics::HydrodynamicCoefficients hydrodynamics;
 };
 
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the

@@ -9,6 +9,11 @@
 // pose, velocity, rotor speed or client setpoints become NaN/Inf is put back at X_WB_initial at rest,
 // rotors stopped, client setpoints zeroed; kFaultNonFiniteState stays set (latched) and fault_resets
 // counts the resets. Not thread-safe: the caller serialises access.
+// Fluid per vehicle (VehicleSpec::fluid.model): lumped (default; LumpedFluid, water at rest), or
+// surface: SurfaceHydrodynamics over the links' meshes (or tessellated collision primitives) in B,
+// sampled in the scenario's Ocean (density profile, pressure, currents) at the step's start time,
+// applied at the centre of mass; buoyancy then comes from pressure integration (links' buoyancy
+// volumes are not used). Added mass is not modelled yet.
 #pragma once
 
 #include "hadal/core/model.h"
@@ -22,13 +27,14 @@ namespace hadal {
 
 namespace physics {
 class BulletWorld;
+class Ocean;
 struct MassProperties;
 }
 
 class Simulation {
  public:
   // Throws std::invalid_argument if the model cannot be simulated (physics_rate_hz not > 0, a vehicle
-  // without positive mass, a thruster on a missing link).
+  // without positive mass, a thruster on a missing link, a surface-model vehicle without faces).
   explicit Simulation(Model model);
   ~Simulation();
   Simulation(const Simulation&) = delete;
@@ -60,6 +66,7 @@ class Simulation {
   Model model_;
   SimState state_;
   std::unique_ptr<physics::BulletWorld> world_;
+  std::unique_ptr<physics::Ocean> ocean_;  // the water column, built once if a vehicle uses it
   struct VehicleRuntime;                 // per-vehicle thrusters and fluid model (simulation.cc)
   std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
 };

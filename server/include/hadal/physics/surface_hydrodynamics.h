@@ -128,7 +128,7 @@ class UniformWater final : public FluidSampler {
               const float* dz, const FluidSamples& out) const override;
 };
 
-// Per-body coefficients (scenario keys, later: vehicles[i].hydrodynamics.{drag, skin_friction,
+// Per-body coefficients (scenario keys: the vehicle definition's fluid.hydrodynamics.{drag, skin_friction,
 // lift, magnus}). Defaults:
 //   drag 1.0: per-face Newtonian drag; a sphere then has C_D = 0.5 on its frontal area (the cos^3
 //     integral over the front hemisphere is pi R^2 / 2), the subcritical sphere value (~0.47).

@@ -1,0 +1,41 @@
+// Closed triangle meshes of collision primitives (hadal::CollisionShape), for surface hydrodynamics
+// of links that have no mesh file.
+//
+// Box: 12 triangles, exact. Sphere, cylinder and capsule are solids of revolution about G's z axis:
+// a profile (rho_k, z_k) from the top pole to the bottom pole revolved at `segments` longitudes
+// phi_j = 2 pi j / segments; the sphere's profile has segments / 2 arcs pole to pole, each capsule
+// hemisphere segments / 4 (at least 1). All vertices lie on the smooth surface, so the mesh is
+// inscribed: the band between two profile points is a frustum of a regular N-gon pyramid (N-gon
+// area (N/2) rho^2 sin(2 pi / N)), so the enclosed volume is exactly
+//   V = (N/2) sin(2 pi / N) sum_k (z_k - z_k+1) (rho_k^2 + rho_k rho_k+1 + rho_k+1^2) / 3,
+// (revolved_polyhedron_volume), below the smooth volume by 1 - sin(2 pi/N) / (2 pi/N) (0.64 % at
+// N = 32) for a cylinder, plus the meridian polygon's deficit for the round parts.
+// Triangles are counter-clockwise seen from outside (outward normals), the mesh is closed
+// (every edge shared by exactly two triangles in opposite directions). Units: m.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <utility>
+#include <vector>
+
+#include "hadal/core/model.h"
+#include "hadal/geometry/triangle_mesh.h"
+
+namespace hadal::geometry {
+
+constexpr int kPrimitiveSegments = 32;
+
+// The surface of `shape` in its own frame G (segments >= 3; round shapes only).
+TriangleMesh tessellate(const CollisionShape& shape, int segments = kPrimitiveSegments);
+
+// The profile (rho, z) tessellate() revolves for a sphere, cylinder or capsule (empty for a box).
+std::vector<std::pair<double, double>> revolution_profile(const CollisionShape& shape, int segments);
+// Exact enclosed volume of `profile` revolved at `segments` longitudes (formula above) [m^3].
+double revolved_polyhedron_volume(const std::vector<std::pair<double, double>>& profile, int segments);
+
+// Appends `mesh` (positions in frame M) to `out` with positions X_AM * p_M (positions and indices
+// only; normals, uvs and materials are not carried over).
+void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM, TriangleMesh* out);
+
+}  // namespace hadal::geometry
