@@ -13,13 +13,13 @@ export ROS_LOCALHOST_ONLY=1
 #    status), default scenario, 3600 s of sim time, on a domain of its own.
 # 3. Realtime mode holding a requested real-time factor (absolute schedule): 300 s of sim time at
 #    --rtf 10 should take 30 s of wall time; the figure is the achieved RTF.
-summarise() {  # NAME REQUESTED_RTF SUMMARY_TEXT
-  /usr/bin/python3 - "$1" "$2" "$3" <<'PY'
+summarise() {  # NAME REQUESTED_RTF SUMMARY_TEXT [SCENARIO_LABEL]
+  /usr/bin/python3 - "$1" "$2" "$3" "${4:-configs/scenarios/default.yaml}" <<'PY'
 import json, re, sys
-name, requested, text = sys.argv[1], sys.argv[2], sys.argv[3]
+name, requested, text, scenario = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 m = re.search(r"sim time ([\d.]+) s in ([\d.]+) s wall, RTF ([\d.]+), (\d+) steps", text)
 sim, wall, rtf, steps = float(m[1]), float(m[2]), float(m[3]), int(m[4])
-row = {"benchmark": name, "scenario": "configs/scenarios/default.yaml", "sim_s": sim, "wall_s": wall,
+row = {"benchmark": name, "scenario": scenario, "sim_s": sim, "wall_s": wall,
        "steps": steps, "steps_per_s": round(steps / wall), "rtf": round(sim / wall, 3)}
 if requested != "-":
     row["requested_rtf"] = float(requested)
@@ -34,3 +34,27 @@ done
 out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode realtime --rtf 10 --duration 300 \
       --domain-id 231 --no-status-line 2>/dev/null)
 summarise hadald_realtime_mode 10 "$out"
+
+# 4. The default scenario with the surface fluid model (issue 4): the default AUV with an 11 136-face
+#    torpedo hull mesh (generated) and `fluid: {model: surface}`, forces on every face every step at
+#    500 Hz; the simulation core alone and the whole server in fast mode.
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$build/bin/hadal-make-asset" torpedo "$work/hull.glb" --length 1.6 --radius 0.0775 --segments 232 >/dev/null
+/usr/bin/python3 - "$work" <<'PY'
+import sys
+work = sys.argv[1]
+vehicle = open("configs/vehicles/torpedo_auv.yaml").read()
+vehicle = vehicle[:vehicle.index("fluid:")] + "fluid:\n  model: surface\n"
+vehicle = vehicle.replace("  - name: hull\n", "  - name: hull\n    mesh: {file: hull.glb}\n", 1)
+open(f"{work}/torpedo_surface.yaml", "w").write(vehicle)
+scenario = open("configs/scenarios/default.yaml").read()
+open(f"{work}/default_surface.yaml", "w").write(
+    scenario.replace("include: ../vehicles/torpedo_auv.yaml", "include: torpedo_surface.yaml"))
+PY
+"$build/bin/hadal_bench_step_rate" "$work/default_surface.yaml" --sim-seconds 20 --repetitions 3
+for r in 1 2 3; do
+  out=$("$build/bin/hadald" "$work/default_surface.yaml" --mode fast --duration 60 --domain-id 231 \
+        --discovery-wait 0 --no-status-line 2>/dev/null)
+  summarise hadald_fast_mode_surface_model - "$out" "default.yaml + surface model, 11136-face hull"
+done

@@ -75,5 +75,33 @@ TEST(OceanFluidTest, ConstantWaterGivesTheUniformWaterWrench) {
   expect_same_wrench(moving_at({0.0, 0.0, -3000.0}), Eigen::Vector3d::Zero());  // deep
 }
 
+// Both sampling paths against the Ocean's own point queries: the closed-form constant-density path
+// and the general path (here the paper's ramp), including a point above the surface and the origin
+// itself. Values are rounded to float: 1e-6 relative of the pressure scale (rho g 10 m).
+TEST(OceanFluidTest, SamplesMatchTheOceanForConstantAndRampWater) {
+  for (const DensityModel model : {DensityModel::kConstant, DensityModel::kRamp}) {
+    WaterSpec water = constant_water(Eigen::Vector3d(0.1, 0.0, 0.0));
+    water.density_model = model;
+    water.rho0 = 1020.0;
+    water.pycnocline_depth = 5.0;
+    water.pycnocline_density_increase = 8.0;
+    const Ocean ocean(water, kG, 1);
+    const OceanFluid fluid(ocean, 0.0);
+    const Eigen::Vector3d origin_W(3.0, -1.0, -4.0);  // depth 6 m: below the 5 m pycnocline
+    const float dx[] = {0.0f, 0.5f, -0.2f, 0.0f};
+    const float dy[] = {0.0f, 0.1f, 0.3f, 0.0f};
+    const float dz[] = {0.0f, 3.0f, -2.0f, 6.5f};  // the last is 0.5 m above the surface
+    float rho[4], dp[4], ux[4], uy[4], uz[4];
+    fluid.sample(origin_W, 4, dx, dy, dz, FluidSamples{rho, dp, ux, uy, uz});
+    const double p_origin = ocean.pressure(ocean.depth(origin_W.z()));
+    for (int k = 0; k < 4; ++k) {
+      const double depth = std::max(ocean.depth(origin_W.z() + dz[k]), 0.0);
+      EXPECT_NEAR(rho[k], ocean.density(depth), 1e-6 * 1030.0) << "point " << k;
+      EXPECT_NEAR(dp[k], ocean.pressure(depth) - p_origin, 1e-6 * kRho * kG * 10.0) << "point " << k;
+      EXPECT_FLOAT_EQ(ux[k], 0.1f);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hadal::physics
