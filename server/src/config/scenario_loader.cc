@@ -11,6 +11,7 @@
 
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
+#include "hadal/geometry/mesh_transform.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/physics/seawater.h"
 #include "yaml_reader.h"
@@ -213,20 +214,6 @@ bool read_collision(const Value& value, CollisionShape* shape) {
   return ok;
 }
 
-// Applies X_AM to a mesh's vertices and normals (float storage, double pose).
-void transform_mesh(const Eigen::Isometry3d& X_AM, geometry::TriangleMesh* mesh) {
-  const Eigen::Matrix3f R = X_AM.linear().cast<float>();
-  const Eigen::Vector3f t = X_AM.translation().cast<float>();
-  for (std::size_t v = 0; v < mesh->num_vertices(); ++v) {
-    Eigen::Map<Eigen::Vector3f> p(&mesh->positions[3 * v]);
-    p = R * p + t;
-  }
-  for (std::size_t v = 0; v + 2 < mesh->normals.size(); v += 3) {
-    Eigen::Map<Eigen::Vector3f> n(&mesh->normals[v]);
-    n = R * n;
-  }
-}
-
 // Samples a procedural or heightmap seabed may have (16 M: 64 MB of float heights, ~32 M triangles).
 constexpr double kMaxSeabedSamples = 16777216.0;
 
@@ -265,7 +252,7 @@ void build_seabed_mesh(const MapReader& map, SeabedSpec* seabed) {
         map.optional("file")->error(imported.error);
         return;
       }
-      transform_mesh(seabed->X_WM, &*imported.mesh);
+      geometry::transform_mesh(seabed->X_WM, &*imported.mesh);
       seabed->mesh = std::make_shared<const TriangleMesh>(std::move(*imported.mesh));
       return;
     }
@@ -528,7 +515,7 @@ std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkM
     return std::nullopt;
   }
   geometry::TriangleMesh& mesh = *imported.mesh;
-  transform_mesh(link_mesh->X_LM, &mesh);
+  geometry::transform_mesh(link_mesh->X_LM, &mesh);
   geometry::MeshProperties properties = geometry::compute_mesh_properties(mesh);
   link_mesh->closed = properties.closed;
   link_mesh->volume = properties.volume;

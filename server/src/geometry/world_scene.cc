@@ -1,5 +1,7 @@
 #include "hadal/geometry/world_scene.h"
 
+#include "hadal/geometry/mesh_transform.h"
+
 namespace hadal::geometry {
 
 namespace {
@@ -12,22 +14,6 @@ TriangleMesh plane_square(double z) {
   mesh.positions = {-h, -h, zf, h, -h, zf, h, h, zf, -h, h, zf};
   mesh.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise from above: normal +z
   return mesh;
-}
-
-// The link mesh (vertices in L) expressed in B.
-TriangleMesh in_body_frame(const TriangleMesh& mesh_L, const Eigen::Isometry3d& X_BL) {
-  TriangleMesh mesh_B = mesh_L;
-  const Eigen::Matrix3f R = X_BL.linear().cast<float>();
-  const Eigen::Vector3f t = X_BL.translation().cast<float>();
-  for (std::size_t v = 0; v < mesh_B.num_vertices(); ++v) {
-    Eigen::Map<Eigen::Vector3f> p(&mesh_B.positions[3 * v]);
-    p = R * p + t;
-  }
-  for (std::size_t k = 0; k + 2 < mesh_B.normals.size(); k += 3) {
-    Eigen::Map<Eigen::Vector3f> n(&mesh_B.normals[k]);
-    n = R * n;
-  }
-  return mesh_B;
 }
 
 }  // namespace
@@ -44,8 +30,9 @@ EmbreeScene build_world_scene(const Model& model, const std::string& device_conf
     const VehicleSpec& vehicle = model.vehicles[v];
     for (const LinkSpec& link : vehicle.links) {
       if (!link.mesh || !link.mesh->mesh) continue;
-      scene.add_body_mesh(static_cast<int>(v), in_body_frame(*link.mesh->mesh, link.X_BL), kVehicleMaterial,
-                          vehicle.name + "/" + link.name);
+      TriangleMesh mesh_B = *link.mesh->mesh;  // vertices in L, moved into B
+      transform_mesh(link.X_BL, &mesh_B);
+      scene.add_body_mesh(static_cast<int>(v), mesh_B, kVehicleMaterial, vehicle.name + "/" + link.name);
     }
   }
   return scene;
