@@ -658,27 +658,103 @@ void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* c
   map.read_number("magnus", Need::kOptional, Range::non_negative(), &coefficients->magnus);
 }
 
-// `links` are the vehicle's links as read (a surface-model vehicle needs faces from some link).
-void read_fluid(const Value& value, const std::vector<LinkSpec>& links, FluidSpec* fluid) {
-  const MapReader map(value, {"model", "linear_damping", "quadratic_damping", "hydrodynamics"});
+// fluid.added_mass: {model: none|ellipsoid|matrix, semi_axes, pose, matrix, reference_point, coriolis}.
+void read_added_mass(const Value& value, AddedMassSpec* added) {
+  const MapReader map(value, {"model", "semi_axes", "pose", "matrix", "reference_point", "coriolis"});
   if (!map.ok()) return;
-  static const std::vector<std::pair<std::string, FluidModelType>> kModels = {
-      {"lumped", FluidModelType::kLumped}, {"surface", FluidModelType::kSurface}};
-  if (!map.read_choice("model", Need::kOptional, kModels, &fluid->model)) return;
-  const bool is_lumped = fluid->model == FluidModelType::kLumped;
-  const std::string model_name = is_lumped ? "lumped" : "surface";
-  const std::pair<const char*, bool> used[] = {
-      {"linear_damping", is_lumped}, {"quadratic_damping", is_lumped}, {"hydrodynamics", !is_lumped}};
+  static const std::vector<std::pair<std::string, AddedMassModel>> kModels = {
+      {"none", AddedMassModel::kNone}, {"ellipsoid", AddedMassModel::kEllipsoid},
+      {"matrix", AddedMassModel::kMatrix}};
+  if (!map.read_choice("model", Need::kOptional, kModels, &added->model)) return;
+  const bool is_ellipsoid = added->model == AddedMassModel::kEllipsoid;
+  const bool is_matrix = added->model == AddedMassModel::kMatrix;
+  const std::string model_name = is_ellipsoid ? "ellipsoid" : is_matrix ? "matrix" : "none";
+  const std::pair<const char*, bool> used[] = {{"semi_axes", is_ellipsoid},
+                                               {"pose", is_ellipsoid},
+                                               {"matrix", is_matrix},
+                                               {"reference_point", is_matrix},
+                                               {"coriolis", is_ellipsoid || is_matrix}};
+  bool ok = true;
   for (const auto& [key, needed] : used) {
     if (!needed && map.has(key)) {
-      map.error_at_key(key, "key " + quoted(key) + " is not used by fluid model " + quoted(model_name));
+      map.error_at_key(key, "key " + quoted(key) + " is not used by added_mass model " + quoted(model_name));
+      ok = false;
     }
   }
+  if (!ok) return;
+  map.read_bool("coriolis", Need::kOptional, &added->coriolis);
+  if (is_ellipsoid) {
+    Eigen::Vector3d semi_axes = Eigen::Vector3d::Zero();
+    if (map.has("semi_axes") && map.read_vector3("semi_axes", Need::kRequired, Range::positive(), &semi_axes)) {
+      added->semi_axes_E = semi_axes;
+    }
+    if (const auto pose = map.optional("pose")) {
+      if (!map.has("semi_axes")) {
+        map.error_at_key("pose", "key 'pose' needs 'semi_axes' (without them the ellipsoid is fitted to the "
+                                 "hull, centre and axes included)");
+      } else {
+        read_pose(*pose, &added->X_BE);
+      }
+    }
+  }
+  if (is_matrix) {
+    map.read_vector3("reference_point", Need::kOptional, Range::finite(), &added->p_BR);
+    if (const auto matrix = map.required("matrix", "model 'matrix' needs the 6x6 added-mass matrix")) {
+      if (const auto values = matrix->numbers(36)) {
+        const Matrix6d M = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(values->data());
+        const double scale = M.cwiseAbs().maxCoeff();
+        const double asymmetry = (M - M.transpose()).cwiseAbs().maxCoeff();
+        if (asymmetry > 1e-9 * scale) {
+          matrix->error("must be symmetric (largest |M_ij - M_ji| = " + format_approximate(asymmetry) + ")");
+        } else if (Eigen::SelfAdjointEigenSolver<Matrix6d>(M).eigenvalues().minCoeff() < -1e-9 * scale) {
+          matrix->error("must be positive semidefinite (an added mass cannot lower the kinetic energy)");
+        } else {
+          added->M_A0 = M;
+        }
+      }
+    }
+  }
+}
+
+// `links` are the vehicle's links as read. The default model is 'surface' when some link has faces
+// (a mesh or collision shapes), else 'lumped' (buoyancy volumes and damping need no geometry).
+// `value` is the `fluid` map, or nullopt when the definition has none.
+void read_fluid(const std::optional<Value>& value, const std::vector<LinkSpec>& links, FluidSpec* fluid) {
+  const bool has_faces = std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {
+    return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) || !link.collisions.empty();
+  });
+  fluid->model = has_faces ? FluidModelType::kSurface : FluidModelType::kLumped;
+  std::optional<MapReader> map;
+  if (value) {
+    map.emplace(*value, std::vector<std::string>{"model", "linear_damping", "quadratic_damping",
+                                                 "hydrodynamics", "added_mass"});
+    if (!map->ok()) return;
+    static const std::vector<std::pair<std::string, FluidModelType>> kModels = {
+        {"lumped", FluidModelType::kLumped}, {"surface", FluidModelType::kSurface}};
+    if (!map->read_choice("model", Need::kOptional, kModels, &fluid->model)) return;
+  }
+  const bool is_lumped = fluid->model == FluidModelType::kLumped;
+  const std::string model_name = is_lumped ? "lumped" : "surface";
+  if (map) {
+    const std::pair<const char*, bool> used[] = {
+        {"linear_damping", is_lumped}, {"quadratic_damping", is_lumped}, {"hydrodynamics", !is_lumped}};
+    for (const auto& [key, needed] : used) {
+      if (!needed && map->has(key)) {
+        const char* why_default = is_lumped ? " (the default for a vehicle without a mesh or collision shapes)"
+                                            : " (the default for a vehicle with a mesh or collision shapes; "
+                                              "set model: lumped for damping coefficients)";
+        map->error_at_key(key, "key " + quoted(key) + " is not used by fluid model " + quoted(model_name) +
+                                   (map->has("model") ? "" : why_default));
+      }
+    }
+    if (const auto added_mass = map->optional("added_mass")) read_added_mass(*added_mass, &fluid->added_mass);
+  }
   if (is_lumped) {
+    if (!map) return;
     const std::pair<const char*, Vector6d*> dampings[] = {{"linear_damping", &fluid->linear_damping},
                                                           {"quadratic_damping", &fluid->quadratic_damping}};
     for (const auto& [key, out] : dampings) {
-      if (const auto damping = map.optional(key)) {
+      if (const auto damping = map->optional(key)) {
         if (const auto values = damping->numbers(6, Range::non_negative())) {
           *out = Eigen::Map<const Vector6d>(values->data());
         }
@@ -686,16 +762,14 @@ void read_fluid(const Value& value, const std::vector<LinkSpec>& links, FluidSpe
     }
     return;
   }
-  if (const auto hydrodynamics = map.optional("hydrodynamics")) {
-    read_hydrodynamics(*hydrodynamics, &fluid->hydrodynamics);
+  if (map) {
+    if (const auto hydrodynamics = map->optional("hydrodynamics")) {
+      read_hydrodynamics(*hydrodynamics, &fluid->hydrodynamics);
+    }
   }
-  const bool has_faces = std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {
-    return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) || !link.collisions.empty();
-  });
-  if (!has_faces) {
-    map.optional("model")->error(
-        "fluid model 'surface' needs a hydrodynamic mesh: no link has a 'mesh' or 'collisions'");
-  }
+  if (has_faces || links.empty()) return;  // no links: already reported
+  map->optional("model")->error(
+      "fluid model 'surface' needs a hydrodynamic mesh: no link has a 'mesh' or 'collisions'");
 }
 
 // Reads the definition keys (type, links, thrusters, fluid) of `map`: the included file's root, or the
@@ -747,7 +821,7 @@ VehicleDefinition read_definition(const MapReader& map) {
     }
   }
 
-  if (const auto fluid = map.optional("fluid")) read_fluid(*fluid, definition.links, &definition.fluid);
+  read_fluid(map.optional("fluid"), definition.links, &definition.fluid);
   return definition;
 }
 
@@ -810,7 +884,7 @@ LoadResult ScenarioLoader::load(const std::string& path) {
 
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
-                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads"});
+                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "dynamics"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
                       &world->physics_rate_hz)) {
@@ -836,6 +910,13 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
+  if (const auto dynamics_value = map.optional("dynamics")) {
+    const MapReader dynamics(*dynamics_value, {"gyroscopic", "earth_rotation"});
+    if (dynamics.ok()) {
+      dynamics.read_bool("gyroscopic", Need::kOptional, &world->dynamics.gyroscopic);
+      dynamics.read_bool("earth_rotation", Need::kOptional, &world->dynamics.earth_rotation);
+    }
+  }
   if (const auto origin_value = map.optional("origin")) {
     const MapReader origin(*origin_value, {"latitude_deg", "longitude_deg", "altitude"});
     if (origin.ok()) {

@@ -122,18 +122,21 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   const LinkSpec& hull = auv.links[0];
   EXPECT_EQ(hull.name, "hull");
   EXPECT_EQ(hull.mass, 30.0);
-  EXPECT_EQ(hull.p_LLcm, Eigen::Vector3d(0.0, 0.0, -0.01));
+  EXPECT_EQ(hull.p_LLcm, Eigen::Vector3d(-0.0082, 0.0, -0.01));
   EXPECT_EQ(hull.I_Lcm, Eigen::Vector3d(0.0901, 6.445, 6.445).asDiagonal().toDenseMatrix());
   EXPECT_TRUE(hull.X_BL.isApprox(Eigen::Isometry3d::Identity(), kTol));
-  EXPECT_EQ(hull.buoyancy.volume, 0.0296);
-  EXPECT_EQ(hull.buoyancy.p_LCb, Eigen::Vector3d::Zero());
-  ASSERT_EQ(hull.collisions.size(), 1u);
-  const CollisionShape& cylinder = hull.collisions[0];
-  EXPECT_EQ(cylinder.type, CollisionShapeType::kCylinder);
-  EXPECT_EQ(cylinder.radius, 0.0775);
-  EXPECT_EQ(cylinder.length, 1.6);
-  // rpy_deg [0, 90, 0]: the cylinder's axis (G's z) lies along body x.
-  EXPECT_TRUE((cylinder.X_LG.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX(), kTol));
+  ASSERT_EQ(hull.collisions.size(), 5u);  // capsule hull + four fins
+  const CollisionShape& capsule = hull.collisions[0];
+  EXPECT_EQ(capsule.type, CollisionShapeType::kCapsule);
+  EXPECT_EQ(capsule.radius, 0.0775);
+  EXPECT_EQ(capsule.length, 1.445);
+  // rpy_deg [0, 90, 0]: the capsule's axis (G's z) lies along body x.
+  EXPECT_TRUE((capsule.X_LG.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX(), kTol));
+  EXPECT_EQ(hull.collisions[1].type, CollisionShapeType::kBox);
+  EXPECT_EQ(hull.collisions[1].box_size, Eigen::Vector3d(0.15, 0.005, 0.13));
+  EXPECT_EQ(auv.fluid.model, FluidModelType::kSurface);
+  EXPECT_EQ(auv.fluid.added_mass.model, AddedMassModel::kEllipsoid);
+  EXPECT_TRUE(model.world.dynamics.earth_rotation);
 
   ASSERT_EQ(auv.thrusters.size(), 3u);
   const ThrusterSpec& main = auv.thrusters[0];
@@ -153,9 +156,8 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_EQ(auv.thrusters[2].name, "sway");
   EXPECT_EQ(auv.thrusters[2].axis_L, Eigen::Vector3d::UnitY());
 
-  EXPECT_EQ(auv.fluid.model, FluidModelType::kLumped);
-  EXPECT_EQ(auv.fluid.linear_damping, (Vector6d() << 2, 10, 10, 0.1, 2, 2).finished());
-  EXPECT_EQ(auv.fluid.quadratic_damping, (Vector6d() << 1.6, 131, 131, 0.01, 9.4, 9.4).finished());
+  EXPECT_EQ(auv.fluid.hydrodynamics.drag, 1.0);
+  EXPECT_EQ(auv.fluid.hydrodynamics.skin_friction, 0.004);
 
   ASSERT_GE(auv.schedule.size(), 2u);
   EXPECT_EQ(auv.schedule.front().time, 0.0);
@@ -324,6 +326,132 @@ vehicles:
   EXPECT_EQ(rov.hydrodynamics.magnus, 0.0);
 }
 
+TEST_F(ScenarioLoaderTest, DefaultFluidModelFollowsTheGeometry) {
+  const std::string path = write("s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + R"(
+  - name: boxy
+    type: rov
+    links:
+      - name: hull
+        mass: 30.0
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+        collisions: [{shape: box, size: [1, 1, 1]}]
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  EXPECT_EQ(result.model->vehicles[0].fluid.model, FluidModelType::kLumped);   // no faces
+  EXPECT_EQ(result.model->vehicles[1].fluid.model, FluidModelType::kSurface);  // collision shapes
+  EXPECT_EQ(result.model->vehicles[1].fluid.added_mass.model, AddedMassModel::kEllipsoid);
+  EXPECT_FALSE(result.model->vehicles[1].fluid.added_mass.semi_axes_E.has_value());
+  EXPECT_TRUE(result.model->vehicles[1].fluid.added_mass.coriolis);
+  EXPECT_TRUE(result.model->world.dynamics.gyroscopic);
+  EXPECT_FALSE(result.model->world.dynamics.earth_rotation);
+}
+
+TEST_F(ScenarioLoaderTest, AddedMassAndDynamicsKeys) {
+  const std::string path = write("s.yaml", R"(world:
+  dynamics: {gyroscopic: false, earth_rotation: true}
+vehicles:
+  - name: a
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass:
+        semi_axes: [0.8, 0.1, 0.1]
+        pose: {position: [0.1, 0, 0], rpy_deg: [0, 0, 90]}
+        coriolis: false
+  - name: b
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass:
+        model: matrix
+        reference_point: [0, 0, 0.05]
+        matrix: [1, 0, 0, 0, 0, 0,  0, 20, 0, 0, 0, 0.5,  0, 0, 20, 0, 0, 0,
+                 0, 0, 0, 0.1, 0, 0,  0, 0, 0, 0, 3, 0,  0, 0.5, 0, 0, 0, 3]
+  - name: c
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid: {model: lumped, added_mass: {model: none}}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  EXPECT_FALSE(result.model->world.dynamics.gyroscopic);
+  EXPECT_TRUE(result.model->world.dynamics.earth_rotation);
+  const AddedMassSpec& a = result.model->vehicles[0].fluid.added_mass;
+  EXPECT_EQ(a.model, AddedMassModel::kEllipsoid);
+  ASSERT_TRUE(a.semi_axes_E.has_value());
+  EXPECT_EQ(*a.semi_axes_E, Eigen::Vector3d(0.8, 0.1, 0.1));
+  EXPECT_EQ(a.X_BE.translation(), Eigen::Vector3d(0.1, 0, 0));
+  EXPECT_NEAR((a.X_BE.linear() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 0.0, 1e-15);
+  EXPECT_FALSE(a.coriolis);
+  const AddedMassSpec& b = result.model->vehicles[1].fluid.added_mass;
+  EXPECT_EQ(b.model, AddedMassModel::kMatrix);
+  EXPECT_EQ(b.p_BR, Eigen::Vector3d(0, 0, 0.05));
+  EXPECT_EQ(b.M_A0(1, 1), 20.0);
+  EXPECT_EQ(b.M_A0(5, 1), 0.5);
+  EXPECT_EQ(b.M_A0(1, 5), 0.5);
+  EXPECT_EQ(result.model->vehicles[2].fluid.added_mass.model, AddedMassModel::kNone);
+}
+
+TEST_F(ScenarioLoaderTest, AddedMassErrors) {
+  const std::string path = write("s.yaml", R"(world:
+  dynamics: {gyroscopic: yes, coriolis: true}
+vehicles:
+  - name: a
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass: {model: ellipsoid, pose: {position: [0, 0, 0]}, matrix: [1]}
+  - name: b
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass: {semi_axes: [1, 0, 1], coriolis: 1}
+  - name: c
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass:
+        model: matrix
+        matrix: [1, 2, 0, 0, 0, 0,  0, 1, 0, 0, 0, 0,  0, 0, 1, 0, 0, 0,
+                 0, 0, 0, 1, 0, 0,  0, 0, 0, 0, 1, 0,  0, 0, 0, 0, 0, 1]
+  - name: d
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass:
+        model: matrix
+        matrix: [1, 0, 0, 0, 0, 0,  0, -1, 0, 0, 0, 0,  0, 0, 1, 0, 0, 0,
+                 0, 0, 0, 1, 0, 0,  0, 0, 0, 0, 1, 0,  0, 0, 0, 0, 0, 1]
+  - name: e
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.2}]}
+    fluid:
+      added_mass: {model: matrix}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":2:26: error: world.dynamics.gyroscopic: expected true or false (got 'yes')",
+                   path + ":2:31: error: world.dynamics.coriolis: unknown key 'coriolis'",
+                   path + ":9:67: error: vehicles[0].fluid.added_mass.matrix: key 'matrix' is not used by "
+                          "added_mass model 'ellipsoid'",
+                   path + ":15:35: error: vehicles[1].fluid.added_mass.semi_axes[1]: must be > 0 (got 0)",
+                   path + ":15:52: error: vehicles[1].fluid.added_mass.coriolis: expected true or false (got '1')",
+                   path + ":23:17: error: vehicles[2].fluid.added_mass.matrix: must be symmetric (largest "
+                          "|M_ij - M_ji| = 2)",
+                   path + ":32:17: error: vehicles[3].fluid.added_mass.matrix: must be positive semidefinite "
+                          "(an added mass cannot lower the kinetic energy)",
+                   path + ":39:19: error: vehicles[4].fluid.added_mass: missing required key 'matrix' (model "
+                          "'matrix' needs the 6x6 added-mass matrix)"}));
+}
+
 TEST_F(ScenarioLoaderTest, FluidKeysArePerModel) {
   const std::string surface = write("surface.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle +
                                                         R"(    fluid:
@@ -345,7 +473,7 @@ TEST_F(ScenarioLoaderTest, FluidKeysArePerModel) {
 )");
   EXPECT_EQ(errors_of(lumped),
             (Lines{lumped + ":19:7: error: vehicles[0].fluid.hydrodynamics: key 'hydrodynamics' is not used by "
-                            "fluid model 'lumped'"}));
+                            "fluid model 'lumped' (the default for a vehicle without a mesh or collision shapes)"}));
 }
 
 TEST_F(ScenarioLoaderTest, WrongTypes) {

@@ -331,6 +331,15 @@ std::optional<std::string> Value::string() const {
   return node_.Scalar();
 }
 
+std::optional<bool> Value::boolean() const {
+  const bool plain = node_.IsScalar() && node_.Tag() == "?";
+  const std::string text = plain ? node_.Scalar() : std::string();
+  if (text == "true" || text == "True" || text == "TRUE") return true;
+  if (text == "false" || text == "False" || text == "FALSE") return false;
+  error("expected true or false (got " + describe() + ")");
+  return std::nullopt;
+}
+
 std::optional<std::vector<Value>> Value::list() const {
   if (!node_.IsSequence()) {
     error("expected a list (got " + describe() + ")");
@@ -482,6 +491,14 @@ bool MapReader::read_string(const std::string& key, Need need, std::string* out)
   const std::optional<std::string> text = value->string();
   if (text) *out = *text;
   return text.has_value();
+}
+
+bool MapReader::read_bool(const std::string& key, Need need, bool* out) const {
+  const std::optional<Value> value = get(key, need);
+  if (!value) return need == Need::kOptional;
+  const std::optional<bool> flag = value->boolean();
+  if (flag) *out = *flag;
+  return flag.has_value();
 }
 
 }  // namespace hadal::config

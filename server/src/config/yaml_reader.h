@@ -123,6 +123,9 @@ class Value {
   std::optional<double> number(const Range& range = Range::finite()) const;
   std::optional<std::uint64_t> non_negative_integer() const;
   std::optional<std::string> string() const;  // any non-empty scalar
+  // A plain true/True/TRUE or false/False/FALSE (YAML 1.2 core schema; YAML 1.1's yes/no/on/off are
+  // rejected as ambiguous).
+  std::optional<bool> boolean() const;
   std::optional<std::vector<Value>> list() const;
   // A list of numbers, each in `each`; with `count`, exactly that many. All bad elements are reported.
   std::optional<std::vector<double>> numbers(std::optional<std::size_t> count,
@@ -168,6 +171,7 @@ class MapReader {
   bool read_number(const std::string& key, Need need, const Range& range, double* out) const;
   bool read_vector3(const std::string& key, Need need, const Range& each, Eigen::Vector3d* out) const;
   bool read_string(const std::string& key, Need need, std::string* out) const;
+  bool read_bool(const std::string& key, Need need, bool* out) const;
   template <typename E>
   bool read_choice(const std::string& key, Need need, const std::vector<std::pair<std::string, E>>& choices,
                    E* out) const;

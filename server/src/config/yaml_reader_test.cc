@@ -57,6 +57,21 @@ TEST(YamlReaderTest, NonNegativeIntegersCoverUint64) {
                                                       "(got 18446744073709551616)"});
 }
 
+TEST(YamlReaderTest, BooleansArePlainTrueOrFalse) {
+  DiagnosticSink sink;
+  EXPECT_EQ(parse("true", &sink).boolean(), true);
+  EXPECT_EQ(parse("false", &sink).boolean(), false);
+  EXPECT_TRUE(sink.empty());
+  EXPECT_EQ(parse("TRUE", &sink).boolean(), true);
+  for (const char* text : {"yes", "on", "1", "'true'", "tRue"}) {
+    DiagnosticSink bad;
+    EXPECT_FALSE(parse(text, &bad).boolean().has_value()) << text;
+    ASSERT_EQ(formatted(bad).size(), 1u) << text;
+    EXPECT_EQ(formatted(bad)[0].rfind("t.yaml:1:1: error: expected true or false (got ", 0), 0u)
+        << formatted(bad)[0];
+  }
+}
+
 TEST(YamlReaderTest, RangesDescribeThemselves) {
   EXPECT_EQ(Range::positive().describe(), "> 0");
   EXPECT_EQ(Range::non_negative().describe(), ">= 0");

@@ -8,6 +8,8 @@
 #include <utility>
 
 #include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/mesh_properties.h"
+#include "hadal/physics/added_mass.h"
 #include "hadal/physics/bullet_world.h"
 #include "hadal/physics/lumped_fluid.h"
 #include "hadal/physics/mass_properties.h"
@@ -23,15 +25,20 @@ struct Simulation::VehicleRuntime {
   std::vector<physics::Thruster> thrusters;
   physics::LumpedFluid fluid;
   // Surface fluid model only (null for the lumped model): the kernel over the vehicle's
-  // hydrodynamic mesh in B, and the composite centre of mass p_BBcm it takes moments about.
+  // hydrodynamic mesh in B.
   std::unique_ptr<physics::SurfaceHydrodynamics> surface;
-  Eigen::Vector3d p_BBcm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p_BBcm = Eigen::Vector3d::Zero();  // composite centre of mass in B
+  double mass = 0.0;
+  Matrix6d M_A0 = Matrix6d::Zero();                  // added mass at the surface, about Bcm, B axes
+  std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
+  // Step scratch (not state): what Bullet was given at the centre of mass in the B axes of the step
+  // start, and the velocity then, for the added-mass contact feedback after the step.
+  Vector6d tau_bullet_B = Vector6d::Zero();
+  Vector6d nu0 = Vector6d::Zero();
+  Eigen::Matrix3d R_WB0 = Eigen::Matrix3d::Identity();
 };
 
 namespace {
-
-// Water at rest; currents will provide v_water_W at the vehicle.
-const Eigen::Vector3d kWaterAtRest_W = Eigen::Vector3d::Zero();
 
 std::string format_number(double value) {
   char buffer[32];
@@ -41,7 +48,7 @@ std::string format_number(double value) {
 
 bool is_finite(const VehicleState& vehicle) {
   if (!vehicle.body.X_WB.matrix().allFinite() || !vehicle.body.v_WB.allFinite() ||
-      !vehicle.body.w_WB.allFinite()) {
+      !vehicle.body.w_WB.allFinite() || !vehicle.contact_wrench_B.allFinite()) {
     return false;
   }
   for (const ThrusterState& thruster : vehicle.thrusters) {
@@ -121,6 +128,7 @@ void reset_non_finite(const VehicleSpec& spec, VehicleState& vehicle) {
     thruster.torque = 0.0;
   }
   std::fill(vehicle.client_setpoints.begin(), vehicle.client_setpoints.end(), 0.0);
+  vehicle.contact_wrench_B.setZero();
   vehicle.faults |= kFaultNonFiniteState;
   ++vehicle.fault_resets;
 }
@@ -165,6 +173,42 @@ geometry::TriangleMesh hydrodynamic_mesh_B(const VehicleSpec& spec) {
   return mesh_B;
 }
 
+// M_A0 about the centre of mass p_BBcm in B axes (physics/added_mass.h, AddedMassSpec).
+Matrix6d surface_added_mass(const VehicleSpec& spec, const Eigen::Vector3d& p_BBcm,
+                            double surface_density) {
+  const AddedMassSpec& added = spec.fluid.added_mass;
+  switch (added.model) {
+    case AddedMassModel::kNone:
+      return Matrix6d::Zero();
+    case AddedMassModel::kMatrix:
+      return physics::shift_added_mass(added.M_A0, Eigen::Matrix3d::Identity(), added.p_BR, p_BBcm);
+    case AddedMassModel::kEllipsoid:
+      break;
+  }
+  physics::Ellipsoid ellipsoid;
+  if (added.semi_axes_E) {
+    ellipsoid.semi_axes = *added.semi_axes_E;
+    ellipsoid.X_BE = added.X_BE;
+  } else {
+    try {
+      ellipsoid = physics::equivalent_ellipsoid(
+          geometry::compute_mesh_properties(hydrodynamic_mesh_B(spec)));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("vehicle '" + spec.name + "': fluid.added_mass: " + e.what() +
+                                  "; give fluid.added_mass.semi_axes or a matrix, or model: none");
+    }
+  }
+  return physics::shift_added_mass(
+      physics::ellipsoid_added_mass(ellipsoid.semi_axes, surface_density),
+      ellipsoid.X_BE.linear(), ellipsoid.X_BE.translation(), p_BBcm);
+}
+
+// Earth's angular velocity in W (ENU) at geodetic latitude `latitude` [rad/s].
+Eigen::Vector3d earth_rotation_W(const DynamicsSpec& dynamics, double latitude) {
+  return dynamics.earth_rotation_rate *
+         Eigen::Vector3d(0.0, std::cos(latitude), std::sin(latitude));
+}
+
 const Model& validated(const Model& model) {
   validate(model);
   return model;
@@ -175,8 +219,10 @@ const Model& validated(const Model& model) {
 Simulation::Simulation(Model model)
     : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
   const double dt = model_.world.step_size();
+  ocean_ = std::make_unique<physics::Ocean>(model_.world);
   runtime_.reserve(model_.vehicles.size());
   for (const VehicleSpec& spec : model_.vehicles) {
+    const int index = static_cast<int>(runtime_.size());
     std::vector<physics::Thruster> thrusters;
     thrusters.reserve(spec.thrusters.size());
     for (const ThrusterSpec& thruster : spec.thrusters) {
@@ -184,12 +230,19 @@ Simulation::Simulation(Model model)
                              model_.world.water.density, dt);
     }
     VehicleRuntime runtime{std::move(thrusters), physics::LumpedFluid(spec, model_.world), nullptr,
-                           Eigen::Vector3d::Zero()};
+                           Eigen::Vector3d::Zero(), 0.0, Matrix6d::Zero(), nullptr};
+    const physics::MassProperties& mass = world_->mass_properties(index);
+    runtime.p_BBcm = mass.p_BBcm;
+    runtime.mass = mass.mass;
     if (spec.fluid.model == FluidModelType::kSurface) {
       runtime.surface = std::make_unique<physics::SurfaceHydrodynamics>(hydrodynamic_mesh_B(spec),
                                                                         spec.fluid.hydrodynamics);
-      runtime.p_BBcm = world_->mass_properties(static_cast<int>(runtime_.size())).p_BBcm;
-      if (!ocean_) ocean_ = std::make_unique<physics::Ocean>(model_.world);
+    }
+    runtime.M_A0 = surface_added_mass(spec, mass.p_BBcm, ocean_->density(0.0));
+    if (!runtime.M_A0.isZero(0.0)) {
+      runtime.added_mass = std::make_unique<physics::AddedMassDynamics>(
+          physics::RigidBodyInertia{mass.mass, mass.I_BBcm_B}, runtime.M_A0,
+          spec.fluid.added_mass.coriolis, model_.world.dynamics.gyroscopic);
     }
     runtime_.push_back(std::move(runtime));
     state_.vehicles.push_back(initial_vehicle_state(spec));
@@ -200,6 +253,10 @@ Simulation::~Simulation() = default;
 
 const physics::MassProperties& Simulation::mass_properties(int vehicle_index) const {
   return world_->mass_properties(vehicle_index);
+}
+
+const Matrix6d& Simulation::added_mass(int vehicle_index) const {
+  return runtime_.at(vehicle_index).M_A0;
 }
 
 void Simulation::set_state(const SimState& state) {
@@ -270,6 +327,11 @@ void Simulation::step() {
   const double t = state_.time;
   const double surface_z = model_.world.water.surface_z;
   const int num_vehicles = static_cast<int>(model_.vehicles.size());
+  const Eigen::Vector3d& g_W = model_.world.gravity_W;
+  const Eigen::Vector3d Omega_W =
+      model_.world.dynamics.earth_rotation
+          ? earth_rotation_W(model_.world.dynamics, model_.world.origin.latitude)
+          : Eigen::Vector3d::Zero();
 
   for (int i = 0; i < num_vehicles; ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
@@ -283,6 +345,14 @@ void Simulation::step() {
     // run drive Bullet from identical numbers (X_WB -> X_WP is not exactly invertible).
     world_->set_body_state(i, vehicle.body);
 
+    const Eigen::Isometry3d& X_WB = vehicle.body.X_WB;
+    const Eigen::Vector3d p_WBcm = X_WB * runtime.p_BBcm;
+    const Eigen::Vector3d v_WBcm =
+        vehicle.body.v_WB + vehicle.body.w_WB.cross(p_WBcm - X_WB.translation());
+    // Every applied wrench of the step, collected at the centre of mass, in W.
+    Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d tau_W = Eigen::Vector3d::Zero();  // about p_WBcm
+
     // (2) rotor dynamics and (3) thruster forces.
     for (std::size_t k = 0; k < vehicle.thrusters.size(); ++k) {
       const physics::Thruster& thruster = runtime.thrusters[k];
@@ -290,44 +360,93 @@ void Simulation::step() {
       thruster_state.rotor_speed =
           thruster.next_rotor_speed(thruster_state.rotor_speed, thruster_state.setpoint);
       const physics::ThrusterWrench wrench =
-          thruster.wrench(thruster_state.rotor_speed, vehicle.body.X_WB, surface_z);
+          thruster.wrench(thruster_state.rotor_speed, X_WB, surface_z);
       thruster_state.thrust = wrench.thrust;
       thruster_state.torque = wrench.torque;
-      world_->add_force_W(i, wrench.f_W, wrench.p_WT);
-      world_->add_torque_W(i, wrench.tau_W);
+      f_W += wrench.f_W;
+      tau_W += wrench.tau_W + (wrench.p_WT - p_WBcm).cross(wrench.f_W);
     }
 
     // (3) fluid (gravity is Bullet's).
+    const Eigen::Vector3d v_water_W = ocean_->current_W(p_WBcm, t);
+    double submerged_fraction = 0.0;
     if (runtime.surface) {
       // Surface model: buoyancy, drag, friction, lift and Magnus from the faces, in the Ocean at the
       // step's start time; f_W acts at the centre of mass and tau_W is about it.
       physics::BodyMotion motion;
-      motion.X_WB = vehicle.body.X_WB;
-      motion.p_WBcm = vehicle.body.X_WB * runtime.p_BBcm;
-      motion.v_WBcm =
-          vehicle.body.v_WB + vehicle.body.w_WB.cross(motion.p_WBcm - vehicle.body.X_WB.translation());
+      motion.X_WB = X_WB;
+      motion.p_WBcm = p_WBcm;
+      motion.v_WBcm = v_WBcm;
       motion.w_WB = vehicle.body.w_WB;
       const physics::HydrodynamicWrench fluid =
           runtime.surface->compute(motion, physics::OceanFluid(*ocean_, t));
-      world_->add_force_W(i, fluid.f_W, motion.p_WBcm);
-      world_->add_torque_W(i, fluid.tau_W);
+      f_W += fluid.f_W;
+      tau_W += fluid.tau_W;
+      submerged_fraction = fluid.wetted_area / runtime.surface->surface_area();
     } else {
-      // Lumped model: buoyancy and damping.
-      const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(vehicle.body, kWaterAtRest_W);
-      world_->add_force_W(i, fluid.f_W(), vehicle.body.X_WB.translation());
-      world_->add_torque_W(i, fluid.tau_W());
+      // Lumped model: buoyancy and damping relative to the current at the centre of mass.
+      const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(vehicle.body, v_water_W);
+      f_W += fluid.f_W();
+      tau_W += fluid.tau_W() + (X_WB.translation() - p_WBcm).cross(fluid.f_W());
+      submerged_fraction = fluid.submerged_fraction;
     }
+
+    // (3) Earth-rotation Coriolis.
+    if (model_.world.dynamics.earth_rotation) f_W += -2.0 * runtime.mass * Omega_W.cross(v_WBcm);
+
+    // (4) added mass: the wrench Bullet needs so that its rigid-body step follows
+    // (M_RB + M_A) nu_dot + C_RB nu + C_A nu_r = tau + g + tau_contact.
+    if (runtime.added_mass) {
+      const Eigen::Matrix3d R_WB = X_WB.linear();
+      const Eigen::Matrix3d R_BW = R_WB.transpose();
+      physics::AddedMassInput in;
+      in.kappa = ocean_->kappa(std::max(ocean_->depth(p_WBcm.z()), 0.0)) * submerged_fraction;
+      in.nu.head<3>() = R_BW * v_WBcm;
+      in.nu.tail<3>() = R_BW * vehicle.body.w_WB;
+      in.nu_r = in.nu;
+      in.nu_r.head<3>() -= R_BW * v_water_W;
+      in.tau.head<3>() = R_BW * f_W;
+      in.tau.tail<3>() = R_BW * tau_W;
+      in.gravity_B = R_BW * g_W;
+      in.tau_contact = vehicle.contact_wrench_B;
+      runtime.tau_bullet_B = runtime.added_mass->bullet_wrench(in);
+      runtime.nu0 = in.nu;
+      runtime.R_WB0 = R_WB;
+      f_W = R_WB * runtime.tau_bullet_B.head<3>();
+      tau_W = R_WB * runtime.tau_bullet_B.tail<3>();
+    }
+    world_->add_force_W(i, f_W, p_WBcm);
+    world_->add_torque_W(i, tau_W);
   }
 
-  // (4) Bullet.
+  // (5) Bullet.
   world_->step(dt);
 
-  // (5) snapshot; time from the step count so it does not drift.
-  for (int i = 0; i < num_vehicles; ++i) state_.vehicles[i].body = world_->body_state(i);
+  // (6) snapshot; time from the step count so it does not drift.
+  for (int i = 0; i < num_vehicles; ++i) {
+    VehicleState& vehicle = state_.vehicles[i];
+    vehicle.body = world_->body_state(i);
+    const VehicleRuntime& runtime = runtime_[i];
+    if (!runtime.added_mass) continue;
+    // Contact wrench of this step, for the next one (zero without contact points).
+    if (world_->num_contact_points(i) == 0) {
+      vehicle.contact_wrench_B.setZero();
+      continue;
+    }
+    const Eigen::Isometry3d& X_WB = vehicle.body.X_WB;
+    const Eigen::Vector3d p_WBcm = X_WB * runtime.p_BBcm;
+    const Eigen::Matrix3d R_B0W = runtime.R_WB0.transpose();
+    Vector6d nu1_B0;
+    nu1_B0.head<3>() =
+        R_B0W * (vehicle.body.v_WB + vehicle.body.w_WB.cross(p_WBcm - X_WB.translation()));
+    nu1_B0.tail<3>() = R_B0W * vehicle.body.w_WB;
+    vehicle.contact_wrench_B = runtime.added_mass->contact_wrench(
+        runtime.nu0, nu1_B0, dt, runtime.tau_bullet_B, R_B0W * g_W);
+  }
   ++state_.step_count;
   state_.time = static_cast<double>(state_.step_count) * dt;
 
-  // (6) non-finite check.
+  // (7) non-finite check.
   bool any_reset = false;
   for (int i = 0; i < num_vehicles; ++i) {
     VehicleState& vehicle = state_.vehicles[i];

@@ -150,6 +150,9 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
     info.m_restitution = kRestitution;
     v.body = std::make_unique<btRigidBody>(info);
     v.body->setActivationState(DISABLE_DEACTIVATION);
+    // Rigid-body gyroscopic moment -(I w) x w (world.dynamics.gyroscopic): Bullet's implicit
+    // treatment (stable at large spin rates), or none.
+    v.body->setFlags(model.world.dynamics.gyroscopic ? BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY : 0);
     w.vehicles.push_back(std::move(v));
   }
   w.add_bodies();

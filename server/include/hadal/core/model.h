@@ -88,15 +88,40 @@ struct ThrusterSpec {
 
 enum class FluidModelType { kLumped, kSurface };
 
-// kLumped (default): Fossen-style lumped fluid model: buoyancy rho g V at the centre of buoyancy, and
+// kSurface (default): per-face forces on the links' hydrodynamic meshes
+// (physics/surface_hydrodynamics.h) in the scenario's Ocean; buoyancy comes from pressure integration, so links' buoyancy volumes are not
+// used. Coefficients in `hydrodynamics` (its `buoyancy` flag is always true from YAML).
+// kLumped: Fossen-style lumped fluid model: buoyancy rho g V at the centre of buoyancy, and
 // damping in the body frame, tau = -(D_l + D_q |nu|) nu with nu = [u v w p q r] relative to the water.
 // Coefficients are magnitudes (>= 0): linear [N s/m x3, N m s/rad x3], quadratic [N s^2/m^2 x3,
 // N m s^2/rad^2 x3].
-// kSurface: per-face forces on the links' hydrodynamic meshes (physics/surface_hydrodynamics.h) in
-// the scenario's Ocean; buoyancy comes from pressure integration, so links' buoyancy volumes are not
-// used. Coefficients in `hydrodynamics` (its `buoyancy` flag is always true from YAML).
+
+// Added mass and inertia (physics/added_mass.h). The fluid accelerated with the body adds the 6x6
+// matrix M_A to its inertia; at depth d it is scaled by kappa(d) = 1 - p(d)/K (paper; K from
+// world.water.bulk_modulus), and its Coriolis-centripetal terms C_A(nu_r) nu_r (Fossen 2011, eq.
+// 6.43; they contain the Munk moment) act with it.
+//   kNone       no added mass.
+//   kEllipsoid  Lamb's ellipsoid coefficients (rho0 V k-factors, rho0 from world.water) of
+//               - the given semi-axes, ellipsoid frame E at X_BE (semi_axes_E set), or
+//               - the hydrodynamic mesh's inertia-equivalent ellipsoid (same volume, same principal
+//                 second moments, centred at the enclosed volume's centroid) otherwise.
+//   kMatrix     a given 6x6 M_A0 [kg, kg m, kg m^2] at the surface, about the point p_BR, in B axes.
+enum class AddedMassModel { kNone, kEllipsoid, kMatrix };
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+struct AddedMassSpec {
+  AddedMassModel model = AddedMassModel::kEllipsoid;
+  std::optional<Eigen::Vector3d> semi_axes_E;              // [m]; empty: fit to the hull
+  Eigen::Isometry3d X_BE = Eigen::Isometry3d::Identity();  // ellipsoid centre and axes in B
+  Matrix6d M_A0 = Matrix6d::Zero();                        // kMatrix, symmetric positive semidefinite
+  Eigen::Vector3d p_BR = Eigen::Vector3d::Zero();          // kMatrix reference point in B [m]
+  bool coriolis = true;                                    // C_A(nu_r) nu_r on/off
+};
+
 struct FluidSpec {
-  FluidModelType model = FluidModelType::kLumped;
+  FluidModelType model = FluidModelType::kSurface;
+  AddedMassSpec added_mass;
   Vector6d linear_damping = Vector6d::Zero();
   Vector6d quadratic_damping = Vector6d::Zero();
   physics::HydrodynamicCoefficients hydrodynamics;
@@ -188,6 +213,18 @@ struct GeodeticOrigin {
   double altitude = 0.0;   // height above the ellipsoid [m]
 };
 
+// Rigid-body inertial effects (YAML world.dynamics). Bullet integrates in the inertial world frame,
+// where the paper's body-frame terms -m (w x v) and -(I w) x w are implicit: translation needs
+// nothing, and the gyroscopic moment -(I w) x w is Bullet's gyroscopic term (on by default, implicit
+// integration). Earth rotation is not in Bullet: with it on, each vehicle gets F = -2 m Omega_W x v_WBcm
+// at its centre of mass, Omega_W = Omega_E (0, cos(lat), sin(lat)) in ENU at world.origin's latitude
+// (the centrifugal part is inside g).
+struct DynamicsSpec {
+  bool gyroscopic = true;        // Bullet's rigid-body gyroscopic moment
+  bool earth_rotation = false;   // Earth-rotation Coriolis force
+  double earth_rotation_rate = 7.2921150e-5;  // Omega_E [rad/s] (WGS84)
+};
+
 struct WorldSpec {
   Eigen::Vector3d gravity_W = Eigen::Vector3d(0.0, 0.0, -9.80665);  // [m/s^2]
   double physics_rate_hz = 500.0;
@@ -195,6 +232,7 @@ struct WorldSpec {
   WaterSpec water;
   SeabedSpec seabed;
   GeodeticOrigin origin;
+  DynamicsSpec dynamics;
   std::string frame_id = "world";  // header.frame_id of world-frame messages
   double clock_rate_hz = 100.0;    // rt/clock
   double status_rate_hz = 10.0;    // rt/hadal/status

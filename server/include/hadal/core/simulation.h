@@ -13,7 +13,15 @@
 // surface: SurfaceHydrodynamics over the links' meshes (or tessellated collision primitives) in B,
 // sampled in the scenario's Ocean (density profile, pressure, currents) at the step's start time,
 // applied at the centre of mass; buoyancy then comes from pressure integration (links' buoyancy
-// volumes are not used). Added mass is not modelled yet.
+// volumes are not used). Both fluid models see the Ocean's current at the vehicle (the lumped model
+// at the centre of mass, the surface model per face).
+// Added mass (VehicleSpec::fluid.added_mass, physics/added_mass.h): M_A0 about the centre of mass,
+// scaled each step by kappa(d) at the centre of mass times the submerged fraction of the vehicle (the
+// lumped model's volume fraction, the surface model's wetted-area fraction), with C_A(nu_r) nu_r for
+// the velocity relative to the current there; all applied wrenches of a step are collected at the
+// centre of mass and turned into the wrench Bullet gets.
+// Rigid-body dynamics (world.dynamics): Bullet's gyroscopic moment on/off; Earth-rotation Coriolis
+// F = -2 m Omega_W x v_WBcm at the centre of mass when enabled.
 #pragma once
 
 #include "hadal/core/model.h"
@@ -46,6 +54,11 @@ class Simulation {
 
   // Composite mass properties of a vehicle (centre of mass, inertia, principal frame), index < count.
   const physics::MassProperties& mass_properties(int vehicle_index) const;
+  // The vehicle's added mass at the surface, M_A0 about its centre of mass in B axes (zero for
+  // added_mass.model none) [kg, kg m, kg m^2].
+  const Matrix6d& added_mass(int vehicle_index) const;
+  // The scenario's water column.
+  const physics::Ocean& ocean() const { return *ocean_; }
 
   // Restores a state previously returned by state() (same model; throws std::invalid_argument if the
   // vehicle or thruster counts differ). A vehicle whose restored state is not finite gets the
@@ -66,7 +79,7 @@ class Simulation {
   Model model_;
   SimState state_;
   std::unique_ptr<physics::BulletWorld> world_;
-  std::unique_ptr<physics::Ocean> ocean_;  // the water column, built once if a vehicle uses it
+  std::unique_ptr<physics::Ocean> ocean_;  // the water column
   struct VehicleRuntime;                 // per-vehicle thrusters and fluid model (simulation.cc)
   std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
 };

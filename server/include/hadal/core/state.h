@@ -41,6 +41,10 @@ struct VehicleState {
   double last_command_time = -std::numeric_limits<double>::infinity();  // sim time [s]
   std::uint32_t faults = kFaultNone;
   std::uint64_t fault_resets = 0;  // how many times the non-finite policy reset this vehicle
+  // Contact wrench Bullet applied to the body in the last step, at the centre of mass in the B axes
+  // of that step's start [N; N m]; zero without contact. Added-mass vehicles feed it into the next
+  // step (physics/added_mass.h).
+  Eigen::Matrix<double, 6, 1> contact_wrench_B = Eigen::Matrix<double, 6, 1>::Zero();
 };
 
 struct SimState {

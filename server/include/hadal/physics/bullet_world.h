@@ -11,6 +11,9 @@
 // plane z = seabed.z with normal +z. Gravity (WorldSpec::gravity_W) is applied by Bullet at each
 // centre of mass.
 //
+// Gyroscopic moment: with world.dynamics.gyroscopic (default) Bullet integrates the rigid-body
+// term -(I w) x w implicitly (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY); without it a torque-free
+// body keeps w_WB constant instead of its angular momentum.
 // Integration: one fixed step per call, stepSimulation(dt, 0, dt) -- semi-implicit Euler
 // (v += a dt, then p += v dt), no sub-stepping, no interpolation. Sleeping is disabled.
 //

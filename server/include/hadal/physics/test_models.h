@@ -67,4 +67,39 @@ inline Model water_model(std::vector<VehicleSpec> vehicles) {
   return model;
 }
 
+// A vehicle "body" of one link "hull" with one collision shape (its hydrodynamic mesh), fluid model
+// surface with coefficients `c`, at p_W.
+inline VehicleSpec surface_vehicle(const CollisionShape& shape, double mass, const Eigen::Matrix3d& I,
+                                   const HydrodynamicCoefficients& c, const Eigen::Vector3d& p_W) {
+  VehicleSpec vehicle;
+  vehicle.name = "body";
+  LinkSpec link;
+  link.name = "hull";
+  link.mass = mass;
+  link.I_Lcm = I;
+  link.collisions.push_back(shape);
+  vehicle.links.push_back(link);
+  vehicle.fluid.model = FluidModelType::kSurface;
+  vehicle.fluid.hydrodynamics = c;
+  vehicle.X_WB_initial = at(p_W);
+  return vehicle;
+}
+
+inline CollisionShape box_shape(const Eigen::Vector3d& size) {
+  CollisionShape box;
+  box.type = CollisionShapeType::kBox;
+  box.box_size = size;
+  return box;
+}
+
+// Surface-model coefficients with pressure drag only.
+inline HydrodynamicCoefficients drag_only(double drag) {
+  HydrodynamicCoefficients c;
+  c.drag = drag;
+  c.skin_friction = 0.0;
+  c.lift = 0.0;
+  c.magnus = 0.0;
+  return c;
+}
+
 }  // namespace hadal::physics::testing
