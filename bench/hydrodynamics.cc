@@ -1,9 +1,13 @@
 // Surface hydrodynamics throughput: SurfaceHydrodynamics::compute on one core for a torpedo hull of
 // ~11k faces (make_torpedo, 2 m x 0.15 m), every term on (buoyancy, pressure drag, skin friction,
-// lift, Magnus) with a current, a translating and rotating body, and UniformWater as the fluid.
+// lift, Magnus) with a current and a translating and rotating body.
 //   submerged   30 m deep (bounding sphere under water: the unmasked loop, no classification)
 //   partial     centre on the waterline, pitched and rolled (classification, masked loop, clipping
 //               of the faces that cross the surface)
+// Fluids ("fluid" in the output): uniform (UniformWater, both cases), and the scenario ocean through
+// OceanFluid (submerged case only, at 30 m and at 3000 m): constant (1025 kg/m^3), ramp (the paper's
+// pycnocline defaults, 1025 + 3.075 kg/m^3 over 1000 m) and ctd (a four-row cast to 6000 m, EOS-80,
+// the tabulated pressure). Same uniform current in all of them, no shear, no Gauss-Markov part.
 // Each measurement is the median over --repetitions batches of compute() calls (each batch ~50 ms);
 // face_evals_per_s = faces / seconds per call (a clipped face counts once). Prints one JSON object
 // per measurement. Issue 4's target: >= 1e8 face evaluations per second per core (Stonefish ~3.3e7).
@@ -19,13 +23,19 @@
 
 #include "hadal/assets/mesh_generators.h"
 #include "hadal/geometry/triangle_mesh.h"
+#include "hadal/physics/ocean.h"
+#include "hadal/physics/ocean_fluid.h"
 #include "hadal/physics/surface_hydrodynamics.h"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using hadal::DensityModel;
 using hadal::physics::BodyMotion;
+using hadal::physics::FluidSampler;
 using hadal::physics::HydrodynamicWrench;
+using hadal::physics::Ocean;
+using hadal::physics::OceanFluid;
 using hadal::physics::SurfaceHydrodynamics;
 using hadal::physics::UniformWater;
 
@@ -34,7 +44,7 @@ struct Result {
   HydrodynamicWrench wrench;
 };
 
-Result measure(SurfaceHydrodynamics& hydro, const BodyMotion& motion, const UniformWater& water,
+Result measure(SurfaceHydrodynamics& hydro, const BodyMotion& motion, const FluidSampler& water,
                int repetitions) {
   // Calibrate the batch size to ~50 ms.
   int calls = 1;
@@ -81,31 +91,55 @@ int main(int argc, char** argv) {
   all.magnus = 0.05;
   SurfaceHydrodynamics hydro(mesh, all);
 
-  UniformWater water;
-  water.current_W = Eigen::Vector3d(0.3, -0.2, 0.05);
+  const Eigen::Vector3d current_W(0.3, -0.2, 0.05);
+  UniformWater uniform;
+  uniform.current_W = current_W;
+  hadal::WaterSpec water;
+  water.current.uniform_W = current_W;
+  water.ctd = {{0.0, 20.0, 35.5}, {200.0, 12.0, 35.0}, {1000.0, 4.0, 34.6}, {6000.0, 1.5, 34.7}};
+  const hadal::WaterSpec constant = water;
+  hadal::WaterSpec ramp = water;
+  ramp.density_model = DensityModel::kRamp;
+  hadal::WaterSpec ctd = water;
+  ctd.density_model = DensityModel::kCtd;
+  const double g = 9.80665;
+  const Ocean constant_ocean(constant, g, 1), ramp_ocean(ramp, g, 1), ctd_ocean(ctd, g, 1);
+  const OceanFluid constant_fluid(constant_ocean, 0.0), ramp_fluid(ramp_ocean, 0.0),
+      ctd_fluid(ctd_ocean, 0.0);
+
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
                              Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()))
                                 .toRotationMatrix();
   struct Case {
     const char* name;
+    const char* fluid_name;
+    const FluidSampler* fluid;
     double z;
   };
-  for (const Case& c : {Case{"submerged", -30.0}, Case{"partial", 0.0}}) {
+  const Case cases[] = {{"submerged", "uniform", &uniform, -30.0},
+                        {"partial", "uniform", &uniform, 0.0},
+                        {"submerged", "constant", &constant_fluid, -30.0},
+                        {"submerged", "ramp", &ramp_fluid, -30.0},
+                        {"submerged", "ctd", &ctd_fluid, -30.0},
+                        {"submerged_3000m", "constant", &constant_fluid, -3000.0},
+                        {"submerged_3000m", "ramp", &ramp_fluid, -3000.0},
+                        {"submerged_3000m", "ctd", &ctd_fluid, -3000.0}};
+  for (const Case& c : cases) {
     BodyMotion m;
     m.X_WB.linear() = R;
     m.X_WB.translation() = Eigen::Vector3d(1200.0, -300.0, c.z);
     m.p_WBcm = m.X_WB * Eigen::Vector3d(0.05, 0.0, -0.01);
     m.v_WBcm = R * Eigen::Vector3d(1.5, 0.1, -0.05);
     m.w_WB = Eigen::Vector3d(0.02, -0.05, 0.1);
-    const Result r = measure(hydro, m, water, repetitions);
+    const Result r = measure(hydro, m, *c.fluid, repetitions);
     const double faces = static_cast<double>(hydro.num_faces());
     std::printf(
-        "{\"benchmark\": \"surface_hydrodynamics\", \"case\": \"%s\", \"faces\": %zu, "
-        "\"clipped_faces\": %zu, \"terms\": \"buoyancy+drag+friction+lift+magnus\", "
+        "{\"benchmark\": \"surface_hydrodynamics\", \"case\": \"%s\", \"fluid\": \"%s\", "
+        "\"faces\": %zu, \"clipped_faces\": %zu, \"terms\": \"buoyancy+drag+friction+lift+magnus\", "
         "\"seconds_per_call\": %.4g, \"ns_per_face\": %.3f, \"face_evals_per_s\": %.4g, "
         "\"calls_per_s\": %.1f, \"f_W\": [%.6g, %.6g, %.6g]}\n",
-        c.name, hydro.num_faces(), r.wrench.clipped_faces, r.seconds_per_call,
+        c.name, c.fluid_name, hydro.num_faces(), r.wrench.clipped_faces, r.seconds_per_call,
         1e9 * r.seconds_per_call / faces, faces / r.seconds_per_call, 1.0 / r.seconds_per_call,
         r.wrench.f_W.x(), r.wrench.f_W.y(), r.wrench.f_W.z());
   }

@@ -1,8 +1,108 @@
 #include "hadal/physics/ocean_fluid.h"
 
 #include <algorithm>
+#include <cstdint>
+
+// The density/pressure loops are compiled twice, for x86-64-v3 (AVX2 + FMA) and for the baseline
+// (SSE2), and the loader picks one at run time, as for the face kernel (surface_hydrodynamics.cc).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define HADAL_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define HADAL_HOT_CLONES
+#endif
 
 namespace hadal::physics {
+
+namespace {
+
+constexpr std::size_t kBlock = SurfaceHydrodynamics::kBlock;
+
+// Every loop below evaluates rho(d_i) and the pressure p(d_i) in double at the depth
+// d_i = d_origin - dz_i and rounds rho and dp_i = p(d_i) - p_origin to float once; p_origin is the
+// same function at d_origin, so dp at the origin is 0 up to double rounding (the loops' clones may
+// contract to FMA). p is gauge for constant and ramp water, absolute for CTD water (same difference).
+// Above the surface (d < 0) the water is that at d = 0: rho(0) and gauge pressure 0. Branch-free, so
+// the loops vectorise.
+
+// Constant: rho, p_g = rho g max(d, 0).
+HADAL_HOT_CLONES
+void constant_block(double rho, double rho_g, double d_origin, double p_origin, const float* __restrict dz,
+                    std::size_t n, float* __restrict rho_out, float* __restrict dp_out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    rho_out[i] = static_cast<float>(rho);
+    dp_out[i] = static_cast<float>(rho_g * std::max(d_origin - dz[i], 0.0) - p_origin);
+  }
+}
+
+// Ramp (ocean.h), closed form. With w = max(d, 0) and m = min(w, d_pyc):
+//   rho = rho0 + (drho / d_pyc) m
+//   p_g = g integral_0^w rho = g (rho0 w + drho (w - m) + drho m^2 / (2 d_pyc))
+// which is Ocean::pressure's two branches in one (m = w above the pycnocline, m = d_pyc below). All
+// terms are positive, so p_g carries a few double roundings, ~1e-15 relative.
+struct Ramp {
+  double rho0, drho, d_pyc, slope, half_slope, g;  // slope = drho / d_pyc
+};
+
+inline void ramp_at(const Ramp& r, double d, double& rho, double& p_g) {
+  const double w = std::max(d, 0.0);
+  const double m = std::min(w, r.d_pyc);
+  rho = r.rho0 + r.slope * m;
+  p_g = r.g * (r.rho0 * w + r.drho * (w - m) + r.half_slope * m * m);
+}
+
+HADAL_HOT_CLONES
+void ramp_block(const Ramp& r, double d_origin, double p_origin, const float* __restrict dz, std::size_t n,
+                float* __restrict rho_out, float* __restrict dp_out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    double rho, p_g;
+    ramp_at(r, d_origin - dz[i], rho, p_g);
+    rho_out[i] = static_cast<float>(rho);
+    dp_out[i] = static_cast<float>(p_g - p_origin);
+  }
+}
+
+// CTD: a direct lookup in the Ocean's table (Ocean::table_pressure / table_density, nodes k h,
+// h = kTableStep, k = 0 .. N), evaluating the interpolants of Ocean::pressure and Ocean::density. With
+// s = max(d, 0) / h, its part inside the table s_in = min(s, N), segment k = min(floor(s_in), N - 1),
+// w = s_in - k in [0, 1], v = 1 - w and e = s - s_in (> 0 only below the table):
+//   rho = r0 + w (r1 - r0)
+//   p   = p0 + (p1 - p0) w^2 (3 - 2 w) + g h [w v (r0 v - r1 w) + r1 e]
+// i.e. the cubic Hermite p0 H00 + p1 H01 + m0 H10 + m1 H11 with node slopes m = g rho h (H00 = 1 - H01),
+// continued linearly below the table (p_N + g rho_N (d - N h)). The same nodes and interpolants as
+// Ocean's in another arrangement: they agree to a few double roundings of the absolute pressure
+// (~1e-16 relative). Only the two nodes around d are read (four gathered loads per point). A NaN depth
+// reads segment 0 (max(0, NaN) is 0), never out of bounds. (Clamping w = min(u, 1) after the floor
+// instead leaves a branch that GCC 12 does not if-convert, and the loop is not vectorised.)
+struct Ctd {
+  const double* p;    // absolute pressure at the nodes [Pa]
+  const double* rho;  // density at the nodes [kg/m^3]
+  double gh;          // g h [m^2/s^2]
+  double last_node;   // N
+};
+
+inline void ctd_at(const Ctd& t, double d, double& rho, double& p) {
+  const double s = std::max(0.0, d * (1.0 / Ocean::kTableStep));  // = d / h exactly: h is 2^-1
+  const double s_in = std::min(t.last_node, s);
+  const auto last_segment = static_cast<std::int32_t>(t.last_node) - 1;
+  const auto k = std::min(static_cast<std::int32_t>(s_in), last_segment);  // s_in >= 0: truncation is floor
+  const double w = s_in - static_cast<double>(k), v = 1.0 - w, e = s - s_in;
+  const double p0 = t.p[k], p1 = t.p[k + 1], r0 = t.rho[k], r1 = t.rho[k + 1];
+  rho = r0 + w * (r1 - r0);
+  p = p0 + (p1 - p0) * (w * w * (3.0 - 2.0 * w)) + t.gh * (w * v * (r0 * v - r1 * w) + r1 * e);
+}
+
+HADAL_HOT_CLONES
+void ctd_block(const Ctd& t, double d_origin, double p_origin, const float* __restrict dz, std::size_t n,
+               float* __restrict rho_out, float* __restrict dp_out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    double rho, p;
+    ctd_at(t, d_origin - dz[i], rho, p);
+    rho_out[i] = static_cast<float>(rho);
+    dp_out[i] = static_cast<float>(p - p_origin);
+  }
+}
+
+}  // namespace
 
 double OceanFluid::gauge_pressure(double z_W) const {
   const double depth = ocean_.depth(z_W);
@@ -11,30 +111,47 @@ double OceanFluid::gauge_pressure(double z_W) const {
 
 void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx,
                         const float* dy, const float* dz, const FluidSamples& out) const {
-  // Constant-density water: rho and p_g = rho g max(d, 0) in closed form, in one branch-free loop
-  // (the general path below dispatches on the density model per point).
-  const bool constant = ocean_.spec().density_model == DensityModel::kConstant;
-  const double rho_constant = ocean_.spec().density;
-  const double rho_g = rho_constant * ocean_.gravity();
-  const double depth_origin = ocean_.depth(origin_W.z());
-  const double p_origin = constant ? rho_g * std::max(depth_origin, 0.0) : gauge_pressure(origin_W.z());
-  float x[SurfaceHydrodynamics::kBlock], y[SurfaceHydrodynamics::kBlock],
-      z[SurfaceHydrodynamics::kBlock];
-  for (std::size_t begin = 0; begin < n; begin += SurfaceHydrodynamics::kBlock) {
-    const std::size_t count = std::min(n - begin, SurfaceHydrodynamics::kBlock);
-    if (constant) {
-      for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t i = begin + k;
-        out.rho[i] = static_cast<float>(rho_constant);
-        out.dp[i] = static_cast<float>(rho_g * std::max(depth_origin - dz[i], 0.0) - p_origin);
-      }
-    } else {
-      for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t i = begin + k;
-        const double z_W = origin_W.z() + dz[i];
-        out.rho[i] = static_cast<float>(ocean_.density(std::max(ocean_.depth(z_W), 0.0)));
-        out.dp[i] = static_cast<float>(gauge_pressure(z_W) - p_origin);
-      }
+  const WaterSpec& water = ocean_.spec();
+  const DensityModel model = water.density_model;
+  const double g = ocean_.gravity();
+  const double d_origin = ocean_.depth(origin_W.z());
+  const double rho_g = water.density * g;
+  Ramp ramp{};
+  Ctd ctd{};
+  double p_origin = 0.0, unused = 0.0;
+  switch (model) {
+    case DensityModel::kConstant:
+      p_origin = rho_g * std::max(d_origin, 0.0);
+      break;
+    case DensityModel::kRamp: {
+      const double slope = water.pycnocline_density_increase / water.pycnocline_depth;
+      ramp = Ramp{water.rho0, water.pycnocline_density_increase, water.pycnocline_depth, slope, 0.5 * slope,
+                  g};
+      ramp_at(ramp, d_origin, unused, p_origin);
+      break;
+    }
+    case DensityModel::kCtd: {
+      const std::vector<double>& table_p = ocean_.table_pressure();
+      ctd = Ctd{table_p.data(), ocean_.table_density().data(), g * Ocean::kTableStep,
+                static_cast<double>(table_p.size() - 1)};  // the Ocean builds >= 2 nodes for CTD water
+      ctd_at(ctd, d_origin, unused, p_origin);
+      break;
+    }
+  }
+  float x[kBlock], y[kBlock], z[kBlock];
+  for (std::size_t begin = 0; begin < n; begin += kBlock) {
+    const std::size_t count = std::min(n - begin, kBlock);
+    switch (model) {
+      case DensityModel::kConstant:
+        constant_block(water.density, rho_g, d_origin, p_origin, dz + begin, count, out.rho + begin,
+                       out.dp + begin);
+        break;
+      case DensityModel::kRamp:
+        ramp_block(ramp, d_origin, p_origin, dz + begin, count, out.rho + begin, out.dp + begin);
+        break;
+      case DensityModel::kCtd:
+        ctd_block(ctd, d_origin, p_origin, dz + begin, count, out.rho + begin, out.dp + begin);
+        break;
     }
     for (std::size_t k = 0; k < count; ++k) {
       const std::size_t i = begin + k;

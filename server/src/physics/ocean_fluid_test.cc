@@ -4,6 +4,11 @@
 
 #include <Eigen/Geometry>
 
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <vector>
+
 #include "hadal/geometry/primitive_mesh.h"
 
 namespace hadal::physics {
@@ -99,6 +104,138 @@ TEST(OceanFluidTest, SamplesMatchTheOceanForConstantAndRampWater) {
       EXPECT_NEAR(rho[k], ocean.density(depth), 1e-6 * 1030.0) << "point " << k;
       EXPECT_NEAR(dp[k], ocean.pressure(depth) - p_origin, 1e-6 * kRho * kG * 10.0) << "point " << k;
       EXPECT_FLOAT_EQ(ux[k], 0.1f);
+    }
+  }
+}
+
+WaterSpec ramp_water() {
+  WaterSpec water;
+  water.density_model = DensityModel::kRamp;  // defaults: 1025 kg/m^3, +3.075 kg/m^3 over 1000 m
+  water.surface_z = 2.0;
+  water.current.uniform_W = Eigen::Vector3d(0.1, 0.0, 0.0);
+  return water;
+}
+
+// CTD rows at 0, 200, 1000 and 6000 m (kinks of T and S, hence of drho/dd); the table ends at 11 km.
+WaterSpec ctd_water() {
+  WaterSpec water = ramp_water();
+  water.density_model = DensityModel::kCtd;
+  water.ctd = {{0.0, 20.0, 35.5}, {200.0, 12.0, 35.0}, {1000.0, 4.0, 34.6}, {6000.0, 1.5, 34.7}};
+  return water;
+}
+
+// OceanFluid::sample for a body whose origin is at depth d_origin against the Ocean's point queries
+// (Ocean::density, Ocean::pressure at origin + dz, in double). 300 offsets over +-3.3 m at an irregular
+// spacing (two sampling blocks; the points fall anywhere inside the 0.5 m CTD table segments, some on
+// nodes), the origin itself first.
+// Tolerance: each output is the float rounding of a double that differs from the reference only by
+// double roundings. The rounding to float is at most half an ulp, <= FLT_EPSILON / 2 of the value; we
+// allow FLT_EPSILON |reference|. The double part: a few roundings of each of the two absolute pressures
+// (up to 1.2e8 Pa at 11.5 km) and of the depth (times dp/dd = rho g): 64 DBL_EPSILON of the deepest
+// absolute pressure, ~2e-6 Pa, and 64 DBL_EPSILON of rho.
+void expect_samples_match(const Ocean& ocean, double d_origin) {
+  const double surface_z = ocean.surface_z();
+  const Eigen::Vector3d origin_W(-3.0, 7.0, surface_z - d_origin);
+  std::vector<float> dx, dy, dz;
+  for (int k = 0; k < 300; ++k) {
+    dz.push_back(k == 0 ? 0.0f : static_cast<float>(-3.3 + 0.0221 * k + 0.01 * std::sin(7.0 * k)));
+    dx.push_back(0.1f * static_cast<float>(k % 7));
+    dy.push_back(-0.2f * static_cast<float>(k % 5));
+  }
+  dz.push_back(static_cast<float>(std::round(d_origin) - d_origin));  // a table node (if |.| is small)
+  dx.push_back(0.0f);
+  dy.push_back(0.0f);
+  const std::size_t n = dz.size();
+  std::vector<float> rho(n), dp(n), ux(n), uy(n), uz(n);
+  const OceanFluid fluid(ocean, 1.0);
+  fluid.sample(origin_W, n, dx.data(), dy.data(), dz.data(),
+               FluidSamples{rho.data(), dp.data(), ux.data(), uy.data(), uz.data()});
+  const double p_origin = ocean.pressure(ocean.depth(origin_W.z()));
+  const double p_deepest = ocean.pressure(d_origin + 3.4);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double depth = ocean.depth(origin_W.z() + dz[i]);
+    const double rho_ref = ocean.density(depth);
+    const double dp_ref = ocean.pressure(depth) - p_origin;
+    EXPECT_NEAR(rho[i], rho_ref, FLT_EPSILON * rho_ref + 64.0 * DBL_EPSILON * rho_ref)
+        << "origin depth " << d_origin << ", point depth " << depth;
+    EXPECT_NEAR(dp[i], dp_ref, FLT_EPSILON * std::abs(dp_ref) + 64.0 * DBL_EPSILON * p_deepest)
+        << "origin depth " << d_origin << ", point depth " << depth;
+    EXPECT_EQ(ux[i], 0.1f);
+  }
+}
+
+// Origins on and near the surface (points above and below it: rho(0) and gauge pressure 0 above), on
+// both sides of the pycnocline kink, and deep; the paper's ramp (kink at 1000 m) and a sharp one whose
+// kink at 5 m lies inside the points of a body at the surface.
+TEST(OceanFluidTest, RampSamplesMatchPointQueries) {
+  const Ocean ocean(ramp_water(), kG, 1);
+  for (const double d : {-1.0, 0.0, 1.3, 30.0, 998.7, 1000.0, 1001.1, 6000.0}) {
+    expect_samples_match(ocean, d);
+  }
+  WaterSpec sharp = ramp_water();
+  sharp.pycnocline_depth = 5.0;
+  sharp.pycnocline_density_increase = 8.0;
+  const Ocean sharp_ocean(sharp, kG, 1);
+  for (const double d : {-1.0, 0.0, 1.3, 4.0, 5.0, 6.2, 6000.0}) {
+    expect_samples_match(sharp_ocean, d);
+  }
+}
+
+// As above, plus across the CTD rows (200, 1000, 6000 m), on table nodes and between them, and across
+// the end of the table at 11 km (linear continuation below it).
+TEST(OceanFluidTest, CtdSamplesMatchPointQueries) {
+  const Ocean ocean(ctd_water(), kG, 1);
+  for (const double d : {-1.0, 0.0, 1.3, 37.37, 199.0, 200.0, 200.25, 999.8, 1000.0, 3000.1, 5998.2, 6000.0,
+                         10998.6, 11000.0, 11500.0}) {
+    expect_samples_match(ocean, d);
+  }
+}
+
+// The Ocean's point queries one by one: a reference sampler for the kernel.
+class PointwiseOcean final : public FluidSampler {
+ public:
+  explicit PointwiseOcean(const Ocean& ocean) : ocean_(ocean) {}
+  double surface_z_W() const override { return ocean_.surface_z(); }
+  double gauge_pressure(double z_W) const override {
+    return ocean_.pressure(ocean_.depth(z_W)) - ocean_.atmospheric_pressure();
+  }
+  double gravity_magnitude() const override { return ocean_.gravity(); }
+  void sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* /*dx*/, const float* /*dy*/,
+              const float* dz, const FluidSamples& out) const override {
+    const double p_origin = gauge_pressure(origin_W.z());
+    for (std::size_t i = 0; i < n; ++i) {
+      const double z_W = origin_W.z() + dz[i];
+      out.rho[i] = static_cast<float>(ocean_.density(ocean_.depth(z_W)));
+      out.dp[i] = static_cast<float>(gauge_pressure(z_W) - p_origin);
+      const Eigen::Vector3d u_W = ocean_.current_W(Eigen::Vector3d(0.0, 0.0, z_W), 0.0);
+      out.u_x[i] = static_cast<float>(u_W.x());
+      out.u_y[i] = static_cast<float>(u_W.y());
+      out.u_z[i] = static_cast<float>(u_W.z());
+    }
+  }
+
+ private:
+  const Ocean& ocean_;
+};
+
+// The whole kernel with OceanFluid against the point-by-point sampler: the samples agree to float
+// rounding (tests above), so the wrenches agree to kFloat as in ConstantWaterGivesTheUniformWaterWrench.
+TEST(OceanFluidTest, RampAndCtdWrenchesMatchThePointwiseSampler) {
+  for (const WaterSpec& water : {ramp_water(), ctd_water()}) {
+    const Ocean ocean(water, kG, 1);
+    const OceanFluid fluid(ocean, 0.0);
+    const PointwiseOcean pointwise(ocean);
+    // Crossing the surface, across the 200 m row and the 1000 m pycnocline, deep.
+    for (const double z : {2.1, -198.0, -998.0, -5998.0}) {
+      SurfaceHydrodynamics a = box_hydro(), b = box_hydro();
+      const BodyMotion motion = moving_at({1.0, 2.0, z});
+      const HydrodynamicWrench expected = a.compute(motion, pointwise);
+      const HydrodynamicWrench got = b.compute(motion, fluid);
+      const double f_scale = expected.f_W.norm(), tau_scale = std::max(expected.tau_W.norm(), f_scale);
+      EXPECT_GT(f_scale, 100.0);
+      EXPECT_LT((got.f_W - expected.f_W).norm(), kFloat * f_scale) << "z " << z;
+      EXPECT_LT((got.tau_W - expected.tau_W).norm(), kFloat * tau_scale) << "z " << z;
+      EXPECT_EQ(got.clipped_faces, expected.clipped_faces);
     }
   }
 }

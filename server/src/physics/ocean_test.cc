@@ -79,6 +79,22 @@ TEST(OceanTest, CtdPressureMatchesIndependentIntegration) {
   }
 }
 
+// The table OceanFluid reads is what pressure() and density() interpolate: equal at the nodes (the Hermite
+// and linear weights there are exactly 1 and 0).
+TEST(OceanTest, CtdTableHoldsPressureAndDensityAtTheNodes) {
+  const Ocean ocean(ctd_water(), kG, 0);
+  const auto nodes = static_cast<std::size_t>(Ocean::kTableDepth / Ocean::kTableStep) + 1;
+  ASSERT_EQ(ocean.table_pressure().size(), nodes);
+  ASSERT_EQ(ocean.table_density().size(), nodes);
+  for (const std::size_t k : {std::size_t{0}, std::size_t{1}, std::size_t{401}, nodes / 2, nodes - 1}) {
+    const double depth = static_cast<double>(k) * Ocean::kTableStep;
+    EXPECT_EQ(ocean.table_pressure()[k], ocean.pressure(depth)) << "node " << k;
+    EXPECT_EQ(ocean.table_density()[k], ocean.density(depth)) << "node " << k;
+  }
+  EXPECT_EQ(ocean.table_pressure()[0], kPatm);
+  EXPECT_TRUE(Ocean(ramp_water(), kG, 0).table_pressure().empty());
+}
+
 TEST(OceanTest, CtdProfileInterpolatesTemperatureAndSalinity) {
   const Ocean ocean(ctd_water(), kG, 0);
   EXPECT_DOUBLE_EQ(ocean.temperature(100.0), 16.0);

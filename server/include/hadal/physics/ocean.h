@@ -97,6 +97,11 @@ class Ocean {
   // Depth spacing of the CTD pressure table [m], and the depth it covers.
   static constexpr double kTableStep = 0.5;
   static constexpr double kTableDepth = 11000.0;
+  // The CTD table (empty for the other density models): absolute pressure [Pa] and density [kg/m^3] at
+  // the depths k * kTableStep, k = 0 .. kTableDepth / kTableStep. pressure() and density() interpolate it;
+  // OceanFluid::sample evaluates the same interpolants for a batch of points.
+  const std::vector<double>& table_pressure() const { return table_pressure_; }
+  const std::vector<double>& table_density() const { return table_density_; }
 
  private:
   struct GaussMarkovTrack;
