@@ -35,22 +35,26 @@ out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode realtime --rtf 1
       --domain-id 231 --no-status-line 2>/dev/null)
 summarise hadald_realtime_mode 10 "$out"
 
-# 4. The default scenario with the surface fluid model (issue 4): the default AUV with an 11 136-face
-#    torpedo hull mesh (generated) and `fluid: {model: surface}`, forces on every face every step at
-#    500 Hz; the simulation core alone and the whole server in fast mode.
+# 4. The default scenario (surface fluid model, added mass) with an 11 136-face torpedo hull mesh
+#    (generated) in place of the tessellated capsule + fins: forces on every face every step at 500 Hz;
+#    the simulation core alone and the whole server in fast mode.
+# 5. Two such AUVs (20 m apart): their fluid forces run on the worker pool, so with 2 cores the RTF
+#    stays close to the single-vehicle figure instead of halving.
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$build/bin/hadal-make-asset" torpedo "$work/hull.glb" --length 1.6 --radius 0.0775 --segments 232 >/dev/null
 /usr/bin/python3 - "$work" <<'PY'
-import sys
+import re, sys
 work = sys.argv[1]
 vehicle = open("configs/vehicles/torpedo_auv.yaml").read()
-vehicle = vehicle[:vehicle.index("fluid:")] + "fluid:\n  model: surface\n"
 vehicle = vehicle.replace("  - name: hull\n", "  - name: hull\n    mesh: {file: hull.glb}\n", 1)
 open(f"{work}/torpedo_surface.yaml", "w").write(vehicle)
 scenario = open("configs/scenarios/default.yaml").read()
-open(f"{work}/default_surface.yaml", "w").write(
-    scenario.replace("include: ../vehicles/torpedo_auv.yaml", "include: torpedo_surface.yaml"))
+scenario = scenario.replace("include: ../vehicles/torpedo_auv.yaml", "include: torpedo_surface.yaml")
+open(f"{work}/default_surface.yaml", "w").write(scenario)
+entry = scenario[scenario.index("  - name: auv"):]
+second = entry.replace("name: auv", "name: auv2").replace("position: [0.0, 0.0, -50.0]", "position: [0.0, 20.0, -50.0]")
+open(f"{work}/two_surface.yaml", "w").write(scenario + second)
 PY
 "$build/bin/hadal_bench_step_rate" "$work/default_surface.yaml" --sim-seconds 20 --repetitions 3
 for r in 1 2 3; do
@@ -58,3 +62,4 @@ for r in 1 2 3; do
         --discovery-wait 0 --no-status-line 2>/dev/null)
   summarise hadald_fast_mode_surface_model - "$out" "default.yaml + surface model, 11136-face hull"
 done
+"$build/bin/hadal_bench_step_rate" "$work/two_surface.yaml" --sim-seconds 20 --repetitions 3

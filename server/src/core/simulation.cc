@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "hadal/geometry/primitive_mesh.h"
@@ -17,6 +18,7 @@
 #include "hadal/physics/ocean_fluid.h"
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/physics/thruster.h"
+#include "worker_pool.h"
 
 namespace hadal {
 
@@ -31,14 +33,24 @@ struct Simulation::VehicleRuntime {
   double mass = 0.0;
   Matrix6d M_A0 = Matrix6d::Zero();                  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
-  // Step scratch (not state): what Bullet was given at the centre of mass in the B axes of the step
-  // start, and the velocity then, for the added-mass contact feedback after the step.
+  // Step scratch (not state). The centre of mass and its velocity at the step start, every applied
+  // wrench of the step collected at the centre of mass in W, the submerged fraction; then what Bullet
+  // was given at the centre of mass in the B axes of the step start, and the velocity then, for the
+  // added-mass contact feedback after the step.
+  Eigen::Vector3d p_WBcm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WBcm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tau_W = Eigen::Vector3d::Zero();  // about p_WBcm
+  double submerged_fraction = 0.0;
   Vector6d tau_bullet_B = Vector6d::Zero();
   Vector6d nu0 = Vector6d::Zero();
   Eigen::Matrix3d R_WB0 = Eigen::Matrix3d::Identity();
 };
 
 namespace {
+
+constexpr std::size_t kParallelFluidFaces = 4096;
 
 std::string format_number(double value) {
   char buffer[32];
@@ -247,6 +259,18 @@ Simulation::Simulation(Model model)
     runtime_.push_back(std::move(runtime));
     state_.vehicles.push_back(initial_vehicle_state(spec));
   }
+  // Fluid forces of several vehicles in parallel when it pays: a wake-up costs ~10 us, one face
+  // ~4.5 ns, so from ~2 x 4k faces on (the second-largest hull bounds the gain).
+  std::vector<std::size_t> faces;
+  for (const VehicleRuntime& runtime : runtime_) {
+    if (runtime.surface) faces.push_back(runtime.surface->num_faces());
+  }
+  std::sort(faces.rbegin(), faces.rend());
+  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+  if (faces.size() >= 2 && faces[1] >= kParallelFluidFaces && hardware >= 2) {
+    pool_ = std::make_unique<WorkerPool>(
+        static_cast<unsigned>(std::min<std::size_t>(hardware - 1, faces.size() - 1)));
+  }
 }
 
 Simulation::~Simulation() = default;
@@ -254,6 +278,8 @@ Simulation::~Simulation() = default;
 const physics::MassProperties& Simulation::mass_properties(int vehicle_index) const {
   return world_->mass_properties(vehicle_index);
 }
+
+unsigned Simulation::fluid_helper_threads() const { return pool_ ? pool_->helpers() : 0; }
 
 const Matrix6d& Simulation::added_mass(int vehicle_index) const {
   return runtime_.at(vehicle_index).M_A0;
@@ -333,12 +359,12 @@ void Simulation::step() {
           ? earth_rotation_W(model_.world.dynamics, model_.world.origin.latitude)
           : Eigen::Vector3d::Zero();
 
+  // (1)-(3) per vehicle: setpoints, rotor dynamics and thruster forces.
   for (int i = 0; i < num_vehicles; ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
     VehicleRuntime& runtime = runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
 
-    // (1) setpoints.
     select_setpoints(spec, t, dt, vehicle);
 
     // Bullet is re-seeded from the state every step, so a restored SimState and the uninterrupted
@@ -346,14 +372,10 @@ void Simulation::step() {
     world_->set_body_state(i, vehicle.body);
 
     const Eigen::Isometry3d& X_WB = vehicle.body.X_WB;
-    const Eigen::Vector3d p_WBcm = X_WB * runtime.p_BBcm;
-    const Eigen::Vector3d v_WBcm =
-        vehicle.body.v_WB + vehicle.body.w_WB.cross(p_WBcm - X_WB.translation());
-    // Every applied wrench of the step, collected at the centre of mass, in W.
-    Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
-    Eigen::Vector3d tau_W = Eigen::Vector3d::Zero();  // about p_WBcm
-
-    // (2) rotor dynamics and (3) thruster forces.
+    runtime.p_WBcm = X_WB * runtime.p_BBcm;
+    runtime.v_WBcm = vehicle.body.v_WB + vehicle.body.w_WB.cross(runtime.p_WBcm - X_WB.translation());
+    runtime.f_W.setZero();
+    runtime.tau_W.setZero();
     for (std::size_t k = 0; k < vehicle.thrusters.size(); ++k) {
       const physics::Thruster& thruster = runtime.thrusters[k];
       ThrusterState& thruster_state = vehicle.thrusters[k];
@@ -363,48 +385,65 @@ void Simulation::step() {
           thruster.wrench(thruster_state.rotor_speed, X_WB, surface_z);
       thruster_state.thrust = wrench.thrust;
       thruster_state.torque = wrench.torque;
-      f_W += wrench.f_W;
-      tau_W += wrench.tau_W + (wrench.p_WT - p_WBcm).cross(wrench.f_W);
+      runtime.f_W += wrench.f_W;
+      runtime.tau_W += wrench.tau_W + (wrench.p_WT - runtime.p_WBcm).cross(wrench.f_W);
     }
+  }
 
-    // (3) fluid (gravity is Bullet's).
-    const Eigen::Vector3d v_water_W = ocean_->current_W(p_WBcm, t);
-    double submerged_fraction = 0.0;
+  // (3) fluid, per vehicle independent (each writes only its own runtime), so in parallel when
+  // several large hulls make it pay (pool_); gravity is Bullet's.
+  auto fluid_forces = [&](std::size_t index) {
+    VehicleRuntime& runtime = runtime_[index];
+    const RigidBodyState& body = state_.vehicles[index].body;
+    runtime.v_water_W = ocean_->current_W(runtime.p_WBcm, t);
     if (runtime.surface) {
       // Surface model: buoyancy, drag, friction, lift and Magnus from the faces, in the Ocean at the
       // step's start time; f_W acts at the centre of mass and tau_W is about it.
       physics::BodyMotion motion;
-      motion.X_WB = X_WB;
-      motion.p_WBcm = p_WBcm;
-      motion.v_WBcm = v_WBcm;
-      motion.w_WB = vehicle.body.w_WB;
+      motion.X_WB = body.X_WB;
+      motion.p_WBcm = runtime.p_WBcm;
+      motion.v_WBcm = runtime.v_WBcm;
+      motion.w_WB = body.w_WB;
       const physics::HydrodynamicWrench fluid =
           runtime.surface->compute(motion, physics::OceanFluid(*ocean_, t));
-      f_W += fluid.f_W;
-      tau_W += fluid.tau_W;
-      submerged_fraction = fluid.wetted_area / runtime.surface->surface_area();
+      runtime.f_W += fluid.f_W;
+      runtime.tau_W += fluid.tau_W;
+      runtime.submerged_fraction = fluid.wetted_area / runtime.surface->surface_area();
     } else {
       // Lumped model: buoyancy and damping relative to the current at the centre of mass.
-      const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(vehicle.body, v_water_W);
-      f_W += fluid.f_W();
-      tau_W += fluid.tau_W() + (X_WB.translation() - p_WBcm).cross(fluid.f_W());
-      submerged_fraction = fluid.submerged_fraction;
+      const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(body, runtime.v_water_W);
+      runtime.f_W += fluid.f_W();
+      runtime.tau_W += fluid.tau_W() + (body.X_WB.translation() - runtime.p_WBcm).cross(fluid.f_W());
+      runtime.submerged_fraction = fluid.submerged_fraction;
     }
+  };
+  if (pool_) {
+    pool_->run(runtime_.size(), fluid_forces);
+  } else {
+    for (std::size_t i = 0; i < runtime_.size(); ++i) fluid_forces(i);
+  }
+
+  for (int i = 0; i < num_vehicles; ++i) {
+    VehicleRuntime& runtime = runtime_[i];
+    VehicleState& vehicle = state_.vehicles[i];
+    Eigen::Vector3d f_W = runtime.f_W;
+    Eigen::Vector3d tau_W = runtime.tau_W;
 
     // (3) Earth-rotation Coriolis.
-    if (model_.world.dynamics.earth_rotation) f_W += -2.0 * runtime.mass * Omega_W.cross(v_WBcm);
+    if (model_.world.dynamics.earth_rotation) f_W += -2.0 * runtime.mass * Omega_W.cross(runtime.v_WBcm);
 
     // (4) added mass: the wrench Bullet needs so that its rigid-body step follows
     // (M_RB + M_A) nu_dot + C_RB nu + C_A nu_r = tau + g + tau_contact.
     if (runtime.added_mass) {
-      const Eigen::Matrix3d R_WB = X_WB.linear();
+      const Eigen::Matrix3d R_WB = vehicle.body.X_WB.linear();
       const Eigen::Matrix3d R_BW = R_WB.transpose();
       physics::AddedMassInput in;
-      in.kappa = ocean_->kappa(std::max(ocean_->depth(p_WBcm.z()), 0.0)) * submerged_fraction;
-      in.nu.head<3>() = R_BW * v_WBcm;
+      in.kappa = ocean_->kappa(std::max(ocean_->depth(runtime.p_WBcm.z()), 0.0)) *
+                 runtime.submerged_fraction;
+      in.nu.head<3>() = R_BW * runtime.v_WBcm;
       in.nu.tail<3>() = R_BW * vehicle.body.w_WB;
       in.nu_r = in.nu;
-      in.nu_r.head<3>() -= R_BW * v_water_W;
+      in.nu_r.head<3>() -= R_BW * runtime.v_water_W;
       in.tau.head<3>() = R_BW * f_W;
       in.tau.tail<3>() = R_BW * tau_W;
       in.gravity_B = R_BW * g_W;
@@ -415,7 +454,7 @@ void Simulation::step() {
       f_W = R_WB * runtime.tau_bullet_B.head<3>();
       tau_W = R_WB * runtime.tau_bullet_B.tail<3>();
     }
-    world_->add_force_W(i, f_W, p_WBcm);
+    world_->add_force_W(i, f_W, runtime.p_WBcm);
     world_->add_torque_W(i, tau_W);
   }
 

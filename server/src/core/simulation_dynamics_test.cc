@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include "hadal/config/scenario_loader.h"
 #include "hadal/geometry/mesh_properties.h"
@@ -258,6 +260,48 @@ TEST(SimulationDynamicsTest, DefaultAuvHoldsItsCourseUnderThrust) {
   EXPECT_LT(std::abs(roll) * kDeg, 5.0);
   EXPECT_LT(std::abs(pitch) * kDeg, 5.0);
   EXPECT_LT(std::abs(body.X_WB.translation().z() + 50.0), 1.0);
+}
+
+// Two vehicles with 4k+-face hulls: their fluid forces are computed on the worker pool, and each
+// trajectory is bit-identical to the same vehicle simulated alone (serially).
+TEST(SimulationDynamicsTest, ParallelFluidForcesEqualSerialBitForBit) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one hardware thread: no pool";
+  auto fine_sphere_vehicle = [](const std::string& name, const Eigen::Vector3d& p_W) {
+    const double R = 0.3, mass = 0.8 * kRho * 4.0 / 3.0 * EIGEN_PI * R * R * R;
+    VehicleSpec vehicle = testing::surface_vehicle(sphere_shape(R), mass,
+                                                   physics::solid_sphere_inertia(mass, R),
+                                                   physics::HydrodynamicCoefficients{}, p_W);
+    vehicle.name = name;
+    LinkMesh mesh;
+    mesh.mesh = std::make_shared<geometry::TriangleMesh>(geometry::tessellate(sphere_shape(R), 72));
+    mesh.closed = true;
+    vehicle.links[0].mesh = mesh;
+    vehicle.v_WB_initial = Eigen::Vector3d(0.5, -0.2, 0.1);
+    return vehicle;
+  };
+  const VehicleSpec a = fine_sphere_vehicle("a", Eigen::Vector3d(0, 0, -20));
+  VehicleSpec b = fine_sphere_vehicle("b", Eigen::Vector3d(5, 0, -0.1));  // crossing the surface
+  b.v_WB_initial = Eigen::Vector3d(-0.3, 0.4, 0.0);
+  Model both = testing::water_model({a, b});
+  both.world.water.current.uniform_W = Eigen::Vector3d(0.2, 0.1, 0.0);
+  Model only_a = both, only_b = both;
+  only_a.vehicles = {a};
+  only_b.vehicles = {b};
+  Simulation sim(both), sim_a(only_a), sim_b(only_b);
+  ASSERT_GE(sim.fluid_helper_threads(), 1u);
+  ASSERT_EQ(sim_a.fluid_helper_threads(), 0u);
+  for (int k = 0; k < 300; ++k) {
+    sim.step();
+    sim_a.step();
+    sim_b.step();
+  }
+  const RigidBodyState& pa = sim.state().vehicles[0].body;
+  const RigidBodyState& pb = sim.state().vehicles[1].body;
+  EXPECT_TRUE(pa.X_WB.matrix() == sim_a.state().vehicles[0].body.X_WB.matrix());
+  EXPECT_TRUE(pa.v_WB == sim_a.state().vehicles[0].body.v_WB);
+  EXPECT_TRUE(pb.X_WB.matrix() == sim_b.state().vehicles[0].body.X_WB.matrix());
+  EXPECT_TRUE(pb.w_WB == sim_b.state().vehicles[0].body.w_WB);
+  EXPECT_GT((pa.X_WB.translation() - Eigen::Vector3d(0, 0, -20)).norm(), 0.1);  // it moved
 }
 
 }  // namespace

@@ -22,6 +22,8 @@
 // centre of mass and turned into the wrench Bullet gets.
 // Rigid-body dynamics (world.dynamics): Bullet's gyroscopic moment on/off; Earth-rotation Coriolis
 // F = -2 m Omega_W x v_WBcm at the centre of mass when enabled.
+// Fluid forces of different vehicles are independent; with two or more surface-model hulls of
+// >= 4096 faces they are computed on a persistent worker pool (results are identical either way).
 #pragma once
 
 #include "hadal/core/model.h"
@@ -32,6 +34,8 @@
 #include <vector>
 
 namespace hadal {
+
+class WorkerPool;
 
 namespace physics {
 class BulletWorld;
@@ -59,6 +63,8 @@ class Simulation {
   const Matrix6d& added_mass(int vehicle_index) const;
   // The scenario's water column.
   const physics::Ocean& ocean() const { return *ocean_; }
+  // Helper threads computing fluid forces besides the stepping thread (0: serial).
+  unsigned fluid_helper_threads() const;
 
   // Restores a state previously returned by state() (same model; throws std::invalid_argument if the
   // vehicle or thruster counts differ). A vehicle whose restored state is not finite gets the
@@ -82,6 +88,7 @@ class Simulation {
   std::unique_ptr<physics::Ocean> ocean_;  // the water column
   struct VehicleRuntime;                 // per-vehicle thrusters and fluid model (simulation.cc)
   std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
+  std::unique_ptr<WorkerPool> pool_;     // fluid forces in parallel; null when it does not pay
 };
 
 }  // namespace hadal
