@@ -89,7 +89,8 @@ struct LaneSums {
 HADAL_HOT_CLONES
 void face_forces(const float* __restrict A, const float* __restrict nbx,
                  const float* __restrict nby, const float* __restrict nbz,
-                 const float* __restrict mask, const float* __restrict rx,
+                 const float* __restrict mask, const float* __restrict exposed,
+                 const float* __restrict rx,
                  const float* __restrict ry, const float* __restrict rz,
                  const float* __restrict rho, const float* __restrict dp,
                  const float* __restrict ux, const float* __restrict uy,
@@ -128,11 +129,12 @@ void face_forces(const float* __restrict A, const float* __restrict nbx,
       const float vt = vt2 * rsqrt_newton(vt2);
       const float cneg = 0.5f * (cn - std::fabs(cn));  // min(c_n, 0): the facing-flow mask
       const float ra = rho[i] * a;  // ra: rho A for wet faces, 0 otherwise
-      // F = n * s_n + v_c * s_v + km rho A |v_c| (w x v_c).
-      const float s_n = -kb * (p_ref + dp[i]) * a + ra * (-kd * cneg * cneg - kf * vt * cn +
+      const float re = ra * exposed[i];  // flow terms only on faces the flow reaches
+      // F = n * s_n + v_c * s_v - km rho A |v_c| (w x v_c).
+      const float s_n = -kb * (p_ref + dp[i]) * a + re * (-kd * cneg * cneg - kf * vt * cn +
                                                           kl * cn * vmag);
-      const float s_v = ra * (kf * vt - kl * cn * cn * inv_v);
-      const float s_m = km * ra * vmag;
+      const float s_v = re * (kf * vt - kl * cn * cn * inv_v);
+      const float s_m = -km * re * vmag;  // Magnus along w x (-v_c): see the header
       const float fx = nx * s_n + cx * s_v + s_m * (wy * cz - wz * cy);
       const float fy = ny * s_n + cy * s_v + s_m * (wz * cx - wx * cz);
       const float fz = nz * s_n + cz * s_v + s_m * (wx * cy - wy * cx);
@@ -180,16 +182,17 @@ void classify(const float* const* v, std::size_t n, float h0, float gx, float gy
 void pad(HydroFaces& f) {
   const std::size_t n = (f.area.size() + kLanes - 1) / kLanes * kLanes;
   for (auto* a : {&f.area, &f.n_x, &f.n_y, &f.n_z, &f.c_x, &f.c_y, &f.c_z, &f.s_xx, &f.s_yy,
-                  &f.s_zz, &f.s_xy, &f.s_xz, &f.s_yz}) a->resize(n, 0.0f);
+                  &f.s_zz, &f.s_xy, &f.s_xz, &f.s_yz, &f.exposed}) a->resize(n, 0.0f);
 }
 
 void clear(HydroFaces& f) {
   for (auto* a : {&f.area, &f.n_x, &f.n_y, &f.n_z, &f.c_x, &f.c_y, &f.c_z, &f.s_xx, &f.s_yy,
-                  &f.s_zz, &f.s_xy, &f.s_xz, &f.s_yz}) a->clear();
+                  &f.s_zz, &f.s_xy, &f.s_xz, &f.s_yz, &f.exposed}) a->clear();
 }
 
 void push_face(HydroFaces& f, double area, const Eigen::Vector3d& n, const Eigen::Vector3d& c,
-               const Eigen::Matrix3d& C) {
+               const Eigen::Matrix3d& C, float exposed) {
+  f.exposed.push_back(exposed);
   f.s_xx.push_back(static_cast<float>(C(0, 0)));
   f.s_yy.push_back(static_cast<float>(C(1, 1)));
   f.s_zz.push_back(static_cast<float>(C(2, 2)));
@@ -248,10 +251,14 @@ struct SurfaceHydrodynamics::Accumulator {
 };
 
 SurfaceHydrodynamics::SurfaceHydrodynamics(const geometry::TriangleMesh& mesh,
-                                           HydrodynamicCoefficients coefficients)
+                                           HydrodynamicCoefficients coefficients,
+                                           const std::vector<bool>& exposed)
     : coefficients_(coefficients) {
   if (mesh.positions.size() % 3 != 0 || mesh.indices.size() % 3 != 0) {
     throw std::invalid_argument("SurfaceHydrodynamics: positions/indices are not whole triples");
+  }
+  if (!exposed.empty() && exposed.size() != mesh.num_triangles()) {
+    throw std::invalid_argument("SurfaceHydrodynamics: exposed flags must be empty or one per triangle");
   }
   const std::size_t nv = mesh.num_vertices();
   const std::size_t nt = mesh.num_triangles();
@@ -268,7 +275,7 @@ SurfaceHydrodynamics::SurfaceHydrodynamics(const geometry::TriangleMesh& mesh,
     const double twice_area = cr.norm();
     if (!(twice_area > 0.0)) continue;
     push_face(faces_, 0.5 * twice_area, cr / twice_area, (a + b + c) / 3.0,
-              triangle_moment(a, b, c));
+              triangle_moment(a, b, c), exposed.empty() || exposed[t] ? 1.0f : 0.0f);
     surface_area_ += 0.5 * twice_area;
     for (int k = 0; k < 3; ++k) {
       v_[k].push_back(static_cast<float>(a[k]));
@@ -319,7 +326,7 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
     transform_centroids(&f.c_x[b], &f.c_y[b], &f.c_z[b], n, k, rx, ry, rz);
     fluid.sample(m.p_WBcm, n, rx, ry, rz, out);
     LaneSums s{};
-    face_forces(&f.area[b], &f.n_x[b], &f.n_y[b], &f.n_z[b], mask + b, rx, ry, rz,
+    face_forces(&f.area[b], &f.n_x[b], &f.n_y[b], &f.n_z[b], mask + b, &f.exposed[b], rx, ry, rz,
                 rho, dp, ux, uy, uz, &f.s_xx[b], &f.s_yy[b], &f.s_zz[b], &f.s_xy[b], &f.s_xz[b],
                 &f.s_yz[b], n, k, s);
     for (std::size_t j = 0; j < kLanes; ++j) {
@@ -375,7 +382,7 @@ void SurfaceHydrodynamics::clip_crossing_faces(const BodyMotion& m, double surfa
       C += sub_area[k - 1] * (triangle_moment(poly[0], poly[k], poly[k + 1]) + d * d.transpose());
     }
     push_face(clipped_, area, Eigen::Vector3d(faces_.n_x[i], faces_.n_y[i], faces_.n_z[i]),
-              centroid, C / area);
+              centroid, C / area, faces_.exposed[i]);
   }
   pad(clipped_);
 }

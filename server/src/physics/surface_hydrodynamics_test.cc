@@ -222,9 +222,10 @@ TEST(SurfaceHydrodynamicsTest, PlateLiftVanishesAt0And90AndIsPerpendicularToFlow
   }
 }
 
-// Cylinder (axis z) spinning at w = omega z in a cross-flow U x: the Magnus force points along
-// w x v = omega U y. For omega R << U the face velocities are ~U and the sum is C_M rho A_total U
-// (omega U) (the spin-induced parts cancel to first order in omega R / U by symmetry).
+// Cylinder (axis z) spinning at w = omega z in a cross-flow U x: the cylinder moves through the water
+// at v_r = -U x, and the Magnus force points along w x v_r = -omega U y (Kutta-Joukowski: the -y
+// side's surface moves with the flow). For omega R << U the face velocities are ~U and the sum is
+// C_M rho A_total U (omega U) (the spin-induced parts cancel to first order in omega R / U).
 TEST(SurfaceHydrodynamicsTest, MagnusForceOnSpinningCylinderPointsAlongWCrossV) {
   const double R = 0.3, L = 2.0, U = 1.5, omega = 0.05, C_M = 0.2;
   SurfaceHydrodynamics hydro(to_mesh(assets::make_cylinder(R, L, 64)),
@@ -234,7 +235,8 @@ TEST(SurfaceHydrodynamicsTest, MagnusForceOnSpinningCylinderPointsAlongWCrossV) 
   BodyMotion m = at({0.0, 0.0, -20.0});
   m.w_WB = Eigen::Vector3d(0.0, 0.0, omega);
   const HydrodynamicWrench w = hydro.compute(m, water);
-  const Eigen::Vector3d dir = m.w_WB.cross(water.current_W).normalized();
+  const Eigen::Vector3d dir = m.w_WB.cross(-water.current_W).normalized();
+  EXPECT_LT(dir.y(), -0.999);
   EXPECT_GT(w.f_W.normalized().dot(dir), 1.0 - 1e-4);
   const double expected = C_M * kRho * hydro.surface_area() * U * omega * U;
   EXPECT_NEAR(w.f_W.dot(dir), expected, 0.01 * expected);

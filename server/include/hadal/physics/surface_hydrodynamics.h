@@ -12,7 +12,7 @@
 //                  overpressure pushes the face inward, i.e. along the flow.
 //   skin friction  F_f = 1/2 rho C_f A |v_t| v_t      (drags the face along with the fluid)
 //   lift           F_l = 1/2 rho C_L A |v_c|^2 (n . v_hat) (n - (n . v_hat) v_hat)
-//   Magnus         F_m = C_M rho A |v_c| (w_WB x v_c)
+//   Magnus         F_m = C_M rho A |v_c| (w_WB x v_r),  v_r = -v_c (the face's velocity through the water)
 //   moment about the centre of mass: tau = r x (F_b + F_d + F_f + F_l + F_m) + dtau_b
 //   dtau_b = rho g A (C_W z) x n: buoyancy acts at the face's centre of pressure, not its centroid.
 //            The pressure varies linearly over the face (dp/dz = -rho g), so its exact moment about
@@ -36,9 +36,14 @@
 // sides of a plate lift the same way, so a plate of area A gets C_L,plate = C_L sin 2 alpha (slope
 // 2 C_L per radian at small alpha).
 //
-// Magnus: the paper's formula as written. Note its units: C_M rho A |v| |w x v| is N per second, so
-// C_M carries seconds (C_M |v_c| acts as the length scale the paper says C_M absorbs). It must be
-// calibrated (paper: against CFD and a free-fall lander); the default 0 leaves it off.
+// Magnus: the paper's F = C_M rho A |v| (w x v) with v the body's velocity *through the water*,
+// v_r = -v_c. With v_c in its place the force would point the wrong way: a cylinder spinning about +z
+// at rest in a flow along +x is pushed towards -y (Kutta-Joukowski: the surface moving with the flow
+// on the -y side speeds it up there, lowering the pressure), which is w x v_r, not w x v_c; and summed
+// over a hull the reversed sign feeds tilt rates instead of damping them (a descending lander
+// wobbles). Units: C_M rho A |v| |w x v| is N per second, so C_M carries seconds (C_M |v_c| acts as
+// the length scale the paper says C_M absorbs). It must be calibrated (paper: against CFD and a
+// free-fall lander); the default 0 leaves it off.
 //
 // Buoyancy and atmospheric pressure. Over a closed surface a uniform pressure integrates to zero
 // (sum A n = 0, divergence theorem), so for a fully submerged body p_atm, and indeed any constant,
@@ -167,6 +172,9 @@ struct HydroFaces {
   std::vector<float> c_x, c_y, c_z;                 // centroid in B [m]
   // C = (1/A) int (x - c)(x - c)^T dA, second area moment about the centroid per area, in B [m^2]
   std::vector<float> s_xx, s_yy, s_zz, s_xy, s_xz, s_yz;
+  // 1 for faces the flow reaches, 0 for faces inside another part of the hull (drag, friction, lift
+  // and Magnus off; buoyancy kept so every closed part still integrates its pressure).
+  std::vector<float> exposed;
   std::size_t size() const { return area.size(); }
 };
 
@@ -175,10 +183,13 @@ class SurfaceHydrodynamics {
   static constexpr std::size_t kLanes = 16;   // accumulator lanes / padding
   static constexpr std::size_t kBlock = 256;  // faces per fluid-sampling block
 
-  // Builds the face arrays from `mesh_B` (positions in B). Zero-area faces are dropped.
-  // Throws std::invalid_argument for malformed index arrays.
+  // Builds the face arrays from `mesh_B` (positions in B). Zero-area faces are dropped. `exposed`:
+  // empty (every face meets the flow) or one flag per triangle (false: the face lies inside another
+  // part of the hull, so only its pressure counts). Throws std::invalid_argument for malformed index
+  // arrays or a flag count that is neither 0 nor the triangle count.
   explicit SurfaceHydrodynamics(const geometry::TriangleMesh& mesh_B,
-                                HydrodynamicCoefficients coefficients = {});
+                                HydrodynamicCoefficients coefficients = {},
+                                const std::vector<bool>& exposed = {});
 
   // Fluid wrench for body motion `motion` in fluid `fluid`. Reuses internal scratch (not thread
   // safe per object; one object per body).
