@@ -12,10 +12,13 @@
 #include <cstdlib>
 #include <string>
 
+#include "json_number.h"
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
 
 namespace {
+
+using hadal::tools::json_number;
 
 constexpr const char* kUsage =
     "usage: hadal-mesh-info FILE [--scale S] [--up-axis y|z]\n"
@@ -48,16 +51,6 @@ std::string json_string(const std::string& text) {
   return out + "\"";
 }
 
-// Shortest text that reads back as the same double; JSON has no NaN/Inf, so those become null.
-std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buf[32];
-  for (int precision = 6; precision <= 17; ++precision) {
-    std::snprintf(buf, sizeof(buf), "%.*g", precision, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
 
 template <class Vector>
 std::string json_vector(const Vector& v) {

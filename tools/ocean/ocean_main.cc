@@ -12,10 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "json_number.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/physics/ocean.h"
 
 namespace {
+
+using hadal::tools::json_number;
 
 constexpr const char* kUsage =
     "usage: hadal-ocean SCENARIO.yaml [--depths D1,D2,...] [--time T]\n"
@@ -39,16 +42,6 @@ bool parse_number(const std::string& text, double* out) {
   return true;
 }
 
-// Shortest text that reads back as the same double.
-std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buf[32];
-  for (int precision = 6; precision <= 17; ++precision) {
-    std::snprintf(buf, sizeof(buf), "%.*g", precision, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
 
 }  // namespace
 

@@ -139,4 +139,18 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
   for (std::uint32_t index : mesh.indices) out->indices.push_back(index + offset);
 }
 
+TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) {
+  TriangleMesh mesh_B;
+  for (const LinkSpec& link : spec.links) {
+    if (link.mesh && link.mesh->mesh) {
+      append_transformed(*link.mesh->mesh, link.X_BL, &mesh_B);
+      continue;
+    }
+    for (const CollisionShape& shape : link.collisions) {
+      append_transformed(tessellate(shape, segments), link.X_BL * shape.X_LG, &mesh_B);
+    }
+  }
+  return mesh_B;
+}
+
 }  // namespace hadal::geometry

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "hadal/geometry/mesh_properties.h"
 
@@ -98,6 +99,36 @@ TEST(PrimitiveMeshTest, AppendTransformedMovesVerticesAndOffsetsIndices) {
   EXPECT_TRUE(properties.closed);
   EXPECT_NEAR(properties.volume, 2.0, 1e-5);
   EXPECT_NEAR(properties.centroid.x(), 2.5, 1e-5);
+}
+
+// A vehicle's surface: a link mesh is used as it is (moved by X_BL), a link without one contributes
+// its collision primitives; the union of closed parts has the parts' summed volume.
+TEST(PrimitiveMeshTest, VehicleSurfaceTakesLinkMeshesOrPrimitives) {
+  CollisionShape box;
+  box.type = CollisionShapeType::kBox;
+  box.box_size = Eigen::Vector3d(1.0, 0.5, 0.25);
+  VehicleSpec vehicle;
+  LinkSpec hull;
+  hull.collisions = {box, shape(CollisionShapeType::kSphere, 0.1, 0.0)};
+  hull.collisions[1].X_LG.translation() = Eigen::Vector3d(2.0, 0.0, 0.0);
+  LinkSpec meshed;
+  meshed.X_BL.translation() = Eigen::Vector3d(0.0, 0.0, -3.0);
+  meshed.collisions = {box};  // ignored: the link has a mesh
+  LinkMesh mesh;
+  mesh.mesh = std::make_shared<TriangleMesh>(tessellate(shape(CollisionShapeType::kCylinder, 0.2, 1.0)));
+  meshed.mesh = mesh;
+  vehicle.links = {hull, meshed};
+  const TriangleMesh surface = vehicle_surface_B(vehicle);
+  const std::size_t expected = tessellate(box).num_triangles() +
+                               tessellate(hull.collisions[1]).num_triangles() + mesh.mesh->num_triangles();
+  EXPECT_EQ(surface.num_triangles(), expected);
+  const MeshProperties props = compute_mesh_properties(surface);
+  const double volume = box.box_size.prod() +
+                        compute_mesh_properties(tessellate(hull.collisions[1])).volume +
+                        compute_mesh_properties(*mesh.mesh).volume;
+  EXPECT_NEAR(props.volume, volume, kFloatRel * volume);
+  EXPECT_NEAR(props.bounds_min.z(), -3.5, 1e-6);  // the cylinder (along z, 1 m) moved 3 m down
+  EXPECT_EQ(vehicle_surface_B(VehicleSpec{}).num_triangles(), 0u);
 }
 
 }  // namespace

@@ -38,4 +38,10 @@ double revolved_polyhedron_volume(const std::vector<std::pair<double, double>>& 
 // only; normals, uvs and materials are not carried over).
 void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM, TriangleMesh* out);
 
+// A vehicle's surface in its body frame B, the hydrodynamic mesh of the surface fluid model: per link
+// its mesh (in L) if it has one, else its collision primitives tessellated with `segments`, moved by
+// X_BL (and X_LG). Parts are appended in link order, each primitive's triangles contiguous; nothing
+// is merged. Empty if no link has a mesh or collision shapes.
+TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
+
 }  // namespace hadal::geometry

@@ -1,0 +1,146 @@
+// Shared by the validation commands (tools/validation/*_main.cc): command-line numbers, JSON numbers,
+// output directory, scenario loading with the loader's diagnostics, yaw unwrapping and a small JSON
+// object writer. Header-only.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <utility>
+
+#include "hadal/config/scenario_loader.h"
+#include "json_number.h"
+#include "hadal/core/model.h"
+#include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/triangle_mesh.h"
+
+namespace hadal::validation {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegPerRad = 180.0 / kPi;
+
+// A whole-string finite number, or false.
+inline bool parse_number(const std::string& text, double* out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
+  *out = x;
+  return true;
+}
+
+using tools::json_number;
+
+// A number rounded to `digits` significant digits (summary values, not round-trip data).
+inline std::string json_rounded(double x, int digits = 6) {
+  if (!std::isfinite(x)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.*g", digits, x);
+  return buf;
+}
+
+inline std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// Creates `dir` (and parents) if needed; "" on success, otherwise the reason.
+inline std::string ensure_directory(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    return dir + ": cannot create the output directory" + (ec ? ": " + ec.message() : "");
+  }
+  return {};
+}
+
+inline std::string join_path(const std::string& dir, const std::string& name) {
+  return (std::filesystem::path(dir) / name).string();
+}
+
+// Loads a scenario; prints its warnings and errors (file:line:col form) to stderr. Empty on error.
+inline std::optional<Model> load_model(const std::string& path, const char* tool) {
+  config::LoadResult result = config::load_scenario_file(path);
+  for (const config::Diagnostic& d : result.warnings) std::fprintf(stderr, "%s\n", d.format().c_str());
+  for (const config::Diagnostic& d : result.errors) std::fprintf(stderr, "%s\n", d.format().c_str());
+  if (!result.ok()) {
+    std::fprintf(stderr, "%s: %s: the scenario does not load\n", tool, path.c_str());
+    return std::nullopt;
+  }
+  return std::move(result.model);
+}
+
+// Yaw of B in W (rotation about W's z of the ZYX Euler decomposition) [rad], in (-pi, pi].
+inline double yaw_of(const Eigen::Matrix3d& R_WB) { return std::atan2(R_WB(1, 0), R_WB(0, 0)); }
+// Tilt of B's z axis from W's vertical [rad].
+inline double tilt_of(const Eigen::Matrix3d& R_WB) {
+  return std::acos(std::clamp(R_WB(2, 2), -1.0, 1.0));
+}
+
+// Continuous angle from successive wrapped samples (each step assumed < pi).
+class Unwrapper {
+ public:
+  double operator()(double wrapped) {
+    if (!started_) {
+      started_ = true;
+      last_ = unwrapped_ = wrapped;
+      return unwrapped_;
+    }
+    double delta = wrapped - last_;
+    delta -= 2.0 * kPi * std::round(delta / (2.0 * kPi));
+    last_ = wrapped;
+    unwrapped_ += delta;
+    return unwrapped_;
+  }
+
+ private:
+  bool started_ = false;
+  double last_ = 0.0;
+  double unwrapped_ = 0.0;
+};
+
+// A vehicle's hydrodynamic mesh in B as Simulation builds it for fluid.model: surface.
+inline geometry::TriangleMesh hydrodynamic_mesh_B(const VehicleSpec& spec) {
+  return geometry::vehicle_surface_B(spec);
+}
+
+// Builds one JSON object, keys in insertion order, pretty-printed with two-space indentation.
+class JsonObject {
+ public:
+  explicit JsonObject(int indent = 0) : indent_(indent) {}
+  JsonObject& raw(const std::string& key, const std::string& value) {
+    out_ << (first_ ? "" : ",") << "\n" << std::string(indent_ + 2, ' ') << json_string(key) << ": "
+         << value;
+    first_ = false;
+    return *this;
+  }
+  JsonObject& number(const std::string& key, double value, int digits = 6) {
+    return raw(key, json_rounded(value, digits));
+  }
+  JsonObject& text(const std::string& key, const std::string& value) {
+    return raw(key, json_string(value));
+  }
+  JsonObject& boolean(const std::string& key, bool value) { return raw(key, value ? "true" : "false"); }
+  std::string str() const {
+    return first_ ? "{}" : "{" + out_.str() + "\n" + std::string(indent_, ' ') + "}";
+  }
+
+ private:
+  int indent_;
+  bool first_ = true;
+  std::ostringstream out_;
+};
+
+}  // namespace hadal::validation
