@@ -724,6 +724,8 @@ void read_fluid(const std::optional<Value>& value, const std::vector<LinkSpec>& 
     return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) || !link.collisions.empty();
   });
   fluid->model = has_faces ? FluidModelType::kSurface : FluidModelType::kLumped;
+  // Added mass is fitted to the hull by default; a vehicle without geometry has none unless given.
+  fluid->added_mass.model = has_faces ? AddedMassModel::kEllipsoid : AddedMassModel::kNone;
   std::optional<MapReader> map;
   if (value) {
     map.emplace(*value, std::vector<std::string>{"model", "linear_damping", "quadratic_damping",

@@ -339,6 +339,7 @@ TEST_F(ScenarioLoaderTest, DefaultFluidModelFollowsTheGeometry) {
   const LoadResult result = load_scenario_file(path);
   ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
   EXPECT_EQ(result.model->vehicles[0].fluid.model, FluidModelType::kLumped);   // no faces
+  EXPECT_EQ(result.model->vehicles[0].fluid.added_mass.model, AddedMassModel::kNone);
   EXPECT_EQ(result.model->vehicles[1].fluid.model, FluidModelType::kSurface);  // collision shapes
   EXPECT_EQ(result.model->vehicles[1].fluid.added_mass.model, AddedMassModel::kEllipsoid);
   EXPECT_FALSE(result.model->vehicles[1].fluid.added_mass.semi_axes_E.has_value());

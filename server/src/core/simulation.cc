@@ -4,11 +4,13 @@
 #include <charconv>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 
 #include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/shape_overlap.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/physics/added_mass.h"
 #include "hadal/physics/bullet_world.h"
@@ -33,6 +35,11 @@ struct Simulation::VehicleRuntime {
   double mass = 0.0;
   Matrix6d M_A0 = Matrix6d::Zero();                  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
+  // Surface model: volume displaced twice where hull parts overlap, its centroid in B, and the
+  // height over which it goes from dry to wet (diameter of the sphere of that volume).
+  double excess_volume = 0.0;
+  Eigen::Vector3d p_BE = Eigen::Vector3d::Zero();
+  double excess_height = 0.0;
   // Step scratch (not state). The centre of mass and its velocity at the step start, every applied
   // wrench of the step collected at the centre of mass in W, the submerged fraction; then what Bullet
   // was given at the centre of mass in the B axes of the step start, and the velocity then, for the
@@ -51,6 +58,7 @@ struct Simulation::VehicleRuntime {
 namespace {
 
 constexpr std::size_t kParallelFluidFaces = 4096;
+constexpr double kPi = 3.14159265358979323846;
 
 std::string format_number(double value) {
   char buffer[32];
@@ -163,20 +171,9 @@ void validate(const Model& model) {
   }
 }
 
-// The vehicle's hydrodynamic mesh in B: per link its mesh (in L) if it has one, else its collision
-// primitives tessellated (geometry/primitive_mesh.h), moved by X_BL (and X_LG). Overlapping parts
-// are not merged: each closed part displaces its own volume, so overlaps count twice.
+// The vehicle's hydrodynamic mesh in B (geometry::vehicle_surface_B).
 geometry::TriangleMesh hydrodynamic_mesh_B(const VehicleSpec& spec) {
-  geometry::TriangleMesh mesh_B;
-  for (const LinkSpec& link : spec.links) {
-    if (link.mesh && link.mesh->mesh) {
-      geometry::append_transformed(*link.mesh->mesh, link.X_BL, &mesh_B);
-      continue;
-    }
-    for (const CollisionShape& shape : link.collisions) {
-      geometry::append_transformed(geometry::tessellate(shape), link.X_BL * shape.X_LG, &mesh_B);
-    }
-  }
+  geometry::TriangleMesh mesh_B = geometry::vehicle_surface_B(spec);
   if (mesh_B.num_triangles() == 0) {
     throw std::invalid_argument("vehicle '" + spec.name +
                                 "': fluid model 'surface' needs a hydrodynamic mesh: no link has a "
@@ -185,9 +182,98 @@ geometry::TriangleMesh hydrodynamic_mesh_B(const VehicleSpec& spec) {
   return mesh_B;
 }
 
-// M_A0 about the centre of mass p_BBcm in B axes (physics/added_mass.h, AddedMassSpec).
-Matrix6d surface_added_mass(const VehicleSpec& spec, const Eigen::Vector3d& p_BBcm,
-                            double surface_density) {
+// Parts of a hull built from primitives may overlap. Each tessellated part is closed and integrates
+// its own pressure, so the overlap displaces water twice; and faces of one part that lie inside
+// another meet no flow. The hull keeps every face for buoyancy, turns the flow terms off on faces
+// whose centroid lies inside another primitive (exposed = false), and the doubly counted volume
+// (geometry/shape_overlap.h: excess volume E and its centroid, from the smooth primitives; the
+// inscribed tessellation overlaps slightly less, so E over-corrects by ~2 % of itself) is taken
+// back each step as a downward force rho g E at its centroid.
+struct HydrodynamicHull {
+  geometry::TriangleMesh mesh_B;
+  std::vector<bool> exposed;  // one per triangle
+  double excess_volume = 0.0;                                 // E [m^3]
+  Eigen::Vector3d p_BE = Eigen::Vector3d::Zero();             // its centroid in B
+  Eigen::Matrix3d C_E = Eigen::Matrix3d::Zero();              // its second moment about p_BE [m^5]
+};
+
+HydrodynamicHull hydrodynamic_hull(const VehicleSpec& spec) {
+  HydrodynamicHull hull;
+  hull.mesh_B = hydrodynamic_mesh_B(spec);
+  hull.exposed.assign(hull.mesh_B.num_triangles(), true);
+  // The primitives that became faces, in B, with the index of their first triangle.
+  std::vector<std::pair<CollisionShape, Eigen::Isometry3d>> shapes_B;
+  std::vector<std::size_t> first_triangle;
+  std::size_t triangle = 0;
+  for (const LinkSpec& link : spec.links) {
+    if (link.mesh && link.mesh->mesh) {
+      triangle += link.mesh->mesh->num_triangles();
+      continue;
+    }
+    for (const CollisionShape& shape : link.collisions) {
+      shapes_B.emplace_back(shape, link.X_BL * shape.X_LG);
+      first_triangle.push_back(triangle);
+      triangle += geometry::tessellate(shape).num_triangles();
+    }
+  }
+  first_triangle.push_back(triangle);
+  if (shapes_B.size() < 2) return hull;
+  double volume = 0.0;
+  for (const auto& shape : shapes_B) {
+    volume += std::abs(geometry::compute_mesh_properties(geometry::tessellate(shape.first)).volume);
+  }
+  geometry::OverlapExcessOptions options;
+  options.absolute_tolerance = 1e-4 * volume;
+  const geometry::OverlapExcess excess = geometry::overlap_excess(shapes_B, options);
+  if (excess.overlapping_pairs.empty()) return hull;
+  hull.excess_volume = excess.volume;
+  hull.p_BE = excess.centroid_B;
+  hull.C_E = excess.second_moment_B;
+  const geometry::TriangleMesh& mesh = hull.mesh_B;
+  for (std::size_t part = 0; part < shapes_B.size(); ++part) {
+    for (std::size_t t = first_triangle[part]; t < first_triangle[part + 1]; ++t) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = mesh.indices[3 * t + k];
+        c += Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+      }
+      c /= 3.0;
+      for (std::size_t other = 0; other < shapes_B.size(); ++other) {
+        if (other != part && geometry::contains(shapes_B[other].first, shapes_B[other].second, c)) {
+          hull.exposed[t] = false;
+          break;
+        }
+      }
+    }
+  }
+  return hull;
+}
+
+// Volume properties of the hull's union: the parts' (each closed part integrated by the divergence
+// theorem) less the doubly counted overlap E with centroid p_BE and second moment C_E about it.
+geometry::MeshProperties union_properties(const HydrodynamicHull& hull) {
+  geometry::MeshProperties props = geometry::compute_mesh_properties(hull.mesh_B);
+  const double E = hull.excess_volume;
+  if (!(E > 0.0) || !props.closed || !(props.volume > E)) return props;
+  const auto second_moment = [](const Eigen::Matrix3d& I) {  // I = tr(C) 1 - C  =>  C = tr(I)/2 1 - I
+    return Eigen::Matrix3d(0.5 * I.trace() * Eigen::Matrix3d::Identity() - I);
+  };
+  const double V = props.volume - E;
+  const Eigen::Vector3d c = (props.volume * props.centroid - E * hull.p_BE) / V;
+  const Eigen::Vector3d dp = props.centroid - c, de = hull.p_BE - c;
+  const Eigen::Matrix3d C = second_moment(props.inertia_unit_density) +
+                            props.volume * dp * dp.transpose() - hull.C_E -
+                            E * de * de.transpose();
+  props.volume = V;
+  props.centroid = c;
+  props.inertia_unit_density = C.trace() * Eigen::Matrix3d::Identity() - C;
+  return props;
+}
+
+// M_A0 about the centre of mass p_BBcm in B axes (physics/added_mass.h, AddedMassSpec). `hull` is
+// the vehicle's hydrodynamic hull (needed by an ellipsoid fitted to it).
+Matrix6d surface_added_mass(const VehicleSpec& spec, const HydrodynamicHull* hull,
+                            const Eigen::Vector3d& p_BBcm, double surface_density) {
   const AddedMassSpec& added = spec.fluid.added_mass;
   switch (added.model) {
     case AddedMassModel::kNone:
@@ -203,8 +289,8 @@ Matrix6d surface_added_mass(const VehicleSpec& spec, const Eigen::Vector3d& p_BB
     ellipsoid.X_BE = added.X_BE;
   } else {
     try {
-      ellipsoid = physics::equivalent_ellipsoid(
-          geometry::compute_mesh_properties(hydrodynamic_mesh_B(spec)));
+      if (!hull) throw std::invalid_argument("no link has a mesh or collision shapes");
+      ellipsoid = physics::equivalent_ellipsoid(union_properties(*hull));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("vehicle '" + spec.name + "': fluid.added_mass: " + e.what() +
                                   "; give fluid.added_mass.semi_axes or a matrix, or model: none");
@@ -246,11 +332,20 @@ Simulation::Simulation(Model model)
     const physics::MassProperties& mass = world_->mass_properties(index);
     runtime.p_BBcm = mass.p_BBcm;
     runtime.mass = mass.mass;
+    const bool has_faces = std::any_of(spec.links.begin(), spec.links.end(), [](const LinkSpec& link) {
+      return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) ||
+             !link.collisions.empty();
+    });
+    std::optional<HydrodynamicHull> hull;
+    if (spec.fluid.model == FluidModelType::kSurface || has_faces) hull = hydrodynamic_hull(spec);
     if (spec.fluid.model == FluidModelType::kSurface) {
-      runtime.surface = std::make_unique<physics::SurfaceHydrodynamics>(hydrodynamic_mesh_B(spec),
-                                                                        spec.fluid.hydrodynamics);
+      runtime.surface = std::make_unique<physics::SurfaceHydrodynamics>(
+          hull->mesh_B, spec.fluid.hydrodynamics, hull->exposed);
+      runtime.excess_volume = hull->excess_volume;
+      runtime.p_BE = hull->p_BE;
+      runtime.excess_height = 2.0 * std::cbrt(3.0 * hull->excess_volume / (4.0 * kPi));
     }
-    runtime.M_A0 = surface_added_mass(spec, mass.p_BBcm, ocean_->density(0.0));
+    runtime.M_A0 = surface_added_mass(spec, hull ? &*hull : nullptr, mass.p_BBcm, ocean_->density(0.0));
     if (!runtime.M_A0.isZero(0.0)) {
       runtime.added_mass = std::make_unique<physics::AddedMassDynamics>(
           physics::RigidBodyInertia{mass.mass, mass.I_BBcm_B}, runtime.M_A0,
@@ -409,6 +504,18 @@ void Simulation::step() {
       runtime.f_W += fluid.f_W;
       runtime.tau_W += fluid.tau_W;
       runtime.submerged_fraction = fluid.wetted_area / runtime.surface->surface_area();
+      if (runtime.excess_volume > 0.0) {
+        // Overlapping parts: take back the doubly counted buoyancy, -rho g E, at the overlap's
+        // centroid, ramped from dry to wet over its height (exact when it is fully submerged).
+        const Eigen::Vector3d p_WE = body.X_WB * runtime.p_BE;
+        const double depth = ocean_->depth(p_WE.z());
+        const double wet = std::clamp(0.5 + depth / runtime.excess_height, 0.0, 1.0);
+        // Buoyancy acts along +z of W with the Ocean's g, like the kernel's pressure.
+        const Eigen::Vector3d f_E(0.0, 0.0, -wet * ocean_->density(std::max(depth, 0.0)) *
+                                                runtime.excess_volume * ocean_->gravity());
+        runtime.f_W += f_E;
+        runtime.tau_W += (p_WE - runtime.p_WBcm).cross(f_E);
+      }
     } else {
       // Lumped model: buoyancy and damping relative to the current at the centre of mass.
       const physics::LumpedFluidWrench fluid = runtime.fluid.wrench(body, runtime.v_water_W);
