@@ -1,10 +1,14 @@
 // Internal to the core module: a small persistent thread pool for per-step parallel work (the fluid
-// forces of several vehicles). Threads are created once; each run() wakes them, shares out the
-// items through an atomic counter, and returns when every item is done, so the per-step cost is a
-// wake-up (~10 us), not a thread start. Results must not depend on which thread ran an item (each
+// forces of several vehicles). Threads are created once; each run() publishes a new generation,
+// shares out the items under a mutex and returns when every item is done. A waking thread can take
+// tens of microseconds to run on a VM -- as long as a whole item -- so helpers spin on the generation
+// for up to kSpin after their last item before they block (in fast mode the next step's run comes
+// within microseconds; in real-time mode they are asleep between steps), and the caller spins for
+// the last item instead of sleeping. Results must not depend on which thread ran an item (each
 // item writes only its own output), so runs are deterministic whatever the thread count.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -32,19 +36,17 @@ class WorkerPool {
 
  private:
   void work_loop();
-  void drain();
+  void drain(std::unique_lock<std::mutex>& lock);
 
   std::vector<std::thread> threads_;
-  std::mutex mutex_;
+  std::mutex mutex_;                 // guards task_, count_, next_, failure_ and the waits
   std::condition_variable start_;
-  std::condition_variable done_;
   const std::function<void(std::size_t)>* task_ = nullptr;
   std::size_t count_ = 0;
-  std::size_t next_ = 0;          // next item to hand out (under mutex_)
-  std::size_t finished_ = 0;      // items done in this run
-  unsigned busy_ = 0;             // helpers inside drain()
-  std::uint64_t generation_ = 0;  // bumped per run, wakes the helpers
-  bool stop_ = false;
+  std::size_t next_ = 0;                      // next item to hand out
+  std::atomic<std::size_t> finished_{0};      // items done in this run (written under mutex_)
+  std::atomic<std::uint64_t> generation_{0};  // bumped per run (under mutex_); helpers spin on it
+  std::atomic<bool> stop_{false};
   std::exception_ptr failure_;
 };
 
