@@ -296,14 +296,18 @@ class ClippedBox {
     }
   }
 
-  // Keeps the part with n . u <= beta.
-  void cut(const Eigen::Vector3d& n, double beta) {
+  // Keeps the part with n . u <= beta. Returns false if a face crossed the plane other than once
+  // out and once in (possible only with vertices within rounding of the plane, e.g. the face left
+  // by a previous cut on the same plane); the polyhedron is then unusable. Callers cut slightly
+  // outside their planes (see leaf_moments) so that vertices of coplanar cuts are clearly inside.
+  bool cut(const Eigen::Vector3d& n, double beta) {
     const double reach = n.cwiseAbs().dot(half_);
-    if (beta >= reach) return;
+    if (beta >= reach) return true;
     if (beta < -reach) {
       face_count_ = 0;
-      return;
+      return true;
     }
+    bool ok = true;
     // In place: each edge gives at most one, so a face is rewritten behind its reading position.
     Face cap;
     int kept = 0;
@@ -312,7 +316,7 @@ class ClippedBox {
       Face& out = faces_[kept];
       const int count = face.count;
       int written = 0;
-      bool exited = false, entered = false;
+      int exits = 0, entries = 0;
       Eigen::Vector3d exit = Eigen::Vector3d::Zero(), entry = Eigen::Vector3d::Zero();
       for (int e = 0; e < count; ++e) {
         const Eigen::Vector3d a = face.from[e];
@@ -322,15 +326,16 @@ class ClippedBox {
           out.set(written++, a, b);
         } else if (da <= 0.0) {
           exit = a + (da / (da - db)) * (b - a);
-          exited = true;
+          ++exits;
           out.set(written++, a, exit);
         } else if (db <= 0.0) {
           entry = a + (da / (da - db)) * (b - a);
-          entered = true;
+          ++entries;
           out.set(written++, entry, b);
         }
       }
-      if (exited && entered) {
+      if (exits != entries || exits > 1) ok = false;
+      if (exits == 1 && entries == 1) {
         out.set(written++, exit, entry);
         cap.add(entry, exit);
       }
@@ -339,6 +344,7 @@ class ClippedBox {
     }
     if (cap.count > 0) faces_[kept++] = cap;
     face_count_ = kept;
+    return ok;
   }
 
   // Moments about the box centre: tetrahedra from the centre over a fan of each face (from its
@@ -434,10 +440,10 @@ class OverlapIntegrator {
 
   std::size_t cells_evaluated() const { return cells_evaluated_; }
   double exact_volume() const { return exact_volume_; }
-  const Eigen::Vector3d& exact_moment() const { return exact_moment_; }
   const Moments& exact_moments() const { return exact_moments_; }  // about origin
   const CutPlanes* planes(const Cell& cell) const { return &planes_[cell.first_plane]; }
   double slack() const { return slack_; }
+  double margin() const { return margin_; }
   const std::vector<Cell>& cells() const { return cells_; }
 
   // Classifies the cell (center, half) against `candidates` (shapes not known to be outside it),
@@ -534,7 +540,6 @@ class OverlapIntegrator {
 
     if (f_min == f_max) {
       exact_volume_ += f_min * volume;
-      exact_moment_ += f_min * volume * center;
       if (f_min > 0.0) exact_moments_.add(Moments::box(half).shifted(center - origin_), f_min);
       return -1;
     }
@@ -634,7 +639,6 @@ class OverlapIntegrator {
   std::vector<int> pool_;
   std::size_t cells_evaluated_ = 0;
   double exact_volume_ = 0.0;
-  Eigen::Vector3d exact_moment_ = Eigen::Vector3d::Zero();
   Moments exact_moments_;  // about origin_
   std::vector<CutPlanes> planes_;
   double slack_ = 0.0;
@@ -644,8 +648,9 @@ class OverlapIntegrator {
 
 // Moments about the box centre of the part of the box [-h, h] with n . u <= beta (|n| = 1):
 // tetrahedra from a point q on the plane over a fan of each box face clipped to the half-space
-// (the face on the plane adds none). One cut; ClippedBox does several. The hot loop of the
-// second moments, so it keeps sums by hand (corner k has signs (k & 1, k & 2, k & 4) on x, y, z).
+// (the face on the plane adds none). With more than four corners kept, the box less the other
+// side, which has fewer tetrahedra. One cut; ClippedBox does several. The hot loop of the moments,
+// so it keeps sums by hand (corner k has signs (k & 1, k & 2, k & 4) on x, y, z).
 Moments half_space_moments(const Eigen::Vector3d& half, const Eigen::Vector3d& n, double beta) {
   const Eigen::Vector3d along = n.cwiseProduct(half);
   const double reach = along.cwiseAbs().sum();
@@ -657,10 +662,16 @@ Moments half_space_moments(const Eigen::Vector3d& half, const Eigen::Vector3d& n
   const Eigen::Vector3d q = beta * n;
   Eigen::Vector3d corner[8];
   double d[8];
+  int below = 0;
   for (int k = 0; k < 8; ++k) {
     const Eigen::Vector3d sign((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
     corner[k] = sign.cwiseProduct(half) - q;
     d[k] = sign.dot(along) - beta;
+    if (d[k] <= 0.0) ++below;
+  }
+  const bool complement = below > 4;  // integrate the side d >= 0 instead
+  if (complement) {
+    for (double& dk : d) dk = -dk;
   }
   TetrahedronSums sums;  // about q
   for (const auto& face : kFaces) {
@@ -675,66 +686,73 @@ Moments half_space_moments(const Eigen::Vector3d& half, const Eigen::Vector3d& n
     }
     for (int t = 1; t + 1 < count; ++t) sums.add(kept[0], kept[t], kept[t + 1]);
   }
-  return sums.moments().shifted(q);
+  const Moments part = sums.moments().shifted(q);
+  if (!complement) return part;
+  Moments rest = Moments::box(half);
+  rest.add(part, -1.0);
+  return rest;
 }
 
-// Estimates the moments of a leaf's integrand f = max(count - 1, 0) about the cell centre c from
-// the mixed shapes' cut planes, and bounds the Frobenius norm of the estimate's error in the second
-// moment about p (added to *bound). f is monotone in each shape's set and each set lies between
-// its two cuts, so f_lo <= f <= f_hi with the sets replaced by the cuts; their second moments about
-// p bracket f's in the positive semidefinite order (x -> (x - p)(x - p)^T is positive semidefinite),
-// and any estimate X inside the bracket [M_lo, M_hi] is off by at most tr(M_hi - M_lo) (nuclear
-// norm, above Frobenius) <= (integral of f_hi - f_lo) * max over the cell of |x - p|^2. Used:
-//   a flat cut (beta_lo = beta_hi): exact;
-//   no lower cut known: half the upper cut, off by at most tr(M_hi) / 2, computed;
-//   otherwise: the cut midway between beta_lo and beta_hi (inside the bracket).
-// An intersection of two cut parts takes the midpoint of its bracket, off by at most tr(M_hi -
-// M_lo) / 2. Done where f is a sum of cut parts (a shape contains the cell) or the intersection of
-// two; returns false otherwise (nothing inside and three or more shapes mixed).
-bool leaf_moments(const Cell& cell, const CutPlanes* planes, const Eigen::Vector3d& p, Moments* estimate,
-                  double* bound) {
-  const double volume = 8.0 * cell.half.prod();
-  const double farthest2 = ((cell.center - p).cwiseAbs() + cell.half).squaredNorm();
+// Estimates the moments (about the cell centre) of a leaf's integrand f = max(count - 1, 0) by
+// those of a function f_est built from the mixed shapes' cut planes, and adds to *envelope the
+// moments of a function g >= |f - f_est| (pointwise). Each mixed shape's part S of the cell lies
+// between its cuts, L <= S <= U (L the lower cut, U the upper; L = U for a flat cut), so:
+//   a shape contains the cell: f = (n_inside - 1) + sum over the mixed shapes of 1_S, each 1_S
+//     estimated by 1_U for a flat cut (g = 0), (1_L + 1_U) / 2 otherwise (g = (1_U - 1_L) / 2, with
+//     L empty where no lower cut is known);
+//   nothing inside, two mixed: f = 1_Sa 1_Sb, between 1_La 1_Lb and 1_Ua 1_Ub (clipped boxes),
+//     estimated by their mean (g = half their difference);
+//   otherwise (nothing inside, three or more mixed) returns false, as it does if a clip failed.
+// The clips cut outside the planes, a's by `offset` and b's by twice that (rounding: where the faces
+// of two shapes are coplanar, the vertices the first cut leaves on its plane are then clearly inside
+// the second); the volume that may move is added to *slack.
+bool leaf_moments(const Cell& cell, const CutPlanes* planes, double offset, Moments* estimate, Moments* envelope,
+                  double* slack) {
   *estimate = Moments();
   if (cell.n_inside >= 1) {
     estimate->add(Moments::box(cell.half), cell.n_inside - 1.0);
     for (std::uint32_t j = 0; j < cell.n_mixed; ++j) {
       const CutPlanes& cut = planes[j];
+      const Moments upper = half_space_moments(cell.half, cut.n_B, cut.beta_hi);
       if (cut.beta_lo == cut.beta_hi) {
-        estimate->add(half_space_moments(cell.half, cut.n_B, cut.beta_hi), 1.0);
-      } else if (cut.beta_lo == -kInf) {
-        const Moments upper = half_space_moments(cell.half, cut.n_B, cut.beta_hi);
-        estimate->add(upper, 0.5);
-        *bound += 0.5 * std::max(upper.shifted_trace(cell.center - p), 0.0);
-      } else {
-        estimate->add(half_space_moments(cell.half, cut.n_B, 0.5 * (cut.beta_lo + cut.beta_hi)), 1.0);
-        *bound += (cut.hi - cut.lo) * volume * farthest2;
+        estimate->add(upper, 1.0);
+        continue;
+      }
+      estimate->add(upper, 0.5);
+      envelope->add(upper, 0.5);
+      if (cut.beta_lo > -kInf) {
+        const Moments lower = half_space_moments(cell.half, cut.n_B, cut.beta_lo);
+        estimate->add(lower, 0.5);
+        envelope->add(lower, -0.5);
       }
     }
     return true;
   }
   if (cell.n_mixed != 2) return false;
-  // The intersection of two: its cuts' moments (fewer cells: overlap edges), the estimate midway.
   const CutPlanes& a = planes[0];
   const CutPlanes& b = planes[1];
   ClippedBox upper_cut(cell.half);
-  upper_cut.cut(a.n_B, a.beta_hi);
-  upper_cut.cut(b.n_B, b.beta_hi);
+  bool ok = upper_cut.cut(a.n_B, a.beta_hi + offset);
+  ok = upper_cut.cut(b.n_B, b.beta_hi + 2.0 * offset) && ok;
   const Moments upper = upper_cut.moments();
   Moments lower;
   if (a.beta_lo == a.beta_hi && b.beta_lo == b.beta_hi) {
     lower = upper;
   } else if (a.beta_lo > -kInf && b.beta_lo > -kInf) {
     ClippedBox lower_cut(cell.half);
-    lower_cut.cut(a.n_B, a.beta_lo);
-    lower_cut.cut(b.n_B, b.beta_lo);
+    ok = lower_cut.cut(a.n_B, a.beta_lo + offset) && ok;
+    ok = lower_cut.cut(b.n_B, b.beta_lo + 2.0 * offset) && ok;
     lower = lower_cut.moments();
   }
+  if (!ok) return false;
   estimate->add(upper, 0.5);
   estimate->add(lower, 0.5);
-  Moments spread = upper;
-  spread.add(lower, -1.0);
-  *bound += 0.5 * std::max(spread.shifted_trace(cell.center - p), 0.0);
+  envelope->add(upper, 0.5);
+  envelope->add(lower, -0.5);
+  // A plane cuts the cell in at most sqrt(3) times its largest face (projected along the normal's
+  // largest component); the clips' planes moved by 6 offsets in all.
+  const Eigen::Vector3d& h = cell.half;
+  *slack += 6.0 * offset * 4.0 * std::sqrt(3.0) * std::max({h.x() * h.y(), h.y() * h.z(), h.z() * h.x()});
   return true;
 }
 
@@ -852,54 +870,72 @@ OverlapExcess overlap_excess(const std::vector<std::pair<CollisionShape, Eigen::
   leaves.reserve(queue.size());
   for (; !queue.empty(); queue.pop()) leaves.push_back(queue.top().second);
   double volume = integrator.exact_volume();
-  Eigen::Vector3d moment = integrator.exact_moment();
   double width = integrator.slack();
   for (int index : leaves) {
     const Cell& cell = integrator.cells()[index];
     const double estimate = 0.5 * (cell.lo + cell.hi);
     volume += estimate;
-    moment += estimate * cell.center;
     width += 0.5 * (cell.hi - cell.lo);
   }
   result.volume = volume;
   result.volume_error_bound = width;
   result.cells_evaluated = integrator.cells_evaluated();
   result.overlapping_pairs = integrator.overlapping_pairs();
-  if (volume > 0.0) result.centroid_B = moment / volume;
-  // p_true - p_est = (1/E_true) sum over leaves of [(int f - estimate)(c - p_est) + int f (x - c)],
-  // exact cells contributing nothing; |int f (x - c)| <= (hi - floor) r.
-  double centroid_moment_bound = integrator.slack() * diameter;
-  for (int index : leaves) {
-    const Cell& cell = integrator.cells()[index];
-    centroid_moment_bound += 0.5 * (cell.hi - cell.lo) * (cell.center - result.centroid_B).norm() +
-                             (cell.hi - cell.floor) * cell.half.norm();
-  }
-  result.centroid_error_bound = volume > width ? centroid_moment_bound / (volume - width) : kInf;
 
-  // Second moment about p = centroid_B; derivation in the header. While volume is 0 every leaf has
-  // hi = 0, and only the corner tests' slack remains.
+  // Centroid and second moment from the leaves' estimated integrands f_est (derivation in the
+  // header): raw moments about o, shifted to p = centroid_B at the end. The envelope G >= |f - f_est|
+  // gathers the leaves' error functions; the few leaves spread evenly are bounded on their own.
+  // While volume is 0 every leaf has hi = 0, and only the corner tests' slack remains.
   const Eigen::Vector3d o = all_regions.center();
-  const Eigen::Vector3d& p = result.centroid_B;
-  double second_moment_bound = integrator.slack() * diameter * diameter;
+  Moments sum = integrator.exact_moments();  // about o
+  Moments envelope;                          // about o
+  double slack = integrator.slack();
+  std::vector<int> spread;
   if (volume > 0.0) {
-    Moments sum = integrator.exact_moments();  // about o
     for (int index : leaves) {
       const Cell& cell = integrator.cells()[index];
-      Moments estimate;
-      if (!leaf_moments(cell, integrator.planes(cell), p, &estimate, &second_moment_bound)) {
-        // Spread evenly: the header's bound for a cell-centred estimate.
-        const double a = (cell.center - p).norm();
-        const double r = cell.half.norm();
-        const double d = cell.half.cwiseAbs2().norm();  // |diag(h_i^2)|_F
-        estimate.add(Moments::box(cell.half), 0.5 * (cell.lo + cell.hi) / (8.0 * cell.half.prod()));
-        second_moment_bound += 0.5 * (cell.hi - cell.lo) * (a * a + d / 3.0) +
-                               (cell.hi - cell.floor) * (2.0 * a * r + std::sqrt(r * r * r * r + d * d / 9.0));
+      Moments estimate, error;
+      if (leaf_moments(cell, integrator.planes(cell), integrator.margin(), &estimate, &error, &slack)) {
+        envelope.add(error.shifted(cell.center - o), 1.0);
+      } else {
+        estimate = Moments::box(cell.half);
+        estimate.volume = 0.5 * (cell.lo + cell.hi);
+        estimate.second *= estimate.volume / (8.0 * cell.half.prod());
+        spread.push_back(index);
       }
       sum.add(estimate.shifted(cell.center - o), 1.0);
     }
+  }
+  double first_moment_bound = slack * diameter;
+  double second_moment_bound = slack * diameter * diameter;
+  if (volume > 0.0 && sum.volume > 0.0) {
+    const Eigen::Vector3d p = o + sum.first / sum.volume;
+    result.centroid_B = p;
+    // The estimate's error about p: |integral (f - f_est)(x - p)| <= integral G |x - p|
+    // <= sqrt(integral G * integral G |x - p|^2) (Cauchy-Schwarz), and |integral (f - f_est)
+    // (x - p)(x - p)^T|_F <= integral G |x - p|^2.
+    const double envelope_trace = std::max(envelope.shifted_trace(o - p), 0.0);
+    first_moment_bound += std::sqrt(std::max(envelope.volume, 0.0) * envelope_trace);
+    second_moment_bound += envelope_trace;
+    for (int index : spread) {
+      // f_est = w / V: with f = f_min + f' (f' >= 0, integral F' <= hi - floor), a = c - p,
+      // u = x - c, the first moment's error is (F - w) a + integral f' u; the second moment's is in
+      // the header.
+      const Cell& cell = integrator.cells()[index];
+      const double a = (cell.center - p).norm();
+      const double r = cell.half.norm();
+      const double d = cell.half.cwiseAbs2().norm();  // |diag(h_i^2)|_F
+      first_moment_bound += 0.5 * (cell.hi - cell.lo) * a + (cell.hi - cell.floor) * r;
+      second_moment_bound += 0.5 * (cell.hi - cell.lo) * (a * a + d / 3.0) +
+                             (cell.hi - cell.floor) * (2.0 * a * r + std::sqrt(r * r * r * r + d * d / 9.0));
+    }
     const Eigen::Matrix3d second = sum.shifted(o - p).second;
     result.second_moment_B = 0.5 * (second + second.transpose());  // symmetric to the last bit
+  } else if (volume > 0.0) {  // the clips found nothing where the fractions did (rounding)
+    first_moment_bound = second_moment_bound = kInf;
   }
+  // |p_true - p| = |integral (f - f_est)(x - p)| / E_true, as integral f_est (x - p) = 0.
+  result.centroid_error_bound = volume > width ? first_moment_bound / (volume - width) : kInf;
   result.second_moment_error_bound = second_moment_bound;
   return result;
 }

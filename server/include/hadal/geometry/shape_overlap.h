@@ -35,39 +35,51 @@
 // cells on edges and on intersection curves (sets of dimension one). Cells are refined widest
 // interval first until the bound is within tolerance or the cell budget is spent. Where a search
 // box is exactly the overlap (aligned boxes, a box inside an aligned box) the result is exact.
-// The centroid puts each cell's estimate at the cell centre; its rigorous bound, centroid_error_bound,
-// is O(h^2) likewise over round surfaces. A cell cut by one flat face alone (lo = hi) is never
-// refined, so there the placement error and the bound stay as they are: in the tests, up to 5 % of
-// the excess's RMS radius for faces oblique to B's axes (a capsule through a tilted box face), well
-// inside the bound; zero for faces along B's axes.
 //
-// Second moment S = integral of max(count - 1, 0) (x - p)(x - p)^T dV about p = centroid_B, from the
-// same leaves with no further refinement. The planes that bracket a cell's volume
-// bracket its second moment too: f = max(count - 1, 0) is monotone in each shape's set, so with every
-// mixed shape's part of the cell replaced by its lower or its upper cut, f_lo <= f <= f_hi, and as
-// (x - p)(x - p)^T is positive semidefinite their second moments order as M_lo <= S_cell <= M_hi
-// (semidefinite order). Any estimate X in [M_lo, M_hi] is then off by at most
-//   |S_cell - X|_F <= tr(M_hi - M_lo) <= (integral f_hi - f_lo) max over the cell |x - p|^2
-// (nuclear norm >= Frobenius norm; half that for the midpoint (M_lo + M_hi) / 2). The cuts' moments
-// are exact: the cell clipped to the planes is a convex polyhedron, summed as tetrahedra. Used per
-// mixed shape where some shape contains the cell: a flat cut (lo = hi) is exact, so the cells that
-// never refine add nothing; with no lower cut, half the upper cut (bound tr(M_hi) / 2, computed); else
-// the cut midway between the planes. Where two shapes are mixed and none inside (overlap edges), the
-// midpoint of the two-plane clips, bound tr(M_hi - M_lo) / 2 computed. Where three or more are
-// mixed and none inside (surfaces meeting at a point) the weight (lo + hi) / 2 is spread evenly;
-// with f = f_min + f' (f' >= 0, integral F' <= hi - floor), a = c - p, u = x - c (|u| <= r, c the
-// cell centre, h its half extents, D = diag(h_i^2)), the error is
+// Centroid and second moment, from the same leaves with no further refinement: in each leaf f is
+// replaced by an estimate f_est built from the same planes, whose moments are exact (the cell
+// clipped to the planes is a convex polyhedron, summed as tetrahedra), together with an envelope
+// G >= |f - f_est| (pointwise) whose moments are exact too. Each mixed shape's part S of the cell
+// lies between its lower and upper cuts, L <= S <= U, so:
+//   where some shape contains the cell, f = (n_inside - 1) + sum over the mixed shapes of 1_S, and
+//     each 1_S is estimated by 1_U for a flat cut (L = U: exact, G = 0; the cells that never refine
+//     add nothing), else by (1_L + 1_U) / 2 with G = (1_U - 1_L) / 2 (L empty where no lower cut is
+//     known: box edges, cylinder rims, large cells);
+//   where nothing contains it and two shapes are mixed (overlap edges, coplanar faces), f = 1_Sa 1_Sb
+//     lies between the two-plane clips 1_La 1_Lb and 1_Ua 1_Ub: f_est is their mean, G half their
+//     difference;
+//   where nothing contains it and three or more are mixed (surfaces meeting at a point; rare), the
+//     weight (lo + hi) / 2 is spread evenly over the cell (bounded on its own, below).
+// The raw moments of f_est are summed about a fixed point near the search regions; the centroid is
+// p = centroid_B = (integral f_est x) / (integral f_est), and the second moment is shifted to it. As
+// integral f_est (x - p) = 0,
+//   |p_true - p| = |integral (f - f_est)(x - p)| / E_true
+//                <= sqrt(integral G * integral G |x - p|^2) / (volume - volume_error_bound)
+// (Cauchy-Schwarz over the sum of the leaves' envelopes), and
+//   |S_true - S|_F = |integral (f - f_est)(x - p)(x - p)^T|_F <= integral G |x - p|^2,
+// both exact sums of G's moments (volume, first moment, trace), linear in the leaves, so evaluated
+// at p once it is known. Evenly spread leaves add, with f = f_min + f' (f' >= 0, integral
+// F' <= hi - floor), a = c - p, u = x - c (|u| <= r, c the cell centre, h its half extents,
+// D = diag(h_i^2)), the first moment error (F - w) a + integral f' u, at most (hi - lo)/2 |a| +
+// (hi - floor) r, and the second moment error
 //   (F - w)(a a^T + D/3) + a m^T + m a^T + (integral f' u u^T - F' D/3),   |m| <= F' r,
 // at most (hi - lo)/2 (|a|^2 + |D|/3) + (hi - floor)(2 |a| r + sqrt(r^4 + |D|^2/9)). With the corner
-// tests' slack (its volume times the search diameter squared), second_moment_error_bound is
-// rigorous up to rounding and O(h^2) like the volume's: 0.2-0.7 % of |S| at relative_tolerance 1e-3
-// in the tests and in random pairs and triples, with actual errors 0.07-0.15 %. The refinement is
-// driven by the volume alone.
+// tests' slack (its volume times the search diameter, squared for S), centroid_error_bound and
+// second_moment_error_bound are rigorous up to floating-point rounding and shrink as O(h^2) like the
+// volume's: at relative_tolerance 1e-3, in the tests and in random pairs and triples of all four
+// primitives, the centroid bound is 0.10-0.19 % of the excess's RMS radius (sqrt(tr S / E)), actual
+// errors below 0.02 %, flat faces oblique to B's axes included; the second moment's bound 0.16-0.5 %
+// of |S|, actual errors 0.07-0.15 %. Both fall about tenfold per tenfold smaller tolerance. The
+// refinement is driven by the volume alone. (A two-plane clip in which a face crosses a plane more
+// than once, possible only with vertices within rounding of it, falls back to even spreading; the
+// clips are cut a few rounding allowances outside their planes, so that coplanar faces of two shapes
+// clip cleanly, and the volume this may move is added to the slack.)
 //
-// Deterministic (no sampling at random). Cost is proportional to cells_evaluated, about 0.25 us a
-// cell here to classify, and as much again for the second moment (clipping the leaves, about half
-// the cells, 0.2 us a plane): a 1e-3 bound takes 20k-45k cells for one overlap of round shapes
-// (10-25 ms), ~100k for an 8-shape vehicle with 7 overlaps (~55 ms), the default budget.
+// Deterministic (no sampling at random). Cost is proportional to cells_evaluated: about 0.25 us a
+// cell to classify, and a little more again for the moments (clipping the leaves, about half the
+// cells: 0.2 us a plane, two planes per curved cut): a 1e-3 bound takes 20k-45k cells for one
+// overlap of round shapes (15-30 ms), ~100k for an 8-shape vehicle with 7 overlaps, the default
+// budget.
 //
 // Note: this is the excess of the smooth primitives. tessellate() (primitive_mesh.h) inscribes round
 // shapes, so their meshes overlap less, by about (surface area of the overlap region) x (mean gap
