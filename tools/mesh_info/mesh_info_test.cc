@@ -25,18 +25,8 @@ using hadal::test::Json;
 using hadal::test::JsonParser;
 using hadal::test::RunResult;
 
-class MeshInfoCliTest : public ::testing::Test {
+class MeshInfoCliTest : public hadal::test::CliTest {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "hadal_mesh_info_XXXXXX").string();
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  RunResult run(const std::string& args) const {
-    return hadal::test::run_command(args, dir_ + "/stderr.txt");
-  }
   RunResult make_asset(const std::string& args) const {
     return run(std::string(HADAL_MAKE_ASSET) + " " + args);
   }
@@ -46,12 +36,8 @@ class MeshInfoCliTest : public ::testing::Test {
 
   static Json parse_one_line(const std::string& out) {
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;  // exactly one JSON object
-    Json json;
-    EXPECT_TRUE(JsonParser(out).parse(json)) << out;
-    return json;
+    return parse(out);
   }
-
-  std::string dir_;
 };
 
 TEST_F(MeshInfoCliTest, ReportsAGeneratedOffsetBox) {

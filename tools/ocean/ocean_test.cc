@@ -25,36 +25,22 @@ using hadal::test::Json;
 using hadal::test::JsonParser;
 using hadal::test::RunResult;
 
-class OceanCliTest : public ::testing::Test {
+class OceanCliTest : public hadal::test::CliTest {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "hadal_ocean_cli_XXXXXX").string();
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::string write(const std::string& name, const std::string& text) const {
     const std::string path = dir_ + "/" + name;
     std::ofstream(path) << text;
     return path;
   }
 
-  RunResult ocean(const std::string& args) const {
-    return hadal::test::run_command(std::string(HADAL_OCEAN) + " " + args, dir_ + "/stderr.txt");
-  }
+  RunResult ocean(const std::string& args) const { return run(std::string(HADAL_OCEAN) + " " + args); }
 
   static std::vector<Json> parse_lines(const std::string& out) {
     std::vector<Json> lines;
     std::istringstream stream(out);
-    for (std::string line; std::getline(stream, line);) {
-      lines.emplace_back();
-      EXPECT_TRUE(JsonParser(line).parse(lines.back())) << line;
-    }
+    for (std::string line; std::getline(stream, line);) lines.push_back(parse(line));
     return lines;
   }
-
-  std::string dir_;
 };
 
 constexpr const char* kVehicles = R"(vehicles:

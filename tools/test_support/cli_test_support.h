@@ -1,12 +1,16 @@
-// Test support for the command-line tools (hadal-mesh-info, hadal-ocean, ...): a strict minimal JSON
-// reader and running a command with its stdout, stderr and exit code captured. Header-only.
+// Test support for the command-line tools (hadal-mesh-info, hadal-ocean, hadal-validate-*, ...): a
+// strict minimal JSON reader, running a command with its stdout, stderr and exit code captured, and a
+// GoogleTest fixture with a scratch directory. Header-only.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <stdlib.h>
 #include <sys/wait.h>
 
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -139,5 +143,28 @@ inline RunResult run_command(const std::string& command_line, const std::string&
   r.err = text.str();
   return r;
 }
+
+// Fixture for tests of a command-line tool: a fresh scratch directory dir_ per test (removed after
+// it), run() of a command line with stderr captured there, and parse() of a JSON text.
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (std::filesystem::temp_directory_path() / "hadal_cli_test_XXXXXX").string();
+    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  RunResult run(const std::string& command_line) const {
+    return run_command(command_line, dir_ + "/stderr.txt");
+  }
+  static Json parse(const std::string& text) {
+    Json json;
+    EXPECT_TRUE(JsonParser(text).parse(json)) << text;
+    return json;
+  }
+
+  std::string dir_;
+};
 
 }  // namespace hadal::test

@@ -66,10 +66,7 @@ constexpr double kSampleInterval = 0.5;  // [s of sim time]
 constexpr double kSeabedClearance = 100.0;  // seabed plane below the target depth [m]
 constexpr double kMinDescentRate = 0.05;    // a run slower than this on average is abandoned [m/s]
 
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "%s: %s\n%s", kTool, message.c_str(), kUsage);
-  return 2;
-}
+int usage_error(const std::string& message) { return validation::usage_error(kTool, kUsage, message); }
 
 struct Sample {
   double t = 0.0;
@@ -362,11 +359,7 @@ int main(int argc, char** argv) {
       scenario = value;
     }
   }
-  if (const std::string error = ensure_directory(out_dir); !error.empty()) {
-    std::fprintf(stderr, "%s: %s\n", kTool, error.c_str());
-    return 1;
-  }
-  std::optional<Model> loaded = load_model(scenario, kTool);
+  std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;
   Model model = std::move(*loaded);
   if (model.vehicles.empty() || model.vehicles[0].fluid.model != FluidModelType::kSurface) {

@@ -18,30 +18,16 @@ using hadal::test::Json;
 using hadal::test::JsonParser;
 using hadal::test::RunResult;
 
-class ValidationCliTest : public ::testing::Test {
+class ValidationCliTest : public hadal::test::CliTest {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "hadal_validation_cli_XXXXXX").string();
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   RunResult run(const std::string& binary, const std::string& args) const {
-    return hadal::test::run_command(binary + " " + args, dir_ + "/stderr.txt");
-  }
-  static Json parse(const std::string& out) {
-    Json json;
-    EXPECT_TRUE(JsonParser(out).parse(json)) << out;
-    return json;
+    return CliTest::run(binary + " " + args);
   }
   // A PNG bigger than a blank image would be.
   void expect_outputs(const std::string& stem) const {
     EXPECT_GT(fs::file_size(dir_ + "/" + stem + ".png"), 20000u);
     EXPECT_GT(fs::file_size(dir_ + "/" + stem + ".csv"), 1000u);
   }
-
-  std::string dir_;
 };
 
 TEST_F(ValidationCliTest, LanderShortDescent) {

@@ -82,6 +82,23 @@ inline std::optional<Model> load_model(const std::string& path, const char* tool
   return std::move(result.model);
 }
 
+// Prints "tool: message" and the usage text to stderr; returns the usage exit status 2.
+inline int usage_error(const char* tool, const char* usage, const std::string& message) {
+  std::fprintf(stderr, "%s: %s\n%s", tool, message.c_str(), usage);
+  return 2;
+}
+
+// The start of every run: creates the output directory and loads the scenario, reporting problems on
+// stderr. Empty on error (exit status 1).
+inline std::optional<Model> prepare_run(const std::string& out_dir, const std::string& scenario,
+                                        const char* tool) {
+  if (const std::string error = ensure_directory(out_dir); !error.empty()) {
+    std::fprintf(stderr, "%s: %s\n", tool, error.c_str());
+    return std::nullopt;
+  }
+  return load_model(scenario, tool);
+}
+
 // Yaw of B in W (rotation about W's z of the ZYX Euler decomposition) [rad], in (-pi, pi].
 inline double yaw_of(const Eigen::Matrix3d& R_WB) { return std::atan2(R_WB(1, 0), R_WB(0, 0)); }
 // Tilt of B's z axis from W's vertical [rad].
