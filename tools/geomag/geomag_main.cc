@@ -1,0 +1,130 @@
+// hadal-geomag: the World Magnetic Model at one point, like NOAA's point calculator, as one JSON object:
+//   {"model": "WMM-2025", "latitude_deg", "longitude_deg", "height_km", "decimal_year",
+//    "X_nT", "Y_nT", "Z_nT", "H_nT", "F_nT", "I_deg", "D_deg",
+//    "Xdot_nT_per_yr", "Ydot_nT_per_yr", "Zdot_nT_per_yr", "Hdot_nT_per_yr", "Fdot_nT_per_yr",
+//    "Idot_deg_per_yr", "Ddot_deg_per_yr"}
+// X north, Y east, Z down (local geodetic frame), I inclination (down positive), D declination (east of
+// true north); numbers at full precision (NaN -> null). Model: hadal/sensors/geomagnetic.h.
+//   hadal-geomag LAT_DEG LON_DEG HEIGHT_KM DECIMAL_YEAR [--cof PATH]
+// LAT_DEG geodetic latitude in [-90, 90], LON_DEG longitude (east positive), HEIGHT_KM above the WGS84
+// ellipsoid (negative below it), DECIMAL_YEAR within the model's five-year span (2025.0 - 2030.0).
+// Exit status: 0 success; 1 the coefficient file does not load (file:line error on stderr); 2 usage error
+// (nothing on stdout).
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "hadal/sensors/geomagnetic.h"
+#include "json_number.h"
+
+namespace {
+
+using hadal::tools::json_number;
+
+constexpr const char* kUsage =
+    "usage: hadal-geomag LAT_DEG LON_DEG HEIGHT_KM DECIMAL_YEAR [--cof PATH]\n"
+    "  LAT_DEG       geodetic latitude [deg], -90..90\n"
+    "  LON_DEG       longitude [deg], east positive\n"
+    "  HEIGHT_KM     height above the WGS84 ellipsoid [km] (negative below it)\n"
+    "  DECIMAL_YEAR  e.g. 2027.5, within the model's validity (WMM2025: 2025.0..2030.0)\n"
+    "  --cof PATH    coefficient file (default " HADAL_WMM_COF ")\n"
+    "Prints X, Y, Z, H, F [nT], I, D [deg] and their yearly rates as one JSON object.\n";
+
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "hadal-geomag: %s\n%s", message.c_str(), kUsage);
+  return 2;
+}
+
+// A whole-string finite number, or false.
+bool parse_number(const std::string& text, double* out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
+  *out = x;
+  return true;
+}
+
+// "-12.5" is a negative number, "-x" or "--x" an option.
+bool is_option(const std::string& arg) {
+  return arg.size() >= 2 && arg[0] == '-' && !(std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.');
+}
+
+// JSON string body: the model name comes from the file's header.
+std::string json_escape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string cof_path = HADAL_WMM_COF;
+  std::vector<std::string> positional;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    if (arg == "--cof") {
+      if (i + 1 >= argc) return usage_error("--cof needs a value");
+      cof_path = argv[++i];
+      continue;
+    }
+    if (is_option(arg)) return usage_error("unknown option '" + arg + "'");
+    positional.push_back(arg);
+  }
+  if (positional.size() != 4) {
+    return usage_error("expected 4 arguments LAT_DEG LON_DEG HEIGHT_KM DECIMAL_YEAR (got " +
+                       std::to_string(positional.size()) + ")");
+  }
+  const char* names[4] = {"LAT_DEG", "LON_DEG", "HEIGHT_KM", "DECIMAL_YEAR"};
+  double values[4];
+  for (int k = 0; k < 4; ++k) {
+    if (!parse_number(positional[k], &values[k])) {
+      return usage_error(std::string(names[k]) + " is not a number: '" + positional[k] + "'");
+    }
+  }
+  const double lat_deg = values[0], lon_deg = values[1], height_km = values[2], year = values[3];
+  if (std::abs(lat_deg) > 90.0) return usage_error("LAT_DEG must be in [-90, 90] (got " + positional[0] + ")");
+
+  hadal::sensors::GeomagneticModel model;
+  try {
+    model = hadal::sensors::GeomagneticModel::load_cof(cof_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  if (year < model.valid_from_year() || year > model.valid_until_year()) {
+    return usage_error("DECIMAL_YEAR " + positional[3] + " is outside " + model.name() + "'s validity " +
+                       json_number(model.valid_from_year()) + ".." + json_number(model.valid_until_year()));
+  }
+
+  constexpr double kDeg = M_PI / 180.0;
+  const hadal::sensors::GeomagneticElements e =
+      model.field(lat_deg * kDeg, lon_deg * kDeg, height_km * 1e3, year);
+  std::printf(
+      "{\"model\": \"%s\", \"latitude_deg\": %s, \"longitude_deg\": %s, \"height_km\": %s, \"decimal_year\": %s, "
+      "\"X_nT\": %s, \"Y_nT\": %s, \"Z_nT\": %s, \"H_nT\": %s, \"F_nT\": %s, \"I_deg\": %s, \"D_deg\": %s, "
+      "\"Xdot_nT_per_yr\": %s, \"Ydot_nT_per_yr\": %s, \"Zdot_nT_per_yr\": %s, \"Hdot_nT_per_yr\": %s, "
+      "\"Fdot_nT_per_yr\": %s, \"Idot_deg_per_yr\": %s, \"Ddot_deg_per_yr\": %s}\n",
+      json_escape(model.name()).c_str(), json_number(lat_deg).c_str(), json_number(lon_deg).c_str(),
+      json_number(height_km).c_str(), json_number(year).c_str(), json_number(e.x_north_nT).c_str(),
+      json_number(e.y_east_nT).c_str(), json_number(e.z_down_nT).c_str(), json_number(e.h_horizontal_nT).c_str(),
+      json_number(e.f_total_nT).c_str(), json_number(e.inclination_rad / kDeg).c_str(),
+      json_number(e.declination_rad / kDeg).c_str(), json_number(e.x_north_rate_nT_per_yr).c_str(),
+      json_number(e.y_east_rate_nT_per_yr).c_str(), json_number(e.z_down_rate_nT_per_yr).c_str(),
+      json_number(e.h_horizontal_rate_nT_per_yr).c_str(), json_number(e.f_total_rate_nT_per_yr).c_str(),
+      json_number(e.inclination_rate_rad_per_yr / kDeg).c_str(),
+      json_number(e.declination_rate_rad_per_yr / kDeg).c_str());
+  return 0;
+}
