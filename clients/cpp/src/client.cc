@@ -13,6 +13,7 @@
 #include <hadal_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
+#include <sensor_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
 
 #include <chrono>
@@ -218,6 +219,15 @@ void Client::on_thruster_state(const std::string& vehicle, std::function<void(co
   impl_->subscribe<hadal_msgs::msg::ThrusterStatePubSubType, hadal_msgs::msg::ThrusterState>(
       dds::thruster_state_topic(vehicle),
       [callback = std::move(callback)](const hadal_msgs::msg::ThrusterState& m) { callback(from_msg(m)); });
+}
+
+void Client::on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
+                               std::function<void(const FluidPressure&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::FluidPressurePubSubType, sensor_msgs::msg::FluidPressure>(
+      dds::sensor_topic(vehicle, sensor), [callback = std::move(callback)](const sensor_msgs::msg::FluidPressure& m) {
+        callback(FluidPressure{dds::from_time_msg(m.header().stamp()), m.header().frame_id(),
+                               m.fluid_pressure(), m.variance()});
+      });
 }
 
 void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {

@@ -58,6 +58,7 @@ class Runner {
       odometry_dividers_.emplace_back(v.odometry_rate_hz);
       thruster_dividers_.emplace_back(v.thruster_state_rate_hz);
     }
+    for (const auto& v : model.vehicles) published_samples_.emplace_back(v.sensors.size(), 0);
     last_command_stamp_.assign(n, std::numeric_limits<std::int64_t>::min());
     distance_.assign(n, 0.0);
     reported_resets_.assign(n, 0);
@@ -181,6 +182,14 @@ class Runner {
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) dds_.publish_odometry(static_cast<int>(i), state);
       if (thruster_dividers_[i].due(state.time)) dds_.publish_thruster_state(static_cast<int>(i), state);
+      // Sensors sample inside the simulation at their own rates; publish each new sample once.
+      const std::vector<SensorState>& sensors = state.vehicles[i].sensors;
+      for (std::size_t k = 0; k < sensors.size(); ++k) {
+        if (sensors[k].samples != published_samples_[i][k]) {
+          published_samples_[i][k] = sensors[k].samples;
+          dds_.publish_sensor(static_cast<int>(i), static_cast<int>(k), state);
+        }
+      }
     }
   }
 
@@ -275,6 +284,7 @@ class Runner {
   geometry::RaycastService raycast_;
   RateDivider clock_divider_;
   std::vector<RateDivider> odometry_dividers_, thruster_dividers_;
+  std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor
   std::vector<std::int64_t> last_command_stamp_;
   std::vector<double> distance_;
   std::vector<std::uint64_t> reported_resets_;

@@ -36,10 +36,10 @@ constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kTriangleRelativeTolerance = 1e-3;
 
 // Keys of a vehicle definition: an included file's root, or inline in the scenario's vehicle entry.
-const std::vector<std::string> kDefinitionKeys = {"type", "links", "thrusters", "fluid"};
+const std::vector<std::string> kDefinitionKeys = {"type", "links", "thrusters", "sensors", "fluid"};
 const std::vector<std::string> kVehicleEntryKeys = {
     "name", "include", "initial_pose", "initial_velocity", "command_timeout_s", "odometry_rate_hz",
-    "thruster_state_rate_hz", "schedule", "type", "links", "thrusters", "fluid"};
+    "thruster_state_rate_hz", "schedule", "type", "links", "thrusters", "sensors", "fluid"};
 
 std::vector<std::pair<std::string, VehicleType>> vehicle_type_choices() {
   std::vector<std::pair<std::string, VehicleType>> choices;
@@ -122,6 +122,7 @@ struct VehicleDefinition {
   VehicleType type = VehicleType::kAuv;
   std::vector<LinkSpec> links;
   std::vector<ThrusterSpec> thrusters;
+  std::vector<SensorSpec> sensors;
   FluidSpec fluid;
   // Thruster count and names, or nullopt when the thruster list itself is unusable (not a list, a
   // thruster without a valid name): the schedule's setpoint count is then not checked.
@@ -649,6 +650,38 @@ std::optional<std::string> read_thruster(const Value& value,
   return thruster->name;
 }
 
+// One entry of a vehicle definition's `sensors` list. `link_names` as for thrusters (nullopt: unknown,
+// then a `link` is not checked); `physics_rate_hz` bounds rate_hz when known.
+void read_sensor(const Value& value, const std::optional<std::vector<std::string>>& link_names,
+                 std::optional<double> physics_rate_hz, std::map<std::string, std::string>* seen_names,
+                 SensorSpec* sensor) {
+  static const std::vector<std::pair<std::string, SensorType>> kTypes = {{"pressure", SensorType::kPressure}};
+  const MapReader map(value, {"name", "type", "link", "pose", "rate_hz", "frame_id", "noise_stddev",
+                              "resolution", "range_max"});
+  if (!map.ok()) return;
+  read_unique_name(map, "sensor", seen_names, &sensor->name);
+  map.read_choice("type", Need::kRequired, kTypes, &sensor->type);
+  if (const auto link = map.optional("link")) {
+    if (const auto link_name = link->string()) {
+      const auto& names = link_names.value_or(std::vector<std::string>());
+      const auto it = std::find(names.begin(), names.end(), *link_name);
+      if (it != names.end()) {
+        sensor->link_index = static_cast<int>(it - names.begin());
+      } else if (link_names) {
+        link->error("no link named " + quoted(*link_name) + " in this vehicle (links: " + join_names(names) + ")");
+      }
+    }
+  }
+  if (const auto pose = map.optional("pose")) read_pose(*pose, &sensor->X_LS);
+  read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
+  map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
+  // Pressure sensor keys (the only type so far).
+  PressureSensorSpec& pressure = sensor->pressure;
+  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &pressure.noise_stddev);
+  map.read_number("resolution", Need::kOptional, Range::non_negative(), &pressure.resolution);
+  map.read_number("range_max", Need::kOptional, Range::positive(), &pressure.range_max);
+}
+
 void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* coefficients) {
   const MapReader map(value, {"drag", "skin_friction", "lift", "magnus"});
   if (!map.ok()) return;
@@ -776,7 +809,7 @@ void read_fluid(const std::optional<Value>& value, const std::vector<LinkSpec>& 
 
 // Reads the definition keys (type, links, thrusters, fluid) of `map`: the included file's root, or the
 // scenario's vehicle entry for an inline definition.
-VehicleDefinition read_definition(const MapReader& map) {
+VehicleDefinition read_definition(const MapReader& map, std::optional<double> physics_rate_hz) {
   VehicleDefinition definition;
   definition.source_file = map.value().file();
   map.read_choice("type", Need::kRequired, vehicle_type_choices(), &definition.type);
@@ -819,6 +852,17 @@ VehicleDefinition read_definition(const MapReader& map) {
           definition.thruster_names.reset();
         }
         definition.thrusters.push_back(std::move(thruster));
+      }
+    }
+  }
+
+  if (const auto sensors = map.optional("sensors")) {
+    if (const auto items = sensors->list()) {
+      std::map<std::string, std::string> seen;
+      for (std::size_t i = 0; i < items->size(); ++i) {
+        SensorSpec sensor;
+        read_sensor((*items)[i], link_names, physics_rate_hz, &seen, &sensor);
+        definition.sensors.push_back(std::move(sensor));
       }
     }
   }
@@ -966,7 +1010,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
       if (included) definition = &*included;
     }
   } else if (!inline_keys.empty()) {
-    inline_definition = read_definition(map);
+    inline_definition = read_definition(map, physics_rate_hz_);
     definition = &*inline_definition;
   } else {
     value.error("needs either 'include' or an inline definition ('type', 'links', ...)");
@@ -976,7 +1020,11 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     vehicle->type = definition->type;
     vehicle->links = definition->links;
     vehicle->thrusters = definition->thrusters;
+    vehicle->sensors = definition->sensors;
     vehicle->fluid = definition->fluid;
+    for (SensorSpec& sensor : vehicle->sensors) {
+      if (sensor.frame_id.empty()) sensor.frame_id = vehicle->name + "/" + sensor.name;
+    }
   }
 
   if (const auto pose = map.optional("initial_pose")) read_pose(*pose, &vehicle->X_WB_initial);
@@ -999,7 +1047,7 @@ const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(cons
     if (root) {
       const auto source = std::make_shared<const Source>(Source{resolved, &sink_});
       const MapReader map(Value::root(*root, source), kDefinitionKeys);
-      if (map.ok()) included.definition = read_definition(map);
+      if (map.ok()) included.definition = read_definition(map, physics_rate_hz_);
     }
   }
   // Errors inside the file are reported once; a file that cannot be opened at every include naming it.

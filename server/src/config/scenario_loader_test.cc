@@ -453,6 +453,71 @@ vehicles:
                           "'matrix' needs the 6x6 added-mass matrix)"}));
 }
 
+TEST_F(ScenarioLoaderTest, SensorsLoadWithDefaults) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 1000}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+      - {name: mast, mass: 1.0, inertia: {ixx: 1, iyy: 1, izz: 1}, pose: {position: [0, 0, 0.5]}}
+    sensors:
+      - {name: depth, type: pressure}
+      - name: depth_aft
+        type: pressure
+        link: mast
+        pose: {position: [-0.7, 0, 0.1]}
+        rate_hz: 200
+        frame_id: auv/aft_pressure
+        noise_stddev: 50
+        resolution: 10
+        range_max: 7.0e7
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const std::vector<SensorSpec>& sensors = result.model->vehicles[0].sensors;
+  ASSERT_EQ(sensors.size(), 2u);
+  EXPECT_EQ(sensors[0].name, "depth");
+  EXPECT_EQ(sensors[0].type, SensorType::kPressure);
+  EXPECT_EQ(sensors[0].link_index, 0);
+  EXPECT_EQ(sensors[0].rate_hz, 10.0);
+  EXPECT_EQ(sensors[0].frame_id, "auv/depth");
+  EXPECT_EQ(sensors[0].pressure.noise_stddev, 0.0);
+  EXPECT_EQ(sensors[1].link_index, 1);
+  EXPECT_EQ(sensors[1].X_LS.translation(), Eigen::Vector3d(-0.7, 0, 0.1));
+  EXPECT_EQ(sensors[1].rate_hz, 200.0);
+  EXPECT_EQ(sensors[1].frame_id, "auv/aft_pressure");
+  EXPECT_EQ(sensors[1].pressure.noise_stddev, 50.0);
+  EXPECT_EQ(sensors[1].pressure.resolution, 10.0);
+  EXPECT_EQ(sensors[1].pressure.range_max, 7.0e7);
+}
+
+TEST_F(ScenarioLoaderTest, SensorErrors) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: depth, type: barometer}
+      - {name: depth, type: pressure, link: fin}
+      - {name: fast, type: pressure, rate_hz: 1000, noise_stddev: -1}
+      - {type: pressure, colour: red}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be 'pressure' (got 'barometer')",
+                   path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
+                          "used by vehicles[0].sensors[0])",
+                   path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
+                          "(links: hull)",
+                   path + ":10:47: error: vehicles[0].sensors[2].rate_hz: must be <= world.physics_rate_hz "
+                          "(500) (got 1000)",
+                   path + ":10:67: error: vehicles[0].sensors[2].noise_stddev: must be >= 0 (got -1)",
+                   path + ":11:9: error: vehicles[0].sensors[3]: missing required key 'name'",
+                   path + ":11:26: error: vehicles[0].sensors[3].colour: unknown key 'colour'"}));
+}
+
 TEST_F(ScenarioLoaderTest, FluidKeysArePerModel) {
   const std::string surface = write("surface.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle +
                                                         R"(    fluid:

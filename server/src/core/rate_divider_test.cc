@@ -50,5 +50,25 @@ TEST(RateDividerTest, SamplesFallOnOrJustAfterTheirDueTime) {
 
 TEST(RateDividerTest, ZeroRateNeverFires) { EXPECT_EQ(count_samples(0.0, 500.0, 1.0), 0); }
 
+// The stateless schedule of in-simulation sensors: a 200 Hz sensor in a 1 kHz loop samples every 5th
+// step; 30 Hz in 500 Hz gives exactly 30 samples per second over an hour (steps 1.. k, t = k dt), and
+// agrees step for step with RateDivider after its t = 0 sample.
+TEST(RateDividerTest, StatelessScheduleMatchesTheDivider) {
+  for (std::uint64_t k = 1; k <= 20; ++k) EXPECT_EQ(sample_due(k, 1e-3, 200.0), k % 5 == 0) << k;
+  std::uint64_t count = 0;
+  for (std::uint64_t k = 1; k <= 3600u * 500u; ++k) count += sample_due(k, 1.0 / 500.0, 30.0) ? 1 : 0;
+  EXPECT_EQ(count, 3600u * 30u);
+  for (double rate : {7.0, 30.0, 333.0, 500.0, 2000.0}) {
+    RateDivider divider(rate);
+    const double dt = 1.0 / 500.0;
+    divider.due(0.0);
+    for (std::uint64_t k = 1; k <= 5000; ++k) {
+      ASSERT_EQ(sample_due(k, dt, rate), divider.due(static_cast<double>(k) * dt)) << rate << " " << k;
+    }
+  }
+  EXPECT_FALSE(sample_due(0, 1e-3, 100.0));
+  EXPECT_FALSE(sample_due(5, 1e-3, 0.0));
+}
+
 }  // namespace
 }  // namespace hadal

@@ -20,6 +20,8 @@
 #include "hadal/physics/ocean_fluid.h"
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/physics/thruster.h"
+#include "hadal/core/rate_divider.h"
+#include "hadal/sensors/noise.h"
 #include "worker_pool.h"
 
 namespace hadal {
@@ -35,6 +37,13 @@ struct Simulation::VehicleRuntime {
   double mass = 0.0;
   Matrix6d M_A0 = Matrix6d::Zero();                  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
+  // Per sensor (same order as VehicleSpec::sensors): its pose in B and its noise parameters.
+  struct Sensor {
+    Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
+    double period = 0.0;                     // nominal sample period 1 / rate_hz [s]
+    sensors::NoiseChannelParams channel;     // pressure: the pressure channel [Pa]
+  };
+  std::vector<Sensor> sensors;
   // Surface model: volume displaced twice where hull parts overlap, its centroid in B, and the
   // height over which it goes from dry to wet (diameter of the sphere of that volume).
   double excess_volume = 0.0;
@@ -159,6 +168,16 @@ void validate(const Model& model) {
                                 format_number(model.world.physics_rate_hz) + ")");
   }
   for (const VehicleSpec& vehicle : model.vehicles) {
+    for (const SensorSpec& sensor : vehicle.sensors) {
+      if (sensor.link_index < 0 || sensor.link_index >= static_cast<int>(vehicle.links.size())) {
+        throw std::invalid_argument("vehicle '" + vehicle.name + "': sensor '" + sensor.name +
+                                    "': link index " + std::to_string(sensor.link_index) + " out of range");
+      }
+      if (!(sensor.rate_hz > 0.0) || !std::isfinite(sensor.rate_hz)) {
+        throw std::invalid_argument("vehicle '" + vehicle.name + "': sensor '" + sensor.name +
+                                    "': rate_hz must be finite and > 0");
+      }
+    }
     for (const ThrusterSpec& thruster : vehicle.thrusters) {
       if (thruster.link_index < 0 ||
           thruster.link_index >= static_cast<int>(vehicle.links.size())) {
@@ -351,8 +370,30 @@ Simulation::Simulation(Model model)
           physics::RigidBodyInertia{mass.mass, mass.I_BBcm_B}, runtime.M_A0,
           spec.fluid.added_mass.coriolis, model_.world.dynamics.gyroscopic);
     }
+    VehicleState vehicle = initial_vehicle_state(spec);
+    for (const SensorSpec& sensor : spec.sensors) {
+      VehicleRuntime::Sensor s;
+      s.X_BS = spec.links[sensor.link_index].X_BL * sensor.X_LS;
+      s.period = 1.0 / sensor.rate_hz;
+      SensorState sensor_state;
+      switch (sensor.type) {
+        case SensorType::kPressure: {
+          // White noise of stddev sigma per sample is a density sigma sqrt(T) at the sample period T.
+          s.channel.noise.white_noise_density = sensor.pressure.noise_stddev * std::sqrt(s.period);
+          s.channel.lsb = sensor.pressure.resolution;
+          s.channel.min = 0.0;
+          s.channel.max = sensor.pressure.range_max;
+          sensor_state.channels.push_back(sensors::make_noise_state(
+              s.channel, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "pressure")));
+          sensor_state.value.assign(1, 0.0);
+          break;
+        }
+      }
+      runtime.sensors.push_back(s);
+      vehicle.sensors.push_back(std::move(sensor_state));
+    }
     runtime_.push_back(std::move(runtime));
-    state_.vehicles.push_back(initial_vehicle_state(spec));
+    state_.vehicles.push_back(std::move(vehicle));
   }
   // Fluid forces of several vehicles in parallel when it pays: a wake-up costs ~10 us, one face
   // ~4.5 ns, so from ~2 x 4k faces on (the second-largest hull bounds the gain).
@@ -386,6 +427,11 @@ void Simulation::set_state(const SimState& state) {
                                 " vehicles, got " + std::to_string(state.vehicles.size()));
   }
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
+    if (state.vehicles[i].sensors.size() != model_.vehicles[i].sensors.size()) {
+      throw std::invalid_argument("set_state: vehicle '" + model_.vehicles[i].name + "': expected " +
+                                  std::to_string(model_.vehicles[i].sensors.size()) + " sensors, got " +
+                                  std::to_string(state.vehicles[i].sensors.size()));
+    }
     if (state.vehicles[i].thrusters.size() != model_.vehicles[i].thrusters.size()) {
       throw std::invalid_argument(
           "set_state: vehicle '" + model_.vehicles[i].name + "': expected " +
@@ -603,6 +649,29 @@ void Simulation::step() {
   }
   // Contact impulses cached from the failed step may be NaN; they would poison the warm start.
   if (any_reset) world_->clear_contacts();
+
+  // (8) sensors due at the new time sample the new state.
+  for (int i = 0; i < num_vehicles; ++i) {
+    const VehicleSpec& spec = model_.vehicles[i];
+    const VehicleRuntime& runtime = runtime_[i];
+    VehicleState& vehicle = state_.vehicles[i];
+    for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
+      if (!sample_due(state_.step_count, dt, spec.sensors[k].rate_hz)) continue;
+      const VehicleRuntime::Sensor& sensor = runtime.sensors[k];
+      SensorState& out = vehicle.sensors[k];
+      switch (spec.sensors[k].type) {
+        case SensorType::kPressure: {
+          // Absolute pressure at the sensor's origin (atmospheric above the surface).
+          const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
+          const double ideal = ocean_->pressure(std::max(ocean_->depth(p_WS.z()), 0.0));
+          out.value[0] = sensors::measure(sensor.channel, out.channels[0], ideal, sensor.period);
+          break;
+        }
+      }
+      out.stamp = state_.time;
+      ++out.samples;
+    }
+  }
 }
 
 }  // namespace hadal

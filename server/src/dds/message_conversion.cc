@@ -54,4 +54,13 @@ void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, dou
   msg.command_source(static_cast<std::uint8_t>(state.command_source));
 }
 
+void fill_fluid_pressure(const SensorSpec& spec, const SensorState& sample,
+                         sensor_msgs::msg::FluidPressure& msg) {
+  msg.header().stamp(to_time_msg(sample.stamp));
+  msg.header().frame_id(spec.frame_id);
+  msg.fluid_pressure(sample.value.empty() ? 0.0 : sample.value[0]);
+  const PressureSensorSpec& p = spec.pressure;
+  msg.variance(p.noise_stddev * p.noise_stddev + p.resolution * p.resolution / 12.0);
+}
+
 }  // namespace hadal::dds

@@ -2,7 +2,7 @@
 //
 // Odometry follows nav_msgs/Odometry's convention: pose of the body frame B in the world frame
 // (header.frame_id, ENU), twist expressed in the child frame B (v_WB_B, w_WB_B). Covariances are zero:
-// this is ground truth.
+// this is ground truth. Sensor messages carry the sensor's last sample (noise applied in the simulation).
 #pragma once
 
 #include "hadal/core/model.h"
@@ -12,6 +12,7 @@
 
 #include <hadal_msgs.h>
 #include <nav_msgs.h>
+#include <sensor_msgs.h>
 
 namespace hadal::dds {
 
@@ -20,5 +21,10 @@ void fill_odometry(const std::string& world_frame_id, const std::string& vehicle
 
 void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
                          hadal_msgs::msg::ThrusterState& msg);
+
+// A pressure sensor's last sample: absolute pressure [Pa] and its variance (noise_stddev^2 plus the
+// quantisation's resolution^2 / 12), stamped with the sample's sim time.
+void fill_fluid_pressure(const SensorSpec& spec, const SensorState& sample,
+                         sensor_msgs::msg::FluidPressure& msg);
 
 }  // namespace hadal::dds

@@ -12,6 +12,7 @@
 #include <hadal_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
+#include <sensor_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
 
 #include <set>
@@ -57,6 +58,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
   std::vector<fdds::DataWriter*> thruster_writers;
+  std::vector<std::vector<fdds::DataWriter*>> sensor_writers;  // [vehicle][sensor]
   std::vector<fdds::DataReader*> setpoint_readers;
   fdds::DataReader* step_reader = nullptr;
 
@@ -65,12 +67,14 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<std::uint64_t> counts;
   std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0;
   std::vector<std::size_t> odometry_slot, thruster_slot;
+  std::vector<std::vector<std::size_t>> sensor_slot;
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
   nav_msgs::msg::Odometry odometry_msg;
   hadal_msgs::msg::ThrusterState thruster_msg;
   hadal_msgs::msg::SimStatus status_msg;
+  sensor_msgs::msg::FluidPressure pressure_msg;
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -210,6 +214,19 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
     d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
 
+    d.sensor_writers.emplace_back();
+    d.sensor_slot.emplace_back();
+    for (const SensorSpec& sensor : model.vehicles[i].sensors) {
+      const std::string topic = sensor_topic(name, sensor.name);
+      switch (sensor.type) {
+        case SensorType::kPressure:
+          d.sensor_writers.back().push_back(
+              r.writer<sensor_msgs::msg::FluidPressurePubSubType>(topic, kStateHistoryDepth));
+          break;
+      }
+      d.sensor_slot.back().push_back(d.add_count(topic));
+    }
+
     auto listener = std::make_unique<Impl::SetpointListener>();
     listener->owner = &d;
     listener->vehicle_index = static_cast<int>(i);
@@ -276,6 +293,19 @@ void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& 
   const auto i = static_cast<std::size_t>(vehicle_index);
   fill_thruster_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->thruster_msg);
   impl_->write(impl_->thruster_writers[i], &impl_->thruster_msg, impl_->thruster_slot[i]);
+}
+
+void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const SimState& state) {
+  const auto i = static_cast<std::size_t>(vehicle_index);
+  const auto k = static_cast<std::size_t>(sensor_index);
+  const SensorSpec& spec = impl_->model.vehicles[i].sensors[k];
+  const SensorState& sample = state.vehicles[i].sensors[k];
+  switch (spec.type) {
+    case SensorType::kPressure:
+      fill_fluid_pressure(spec, sample, impl_->pressure_msg);
+      impl_->write(impl_->sensor_writers[i][k], &impl_->pressure_msg, impl_->sensor_slot[i][k]);
+      break;
+  }
 }
 
 void ServerEndpoints::publish_status(const StatusReport& report) {

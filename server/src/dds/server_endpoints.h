@@ -1,7 +1,7 @@
 // hadald's DDS side: every topic the server publishes or subscribes (README "Topics").
 //
-// Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/<vehicle>/odometry and
-// rt/<vehicle>/thrusters/state; subscribes rt/<vehicle>/thrusters/setpoints and
+// Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/<vehicle>/odometry,
+// rt/<vehicle>/thrusters/state and rt/<vehicle>/<sensor> (one topic per sensor, its ROS type); subscribes rt/<vehicle>/thrusters/setpoints and
 // rt/hadal/step_request. Incoming samples are queued by the DDS threads and taken by the step loop
 // at step boundaries, so the loop never waits on DDS. Writers to setpoint topics of vehicles that do
 // not exist are reported (a typo in a vehicle name is otherwise silent in DDS).
@@ -74,6 +74,8 @@ class ServerEndpoints {
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);
   void publish_thruster_state(int vehicle_index, const SimState& state);
+  // The sensor's last sample (state.vehicles[v].sensors[s]).
+  void publish_sensor(int vehicle_index, int sensor_index, const SimState& state);
   void publish_status(const StatusReport& report);
   void publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,
                           const SimState& state);

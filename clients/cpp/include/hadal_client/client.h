@@ -62,6 +62,16 @@ struct ThrusterStates {
   std::uint8_t command_source = 0;  // 0 none, 1 scenario schedule, 2 client
 };
 
+// sensor_msgs/FluidPressure of a pressure sensor, rt/<vehicle>/<sensor>: absolute pressure with the
+// sensor's noise. Depth below the surface follows as d = (p - p_atm) / (rho g) for the water's mean
+// density above the sensor (p_atm = 101325 Pa and rho = 1025 kg/m^3 unless the scenario says otherwise).
+struct FluidPressure {
+  double stamp = 0.0;     // sim time of the sample [s]
+  std::string frame_id;   // the sensor's frame
+  double pressure = 0.0;  // absolute [Pa]
+  double variance = 0.0;  // [Pa^2]
+};
+
 struct ClientOptions {
   int domain_id = 0;  // 0..232, as hadald --domain-id
   std::string name = "hadal_client";
@@ -92,6 +102,8 @@ class Client {
   void on_status(std::function<void(const SimStatus&)> callback);
   void on_odometry(const std::string& vehicle, std::function<void(const Odometry&)> callback);
   void on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback);
+  void on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
+                         std::function<void(const FluidPressure&)> callback);
 
   // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
   // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The

@@ -127,6 +127,31 @@ struct FluidSpec {
   physics::HydrodynamicCoefficients hydrodynamics;
 };
 
+// Sensors (YAML: the vehicle definition's `sensors` list). Each is mounted on a link at X_LS (sensor
+// frame S), samples at rate_hz in sim time (sample n at the first physics step whose time reaches
+// n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value
+// from the state, then applies its noise (DESIGN.md 4), and is published on rt/<vehicle>/<name> with
+// header.frame_id `frame_id` and the sample's sim time as stamp.
+enum class SensorType { kPressure };
+
+// Pressure sensor (sensor_msgs/FluidPressure): absolute pressure at the sensor's origin from the
+// ocean model, plus white noise, quantised to `resolution` and clipped to [0, range_max].
+struct PressureSensorSpec {
+  double noise_stddev = 0.0;  // white noise per sample [Pa]
+  double resolution = 0.0;    // quantisation step [Pa]; 0: none
+  double range_max = 1.2e8;   // full scale, absolute [Pa] (default 12 000 dbar)
+};
+
+struct SensorSpec {
+  std::string name;      // unique within the vehicle; topic rt/<vehicle>/<name>
+  SensorType type = SensorType::kPressure;
+  int link_index = 0;    // index into VehicleSpec::links
+  Eigen::Isometry3d X_LS = Eigen::Isometry3d::Identity();  // mounting pose in the link frame
+  double rate_hz = 10.0;
+  std::string frame_id;  // header.frame_id; default "<vehicle>/<name>"
+  PressureSensorSpec pressure;
+};
+
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
 // thrusters take these normalised setpoints (one per thruster, in [-1, 1]).
 struct SetpointKeyframe {
@@ -140,6 +165,7 @@ struct VehicleSpec {
   std::string source_file;          // file the vehicle definition came from (scenario or include)
   std::vector<LinkSpec> links;      // links[0] is the base link; links are rigidly attached to B
   std::vector<ThrusterSpec> thrusters;
+  std::vector<SensorSpec> sensors;
   FluidSpec fluid;
   Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_WB_initial = Eigen::Vector3d::Zero();  // initial linear velocity in W [m/s]

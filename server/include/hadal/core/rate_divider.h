@@ -34,4 +34,15 @@ class RateDivider {
   std::uint64_t next_ = 0;
 };
 
+// The same schedule without state, for streams sampled inside the simulation (their schedule must
+// survive a SimState restore): true when a sample of a rate_hz stream is due at physics step
+// `step` >= 1 (time step * dt), i.e. when some t_n = n / rate_hz lies in (t_{step-1}, t_step].
+inline bool sample_due(std::uint64_t step, double dt, double rate_hz) {
+  if (!(rate_hz > 0.0) || step == 0) return false;
+  const auto samples_until = [&](std::uint64_t k) {  // samples with t_n <= k dt (n = 0, 1, ...)
+    return static_cast<std::uint64_t>(std::floor(static_cast<double>(k) * dt * rate_hz * (1.0 + 1e-12) + 1e-9));
+  };
+  return samples_until(step) > samples_until(step - 1);
+}
+
 }  // namespace hadal

@@ -86,7 +86,7 @@ class Simulation {
   SimState state_;
   std::unique_ptr<physics::BulletWorld> world_;
   std::unique_ptr<physics::Ocean> ocean_;  // the water column
-  struct VehicleRuntime;                 // per-vehicle thrusters and fluid model (simulation.cc)
+  struct VehicleRuntime;                 // per-vehicle thrusters, fluid model, sensors (simulation.cc)
   std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;     // fluid forces in parallel; null when it does not pay
 };

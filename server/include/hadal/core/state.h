@@ -8,6 +8,8 @@
 #include <limits>
 #include <vector>
 
+#include "hadal/sensors/noise.h"
+
 namespace hadal {
 
 // Pose and velocity of a vehicle body frame B in the world W.
@@ -33,6 +35,16 @@ enum VehicleFault : std::uint32_t {
 
 enum class CommandSource : std::uint8_t { kNone, kSchedule, kClient };
 
+// The last sample of a sensor and what its noise carries from sample to sample (generator states,
+// biases): part of the state, so a restored SimState continues every sensor stream bit-identically.
+struct SensorState {
+  std::uint64_t samples = 0;   // samples taken so far (a publisher sends the sample when it changes)
+  double stamp = 0.0;          // sim time of the last sample [s]
+  std::vector<double> value;   // the last measurement, layout per type (pressure: {p [Pa]})
+  std::vector<sensors::NoiseChannelState> channels;  // scalar noise channels, layout per type
+  std::vector<sensors::NoiseTriadState> triads;      // three-axis noise channels, layout per type
+};
+
 struct VehicleState {
   RigidBodyState body;
   std::vector<ThrusterState> thrusters;  // one per ThrusterSpec, same order
@@ -41,6 +53,7 @@ struct VehicleState {
   double last_command_time = -std::numeric_limits<double>::infinity();  // sim time [s]
   std::uint32_t faults = kFaultNone;
   std::uint64_t fault_resets = 0;  // how many times the non-finite policy reset this vehicle
+  std::vector<SensorState> sensors;  // one per SensorSpec, same order
   // Contact wrench Bullet applied to the body in the last step, at the centre of mass in the B axes
   // of that step's start [N; N m]; zero without contact. Added-mass vehicles feed it into the next
   // step (physics/added_mass.h).

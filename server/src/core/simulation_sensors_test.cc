@@ -1,0 +1,147 @@
+// Sensors sampled inside the simulation: schedule, ideal values from the state and the ocean, noise
+// from the shared noise module, determinism and state restore.
+#include "hadal/core/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "hadal/physics/ocean.h"
+#include "hadal/physics/test_models.h"
+
+namespace hadal {
+namespace {
+
+namespace testing = physics::testing;
+
+// A vehicle that stays where it is put: no gravity, no buoyancy volume, no damping, no added mass.
+// Its pressure sensor sits 0.5 m above and 0.3 m ahead of B's origin (link `mast` 0.2 m up, sensor
+// 0.3 m up in it).
+Model still_vehicle_with_pressure_sensor(double depth, const PressureSensorSpec& pressure, double rate_hz,
+                                         std::uint64_t seed = 1) {
+  VehicleSpec vehicle;
+  vehicle.name = "auv";
+  vehicle.links = {testing::box_link("hull", 10.0, Eigen::Vector3d(1, 0.3, 0.3), 0.0),
+                   testing::box_link("mast", 1.0, Eigen::Vector3d(0.1, 0.1, 0.1), 0.0,
+                                     testing::at(Eigen::Vector3d(0.3, 0, 0.2)))};
+  vehicle.fluid.model = FluidModelType::kLumped;
+  vehicle.fluid.added_mass.model = AddedMassModel::kNone;
+  vehicle.X_WB_initial = testing::at(Eigen::Vector3d(0, 0, -depth));
+  SensorSpec sensor;
+  sensor.name = "depth";
+  sensor.link_index = 1;
+  sensor.X_LS.translation() = Eigen::Vector3d(0, 0, 0.3);
+  sensor.rate_hz = rate_hz;
+  sensor.frame_id = "auv/depth";
+  sensor.pressure = pressure;
+  vehicle.sensors = {sensor};
+  Model model = testing::water_model({vehicle});
+  model.world.gravity_W.setZero();
+  model.world.seabed.z = -5000.0;
+  model.world.physics_rate_hz = 1000.0;
+  model.world.seed = seed;
+  model.world.water.density_model = DensityModel::kRamp;
+  return model;
+}
+
+// Without noise the sensor reads the ocean's absolute pressure at its own depth (0.5 m shallower than
+// B), exactly; 200 Hz in a 1 kHz loop gives a sample every 5th step, stamped with its sim time.
+TEST(SimulationSensorsTest, PressureSensorReadsTheOceanAtItsPositionOnSchedule) {
+  const double depth = 1500.0;
+  Simulation sim(still_vehicle_with_pressure_sensor(depth, PressureSensorSpec{}, 200.0));
+  const double expected = sim.ocean().pressure(depth - 0.5);
+  std::uint64_t last = 0;
+  for (int k = 1; k <= 1000; ++k) {
+    sim.step();
+    const SensorState& s = sim.state().vehicles[0].sensors[0];
+    if (k % 5 == 0) {
+      ASSERT_EQ(s.samples, last + 1) << k;
+      EXPECT_EQ(s.stamp, sim.time());
+      EXPECT_EQ(s.value[0], expected);
+    } else {
+      ASSERT_EQ(s.samples, last) << k;
+    }
+    last = s.samples;
+  }
+  EXPECT_EQ(last, 200u);
+}
+
+// White noise of 100 Pa: over 20 000 samples the mean is within 4 sigma / sqrt(n) = 2.8 Pa of the
+// ideal value and the standard deviation within 4 sigma / sqrt(2 n) = 2 % of 100 Pa (fixed seed).
+TEST(SimulationSensorsTest, PressureNoiseHasTheConfiguredSpread) {
+  PressureSensorSpec pressure;
+  pressure.noise_stddev = 100.0;
+  Simulation sim(still_vehicle_with_pressure_sensor(100.0, pressure, 1000.0));
+  const double ideal = sim.ocean().pressure(99.5);
+  double sum = 0.0, sum2 = 0.0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    sim.step();
+    const double e = sim.state().vehicles[0].sensors[0].value[0] - ideal;
+    sum += e;
+    sum2 += e * e;
+  }
+  const double mean = sum / n, stddev = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 4.0 * 100.0 / std::sqrt(n));
+  EXPECT_NEAR(stddev, 100.0, 4.0 * 100.0 / std::sqrt(2.0 * n));
+}
+
+// Quantisation to the resolution and clipping to [0, range_max]; above the water the sensor reads the
+// atmosphere.
+TEST(SimulationSensorsTest, PressureResolutionRangeAndAir) {
+  PressureSensorSpec pressure;
+  pressure.resolution = 1000.0;
+  pressure.noise_stddev = 300.0;
+  Simulation sim(still_vehicle_with_pressure_sensor(50.0, pressure, 100.0));
+  for (int k = 0; k < 100; ++k) {
+    sim.step();
+    const double p = sim.state().vehicles[0].sensors[0].value[0];
+    EXPECT_EQ(std::fmod(p, 1000.0), 0.0) << p;
+  }
+  PressureSensorSpec small_range;
+  small_range.range_max = 2.0e5;
+  Simulation deep(still_vehicle_with_pressure_sensor(1000.0, small_range, 100.0));
+  deep.step();
+  for (int k = 0; k < 10; ++k) deep.step();
+  EXPECT_EQ(deep.state().vehicles[0].sensors[0].value[0], 2.0e5);
+  Simulation dry(still_vehicle_with_pressure_sensor(-10.0, PressureSensorSpec{}, 100.0));
+  for (int k = 0; k < 10; ++k) dry.step();
+  EXPECT_EQ(dry.state().vehicles[0].sensors[0].value[0], dry.ocean().atmospheric_pressure());
+}
+
+// Same seed: bit-identical streams; another seed: different; a restored state continues the stream
+// exactly as the uninterrupted run does.
+TEST(SimulationSensorsTest, SensorStreamsAreDeterministicAndRestorable) {
+  PressureSensorSpec pressure;
+  pressure.noise_stddev = 50.0;
+  auto stream = [&](std::uint64_t seed) {
+    Simulation sim(still_vehicle_with_pressure_sensor(200.0, pressure, 100.0, seed));
+    std::vector<double> values;
+    for (int k = 0; k < 500; ++k) {
+      sim.step();
+      if (k % 10 == 9) values.push_back(sim.state().vehicles[0].sensors[0].value[0]);
+    }
+    return values;
+  };
+  EXPECT_EQ(stream(7), stream(7));
+  EXPECT_NE(stream(7), stream(8));
+
+  Simulation sim(still_vehicle_with_pressure_sensor(200.0, pressure, 100.0, 3));
+  for (int k = 0; k < 237; ++k) sim.step();
+  const SimState saved = sim.state();
+  std::vector<double> first, second;
+  for (int k = 0; k < 300; ++k) {
+    sim.step();
+    first.push_back(sim.state().vehicles[0].sensors[0].value[0]);
+  }
+  sim.set_state(saved);
+  for (int k = 0; k < 300; ++k) {
+    sim.step();
+    second.push_back(sim.state().vehicles[0].sensors[0].value[0]);
+  }
+  EXPECT_EQ(first, second);
+}
+
+}  // namespace
+}  // namespace hadal
