@@ -14,6 +14,7 @@
 #include "hadal/geometry/mesh_transform.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/physics/seawater.h"
+#include "hadal/sensors/noise.h"
 #include "yaml_reader.h"
 
 namespace hadal::config {
@@ -650,17 +651,139 @@ std::optional<std::string> read_thruster(const Value& value,
   return thruster->name;
 }
 
+// The IMU keys of a sensor entry (configs/REFERENCE.md): a datasheet preset and/or figures in
+// datasheet units, converted by sensors/noise.h; temperature drift and thruster vibration.
+void read_imu(const MapReader& map, const std::vector<std::string>& thruster_names, ImuSensorSpec* imu) {
+  sensors::ImuDatasheet sheet;
+  if (const auto preset = map.optional("preset")) {
+    if (const auto id = preset->string()) {
+      if (const sensors::ImuDatasheet* found = sensors::find_imu_preset(*id)) {
+        sheet = *found;
+      } else {
+        std::vector<std::string> ids;
+        for (const auto& p : sensors::imu_presets()) ids.push_back(quoted(std::string(p.id)));
+        preset->error("unknown IMU preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
+      }
+    }
+  }
+  double gyro_range = 0.0, gyro_lsb = 0.0, accel_range = 0.0, accel_lsb = 0.0, accel_misalignment = 0.0;
+  if (const auto gyro_value = map.optional("gyro")) {
+    const MapReader gyro(*gyro_value, {"arw_deg_per_sqrt_h", "bias_instability_deg_per_h", "rrw_deg_per_h_per_sqrt_h",
+                                       "scale_factor_ppm", "misalignment_deg", "range_deg_per_s",
+                                       "resolution_deg_per_s"});
+    if (gyro.ok()) {
+      gyro.read_number("arw_deg_per_sqrt_h", Need::kOptional, Range::non_negative(), &sheet.gyro_arw_deg_per_sqrt_h);
+      gyro.read_number("bias_instability_deg_per_h", Need::kOptional, Range::non_negative(),
+                       &sheet.gyro_bias_instability_deg_per_h);
+      gyro.read_number("rrw_deg_per_h_per_sqrt_h", Need::kOptional, Range::non_negative(),
+                       &sheet.gyro_rrw_deg_per_h_per_sqrt_h);
+      gyro.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.gyro_scale_factor_ppm);
+      double misalignment_deg = sheet.gyro_misalignment_rad / kDegToRad;
+      if (gyro.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &misalignment_deg)) {
+        sheet.gyro_misalignment_rad = misalignment_deg * kDegToRad;
+      }
+      gyro.read_number("range_deg_per_s", Need::kOptional, Range::positive(), &gyro_range);
+      gyro.read_number("resolution_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_lsb);
+    }
+  }
+  if (const auto accel_value = map.optional("accel")) {
+    const MapReader accel(*accel_value, {"vrw_m_per_s_per_sqrt_h", "bias_instability_mg", "scale_factor_ppm",
+                                         "misalignment_deg", "range_g", "resolution_mg"});
+    if (accel.ok()) {
+      double vrw = sheet.accel_noise_density * 60.0;
+      if (accel.read_number("vrw_m_per_s_per_sqrt_h", Need::kOptional, Range::non_negative(), &vrw)) {
+        sheet.accel_noise_density = sensors::vrw_to_noise_density(vrw);
+      }
+      double bias_mg = sheet.accel_bias_instability_mps2 / sensors::milli_g_to_mps2(1.0);
+      if (accel.read_number("bias_instability_mg", Need::kOptional, Range::non_negative(), &bias_mg)) {
+        sheet.accel_bias_instability_mps2 = sensors::milli_g_to_mps2(bias_mg);
+      }
+      accel.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.accel_scale_factor_ppm);
+      accel.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &accel_misalignment);
+      accel.read_number("range_g", Need::kOptional, Range::positive(), &accel_range);
+      accel.read_number("resolution_mg", Need::kOptional, Range::non_negative(), &accel_lsb);
+    }
+  }
+  bool white_noise_only = false;
+  map.read_bool("white_noise_only", Need::kOptional, &white_noise_only);
+  if (white_noise_only) {
+    sheet.gyro_bias_instability_deg_per_h = 0.0;
+    sheet.gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
+    sheet.gyro_scale_factor_ppm = 0.0;
+    sheet.gyro_misalignment_rad = 0.0;
+    sheet.accel_bias_instability_mps2 = 0.0;
+    sheet.accel_scale_factor_ppm = 0.0;
+    accel_misalignment = 0.0;
+  }
+  const sensors::ImuNoiseParams params = sensors::imu_noise_params(sheet);
+  imu->gyro = params.gyro;
+  imu->accel = params.accel;
+  imu->accel.misalignment_sigma = accel_misalignment * kDegToRad;
+  if (gyro_range > 0.0) imu->gyro.min = -(imu->gyro.max = gyro_range * kDegToRad);
+  if (accel_range > 0.0) imu->accel.min = -(imu->accel.max = accel_range * sensors::kStandardGravity);
+  imu->gyro.lsb = gyro_lsb * kDegToRad;
+  imu->accel.lsb = sensors::milli_g_to_mps2(accel_lsb);
+
+  if (const auto temperature_value = map.optional("temperature")) {
+    const MapReader temperature(*temperature_value, {"reference_degc", "gyro_deg_per_h_per_degc", "accel_mg_per_degc"});
+    if (temperature.ok()) {
+      temperature.read_number("reference_degc", Need::kOptional, Range::closed(-5.0, 60.0), &imu->temperature_reference);
+      double gyro_k = 0.0, accel_k = 0.0;
+      if (temperature.read_number("gyro_deg_per_h_per_degc", Need::kOptional, Range::finite(), &gyro_k)) {
+        imu->gyro_temperature_coefficient = sensors::deg_per_h_to_rad_per_s(gyro_k);
+      }
+      if (temperature.read_number("accel_mg_per_degc", Need::kOptional, Range::finite(), &accel_k)) {
+        imu->accel_temperature_coefficient = sensors::milli_g_to_mps2(accel_k);
+      }
+    }
+  }
+  if (const auto vibration_value = map.optional("vibration")) {
+    const MapReader vibration(*vibration_value, {"thruster", "blades", "gyro_deg_per_s", "accel_mg"});
+    if (vibration.ok()) {
+      if (const auto thruster = vibration.required("thruster")) {
+        if (const auto name = thruster->string()) {
+          const auto it = std::find(thruster_names.begin(), thruster_names.end(), *name);
+          if (it == thruster_names.end()) {
+            thruster->error("no thruster named " + quoted(*name) + " in this vehicle (" +
+                            (thruster_names.empty() ? std::string("it has none")
+                                                    : "thrusters: " + join_names(thruster_names)) + ")");
+          } else {
+            imu->vibration_thruster = static_cast<int>(it - thruster_names.begin());
+          }
+        }
+      }
+      double blades = 3.0, gyro_a = 0.0, accel_a = 0.0;
+      if (vibration.read_number("blades", Need::kOptional, Range::closed(1.0, 12.0), &blades)) {
+        imu->vibration_blades = static_cast<int>(blades);
+      }
+      if (vibration.read_number("gyro_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_a)) {
+        imu->gyro_vibration_amplitude = gyro_a * kDegToRad;
+      }
+      if (vibration.read_number("accel_mg", Need::kOptional, Range::non_negative(), &accel_a)) {
+        imu->accel_vibration_amplitude = sensors::milli_g_to_mps2(accel_a);
+      }
+    }
+  }
+}
+
 // One entry of a vehicle definition's `sensors` list. `link_names` as for thrusters (nullopt: unknown,
-// then a `link` is not checked); `physics_rate_hz` bounds rate_hz when known.
+// then a `link` is not checked); `physics_rate_hz` bounds rate_hz when known. Keys of another sensor
+// type are errors.
 void read_sensor(const Value& value, const std::optional<std::vector<std::string>>& link_names,
-                 std::optional<double> physics_rate_hz, std::map<std::string, std::string>* seen_names,
-                 SensorSpec* sensor) {
-  static const std::vector<std::pair<std::string, SensorType>> kTypes = {{"pressure", SensorType::kPressure}};
-  const MapReader map(value, {"name", "type", "link", "pose", "rate_hz", "frame_id", "noise_stddev",
-                              "resolution", "range_max"});
+                 const std::vector<std::string>& thruster_names, std::optional<double> physics_rate_hz,
+                 std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
+  static const std::vector<std::pair<std::string, SensorType>> kTypes = {{"pressure", SensorType::kPressure},
+                                                                        {"imu", SensorType::kImu}};
+  static const std::vector<std::string> kPressureKeys = {"noise_stddev", "resolution", "range_max"};
+  static const std::vector<std::string> kImuKeys = {"preset", "gyro", "accel", "white_noise_only", "temperature",
+                                                    "vibration"};
+  std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
+  keys.insert(keys.end(), kPressureKeys.begin(), kPressureKeys.end());
+  keys.insert(keys.end(), kImuKeys.begin(), kImuKeys.end());
+  const MapReader map(value, keys);
   if (!map.ok()) return;
   read_unique_name(map, "sensor", seen_names, &sensor->name);
-  map.read_choice("type", Need::kRequired, kTypes, &sensor->type);
+  if (!map.read_choice("type", Need::kRequired, kTypes, &sensor->type)) return;
   if (const auto link = map.optional("link")) {
     if (const auto link_name = link->string()) {
       const auto& names = link_names.value_or(std::vector<std::string>());
@@ -675,11 +798,26 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
   if (const auto pose = map.optional("pose")) read_pose(*pose, &sensor->X_LS);
   read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
-  // Pressure sensor keys (the only type so far).
-  PressureSensorSpec& pressure = sensor->pressure;
-  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &pressure.noise_stddev);
-  map.read_number("resolution", Need::kOptional, Range::non_negative(), &pressure.resolution);
-  map.read_number("range_max", Need::kOptional, Range::positive(), &pressure.range_max);
+  const std::string type_name = sensor->type == SensorType::kPressure ? "pressure" : "imu";
+  const std::vector<std::string>& own = sensor->type == SensorType::kPressure ? kPressureKeys : kImuKeys;
+  for (const std::vector<std::string>* other : {&kPressureKeys, &kImuKeys}) {
+    if (other == &own) continue;
+    for (const std::string& key : *other) {
+      if (map.has(key)) map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(type_name));
+    }
+  }
+  switch (sensor->type) {
+    case SensorType::kPressure: {
+      PressureSensorSpec& pressure = sensor->pressure;
+      map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &pressure.noise_stddev);
+      map.read_number("resolution", Need::kOptional, Range::non_negative(), &pressure.resolution);
+      map.read_number("range_max", Need::kOptional, Range::positive(), &pressure.range_max);
+      break;
+    }
+    case SensorType::kImu:
+      read_imu(map, thruster_names, &sensor->imu);
+      break;
+  }
 }
 
 void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* coefficients) {
@@ -861,7 +999,8 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
       std::map<std::string, std::string> seen;
       for (std::size_t i = 0; i < items->size(); ++i) {
         SensorSpec sensor;
-        read_sensor((*items)[i], link_names, physics_rate_hz, &seen, &sensor);
+        read_sensor((*items)[i], link_names, definition.thruster_names.value_or(std::vector<std::string>()),
+                    physics_rate_hz, &seen, &sensor);
         definition.sensors.push_back(std::move(sensor));
       }
     }

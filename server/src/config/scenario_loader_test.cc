@@ -1,6 +1,8 @@
 #include "hadal/config/scenario_loader.h"
 
 #include <gtest/gtest.h>
+
+#include "hadal/sensors/noise.h"
 #include <opencv2/imgcodecs.hpp>
 
 #include "hadal/assets/mesh_generators.h"
@@ -506,7 +508,8 @@ vehicles:
       - {type: pressure, colour: red}
 )");
   EXPECT_EQ(errors_of(path),
-            (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be 'pressure' (got 'barometer')",
+            (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu' (got "
+                          "'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
@@ -516,6 +519,75 @@ vehicles:
                    path + ":10:67: error: vehicles[0].sensors[2].noise_stddev: must be >= 0 (got -1)",
                    path + ":11:9: error: vehicles[0].sensors[3]: missing required key 'name'",
                    path + ":11:26: error: vehicles[0].sensors[3].colour: unknown key 'colour'"}));
+}
+
+TEST_F(ScenarioLoaderTest, ImuFromPresetAndFigures) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    thrusters:
+      - {name: main, link: hull, position: [-0.8, 0, 0], direction: [1, 0, 0], propeller_diameter: 0.1,
+         thrust_coefficient: 0.4, max_rpm: 1500}
+    sensors:
+      - name: imu
+        type: imu
+        rate_hz: 100
+        preset: honeywell_hg1700
+        gyro: {arw_deg_per_sqrt_h: 0.2, range_deg_per_s: 400}
+        accel: {range_g: 10, resolution_mg: 0.1}
+        temperature: {reference_degc: 15, accel_mg_per_degc: 0.05}
+        vibration: {thruster: main, blades: 4, accel_mg: 2}
+      - {name: plain, type: imu, white_noise_only: true, preset: honeywell_hg1700}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const ImuSensorSpec& imu = result.model->vehicles[0].sensors[0].imu;
+  EXPECT_EQ(result.model->vehicles[0].sensors[0].type, SensorType::kImu);
+  EXPECT_DOUBLE_EQ(imu.gyro.axes[0].white_noise_density, sensors::arw_to_noise_density(0.2));  // override
+  EXPECT_FALSE(imu.gyro.axes[0].gauss_markov.empty());  // the preset's bias instability
+  EXPECT_DOUBLE_EQ(imu.gyro.max, 400.0 * M_PI / 180.0);
+  EXPECT_DOUBLE_EQ(imu.gyro.min, -400.0 * M_PI / 180.0);
+  EXPECT_DOUBLE_EQ(imu.accel.max, 10.0 * 9.80665);
+  EXPECT_DOUBLE_EQ(imu.accel.lsb, 1e-4 * 9.80665);
+  EXPECT_EQ(imu.temperature_reference, 15.0);
+  EXPECT_DOUBLE_EQ(imu.accel_temperature_coefficient, 0.05e-3 * 9.80665);
+  EXPECT_EQ(imu.vibration_thruster, 0);
+  EXPECT_EQ(imu.vibration_blades, 4);
+  EXPECT_DOUBLE_EQ(imu.accel_vibration_amplitude, 2e-3 * 9.80665);
+  const ImuSensorSpec& plain = result.model->vehicles[0].sensors[1].imu;
+  EXPECT_TRUE(plain.gyro.axes[0].gauss_markov.empty());
+  EXPECT_GT(plain.gyro.axes[0].white_noise_density, 0.0);
+  EXPECT_EQ(plain.gyro.scale_factor_sigma, 0.0);
+}
+
+TEST_F(ScenarioLoaderTest, ImuErrors) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: a, type: imu, preset: stim999, noise_stddev: 3}
+      - {name: b, type: imu, gyro: {arw: 1}, vibration: {thruster: main}}
+      - {name: c, type: pressure, preset: honeywell_hg1700}
+)");
+  const std::vector<std::string> errors = errors_of(path);
+  ASSERT_EQ(errors.size(), 5u);
+  EXPECT_NE(errors[0].find(":8:38: error: vehicles[0].sensors[0].preset: unknown IMU preset 'stim999' (presets: "),
+            std::string::npos) << errors[0];
+  EXPECT_NE(errors[1].find(":8:47: error: vehicles[0].sensors[0].noise_stddev: key 'noise_stddev' is not used by "
+                           "sensor type 'imu'"), std::string::npos) << errors[1];
+  EXPECT_NE(errors[2].find(":9:37: error: vehicles[0].sensors[1].gyro.arw: unknown key 'arw'"), std::string::npos)
+      << errors[2];
+  EXPECT_NE(errors[3].find(":9:68: error: vehicles[0].sensors[1].vibration.thruster: no thruster named 'main' in this "
+                           "vehicle (it has none)"),
+            std::string::npos) << errors[3];
+  EXPECT_NE(errors[4].find(":10:35: error: vehicles[0].sensors[2].preset: key 'preset' is not used by sensor "
+                           "type 'pressure'"), std::string::npos) << errors[4];
 }
 
 TEST_F(ScenarioLoaderTest, FluidKeysArePerModel) {

@@ -55,6 +55,7 @@ struct Simulation::VehicleRuntime {
   // added-mass contact feedback after the step.
   Eigen::Vector3d p_WBcm = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_WBcm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d tau_W = Eigen::Vector3d::Zero();  // about p_WBcm
@@ -388,6 +389,14 @@ Simulation::Simulation(Model model)
           sensor_state.value.assign(1, 0.0);
           break;
         }
+        case SensorType::kImu: {
+          sensor_state.triads.push_back(sensors::make_noise_state(
+              sensor.imu.gyro, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "gyro")));
+          sensor_state.triads.push_back(sensors::make_noise_state(
+              sensor.imu.accel, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "accel")));
+          sensor_state.value.assign(6, 0.0);  // w_S [rad/s], f_S [m/s^2]
+          break;
+        }
       }
       runtime.sensors.push_back(s);
       vehicle.sensors.push_back(std::move(sensor_state));
@@ -515,6 +524,7 @@ void Simulation::step() {
     const Eigen::Isometry3d& X_WB = vehicle.body.X_WB;
     runtime.p_WBcm = X_WB * runtime.p_BBcm;
     runtime.v_WBcm = vehicle.body.v_WB + vehicle.body.w_WB.cross(runtime.p_WBcm - X_WB.translation());
+    runtime.w_WB = vehicle.body.w_WB;
     runtime.f_W.setZero();
     runtime.tau_W.setZero();
     for (std::size_t k = 0; k < vehicle.thrusters.size(); ++k) {
@@ -665,6 +675,43 @@ void Simulation::step() {
           const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
           const double ideal = ocean_->pressure(std::max(ocean_->depth(p_WS.z()), 0.0));
           out.value[0] = sensors::measure(sensor.channel, out.channels[0], ideal, sensor.period);
+          break;
+        }
+        case SensorType::kImu: {
+          const ImuSensorSpec& imu = spec.sensors[k].imu;
+          const RigidBodyState& body = vehicle.body;
+          const Eigen::Matrix3d R_WS = body.X_WB.linear() * sensor.X_BS.linear();
+          const Eigen::Matrix3d R_SW = R_WS.transpose();
+          // Mean accelerations over the step that ends now (exact for Bullet's semi-implicit step).
+          const Eigen::Vector3d p_WBcm = body.X_WB * runtime.p_BBcm;
+          const Eigen::Vector3d v_WBcm = body.v_WB + body.w_WB.cross(p_WBcm - body.X_WB.translation());
+          const Eigen::Vector3d a_WBcm = (v_WBcm - runtime.v_WBcm) / dt;
+          const Eigen::Vector3d alpha_W = (body.w_WB - runtime.w_WB) / dt;
+          const Eigen::Vector3d r_W = body.X_WB * sensor.X_BS.translation() - p_WBcm;
+          const Eigen::Vector3d& w = body.w_WB;
+          const Eigen::Vector3d a_WS = a_WBcm + alpha_W.cross(r_W) + w.cross(w.cross(r_W));
+          const Eigen::Vector3d w_S = R_SW * w;
+          const Eigen::Vector3d f_S = R_SW * (a_WS - g_W);
+          // Temperature drift with the water's temperature at the sensor; thruster vibration.
+          const double depth = std::max(ocean_->depth((body.X_WB * sensor.X_BS.translation()).z()), 0.0);
+          const double dT = ocean_->temperature(depth) - imu.temperature_reference;
+          double vibration = 0.0;
+          if (imu.vibration_thruster >= 0) {
+            const double f = imu.vibration_blades *
+                             std::abs(vehicle.thrusters[static_cast<std::size_t>(imu.vibration_thruster)].rotor_speed);
+            vibration = std::sin(2.0 * EIGEN_PI * f * state_.time);
+          }
+          const Eigen::Vector3d gyro_terms = Eigen::Vector3d::Constant(
+              dT * imu.gyro_temperature_coefficient + vibration * imu.gyro_vibration_amplitude);
+          const Eigen::Vector3d accel_terms = Eigen::Vector3d::Constant(
+              dT * imu.accel_temperature_coefficient + vibration * imu.accel_vibration_amplitude);
+          const Eigen::Vector3d w_meas = sensors::measure(imu.gyro, out.triads[0], w_S, sensor.period, gyro_terms);
+          const Eigen::Vector3d f_meas =
+              sensors::measure(imu.accel, out.triads[1], f_S, sensor.period, accel_terms);
+          for (int c = 0; c < 3; ++c) {
+            out.value[c] = w_meas[c];
+            out.value[3 + c] = f_meas[c];
+          }
           break;
         }
       }

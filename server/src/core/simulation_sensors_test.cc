@@ -9,6 +9,7 @@
 
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/test_models.h"
+#include "hadal/sensors/noise.h"
 
 namespace hadal {
 namespace {
@@ -141,6 +142,95 @@ TEST(SimulationSensorsTest, SensorStreamsAreDeterministicAndRestorable) {
     second.push_back(sim.state().vehicles[0].sensors[0].value[0]);
   }
   EXPECT_EQ(first, second);
+}
+
+// One neutrally buoyant box (lumped model, rho V = m) with an IMU at lever arm r on it, the IMU frame
+// turned by rpy_S; `gravity` on or off.
+Model imu_vehicle(const Eigen::Vector3d& r_BS, const Eigen::Matrix3d& R_BS, bool gravity,
+                  const ImuSensorSpec& imu = ImuSensorSpec{}) {
+  VehicleSpec vehicle;
+  vehicle.name = "auv";
+  const Eigen::Vector3d size(1, 0.4, 0.4);
+  vehicle.links = {testing::box_link("hull", 1000.0 * size.prod(), size, size.prod())};
+  vehicle.fluid.model = FluidModelType::kLumped;
+  vehicle.fluid.added_mass.model = AddedMassModel::kNone;
+  vehicle.X_WB_initial = testing::at(Eigen::Vector3d(0, 0, -30));
+  SensorSpec sensor;
+  sensor.name = "imu";
+  sensor.type = SensorType::kImu;
+  sensor.X_LS = testing::at(r_BS, R_BS);
+  sensor.rate_hz = 100.0;
+  sensor.frame_id = "auv/imu";
+  sensor.imu = imu;
+  vehicle.sensors = {sensor};
+  Model model = testing::water_model({vehicle});
+  if (!gravity) model.world.gravity_W.setZero();
+  model.world.seabed.z = -5000.0;
+  model.world.physics_rate_hz = 1000.0;
+  return model;
+}
+
+// At rest in the water an ideal IMU reads no rotation and the specific force -g: "up", 9.80665 m/s^2,
+// expressed in its own (here rolled and yawed) frame. Forces balance to rounding: 1e-9.
+TEST(SimulationSensorsTest, ImuAtRestReadsGravityInItsFrame) {
+  const Eigen::Matrix3d R_BS = (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  Simulation sim(imu_vehicle(Eigen::Vector3d(0.3, 0.1, 0.1), R_BS, true));
+  for (int k = 0; k < 50; ++k) sim.step();
+  const SensorState& s = sim.state().vehicles[0].sensors[0];
+  ASSERT_EQ(s.samples, 5u);
+  const Eigen::Vector3d expected = R_BS.transpose() * Eigen::Vector3d(0, 0, 9.80665);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(s.value[c], 0.0, 1e-9);
+    EXPECT_NEAR(s.value[3 + c], expected[c], 1e-9);
+  }
+}
+
+// A body spinning at w about z (no gravity, no fluid): the IMU at r from the centre of mass reads w
+// and the centripetal specific force -w^2 r in its frame (fixed to the body). The IMU uses the mean
+// acceleration over the last step, whose direction lags the end-of-step radius by w dt / 2 (5e-4 rad
+// here), hence 1e-3 relative.
+TEST(SimulationSensorsTest, ImuOnASpinningBodyReadsTheCentripetalForce) {
+  const double w = 1.0;
+  const Eigen::Vector3d r(0.5, 0.0, 0.0);
+  Model model = imu_vehicle(r, Eigen::Matrix3d::Identity(), false);
+  model.vehicles[0].fluid.linear_damping.setZero();
+  Simulation sim(model);
+  SimState state = sim.state();
+  state.vehicles[0].body.w_WB = Eigen::Vector3d(0, 0, w);
+  sim.set_state(state);
+  for (int k = 0; k < 1000; ++k) sim.step();
+  const SensorState& s = sim.state().vehicles[0].sensors[0];
+  EXPECT_NEAR(s.value[2], w, 1e-9);
+  EXPECT_NEAR(s.value[3], -w * w * r.x(), 1e-3 * w * w * r.x());
+  EXPECT_NEAR(s.value[4], 0.0, 1e-3 * w * w * r.x());
+  EXPECT_NEAR(s.value[5], 0.0, 1e-9);
+}
+
+// White gyro noise from an ARW figure: sample stddev N sqrt(rate) within 4 sigma / sqrt(2 n) (n =
+// 20 000 samples of one axis, fixed seed); temperature drift (T - T_ref) k_T shifts the mean.
+TEST(SimulationSensorsTest, ImuNoiseAndTemperatureDrift) {
+  ImuSensorSpec imu;
+  const double N = sensors::arw_to_noise_density(0.125);
+  for (auto& axis : imu.gyro.axes) axis.white_noise_density = N;
+  imu.temperature_reference = 20.0;
+  imu.accel_temperature_coefficient = 1e-3;  // [m/s^2 per K]; water at 4 degC: -0.016 m/s^2
+  Model model = imu_vehicle(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), true, imu);
+  Simulation sim(model);
+  const int n = 20000;
+  double sum = 0.0, sum2 = 0.0, accel_z = 0.0;
+  for (int k = 0; k < n * 10; ++k) {
+    sim.step();
+    if ((k + 1) % 10 != 0) continue;
+    const SensorState& s = sim.state().vehicles[0].sensors[0];
+    sum += s.value[2];
+    sum2 += s.value[2] * s.value[2];
+    accel_z = s.value[5];
+  }
+  const double sigma = N * std::sqrt(100.0);
+  const double stddev = std::sqrt(sum2 / n - (sum / n) * (sum / n));
+  EXPECT_NEAR(stddev, sigma, 4.0 * sigma / std::sqrt(2.0 * n));
+  EXPECT_NEAR(accel_z, 9.80665 + (sim.ocean().temperature(30.0) - 20.0) * 1e-3, 1e-9);
 }
 
 }  // namespace

@@ -63,4 +63,32 @@ void fill_fluid_pressure(const SensorSpec& spec, const SensorState& sample,
   msg.variance(p.noise_stddev * p.noise_stddev + p.resolution * p.resolution / 12.0);
 }
 
+void fill_imu(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::Imu& msg) {
+  msg.header().stamp(to_time_msg(sample.stamp));
+  msg.header().frame_id(spec.frame_id);
+  msg.orientation().x(0.0);
+  msg.orientation().y(0.0);
+  msg.orientation().z(0.0);
+  msg.orientation().w(1.0);
+  msg.orientation_covariance().fill(0.0);
+  msg.orientation_covariance()[0] = -1.0;
+  double value[6] = {0, 0, 0, 0, 0, 0};
+  for (std::size_t c = 0; c < 6 && c < sample.value.size(); ++c) value[c] = sample.value[c];
+  msg.angular_velocity().x(value[0]);
+  msg.angular_velocity().y(value[1]);
+  msg.angular_velocity().z(value[2]);
+  msg.linear_acceleration().x(value[3]);
+  msg.linear_acceleration().y(value[4]);
+  msg.linear_acceleration().z(value[5]);
+  const double rate = spec.rate_hz;
+  msg.angular_velocity_covariance().fill(0.0);
+  msg.linear_acceleration_covariance().fill(0.0);
+  for (int a = 0; a < 3; ++a) {
+    const double n_gyro = spec.imu.gyro.axes[a].white_noise_density;
+    const double n_accel = spec.imu.accel.axes[a].white_noise_density;
+    msg.angular_velocity_covariance()[4 * a] = n_gyro * n_gyro * rate;
+    msg.linear_acceleration_covariance()[4 * a] = n_accel * n_accel * rate;
+  }
+}
+
 }  // namespace hadal::dds

@@ -27,4 +27,9 @@ void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, dou
 void fill_fluid_pressure(const SensorSpec& spec, const SensorState& sample,
                          sensor_msgs::msg::FluidPressure& msg);
 
+// An IMU's last sample: angular velocity and linear acceleration (specific force) in the sensor frame,
+// diagonal covariances from the white noise (N^2 / T per axis, T the sample period), no orientation
+// (orientation_covariance[0] = -1, the ROS convention for "not provided").
+void fill_imu(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::Imu& msg);
+
 }  // namespace hadal::dds

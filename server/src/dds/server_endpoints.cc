@@ -75,6 +75,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   hadal_msgs::msg::ThrusterState thruster_msg;
   hadal_msgs::msg::SimStatus status_msg;
   sensor_msgs::msg::FluidPressure pressure_msg;
+  sensor_msgs::msg::Imu imu_msg;
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -223,6 +224,9 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
           d.sensor_writers.back().push_back(
               r.writer<sensor_msgs::msg::FluidPressurePubSubType>(topic, kStateHistoryDepth));
           break;
+        case SensorType::kImu:
+          d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::ImuPubSubType>(topic, kStateHistoryDepth));
+          break;
       }
       d.sensor_slot.back().push_back(d.add_count(topic));
     }
@@ -304,6 +308,10 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
     case SensorType::kPressure:
       fill_fluid_pressure(spec, sample, impl_->pressure_msg);
       impl_->write(impl_->sensor_writers[i][k], &impl_->pressure_msg, impl_->sensor_slot[i][k]);
+      break;
+    case SensorType::kImu:
+      fill_imu(spec, sample, impl_->imu_msg);
+      impl_->write(impl_->sensor_writers[i][k], &impl_->imu_msg, impl_->sensor_slot[i][k]);
       break;
   }
 }

@@ -11,6 +11,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/sensors/noise.h"
 
 #include <Eigen/Geometry>
 
@@ -132,7 +133,7 @@ struct FluidSpec {
 // n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value
 // from the state, then applies its noise (DESIGN.md 4), and is published on rt/<vehicle>/<name> with
 // header.frame_id `frame_id` and the sample's sim time as stamp.
-enum class SensorType { kPressure };
+enum class SensorType { kPressure, kImu };
 
 // Pressure sensor (sensor_msgs/FluidPressure): absolute pressure at the sensor's origin from the
 // ocean model, plus white noise, quantised to `resolution` and clipped to [0, range_max].
@@ -140,6 +141,25 @@ struct PressureSensorSpec {
   double noise_stddev = 0.0;  // white noise per sample [Pa]
   double resolution = 0.0;    // quantisation step [Pa]; 0: none
   double range_max = 1.2e8;   // full scale, absolute [Pa] (default 12 000 dbar)
+};
+
+// IMU (sensor_msgs/Imu): angular rate and specific force at the sensor's mounting point in S,
+//   w_S = R_SW w_WB,   f_S = R_SW (a_WBcm + alpha x r + w x (w x r) - g_W),   r = p_WS - p_WBcm,
+// with a_WBcm and alpha the mean accelerations over the physics step that ends at the sample; then the
+// paper's error chain per triad (sensors/noise.h: misalignment and scale, bias random walk,
+// Gauss-Markov bias instability, white noise), temperature drift (T - T_ref) k_T with the ocean's
+// temperature at the sensor, thruster vibration A sin(2 pi f t) with f the named thruster's rotor speed
+// times its blade count, quantisation and range. No orientation estimate (orientation_covariance[0] = -1).
+struct ImuSensorSpec {
+  sensors::NoiseTriadParams gyro;   // [rad/s]
+  sensors::NoiseTriadParams accel;  // [m/s^2]
+  double temperature_reference = 20.0;   // T_ref [degC]
+  double gyro_temperature_coefficient = 0.0;   // k_T [rad/s per K], every axis
+  double accel_temperature_coefficient = 0.0;  // k_T [m/s^2 per K], every axis
+  int vibration_thruster = -1;           // index into VehicleSpec::thrusters; -1: no vibration
+  int vibration_blades = 3;              // blade-pass frequency = blades x rotor speed
+  double gyro_vibration_amplitude = 0.0;   // A [rad/s], every axis
+  double accel_vibration_amplitude = 0.0;  // A [m/s^2], every axis
 };
 
 struct SensorSpec {
@@ -150,6 +170,7 @@ struct SensorSpec {
   double rate_hz = 10.0;
   std::string frame_id;  // header.frame_id; default "<vehicle>/<name>"
   PressureSensorSpec pressure;
+  ImuSensorSpec imu;
 };
 
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
