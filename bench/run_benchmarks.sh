@@ -38,6 +38,8 @@ summarise hadald_realtime_mode 10 "$out"
 # 4. The default scenario (surface fluid model, added mass) with an 11 136-face torpedo hull mesh
 #    (generated) in place of the tessellated capsule + fins: forces on every face every step at 500 Hz;
 #    the simulation core alone and the whole server in fast mode.
+# 6 (at the end). Sensors: cost per sample of each of the default AUV's sensors and their share of a
+#    core at the configured rates (bench/sensors.cc).
 # 5. Two such AUVs (20 m apart): their fluid forces run on the worker pool, so with 2 cores the RTF
 #    stays close to the single-vehicle figure instead of halving.
 work=$(mktemp -d)
@@ -63,3 +65,4 @@ for r in 1 2 3; do
   summarise hadald_fast_mode_surface_model - "$out" "default.yaml + surface model, 11136-face hull"
 done
 "$build/bin/hadal_bench_step_rate" "$work/two_surface.yaml" --sim-seconds 20 --repetitions 3
+"$build/bin/hadal_bench_sensors"

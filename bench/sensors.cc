@@ -1,0 +1,71 @@
+// Cost of sensor sampling inside Simulation::step. For each sensor of the default AUV
+// (configs/vehicles/torpedo_auv.yaml) the vehicle is simulated with only that sensor, sampling at the
+// physics rate (every step), and with no sensor; the difference of the median step times is the cost
+// of one sample (ideal value + noise chain). The default AUV's sensor load is then
+// sum_i rate_i x cost_i, as a share of one core. Prints one JSON object per measurement.
+//   build/bin/hadal_bench_sensors [--steps N] [--repetitions R]
+#include "hadal/config/scenario_loader.h"
+#include "hadal/core/simulation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Median over `repetitions` of the mean wall time per step of `steps` steps [s].
+double seconds_per_step(const hadal::Model& model, int steps, int repetitions) {
+  std::vector<double> times;
+  for (int r = 0; r < repetitions; ++r) {
+    hadal::Simulation sim(model);
+    for (int k = 0; k < 100; ++k) sim.step();  // warm up
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0; k < steps; ++k) sim.step();
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps);
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int steps = 20000, repetitions = 7;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string arg = argv[i];
+    if (arg == "--steps") steps = std::atoi(argv[i + 1]);
+    else if (arg == "--repetitions") repetitions = std::atoi(argv[i + 1]);
+  }
+  const auto loaded =
+      hadal::config::load_scenario_file(std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/default.yaml");
+  if (!loaded.ok()) {
+    for (const auto& e : loaded.errors) std::fprintf(stderr, "%s\n", e.format().c_str());
+    return 1;
+  }
+  hadal::Model base = *loaded.model;
+  base.vehicles.resize(1);
+  const std::vector<hadal::SensorSpec> sensors = base.vehicles[0].sensors;
+  base.vehicles[0].sensors.clear();
+  const double physics_hz = base.world.physics_rate_hz;
+  const double without = seconds_per_step(base, steps, repetitions);
+  double load = 0.0;
+  for (const hadal::SensorSpec& sensor : sensors) {
+    hadal::Model with = base;
+    hadal::SensorSpec every_step = sensor;
+    every_step.rate_hz = physics_hz;
+    with.vehicles[0].sensors = {every_step};
+    const double cost = std::max(seconds_per_step(with, steps, repetitions) - without, 0.0);
+    load += cost * sensor.rate_hz;
+    std::printf("{\"benchmark\": \"sensor_sample_cost\", \"sensor\": \"%s\", \"type\": \"%s\", \"ns_per_sample\": %.0f, "
+                "\"configured_rate_hz\": %.0f, \"core_share_at_rate\": %.3e}\n",
+                sensor.name.c_str(), sensor.type == hadal::SensorType::kImu ? "imu" : "pressure", cost * 1e9,
+                sensor.rate_hz, cost * sensor.rate_hz);
+  }
+  std::printf("{\"benchmark\": \"default_auv_sensor_load\", \"sensors\": %zu, \"step_without_sensors_ns\": %.0f, "
+              "\"core_share\": %.3e, \"target\": 0.05}\n",
+              sensors.size(), without * 1e9, load);
+  return 0;
+}
