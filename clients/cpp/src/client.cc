@@ -230,6 +230,19 @@ void Client::on_fluid_pressure(const std::string& vehicle, const std::string& se
       });
 }
 
+void Client::on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::ImuPubSubType, sensor_msgs::msg::Imu>(
+      dds::sensor_topic(vehicle, sensor), [callback = std::move(callback)](const sensor_msgs::msg::Imu& m) {
+        Imu imu;
+        imu.stamp = dds::from_time_msg(m.header().stamp());
+        imu.frame_id = m.header().frame_id();
+        imu.angular_velocity = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
+        imu.linear_acceleration = {m.linear_acceleration().x(), m.linear_acceleration().y(),
+                                   m.linear_acceleration().z()};
+        callback(imu);
+      });
+}
+
 void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
   Impl& d = *impl_;
   fdds::DataWriter* writer = nullptr;

@@ -72,6 +72,15 @@ struct FluidPressure {
   double variance = 0.0;  // [Pa^2]
 };
 
+// sensor_msgs/Imu of an IMU, rt/<vehicle>/<sensor>: angular rate and specific force (acceleration
+// minus gravity: +9.81 m/s^2 up at rest) in the sensor frame, with the sensor's noise.
+struct Imu {
+  double stamp = 0.0;                          // sim time of the sample [s]
+  std::string frame_id;                        // the sensor's frame
+  std::array<double, 3> angular_velocity{};    // [rad/s]
+  std::array<double, 3> linear_acceleration{};  // specific force [m/s^2]
+};
+
 struct ClientOptions {
   int domain_id = 0;  // 0..232, as hadald --domain-id
   std::string name = "hadal_client";
@@ -104,6 +113,7 @@ class Client {
   void on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback);
   void on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                          std::function<void(const FluidPressure&)> callback);
+  void on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback);
 
   // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
   // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The
