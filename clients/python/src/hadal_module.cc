@@ -95,6 +95,30 @@ class PyClient {
     subscribe(vehicle);
     return thrusters_.wait(vehicle, min_stamp, timeout_s);
   }
+  // Sensors, keyed "<vehicle>/<sensor>", subscribed on first use.
+  std::optional<hadal::Imu> wait_imu(const std::string& vehicle, const std::string& sensor, double min_stamp,
+                                     double timeout_s) {
+    const std::string key = vehicle + "/" + sensor;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace("imu:" + key, true).second) {
+        client_.on_imu(vehicle, sensor, [this, key](const hadal::Imu& m) { imu_.put(key, m); });
+      }
+    }
+    return imu_.wait(key, min_stamp, timeout_s);
+  }
+  std::optional<hadal::FluidPressure> wait_fluid_pressure(const std::string& vehicle, const std::string& sensor,
+                                                          double min_stamp, double timeout_s) {
+    const std::string key = vehicle + "/" + sensor;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace("pressure:" + key, true).second) {
+        client_.on_fluid_pressure(vehicle, sensor,
+                                  [this, key](const hadal::FluidPressure& m) { pressure_.put(key, m); });
+      }
+    }
+    return pressure_.wait(key, min_stamp, timeout_s);
+  }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
     client_.set_thrusters(vehicle, setpoints);
   }
@@ -106,6 +130,8 @@ class PyClient {
   std::map<std::string, bool> subscribed_;
   Latest<hadal::Odometry> odometry_;
   Latest<hadal::ThrusterStates> thrusters_;
+  Latest<hadal::Imu> imu_;
+  Latest<hadal::FluidPressure> pressure_;
 };
 
 }  // namespace
@@ -147,6 +173,20 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("command_source", &hadal::ThrusterStates::command_source,
                     "0 none, 1 scenario schedule, 2 client");
 
+  py::class_<hadal::Imu>(m, "Imu", "sensor_msgs/Imu sample: rate and specific force in the sensor frame")
+      .def_readonly("stamp", &hadal::Imu::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::Imu::frame_id)
+      .def_property_readonly("angular_velocity", [](const hadal::Imu& i) { return to_numpy(i.angular_velocity); },
+                             "[rad/s]")
+      .def_property_readonly("linear_acceleration",
+                             [](const hadal::Imu& i) { return to_numpy(i.linear_acceleration); },
+                             "specific force [m/s^2] (+g up at rest)");
+  py::class_<hadal::FluidPressure>(m, "FluidPressure", "sensor_msgs/FluidPressure sample")
+      .def_readonly("stamp", &hadal::FluidPressure::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::FluidPressure::frame_id)
+      .def_readonly("pressure", &hadal::FluidPressure::pressure, "absolute [Pa]")
+      .def_readonly("variance", &hadal::FluidPressure::variance, "[Pa^2]");
+
   py::class_<hadal::SimStatus>(m, "SimStatus")
       .def_readonly("sim_time", &hadal::SimStatus::sim_time)
       .def_readonly("wall_time", &hadal::SimStatus::wall_time)
@@ -175,6 +215,11 @@ PYBIND11_MODULE(_hadal, m) {
       .def("thruster_state", &PyClient::thruster_state, py::arg("vehicle"), release())
       .def("wait_thruster_state", &PyClient::wait_thruster_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release())
+      .def("wait_imu", &PyClient::wait_imu, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(), "Imu sample with stamp >= min_stamp, or None on timeout")
+      .def("wait_fluid_pressure", &PyClient::wait_fluid_pressure, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "FluidPressure sample with stamp >= min_stamp, or None on timeout")
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
            "Normalised setpoints in [-1, 1], one per thruster in scenario order")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),

@@ -70,3 +70,22 @@ def test_server_stops_cleanly_on_sigterm(lockstep_server):
     connect(domain_id)
     process.send_signal(signal.SIGTERM)
     assert process.wait(timeout=WAIT_S) == 0
+
+
+def test_sensor_samples_arrive_as_numpy(lockstep_server):
+    _, domain_id = lockstep_server
+    client = connect(domain_id)
+    # Subscribe before stepping so the samples of this request are not missed.
+    assert client.wait_imu("auv", "imu", timeout_s=0.1) is None
+    assert client.wait_fluid_pressure("auv", "depth", timeout_s=0.1) is None
+    assert client.wait_for_subscriptions(WAIT_S)
+    t = client.step(500)  # 1 s: IMU at 100 Hz, depth at 10 Hz
+    imu = client.wait_imu("auv", "imu", min_stamp=t, timeout_s=WAIT_S)
+    assert imu is not None and abs(imu.stamp - t) < 1e-9
+    assert imu.frame_id == "auv/imu"
+    assert imu.linear_acceleration.shape == (3,)
+    assert abs(imu.linear_acceleration[2] - 9.80665) < 0.2  # at rest: specific force +g, HG1700 noise
+    depth = client.wait_fluid_pressure("auv", "depth", min_stamp=t, timeout_s=WAIT_S)
+    assert depth is not None and depth.frame_id == "auv/depth"
+    # ~50 m of water: p_atm + rho g d within a metre.
+    assert abs((depth.pressure - 101325.0) / (1025.0 * 9.80665) - 49.95) < 1.0
