@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "hadal/geometry/mesh_transform.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/physics/seawater.h"
+#include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 #include "yaml_reader.h"
 
@@ -766,20 +768,63 @@ void read_imu(const MapReader& map, const std::vector<std::string>& thruster_nam
   }
 }
 
+// A magnetic dipole {position [m], moment [A m^2], radius [m] (0: point dipole; > 0: a uniformly
+// magnetised sphere, finite inside)}.
+bool read_dipole(const Value& value, sensors::MagneticDipole* dipole) {
+  const MapReader map(value, {"position", "moment", "radius"});
+  if (!map.ok()) return false;
+  return map.read_vector3("position", Need::kRequired, Range::finite(), &dipole->p_FD) &
+         map.read_vector3("moment", Need::kRequired, Range::finite(), &dipole->m_F) &
+         map.read_number("radius", Need::kOptional, Range::non_negative(), &dipole->radius_m);
+}
+
+std::vector<sensors::MagneticDipole> read_dipoles(const Value& value) {
+  std::vector<sensors::MagneticDipole> dipoles;
+  if (const auto items = value.list()) {
+    for (const Value& item : *items) {
+      sensors::MagneticDipole dipole;
+      if (read_dipole(item, &dipole)) dipoles.push_back(dipole);
+    }
+  }
+  return dipoles;
+}
+
+// The magnetometer keys of a sensor entry: white noise per sample, resolution and range in nT / uT,
+// hard-iron dipoles in B, the soft-iron matrix in sensor axes.
+void read_magnetometer(const MapReader& map, MagnetometerSensorSpec* magnetometer, double rate_hz) {
+  sensors::MagnetometerParams& p = magnetometer->params;
+  double noise_nt = 0.0, resolution_nt = 0.0, range_ut = 0.0;
+  map.read_number("noise_stddev_nt", Need::kOptional, Range::non_negative(), &noise_nt);
+  map.read_number("resolution_nt", Need::kOptional, Range::non_negative(), &resolution_nt);
+  map.read_number("range_ut", Need::kOptional, Range::positive(), &range_ut);
+  for (auto& axis : p.noise.axes) axis.white_noise_density = noise_nt * 1e-9 / std::sqrt(rate_hz);
+  p.noise.lsb = resolution_nt * 1e-9;
+  if (range_ut > 0.0) p.noise.min = -(p.noise.max = range_ut * 1e-6);
+  if (const auto hard_iron = map.optional("hard_iron")) p.dipoles_B = read_dipoles(*hard_iron);
+  if (const auto soft_iron = map.optional("soft_iron")) {
+    if (const auto values = soft_iron->numbers(9)) {
+      p.soft_iron_S = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(values->data());
+    }
+  }
+}
+
 // One entry of a vehicle definition's `sensors` list. `link_names` as for thrusters (nullopt: unknown,
 // then a `link` is not checked); `physics_rate_hz` bounds rate_hz when known. Keys of another sensor
 // type are errors.
 void read_sensor(const Value& value, const std::optional<std::vector<std::string>>& link_names,
                  const std::vector<std::string>& thruster_names, std::optional<double> physics_rate_hz,
                  std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
-  static const std::vector<std::pair<std::string, SensorType>> kTypes = {{"pressure", SensorType::kPressure},
-                                                                        {"imu", SensorType::kImu}};
+  static const std::vector<std::pair<std::string, SensorType>> kTypes = {
+      {"pressure", SensorType::kPressure}, {"imu", SensorType::kImu}, {"magnetometer", SensorType::kMagnetometer}};
   static const std::vector<std::string> kPressureKeys = {"noise_stddev", "resolution", "range_max"};
   static const std::vector<std::string> kImuKeys = {"preset", "gyro", "accel", "white_noise_only", "temperature",
                                                     "vibration"};
+  static const std::vector<std::string> kMagnetometerKeys = {"noise_stddev_nt", "resolution_nt", "range_ut",
+                                                             "hard_iron", "soft_iron"};
   std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
-  keys.insert(keys.end(), kPressureKeys.begin(), kPressureKeys.end());
-  keys.insert(keys.end(), kImuKeys.begin(), kImuKeys.end());
+  for (const auto* own_keys : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys}) {
+    keys.insert(keys.end(), own_keys->begin(), own_keys->end());
+  }
   const MapReader map(value, keys);
   if (!map.ok()) return;
   read_unique_name(map, "sensor", seen_names, &sensor->name);
@@ -798,9 +843,13 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
   if (const auto pose = map.optional("pose")) read_pose(*pose, &sensor->X_LS);
   read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
-  const std::string type_name = sensor->type == SensorType::kPressure ? "pressure" : "imu";
-  const std::vector<std::string>& own = sensor->type == SensorType::kPressure ? kPressureKeys : kImuKeys;
-  for (const std::vector<std::string>* other : {&kPressureKeys, &kImuKeys}) {
+  const std::string type_name = sensor->type == SensorType::kPressure ? "pressure"
+                                : sensor->type == SensorType::kImu    ? "imu"
+                                                                      : "magnetometer";
+  const std::vector<std::string>& own = sensor->type == SensorType::kPressure ? kPressureKeys
+                                        : sensor->type == SensorType::kImu    ? kImuKeys
+                                                                              : kMagnetometerKeys;
+  for (const std::vector<std::string>* other : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys}) {
     if (other == &own) continue;
     for (const std::string& key : *other) {
       if (map.has(key)) map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(type_name));
@@ -816,6 +865,9 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
     }
     case SensorType::kImu:
       read_imu(map, thruster_names, &sensor->imu);
+      break;
+    case SensorType::kMagnetometer:
+      read_magnetometer(map, &sensor->magnetometer, sensor->rate_hz);
       break;
   }
 }
@@ -1027,6 +1079,7 @@ class ScenarioLoader {
 
   DiagnosticSink sink_;
   std::optional<double> physics_rate_hz_;  // nullopt when world.physics_rate_hz is invalid
+  std::vector<sensors::MagneticDipole> world_dipoles_;  // world.magnetic_dipoles, for magnetometers
   struct IncludedFile {
     std::string open_error;                       // set when the file cannot be opened
     std::optional<VehicleDefinition> definition;  // nullopt when it cannot be opened or parsed
@@ -1069,7 +1122,8 @@ LoadResult ScenarioLoader::load(const std::string& path) {
 
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
-                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "dynamics"});
+                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "dynamics",
+                              "date", "magnetic_dipoles"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
                       &world->physics_rate_hz)) {
@@ -1095,6 +1149,29 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
+  if (const auto date = map.optional("date")) {
+    // "YYYY-MM-DD" within the geomagnetic model's validity (WMM2025: 2025-01-01 .. 2029-12-31).
+    if (const auto text = date->string()) {
+      int year = 0, month = 0, day = 0;
+      char extra = 0;
+      const bool parsed = std::sscanf(text->c_str(), "%4d-%2d-%2d%c", &year, &month, &day, &extra) == 3 &&
+                          text->size() == 10 && month >= 1 && month <= 12 && day >= 1 &&
+                          day <= (month == 2 ? (year % 4 == 0 && (year % 100 != 0 || year % 400 == 0) ? 29 : 28)
+                                             : (month == 4 || month == 6 || month == 9 || month == 11) ? 30 : 31);
+      if (!parsed) {
+        date->error("expected a date YYYY-MM-DD (got " + date->describe() + ")");
+      } else if (year < 2025 || year > 2029) {
+        date->error("must be within 2025-01-01 .. 2029-12-31, the World Magnetic Model 2025's validity (got " +
+                    *text + ")");
+      } else {
+        world->start_decimal_year = sensors::decimal_year_from_date(year, month, day);
+      }
+    }
+  }
+  if (const auto dipoles = map.optional("magnetic_dipoles")) {
+    world->magnetic_dipoles_W = read_dipoles(*dipoles);
+    world_dipoles_ = world->magnetic_dipoles_W;
+  }
   if (const auto dynamics_value = map.optional("dynamics")) {
     const MapReader dynamics(*dynamics_value, {"gyroscopic", "earth_rotation"});
     if (dynamics.ok()) {
@@ -1163,6 +1240,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     vehicle->fluid = definition->fluid;
     for (SensorSpec& sensor : vehicle->sensors) {
       if (sensor.frame_id.empty()) sensor.frame_id = vehicle->name + "/" + sensor.name;
+      if (sensor.type == SensorType::kMagnetometer) sensor.magnetometer.params.dipoles_W = world_dipoles_;
     }
   }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 #include <opencv2/imgcodecs.hpp>
 
@@ -508,8 +509,8 @@ vehicles:
       - {type: pressure, colour: red}
 )");
   EXPECT_EQ(errors_of(path),
-            (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu' (got "
-                          "'barometer')",
+            (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
+                          "'magnetometer' (got 'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
@@ -588,6 +589,53 @@ vehicles:
             std::string::npos) << errors[3];
   EXPECT_NE(errors[4].find(":10:35: error: vehicles[0].sensors[2].preset: key 'preset' is not used by sensor "
                            "type 'pressure'"), std::string::npos) << errors[4];
+}
+
+TEST_F(ScenarioLoaderTest, MagnetometerDateAndDipoles) {
+  const std::string path = write("s.yaml", R"(world:
+  date: "2027-07-02"
+  magnetic_dipoles: [{position: [100, 0, -90], moment: [0, 5000, 0], radius: 5}]
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - name: mag
+        type: magnetometer
+        rate_hz: 20
+        noise_stddev_nt: 40
+        resolution_nt: 5
+        range_ut: 800
+        hard_iron: [{position: [-0.7, 0, 0], moment: [0.1, 0, 0]}]
+        soft_iron: [1.02, 0.01, 0, 0.01, 0.98, 0, 0, 0, 1]
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  EXPECT_DOUBLE_EQ(result.model->world.start_decimal_year, sensors::decimal_year_from_date(2027, 7, 2));
+  ASSERT_EQ(result.model->world.magnetic_dipoles_W.size(), 1u);
+  const sensors::MagnetometerParams& p = result.model->vehicles[0].sensors[0].magnetometer.params;
+  ASSERT_EQ(p.dipoles_W.size(), 1u);  // the world's dipoles, copied to every magnetometer
+  EXPECT_EQ(p.dipoles_W[0].radius_m, 5.0);
+  ASSERT_EQ(p.dipoles_B.size(), 1u);
+  EXPECT_EQ(p.dipoles_B[0].p_FD, Eigen::Vector3d(-0.7, 0, 0));
+  EXPECT_EQ(p.soft_iron_S(0, 1), 0.01);
+  EXPECT_DOUBLE_EQ(p.noise.axes[0].white_noise_density, 40e-9 / std::sqrt(20.0));
+  EXPECT_DOUBLE_EQ(p.noise.lsb, 5e-9);
+  EXPECT_DOUBLE_EQ(p.noise.max, 800e-6);
+}
+
+TEST_F(ScenarioLoaderTest, WorldDateErrors) {
+  const std::string bad_form = write("a.yaml", "world: {date: 2026-13-01}\nvehicles: []\n");
+  const std::string out_of_model = write("b.yaml", "world: {date: \"2031-01-01\"}\nvehicles: []\n");
+  const std::vector<std::string> a = errors_of(bad_form), b = errors_of(out_of_model);
+  ASSERT_FALSE(a.empty());
+  EXPECT_NE(a[0].find(":1:15: error: world.date: expected a date YYYY-MM-DD (got '2026-13-01')"), std::string::npos)
+      << a[0];
+  ASSERT_FALSE(b.empty());
+  EXPECT_NE(b[0].find(":1:15: error: world.date: must be within 2025-01-01 .. 2029-12-31, the World Magnetic "
+                      "Model 2025's validity (got 2031-01-01)"),
+            std::string::npos) << b[0];
 }
 
 TEST_F(ScenarioLoaderTest, FluidKeysArePerModel) {

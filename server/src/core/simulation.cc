@@ -21,6 +21,8 @@
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/physics/thruster.h"
 #include "hadal/core/rate_divider.h"
+#include "hadal/sensors/geomagnetic.h"
+#include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/noise.h"
 #include "worker_pool.h"
 
@@ -43,7 +45,7 @@ struct Simulation::VehicleRuntime {
     double period = 0.0;                     // nominal sample period 1 / rate_hz [s]
     sensors::NoiseChannelParams channel;     // pressure: the pressure channel [Pa]
   };
-  std::vector<Sensor> sensors;
+  std::vector<Sensor> sensors = {};
   // Surface model: volume displaced twice where hull parts overlap, its centroid in B, and the
   // height over which it goes from dry to wet (diameter of the sphere of that volume).
   double excess_volume = 0.0;
@@ -389,6 +391,20 @@ Simulation::Simulation(Model model)
           sensor_state.value.assign(1, 0.0);
           break;
         }
+        case SensorType::kMagnetometer: {
+          if (!geomagnetic_) {
+            geomagnetic_ = std::make_unique<sensors::GeomagneticModel>(
+                sensors::GeomagneticModel::load_cof(HADAL_WMM_COF));
+            const GeodeticOrigin& o = model_.world.origin;
+            frame_W_ = std::make_unique<sensors::LocalEnuFrame>(
+                sensors::GeodeticPosition{o.latitude, o.longitude, o.altitude});
+          }
+          sensor_state.triads.push_back(sensors::make_magnetometer_state(
+              sensor.magnetometer.params,
+              sensors::channel_key(model_.world.seed, spec.name, sensor.name, "magnetic_field")).noise);
+          sensor_state.value.assign(3, 0.0);  // B_S [T]
+          break;
+        }
         case SensorType::kImu: {
           sensor_state.triads.push_back(sensors::make_noise_state(
               sensor.imu.gyro, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "gyro")));
@@ -675,6 +691,17 @@ void Simulation::step() {
           const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
           const double ideal = ocean_->pressure(std::max(ocean_->depth(p_WS.z()), 0.0));
           out.value[0] = sensors::measure(sensor.channel, out.channels[0], ideal, sensor.period);
+          break;
+        }
+        case SensorType::kMagnetometer: {
+          // Decimal year of the sim time (a Julian year per year: within 1e-5 of the calendar's).
+          const double year = model_.world.start_decimal_year + state_.time / (365.25 * 86400.0);
+          sensors::MagnetometerState magnetometer{out.triads[0]};
+          const sensors::MagneticFieldSample sample = sensors::measure_magnetic_field(
+              spec.sensors[k].magnetometer.params, magnetometer, *geomagnetic_, *frame_W_, year,
+              vehicle.body.X_WB, sensor.X_BS, sensor.period);
+          out.triads[0] = magnetometer.noise;
+          for (int c = 0; c < 3; ++c) out.value[c] = sample.B_measured_S[c];
           break;
         }
         case SensorType::kImu: {

@@ -9,6 +9,7 @@
 
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/test_models.h"
+#include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 
 namespace hadal {
@@ -231,6 +232,44 @@ TEST(SimulationSensorsTest, ImuNoiseAndTemperatureDrift) {
   const double stddev = std::sqrt(sum2 / n - (sum / n) * (sum / n));
   EXPECT_NEAR(stddev, sigma, 4.0 * sigma / std::sqrt(2.0 * n));
   EXPECT_NEAR(accel_z, 9.80665 + (sim.ocean().temperature(30.0) - 20.0) * 1e-3, 1e-9);
+}
+
+// A magnetometer on the still vehicle 30 m below W's origin (43 N 5 E, 2026-06-01), B aligned with W:
+// without noise it reads WMM2025 at the sensor's geodetic position (height -30 m on the origin's
+// normal), in ENU = S axes, to 1e-12 T (0.001 nT; the model's own synthesis is exact to rounding);
+// a hard-iron dipole m = 1 A m^2 along z, 0.5 m ahead of the sensor, adds its equatorial closed form
+// -mu0 m / (4 pi r^3) = -0.8 uT along z.
+TEST(SimulationSensorsTest, MagnetometerReadsWmmPlusHardIron) {
+  Model model = still_vehicle_with_pressure_sensor(30.0, PressureSensorSpec{}, 10.0);
+  model.world.origin.latitude = 43.0 * EIGEN_PI / 180.0;
+  model.world.origin.longitude = 5.0 * EIGEN_PI / 180.0;
+  model.world.start_decimal_year = sensors::decimal_year_from_date(2026, 6, 1);
+  SensorSpec magnetometer;
+  magnetometer.name = "mag";
+  magnetometer.type = SensorType::kMagnetometer;
+  magnetometer.rate_hz = 10.0;
+  model.vehicles[0].sensors = {magnetometer};
+  Simulation plain(model);
+  sensors::MagneticDipole hard_iron;
+  hard_iron.p_FD = Eigen::Vector3d(0.5, 0.0, 0.0);
+  hard_iron.m_F = Eigen::Vector3d(0.0, 0.0, 1.0);
+  model.vehicles[0].sensors[0].magnetometer.params.dipoles_B = {hard_iron};
+  Simulation with_iron(model);
+  for (int k = 0; k < 100; ++k) {
+    plain.step();
+    with_iron.step();
+  }
+  const sensors::GeomagneticModel wmm =
+      sensors::GeomagneticModel::load_cof(std::string(HADAL_SOURCE_DIR) + "/server/data/WMM2025.COF");
+  const double year = model.world.start_decimal_year + 0.1 / (365.25 * 86400.0);
+  const Eigen::Vector3d expected =
+      wmm.field(model.world.origin.latitude, model.world.origin.longitude, -30.0, year).B_ENU_T();
+  const std::vector<double>& B = plain.state().vehicles[0].sensors[0].value;
+  ASSERT_EQ(plain.state().vehicles[0].sensors[0].samples, 1u);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(B[c], expected[c], 1e-12) << c;
+  const std::vector<double>& B_iron = with_iron.state().vehicles[0].sensors[0].value;
+  EXPECT_NEAR(B_iron[2] - B[2], -1e-7 / 0.125, 1e-15);
+  EXPECT_NEAR(B_iron[0] - B[0], 0.0, 1e-15);
 }
 
 }  // namespace

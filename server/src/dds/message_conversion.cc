@@ -91,4 +91,20 @@ void fill_imu(const SensorSpec& spec, const SensorState& sample, sensor_msgs::ms
   }
 }
 
+void fill_magnetic_field(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::MagneticField& msg) {
+  msg.header().stamp(to_time_msg(sample.stamp));
+  msg.header().frame_id(spec.frame_id);
+  double value[3] = {0, 0, 0};
+  for (std::size_t c = 0; c < 3 && c < sample.value.size(); ++c) value[c] = sample.value[c];
+  msg.magnetic_field().x(value[0]);
+  msg.magnetic_field().y(value[1]);
+  msg.magnetic_field().z(value[2]);
+  msg.magnetic_field_covariance().fill(0.0);
+  const sensors::NoiseTriadParams& noise = spec.magnetometer.params.noise;
+  for (int a = 0; a < 3; ++a) {
+    const double n = noise.axes[a].white_noise_density;
+    msg.magnetic_field_covariance()[4 * a] = n * n * spec.rate_hz + noise.lsb * noise.lsb / 12.0;
+  }
+}
+
 }  // namespace hadal::dds

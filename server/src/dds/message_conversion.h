@@ -32,4 +32,7 @@ void fill_fluid_pressure(const SensorSpec& spec, const SensorState& sample,
 // (orientation_covariance[0] = -1, the ROS convention for "not provided").
 void fill_imu(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::Imu& msg);
 
+// A magnetometer's last sample [T] in the sensor frame; covariance diagonal from its white noise.
+void fill_magnetic_field(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::MagneticField& msg);
+
 }  // namespace hadal::dds

@@ -76,6 +76,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   hadal_msgs::msg::SimStatus status_msg;
   sensor_msgs::msg::FluidPressure pressure_msg;
   sensor_msgs::msg::Imu imu_msg;
+  sensor_msgs::msg::MagneticField magnetic_msg;
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -227,6 +228,10 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         case SensorType::kImu:
           d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::ImuPubSubType>(topic, kStateHistoryDepth));
           break;
+        case SensorType::kMagnetometer:
+          d.sensor_writers.back().push_back(
+              r.writer<sensor_msgs::msg::MagneticFieldPubSubType>(topic, kStateHistoryDepth));
+          break;
       }
       d.sensor_slot.back().push_back(d.add_count(topic));
     }
@@ -312,6 +317,10 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
     case SensorType::kImu:
       fill_imu(spec, sample, impl_->imu_msg);
       impl_->write(impl_->sensor_writers[i][k], &impl_->imu_msg, impl_->sensor_slot[i][k]);
+      break;
+    case SensorType::kMagnetometer:
+      fill_magnetic_field(spec, sample, impl_->magnetic_msg);
+      impl_->write(impl_->sensor_writers[i][k], &impl_->magnetic_msg, impl_->sensor_slot[i][k]);
       break;
   }
 }

@@ -11,6 +11,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/noise.h"
 
 #include <Eigen/Geometry>
@@ -133,7 +134,7 @@ struct FluidSpec {
 // n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value
 // from the state, then applies its noise (DESIGN.md 4), and is published on rt/<vehicle>/<name> with
 // header.frame_id `frame_id` and the sample's sim time as stamp.
-enum class SensorType { kPressure, kImu };
+enum class SensorType { kPressure, kImu, kMagnetometer };
 
 // Pressure sensor (sensor_msgs/FluidPressure): absolute pressure at the sensor's origin from the
 // ocean model, plus white noise, quantised to `resolution` and clipped to [0, range_max].
@@ -162,6 +163,15 @@ struct ImuSensorSpec {
   double accel_vibration_amplitude = 0.0;  // A [m/s^2], every axis
 };
 
+// Magnetometer (sensor_msgs/MagneticField, tesla): the World Magnetic Model 2025 at the sensor's
+// geodetic position (world.origin + p_WS on the WGS84 ellipsoid) and the decimal year of the sim time
+// (world.date + t), plus the world's static dipoles (world.magnetic_dipoles) and the vehicle's hard-iron
+// dipoles, times the soft-iron matrix, in the sensor frame, then noise, quantisation and range
+// (sensors/magnetometer.h). params.dipoles_W is filled from the world by the loader.
+struct MagnetometerSensorSpec {
+  sensors::MagnetometerParams params;
+};
+
 struct SensorSpec {
   std::string name;      // unique within the vehicle; topic rt/<vehicle>/<name>
   SensorType type = SensorType::kPressure;
@@ -171,6 +181,7 @@ struct SensorSpec {
   std::string frame_id;  // header.frame_id; default "<vehicle>/<name>"
   PressureSensorSpec pressure;
   ImuSensorSpec imu;
+  MagnetometerSensorSpec magnetometer;
 };
 
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
@@ -274,6 +285,10 @@ struct DynamicsSpec {
 
 struct WorldSpec {
   Eigen::Vector3d gravity_W = Eigen::Vector3d(0.0, 0.0, -9.80665);  // [m/s^2]
+  // Calendar date at sim time 0 as a decimal year (YAML world.date: "YYYY-MM-DD"); the sim time adds
+  // t / (365.25 d). Geomagnetic field and (later) celestial quantities use it.
+  double start_decimal_year = 2026.0;  // 2026-01-01
+  std::vector<sensors::MagneticDipole> magnetic_dipoles_W;  // static magnetic anomalies (wrecks, pipes)
   double physics_rate_hz = 500.0;
   std::uint64_t seed = 0;
   WaterSpec water;

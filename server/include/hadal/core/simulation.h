@@ -37,6 +37,11 @@ namespace hadal {
 
 class WorkerPool;
 
+namespace sensors {
+class GeomagneticModel;
+class LocalEnuFrame;
+}
+
 namespace physics {
 class BulletWorld;
 class Ocean;
@@ -89,6 +94,9 @@ class Simulation {
   struct VehicleRuntime;                 // per-vehicle thrusters, fluid model, sensors (simulation.cc)
   std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;     // fluid forces in parallel; null when it does not pay
+  // Magnetometers only: WMM2025 (server/data/WMM2025.COF) and W as a local ENU frame on WGS84.
+  std::unique_ptr<sensors::GeomagneticModel> geomagnetic_;
+  std::unique_ptr<sensors::LocalEnuFrame> frame_W_;
 };
 
 }  // namespace hadal
