@@ -1,6 +1,6 @@
-// Smoke runs of the validation commands as users run them, shortened (a 30 m descent, a 200 m leg;
-// under a second each): exit code, outputs written, and the printed JSON against the closed forms
-// the tools print themselves.
+// Smoke runs of the validation commands as users run them, shortened (a 30 m descent, a 200 m leg, a
+// 180 s IMU record; under a second each): exit code, outputs written, and the printed JSON against the
+// closed forms the tools print themselves.
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
@@ -67,11 +67,55 @@ TEST_F(ValidationCliTest, CoriolisShortLeg) {
   EXPECT_LT(with, json["closed_form_lateral_deviation"]["free_particle_m"].number);
 }
 
+TEST_F(ValidationCliTest, AllanShortRecord) {
+  // 180 s at 100 Hz: 18 000 samples per run, about 0.3 s for both runs.
+  const RunResult r = run(HADAL_VALIDATE_ALLAN, "--hours 0.05 --rate 100 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  EXPECT_GT(fs::file_size(dir_ + "/allan_deviation.png"), 20000u);
+  // Header + 18 000 rows of 7 numbers.
+  EXPECT_GT(fs::file_size(dir_ + "/allan_record.csv"), 18000u * 7u * 10u);
+  EXPECT_GT(fs::file_size(dir_ + "/allan_parameters.json"), 1000u);
+  EXPECT_EQ(json["samples"].number, 18000.0);
+  EXPECT_EQ(json["preset"].string, "honeywell_hg1700");
+  // sigma(1 s) within 10 % of the configured ARW (the acceptance tolerance) on every gyro axis of both
+  // runs, and of the VRW in the white-noise-only run (the HG1700's 1 mg bias floor hides it in the full
+  // run). At tau = 1 s (m = 100) the overlapping estimator of white rate noise has
+  // edf = (3 (N - 1) / (2 m) - 2 (N - 2) / N) 4 m^2 / (4 m^2 + 5) = 268 equivalent degrees of freedom
+  // for N = 18 001 phase points (NIST SP 1065, section 5.3), a relative std of 1 / sqrt(2 edf) = 4.3 %:
+  // 10 % is 2.3 sigma. The seed is fixed, so the outcome is deterministic (ratios 0.935 to 0.968).
+  for (const char* run : {"full_model", "white_noise_only"}) {
+    for (const char* axis : {"x", "y", "z"}) {
+      EXPECT_NEAR(json[run]["gyro_rad_s"][axis]["sigma_1s_over_N"].number, 1.0, 0.10) << run << " " << axis;
+    }
+  }
+  for (const char* axis : {"x", "y", "z"}) {
+    EXPECT_NEAR(json["white_noise_only"]["accel_m_s2"][axis]["sigma_1s_over_N"].number, 1.0, 0.10) << axis;
+  }
+  EXPECT_TRUE(json["pass"]["gyro_noise_at_1s"].boolean);
+  EXPECT_TRUE(json["pass"]["accel_noise_at_1s"].boolean);
+  // No rate random walk in the HG1700 figures: nothing to check.
+  EXPECT_EQ(json["pass"]["gyro_rate_random_walk"].type, Json::Type::kNull);
+  // The vehicle stays at rest.
+  EXPECT_EQ(json["full_model"]["max_speed_m_s"].number, 0.0);
+  EXPECT_EQ(json["full_model"]["max_angular_rate_rad_s"].number, 0.0);
+
+  const RunResult no_record =
+      run(HADAL_VALIDATE_ALLAN, "--hours 0.01 --no-record --preset sensonor_stim300 --out " + dir_ + "/b");
+  ASSERT_EQ(no_record.exit_code, 0) << no_record.err;
+  EXPECT_EQ(parse(no_record.out)["preset"].string, "sensonor_stim300");
+  EXPECT_FALSE(fs::exists(dir_ + "/b/allan_record.csv"));
+  EXPECT_TRUE(fs::exists(dir_ + "/b/allan_deviation.png"));
+}
+
 TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--depth -5").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--segments 7").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_CORIOLIS, "--bogus 1").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_CORIOLIS, "--scenario " + dir_ + "/missing.yaml --out " + dir_).exit_code, 1);
+  EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--hours 0").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--preset no_such_imu").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--hours 0.0001").exit_code, 2);
 }
 
 }  // namespace
