@@ -1,6 +1,6 @@
 // Smoke runs of the validation commands as users run them, shortened (a 30 m descent, a 200 m leg, a
-// 180 s IMU record; under a second each): exit code, outputs written, and the printed JSON against the
-// closed forms the tools print themselves.
+// 180 s IMU record, a 60 s heading track; under a second each): exit code, outputs written, and the
+// printed JSON against the closed forms the tools print themselves.
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
@@ -108,6 +108,31 @@ TEST_F(ValidationCliTest, AllanShortRecord) {
   EXPECT_TRUE(fs::exists(dir_ + "/b/allan_deviation.png"));
 }
 
+TEST_F(ValidationCliTest, HeadingShortTrack) {
+  // 60 s at 10 Hz: 601 samples, a few milliseconds.
+  const RunResult r = run(HADAL_VALIDATE_HEADING, "--seconds 60 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  expect_outputs("magnetometer_heading");
+  EXPECT_EQ(json["samples"].number, 601.0);
+  const double declination = json["field"]["declination_deg"].number;
+  const Json& naive = json["fixed_reference_model_naive_estimator_on_full_model_data"];
+  const Json& calibrated = json["proposed_model_calibrated_estimator"];
+  const Json& simulator = json["fixed_reference_simulator_naive_estimator"];
+  // The naive estimator on the full model's data is biased by about -D (heading error = estimated -
+  // true, clockwise; D < 0 at 30 W), plus the hard- and soft-iron errors, a few degrees.
+  EXPECT_LT(declination, -5.0);
+  EXPECT_NEAR(naive["mean_error_deg"].number, -declination, 3.0);
+  EXPECT_GT(naive["max_abs_error_deg"].number, 10.0);
+  // Calibrated and fixed-reference-on-its-own-data: white noise only (~0.25 deg RMS per sample).
+  for (const Json* curve : {&calibrated, &simulator}) {
+    EXPECT_LT(std::fabs((*curve)["mean_error_deg"].number), 0.1);
+    EXPECT_LT((*curve)["rms_error_deg"].number, 0.4);
+    EXPECT_LT((*curve)["max_abs_error_deg"].number, 1.5);
+  }
+  EXPECT_NEAR(json["track"]["max_pitch_deg"].number, 20.0, 0.5);
+}
+
 TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--depth -5").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--segments 7").exit_code, 2);
@@ -116,6 +141,8 @@ TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--hours 0").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--preset no_such_imu").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--hours 0.0001").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_HEADING, "--seconds 0").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_HEADING, "--bogus").exit_code, 2);
 }
 
 }  // namespace
