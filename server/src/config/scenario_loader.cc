@@ -815,14 +815,16 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
                  const std::vector<std::string>& thruster_names, std::optional<double> physics_rate_hz,
                  std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
   static const std::vector<std::pair<std::string, SensorType>> kTypes = {
-      {"pressure", SensorType::kPressure}, {"imu", SensorType::kImu}, {"magnetometer", SensorType::kMagnetometer}};
+      {"pressure", SensorType::kPressure}, {"imu", SensorType::kImu}, {"magnetometer", SensorType::kMagnetometer},
+      {"gps", SensorType::kGps}};
   static const std::vector<std::string> kPressureKeys = {"noise_stddev", "resolution", "range_max"};
   static const std::vector<std::string> kImuKeys = {"preset", "gyro", "accel", "white_noise_only", "temperature",
                                                     "vibration"};
   static const std::vector<std::string> kMagnetometerKeys = {"noise_stddev_nt", "resolution_nt", "range_ut",
                                                              "hard_iron", "soft_iron"};
+  static const std::vector<std::string> kGpsKeys = {"horizontal_stddev", "vertical_stddev"};
   std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
-  for (const auto* own_keys : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys}) {
+  for (const auto* own_keys : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys, &kGpsKeys}) {
     keys.insert(keys.end(), own_keys->begin(), own_keys->end());
   }
   const MapReader map(value, keys);
@@ -845,11 +847,13 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
   const std::string type_name = sensor->type == SensorType::kPressure ? "pressure"
                                 : sensor->type == SensorType::kImu    ? "imu"
+                                : sensor->type == SensorType::kGps    ? "gps"
                                                                       : "magnetometer";
   const std::vector<std::string>& own = sensor->type == SensorType::kPressure ? kPressureKeys
                                         : sensor->type == SensorType::kImu    ? kImuKeys
+                                        : sensor->type == SensorType::kGps    ? kGpsKeys
                                                                               : kMagnetometerKeys;
-  for (const std::vector<std::string>* other : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys}) {
+  for (const std::vector<std::string>* other : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys, &kGpsKeys}) {
     if (other == &own) continue;
     for (const std::string& key : *other) {
       if (map.has(key)) map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(type_name));
@@ -868,6 +872,10 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
       break;
     case SensorType::kMagnetometer:
       read_magnetometer(map, &sensor->magnetometer, sensor->rate_hz);
+      break;
+    case SensorType::kGps:
+      map.read_number("horizontal_stddev", Need::kOptional, Range::non_negative(), &sensor->gps.horizontal_stddev);
+      map.read_number("vertical_stddev", Need::kOptional, Range::non_negative(), &sensor->gps.vertical_stddev);
       break;
   }
 }

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -21,6 +22,8 @@
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/physics/thruster.h"
 #include "hadal/core/rate_divider.h"
+#include <GeographicLib/LocalCartesian.hpp>
+
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/noise.h"
@@ -44,6 +47,7 @@ struct Simulation::VehicleRuntime {
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
     double period = 0.0;                     // nominal sample period 1 / rate_hz [s]
     sensors::NoiseChannelParams channel;     // pressure: the pressure channel [Pa]
+    sensors::NoiseTriadParams triad;         // gps: east, north, up position noise [m]
   };
   std::vector<Sensor> sensors = {};
   // Surface model: volume displaced twice where hull parts overlap, its centroid in B, and the
@@ -405,6 +409,21 @@ Simulation::Simulation(Model model)
           sensor_state.value.assign(3, 0.0);  // B_S [T]
           break;
         }
+        case SensorType::kGps: {
+          // White noise of stddev sigma per fix is a density sigma sqrt(T) at the fix period T.
+          s.triad.axes[0].white_noise_density = sensor.gps.horizontal_stddev * std::sqrt(s.period);
+          s.triad.axes[1].white_noise_density = sensor.gps.horizontal_stddev * std::sqrt(s.period);
+          s.triad.axes[2].white_noise_density = sensor.gps.vertical_stddev * std::sqrt(s.period);
+          sensor_state.triads.push_back(sensors::make_noise_state(
+              s.triad, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "position")));
+          sensor_state.value.assign(4, 0.0);  // latitude [deg], longitude [deg], height [m], fix (1/0)
+          if (!local_cartesian_) {
+            const GeodeticOrigin& o = model_.world.origin;
+            local_cartesian_ = std::make_unique<GeographicLib::LocalCartesian>(
+                o.latitude * 180.0 / EIGEN_PI, o.longitude * 180.0 / EIGEN_PI, o.altitude);
+          }
+          break;
+        }
         case SensorType::kImu: {
           sensor_state.triads.push_back(sensors::make_noise_state(
               sensor.imu.gyro, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "gyro")));
@@ -702,6 +721,20 @@ void Simulation::step() {
               vehicle.body.X_WB, sensor.X_BS, sensor.period);
           out.triads[0] = magnetometer.noise;
           for (int c = 0; c < 3; ++c) out.value[c] = sample.B_measured_S[c];
+          break;
+        }
+        case SensorType::kGps: {
+          const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
+          // The noise streams advance with or without a fix, so dives do not shift later fixes.
+          const Eigen::Vector3d p_meas = sensors::measure(sensor.triad, out.triads[0], p_WS, sensor.period);
+          if (p_WS.z() > model_.world.water.surface_z) {
+            local_cartesian_->Reverse(p_meas.x(), p_meas.y(), p_meas.z(), out.value[0], out.value[1],
+                                      out.value[2]);
+            out.value[3] = 1.0;
+          } else {
+            out.value[0] = out.value[1] = out.value[2] = std::numeric_limits<double>::quiet_NaN();
+            out.value[3] = 0.0;
+          }
           break;
         }
         case SensorType::kImu: {

@@ -1,5 +1,7 @@
 #include "message_conversion.h"
 
+#include <limits>
+
 #include "hadal/dds/topic_names.h"
 
 
@@ -105,6 +107,23 @@ void fill_magnetic_field(const SensorSpec& spec, const SensorState& sample, sens
     const double n = noise.axes[a].white_noise_density;
     msg.magnetic_field_covariance()[4 * a] = n * n * spec.rate_hz + noise.lsb * noise.lsb / 12.0;
   }
+}
+
+void fill_nav_sat_fix(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::NavSatFix& msg) {
+  msg.header().stamp(to_time_msg(sample.stamp));
+  msg.header().frame_id(spec.frame_id);
+  const bool fix = sample.value.size() == 4 && sample.value[3] > 0.5;
+  msg.status().status(fix ? sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX
+                          : sensor_msgs::msg::NavSatStatus_Constants::STATUS_NO_FIX);
+  msg.status().service(sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GPS);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  msg.latitude(fix ? sample.value[0] : nan);
+  msg.longitude(fix ? sample.value[1] : nan);
+  msg.altitude(fix ? sample.value[2] : nan);
+  const double h2 = spec.gps.horizontal_stddev * spec.gps.horizontal_stddev;
+  const double v2 = spec.gps.vertical_stddev * spec.gps.vertical_stddev;
+  msg.position_covariance({h2, 0, 0, 0, h2, 0, 0, 0, v2});
+  msg.position_covariance_type(sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_DIAGONAL_KNOWN);
 }
 
 }  // namespace hadal::dds

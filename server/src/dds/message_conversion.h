@@ -35,4 +35,8 @@ void fill_imu(const SensorSpec& spec, const SensorState& sample, sensor_msgs::ms
 // A magnetometer's last sample [T] in the sensor frame; covariance diagonal from its white noise.
 void fill_magnetic_field(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::MagneticField& msg);
 
+// A GPS fix: STATUS_FIX with latitude/longitude [deg] and height above the ellipsoid [m] while the
+// antenna is above water, STATUS_NO_FIX with NaN position otherwise; diagonal ENU covariance.
+void fill_nav_sat_fix(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::NavSatFix& msg);
+
 }  // namespace hadal::dds

@@ -77,6 +77,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   sensor_msgs::msg::FluidPressure pressure_msg;
   sensor_msgs::msg::Imu imu_msg;
   sensor_msgs::msg::MagneticField magnetic_msg;
+  sensor_msgs::msg::NavSatFix fix_msg;
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -232,6 +233,9 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
           d.sensor_writers.back().push_back(
               r.writer<sensor_msgs::msg::MagneticFieldPubSubType>(topic, kStateHistoryDepth));
           break;
+        case SensorType::kGps:
+          d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::NavSatFixPubSubType>(topic, kStateHistoryDepth));
+          break;
       }
       d.sensor_slot.back().push_back(d.add_count(topic));
     }
@@ -321,6 +325,10 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
     case SensorType::kMagnetometer:
       fill_magnetic_field(spec, sample, impl_->magnetic_msg);
       impl_->write(impl_->sensor_writers[i][k], &impl_->magnetic_msg, impl_->sensor_slot[i][k]);
+      break;
+    case SensorType::kGps:
+      fill_nav_sat_fix(spec, sample, impl_->fix_msg);
+      impl_->write(impl_->sensor_writers[i][k], &impl_->fix_msg, impl_->sensor_slot[i][k]);
       break;
   }
 }

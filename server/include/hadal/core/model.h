@@ -134,7 +134,7 @@ struct FluidSpec {
 // n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value
 // from the state, then applies its noise (DESIGN.md 4), and is published on rt/<vehicle>/<name> with
 // header.frame_id `frame_id` and the sample's sim time as stamp.
-enum class SensorType { kPressure, kImu, kMagnetometer };
+enum class SensorType { kPressure, kImu, kMagnetometer, kGps };
 
 // Pressure sensor (sensor_msgs/FluidPressure): absolute pressure at the sensor's origin from the
 // ocean model, plus white noise, quantised to `resolution` and clipped to [0, range_max].
@@ -172,6 +172,15 @@ struct MagnetometerSensorSpec {
   sensors::MagnetometerParams params;
 };
 
+// GPS (sensor_msgs/NavSatFix): a fix only while the antenna (the sensor's origin) is above the water
+// surface, NO_FIX otherwise; the antenna position in W plus horizontal (east, north) and vertical white
+// noise, converted to WGS84 latitude, longitude and ellipsoidal height with GeographicLib's
+// LocalCartesian at world.origin (W is that local ENU frame).
+struct GpsSensorSpec {
+  double horizontal_stddev = 1.5;  // per horizontal axis, per fix [m]
+  double vertical_stddev = 3.0;    // [m]
+};
+
 struct SensorSpec {
   std::string name;      // unique within the vehicle; topic rt/<vehicle>/<name>
   SensorType type = SensorType::kPressure;
@@ -182,6 +191,7 @@ struct SensorSpec {
   PressureSensorSpec pressure;
   ImuSensorSpec imu;
   MagnetometerSensorSpec magnetometer;
+  GpsSensorSpec gps;
 };
 
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the

@@ -33,6 +33,10 @@
 #include <string>
 #include <vector>
 
+namespace GeographicLib {
+class LocalCartesian;
+}
+
 namespace hadal {
 
 class WorkerPool;
@@ -97,6 +101,7 @@ class Simulation {
   // Magnetometers only: WMM2025 (server/data/WMM2025.COF) and W as a local ENU frame on WGS84.
   std::unique_ptr<sensors::GeomagneticModel> geomagnetic_;
   std::unique_ptr<sensors::LocalEnuFrame> frame_W_;
+  std::unique_ptr<GeographicLib::LocalCartesian> local_cartesian_;  // GPS: W as GeographicLib's ENU
 };
 
 }  // namespace hadal
