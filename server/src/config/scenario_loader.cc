@@ -13,6 +13,7 @@
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/mesh_transform.h"
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/physics/seawater.h"
 #include "hadal/sensors/geomagnetic.h"
@@ -600,6 +601,20 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
   return link->name;
 }
 
+// A `link` value naming one of the vehicle's links: its index into `link_names`, or nullopt (reported
+// unless `link_names` itself is unknown, nullopt, when a bad link list was reported already).
+std::optional<int> read_link_reference(const Value& link, const std::optional<std::vector<std::string>>& link_names) {
+  const auto link_name = link.string();
+  if (!link_name) return std::nullopt;
+  const auto& names = link_names.value_or(std::vector<std::string>());
+  const auto it = std::find(names.begin(), names.end(), *link_name);
+  if (it != names.end()) return static_cast<int>(it - names.begin());
+  if (link_names) {
+    link.error("no link named " + quoted(*link_name) + " in this vehicle (links: " + join_names(names) + ")");
+  }
+  return std::nullopt;
+}
+
 // `link_names` is nullopt when some link has no valid name: an unmatched thruster link is then not
 // reported (it may name that link).
 std::optional<std::string> read_thruster(const Value& value,
@@ -613,16 +628,7 @@ std::optional<std::string> read_thruster(const Value& value,
   const bool name_ok = read_unique_name(map, "thruster", seen_names, &thruster->name);
 
   if (const auto link = map.required("link")) {
-    if (const auto link_name = link->string()) {
-      const auto& names = link_names.value_or(std::vector<std::string>());
-      const auto it = std::find(names.begin(), names.end(), *link_name);
-      if (it != names.end()) {
-        thruster->link_index = static_cast<int>(it - names.begin());
-      } else if (link_names) {
-        link->error("no link named " + quoted(*link_name) + " in this vehicle (links: " + join_names(names) +
-                    ")");
-      }
-    }
+    if (const auto index = read_link_reference(*link, link_names)) thruster->link_index = *index;
   }
   map.read_vector3("position", Need::kRequired, Range::finite(), &thruster->p_LT);
   if (const auto direction = map.required("direction")) {
@@ -814,49 +820,34 @@ void read_magnetometer(const MapReader& map, MagnetometerSensorSpec* magnetomete
 void read_sensor(const Value& value, const std::optional<std::vector<std::string>>& link_names,
                  const std::vector<std::string>& thruster_names, std::optional<double> physics_rate_hz,
                  std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
-  static const std::vector<std::pair<std::string, SensorType>> kTypes = {
-      {"pressure", SensorType::kPressure}, {"imu", SensorType::kImu}, {"magnetometer", SensorType::kMagnetometer},
-      {"gps", SensorType::kGps}};
-  static const std::vector<std::string> kPressureKeys = {"noise_stddev", "resolution", "range_max"};
-  static const std::vector<std::string> kImuKeys = {"preset", "gyro", "accel", "white_noise_only", "temperature",
-                                                    "vibration"};
-  static const std::vector<std::string> kMagnetometerKeys = {"noise_stddev_nt", "resolution_nt", "range_ut",
-                                                             "hard_iron", "soft_iron"};
-  static const std::vector<std::string> kGpsKeys = {"horizontal_stddev", "vertical_stddev"};
+  // Per type, the keys only it takes.
+  static const std::vector<std::pair<SensorType, std::vector<std::string>>> kTypeKeys = {
+      {SensorType::kPressure, {"noise_stddev", "resolution", "range_max"}},
+      {SensorType::kImu, {"preset", "gyro", "accel", "white_noise_only", "temperature", "vibration"}},
+      {SensorType::kMagnetometer, {"noise_stddev_nt", "resolution_nt", "range_ut", "hard_iron", "soft_iron"}},
+      {SensorType::kGps, {"horizontal_stddev", "vertical_stddev"}}};
+  std::vector<std::pair<std::string, SensorType>> types;
   std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
-  for (const auto* own_keys : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys, &kGpsKeys}) {
-    keys.insert(keys.end(), own_keys->begin(), own_keys->end());
+  for (const auto& [type, own_keys] : kTypeKeys) {
+    types.emplace_back(to_string(type), type);
+    keys.insert(keys.end(), own_keys.begin(), own_keys.end());
   }
   const MapReader map(value, keys);
   if (!map.ok()) return;
   read_unique_name(map, "sensor", seen_names, &sensor->name);
-  if (!map.read_choice("type", Need::kRequired, kTypes, &sensor->type)) return;
+  if (!map.read_choice("type", Need::kRequired, types, &sensor->type)) return;
   if (const auto link = map.optional("link")) {
-    if (const auto link_name = link->string()) {
-      const auto& names = link_names.value_or(std::vector<std::string>());
-      const auto it = std::find(names.begin(), names.end(), *link_name);
-      if (it != names.end()) {
-        sensor->link_index = static_cast<int>(it - names.begin());
-      } else if (link_names) {
-        link->error("no link named " + quoted(*link_name) + " in this vehicle (links: " + join_names(names) + ")");
-      }
-    }
+    if (const auto index = read_link_reference(*link, link_names)) sensor->link_index = *index;
   }
   if (const auto pose = map.optional("pose")) read_pose(*pose, &sensor->X_LS);
   read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
-  const std::string type_name = sensor->type == SensorType::kPressure ? "pressure"
-                                : sensor->type == SensorType::kImu    ? "imu"
-                                : sensor->type == SensorType::kGps    ? "gps"
-                                                                      : "magnetometer";
-  const std::vector<std::string>& own = sensor->type == SensorType::kPressure ? kPressureKeys
-                                        : sensor->type == SensorType::kImu    ? kImuKeys
-                                        : sensor->type == SensorType::kGps    ? kGpsKeys
-                                                                              : kMagnetometerKeys;
-  for (const std::vector<std::string>* other : {&kPressureKeys, &kImuKeys, &kMagnetometerKeys, &kGpsKeys}) {
-    if (other == &own) continue;
-    for (const std::string& key : *other) {
-      if (map.has(key)) map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(type_name));
+  for (const auto& [type, own_keys] : kTypeKeys) {
+    if (type == sensor->type) continue;
+    for (const std::string& key : own_keys) {
+      if (map.has(key)) {
+        map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(to_string(sensor->type)));
+      }
     }
   }
   switch (sensor->type) {
@@ -951,9 +942,7 @@ void read_added_mass(const Value& value, AddedMassSpec* added) {
 // (a mesh or collision shapes), else 'lumped' (buoyancy volumes and damping need no geometry).
 // `value` is the `fluid` map, or nullopt when the definition has none.
 void read_fluid(const std::optional<Value>& value, const std::vector<LinkSpec>& links, FluidSpec* fluid) {
-  const bool has_faces = std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {
-    return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) || !link.collisions.empty();
-  });
+  const bool has_faces = geometry::has_surface_geometry(links);
   fluid->model = has_faces ? FluidModelType::kSurface : FluidModelType::kLumped;
   // Added mass is fitted to the hull by default; a vehicle without geometry has none unless given.
   fluid->added_mass.model = has_faces ? AddedMassModel::kEllipsoid : AddedMassModel::kNone;

@@ -35,6 +35,20 @@ const char* to_string(VehicleType type) {
   return "unknown";
 }
 
+const char* to_string(SensorType type) {
+  switch (type) {
+    case SensorType::kPressure:
+      return "pressure";
+    case SensorType::kImu:
+      return "imu";
+    case SensorType::kMagnetometer:
+      return "magnetometer";
+    case SensorType::kGps:
+      return "gps";
+  }
+  return "unknown";
+}
+
 std::optional<VehicleType> vehicle_type_from_string(const std::string& text) {
   for (const auto& entry : kVehicleTypeNames) {
     if (text == entry.name) return entry.type;

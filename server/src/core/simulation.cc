@@ -358,12 +358,10 @@ Simulation::Simulation(Model model)
     const physics::MassProperties& mass = world_->mass_properties(index);
     runtime.p_BBcm = mass.p_BBcm;
     runtime.mass = mass.mass;
-    const bool has_faces = std::any_of(spec.links.begin(), spec.links.end(), [](const LinkSpec& link) {
-      return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) ||
-             !link.collisions.empty();
-    });
     std::optional<HydrodynamicHull> hull;
-    if (spec.fluid.model == FluidModelType::kSurface || has_faces) hull = hydrodynamic_hull(spec);
+    if (spec.fluid.model == FluidModelType::kSurface || geometry::has_surface_geometry(spec.links)) {
+      hull = hydrodynamic_hull(spec);  // throws for a surface-model vehicle without faces
+    }
     if (spec.fluid.model == FluidModelType::kSurface) {
       runtime.surface = std::make_unique<physics::SurfaceHydrodynamics>(
           hull->mesh_B, spec.fluid.hydrodynamics, hull->exposed);

@@ -153,4 +153,10 @@ TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) {
   return mesh_B;
 }
 
+bool has_surface_geometry(const std::vector<LinkSpec>& links) {
+  return std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {
+    return (link.mesh && link.mesh->mesh && link.mesh->mesh->num_triangles() > 0) || !link.collisions.empty();
+  });
+}
+
 }  // namespace hadal::geometry

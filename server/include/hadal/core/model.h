@@ -323,6 +323,8 @@ struct Model {
 };
 
 const char* to_string(VehicleType type);
+// The YAML name of a sensor type ("pressure", "imu", "magnetometer", "gps").
+const char* to_string(SensorType type);
 std::optional<VehicleType> vehicle_type_from_string(const std::string& text);
 
 }  // namespace hadal

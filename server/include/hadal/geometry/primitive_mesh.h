@@ -43,5 +43,8 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 // X_BL (and X_LG). Parts are appended in link order, each primitive's triangles contiguous; nothing
 // is merged. Empty if no link has a mesh or collision shapes.
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
+// Whether vehicle_surface_B of these links has any face: some link has a non-empty mesh or collision
+// shapes.
+bool has_surface_geometry(const std::vector<LinkSpec>& links);
 
 }  // namespace hadal::geometry
