@@ -8,10 +8,7 @@
 // stays where it is put. (Not under water: with world.gravity zero the ocean's hydrostatics fall back
 // to g = 9.80665 m/s^2 (server/src/physics/ocean.cc), so a weightless AUV would be pushed up by its
 // full buoyancy.)
-//
-// The DVL and altimeter (sensor types `dvl` and `altimeter`) are being added to the server and the
-// default AUV on main; their tests (names with Dvl / Range) are DISABLED_ until that lands. Run them
-// with --gtest_also_run_disabled_tests --gtest_filter='*Dvl*:*Range*'.
+
 #include "hadal_client/client.h"
 #include "server_process.h"
 
@@ -253,7 +250,7 @@ TEST(SensorClientTest, GpsAboveTheWaterFixesAtTheOrigin) {
 // to the (vertical) DVL axis gives the same altitude; the velocity matches the ground truth at the same
 // sim time within 0.05 m/s (single-ping noise of a few mm/s to ~1 cm/s; the vehicle barely rotates, so
 // the lever arm adds < 1 mm/s; its ~1 cm/s rise shows in z).
-TEST(SensorClientTest, DISABLED_DvlBottomTracksACoastingVehicleOverAPlaneSeabed) {
+TEST(SensorClientTest, DvlBottomTracksACoastingVehicleOverAPlaneSeabed) {
   StillScenario scenario(-80.0, 0.5);
   LockstepServer s(scenario.path());
   SampleLog<Dvl> dvl;
@@ -297,7 +294,7 @@ TEST(SensorClientTest, DISABLED_DvlBottomTracksACoastingVehicleOverAPlaneSeabed)
 // Default scenario, 2 s: the AUV's DVL pings at 5 Hz in frame auv/dvl with bottom lock ~50 m above
 // the generated seabed (the plain around the start lies at -100 m with a few metres of relief; the
 // AUV starts at -50 m: 40..60 m).
-TEST(SensorClientTest, DISABLED_DvlStreamOfTheDefaultAuv) {
+TEST(SensorClientTest, DvlStreamOfTheDefaultAuv) {
   LockstepServer s(default_scenario());
   SampleLog<Dvl> dvl;
   s.client().on_dvl("auv", "dvl", [&](const Dvl& m) { dvl.add(m); });
@@ -316,13 +313,13 @@ TEST(SensorClientTest, DISABLED_DvlStreamOfTheDefaultAuv) {
   }
 }
 
-// ---- altimeter (sensor_msgs/Range): enable once the server's `altimeter` sensor is on main --------
+// ---- altimeter (sensor_msgs/Range) ------------------------------------------------------------------
 
 // AUV at rest 20 m above the plane seabed: 10 Hz samples in frame auv/altimeter, an acoustic beam
 // (ULTRASOUND, the closest ROS radiation type) with a cone in (0, pi), and range = 20 m within 0.5 m
 // (mounted within the hull radius of the centre, looking straight down; the AUV rises ~2 cm in 2 s;
 // altimeter noise ~0.1-1 % of range), inside [min_range, max_range].
-TEST(SensorClientTest, DISABLED_RangeOfTheAltimeterIsTheHeightAboveAPlaneSeabed) {
+TEST(SensorClientTest, RangeOfTheAltimeterIsTheHeightAboveAPlaneSeabed) {
   StillScenario scenario(-80.0);
   LockstepServer s(scenario.path());
   SampleLog<Range> altimeter;

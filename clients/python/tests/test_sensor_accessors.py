@@ -84,13 +84,9 @@ def test_constants_are_the_messages():
             hadal.NavSatFix.STATUS_GBAS_FIX) == (-1, 0, 1, 2)
 
 
-# DVL and altimeter: the server's `dvl` and `altimeter` sensors are being added on main (default AUV:
-# rt/auv/dvl at 5 Hz, rt/auv/altimeter at 10 Hz). Until they land, these tests are skipped by this mark
-# (not at run time): delete the mark to enable them (`pytest -k "dvl or range"`).
-pending_server = pytest.mark.skip(reason="needs the server's dvl/altimeter sensors (being added on main)")
+# DVL and altimeter of the default AUV: rt/auv/dvl at 5 Hz, rt/auv/altimeter at 10 Hz.
 
 
-@pending_server
 def test_dvl_bottom_tracks_50_m_above_the_seabed(lockstep_server):
     _, domain_id = lockstep_server
     client = subscribed_client(domain_id, lambda c: c.wait_dvl("auv", "dvl", timeout_s=0.1))
@@ -114,7 +110,6 @@ def test_dvl_bottom_tracks_50_m_above_the_seabed(lockstep_server):
     assert dvl.speed_gnd == pytest.approx(math.hypot(dvl.velocity[0], dvl.velocity[1]), abs=1e-9)
 
 
-@pending_server
 def test_range_of_the_altimeter_is_the_height_above_the_seabed(lockstep_server):
     _, domain_id = lockstep_server
     client = subscribed_client(domain_id, lambda c: c.wait_range("auv", "altimeter", timeout_s=0.1))
