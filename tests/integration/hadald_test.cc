@@ -1,6 +1,7 @@
 // End-to-end tests: a real hadald process, real Fast DDS, driven through libhadal_client.
 // Each test reserves its own DDS domain (DomainLease), so ctest -j runs them side by side.
 #include "hadal_client/client.h"
+#include "lockstep_server.h"
 #include "server_process.h"
 
 #include <gtest/gtest.h>
@@ -20,67 +21,6 @@
 namespace hadal::test {
 namespace {
 
-// Keep discovery on this machine even when the binary is run by hand (ctest sets it too).
-const bool kLocalhostOnly = [] { return ::setenv("ROS_LOCALHOST_ONLY", "1", 1) == 0; }();
-
-constexpr double kWait = 20.0;  // generous wall-clock bound for DDS events [s]; not a speed assertion
-
-const char* kClientScenario = "tests/integration/scenarios/auv_client.yaml";
-
-// Thread-safe log of samples keyed by sim time.
-template <class Sample>
-class SampleLog {
- public:
-  void add(const Sample& s) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    samples_[s.stamp] = s;
-  }
-  bool has(double stamp) const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto it = samples_.lower_bound(stamp - 1e-9);
-    return it != samples_.end() && it->first <= stamp + 1e-9;
-  }
-  Sample at(double stamp) const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return samples_.lower_bound(stamp - 1e-9)->second;
-  }
-  std::map<double, Sample> all() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return samples_;
-  }
-
- private:
-  mutable std::mutex mutex_;
-  std::map<double, Sample> samples_;
-};
-
-// A lockstep hadald on its own domain, with a connected client.
-class LockstepServer {
- public:
-  explicit LockstepServer(const std::string& scenario = kClientScenario,
-                          const std::vector<std::string>& extra = {})
-      : server_(args(scenario, extra)), client_(ClientOptions{domain_.id(), "hadald_test"}) {}
-
-  void connect() {
-    ASSERT_TRUE(client_.wait_for_server(kWait)) << "no status from hadald; stderr:\n" << server_.err();
-    ASSERT_TRUE(client_.wait_for_subscriptions(kWait));
-  }
-
-  Client& client() { return client_; }
-  ServerProcess& server() { return server_; }
-
- private:
-  std::vector<std::string> args(const std::string& scenario, const std::vector<std::string>& extra) {
-    std::vector<std::string> a = {source_path(scenario), "--mode", "lockstep", "--domain-id",
-                                  std::to_string(domain_.id()), "--no-status-line"};
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
-  }
-
-  DomainLease domain_;
-  ServerProcess server_;
-  Client client_;
-};
 
 double dot_xy(const std::array<double, 3>& a, double x, double y) { return a[0] * x + a[1] * y; }
 

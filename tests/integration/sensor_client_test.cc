@@ -10,6 +10,7 @@
 // full buoyancy.)
 
 #include "hadal_client/client.h"
+#include "lockstep_server.h"
 #include "server_process.h"
 
 #include <gtest/gtest.h>
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -26,38 +28,7 @@
 namespace hadal::test {
 namespace {
 
-// Keep discovery on this machine even when the binary is run by hand (ctest sets it too).
-const bool kLocalhostOnly = [] { return ::setenv("ROS_LOCALHOST_ONLY", "1", 1) == 0; }();
-
-constexpr double kWait = 20.0;  // generous wall-clock bound for DDS events [s]; not a speed assertion
 constexpr double kStepSize = 0.002;  // physics_rate_hz 500 in both scenarios [s]
-
-// Thread-safe log of samples keyed by sim time.
-template <class Sample>
-class SampleLog {
- public:
-  void add(const Sample& s) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    samples_[s.stamp] = s;
-  }
-  bool has(double stamp) const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto it = samples_.lower_bound(stamp - 1e-9);
-    return it != samples_.end() && it->first <= stamp + 1e-9;
-  }
-  Sample at(double stamp) const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return samples_.lower_bound(stamp - 1e-9)->second;
-  }
-  std::map<double, Sample> all() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return samples_;
-  }
-
- private:
-  mutable std::mutex mutex_;
-  std::map<double, Sample> samples_;
-};
 
 // A scenario file for the life of the object: the default AUV alone at (0, 0, z), level, yaw 0 (body x
 // east), moving east at v_x, no command; gravity g_z (m/s^2, along W z); a plane seabed at z = -100 m,
@@ -97,29 +68,6 @@ class StillScenario {
  private:
   static inline int count_ = 0;
   std::string path_;
-};
-
-// A lockstep hadald on its own domain, with a client. Subscribe first, then connect(), then step:
-// samples published before the subscription matched are lost (VOLATILE), as in hadald_test.cc.
-class LockstepServer {
- public:
-  explicit LockstepServer(const std::string& scenario_path)
-      : server_({scenario_path, "--mode", "lockstep", "--domain-id", std::to_string(domain_.id()),
-                 "--no-status-line"}),
-        client_(ClientOptions{domain_.id(), "sensor_client_test"}) {}
-
-  void connect() {
-    ASSERT_TRUE(client_.wait_for_server(kWait)) << "no status from hadald; stderr:\n" << server_.err();
-    ASSERT_TRUE(client_.wait_for_subscriptions(kWait))
-        << "a subscribed topic has no writer: is the sensor in the scenario? stderr:\n"
-        << server_.err();
-  }
-  Client& client() { return client_; }
-
- private:
-  DomainLease domain_;
-  ServerProcess server_;
-  Client client_;
 };
 
 std::string default_scenario() { return source_path("configs/scenarios/default.yaml"); }
@@ -338,6 +286,113 @@ TEST(SensorClientTest, RangeOfTheAltimeterIsTheHeightAboveAPlaneSeabed) {
     EXPECT_GE(m.range, m.min_range) << stamp;
     EXPECT_LE(m.range, m.max_range) << stamp;
     EXPECT_NEAR(m.range, 20.0, 0.5) << stamp;
+  }
+}
+
+// ---- determinism over DDS -------------------------------------------------------------------------
+
+// Every field of a sample as bit patterns (NaN equals NaN), in a fixed order.
+struct Bits {
+  std::vector<std::uint64_t> words;
+  void put(double x) {
+    std::uint64_t w;
+    std::memcpy(&w, &x, sizeof w);
+    words.push_back(w);
+  }
+  template <std::size_t N>
+  void put(const std::array<double, N>& a) {
+    for (double x : a) put(x);
+  }
+};
+
+// Each sensor stream of the default AUV as one record per sample, for 2 s of lockstep with a thruster
+// command (the AUV moves and turns, so the ideal values change from sample to sample).
+std::map<std::string, std::map<double, std::vector<std::uint64_t>>> all_sensor_streams(std::uint64_t seed) {
+  LockstepServer s(kClientScenario, {"--seed", std::to_string(seed)});
+  std::mutex mutex;
+  std::map<std::string, std::map<double, std::vector<std::uint64_t>>> streams;
+  auto record = [&](const std::string& sensor, double stamp, Bits bits) {
+    std::lock_guard<std::mutex> lock(mutex);
+    streams[sensor][stamp] = std::move(bits.words);
+  };
+  Client& c = s.client();
+  c.on_fluid_pressure("auv", "depth", [&](const FluidPressure& m) {
+    Bits b;
+    b.put(m.pressure);
+    record("depth", m.stamp, b);
+  });
+  c.on_imu("auv", "imu", [&](const Imu& m) {
+    Bits b;
+    b.put(m.angular_velocity);
+    b.put(m.linear_acceleration);
+    record("imu", m.stamp, b);
+  });
+  c.on_magnetic_field("auv", "magnetometer", [&](const MagneticField& m) {
+    Bits b;
+    b.put(m.magnetic_field);
+    record("magnetometer", m.stamp, b);
+  });
+  c.on_nav_sat_fix("auv", "gps", [&](const NavSatFix& m) {
+    Bits b;
+    b.put(static_cast<double>(m.status));
+    b.put(m.latitude);
+    b.put(m.longitude);
+    b.put(m.altitude);
+    record("gps", m.stamp, b);
+  });
+  c.on_dvl("auv", "dvl", [&](const Dvl& m) {
+    Bits b;
+    b.put(static_cast<double>(m.velocity_mode));
+    b.put(m.velocity);
+    b.put(m.altitude);
+    b.put(static_cast<double>(m.num_good_beams));
+    b.put(m.ranges);
+    b.put(m.beam_velocity);
+    record("dvl", m.stamp, b);
+  });
+  c.on_range("auv", "altimeter", [&](const Range& m) {
+    Bits b;
+    b.put(m.range);
+    record("altimeter", m.stamp, b);
+  });
+  s.connect();
+  double t = 0.0;
+  for (int k = 0; k < 4; ++k) {  // 2 s: forward and sway thrust, refreshed before the 1 s watchdog
+    c.set_thrusters("auv", {0.8, 0.0, 0.3});
+    t = c.step(250);
+  }
+  EXPECT_TRUE(wait_until(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (streams.size() < 6) return false;
+        for (const auto& [name, samples] : streams) {
+          if (samples.empty() || std::abs(samples.rbegin()->first - t) > 1e-9) return false;
+        }
+        return true;
+      },
+      kWait));
+  std::lock_guard<std::mutex> lock(mutex);
+  return streams;
+}
+
+// Determinism: the same seed and the same lockstep commands give bit-identical streams of all six
+// sensors over real DDS (every sample of 2 s: 20 depth, 200 IMU, 40 magnetometer, 2 GPS, 10 DVL, 20
+// altimeter); another seed changes every noisy stream (the GPS under water reports no fix, so its
+// stream carries no noise to differ).
+TEST(SensorClientTest, AllSensorStreamsAreBitIdenticalInLockstep) {
+  const auto a = all_sensor_streams(99), b = all_sensor_streams(99), c = all_sensor_streams(100);
+  const std::map<std::string, std::size_t> expected = {{"depth", 20},    {"imu", 200}, {"magnetometer", 40},
+                                                       {"gps", 2},       {"dvl", 10},  {"altimeter", 20}};
+  for (const auto& [name, count] : expected) {
+    SCOPED_TRACE(name);
+    ASSERT_EQ(a.count(name), 1u);
+    ASSERT_EQ(b.count(name), 1u);
+    ASSERT_EQ(c.count(name), 1u);
+    EXPECT_EQ(a.at(name).size(), count);
+    EXPECT_EQ(a.at(name), b.at(name));
+    if (name != "gps") {
+      EXPECT_NE(a.at(name), c.at(name));
+    }
   }
 }
 
