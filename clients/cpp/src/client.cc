@@ -11,6 +11,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include <hadal_msgsPubSubTypes.h>
+#include <marine_acoustic_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
@@ -93,6 +94,97 @@ ThrusterStates from_msg(const hadal_msgs::msg::ThrusterState& m) {
   t.torque = m.torque();
   t.command_source = m.command_source();
   return t;
+}
+
+// The client header's named constants are the IDL's (the header cannot include generated types).
+static_assert(NavSatFix::kStatusNoFix == sensor_msgs::msg::NavSatStatus_Constants::STATUS_NO_FIX);
+static_assert(NavSatFix::kStatusFix == sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX);
+static_assert(NavSatFix::kStatusSbasFix == sensor_msgs::msg::NavSatStatus_Constants::STATUS_SBAS_FIX);
+static_assert(NavSatFix::kStatusGbasFix == sensor_msgs::msg::NavSatStatus_Constants::STATUS_GBAS_FIX);
+static_assert(NavSatFix::kServiceGps == sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GPS);
+static_assert(NavSatFix::kServiceGlonass == sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GLONASS);
+static_assert(NavSatFix::kServiceCompass == sensor_msgs::msg::NavSatStatus_Constants::SERVICE_COMPASS);
+static_assert(NavSatFix::kServiceGalileo == sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GALILEO);
+static_assert(NavSatFix::kCovarianceTypeUnknown == sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_UNKNOWN);
+static_assert(NavSatFix::kCovarianceTypeApproximated ==
+              sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_APPROXIMATED);
+static_assert(NavSatFix::kCovarianceTypeDiagonalKnown ==
+              sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_DIAGONAL_KNOWN);
+static_assert(NavSatFix::kCovarianceTypeKnown == sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_KNOWN);
+static_assert(Dvl::kVelocityModeBottomTrack == marine_acoustic_msgs::msg::Dvl_Constants::DVL_MODE_BOTTOM);
+static_assert(Dvl::kVelocityModeWaterTrack == marine_acoustic_msgs::msg::Dvl_Constants::DVL_MODE_WATER);
+static_assert(Dvl::kDvlTypePiston == marine_acoustic_msgs::msg::Dvl_Constants::DVL_TYPE_PISTON);
+static_assert(Dvl::kDvlTypePhasedArray == marine_acoustic_msgs::msg::Dvl_Constants::DVL_TYPE_PHASED_ARRAY);
+static_assert(Range::kUltrasound == sensor_msgs::msg::Range_Constants::ULTRASOUND);
+static_assert(Range::kInfrared == sensor_msgs::msg::Range_Constants::INFRARED);
+
+std::array<double, 3> to_array(const geometry_msgs::msg::Vector3& v) { return {v.x(), v.y(), v.z()}; }
+
+// Element-wise copy of a fixed-size message array (float or double) into doubles.
+template <class T, std::size_t N>
+std::array<double, N> to_doubles(const std::array<T, N>& values) {
+  std::array<double, N> out{};
+  for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<double>(values[i]);
+  return out;
+}
+
+MagneticField from_msg(const sensor_msgs::msg::MagneticField& m) {
+  MagneticField f;
+  f.stamp = dds::from_time_msg(m.header().stamp());
+  f.frame_id = m.header().frame_id();
+  f.magnetic_field = to_array(m.magnetic_field());
+  f.magnetic_field_covariance = m.magnetic_field_covariance();
+  return f;
+}
+
+NavSatFix from_msg(const sensor_msgs::msg::NavSatFix& m) {
+  NavSatFix f;
+  f.stamp = dds::from_time_msg(m.header().stamp());
+  f.frame_id = m.header().frame_id();
+  f.status = m.status().status();
+  f.service = m.status().service();
+  f.latitude = m.latitude();
+  f.longitude = m.longitude();
+  f.altitude = m.altitude();
+  f.position_covariance = m.position_covariance();
+  f.position_covariance_type = m.position_covariance_type();
+  return f;
+}
+
+Dvl from_msg(const marine_acoustic_msgs::msg::Dvl& m) {
+  Dvl d;
+  d.stamp = dds::from_time_msg(m.header().stamp());
+  d.frame_id = m.header().frame_id();
+  d.velocity_mode = m.velocity_mode();
+  d.dvl_type = m.dvl_type();
+  d.velocity = to_array(m.velocity());
+  d.velocity_covariance = m.velocity_covar();
+  d.altitude = m.altitude();
+  d.course_gnd = m.course_gnd();
+  d.speed_gnd = m.speed_gnd();
+  d.num_good_beams = m.num_good_beams();
+  d.sound_speed = m.sound_speed();
+  d.beam_ranges_valid = m.beam_ranges_valid();
+  d.beam_velocities_valid = m.beam_velocities_valid();
+  for (std::size_t b = 0; b < 4; ++b) d.beam_unit_vec[b] = to_array(m.beam_unit_vec()[b]);
+  d.ranges = m.range();
+  d.range_covariance = to_doubles(m.range_covar());
+  d.beam_quality = to_doubles(m.beam_quality());
+  d.beam_velocity = to_doubles(m.beam_velocity());
+  d.beam_velocity_covariance = to_doubles(m.beam_velocity_covar());
+  return d;
+}
+
+Range from_msg(const sensor_msgs::msg::Range& m) {
+  Range r;
+  r.stamp = dds::from_time_msg(m.header().stamp());
+  r.frame_id = m.header().frame_id();
+  r.radiation_type = m.radiation_type();
+  r.field_of_view = m.field_of_view();
+  r.min_range = m.min_range();
+  r.max_range = m.max_range();
+  r.range = m.range();
+  return r;
 }
 
 bool wait_for_match(fdds::DataWriter* writer, double timeout_s) {
@@ -241,6 +333,33 @@ void Client::on_imu(const std::string& vehicle, const std::string& sensor, std::
                                    m.linear_acceleration().z()};
         callback(imu);
       });
+}
+
+void Client::on_magnetic_field(const std::string& vehicle, const std::string& sensor,
+                               std::function<void(const MagneticField&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::MagneticFieldPubSubType, sensor_msgs::msg::MagneticField>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const sensor_msgs::msg::MagneticField& m) { callback(from_msg(m)); });
+}
+
+void Client::on_nav_sat_fix(const std::string& vehicle, const std::string& sensor,
+                            std::function<void(const NavSatFix&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::NavSatFixPubSubType, sensor_msgs::msg::NavSatFix>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const sensor_msgs::msg::NavSatFix& m) { callback(from_msg(m)); });
+}
+
+void Client::on_dvl(const std::string& vehicle, const std::string& sensor, std::function<void(const Dvl&)> callback) {
+  impl_->subscribe<marine_acoustic_msgs::msg::DvlPubSubType, marine_acoustic_msgs::msg::Dvl>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const marine_acoustic_msgs::msg::Dvl& m) { callback(from_msg(m)); });
+}
+
+void Client::on_range(const std::string& vehicle, const std::string& sensor,
+                      std::function<void(const Range&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const sensor_msgs::msg::Range& m) { callback(from_msg(m)); });
 }
 
 void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {

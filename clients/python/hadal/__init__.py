@@ -6,10 +6,16 @@
     client.set_thrusters("auv", [0.6, 0.0, 0.0])
     odom = client.wait_odometry("auv", min_stamp=client.step(500))   # lockstep servers
     print(odom.p_WB, odom.v_WB_B)
+    client.wait_magnetic_field("auv", "magnetometer", timeout_s=0)   # sensors: subscribed on first use
+    client.wait_for_subscriptions()
+    mag = client.wait_magnetic_field("auv", "magnetometer", min_stamp=client.step(50))
+    print(mag.magnetic_field)                                         # tesla, in the sensor frame
 
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
-from ._hadal import Client, ClientError, Odometry, ServerMode, SimStatus, ThrusterStates
+from ._hadal import (Client, ClientError, Dvl, FluidPressure, Imu, MagneticField, NavSatFix, Odometry, Range,
+                     ServerMode, SimStatus, ThrusterStates)
 
-__all__ = ["Client", "ClientError", "Odometry", "ServerMode", "SimStatus", "ThrusterStates"]
+__all__ = ["Client", "ClientError", "Dvl", "FluidPressure", "Imu", "MagneticField", "NavSatFix", "Odometry",
+           "Range", "ServerMode", "SimStatus", "ThrusterStates"]

@@ -9,8 +9,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -23,6 +25,22 @@ template <std::size_t N>
 py::array_t<double> to_numpy(const std::array<double, N>& values) {
   py::array_t<double> out(N);
   std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+// A row-major 3x3 matrix (a ROS covariance) as a (3, 3) array.
+py::array_t<double> to_numpy_3x3(const std::array<double, 9>& values) {
+  py::array_t<double> out({3, 3});
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+// Rows of vectors as an (R, C) array.
+template <std::size_t R, std::size_t C>
+py::array_t<double> to_numpy(const std::array<std::array<double, C>, R>& rows) {
+  py::array_t<double> out({R, C});
+  double* data = out.mutable_data();
+  for (const auto& row : rows) data = std::copy(row.begin(), row.end(), data);
   return out;
 }
 
@@ -98,26 +116,30 @@ class PyClient {
   // Sensors, keyed "<vehicle>/<sensor>", subscribed on first use.
   std::optional<hadal::Imu> wait_imu(const std::string& vehicle, const std::string& sensor, double min_stamp,
                                      double timeout_s) {
-    const std::string key = vehicle + "/" + sensor;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (subscribed_.emplace("imu:" + key, true).second) {
-        client_.on_imu(vehicle, sensor, [this, key](const hadal::Imu& m) { imu_.put(key, m); });
-      }
-    }
-    return imu_.wait(key, min_stamp, timeout_s);
+    return wait_sensor("imu", &hadal::Client::on_imu, imu_, vehicle, sensor, min_stamp, timeout_s);
   }
   std::optional<hadal::FluidPressure> wait_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                                                           double min_stamp, double timeout_s) {
-    const std::string key = vehicle + "/" + sensor;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (subscribed_.emplace("pressure:" + key, true).second) {
-        client_.on_fluid_pressure(vehicle, sensor,
-                                  [this, key](const hadal::FluidPressure& m) { pressure_.put(key, m); });
-      }
-    }
-    return pressure_.wait(key, min_stamp, timeout_s);
+    return wait_sensor("pressure", &hadal::Client::on_fluid_pressure, pressure_, vehicle, sensor, min_stamp,
+                       timeout_s);
+  }
+  std::optional<hadal::MagneticField> wait_magnetic_field(const std::string& vehicle, const std::string& sensor,
+                                                          double min_stamp, double timeout_s) {
+    return wait_sensor("magnetic_field", &hadal::Client::on_magnetic_field, magnetic_field_, vehicle, sensor,
+                       min_stamp, timeout_s);
+  }
+  std::optional<hadal::NavSatFix> wait_nav_sat_fix(const std::string& vehicle, const std::string& sensor,
+                                                   double min_stamp, double timeout_s) {
+    return wait_sensor("nav_sat_fix", &hadal::Client::on_nav_sat_fix, nav_sat_fix_, vehicle, sensor, min_stamp,
+                       timeout_s);
+  }
+  std::optional<hadal::Dvl> wait_dvl(const std::string& vehicle, const std::string& sensor, double min_stamp,
+                                     double timeout_s) {
+    return wait_sensor("dvl", &hadal::Client::on_dvl, dvl_, vehicle, sensor, min_stamp, timeout_s);
+  }
+  std::optional<hadal::Range> wait_range(const std::string& vehicle, const std::string& sensor, double min_stamp,
+                                         double timeout_s) {
+    return wait_sensor("range", &hadal::Client::on_range, range_, vehicle, sensor, min_stamp, timeout_s);
   }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
     client_.set_thrusters(vehicle, setpoints);
@@ -125,6 +147,25 @@ class PyClient {
   double step(std::uint32_t steps, double timeout_s) { return client_.step(steps, timeout_s); }
 
  private:
+  template <class Sample>
+  using Subscription = void (hadal::Client::*)(const std::string&, const std::string&,
+                                               std::function<void(const Sample&)>);
+
+  // Subscribes `latest` to rt/<vehicle>/<sensor> on first use, then waits for a sample.
+  template <class Sample>
+  std::optional<Sample> wait_sensor(const std::string& kind, Subscription<Sample> subscribe, Latest<Sample>& latest,
+                                    const std::string& vehicle, const std::string& sensor, double min_stamp,
+                                    double timeout_s) {
+    const std::string key = vehicle + "/" + sensor;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace(kind + ":" + key, true).second) {
+        (client_.*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) { latest.put(key, m); });
+      }
+    }
+    return latest.wait(key, min_stamp, timeout_s);
+  }
+
   hadal::Client client_;
   std::mutex mutex_;
   std::map<std::string, bool> subscribed_;
@@ -132,6 +173,10 @@ class PyClient {
   Latest<hadal::ThrusterStates> thrusters_;
   Latest<hadal::Imu> imu_;
   Latest<hadal::FluidPressure> pressure_;
+  Latest<hadal::MagneticField> magnetic_field_;
+  Latest<hadal::NavSatFix> nav_sat_fix_;
+  Latest<hadal::Dvl> dvl_;
+  Latest<hadal::Range> range_;
 };
 
 }  // namespace
@@ -187,6 +232,95 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("pressure", &hadal::FluidPressure::pressure, "absolute [Pa]")
       .def_readonly("variance", &hadal::FluidPressure::variance, "[Pa^2]");
 
+  py::class_<hadal::MagneticField>(m, "MagneticField",
+                                   "sensor_msgs/MagneticField sample: flux density in the sensor frame")
+      .def_readonly("stamp", &hadal::MagneticField::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::MagneticField::frame_id)
+      .def_property_readonly("magnetic_field",
+                             [](const hadal::MagneticField& f) { return to_numpy(f.magnetic_field); },
+                             "(3,) flux density in the sensor frame [T]")
+      .def_property_readonly("magnetic_field_covariance",
+                             [](const hadal::MagneticField& f) { return to_numpy_3x3(f.magnetic_field_covariance); },
+                             "(3, 3) covariance [T^2]; all 0: unknown");
+
+  py::class_<hadal::NavSatFix> nav_sat_fix(
+      m, "NavSatFix", "sensor_msgs/NavSatFix sample; latitude, longitude, altitude are NaN without a fix");
+  nav_sat_fix.attr("STATUS_NO_FIX") = hadal::NavSatFix::kStatusNoFix;
+  nav_sat_fix.attr("STATUS_FIX") = hadal::NavSatFix::kStatusFix;
+  nav_sat_fix.attr("STATUS_SBAS_FIX") = hadal::NavSatFix::kStatusSbasFix;
+  nav_sat_fix.attr("STATUS_GBAS_FIX") = hadal::NavSatFix::kStatusGbasFix;
+  nav_sat_fix.attr("SERVICE_GPS") = hadal::NavSatFix::kServiceGps;
+  nav_sat_fix.attr("SERVICE_GLONASS") = hadal::NavSatFix::kServiceGlonass;
+  nav_sat_fix.attr("SERVICE_COMPASS") = hadal::NavSatFix::kServiceCompass;
+  nav_sat_fix.attr("SERVICE_GALILEO") = hadal::NavSatFix::kServiceGalileo;
+  nav_sat_fix.attr("COVARIANCE_TYPE_UNKNOWN") = hadal::NavSatFix::kCovarianceTypeUnknown;
+  nav_sat_fix.attr("COVARIANCE_TYPE_APPROXIMATED") = hadal::NavSatFix::kCovarianceTypeApproximated;
+  nav_sat_fix.attr("COVARIANCE_TYPE_DIAGONAL_KNOWN") = hadal::NavSatFix::kCovarianceTypeDiagonalKnown;
+  nav_sat_fix.attr("COVARIANCE_TYPE_KNOWN") = hadal::NavSatFix::kCovarianceTypeKnown;
+  nav_sat_fix.def_readonly("stamp", &hadal::NavSatFix::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::NavSatFix::frame_id)
+      .def_readonly("status", &hadal::NavSatFix::status, "-1 no fix, 0 fix, 1 SBAS fix, 2 GBAS fix")
+      .def_readonly("service", &hadal::NavSatFix::service, "bits: 1 GPS, 2 GLONASS, 4 COMPASS, 8 GALILEO")
+      .def_readonly("latitude", &hadal::NavSatFix::latitude, "WGS84 [deg], + north")
+      .def_readonly("longitude", &hadal::NavSatFix::longitude, "WGS84 [deg], + east")
+      .def_readonly("altitude", &hadal::NavSatFix::altitude, "above the WGS84 ellipsoid [m]")
+      .def_property_readonly("position_covariance",
+                             [](const hadal::NavSatFix& f) { return to_numpy_3x3(f.position_covariance); },
+                             "(3, 3) covariance, east/north/up [m^2]")
+      .def_readonly("position_covariance_type", &hadal::NavSatFix::position_covariance_type,
+                    "0 unknown, 1 approximated, 2 diagonal known, 3 known")
+      .def("has_fix", &hadal::NavSatFix::has_fix, "True when status >= STATUS_FIX");
+
+  py::class_<hadal::Dvl> dvl(m, "Dvl",
+                             "marine_acoustic_msgs/Dvl ping; frame: the DVL's (z along its axis, x forward)");
+  dvl.attr("VELOCITY_MODE_NONE") = hadal::Dvl::kVelocityModeNone;
+  dvl.attr("VELOCITY_MODE_BOTTOM_TRACK") = hadal::Dvl::kVelocityModeBottomTrack;
+  dvl.attr("VELOCITY_MODE_WATER_TRACK") = hadal::Dvl::kVelocityModeWaterTrack;
+  dvl.attr("DVL_TYPE_PISTON") = hadal::Dvl::kDvlTypePiston;
+  dvl.attr("DVL_TYPE_PHASED_ARRAY") = hadal::Dvl::kDvlTypePhasedArray;
+  dvl.def_readonly("stamp", &hadal::Dvl::stamp, "sim time the velocity is valid at [s]")
+      .def_readonly("frame_id", &hadal::Dvl::frame_id)
+      .def_readonly("velocity_mode", &hadal::Dvl::velocity_mode, "0 none, 1 bottom track, 2 water track")
+      .def_readonly("dvl_type", &hadal::Dvl::dvl_type, "0 piston, 1 phased array")
+      .def_property_readonly("velocity", [](const hadal::Dvl& d) { return to_numpy(d.velocity); },
+                             "(3,) velocity in the DVL frame [m/s]")
+      .def_property_readonly("velocity_covariance",
+                             [](const hadal::Dvl& d) { return to_numpy_3x3(d.velocity_covariance); },
+                             "(3, 3) covariance [m^2/s^2]; -1: unknown")
+      .def_readonly("altitude", &hadal::Dvl::altitude, "mean vertical range of the good beams [m]")
+      .def_readonly("course_gnd", &hadal::Dvl::course_gnd, "atan2(velocity y, velocity x) [rad]")
+      .def_readonly("speed_gnd", &hadal::Dvl::speed_gnd, "hypot(velocity x, velocity y) [m/s]")
+      .def_readonly("num_good_beams", &hadal::Dvl::num_good_beams)
+      .def_readonly("sound_speed", &hadal::Dvl::sound_speed, "sound speed the DVL assumed [m/s]")
+      .def_readonly("beam_ranges_valid", &hadal::Dvl::beam_ranges_valid)
+      .def_readonly("beam_velocities_valid", &hadal::Dvl::beam_velocities_valid)
+      .def_property_readonly("beam_unit_vec", [](const hadal::Dvl& d) { return to_numpy(d.beam_unit_vec); },
+                             "(4, 3) beam directions in the DVL frame, one unit vector per row")
+      .def_property_readonly("ranges", [](const hadal::Dvl& d) { return to_numpy(d.ranges); },
+                             "(4,) slant range along each beam [m] (the message's `range`)")
+      .def_property_readonly("range_covariance", [](const hadal::Dvl& d) { return to_numpy(d.range_covariance); },
+                             "(4,) [m^2]")
+      .def_property_readonly("beam_quality", [](const hadal::Dvl& d) { return to_numpy(d.beam_quality); },
+                             "(4,) per-beam quality figure")
+      .def_property_readonly("beam_velocity", [](const hadal::Dvl& d) { return to_numpy(d.beam_velocity); },
+                             "(4,) along-beam velocity [m/s]")
+      .def_property_readonly("beam_velocity_covariance",
+                             [](const hadal::Dvl& d) { return to_numpy(d.beam_velocity_covariance); },
+                             "(4,) [m^2/s^2]");
+
+  py::class_<hadal::Range> range(m, "Range",
+                                 "sensor_msgs/Range sample (altimeter, range finder) along the sensor's x axis; "
+                                 "values outside [min_range, max_range] are not measurements");
+  range.attr("ULTRASOUND") = hadal::Range::kUltrasound;
+  range.attr("INFRARED") = hadal::Range::kInfrared;
+  range.def_readonly("stamp", &hadal::Range::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::Range::frame_id)
+      .def_readonly("radiation_type", &hadal::Range::radiation_type, "0 ultrasound, 1 infrared")
+      .def_readonly("field_of_view", &hadal::Range::field_of_view, "full cone angle [rad]")
+      .def_readonly("min_range", &hadal::Range::min_range, "[m]")
+      .def_readonly("max_range", &hadal::Range::max_range, "[m]")
+      .def_readonly("range", &hadal::Range::range, "[m]");
+
   py::class_<hadal::SimStatus>(m, "SimStatus")
       .def_readonly("sim_time", &hadal::SimStatus::sim_time)
       .def_readonly("wall_time", &hadal::SimStatus::wall_time)
@@ -220,6 +354,18 @@ PYBIND11_MODULE(_hadal, m) {
       .def("wait_fluid_pressure", &PyClient::wait_fluid_pressure, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "FluidPressure sample with stamp >= min_stamp, or None on timeout")
+      .def("wait_magnetic_field", &PyClient::wait_magnetic_field, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "MagneticField sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")
+      .def("wait_nav_sat_fix", &PyClient::wait_nav_sat_fix, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "NavSatFix sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")
+      .def("wait_dvl", &PyClient::wait_dvl, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "Dvl sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")
+      .def("wait_range", &PyClient::wait_range, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "Range sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
            "Normalised setpoints in [-1, 1], one per thruster in scenario order")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),

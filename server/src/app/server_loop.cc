@@ -247,13 +247,15 @@ class Runner {
     dds_.publish_status(report);
   }
 
-  // One ray straight down from each vehicle, against the last snapshot (the sensors' service, so the
-  // scene the daemon built is exercised end to end).
+  // One ray straight down from each vehicle's origin, through its own hull, against the last snapshot
+  // (the ray-cast service, so the scene the daemon built is exercised end to end).
   std::vector<double> altitudes() {
     geometry::RayBatch batch;
     batch.set_snapshot(sim_.state());
-    for (const auto& vehicle : sim_.state().vehicles) {
-      batch.add_ray(vehicle.body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, -1.0f));
+    const auto& vehicles = sim_.state().vehicles;
+    for (std::size_t i = 0; i < vehicles.size(); ++i) {
+      batch.add_ray(vehicles[i].body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, -1.0f), 0.0f,
+                    std::numeric_limits<float>::infinity(), static_cast<std::int32_t>(i));
     }
     const geometry::RayHits hits = raycast_.submit(std::move(batch)).get();
     return std::vector<double>(hits.distance.begin(), hits.distance.end());

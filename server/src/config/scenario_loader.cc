@@ -814,6 +814,105 @@ void read_magnetometer(const MapReader& map, MagnetometerSensorSpec* magnetomete
   }
 }
 
+// The DVL keys of a sensor entry (configs/REFERENCE.md): a data-sheet preset (dvl_specs.csv rows; it
+// also sets rate_hz unless given) and/or geometry, bottom-lock window, noise per ping, the paper's
+// bias drift, water track and sound-speed error. Per-ping sigmas become white-noise densities at the
+// sensor's sample period (sensors::dvl_params).
+void read_dvl(const MapReader& map, bool rate_given, double* rate_hz, DvlSensorSpec* dvl) {
+  sensors::DvlDatasheet sheet;  // generic: the DvlParams defaults with 5 mm/s per beam
+  sheet.id = "generic";
+  sheet.min_altitude_m = 0.7;
+  sheet.max_altitude_m = 90.0;
+  sheet.beam_velocity_sigma = 0.005;
+  if (const auto preset = map.optional("preset")) {
+    if (const auto id = preset->string()) {
+      if (const sensors::DvlDatasheet* found = sensors::find_dvl_preset(*id)) {
+        sheet = *found;
+        if (!rate_given) *rate_hz = sheet.update_hz;
+      } else {
+        std::vector<std::string> ids;
+        for (const auto& p : sensors::dvl_presets()) ids.push_back(quoted(std::string(p.id)));
+        preset->error("unknown DVL preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
+      }
+    }
+  }
+  const double period = 1.0 / *rate_hz;
+  sensors::DvlParams& p = dvl->params;
+  p = sensors::dvl_params(sheet, period);
+  double tilt_deg = p.beam_tilt / kDegToRad, azimuth_deg = p.first_beam_azimuth / kDegToRad;
+  if (map.read_number("beam_tilt_deg", Need::kOptional, Range::closed(1.0, 60.0), &tilt_deg)) {
+    p.beam_tilt = tilt_deg * kDegToRad;
+  }
+  if (map.read_number("first_beam_azimuth_deg", Need::kOptional, Range::closed(-360.0, 360.0), &azimuth_deg)) {
+    p.first_beam_azimuth = azimuth_deg * kDegToRad;
+  }
+  if (map.read_number("min_altitude", Need::kOptional, Range::non_negative(), &p.min_altitude) &
+          map.read_number("max_altitude", Need::kOptional, Range::positive(), &p.max_altitude) &&
+      !(p.max_altitude > p.min_altitude)) {
+    map.error_at_key(map.has("max_altitude") ? "max_altitude" : "min_altitude",
+                     "max_altitude (" + format_number(p.max_altitude) + " m) must exceed min_altitude (" +
+                         format_number(p.min_altitude) + " m)");
+  }
+  map.read_number("dropout_probability", Need::kOptional, Range::closed(0.0, 1.0), &p.dropout_probability);
+  map.read_number("assumed_sound_speed", Need::kOptional, Range::non_negative(), &p.assumed_sound_speed);
+  if (p.assumed_sound_speed > 0.0 && !(p.assumed_sound_speed >= 1300.0 && p.assumed_sound_speed <= 1700.0)) {
+    map.error_at_key("assumed_sound_speed", "assumed_sound_speed must be 0 (measured) or in [1300, 1700] m/s, got " +
+                                                format_number(p.assumed_sound_speed));
+  }
+  map.read_bool("water_track", Need::kOptional, &p.water_track);
+  if (map.read_number("water_track_layer_near", Need::kOptional, Range::non_negative(), &p.water_track_layer_near) &
+          map.read_number("water_track_layer_far", Need::kOptional, Range::positive(), &p.water_track_layer_far) &&
+      !(p.water_track_layer_far > p.water_track_layer_near)) {
+    map.error_at_key(map.has("water_track_layer_far") ? "water_track_layer_far" : "water_track_layer_near",
+                     "the water-track layer must have near < far (got " + format_number(p.water_track_layer_near) +
+                         " m to " + format_number(p.water_track_layer_far) + " m)");
+  }
+  const auto per_ping = [&](const char* key, sensors::NoiseChannelParams* channel) {
+    double sigma = 0.0;
+    if (map.read_number(key, Need::kOptional, Range::non_negative(), &sigma) && map.has(key)) {
+      channel->noise.white_noise_density = sigma * std::sqrt(period);
+    }
+  };
+  per_ping("beam_velocity_noise_stddev", &p.beam_velocity_noise);
+  per_ping("water_track_noise_stddev", &p.water_track_velocity_noise);
+  per_ping("range_noise_stddev", &p.range_noise);
+  double lsb = 0.0;
+  if (map.read_number("velocity_resolution", Need::kOptional, Range::non_negative(), &lsb)) {
+    p.beam_velocity_noise.lsb = p.water_track_velocity_noise.lsb = lsb;
+  }
+  if (const auto bias_value = map.optional("bias")) {
+    const MapReader bias(*bias_value, {"initial", "initial_stddev", "drift_rate", "drift_rate_stddev", "random_walk"});
+    if (bias.ok()) {
+      bias.read_vector3("initial", Need::kOptional, Range::finite(), &p.bias.initial);
+      bias.read_number("initial_stddev", Need::kOptional, Range::non_negative(), &p.bias.initial_sigma);
+      bias.read_vector3("drift_rate", Need::kOptional, Range::finite(), &p.bias.drift_rate);
+      bias.read_number("drift_rate_stddev", Need::kOptional, Range::non_negative(), &p.bias.drift_rate_sigma);
+      bias.read_number("random_walk", Need::kOptional, Range::non_negative(), &p.bias.random_walk_density);
+    }
+  }
+  double samples = dvl->water_track_layer_samples;
+  if (map.read_number("water_track_layer_samples", Need::kOptional, Range::closed(1.0, 64.0), &samples)) {
+    dvl->water_track_layer_samples = static_cast<int>(samples);
+  }
+}
+
+// The altimeter keys of a sensor entry: range window, noise per sample, resolution, beam width.
+void read_altimeter(const MapReader& map, AltimeterSensorSpec* altimeter) {
+  map.read_number("min_range", Need::kOptional, Range::non_negative(), &altimeter->min_range);
+  if (map.read_number("max_range", Need::kOptional, Range::positive(), &altimeter->max_range) &&
+      !(altimeter->max_range > altimeter->min_range)) {
+    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
+                     "max_range (" + format_number(altimeter->max_range) + " m) must exceed min_range (" +
+                         format_number(altimeter->min_range) + " m)");
+  }
+  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &altimeter->noise_stddev);
+  map.read_number("resolution", Need::kOptional, Range::non_negative(), &altimeter->resolution);
+  double fov_deg = altimeter->field_of_view / kDegToRad;
+  if (map.read_number("field_of_view_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) {
+    altimeter->field_of_view = fov_deg * kDegToRad;
+  }
+}
+
 // One entry of a vehicle definition's `sensors` list. `link_names` as for thrusters (nullopt: unknown,
 // then a `link` is not checked); `physics_rate_hz` bounds rate_hz when known. Keys of another sensor
 // type are errors.
@@ -825,12 +924,21 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
       {SensorType::kPressure, {"noise_stddev", "resolution", "range_max"}},
       {SensorType::kImu, {"preset", "gyro", "accel", "white_noise_only", "temperature", "vibration"}},
       {SensorType::kMagnetometer, {"noise_stddev_nt", "resolution_nt", "range_ut", "hard_iron", "soft_iron"}},
-      {SensorType::kGps, {"horizontal_stddev", "vertical_stddev"}}};
+      {SensorType::kGps, {"horizontal_stddev", "vertical_stddev"}},
+      {SensorType::kDvl,
+       {"preset", "beam_tilt_deg", "first_beam_azimuth_deg", "min_altitude", "max_altitude", "dropout_probability",
+        "assumed_sound_speed", "water_track", "water_track_layer_near", "water_track_layer_far",
+        "water_track_layer_samples", "beam_velocity_noise_stddev", "water_track_noise_stddev",
+        "range_noise_stddev", "velocity_resolution", "bias"}},
+      {SensorType::kAltimeter,
+       {"min_range", "max_range", "noise_stddev", "resolution", "field_of_view_deg"}}};
   std::vector<std::pair<std::string, SensorType>> types;
   std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
   for (const auto& [type, own_keys] : kTypeKeys) {
     types.emplace_back(to_string(type), type);
-    keys.insert(keys.end(), own_keys.begin(), own_keys.end());
+    for (const std::string& key : own_keys) {
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    }
   }
   const MapReader map(value, keys);
   if (!map.ok()) return;
@@ -842,10 +950,17 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
   if (const auto pose = map.optional("pose")) read_pose(*pose, &sensor->X_LS);
   read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
+  const std::vector<std::string>* sensor_keys = nullptr;
+  for (const auto& [type, own_keys] : kTypeKeys) {
+    if (type == sensor->type) sensor_keys = &own_keys;
+  }
+  std::vector<std::string> reported;  // a key of several other types (preset) is reported once
   for (const auto& [type, own_keys] : kTypeKeys) {
     if (type == sensor->type) continue;
     for (const std::string& key : own_keys) {
-      if (map.has(key)) {
+      if (map.has(key) && std::find(sensor_keys->begin(), sensor_keys->end(), key) == sensor_keys->end() &&
+          std::find(reported.begin(), reported.end(), key) == reported.end()) {
+        reported.push_back(key);
         map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(to_string(sensor->type)));
       }
     }
@@ -867,6 +982,12 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
     case SensorType::kGps:
       map.read_number("horizontal_stddev", Need::kOptional, Range::non_negative(), &sensor->gps.horizontal_stddev);
       map.read_number("vertical_stddev", Need::kOptional, Range::non_negative(), &sensor->gps.vertical_stddev);
+      break;
+    case SensorType::kDvl:
+      read_dvl(map, map.has("rate_hz"), &sensor->rate_hz, &sensor->dvl);
+      break;
+    case SensorType::kAltimeter:
+      read_altimeter(map, &sensor->altimeter);
       break;
   }
 }

@@ -510,7 +510,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
-                          "'magnetometer', 'gps' (got 'barometer')",
+                          "'magnetometer', 'gps', 'dvl', 'altimeter' (got 'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
@@ -520,6 +520,114 @@ vehicles:
                    path + ":10:67: error: vehicles[0].sensors[2].noise_stddev: must be >= 0 (got -1)",
                    path + ":11:9: error: vehicles[0].sensors[3]: missing required key 'name'",
                    path + ":11:26: error: vehicles[0].sensors[3].colour: unknown key 'colour'"}));
+}
+
+TEST_F(ScenarioLoaderTest, DvlAndAltimeterFromPresetAndKeys) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: dvl, type: dvl, preset: nortek_dvl1000_4000m}
+      - name: dvl2
+        type: dvl
+        rate_hz: 4
+        preset: teledyne_workhorse_navigator_600
+        beam_tilt_deg: 20
+        first_beam_azimuth_deg: 0
+        max_altitude: 60
+        dropout_probability: 0.05
+        assumed_sound_speed: 1480
+        water_track: false
+        water_track_layer_near: 1
+        water_track_layer_far: 9
+        beam_velocity_noise_stddev: 0.01
+        range_noise_stddev: 0.05
+        velocity_resolution: 0.001
+        bias: {initial: [0.001, 0, 0], initial_stddev: 0.002, drift_rate: [0, 1.0e-7, 0], random_walk: 1.0e-5}
+      - {name: alt, type: altimeter, min_range: 0.5, max_range: 50, noise_stddev: 0.02, resolution: 0.01,
+         field_of_view_deg: 10}
+      - {name: alt2, type: altimeter}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const std::vector<SensorSpec>& sensors = result.model->vehicles[0].sensors;
+  ASSERT_EQ(sensors.size(), 4u);
+  // The preset sets the rate (8 Hz), the window and the per-ping noise at that rate.
+  EXPECT_EQ(sensors[0].type, SensorType::kDvl);
+  EXPECT_EQ(sensors[0].rate_hz, 8.0);
+  const sensors::DvlParams& nortek = sensors[0].dvl.params;
+  EXPECT_DOUBLE_EQ(nortek.beam_tilt, 25.0 * M_PI / 180.0);
+  EXPECT_EQ(nortek.min_altitude, 0.2);
+  EXPECT_EQ(nortek.max_altitude, 75.0);
+  EXPECT_DOUBLE_EQ(nortek.beam_velocity_noise.noise.white_noise_density, 0.005 * std::sqrt(1.0 / 8.0));
+  EXPECT_DOUBLE_EQ(nortek.water_track_velocity_noise.noise.white_noise_density, 0.015 * std::sqrt(1.0 / 8.0));
+  // Keys override the preset; noise per ping at the given 4 Hz.
+  EXPECT_EQ(sensors[1].rate_hz, 4.0);
+  const sensors::DvlParams& p = sensors[1].dvl.params;
+  EXPECT_DOUBLE_EQ(p.beam_tilt, 20.0 * M_PI / 180.0);
+  EXPECT_EQ(p.first_beam_azimuth, 0.0);
+  EXPECT_EQ(p.min_altitude, 0.7);
+  EXPECT_EQ(p.max_altitude, 60.0);
+  EXPECT_EQ(p.dropout_probability, 0.05);
+  EXPECT_EQ(p.assumed_sound_speed, 1480.0);
+  EXPECT_FALSE(p.water_track);
+  EXPECT_EQ(p.water_track_layer_near, 1.0);
+  EXPECT_EQ(p.water_track_layer_far, 9.0);
+  EXPECT_DOUBLE_EQ(p.beam_velocity_noise.noise.white_noise_density, 0.01 * 0.5);
+  EXPECT_DOUBLE_EQ(p.range_noise.noise.white_noise_density, 0.05 * 0.5);
+  EXPECT_EQ(p.beam_velocity_noise.lsb, 0.001);
+  EXPECT_EQ(p.bias.initial, Eigen::Vector3d(0.001, 0, 0));
+  EXPECT_EQ(p.bias.initial_sigma, 0.002);
+  EXPECT_EQ(p.bias.drift_rate, Eigen::Vector3d(0, 1e-7, 0));
+  EXPECT_EQ(p.bias.random_walk_density, 1e-5);
+  const AltimeterSensorSpec& alt = sensors[2].altimeter;
+  EXPECT_EQ(sensors[2].type, SensorType::kAltimeter);
+  EXPECT_EQ(alt.min_range, 0.5);
+  EXPECT_EQ(alt.max_range, 50.0);
+  EXPECT_EQ(alt.noise_stddev, 0.02);
+  EXPECT_EQ(alt.resolution, 0.01);
+  EXPECT_DOUBLE_EQ(alt.field_of_view, 10.0 * M_PI / 180.0);
+  EXPECT_EQ(sensors[3].altimeter.max_range, AltimeterSensorSpec{}.max_range);
+  EXPECT_EQ(sensors[3].rate_hz, 10.0);
+}
+
+TEST_F(ScenarioLoaderTest, DvlAndAltimeterErrors) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: a, type: dvl, preset: rdi_600}
+      - {name: b, type: dvl, min_altitude: 100, beam_tilt_deg: 75}
+      - {name: c, type: dvl, assumed_sound_speed: 340, water_track_layer_near: 8, water_track_layer_far: 4}
+      - {name: d, type: dvl, bias: {drift: 1}, dropout_probability: 1.5}
+      - {name: e, type: altimeter, min_range: 10, max_range: 5, gyro: {}}
+      - {name: f, type: pressure, max_altitude: 3}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":8:38: error: vehicles[0].sensors[0].preset: unknown DVL preset 'rdi_600' (presets: "
+                          "'teledyne_workhorse_navigator_600', 'teledyne_explorer_1000', 'nortek_dvl1000_4000m', "
+                          "'nortek_dvl500_300m', 'sonardyne_syrinx_600', 'water_linked_a50')",
+                   path + ":9:30: error: vehicles[0].sensors[1].min_altitude: max_altitude (90 m) must exceed "
+                          "min_altitude (100 m)",
+                   path + ":9:64: error: vehicles[0].sensors[1].beam_tilt_deg: must be in [1, 60] (got 75)",
+                   path + ":10:30: error: vehicles[0].sensors[2].assumed_sound_speed: assumed_sound_speed must be "
+                          "0 (measured) or in [1300, 1700] m/s, got 340",
+                   path + ":10:83: error: vehicles[0].sensors[2].water_track_layer_far: the water-track layer "
+                          "must have near < far (got 8 m to 4 m)",
+                   path + ":11:37: error: vehicles[0].sensors[3].bias.drift: unknown key 'drift'",
+                   path + ":11:69: error: vehicles[0].sensors[3].dropout_probability: must be in [0, 1] (got 1.5)",
+                   path + ":12:51: error: vehicles[0].sensors[4].max_range: max_range (5 m) must exceed min_range "
+                          "(10 m)",
+                   path + ":12:65: error: vehicles[0].sensors[4].gyro: key 'gyro' is not used by sensor type "
+                          "'altimeter'",
+                   path + ":13:35: error: vehicles[0].sensors[5].max_altitude: key 'max_altitude' is not used by "
+                          "sensor type 'pressure'"}));
 }
 
 TEST_F(ScenarioLoaderTest, ImuFromPresetAndFigures) {

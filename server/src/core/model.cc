@@ -45,6 +45,10 @@ const char* to_string(SensorType type) {
       return "magnetometer";
     case SensorType::kGps:
       return "gps";
+    case SensorType::kDvl:
+      return "dvl";
+    case SensorType::kAltimeter:
+      return "altimeter";
   }
   return "unknown";
 }

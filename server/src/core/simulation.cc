@@ -1,6 +1,7 @@
 #include "hadal/core/simulation.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <iterator>
@@ -10,7 +11,10 @@
 #include <thread>
 #include <utility>
 
+#include "hadal/geometry/embree_scene.h"
 #include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/ray_batch.h"
+#include "hadal/geometry/world_scene.h"
 #include "hadal/geometry/shape_overlap.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/physics/added_mass.h"
@@ -24,6 +28,7 @@
 #include "hadal/core/rate_divider.h"
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include "hadal/sensors/dvl.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/noise.h"
@@ -46,8 +51,13 @@ struct Simulation::VehicleRuntime {
   struct Sensor {
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
     double period = 0.0;                     // nominal sample period 1 / rate_hz [s]
-    sensors::NoiseChannelParams channel;     // pressure: the pressure channel [Pa]
+    sensors::NoiseChannelParams channel;     // pressure [Pa], altimeter range [m]
     sensors::NoiseTriadParams triad;         // gps: east, north, up position noise [m]
+    // DVL: beam unit vectors d_i in S, the water-track layer's sample points per beam in S, the ray
+    // length that covers the bottom-lock window and the layer [m].
+    std::array<Eigen::Vector3d, sensors::kDvlBeams> beams_S{};
+    std::array<std::vector<Eigen::Vector3d>, sensors::kDvlBeams> layer_points_S{};
+    double ray_length = 0.0;
   };
   std::vector<Sensor> sensors = {};
   // Surface model: volume displaced twice where hull parts overlap, its centroid in B, and the
@@ -340,6 +350,47 @@ const Model& validated(const Model& model) {
 
 }  // namespace
 
+// The world as the ray-casting sensors (DVL, altimeter) see it: the scenario's Embree scene (seabed and
+// every vehicle's surface), traced on the stepping thread so samples are part of the lockstep-
+// deterministic step. Built only when some vehicle carries such a sensor.
+struct Simulation::RayCaster {
+  explicit RayCaster(const Model& model) : scene(geometry::build_world_scene(model, "threads=1")) {
+    scene.build();
+  }
+  // Moves the vehicles' instances to the state's poses, once per step.
+  void set_poses(const SimState& state) {
+    if (posed_step == state.step_count && posed) return;
+    poses.clear();
+    for (const VehicleState& vehicle : state.vehicles) poses.push_back(vehicle.body.X_WB);
+    scene.set_body_poses(poses);
+    posed_step = state.step_count;
+    posed = true;
+  }
+  // Distances [m] along unit directions d_W from p_W, ignoring body `own` (+inf: nothing within
+  // max_distance).
+  template <std::size_t N>
+  std::array<double, N> cast(const Eigen::Vector3d& p_W, const std::array<Eigen::Vector3d, N>& d_W, int own,
+                             double max_distance) {
+    rays.clear_rays();
+    for (const Eigen::Vector3d& d : d_W) {
+      rays.add_ray(p_W.cast<float>(), d.normalized().cast<float>(), 0.0f, static_cast<float>(max_distance),
+                   static_cast<std::int32_t>(own));
+    }
+    hits.resize(N);
+    scene.intersect(rays, 0, N, geometry::QueryPath::kSingle, hits);
+    std::array<double, N> out{};
+    for (std::size_t i = 0; i < N; ++i) out[i] = hits.distance[i];
+    return out;
+  }
+
+  geometry::EmbreeScene scene;
+  geometry::RayBatch rays;
+  geometry::RayHits hits;
+  std::vector<Eigen::Isometry3d> poses;
+  std::uint64_t posed_step = 0;
+  bool posed = false;
+};
+
 Simulation::Simulation(Model model)
     : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
   const double dt = model_.world.step_size();
@@ -422,6 +473,33 @@ Simulation::Simulation(Model model)
           }
           break;
         }
+        case SensorType::kDvl: {
+          const sensors::DvlParams& params = sensor.dvl.params;
+          s.beams_S = sensors::dvl_beam_unit_vectors(params);
+          for (int b = 0; b < sensors::kDvlBeams; ++b) {
+            s.layer_points_S[static_cast<std::size_t>(b)] =
+                sensors::water_track_layer_points(params, b, sensor.dvl.water_track_layer_samples);
+          }
+          // Returns beyond the window (or the layer's far edge) change nothing: stop the rays there.
+          s.ray_length = 1.01 * std::max(params.max_altitude, params.water_track_layer_far) / std::cos(params.beam_tilt);
+          sensor_state.dvl = sensors::make_dvl_state(params, model_.world.seed, spec.name, sensor.name);
+          sensor_state.dvl_ping = sensors::DvlPing{};
+          if (!rays_) rays_ = std::make_unique<RayCaster>(model_);
+          break;
+        }
+        case SensorType::kAltimeter: {
+          const AltimeterSensorSpec& altimeter = sensor.altimeter;
+          s.channel.noise.white_noise_density = altimeter.noise_stddev * std::sqrt(s.period);
+          s.channel.lsb = altimeter.resolution;
+          s.channel.min = altimeter.min_range;
+          s.channel.max = altimeter.max_range;
+          s.ray_length = 1.01 * altimeter.max_range;
+          sensor_state.channels.push_back(sensors::make_noise_state(
+              s.channel, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "range")));
+          sensor_state.value.assign(1, 0.0);  // range [m], -inf / +inf outside the window
+          if (!rays_) rays_ = std::make_unique<RayCaster>(model_);
+          break;
+        }
         case SensorType::kImu: {
           sensor_state.triads.push_back(sensors::make_noise_state(
               sensor.imu.gyro, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "gyro")));
@@ -474,6 +552,15 @@ void Simulation::set_state(const SimState& state) {
                                   std::to_string(model_.vehicles[i].sensors.size()) + " sensors, got " +
                                   std::to_string(state.vehicles[i].sensors.size()));
     }
+    for (std::size_t k = 0; k < model_.vehicles[i].sensors.size(); ++k) {
+      const bool dvl = model_.vehicles[i].sensors[k].type == SensorType::kDvl;
+      const SensorState& sensor = state.vehicles[i].sensors[k];
+      if (dvl != (sensor.dvl.has_value() && sensor.dvl_ping.has_value())) {
+        throw std::invalid_argument("set_state: vehicle '" + model_.vehicles[i].name + "': sensor '" +
+                                    model_.vehicles[i].sensors[k].name +
+                                    (dvl ? "' is a DVL without DVL state" : "' has DVL state but is no DVL"));
+      }
+    }
     if (state.vehicles[i].thrusters.size() != model_.vehicles[i].thrusters.size()) {
       throw std::invalid_argument(
           "set_state: vehicle '" + model_.vehicles[i].name + "': expected " +
@@ -482,6 +569,7 @@ void Simulation::set_state(const SimState& state) {
     }
   }
   state_ = state;
+  if (rays_) rays_->posed = false;  // the restored poses, even at the same step count
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     VehicleState& vehicle = state_.vehicles[i];
     if (!is_finite(vehicle)) reset_non_finite(model_.vehicles[i], vehicle);
@@ -732,6 +820,51 @@ void Simulation::step() {
           } else {
             out.value[0] = out.value[1] = out.value[2] = std::numeric_limits<double>::quiet_NaN();
             out.value[3] = 0.0;
+          }
+          break;
+        }
+        case SensorType::kDvl: {
+          const sensors::DvlParams& params = spec.sensors[k].dvl.params;
+          const RigidBodyState& body = vehicle.body;
+          const Eigen::Matrix3d R_WS = body.X_WB.linear() * sensor.X_BS.linear();
+          const Eigen::Matrix3d R_SW = R_WS.transpose();
+          const Eigen::Vector3d p_WS = body.X_WB * sensor.X_BS.translation();
+          sensors::DvlPingInput input;
+          // The transducer's velocity over the seabed (lever arm included), in S.
+          input.v_WS_S = R_SW * (body.v_WB + body.w_WB.cross(p_WS - body.X_WB.translation()));
+          std::array<Eigen::Vector3d, sensors::kDvlBeams> beams_W;
+          for (int b = 0; b < sensors::kDvlBeams; ++b) beams_W[b] = R_WS * sensor.beams_S[b];
+          rays_->set_poses(state_);
+          input.slant_range = rays_->cast(p_WS, beams_W, i, sensor.ray_length);
+          if (params.water_track) {
+            for (int b = 0; b < sensors::kDvlBeams; ++b) {
+              Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+              for (const Eigen::Vector3d& p_S : sensor.layer_points_S[b]) {
+                sum += ocean_->current_W(p_WS + R_WS * p_S, state_.time);
+              }
+              input.v_water_S[b] = R_SW * sum / static_cast<double>(sensor.layer_points_S[b].size());
+            }
+          }
+          input.sound_speed = ocean_->sound_speed(std::max(ocean_->depth(p_WS.z()), 0.0));
+          input.dt = sensor.period;
+          out.dvl_ping = sensors::dvl_ping(params, *out.dvl, input);
+          break;
+        }
+        case SensorType::kAltimeter: {
+          const AltimeterSensorSpec& altimeter = spec.sensors[k].altimeter;
+          const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
+          const Eigen::Vector3d x_W = vehicle.body.X_WB.linear() * sensor.X_BS.linear().col(0);
+          rays_->set_poses(state_);
+          const double range = rays_->cast(p_WS, std::array<Eigen::Vector3d, 1>{x_W}, i, sensor.ray_length)[0];
+          // The noise stream advances every sample, in the window or not.
+          const double measured = sensors::measure(sensor.channel, out.channels[0],
+                                                   std::isfinite(range) ? range : 0.0, sensor.period);
+          if (range < altimeter.min_range) {
+            out.value[0] = -std::numeric_limits<double>::infinity();
+          } else if (!(range <= altimeter.max_range)) {
+            out.value[0] = std::numeric_limits<double>::infinity();
+          } else {
+            out.value[0] = measured;
           }
           break;
         }

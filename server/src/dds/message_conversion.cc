@@ -126,4 +126,50 @@ void fill_nav_sat_fix(const SensorSpec& spec, const SensorState& sample, sensor_
   msg.position_covariance_type(sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_DIAGONAL_KNOWN);
 }
 
+void fill_dvl(const SensorSpec& spec, const SensorState& sample, marine_acoustic_msgs::msg::Dvl& msg) {
+  namespace C = marine_acoustic_msgs::msg::Dvl_Constants;
+  msg.header().stamp(to_time_msg(sample.stamp));
+  msg.header().frame_id(spec.frame_id);
+  const sensors::DvlPing ping = sample.dvl_ping.value_or(sensors::DvlPing{});
+  switch (ping.mode) {
+    case sensors::DvlMode::kNone: msg.velocity_mode(0); break;
+    case sensors::DvlMode::kBottomTrack: msg.velocity_mode(C::DVL_MODE_BOTTOM); break;
+    case sensors::DvlMode::kWaterTrack: msg.velocity_mode(C::DVL_MODE_WATER); break;
+  }
+  msg.dvl_type(ping.type == sensors::DvlType::kPhasedArray ? C::DVL_TYPE_PHASED_ARRAY : C::DVL_TYPE_PISTON);
+  msg.velocity().x(ping.velocity.x());
+  msg.velocity().y(ping.velocity.y());
+  msg.velocity().z(ping.velocity.z());
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) msg.velocity_covar()[static_cast<std::size_t>(3 * r + c)] = ping.velocity_covariance(r, c);
+  }
+  msg.altitude(ping.altitude);
+  msg.course_gnd(ping.course_gnd);
+  msg.speed_gnd(ping.speed_gnd);
+  msg.num_good_beams(static_cast<std::uint8_t>(ping.num_good_beams));
+  msg.sound_speed(static_cast<float>(ping.sound_speed));
+  msg.beam_ranges_valid(ping.beam_ranges_valid);
+  msg.beam_velocities_valid(ping.beam_velocities_valid);
+  for (std::size_t b = 0; b < static_cast<std::size_t>(sensors::kDvlBeams); ++b) {
+    msg.beam_unit_vec()[b].x(ping.beam_unit_vec[b].x());
+    msg.beam_unit_vec()[b].y(ping.beam_unit_vec[b].y());
+    msg.beam_unit_vec()[b].z(ping.beam_unit_vec[b].z());
+    msg.range()[b] = ping.range[b];
+    msg.range_covar()[b] = static_cast<float>(ping.range_covar[b]);
+    msg.beam_quality()[b] = static_cast<float>(ping.beam_quality[b]);
+    msg.beam_velocity()[b] = static_cast<float>(ping.beam_velocity[b]);
+    msg.beam_velocity_covar()[b] = static_cast<float>(ping.beam_velocity_covar[b]);
+  }
+}
+
+void fill_range(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::Range& msg) {
+  msg.header().stamp(to_time_msg(sample.stamp));
+  msg.header().frame_id(spec.frame_id);
+  msg.radiation_type(sensor_msgs::msg::Range_Constants::ULTRASOUND);
+  msg.field_of_view(static_cast<float>(spec.altimeter.field_of_view));
+  msg.min_range(static_cast<float>(spec.altimeter.min_range));
+  msg.max_range(static_cast<float>(spec.altimeter.max_range));
+  msg.range(sample.value.empty() ? std::numeric_limits<float>::infinity() : static_cast<float>(sample.value[0]));
+}
+
 }  // namespace hadal::dds

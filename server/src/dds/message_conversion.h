@@ -11,6 +11,7 @@
 #include "hadal/dds/time_msg.h"
 
 #include <hadal_msgs.h>
+#include <marine_acoustic_msgs.h>
 #include <nav_msgs.h>
 #include <sensor_msgs.h>
 
@@ -38,5 +39,16 @@ void fill_magnetic_field(const SensorSpec& spec, const SensorState& sample, sens
 // A GPS fix: STATUS_FIX with latitude/longitude [deg] and height above the ellipsoid [m] while the
 // antenna is above water, STATUS_NO_FIX with NaN position otherwise; diagonal ENU covariance.
 void fill_nav_sat_fix(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::NavSatFix& msg);
+
+// A DVL's last ping (sensors/dvl.h's DvlPing) as marine_acoustic_msgs/Dvl, in the sensor frame:
+// velocity_mode 0 (none) / DVL_MODE_BOTTOM / DVL_MODE_WATER, velocity and its covariance (NaN and -1
+// without a solution), altitude, course and speed over ground, beams' unit vectors, ranges (NaN: no
+// return) and velocities (NaN: not in the solution) with their variances (-1: none), beam_quality 1/0.
+void fill_dvl(const SensorSpec& spec, const SensorState& sample, marine_acoustic_msgs::msg::Dvl& msg);
+
+// An altimeter's last sample as sensor_msgs/Range (ULTRASOUND): range [m] within [min_range,
+// max_range], -inf when the seabed is closer than min_range, +inf when nothing is within max_range
+// (REP 117).
+void fill_range(const SensorSpec& spec, const SensorState& sample, sensor_msgs::msg::Range& msg);
 
 }  // namespace hadal::dds

@@ -112,3 +112,69 @@ TEST(MessageTypesTest, DvlAndImuRoundTrip) {
 }
 
 }  // namespace
+
+// What the server puts into the messages: a DVL ping as marine_acoustic_msgs/Dvl (modes, NaN / -1
+// for what a ping lacks) and an altimeter sample as sensor_msgs/Range (REP 117 infinities).
+#include "message_conversion.h"
+
+namespace {
+
+TEST(MessageConversionTest, DvlPingAndAltimeterSampleFillTheirMessages) {
+  hadal::SensorSpec spec;
+  spec.type = hadal::SensorType::kDvl;
+  spec.frame_id = "auv/dvl";
+  hadal::SensorState sample;
+  sample.stamp = 12.25;
+  hadal::sensors::DvlPing ping;
+  ping.mode = hadal::sensors::DvlMode::kWaterTrack;
+  ping.velocity = Eigen::Vector3d(0.5, -0.1, 0.02);
+  ping.velocity_covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  ping.velocity_covariance(0, 1) = 2e-5;
+  ping.num_good_beams = 3;
+  ping.sound_speed = 1490.5;
+  ping.beam_velocities_valid = true;
+  ping.beam_unit_vec = hadal::sensors::dvl_beam_unit_vectors(M_PI / 6.0, M_PI / 4.0);
+  ping.range = {10.0, std::nan(""), 10.5, 11.0};
+  ping.beam_velocity = {0.25, std::nan(""), 0.3, 0.35};
+  ping.beam_velocity_covar = {1e-4, -1.0, 1e-4, 1e-4};
+  sample.dvl_ping = ping;
+  marine_acoustic_msgs::msg::Dvl msg;
+  hadal::dds::fill_dvl(spec, sample, msg);
+  EXPECT_EQ(msg.header().frame_id(), "auv/dvl");
+  EXPECT_EQ(msg.header().stamp().sec(), 12);
+  EXPECT_EQ(msg.header().stamp().nanosec(), 250000000u);
+  EXPECT_EQ(msg.velocity_mode(), marine_acoustic_msgs::msg::Dvl_Constants::DVL_MODE_WATER);
+  EXPECT_EQ(msg.velocity().x(), 0.5);
+  EXPECT_EQ(msg.velocity_covar()[1], 2e-5);  // row-major
+  EXPECT_EQ(msg.velocity_covar()[3], 0.0);
+  EXPECT_EQ(msg.num_good_beams(), 3);
+  EXPECT_EQ(msg.sound_speed(), 1490.5f);
+  EXPECT_TRUE(msg.beam_velocities_valid());
+  EXPECT_FALSE(msg.beam_ranges_valid());
+  EXPECT_EQ(msg.beam_unit_vec()[2].z(), ping.beam_unit_vec[2].z());
+  EXPECT_EQ(msg.range()[3], 11.0);
+  EXPECT_TRUE(std::isnan(msg.range()[1]));
+  EXPECT_EQ(msg.beam_velocity()[2], 0.3f);
+  EXPECT_EQ(msg.beam_velocity_covar()[1], -1.0f);
+  sample.dvl_ping->mode = hadal::sensors::DvlMode::kNone;
+  hadal::dds::fill_dvl(spec, sample, msg);
+  EXPECT_EQ(msg.velocity_mode(), 0);
+
+  hadal::SensorSpec altimeter;
+  altimeter.type = hadal::SensorType::kAltimeter;
+  altimeter.frame_id = "auv/altimeter";
+  hadal::SensorState range_sample;
+  range_sample.value = {42.125};
+  sensor_msgs::msg::Range range;
+  hadal::dds::fill_range(altimeter, range_sample, range);
+  EXPECT_EQ(range.range(), 42.125f);
+  EXPECT_EQ(range.min_range(), 0.3f);
+  EXPECT_EQ(range.max_range(), 100.0f);
+  EXPECT_EQ(range.radiation_type(), sensor_msgs::msg::Range_Constants::ULTRASOUND);
+  EXPECT_FLOAT_EQ(range.field_of_view(), static_cast<float>(6.0 * M_PI / 180.0));
+  range_sample.value = {-std::numeric_limits<double>::infinity()};
+  hadal::dds::fill_range(altimeter, range_sample, range);
+  EXPECT_EQ(range.range(), -std::numeric_limits<float>::infinity());
+}
+
+}  // namespace

@@ -10,6 +10,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include <hadal_msgsPubSubTypes.h>
+#include <marine_acoustic_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
@@ -78,6 +79,8 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   sensor_msgs::msg::Imu imu_msg;
   sensor_msgs::msg::MagneticField magnetic_msg;
   sensor_msgs::msg::NavSatFix fix_msg;
+  marine_acoustic_msgs::msg::Dvl dvl_msg;
+  sensor_msgs::msg::Range range_msg;
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -236,6 +239,13 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         case SensorType::kGps:
           d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::NavSatFixPubSubType>(topic, kStateHistoryDepth));
           break;
+        case SensorType::kDvl:
+          d.sensor_writers.back().push_back(
+              r.writer<marine_acoustic_msgs::msg::DvlPubSubType>(topic, kStateHistoryDepth));
+          break;
+        case SensorType::kAltimeter:
+          d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::RangePubSubType>(topic, kStateHistoryDepth));
+          break;
       }
       d.sensor_slot.back().push_back(d.add_count(topic));
     }
@@ -329,6 +339,14 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
     case SensorType::kGps:
       fill_nav_sat_fix(spec, sample, impl_->fix_msg);
       impl_->write(impl_->sensor_writers[i][k], &impl_->fix_msg, impl_->sensor_slot[i][k]);
+      break;
+    case SensorType::kDvl:
+      fill_dvl(spec, sample, impl_->dvl_msg);
+      impl_->write(impl_->sensor_writers[i][k], &impl_->dvl_msg, impl_->sensor_slot[i][k]);
+      break;
+    case SensorType::kAltimeter:
+      fill_range(spec, sample, impl_->range_msg);
+      impl_->write(impl_->sensor_writers[i][k], &impl_->range_msg, impl_->sensor_slot[i][k]);
       break;
   }
 }

@@ -335,12 +335,19 @@ struct EmbreeScene::Impl {
   void trace_single(const RayBatch& rays, std::size_t begin, std::size_t end, RTCIntersectContext* context,
                     RayHits& hits) const {
     unsigned geom[kBlock], inst[kBlock];
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t i = begin; i < end; ++i) trace_ray(rays, i, rays.t_near[i], context, hits, &geom[i - begin], &inst[i - begin]);
+    finish(begin, end, geom, inst, hits);
+  }
+
+  // Ray i of the batch from t_near on (its own or a later start); geometry and instance ids out.
+  void trace_ray(const RayBatch& rays, std::size_t i, float t_near, RTCIntersectContext* context, RayHits& hits,
+                 unsigned* geom, unsigned* inst) const {
+    {
       RTCRayHit rh;
       rh.ray.org_x = rays.p_WO_x[i];
       rh.ray.org_y = rays.p_WO_y[i];
       rh.ray.org_z = rays.p_WO_z[i];
-      rh.ray.tnear = rays.t_near[i];
+      rh.ray.tnear = t_near;
       rh.ray.dir_x = rays.d_W_x[i];
       rh.ray.dir_y = rays.d_W_y[i];
       rh.ray.dir_z = rays.d_W_z[i];
@@ -357,10 +364,24 @@ struct EmbreeScene::Impl {
       hits.n_W_y[i] = rh.hit.Ng_y;
       hits.n_W_z[i] = rh.hit.Ng_z;
       hits.triangle[i] = rh.hit.primID;
-      geom[i - begin] = rh.hit.geomID;
-      inst[i - begin] = rh.hit.instID[0];
+      *geom = rh.hit.geomID;
+      *inst = rh.hit.instID[0];
     }
-    finish(begin, end, geom, inst, hits);
+  }
+
+  // Rays that ignore a body and hit it are continued past the hit (ray_batch.h).
+  void pass_ignored_bodies(const RayBatch& rays, std::size_t begin, std::size_t end, RTCIntersectContext* context,
+                           RayHits& hits) const {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::int32_t ignored = rays.ignore_body[i];
+      if (ignored == kNoHit) continue;
+      for (int pass = 0; hits.body[i] == ignored; ++pass) {
+        const float t_next = hits.distance[i] + kIgnoredHitStep;
+        unsigned geom = kInvalidId, inst = kInvalidId;
+        if (pass < kMaxIgnoredHits && t_next <= rays.t_far[i]) trace_ray(rays, i, t_next, context, hits, &geom, &inst);
+        finish(i, i + 1, &geom, &inst, hits);
+      }
+    }
   }
 
   template <int N, typename RayHitN>
@@ -641,6 +662,7 @@ void EmbreeScene::intersect(const RayBatch& rays, std::size_t begin, std::size_t
     }
     i = block_end;
   }
+  if (!rays.ignore_body.empty()) s.pass_ignored_bodies(rays, begin, end, &context, hits);
 }
 
 int EmbreeScene::num_bodies() const { return impl_->num_bodies; }

@@ -1,6 +1,6 @@
 #include "hadal/geometry/world_scene.h"
 
-#include "hadal/geometry/mesh_transform.h"
+#include "hadal/geometry/primitive_mesh.h"
 
 namespace hadal::geometry {
 
@@ -28,12 +28,8 @@ EmbreeScene build_world_scene(const Model& model, const std::string& device_conf
   }
   for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
     const VehicleSpec& vehicle = model.vehicles[v];
-    for (const LinkSpec& link : vehicle.links) {
-      if (!link.mesh || !link.mesh->mesh) continue;
-      TriangleMesh mesh_B = *link.mesh->mesh;  // vertices in L, moved into B
-      transform_mesh(link.X_BL, &mesh_B);
-      scene.add_body_mesh(static_cast<int>(v), mesh_B, kVehicleMaterial, vehicle.name + "/" + link.name);
-    }
+    if (!has_surface_geometry(vehicle.links)) continue;
+    scene.add_body_mesh(static_cast<int>(v), vehicle_surface_B(vehicle), kVehicleMaterial, vehicle.name);
   }
   return scene;
 }

@@ -7,16 +7,17 @@
 
 #include <cfloat>
 #include <cmath>
+#include <limits>
 
 namespace hadal::geometry {
 namespace {
 
 RayHits cast_one(EmbreeScene& scene, const Eigen::Vector3f& p_WO, const Eigen::Vector3f& d_W,
-                 const std::vector<Eigen::Isometry3d>& X_WB = {}) {
+                 const std::vector<Eigen::Isometry3d>& X_WB = {}, std::int32_t ignore_body = kNoHit) {
   if (!scene.built()) scene.build();
   if (scene.num_bodies() > 0) scene.set_body_poses(X_WB);
   RayBatch batch;
-  batch.add_ray(p_WO, d_W);
+  batch.add_ray(p_WO, d_W, 0.0f, std::numeric_limits<float>::infinity(), ignore_body);
   RayHits hits;
   hits.resize(1);
   scene.intersect(batch, 0, 1, QueryPath::kSingle, hits);
@@ -29,8 +30,17 @@ TEST(WorldSceneTest, RayStraightDownFromTheDefaultAuvMeetsTheGeneratedSeabed) {
   ASSERT_TRUE(loaded.ok());
   const Model& model = *loaded.model;
   EmbreeScene scene = build_world_scene(model);
+  const std::vector<Eigen::Isometry3d> X_WB = {model.vehicles[0].X_WB_initial};
   const Eigen::Vector3f p_WO = model.vehicles[0].X_WB_initial.translation().cast<float>();
-  const RayHits hits = cast_one(scene, p_WO, Eigen::Vector3f(0, 0, -1));
+  // From the AUV's centre the ray first leaves its own hull (a back face 0.0775 m down: the capsule's
+  // radius, less the inscribed polygon's deficit); ignoring its own body it meets the seabed.
+  const RayHits own = cast_one(scene, p_WO, Eigen::Vector3f(0, 0, -1), X_WB);
+  ASSERT_EQ(scene.num_bodies(), 1);  // the AUV's capsule and fins (collision primitives)
+  ASSERT_TRUE(own.hit(0));
+  EXPECT_EQ(own.body[0], 0);
+  EXPECT_NEAR(own.distance[0], 0.0775f, 0.0775f * 0.01f);  // 32 segments: deficit < 0.5 %
+  EXPECT_LT(own.n_W_z[0], -0.9f);  // outward (down): a back face seen from inside
+  const RayHits hits = cast_one(scene, p_WO, Eigen::Vector3f(0, 0, -1), X_WB, 0);
   ASSERT_TRUE(hits.hit(0));
   // The AUV starts at (0, 0, -50) over the sediment plain, whose height at the origin is exactly the
   // datum -100 m (the regional slope term vanishes there): 50 m, to float rounding of a 100 m
@@ -73,6 +83,46 @@ TEST(WorldSceneTest, PlaneSeabedAndLinkMeshesMoveWithTheirVehicle) {
   ASSERT_TRUE(down.hit(0));
   EXPECT_NEAR(down.distance[0], 30.0f, 4 * FLT_EPSILON * 30.0f);
   EXPECT_EQ(down.n_W_z[0], 1.0f);
+}
+
+TEST(WorldSceneTest, RaysPassThroughTheBodyTheyIgnoreOnly) {
+  // Two 1 m boxes on a line above a plane seabed at z = -30: a ray from inside the first, straight
+  // down through both, ignoring the first, meets the second; ignoring the second (or nothing) it
+  // meets the first; a body hit more than kMaxIgnoredHits times is never reported.
+  Model model;
+  model.world.seabed.z = -30.0;
+  for (const char* name : {"a", "b"}) {
+    VehicleSpec vehicle;
+    vehicle.name = name;
+    LinkSpec link;
+    link.name = "hull";
+    CollisionShape box;
+    box.box_size = Eigen::Vector3d(1.0, 1.0, 1.0);
+    link.collisions.push_back(box);
+    vehicle.links.push_back(link);
+    model.vehicles.push_back(vehicle);
+  }
+  EmbreeScene scene = build_world_scene(model);
+  std::vector<Eigen::Isometry3d> X_WB(2, Eigen::Isometry3d::Identity());
+  X_WB[1].translation() = Eigen::Vector3d(0.0, 0.0, -10.0);  // box b spans z in [-10.5, -9.5]
+  const Eigen::Vector3f p(0.1f, 0.2f, 0.0f), down(0.0f, 0.0f, -1.0f);
+  const RayHits none = cast_one(scene, p, down, X_WB);
+  EXPECT_EQ(none.body[0], 0);
+  EXPECT_NEAR(none.distance[0], 0.5f, 1e-6f);  // the bottom face of a, from inside
+  EXPECT_LT(none.n_W_z[0], -0.99f);             // outward (down), not flipped: a back face
+  const RayHits skip_a = cast_one(scene, p, down, X_WB, 0);
+  EXPECT_EQ(skip_a.body[0], 1);
+  EXPECT_NEAR(skip_a.distance[0], 9.5f, 4 * FLT_EPSILON * 10.0f);
+  const RayHits skip_b = cast_one(scene, p, down, X_WB, 1);
+  EXPECT_EQ(skip_b.body[0], 0);
+  // From above both, ignoring b: a's top and bottom are hit (a is not ignored: top at 19.5 m), and
+  // from below a, ignoring b, the seabed.
+  const RayHits from_top = cast_one(scene, Eigen::Vector3f(0.1f, 0.2f, 20.0f), down, X_WB, 1);
+  EXPECT_EQ(from_top.body[0], 0);
+  EXPECT_NEAR(from_top.distance[0], 19.5f, 4 * FLT_EPSILON * 20.0f);
+  const RayHits below_a = cast_one(scene, Eigen::Vector3f(0.1f, 0.2f, -5.0f), down, X_WB, 1);
+  EXPECT_EQ(below_a.body[0], kStaticBody);
+  EXPECT_NEAR(below_a.distance[0], 25.0f, 4 * FLT_EPSILON * 30.0f);
 }
 
 }  // namespace

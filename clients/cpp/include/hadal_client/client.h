@@ -1,9 +1,9 @@
 // libhadal_client: a thin C++ client of hadald over DDS.
 //
-// Subscribe to odometry, clock, status and thruster state with callbacks; command thrusters; step a
-// lockstep server. The public API has no DDS types in it: samples arrive as the plain structs below
-// (SI units, frames as in the README's topic table). Callbacks run on DDS threads: keep them short and
-// synchronise what they touch.
+// Subscribe to odometry, clock, status, thruster state and sensors (pressure, IMU, magnetometer, GNSS,
+// DVL, range finder) with callbacks; command thrusters; step a lockstep server. The public API has no
+// DDS types in it: samples arrive as the plain structs below (SI units, frames as in the README's topic
+// table). Callbacks run on DDS threads: keep them short and synchronise what they touch.
 //
 //   hadal::Client client(hadal::ClientOptions{0, "my_controller"});  // domain 0
 //   if (!client.wait_for_server(10.0)) ...;
@@ -81,6 +81,98 @@ struct Imu {
   std::array<double, 3> linear_acceleration{};  // specific force [m/s^2]
 };
 
+// sensor_msgs/MagneticField of a magnetometer, rt/<vehicle>/<sensor>: the magnetic flux density at
+// the sensor (Earth's field from the World Magnetic Model plus the scenario's dipoles, soft iron and
+// noise) expressed in the sensor frame S.
+struct MagneticField {
+  double stamp = 0.0;                               // sim time of the sample [s]
+  std::string frame_id;                             // the sensor's frame
+  std::array<double, 3> magnetic_field{};           // B in S [T]
+  std::array<double, 9> magnetic_field_covariance{};  // 3x3 row-major [T^2]; all 0: unknown
+};
+
+// sensor_msgs/NavSatFix of a GNSS receiver, rt/<vehicle>/<sensor>. Without a fix (status kStatusNoFix:
+// hadald's GPS has none while its antenna is under water) latitude, longitude and altitude are NaN.
+struct NavSatFix {
+  // NavSatStatus.status
+  static constexpr std::int8_t kStatusNoFix = -1;
+  static constexpr std::int8_t kStatusFix = 0;
+  static constexpr std::int8_t kStatusSbasFix = 1;
+  static constexpr std::int8_t kStatusGbasFix = 2;
+  // NavSatStatus.service (bits)
+  static constexpr std::uint16_t kServiceGps = 1;
+  static constexpr std::uint16_t kServiceGlonass = 2;
+  static constexpr std::uint16_t kServiceCompass = 4;
+  static constexpr std::uint16_t kServiceGalileo = 8;
+  // position_covariance_type
+  static constexpr std::uint8_t kCovarianceTypeUnknown = 0;
+  static constexpr std::uint8_t kCovarianceTypeApproximated = 1;
+  static constexpr std::uint8_t kCovarianceTypeDiagonalKnown = 2;
+  static constexpr std::uint8_t kCovarianceTypeKnown = 3;
+
+  double stamp = 0.0;                  // sim time of the sample [s]
+  std::string frame_id;                // the antenna's frame
+  std::int8_t status = kStatusNoFix;
+  std::uint16_t service = 0;
+  double latitude = 0.0;               // WGS84 [deg], + north
+  double longitude = 0.0;              // WGS84 [deg], + east
+  double altitude = 0.0;               // above the WGS84 ellipsoid [m]
+  std::array<double, 9> position_covariance{};  // 3x3 row-major, east/north/up [m^2]
+  std::uint8_t position_covariance_type = kCovarianceTypeUnknown;
+
+  bool has_fix() const { return status >= kStatusFix; }
+};
+
+// marine_acoustic_msgs/Dvl of a Doppler velocity log, rt/<vehicle>/<sensor>: one ping. Frame S: the
+// DVL's, z along its axis, x vehicle forward. Field names as the message's, except `covar` spelled out
+// and `range` as `ranges`.
+struct Dvl {
+  // velocity_mode
+  static constexpr std::uint8_t kVelocityModeNone = 0;  // no velocity this ping
+  static constexpr std::uint8_t kVelocityModeBottomTrack = 1;
+  static constexpr std::uint8_t kVelocityModeWaterTrack = 2;
+  // dvl_type
+  static constexpr std::uint8_t kDvlTypePiston = 0;
+  static constexpr std::uint8_t kDvlTypePhasedArray = 1;
+
+  double stamp = 0.0;     // sim time the velocity is valid at [s]
+  std::string frame_id;   // the DVL's frame
+  std::uint8_t velocity_mode = kVelocityModeNone;
+  std::uint8_t dvl_type = kDvlTypePiston;
+  std::array<double, 3> velocity{};             // relative to the bottom or water layer, in S [m/s]
+  std::array<double, 9> velocity_covariance{};  // 3x3 row-major [m^2/s^2]; -1: unknown
+  double altitude = 0.0;     // mean vertical range of the good beams [m]
+  double course_gnd = 0.0;   // atan2(velocity y, velocity x) [rad]
+  double speed_gnd = 0.0;    // hypot(velocity x, velocity y) [m/s]
+  std::uint8_t num_good_beams = 0;
+  double sound_speed = 0.0;  // the DVL assumed [m/s]
+  bool beam_ranges_valid = false;
+  bool beam_velocities_valid = false;
+  std::array<std::array<double, 3>, 4> beam_unit_vec{};  // beam directions in S (unit vectors)
+  std::array<double, 4> ranges{};                  // slant range along each beam [m]
+  std::array<double, 4> range_covariance{};        // [m^2]
+  std::array<double, 4> beam_quality{};            // per-beam quality figure (unitless)
+  std::array<double, 4> beam_velocity{};           // along-beam velocity [m/s]
+  std::array<double, 4> beam_velocity_covariance{};  // [m^2/s^2]
+};
+
+// sensor_msgs/Range of a single-beam range finder (e.g. an altimeter), rt/<vehicle>/<sensor>: the
+// distance along the sensor's x axis. Values outside [min_range, max_range] are not measurements
+// (ROS REP 117: +inf no return within max_range, -inf closer than min_range).
+struct Range {
+  // radiation_type
+  static constexpr std::uint8_t kUltrasound = 0;
+  static constexpr std::uint8_t kInfrared = 1;
+
+  double stamp = 0.0;            // sim time of the sample [s]
+  std::string frame_id;          // the sensor's frame
+  std::uint8_t radiation_type = kUltrasound;
+  double field_of_view = 0.0;    // full cone angle [rad]
+  double min_range = 0.0;        // [m]
+  double max_range = 0.0;        // [m]
+  double range = 0.0;            // [m]
+};
+
 struct ClientOptions {
   int domain_id = 0;  // 0..232, as hadald --domain-id
   std::string name = "hadal_client";
@@ -114,6 +206,12 @@ class Client {
   void on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                          std::function<void(const FluidPressure&)> callback);
   void on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback);
+  void on_magnetic_field(const std::string& vehicle, const std::string& sensor,
+                         std::function<void(const MagneticField&)> callback);
+  void on_nav_sat_fix(const std::string& vehicle, const std::string& sensor,
+                      std::function<void(const NavSatFix&)> callback);
+  void on_dvl(const std::string& vehicle, const std::string& sensor, std::function<void(const Dvl&)> callback);
+  void on_range(const std::string& vehicle, const std::string& sensor, std::function<void(const Range&)> callback);
 
   // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
   // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The

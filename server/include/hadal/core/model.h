@@ -11,6 +11,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/sensors/dvl.h"
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/noise.h"
 
@@ -134,7 +135,7 @@ struct FluidSpec {
 // n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value
 // from the state, then applies its noise (DESIGN.md 4), and is published on rt/<vehicle>/<name> with
 // header.frame_id `frame_id` and the sample's sim time as stamp.
-enum class SensorType { kPressure, kImu, kMagnetometer, kGps };
+enum class SensorType { kPressure, kImu, kMagnetometer, kGps, kDvl, kAltimeter };
 
 // Pressure sensor (sensor_msgs/FluidPressure): absolute pressure at the sensor's origin from the
 // ocean model, plus white noise, quantised to `resolution` and clipped to [0, range_max].
@@ -181,6 +182,30 @@ struct GpsSensorSpec {
   double vertical_stddev = 3.0;    // [m]
 };
 
+// DVL (marine_acoustic_msgs/Dvl): four Janus beams in the sensor frame S (z along the DVL's axis, the
+// way the transducers look: mount a downward DVL with S's z down), ray-cast each ping from the
+// sensor's origin against the world (seabed and other vehicles; its own vehicle is transparent), then
+// sensors/dvl.h: bottom lock within the altitude window, dropout, 3- or 4-beam least squares, the
+// paper's bias drift, water track over the current averaged in a layer, sound-speed scale error. The
+// velocity is that of the sensor's origin over the ground (lever arm included), in S.
+struct DvlSensorSpec {
+  sensors::DvlParams params;
+  int water_track_layer_samples = 4;  // current samples per beam across the water-track layer
+};
+
+// Single-beam altimeter (sensor_msgs/Range): one ray along the sensor frame's x axis (the ROS
+// convention for Range; mount it with x down), the first hit on the world (its own vehicle is
+// transparent), plus white noise, quantised, reported when the true range lies in [min_range,
+// max_range]; -inf when closer, +inf when nothing is within max_range (REP 117). Defaults are a
+// generic 200 kHz echo-sounder altimeter (no data sheet behind them).
+struct AltimeterSensorSpec {
+  double min_range = 0.3;        // [m]
+  double max_range = 100.0;      // [m]
+  double noise_stddev = 0.01;    // white noise per sample [m]
+  double resolution = 0.001;     // quantisation step [m]; 0: none
+  double field_of_view = 6.0 * sensors::kPi / 180.0;  // full beam width, reported only [rad]
+};
+
 struct SensorSpec {
   std::string name;      // unique within the vehicle; topic rt/<vehicle>/<name>
   SensorType type = SensorType::kPressure;
@@ -192,6 +217,8 @@ struct SensorSpec {
   ImuSensorSpec imu;
   MagnetometerSensorSpec magnetometer;
   GpsSensorSpec gps;
+  DvlSensorSpec dvl;
+  AltimeterSensorSpec altimeter;
 };
 
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
@@ -323,7 +350,7 @@ struct Model {
 };
 
 const char* to_string(VehicleType type);
-// The YAML name of a sensor type ("pressure", "imu", "magnetometer", "gps").
+// The YAML name of a sensor type ("pressure", "imu", "magnetometer", "gps", "dvl", "altimeter").
 const char* to_string(SensorType type);
 std::optional<VehicleType> vehicle_type_from_string(const std::string& text);
 

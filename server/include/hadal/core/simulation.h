@@ -22,6 +22,9 @@
 // centre of mass and turned into the wrench Bullet gets.
 // Rigid-body dynamics (world.dynamics): Bullet's gyroscopic moment on/off; Earth-rotation Coriolis
 // F = -2 m Omega_W x v_WBcm at the centre of mass when enabled.
+// Sensors sample at the end of the step that reaches their sample time (VehicleSpec::sensors); the
+// DVL's beams and altimeters cast rays into the world's Embree scene on the stepping thread, so their
+// samples are as deterministic as the rest of the step.
 // Fluid forces of different vehicles are independent; with two or more surface-model hulls of
 // >= 4096 faces they are computed on a persistent worker pool (results are identical either way).
 #pragma once
@@ -102,6 +105,8 @@ class Simulation {
   std::unique_ptr<sensors::GeomagneticModel> geomagnetic_;
   std::unique_ptr<sensors::LocalEnuFrame> frame_W_;
   std::unique_ptr<GeographicLib::LocalCartesian> local_cartesian_;  // GPS: W as GeographicLib's ENU
+  struct RayCaster;                  // DVL beams and altimeters: the world's Embree scene (simulation.cc)
+  std::unique_ptr<RayCaster> rays_;  // null without ray-casting sensors
 };
 
 }  // namespace hadal

@@ -6,8 +6,10 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
+#include "hadal/sensors/dvl.h"
 #include "hadal/sensors/noise.h"
 
 namespace hadal {
@@ -40,9 +42,12 @@ enum class CommandSource : std::uint8_t { kNone, kSchedule, kClient };
 struct SensorState {
   std::uint64_t samples = 0;   // samples taken so far (a publisher sends the sample when it changes)
   double stamp = 0.0;          // sim time of the last sample [s]
-  std::vector<double> value;   // the last measurement, layout per type (pressure: {p [Pa]})
+  std::vector<double> value;   // the last measurement, layout per type (pressure: {p [Pa]}; DVL: none)
   std::vector<sensors::NoiseChannelState> channels;  // scalar noise channels, layout per type
   std::vector<sensors::NoiseTriadState> triads;      // three-axis noise channels, layout per type
+  // DVL only: its bias, dropout and per-beam noise states, and the last ping.
+  std::optional<sensors::DvlState> dvl;
+  std::optional<sensors::DvlPing> dvl_ping;
 };
 
 struct VehicleState {

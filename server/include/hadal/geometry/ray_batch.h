@@ -5,6 +5,10 @@
 //   p_WO  origin O of the ray in W [m]
 //   d_W   direction in W, unit length (|d|^2 within 1e-5 of 1), so that t is a distance in metres
 //   t_near, t_far  0 <= t_near <= t_far [m]; t_far may be +inf
+// A ray may name a body it passes through (ignore_body): a sensor's own vehicle, whose hull its rays
+// start inside of or graze. Hits on that body are skipped (the ray is continued 0.1 mm past each such
+// hit, at most kMaxIgnoredHits times, then reported as a miss), so distance, body, ... describe the
+// first hit on anything else. kNoHit (the default) ignores nothing.
 // The batch also carries the snapshot it belongs to (sim time, step count, the pose X_WB of every
 // body, indexed like SimState::vehicles), so that rays cast for step k see the bodies where they were
 // at step k however long the job waits in the ray-cast service's queue.
@@ -40,6 +44,8 @@ namespace hadal::geometry {
 inline constexpr std::int32_t kStaticBody = -1;  // RayHits::body of a hit on the static world
 inline constexpr std::int32_t kNoHit = -2;       // RayHits::body and RayHits::mesh of a miss
 inline constexpr std::uint32_t kInvalidIndex = std::numeric_limits<std::uint32_t>::max();
+inline constexpr int kMaxIgnoredHits = 16;  // crossings of an ignored body's surface per ray
+inline constexpr float kIgnoredHitStep = 1e-4f;  // a ray continues this far past an ignored hit [m]
 
 // How the rays of a batch relate to each other; chooses Embree's traversal mode. Coherent: neighbours
 // in the arrays start near each other and point in similar directions (a camera's pixels in row-major
@@ -57,22 +63,35 @@ struct RayBatch {
   std::vector<float> p_WO_x, p_WO_y, p_WO_z;  // ray origins in W [m]
   std::vector<float> d_W_x, d_W_y, d_W_z;     // unit ray directions in W
   std::vector<float> t_near, t_far;           // [m]
+  // Empty (no ray ignores a body) or one per ray: the body index whose hits the ray passes through,
+  // kNoHit for none (header text).
+  std::vector<std::int32_t> ignore_body;
 
   std::size_t size() const { return p_WO_x.size(); }
 
-  // True when all eight arrays have the same length.
+  // True when all eight ray arrays have the same length and ignore_body is empty or as long.
   bool consistent() const {
     const std::size_t n = p_WO_x.size();
     return p_WO_y.size() == n && p_WO_z.size() == n && d_W_x.size() == n && d_W_y.size() == n &&
-           d_W_z.size() == n && t_near.size() == n && t_far.size() == n;
+           d_W_z.size() == n && t_near.size() == n && t_far.size() == n &&
+           (ignore_body.empty() || ignore_body.size() == n);
+  }
+
+  // Removes every ray (keeps the snapshot and the arrays' capacity).
+  void clear_rays() {
+    for (auto* v : {&p_WO_x, &p_WO_y, &p_WO_z, &d_W_x, &d_W_y, &d_W_z, &t_near, &t_far}) v->clear();
+    ignore_body.clear();
   }
 
   void reserve(std::size_t n) {
     for (auto* v : {&p_WO_x, &p_WO_y, &p_WO_z, &d_W_x, &d_W_y, &d_W_z, &t_near, &t_far}) v->reserve(n);
+    ignore_body.reserve(n);
   }
 
   void add_ray(const Eigen::Vector3f& p_WO, const Eigen::Vector3f& d_W, float t_min = 0.0f,
-               float t_max = std::numeric_limits<float>::infinity()) {
+               float t_max = std::numeric_limits<float>::infinity(), std::int32_t ignored_body = kNoHit) {
+    if (ignored_body != kNoHit && ignore_body.size() < p_WO_x.size()) ignore_body.resize(p_WO_x.size(), kNoHit);
+    if (!ignore_body.empty() || ignored_body != kNoHit) ignore_body.push_back(ignored_body);
     p_WO_x.push_back(p_WO.x());
     p_WO_y.push_back(p_WO.y());
     p_WO_z.push_back(p_WO.z());

@@ -1,0 +1,124 @@
+"""The Python sensor accessors (wait_magnetic_field, wait_nav_sat_fix, wait_dvl, wait_range) against a
+real hadald over real DDS: the lockstep test scenario's AUV (configs/vehicles/torpedo_auv.yaml) at 50 m
+depth, at rest, yawed 30 deg, world origin 43 N 5 E."""
+
+import math
+
+import numpy as np
+import pytest
+
+import hadal
+
+WAIT_S = 20.0  # generous bound on DDS events; not a speed assertion
+
+
+def subscribed_client(domain_id, *subscribe):
+    """A client whose sensor subscriptions (callables taking the client) are matched before any step,
+    so the samples of the first request are not missed."""
+    client = hadal.Client(domain_id=domain_id, name="pytest_sensors")
+    assert client.wait_for_server(WAIT_S), "no status from hadald"
+    for first_use in subscribe:
+        assert first_use(client) is None  # lockstep: nothing is published before a step
+    assert client.wait_for_subscriptions(WAIT_S)
+    return client
+
+
+def test_magnetic_field_is_earths_in_the_sensor_frame(lockstep_server):
+    _, domain_id = lockstep_server
+    client = subscribed_client(
+        domain_id, lambda c: c.wait_magnetic_field("auv", "magnetometer", timeout_s=0.1))
+    t = client.step(500)  # 1 s: 20 Hz, the last sample stamped t
+    mag = client.wait_magnetic_field("auv", "magnetometer", min_stamp=t, timeout_s=WAIT_S)
+    assert mag is not None and abs(mag.stamp - t) < 1e-9
+    assert isinstance(mag, hadal.MagneticField)
+    assert mag.frame_id == "auv/magnetometer"
+    assert mag.magnetic_field.shape == (3,)
+    assert mag.magnetic_field_covariance.shape == (3, 3)
+    # WMM2025 at 43 N 5 E: F = 46.7 uT, 40..52 uT whatever the attitude, dipole and noise.
+    assert 40e-6 < np.linalg.norm(mag.magnetic_field) < 52e-6
+    # WMM2025 at 43 N 5 E, -0.05 km, 2026.0 (the scenario's default date; `hadal-geomag 43 5 -0.05 2026`):
+    # north X, east Y, down Z. Heading 30 deg north of east: sensor x = (cos 30 east, sin 30 north), y =
+    # (-sin 30 east, cos 30 north), z up; plus the motor's hard-iron dipole, 5.8 nT along x. Tolerance
+    # 40 nT: 5 sigma of the 5 nT noise, 1 nT resolution, < 12 nT for the resting AUV's slight pitch.
+    x_north, y_east, z_down = 24136.7e-9, 1116.0e-9, 39965.4e-9
+    c, s = math.cos(math.pi / 6), math.sin(math.pi / 6)
+    expected = [y_east * c + x_north * s + 5.8e-9, -y_east * s + x_north * c, -z_down]
+    np.testing.assert_allclose(mag.magnetic_field, expected, rtol=0, atol=40e-9)
+    # Configured noise: (5 nT)^2 + (1 nT resolution)^2 / 12 on the diagonal.
+    np.testing.assert_allclose(mag.magnetic_field_covariance, np.eye(3) * (25.0 + 1.0 / 12.0) * 1e-18,
+                               rtol=1e-9, atol=0)
+
+
+def test_nav_sat_fix_under_water_has_no_fix(lockstep_server):
+    _, domain_id = lockstep_server
+    client = subscribed_client(domain_id, lambda c: c.wait_nav_sat_fix("auv", "gps", timeout_s=0.1))
+    t = client.step(1000)  # 2 s at 1 Hz
+    fix = client.wait_nav_sat_fix("auv", "gps", min_stamp=t, timeout_s=WAIT_S)
+    assert fix is not None and abs(fix.stamp - t) < 1e-9
+    assert isinstance(fix, hadal.NavSatFix)
+    assert fix.frame_id == "auv/gps"
+    assert fix.status == hadal.NavSatFix.STATUS_NO_FIX == -1
+    assert not fix.has_fix()
+    assert fix.service == hadal.NavSatFix.SERVICE_GPS
+    assert math.isnan(fix.latitude) and math.isnan(fix.longitude) and math.isnan(fix.altitude)
+    np.testing.assert_array_equal(fix.position_covariance, np.diag([2.25, 2.25, 9.0]))  # 1.5 m, 3 m
+    assert fix.position_covariance_type == hadal.NavSatFix.COVARIANCE_TYPE_DIAGONAL_KNOWN
+
+
+def test_waits_time_out_with_none(lockstep_server):
+    _, domain_id = lockstep_server
+    client = subscribed_client(domain_id)
+    t = client.step(10)
+    # A stamp the server has not reached (it only steps on request), and sensors it does not have.
+    assert client.wait_magnetic_field("auv", "magnetometer", min_stamp=t + 1.0, timeout_s=0.2) is None
+    assert client.wait_dvl("auv", "no_such_dvl", timeout_s=0.2) is None
+    assert client.wait_range("auv", "no_such_altimeter", timeout_s=0.2) is None
+
+
+def test_constants_are_the_messages():
+    assert (hadal.Dvl.VELOCITY_MODE_NONE, hadal.Dvl.VELOCITY_MODE_BOTTOM_TRACK,
+            hadal.Dvl.VELOCITY_MODE_WATER_TRACK) == (0, 1, 2)
+    assert (hadal.Dvl.DVL_TYPE_PISTON, hadal.Dvl.DVL_TYPE_PHASED_ARRAY) == (0, 1)
+    assert (hadal.Range.ULTRASOUND, hadal.Range.INFRARED) == (0, 1)
+    assert (hadal.NavSatFix.STATUS_NO_FIX, hadal.NavSatFix.STATUS_FIX, hadal.NavSatFix.STATUS_SBAS_FIX,
+            hadal.NavSatFix.STATUS_GBAS_FIX) == (-1, 0, 1, 2)
+
+
+# DVL and altimeter of the default AUV: rt/auv/dvl at 5 Hz, rt/auv/altimeter at 10 Hz.
+
+
+def test_dvl_bottom_tracks_50_m_above_the_seabed(lockstep_server):
+    _, domain_id = lockstep_server
+    client = subscribed_client(domain_id, lambda c: c.wait_dvl("auv", "dvl", timeout_s=0.1))
+    t = client.step(500)  # 1 s at 5 Hz
+    dvl = client.wait_dvl("auv", "dvl", min_stamp=t, timeout_s=WAIT_S)
+    assert dvl is not None and abs(dvl.stamp - t) < 1e-9
+    assert isinstance(dvl, hadal.Dvl)
+    assert dvl.frame_id == "auv/dvl"
+    assert dvl.velocity_mode == hadal.Dvl.VELOCITY_MODE_BOTTOM_TRACK
+    assert dvl.num_good_beams == 4 and dvl.beam_ranges_valid and dvl.beam_velocities_valid
+    assert dvl.velocity.shape == (3,) and dvl.velocity_covariance.shape == (3, 3)
+    assert dvl.beam_unit_vec.shape == (4, 3)
+    for array in (dvl.ranges, dvl.range_covariance, dvl.beam_quality, dvl.beam_velocity,
+                  dvl.beam_velocity_covariance):
+        assert array.shape == (4,)
+    np.testing.assert_allclose(np.linalg.norm(dvl.beam_unit_vec, axis=1), 1.0, atol=1e-6)
+    # Plane seabed at z = -100 m, AUV at rest at -50 m (rising ~1 cm/s): altitude 50 m within the
+    # transducer's offset from the centre (< 0.1 m) and the range noise of four averaged beams.
+    assert abs(dvl.altitude - 50.0) < 0.5
+    assert np.linalg.norm(dvl.velocity) < 0.05  # at rest; single-ping noise of a few mm/s
+    assert dvl.speed_gnd == pytest.approx(math.hypot(dvl.velocity[0], dvl.velocity[1]), abs=1e-9)
+
+
+def test_range_of_the_altimeter_is_the_height_above_the_seabed(lockstep_server):
+    _, domain_id = lockstep_server
+    client = subscribed_client(domain_id, lambda c: c.wait_range("auv", "altimeter", timeout_s=0.1))
+    t = client.step(500)  # 1 s at 10 Hz
+    rng = client.wait_range("auv", "altimeter", min_stamp=t, timeout_s=WAIT_S)
+    assert rng is not None and abs(rng.stamp - t) < 1e-9
+    assert isinstance(rng, hadal.Range)
+    assert rng.frame_id == "auv/altimeter"
+    assert rng.radiation_type == hadal.Range.ULTRASOUND  # acoustic: the closest ROS radiation type
+    assert 0.0 < rng.field_of_view < math.pi
+    assert rng.min_range <= rng.range <= rng.max_range
+    assert abs(rng.range - 50.0) < 0.5  # plane seabed 50 m below; mount offset and noise as the DVL's

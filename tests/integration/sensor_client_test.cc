@@ -1,0 +1,345 @@
+// The sensor accessors of libhadal_client end to end: a real hadald, real Fast DDS, the default AUV's
+// sensors (configs/vehicles/torpedo_auv.yaml). Each test reserves its own DDS domain (DomainLease).
+//
+// Two scenarios: the default one (the AUV at 50 m depth, its survey schedule running) and a "still" one
+// written by the test: the AUV alone, level, heading east, with no command, over a plane seabed, so the
+// sensors' ideal values are closed forms. Under water it is only ~1 N buoyant: at rest it rises ~1 cm
+// and pitches < 3e-4 rad in the first second. Above the water the test turns gravity off so the AUV
+// stays where it is put. (Not under water: with world.gravity zero the ocean's hydrostatics fall back
+// to g = 9.80665 m/s^2 (server/src/physics/ocean.cc), so a weightless AUV would be pushed up by its
+// full buoyancy.)
+
+#include "hadal_client/client.h"
+#include "server_process.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <mutex>
+
+namespace hadal::test {
+namespace {
+
+// Keep discovery on this machine even when the binary is run by hand (ctest sets it too).
+const bool kLocalhostOnly = [] { return ::setenv("ROS_LOCALHOST_ONLY", "1", 1) == 0; }();
+
+constexpr double kWait = 20.0;  // generous wall-clock bound for DDS events [s]; not a speed assertion
+constexpr double kStepSize = 0.002;  // physics_rate_hz 500 in both scenarios [s]
+
+// Thread-safe log of samples keyed by sim time.
+template <class Sample>
+class SampleLog {
+ public:
+  void add(const Sample& s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    samples_[s.stamp] = s;
+  }
+  bool has(double stamp) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = samples_.lower_bound(stamp - 1e-9);
+    return it != samples_.end() && it->first <= stamp + 1e-9;
+  }
+  Sample at(double stamp) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return samples_.lower_bound(stamp - 1e-9)->second;
+  }
+  std::map<double, Sample> all() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return samples_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<double, Sample> samples_;
+};
+
+// A scenario file for the life of the object: the default AUV alone at (0, 0, z), level, yaw 0 (body x
+// east), moving east at v_x, no command; gravity g_z (m/s^2, along W z); a plane seabed at z = -100 m,
+// world origin 43 N 5 E on the WGS84 ellipsoid, date 2026-06-01 (as the default scenario).
+class StillScenario {
+ public:
+  StillScenario(double z, double v_x = 0.0, double g_z = -9.80665)
+      : path_("/tmp/hadal-sensor-client-test-" + std::to_string(::getpid()) + "-" + std::to_string(++count_) +
+              ".yaml") {
+    std::ofstream f(path_);
+    f << "world:\n"
+         "  physics_rate_hz: 500\n"
+         "  seed: 11\n"
+         "  gravity: [0.0, 0.0, "
+      << g_z
+      << "]\n"
+         "  date: \"2026-06-01\"\n"
+         "  water: {surface_z: 0.0, density: 1025.0}\n"
+         "  seabed: {type: plane, z: -100.0}\n"
+         "  origin: {latitude_deg: 43.0, longitude_deg: 5.0, altitude: 0.0}\n"
+         "vehicles:\n"
+         "  - name: auv\n"
+         "    include: "
+      << source_path("configs/vehicles/torpedo_auv.yaml")
+      << "\n"
+         "    initial_pose: {position: [0.0, 0.0, "
+      << z
+      << "], rpy_deg: [0.0, 0.0, 0.0]}\n"
+         "    initial_velocity: ["
+      << v_x << ", 0.0, 0.0]\n";
+  }
+  ~StillScenario() { std::remove(path_.c_str()); }
+  StillScenario(const StillScenario&) = delete;
+  StillScenario& operator=(const StillScenario&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  static inline int count_ = 0;
+  std::string path_;
+};
+
+// A lockstep hadald on its own domain, with a client. Subscribe first, then connect(), then step:
+// samples published before the subscription matched are lost (VOLATILE), as in hadald_test.cc.
+class LockstepServer {
+ public:
+  explicit LockstepServer(const std::string& scenario_path)
+      : server_({scenario_path, "--mode", "lockstep", "--domain-id", std::to_string(domain_.id()),
+                 "--no-status-line"}),
+        client_(ClientOptions{domain_.id(), "sensor_client_test"}) {}
+
+  void connect() {
+    ASSERT_TRUE(client_.wait_for_server(kWait)) << "no status from hadald; stderr:\n" << server_.err();
+    ASSERT_TRUE(client_.wait_for_subscriptions(kWait))
+        << "a subscribed topic has no writer: is the sensor in the scenario? stderr:\n"
+        << server_.err();
+  }
+  Client& client() { return client_; }
+
+ private:
+  DomainLease domain_;
+  ServerProcess server_;
+  Client client_;
+};
+
+std::string default_scenario() { return source_path("configs/scenarios/default.yaml"); }
+
+// True when `stamp` is a whole number of periods of `rate_hz` (stamps are sim times, multiples of
+// the 2 ms step: 1e-6 of a period is far below one step and far above rounding).
+bool on_schedule(double stamp, double rate_hz) {
+  return std::abs(stamp * rate_hz - std::round(stamp * rate_hz)) < 1e-6;
+}
+
+double norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+// ---- magnetometer (sensor_msgs/MagneticField) ----------------------------------------------------
+
+// Default scenario, 1 s of lockstep: 20 Hz samples in frame auv/magnetometer whose magnitude is Earth's
+// field at 43 N 5 E (WMM2025: F = 46.7 uT; 40..52 uT leaves room for any attitude, the 5.8 nT motor
+// dipole and 5 nT of noise), with the configured covariance: diagonal (5 nT)^2 + (1 nT)^2 / 12
+// (white noise plus quantisation of the 1 nT resolution), 1e-9 relative for rounding.
+TEST(SensorClientTest, MagnetometerReadsTheEarthFieldInItsFrame) {
+  LockstepServer s(default_scenario());
+  SampleLog<MagneticField> magnetometer;
+  s.client().on_magnetic_field("auv", "magnetometer", [&](const MagneticField& m) { magnetometer.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(500);
+  ASSERT_TRUE(wait_until([&] { return magnetometer.has(t); }, kWait));
+  const std::map<double, MagneticField> samples = magnetometer.all();
+  ASSERT_GE(samples.size(), 20u);  // 0.05 .. 1.00 s (+ t = 0 if it arrived after the match)
+  const double variance = 5e-9 * 5e-9 + 1e-9 * 1e-9 / 12.0;
+  for (const auto& [stamp, m] : samples) {
+    EXPECT_TRUE(on_schedule(stamp, 20.0)) << stamp;
+    EXPECT_EQ(m.frame_id, "auv/magnetometer");
+    const double field = norm(m.magnetic_field);
+    EXPECT_GT(field, 40e-6) << stamp;
+    EXPECT_LT(field, 52e-6) << stamp;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        if (r == c) {
+          EXPECT_NEAR(m.magnetic_field_covariance[3 * r + c], variance, 1e-9 * variance);
+        } else {
+          EXPECT_EQ(m.magnetic_field_covariance[3 * r + c], 0.0);
+        }
+      }
+    }
+  }
+}
+
+// Still AUV 50 m deep, level, heading east (yaw 0: sensor x = east, y = north, z = up): the reading is
+// WMM2025 at 43 N 5 E, -0.05 km, 2026.41 (`hadal-geomag 43 5 -0.05 2026.41`, which reproduces NOAA's
+// test values: north X = 24140.0, east Y = 1136.8, down Z = 39982.9 nT), so B_S = (Y, X, -Z), plus the
+// motor's hard-iron dipole, 5.8 nT along +x at the sensor. Tolerance 40 nT: 5 sigma of the 5 nT noise
+// (25 nT), 1 nT resolution, < 12 nT from the < 3e-4 rad of pitch the resting AUV picks up in 1 s, < 1 nT
+// for the ~1 cm rise and the date rounding (secular change ~50 nT/yr).
+TEST(SensorClientTest, MagnetometerMatchesTheWorldMagneticModelAxisByAxis) {
+  StillScenario scenario(-50.0);
+  LockstepServer s(scenario.path());
+  SampleLog<MagneticField> magnetometer;
+  s.client().on_magnetic_field("auv", "magnetometer", [&](const MagneticField& m) { magnetometer.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(500);
+  ASSERT_TRUE(wait_until([&] { return magnetometer.has(t); }, kWait));
+  const std::array<double, 3> expected = {(1136.8 + 5.8) * 1e-9, 24140.0e-9, -39982.9e-9};
+  for (const auto& [stamp, m] : magnetometer.all()) {
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(m.magnetic_field[a], expected[a], 40e-9) << "axis " << a << " t " << stamp;
+  }
+}
+
+// ---- GPS (sensor_msgs/NavSatFix) -----------------------------------------------------------------
+
+// Default scenario, 2 s of lockstep: the antenna is ~50 m under water, so every 1 Hz sample is
+// STATUS_NO_FIX with NaN position, still stamped, framed and carrying the configured covariance
+// (1.5 m horizontal, 3 m vertical: diagonal 2.25, 2.25, 9 m^2, exact).
+TEST(SensorClientTest, GpsUnderWaterReportsNoFix) {
+  LockstepServer s(default_scenario());
+  SampleLog<NavSatFix> gps;
+  s.client().on_nav_sat_fix("auv", "gps", [&](const NavSatFix& m) { gps.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(1000);
+  ASSERT_NEAR(t, 1000 * kStepSize, 1e-12);
+  ASSERT_TRUE(wait_until([&] { return gps.has(t); }, kWait));
+  const std::map<double, NavSatFix> samples = gps.all();
+  ASSERT_TRUE(gps.has(1.0));
+  for (const auto& [stamp, m] : samples) {
+    EXPECT_TRUE(on_schedule(stamp, 1.0)) << stamp;
+    EXPECT_EQ(m.frame_id, "auv/gps");
+    EXPECT_EQ(m.status, NavSatFix::kStatusNoFix);
+    EXPECT_EQ(m.status, -1);
+    EXPECT_FALSE(m.has_fix());
+    EXPECT_EQ(m.service, NavSatFix::kServiceGps);
+    EXPECT_TRUE(std::isnan(m.latitude));
+    EXPECT_TRUE(std::isnan(m.longitude));
+    EXPECT_TRUE(std::isnan(m.altitude));
+    EXPECT_EQ(m.position_covariance, (std::array<double, 9>{2.25, 0, 0, 0, 2.25, 0, 0, 0, 9.0}));
+    EXPECT_EQ(m.position_covariance_type, NavSatFix::kCovarianceTypeDiagonalKnown);
+  }
+}
+
+// AUV held 1 m above the surface (gravity off, nothing else acts on it in air): the antenna at
+// (-0.3, 0, 1.12) m in W has a fix at the origin 43 N 5 E. Tolerances: 5 sigma of the configured noise, 7.5 m
+// horizontally (converted with the WGS84 radii of curvature at 43 N, M = 6.3636e6 m, N = 6.3882e6 m;
+// the 0.3 m offset is inside that bound) and 15 m vertically.
+TEST(SensorClientTest, GpsAboveTheWaterFixesAtTheOrigin) {
+  StillScenario scenario(1.0, 0.0, 0.0);
+  LockstepServer s(scenario.path());
+  SampleLog<NavSatFix> gps;
+  s.client().on_nav_sat_fix("auv", "gps", [&](const NavSatFix& m) { gps.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(1000);
+  ASSERT_TRUE(wait_until([&] { return gps.has(t); }, kWait));
+  ASSERT_TRUE(gps.has(1.0));
+  const double deg = M_PI / 180.0;
+  for (const auto& [stamp, m] : gps.all()) {
+    EXPECT_EQ(m.frame_id, "auv/gps");
+    EXPECT_TRUE(m.has_fix()) << stamp;
+    EXPECT_EQ(m.status, NavSatFix::kStatusFix);
+    const double north = (m.latitude - 43.0) * deg * 6.3636e6;
+    const double east = (m.longitude - 5.0) * deg * 6.3882e6 * std::cos(43.0 * deg);
+    EXPECT_LT(std::hypot(north, east), 7.5) << "north " << north << " east " << east;
+    EXPECT_NEAR(m.altitude, 1.12, 15.0);
+  }
+}
+
+// ---- DVL (marine_acoustic_msgs/Dvl): enable once the server's `dvl` sensor is on main --------------
+
+// AUV 20 m above the plane seabed (z = -80), coasting east from 0.5 m/s and slowed only by drag,
+// 2 s of lockstep. The 5 Hz pings in frame auv/dvl bottom-track on all 4 beams; the altitude is 20 m
+// within 0.5 m (transducer mounted within the hull radius, 0.08 m, of the centre; range noise of a
+// DVL at 20 m is ~1 % per beam, averaged over 4); each beam's slant range times the cosine of its angle
+// to the (vertical) DVL axis gives the same altitude; the velocity matches the ground truth at the same
+// sim time within 0.05 m/s (single-ping noise of a few mm/s to ~1 cm/s; the vehicle barely rotates, so
+// the lever arm adds < 1 mm/s; its ~1 cm/s rise shows in z).
+TEST(SensorClientTest, DvlBottomTracksACoastingVehicleOverAPlaneSeabed) {
+  StillScenario scenario(-80.0, 0.5);
+  LockstepServer s(scenario.path());
+  SampleLog<Dvl> dvl;
+  SampleLog<Odometry> odometry;
+  s.client().on_dvl("auv", "dvl", [&](const Dvl& m) { dvl.add(m); });
+  s.client().on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(1000);
+  ASSERT_TRUE(wait_until([&] { return dvl.has(t) && odometry.has(t); }, kWait));
+  const std::map<double, Dvl> samples = dvl.all();
+  ASSERT_GE(samples.size(), 10u);  // 0.2 .. 2.0 s
+  for (const auto& [stamp, m] : samples) {
+    SCOPED_TRACE("t = " + std::to_string(stamp));
+    EXPECT_TRUE(on_schedule(stamp, 5.0));
+    EXPECT_EQ(m.frame_id, "auv/dvl");
+    EXPECT_EQ(m.velocity_mode, Dvl::kVelocityModeBottomTrack);
+    EXPECT_TRUE(m.dvl_type == Dvl::kDvlTypePiston || m.dvl_type == Dvl::kDvlTypePhasedArray);
+    EXPECT_EQ(m.num_good_beams, 4);
+    EXPECT_TRUE(m.beam_ranges_valid);
+    EXPECT_TRUE(m.beam_velocities_valid);
+    EXPECT_GT(m.sound_speed, 1400.0);  // seawater: 1400..1600 m/s
+    EXPECT_LT(m.sound_speed, 1600.0);
+    EXPECT_NEAR(m.altitude, 20.0, 0.5);
+    for (int b = 0; b < 4; ++b) {
+      EXPECT_NEAR(norm(m.beam_unit_vec[b]), 1.0, 1e-6) << "beam " << b;
+      EXPECT_NEAR(m.ranges[b] * std::abs(m.beam_unit_vec[b][2]), 20.0, 0.5) << "beam " << b;
+      EXPECT_GE(m.range_covariance[b], 0.0);
+      EXPECT_GE(m.beam_velocity_covariance[b], 0.0);
+    }
+    EXPECT_NEAR(m.speed_gnd, std::hypot(m.velocity[0], m.velocity[1]), 1e-9);
+    EXPECT_NEAR(m.course_gnd, std::atan2(m.velocity[1], m.velocity[0]), 1e-9);
+    ASSERT_TRUE(odometry.has(stamp));
+    const Odometry truth = odometry.at(stamp);
+    EXPECT_GT(truth.v_WB_B[0], 0.3);  // still coasting: the comparison is not between zeros
+    EXPECT_NEAR(std::abs(m.velocity[0]), truth.v_WB_B[0], 0.05);
+    EXPECT_NEAR(m.velocity[1], 0.0, 0.05);
+    EXPECT_NEAR(m.velocity[2], 0.0, 0.05);
+  }
+}
+
+// Default scenario, 2 s: the AUV's DVL pings at 5 Hz in frame auv/dvl with bottom lock ~50 m above
+// the generated seabed (the plain around the start lies at -100 m with a few metres of relief; the
+// AUV starts at -50 m: 40..60 m).
+TEST(SensorClientTest, DvlStreamOfTheDefaultAuv) {
+  LockstepServer s(default_scenario());
+  SampleLog<Dvl> dvl;
+  s.client().on_dvl("auv", "dvl", [&](const Dvl& m) { dvl.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(1000);
+  ASSERT_TRUE(wait_until([&] { return dvl.has(t); }, kWait));
+  const std::map<double, Dvl> samples = dvl.all();
+  ASSERT_GE(samples.size(), 10u);
+  for (const auto& [stamp, m] : samples) {
+    EXPECT_TRUE(on_schedule(stamp, 5.0)) << stamp;
+    EXPECT_EQ(m.frame_id, "auv/dvl");
+    EXPECT_EQ(m.velocity_mode, Dvl::kVelocityModeBottomTrack) << stamp;
+    EXPECT_GE(m.num_good_beams, 3) << stamp;
+    EXPECT_GT(m.altitude, 40.0) << stamp;
+    EXPECT_LT(m.altitude, 60.0) << stamp;
+  }
+}
+
+// ---- altimeter (sensor_msgs/Range) ------------------------------------------------------------------
+
+// AUV at rest 20 m above the plane seabed: 10 Hz samples in frame auv/altimeter, an acoustic beam
+// (ULTRASOUND, the closest ROS radiation type) with a cone in (0, pi), and range = 20 m within 0.5 m
+// (mounted within the hull radius of the centre, looking straight down; the AUV rises ~2 cm in 2 s;
+// altimeter noise ~0.1-1 % of range), inside [min_range, max_range].
+TEST(SensorClientTest, RangeOfTheAltimeterIsTheHeightAboveAPlaneSeabed) {
+  StillScenario scenario(-80.0);
+  LockstepServer s(scenario.path());
+  SampleLog<Range> altimeter;
+  s.client().on_range("auv", "altimeter", [&](const Range& m) { altimeter.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  const double t = s.client().step(1000);
+  ASSERT_TRUE(wait_until([&] { return altimeter.has(t); }, kWait));
+  const std::map<double, Range> samples = altimeter.all();
+  ASSERT_GE(samples.size(), 20u);  // 0.1 .. 2.0 s
+  for (const auto& [stamp, m] : samples) {
+    EXPECT_TRUE(on_schedule(stamp, 10.0)) << stamp;
+    EXPECT_EQ(m.frame_id, "auv/altimeter");
+    EXPECT_EQ(m.radiation_type, Range::kUltrasound);
+    EXPECT_GT(m.field_of_view, 0.0);
+    EXPECT_LT(m.field_of_view, M_PI);
+    EXPECT_GE(m.range, m.min_range) << stamp;
+    EXPECT_LE(m.range, m.max_range) << stamp;
+    EXPECT_NEAR(m.range, 20.0, 0.5) << stamp;
+  }
+}
+
+}  // namespace
+}  // namespace hadal::test
