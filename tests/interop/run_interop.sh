@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # ROS 2 wire-compatibility check: Cyclone DDS (hadal-ros2-probe) reads hadald's rt/clock,
-# rt/<vehicle>/odometry and the default AUV's sensor topics (depth, imu, magnetometer, gps) by their ROS 2
-# type names and commands rt/<vehicle>/thrusters/setpoints. Decoded sensor values are checked against
-# physics (the AUV starts level at 50 m depth, heading east, at 43 N 5 E), which also catches layout
-# mistakes that a type-name match alone would not.
+# rt/<vehicle>/odometry and the default AUV's sensor topics (depth, imu, magnetometer, gps, dvl, altimeter)
+# by their ROS 2 type names and commands rt/<vehicle>/thrusters/setpoints. Decoded sensor values are
+# checked against physics (the AUV starts level at 50 m depth, ~50 m above the sediment plain at
+# z = -100 m, heading east, at 43 N 5 E), which also catches layout mistakes that a type-name match
+# alone would not.
 #
 # usage: run_interop.sh HADALD PROBE REPO_ROOT [MODE] [DURATION_S]
 #   MODE        fast (default) or realtime
@@ -168,13 +169,15 @@ expected_types = {"rt/clock": "rosgraph_msgs::msg::dds_::Clock_",
                   "rt/auv/depth": "sensor_msgs::msg::dds_::FluidPressure_",
                   "rt/auv/imu": "sensor_msgs::msg::dds_::Imu_",
                   "rt/auv/magnetometer": "sensor_msgs::msg::dds_::MagneticField_",
-                  "rt/auv/gps": "sensor_msgs::msg::dds_::NavSatFix_"}
+                  "rt/auv/gps": "sensor_msgs::msg::dds_::NavSatFix_",
+                  "rt/auv/dvl": "marine_acoustic_msgs::msg::dds_::Dvl_",
+                  "rt/auv/altimeter": "sensor_msgs::msg::dds_::Range_"}
 for topic, ty in remote:
     if topic in expected_types and ty != expected_types[topic]:
         problems.append(f"hadald publishes {topic} as type {ty!r}, ROS 2 expects {expected_types[topic]!r}")
 
 # Sensor topics of the default AUV (configs/vehicles/torpedo_auv.yaml) and their rates [Hz].
-SENSOR_RATES_HZ = {"depth": 10.0, "imu": 100.0, "magnetometer": 20.0, "gps": 1.0}
+SENSOR_RATES_HZ = {"depth": 10.0, "imu": 100.0, "magnetometer": 20.0, "gps": 1.0, "dvl": 5.0, "altimeter": 10.0}
 sensors = r.get("sensors", {})
 
 def check_sensor_stream(name, rate_hz):
@@ -182,8 +185,9 @@ def check_sensor_stream(name, rate_hz):
     m = sensors.get(name, {})
     topic = f"rt/auv/{name}"
     if m.get("count", 0) == 0:
-        problems.append(f"no reliable {topic} sample reached Cyclone (type {expected_types[topic]}; "
-                        f"hadald offers {sorted(t for t, _ in remote if t.startswith('rt/auv/'))})")
+        problems.append(f"no reliable {topic} sample reached Cyclone (probe's type {m.get('type')}, ROS 2's "
+                        f"{expected_types[topic]}; hadald offers "
+                        f"{sorted(f'{t} ({ty})' for t, ty in remote if t.startswith('rt/auv/'))})")
         return None
     check(m.get("type") == expected_types[topic], f"{topic}: probe read type {m.get('type')!r}")
     check(m.get("best_effort_count", 0) > 0,
@@ -286,6 +290,60 @@ if m:
     check(m.get("position_covariance_type") == 2,
           f"rt/auv/gps position_covariance_type {m.get('position_covariance_type')}, expected DIAGONAL_KNOWN (2)")
 
+# DVL (marine_acoustic_msgs/Dvl; frame S: z down along the DVL axis, x forward, y starboard). The
+# transducer is 0.0775 m below the hull centre, so ~49.9 m above the sediment plain (z = -100 m, 60 m
+# around the start): inside the Workhorse 600 preset's bottom-lock window (0.7-90 m) and, with no
+# dropout configured, every ping is bottom track (velocity_mode 1) with all 4 beams, altitude 50 +- 5 m.
+# The AUV accelerates from rest to < 1.1 m/s (its cruise speed at 0.6 thrust): |velocity| < 2 m/s. The
+# bottom-track velocity is the DVL's own over the ground, so it must agree with the odometry's body
+# velocity at the same instant (both stream to the last sim instant), turned into S (y and z flipped):
+# the DVL's bias (2 mm/s, 1 sigma), noise (~7 mm/s on x, y per ping from 5 mm/s per beam at 30 deg)
+# and the lever arm (w x r with r ~0.21 m, |w| ~0.01 rad/s at the end of the run: ~2 mm/s) stay far below
+# 0.05 m/s. Sound speed: the DVL measures it
+# (no assumed value), seawater is 1400..1600 m/s. altitude = mean(range) cos(30 deg) for the last ping
+# (the preset's beam tilt). sound_speed (a float32 after a uint8) and range (float64[4] after two
+# booleans and a Vector3[4]) also check the probe's XCDR1 alignment against hadald's.
+m = check_sensor_stream("dvl", SENSOR_RATES_HZ["dvl"])
+if m:
+    check(m.get("mode_bottom") == m["count"],
+          f"rt/auv/dvl: {m.get('mode_bottom')} of {m['count']} pings in bottom track (water track "
+          f"{m.get('mode_water')}, none {m.get('mode_other')}), expected all ~50 m above the seabed")
+    nb = m.get("num_good_beams") or {}
+    check(nb.get("n", 0) > 0 and nb.get("min") == 4 and nb.get("max") == 4,
+          f"rt/auv/dvl num_good_beams {span(nb)}, expected 4 on every ping")
+    check(within(m.get("altitude"), 45.0, 55.0),
+          f"rt/auv/dvl altitude {span(m.get('altitude'), ' m')}, expected 50 +- 5 m")
+    check(within(m.get("speed"), 0.0, 2.0), f"rt/auv/dvl |velocity| {span(m.get('speed'), ' m/s')}, expected < 2 m/s")
+    v_dvl = m.get("velocity") or [math.nan] * 3
+    v_odom = (odom.get("last") or {}).get("linear_velocity") or [math.nan] * 3
+    v_odom_S = [v_odom[0], -v_odom[1], -v_odom[2]]
+    same_instant = (odom.get("last") or {}).get("stamp") == m.get("last_stamp")
+    check(same_instant and all(abs(a - b) < 0.05 for a, b in zip(v_dvl, v_odom_S)),
+          f"rt/auv/dvl last velocity {v_dvl} m/s (stamp {m.get('last_stamp')}) vs odometry body velocity in S "
+          f"{v_odom_S} (stamp {(odom.get('last') or {}).get('stamp')}): expected the same instant and within 0.05 m/s")
+    check(1400.0 <= (m.get("sound_speed") or 0) <= 1600.0,
+          f"rt/auv/dvl sound_speed {m.get('sound_speed')} m/s, expected 1400..1600 (seawater)")
+    ranges = m.get("range") or []
+    check(m.get("beam_ranges_valid") is True and len(ranges) == 4 and all(r is not None for r in ranges) and
+          abs(sum(ranges) / 4 * math.cos(math.radians(30.0)) - (m.get("altitude") or {}).get("last", math.nan)) < 0.01,
+          f"rt/auv/dvl last beam ranges {ranges} (valid {m.get('beam_ranges_valid')}): mean x cos 30 deg should be "
+          f"the altitude {(m.get('altitude') or {}).get('last')} m")
+
+# Altimeter (sensor_msgs/Range, one acoustic beam straight down): 0.0775 m below the hull centre, ~49.9 m
+# above the seabed, so range 50 +- 5 m on every sample, finite and inside [min_range, max_range]. The
+# limits, radiation type and beam width are the default AUV's configuration as hadald writes it (0.3 m,
+# 100 m, ULTRASOUND = 0, 6 deg); as float32s after a uint8 they also check the XCDR1 alignment.
+m = check_sensor_stream("altimeter", SENSOR_RATES_HZ["altimeter"])
+if m:
+    check(within(m.get("range"), 45.0, 55.0), f"rt/auv/altimeter range {span(m.get('range'), ' m')}, expected 50 +- 5 m")
+    check(m.get("range_outside_limits") == 0,
+          f"rt/auv/altimeter: {m.get('range_outside_limits')} ranges outside [min_range, max_range]")
+    check(abs((m.get("min_range") or 0) - 0.3) < 1e-6 and m.get("max_range") == 100.0,
+          f"rt/auv/altimeter limits [{m.get('min_range')}, {m.get('max_range')}] m, expected [0.3, 100]")
+    check(m.get("radiation_type") == 0, f"rt/auv/altimeter radiation_type {m.get('radiation_type')}, expected ULTRASOUND (0)")
+    check(abs((m.get("field_of_view") or 0) - math.radians(6.0)) < 1e-6,
+          f"rt/auv/altimeter field_of_view {m.get('field_of_view')} rad, expected 6 deg (0.1047 rad)")
+
 def after_start(t):
     return "never" if t is None else f"{r['start_unix_s'] + t - hadald_start:.3f} s"
 if "start_unix_s" in r:
@@ -307,7 +365,11 @@ print(f"ok: sensors: depth {s['depth']['count']} ({s['depth']['best_effort_count
       f"|f| {s['imu']['specific_force_norm']['min']:.3f}..{s['imu']['specific_force_norm']['max']:.3f} m/s^2; "
       f"magnetometer {s['magnetometer']['count']} ({s['magnetometer']['best_effort_count']}), "
       f"|B| {s['magnetometer']['field_norm_ut']['mean']:.2f} uT; "
-      f"gps {s['gps']['count']} ({s['gps']['best_effort_count']}), status {s['gps']['status']['last']:.0f}")
+      f"gps {s['gps']['count']} ({s['gps']['best_effort_count']}), status {s['gps']['status']['last']:.0f}; "
+      f"dvl {s['dvl']['count']} ({s['dvl']['best_effort_count']}), bottom track {s['dvl']['mode_bottom']}, "
+      f"altitude {s['dvl']['altitude']['mean']:.2f} m, |v| last {s['dvl']['speed']['last']:.3f} m/s; "
+      f"altimeter {s['altimeter']['count']} ({s['altimeter']['best_effort_count']}), "
+      f"range {s['altimeter']['range']['mean']:.2f} m")
 EOF
   show_logs
   fail "the probe's report does not show ROS 2 compatible topics (see above)"
