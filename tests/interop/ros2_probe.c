@@ -7,6 +7,15 @@
  *                                                                       BEST_EFFORT (ROS 2 sensor-data QoS)
  *   rt/<vehicle>/thrusters/state  hadal_msgs::msg::dds_::ThrusterState_ (did our commands arrive?)
  *   rt/hadal/status               hadal_msgs::msg::dds_::SimStatus_     (rejected commands, if any)
+ *   rt/<vehicle>/depth            sensor_msgs::msg::dds_::FluidPressure_     } each RELIABLE + KEEP_ALL
+ *   rt/<vehicle>/imu              sensor_msgs::msg::dds_::Imu_               } (counts every sample) and,
+ *   rt/<vehicle>/magnetometer     sensor_msgs::msg::dds_::MagneticField_     } on a second reader,
+ *   rt/<vehicle>/gps              sensor_msgs::msg::dds_::NavSatFix_         } BEST_EFFORT depth 5
+ *   rt/<vehicle>/dvl              marine_acoustic_msgs::msg::dds_::Dvl_      } (rclcpp SensorDataQoS)
+ *   rt/<vehicle>/altimeter        sensor_msgs::msg::dds_::Range_             }
+ * (the sensor names of configs/vehicles/torpedo_auv.yaml). Per sensor topic the JSON has sample counts,
+ * the first and last header stamps, the frame_id and a summary (min, max, mean, last) of the decoded
+ * values a driver can check against physics; the probe itself judges only clock and odometry.
  * Writer (with --publish-setpoints): rt/<vehicle>/thrusters/setpoints std_msgs::msg::dds_::Float64MultiArray_
  * at --rate-hz (10 Hz), RELIABLE, VOLATILE.
  *
@@ -252,6 +261,81 @@ typedef struct {
   uint32_t matched_now;
 } endpoint_stats_t;
 
+/* min / max / mean / last over the finite values seen; `non_finite` counts the others. */
+typedef struct {
+  unsigned long n, non_finite;
+  double min, max, sum, last;
+} summary_t;
+
+static void summary_add(summary_t *m, double v) {
+  if (!isfinite(v)) {
+    ++m->non_finite;
+    return;
+  }
+  if (m->n == 0 || v < m->min) m->min = v;
+  if (m->n == 0 || v > m->max) m->max = v;
+  m->sum += v;
+  m->last = v;
+  ++m->n;
+}
+
+/* The default AUV's sensors (configs/vehicles/torpedo_auv.yaml), read on rt/<vehicle>/<name>. */
+enum sensor_kind { S_DEPTH, S_IMU, S_MAGNETOMETER, S_GPS, S_DVL, S_ALTIMETER, S_COUNT };
+
+typedef struct {
+  const char *name;
+  const dds_topic_descriptor_t *desc;
+} sensor_info_t;
+
+static const sensor_info_t k_sensors[S_COUNT] = {
+    [S_DEPTH] = {"depth", &sensor_msgs_msg_dds__FluidPressure__desc},
+    [S_IMU] = {"imu", &sensor_msgs_msg_dds__Imu__desc},
+    [S_MAGNETOMETER] = {"magnetometer", &sensor_msgs_msg_dds__MagneticField__desc},
+    [S_GPS] = {"gps", &sensor_msgs_msg_dds__NavSatFix__desc},
+    [S_DVL] = {"dvl", &marine_acoustic_msgs_msg_dds__Dvl__desc},
+    [S_ALTIMETER] = {"altimeter", &sensor_msgs_msg_dds__Range__desc},
+};
+
+/* Everything but the endpoint counts comes from the reliable reader, which sees every sample. */
+typedef struct {
+  endpoint_stats_t reliable;
+  endpoint_stats_t best_effort;
+  unsigned long seen;
+  stamp_t first_stamp, last_stamp;
+  unsigned long stamp_not_increasing; /* a stamp <= the one before (or nanosec >= 1e9) */
+  char frame_id[128];
+  unsigned long frame_id_changes;
+  unsigned long non_finite; /* samples with a number that must be finite but is not */
+  /* depth: FluidPressure */
+  summary_t pressure; /* [Pa] */
+  double variance;    /* [Pa^2], last */
+  /* imu: Imu */
+  summary_t specific_force_norm; /* |linear_acceleration| [m/s^2] */
+  summary_t angular_rate_norm;   /* |angular_velocity| [rad/s] */
+  double linear_acceleration[3], angular_velocity[3];
+  unsigned long orientation_reported; /* samples with orientation_covariance[0] != -1 */
+  double angular_velocity_variance[3], linear_acceleration_variance[3]; /* covariance diagonals, last */
+  /* magnetometer: MagneticField */
+  summary_t field_norm_ut; /* |magnetic_field| [uT] */
+  double magnetic_field[3]; /* [T], last */
+  /* gps: NavSatFix */
+  summary_t status; /* NavSatStatus.status */
+  unsigned long samples_with_position; /* latitude, longitude and altitude all finite */
+  unsigned service, covariance_type;
+  /* dvl: Dvl */
+  unsigned long mode_bottom, mode_water, mode_other;
+  summary_t good_beams, altitude, speed; /* speed = |velocity| [m/s] */
+  double velocity[3], dvl_range[4];
+  unsigned dvl_type;
+  double sound_speed;
+  bool beam_ranges_valid, beam_velocities_valid;
+  /* altimeter: Range */
+  summary_t range;
+  unsigned long range_outside_limits; /* finite range outside [min_range, max_range] */
+  double min_range, max_range, field_of_view;
+  unsigned radiation_type;
+} sensor_stats_t;
+
 typedef struct {
   endpoint_stats_t clock;
   endpoint_stats_t odom_reliable;
@@ -290,7 +374,9 @@ typedef struct {
   double last_status_sim_time;
   uint8_t mode;
 
-  double last_sample_s; /* probe-relative time of the last clock/odometry sample */
+  double last_sample_s; /* probe-relative time of the last clock/odometry/sensor sample */
+
+  sensor_stats_t sensors[S_COUNT];
 
   size_t n_remote;
   struct {
@@ -386,6 +472,115 @@ static void on_status(stats_t *s, const hadal_msgs_msg_dds__SimStatus_ *m) {
   for (size_t i = 0; i < s->n_faults; ++i) s->vehicle_faults[i] = (double)m->vehicle_faults._buffer[i];
 }
 
+static double norm3(double x, double y, double z) { return sqrt(x * x + y * y + z * z); }
+
+/* Header bookkeeping common to all sensor messages. */
+static void on_sensor_header(sensor_stats_t *m, const std_msgs_msg_dds__Header_ *h) {
+  stamp_t t = {h->stamp.sec, h->stamp.nanosec};
+  if (t.nanosec >= 1000000000u) ++m->stamp_not_increasing;
+  if (m->seen == 0) {
+    m->first_stamp = t;
+    copy_str(m->frame_id, sizeof(m->frame_id), h->frame_id);
+  } else {
+    if (t.sec < m->last_stamp.sec || (t.sec == m->last_stamp.sec && t.nanosec <= m->last_stamp.nanosec))
+      ++m->stamp_not_increasing;
+    if (strcmp(m->frame_id, h->frame_id != NULL ? h->frame_id : "") != 0) ++m->frame_id_changes;
+  }
+  m->last_stamp = t;
+  ++m->seen;
+}
+
+static void on_fluid_pressure(sensor_stats_t *m, const sensor_msgs_msg_dds__FluidPressure_ *x) {
+  on_sensor_header(m, &x->header);
+  if (!isfinite(x->fluid_pressure) || !isfinite(x->variance)) ++m->non_finite;
+  summary_add(&m->pressure, x->fluid_pressure);
+  m->variance = x->variance;
+}
+
+static void on_imu(sensor_stats_t *m, const sensor_msgs_msg_dds__Imu_ *x) {
+  on_sensor_header(m, &x->header);
+  const double f[3] = {x->linear_acceleration.x, x->linear_acceleration.y, x->linear_acceleration.z};
+  const double w[3] = {x->angular_velocity.x, x->angular_velocity.y, x->angular_velocity.z};
+  if (!all_finite(f, 3) || !all_finite(w, 3) || !all_finite(x->angular_velocity_covariance, 9) ||
+      !all_finite(x->linear_acceleration_covariance, 9))
+    ++m->non_finite;
+  summary_add(&m->specific_force_norm, norm3(f[0], f[1], f[2]));
+  summary_add(&m->angular_rate_norm, norm3(w[0], w[1], w[2]));
+  memcpy(m->linear_acceleration, f, sizeof(f));
+  memcpy(m->angular_velocity, w, sizeof(w));
+  if (x->orientation_covariance[0] != -1.0) ++m->orientation_reported;
+  for (int a = 0; a < 3; ++a) {
+    m->angular_velocity_variance[a] = x->angular_velocity_covariance[4 * a];
+    m->linear_acceleration_variance[a] = x->linear_acceleration_covariance[4 * a];
+  }
+}
+
+static void on_magnetic_field(sensor_stats_t *m, const sensor_msgs_msg_dds__MagneticField_ *x) {
+  on_sensor_header(m, &x->header);
+  const double b[3] = {x->magnetic_field.x, x->magnetic_field.y, x->magnetic_field.z};
+  if (!all_finite(b, 3) || !all_finite(x->magnetic_field_covariance, 9)) ++m->non_finite;
+  summary_add(&m->field_norm_ut, 1e6 * norm3(b[0], b[1], b[2]));
+  memcpy(m->magnetic_field, b, sizeof(b));
+}
+
+static void on_nav_sat_fix(sensor_stats_t *m, const sensor_msgs_msg_dds__NavSatFix_ *x) {
+  on_sensor_header(m, &x->header);
+  /* Without a fix latitude, longitude and altitude may be NaN; the covariance is always known. */
+  if (!all_finite(x->position_covariance, 9)) ++m->non_finite;
+  summary_add(&m->status, (double)x->status.status);
+  if (isfinite(x->latitude) && isfinite(x->longitude) && isfinite(x->altitude)) ++m->samples_with_position;
+  m->service = x->status.service;
+  m->covariance_type = x->position_covariance_type;
+}
+
+static void on_dvl(sensor_stats_t *m, const marine_acoustic_msgs_msg_dds__Dvl_ *x) {
+  on_sensor_header(m, &x->header);
+  const double v[3] = {x->velocity.x, x->velocity.y, x->velocity.z};
+  const bool locked = x->velocity_mode == marine_acoustic_msgs_msg_Dvl_Constants_DVL_MODE_BOTTOM ||
+                      x->velocity_mode == marine_acoustic_msgs_msg_Dvl_Constants_DVL_MODE_WATER;
+  if (x->velocity_mode == marine_acoustic_msgs_msg_Dvl_Constants_DVL_MODE_BOTTOM) ++m->mode_bottom;
+  else if (x->velocity_mode == marine_acoustic_msgs_msg_Dvl_Constants_DVL_MODE_WATER) ++m->mode_water;
+  else ++m->mode_other;
+  /* A velocity (and, in bottom track, an altitude) is a number whenever the DVL has a solution. */
+  if (locked && !all_finite(v, 3)) ++m->non_finite;
+  if (x->velocity_mode == marine_acoustic_msgs_msg_Dvl_Constants_DVL_MODE_BOTTOM && !isfinite(x->altitude))
+    ++m->non_finite;
+  summary_add(&m->good_beams, (double)x->num_good_beams);
+  summary_add(&m->altitude, x->altitude);
+  summary_add(&m->speed, norm3(v[0], v[1], v[2]));
+  memcpy(m->velocity, v, sizeof(v));
+  memcpy(m->dvl_range, x->range, sizeof(m->dvl_range));
+  m->dvl_type = x->dvl_type;
+  m->sound_speed = x->sound_speed;
+  m->beam_ranges_valid = x->beam_ranges_valid;
+  m->beam_velocities_valid = x->beam_velocities_valid;
+}
+
+static void on_range(sensor_stats_t *m, const sensor_msgs_msg_dds__Range_ *x) {
+  on_sensor_header(m, &x->header);
+  /* REP 117: a range may be -Inf / +Inf (closer than min_range / nothing within max_range). */
+  if (!isfinite(x->min_range) || !isfinite(x->max_range) || !isfinite(x->field_of_view) || isnan(x->range))
+    ++m->non_finite;
+  summary_add(&m->range, x->range);
+  if (isfinite(x->range) && (x->range < x->min_range || x->range > x->max_range)) ++m->range_outside_limits;
+  m->min_range = x->min_range;
+  m->max_range = x->max_range;
+  m->field_of_view = x->field_of_view;
+  m->radiation_type = x->radiation_type;
+}
+
+static void on_sensor_sample(enum sensor_kind k, sensor_stats_t *m, const void *sample) {
+  switch (k) {
+    case S_DEPTH: on_fluid_pressure(m, sample); break;
+    case S_IMU: on_imu(m, sample); break;
+    case S_MAGNETOMETER: on_magnetic_field(m, sample); break;
+    case S_GPS: on_nav_sat_fix(m, sample); break;
+    case S_DVL: on_dvl(m, sample); break;
+    case S_ALTIMETER: on_range(m, sample); break;
+    default: break;
+  }
+}
+
 /* ---------------------------------------------------------------------------------------------- */
 /* JSON output                                                                                    */
 
@@ -435,8 +630,99 @@ static void json_endpoint(FILE *f, const char *name, const endpoint_stats_t *e, 
   fputc('}', f);
 }
 
-static void print_report(const options_t *o, const stats_t *s, const char *config_source, double start_unix,
-                         double elapsed,
+static void json_summary(FILE *f, const char *name, const summary_t *m) {
+  fprintf(f, ", \"%s\": {\"n\": %lu, \"non_finite\": %lu, \"min\": ", name, m->n, m->non_finite);
+  json_number(f, m->n > 0 ? m->min : NAN);
+  fputs(", \"max\": ", f);
+  json_number(f, m->n > 0 ? m->max : NAN);
+  fputs(", \"mean\": ", f);
+  json_number(f, m->n > 0 ? m->sum / (double)m->n : NAN);
+  fputs(", \"last\": ", f);
+  json_number(f, m->n > 0 ? m->last : NAN);
+  fputc('}', f);
+}
+
+static void json_named_number(FILE *f, const char *name, double v) {
+  fprintf(f, ", \"%s\": ", name);
+  json_number(f, v);
+}
+
+static void json_named_vec(FILE *f, const char *name, const double *v, size_t n) {
+  fprintf(f, ", \"%s\": ", name);
+  json_vec(f, v, n);
+}
+
+static void json_sensor(FILE *f, enum sensor_kind k, const char *topic, const sensor_stats_t *m) {
+  fprintf(f, "\"%s\": {\"topic\": ", k_sensors[k].name);
+  json_string(f, topic);
+  fputs(", \"type\": ", f);
+  json_string(f, k_sensors[k].desc->m_typename);
+  fprintf(f, ", \"count\": %lu, \"matched_at_end\": %u", m->reliable.count, (unsigned)m->reliable.matched_now);
+  json_named_number(f, "first_match_s", m->reliable.first_match_s >= 0 ? m->reliable.first_match_s : NAN);
+  json_named_number(f, "first_sample_s", m->reliable.first_sample_s >= 0 ? m->reliable.first_sample_s : NAN);
+  fprintf(f, ", \"best_effort_count\": %lu, \"best_effort_matched_at_end\": %u", m->best_effort.count,
+          (unsigned)m->best_effort.matched_now);
+  if (m->seen == 0) {
+    fputs("}", f);
+    return;
+  }
+  fputs(", \"first_stamp\": ", f);
+  json_stamp(f, m->first_stamp);
+  fputs(", \"last_stamp\": ", f);
+  json_stamp(f, m->last_stamp);
+  fprintf(f, ", \"stamps_not_increasing\": %lu, \"frame_id\": ", m->stamp_not_increasing);
+  json_string(f, m->frame_id);
+  fprintf(f, ", \"frame_id_changes\": %lu, \"non_finite_samples\": %lu", m->frame_id_changes, m->non_finite);
+  switch (k) {
+    case S_DEPTH:
+      json_summary(f, "fluid_pressure", &m->pressure);
+      json_named_number(f, "variance", m->variance);
+      break;
+    case S_IMU:
+      json_summary(f, "specific_force_norm", &m->specific_force_norm);
+      json_summary(f, "angular_rate_norm", &m->angular_rate_norm);
+      json_named_vec(f, "linear_acceleration", m->linear_acceleration, 3);
+      json_named_vec(f, "angular_velocity", m->angular_velocity, 3);
+      json_named_vec(f, "linear_acceleration_variance", m->linear_acceleration_variance, 3);
+      json_named_vec(f, "angular_velocity_variance", m->angular_velocity_variance, 3);
+      fprintf(f, ", \"orientation_reported\": %lu", m->orientation_reported);
+      break;
+    case S_MAGNETOMETER:
+      json_summary(f, "field_norm_ut", &m->field_norm_ut);
+      json_named_vec(f, "magnetic_field", m->magnetic_field, 3);
+      break;
+    case S_GPS:
+      json_summary(f, "status", &m->status);
+      fprintf(f, ", \"samples_with_position\": %lu, \"service\": %u, \"position_covariance_type\": %u",
+              m->samples_with_position, m->service, m->covariance_type);
+      break;
+    case S_DVL:
+      fprintf(f, ", \"mode_bottom\": %lu, \"mode_water\": %lu, \"mode_other\": %lu", m->mode_bottom,
+              m->mode_water, m->mode_other);
+      json_summary(f, "num_good_beams", &m->good_beams);
+      json_summary(f, "altitude", &m->altitude);
+      json_summary(f, "speed", &m->speed);
+      json_named_vec(f, "velocity", m->velocity, 3);
+      json_named_vec(f, "range", m->dvl_range, 4);
+      fprintf(f, ", \"dvl_type\": %u, \"beam_ranges_valid\": %s, \"beam_velocities_valid\": %s", m->dvl_type,
+              m->beam_ranges_valid ? "true" : "false", m->beam_velocities_valid ? "true" : "false");
+      json_named_number(f, "sound_speed", m->sound_speed);
+      break;
+    case S_ALTIMETER:
+      json_summary(f, "range", &m->range);
+      fprintf(f, ", \"range_outside_limits\": %lu, \"radiation_type\": %u", m->range_outside_limits,
+              m->radiation_type);
+      json_named_number(f, "min_range", m->min_range);
+      json_named_number(f, "max_range", m->max_range);
+      json_named_number(f, "field_of_view", m->field_of_view);
+      break;
+    default: break;
+  }
+  fputc('}', f);
+}
+
+static void print_report(const options_t *o, const stats_t *s, char sensor_topics[][256], const char *config_source,
+                         double start_unix, double elapsed,
                          const char *stop_reason, bool sane, bool ok) {
   FILE *f = stdout;
   fputs("{", f);
@@ -523,6 +809,13 @@ static void print_report(const options_t *o, const stats_t *s, const char *confi
   json_vec(f, s->vehicle_faults, s->n_faults);
   fputc('}', f);
 
+  fputs(", \"sensors\": {", f);
+  for (int k = 0; k < S_COUNT; ++k) {
+    fputs(k ? ", " : "", f);
+    json_sensor(f, (enum sensor_kind)k, sensor_topics[k], &s->sensors[k]);
+  }
+  fputc('}', f);
+
   fputs(", \"remote_publications\": [", f);
   for (size_t i = 0; i < s->n_remote; ++i) {
     fputs(i ? ", " : "", f);
@@ -552,12 +845,14 @@ static dds_entity_t make_topic(dds_entity_t pp, const dds_topic_descriptor_t *de
   return t;
 }
 
+/* depth 0: KEEP_ALL. */
 static dds_entity_t make_reader(dds_entity_t pp, dds_entity_t topic, bool reliable, int32_t depth) {
   dds_qos_t *qos = dds_create_qos();
   if (reliable) dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
   else dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
   dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+  if (depth > 0) dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+  else dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
   dds_entity_t rd = dds_create_reader(pp, topic, qos, NULL);
   dds_delete_qos(qos);
   if (rd < 0) fprintf(stderr, "hadal-ros2-probe: dds_create_reader: %s\n", dds_strretcode(-rd));
@@ -639,6 +934,32 @@ static unsigned long drain(enum which w, dds_entity_t rd, stats_t *s, const opti
   return valid;
 }
 
+/* Takes everything available from a sensor reader; only the reliable reader's samples are decoded. */
+static unsigned long drain_sensor(enum sensor_kind k, bool reliable, dds_entity_t rd, stats_t *s, double t) {
+  void *samples[TAKE_BATCH];
+  dds_sample_info_t infos[TAKE_BATCH];
+  unsigned long valid = 0;
+  sensor_stats_t *m = &s->sensors[k];
+  for (;;) {
+    memset(samples, 0, sizeof(samples));
+    int32_t n = dds_take(rd, samples, infos, TAKE_BATCH, TAKE_BATCH);
+    if (n <= 0) break;
+    for (int32_t i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      ++valid;
+      if (reliable) on_sensor_sample(k, m, samples[i]);
+    }
+    dds_return_loan(rd, samples, n);
+    if (n < TAKE_BATCH) break;
+  }
+  endpoint_stats_t *e = reliable ? &m->reliable : &m->best_effort;
+  if (valid > 0) {
+    if (e->count == 0) e->first_sample_s = t;
+    e->count += valid;
+  }
+  return valid;
+}
+
 int main(int argc, char **argv) {
   options_t o;
   if (parse_options(argc, argv, &o) != 0) {
@@ -664,6 +985,10 @@ int main(int argc, char **argv) {
   endpoint_init(&s.thruster_state);
   endpoint_init(&s.status);
   endpoint_init(&s.setpoint_writer);
+  for (int k = 0; k < S_COUNT; ++k) {
+    endpoint_init(&s.sensors[k].reliable);
+    endpoint_init(&s.sensors[k].best_effort);
+  }
   s.clock_non_decreasing = true;
 
   dds_entity_t pp = dds_create_participant((dds_domainid_t)o.domain, NULL, NULL);
@@ -695,6 +1020,19 @@ int main(int argc, char **argv) {
   rd[W_BUILTIN] = dds_create_reader(pp, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, NULL, NULL);
   for (int i = 0; i < W_COUNT; ++i)
     if (rd[i] < 0) return 2;
+
+  /* Sensors: a reliable KEEP_ALL reader counts and decodes every sample; a best-effort one (rclcpp
+   * SensorDataQoS) shows that a typical ROS 2 sensor subscription matches too. */
+  static char sensor_topics[S_COUNT][256];
+  dds_entity_t rd_sensor[S_COUNT][2]; /* [k][0] reliable, [k][1] best effort */
+  for (int k = 0; k < S_COUNT; ++k) {
+    snprintf(sensor_topics[k], sizeof(sensor_topics[k]), "rt/%s/%s", o.vehicle, k_sensors[k].name);
+    dds_entity_t topic = make_topic(pp, k_sensors[k].desc, sensor_topics[k]);
+    if (topic < 0) return 2;
+    rd_sensor[k][0] = make_reader(pp, topic, true, 0);
+    rd_sensor[k][1] = make_reader(pp, topic, false, 5);
+    if (rd_sensor[k][0] < 0 || rd_sensor[k][1] < 0) return 2;
+  }
 
   dds_entity_t wr = 0;
   std_msgs_msg_dds__Float64MultiArray_ cmd;
@@ -732,6 +1070,10 @@ int main(int argc, char **argv) {
     dds_entity_t cond = dds_create_readcondition(rd[i], DDS_ANY_STATE);
     dds_waitset_attach(ws, cond, (dds_attach_t)i);
   }
+  for (int k = 0; k < S_COUNT; ++k)
+    for (int j = 0; j < 2; ++j)
+      dds_waitset_attach(ws, dds_create_readcondition(rd_sensor[k][j], DDS_ANY_STATE),
+                         (dds_attach_t)(W_COUNT + 2 * k + j));
 
   /* Everything exists: a driver can start the server now. */
   fprintf(stderr, "hadal-ros2-probe: ready (domain %d, %s)\n", o.domain, config_source);
@@ -766,6 +1108,12 @@ int main(int argc, char **argv) {
     update_reader_match(&s.odom_best_effort, rd[W_ODOM_BE], t);
     update_reader_match(&s.thruster_state, rd[W_THRUSTER], t);
     update_reader_match(&s.status, rd[W_STATUS], t);
+    for (int k = 0; k < S_COUNT; ++k) {
+      for (int j = 0; j < 2; ++j)
+        if (drain_sensor((enum sensor_kind)k, j == 0, rd_sensor[k][j], &s, t) > 0) s.last_sample_s = t;
+      update_reader_match(&s.sensors[k].reliable, rd_sensor[k][0], t);
+      update_reader_match(&s.sensors[k].best_effort, rd_sensor[k][1], t);
+    }
     if (o.publish) {
       update_writer_match(&s.setpoint_writer, wr, t);
       if (t >= next_write) {
@@ -791,7 +1139,7 @@ int main(int argc, char **argv) {
   const bool ok = s.clock.count > 0 && s.odom_reliable.count > 0;
   const bool sane = ok && s.odom_insane == 0 && s.clock_non_decreasing && s.odom_frame_id[0] != '\0' &&
                     s.odom_child_frame_id[0] != '\0';
-  print_report(&o, &s, config_source, t0_unix, elapsed, stop_reason, sane, ok);
+  print_report(&o, &s, sensor_topics, config_source, t0_unix, elapsed, stop_reason, sane, ok);
 
   dds_delete(pp);
   return ok ? 0 : 1;
