@@ -1,6 +1,6 @@
 // Smoke runs of the validation commands as users run them, shortened (a 30 m descent, a 200 m leg, a
-// 180 s IMU record, a 60 s heading track; under a second each): exit code, outputs written, and the
-// printed JSON against the closed forms the tools print themselves.
+// 180 s IMU record, a 60 s heading track, a 15 min DVL record; under a second each): exit code, outputs
+// written, and the printed JSON against the closed forms the tools print themselves.
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -133,6 +135,124 @@ TEST_F(ValidationCliTest, HeadingShortTrack) {
   EXPECT_NEAR(json["track"]["max_pitch_deg"].number, 20.0, 0.5);
 }
 
+// Reads a whole file (the CSV comparison of two runs).
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The printed JSON without what legitimately differs between two identical runs: wall times and
+// throughput, and the output paths.
+std::string without_timing_and_paths(const std::string& json) {
+  std::istringstream in(json);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (line.find("wall") != std::string::npos || line.find("\"png\"") != std::string::npos ||
+        line.find("\"csv\"") != std::string::npos || line.find("\"parameters\"") != std::string::npos) {
+      continue;
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+TEST_F(ValidationCliTest, DvlShortRecord) {
+  // 15 min at 5 Hz: 4500 pings per run, drift sampled every minute; about 0.2 s for both runs.
+  const std::string args = "--hours 0.25 --interval 1";
+  const RunResult r = run(HADAL_VALIDATE_DVL, args + " --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  EXPECT_GT(fs::file_size(dir_ + "/dvl_drift.png"), 20000u);
+  // Header + 2 x 4500 rows of 13 fields.
+  EXPECT_GT(fs::file_size(dir_ + "/dvl_record.csv"), 2u * 4500u * 13u * 8u);
+  EXPECT_GT(fs::file_size(dir_ + "/dvl_parameters.json"), 500u);
+  EXPECT_EQ(json["pings"].number, 4500.0);
+  EXPECT_EQ(json["preset"].string, "teledyne_workhorse_navigator_600");
+  const Json& full = json["full_model"];
+  const Json& white = json["white_noise_only"];
+  const Json& closed = json["closed_form"];
+
+  // Truly at rest and in 4-beam bottom lock on every ping of both runs.
+  for (const Json* run : {&full, &white}) {
+    EXPECT_EQ((*run)["max_displacement_m"].number, 0.0);
+    EXPECT_EQ((*run)["max_rotation_rad"].number, 0.0);
+    EXPECT_EQ((*run)["bottom_track_four_beam_pings"].number, 4500.0);
+  }
+
+  // Per-axis velocity std of the 4-beam least squares, computed here: X layout at theta = 30 deg gives
+  // D^T D = diag(2 sin^2, 2 sin^2, 4 cos^2), so sigma_h = sigma_beam / sqrt(2 sin^2 30) and
+  // sigma_z = sigma_beam / (2 cos 30), sigma_beam = 5 mm/s (Workhorse preset). The JSON prints 9
+  // significant digits: 1e-8 relative.
+  const double kPi = 3.14159265358979323846;
+  const double sigma_beam = 0.005, T = 0.2, t = 900.0;
+  const double sigma[3] = {sigma_beam / std::sqrt(2.0 * 0.25), sigma_beam / std::sqrt(2.0 * 0.25),
+                           sigma_beam / (2.0 * std::cos(kPi / 6.0))};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(closed["sigma_v_S_m_s"][i].number, sigma[i], 1e-8 * sigma[i]) << i;
+    EXPECT_NEAR(closed["sigma_v_reported_by_dvl_S_m_s"][i].number, sigma[i], 1e-8 * sigma[i]) << i;
+    // The white-only run's sample std: relative scatter 1 / sqrt(2 n) = 1.05 % for n = 4500; 5 % is
+    // 4.7 sigma (seed 1: within 1.7 %). Catches a missing, doubled or per-axis instead of per-beam noise.
+    EXPECT_NEAR(white["std_velocity_S_m_s"][i].number / sigma[i], 1.0, 0.05) << i;
+  }
+
+  // S (z down, x forward, rolled 180 deg) on a body yawed 30 deg: R_WS = Rz(30) diag(1, -1, -1).
+  const double c = std::cos(kPi / 6.0), s = std::sin(kPi / 6.0);
+  const double R_WS[3][3] = {{c, s, 0.0}, {s, -c, 0.0}, {0.0, 0.0, -1.0}};
+  // The white-only dead-reckoning error is a random walk: per W axis std sigma_i sqrt(T t) (sigma_W =
+  // sigma_S here: the rotation is about z and sigma_x = sigma_y). Two-sided 4 sigma: 6e-5 per axis for a
+  // correct model (seed 1: 1.7, 1.1, 0.5 sigma); an integration without T, or of the beam velocities
+  // instead of the solution, is off by factors.
+  for (int i = 0; i < 3; ++i) {
+    const double expected_std = sigma[i] * std::sqrt(T * t);
+    EXPECT_NEAR(closed["white_drift_std_at_end_W_m"][i].number, expected_std, 1e-5 * expected_std) << i;
+    EXPECT_LT(std::fabs(white["drift_at_end_W_m"][i].number), 4.0 * expected_std) << i;
+  }
+  // The full model's error is R_WS (b0 t + xi0 t^2 / 2) (b0, xi0 the drawn values from the DVL state, as
+  // printed) plus the white random walk and the integrated bias walk K W, of variance
+  // sigma_i^2 T t + K^2 t^3 / 3 per axis: within 4 of those sigma (seed 1: 0.67, 0.79, 0.10).
+  const double K = 1e-5;
+  const Json& b0 = closed["drawn_turn_on_bias_S_m_s"];
+  const Json& xi0 = closed["drawn_drift_rate_S_m_s2"];
+  for (int i = 0; i < 3; ++i) {
+    double expected = 0.0;
+    for (int j = 0; j < 3; ++j) expected += R_WS[i][j] * (b0[j].number * t + xi0[j].number * t * t / 2.0);
+    const double spread = std::sqrt(sigma[i] * sigma[i] * T * t + K * K * t * t * t / 3.0);
+    EXPECT_LT(std::fabs(full["drift_at_end_W_m"][i].number - expected), 4.0 * spread) << i;
+  }
+  // The drawn turn-on bias is not negligible against the noise (otherwise the check above would hold
+  // for a model without bias too): |b0| t is 5.1 times the white-noise RMS magnitude here.
+  double b0_norm = 0.0;
+  for (int j = 0; j < 3; ++j) b0_norm += b0[j].number * b0[j].number;
+  EXPECT_GT(std::sqrt(b0_norm) * t, 4.0 * closed["white_drift_rms_at_end_m"].number);
+
+  // Monotonic growth with the bias model, sampled every minute (16 samples from t = 0); the white-only
+  // drift of the same seed is not monotonic (it dips at 3 min), so the check tells the two apart.
+  const Json& samples = full["drift_samples_m"];
+  ASSERT_EQ(samples.array.size(), 16u);
+  for (std::size_t j = 1; j < samples.array.size(); ++j) {
+    EXPECT_GT(samples[j].number, samples[j - 1].number) << j;
+  }
+  EXPECT_TRUE(full["monotonic"].boolean);
+  EXPECT_FALSE(white["monotonic"].boolean);
+  // The runs share their per-beam noise: their difference is the integrated bias to rounding.
+  EXPECT_LT(json["runs_difference_minus_integrated_bias_max_m"].number, 1e-8);
+  EXPECT_TRUE(json["pass"]["all"].boolean);
+
+  // Same seed twice: identical record and figures; another seed: a different record.
+  const RunResult again = run(HADAL_VALIDATE_DVL, args + " --out " + dir_ + "/again");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(read_file(dir_ + "/again/dvl_record.csv"), read_file(dir_ + "/dvl_record.csv"));
+  EXPECT_EQ(read_file(dir_ + "/again/dvl_parameters.json"), read_file(dir_ + "/dvl_parameters.json"));
+  EXPECT_EQ(without_timing_and_paths(again.out), without_timing_and_paths(r.out));
+  const RunResult other = run(HADAL_VALIDATE_DVL, args + " --seed 2 --no-record --out " + dir_ + "/other");
+  ASSERT_EQ(other.exit_code, 0) << other.err;
+  EXPECT_FALSE(fs::exists(dir_ + "/other/dvl_record.csv"));
+  EXPECT_NE(without_timing_and_paths(other.out), without_timing_and_paths(r.out));
+  EXPECT_EQ(parse(other.out)["seed"].number, 2.0);
+}
+
 TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--depth -5").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--segments 7").exit_code, 2);
@@ -143,6 +263,18 @@ TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_ALLAN, "--hours 0.0001").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_HEADING, "--seconds 0").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_HEADING, "--bogus").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--hours 0").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--hours 0.001").exit_code, 2);  // 18 pings
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--interval 0").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--hours 0.25 --interval 20").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--seed -1").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--seed 1.5").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--bogus").exit_code, 2);
+  // A scenario without a DVL.
+  EXPECT_EQ(run(HADAL_VALIDATE_DVL, "--hours 0.25 --scenario " HADAL_VALIDATION_SCENARIOS "/imu_static.yaml --out " +
+                                        dir_)
+                .exit_code,
+            1);
 }
 
 }  // namespace
