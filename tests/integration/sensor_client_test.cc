@@ -289,6 +289,24 @@ TEST(SensorClientTest, RangeOfTheAltimeterIsTheHeightAboveAPlaneSeabed) {
   }
 }
 
+// A topic already subscribed with one message type refuses another (its samples would be misread):
+// a clear error at subscription, no server needed.
+TEST(SensorClientTest, SubscribingATopicWithAnotherTypeIsRefused) {
+  DomainLease domain;
+  Client client(ClientOptions{domain.id(), "sensor_client_test"});
+  client.on_magnetic_field("auv", "magnetometer", [](const MagneticField&) {});
+  try {
+    client.on_imu("auv", "magnetometer", [](const Imu&) {});
+    ADD_FAILURE() << "on_imu on a MagneticField topic was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("rt/auv/magnetometer has type sensor_msgs::msg::dds_::MagneticField_, not "
+                                         "sensor_msgs::msg::dds_::Imu_"),
+              std::string::npos)
+        << e.what();
+  }
+  client.on_magnetic_field("auv", "magnetometer", [](const MagneticField&) {});  // same type: fine
+}
+
 // ---- determinism over DDS -------------------------------------------------------------------------
 
 // Every field of a sample as bit patterns (NaN equals NaN), in a fixed order.

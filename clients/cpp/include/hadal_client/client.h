@@ -199,6 +199,9 @@ class Client {
   // The most recent status, if any arrived.
   std::optional<SimStatus> latest_status() const;
 
+  // Subscriptions: the callback runs on a DDS thread for every sample. Subscribing to a sensor's topic
+  // with the wrong message type (e.g. on_imu on a magnetometer already subscribed with
+  // on_magnetic_field in this client) throws std::invalid_argument naming both types.
   void on_clock(std::function<void(double sim_time_s)> callback);
   void on_status(std::function<void(const SimStatus&)> callback);
   void on_odometry(const std::string& vehicle, std::function<void(const Odometry&)> callback);

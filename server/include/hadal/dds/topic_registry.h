@@ -31,13 +31,21 @@ class TopicRegistry {
     }
   }
 
-  // The topic `name` of message type PubSubType (a fastddsgen XxxPubSubType).
+  // The topic `name` of message type PubSubType (a fastddsgen XxxPubSubType). Throws
+  // std::invalid_argument when `name` already exists with another type (reading its samples as this
+  // type would misinterpret their bytes).
   template <class PubSubType>
   eprosima::fastdds::dds::Topic* topic(const std::string& name) {
-    auto found = topics_.find(name);
-    if (found != topics_.end()) return found->second;
     eprosima::fastdds::dds::TypeSupport type(new PubSubType());
     const std::string type_name = type.get_type_name();
+    auto found = topics_.find(name);
+    if (found != topics_.end()) {
+      if (found->second->get_type_name() != type_name) {
+        throw std::invalid_argument("DDS topic " + name + " has type " + found->second->get_type_name() +
+                                    ", not " + type_name);
+      }
+      return found->second;
+    }
     if (participant_->find_type(type_name).empty()) {
       type.register_type(participant_);
     }
