@@ -528,28 +528,14 @@ int main(int argc, char** argv) {
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/imu_static.yaml";
   std::string preset_id;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg == "--no-record") {
-      write_record = false;
-      continue;
-    }
-    if (arg != "--hours" && arg != "--rate" && arg != "--out" && arg != "--scenario" && arg != "--preset") {
-      return usage_error("unknown argument '" + arg + "'");
-    }
-    if (i + 1 >= argc) return usage_error(arg + " needs a value");
-    const std::string value = argv[++i];
+  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
     if (arg == "--hours") {
       if (!parse_number(value, &hours) || !(hours > 0.0) || hours > 100.0) {
-        return usage_error("--hours must be a number in (0, 100] (got '" + value + "')");
+        return "--hours must be a number in (0, 100] (got '" + value + "')";
       }
     } else if (arg == "--rate") {
       if (!parse_number(value, &rate) || !(rate > 0.0) || rate > 10000.0) {
-        return usage_error("--rate must be a number in (0, 10000] (got '" + value + "')");
+        return "--rate must be a number in (0, 10000] (got '" + value + "')";
       }
     } else if (arg == "--out") {
       out_dir = value;
@@ -558,6 +544,12 @@ int main(int argc, char** argv) {
     } else {
       preset_id = value;
     }
+    return "";
+  };
+  if (const auto status =
+          parse_command_line(argc, argv, kTool, kUsage, {"--hours", "--rate", "--out", "--scenario", "--preset"},
+                             {"--no-record"}, on_option, [&](const std::string&) { write_record = false; })) {
+    return *status;
   }
   const ns::ImuDatasheet* preset = nullptr;
   if (!preset_id.empty()) {

@@ -82,7 +82,6 @@ constexpr const char* kUsage =
 constexpr double kSampleInterval = 1.0;  // [s of sim time]
 constexpr double kMinSpeed = 0.05;       // a run slower than this on average is abandoned [m/s]
 
-int usage_error(const std::string& message) { return validation::usage_error(kTool, kUsage, message); }
 
 struct Sample {
   double t = 0.0;
@@ -264,30 +263,21 @@ int main(int argc, char** argv) {
   bool hold = true;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/coriolis_auv.yaml";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg == "--no-hold") {
-      hold = false;
-      continue;
-    }
-    if (arg != "--distance" && arg != "--out" && arg != "--scenario") {
-      return usage_error("unknown argument '" + arg + "'");
-    }
-    if (i + 1 >= argc) return usage_error(arg + " needs a value");
-    const std::string value = argv[++i];
+  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
     if (arg == "--distance") {
       if (!parse_number(value, &distance) || !(distance > 0.0) || distance > 1e6) {
-        return usage_error("--distance must be a number in (0, 1e6] (got '" + value + "')");
+        return "--distance must be a number in (0, 1e6] (got '" + value + "')";
       }
     } else if (arg == "--out") {
       out_dir = value;
     } else {
       scenario = value;
     }
+    return "";
+  };
+  if (const auto status = parse_command_line(argc, argv, kTool, kUsage, {"--distance", "--out", "--scenario"},
+                                             {"--no-hold"}, on_option, [&](const std::string&) { hold = false; })) {
+    return *status;
   }
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;

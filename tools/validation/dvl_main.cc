@@ -545,33 +545,19 @@ int main(int argc, char** argv) {
   bool write_record = true;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/dvl_static.yaml";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg == "--no-record") {
-      write_record = false;
-      continue;
-    }
-    if (arg != "--hours" && arg != "--interval" && arg != "--seed" && arg != "--out" && arg != "--scenario") {
-      return usage_error("unknown argument '" + arg + "'");
-    }
-    if (i + 1 >= argc) return usage_error(arg + " needs a value");
-    const std::string value = argv[++i];
+  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
     if (arg == "--hours") {
       if (!parse_number(value, &hours) || !(hours > 0.0) || hours > 100.0) {
-        return usage_error("--hours must be a number in (0, 100] (got '" + value + "')");
+        return "--hours must be a number in (0, 100] (got '" + value + "')";
       }
     } else if (arg == "--interval") {
       if (!parse_number(value, &interval_min) || !(interval_min > 0.0)) {
-        return usage_error("--interval must be a number > 0 (got '" + value + "')");
+        return "--interval must be a number > 0 (got '" + value + "')";
       }
     } else if (arg == "--seed") {
       double x = 0.0;
       if (!parse_number(value, &x) || x < 0.0 || x != std::floor(x) || x > 9007199254740992.0) {
-        return usage_error("--seed must be a non-negative integer (got '" + value + "')");
+        return "--seed must be a non-negative integer (got '" + value + "')";
       }
       seed = static_cast<std::uint64_t>(x);
     } else if (arg == "--out") {
@@ -579,6 +565,12 @@ int main(int argc, char** argv) {
     } else {
       scenario = value;
     }
+    return "";
+  };
+  if (const auto status =
+          parse_command_line(argc, argv, kTool, kUsage, {"--hours", "--interval", "--seed", "--out", "--scenario"},
+                             {"--no-record"}, on_option, [&](const std::string&) { write_record = false; })) {
+    return *status;
   }
   if (interval_min > 60.0 * hours) {
     return usage_error("--interval (" + json_rounded(interval_min) + " min) must not exceed the record (" +

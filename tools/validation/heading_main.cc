@@ -91,7 +91,6 @@ constexpr double kSpeed = 1.5;      // [m/s]
 constexpr double kWhiteNoiseDensity = 30e-9;  // [T/sqrt(Hz)]
 constexpr double kPlotHeadingSeconds = 300.0;
 
-int usage_error(const std::string& message) { return validation::usage_error(kTool, kUsage, message); }
 
 double compass_deg(double yaw) {
   double h = (0.5 * kPi - yaw) * kDegPerRad;
@@ -188,28 +187,23 @@ int main(int argc, char** argv) {
   double seconds = 600.0;
   double rate = 10.0;
   std::string out_dir = ".";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg != "--seconds" && arg != "--rate" && arg != "--out") {
-      return usage_error("unknown argument '" + arg + "'");
-    }
-    if (i + 1 >= argc) return usage_error(arg + " needs a value");
-    const std::string value = argv[++i];
+  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
     if (arg == "--seconds") {
       if (!parse_number(value, &seconds) || !(seconds >= 1.0) || seconds > 86400.0) {
-        return usage_error("--seconds must be a number in [1, 86400] (got '" + value + "')");
+        return "--seconds must be a number in [1, 86400] (got '" + value + "')";
       }
     } else if (arg == "--rate") {
       if (!parse_number(value, &rate) || !(rate >= 0.1) || rate > 1000.0) {
-        return usage_error("--rate must be a number in [0.1, 1000] (got '" + value + "')");
+        return "--rate must be a number in [0.1, 1000] (got '" + value + "')";
       }
     } else {
       out_dir = value;
     }
+    return "";
+  };
+  if (const auto status = parse_command_line(argc, argv, kTool, kUsage, {"--seconds", "--rate", "--out"},
+                                             {}, on_option)) {
+    return *status;
   }
   if (const std::string error = ensure_directory(out_dir); !error.empty()) {
     std::fprintf(stderr, "%s: %s\n", kTool, error.c_str());

@@ -66,7 +66,6 @@ constexpr double kSampleInterval = 0.5;  // [s of sim time]
 constexpr double kSeabedClearance = 100.0;  // seabed plane below the target depth [m]
 constexpr double kMinDescentRate = 0.05;    // a run slower than this on average is abandoned [m/s]
 
-int usage_error(const std::string& message) { return validation::usage_error(kTool, kUsage, message); }
 
 struct Sample {
   double t = 0.0;
@@ -328,36 +327,31 @@ int main(int argc, char** argv) {
   std::optional<double> magnus;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/lander_descent.yaml";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg != "--depth" && arg != "--out" && arg != "--scenario" && arg != "--segments" &&
-        arg != "--magnus") {
-      return usage_error("unknown argument '" + arg + "'");
-    }
-    if (i + 1 >= argc) return usage_error(arg + " needs a value");
-    const std::string value = argv[++i];
+  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
     if (arg == "--depth") {
       if (!parse_number(value, &depth) || !(depth > 0.0) || depth > 10900.0) {
-        return usage_error("--depth must be a number in (0, 10900] (got '" + value + "')");
+        return "--depth must be a number in (0, 10900] (got '" + value + "')";
       }
     } else if (arg == "--segments") {
       if (!parse_number(value, &segments) || segments != std::floor(segments) || segments < 8 ||
           segments > 64 || std::fmod(segments, 2.0) != 0.0) {
-        return usage_error("--segments must be an even integer in [8, 64] (got '" + value + "')");
+        return "--segments must be an even integer in [8, 64] (got '" + value + "')";
       }
     } else if (arg == "--magnus") {
       double value_s = 0.0;
-      if (!parse_number(value, &value_s)) return usage_error("--magnus must be a number (got '" + value + "')");
+      if (!parse_number(value, &value_s)) return "--magnus must be a number (got '" + value + "')";
       magnus = value_s;
     } else if (arg == "--out") {
       out_dir = value;
     } else {
       scenario = value;
     }
+    return "";
+  };
+  if (const auto status =
+          parse_command_line(argc, argv, kTool, kUsage, {"--depth", "--out", "--scenario", "--segments", "--magnus"},
+                             {}, on_option)) {
+    return *status;
   }
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;

@@ -10,11 +10,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include "hadal/config/scenario_loader.h"
 #include "json_number.h"
@@ -86,6 +88,36 @@ inline std::optional<Model> load_model(const std::string& path, const char* tool
 inline int usage_error(const char* tool, const char* usage, const std::string& message) {
   std::fprintf(stderr, "%s: %s\n%s", tool, message.c_str(), usage);
   return 2;
+}
+
+// The tools' command lines: options "--name value" (names in `options`), switches "--name" (names in
+// `switches`) and -h / --help. Calls on_option(name, value) for each option in order, which returns ""
+// or a usage error, and on_switch(name) for each switch. Returns nullopt to go on, or the exit status
+// to return from main: 0 after printing `usage` to stdout for --help, 2 after printing a usage error
+// ("unknown argument 'x'", "--name needs a value", or on_option's message) and `usage` to stderr.
+inline std::optional<int> parse_command_line(
+    int argc, char** argv, const char* tool, const char* usage, const std::vector<std::string>& options,
+    const std::vector<std::string>& switches,
+    const std::function<std::string(const std::string& name, const std::string& value)>& on_option,
+    const std::function<void(const std::string& name)>& on_switch = {}) {
+  const auto listed = [](const std::vector<std::string>& names, const std::string& arg) {
+    return std::find(names.begin(), names.end(), arg) != names.end();
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(usage, stdout);
+      return 0;
+    }
+    if (listed(switches, arg)) {
+      if (on_switch) on_switch(arg);
+      continue;
+    }
+    if (!listed(options, arg)) return usage_error(tool, usage, "unknown argument '" + arg + "'");
+    if (i + 1 >= argc) return usage_error(tool, usage, arg + " needs a value");
+    if (const std::string error = on_option(arg, argv[++i]); !error.empty()) return usage_error(tool, usage, error);
+  }
+  return std::nullopt;
 }
 
 // The start of every run: creates the output directory and loads the scenario, reporting problems on
