@@ -819,10 +819,12 @@ void read_magnetometer(const MapReader& map, MagnetometerSensorSpec* magnetomete
 // bias drift, water track and sound-speed error. Per-ping sigmas become white-noise densities at the
 // sensor's sample period (sensors::dvl_params).
 void read_dvl(const MapReader& map, bool rate_given, double* rate_hz, DvlSensorSpec* dvl) {
+  const sensors::DvlParams defaults;
   sensors::DvlDatasheet sheet;  // generic: the DvlParams defaults with 5 mm/s per beam
   sheet.id = "generic";
-  sheet.min_altitude_m = 0.7;
-  sheet.max_altitude_m = 90.0;
+  sheet.beam_tilt_deg = defaults.beam_tilt / kDegToRad;
+  sheet.min_altitude_m = defaults.min_altitude;
+  sheet.max_altitude_m = defaults.max_altitude;
   sheet.beam_velocity_sigma = 0.005;
   if (const auto preset = map.optional("preset")) {
     if (const auto id = preset->string()) {
