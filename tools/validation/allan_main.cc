@@ -174,7 +174,7 @@ Record record_imu(const Model& model, int vehicle, int sensor, std::size_t count
   const auto max_steps = static_cast<std::uint64_t>(std::ceil(static_cast<double>(count) * steps_per_sample)) + 10;
   std::uint64_t seen = sim.state().vehicles[vehicle].sensors[sensor].samples;
   const double hours = static_cast<double>(count) * period / 3600.0;
-  double next_report = 1.0;  // [h]
+  HourlyProgress progress(kTool, name, hours);
   while (record.time.size() < count && sim.state().step_count < max_steps) {
     sim.step();
     const VehicleState& state = sim.state().vehicles[vehicle];
@@ -188,12 +188,7 @@ Record record_imu(const Model& model, int vehicle, int sensor, std::size_t count
     }
     record.time.push_back(s.stamp);
     for (int c = 0; c < 6; ++c) record.channel[c].push_back(s.value[c]);
-    if (s.stamp >= next_report * 3600.0) {
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(stderr, "%s: %s: %.0f of %.2f h recorded (%.1f s)\n", kTool, name.c_str(), next_report, hours,
-                   wall);
-      next_report += 1.0;
-    }
+    progress.update(s.stamp);
   }
   if (record.time.size() < count) {
     throw std::runtime_error(name + ": the IMU gave " + std::to_string(record.time.size()) + " samples in " +

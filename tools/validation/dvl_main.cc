@@ -171,7 +171,7 @@ Record record_dvl(const Model& model, int vehicle, int sensor, std::size_t count
   Eigen::Vector3d bias_integral = Eigen::Vector3d::Zero();
   double last_stamp = 0.0;
   const double hours = static_cast<double>(count) * period / 3600.0;
-  double next_report = 1.0;  // [h]
+  HourlyProgress progress(kTool, name, hours);
   while (r.time.size() < count && sim.state().step_count < max_steps) {
     sim.step();
     const VehicleState& state = sim.state().vehicles[vehicle];
@@ -202,12 +202,7 @@ Record record_dvl(const Model& model, int vehicle, int sensor, std::size_t count
     r.bias_integral_W.push_back(bias_integral);
     r.mode.push_back(static_cast<std::uint8_t>(ping.mode));
     r.good_beams.push_back(ping.num_good_beams);
-    if (s.stamp >= next_report * 3600.0) {
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(stderr, "%s: %s: %.0f of %.2f h recorded (%.1f s)\n", kTool, name.c_str(), next_report, hours,
-                   wall);
-      next_report += 1.0;
-    }
+    progress.update(s.stamp);
   }
   if (r.time.size() < count) {
     throw std::runtime_error(name + ": the DVL gave " + std::to_string(r.time.size()) + " pings in " +

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -89,6 +90,27 @@ inline int usage_error(const char* tool, const char* usage, const std::string& m
   std::fprintf(stderr, "%s: %s\n%s", tool, message.c_str(), usage);
   return 2;
 }
+
+// Progress of a long record on stderr: "tool: name: H of TOTAL h recorded (W s)" each time the sim time
+// passes another whole hour (W: wall seconds since construction).
+class HourlyProgress {
+ public:
+  HourlyProgress(const char* tool, std::string name, double hours)
+      : tool_(tool), name_(std::move(name)), hours_(hours), start_(std::chrono::steady_clock::now()) {}
+  void update(double sim_time_s) {
+    if (sim_time_s < next_hour_ * 3600.0) return;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::fprintf(stderr, "%s: %s: %.0f of %.2f h recorded (%.1f s)\n", tool_, name_.c_str(), next_hour_, hours_, wall);
+    next_hour_ += 1.0;
+  }
+
+ private:
+  const char* tool_;
+  std::string name_;
+  double hours_;
+  std::chrono::steady_clock::time_point start_;
+  double next_hour_ = 1.0;  // [h]
+};
 
 // The tools' command lines: options "--name value" (names in `options`), switches "--name" (names in
 // `switches`) and -h / --help. Calls on_option(name, value) for each option in order, which returns ""
