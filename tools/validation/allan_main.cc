@@ -559,20 +559,12 @@ int main(int argc, char** argv) {
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;
   Model model = std::move(*loaded);
-  int vehicle = -1, sensor = -1;
-  for (std::size_t v = 0; v < model.vehicles.size() && vehicle < 0; ++v) {
-    for (std::size_t k = 0; k < model.vehicles[v].sensors.size(); ++k) {
-      if (model.vehicles[v].sensors[k].type == SensorType::kImu) {
-        vehicle = static_cast<int>(v);
-        sensor = static_cast<int>(k);
-        break;
-      }
-    }
-  }
-  if (vehicle < 0) {
+  const std::optional<SensorRef> found = find_sensor(model, SensorType::kImu);
+  if (!found) {
     std::fprintf(stderr, "%s: %s: no IMU sensor in the scenario\n", kTool, scenario.c_str());
     return 1;
   }
+  const int vehicle = found->vehicle, sensor = found->sensor;
   SensorSpec& imu_sensor = model.vehicles[vehicle].sensors[sensor];
   imu_sensor.rate_hz = rate;
   model.world.physics_rate_hz = rate;

@@ -576,20 +576,12 @@ int main(int argc, char** argv) {
   if (!loaded) return 1;
   Model model = std::move(*loaded);
   if (seed) model.world.seed = *seed;
-  int vehicle = -1, sensor = -1;
-  for (std::size_t v = 0; v < model.vehicles.size() && vehicle < 0; ++v) {
-    for (std::size_t k = 0; k < model.vehicles[v].sensors.size(); ++k) {
-      if (model.vehicles[v].sensors[k].type == SensorType::kDvl) {
-        vehicle = static_cast<int>(v);
-        sensor = static_cast<int>(k);
-        break;
-      }
-    }
-  }
-  if (vehicle < 0) {
+  const std::optional<SensorRef> found = find_sensor(model, SensorType::kDvl);
+  if (!found) {
     std::fprintf(stderr, "%s: %s: no DVL sensor in the scenario\n", kTool, scenario.c_str());
     return 1;
   }
+  const int vehicle = found->vehicle, sensor = found->sensor;
   const SensorSpec& dvl_sensor = model.vehicles[vehicle].sensors[sensor];
   const ns::DvlParams& params = dvl_sensor.dvl.params;
   const double rate = dvl_sensor.rate_hz;

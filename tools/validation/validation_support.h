@@ -91,6 +91,20 @@ inline int usage_error(const char* tool, const char* usage, const std::string& m
   return 2;
 }
 
+// The first sensor of `type` in the model (vehicle index, sensor index), or nothing.
+struct SensorRef {
+  int vehicle = -1;
+  int sensor = -1;
+};
+inline std::optional<SensorRef> find_sensor(const Model& model, SensorType type) {
+  for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
+    for (std::size_t k = 0; k < model.vehicles[v].sensors.size(); ++k) {
+      if (model.vehicles[v].sensors[k].type == type) return SensorRef{static_cast<int>(v), static_cast<int>(k)};
+    }
+  }
+  return std::nullopt;
+}
+
 // Progress of a long record on stderr: "tool: name: H of TOTAL h recorded (W s)" each time the sim time
 // passes another whole hour (W: wall seconds since construction).
 class HourlyProgress {
