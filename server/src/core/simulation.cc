@@ -481,7 +481,8 @@ Simulation::Simulation(Model model)
                 sensors::water_track_layer_points(params, b, sensor.dvl.water_track_layer_samples);
           }
           // Returns beyond the window (or the layer's far edge) change nothing: stop the rays there.
-          s.ray_length = 1.01 * std::max(params.max_altitude, params.water_track_layer_far) / std::cos(params.beam_tilt);
+          s.ray_length =
+              1.01 * std::max(params.max_altitude, params.water_track_layer_far) / std::cos(params.beam_tilt);
           sensor_state.dvl = sensors::make_dvl_state(params, model_.world.seed, spec.name, sensor.name);
           sensor_state.dvl_ping = sensors::DvlPing{};
           if (!rays_) rays_ = std::make_unique<RayCaster>(model_);

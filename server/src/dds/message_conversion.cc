@@ -141,7 +141,9 @@ void fill_dvl(const SensorSpec& spec, const SensorState& sample, marine_acoustic
   msg.velocity().y(ping.velocity.y());
   msg.velocity().z(ping.velocity.z());
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) msg.velocity_covar()[static_cast<std::size_t>(3 * r + c)] = ping.velocity_covariance(r, c);
+    for (int c = 0; c < 3; ++c) {
+      msg.velocity_covar()[static_cast<std::size_t>(3 * r + c)] = ping.velocity_covariance(r, c);
+    }
   }
   msg.altitude(ping.altitude);
   msg.course_gnd(ping.course_gnd);

@@ -335,38 +335,38 @@ struct EmbreeScene::Impl {
   void trace_single(const RayBatch& rays, std::size_t begin, std::size_t end, RTCIntersectContext* context,
                     RayHits& hits) const {
     unsigned geom[kBlock], inst[kBlock];
-    for (std::size_t i = begin; i < end; ++i) trace_ray(rays, i, rays.t_near[i], context, hits, &geom[i - begin], &inst[i - begin]);
+    for (std::size_t i = begin; i < end; ++i) {
+      trace_ray(rays, i, rays.t_near[i], context, hits, &geom[i - begin], &inst[i - begin]);
+    }
     finish(begin, end, geom, inst, hits);
   }
 
   // Ray i of the batch from t_near on (its own or a later start); geometry and instance ids out.
   void trace_ray(const RayBatch& rays, std::size_t i, float t_near, RTCIntersectContext* context, RayHits& hits,
                  unsigned* geom, unsigned* inst) const {
-    {
-      RTCRayHit rh;
-      rh.ray.org_x = rays.p_WO_x[i];
-      rh.ray.org_y = rays.p_WO_y[i];
-      rh.ray.org_z = rays.p_WO_z[i];
-      rh.ray.tnear = t_near;
-      rh.ray.dir_x = rays.d_W_x[i];
-      rh.ray.dir_y = rays.d_W_y[i];
-      rh.ray.dir_z = rays.d_W_z[i];
-      rh.ray.time = 0.0f;
-      rh.ray.tfar = rays.t_far[i];
-      rh.ray.mask = ~0u;
-      rh.ray.id = 0;
-      rh.ray.flags = 0;
-      rh.hit.geomID = kInvalidId;
-      rh.hit.instID[0] = kInvalidId;
-      rtcIntersect1(trace, context, &rh);
-      hits.distance[i] = rh.ray.tfar;
-      hits.n_W_x[i] = rh.hit.Ng_x;
-      hits.n_W_y[i] = rh.hit.Ng_y;
-      hits.n_W_z[i] = rh.hit.Ng_z;
-      hits.triangle[i] = rh.hit.primID;
-      *geom = rh.hit.geomID;
-      *inst = rh.hit.instID[0];
-    }
+    RTCRayHit rh;
+    rh.ray.org_x = rays.p_WO_x[i];
+    rh.ray.org_y = rays.p_WO_y[i];
+    rh.ray.org_z = rays.p_WO_z[i];
+    rh.ray.tnear = t_near;
+    rh.ray.dir_x = rays.d_W_x[i];
+    rh.ray.dir_y = rays.d_W_y[i];
+    rh.ray.dir_z = rays.d_W_z[i];
+    rh.ray.time = 0.0f;
+    rh.ray.tfar = rays.t_far[i];
+    rh.ray.mask = ~0u;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = kInvalidId;
+    rh.hit.instID[0] = kInvalidId;
+    rtcIntersect1(trace, context, &rh);
+    hits.distance[i] = rh.ray.tfar;
+    hits.n_W_x[i] = rh.hit.Ng_x;
+    hits.n_W_y[i] = rh.hit.Ng_y;
+    hits.n_W_z[i] = rh.hit.Ng_z;
+    hits.triangle[i] = rh.hit.primID;
+    *geom = rh.hit.geomID;
+    *inst = rh.hit.instID[0];
   }
 
   // Rays that ignore a body and hit it are continued past the hit (ray_batch.h).
