@@ -359,12 +359,11 @@ struct Simulation::RayCaster {
   }
   // Moves the vehicles' instances to the state's poses, once per step.
   void set_poses(const SimState& state) {
-    if (posed_step == state.step_count && posed) return;
+    if (posed_step == state.step_count) return;
     poses.clear();
     for (const VehicleState& vehicle : state.vehicles) poses.push_back(vehicle.body.X_WB);
     scene.set_body_poses(poses);
     posed_step = state.step_count;
-    posed = true;
   }
   // Distances [m] along unit directions d_W from p_W, ignoring body `own` (+inf: nothing within
   // max_distance).
@@ -387,8 +386,7 @@ struct Simulation::RayCaster {
   geometry::RayBatch rays;
   geometry::RayHits hits;
   std::vector<Eigen::Isometry3d> poses;
-  std::uint64_t posed_step = 0;
-  bool posed = false;
+  std::optional<std::uint64_t> posed_step;  // the step whose poses the scene holds; none: stale
 };
 
 Simulation::Simulation(Model model)
@@ -570,7 +568,7 @@ void Simulation::set_state(const SimState& state) {
     }
   }
   state_ = state;
-  if (rays_) rays_->posed = false;  // the restored poses, even at the same step count
+  if (rays_) rays_->posed_step.reset();  // the restored poses, even at the same step count
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     VehicleState& vehicle = state_.vehicles[i];
     if (!is_finite(vehicle)) reset_non_finite(model_.vehicles[i], vehicle);
