@@ -1,0 +1,132 @@
+#!/usr/bin/env bash
+# Regression recording (tests/regression/README.md): runs a lockstep hadald on a scenario, steps it with
+# hadal-record-topics and writes one digest line per published topic, or compares them with a file.
+#
+# usage: record.sh BUILD_DIR CASE [--write | --check]
+#   CASE     default            configs/scenarios/default.yaml, 60 s (30 000 steps), its schedule only
+#            two_vehicles       tests/regression/scenarios/two_vehicles_all_sensors.yaml, 20 s, with
+#                               client commands and a watchdog timeout
+#   --write  (re)writes tests/regression/digests/CASE.txt
+#   --check  (default) records and compares with tests/regression/digests/CASE.txt topic by topic; skips
+#            (exit 77) when the file was recorded on a machine with another floating-point signature
+#
+# The digests are only comparable between builds on machines with the same signature: glibc picks its
+# libm kernels and Embree its traversal kernels by CPU feature (FMA, AVX2, AVX-512), which can change the
+# last bits of a result. The signature is the x86 feature flags among those that steer such choices.
+# Completeness: every topic's recorded count must equal the count hadald reports having published.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+BUILD=${1:?usage: record.sh BUILD_DIR CASE [--write|--check]}
+CASE=${2:?usage: record.sh BUILD_DIR CASE [--write|--check]}
+MODE=${3:---check}
+PYTHON=/usr/bin/python3
+export ROS_LOCALHOST_ONLY=1
+
+case "$CASE" in
+  default)
+    SCENARIO=configs/scenarios/default.yaml
+    ARGS=(--steps 30000)
+    ;;
+  two_vehicles)
+    SCENARIO=tests/regression/scenarios/two_vehicles_all_sensors.yaml
+    # The buoy is commanded from 1 s on (client setpoints; its watchdog of 0.5 s fires between 6 s and
+    # 7.5 s); the AUV leaves its schedule for client setpoints at 14 s.
+    ARGS=(--steps 10000
+          --command buoy@500=0.6,0.4 --command buoy@1500=0.8,-0.3 --command buoy@2750=0.2,0.9
+          --command buoy@3750=-0.5,-0.5 --command buoy@5000=0.7,0.7
+          --command auv@7000=0.9,-0.3,0.5 --command buoy@7000=0.3,0.6
+          --command auv@7400=0.6,0.2,-0.2 --command buoy@7400=0.5,0.5
+          --command auv@7800=0.6,0.0,0.0 --command buoy@7800=0.4,0.4)
+    ;;
+  *) echo "record.sh: unknown case $CASE (default, two_vehicles)" >&2; exit 2 ;;
+esac
+DIGESTS=tests/regression/digests/$CASE.txt
+
+signature() {
+  local flags
+  flags=$(grep -m1 '^flags' /proc/cpuinfo 2>/dev/null || true)
+  local out="$(uname -m)"
+  for f in sse4_2 avx fma avx2 avx512f; do
+    [[ " $flags " == *" $f "* ]] && out+=" $f"
+  done
+  echo "$out"
+}
+SIGNATURE=$(signature)
+
+if [[ "$MODE" == --check ]]; then
+  [[ -f "$DIGESTS" ]] || { echo "record.sh: no $DIGESTS; record it with --write" >&2; exit 1; }
+  recorded=$(sed -n 's/^# signature: //p' "$DIGESTS")
+  if [[ "$recorded" != "$SIGNATURE" ]]; then
+    echo "record.sh: SKIP: $DIGESTS was recorded on '$recorded', this machine is '$SIGNATURE'" >&2
+    exit 77
+  fi
+fi
+
+# A DDS domain of our own (the lock files the integration tests and interop script use), held on fd 9.
+DOMAIN=""
+for n in $(seq 200 231); do
+  { exec 9>>"/tmp/hadal-dds-domain-$n.lock"; } 2>/dev/null || continue
+  if flock -n 9; then DOMAIN=$n; break; fi
+  exec 9>&-
+done
+[[ -n "$DOMAIN" ]] || { echo "record.sh: no free DDS domain in 200..231" >&2; exit 1; }
+
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/hadal-regression.XXXXXX")
+SERVER_PID=""
+cleanup() {
+  if [[ -n "$SERVER_PID" ]] && kill -0 "$SERVER_PID" 2>/dev/null; then kill -9 "$SERVER_PID" 2>/dev/null || true; fi
+  rm -rf "$WORK"
+}
+trap cleanup EXIT
+
+# --discovery-wait: the server publishes its first samples (t = 0) only after the recorder matched.
+"$BUILD/bin/hadald" "$SCENARIO" --mode lockstep --domain-id "$DOMAIN" --no-status-line --discovery-wait 5 \
+  >"$WORK/summary.txt" 2>"$WORK/server.err" &
+SERVER_PID=$!
+if ! "$BUILD/bin/hadal-record-topics" --domain "$DOMAIN" --out "$WORK/digest.txt" "${ARGS[@]}"; then
+  echo "record.sh: the recorder failed; hadald said:" >&2
+  cat "$WORK/server.err" >&2
+  exit 1
+fi
+kill -TERM "$SERVER_PID"
+wait "$SERVER_PID" || { echo "record.sh: hadald exited with an error:" >&2; cat "$WORK/server.err" >&2; exit 1; }
+SERVER_PID=""
+
+"$PYTHON" - "$WORK/summary.txt" "$WORK/digest.txt" "$DIGESTS" "$MODE" "$CASE" "$SCENARIO" "$SIGNATURE" \
+  "${ARGS[*]}" <<'PY'
+import sys
+summary, digest, digests, mode, case, scenario, signature, args = sys.argv[1:]
+published = {}
+for line in open(summary):
+    parts = line.split()
+    if len(parts) == 2 and parts[0].startswith("rt/"):
+        published[parts[0]] = int(parts[1])
+rows = [line.split() for line in open(digest) if line.strip()]
+problems = []
+for topic, _type, count, _hash in rows:
+    if published.get(topic) != int(count):
+        problems.append(f"{topic}: recorded {count} samples, hadald published {published.get(topic)}")
+if not rows:
+    problems.append("nothing recorded")
+if problems:
+    sys.exit("record.sh: incomplete recording:\n  " + "\n  ".join(problems))
+body = "".join(" ".join(r) + "\n" for r in rows)
+if mode == "--write":
+    with open(digests, "w") as f:
+        f.write(f"# Regression digests of case '{case}': {scenario}, hadal-record-topics {args}\n")
+        f.write("# topic, DDS type, samples, FNV-1a 64 of the serialized samples (tests/regression/README.md)\n")
+        f.write(f"# signature: {signature}\n")
+        f.write(body)
+    print(f"record.sh: wrote {digests} ({len(rows)} topics)")
+    sys.exit(0)
+expected = {l.split()[0]: l.split() for l in open(digests) if l.strip() and not l.startswith("#")}
+got = {r[0]: r for r in rows}
+diffs = []
+for topic in sorted(set(expected) | set(got)):
+    e, g = expected.get(topic), got.get(topic)
+    if e != g:
+        diffs.append(f"{topic}: expected {' '.join(e[1:]) if e else 'no topic'}, got {' '.join(g[1:]) if g else 'no topic'}")
+if diffs:
+    sys.exit(f"record.sh: case {case} differs from {digests}:\n  " + "\n  ".join(diffs))
+print(f"record.sh: case {case}: {len(rows)} topics bit-identical to {digests}")
+PY
