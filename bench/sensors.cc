@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     load += cost * sensor.rate_hz;
     std::printf("{\"benchmark\": \"sensor_sample_cost\", \"sensor\": \"%s\", \"type\": \"%s\", \"ns_per_sample\": %.0f, "
                 "\"configured_rate_hz\": %.0f, \"core_share_at_rate\": %.3e}\n",
-                sensor.name.c_str(), hadal::to_string(sensor.type), cost * 1e9,
+                sensor.name.c_str(), std::string(sensor.type()).c_str(), cost * 1e9,
                 sensor.rate_hz, cost * sensor.rate_hz);
   }
   std::printf("{\"benchmark\": \"default_auv_sensor_load\", \"sensors\": %zu, \"step_without_sensors_ns\": %.0f, "

@@ -143,7 +143,7 @@ bool same_noise(const ns::NoiseTriadParams& a, const ns::NoiseTriadParams& b) {
   return a.scale_factor_sigma == b.scale_factor_sigma && a.misalignment_sigma == b.misalignment_sigma;
 }
 // The preset whose figures the IMU's noise parameters are exactly (as the loader builds them), or null.
-const ns::ImuDatasheet* identify_preset(const ImuSensorSpec& imu) {
+const ns::ImuDatasheet* identify_preset(const ns::ImuSensor::Spec& imu) {
   for (const ns::ImuDatasheet& sheet : ns::imu_presets()) {
     const ns::ImuNoiseParams p = ns::imu_noise_params(sheet);
     if (same_noise(p.gyro, imu.gyro) && same_noise(p.accel, imu.accel)) return &sheet;
@@ -187,7 +187,11 @@ Record record_imu(const Model& model, int vehicle, int sensor, std::size_t count
       record.max_stamp_error = std::max(record.max_stamp_error, std::fabs(s.stamp - record.time.back() - period));
     }
     record.time.push_back(s.stamp);
-    for (int c = 0; c < 6; ++c) record.channel[c].push_back(s.value[c]);
+    const ns::ImuSensor::State& imu = state_of<ns::ImuSensor>(s);
+    for (int c = 0; c < 3; ++c) {
+      record.channel[c].push_back(imu.angular_velocity_S[c]);
+      record.channel[3 + c].push_back(imu.specific_force_S[c]);
+    }
     progress.update(s.stamp);
   }
   if (record.time.size() < count) {
@@ -249,7 +253,7 @@ AxisResult analyse(const std::vector<double>& samples, double period, const ns::
 }
 
 // Channels 0..5 of a record: gyro x, y, z then accel x, y, z.
-std::array<AxisResult, 6> analyse(const Record& record, double period, const ImuSensorSpec& configured) {
+std::array<AxisResult, 6> analyse(const Record& record, double period, const ns::ImuSensor::Spec& configured) {
   std::array<AxisResult, 6> out;
   for (int c = 0; c < 6; ++c) {
     const ns::AxisNoiseParams& axis = c < 3 ? configured.gyro.axes[c] : configured.accel.axes[c - 3];
@@ -312,7 +316,7 @@ std::string axis_json(const AxisResult& r, const ns::AxisNoiseParams& configured
   });
 }
 
-std::string run_json(const std::array<AxisResult, 6>& results, const ImuSensorSpec& configured, const Record& record,
+std::string run_json(const std::array<AxisResult, 6>& results, const ns::ImuSensor::Spec& configured, const Record& record,
                      std::size_t steps) {
   static const char* kAxes[3] = {"x", "y", "z"};
   JsonObject gyro(4), accel(4);
@@ -559,7 +563,7 @@ int main(int argc, char** argv) {
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;
   Model model = std::move(*loaded);
-  const std::optional<SensorRef> found = find_sensor(model, SensorType::kImu);
+  const std::optional<SensorRef> found = find_sensor<ns::ImuSensor>(model);
   if (!found) {
     std::fprintf(stderr, "%s: %s: no IMU sensor in the scenario\n", kTool, scenario.c_str());
     return 1;
@@ -568,7 +572,7 @@ int main(int argc, char** argv) {
   SensorSpec& imu_sensor = model.vehicles[vehicle].sensors[sensor];
   imu_sensor.rate_hz = rate;
   model.world.physics_rate_hz = rate;
-  ImuSensorSpec& imu = imu_sensor.imu;
+  ns::ImuSensor::Spec& imu = std::get<ns::ImuSensor::Spec>(imu_sensor.kind);
   if (preset) {
     const ns::ImuNoiseParams p = ns::imu_noise_params(*preset);
     ns::NoiseTriadParams gyro = p.gyro, accel = p.accel;
@@ -586,7 +590,7 @@ int main(int argc, char** argv) {
     preset = identify_preset(imu);
   }
   Model white_model = model;
-  ImuSensorSpec& white_imu = white_model.vehicles[vehicle].sensors[sensor].imu;
+  ns::ImuSensor::Spec& white_imu = std::get<ns::ImuSensor::Spec>(white_model.vehicles[vehicle].sensors[sensor].kind);
   keep_white_noise_only(white_imu.gyro);
   keep_white_noise_only(white_imu.accel);
 

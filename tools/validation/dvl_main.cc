@@ -158,8 +158,8 @@ Record record_dvl(const Model& model, int vehicle, int sensor, std::size_t count
   r.good_beams.reserve(count);
   Simulation sim(model);
   const SensorState& initial = sim.state().vehicles[vehicle].sensors[sensor];
-  r.b0_S = initial.dvl->bias;
-  r.xi0_S = initial.dvl->drift_rate;
+  r.b0_S = state_of<ns::DvlSensor>(initial).dvl.bias;
+  r.xi0_S = state_of<ns::DvlSensor>(initial).dvl.drift_rate;
   const Eigen::Isometry3d X_WS0 = sensor_pose_W(sim, vehicle, sensor);
   r.R_WS = X_WS0.linear();
   r.p_WS0 = X_WS0.translation();
@@ -186,7 +186,8 @@ Record record_dvl(const Model& model, int vehicle, int sensor, std::size_t count
     const double dt = s.stamp - last_stamp;
     r.max_stamp_error = std::max(r.max_stamp_error, std::fabs(dt - period));
     last_stamp = s.stamp;
-    const ns::DvlPing& ping = *s.dvl_ping;
+    const ns::DvlSensor::State& dvl = state_of<ns::DvlSensor>(s);
+    const ns::DvlPing& ping = dvl.ping;
     if (r.time.empty()) r.reported_covariance = ping.velocity_covariance;
     if (ping.mode == ns::DvlMode::kNone) {
       ++r.without_velocity;
@@ -194,10 +195,10 @@ Record record_dvl(const Model& model, int vehicle, int sensor, std::size_t count
       p_DR += X_WS.linear() * ping.velocity * dt;
     }
     if (ping.mode == ns::DvlMode::kBottomTrack && ping.num_good_beams == ns::kDvlBeams) ++r.bottom_track_four_beams;
-    bias_integral += X_WS.linear() * s.dvl->bias * dt;
+    bias_integral += X_WS.linear() * dvl.dvl.bias * dt;
     r.time.push_back(s.stamp);
     r.velocity_S.push_back(ping.velocity);
-    r.bias_S.push_back(s.dvl->bias);
+    r.bias_S.push_back(dvl.dvl.bias);
     r.error_W.push_back(p_DR - X_WS.translation());
     r.bias_integral_W.push_back(bias_integral);
     r.mode.push_back(static_cast<std::uint8_t>(ping.mode));
@@ -576,14 +577,14 @@ int main(int argc, char** argv) {
   if (!loaded) return 1;
   Model model = std::move(*loaded);
   if (seed) model.world.seed = *seed;
-  const std::optional<SensorRef> found = find_sensor(model, SensorType::kDvl);
+  const std::optional<SensorRef> found = find_sensor<ns::DvlSensor>(model);
   if (!found) {
     std::fprintf(stderr, "%s: %s: no DVL sensor in the scenario\n", kTool, scenario.c_str());
     return 1;
   }
   const int vehicle = found->vehicle, sensor = found->sensor;
   const SensorSpec& dvl_sensor = model.vehicles[vehicle].sensors[sensor];
-  const ns::DvlParams& params = dvl_sensor.dvl.params;
+  const ns::DvlParams& params = std::get<ns::DvlSensor::Spec>(dvl_sensor.kind).params;
   const double rate = dvl_sensor.rate_hz;
   const double period = 1.0 / rate;
   const auto ping_count = static_cast<std::size_t>(std::llround(hours * 3600.0 * rate));
@@ -594,7 +595,7 @@ int main(int argc, char** argv) {
   // What remains without the bias: the same per-beam channels (white noise, quantization, any per-beam
   // processes the scenario gives them), the same everything else.
   Model white_model = model;
-  white_model.vehicles[vehicle].sensors[sensor].dvl.params.bias = ns::DvlBiasParams{};
+  std::get<ns::DvlSensor::Spec>(white_model.vehicles[vehicle].sensors[sensor].kind).params.bias = ns::DvlBiasParams{};
 
   const auto wall_start = std::chrono::steady_clock::now();
   Record full, white;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "hadal/config/scenario_loader.h"
+#include "hadal/core/units.h"
 #include "json_number.h"
 #include "hadal/core/model.h"
 #include "hadal/geometry/primitive_mesh.h"
@@ -27,7 +28,6 @@
 
 namespace hadal::validation {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegPerRad = 180.0 / kPi;
 
 // A whole-string finite number, or false.
@@ -91,15 +91,19 @@ inline int usage_error(const char* tool, const char* usage, const std::string& m
   return 2;
 }
 
-// The first sensor of `type` in the model (vehicle index, sensor index), or nothing.
+// The first sensor of kind Kind (e.g. sensors::ImuSensor) in the model (vehicle index, sensor index), or
+// nothing.
 struct SensorRef {
   int vehicle = -1;
   int sensor = -1;
 };
-inline std::optional<SensorRef> find_sensor(const Model& model, SensorType type) {
+template <class Kind>
+std::optional<SensorRef> find_sensor(const Model& model) {
   for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
     for (std::size_t k = 0; k < model.vehicles[v].sensors.size(); ++k) {
-      if (model.vehicles[v].sensors[k].type == type) return SensorRef{static_cast<int>(v), static_cast<int>(k)};
+      if (std::holds_alternative<typename Kind::Spec>(model.vehicles[v].sensors[k].kind)) {
+        return SensorRef{static_cast<int>(v), static_cast<int>(k)};
+      }
     }
   }
   return std::nullopt;

@@ -15,25 +15,17 @@
 #include "hadal/geometry/mesh_transform.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/terrain.h"
+#include "hadal/core/units.h"
 #include "hadal/physics/seawater.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
-#include "yaml_reader.h"
+#include "hadal/sensors/sensor_kinds.h"
+#include "hadal/config/yaml_reader.h"
 
 namespace hadal::config {
 
-std::string Diagnostic::format() const {
-  // Line 0 means "no position" (e.g. a file that cannot be opened); an empty path is the document root.
-  std::string out = file;
-  if (line > 0) out += ":" + std::to_string(line) + ":" + std::to_string(column);
-  out += warning ? ": warning: " : ": error: ";
-  if (!path.empty()) out += path + ": ";
-  return out + message;
-}
 
 namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
 
 // Inertia tensors typed by hand are rounded to 3-4 digits; a 0.1 % tolerance on the triangle inequality
 // still admits the limiting cases (thin rod, flat plate) written that way.
@@ -53,14 +45,6 @@ std::vector<std::pair<std::string, VehicleType>> vehicle_type_choices() {
   }
   return choices;
 }
-
-std::string join_names(const std::vector<std::string>& names) {
-  std::string out;
-  for (std::size_t i = 0; i < names.size(); ++i) out += (i > 0 ? ", " : "") + names[i];
-  return out;
-}
-
-std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
 // Vehicle names become DDS/ROS topic segments (rt/<name>/...).
 bool is_valid_vehicle_name(const std::string& name) {
@@ -659,339 +643,65 @@ std::optional<std::string> read_thruster(const Value& value,
   return thruster->name;
 }
 
-// The IMU keys of a sensor entry (configs/REFERENCE.md): a datasheet preset and/or figures in
-// datasheet units, converted by sensors/noise.h; temperature drift and thruster vibration.
-void read_imu(const MapReader& map, const std::vector<std::string>& thruster_names, ImuSensorSpec* imu) {
-  sensors::ImuDatasheet sheet;
-  if (const auto preset = map.optional("preset")) {
-    if (const auto id = preset->string()) {
-      if (const sensors::ImuDatasheet* found = sensors::find_imu_preset(*id)) {
-        sheet = *found;
-      } else {
-        std::vector<std::string> ids;
-        for (const auto& p : sensors::imu_presets()) ids.push_back(quoted(std::string(p.id)));
-        preset->error("unknown IMU preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
-      }
-    }
-  }
-  double gyro_range = 0.0, gyro_lsb = 0.0, accel_range = 0.0, accel_lsb = 0.0, accel_misalignment = 0.0;
-  if (const auto gyro_value = map.optional("gyro")) {
-    const MapReader gyro(*gyro_value, {"arw_deg_per_sqrt_h", "bias_instability_deg_per_h", "rrw_deg_per_h_per_sqrt_h",
-                                       "scale_factor_ppm", "misalignment_deg", "range_deg_per_s",
-                                       "resolution_deg_per_s"});
-    if (gyro.ok()) {
-      gyro.read_number("arw_deg_per_sqrt_h", Need::kOptional, Range::non_negative(), &sheet.gyro_arw_deg_per_sqrt_h);
-      gyro.read_number("bias_instability_deg_per_h", Need::kOptional, Range::non_negative(),
-                       &sheet.gyro_bias_instability_deg_per_h);
-      gyro.read_number("rrw_deg_per_h_per_sqrt_h", Need::kOptional, Range::non_negative(),
-                       &sheet.gyro_rrw_deg_per_h_per_sqrt_h);
-      gyro.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.gyro_scale_factor_ppm);
-      double misalignment_deg = sheet.gyro_misalignment_rad / kDegToRad;
-      if (gyro.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &misalignment_deg)) {
-        sheet.gyro_misalignment_rad = misalignment_deg * kDegToRad;
-      }
-      gyro.read_number("range_deg_per_s", Need::kOptional, Range::positive(), &gyro_range);
-      gyro.read_number("resolution_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_lsb);
-    }
-  }
-  if (const auto accel_value = map.optional("accel")) {
-    const MapReader accel(*accel_value, {"vrw_m_per_s_per_sqrt_h", "bias_instability_mg", "scale_factor_ppm",
-                                         "misalignment_deg", "range_g", "resolution_mg"});
-    if (accel.ok()) {
-      double vrw = sheet.accel_noise_density * 60.0;
-      if (accel.read_number("vrw_m_per_s_per_sqrt_h", Need::kOptional, Range::non_negative(), &vrw)) {
-        sheet.accel_noise_density = sensors::vrw_to_noise_density(vrw);
-      }
-      double bias_mg = sheet.accel_bias_instability_mps2 / sensors::milli_g_to_mps2(1.0);
-      if (accel.read_number("bias_instability_mg", Need::kOptional, Range::non_negative(), &bias_mg)) {
-        sheet.accel_bias_instability_mps2 = sensors::milli_g_to_mps2(bias_mg);
-      }
-      accel.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.accel_scale_factor_ppm);
-      accel.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &accel_misalignment);
-      accel.read_number("range_g", Need::kOptional, Range::positive(), &accel_range);
-      accel.read_number("resolution_mg", Need::kOptional, Range::non_negative(), &accel_lsb);
-    }
-  }
-  bool white_noise_only = false;
-  map.read_bool("white_noise_only", Need::kOptional, &white_noise_only);
-  if (white_noise_only) {
-    sheet.gyro_bias_instability_deg_per_h = 0.0;
-    sheet.gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
-    sheet.gyro_scale_factor_ppm = 0.0;
-    sheet.gyro_misalignment_rad = 0.0;
-    sheet.accel_bias_instability_mps2 = 0.0;
-    sheet.accel_scale_factor_ppm = 0.0;
-    accel_misalignment = 0.0;
-  }
-  const sensors::ImuNoiseParams params = sensors::imu_noise_params(sheet);
-  imu->gyro = params.gyro;
-  imu->accel = params.accel;
-  imu->accel.misalignment_sigma = accel_misalignment * kDegToRad;
-  if (gyro_range > 0.0) imu->gyro.min = -(imu->gyro.max = gyro_range * kDegToRad);
-  if (accel_range > 0.0) imu->accel.min = -(imu->accel.max = accel_range * sensors::kStandardGravity);
-  imu->gyro.lsb = gyro_lsb * kDegToRad;
-  imu->accel.lsb = sensors::milli_g_to_mps2(accel_lsb);
+// The sensor kinds' YAML readers, one row per kind of sensors/sensor_kinds.h, in its order.
+struct SensorKindReader {
+  std::string type;                       // `type:` value
+  const std::vector<std::string>* keys;  // the keys only this kind takes
+  sensors::SensorKindSpec (*read)(const sensors::SensorReader&);
+};
 
-  if (const auto temperature_value = map.optional("temperature")) {
-    const MapReader temperature(*temperature_value, {"reference_degc", "gyro_deg_per_h_per_degc", "accel_mg_per_degc"});
-    if (temperature.ok()) {
-      temperature.read_number("reference_degc", Need::kOptional, Range::closed(-5.0, 60.0), &imu->temperature_reference);
-      double gyro_k = 0.0, accel_k = 0.0;
-      if (temperature.read_number("gyro_deg_per_h_per_degc", Need::kOptional, Range::finite(), &gyro_k)) {
-        imu->gyro_temperature_coefficient = sensors::deg_per_h_to_rad_per_s(gyro_k);
-      }
-      if (temperature.read_number("accel_mg_per_degc", Need::kOptional, Range::finite(), &accel_k)) {
-        imu->accel_temperature_coefficient = sensors::milli_g_to_mps2(accel_k);
-      }
-    }
-  }
-  if (const auto vibration_value = map.optional("vibration")) {
-    const MapReader vibration(*vibration_value, {"thruster", "blades", "gyro_deg_per_s", "accel_mg"});
-    if (vibration.ok()) {
-      if (const auto thruster = vibration.required("thruster")) {
-        if (const auto name = thruster->string()) {
-          const auto it = std::find(thruster_names.begin(), thruster_names.end(), *name);
-          if (it == thruster_names.end()) {
-            thruster->error("no thruster named " + quoted(*name) + " in this vehicle (" +
-                            (thruster_names.empty() ? std::string("it has none")
-                                                    : "thrusters: " + join_names(thruster_names)) + ")");
-          } else {
-            imu->vibration_thruster = static_cast<int>(it - thruster_names.begin());
-          }
-        }
-      }
-      double blades = 3.0, gyro_a = 0.0, accel_a = 0.0;
-      if (vibration.read_number("blades", Need::kOptional, Range::closed(1.0, 12.0), &blades)) {
-        imu->vibration_blades = static_cast<int>(blades);
-      }
-      if (vibration.read_number("gyro_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_a)) {
-        imu->gyro_vibration_amplitude = gyro_a * kDegToRad;
-      }
-      if (vibration.read_number("accel_mg", Need::kOptional, Range::non_negative(), &accel_a)) {
-        imu->accel_vibration_amplitude = sensors::milli_g_to_mps2(accel_a);
-      }
-    }
-  }
+const std::vector<SensorKindReader>& sensor_kind_readers() {
+  static const std::vector<SensorKindReader> readers = [] {
+    std::vector<SensorKindReader> list;
+    sensors::SensorKinds::for_each([&](auto tag) {
+      using Kind = typename decltype(tag)::type;
+      list.push_back({std::string(Kind::kType), &Kind::keys(),
+                      [](const sensors::SensorReader& reader) -> sensors::SensorKindSpec { return Kind::read(reader); }});
+    });
+    return list;
+  }();
+  return readers;
 }
 
-// A magnetic dipole {position [m], moment [A m^2], radius [m] (0: point dipole; > 0: a uniformly
-// magnetised sphere, finite inside)}.
-bool read_dipole(const Value& value, sensors::MagneticDipole* dipole) {
-  const MapReader map(value, {"position", "moment", "radius"});
-  if (!map.ok()) return false;
-  return map.read_vector3("position", Need::kRequired, Range::finite(), &dipole->p_FD) &
-         map.read_vector3("moment", Need::kRequired, Range::finite(), &dipole->m_F) &
-         map.read_number("radius", Need::kOptional, Range::non_negative(), &dipole->radius_m);
-}
-
-std::vector<sensors::MagneticDipole> read_dipoles(const Value& value) {
-  std::vector<sensors::MagneticDipole> dipoles;
-  if (const auto items = value.list()) {
-    for (const Value& item : *items) {
-      sensors::MagneticDipole dipole;
-      if (read_dipole(item, &dipole)) dipoles.push_back(dipole);
-    }
-  }
-  return dipoles;
-}
-
-// The magnetometer keys of a sensor entry: white noise per sample, resolution and range in nT / uT,
-// hard-iron dipoles in B, the soft-iron matrix in sensor axes.
-void read_magnetometer(const MapReader& map, MagnetometerSensorSpec* magnetometer, double rate_hz) {
-  sensors::MagnetometerParams& p = magnetometer->params;
-  double noise_nt = 0.0, resolution_nt = 0.0, range_ut = 0.0;
-  map.read_number("noise_stddev_nt", Need::kOptional, Range::non_negative(), &noise_nt);
-  map.read_number("resolution_nt", Need::kOptional, Range::non_negative(), &resolution_nt);
-  map.read_number("range_ut", Need::kOptional, Range::positive(), &range_ut);
-  for (auto& axis : p.noise.axes) axis.white_noise_density = noise_nt * 1e-9 / std::sqrt(rate_hz);
-  p.noise.lsb = resolution_nt * 1e-9;
-  if (range_ut > 0.0) p.noise.min = -(p.noise.max = range_ut * 1e-6);
-  if (const auto hard_iron = map.optional("hard_iron")) p.dipoles_B = read_dipoles(*hard_iron);
-  if (const auto soft_iron = map.optional("soft_iron")) {
-    if (const auto values = soft_iron->numbers(9)) {
-      p.soft_iron_S = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(values->data());
-    }
-  }
-}
-
-// The DVL keys of a sensor entry (configs/REFERENCE.md): a data-sheet preset (dvl_specs.csv rows; it
-// also sets rate_hz unless given) and/or geometry, bottom-lock window, noise per ping, the paper's
-// bias drift, water track and sound-speed error. Per-ping sigmas become white-noise densities at the
-// sensor's sample period (sensors::dvl_params).
-void read_dvl(const MapReader& map, bool rate_given, double* rate_hz, DvlSensorSpec* dvl) {
-  const sensors::DvlParams defaults;
-  sensors::DvlDatasheet sheet;  // generic: the DvlParams defaults with 5 mm/s per beam
-  sheet.id = "generic";
-  sheet.beam_tilt_deg = defaults.beam_tilt / kDegToRad;
-  sheet.min_altitude_m = defaults.min_altitude;
-  sheet.max_altitude_m = defaults.max_altitude;
-  sheet.beam_velocity_sigma = 0.005;
-  if (const auto preset = map.optional("preset")) {
-    if (const auto id = preset->string()) {
-      if (const sensors::DvlDatasheet* found = sensors::find_dvl_preset(*id)) {
-        sheet = *found;
-        if (!rate_given) *rate_hz = sheet.update_hz;
-      } else {
-        std::vector<std::string> ids;
-        for (const auto& p : sensors::dvl_presets()) ids.push_back(quoted(std::string(p.id)));
-        preset->error("unknown DVL preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
-      }
-    }
-  }
-  const double period = 1.0 / *rate_hz;
-  sensors::DvlParams& p = dvl->params;
-  p = sensors::dvl_params(sheet, period);
-  double tilt_deg = p.beam_tilt / kDegToRad, azimuth_deg = p.first_beam_azimuth / kDegToRad;
-  if (map.read_number("beam_tilt_deg", Need::kOptional, Range::closed(1.0, 60.0), &tilt_deg)) {
-    p.beam_tilt = tilt_deg * kDegToRad;
-  }
-  if (map.read_number("first_beam_azimuth_deg", Need::kOptional, Range::closed(-360.0, 360.0), &azimuth_deg)) {
-    p.first_beam_azimuth = azimuth_deg * kDegToRad;
-  }
-  if (map.read_number("min_altitude", Need::kOptional, Range::non_negative(), &p.min_altitude) &
-          map.read_number("max_altitude", Need::kOptional, Range::positive(), &p.max_altitude) &&
-      !(p.max_altitude > p.min_altitude)) {
-    map.error_at_key(map.has("max_altitude") ? "max_altitude" : "min_altitude",
-                     "max_altitude (" + format_number(p.max_altitude) + " m) must exceed min_altitude (" +
-                         format_number(p.min_altitude) + " m)");
-  }
-  map.read_number("dropout_probability", Need::kOptional, Range::closed(0.0, 1.0), &p.dropout_probability);
-  map.read_number("assumed_sound_speed", Need::kOptional, Range::non_negative(), &p.assumed_sound_speed);
-  if (p.assumed_sound_speed > 0.0 && !(p.assumed_sound_speed >= 1300.0 && p.assumed_sound_speed <= 1700.0)) {
-    map.error_at_key("assumed_sound_speed", "assumed_sound_speed must be 0 (measured) or in [1300, 1700] m/s, got " +
-                                                format_number(p.assumed_sound_speed));
-  }
-  map.read_bool("water_track", Need::kOptional, &p.water_track);
-  if (map.read_number("water_track_layer_near", Need::kOptional, Range::non_negative(), &p.water_track_layer_near) &
-          map.read_number("water_track_layer_far", Need::kOptional, Range::positive(), &p.water_track_layer_far) &&
-      !(p.water_track_layer_far > p.water_track_layer_near)) {
-    map.error_at_key(map.has("water_track_layer_far") ? "water_track_layer_far" : "water_track_layer_near",
-                     "the water-track layer must have near < far (got " + format_number(p.water_track_layer_near) +
-                         " m to " + format_number(p.water_track_layer_far) + " m)");
-  }
-  const auto per_ping = [&](const char* key, sensors::NoiseChannelParams* channel) {
-    double sigma = 0.0;
-    if (map.read_number(key, Need::kOptional, Range::non_negative(), &sigma) && map.has(key)) {
-      channel->noise.white_noise_density = sigma * std::sqrt(period);
-    }
-  };
-  per_ping("beam_velocity_noise_stddev", &p.beam_velocity_noise);
-  per_ping("water_track_noise_stddev", &p.water_track_velocity_noise);
-  per_ping("range_noise_stddev", &p.range_noise);
-  double lsb = 0.0;
-  if (map.read_number("velocity_resolution", Need::kOptional, Range::non_negative(), &lsb)) {
-    p.beam_velocity_noise.lsb = p.water_track_velocity_noise.lsb = lsb;
-  }
-  if (const auto bias_value = map.optional("bias")) {
-    const MapReader bias(*bias_value, {"initial", "initial_stddev", "drift_rate", "drift_rate_stddev", "random_walk"});
-    if (bias.ok()) {
-      bias.read_vector3("initial", Need::kOptional, Range::finite(), &p.bias.initial);
-      bias.read_number("initial_stddev", Need::kOptional, Range::non_negative(), &p.bias.initial_sigma);
-      bias.read_vector3("drift_rate", Need::kOptional, Range::finite(), &p.bias.drift_rate);
-      bias.read_number("drift_rate_stddev", Need::kOptional, Range::non_negative(), &p.bias.drift_rate_sigma);
-      bias.read_number("random_walk", Need::kOptional, Range::non_negative(), &p.bias.random_walk_density);
-    }
-  }
-  double samples = dvl->water_track_layer_samples;
-  if (map.read_number("water_track_layer_samples", Need::kOptional, Range::closed(1.0, 64.0), &samples)) {
-    dvl->water_track_layer_samples = static_cast<int>(samples);
-  }
-}
-
-// The altimeter keys of a sensor entry: range window, noise per sample, resolution, beam width.
-void read_altimeter(const MapReader& map, AltimeterSensorSpec* altimeter) {
-  map.read_number("min_range", Need::kOptional, Range::non_negative(), &altimeter->min_range);
-  if (map.read_number("max_range", Need::kOptional, Range::positive(), &altimeter->max_range) &&
-      !(altimeter->max_range > altimeter->min_range)) {
-    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
-                     "max_range (" + format_number(altimeter->max_range) + " m) must exceed min_range (" +
-                         format_number(altimeter->min_range) + " m)");
-  }
-  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &altimeter->noise_stddev);
-  map.read_number("resolution", Need::kOptional, Range::non_negative(), &altimeter->resolution);
-  double fov_deg = altimeter->field_of_view / kDegToRad;
-  if (map.read_number("field_of_view_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) {
-    altimeter->field_of_view = fov_deg * kDegToRad;
-  }
-}
-
-// One entry of a vehicle definition's `sensors` list. `link_names` as for thrusters (nullopt: unknown,
-// then a `link` is not checked); `physics_rate_hz` bounds rate_hz when known. Keys of another sensor
-// type are errors.
+// One entry of a vehicle definition's `sensors` list: the common keys, then the kind's own through its
+// reader. `link_names` as for thrusters (nullopt: unknown, then a `link` is not checked);
+// `physics_rate_hz` bounds rate_hz when known. Keys of another sensor kind are errors.
 void read_sensor(const Value& value, const std::optional<std::vector<std::string>>& link_names,
                  const std::vector<std::string>& thruster_names, std::optional<double> physics_rate_hz,
                  std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
-  // Per type, the keys only it takes.
-  static const std::vector<std::pair<SensorType, std::vector<std::string>>> kTypeKeys = {
-      {SensorType::kPressure, {"noise_stddev", "resolution", "range_max"}},
-      {SensorType::kImu, {"preset", "gyro", "accel", "white_noise_only", "temperature", "vibration"}},
-      {SensorType::kMagnetometer, {"noise_stddev_nt", "resolution_nt", "range_ut", "hard_iron", "soft_iron"}},
-      {SensorType::kGps, {"horizontal_stddev", "vertical_stddev"}},
-      {SensorType::kDvl,
-       {"preset", "beam_tilt_deg", "first_beam_azimuth_deg", "min_altitude", "max_altitude", "dropout_probability",
-        "assumed_sound_speed", "water_track", "water_track_layer_near", "water_track_layer_far",
-        "water_track_layer_samples", "beam_velocity_noise_stddev", "water_track_noise_stddev",
-        "range_noise_stddev", "velocity_resolution", "bias"}},
-      {SensorType::kAltimeter,
-       {"min_range", "max_range", "noise_stddev", "resolution", "field_of_view_deg"}}};
-  std::vector<std::pair<std::string, SensorType>> types;
+  const std::vector<SensorKindReader>& readers = sensor_kind_readers();
+  std::vector<std::pair<std::string, std::size_t>> types;
   std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
-  for (const auto& [type, own_keys] : kTypeKeys) {
-    types.emplace_back(to_string(type), type);
-    for (const std::string& key : own_keys) {
+  for (std::size_t k = 0; k < readers.size(); ++k) {
+    types.emplace_back(readers[k].type, k);
+    for (const std::string& key : *readers[k].keys) {
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
     }
   }
   const MapReader map(value, keys);
   if (!map.ok()) return;
   read_unique_name(map, "sensor", seen_names, &sensor->name);
-  if (!map.read_choice("type", Need::kRequired, types, &sensor->type)) return;
+  std::size_t kind = 0;
+  if (!map.read_choice("type", Need::kRequired, types, &kind)) return;
   if (const auto link = map.optional("link")) {
     if (const auto index = read_link_reference(*link, link_names)) sensor->link_index = *index;
   }
   if (const auto pose = map.optional("pose")) read_pose(*pose, &sensor->X_LS);
   read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
-  const std::vector<std::string>* sensor_keys = nullptr;
-  for (const auto& [type, own_keys] : kTypeKeys) {
-    if (type == sensor->type) sensor_keys = &own_keys;
-  }
-  std::vector<std::string> reported;  // a key of several other types (preset) is reported once
-  for (const auto& [type, own_keys] : kTypeKeys) {
-    if (type == sensor->type) continue;
-    for (const std::string& key : own_keys) {
-      if (map.has(key) && std::find(sensor_keys->begin(), sensor_keys->end(), key) == sensor_keys->end() &&
+  const SensorKindReader& reader = readers[kind];
+  std::vector<std::string> reported;  // a key of several other kinds (preset) is reported once
+  for (const SensorKindReader& other : readers) {
+    if (&other == &reader) continue;
+    for (const std::string& key : *other.keys) {
+      if (map.has(key) && std::find(reader.keys->begin(), reader.keys->end(), key) == reader.keys->end() &&
           std::find(reported.begin(), reported.end(), key) == reported.end()) {
         reported.push_back(key);
-        map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(to_string(sensor->type)));
+        map.error_at_key(key, "key " + quoted(key) + " is not used by sensor type " + quoted(reader.type));
       }
     }
   }
-  switch (sensor->type) {
-    case SensorType::kPressure: {
-      PressureSensorSpec& pressure = sensor->pressure;
-      map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &pressure.noise_stddev);
-      map.read_number("resolution", Need::kOptional, Range::non_negative(), &pressure.resolution);
-      map.read_number("range_max", Need::kOptional, Range::positive(), &pressure.range_max);
-      break;
-    }
-    case SensorType::kImu:
-      read_imu(map, thruster_names, &sensor->imu);
-      break;
-    case SensorType::kMagnetometer:
-      read_magnetometer(map, &sensor->magnetometer, sensor->rate_hz);
-      break;
-    case SensorType::kGps:
-      map.read_number("horizontal_stddev", Need::kOptional, Range::non_negative(), &sensor->gps.horizontal_stddev);
-      map.read_number("vertical_stddev", Need::kOptional, Range::non_negative(), &sensor->gps.vertical_stddev);
-      break;
-    case SensorType::kDvl:
-      read_dvl(map, map.has("rate_hz"), &sensor->rate_hz, &sensor->dvl);
-      break;
-    case SensorType::kAltimeter:
-      read_altimeter(map, &sensor->altimeter);
-      break;
-  }
+  sensor->kind = reader.read(sensors::SensorReader{map, thruster_names, map.has("rate_hz"), sensor->rate_hz});
 }
 
 void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* coefficients) {
@@ -1199,7 +909,6 @@ class ScenarioLoader {
 
   DiagnosticSink sink_;
   std::optional<double> physics_rate_hz_;  // nullopt when world.physics_rate_hz is invalid
-  std::vector<sensors::MagneticDipole> world_dipoles_;  // world.magnetic_dipoles, for magnetometers
   struct IncludedFile {
     std::string open_error;                       // set when the file cannot be opened
     std::optional<VehicleDefinition> definition;  // nullopt when it cannot be opened or parsed
@@ -1289,8 +998,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
     }
   }
   if (const auto dipoles = map.optional("magnetic_dipoles")) {
-    world->magnetic_dipoles_W = read_dipoles(*dipoles);
-    world_dipoles_ = world->magnetic_dipoles_W;
+    world->magnetic_dipoles_W = sensors::read_dipoles(*dipoles);
   }
   if (const auto dynamics_value = map.optional("dynamics")) {
     const MapReader dynamics(*dynamics_value, {"gyroscopic", "earth_rotation"});
@@ -1360,7 +1068,6 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     vehicle->fluid = definition->fluid;
     for (SensorSpec& sensor : vehicle->sensors) {
       if (sensor.frame_id.empty()) sensor.frame_id = vehicle->name + "/" + sensor.name;
-      if (sensor.type == SensorType::kMagnetometer) sensor.magnetometer.params.dipoles_W = world_dipoles_;
     }
   }
 

@@ -481,18 +481,18 @@ vehicles:
   const std::vector<SensorSpec>& sensors = result.model->vehicles[0].sensors;
   ASSERT_EQ(sensors.size(), 2u);
   EXPECT_EQ(sensors[0].name, "depth");
-  EXPECT_EQ(sensors[0].type, SensorType::kPressure);
+  EXPECT_EQ(sensors[0].type(), "pressure");
   EXPECT_EQ(sensors[0].link_index, 0);
   EXPECT_EQ(sensors[0].rate_hz, 10.0);
   EXPECT_EQ(sensors[0].frame_id, "auv/depth");
-  EXPECT_EQ(sensors[0].pressure.noise_stddev, 0.0);
+  EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[0]).noise_stddev, 0.0);
   EXPECT_EQ(sensors[1].link_index, 1);
   EXPECT_EQ(sensors[1].X_LS.translation(), Eigen::Vector3d(-0.7, 0, 0.1));
   EXPECT_EQ(sensors[1].rate_hz, 200.0);
   EXPECT_EQ(sensors[1].frame_id, "auv/aft_pressure");
-  EXPECT_EQ(sensors[1].pressure.noise_stddev, 50.0);
-  EXPECT_EQ(sensors[1].pressure.resolution, 10.0);
-  EXPECT_EQ(sensors[1].pressure.range_max, 7.0e7);
+  EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).noise_stddev, 50.0);
+  EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).resolution, 10.0);
+  EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).range_max, 7.0e7);
 }
 
 TEST_F(ScenarioLoaderTest, SensorErrors) {
@@ -556,9 +556,9 @@ vehicles:
   const std::vector<SensorSpec>& sensors = result.model->vehicles[0].sensors;
   ASSERT_EQ(sensors.size(), 4u);
   // The preset sets the rate (8 Hz), the window and the per-ping noise at that rate.
-  EXPECT_EQ(sensors[0].type, SensorType::kDvl);
+  EXPECT_EQ(sensors[0].type(), "dvl");
   EXPECT_EQ(sensors[0].rate_hz, 8.0);
-  const sensors::DvlParams& nortek = sensors[0].dvl.params;
+  const sensors::DvlParams& nortek = spec_of<sensors::DvlSensor>(sensors[0]).params;
   EXPECT_DOUBLE_EQ(nortek.beam_tilt, 25.0 * M_PI / 180.0);
   EXPECT_EQ(nortek.min_altitude, 0.2);
   EXPECT_EQ(nortek.max_altitude, 75.0);
@@ -566,7 +566,7 @@ vehicles:
   EXPECT_DOUBLE_EQ(nortek.water_track_velocity_noise.noise.white_noise_density, 0.015 * std::sqrt(1.0 / 8.0));
   // Keys override the preset; noise per ping at the given 4 Hz.
   EXPECT_EQ(sensors[1].rate_hz, 4.0);
-  const sensors::DvlParams& p = sensors[1].dvl.params;
+  const sensors::DvlParams& p = spec_of<sensors::DvlSensor>(sensors[1]).params;
   EXPECT_DOUBLE_EQ(p.beam_tilt, 20.0 * M_PI / 180.0);
   EXPECT_EQ(p.first_beam_azimuth, 0.0);
   EXPECT_EQ(p.min_altitude, 0.7);
@@ -583,14 +583,14 @@ vehicles:
   EXPECT_EQ(p.bias.initial_sigma, 0.002);
   EXPECT_EQ(p.bias.drift_rate, Eigen::Vector3d(0, 1e-7, 0));
   EXPECT_EQ(p.bias.random_walk_density, 1e-5);
-  const AltimeterSensorSpec& alt = sensors[2].altimeter;
-  EXPECT_EQ(sensors[2].type, SensorType::kAltimeter);
+  const sensors::AltimeterSensor::Spec& alt = spec_of<sensors::AltimeterSensor>(sensors[2]);
+  EXPECT_EQ(sensors[2].type(), "altimeter");
   EXPECT_EQ(alt.min_range, 0.5);
   EXPECT_EQ(alt.max_range, 50.0);
   EXPECT_EQ(alt.noise_stddev, 0.02);
   EXPECT_EQ(alt.resolution, 0.01);
   EXPECT_DOUBLE_EQ(alt.field_of_view, 10.0 * M_PI / 180.0);
-  EXPECT_EQ(sensors[3].altimeter.max_range, AltimeterSensorSpec{}.max_range);
+  EXPECT_EQ(spec_of<sensors::AltimeterSensor>(sensors[3]).max_range, sensors::AltimeterSensor::Spec{}.max_range);
   EXPECT_EQ(sensors[3].rate_hz, 10.0);
 }
 
@@ -653,8 +653,8 @@ vehicles:
 )");
   const LoadResult result = load_scenario_file(path);
   ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
-  const ImuSensorSpec& imu = result.model->vehicles[0].sensors[0].imu;
-  EXPECT_EQ(result.model->vehicles[0].sensors[0].type, SensorType::kImu);
+  const sensors::ImuSensor::Spec& imu = spec_of<sensors::ImuSensor>(result.model->vehicles[0].sensors[0]);
+  EXPECT_EQ(result.model->vehicles[0].sensors[0].type(), "imu");
   EXPECT_DOUBLE_EQ(imu.gyro.axes[0].white_noise_density, sensors::arw_to_noise_density(0.2));  // override
   EXPECT_FALSE(imu.gyro.axes[0].gauss_markov.empty());  // the preset's bias instability
   EXPECT_DOUBLE_EQ(imu.gyro.max, 400.0 * M_PI / 180.0);
@@ -666,7 +666,7 @@ vehicles:
   EXPECT_EQ(imu.vibration_thruster, 0);
   EXPECT_EQ(imu.vibration_blades, 4);
   EXPECT_DOUBLE_EQ(imu.accel_vibration_amplitude, 2e-3 * 9.80665);
-  const ImuSensorSpec& plain = result.model->vehicles[0].sensors[1].imu;
+  const sensors::ImuSensor::Spec& plain = spec_of<sensors::ImuSensor>(result.model->vehicles[0].sensors[1]);
   EXPECT_TRUE(plain.gyro.axes[0].gauss_markov.empty());
   EXPECT_GT(plain.gyro.axes[0].white_noise_density, 0.0);
   EXPECT_EQ(plain.gyro.scale_factor_sigma, 0.0);
@@ -722,9 +722,9 @@ vehicles:
   ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
   EXPECT_DOUBLE_EQ(result.model->world.start_decimal_year, sensors::decimal_year_from_date(2027, 7, 2));
   ASSERT_EQ(result.model->world.magnetic_dipoles_W.size(), 1u);
-  const sensors::MagnetometerParams& p = result.model->vehicles[0].sensors[0].magnetometer.params;
-  ASSERT_EQ(p.dipoles_W.size(), 1u);  // the world's dipoles, copied to every magnetometer
-  EXPECT_EQ(p.dipoles_W[0].radius_m, 5.0);
+  EXPECT_EQ(result.model->world.magnetic_dipoles_W[0].radius_m, 5.0);
+  const sensors::MagnetometerParams& p = spec_of<sensors::MagnetometerSensor>(result.model->vehicles[0].sensors[0]).params;
+  EXPECT_TRUE(p.dipoles_W.empty());  // the world's dipoles stay the world's
   ASSERT_EQ(p.dipoles_B.size(), 1u);
   EXPECT_EQ(p.dipoles_B[0].p_FD, Eigen::Vector3d(-0.7, 0, 0));
   EXPECT_EQ(p.soft_iron_S(0, 1), 0.01);

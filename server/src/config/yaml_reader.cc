@@ -1,4 +1,4 @@
-#include "yaml_reader.h"
+#include "hadal/config/yaml_reader.h"
 
 #include <algorithm>
 #include <cctype>
@@ -13,20 +13,26 @@
 
 namespace hadal::config {
 
-namespace {
-
-int one_based(int zero_based) { return zero_based >= 0 ? zero_based + 1 : 0; }
+std::string Diagnostic::format() const {
+  // Line 0 means "no position" (e.g. a file that cannot be opened); an empty path is the document root.
+  std::string out = file;
+  if (line > 0) out += ":" + std::to_string(line) + ":" + std::to_string(column);
+  out += warning ? ": warning: " : ": error: ";
+  if (!path.empty()) out += path + ": ";
+  return out + message;
+}
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
-std::string join(const std::vector<std::string>& items, const std::string& separator) {
+std::string join_names(const std::vector<std::string>& names) {
   std::string out;
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    if (i > 0) out += separator;
-    out += items[i];
-  }
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i > 0 ? ", " : "") + names[i];
   return out;
 }
+
+namespace {
+
+int one_based(int zero_based) { return zero_based >= 0 ? zero_based + 1 : 0; }
 
 // A plain scalar in the YAML 1.2 core schema's float/int syntax, or its .inf/.nan spellings.
 // Returns nullopt when `text` is not a number at all; the value may be non-finite.
@@ -377,7 +383,7 @@ std::optional<Eigen::Vector3d> Value::vector3(const Range& each) const {
 void Value::report_bad_choice(const std::vector<std::string>& names) const {
   std::vector<std::string> quoted_names;
   for (const auto& name : names) quoted_names.push_back(quoted(name));
-  const std::string allowed = names.size() == 1 ? quoted_names.front() : "one of " + join(quoted_names, ", ");
+  const std::string allowed = names.size() == 1 ? quoted_names.front() : "one of " + join_names(quoted_names);
   error("must be " + allowed + " (got " + describe() + ")");
 }
 

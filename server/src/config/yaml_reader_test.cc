@@ -1,4 +1,4 @@
-#include "yaml_reader.h"
+#include "hadal/config/yaml_reader.h"
 
 #include <gtest/gtest.h>
 

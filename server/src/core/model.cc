@@ -9,6 +9,10 @@ int VehicleSpec::link_index(const std::string& link_name) const {
   return -1;
 }
 
+std::string_view SensorSpec::type() const {
+  return std::visit([](const auto& spec) { return sensors::KindOf<std::decay_t<decltype(spec)>>::kType; }, kind);
+}
+
 int Model::vehicle_index(const std::string& name) const {
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     if (vehicles[i].name == name) return static_cast<int>(i);
@@ -31,24 +35,6 @@ constexpr VehicleTypeName kVehicleTypeNames[] = {
 const char* to_string(VehicleType type) {
   for (const auto& entry : kVehicleTypeNames) {
     if (entry.type == type) return entry.name;
-  }
-  return "unknown";
-}
-
-const char* to_string(SensorType type) {
-  switch (type) {
-    case SensorType::kPressure:
-      return "pressure";
-    case SensorType::kImu:
-      return "imu";
-    case SensorType::kMagnetometer:
-      return "magnetometer";
-    case SensorType::kGps:
-      return "gps";
-    case SensorType::kDvl:
-      return "dvl";
-    case SensorType::kAltimeter:
-      return "altimeter";
   }
   return "unknown";
 }

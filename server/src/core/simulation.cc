@@ -26,12 +26,11 @@
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/physics/thruster.h"
 #include "hadal/core/rate_divider.h"
-#include <GeographicLib/LocalCartesian.hpp>
 
-#include "hadal/sensors/dvl.h"
-#include "hadal/sensors/geomagnetic.h"
-#include "hadal/sensors/magnetometer.h"
-#include "hadal/sensors/noise.h"
+#include "hadal/geometry/scene_rays.h"
+#include "hadal/sensors/sample_context.h"
+#include "hadal/sensors/sensor_kinds.h"
+#include "hadal/core/units.h"
 #include "worker_pool.h"
 
 namespace hadal {
@@ -47,17 +46,10 @@ struct Simulation::VehicleRuntime {
   double mass = 0.0;
   Matrix6d M_A0 = Matrix6d::Zero();                  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
-  // Per sensor (same order as VehicleSpec::sensors): its pose in B and its noise parameters.
+  // Per sensor (same order as VehicleSpec::sensors): its pose in B and its sample period.
   struct Sensor {
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
-    double period = 0.0;                     // nominal sample period 1 / rate_hz [s]
-    sensors::NoiseChannelParams channel;     // pressure [Pa], altimeter range [m]
-    sensors::NoiseTriadParams triad;         // gps: east, north, up position noise [m]
-    // DVL: beam unit vectors d_i in S, the water-track layer's sample points per beam in S, the ray
-    // length that covers the bottom-lock window and the layer [m].
-    std::array<Eigen::Vector3d, sensors::kDvlBeams> beams_S{};
-    std::array<std::vector<Eigen::Vector3d>, sensors::kDvlBeams> layer_points_S{};
-    double ray_length = 0.0;
+    double period = 0.0;  // nominal sample period 1 / rate_hz [s]
   };
   std::vector<Sensor> sensors = {};
   // Surface model: volume displaced twice where hull parts overlap, its centroid in B, and the
@@ -84,7 +76,6 @@ struct Simulation::VehicleRuntime {
 namespace {
 
 constexpr std::size_t kParallelFluidFaces = 4096;
-constexpr double kPi = 3.14159265358979323846;
 
 std::string format_number(double value) {
   char buffer[32];
@@ -350,49 +341,13 @@ const Model& validated(const Model& model) {
 
 }  // namespace
 
-// The world as the ray-casting sensors (DVL, altimeter) see it: the scenario's Embree scene (seabed and
-// every vehicle's surface), traced on the stepping thread so samples are part of the lockstep-
-// deterministic step. Built only when some vehicle carries such a sensor.
-struct Simulation::RayCaster {
-  explicit RayCaster(const Model& model) : scene(geometry::build_world_scene(model, "threads=1")) {
-    scene.build();
-  }
-  // Moves the vehicles' instances to the state's poses, once per step.
-  void set_poses(const SimState& state) {
-    if (posed_step == state.step_count) return;
-    poses.clear();
-    for (const VehicleState& vehicle : state.vehicles) poses.push_back(vehicle.body.X_WB);
-    scene.set_body_poses(poses);
-    posed_step = state.step_count;
-  }
-  // Distances [m] along unit directions d_W from p_W, ignoring body `own` (+inf: nothing within
-  // max_distance).
-  template <std::size_t N>
-  std::array<double, N> cast(const Eigen::Vector3d& p_W, const std::array<Eigen::Vector3d, N>& d_W, int own,
-                             double max_distance) {
-    rays.clear_rays();
-    for (const Eigen::Vector3d& d : d_W) {
-      rays.add_ray(p_W.cast<float>(), d.normalized().cast<float>(), 0.0f, static_cast<float>(max_distance),
-                   static_cast<std::int32_t>(own));
-    }
-    hits.resize(N);
-    scene.intersect(rays, 0, N, geometry::QueryPath::kSingle, hits);
-    std::array<double, N> out{};
-    for (std::size_t i = 0; i < N; ++i) out[i] = hits.distance[i];
-    return out;
-  }
-
-  geometry::EmbreeScene scene;
-  geometry::RayBatch rays;
-  geometry::RayHits hits;
-  std::vector<Eigen::Isometry3d> poses;
-  std::optional<std::uint64_t> posed_step;  // the step whose poses the scene holds; none: stale
-};
-
 Simulation::Simulation(Model model)
     : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
   const double dt = model_.world.step_size();
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
+  const GeodeticOrigin& origin = model_.world.origin;
+  environment_ = std::make_unique<sensors::SensorEnvironment>(origin.latitude, origin.longitude, origin.altitude);
+  bool casts_rays = false;
   runtime_.reserve(model_.vehicles.size());
   for (const VehicleSpec& spec : model_.vehicles) {
     const int index = static_cast<int>(runtime_.size());
@@ -426,93 +381,24 @@ Simulation::Simulation(Model model)
     }
     VehicleState vehicle = initial_vehicle_state(spec);
     for (const SensorSpec& sensor : spec.sensors) {
-      VehicleRuntime::Sensor s;
-      s.X_BS = spec.links[sensor.link_index].X_BL * sensor.X_LS;
-      s.period = 1.0 / sensor.rate_hz;
-      SensorState sensor_state;
-      switch (sensor.type) {
-        case SensorType::kPressure: {
-          // White noise of stddev sigma per sample is a density sigma sqrt(T) at the sample period T.
-          s.channel.noise.white_noise_density = sensor.pressure.noise_stddev * std::sqrt(s.period);
-          s.channel.lsb = sensor.pressure.resolution;
-          s.channel.min = 0.0;
-          s.channel.max = sensor.pressure.range_max;
-          sensor_state.channels.push_back(sensors::make_noise_state(
-              s.channel, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "pressure")));
-          sensor_state.value.assign(1, 0.0);
-          break;
-        }
-        case SensorType::kMagnetometer: {
-          if (!geomagnetic_) {
-            geomagnetic_ = std::make_unique<sensors::GeomagneticModel>(
-                sensors::GeomagneticModel::load_cof(HADAL_WMM_COF));
-            const GeodeticOrigin& o = model_.world.origin;
-            frame_W_ = std::make_unique<sensors::LocalEnuFrame>(
-                sensors::GeodeticPosition{o.latitude, o.longitude, o.altitude});
-          }
-          sensor_state.triads.push_back(sensors::make_magnetometer_state(
-              sensor.magnetometer.params,
-              sensors::channel_key(model_.world.seed, spec.name, sensor.name, "magnetic_field")).noise);
-          sensor_state.value.assign(3, 0.0);  // B_S [T]
-          break;
-        }
-        case SensorType::kGps: {
-          // White noise of stddev sigma per fix is a density sigma sqrt(T) at the fix period T.
-          s.triad.axes[0].white_noise_density = sensor.gps.horizontal_stddev * std::sqrt(s.period);
-          s.triad.axes[1].white_noise_density = sensor.gps.horizontal_stddev * std::sqrt(s.period);
-          s.triad.axes[2].white_noise_density = sensor.gps.vertical_stddev * std::sqrt(s.period);
-          sensor_state.triads.push_back(sensors::make_noise_state(
-              s.triad, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "position")));
-          sensor_state.value.assign(4, 0.0);  // latitude [deg], longitude [deg], height [m], fix (1/0)
-          if (!local_cartesian_) {
-            const GeodeticOrigin& o = model_.world.origin;
-            local_cartesian_ = std::make_unique<GeographicLib::LocalCartesian>(
-                o.latitude * 180.0 / EIGEN_PI, o.longitude * 180.0 / EIGEN_PI, o.altitude);
-          }
-          break;
-        }
-        case SensorType::kDvl: {
-          const sensors::DvlParams& params = sensor.dvl.params;
-          s.beams_S = sensors::dvl_beam_unit_vectors(params);
-          for (int b = 0; b < sensors::kDvlBeams; ++b) {
-            s.layer_points_S[static_cast<std::size_t>(b)] =
-                sensors::water_track_layer_points(params, b, sensor.dvl.water_track_layer_samples);
-          }
-          // Returns beyond the window (or the layer's far edge) change nothing: stop the rays there.
-          s.ray_length =
-              1.01 * std::max(params.max_altitude, params.water_track_layer_far) / std::cos(params.beam_tilt);
-          sensor_state.dvl = sensors::make_dvl_state(params, model_.world.seed, spec.name, sensor.name);
-          sensor_state.dvl_ping = sensors::DvlPing{};
-          if (!rays_) rays_ = std::make_unique<RayCaster>(model_);
-          break;
-        }
-        case SensorType::kAltimeter: {
-          const AltimeterSensorSpec& altimeter = sensor.altimeter;
-          s.channel.noise.white_noise_density = altimeter.noise_stddev * std::sqrt(s.period);
-          s.channel.lsb = altimeter.resolution;
-          s.channel.min = altimeter.min_range;
-          s.channel.max = altimeter.max_range;
-          s.ray_length = 1.01 * altimeter.max_range;
-          sensor_state.channels.push_back(sensors::make_noise_state(
-              s.channel, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "range")));
-          sensor_state.value.assign(1, 0.0);  // range [m], -inf / +inf outside the window
-          if (!rays_) rays_ = std::make_unique<RayCaster>(model_);
-          break;
-        }
-        case SensorType::kImu: {
-          sensor_state.triads.push_back(sensors::make_noise_state(
-              sensor.imu.gyro, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "gyro")));
-          sensor_state.triads.push_back(sensors::make_noise_state(
-              sensor.imu.accel, sensors::channel_key(model_.world.seed, spec.name, sensor.name, "accel")));
-          sensor_state.value.assign(6, 0.0);  // w_S [rad/s], f_S [m/s^2]
-          break;
-        }
-      }
-      runtime.sensors.push_back(s);
-      vehicle.sensors.push_back(std::move(sensor_state));
+      const VehicleRuntime::Sensor& mount =
+          runtime.sensors.emplace_back(VehicleRuntime::Sensor{spec.links[sensor.link_index].X_BL * sensor.X_LS,
+                                                              1.0 / sensor.rate_hz});
+      SensorState& sensor_state = vehicle.sensors.emplace_back();
+      std::visit(
+          [&](const auto& kind_spec) {
+            using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
+            const sensors::SensorSetup setup{model_.world.seed, spec.name, sensor.name, mount.period, *environment_};
+            sensor_state.kind = Kind::initial_state(kind_spec, setup);
+            casts_rays = casts_rays || Kind::kCastsRays;
+          },
+          sensor.kind);
     }
     runtime_.push_back(std::move(runtime));
     state_.vehicles.push_back(std::move(vehicle));
+  }
+  if (casts_rays) {
+    rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_, "threads=1"));
   }
   // Fluid forces of several vehicles in parallel when it pays: a wake-up costs ~10 us, one face
   // ~4.5 ns, so from ~2 x 4k faces on (the second-largest hull bounds the gain).
@@ -552,12 +438,10 @@ void Simulation::set_state(const SimState& state) {
                                   std::to_string(state.vehicles[i].sensors.size()));
     }
     for (std::size_t k = 0; k < model_.vehicles[i].sensors.size(); ++k) {
-      const bool dvl = model_.vehicles[i].sensors[k].type == SensorType::kDvl;
-      const SensorState& sensor = state.vehicles[i].sensors[k];
-      if (dvl != (sensor.dvl.has_value() && sensor.dvl_ping.has_value())) {
-        throw std::invalid_argument("set_state: vehicle '" + model_.vehicles[i].name + "': sensor '" +
-                                    model_.vehicles[i].sensors[k].name +
-                                    (dvl ? "' is a DVL without DVL state" : "' has DVL state but is no DVL"));
+      const SensorSpec& sensor = model_.vehicles[i].sensors[k];
+      if (state.vehicles[i].sensors[k].kind.index() != sensor.kind.index()) {
+        throw std::invalid_argument("set_state: vehicle '" + model_.vehicles[i].name + "': sensor '" + sensor.name +
+                                    "' is a " + std::string(sensor.type()) + ", its state is of another kind");
       }
     }
     if (state.vehicles[i].thrusters.size() != model_.vehicles[i].thrusters.size()) {
@@ -568,7 +452,7 @@ void Simulation::set_state(const SimState& state) {
     }
   }
   state_ = state;
-  if (rays_) rays_->posed_step.reset();  // the restored poses, even at the same step count
+  if (rays_) rays_->invalidate();  // the restored poses, even at the same step count
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     VehicleState& vehicle = state_.vehicles[i];
     if (!is_finite(vehicle)) reset_non_finite(model_.vehicles[i], vehicle);
@@ -787,124 +671,17 @@ void Simulation::step() {
     VehicleState& vehicle = state_.vehicles[i];
     for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
       if (!sample_due(state_.step_count, dt, spec.sensors[k].rate_hz)) continue;
-      const VehicleRuntime::Sensor& sensor = runtime.sensors[k];
+      const VehicleRuntime::Sensor& mount = runtime.sensors[k];
+      const sensors::SampleContext context{state_.time, mount.period, dt, model_.world, *ocean_, *environment_,
+                                           state_, i, mount.X_BS, runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
+                                           rays_.get()};
       SensorState& out = vehicle.sensors[k];
-      switch (spec.sensors[k].type) {
-        case SensorType::kPressure: {
-          // Absolute pressure at the sensor's origin (atmospheric above the surface).
-          const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
-          const double ideal = ocean_->pressure(std::max(ocean_->depth(p_WS.z()), 0.0));
-          out.value[0] = sensors::measure(sensor.channel, out.channels[0], ideal, sensor.period);
-          break;
-        }
-        case SensorType::kMagnetometer: {
-          // Decimal year of the sim time (a Julian year per year: within 1e-5 of the calendar's).
-          const double year = model_.world.start_decimal_year + state_.time / (365.25 * 86400.0);
-          sensors::MagnetometerState magnetometer{out.triads[0]};
-          const sensors::MagneticFieldSample sample = sensors::measure_magnetic_field(
-              spec.sensors[k].magnetometer.params, magnetometer, *geomagnetic_, *frame_W_, year,
-              vehicle.body.X_WB, sensor.X_BS, sensor.period);
-          out.triads[0] = magnetometer.noise;
-          for (int c = 0; c < 3; ++c) out.value[c] = sample.B_measured_S[c];
-          break;
-        }
-        case SensorType::kGps: {
-          const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
-          // The noise streams advance with or without a fix, so dives do not shift later fixes.
-          const Eigen::Vector3d p_meas = sensors::measure(sensor.triad, out.triads[0], p_WS, sensor.period);
-          if (p_WS.z() > model_.world.water.surface_z) {
-            local_cartesian_->Reverse(p_meas.x(), p_meas.y(), p_meas.z(), out.value[0], out.value[1],
-                                      out.value[2]);
-            out.value[3] = 1.0;
-          } else {
-            out.value[0] = out.value[1] = out.value[2] = std::numeric_limits<double>::quiet_NaN();
-            out.value[3] = 0.0;
-          }
-          break;
-        }
-        case SensorType::kDvl: {
-          const sensors::DvlParams& params = spec.sensors[k].dvl.params;
-          const RigidBodyState& body = vehicle.body;
-          const Eigen::Matrix3d R_WS = body.X_WB.linear() * sensor.X_BS.linear();
-          const Eigen::Matrix3d R_SW = R_WS.transpose();
-          const Eigen::Vector3d p_WS = body.X_WB * sensor.X_BS.translation();
-          sensors::DvlPingInput input;
-          // The transducer's velocity over the seabed (lever arm included), in S.
-          input.v_WS_S = R_SW * (body.v_WB + body.w_WB.cross(p_WS - body.X_WB.translation()));
-          std::array<Eigen::Vector3d, sensors::kDvlBeams> beams_W;
-          for (int b = 0; b < sensors::kDvlBeams; ++b) beams_W[b] = R_WS * sensor.beams_S[b];
-          rays_->set_poses(state_);
-          input.slant_range = rays_->cast(p_WS, beams_W, i, sensor.ray_length);
-          if (params.water_track) {
-            for (int b = 0; b < sensors::kDvlBeams; ++b) {
-              Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-              for (const Eigen::Vector3d& p_S : sensor.layer_points_S[b]) {
-                sum += ocean_->current_W(p_WS + R_WS * p_S, state_.time);
-              }
-              input.v_water_S[b] = R_SW * sum / static_cast<double>(sensor.layer_points_S[b].size());
-            }
-          }
-          input.sound_speed = ocean_->sound_speed(std::max(ocean_->depth(p_WS.z()), 0.0));
-          input.dt = sensor.period;
-          out.dvl_ping = sensors::dvl_ping(params, *out.dvl, input);
-          break;
-        }
-        case SensorType::kAltimeter: {
-          const AltimeterSensorSpec& altimeter = spec.sensors[k].altimeter;
-          const Eigen::Vector3d p_WS = vehicle.body.X_WB * sensor.X_BS.translation();
-          const Eigen::Vector3d x_W = vehicle.body.X_WB.linear() * sensor.X_BS.linear().col(0);
-          rays_->set_poses(state_);
-          const double range = rays_->cast(p_WS, std::array<Eigen::Vector3d, 1>{x_W}, i, sensor.ray_length)[0];
-          // The noise stream advances every sample, in the window or not.
-          const double measured = sensors::measure(sensor.channel, out.channels[0],
-                                                   std::isfinite(range) ? range : 0.0, sensor.period);
-          if (range < altimeter.min_range) {
-            out.value[0] = -std::numeric_limits<double>::infinity();
-          } else if (!(range <= altimeter.max_range)) {
-            out.value[0] = std::numeric_limits<double>::infinity();
-          } else {
-            out.value[0] = measured;
-          }
-          break;
-        }
-        case SensorType::kImu: {
-          const ImuSensorSpec& imu = spec.sensors[k].imu;
-          const RigidBodyState& body = vehicle.body;
-          const Eigen::Matrix3d R_WS = body.X_WB.linear() * sensor.X_BS.linear();
-          const Eigen::Matrix3d R_SW = R_WS.transpose();
-          // Mean accelerations over the step that ends now (exact for Bullet's semi-implicit step).
-          const Eigen::Vector3d p_WBcm = body.X_WB * runtime.p_BBcm;
-          const Eigen::Vector3d v_WBcm = body.v_WB + body.w_WB.cross(p_WBcm - body.X_WB.translation());
-          const Eigen::Vector3d a_WBcm = (v_WBcm - runtime.v_WBcm) / dt;
-          const Eigen::Vector3d alpha_W = (body.w_WB - runtime.w_WB) / dt;
-          const Eigen::Vector3d r_W = body.X_WB * sensor.X_BS.translation() - p_WBcm;
-          const Eigen::Vector3d& w = body.w_WB;
-          const Eigen::Vector3d a_WS = a_WBcm + alpha_W.cross(r_W) + w.cross(w.cross(r_W));
-          const Eigen::Vector3d w_S = R_SW * w;
-          const Eigen::Vector3d f_S = R_SW * (a_WS - g_W);
-          // Temperature drift with the water's temperature at the sensor; thruster vibration.
-          const double depth = std::max(ocean_->depth((body.X_WB * sensor.X_BS.translation()).z()), 0.0);
-          const double dT = ocean_->temperature(depth) - imu.temperature_reference;
-          double vibration = 0.0;
-          if (imu.vibration_thruster >= 0) {
-            const double f = imu.vibration_blades *
-                             std::abs(vehicle.thrusters[static_cast<std::size_t>(imu.vibration_thruster)].rotor_speed);
-            vibration = std::sin(2.0 * EIGEN_PI * f * state_.time);
-          }
-          const Eigen::Vector3d gyro_terms = Eigen::Vector3d::Constant(
-              dT * imu.gyro_temperature_coefficient + vibration * imu.gyro_vibration_amplitude);
-          const Eigen::Vector3d accel_terms = Eigen::Vector3d::Constant(
-              dT * imu.accel_temperature_coefficient + vibration * imu.accel_vibration_amplitude);
-          const Eigen::Vector3d w_meas = sensors::measure(imu.gyro, out.triads[0], w_S, sensor.period, gyro_terms);
-          const Eigen::Vector3d f_meas =
-              sensors::measure(imu.accel, out.triads[1], f_S, sensor.period, accel_terms);
-          for (int c = 0; c < 3; ++c) {
-            out.value[c] = w_meas[c];
-            out.value[3 + c] = f_meas[c];
-          }
-          break;
-        }
-      }
+      std::visit(
+          [&](const auto& kind_spec) {
+            using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
+            Kind::sample(context, kind_spec, std::get<typename Kind::State>(out.kind));
+          },
+          spec.sensors[k].kind);
       out.stamp = state_.time;
       ++out.samples;
     }

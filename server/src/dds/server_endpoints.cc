@@ -24,6 +24,15 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
+// Every sensor kind's message type, for the sensor endpoints' reused messages.
+template <class List>
+struct MessagesOf;
+template <class... Kinds>
+struct MessagesOf<KindList<Kinds...>> {
+  using type = std::variant<typename Kinds::Message...>;
+};
+using SensorMessage = MessagesOf<sensors::SensorKinds>::type;
+
 constexpr int kStateHistoryDepth = 10;
 constexpr int kCommandHistoryDepth = 32;
 
@@ -59,7 +68,13 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
   std::vector<fdds::DataWriter*> thruster_writers;
-  std::vector<std::vector<fdds::DataWriter*>> sensor_writers;  // [vehicle][sensor]
+  // One per sensor: its writer, its slot in `counts` and its kind's message, reused every sample.
+  struct SensorEndpoint {
+    fdds::DataWriter* writer = nullptr;
+    std::size_t slot = 0;
+    SensorMessage message;
+  };
+  std::vector<std::vector<SensorEndpoint>> sensors;  // [vehicle][sensor]
   std::vector<fdds::DataReader*> setpoint_readers;
   fdds::DataReader* step_reader = nullptr;
 
@@ -68,19 +83,12 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<std::uint64_t> counts;
   std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0;
   std::vector<std::size_t> odometry_slot, thruster_slot;
-  std::vector<std::vector<std::size_t>> sensor_slot;
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
   nav_msgs::msg::Odometry odometry_msg;
   hadal_msgs::msg::ThrusterState thruster_msg;
   hadal_msgs::msg::SimStatus status_msg;
-  sensor_msgs::msg::FluidPressure pressure_msg;
-  sensor_msgs::msg::Imu imu_msg;
-  sensor_msgs::msg::MagneticField magnetic_msg;
-  sensor_msgs::msg::NavSatFix fix_msg;
-  marine_acoustic_msgs::msg::Dvl dvl_msg;
-  sensor_msgs::msg::Range range_msg;
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -220,34 +228,18 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
     d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
 
-    d.sensor_writers.emplace_back();
-    d.sensor_slot.emplace_back();
+    std::vector<Impl::SensorEndpoint>& endpoints = d.sensors.emplace_back();
     for (const SensorSpec& sensor : model.vehicles[i].sensors) {
       const std::string topic = sensor_topic(name, sensor.name);
-      switch (sensor.type) {
-        case SensorType::kPressure:
-          d.sensor_writers.back().push_back(
-              r.writer<sensor_msgs::msg::FluidPressurePubSubType>(topic, kStateHistoryDepth));
-          break;
-        case SensorType::kImu:
-          d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::ImuPubSubType>(topic, kStateHistoryDepth));
-          break;
-        case SensorType::kMagnetometer:
-          d.sensor_writers.back().push_back(
-              r.writer<sensor_msgs::msg::MagneticFieldPubSubType>(topic, kStateHistoryDepth));
-          break;
-        case SensorType::kGps:
-          d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::NavSatFixPubSubType>(topic, kStateHistoryDepth));
-          break;
-        case SensorType::kDvl:
-          d.sensor_writers.back().push_back(
-              r.writer<marine_acoustic_msgs::msg::DvlPubSubType>(topic, kStateHistoryDepth));
-          break;
-        case SensorType::kAltimeter:
-          d.sensor_writers.back().push_back(r.writer<sensor_msgs::msg::RangePubSubType>(topic, kStateHistoryDepth));
-          break;
-      }
-      d.sensor_slot.back().push_back(d.add_count(topic));
+      Impl::SensorEndpoint& endpoint = endpoints.emplace_back();
+      std::visit(
+          [&](const auto& spec) {
+            using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
+            endpoint.writer = r.writer<typename Kind::PubSubType>(topic, kStateHistoryDepth);
+            endpoint.message.template emplace<typename Kind::Message>();
+          },
+          sensor.kind);
+      endpoint.slot = d.add_count(topic);
     }
 
     auto listener = std::make_unique<Impl::SetpointListener>();
@@ -321,34 +313,18 @@ void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& 
 void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
   const auto k = static_cast<std::size_t>(sensor_index);
-  const SensorSpec& spec = impl_->model.vehicles[i].sensors[k];
+  const SensorSpec& sensor = impl_->model.vehicles[i].sensors[k];
   const SensorState& sample = state.vehicles[i].sensors[k];
-  switch (spec.type) {
-    case SensorType::kPressure:
-      fill_fluid_pressure(spec, sample, impl_->pressure_msg);
-      impl_->write(impl_->sensor_writers[i][k], &impl_->pressure_msg, impl_->sensor_slot[i][k]);
-      break;
-    case SensorType::kImu:
-      fill_imu(spec, sample, impl_->imu_msg);
-      impl_->write(impl_->sensor_writers[i][k], &impl_->imu_msg, impl_->sensor_slot[i][k]);
-      break;
-    case SensorType::kMagnetometer:
-      fill_magnetic_field(spec, sample, impl_->magnetic_msg);
-      impl_->write(impl_->sensor_writers[i][k], &impl_->magnetic_msg, impl_->sensor_slot[i][k]);
-      break;
-    case SensorType::kGps:
-      fill_nav_sat_fix(spec, sample, impl_->fix_msg);
-      impl_->write(impl_->sensor_writers[i][k], &impl_->fix_msg, impl_->sensor_slot[i][k]);
-      break;
-    case SensorType::kDvl:
-      fill_dvl(spec, sample, impl_->dvl_msg);
-      impl_->write(impl_->sensor_writers[i][k], &impl_->dvl_msg, impl_->sensor_slot[i][k]);
-      break;
-    case SensorType::kAltimeter:
-      fill_range(spec, sample, impl_->range_msg);
-      impl_->write(impl_->sensor_writers[i][k], &impl_->range_msg, impl_->sensor_slot[i][k]);
-      break;
-  }
+  Impl::SensorEndpoint& endpoint = impl_->sensors[i][k];
+  const sensors::MessageHeader header{sample.stamp, sensor.frame_id, sensor.rate_hz};
+  std::visit(
+      [&](const auto& spec) {
+        using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
+        auto& msg = std::get<typename Kind::Message>(endpoint.message);
+        Kind::fill_message(spec, std::get<typename Kind::State>(sample.kind), header, msg);
+        impl_->write(endpoint.writer, &msg, endpoint.slot);
+      },
+      sensor.kind);
 }
 
 void ServerEndpoints::publish_status(const StatusReport& report) {

@@ -1,4 +1,5 @@
 #include "hadal/geometry/primitive_mesh.h"
+#include "hadal/core/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace hadal::geometry {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void add_vertex(const Eigen::Vector3d& p, TriangleMesh* mesh) {
   mesh->positions.push_back(static_cast<float>(p.x()));

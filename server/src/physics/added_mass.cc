@@ -8,12 +8,12 @@
 #include <string>
 
 #include "hadal/geometry/mesh_properties.h"
+#include "hadal/core/units.h"
 
 namespace hadal::physics {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
   Eigen::Matrix3d s;

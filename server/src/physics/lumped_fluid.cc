@@ -1,4 +1,5 @@
 #include "hadal/physics/lumped_fluid.h"
+#include "hadal/core/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,6 @@
 namespace hadal::physics {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 LumpedFluid::LumpedFluid(const VehicleSpec& vehicle, const WorldSpec& world)

@@ -104,15 +104,16 @@ std::vector<Eigen::Vector3d> water_track_layer_points(const DvlParams& params, i
   if (beam < 0 || beam >= kDvlBeams) invalid("water_track_layer_points: beam", "must be in [0, 3]", beam);
   if (n < 1) invalid("water_track_layer_points: n", "must be >= 1", n);
   const Eigen::Vector3d d = dvl_beam_unit_vectors(params)[beam];
-  const double cos_tilt = std::cos(params.beam_tilt);
-  const double cell = (params.water_track_layer_far - params.water_track_layer_near) / n;
   std::vector<Eigen::Vector3d> points;
   points.reserve(n);
-  for (int j = 0; j < n; ++j) {
-    const double h = params.water_track_layer_near + (j + 0.5) * cell;
-    points.push_back(d * (h / cos_tilt));
-  }
+  for (int j = 0; j < n; ++j) points.push_back(water_track_layer_point(params, d, j, n));
   return points;
+}
+
+Eigen::Vector3d water_track_layer_point(const DvlParams& params, const Eigen::Vector3d& d_S, int j, int n) {
+  const double cell = (params.water_track_layer_far - params.water_track_layer_near) / n;
+  const double h = params.water_track_layer_near + (j + 0.5) * cell;
+  return d_S * (h / std::cos(params.beam_tilt));
 }
 
 void validate(const DvlParams& params) {

@@ -7,6 +7,7 @@
 // the offending node, in the file that holds it. The full key reference is configs/REFERENCE.md.
 #pragma once
 
+#include "hadal/config/diagnostic.h"
 #include "hadal/core/model.h"
 
 #include <optional>
@@ -14,18 +15,6 @@
 #include <vector>
 
 namespace hadal::config {
-
-struct Diagnostic {
-  std::string file;
-  int line = 0;    // 1-based
-  int column = 0;  // 1-based
-  std::string path;  // e.g. vehicles[0].thrusters[1].max_rpm
-  std::string message;
-  bool warning = false;  // a warning does not stop the load
-
-  // "file:line:col: error: path: message" (or "warning:")
-  std::string format() const;
-};
 
 struct LoadResult {
   std::optional<Model> model;  // set only when errors is empty

@@ -11,9 +11,8 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/surface_hydrodynamics.h"
-#include "hadal/sensors/dvl.h"
 #include "hadal/sensors/magnetometer.h"
-#include "hadal/sensors/noise.h"
+#include "hadal/sensors/sensor_kinds.h"
 
 #include <Eigen/Geometry>
 
@@ -21,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hadal {
@@ -130,96 +130,29 @@ struct FluidSpec {
   physics::HydrodynamicCoefficients hydrodynamics;
 };
 
-// Sensors (YAML: the vehicle definition's `sensors` list). Each is mounted on a link at X_LS (sensor
+// A sensor (YAML: the vehicle definition's `sensors` list). Each is mounted on a link at X_LS (sensor
 // frame S), samples at rate_hz in sim time (sample n at the first physics step whose time reaches
-// n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value
-// from the state, then applies its noise (DESIGN.md 4), and is published on rt/<vehicle>/<name> with
-// header.frame_id `frame_id` and the sample's sim time as stamp.
-enum class SensorType { kPressure, kImu, kMagnetometer, kGps, kDvl, kAltimeter };
-
-// Pressure sensor (sensor_msgs/FluidPressure): absolute pressure at the sensor's origin from the
-// ocean model, plus white noise, quantised to `resolution` and clipped to [0, range_max].
-struct PressureSensorSpec {
-  double noise_stddev = 0.0;  // white noise per sample [Pa]
-  double resolution = 0.0;    // quantisation step [Pa]; 0: none
-  double range_max = 1.2e8;   // full scale, absolute [Pa] (default 12 000 dbar)
-};
-
-// IMU (sensor_msgs/Imu): angular rate and specific force at the sensor's mounting point in S,
-//   w_S = R_SW w_WB,   f_S = R_SW (a_WBcm + alpha x r + w x (w x r) - g_W),   r = p_WS - p_WBcm,
-// with a_WBcm and alpha the mean accelerations over the physics step that ends at the sample; then the
-// paper's error chain per triad (sensors/noise.h: misalignment and scale, bias random walk,
-// Gauss-Markov bias instability, white noise), temperature drift (T - T_ref) k_T with the ocean's
-// temperature at the sensor, thruster vibration A sin(2 pi f t) with f the named thruster's rotor speed
-// times its blade count, quantisation and range. No orientation estimate (orientation_covariance[0] = -1).
-struct ImuSensorSpec {
-  sensors::NoiseTriadParams gyro;   // [rad/s]
-  sensors::NoiseTriadParams accel;  // [m/s^2]
-  double temperature_reference = 20.0;   // T_ref [degC]
-  double gyro_temperature_coefficient = 0.0;   // k_T [rad/s per K], every axis
-  double accel_temperature_coefficient = 0.0;  // k_T [m/s^2 per K], every axis
-  int vibration_thruster = -1;           // index into VehicleSpec::thrusters; -1: no vibration
-  int vibration_blades = 3;              // blade-pass frequency = blades x rotor speed
-  double gyro_vibration_amplitude = 0.0;   // A [rad/s], every axis
-  double accel_vibration_amplitude = 0.0;  // A [m/s^2], every axis
-};
-
-// Magnetometer (sensor_msgs/MagneticField, tesla): the World Magnetic Model 2025 at the sensor's
-// geodetic position (world.origin + p_WS on the WGS84 ellipsoid) and the decimal year of the sim time
-// (world.date + t), plus the world's static dipoles (world.magnetic_dipoles) and the vehicle's hard-iron
-// dipoles, times the soft-iron matrix, in the sensor frame, then noise, quantisation and range
-// (sensors/magnetometer.h). params.dipoles_W is filled from the world by the loader.
-struct MagnetometerSensorSpec {
-  sensors::MagnetometerParams params;
-};
-
-// GPS (sensor_msgs/NavSatFix): a fix only while the antenna (the sensor's origin) is above the water
-// surface, NO_FIX otherwise; the antenna position in W plus horizontal (east, north) and vertical white
-// noise, converted to WGS84 latitude, longitude and ellipsoidal height with GeographicLib's
-// LocalCartesian at world.origin (W is that local ENU frame).
-struct GpsSensorSpec {
-  double horizontal_stddev = 1.5;  // per horizontal axis, per fix [m]
-  double vertical_stddev = 3.0;    // [m]
-};
-
-// DVL (marine_acoustic_msgs/Dvl): four Janus beams in the sensor frame S (z along the DVL's axis, the
-// way the transducers look: mount a downward DVL with S's z down), ray-cast each ping from the
-// sensor's origin against the world (seabed and other vehicles; its own vehicle is transparent), then
-// sensors/dvl.h: bottom lock within the altitude window, dropout, 3- or 4-beam least squares, the
-// paper's bias drift, water track over the current averaged in a layer, sound-speed scale error. The
-// velocity is that of the sensor's origin over the ground (lever arm included), in S.
-struct DvlSensorSpec {
-  sensors::DvlParams params;
-  int water_track_layer_samples = 4;  // current samples per beam across the water-track layer
-};
-
-// Single-beam altimeter (sensor_msgs/Range): one ray along the sensor frame's x axis (the ROS
-// convention for Range; mount it with x down), the first hit on the world (its own vehicle is
-// transparent), plus white noise, quantised, reported when the true range lies in [min_range,
-// max_range]; -inf when closer, +inf when nothing is within max_range (REP 117). Defaults are a
-// generic 200 kHz echo-sounder altimeter (no data sheet behind them).
-struct AltimeterSensorSpec {
-  double min_range = 0.3;        // [m]
-  double max_range = 100.0;      // [m]
-  double noise_stddev = 0.01;    // white noise per sample [m]
-  double resolution = 0.001;     // quantisation step [m]; 0: none
-  double field_of_view = 6.0 * sensors::kPi / 180.0;  // full beam width, reported only [rad]
-};
-
+// n / rate_hz: no drift for rates that do not divide the physics rate), computes the ideal value from
+// the state, then applies its noise (its kind's module, sensors/<kind>_sensor.h), and is published on
+// rt/<vehicle>/<name> with header.frame_id `frame_id` and the sample's sim time as stamp.
 struct SensorSpec {
   std::string name;      // unique within the vehicle; topic rt/<vehicle>/<name>
-  SensorType type = SensorType::kPressure;
   int link_index = 0;    // index into VehicleSpec::links
   Eigen::Isometry3d X_LS = Eigen::Isometry3d::Identity();  // mounting pose in the link frame
   double rate_hz = 10.0;
   std::string frame_id;  // header.frame_id; default "<vehicle>/<name>"
-  PressureSensorSpec pressure;
-  ImuSensorSpec imu;
-  MagnetometerSensorSpec magnetometer;
-  GpsSensorSpec gps;
-  DvlSensorSpec dvl;
-  AltimeterSensorSpec altimeter;
+  sensors::SensorKindSpec kind;  // the kind (sensors/sensor_kinds.h) and its parameters
+
+  // The kind's YAML type name ("pressure", "imu", ...).
+  std::string_view type() const;
 };
+
+// The kind spec of a sensor as kind K's Spec (K must be the sensor's kind; std::bad_variant_access
+// otherwise).
+template <class K>
+const typename K::Spec& spec_of(const SensorSpec& sensor) {
+  return std::get<typename K::Spec>(sensor.kind);
+}
 
 // Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
 // thrusters take these normalised setpoints (one per thruster, in [-1, 1]).
@@ -350,8 +283,6 @@ struct Model {
 };
 
 const char* to_string(VehicleType type);
-// The YAML name of a sensor type ("pressure", "imu", "magnetometer", "gps", "dvl", "altimeter").
-const char* to_string(SensorType type);
 std::optional<VehicleType> vehicle_type_from_string(const std::string& text);
 
 }  // namespace hadal

@@ -36,17 +36,15 @@
 #include <string>
 #include <vector>
 
-namespace GeographicLib {
-class LocalCartesian;
-}
-
 namespace hadal {
 
 class WorkerPool;
 
 namespace sensors {
-class GeomagneticModel;
-class LocalEnuFrame;
+class SensorEnvironment;
+}
+namespace geometry {
+class SceneRays;
 }
 
 namespace physics {
@@ -101,12 +99,8 @@ class Simulation {
   struct VehicleRuntime;                 // per-vehicle thrusters, fluid model, sensors (simulation.cc)
   std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;     // fluid forces in parallel; null when it does not pay
-  // Magnetometers only: WMM2025 (server/data/WMM2025.COF) and W as a local ENU frame on WGS84.
-  std::unique_ptr<sensors::GeomagneticModel> geomagnetic_;
-  std::unique_ptr<sensors::LocalEnuFrame> frame_W_;
-  std::unique_ptr<GeographicLib::LocalCartesian> local_cartesian_;  // GPS: W as GeographicLib's ENU
-  struct RayCaster;                  // DVL beams and altimeters: the world's Embree scene (simulation.cc)
-  std::unique_ptr<RayCaster> rays_;  // null without ray-casting sensors
+  std::unique_ptr<sensors::SensorEnvironment> environment_;  // WMM, W's geodetic frame (on first use)
+  std::unique_ptr<geometry::SceneRays> rays_;  // the world's Embree scene; null without ray-casting sensors
 };
 
 }  // namespace hadal

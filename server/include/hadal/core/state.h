@@ -9,8 +9,7 @@
 #include <optional>
 #include <vector>
 
-#include "hadal/sensors/dvl.h"
-#include "hadal/sensors/noise.h"
+#include "hadal/sensors/sensor_kinds.h"
 
 namespace hadal {
 
@@ -37,18 +36,20 @@ enum VehicleFault : std::uint32_t {
 
 enum class CommandSource : std::uint8_t { kNone, kSchedule, kClient };
 
-// The last sample of a sensor and what its noise carries from sample to sample (generator states,
-// biases): part of the state, so a restored SimState continues every sensor stream bit-identically.
+// A sensor's evolving part: its kind's State (noise streams, biases, the last sample; same alternative
+// as the spec's kind) and when it last sampled. Part of the state, so a restored SimState continues
+// every sensor stream bit-identically.
 struct SensorState {
-  std::uint64_t samples = 0;   // samples taken so far (a publisher sends the sample when it changes)
-  double stamp = 0.0;          // sim time of the last sample [s]
-  std::vector<double> value;   // the last measurement, layout per type (pressure: {p [Pa]}; DVL: none)
-  std::vector<sensors::NoiseChannelState> channels;  // scalar noise channels, layout per type
-  std::vector<sensors::NoiseTriadState> triads;      // three-axis noise channels, layout per type
-  // DVL only: its bias, dropout and per-beam noise states, and the last ping.
-  std::optional<sensors::DvlState> dvl;
-  std::optional<sensors::DvlPing> dvl_ping;
+  std::uint64_t samples = 0;  // samples taken so far (a publisher sends the sample when it changes)
+  double stamp = 0.0;         // sim time of the last sample [s]
+  sensors::SensorKindState kind;
 };
+
+// The kind state of a sensor as kind K's State (K must be the sensor's kind).
+template <class K>
+const typename K::State& state_of(const SensorState& sensor) {
+  return std::get<typename K::State>(sensor.kind);
+}
 
 struct VehicleState {
   RigidBodyState body;

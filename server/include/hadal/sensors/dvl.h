@@ -204,6 +204,9 @@ DvlBeamSolution solve_dvl_beams(const std::array<Eigen::Vector3d, kDvlBeams>& be
 // layer's near and far edges (along the axis), p = d_i h_j / cos(theta),
 // h_j = near + (j + 1/2) (far - near) / n. Average the current over them (in S axes) for v_water_S[i].
 std::vector<Eigen::Vector3d> water_track_layer_points(const DvlParams& params, int beam, int n);
+// Point j (0..n-1) of that list for the beam direction d_S = dvl_beam_unit_vectors(params)[beam]
+// (allocation-free, for the per-ping loop).
+Eigen::Vector3d water_track_layer_point(const DvlParams& params, const Eigen::Vector3d& d_S, int j, int n);
 
 // Checks parameters (tilt in (0, pi/2), finite azimuth, 0 <= min_altitude < max_altitude, p in [0, 1],
 // assumed sound speed 0 or > 0 finite, 0 <= layer near < far, finite bias figures, non-negative sigmas,

@@ -62,6 +62,8 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/core/units.h"
+
 namespace hadal::sensors {
 
 // ---------------------------------------------------------------------------------------------------
@@ -258,7 +260,6 @@ Eigen::Vector3d measure(const NoiseTriadParams& params, NoiseTriadState& state, 
 // Datasheet figures -> parameters (IEEE Std 952 definitions)
 // ---------------------------------------------------------------------------------------------------
 
-inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kStandardGravity = 9.80665;  // g_n [m/s^2], for mg / ug figures
 inline constexpr double kFootInMeters = 0.3048;
 // Allan floor of flicker (bias-instability) noise of coefficient B: sqrt(2 ln 2 / pi) B = 0.664 B.
@@ -312,41 +313,5 @@ GaussMarkovParams bias_instability_to_gauss_markov(double bias_instability, doub
 // averaged over dt) and adds white noise. Each term costs one normal draw and one exp per sample.
 std::vector<GaussMarkovParams> bias_instability_to_gauss_markov_bank(double bias_instability, double tau_min_s,
                                                                      double tau_max_s);
-
-// ---------------------------------------------------------------------------------------------------
-// IMU presets (../shared/reference/sensors/imu_datasheet_figures.csv, rows not marked unverified)
-// ---------------------------------------------------------------------------------------------------
-
-// Figures as the CSV gives them (0 = not listed). accel_bias is the CSV's accel_bias column, used as
-// the accelerometer bias instability (the reading of it).
-struct ImuDatasheet {
-  std::string_view id;      // preset key, e.g. "honeywell_hg1700"
-  std::string_view name;    // CSV column imu
-  std::string_view source;  // CSV column source
-  double gyro_arw_deg_per_sqrt_h = 0.0;
-  double gyro_bias_instability_deg_per_h = 0.0;
-  double gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
-  double gyro_scale_factor_ppm = 0.0;        // 1-sigma, drawn per run
-  double gyro_misalignment_rad = 0.0;        // 1-sigma, drawn per run
-  double accel_noise_density = 0.0;          // [m/s^2/sqrt(Hz)], from VRW or ug/sqrt(Hz)
-  double accel_bias_instability_mps2 = 0.0;  // [m/s^2]
-  double accel_scale_factor_ppm = 0.0;       // 1-sigma, drawn per run
-  double accel_range_mps2 = std::numeric_limits<double>::infinity();
-};
-
-// HG1700, HG9900, Primus 200, STIM300 (10 g) and the Xsens MTi-300 noise densities (its bias figures
-// are unverified and left out); the KVH 1750 and iXblue rows are unverified and not presets.
-const std::vector<ImuDatasheet>& imu_presets();
-// The preset with this id, or nullptr.
-const ImuDatasheet* find_imu_preset(std::string_view id);
-
-struct ImuNoiseParams {
-  NoiseTriadParams gyro;   // [rad/s]
-  NoiseTriadParams accel;  // [m/s^2]
-};
-// A datasheet as triad parameters: ARW/VRW -> white noise, RRW -> bias random walk, bias instability ->
-// bias_instability_to_gauss_markov_bank(B, bank_tau_min_s, bank_tau_max_s), ppm -> scale_factor_sigma,
-// misalignment -> misalignment_sigma, range -> min/max. No quantization (no LSB listed).
-ImuNoiseParams imu_noise_params(const ImuDatasheet& sheet, double bank_tau_min_s = 1.0, double bank_tau_max_s = 1e5);
 
 }  // namespace hadal::sensors

@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "hadal/config/scenario_loader.h"
+#include "hadal/config/diagnostic.h"
 
 namespace hadal::config {
 
@@ -190,6 +190,11 @@ class MapReader {
   std::vector<Entry> entries_;  // first occurrence of each key, in file order
   bool ok_ = false;
 };
+
+// 'text' (names in messages).
+std::string quoted(const std::string& text);
+// "a, b, c".
+std::string join_names(const std::vector<std::string>& names);
 
 // Path of key `key` inside the map at `path` ("a.b" or "b" at the root).
 std::string child_path(const std::string& path, const std::string& key);

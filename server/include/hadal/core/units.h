@@ -1,0 +1,10 @@
+// Constants and unit conversions shared by every module (DESIGN.md 3: SI inside; degrees exist only in
+// YAML keys ending in `_deg` and are converted on load with kDegToRad).
+#pragma once
+
+namespace hadal {
+
+inline constexpr double kPi = 3.14159265358979323846;  // the double nearest to pi
+inline constexpr double kDegToRad = kPi / 180.0;
+
+}  // namespace hadal

@@ -1,0 +1,104 @@
+// IMU (YAML `type: imu`, sensor_msgs/Imu): angular rate and specific force at the sensor's mounting
+// point in the sensor frame S,
+//   w_S = R_SW w_WB,   f_S = R_SW (a_WBcm + alpha x r + w x (w x r) - g_W),   r = p_WS - p_WBcm,
+// with a_WBcm and alpha the mean accelerations over the physics step that ends at the sample (exact for
+// Bullet's semi-implicit step); then the paper's error chain per triad (sensors/noise.h: misalignment
+// and scale, bias random walk, Gauss-Markov bias instability, white noise), temperature drift
+// (T - T_ref) k_T with the ocean's temperature at the sensor, thruster vibration A sin(2 pi f t) with f
+// the named thruster's rotor speed times its blade count, quantisation and range. Random streams:
+// channels "gyro" and "accel". No orientation estimate (orientation_covariance[0] = -1); covariances
+// N^2 rate_hz per axis from the white noise.
+// YAML keys (configs/REFERENCE.md): preset, gyro {arw_deg_per_sqrt_h, bias_instability_deg_per_h,
+// rrw_deg_per_h_per_sqrt_h, scale_factor_ppm, misalignment_deg, range_deg_per_s, resolution_deg_per_s},
+// accel {vrw_m_per_s_per_sqrt_h, bias_instability_mg, scale_factor_ppm, misalignment_deg, range_g,
+// resolution_mg}, white_noise_only, temperature {reference_degc, gyro_deg_per_h_per_degc,
+// accel_mg_per_degc}, vibration {thruster, blades, gyro_deg_per_s, accel_mg}. Data-sheet units are
+// converted on load with the IEEE 952 conversions of sensors/noise.h.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hadal/sensors/noise.h"
+#include "hadal/sensors/sensor_kind.h"
+
+namespace sensor_msgs::msg {
+class Imu;
+class ImuPubSubType;
+}  // namespace sensor_msgs::msg
+
+namespace hadal::sensors {
+
+struct ImuSensor {
+  static constexpr std::string_view kType = "imu";
+  static constexpr bool kCastsRays = false;
+  using Message = sensor_msgs::msg::Imu;
+  using PubSubType = sensor_msgs::msg::ImuPubSubType;
+
+  struct Spec {
+    using Kind = ImuSensor;
+    NoiseTriadParams gyro;   // [rad/s]
+    NoiseTriadParams accel;  // [m/s^2]
+    double temperature_reference = 20.0;         // T_ref [degC]
+    double gyro_temperature_coefficient = 0.0;   // k_T [rad/s per K], every axis
+    double accel_temperature_coefficient = 0.0;  // k_T [m/s^2 per K], every axis
+    int vibration_thruster = -1;                 // index into the vehicle's thrusters; -1: none
+    int vibration_blades = 3;                    // blade-pass frequency = blades x rotor speed
+    double gyro_vibration_amplitude = 0.0;       // A [rad/s], every axis
+    double accel_vibration_amplitude = 0.0;      // A [m/s^2], every axis
+  };
+  struct State {
+    NoiseTriadState gyro;
+    NoiseTriadState accel;
+    Eigen::Vector3d angular_velocity_S = Eigen::Vector3d::Zero();  // last sample [rad/s]
+    Eigen::Vector3d specific_force_S = Eigen::Vector3d::Zero();    // last sample [m/s^2]
+  };
+
+  static const std::vector<std::string>& keys();
+  static Spec read(const SensorReader& reader);
+  static State initial_state(const Spec& spec, const SensorSetup& setup);
+  static void sample(const SampleContext& context, const Spec& spec, State& state);
+  static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+};
+
+// ---------------------------------------------------------------------------------------------------
+// IMU data-sheet presets (the vendors' published figures; each preset names its source)
+// ---------------------------------------------------------------------------------------------------
+
+// Figures as the data sheet gives them (0 = not listed). The accelerometer bias figure is used as its
+// bias instability.
+struct ImuDatasheet {
+  std::string_view id;      // preset key, e.g. "honeywell_hg1700"
+  std::string_view name;    // product
+  std::string_view source;  // where the figures come from
+  double gyro_arw_deg_per_sqrt_h = 0.0;
+  double gyro_bias_instability_deg_per_h = 0.0;
+  double gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
+  double gyro_scale_factor_ppm = 0.0;        // 1-sigma, drawn per run
+  double gyro_misalignment_rad = 0.0;        // 1-sigma, drawn per run
+  double accel_noise_density = 0.0;          // [m/s^2/sqrt(Hz)], from VRW or ug/sqrt(Hz)
+  double accel_bias_instability_mps2 = 0.0;  // [m/s^2]
+  double accel_scale_factor_ppm = 0.0;       // 1-sigma, drawn per run
+  double accel_range_mps2 = std::numeric_limits<double>::infinity();
+};
+
+// HG1700, HG9900, Primus 200, STIM300 (10 g) and the Xsens MTi-300 noise densities (its bias figures
+// are unverified and left out); the KVH 1750 and iXblue rows are unverified and not presets.
+const std::vector<ImuDatasheet>& imu_presets();
+// The preset with this id, or nullptr.
+const ImuDatasheet* find_imu_preset(std::string_view id);
+
+struct ImuNoiseParams {
+  NoiseTriadParams gyro;   // [rad/s]
+  NoiseTriadParams accel;  // [m/s^2]
+};
+// A datasheet as triad parameters: ARW/VRW -> white noise, RRW -> bias random walk, bias instability ->
+// bias_instability_to_gauss_markov_bank(B, bank_tau_min_s, bank_tau_max_s), ppm -> scale_factor_sigma,
+// misalignment -> misalignment_sigma, range -> min/max. No quantization (no LSB listed).
+ImuNoiseParams imu_noise_params(const ImuDatasheet& sheet, double bank_tau_min_s = 1.0, double bank_tau_max_s = 1e5);
+
+}  // namespace hadal::sensors

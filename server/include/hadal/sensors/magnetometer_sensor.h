@@ -1,0 +1,61 @@
+// Magnetometer (YAML `type: magnetometer`, sensor_msgs/MagneticField, tesla in the sensor frame S):
+// sensors/magnetometer.h's chain at the sensor's position p_WS,
+//   B_W     = WMM2025(geodetic of p_WS, world.date + t) in W's axes + the world's dipoles
+//             (world.magnetic_dipoles: wrecks, pipelines),
+//   B_S     = S_S (R_SW B_W + R_SB B_hard_B),   B_hard_B the vehicle's hard-iron dipoles,
+// then the noise triad (channel "magnetic_field"): noise, quantisation, range per sensor axis.
+// The decimal year of sim time t is world.date + t / (365.25 d) (a Julian year: within 1e-5 of the
+// calendar's). Covariance: N^2 rate_hz + lsb^2 / 12 per axis.
+// YAML keys (configs/REFERENCE.md): noise_stddev_nt (0), resolution_nt (0), range_ut (none),
+// hard_iron [{position [m] in B, moment [A m^2] in B, radius [m]}], soft_iron (9 numbers, row-major).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hadal/sensors/magnetometer.h"
+#include "hadal/sensors/sensor_kind.h"
+
+namespace sensor_msgs::msg {
+class MagneticField;
+class MagneticFieldPubSubType;
+}  // namespace sensor_msgs::msg
+
+namespace hadal::config {
+class Value;
+}
+
+namespace hadal::sensors {
+
+struct MagnetometerSensor {
+  static constexpr std::string_view kType = "magnetometer";
+  static constexpr bool kCastsRays = false;
+  using Message = sensor_msgs::msg::MagneticField;
+  using PubSubType = sensor_msgs::msg::MagneticFieldPubSubType;
+
+  struct Spec {
+    using Kind = MagnetometerSensor;
+    // Hard iron (dipoles_B), soft iron and noise. params.dipoles_W stays empty: the world's dipoles
+    // are the world's (WorldSpec::magnetic_dipoles_W) and enter with the Earth's field.
+    MagnetometerParams params;
+  };
+  struct State {
+    MagnetometerState noise;
+    Eigen::Vector3d B_S = Eigen::Vector3d::Zero();  // last sample [T]
+  };
+
+  static const std::vector<std::string>& keys();
+  static Spec read(const SensorReader& reader);
+  static State initial_state(const Spec& spec, const SensorSetup& setup);
+  static void sample(const SampleContext& context, const Spec& spec, State& state);
+  static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+};
+
+// A list of dipoles {position [m], moment [A m^2], radius [m]} in the frame the caller says (YAML:
+// world.magnetic_dipoles in W, a magnetometer's hard_iron in B); bad entries are reported and skipped.
+std::vector<MagneticDipole> read_dipoles(const config::Value& value);
+
+}  // namespace hadal::sensors

@@ -1,0 +1,53 @@
+// Pressure sensor (YAML `type: pressure`, sensor_msgs/FluidPressure): absolute pressure at the sensor's
+// origin S from the ocean model (atmospheric above the surface),
+//   p_ideal = p(max(d(p_WS), 0)),   d = water.surface_z - z,
+// then white noise of `noise_stddev` per sample, quantisation to `resolution` and clipping to
+// [0, range_max] (sensors/noise.h, one scalar channel "pressure"). The message's variance is
+// noise_stddev^2 + resolution^2 / 12.
+// YAML keys (configs/REFERENCE.md): noise_stddev [Pa] (0), resolution [Pa] (0: none),
+// range_max [Pa] (1.2e8, 12 000 dbar absolute).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hadal/sensors/noise.h"
+#include "hadal/sensors/sensor_kind.h"
+
+namespace sensor_msgs::msg {
+class FluidPressure;
+class FluidPressurePubSubType;
+}  // namespace sensor_msgs::msg
+
+namespace hadal::sensors {
+
+struct PressureSensor {
+  static constexpr std::string_view kType = "pressure";
+  static constexpr bool kCastsRays = false;
+  using Message = sensor_msgs::msg::FluidPressure;
+  using PubSubType = sensor_msgs::msg::FluidPressurePubSubType;
+
+  struct Spec {
+    using Kind = PressureSensor;
+    double noise_stddev = 0.0;  // white noise per sample [Pa]
+    double resolution = 0.0;    // quantisation step [Pa]; 0: none
+    double range_max = 1.2e8;   // full scale, absolute [Pa]
+  };
+  struct State {
+    NoiseChannelState noise;
+    double pressure = 0.0;  // last sample, absolute [Pa]
+  };
+
+  // The noise channel at sample period `period` [s]: white noise of stddev sigma per sample is a
+  // density sigma sqrt(period).
+  static NoiseChannelParams channel(const Spec& spec, double period);
+
+  static const std::vector<std::string>& keys();
+  static Spec read(const SensorReader& reader);
+  static State initial_state(const Spec& spec, const SensorSetup& setup);
+  static void sample(const SampleContext& context, const Spec& spec, State& state);
+  static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+};
+
+}  // namespace hadal::sensors

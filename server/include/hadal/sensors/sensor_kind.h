@@ -1,0 +1,96 @@
+// The contract every sensor kind fulfils, and the contexts each layer hands to it (docs/ARCHITECTURE.md,
+// "Sensor kinds"; DESIGN.md, "Module contracts").
+//
+// A kind is a struct K in sensors/<kind>_sensor.{h,cc} with
+//
+//   static constexpr std::string_view kType;   the YAML `type:` ("pressure") and its name in messages
+//   static constexpr bool kCastsRays;          samples by casting rays into the world scene
+//   using Message, PubSubType;                 its ROS 2 message: the fastddsgen class and its type support
+//   struct Spec { using Kind = K; ... };       immutable, from YAML, SI (the model holds it)
+//   struct State { ... };                      what evolves: noise streams, biases, the last sample
+//   static const std::vector<std::string>& keys();              its YAML keys besides the common ones
+//   static Spec read(const SensorReader&);                      strict YAML, errors at file:line:col
+//   static State initial_state(const Spec&, const SensorSetup&);  turn-on draws of its noise
+//   static void sample(const SampleContext&, const Spec&, State&);  the ideal value, then the noise
+//   static void fill_message(const Spec&, const State&, const MessageHeader&, Message&);
+//
+// and one line in sensors/sensor_kinds.h. Every layer dispatches once over that list with std::visit
+// (the loader by `type:`, the simulation per sample, the DDS endpoints per topic), so nothing else
+// names a kind. Common to every sensor (SensorSpec in core/model.h): name, link, pose X_LS, rate_hz,
+// frame_id; the simulation decides when a sample is due and stamps it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hadal::config {
+class MapReader;
+}
+namespace GeographicLib {
+class LocalCartesian;
+}
+
+namespace hadal::sensors {
+
+class GeomagneticModel;
+class LocalEnuFrame;
+struct SampleContext;  // sensors/sample_context.h
+
+// What a kind's YAML reader gets besides its own map: the sensor entry (common keys already read and
+// checked), the vehicle's thruster names (a sensor may refer to one) and the sample rate, which a data
+// sheet preset may set when the file does not.
+struct SensorReader {
+  const config::MapReader& map;
+  const std::vector<std::string>& thruster_names;
+  bool rate_given = false;  // rate_hz appears in the file
+  double& rate_hz;          // [Hz]; a kind may set it when !rate_given
+};
+
+// Data shared by every sensor of a simulation that needs it, made on first use: the World Magnetic
+// Model and W as a local East-North-Up frame on WGS84 (world.origin).
+class SensorEnvironment {
+ public:
+  // origin: W's origin, geodetic latitude and longitude [rad], height above the ellipsoid [m].
+  SensorEnvironment(double latitude_rad, double longitude_rad, double height_m);
+  ~SensorEnvironment();
+  SensorEnvironment(const SensorEnvironment&) = delete;
+  SensorEnvironment& operator=(const SensorEnvironment&) = delete;
+
+  // WMM2025 (server/data/WMM2025.COF), loaded on the first call; throws std::runtime_error if the
+  // file cannot be read.
+  const GeomagneticModel& geomagnetic();
+  const LocalEnuFrame& frame_W();
+  const GeographicLib::LocalCartesian& local_cartesian();
+
+ private:
+  double latitude_rad_, longitude_rad_, height_m_;
+  std::unique_ptr<GeomagneticModel> geomagnetic_;
+  std::unique_ptr<LocalEnuFrame> frame_W_;
+  std::unique_ptr<GeographicLib::LocalCartesian> local_cartesian_;
+};
+
+// What initial_state() gets: the names that key the sensor's random streams (noise.h channel_key), its
+// sample period and the shared environment.
+struct SensorSetup {
+  std::uint64_t seed = 0;  // world.seed
+  std::string_view vehicle;
+  std::string_view sensor;
+  double period = 0.0;  // 1 / rate_hz [s]
+  SensorEnvironment& environment;
+};
+
+// The header fields of a sensor's message.
+struct MessageHeader {
+  double stamp = 0.0;  // sim time of the sample [s]
+  const std::string& frame_id;
+  double rate_hz = 0.0;
+};
+
+// Kind<Spec>: the kind a spec belongs to.
+template <class Spec>
+using KindOf = typename Spec::Kind;
+
+}  // namespace hadal::sensors

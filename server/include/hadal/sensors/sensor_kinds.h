@@ -1,0 +1,22 @@
+// The sensor kinds: the one list every layer dispatches over (sensors/sensor_kind.h has the contract a
+// kind fulfils; docs/ARCHITECTURE.md walks through adding one). Adding a kind is its module and one
+// entry here.
+#pragma once
+
+#include "hadal/core/kind_list.h"
+#include "hadal/sensors/altimeter_sensor.h"
+#include "hadal/sensors/dvl_sensor.h"
+#include "hadal/sensors/gps_sensor.h"
+#include "hadal/sensors/imu_sensor.h"
+#include "hadal/sensors/magnetometer_sensor.h"
+#include "hadal/sensors/pressure_sensor.h"
+
+namespace hadal::sensors {
+
+using SensorKinds =
+    KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor>;
+
+using SensorKindSpec = SensorKinds::Specs;    // one alternative per kind: its Spec
+using SensorKindState = SensorKinds::States;  // the matching State, same index
+
+}  // namespace hadal::sensors

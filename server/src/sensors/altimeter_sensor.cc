@@ -1,0 +1,91 @@
+#include "hadal/sensors/altimeter_sensor.h"
+
+#include <sensor_msgs.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <cmath>
+#include <limits>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/geometry/scene_rays.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors {
+
+using config::format_number;
+using config::MapReader;
+using config::Need;
+using config::Range;
+
+NoiseChannelParams AltimeterSensor::channel(const Spec& spec, double period) {
+  NoiseChannelParams channel;
+  channel.noise.white_noise_density = spec.noise_stddev * std::sqrt(period);
+  channel.lsb = spec.resolution;
+  channel.min = spec.min_range;
+  channel.max = spec.max_range;
+  return channel;
+}
+
+const std::vector<std::string>& AltimeterSensor::keys() {
+  static const std::vector<std::string> keys = {"min_range", "max_range", "noise_stddev", "resolution",
+                                                "field_of_view_deg"};
+  return keys;
+}
+
+// Range window, noise per sample, resolution, beam width.
+AltimeterSensor::Spec AltimeterSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  map.read_number("min_range", Need::kOptional, Range::non_negative(), &spec.min_range);
+  if (map.read_number("max_range", Need::kOptional, Range::positive(), &spec.max_range) &&
+      !(spec.max_range > spec.min_range)) {
+    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
+                     "max_range (" + format_number(spec.max_range) + " m) must exceed min_range (" +
+                         format_number(spec.min_range) + " m)");
+  }
+  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &spec.noise_stddev);
+  map.read_number("resolution", Need::kOptional, Range::non_negative(), &spec.resolution);
+  double fov_deg = spec.field_of_view / kDegToRad;
+  if (map.read_number("field_of_view_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) {
+    spec.field_of_view = fov_deg * kDegToRad;
+  }
+  return spec;
+}
+
+AltimeterSensor::State AltimeterSensor::initial_state(const Spec& spec, const SensorSetup& setup) {
+  State state;
+  state.noise = make_noise_state(channel(spec, setup.period),
+                                 channel_key(setup.seed, setup.vehicle, setup.sensor, "range"));
+  return state;
+}
+
+void AltimeterSensor::sample(const SampleContext& context, const Spec& spec, State& state) {
+  const Eigen::Isometry3d& X_WB = context.body().X_WB;
+  const Eigen::Vector3d x_W = X_WB.linear() * context.X_BS.linear().col(0);
+  const double range = context.rays->cast(context.state, context.p_WS(), std::array<Eigen::Vector3d, 1>{x_W},
+                                          context.vehicle_index, 1.01 * spec.max_range)[0];
+  // The noise stream advances every sample, in the window or not.
+  const double measured =
+      measure(channel(spec, context.period), state.noise, std::isfinite(range) ? range : 0.0, context.period);
+  if (range < spec.min_range) {
+    state.range = -std::numeric_limits<double>::infinity();
+  } else if (!(range <= spec.max_range)) {
+    state.range = std::numeric_limits<double>::infinity();
+  } else {
+    state.range = measured;
+  }
+}
+
+void AltimeterSensor::fill_message(const Spec& spec, const State& state, const MessageHeader& header,
+                                   Message& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  msg.radiation_type(sensor_msgs::msg::Range_Constants::ULTRASOUND);
+  msg.field_of_view(static_cast<float>(spec.field_of_view));
+  msg.min_range(static_cast<float>(spec.min_range));
+  msg.max_range(static_cast<float>(spec.max_range));
+  msg.range(static_cast<float>(state.range));
+}
+
+}  // namespace hadal::sensors

@@ -1,0 +1,74 @@
+#include "hadal/sensors/gps_sensor.h"
+
+#include <GeographicLib/LocalCartesian.hpp>
+#include <sensor_msgs.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <cmath>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors {
+
+using config::Need;
+using config::Range;
+
+NoiseTriadParams GpsSensor::position_noise(const Spec& spec, double period) {
+  NoiseTriadParams triad;
+  triad.axes[0].white_noise_density = spec.horizontal_stddev * std::sqrt(period);
+  triad.axes[1].white_noise_density = spec.horizontal_stddev * std::sqrt(period);
+  triad.axes[2].white_noise_density = spec.vertical_stddev * std::sqrt(period);
+  return triad;
+}
+
+const std::vector<std::string>& GpsSensor::keys() {
+  static const std::vector<std::string> keys = {"horizontal_stddev", "vertical_stddev"};
+  return keys;
+}
+
+GpsSensor::Spec GpsSensor::read(const SensorReader& reader) {
+  Spec spec;
+  reader.map.read_number("horizontal_stddev", Need::kOptional, Range::non_negative(), &spec.horizontal_stddev);
+  reader.map.read_number("vertical_stddev", Need::kOptional, Range::non_negative(), &spec.vertical_stddev);
+  return spec;
+}
+
+GpsSensor::State GpsSensor::initial_state(const Spec& spec, const SensorSetup& setup) {
+  State state;
+  state.noise = make_noise_state(position_noise(spec, setup.period),
+                                 channel_key(setup.seed, setup.vehicle, setup.sensor, "position"));
+  return state;
+}
+
+void GpsSensor::sample(const SampleContext& context, const Spec& spec, State& state) {
+  const Eigen::Vector3d p_WS = context.p_WS();
+  // The noise streams advance with or without a fix, so dives do not shift later fixes.
+  const Eigen::Vector3d p_meas = measure(position_noise(spec, context.period), state.noise, p_WS, context.period);
+  state.fix = p_WS.z() > context.world.water.surface_z;
+  if (state.fix) {
+    context.environment.local_cartesian().Reverse(p_meas.x(), p_meas.y(), p_meas.z(), state.latitude_deg,
+                                                  state.longitude_deg, state.height_m);
+  } else {
+    state.latitude_deg = state.longitude_deg = state.height_m = std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+void GpsSensor::fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  msg.status().status(state.fix ? sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX
+                                : sensor_msgs::msg::NavSatStatus_Constants::STATUS_NO_FIX);
+  msg.status().service(sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GPS);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  msg.latitude(state.fix ? state.latitude_deg : nan);
+  msg.longitude(state.fix ? state.longitude_deg : nan);
+  msg.altitude(state.fix ? state.height_m : nan);
+  const double h2 = spec.horizontal_stddev * spec.horizontal_stddev;
+  const double v2 = spec.vertical_stddev * spec.vertical_stddev;
+  msg.position_covariance({h2, 0, 0, 0, h2, 0, 0, 0, v2});
+  msg.position_covariance_type(sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_DIAGONAL_KNOWN);
+}
+
+}  // namespace hadal::sensors

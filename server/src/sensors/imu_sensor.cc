@@ -1,0 +1,328 @@
+#include "hadal/sensors/imu_sensor.h"
+
+#include <sensor_msgs.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/physics/ocean.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors {
+
+using config::join_names;
+using config::MapReader;
+using config::Need;
+using config::quoted;
+using config::Range;
+
+const std::vector<std::string>& ImuSensor::keys() {
+  static const std::vector<std::string> keys = {"preset", "gyro", "accel", "white_noise_only", "temperature",
+                                                "vibration"};
+  return keys;
+}
+
+// A data-sheet preset and/or figures in data-sheet units, converted by sensors/noise.h; temperature
+// drift and thruster vibration.
+ImuSensor::Spec ImuSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  const std::vector<std::string>& thruster_names = reader.thruster_names;
+  Spec spec;
+  ImuDatasheet sheet;
+  if (const auto preset = map.optional("preset")) {
+    if (const auto id = preset->string()) {
+      if (const ImuDatasheet* found = find_imu_preset(*id)) {
+        sheet = *found;
+      } else {
+        std::vector<std::string> ids;
+        for (const auto& p : imu_presets()) ids.push_back(quoted(std::string(p.id)));
+        preset->error("unknown IMU preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
+      }
+    }
+  }
+  double gyro_range = 0.0, gyro_lsb = 0.0, accel_range = 0.0, accel_lsb = 0.0, accel_misalignment = 0.0;
+  if (const auto gyro_value = map.optional("gyro")) {
+    const MapReader gyro(*gyro_value, {"arw_deg_per_sqrt_h", "bias_instability_deg_per_h", "rrw_deg_per_h_per_sqrt_h",
+                                       "scale_factor_ppm", "misalignment_deg", "range_deg_per_s",
+                                       "resolution_deg_per_s"});
+    if (gyro.ok()) {
+      gyro.read_number("arw_deg_per_sqrt_h", Need::kOptional, Range::non_negative(), &sheet.gyro_arw_deg_per_sqrt_h);
+      gyro.read_number("bias_instability_deg_per_h", Need::kOptional, Range::non_negative(),
+                       &sheet.gyro_bias_instability_deg_per_h);
+      gyro.read_number("rrw_deg_per_h_per_sqrt_h", Need::kOptional, Range::non_negative(),
+                       &sheet.gyro_rrw_deg_per_h_per_sqrt_h);
+      gyro.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.gyro_scale_factor_ppm);
+      double misalignment_deg = sheet.gyro_misalignment_rad / kDegToRad;
+      if (gyro.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &misalignment_deg)) {
+        sheet.gyro_misalignment_rad = misalignment_deg * kDegToRad;
+      }
+      gyro.read_number("range_deg_per_s", Need::kOptional, Range::positive(), &gyro_range);
+      gyro.read_number("resolution_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_lsb);
+    }
+  }
+  if (const auto accel_value = map.optional("accel")) {
+    const MapReader accel(*accel_value, {"vrw_m_per_s_per_sqrt_h", "bias_instability_mg", "scale_factor_ppm",
+                                         "misalignment_deg", "range_g", "resolution_mg"});
+    if (accel.ok()) {
+      double vrw = sheet.accel_noise_density * 60.0;
+      if (accel.read_number("vrw_m_per_s_per_sqrt_h", Need::kOptional, Range::non_negative(), &vrw)) {
+        sheet.accel_noise_density = vrw_to_noise_density(vrw);
+      }
+      double bias_mg = sheet.accel_bias_instability_mps2 / milli_g_to_mps2(1.0);
+      if (accel.read_number("bias_instability_mg", Need::kOptional, Range::non_negative(), &bias_mg)) {
+        sheet.accel_bias_instability_mps2 = milli_g_to_mps2(bias_mg);
+      }
+      accel.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.accel_scale_factor_ppm);
+      accel.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &accel_misalignment);
+      accel.read_number("range_g", Need::kOptional, Range::positive(), &accel_range);
+      accel.read_number("resolution_mg", Need::kOptional, Range::non_negative(), &accel_lsb);
+    }
+  }
+  bool white_noise_only = false;
+  map.read_bool("white_noise_only", Need::kOptional, &white_noise_only);
+  if (white_noise_only) {
+    sheet.gyro_bias_instability_deg_per_h = 0.0;
+    sheet.gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
+    sheet.gyro_scale_factor_ppm = 0.0;
+    sheet.gyro_misalignment_rad = 0.0;
+    sheet.accel_bias_instability_mps2 = 0.0;
+    sheet.accel_scale_factor_ppm = 0.0;
+    accel_misalignment = 0.0;
+  }
+  const ImuNoiseParams params = imu_noise_params(sheet);
+  spec.gyro = params.gyro;
+  spec.accel = params.accel;
+  spec.accel.misalignment_sigma = accel_misalignment * kDegToRad;
+  if (gyro_range > 0.0) spec.gyro.min = -(spec.gyro.max = gyro_range * kDegToRad);
+  if (accel_range > 0.0) spec.accel.min = -(spec.accel.max = accel_range * kStandardGravity);
+  spec.gyro.lsb = gyro_lsb * kDegToRad;
+  spec.accel.lsb = milli_g_to_mps2(accel_lsb);
+
+  if (const auto temperature_value = map.optional("temperature")) {
+    const MapReader temperature(*temperature_value, {"reference_degc", "gyro_deg_per_h_per_degc", "accel_mg_per_degc"});
+    if (temperature.ok()) {
+      temperature.read_number("reference_degc", Need::kOptional, Range::closed(-5.0, 60.0), &spec.temperature_reference);
+      double gyro_k = 0.0, accel_k = 0.0;
+      if (temperature.read_number("gyro_deg_per_h_per_degc", Need::kOptional, Range::finite(), &gyro_k)) {
+        spec.gyro_temperature_coefficient = deg_per_h_to_rad_per_s(gyro_k);
+      }
+      if (temperature.read_number("accel_mg_per_degc", Need::kOptional, Range::finite(), &accel_k)) {
+        spec.accel_temperature_coefficient = milli_g_to_mps2(accel_k);
+      }
+    }
+  }
+  if (const auto vibration_value = map.optional("vibration")) {
+    const MapReader vibration(*vibration_value, {"thruster", "blades", "gyro_deg_per_s", "accel_mg"});
+    if (vibration.ok()) {
+      if (const auto thruster = vibration.required("thruster")) {
+        if (const auto name = thruster->string()) {
+          const auto it = std::find(thruster_names.begin(), thruster_names.end(), *name);
+          if (it == thruster_names.end()) {
+            thruster->error("no thruster named " + quoted(*name) + " in this vehicle (" +
+                            (thruster_names.empty() ? std::string("it has none")
+                                                    : "thrusters: " + join_names(thruster_names)) + ")");
+          } else {
+            spec.vibration_thruster = static_cast<int>(it - thruster_names.begin());
+          }
+        }
+      }
+      double blades = 3.0, gyro_a = 0.0, accel_a = 0.0;
+      if (vibration.read_number("blades", Need::kOptional, Range::closed(1.0, 12.0), &blades)) {
+        spec.vibration_blades = static_cast<int>(blades);
+      }
+      if (vibration.read_number("gyro_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_a)) {
+        spec.gyro_vibration_amplitude = gyro_a * kDegToRad;
+      }
+      if (vibration.read_number("accel_mg", Need::kOptional, Range::non_negative(), &accel_a)) {
+        spec.accel_vibration_amplitude = milli_g_to_mps2(accel_a);
+      }
+    }
+  }
+  return spec;
+}
+
+ImuSensor::State ImuSensor::initial_state(const Spec& spec, const SensorSetup& setup) {
+  State state;
+  state.gyro = make_noise_state(spec.gyro, channel_key(setup.seed, setup.vehicle, setup.sensor, "gyro"));
+  state.accel = make_noise_state(spec.accel, channel_key(setup.seed, setup.vehicle, setup.sensor, "accel"));
+  return state;
+}
+
+void ImuSensor::sample(const SampleContext& context, const Spec& spec, State& state) {
+  const RigidBodyState& body = context.body();
+  const double dt = context.step_size;
+  const Eigen::Matrix3d R_SW = context.R_WS().transpose();
+  // Mean accelerations over the step that ends now (exact for Bullet's semi-implicit step).
+  const Eigen::Vector3d p_WBcm = body.X_WB * context.p_BBcm;
+  const Eigen::Vector3d v_WBcm = body.v_WB + body.w_WB.cross(p_WBcm - body.X_WB.translation());
+  const Eigen::Vector3d a_WBcm = (v_WBcm - context.v_WBcm_step_start) / dt;
+  const Eigen::Vector3d alpha_W = (body.w_WB - context.w_WB_step_start) / dt;
+  const Eigen::Vector3d p_WS = context.p_WS();
+  const Eigen::Vector3d r_W = p_WS - p_WBcm;
+  const Eigen::Vector3d& w = body.w_WB;
+  const Eigen::Vector3d a_WS = a_WBcm + alpha_W.cross(r_W) + w.cross(w.cross(r_W));
+  const Eigen::Vector3d w_S = R_SW * w;
+  const Eigen::Vector3d f_S = R_SW * (a_WS - context.world.gravity_W);
+  // Temperature drift with the water's temperature at the sensor; thruster vibration.
+  const double depth = std::max(context.ocean.depth(p_WS.z()), 0.0);
+  const double dT = context.ocean.temperature(depth) - spec.temperature_reference;
+  double vibration = 0.0;
+  if (spec.vibration_thruster >= 0) {
+    const double f = spec.vibration_blades *
+                     std::abs(context.vehicle().thrusters[static_cast<std::size_t>(spec.vibration_thruster)].rotor_speed);
+    vibration = std::sin(2.0 * EIGEN_PI * f * context.time);
+  }
+  const Eigen::Vector3d gyro_terms = Eigen::Vector3d::Constant(dT * spec.gyro_temperature_coefficient +
+                                                               vibration * spec.gyro_vibration_amplitude);
+  const Eigen::Vector3d accel_terms = Eigen::Vector3d::Constant(dT * spec.accel_temperature_coefficient +
+                                                                vibration * spec.accel_vibration_amplitude);
+  state.angular_velocity_S = measure(spec.gyro, state.gyro, w_S, context.period, gyro_terms);
+  state.specific_force_S = measure(spec.accel, state.accel, f_S, context.period, accel_terms);
+}
+
+void ImuSensor::fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  msg.orientation().x(0.0);
+  msg.orientation().y(0.0);
+  msg.orientation().z(0.0);
+  msg.orientation().w(1.0);
+  msg.orientation_covariance().fill(0.0);
+  msg.orientation_covariance()[0] = -1.0;
+  msg.angular_velocity().x(state.angular_velocity_S.x());
+  msg.angular_velocity().y(state.angular_velocity_S.y());
+  msg.angular_velocity().z(state.angular_velocity_S.z());
+  msg.linear_acceleration().x(state.specific_force_S.x());
+  msg.linear_acceleration().y(state.specific_force_S.y());
+  msg.linear_acceleration().z(state.specific_force_S.z());
+  msg.angular_velocity_covariance().fill(0.0);
+  msg.linear_acceleration_covariance().fill(0.0);
+  for (int a = 0; a < 3; ++a) {
+    const double n_gyro = spec.gyro.axes[a].white_noise_density;
+    const double n_accel = spec.accel.axes[a].white_noise_density;
+    msg.angular_velocity_covariance()[4 * a] = n_gyro * n_gyro * header.rate_hz;
+    msg.linear_acceleration_covariance()[4 * a] = n_accel * n_accel * header.rate_hz;
+  }
+}
+
+// --- presets -------------------------------------------------------------------------------------------
+
+const std::vector<ImuDatasheet>& imu_presets() {
+  static const std::vector<ImuDatasheet> presets = [] {
+    std::vector<ImuDatasheet> list;
+    {
+      // CSV row "Honeywell HG1700 (higher-end AG variants)": ARW 0.125 deg/sqrt(h) max, bias instability
+      // 1.0 deg/h (1 sigma), VRW 0.065 ft/s/sqrt(h) max, accel bias 1 mg (1 sigma); scale factors 150 ppm
+      // gyro / 300 ppm accel from the same row's source note.
+      ImuDatasheet s;
+      s.id = "honeywell_hg1700";
+      s.name = "Honeywell HG1700 (higher-end AG variants)";
+      s.source =
+          "Honeywell brochure N61-1619-000-001; also quoted in a REMUS-100 design note: scale factor 150 ppm "
+          "gyro / 300 ppm accel";
+      s.gyro_arw_deg_per_sqrt_h = 0.125;
+      s.gyro_bias_instability_deg_per_h = 1.0;
+      s.gyro_scale_factor_ppm = 150.0;
+      s.accel_noise_density = vrw_to_noise_density(0.065 * kFootInMeters);
+      s.accel_bias_instability_mps2 = milli_g_to_mps2(1.0);
+      s.accel_scale_factor_ppm = 300.0;
+      list.push_back(s);
+    }
+    {
+      // CSV row "Honeywell HG9900": ARW 0.002 max, bias instability 0.0035 deg/h, VRW none listed,
+      // accel bias 25 ug; accel SF 100 ppm, gyro SF 5 ppm.
+      ImuDatasheet s;
+      s.id = "honeywell_hg9900";
+      s.name = "Honeywell HG9900";
+      s.source = "Honeywell brochure N61-1638-000-000; accel SF 100 ppm, gyro SF 5 ppm";
+      s.gyro_arw_deg_per_sqrt_h = 0.002;
+      s.gyro_bias_instability_deg_per_h = 0.0035;
+      s.gyro_scale_factor_ppm = 5.0;
+      s.accel_bias_instability_mps2 = micro_g_to_mps2(25.0);
+      s.accel_scale_factor_ppm = 100.0;
+      list.push_back(s);
+    }
+    {
+      // CSV row "Safran/Sagem Primus 200": ARW 0.004, bias instability 0.05 deg/h, accel noise
+      // 60 ug/sqrt(Hz), accel bias 2 mg rms. The row's parenthesis "(=5.886e-5 m/s^1.5)" is a factor 10
+      // off: 60 ug/sqrt(Hz) = 5.884e-4 m/s^2/sqrt(Hz); the ug figure is used.
+      ImuDatasheet s;
+      s.id = "safran_primus_200";
+      s.name = "Safran/Sagem Primus 200";
+      s.source = "vendor spec sheet";
+      s.gyro_arw_deg_per_sqrt_h = 0.004;
+      s.gyro_bias_instability_deg_per_h = 0.05;
+      s.accel_noise_density = micro_g_per_sqrt_hz_to_noise_density(60.0);
+      s.accel_bias_instability_mps2 = milli_g_to_mps2(2.0);
+      list.push_back(s);
+    }
+    {
+      // CSV row "Sensonor STIM300 (10 g accel)": ARW 0.15, bias instability 0.5 deg/h, VRW 0.06 m/s/sqrt(h),
+      // accel bias 0.05 mg, gyro misalignment 1 mrad, accelerometer range 10 g.
+      ImuDatasheet s;
+      s.id = "sensonor_stim300";
+      s.name = "Sensonor STIM300 (10 g accel)";
+      s.source = "Sensonor TS1524 r9 datasheet; bias over temp 5-10 deg/h; gyro misalignment 1 mrad";
+      s.gyro_arw_deg_per_sqrt_h = 0.15;
+      s.gyro_bias_instability_deg_per_h = 0.5;
+      s.gyro_misalignment_rad = 1e-3;
+      s.accel_noise_density = vrw_to_noise_density(0.06);
+      s.accel_bias_instability_mps2 = milli_g_to_mps2(0.05);
+      s.accel_range_mps2 = 10.0 * kStandardGravity;
+      list.push_back(s);
+    }
+    {
+      // CSV row "Xsens MTi-300 (MTi-100 series)": noise densities only, ARW 0.6 deg/sqrt(h)
+      // (= 0.01 deg/s/sqrt(Hz)) and 60 ug/sqrt(Hz); its in-run bias figures are marked unverified.
+      ImuDatasheet s;
+      s.id = "xsens_mti_300";
+      s.name = "Xsens MTi-300 (MTi-100 series)";
+      s.source =
+          "noise densities as used in a public EKF citing 'Xsens MTi-300 datasheet', accel 5.886e-4 "
+          "m/s^2/sqrt(Hz)); in-run bias figures unverified";
+      s.gyro_arw_deg_per_sqrt_h = 0.6;
+      s.accel_noise_density = micro_g_per_sqrt_hz_to_noise_density(60.0);
+      list.push_back(s);
+    }
+    return list;
+  }();
+  return presets;
+}
+
+const ImuDatasheet* find_imu_preset(std::string_view id) {
+  for (const ImuDatasheet& sheet : imu_presets()) {
+    if (sheet.id == id) return &sheet;
+  }
+  return nullptr;
+}
+
+ImuNoiseParams imu_noise_params(const ImuDatasheet& sheet, double bank_tau_min_s, double bank_tau_max_s) {
+  ImuNoiseParams params;
+  AxisNoiseParams gyro;
+  gyro.white_noise_density = arw_to_noise_density(sheet.gyro_arw_deg_per_sqrt_h);
+  gyro.bias_random_walk_density = rrw_to_random_walk_density(sheet.gyro_rrw_deg_per_h_per_sqrt_h);
+  if (sheet.gyro_bias_instability_deg_per_h > 0.0) {
+    gyro.gauss_markov = bias_instability_to_gauss_markov_bank(
+        deg_per_h_to_rad_per_s(sheet.gyro_bias_instability_deg_per_h), bank_tau_min_s, bank_tau_max_s);
+  }
+  params.gyro.axes = {gyro, gyro, gyro};
+  params.gyro.scale_factor_sigma = sheet.gyro_scale_factor_ppm * 1e-6;
+  params.gyro.misalignment_sigma = sheet.gyro_misalignment_rad;
+
+  AxisNoiseParams accel;
+  accel.white_noise_density = sheet.accel_noise_density;
+  if (sheet.accel_bias_instability_mps2 > 0.0) {
+    accel.gauss_markov =
+        bias_instability_to_gauss_markov_bank(sheet.accel_bias_instability_mps2, bank_tau_min_s, bank_tau_max_s);
+  }
+  params.accel.axes = {accel, accel, accel};
+  params.accel.scale_factor_sigma = sheet.accel_scale_factor_ppm * 1e-6;
+  params.accel.min = -sheet.accel_range_mps2;
+  params.accel.max = sheet.accel_range_mps2;
+  return params;
+}
+
+}  // namespace hadal::sensors

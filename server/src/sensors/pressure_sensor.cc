@@ -1,0 +1,62 @@
+#include "hadal/sensors/pressure_sensor.h"
+
+#include <sensor_msgs.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/physics/ocean.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors {
+
+using config::Need;
+using config::Range;
+
+NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
+  NoiseChannelParams channel;
+  channel.noise.white_noise_density = spec.noise_stddev * std::sqrt(period);
+  channel.lsb = spec.resolution;
+  channel.min = 0.0;
+  channel.max = spec.range_max;
+  return channel;
+}
+
+const std::vector<std::string>& PressureSensor::keys() {
+  static const std::vector<std::string> keys = {"noise_stddev", "resolution", "range_max"};
+  return keys;
+}
+
+PressureSensor::Spec PressureSensor::read(const SensorReader& reader) {
+  Spec spec;
+  reader.map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &spec.noise_stddev);
+  reader.map.read_number("resolution", Need::kOptional, Range::non_negative(), &spec.resolution);
+  reader.map.read_number("range_max", Need::kOptional, Range::positive(), &spec.range_max);
+  return spec;
+}
+
+PressureSensor::State PressureSensor::initial_state(const Spec& spec, const SensorSetup& setup) {
+  State state;
+  state.noise = make_noise_state(channel(spec, setup.period),
+                                 channel_key(setup.seed, setup.vehicle, setup.sensor, "pressure"));
+  return state;
+}
+
+void PressureSensor::sample(const SampleContext& context, const Spec& spec, State& state) {
+  const physics::Ocean& ocean = context.ocean;
+  const double ideal = ocean.pressure(std::max(ocean.depth(context.p_WS().z()), 0.0));
+  state.pressure = measure(channel(spec, context.period), state.noise, ideal, context.period);
+}
+
+void PressureSensor::fill_message(const Spec& spec, const State& state, const MessageHeader& header,
+                                  Message& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  msg.fluid_pressure(state.pressure);
+  msg.variance(spec.noise_stddev * spec.noise_stddev + spec.resolution * spec.resolution / 12.0);
+}
+
+}  // namespace hadal::sensors

@@ -1,0 +1,99 @@
+// Test support for sensor kinds (unit tests beside the code): a world to sample a kind in the way the
+// simulation does, without Bullet. The test sets the vehicles' states and the motion at the start of
+// the step; the kind's sample() sees exactly what the simulation would hand it.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+
+#include "hadal/core/model.h"
+#include "hadal/core/state.h"
+#include "hadal/geometry/scene_rays.h"
+#include "hadal/geometry/world_scene.h"
+#include "hadal/physics/ocean.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors::testing {
+
+class SensorTestWorld {
+ public:
+  // The model's world and vehicles (bodies at X_WB_initial, v_WB_initial); with_rays builds the world's
+  // ray-cast scene (seabed and the vehicles' surfaces).
+  explicit SensorTestWorld(Model model_in, bool with_rays = false)
+      : model(std::move(model_in)),
+        ocean(model.world),
+        environment(model.world.origin.latitude, model.world.origin.longitude, model.world.origin.altitude) {
+    for (const VehicleSpec& vehicle : model.vehicles) {
+      VehicleState& v = state.vehicles.emplace_back();
+      v.body.X_WB = vehicle.X_WB_initial;
+      v.body.v_WB = vehicle.v_WB_initial;
+      v.thrusters.resize(vehicle.thrusters.size());
+    }
+    if (with_rays) rays = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model, "threads=1"));
+  }
+
+  template <class K>
+  typename K::State initial_state(const typename K::Spec& spec, double rate_hz, const std::string& sensor = "sensor",
+                                  int vehicle = 0) {
+    return K::initial_state(spec, SensorSetup{model.world.seed, model.vehicles[static_cast<std::size_t>(vehicle)].name,
+                                              sensor, 1.0 / rate_hz, environment});
+  }
+
+  // One sample at the state's time, of a sensor mounted at X_BS on `vehicle`, sampling at rate_hz.
+  template <class K>
+  void sample(const typename K::Spec& spec, typename K::State& sensor_state, const Eigen::Isometry3d& X_BS,
+              double rate_hz, int vehicle = 0) {
+    const SampleContext context{state.time, 1.0 / rate_hz, step_size, model.world, ocean, environment, state,
+                                vehicle, X_BS, p_BBcm, v_WBcm_step_start, w_WB_step_start, rays.get()};
+    K::sample(context, spec, sensor_state);
+  }
+
+  RigidBodyState& body(int vehicle = 0) { return state.vehicles[static_cast<std::size_t>(vehicle)].body; }
+
+  Model model;
+  physics::Ocean ocean;
+  SensorEnvironment environment;
+  SimState state;
+  std::unique_ptr<geometry::SceneRays> rays;
+  double step_size = 0.002;  // [s]
+  // The composite centre of mass in B, and the motion at the start of the step that ends at the sample.
+  Eigen::Vector3d p_BBcm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WBcm_step_start = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_WB_step_start = Eigen::Vector3d::Zero();
+};
+
+// A world with the water surface at z = 0, a plane seabed at `seabed_z`, one vehicle "auv" without
+// geometry at p_W (rays pass through it unless it has links with collisions).
+inline Model one_vehicle_world(const Eigen::Vector3d& p_W, double seabed_z = -100.0) {
+  Model model;
+  model.world.water.surface_z = 0.0;
+  model.world.seabed.z = seabed_z;
+  VehicleSpec vehicle;
+  vehicle.name = "auv";
+  LinkSpec hull;
+  hull.name = "hull";
+  hull.mass = 1.0;
+  vehicle.links = {hull};
+  vehicle.X_WB_initial.translation() = p_W;
+  model.vehicles = {vehicle};
+  return model;
+}
+
+// The pose with rotation R and translation p.
+inline Eigen::Isometry3d pose(const Eigen::Vector3d& p, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R;
+  X.translation() = p;
+  return X;
+}
+
+// R = Rz(yaw) Ry(pitch) Rx(roll) [rad].
+inline Eigen::Matrix3d rpy(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+}  // namespace hadal::sensors::testing
