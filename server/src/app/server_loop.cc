@@ -129,7 +129,7 @@ class Runner {
       // All attached commands are checked before any is applied: a refused request changes nothing.
       std::string refused;
       for (const auto& command : request->commands) {
-        const std::string reason = sim_.check_thruster_setpoints(command.vehicle_index, command.setpoints);
+        const std::string reason = sim_.check_controls(command.vehicle_index, command.setpoints);
         if (!reason.empty() && refused.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
       }
       if (!refused.empty()) {
@@ -151,7 +151,7 @@ class Runner {
     const auto v = static_cast<std::size_t>(command.vehicle_index);
     // DDS does not order samples across topics: a command older than one already applied is stale.
     if (command.source_stamp_ns < last_command_stamp_[v]) return "";
-    const std::string reason = sim_.set_thruster_setpoints(command.vehicle_index, command.setpoints);
+    const std::string reason = sim_.set_controls(command.vehicle_index, command.setpoints);
     if (reason.empty()) last_command_stamp_[v] = command.source_stamp_ns;
     return reason;
   }

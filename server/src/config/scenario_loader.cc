@@ -32,10 +32,26 @@ namespace {
 constexpr double kTriangleRelativeTolerance = 1e-3;
 
 // Keys of a vehicle definition: an included file's root, or inline in the scenario's vehicle entry.
-const std::vector<std::string> kDefinitionKeys = {"type", "links", "thrusters", "sensors", "fluid"};
-const std::vector<std::string> kVehicleEntryKeys = {
-    "name", "include", "initial_pose", "initial_velocity", "command_timeout_s", "odometry_rate_hz",
-    "thruster_state_rate_hz", "schedule", "type", "links", "thrusters", "sensors", "fluid"};
+// the actuator kinds' lists, e.g. "thrusters" (physics/actuator_kinds.h), between links and sensors.
+const std::vector<std::string>& definition_keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> list = {"type", "links"};
+    physics::ActuatorKinds::for_each(
+        [&](auto tag) { list.emplace_back(decltype(tag)::type::kListKey); });
+    list.insert(list.end(), {"sensors", "fluid"});
+    return list;
+  }();
+  return keys;
+}
+const std::vector<std::string>& vehicle_entry_keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> list = {"name", "include", "initial_pose", "initial_velocity", "command_timeout_s",
+                                     "odometry_rate_hz", "thruster_state_rate_hz", "schedule"};
+    list.insert(list.end(), definition_keys().begin(), definition_keys().end());
+    return list;
+  }();
+  return keys;
+}
 
 std::vector<std::pair<std::string, VehicleType>> vehicle_type_choices() {
   std::vector<std::pair<std::string, VehicleType>> choices;
@@ -109,13 +125,16 @@ struct VehicleDefinition {
   std::string source_file;
   VehicleType type = VehicleType::kAuv;
   std::vector<LinkSpec> links;
-  std::vector<ThrusterSpec> thrusters;
+  std::vector<ActuatorSpec> actuators;
   std::vector<SensorSpec> sensors;
   FluidSpec fluid;
-  // Thruster count and names, or nullopt when the thruster list itself is unusable (not a list, a
-  // thruster without a valid name): the schedule's setpoint count is then not checked.
-  std::optional<std::size_t> thruster_count;
-  std::optional<std::vector<std::string>> thruster_names;
+  // Length and names of the control vector, or nullopt when an actuator list itself is unusable (not a
+  // list, an actuator without a valid name): the schedule's setpoint count is then not checked.
+  std::optional<std::size_t> control_count;
+  std::optional<std::vector<std::string>> control_names;
+  // Names and kinds of the actuators (for sensors that refer to one); empty when a name is unusable.
+  std::vector<std::string> actuator_names;
+  std::vector<std::string> actuator_types;
 };
 
 // ixx, iyy, izz > 0 and products (default 0) form I_Lcm = [[ixx ixy ixz] [ixy iyy iyz] [ixz iyz izz]]
@@ -599,48 +618,47 @@ std::optional<int> read_link_reference(const Value& link, const std::optional<st
   return std::nullopt;
 }
 
-// `link_names` is nullopt when some link has no valid name: an unmatched thruster link is then not
-// reported (it may name that link).
-std::optional<std::string> read_thruster(const Value& value,
-                                         const std::optional<std::vector<std::string>>& link_names,
-                                         std::map<std::string, std::string>* seen_names,
-                                         ThrusterSpec* thruster) {
-  const MapReader map(value,
-                      {"name", "link", "position", "direction", "propeller_diameter", "thrust_coefficient",
-                       "torque_coefficient", "rotor_time_constant_s", "max_rpm", "handedness"});
-  if (!map.ok()) return std::nullopt;
-  const bool name_ok = read_unique_name(map, "thruster", seen_names, &thruster->name);
+// The actuator kinds' YAML readers, one row per kind of physics/actuator_kinds.h, in its order: each
+// kind has a list of its own in the vehicle definition.
+struct ActuatorKindReader {
+  std::string list_key;                   // e.g. "thrusters"
+  std::string type;                       // e.g. "thruster"
+  const std::vector<std::string>* keys;  // the kind's keys besides name and link
+  std::size_t controls;                   // its entries of the control vector
+  physics::ActuatorKindSpec (*read)(const physics::ActuatorReader&);
+};
 
+const std::vector<ActuatorKindReader>& actuator_kind_readers() {
+  static const std::vector<ActuatorKindReader> readers = [] {
+    std::vector<ActuatorKindReader> list;
+    physics::ActuatorKinds::for_each([&](auto tag) {
+      using Kind = typename decltype(tag)::type;
+      list.push_back({std::string(Kind::kListKey), std::string(Kind::kType), &Kind::keys(), Kind::kControls,
+                      [](const physics::ActuatorReader& reader) -> physics::ActuatorKindSpec {
+                        return Kind::read(reader);
+                      }});
+    });
+    return list;
+  }();
+  return readers;
+}
+
+// One entry of an actuator list: name, link, then the kind's keys. `link_names` is nullopt when some
+// link has no valid name: an unmatched link is then not reported (it may name that link).
+std::optional<std::string> read_actuator(const Value& value, const ActuatorKindReader& kind,
+                                         const std::optional<std::vector<std::string>>& link_names,
+                                         std::map<std::string, std::string>* seen_names, ActuatorSpec* actuator) {
+  std::vector<std::string> keys = {"name", "link"};
+  keys.insert(keys.end(), kind.keys->begin(), kind.keys->end());
+  const MapReader map(value, keys);
+  if (!map.ok()) return std::nullopt;
+  const bool name_ok = read_unique_name(map, kind.type, seen_names, &actuator->name);
   if (const auto link = map.required("link")) {
-    if (const auto index = read_link_reference(*link, link_names)) thruster->link_index = *index;
+    if (const auto index = read_link_reference(*link, link_names)) actuator->link_index = *index;
   }
-  map.read_vector3("position", Need::kRequired, Range::finite(), &thruster->p_LT);
-  if (const auto direction = map.required("direction")) {
-    if (const auto axis = direction->vector3()) {
-      // Below 1e-9 the normalised axis would be dominated by rounding.
-      if (axis->norm() < 1e-9) {
-        direction->error("must be non-zero (got [" + format_number(axis->x()) + ", " +
-                         format_number(axis->y()) + ", " + format_number(axis->z()) + "])");
-      } else {
-        thruster->axis_L = axis->normalized();
-      }
-    }
-  }
-  map.read_number("propeller_diameter", Need::kRequired, Range::positive(), &thruster->propeller_diameter);
-  map.read_number("thrust_coefficient", Need::kRequired, Range::positive(), &thruster->thrust_coefficient);
-  thruster->torque_coefficient = 0.05;
-  map.read_number("torque_coefficient", Need::kOptional, Range::non_negative(),
-                  &thruster->torque_coefficient);
-  thruster->rotor_time_constant = 0.1;
-  map.read_number("rotor_time_constant_s", Need::kOptional, Range::non_negative(),
-                  &thruster->rotor_time_constant);
-  double max_rpm = 0.0;
-  if (map.read_number("max_rpm", Need::kRequired, Range::positive(), &max_rpm)) {
-    thruster->max_rotor_speed = max_rpm / 60.0;
-  }
-  map.read_choice<int>("handedness", Need::kOptional, {{"right", 1}, {"left", -1}}, &thruster->handedness);
+  actuator->kind = kind.read(physics::ActuatorReader{map});
   if (!name_ok) return std::nullopt;
-  return thruster->name;
+  return actuator->name;
 }
 
 // The sensor kinds' YAML readers, one row per kind of sensors/sensor_kinds.h, in its order.
@@ -664,10 +682,11 @@ const std::vector<SensorKindReader>& sensor_kind_readers() {
 }
 
 // One entry of a vehicle definition's `sensors` list: the common keys, then the kind's own through its
-// reader. `link_names` as for thrusters (nullopt: unknown, then a `link` is not checked);
+// reader. `link_names` as for actuators (nullopt: unknown, then a `link` is not checked);
 // `physics_rate_hz` bounds rate_hz when known. Keys of another sensor kind are errors.
 void read_sensor(const Value& value, const std::optional<std::vector<std::string>>& link_names,
-                 const std::vector<std::string>& thruster_names, std::optional<double> physics_rate_hz,
+                 const std::vector<std::string>& actuator_names, const std::vector<std::string>& actuator_types,
+                 std::optional<double> physics_rate_hz,
                  std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
   const std::vector<SensorKindReader>& readers = sensor_kind_readers();
   std::vector<std::pair<std::string, std::size_t>> types;
@@ -701,7 +720,8 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
       }
     }
   }
-  sensor->kind = reader.read(sensors::SensorReader{map, thruster_names, map.has("rate_hz"), sensor->rate_hz});
+  sensor->kind = reader.read(
+      sensors::SensorReader{map, actuator_names, actuator_types, map.has("rate_hz"), sensor->rate_hz});
 }
 
 void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* coefficients) {
@@ -827,7 +847,7 @@ void read_fluid(const std::optional<Value>& value, const std::vector<LinkSpec>& 
       "fluid model 'surface' needs a hydrodynamic mesh: no link has a 'mesh' or 'collisions'");
 }
 
-// Reads the definition keys (type, links, thrusters, fluid) of `map`: the included file's root, or the
+// Reads the definition keys (type, links, the actuator lists, sensors, fluid) of `map`: the included file's root, or the
 // scenario's vehicle entry for an inline definition.
 VehicleDefinition read_definition(const MapReader& map, std::optional<double> physics_rate_hz) {
   VehicleDefinition definition;
@@ -853,27 +873,37 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
     }
   }
 
-  definition.thruster_count = 0;
-  definition.thruster_names.emplace();
-  if (const auto thrusters = map.optional("thrusters")) {
-    const auto items = thrusters->list();
+  definition.control_count = 0;
+  definition.control_names.emplace();
+  std::map<std::string, std::string> actuator_names_seen;  // unique across every actuator list
+  for (const ActuatorKindReader& kind : actuator_kind_readers()) {
+    const auto list = map.optional(kind.list_key);
+    if (!list) continue;
+    const auto items = list->list();
     if (!items) {
-      definition.thruster_count.reset();
-      definition.thruster_names.reset();
-    } else {
-      definition.thruster_count = items->size();
-      std::map<std::string, std::string> seen;
-      for (std::size_t i = 0; i < items->size(); ++i) {
-        ThrusterSpec thruster;
-        const auto name = read_thruster((*items)[i], link_names, &seen, &thruster);
-        if (name && definition.thruster_names) {
-          definition.thruster_names->push_back(*name);
-        } else {
-          definition.thruster_names.reset();
-        }
-        definition.thrusters.push_back(std::move(thruster));
-      }
+      definition.control_count.reset();
+      definition.control_names.reset();
+      continue;
     }
+    if (definition.control_count) *definition.control_count += items->size() * kind.controls;
+    for (std::size_t i = 0; i < items->size(); ++i) {
+      ActuatorSpec actuator;
+      const auto name = read_actuator((*items)[i], kind, link_names, &actuator_names_seen, &actuator);
+      if (name && definition.control_names) {
+        for (std::size_t c = 0; c < kind.controls; ++c) {
+          definition.control_names->push_back(kind.controls == 1 ? *name : *name + "[" + std::to_string(c) + "]");
+        }
+        definition.actuator_names.push_back(*name);
+        definition.actuator_types.push_back(kind.type);
+      } else {
+        definition.control_names.reset();
+      }
+      definition.actuators.push_back(std::move(actuator));
+    }
+  }
+  if (!definition.control_names) {
+    definition.actuator_names.clear();
+    definition.actuator_types.clear();
   }
 
   if (const auto sensors = map.optional("sensors")) {
@@ -881,8 +911,8 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
       std::map<std::string, std::string> seen;
       for (std::size_t i = 0; i < items->size(); ++i) {
         SensorSpec sensor;
-        read_sensor((*items)[i], link_names, definition.thruster_names.value_or(std::vector<std::string>()),
-                    physics_rate_hz, &seen, &sensor);
+        read_sensor((*items)[i], link_names, definition.actuator_names, definition.actuator_types, physics_rate_hz,
+                    &seen, &sensor);
         definition.sensors.push_back(std::move(sensor));
       }
     }
@@ -1024,7 +1054,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
 }
 
 void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
-  const MapReader map(value, kVehicleEntryKeys);
+  const MapReader map(value, vehicle_entry_keys());
   if (!map.ok()) return;
 
   if (const auto name = map.required("name")) {
@@ -1040,7 +1070,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
 
   // The definition: either `include` or inline keys, never both.
   std::vector<std::string> inline_keys;
-  for (const std::string& key : kDefinitionKeys) {
+  for (const std::string& key : definition_keys()) {
     if (map.has(key)) inline_keys.push_back(quoted(key));
   }
   std::optional<VehicleDefinition> inline_definition;
@@ -1063,7 +1093,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     vehicle->source_file = definition->source_file;
     vehicle->type = definition->type;
     vehicle->links = definition->links;
-    vehicle->thrusters = definition->thrusters;
+    vehicle->actuators = definition->actuators;
     vehicle->sensors = definition->sensors;
     vehicle->fluid = definition->fluid;
     for (SensorSpec& sensor : vehicle->sensors) {
@@ -1090,7 +1120,7 @@ const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(cons
     const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
     if (root) {
       const auto source = std::make_shared<const Source>(Source{resolved, &sink_});
-      const MapReader map(Value::root(*root, source), kDefinitionKeys);
+      const MapReader map(Value::root(*root, source), definition_keys());
       if (map.ok()) included.definition = read_definition(map, physics_rate_hz_);
     }
   }
@@ -1127,11 +1157,11 @@ void ScenarioLoader::read_schedule(const Value& value, const VehicleDefinition* 
       }
       // Cross-file check: the count comes from the (possibly included) vehicle definition.
       const std::size_t count = setpoints->node().size();
-      if (setpoints->node().IsSequence() && definition && definition->thruster_count &&
-          count != *definition->thruster_count) {
+      if (setpoints->node().IsSequence() && definition && definition->control_count &&
+          count != *definition->control_count) {
         const std::string names =
-            definition->thruster_names ? " (" + join_names(*definition->thruster_names) + ")" : "";
-        setpoints->error("expected " + std::to_string(*definition->thruster_count) +
+            definition->control_names ? " (" + join_names(*definition->control_names) + ")" : "";
+        setpoints->error("expected " + std::to_string(*definition->control_count) +
                          " setpoints, one per thruster" + names + " (got " + std::to_string(count) + ")");
       }
     }

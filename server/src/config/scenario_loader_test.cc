@@ -141,23 +141,25 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_EQ(auv.fluid.added_mass.model, AddedMassModel::kEllipsoid);
   EXPECT_TRUE(model.world.dynamics.earth_rotation);
 
-  ASSERT_EQ(auv.thrusters.size(), 3u);
-  const ThrusterSpec& main = auv.thrusters[0];
-  EXPECT_EQ(main.name, "main");
-  EXPECT_EQ(main.link_index, 0);
+  ASSERT_EQ(auv.actuators.size(), 3u);
+  EXPECT_EQ(auv.num_controls(), 3u);
+  EXPECT_EQ(auv.actuators[0].name, "main");
+  EXPECT_EQ(auv.actuators[0].type(), "thruster");
+  EXPECT_EQ(auv.actuators[0].link_index, 0);
+  const physics::ThrusterActuator::Spec& main = spec_of<physics::ThrusterActuator>(auv.actuators[0]);
   EXPECT_EQ(main.p_LT, Eigen::Vector3d(-0.8, 0.0, 0.0));
   EXPECT_EQ(main.axis_L, Eigen::Vector3d::UnitX());
   EXPECT_EQ(main.propeller_diameter, 0.1);
   EXPECT_EQ(main.thrust_coefficient, 0.4);
   EXPECT_EQ(main.torque_coefficient, 0.05);
-  EXPECT_EQ(main.rotor_time_constant, 0.1);
-  EXPECT_EQ(main.max_rotor_speed, 25.0);  // 1500 rpm
+  EXPECT_EQ(main.rotor_time_constant_s, 0.1);
+  EXPECT_EQ(main.max_rotor_speed_rev_s, 25.0);  // 1500 rpm
   EXPECT_EQ(main.handedness, 1);
-  EXPECT_EQ(auv.thrusters[1].name, "heave");
-  EXPECT_EQ(auv.thrusters[1].axis_L, Eigen::Vector3d::UnitZ());
-  EXPECT_EQ(auv.thrusters[1].max_rotor_speed, 50.0);
-  EXPECT_EQ(auv.thrusters[2].name, "sway");
-  EXPECT_EQ(auv.thrusters[2].axis_L, Eigen::Vector3d::UnitY());
+  EXPECT_EQ(auv.actuators[1].name, "heave");
+  EXPECT_EQ(spec_of<physics::ThrusterActuator>(auv.actuators[1]).axis_L, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(spec_of<physics::ThrusterActuator>(auv.actuators[1]).max_rotor_speed_rev_s, 50.0);
+  EXPECT_EQ(auv.actuators[2].name, "sway");
+  EXPECT_EQ(spec_of<physics::ThrusterActuator>(auv.actuators[2]).axis_L, Eigen::Vector3d::UnitY());
 
   EXPECT_EQ(auv.fluid.hydrodynamics.drag, 1.0);
   EXPECT_EQ(auv.fluid.hydrodynamics.skin_friction, 0.004);
@@ -224,14 +226,14 @@ vehicles:
   EXPECT_TRUE(
       (rov.links[1].X_BL.linear() * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ(), kTol));
   EXPECT_EQ(rov.links[1].buoyancy.volume, 0.004);
-  ASSERT_EQ(rov.thrusters.size(), 1u);
-  const ThrusterSpec& t = rov.thrusters[0];
-  EXPECT_EQ(t.link_index, 1);
+  ASSERT_EQ(rov.actuators.size(), 1u);
+  EXPECT_EQ(rov.actuators[0].link_index, 1);
+  const physics::ThrusterActuator::Spec& t = spec_of<physics::ThrusterActuator>(rov.actuators[0]);
   EXPECT_TRUE(t.axis_L.isApprox(Eigen::Vector3d(0, 0.6, 0.8), kTol));
-  EXPECT_EQ(t.max_rotor_speed, 10.0);
+  EXPECT_EQ(t.max_rotor_speed_rev_s, 10.0);
   EXPECT_EQ(t.handedness, -1);
   EXPECT_EQ(t.torque_coefficient, 0.0);
-  EXPECT_EQ(t.rotor_time_constant, 0.0);
+  EXPECT_EQ(t.rotor_time_constant_s, 0.0);
   EXPECT_EQ(rov.fluid.linear_damping, Vector6d::Zero());
   ASSERT_EQ(rov.schedule.size(), 2u);
   EXPECT_EQ(rov.schedule[0].time, 1.5);

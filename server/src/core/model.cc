@@ -13,6 +13,20 @@ std::string_view SensorSpec::type() const {
   return std::visit([](const auto& spec) { return sensors::KindOf<std::decay_t<decltype(spec)>>::kType; }, kind);
 }
 
+std::string_view ActuatorSpec::type() const {
+  return std::visit([](const auto& spec) { return std::decay_t<decltype(spec)>::Kind::kType; }, kind);
+}
+
+std::size_t ActuatorSpec::num_controls() const {
+  return std::visit([](const auto& spec) { return std::decay_t<decltype(spec)>::Kind::kControls; }, kind);
+}
+
+std::size_t VehicleSpec::num_controls() const {
+  std::size_t n = 0;
+  for (const ActuatorSpec& actuator : actuators) n += actuator.num_controls();
+  return n;
+}
+
 int Model::vehicle_index(const std::string& name) const {
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     if (vehicles[i].name == name) return static_cast<int>(i);

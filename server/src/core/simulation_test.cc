@@ -17,6 +17,7 @@ namespace hadal {
 namespace {
 
 namespace testing = physics::testing;
+using Thruster = physics::ThrusterActuator::State;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -36,7 +37,7 @@ VehicleSpec box_auv(const Eigen::Isometry3d& X_WB, double buoyancy_ratio = 1.0) 
   const Eigen::Vector3d size(1.0, 0.4, 0.4);
   const double mass = 1000.0 * size.prod();
   vehicle.links.push_back(testing::box_link("hull", mass, size, buoyancy_ratio * size.prod()));
-  vehicle.thrusters = {
+  vehicle.actuators = {
       testing::simple_thruster("main", Eigen::Vector3d(-0.6, 0, 0), Eigen::Vector3d::UnitX()),
       testing::simple_thruster("heave", Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitZ()),
       testing::simple_thruster("sway", Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitY())};
@@ -72,11 +73,11 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) 
         return ::testing::AssertionFailure() << "velocity differs at " << k;
       }
     }
-    for (std::size_t k = 0; k < va.thrusters.size(); ++k) {
-      const ThrusterState& ta = va.thrusters[k];
-      const ThrusterState& tb = vb.thrusters[k];
-      if (!same_bits(ta.setpoint, tb.setpoint) || !same_bits(ta.rotor_speed, tb.rotor_speed) ||
-          !same_bits(ta.thrust, tb.thrust) || !same_bits(ta.torque, tb.torque)) {
+    for (std::size_t k = 0; k < va.actuators.size(); ++k) {
+      const Thruster& ta = std::get<Thruster>(va.actuators[k]);
+      const Thruster& tb = std::get<Thruster>(vb.actuators[k]);
+      if (!same_bits(ta.setpoint, tb.setpoint) || !same_bits(ta.rotor_speed_rev_s, tb.rotor_speed_rev_s) ||
+          !same_bits(ta.thrust_N, tb.thrust_N) || !same_bits(ta.torque_Nm, tb.torque_Nm)) {
         return ::testing::AssertionFailure() << "thruster " << k << " differs";
       }
     }
@@ -101,15 +102,15 @@ TEST(SimulationTest, ForwardThrustMovesAlongBodyX) {
     Model model = one_auv_model(at(p0, yaw));
     model.vehicles[0].command_timeout = 10.0;  // one command for the whole 2 s run
     Simulation sim(std::move(model));
-    ASSERT_EQ(sim.set_thruster_setpoints(0, {0.5, 0.0, 0.0}), "");
+    ASSERT_EQ(sim.set_controls(0, {0.5, 0.0, 0.0}), "");
     run(sim, 1000);
     const RigidBodyState& body = sim.state().vehicles[0].body;
     const Eigen::Vector3d moved = body.X_WB.translation() - p0;
     const Eigen::Vector3d x_W(std::cos(yaw), std::sin(yaw), 0.0);
     EXPECT_GT(moved.dot(x_W), 1.0) << "yaw " << yaw;
     EXPECT_LT((moved - moved.dot(x_W) * x_W).norm(), 1e-9 * moved.norm()) << "yaw " << yaw;
-    EXPECT_GT(sim.state().vehicles[0].thrusters[0].thrust, 0.0);
-    EXPECT_LT(sim.state().vehicles[0].thrusters[0].torque, 0.0);  // right-handed, n > 0
+    EXPECT_GT(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).thrust_N, 0.0);
+    EXPECT_LT(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).torque_Nm, 0.0);  // right-handed, n > 0
   }
 }
 
@@ -137,30 +138,30 @@ TEST(SimulationTest, WatchdogZeroesStaleCommandsAndANewCommandClearsIt) {
   model.world.physics_rate_hz = 256.0;
   model.vehicles[0].command_timeout = 0.5;
   Simulation sim(std::move(model));
-  ASSERT_EQ(sim.set_thruster_setpoints(0, {0.8, 0.0, -0.2}), "");
+  ASSERT_EQ(sim.set_controls(0, {0.8, 0.0, -0.2}), "");
   run(sim, 129);  // the last step started at t = 128 / 256 = 0.5
   const VehicleState* vehicle = &sim.state().vehicles[0];
-  EXPECT_EQ(vehicle->thrusters[0].setpoint, 0.8);
-  EXPECT_EQ(vehicle->thrusters[2].setpoint, -0.2);
+  EXPECT_EQ(std::get<Thruster>(vehicle->actuators[0]).setpoint, 0.8);
+  EXPECT_EQ(std::get<Thruster>(vehicle->actuators[2]).setpoint, -0.2);
   EXPECT_EQ(vehicle->faults & kFaultCommandTimeout, 0u);
   EXPECT_EQ(vehicle->command_source, CommandSource::kClient);
 
   sim.step();  // started at t = 0.5 + 1/256: stale
   vehicle = &sim.state().vehicles[0];
-  EXPECT_EQ(vehicle->thrusters[0].setpoint, 0.0);
-  EXPECT_EQ(vehicle->thrusters[2].setpoint, 0.0);
+  EXPECT_EQ(std::get<Thruster>(vehicle->actuators[0]).setpoint, 0.0);
+  EXPECT_EQ(std::get<Thruster>(vehicle->actuators[2]).setpoint, 0.0);
   EXPECT_NE(vehicle->faults & kFaultCommandTimeout, 0u);
-  const double n_before = vehicle->thrusters[0].rotor_speed;
+  const double n_before = std::get<Thruster>(vehicle->actuators[0]).rotor_speed_rev_s;
   run(sim, 10);
-  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].rotor_speed, 0.0);  // tau = 0: stopped at once
+  EXPECT_EQ(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).rotor_speed_rev_s, 0.0);  // tau = 0: stopped at once
   EXPECT_EQ(n_before, 0.0);
 
-  ASSERT_EQ(sim.set_thruster_setpoints(0, {-0.3, 0.1, 0.0}), "");
+  ASSERT_EQ(sim.set_controls(0, {-0.3, 0.1, 0.0}), "");
   EXPECT_EQ(sim.state().vehicles[0].faults & kFaultCommandTimeout, 0u);
   EXPECT_EQ(sim.state().vehicles[0].last_command_time, sim.time());
   sim.step();
-  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].setpoint, -0.3);
-  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].rotor_speed, -0.3 * 50.0);
+  EXPECT_EQ(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).setpoint, -0.3);
+  EXPECT_EQ(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).rotor_speed_rev_s, -0.3 * 50.0);
   EXPECT_EQ(sim.state().vehicles[0].faults & kFaultCommandTimeout, 0u);
 }
 
@@ -171,7 +172,7 @@ TEST(SimulationTest, ScheduleIsAZeroOrderHoldUntilAClientTakesOver) {
   model.vehicles[0].schedule = {{0.25, {0.5, 0.0, 0.0}}, {0.5, {-0.5, 0.25, 0.0}}};
   Simulation sim(std::move(model));
   EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kSchedule);
-  auto setpoint = [&](int k) { return sim.state().vehicles[0].thrusters[k].setpoint; };
+  auto setpoint = [&](int k) { return std::get<Thruster>(sim.state().vehicles[0].actuators[k]).setpoint; };
 
   run(sim, 64);  // steps starting at 0 .. 63/256: before the first keyframe
   EXPECT_EQ(setpoint(0), 0.0);
@@ -187,7 +188,7 @@ TEST(SimulationTest, ScheduleIsAZeroOrderHoldUntilAClientTakesOver) {
   EXPECT_EQ(setpoint(0), -0.5);  // held after the last keyframe
 
   // Hand-over: the client's command wins from now on, the schedule is never used again.
-  ASSERT_EQ(sim.set_thruster_setpoints(0, {0.1, 0.2, 0.3}), "");
+  ASSERT_EQ(sim.set_controls(0, {0.1, 0.2, 0.3}), "");
   EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kClient);
   sim.step();
   EXPECT_EQ(setpoint(0), 0.1);
@@ -208,35 +209,35 @@ TEST(SimulationTest, KeyframeIsNotDelayedByRoundOffOfSimTime) {
   Simulation sim(std::move(model));
   run(sim, 222);
   ASSERT_LT(sim.time(), 3.7);
-  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].setpoint, 0.0);
+  EXPECT_EQ(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).setpoint, 0.0);
   sim.step();  // starts at step 222
-  EXPECT_EQ(sim.state().vehicles[0].thrusters[0].setpoint, 1.0);
+  EXPECT_EQ(std::get<Thruster>(sim.state().vehicles[0].actuators[0]).setpoint, 1.0);
 }
 
 TEST(SimulationTest, RejectsInvalidCommandsWithAReason) {
   Simulation sim(one_auv_model());
   const SimState before = sim.state();
-  EXPECT_EQ(sim.set_thruster_setpoints(7, {0, 0, 0}), "unknown vehicle index 7");
-  EXPECT_EQ(sim.set_thruster_setpoints(-1, {0, 0, 0}), "unknown vehicle index -1");
-  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, 0}),
+  EXPECT_EQ(sim.set_controls(7, {0, 0, 0}), "unknown vehicle index 7");
+  EXPECT_EQ(sim.set_controls(-1, {0, 0, 0}), "unknown vehicle index -1");
+  EXPECT_EQ(sim.set_controls(0, {0, 0}),
             "expected 3 setpoints (main, heave, sway), got 2");
-  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, kNaN, 0}), "setpoint[1] is NaN");
-  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, 0, -kInf}), "setpoint[2] is -inf");
-  EXPECT_EQ(sim.set_thruster_setpoints(0, {1.5, 0, 0}), "setpoint[0] = 1.5 is outside [-1, 1]");
-  EXPECT_EQ(sim.set_thruster_setpoints(0, {0, -1.0000001, 0}),
+  EXPECT_EQ(sim.set_controls(0, {0, kNaN, 0}), "setpoint[1] is NaN");
+  EXPECT_EQ(sim.set_controls(0, {0, 0, -kInf}), "setpoint[2] is -inf");
+  EXPECT_EQ(sim.set_controls(0, {1.5, 0, 0}), "setpoint[0] = 1.5 is outside [-1, 1]");
+  EXPECT_EQ(sim.set_controls(0, {0, -1.0000001, 0}),
             "setpoint[1] = -1.0000001 is outside [-1, 1]");
   EXPECT_TRUE(bit_identical(sim.state(), before));
-  EXPECT_TRUE(sim.state().vehicles[0].client_setpoints.empty());
+  EXPECT_TRUE(sim.state().vehicles[0].client_controls.empty());
   EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kNone);
-  EXPECT_EQ(sim.set_thruster_setpoints(0, {1.0, -1.0, 0.0}), "");
+  EXPECT_EQ(sim.set_controls(0, {1.0, -1.0, 0.0}), "");
 }
 
 TEST(SimulationTest, CheckingACommandValidatesWithoutApplying) {
   Simulation sim(one_auv_model());
   const SimState before = sim.state();
-  EXPECT_EQ(sim.check_thruster_setpoints(0, {0, kNaN, 0}), "setpoint[1] is NaN");
-  EXPECT_EQ(sim.check_thruster_setpoints(3, {0, 0, 0}), "unknown vehicle index 3");
-  EXPECT_EQ(sim.check_thruster_setpoints(0, {0.5, 0.0, 0.0}), "");
+  EXPECT_EQ(sim.check_controls(0, {0, kNaN, 0}), "setpoint[1] is NaN");
+  EXPECT_EQ(sim.check_controls(3, {0, 0, 0}), "unknown vehicle index 3");
+  EXPECT_EQ(sim.check_controls(0, {0.5, 0.0, 0.0}), "");
   EXPECT_TRUE(bit_identical(sim.state(), before));  // a valid command is not applied either
   EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kNone);
 }
@@ -249,12 +250,12 @@ TEST(SimulationTest, RestoredStateContinuesBitIdentically) {
   Eigen::Isometry3d X_BL = at(Eigen::Vector3d(0.3, 0.1, 0.15), 0.5);
   vehicle.links.push_back(
       testing::box_link("pod", 20.0, Eigen::Vector3d(0.3, 0.2, 0.2), 0.004, X_BL));
-  for (ThrusterSpec& thruster : vehicle.thrusters) thruster.rotor_time_constant = 0.1;
+  for (ActuatorSpec& thruster : vehicle.actuators) std::get<physics::ThrusterActuator::Spec>(thruster.kind).rotor_time_constant_s = 0.1;
   vehicle.v_WB_initial = Eigen::Vector3d(0.2, -0.1, 0.05);
 
   Simulation original(model);
   ASSERT_FALSE(original.mass_properties(0).X_BP.isApprox(Eigen::Isometry3d::Identity()));
-  ASSERT_EQ(original.set_thruster_setpoints(0, {0.7, -0.3, 0.4}), "");
+  ASSERT_EQ(original.set_controls(0, {0.7, -0.3, 0.4}), "");
   run(original, 200);
   const SimState snapshot = original.state();
   run(original, 300);
@@ -294,7 +295,7 @@ TEST(SimulationTest, RestoringAStateInContactIsDeterministic) {
 TEST(SimulationTest, NonFiniteStateFromSetStateIsResetAndFlagged) {
   const Model model = one_auv_model(at(Eigen::Vector3d(0, 0, -20), 0.3));
   Simulation sim(model);
-  ASSERT_EQ(sim.set_thruster_setpoints(0, {0.5, 0.5, 0.5}), "");
+  ASSERT_EQ(sim.set_controls(0, {0.5, 0.5, 0.5}), "");
   run(sim, 100);
   SimState bad = sim.state();
   bad.vehicles[0].body.v_WB.y() = kNaN;
@@ -304,12 +305,12 @@ TEST(SimulationTest, NonFiniteStateFromSetStateIsResetAndFlagged) {
   EXPECT_EQ(vehicle.fault_resets, 1u);
   EXPECT_TRUE(vehicle.body.X_WB.isApprox(model.vehicles[0].X_WB_initial, 0.0));
   EXPECT_TRUE(vehicle.body.v_WB.isZero(0.0));
-  EXPECT_EQ(vehicle.thrusters[0].rotor_speed, 0.0);
-  EXPECT_EQ(vehicle.client_setpoints, std::vector<double>({0.0, 0.0, 0.0}));
+  EXPECT_EQ(std::get<Thruster>(vehicle.actuators[0]).rotor_speed_rev_s, 0.0);
+  EXPECT_EQ(vehicle.client_controls, std::vector<double>({0.0, 0.0, 0.0}));
 
   // From then on it moves exactly like a vehicle that starts at rest at the initial pose.
   Simulation reference(model);
-  ASSERT_EQ(reference.set_thruster_setpoints(0, {0.0, 0.0, 0.0}), "");
+  ASSERT_EQ(reference.set_controls(0, {0.0, 0.0, 0.0}), "");
   run(sim, 50);
   run(reference, 50);
   EXPECT_EQ(sim.state().vehicles[0].body.X_WB.matrix(),
@@ -336,8 +337,8 @@ TEST(SimulationTest, NonFiniteStateFromTheStepIsResetAndFlagged) {
   EXPECT_EQ(sim.state().step_count, 1u);
 
   Simulation reference(model);
-  ASSERT_EQ(sim.set_thruster_setpoints(0, {1.0, 0.0, 0.0}), "");
-  ASSERT_EQ(reference.set_thruster_setpoints(0, {1.0, 0.0, 0.0}), "");
+  ASSERT_EQ(sim.set_controls(0, {1.0, 0.0, 0.0}), "");
+  ASSERT_EQ(reference.set_controls(0, {1.0, 0.0, 0.0}), "");
   run(sim, 100);
   run(reference, 100);
   EXPECT_EQ(sim.state().vehicles[0].body.X_WB.matrix(),
@@ -386,11 +387,11 @@ TEST(SimulationTest, TwoLinkCompositeMassProperties) {
 
 TEST(SimulationTest, RejectsUnsimulatableModelsAndForeignStates) {
   Model model = one_auv_model();
-  model.vehicles[0].thrusters[1].link_index = 3;
+  model.vehicles[0].actuators[1].link_index = 3;
   EXPECT_THROW(Simulation{model}, std::invalid_argument);
   Simulation sim(one_auv_model());
   SimState other = sim.state();
-  other.vehicles[0].thrusters.pop_back();
+  other.vehicles[0].actuators.pop_back();
   EXPECT_THROW(sim.set_state(other), std::invalid_argument);
   other.vehicles.clear();
   EXPECT_THROW(sim.set_state(other), std::invalid_argument);

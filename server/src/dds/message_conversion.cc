@@ -40,18 +40,25 @@ void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, dou
                          hadal_msgs::msg::ThrusterState& msg) {
   msg.header().stamp(to_time_msg(time_s));
   msg.header().frame_id(base_frame_id(spec.name));
-  const std::size_t n = spec.thrusters.size();
+  std::size_t n = 0;
+  for (const physics::ActuatorKindState& actuator : state.actuators) {
+    n += std::holds_alternative<physics::ThrusterActuator::State>(actuator) ? 1 : 0;
+  }
   msg.name().resize(n);
   msg.setpoint().resize(n);
   msg.rotor_speed().resize(n);
   msg.thrust().resize(n);
   msg.torque().resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    msg.name()[i] = spec.thrusters[i].name;
-    msg.setpoint()[i] = state.thrusters[i].setpoint;
-    msg.rotor_speed()[i] = state.thrusters[i].rotor_speed;
-    msg.thrust()[i] = state.thrusters[i].thrust;
-    msg.torque()[i] = state.thrusters[i].torque;
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < state.actuators.size(); ++k) {
+    const auto* thruster = std::get_if<physics::ThrusterActuator::State>(&state.actuators[k]);
+    if (thruster == nullptr) continue;
+    msg.name()[i] = spec.actuators[k].name;
+    msg.setpoint()[i] = thruster->setpoint;
+    msg.rotor_speed()[i] = thruster->rotor_speed_rev_s;
+    msg.thrust()[i] = thruster->thrust_N;
+    msg.torque()[i] = thruster->torque_Nm;
+    ++i;
   }
   msg.command_source(static_cast<std::uint8_t>(state.command_source));
 }

@@ -18,6 +18,8 @@ namespace hadal::dds {
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
 
+// The vehicle's thrusters (its actuators of kind thruster, in actuator order): setpoint, rotor speed
+// [rev/s], thrust [N], reaction torque [N m], and the command source.
 void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
                          hadal_msgs::msg::ThrusterState& msg);
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <variant>
 
 #include "hadal/physics/test_models.h"
 
@@ -12,10 +13,10 @@ namespace {
 constexpr double kRho = 1025.0;
 constexpr double kDt = 0.002;
 
-ThrusterSpec make_spec(double tau) {
-  ThrusterSpec spec =
-      testing::simple_thruster("main", Eigen::Vector3d(-0.5, 0.0, 0.1), Eigen::Vector3d::UnitX());
-  spec.rotor_time_constant = tau;
+ThrusterActuator::Spec make_spec(double tau) {
+  ThrusterActuator::Spec spec = std::get<ThrusterActuator::Spec>(
+      testing::simple_thruster("main", Eigen::Vector3d(-0.5, 0.0, 0.1), Eigen::Vector3d::UnitX()).kind);
+  spec.rotor_time_constant_s = tau;
   return spec;
 }
 
@@ -46,11 +47,11 @@ TEST(ThrusterTest, SteadyStateThrustIsKtRhoD4NSquared) {
   // After 50 tau the lag is e^-50 ~ 2e-22 of n_cmd: below double resolution, so n = n_cmd up to
   // round-off and T = K_T rho D^4 n|n| to 1e-12 relative.
   const double tau = 0.05;
-  const ThrusterSpec spec = make_spec(tau);
+  const ThrusterActuator::Spec spec = make_spec(tau);
   const Thruster thruster(spec, Eigen::Isometry3d::Identity(), kRho, kDt);
   for (double setpoint : {0.6, -0.6}) {
     const double n = spin_up(thruster, setpoint, static_cast<int>(50 * tau / kDt));
-    const double n_cmd = setpoint * spec.max_rotor_speed;
+    const double n_cmd = setpoint * spec.max_rotor_speed_rev_s;
     EXPECT_NEAR(n, n_cmd, 1e-12 * std::abs(n_cmd));
     const double expected = spec.thrust_coefficient * kRho * std::pow(spec.propeller_diameter, 4) *
                             n_cmd * std::abs(n_cmd);
@@ -72,7 +73,7 @@ TEST(ThrusterTest, ReactionTorqueOpposesRightHandedRotation) {
   X_WB.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const double n = 30.0;
   for (int handedness : {1, -1}) {
-    ThrusterSpec spec = make_spec(0.0);
+    ThrusterActuator::Spec spec = make_spec(0.0);
     spec.handedness = handedness;
     const Thruster thruster(spec, X_BL, kRho, kDt);
     const double magnitude =
@@ -101,6 +102,51 @@ TEST(ThrusterTest, NoThrustInAir) {
   // Just below the surface it pushes.
   X_WB.translation().z() = -0.2;
   EXPECT_GT(thruster.wrench(40.0, X_WB, 0.0).thrust, 0.0);
+}
+
+// The actuator kind: its control is checked with the reason a client gets, held as the setpoint (a
+// last-line guard clamps it), actuated through the rotor lag, and its wrench added about the centre of
+// mass: f = T axis, tau = Q axis + (p_WT - p_WBcm) x f (closed form with the vehicle yawed).
+TEST(ThrusterTest, ActuatorKindChecksHoldsActuatesAndAddsItsWrench) {
+  const ThrusterActuator::Spec spec = make_spec(0.0);
+  const double good = 0.5, nan = std::nan(""), big = 1.5, neg_inf = -INFINITY;
+  EXPECT_EQ(ThrusterActuator::check(spec, &good, 2), "");
+  EXPECT_EQ(ThrusterActuator::check(spec, &nan, 2), "setpoint[2] is NaN");
+  EXPECT_EQ(ThrusterActuator::check(spec, &big, 0), "setpoint[0] = 1.5 is outside [-1, 1]");
+  EXPECT_EQ(ThrusterActuator::check(spec, &neg_inf, 1), "setpoint[1] is -inf");
+  ThrusterActuator::State state;
+  ThrusterActuator::command(state, &big);
+  EXPECT_EQ(state.setpoint, 1.0);
+  ThrusterActuator::command(state, &nan);
+  EXPECT_EQ(state.setpoint, 0.0);
+  ThrusterActuator::command(state, &good);
+  const Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+  const Thruster runtime = ThrusterActuator::prepare(spec, ActuatorSetup{X_BL, kRho, kDt});
+  ThrusterActuator::actuate(runtime, state);
+  EXPECT_EQ(state.rotor_speed_rev_s, 25.0);  // tau = 0: n = 0.5 x 50 rev/s at once
+
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  X_WB.translation() = Eigen::Vector3d(1.0, 2.0, -30.0);
+  const Eigen::Vector3d p_WBcm = X_WB * Eigen::Vector3d(0.1, 0.0, 0.0);
+  StepWrench out;
+  ThrusterActuator::add_wrench(runtime, state, ActuatorForceInput{X_WB, p_WBcm, 0.0}, out);
+  const double T = spec.thrust_coefficient * kRho * std::pow(spec.propeller_diameter, 4) * 625.0;
+  const double Q = -spec.torque_coefficient * kRho * std::pow(spec.propeller_diameter, 5) * 625.0;
+  EXPECT_NEAR(state.thrust_N, T, 1e-12 * T);
+  EXPECT_NEAR(state.torque_Nm, Q, 1e-12 * std::abs(Q));
+  const Eigen::Vector3d axis_W(0.0, 1.0, 0.0);  // body x yawed 90 deg
+  // p_WT - p_WBcm = R_WB ((-0.5, 0, 0.1) - (0.1, 0, 0)) = (0, -0.6, 0.1).
+  const Eigen::Vector3d r(0.0, -0.6, 0.1);
+  EXPECT_NEAR((out.f_W - T * axis_W).norm(), 0.0, 1e-12 * T);
+  EXPECT_NEAR((out.tau_W - (Q * axis_W + r.cross(T * axis_W))).norm(), 0.0, 1e-12 * T);
+
+  ThrusterActuator::stop(state);
+  EXPECT_EQ(state.rotor_speed_rev_s, 0.0);
+  EXPECT_EQ(state.thrust_N, 0.0);
+  EXPECT_TRUE(ThrusterActuator::is_finite(state));
+  state.rotor_speed_rev_s = nan;
+  EXPECT_FALSE(ThrusterActuator::is_finite(state));
 }
 
 }  // namespace

@@ -29,7 +29,6 @@ const std::vector<std::string>& ImuSensor::keys() {
 // drift and thruster vibration.
 ImuSensor::Spec ImuSensor::read(const SensorReader& reader) {
   const MapReader& map = reader.map;
-  const std::vector<std::string>& thruster_names = reader.thruster_names;
   Spec spec;
   ImuDatasheet sheet;
   if (const auto preset = map.optional("preset")) {
@@ -119,13 +118,16 @@ ImuSensor::Spec ImuSensor::read(const SensorReader& reader) {
     if (vibration.ok()) {
       if (const auto thruster = vibration.required("thruster")) {
         if (const auto name = thruster->string()) {
-          const auto it = std::find(thruster_names.begin(), thruster_names.end(), *name);
-          if (it == thruster_names.end()) {
+          std::vector<std::string> thruster_names;
+          for (std::size_t i = 0; i < reader.actuator_names.size(); ++i) {
+            if (reader.actuator_types[i] != "thruster") continue;
+            thruster_names.push_back(reader.actuator_names[i]);
+            if (reader.actuator_names[i] == *name) spec.vibration_thruster = static_cast<int>(i);
+          }
+          if (spec.vibration_thruster < 0) {
             thruster->error("no thruster named " + quoted(*name) + " in this vehicle (" +
                             (thruster_names.empty() ? std::string("it has none")
                                                     : "thrusters: " + join_names(thruster_names)) + ")");
-          } else {
-            spec.vibration_thruster = static_cast<int>(it - thruster_names.begin());
           }
         }
       }
@@ -171,8 +173,9 @@ void ImuSensor::sample(const SampleContext& context, const Spec& spec, State& st
   const double dT = context.ocean.temperature(depth) - spec.temperature_reference;
   double vibration = 0.0;
   if (spec.vibration_thruster >= 0) {
-    const double f = spec.vibration_blades *
-                     std::abs(context.vehicle().thrusters[static_cast<std::size_t>(spec.vibration_thruster)].rotor_speed);
+    const auto& thruster = std::get<physics::ThrusterActuator::State>(
+        context.vehicle().actuators[static_cast<std::size_t>(spec.vibration_thruster)]);
+    const double f = spec.vibration_blades * std::abs(thruster.rotor_speed_rev_s);
     vibration = std::sin(2.0 * EIGEN_PI * f * context.time);
   }
   const Eigen::Vector3d gyro_terms = Eigen::Vector3d::Constant(dT * spec.gyro_temperature_coefficient +

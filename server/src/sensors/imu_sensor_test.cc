@@ -100,7 +100,8 @@ TEST(ImuSensorTest, NoiseAndTemperatureDrift) {
 TEST(ImuSensorTest, ThrusterVibrationAtTheBladePassFrequency) {
   Model model = testing::one_vehicle_world(Eigen::Vector3d(0, 0, -30), -5000.0);
   model.world.gravity_W.setZero();
-  model.vehicles[0].thrusters.resize(2);
+  model.vehicles[0].actuators = {ActuatorSpec{"port", 0, physics::ThrusterActuator::Spec{}},
+                                 ActuatorSpec{"starboard", 0, physics::ThrusterActuator::Spec{}}};
   SensorTestWorld world(model);
   ImuSensor::Spec spec;
   spec.vibration_thruster = 1;
@@ -111,7 +112,7 @@ TEST(ImuSensorTest, ThrusterVibrationAtTheBladePassFrequency) {
   world.state.time = 0.0123;
   world.sample<ImuSensor>(spec, state, Eigen::Isometry3d::Identity(), 100.0);
   EXPECT_EQ(state.specific_force_S, Eigen::Vector3d::Zero());
-  world.state.vehicles[0].thrusters[1].rotor_speed = -12.5;  // f = 50 Hz
+  std::get<physics::ThrusterActuator::State>(world.state.vehicles[0].actuators[1]).rotor_speed_rev_s = -12.5;  // 50 Hz
   world.sample<ImuSensor>(spec, state, Eigen::Isometry3d::Identity(), 100.0);
   const double phase = std::sin(2.0 * EIGEN_PI * 50.0 * 0.0123);
   EXPECT_NEAR((state.specific_force_S - Eigen::Vector3d::Constant(0.01 * phase)).norm(), 0.0, 1e-15);

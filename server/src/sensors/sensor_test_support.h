@@ -29,7 +29,11 @@ class SensorTestWorld {
       VehicleState& v = state.vehicles.emplace_back();
       v.body.X_WB = vehicle.X_WB_initial;
       v.body.v_WB = vehicle.v_WB_initial;
-      v.thrusters.resize(vehicle.thrusters.size());
+      for (const ActuatorSpec& actuator : vehicle.actuators) {
+        v.actuators.push_back(std::visit(
+            [](const auto& spec) -> physics::ActuatorKindState { return typename std::decay_t<decltype(spec)>::Kind::State{}; },
+            actuator.kind));
+      }
     }
     if (with_rays) rays = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model, "threads=1"));
   }

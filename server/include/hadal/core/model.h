@@ -10,6 +10,7 @@
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
+#include "hadal/physics/actuator_kinds.h"
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/sensor_kinds.h"
@@ -73,21 +74,25 @@ struct LinkSpec {
   std::optional<LinkMesh> mesh;
 };
 
-// A propeller thruster. Thrust T = K_T rho D^4 n|n| along axis_L, reaction torque
-// Q = -handedness K_Q rho D^5 n|n| about axis_L; rotor speed n [rev/s] follows the commanded speed
-// with a first-order lag of time constant rotor_time_constant.
-struct ThrusterSpec {
-  std::string name;
-  int link_index = 0;                                   // index into VehicleSpec::links
-  Eigen::Vector3d p_LT = Eigen::Vector3d::Zero();       // propeller position in L [m]
-  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitX();    // unit thrust direction for n > 0, in L
-  double propeller_diameter = 0.0;                      // D [m]
-  double thrust_coefficient = 0.0;                      // K_T [-]
-  double torque_coefficient = 0.0;                      // K_Q [-]
-  double rotor_time_constant = 0.0;                     // tau [s], >= 0 (0: rotor follows instantly)
-  double max_rotor_speed = 0.0;                         // n_max [rev/s] (YAML: max_rpm)
-  int handedness = 1;                                   // +1 right-handed, -1 left-handed propeller
+// An actuator (YAML: a list of the vehicle definition per kind, e.g. `thrusters`), mounted on a link. Its
+// kind (physics/actuator_kinds.h) says what it is, what it takes from the vehicle's control vector and
+// what force it adds (physics/actuator_kind.h).
+struct ActuatorSpec {
+  std::string name;    // unique within the vehicle
+  int link_index = 0;  // index into VehicleSpec::links
+  physics::ActuatorKindSpec kind;
+
+  // The kind's name ("thruster", ...).
+  std::string_view type() const;
+  // Entries of the vehicle's control vector this actuator takes.
+  std::size_t num_controls() const;
 };
+
+// The kind spec of an actuator as kind K's Spec (K must be the actuator's kind).
+template <class K>
+const typename K::Spec& spec_of(const ActuatorSpec& actuator) {
+  return std::get<typename K::Spec>(actuator.kind);
+}
 
 enum class FluidModelType { kLumped, kSurface };
 
@@ -154,8 +159,8 @@ const typename K::Spec& spec_of(const SensorSpec& sensor) {
   return std::get<typename K::Spec>(sensor.kind);
 }
 
-// Zero-order-hold keyframe of a scenario setpoint schedule: from time (sim time, s) on, the
-// thrusters take these normalised setpoints (one per thruster, in [-1, 1]).
+// Zero-order-hold keyframe of a scenario schedule: from time (sim time, s) on, the vehicle's actuators
+// take this control vector (one normalised setpoint per thruster, in [-1, 1]).
 struct SetpointKeyframe {
   double time = 0.0;  // [s]
   std::vector<double> setpoints;
@@ -166,7 +171,7 @@ struct VehicleSpec {
   VehicleType type = VehicleType::kAuv;
   std::string source_file;          // file the vehicle definition came from (scenario or include)
   std::vector<LinkSpec> links;      // links[0] is the base link; links are rigidly attached to B
-  std::vector<ThrusterSpec> thrusters;
+  std::vector<ActuatorSpec> actuators;  // their controls form the vehicle's control vector, in order
   std::vector<SensorSpec> sensors;
   FluidSpec fluid;
   Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
@@ -177,6 +182,8 @@ struct VehicleSpec {
   double thruster_state_rate_hz = 20.0;
 
   int link_index(const std::string& link_name) const;
+  // Length of the control vector: the actuators' controls summed.
+  std::size_t num_controls() const;
 };
 
 enum class SeabedType { kPlane, kMesh, kHeightmap, kProcedural };

@@ -1,32 +1,26 @@
 // Simulation: the fixed-step loop body of hadald, independent of DDS.
 //
-// One step (DESIGN.md, "data flow of one step"):
-//   commands -> actuator setpoints -> rotor dynamics -> forces (thrusters, fluid, gravity)
-//   -> Bullet step -> state snapshot -> non-finite check.
-// Setpoint source per vehicle: the scenario schedule until a client first commands the vehicle, then
-// client setpoints guarded by the watchdog (no fresh command for command_timeout seconds of sim
-// time -> setpoints 0, kFaultCommandTimeout set). Non-finite policy (DESIGN.md 7): a vehicle whose
-// pose, velocity, rotor speed or client setpoints become NaN/Inf is put back at X_WB_initial at rest,
-// rotors stopped, client setpoints zeroed; kFaultNonFiniteState stays set (latched) and fault_resets
+// One step (docs/ARCHITECTURE.md, "One step"):
+//   commands -> actuators (physics/actuators.h) -> force elements (actuators, fluid, Earth rotation;
+//   physics/force_element.h) -> added-mass conversion -> Bullet step -> state snapshot -> non-finite
+//   check -> sensors due (sensors/sensor_kinds.h).
+// Control source per vehicle: the scenario schedule until a client first commands the vehicle, then
+// the client's control vector guarded by the watchdog (no fresh command for command_timeout seconds
+// of sim time -> zero controls, kFaultCommandTimeout set). Non-finite policy: a vehicle whose pose,
+// velocity, actuator state or client controls become NaN/Inf is put back at X_WB_initial at rest,
+// actuators stopped, client controls zeroed; kFaultNonFiniteState stays set (latched) and fault_resets
 // counts the resets. Not thread-safe: the caller serialises access.
-// Fluid per vehicle (VehicleSpec::fluid.model): lumped (default; LumpedFluid, water at rest), or
-// surface: SurfaceHydrodynamics over the links' meshes (or tessellated collision primitives) in B,
-// sampled in the scenario's Ocean (density profile, pressure, currents) at the step's start time,
-// applied at the centre of mass; buoyancy then comes from pressure integration (links' buoyancy
-// volumes are not used). Both fluid models see the Ocean's current at the vehicle (the lumped model
-// at the centre of mass, the surface model per face).
-// Added mass (VehicleSpec::fluid.added_mass, physics/added_mass.h): M_A0 about the centre of mass,
-// scaled each step by kappa(d) at the centre of mass times the submerged fraction of the vehicle (the
-// lumped model's volume fraction, the surface model's wetted-area fraction), with C_A(nu_r) nu_r for
-// the velocity relative to the current there; all applied wrenches of a step are collected at the
-// centre of mass and turned into the wrench Bullet gets.
-// Rigid-body dynamics (world.dynamics): Bullet's gyroscopic moment on/off; Earth-rotation Coriolis
-// F = -2 m Omega_W x v_WBcm at the centre of mass when enabled.
-// Sensors sample at the end of the step that reaches their sample time (VehicleSpec::sensors); the
-// DVL's beams and altimeters cast rays into the world's Embree scene on the stepping thread, so their
-// samples are as deterministic as the rest of the step.
-// Fluid forces of different vehicles are independent; with two or more surface-model hulls of
-// >= 4096 faces they are computed on a persistent worker pool (results are identical either way).
+// Fluid per vehicle (VehicleSpec::fluid, physics/fluid_forces.h): surface or lumped model, both in the
+// scenario's Ocean with its currents. Added mass (physics/added_mass.h): M_A0 about the centre of mass,
+// scaled each step by kappa(d) at the centre of mass times the submerged fraction, with C_A(nu_r) nu_r
+// for the velocity relative to the current; every applied wrench of a step is collected at the centre
+// of mass and turned into the wrench Bullet gets. Rigid-body dynamics (world.dynamics): Bullet's
+// gyroscopic moment on/off; Earth-rotation Coriolis as a force element when enabled.
+// Sensors sample at the end of the step that reaches their sample time; the ray-casting ones (DVL,
+// altimeter) cast into the world's Embree scene on the stepping thread, so their samples are as
+// deterministic as the rest of the step. Force elements of different vehicles are independent; with two
+// or more surface-model hulls of >= 4096 faces they run on a persistent worker pool (results are
+// identical either way).
 #pragma once
 
 #include "hadal/core/model.h"
@@ -56,7 +50,8 @@ struct MassProperties;
 class Simulation {
  public:
   // Throws std::invalid_argument if the model cannot be simulated (physics_rate_hz not > 0, a vehicle
-  // without positive mass, a thruster on a missing link, a surface-model vehicle without faces).
+  // without positive mass, an actuator or sensor on a missing link, a surface-model vehicle without
+  // faces).
   explicit Simulation(Model model);
   ~Simulation();
   Simulation(const Simulation&) = delete;
@@ -73,32 +68,43 @@ class Simulation {
   const Matrix6d& added_mass(int vehicle_index) const;
   // The scenario's water column.
   const physics::Ocean& ocean() const { return *ocean_; }
-  // Helper threads computing fluid forces besides the stepping thread (0: serial).
+  // Helper threads computing force elements besides the stepping thread (0: serial).
   unsigned fluid_helper_threads() const;
 
   // Restores a state previously returned by state() (same model; throws std::invalid_argument if the
-  // vehicle or thruster counts differ). A vehicle whose restored state is not finite gets the
+  // vehicle, actuator or sensor counts or kinds differ). A vehicle whose restored state is not finite gets the
   // non-finite policy at once (reset, kFaultNonFiniteState, fault_resets + 1), so NaN never enters
   // Bullet. Contact caches are cleared: restoring the same state twice continues bit-identically.
   void set_state(const SimState& state);
 
-  // Validates and applies a client command for a vehicle: one setpoint per thruster, each finite and
-  // in [-1, 1]. Returns an empty string when accepted, otherwise the reason (state untouched).
-  std::string set_thruster_setpoints(int vehicle_index, const std::vector<double>& setpoints);
-  // The validation alone: "" if set_thruster_setpoints would accept the command, else the reason.
-  std::string check_thruster_setpoints(int vehicle_index, const std::vector<double>& setpoints) const;
+  // Validates and applies a client command for a vehicle: a whole control vector (one normalised
+  // setpoint per thruster, each finite and in [-1, 1]; physics/actuators.h). Returns an empty string
+  // when accepted, otherwise the reason (state untouched).
+  std::string set_controls(int vehicle_index, const std::vector<double>& controls);
+  // The validation alone: "" if set_controls would accept the command, else the reason.
+  std::string check_controls(int vehicle_index, const std::vector<double>& controls) const;
 
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
 
  private:
+  struct VehicleRuntime;  // per-vehicle actuators, force elements, added mass, sensor mounts (simulation.cc)
+
+  // The stages of step(), in order.
+  void actuate(double t, double dt);
+  void apply_forces(double t);
+  void convert_for_added_mass(VehicleRuntime& runtime, const VehicleState& vehicle, Eigen::Vector3d& f_W,
+                              Eigen::Vector3d& tau_W) const;
+  void take_snapshot(double dt);
+  void reset_non_finite_vehicles();
+  void sample_sensors(double dt);
+
   Model model_;
   SimState state_;
   std::unique_ptr<physics::BulletWorld> world_;
   std::unique_ptr<physics::Ocean> ocean_;  // the water column
-  struct VehicleRuntime;                 // per-vehicle thrusters, fluid model, sensors (simulation.cc)
-  std::vector<VehicleRuntime> runtime_;  // one per VehicleSpec
-  std::unique_ptr<WorkerPool> pool_;     // fluid forces in parallel; null when it does not pay
+  std::vector<std::unique_ptr<VehicleRuntime>> runtime_;  // one per VehicleSpec
+  std::unique_ptr<WorkerPool> pool_;  // force elements in parallel; null when it does not pay
   std::unique_ptr<sensors::SensorEnvironment> environment_;  // WMM, W's geodetic frame (on first use)
   std::unique_ptr<geometry::SceneRays> rays_;  // the world's Embree scene; null without ray-casting sensors
 };

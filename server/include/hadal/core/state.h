@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "hadal/physics/actuator_kinds.h"
 #include "hadal/sensors/sensor_kinds.h"
 
 namespace hadal {
@@ -20,17 +21,10 @@ struct RigidBodyState {
   Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();  // angular velocity of B, expressed in W [rad/s]
 };
 
-struct ThrusterState {
-  double setpoint = 0.0;     // normalised command in [-1, 1] currently applied
-  double rotor_speed = 0.0;  // n [rev/s]
-  double thrust = 0.0;       // along the thruster axis [N]
-  double torque = 0.0;       // reaction torque about the thruster axis [N m]
-};
-
 // Bits of VehicleState::faults (reported per vehicle on rt/hadal/status).
 enum VehicleFault : std::uint32_t {
   kFaultNone = 0,
-  kFaultCommandTimeout = 1u << 0,  // watchdog: no fresh client setpoint, thrusters spinning down
+  kFaultCommandTimeout = 1u << 0,  // watchdog: no fresh client command, controls held at zero
   kFaultNonFiniteState = 1u << 1,  // NaN/Inf detected in the body state; the vehicle was reset
 };
 
@@ -51,11 +45,17 @@ const typename K::State& state_of(const SensorState& sensor) {
   return std::get<typename K::State>(sensor.kind);
 }
 
+// The state of an actuator as kind K's State (K must be the actuator's kind).
+template <class K>
+const typename K::State& state_of(const physics::ActuatorKindState& actuator) {
+  return std::get<typename K::State>(actuator);
+}
+
 struct VehicleState {
   RigidBodyState body;
-  std::vector<ThrusterState> thrusters;  // one per ThrusterSpec, same order
+  std::vector<physics::ActuatorKindState> actuators;  // one per ActuatorSpec, same order and kind
   CommandSource command_source = CommandSource::kNone;
-  std::vector<double> client_setpoints;  // last accepted client command
+  std::vector<double> client_controls;  // last accepted client command: a whole control vector
   double last_command_time = -std::numeric_limits<double>::infinity();  // sim time [s]
   std::uint32_t faults = kFaultNone;
   std::uint64_t fault_resets = 0;  // how many times the non-finite policy reset this vehicle

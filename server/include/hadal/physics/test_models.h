@@ -41,18 +41,19 @@ inline LinkSpec box_link(std::string name, double mass, const Eigen::Vector3d& s
 
 // A thruster on links[0] at p_LT pushing along axis_L, with tau = 0, n_max = 50 rev/s and
 // K_T rho D^4 ~ 0.5 N s^2 at rho = 1000 (T_max ~ 1.2 kN).
-inline ThrusterSpec simple_thruster(std::string name, const Eigen::Vector3d& p_LT,
-                                    const Eigen::Vector3d& axis_L) {
-  ThrusterSpec thruster;
-  thruster.name = std::move(name);
+inline ActuatorSpec simple_thruster(std::string name, const Eigen::Vector3d& p_LT, const Eigen::Vector3d& axis_L) {
+  ThrusterActuator::Spec thruster;
   thruster.p_LT = p_LT;
   thruster.axis_L = axis_L;
   thruster.propeller_diameter = 0.2;
   thruster.thrust_coefficient = 0.3;
   thruster.torque_coefficient = 0.05;
-  thruster.rotor_time_constant = 0.0;
-  thruster.max_rotor_speed = 50.0;
-  return thruster;
+  thruster.rotor_time_constant_s = 0.0;
+  thruster.max_rotor_speed_rev_s = 50.0;
+  ActuatorSpec actuator;
+  actuator.name = std::move(name);
+  actuator.kind = thruster;
+  return actuator;
 }
 
 // A world with the water surface at z = 0, the seabed at z = -100 m, rho = 1000 kg/m^3, 500 Hz, and

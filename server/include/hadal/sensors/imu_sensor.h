@@ -46,7 +46,7 @@ struct ImuSensor {
     double temperature_reference = 20.0;         // T_ref [degC]
     double gyro_temperature_coefficient = 0.0;   // k_T [rad/s per K], every axis
     double accel_temperature_coefficient = 0.0;  // k_T [m/s^2 per K], every axis
-    int vibration_thruster = -1;                 // index into the vehicle's thrusters; -1: none
+    int vibration_thruster = -1;                 // index of a thruster in the vehicle's actuators; -1: none
     int vibration_blades = 3;                    // blade-pass frequency = blades x rotor speed
     double gyro_vibration_amplitude = 0.0;       // A [rad/s], every axis
     double accel_vibration_amplitude = 0.0;      // A [m/s^2], every axis

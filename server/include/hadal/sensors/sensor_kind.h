@@ -40,11 +40,13 @@ class LocalEnuFrame;
 struct SampleContext;  // sensors/sample_context.h
 
 // What a kind's YAML reader gets besides its own map: the sensor entry (common keys already read and
-// checked), the vehicle's thruster names (a sensor may refer to one) and the sample rate, which a data
-// sheet preset may set when the file does not.
+// checked), the vehicle's actuators' names and kinds in VehicleSpec::actuators order (a sensor may refer
+// to one; empty when the actuator list is unusable) and the sample rate, which a data-sheet preset may
+// set when the file does not.
 struct SensorReader {
   const config::MapReader& map;
-  const std::vector<std::string>& thruster_names;
+  const std::vector<std::string>& actuator_names;
+  const std::vector<std::string>& actuator_types;  // e.g. "thruster"
   bool rate_given = false;  // rate_hz appears in the file
   double& rate_hz;          // [Hz]; a kind may set it when !rate_given
 };

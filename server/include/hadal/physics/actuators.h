@@ -1,0 +1,69 @@
+// A vehicle's actuators as one set (physics/actuator_kind.h): the control vector's layout, command
+// checking, the step's actuation, and their forces as the vehicle's first force element. The one place
+// the simulation dispatches on actuator kind.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "hadal/core/model.h"
+#include "hadal/core/state.h"
+#include "hadal/physics/actuator_kinds.h"
+#include "hadal/physics/force_element.h"
+
+namespace hadal::physics {
+
+// Every actuator kind's Runtime, for the per-actuator constants.
+template <class List>
+struct RuntimesOf;
+template <class... Kinds>
+struct RuntimesOf<KindList<Kinds...>> {
+  using type = std::variant<typename Kinds::Runtime...>;
+};
+using ActuatorKindRuntime = RuntimesOf<ActuatorKinds>::type;
+
+class VehicleActuators {
+ public:
+  // Prepares every actuator of `vehicle` (its links must exist). Keeps a reference to `vehicle`.
+  VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world);
+
+  // The states at the start of a run: every actuator at rest.
+  static std::vector<ActuatorKindState> initial_states(const VehicleSpec& vehicle);
+
+  // "" when `controls` is a valid control vector for the vehicle (its length and every actuator's
+  // check), else the reason ("expected 3 setpoints (main, heave, sway), got 2", "setpoint[1] is NaN").
+  std::string check(const std::vector<double>& controls) const;
+  // Holds `controls` over the next step; entries past its end count as 0.
+  void command(std::vector<ActuatorKindState>& states, const std::vector<double>& controls) const;
+  // One step of every actuator's own dynamics.
+  void actuate(std::vector<ActuatorKindState>& states) const;
+  // The non-finite policy: every actuator at rest.
+  static void stop(std::vector<ActuatorKindState>& states);
+  static bool is_finite(const std::vector<ActuatorKindState>& states);
+
+  // Adds every actuator's wrench (in actuator order) at the vehicle's pose.
+  void add_wrenches(const ForceInput& in, StepWrench& out) const;
+
+  std::size_t num_controls() const { return num_controls_; }
+
+ private:
+  const VehicleSpec& vehicle_;
+  double surface_z_;
+  std::vector<ActuatorKindRuntime> runtimes_;  // one per actuator
+  std::vector<std::size_t> first_control_;     // index of each actuator's first control
+  std::size_t num_controls_ = 0;
+};
+
+// The actuators as a force element: their wrenches, from the states actuate() left.
+class ActuatorForces : public ForceElement {
+ public:
+  explicit ActuatorForces(const VehicleActuators& actuators) : actuators_(actuators) {}
+  void add(const ForceInput& in, StepWrench& out) override { actuators_.add_wrenches(in, out); }
+
+ private:
+  const VehicleActuators& actuators_;
+};
+
+}  // namespace hadal::physics

@@ -1,0 +1,104 @@
+#include "hadal/physics/actuators.h"
+
+namespace hadal::physics {
+
+namespace {
+
+template <class Spec>
+using Kind = typename Spec::Kind;
+
+}  // namespace
+
+VehicleActuators::VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world)
+    : vehicle_(vehicle), surface_z_(world.water.surface_z) {
+  for (const ActuatorSpec& actuator : vehicle.actuators) {
+    const ActuatorSetup setup{vehicle.links[static_cast<std::size_t>(actuator.link_index)].X_BL,
+                              world.water.density, world.step_size()};
+    std::visit([&](const auto& spec) { runtimes_.emplace_back(Kind<std::decay_t<decltype(spec)>>::prepare(spec, setup)); },
+               actuator.kind);
+    first_control_.push_back(num_controls_);
+    num_controls_ += actuator.num_controls();
+  }
+}
+
+std::vector<ActuatorKindState> VehicleActuators::initial_states(const VehicleSpec& vehicle) {
+  std::vector<ActuatorKindState> states;
+  for (const ActuatorSpec& actuator : vehicle.actuators) {
+    std::visit([&](const auto& spec) { states.emplace_back(typename Kind<std::decay_t<decltype(spec)>>::State{}); },
+               actuator.kind);
+  }
+  return states;
+}
+
+std::string VehicleActuators::check(const std::vector<double>& controls) const {
+  if (controls.size() != num_controls_) {
+    std::string reason = "expected " + std::to_string(num_controls_) + (num_controls_ == 1 ? " setpoint" : " setpoints");
+    if (!vehicle_.actuators.empty()) {
+      reason += " (";
+      for (std::size_t k = 0; k < vehicle_.actuators.size(); ++k) reason += (k > 0 ? ", " : "") + vehicle_.actuators[k].name;
+      reason += ")";
+    }
+    return reason + ", got " + std::to_string(controls.size());
+  }
+  for (std::size_t k = 0; k < vehicle_.actuators.size(); ++k) {
+    const std::string reason = std::visit(
+        [&](const auto& spec) {
+          return Kind<std::decay_t<decltype(spec)>>::check(spec, &controls[first_control_[k]], first_control_[k]);
+        },
+        vehicle_.actuators[k].kind);
+    if (!reason.empty()) return reason;
+  }
+  return {};
+}
+
+void VehicleActuators::command(std::vector<ActuatorKindState>& states, const std::vector<double>& controls) const {
+  std::vector<double> padded;
+  const std::vector<double>* held = &controls;
+  if (controls.size() < num_controls_) {
+    padded = controls;
+    padded.resize(num_controls_, 0.0);
+    held = &padded;
+  }
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    std::visit([&](auto& state) { std::decay_t<decltype(state)>::Kind::command(state, &(*held)[first_control_[k]]); },
+               states[k]);
+  }
+}
+
+void VehicleActuators::actuate(std::vector<ActuatorKindState>& states) const {
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    std::visit(
+        [&](auto& state) {
+          using K = typename std::decay_t<decltype(state)>::Kind;
+          K::actuate(std::get<typename K::Runtime>(runtimes_[k]), state);
+        },
+        states[k]);
+  }
+}
+
+void VehicleActuators::stop(std::vector<ActuatorKindState>& states) {
+  for (ActuatorKindState& state : states) {
+    std::visit([](auto& s) { std::decay_t<decltype(s)>::Kind::stop(s); }, state);
+  }
+}
+
+bool VehicleActuators::is_finite(const std::vector<ActuatorKindState>& states) {
+  for (const ActuatorKindState& state : states) {
+    if (!std::visit([](const auto& s) { return std::decay_t<decltype(s)>::Kind::is_finite(s); }, state)) return false;
+  }
+  return true;
+}
+
+void VehicleActuators::add_wrenches(const ForceInput& in, StepWrench& out) const {
+  const ActuatorForceInput input{in.body.X_WB, in.p_WBcm, surface_z_};
+  for (std::size_t k = 0; k < in.actuators.size(); ++k) {
+    std::visit(
+        [&](auto& state) {
+          using K = typename std::decay_t<decltype(state)>::Kind;
+          K::add_wrench(std::get<typename K::Runtime>(runtimes_[k]), state, input, out);
+        },
+        in.actuators[k]);
+  }
+}
+
+}  // namespace hadal::physics
