@@ -289,6 +289,36 @@ TEST(SensorClientTest, RangeOfTheAltimeterIsTheHeightAboveAPlaneSeabed) {
   }
 }
 
+// ---- profiler (sensor_msgs/LaserScan, captured asynchronously) ------------------------------------
+
+// tests/integration/scenarios/profiler.yaml: scans taken at 0.1 s and 0.2 s are published 0.05 s later,
+// within the lockstep request that covers that time, stamped with the scan's time; the beams nearest the
+// vertical read the 40 m to the plane (float message, Embree float: 1e-4 m).
+TEST(SensorClientTest, ProfilerScansArriveTheirLatencyAfterTheScanStampedWithIt) {
+  LockstepServer s("tests/integration/scenarios/profiler.yaml");
+  SampleLog<LaserScan> scans;
+  s.client().on_laser_scan("auv", "profiler", [&](const LaserScan& m) { scans.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  EXPECT_NEAR(s.client().step(100), 0.2, 1e-12);  // scans taken at 0.1 s (out at 0.15 s) and 0.2 s
+  ASSERT_TRUE(wait_until([&] { return scans.has(0.1); }, kWait));
+  EXPECT_NEAR(s.client().step(24), 0.248, 1e-12);
+  EXPECT_FALSE(scans.has(0.2));  // due at 0.25 s: the server has not published it (no timing involved)
+  EXPECT_NEAR(s.client().step(1), 0.25, 1e-12);
+  ASSERT_TRUE(wait_until([&] { return scans.has(0.2); }, kWait));
+  EXPECT_EQ(scans.all().size(), 2u);
+  const LaserScan m = scans.at(0.2);
+  EXPECT_EQ(m.frame_id, "auv/profiler");
+  ASSERT_EQ(m.ranges.size(), 64u);
+  EXPECT_NEAR(m.angle_min, -0.5 * M_PI / 2.0 + 0.5 * (M_PI / 2.0) / 64.0, 1e-6);
+  EXPECT_NEAR(m.angle_increment, (M_PI / 2.0) / 64.0, 1e-6);
+  EXPECT_NEAR(m.scan_time, 0.1, 1e-7);
+  EXPECT_NEAR(m.ranges[31], 40.0, 1e-3);
+  EXPECT_NEAR(m.ranges[32], 40.0, 1e-3);
+  // Beam 0's ray nearest the vertical is 0.4 deg inside its centre at -45 + 0.70 deg.
+  EXPECT_NEAR(m.ranges[0], 40.0 / std::cos(M_PI / 4.0 - 0.5 * (M_PI / 2.0) / 64.0 - 0.4 * M_PI / 180.0), 2e-3);
+  EXPECT_TRUE(m.intensities.empty());
+}
+
 // A topic already subscribed with one message type refuses another (its samples would be misread):
 // a clear error at subscription, no server needed.
 TEST(SensorClientTest, SubscribingATopicWithAnotherTypeIsRefused) {

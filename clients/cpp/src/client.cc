@@ -187,6 +187,22 @@ Range from_msg(const sensor_msgs::msg::Range& m) {
   return r;
 }
 
+LaserScan from_msg(const sensor_msgs::msg::LaserScan& m) {
+  LaserScan l;
+  l.stamp = dds::from_time_msg(m.header().stamp());
+  l.frame_id = m.header().frame_id();
+  l.angle_min = m.angle_min();
+  l.angle_max = m.angle_max();
+  l.angle_increment = m.angle_increment();
+  l.time_increment = m.time_increment();
+  l.scan_time = m.scan_time();
+  l.range_min = m.range_min();
+  l.range_max = m.range_max();
+  l.ranges = m.ranges();
+  l.intensities = m.intensities();
+  return l;
+}
+
 bool wait_for_match(fdds::DataWriter* writer, double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   fdds::PublicationMatchedStatus status;
@@ -360,6 +376,13 @@ void Client::on_range(const std::string& vehicle, const std::string& sensor,
   impl_->subscribe<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>(
       dds::sensor_topic(vehicle, sensor),
       [callback = std::move(callback)](const sensor_msgs::msg::Range& m) { callback(from_msg(m)); });
+}
+
+void Client::on_laser_scan(const std::string& vehicle, const std::string& sensor,
+                           std::function<void(const LaserScan&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const sensor_msgs::msg::LaserScan& m) { callback(from_msg(m)); });
 }
 
 void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {

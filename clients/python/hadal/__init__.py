@@ -14,8 +14,8 @@
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
-from ._hadal import (Client, ClientError, Dvl, FluidPressure, Imu, MagneticField, NavSatFix, Odometry, Range,
-                     ServerMode, SimStatus, ThrusterStates)
+from ._hadal import (Client, ClientError, Dvl, FluidPressure, Imu, LaserScan, MagneticField, NavSatFix, Odometry,
+                     Range, ServerMode, SimStatus, ThrusterStates)
 
-__all__ = ["Client", "ClientError", "Dvl", "FluidPressure", "Imu", "MagneticField", "NavSatFix", "Odometry",
-           "Range", "ServerMode", "SimStatus", "ThrusterStates"]
+__all__ = ["Client", "ClientError", "Dvl", "FluidPressure", "Imu", "LaserScan", "MagneticField", "NavSatFix",
+           "Odometry", "Range", "ServerMode", "SimStatus", "ThrusterStates"]

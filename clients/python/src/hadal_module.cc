@@ -44,8 +44,9 @@ py::array_t<double> to_numpy(const std::array<std::array<double, C>, R>& rows) {
   return out;
 }
 
-py::array_t<double> to_numpy(const std::vector<double>& values) {
-  py::array_t<double> out(values.size());
+template <class T>
+py::array_t<T> to_numpy(const std::vector<T>& values) {
+  py::array_t<T> out(values.size());
   std::copy(values.begin(), values.end(), out.mutable_data());
   return out;
 }
@@ -141,6 +142,11 @@ class PyClient {
                                          double timeout_s) {
     return wait_sensor("range", &hadal::Client::on_range, range_, vehicle, sensor, min_stamp, timeout_s);
   }
+  std::optional<hadal::LaserScan> wait_laser_scan(const std::string& vehicle, const std::string& sensor,
+                                                  double min_stamp, double timeout_s) {
+    return wait_sensor("laser_scan", &hadal::Client::on_laser_scan, laser_scan_, vehicle, sensor, min_stamp,
+                       timeout_s);
+  }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
     client_.set_thrusters(vehicle, setpoints);
   }
@@ -177,6 +183,7 @@ class PyClient {
   Latest<hadal::NavSatFix> nav_sat_fix_;
   Latest<hadal::Dvl> dvl_;
   Latest<hadal::Range> range_;
+  Latest<hadal::LaserScan> laser_scan_;
 };
 
 }  // namespace
@@ -321,6 +328,24 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("max_range", &hadal::Range::max_range, "[m]")
       .def_readonly("range", &hadal::Range::range, "[m]");
 
+  py::class_<hadal::LaserScan>(m, "LaserScan",
+                               "sensor_msgs/LaserScan of a fan of range beams (a profiler): beam k at "
+                               "angle_min + k angle_increment about the sensor frame's z axis; values outside "
+                               "[range_min, range_max] are not measurements (+inf no return, -inf too close)")
+      .def_readonly("stamp", &hadal::LaserScan::stamp, "sim time of the scan's snapshot [s]")
+      .def_readonly("frame_id", &hadal::LaserScan::frame_id)
+      .def_readonly("angle_min", &hadal::LaserScan::angle_min, "first beam [rad]")
+      .def_readonly("angle_max", &hadal::LaserScan::angle_max, "last beam [rad]")
+      .def_readonly("angle_increment", &hadal::LaserScan::angle_increment, "between beams [rad]")
+      .def_readonly("time_increment", &hadal::LaserScan::time_increment, "between beams' measurements [s]")
+      .def_readonly("scan_time", &hadal::LaserScan::scan_time, "between scans [s]")
+      .def_readonly("range_min", &hadal::LaserScan::range_min, "[m]")
+      .def_readonly("range_max", &hadal::LaserScan::range_max, "[m]")
+      .def_property_readonly("ranges", [](const hadal::LaserScan& l) { return to_numpy(l.ranges); },
+                             "(beams,) float32 ranges [m]")
+      .def_property_readonly("intensities", [](const hadal::LaserScan& l) { return to_numpy(l.intensities); },
+                             "(beams,) or (0,) float32");
+
   py::class_<hadal::SimStatus>(m, "SimStatus")
       .def_readonly("sim_time", &hadal::SimStatus::sim_time)
       .def_readonly("wall_time", &hadal::SimStatus::wall_time)
@@ -366,6 +391,9 @@ PYBIND11_MODULE(_hadal, m) {
       .def("wait_range", &PyClient::wait_range, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(),
            "Range sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")
+      .def("wait_laser_scan", &PyClient::wait_laser_scan, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "LaserScan of rt/<vehicle>/<sensor> (a profiler) with stamp >= min_stamp, or None on timeout")
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
            "Normalised setpoints in [-1, 1], one per thruster in scenario order")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),

@@ -32,12 +32,11 @@ def domain_id():
     pytest.fail("no free DDS domain id")
 
 
-@pytest.fixture
-def lockstep_server(domain_id):
-    """hadald in lockstep mode on the test scenario; yields (process, domain_id)."""
+def _lockstep(relative_scenario, domain_id):
+    """hadald in lockstep mode on a scenario of the source tree; yields (process, domain_id)."""
     process = subprocess.Popen(
-        [HADALD, scenario("tests/integration/scenarios/auv_client.yaml"), "--mode", "lockstep",
-         "--domain-id", str(domain_id), "--no-status-line"],
+        [HADALD, scenario(relative_scenario), "--mode", "lockstep", "--domain-id", str(domain_id),
+         "--no-status-line"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     yield process, domain_id
     if process.poll() is None:
@@ -48,3 +47,15 @@ def lockstep_server(domain_id):
             process.kill()
     out, err = process.communicate()
     sys.stderr.write(err)
+
+
+@pytest.fixture
+def lockstep_server(domain_id):
+    """hadald in lockstep mode on the AUV test scenario; yields (process, domain_id)."""
+    yield from _lockstep("tests/integration/scenarios/auv_client.yaml", domain_id)
+
+
+@pytest.fixture
+def profiler_server(domain_id):
+    """hadald in lockstep mode on the profiler test scenario (a captured sensor kind)."""
+    yield from _lockstep("tests/integration/scenarios/profiler.yaml", domain_id)

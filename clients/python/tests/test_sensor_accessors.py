@@ -1,6 +1,7 @@
-"""The Python sensor accessors (wait_magnetic_field, wait_nav_sat_fix, wait_dvl, wait_range) against a
-real hadald over real DDS: the lockstep test scenario's AUV (configs/vehicles/torpedo_auv.yaml) at 50 m
-depth, at rest, yawed 30 deg, world origin 43 N 5 E."""
+"""The Python sensor accessors (wait_magnetic_field, wait_nav_sat_fix, wait_dvl, wait_range,
+wait_laser_scan) against a real hadald over real DDS: the lockstep test scenario's AUV
+(configs/vehicles/torpedo_auv.yaml) at 50 m depth, at rest, yawed 30 deg, world origin 43 N 5 E; and the
+profiler scenario (tests/integration/scenarios/profiler.yaml)."""
 
 import math
 
@@ -122,3 +123,21 @@ def test_range_of_the_altimeter_is_the_height_above_the_seabed(lockstep_server):
     assert 0.0 < rng.field_of_view < math.pi
     assert rng.min_range <= rng.range <= rng.max_range
     assert abs(rng.range - 50.0) < 0.5  # plane seabed 50 m below; mount offset and noise as the DVL's
+
+
+def test_laser_scan_of_the_profiler(profiler_server):
+    """A scan taken at 0.1 s arrives 0.05 s later (in the request that covers 0.15 s), stamped 0.1 s,
+    as a float32 numpy array of 64 beams; the beams nearest the vertical read the 40 m to the plane."""
+    _, domain_id = profiler_server
+    client = subscribed_client(domain_id, lambda c: c.wait_laser_scan("auv", "profiler", timeout_s=0.1))
+    assert abs(client.step(74) - 0.148) < 1e-12
+    assert client.wait_laser_scan("auv", "profiler", timeout_s=0.0) is None  # due at 0.15 s
+    client.step(1)
+    scan = client.wait_laser_scan("auv", "profiler", min_stamp=0.1, timeout_s=WAIT_S)
+    assert scan is not None and isinstance(scan, hadal.LaserScan)
+    assert abs(scan.stamp - 0.1) < 1e-9
+    assert scan.frame_id == "auv/profiler"
+    assert scan.ranges.dtype == np.float32 and scan.ranges.shape == (64,)
+    np.testing.assert_allclose(scan.ranges[31:33], [40.0, 40.0], rtol=0, atol=1e-3)
+    assert scan.intensities.shape == (0,)
+    assert abs(scan.angle_increment - math.radians(90.0) / 64) < 1e-6

@@ -4,10 +4,11 @@
 #include "hadal/core/simulation.h"
 #include "hadal/geometry/ray_batch.h"
 #include "hadal/geometry/raycast_service.h"
-#include "hadal/geometry/world_scene.h"
 #include "../dds/server_endpoints.h"
 
 #include <hadal_msgs.h>
+
+#include <sys/resource.h>
 
 #include <chrono>
 #include <cmath>
@@ -36,12 +37,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-geometry::RaycastServiceOptions raycast_options(const Model& model) {
-  geometry::RaycastServiceOptions options;
-  options.num_threads = model.world.raycast_threads;
-  return options;
-}
-
 class Runner {
  public:
   Runner(const Model& model, const CliOptions& options, const std::atomic<bool>& stop)
@@ -49,8 +44,9 @@ class Runner {
         options_(options),
         stop_(stop),
         sim_(model),
-        dds_(model, options.domain_id),
-        raycast_(geometry::build_world_scene(model), raycast_options(model)) {
+        dds_(model, options.domain_id) {
+    // In real time a capture whose rays are late is dropped: the step loop never waits on the workers.
+    sim_.set_wait_for_captures(options.mode != RunMode::kRealtime);
     clock_divider_ = RateDivider(model.world.clock_rate_hz);
     const std::size_t n = model.vehicles.size();
     odometry_dividers_.reserve(n);
@@ -248,7 +244,7 @@ class Runner {
   }
 
   // One ray straight down from each vehicle's origin, through its own hull, against the last snapshot
-  // (the ray-cast service, so the scene the daemon built is exercised end to end).
+  // (the simulation's ray-cast workers over the one world scene, exercised end to end).
   std::vector<double> altitudes() {
     geometry::RayBatch batch;
     batch.set_snapshot(sim_.state());
@@ -257,7 +253,7 @@ class Runner {
       batch.add_ray(vehicles[i].body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, -1.0f), 0.0f,
                     std::numeric_limits<float>::infinity(), static_cast<std::int32_t>(i));
     }
-    const geometry::RayHits hits = raycast_.submit(std::move(batch)).get();
+    const geometry::RayHits hits = sim_.raycast_service().submit(std::move(batch)).get();
     return std::vector<double>(hits.distance.begin(), hits.distance.end());
   }
 
@@ -268,6 +264,9 @@ class Runner {
     s.wall_time = seconds_since(start_wall_);
     s.steps = sim_.state().step_count;
     s.rejected_commands = rejected_;
+    s.dropped_captures = sim_.dropped_captures();
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) == 0) s.peak_memory_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       const Eigen::Vector3d p = sim_.state().vehicles[i].body.X_WB.translation();
       s.vehicles.push_back({model_.vehicles[i].name, distance_[i], (p - start_positions_[i]).norm(), altitude[i]});
@@ -283,7 +282,6 @@ class Runner {
   const std::atomic<bool>& stop_;
   Simulation sim_;
   dds::ServerEndpoints dds_;
-  geometry::RaycastService raycast_;
   RateDivider clock_divider_;
   std::vector<RateDivider> odometry_dividers_, thruster_dividers_;
   std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor
@@ -318,6 +316,8 @@ std::string RunSummary::format() const {
   out << "  samples published:\n";
   for (const auto& [topic, count] : samples_published) out << "    " << topic << " " << count << "\n";
   out << "  rejected commands: " << rejected_commands << "\n";
+  out << "  late captures dropped: " << dropped_captures << "\n";
+  out << "  peak memory: " << peak_memory_mb << " MiB\n";
   return out.str();
 }
 

@@ -31,6 +31,8 @@ struct RunSummary {
   double wall_time = 0.0;
   std::uint64_t steps = 0;
   std::uint64_t rejected_commands = 0;
+  std::uint64_t dropped_captures = 0;  // captures late in real time, never waited for
+  double peak_memory_mb = 0.0;         // the process's peak resident set size [MiB]
   std::vector<VehicleSummary> vehicles;
   std::vector<std::pair<std::string, std::uint64_t>> samples_published;  // per topic
 

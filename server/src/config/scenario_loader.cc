@@ -665,6 +665,7 @@ std::optional<std::string> read_actuator(const Value& value, const ActuatorKindR
 struct SensorKindReader {
   std::string type;                       // `type:` value
   const std::vector<std::string>* keys;  // the keys only this kind takes
+  bool captures;                          // captured asynchronously: takes latency_s
   sensors::SensorKindSpec (*read)(const sensors::SensorReader&);
 };
 
@@ -673,7 +674,7 @@ const std::vector<SensorKindReader>& sensor_kind_readers() {
     std::vector<SensorKindReader> list;
     sensors::SensorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
-      list.push_back({std::string(Kind::kType), &Kind::keys(),
+      list.push_back({std::string(Kind::kType), &Kind::keys(), Kind::kCaptures,
                       [](const sensors::SensorReader& reader) -> sensors::SensorKindSpec { return Kind::read(reader); }});
     });
     return list;
@@ -690,7 +691,7 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
                  std::map<std::string, std::string>* seen_names, SensorSpec* sensor) {
   const std::vector<SensorKindReader>& readers = sensor_kind_readers();
   std::vector<std::pair<std::string, std::size_t>> types;
-  std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id"};
+  std::vector<std::string> keys = {"name", "type", "link", "pose", "rate_hz", "frame_id", "latency_s"};
   for (std::size_t k = 0; k < readers.size(); ++k) {
     types.emplace_back(readers[k].type, k);
     for (const std::string& key : *readers[k].keys) {
@@ -709,6 +710,12 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
   read_rate(map, "rate_hz", physics_rate_hz, &sensor->rate_hz);
   map.read_string("frame_id", Need::kOptional, &sensor->frame_id);
   const SensorKindReader& reader = readers[kind];
+  if (map.has("latency_s") && !reader.captures) {
+    map.error_at_key("latency_s", "key 'latency_s' is not used by sensor type " + quoted(reader.type) +
+                                      " (it samples on the stepping thread, without latency)");
+  } else {
+    map.read_number("latency_s", Need::kOptional, Range::closed(0.0, 10.0), &sensor->latency_s);
+  }
   std::vector<std::string> reported;  // a key of several other kinds (preset) is reported once
   for (const SensorKindReader& other : readers) {
     if (&other == &reader) continue;

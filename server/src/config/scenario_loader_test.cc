@@ -512,7 +512,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
-                          "'magnetometer', 'gps', 'dvl', 'altimeter' (got 'barometer')",
+                          "'magnetometer', 'gps', 'dvl', 'altimeter', 'profiler' (got 'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
@@ -522,6 +522,56 @@ vehicles:
                    path + ":10:67: error: vehicles[0].sensors[2].noise_stddev: must be >= 0 (got -1)",
                    path + ":11:9: error: vehicles[0].sensors[3]: missing required key 'name'",
                    path + ":11:26: error: vehicles[0].sensors[3].colour: unknown key 'colour'"}));
+}
+
+// The profiler (a captured kind): its keys and the common latency_s, which only captured kinds take.
+TEST_F(ScenarioLoaderTest, ProfilerKeysAndLatency) {
+  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: scan, type: profiler, rate_hz: 5, latency_s: 0.08, beams: 128, fov_deg: 60, beam_width_deg: 2,
+         rays_per_beam: 4, min_range: 1, max_range: 30, noise_stddev: 0.02, resolution: 0.01}
+      - {name: plain, type: profiler}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const auto& sensors = result.model->vehicles[0].sensors;
+  EXPECT_EQ(sensors[0].type(), "profiler");
+  EXPECT_EQ(sensors[0].latency_s, 0.08);
+  const sensors::ProfilerSensor::Spec& scan = spec_of<sensors::ProfilerSensor>(sensors[0]);
+  EXPECT_EQ(scan.beams, 128);
+  EXPECT_DOUBLE_EQ(scan.fov, 60.0 * kDegToRad);
+  EXPECT_DOUBLE_EQ(scan.beam_width, 2.0 * kDegToRad);
+  EXPECT_EQ(scan.rays_per_beam, 4);
+  EXPECT_EQ(scan.min_range, 1.0);
+  EXPECT_EQ(scan.max_range, 30.0);
+  EXPECT_EQ(scan.noise_stddev, 0.02);
+  EXPECT_EQ(scan.resolution, 0.01);
+  EXPECT_EQ(sensors[1].latency_s, 0.0);
+  EXPECT_EQ(spec_of<sensors::ProfilerSensor>(sensors[1]).beams, sensors::ProfilerSensor::Spec{}.beams);
+
+  const std::string bad = write("bad.yaml", R"(world: {physics_rate_hz: 500}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: scan, type: profiler, beams: 12.5, rays_per_beam: 0, latency_s: -1, max_range: 0.2}
+      - {name: depth, type: pressure, latency_s: 0.1}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":8:45: error: vehicles[0].sensors[0].beams: must be a whole number (got 12.5)",
+                   bad + ":8:66: error: vehicles[0].sensors[0].rays_per_beam: must be in [1, 64] (got 0)",
+                   bad + ":8:80: error: vehicles[0].sensors[0].latency_s: must be in [0, 10] (got -1)",
+                   bad + ":8:84: error: vehicles[0].sensors[0].max_range: max_range (0.2 m) must exceed min_range "
+                         "(0.5 m)",
+                   bad + ":9:39: error: vehicles[0].sensors[1].latency_s: key 'latency_s' is not used by sensor "
+                         "type 'pressure' (it samples on the stepping thread, without latency)"}));
 }
 
 TEST_F(ScenarioLoaderTest, DvlAndAltimeterFromPresetAndKeys) {

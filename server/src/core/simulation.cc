@@ -1,14 +1,18 @@
 #include "hadal/core/simulation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <charconv>
 #include <cmath>
+#include <deque>
+#include <future>
 #include <iterator>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 
 #include "hadal/core/rate_divider.h"
+#include "hadal/geometry/raycast_service.h"
 #include "hadal/geometry/scene_rays.h"
 #include "hadal/geometry/world_scene.h"
 #include "hadal/physics/actuators.h"
@@ -42,7 +46,13 @@ struct Simulation::VehicleRuntime {
           world.dynamics.gyroscopic);
     }
     for (const SensorSpec& sensor : spec.sensors) {
-      sensors.push_back({spec.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS, 1.0 / sensor.rate_hz});
+      Sensor& mount = sensors.emplace_back();
+      mount.X_BS = spec.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
+      mount.period = 1.0 / sensor.rate_hz;
+      // Delivered at the end of the first step at or after capture + latency (1e-6 step of slack for
+      // latencies that are whole steps up to rounding).
+      mount.latency_steps =
+          static_cast<std::uint64_t>(std::ceil(sensor.latency_s * world.physics_rate_hz - 1e-6));
     }
   }
 
@@ -53,12 +63,15 @@ struct Simulation::VehicleRuntime {
   Matrix6d M_A0 = Matrix6d::Zero();  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
   std::size_t fluid_faces = 0;                             // surface-model faces per step
-  // Per sensor (same order as VehicleSpec::sensors): its pose in B and its sample period.
+  // Per sensor (same order as VehicleSpec::sensors): its pose in B, its sample period, and for a
+  // captured kind its latency in steps and the ray casts in flight (one per pending capture, same order).
   struct Sensor {
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
     double period = 0.0;  // nominal sample period 1 / rate_hz [s]
+    std::uint64_t latency_steps = 0;
+    std::deque<std::future<geometry::RayHits>> in_flight;
   };
-  std::vector<Sensor> sensors;
+  std::deque<Sensor> sensors;  // a deque: Sensor holds futures, which do not copy
   // Step scratch (not state). The centre of mass, its velocity and the angular velocity at the step
   // start, the wrench the force elements added up; then what Bullet was given at the centre of mass in
   // the B axes of the step start, and the velocity then, for the added-mass contact feedback.
@@ -177,7 +190,7 @@ Simulation::Simulation(Model model)
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
   const GeodeticOrigin& origin = model_.world.origin;
   environment_ = std::make_unique<sensors::SensorEnvironment>(origin.latitude, origin.longitude, origin.altitude);
-  bool casts_rays = false;
+  bool casts_rays = false, captures = false;
   runtime_.reserve(model_.vehicles.size());
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
@@ -194,12 +207,18 @@ Simulation::Simulation(Model model)
                                              *environment_};
             sensor_state.kind = Kind::initial_state(kind_spec, setup);
             casts_rays = casts_rays || Kind::kCastsRays;
+            captures = captures || Kind::kCaptures;
           },
           sensor.kind);
     }
     state_.vehicles.push_back(std::move(vehicle));
   }
-  if (casts_rays) rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_, "threads=1"));
+  // The one ray-cast world, built at start when some sensor needs it (else on the first request).
+  if (captures) {
+    raycast_service();
+  } else if (casts_rays) {
+    scene_rays();
+  }
   // Force elements of several vehicles in parallel when it pays: a wake-up costs ~10 us, one face of
   // the surface model ~4.5 ns, so from ~2 x 4k faces on (the second-largest hull bounds the gain).
   std::vector<std::size_t> faces;
@@ -255,6 +274,7 @@ void Simulation::set_state(const SimState& state) {
   }
   state_ = state;
   if (rays_) rays_->invalidate();  // the restored poses, even at the same step count
+  restart_captures();
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     VehicleState& vehicle = state_.vehicles[i];
     if (!is_finite(vehicle)) reset_non_finite(model_.vehicles[i], vehicle);
@@ -405,30 +425,101 @@ void Simulation::reset_non_finite_vehicles() {
   if (any_reset) world_->clear_contacts();
 }
 
-// The sensors due at the new time sample the new state, each through its kind (sensors/sensor_kinds.h).
+// The sensors due at the new time sample the new state, each through its kind (sensors/sensor_kinds.h):
+// sampled here, or, for a captured kind, its snapshot handed to the ray-cast workers; then the
+// captures due at this step are delivered.
 void Simulation::sample_sensors(double dt) {
   for (std::size_t i = 0; i < runtime_.size(); ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
-    const VehicleRuntime& runtime = *runtime_[i];
+    VehicleRuntime& runtime = *runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
     for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
-      if (!sample_due(state_.step_count, dt, spec.sensors[k].rate_hz)) continue;
-      const VehicleRuntime::Sensor& mount = runtime.sensors[k];
+      const bool due = sample_due(state_.step_count, dt, spec.sensors[k].rate_hz);
+      SensorState& out = vehicle.sensors[k];
+      if (!due && out.captures.empty()) continue;
+      VehicleRuntime::Sensor& mount = runtime.sensors[k];
       const sensors::SampleContext context{state_.time,  mount.period,   dt,           model_.world,
                                            *ocean_,      *environment_, state_,       static_cast<int>(i),
                                            mount.X_BS,   runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
                                            rays_.get()};
-      SensorState& out = vehicle.sensors[k];
       std::visit(
           [&](const auto& kind_spec) {
             using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
-            Kind::sample(context, kind_spec, std::get<typename Kind::State>(out.kind));
+            auto& kind_state = std::get<typename Kind::State>(out.kind);
+            if constexpr (Kind::kCaptures) {
+              if (due) {
+                PendingCapture& capture = out.captures.emplace_back();
+                capture.time = state_.time;
+                capture.step_count = state_.step_count;
+                capture.due_step = state_.step_count + mount.latency_steps;
+                for (const VehicleState& v : state_.vehicles) capture.X_WB.push_back(v.body.X_WB);
+                submit_capture<Kind>(i, k, kind_spec, capture);
+              }
+              while (!out.captures.empty() && out.captures.front().due_step <= state_.step_count) {
+                std::future<geometry::RayHits>& result = mount.in_flight.front();
+                if (wait_for_captures_ || result.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+                  geometry::RayHits hits = result.get();
+                  Kind::deliver(context, kind_spec, kind_state, hits);
+                  out.stamp = out.captures.front().time;
+                  ++out.samples;
+                  service_->recycle(std::move(hits));
+                } else {
+                  ++dropped_captures_;  // late in real time: dropped, never waited for
+                }
+                mount.in_flight.pop_front();
+                out.captures.erase(out.captures.begin());
+              }
+            } else if (due) {
+              Kind::sample(context, kind_spec, kind_state);
+              out.stamp = state_.time;
+              ++out.samples;
+            }
           },
           spec.sensors[k].kind);
-      out.stamp = state_.time;
-      ++out.samples;
     }
   }
+}
+
+template <class Kind>
+void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const typename Kind::Spec& spec,
+                                const PendingCapture& capture) {
+  VehicleRuntime::Sensor& mount = runtime_[vehicle]->sensors[sensor];
+  const sensors::CaptureContext context{capture.time, capture.step_count, capture.X_WB, static_cast<int>(vehicle),
+                                        mount.X_BS};
+  mount.in_flight.push_back(raycast_service().submit(Kind::capture_rays(context, spec)));
+}
+
+// After a restore: the captures in flight belong to another history; the restored state's pending
+// captures are cast again from their snapshots.
+void Simulation::restart_captures() {
+  for (std::size_t i = 0; i < runtime_.size(); ++i) {
+    for (std::size_t k = 0; k < runtime_[i]->sensors.size(); ++k) {
+      VehicleRuntime::Sensor& mount = runtime_[i]->sensors[k];
+      mount.in_flight.clear();
+      for (const PendingCapture& capture : state_.vehicles[i].sensors[k].captures) {
+        std::visit(
+            [&](const auto& kind_spec) {
+              using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
+              if constexpr (Kind::kCaptures) submit_capture<Kind>(i, k, kind_spec, capture);
+            },
+            model_.vehicles[i].sensors[k].kind);
+      }
+    }
+  }
+}
+
+geometry::SceneRays& Simulation::scene_rays() {
+  if (!rays_) rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_));
+  return *rays_;
+}
+
+geometry::RaycastService& Simulation::raycast_service() {
+  if (!service_) {
+    geometry::RaycastServiceOptions options;
+    options.num_threads = model_.world.raycast_threads;
+    service_ = std::make_unique<geometry::RaycastService>(scene_rays().scene().view(), options);
+  }
+  return *service_;
 }
 
 }  // namespace hadal

@@ -195,15 +195,9 @@ const char* to_string(QueryPath path) {
   return "?";
 }
 
-struct EmbreeScene::Impl {
-  // What a top-level instance maps back to.
-  struct Instance {
-    std::int32_t body = kStaticBody;
-    std::vector<int> mesh_of_geometry;  // geomID in the instanced scene -> mesh id
-    Eigen::Matrix3f R_WB = Eigen::Matrix3f::Identity();
-    Transform12 transform{};
-    RTCGeometry geometry = nullptr;  // the instance (owned by the top-level scene)
-  };
+// The world's geometry, shared by every view of it (EmbreeScene::view()): the device, the static scene,
+// the body scenes and the mesh table. Filled before build(), never modified after it.
+struct EmbreeWorld {
   struct BodyScene {
     RTCScene scene = nullptr;
     std::vector<int> mesh_of_geometry;
@@ -216,22 +210,18 @@ struct EmbreeScene::Impl {
   RTCDevice device = nullptr;
   RTCScene static_scene = nullptr;
   std::vector<int> static_mesh_of_geometry;
-  std::map<int, BodyScene> body_scenes;  // by body index, until build()
-  RTCScene top = nullptr;
-  RTCScene trace = nullptr;  // what rays are traced against: top, or the static scene without bodies
-  std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
+  std::map<int, BodyScene> body_scenes;  // by body index
   std::vector<Mesh> meshes;
   std::size_t static_triangles = 0;
   int num_bodies = 0;
   int packet_width = 4;
   bool built = false;
-  bool poses_set = false;
 
   std::mutex error_mutex;
   std::string last_error;
 
   static void on_error(void* user, RTCError code, const char* message) {
-    auto* self = static_cast<Impl*>(user);
+    auto* self = static_cast<EmbreeWorld*>(user);
     std::lock_guard<std::mutex> lock(self->error_mutex);
     self->last_error = "code " + std::to_string(static_cast<int>(code)) + ": " +
                        (message != nullptr ? message : "");
@@ -247,9 +237,10 @@ struct EmbreeScene::Impl {
                              (last_error.empty() ? "" : " (" + last_error + ")"));
   }
 
-  ~Impl() {
-    for (auto& [body, scene] : body_scenes) rtcReleaseScene(scene.scene);
-    if (top != nullptr) rtcReleaseScene(top);
+  ~EmbreeWorld() {
+    for (auto& [body, scene] : body_scenes) {
+      if (scene.scene != nullptr) rtcReleaseScene(scene.scene);
+    }
     if (static_scene != nullptr) rtcReleaseScene(static_scene);
     if (device != nullptr) rtcReleaseDevice(device);
   }
@@ -286,6 +277,66 @@ struct EmbreeScene::Impl {
     meshes.push_back(Mesh{std::move(info), mesh.triangle_materials});
     return mesh_id;
   }
+};
+
+// One view of a world: the top-level scene with one instance of the static scene and of each body
+// scene, posed independently of every other view.
+struct EmbreeScene::Impl {
+  // What a top-level instance maps back to.
+  struct Instance {
+    std::int32_t body = kStaticBody;
+    std::vector<int> mesh_of_geometry;  // geomID in the instanced scene -> mesh id
+    Eigen::Matrix3f R_WB = Eigen::Matrix3f::Identity();
+    Transform12 transform{};
+    RTCGeometry geometry = nullptr;  // the instance (owned by the top-level scene)
+  };
+
+  std::shared_ptr<EmbreeWorld> world;
+  RTCScene top = nullptr;
+  RTCScene trace = nullptr;  // what rays are traced against: top, or the static scene without bodies
+  std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
+  bool poses_set = false;
+
+  ~Impl() {
+    if (top != nullptr) rtcReleaseScene(top);
+  }
+
+  // This view's top level over the built world: the static scene traced directly when nothing moves
+  // (saving the instance traversal: 8-20 % of single-ray and ~25 % of stream throughput on the
+  // benchmark seabed), else one instance per scene at identity until the first set_body_poses().
+  void make_view() {
+    EmbreeWorld& w = *world;
+    if (w.body_scenes.empty()) {
+      trace = w.static_scene;
+      poses_set = true;
+      return;
+    }
+    top = rtcNewScene(w.device);
+    // Rebuilt at every pose change, over a handful of instances: fast build beats best quality.
+    rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC);
+    rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_LOW);
+    const Transform12 identity = to_transform12(Eigen::Isometry3d::Identity());
+    auto add_instance = [&](RTCScene scene, std::int32_t body, const std::vector<int>& mesh_of_geometry) {
+      RTCGeometry geometry = rtcNewGeometry(w.device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(geometry, scene);
+      rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity.data());
+      rtcCommitGeometry(geometry);
+      const unsigned id = rtcAttachGeometry(top, geometry);
+      rtcReleaseGeometry(geometry);  // the top-level scene keeps it alive
+      if (instances.size() <= id) instances.resize(id + 1);
+      Instance& instance = instances[id];
+      instance.body = body;
+      instance.mesh_of_geometry = mesh_of_geometry;
+      instance.transform = identity;
+      instance.geometry = geometry;
+    };
+    if (!w.static_mesh_of_geometry.empty()) add_instance(w.static_scene, kStaticBody, w.static_mesh_of_geometry);
+    for (const auto& [body, scene] : w.body_scenes) add_instance(scene.scene, body, scene.mesh_of_geometry);
+    rtcCommitScene(top);
+    w.check("building the top-level scene");
+    trace = top;
+    poses_set = false;
+  }
 
   // Fills hit fields of rays [begin, end) from Embree's raw output: hits.distance holds tfar,
   // hits.n_W_* the unnormalised object-space Ng, hits.triangle the primID; geom/inst the IDs
@@ -310,8 +361,8 @@ struct EmbreeScene::Impl {
       }
       int mesh_id;
       std::int32_t body = kStaticBody;
-      if (trace == static_scene) {
-        mesh_id = static_mesh_of_geometry[g];
+      if (trace == world->static_scene) {
+        mesh_id = world->static_mesh_of_geometry[g];
       } else {
         const Instance& instance = instances[inst[k]];
         mesh_id = instance.mesh_of_geometry[g];
@@ -323,7 +374,7 @@ struct EmbreeScene::Impl {
           nz[k] = n_W.z();
         }
       }
-      const Mesh& mesh = meshes[static_cast<std::size_t>(mesh_id)];
+      const EmbreeWorld::Mesh& mesh = world->meshes[static_cast<std::size_t>(mesh_id)];
       hits.body[i] = body;
       hits.mesh[i] = mesh_id;
       hits.material[i] = mesh.info.material_id +
@@ -427,9 +478,9 @@ struct EmbreeScene::Impl {
 
   void trace_packets(const RayBatch& rays, std::size_t begin, std::size_t end,
                      RTCIntersectContext* context, RayHits& hits) const {
-    if (packet_width == 16) {
+    if (world->packet_width == 16) {
       trace_packets<16, RTCRayHit16>(rays, begin, end, context, hits);
-    } else if (packet_width == 8) {
+    } else if (world->packet_width == 8) {
       trace_packets<8, RTCRayHit8>(rays, begin, end, context, hits);
     } else {
       trace_packets<4, RTCRayHit4>(rays, begin, end, context, hits);
@@ -486,20 +537,24 @@ struct EmbreeScene::Impl {
 };
 
 EmbreeScene::EmbreeScene(const std::string& device_config) : impl_(std::make_unique<Impl>()) {
-  impl_->device = rtcNewDevice(device_config.empty() ? nullptr : device_config.c_str());
-  if (impl_->device == nullptr) {
+  impl_->world = std::make_shared<EmbreeWorld>();
+  EmbreeWorld& w = *impl_->world;
+  w.device = rtcNewDevice(device_config.empty() ? nullptr : device_config.c_str());
+  if (w.device == nullptr) {
     throw std::runtime_error("EmbreeScene: rtcNewDevice(\"" + device_config + "\") failed (Embree error " +
                              std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   }
-  rtcSetDeviceErrorFunction(impl_->device, &Impl::on_error, impl_.get());
-  if (rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0) {
-    impl_->packet_width = 16;
-  } else if (rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) != 0) {
-    impl_->packet_width = 8;
+  rtcSetDeviceErrorFunction(w.device, &EmbreeWorld::on_error, &w);
+  if (rtcGetDeviceProperty(w.device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0) {
+    w.packet_width = 16;
+  } else if (rtcGetDeviceProperty(w.device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) != 0) {
+    w.packet_width = 8;
   }
-  impl_->static_scene = rtcNewScene(impl_->device);
-  impl_->check("creating the static scene");
+  w.static_scene = rtcNewScene(w.device);
+  w.check("creating the static scene");
 }
+
+EmbreeScene::EmbreeScene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 EmbreeScene::~EmbreeScene() = default;
 EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
@@ -507,81 +562,61 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 
 int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t material_id,
                                  const std::string& name) {
+  EmbreeWorld& w = *impl_->world;
   const std::string prefix = format_mesh("static mesh", name);
-  if (impl_->built) throw std::logic_error(prefix + "added after build()");
+  if (w.built) throw std::logic_error(prefix + "added after build()");
   validate_mesh(mesh_W, prefix);
   SceneMeshInfo info{name, kStaticBody, material_id, 0};
-  const int id = impl_->add_mesh(impl_->static_scene, impl_->static_mesh_of_geometry, mesh_W, info);
-  impl_->static_triangles += mesh_W.num_triangles();
+  const int id = w.add_mesh(w.static_scene, w.static_mesh_of_geometry, mesh_W, info);
+  w.static_triangles += mesh_W.num_triangles();
   return id;
 }
 
 int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::uint32_t material_id,
                                const std::string& name) {
+  EmbreeWorld& w = *impl_->world;
   const std::string prefix = format_mesh("mesh of body " + std::to_string(body_index), name);
-  if (impl_->built) throw std::logic_error(prefix + "added after build()");
+  if (w.built) throw std::logic_error(prefix + "added after build()");
   if (body_index < 0) throw std::invalid_argument(prefix + "body index must be >= 0");
   validate_mesh(mesh_B, prefix);
-  Impl::BodyScene& body = impl_->body_scenes[body_index];
+  EmbreeWorld::BodyScene& body = w.body_scenes[body_index];
   if (body.scene == nullptr) {
-    body.scene = rtcNewScene(impl_->device);
-    impl_->check("creating a body scene");
+    body.scene = rtcNewScene(w.device);
+    w.check("creating a body scene");
   }
   SceneMeshInfo info{name, body_index, material_id, 0};
-  return impl_->add_mesh(body.scene, body.mesh_of_geometry, mesh_B, info);
+  return w.add_mesh(body.scene, body.mesh_of_geometry, mesh_B, info);
 }
 
 void EmbreeScene::build() {
-  Impl& s = *impl_;
-  if (s.built) throw std::logic_error("EmbreeScene::build: called twice");
-  if (s.meshes.empty()) throw std::logic_error("EmbreeScene::build: the scene has no meshes");
-  rtcCommitScene(s.static_scene);
-  s.check("building the static BVH");
-  if (s.body_scenes.empty()) {
-    // Nothing moves: trace the static scene directly and save the instance traversal (see the
-    // header: 8-20 % of single-ray and ~25 % of stream throughput on the benchmark seabed).
-    s.trace = s.static_scene;
-  } else {
-    s.top = rtcNewScene(s.device);
-    // Rebuilt at every pose change, over a handful of instances: fast build beats best quality.
-    rtcSetSceneFlags(s.top, RTC_SCENE_FLAG_DYNAMIC);
-    rtcSetSceneBuildQuality(s.top, RTC_BUILD_QUALITY_LOW);
-    const Transform12 identity = to_transform12(Eigen::Isometry3d::Identity());
-    auto add_instance = [&](RTCScene scene, std::int32_t body, std::vector<int> mesh_of_geometry) {
-      RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_INSTANCE);
-      rtcSetGeometryInstancedScene(geometry, scene);
-      rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity.data());
-      rtcCommitGeometry(geometry);
-      const unsigned id = rtcAttachGeometry(s.top, geometry);
-      rtcReleaseGeometry(geometry);  // the top-level scene keeps it alive
-      if (s.instances.size() <= id) s.instances.resize(id + 1);
-      Impl::Instance& instance = s.instances[id];
-      instance.body = body;
-      instance.mesh_of_geometry = std::move(mesh_of_geometry);
-      instance.transform = identity;
-      instance.geometry = geometry;
-    };
-    if (!s.static_mesh_of_geometry.empty()) add_instance(s.static_scene, kStaticBody, s.static_mesh_of_geometry);
-    for (auto& [body, scene] : s.body_scenes) {
-      rtcCommitScene(scene.scene);
-      s.check("building a body BVH");
-      add_instance(scene.scene, body, scene.mesh_of_geometry);
-    }
-    rtcCommitScene(s.top);
-    s.check("building the top-level scene");
-    s.trace = s.top;
-    s.num_bodies = s.body_scenes.rbegin()->first + 1;
+  EmbreeWorld& w = *impl_->world;
+  if (w.built) throw std::logic_error("EmbreeScene::build: called twice");
+  if (w.meshes.empty()) throw std::logic_error("EmbreeScene::build: the scene has no meshes");
+  rtcCommitScene(w.static_scene);
+  w.check("building the static BVH");
+  for (auto& [body, scene] : w.body_scenes) {
+    rtcCommitScene(scene.scene);
+    w.check("building a body BVH");
   }
-  s.poses_set = s.num_bodies == 0;
-  s.built = true;
+  w.num_bodies = w.body_scenes.empty() ? 0 : w.body_scenes.rbegin()->first + 1;
+  w.built = true;
+  impl_->make_view();
 }
 
-bool EmbreeScene::built() const { return impl_->built; }
+EmbreeScene EmbreeScene::view() const {
+  if (!built()) throw std::logic_error("EmbreeScene::view: called before build()");
+  auto impl = std::make_unique<Impl>();
+  impl->world = impl_->world;
+  impl->make_view();
+  return EmbreeScene(std::move(impl));
+}
+
+bool EmbreeScene::built() const { return impl_->world->built; }
 
 void EmbreeScene::check_body_poses(const std::vector<Eigen::Isometry3d>& X_WB) const {
-  if (X_WB.size() < static_cast<std::size_t>(impl_->num_bodies)) {
+  if (X_WB.size() < static_cast<std::size_t>(impl_->world->num_bodies)) {
     throw std::invalid_argument("EmbreeScene: " + std::to_string(X_WB.size()) + " body poses for " +
-                                std::to_string(impl_->num_bodies) + " bodies (X_WB needs one per body index)");
+                                std::to_string(impl_->world->num_bodies) + " bodies (X_WB needs one per body index)");
   }
   for (const Impl::Instance& instance : impl_->instances) {
     if (instance.body == kStaticBody) continue;
@@ -600,8 +635,8 @@ void EmbreeScene::check_body_poses(const std::vector<Eigen::Isometry3d>& X_WB) c
 
 void EmbreeScene::set_body_poses(const std::vector<Eigen::Isometry3d>& X_WB) {
   Impl& s = *impl_;
-  if (!s.built) throw std::logic_error("EmbreeScene::set_body_poses: called before build()");
-  if (s.num_bodies == 0) return;
+  if (!s.world->built) throw std::logic_error("EmbreeScene::set_body_poses: called before build()");
+  if (s.world->num_bodies == 0) return;
   check_body_poses(X_WB);
   bool changed = !s.poses_set;
   for (Impl::Instance& instance : s.instances) {
@@ -617,7 +652,7 @@ void EmbreeScene::set_body_poses(const std::vector<Eigen::Isometry3d>& X_WB) {
   }
   if (changed) {
     rtcCommitScene(s.top);
-    s.check("committing body poses");
+    s.world->check("committing body poses");
   }
   s.poses_set = true;
 }
@@ -625,7 +660,7 @@ void EmbreeScene::set_body_poses(const std::vector<Eigen::Isometry3d>& X_WB) {
 void EmbreeScene::intersect(const RayBatch& rays, std::size_t begin, std::size_t end, QueryPath path,
                             RayHits& hits) const {
   const Impl& s = *impl_;
-  if (!s.built) throw std::logic_error("EmbreeScene::intersect: called before build()");
+  if (!s.world->built) throw std::logic_error("EmbreeScene::intersect: called before build()");
   if (!s.poses_set) throw std::logic_error("EmbreeScene::intersect: body poses were never set");
   if (!rays.consistent()) throw std::invalid_argument("EmbreeScene::intersect: ray arrays differ in length");
   if (begin > end || end > rays.size() || hits.size() < end || hits.n_W_x.size() != hits.size() ||
@@ -665,19 +700,19 @@ void EmbreeScene::intersect(const RayBatch& rays, std::size_t begin, std::size_t
   if (!rays.ignore_body.empty()) s.pass_ignored_bodies(rays, begin, end, &context, hits);
 }
 
-int EmbreeScene::num_bodies() const { return impl_->num_bodies; }
-int EmbreeScene::num_meshes() const { return static_cast<int>(impl_->meshes.size()); }
+int EmbreeScene::num_bodies() const { return impl_->world->num_bodies; }
+int EmbreeScene::num_meshes() const { return static_cast<int>(impl_->world->meshes.size()); }
 
 const SceneMeshInfo& EmbreeScene::mesh_info(int mesh_id) const {
   if (mesh_id < 0 || mesh_id >= num_meshes()) {
     throw std::out_of_range("EmbreeScene::mesh_info: no mesh " + std::to_string(mesh_id) + " (the scene has " +
                             std::to_string(num_meshes()) + ")");
   }
-  return impl_->meshes[static_cast<std::size_t>(mesh_id)].info;
+  return impl_->world->meshes[static_cast<std::size_t>(mesh_id)].info;
 }
 
-std::size_t EmbreeScene::num_static_triangles() const { return impl_->static_triangles; }
-int EmbreeScene::packet_width() const { return impl_->packet_width; }
+std::size_t EmbreeScene::num_static_triangles() const { return impl_->world->static_triangles; }
+int EmbreeScene::packet_width() const { return impl_->world->packet_width; }
 RTCSceneTy* EmbreeScene::embree_scene() const { return impl_->trace; }
 
 }  // namespace hadal::geometry

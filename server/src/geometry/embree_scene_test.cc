@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -234,6 +235,41 @@ TEST(EmbreeScene, BodyInstanceIsHitWhereItsPoseMovedIt) {
   const RayHits moved = trace(scene, one_ray({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}));
   EXPECT_EQ(moved.body[0], 1);
   EXPECT_NEAR(moved.distance[0], 49.5f, 4 * kEps * 50.0f);
+}
+
+// Views of one world share its geometry and pose their bodies independently: the hull at x = 0 in one
+// view and at x = 30 in the other, the same ray sees each where its view put it; a view outlives the
+// scene it was made from; a world without bodies is traced directly in every view.
+TEST(EmbreeScene, ViewsShareTheWorldAndPoseTheirBodiesIndependently) {
+  auto scene = std::make_unique<EmbreeScene>();
+  scene->add_static_mesh(flat_square(500.0f, -100.0f), 1, "seabed");
+  scene->add_body_mesh(0, box(1.0f, 0.5f, 0.5f), 4, "hull");
+  EXPECT_THROW(scene->view(), std::logic_error);
+  scene->build();
+  EmbreeScene other = scene->view();
+  EXPECT_EQ(other.num_bodies(), 1);
+  EXPECT_EQ(other.num_meshes(), 2);
+  EXPECT_EQ(other.num_static_triangles(), 2u);
+  EXPECT_EQ(other.mesh_info(1).name, "hull");
+  EXPECT_THROW(trace(other, one_ray({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f})), std::logic_error);  // not posed
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.translation() = Eigen::Vector3d(0.0, 0.0, -50.0);
+  scene->set_body_poses({X_WB});
+  X_WB.translation().x() = 30.0;
+  other.set_body_poses({X_WB});
+  const RayBatch down = one_ray({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f});
+  EXPECT_EQ(trace(*scene, down).body[0], 0);
+  EXPECT_NEAR(trace(*scene, down).distance[0], 49.5f, 4 * kEps * 50.0f);
+  EXPECT_EQ(trace(other, down).body[0], kStaticBody);
+  EXPECT_EQ(trace(other, one_ray({30.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f})).body[0], 0);
+  scene.reset();  // the view keeps the world alive
+  EXPECT_NEAR(trace(other, one_ray({30.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f})).distance[0], 49.5f, 4 * kEps * 50.0f);
+
+  EmbreeScene still;
+  still.add_static_mesh(flat_square(500.0f, -100.0f));
+  still.build();
+  const EmbreeScene still_view = still.view();
+  EXPECT_NEAR(trace(still_view, down).distance[0], 100.0f, 4 * kEps * 100.0f);
 }
 
 TEST(EmbreeScene, BadMeshesAreClearErrors) {

@@ -1,7 +1,7 @@
 // libhadal_client: a thin C++ client of hadald over DDS.
 //
 // Subscribe to odometry, clock, status, thruster state and sensors (pressure, IMU, magnetometer, GNSS,
-// DVL, range finder) with callbacks; command thrusters; step a lockstep server. The public API has no
+// DVL, range finder, profiler scans) with callbacks; command thrusters; step a lockstep server. The public API has no
 // DDS types in it: samples arrive as the plain structs below (SI units, frames as in the README's topic
 // table). Callbacks run on DDS threads: keep them short and synchronise what they touch.
 //
@@ -173,6 +173,24 @@ struct Range {
   double range = 0.0;            // [m]
 };
 
+// sensor_msgs/LaserScan of a fan of range beams (a profiler), rt/<vehicle>/<sensor>: one range per beam,
+// beam k at angle_min + k angle_increment about the sensor frame's z axis from its x axis. Values
+// outside [range_min, range_max] are not measurements (REP 117: +inf no return, -inf too close). The
+// stamp is the sim time of the scan's snapshot; the sample arrives its latency later.
+struct LaserScan {
+  double stamp = 0.0;             // sim time of the scan [s]
+  std::string frame_id;           // the sensor's frame
+  double angle_min = 0.0;         // first beam [rad]
+  double angle_max = 0.0;         // last beam [rad]
+  double angle_increment = 0.0;   // between beams [rad]
+  double time_increment = 0.0;    // between beams' measurements [s]
+  double scan_time = 0.0;         // between scans [s]
+  double range_min = 0.0;         // [m]
+  double range_max = 0.0;         // [m]
+  std::vector<float> ranges;      // one per beam [m]
+  std::vector<float> intensities;  // device-specific; may be empty
+};
+
 struct ClientOptions {
   int domain_id = 0;  // 0..232, as hadald --domain-id
   std::string name = "hadal_client";
@@ -215,6 +233,8 @@ class Client {
                       std::function<void(const NavSatFix&)> callback);
   void on_dvl(const std::string& vehicle, const std::string& sensor, std::function<void(const Dvl&)> callback);
   void on_range(const std::string& vehicle, const std::string& sensor, std::function<void(const Range&)> callback);
+  void on_laser_scan(const std::string& vehicle, const std::string& sensor,
+                     std::function<void(const LaserScan&)> callback);
 
   // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
   // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The

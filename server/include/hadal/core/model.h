@@ -146,6 +146,7 @@ struct SensorSpec {
   Eigen::Isometry3d X_LS = Eigen::Isometry3d::Identity();  // mounting pose in the link frame
   double rate_hz = 10.0;
   std::string frame_id;  // header.frame_id; default "<vehicle>/<name>"
+  double latency_s = 0.0;  // captured kinds (sensors/sensor_kind.h): from capture to delivery [s]
   sensors::SensorKindSpec kind;  // the kind (sensors/sensor_kinds.h) and its parameters
 
   // The kind's YAML type name ("pressure", "imu", ...).

@@ -38,6 +38,7 @@ namespace sensors {
 class SensorEnvironment;
 }
 namespace geometry {
+class RaycastService;
 class SceneRays;
 }
 
@@ -87,6 +88,16 @@ class Simulation {
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
 
+  // The world's ray-cast workers (geometry/raycast_service.h) over a view of the one world scene
+  // (seabed and every vehicle's surface) the sensors see: captured sensors use them, and so may a
+  // caller, e.g. for a probe against the last state. Made on first use.
+  geometry::RaycastService& raycast_service();
+
+  // Captures due at a step: waited for (default: lockstep, fast, tests; deterministic), or dropped when
+  // their rays are not done yet (real time: the step never waits), counted in dropped_captures().
+  void set_wait_for_captures(bool wait) { wait_for_captures_ = wait; }
+  std::uint64_t dropped_captures() const { return dropped_captures_; }
+
  private:
   struct VehicleRuntime;  // per-vehicle actuators, force elements, added mass, sensor mounts (simulation.cc)
 
@@ -98,6 +109,11 @@ class Simulation {
   void take_snapshot(double dt);
   void reset_non_finite_vehicles();
   void sample_sensors(double dt);
+  template <class Kind>
+  void submit_capture(std::size_t vehicle, std::size_t sensor, const typename Kind::Spec& spec,
+                      const PendingCapture& capture);
+  void restart_captures();
+  geometry::SceneRays& scene_rays();
 
   Model model_;
   SimState state_;
@@ -106,7 +122,12 @@ class Simulation {
   std::vector<std::unique_ptr<VehicleRuntime>> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;  // force elements in parallel; null when it does not pay
   std::unique_ptr<sensors::SensorEnvironment> environment_;  // WMM, W's geodetic frame (on first use)
-  std::unique_ptr<geometry::SceneRays> rays_;  // the world's Embree scene; null without ray-casting sensors
+  // The one ray-cast world: the stepping thread's view of it (null until needed), and the workers with
+  // their own view.
+  std::unique_ptr<geometry::SceneRays> rays_;
+  std::unique_ptr<geometry::RaycastService> service_;
+  bool wait_for_captures_ = true;
+  std::uint64_t dropped_captures_ = 0;
 };
 
 }  // namespace hadal

@@ -30,13 +30,23 @@ enum VehicleFault : std::uint32_t {
 
 enum class CommandSource : std::uint8_t { kNone, kSchedule, kClient };
 
+// A capture taken and not yet delivered (sensors/sensor_kind.h, asynchronous capture): the snapshot its
+// rays see and the step at which its sample is due.
+struct PendingCapture {
+  double time = 0.0;             // sim time of the snapshot [s]
+  std::uint64_t step_count = 0;  // of the snapshot
+  std::uint64_t due_step = 0;    // delivered at the end of this step (capture + latency)
+  std::vector<Eigen::Isometry3d> X_WB;  // every body's pose at the snapshot
+};
+
 // A sensor's evolving part: its kind's State (noise streams, biases, the last sample; same alternative
-// as the spec's kind) and when it last sampled. Part of the state, so a restored SimState continues
-// every sensor stream bit-identically.
+// as the spec's kind), when it last sampled and, for a captured kind, the captures in flight. Part of
+// the state, so a restored SimState continues every sensor stream bit-identically.
 struct SensorState {
-  std::uint64_t samples = 0;  // samples taken so far (a publisher sends the sample when it changes)
-  double stamp = 0.0;         // sim time of the last sample [s]
+  std::uint64_t samples = 0;  // samples delivered so far (a publisher sends the sample when it changes)
+  double stamp = 0.0;         // sim time of the last sample (a capture's: its snapshot's) [s]
   sensors::SensorKindState kind;
+  std::vector<PendingCapture> captures;  // oldest first
 };
 
 // The kind state of a sensor as kind K's State (K must be the sensor's kind).

@@ -26,8 +26,10 @@
 // material table).
 //
 // Lifecycle: add meshes, build() once, then set_body_poses() / intersect(). intersect() is const and
-// may run on many threads at once; set_body_poses() must not run concurrently with intersect()
-// (RaycastService serialises them: it owns its scene).
+// may run on many threads at once; set_body_poses() must not run concurrently with intersect() on the
+// same view (RaycastService serialises them: it owns its view). Views (view()) share the world's
+// geometry and pose their bodies independently: the stepping thread's sensors and the ray-cast workers
+// each trace their own view of the one world (docs/ARCHITECTURE.md, "One ray-cast world").
 #pragma once
 
 #include "hadal/geometry/ray_batch.h"
@@ -107,6 +109,12 @@ class EmbreeScene {
   void build();
   bool built() const;
 
+  // Another view of the same built world: it shares the device, the static scene and the body scenes
+  // (their BVHs and vertex buffers exist once, whatever the number of views) and has its own top-level
+  // scene, so its bodies are posed independently of this one's. A view may live longer than the scene
+  // it was made from. Throws std::logic_error before build().
+  EmbreeScene view() const;
+
   // Moves every body instance to X_WB[body] and commits the top-level scene; a no-op when the poses
   // equal the last ones set. X_WB needs at least num_bodies() entries, finite and rigid (rotation
   // orthonormal within 1e-6): otherwise std::invalid_argument. Requires build().
@@ -138,6 +146,7 @@ class EmbreeScene {
 
  private:
   struct Impl;
+  explicit EmbreeScene(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

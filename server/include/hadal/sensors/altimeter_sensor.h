@@ -26,6 +26,7 @@ namespace hadal::sensors {
 struct AltimeterSensor {
   static constexpr std::string_view kType = "altimeter";
   static constexpr bool kCastsRays = true;
+  static constexpr bool kCaptures = false;
   using Message = sensor_msgs::msg::Range;
   using PubSubType = sensor_msgs::msg::RangePubSubType;
 

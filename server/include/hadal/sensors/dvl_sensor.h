@@ -30,6 +30,7 @@ namespace hadal::sensors {
 struct DvlSensor {
   static constexpr std::string_view kType = "dvl";
   static constexpr bool kCastsRays = true;
+  static constexpr bool kCaptures = false;
   using Message = marine_acoustic_msgs::msg::Dvl;
   using PubSubType = marine_acoustic_msgs::msg::DvlPubSubType;
 

@@ -26,6 +26,7 @@ namespace hadal::sensors {
 struct GpsSensor {
   static constexpr std::string_view kType = "gps";
   static constexpr bool kCastsRays = false;
+  static constexpr bool kCaptures = false;
   using Message = sensor_msgs::msg::NavSatFix;
   using PubSubType = sensor_msgs::msg::NavSatFixPubSubType;
 

@@ -36,6 +36,7 @@ namespace hadal::sensors {
 struct ImuSensor {
   static constexpr std::string_view kType = "imu";
   static constexpr bool kCastsRays = false;
+  static constexpr bool kCaptures = false;
   using Message = sensor_msgs::msg::Imu;
   using PubSubType = sensor_msgs::msg::ImuPubSubType;
 

@@ -33,6 +33,7 @@ namespace hadal::sensors {
 struct MagnetometerSensor {
   static constexpr std::string_view kType = "magnetometer";
   static constexpr bool kCastsRays = false;
+  static constexpr bool kCaptures = false;
   using Message = sensor_msgs::msg::MagneticField;
   using PubSubType = sensor_msgs::msg::MagneticFieldPubSubType;
 

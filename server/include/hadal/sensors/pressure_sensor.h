@@ -25,6 +25,7 @@ namespace hadal::sensors {
 struct PressureSensor {
   static constexpr std::string_view kType = "pressure";
   static constexpr bool kCastsRays = false;
+  static constexpr bool kCaptures = false;
   using Message = sensor_msgs::msg::FluidPressure;
   using PubSubType = sensor_msgs::msg::FluidPressurePubSubType;
 

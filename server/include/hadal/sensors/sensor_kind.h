@@ -5,6 +5,7 @@
 //
 //   static constexpr std::string_view kType;   the YAML `type:` ("pressure") and its name in messages
 //   static constexpr bool kCastsRays;          samples by casting rays into the world scene
+//   static constexpr bool kCaptures;           captured asynchronously (below) instead of sample()
 //   using Message, PubSubType;                 its ROS 2 message: the fastddsgen class and its type support
 //   struct Spec { using Kind = K; ... };       immutable, from YAML, SI (the model holds it)
 //   struct State { ... };                      what evolves: noise streams, biases, the last sample
@@ -18,7 +19,20 @@
 // (the loader by `type:`, the simulation per sample, the DDS endpoints per topic), so nothing else
 // names a kind. Common to every sensor (SensorSpec in core/model.h): name, link, pose X_LS, rate_hz,
 // frame_id; the simulation decides when a sample is due and stamps it.
+//
+// Asynchronous capture (kCaptures = true), for ray-cast sensors too expensive for the stepping thread
+// (docs/ARCHITECTURE.md, "Deterministic capture"): at each sample time the simulation records the
+// snapshot (every body's pose) in the sensor's state and hands the kind's rays to the ray-cast workers;
+// at capture time + latency_s (SensorSpec) it waits for the hits (or, in real time, drops a late capture)
+// and lets the kind turn them into the sample, stamped with the capture time. Such a kind has, instead
+// of sample(),
+//   static geometry::RayBatch capture_rays(const CaptureContext&, const Spec&);   the snapshot's rays
+//   static void deliver(const SampleContext&, const Spec&, State&, const geometry::RayHits&);
+// Both are functions of their inputs only, so a restored state re-casts its pending captures and
+// continues bit-identically.
 #pragma once
+
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <memory>
@@ -82,6 +96,17 @@ struct SensorSetup {
   std::string_view sensor;
   double period = 0.0;  // 1 / rate_hz [s]
   SensorEnvironment& environment;
+};
+
+// What capture_rays() gets: the snapshot of the capture.
+struct CaptureContext {
+  double time = 0.0;  // sim time of the snapshot [s]
+  std::uint64_t step_count = 0;
+  const std::vector<Eigen::Isometry3d>& X_WB;  // every body's pose at the snapshot (SimState order)
+  int vehicle_index = 0;                       // the sensor's vehicle
+  const Eigen::Isometry3d& X_BS;               // mounting pose of S in B
+
+  Eigen::Isometry3d X_WS() const { return X_WB[static_cast<std::size_t>(vehicle_index)] * X_BS; }
 };
 
 // The header fields of a sensor's message.

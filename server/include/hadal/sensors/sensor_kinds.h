@@ -10,11 +10,12 @@
 #include "hadal/sensors/imu_sensor.h"
 #include "hadal/sensors/magnetometer_sensor.h"
 #include "hadal/sensors/pressure_sensor.h"
+#include "hadal/sensors/profiler_sensor.h"
 
 namespace hadal::sensors {
 
 using SensorKinds =
-    KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor>;
+    KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor>;
 
 using SensorKindSpec = SensorKinds::Specs;    // one alternative per kind: its Spec
 using SensorKindState = SensorKinds::States;  // the matching State, same index

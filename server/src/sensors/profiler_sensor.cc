@@ -1,0 +1,141 @@
+#include "hadal/sensors/profiler_sensor.h"
+
+#include <sensor_msgs.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/geometry/ray_batch.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors {
+
+using config::format_number;
+using config::MapReader;
+using config::Need;
+using config::Range;
+
+double ProfilerSensor::beam_angle(const Spec& spec, int k) {
+  return -0.5 * spec.fov + (k + 0.5) * beam_spacing(spec);
+}
+
+NoiseChannelParams ProfilerSensor::channel(const Spec& spec, double period) {
+  NoiseChannelParams channel;
+  channel.noise.white_noise_density = spec.noise_stddev * std::sqrt(period);
+  channel.lsb = spec.resolution;
+  channel.min = spec.min_range;
+  channel.max = spec.max_range;
+  return channel;
+}
+
+const std::vector<std::string>& ProfilerSensor::keys() {
+  static const std::vector<std::string> keys = {"beams",     "fov_deg",   "beam_width_deg", "rays_per_beam",
+                                                "min_range", "max_range", "noise_stddev",   "resolution"};
+  return keys;
+}
+
+ProfilerSensor::Spec ProfilerSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  double beams = spec.beams, rays = spec.rays_per_beam;
+  if (map.read_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &beams)) {
+    if (beams != std::floor(beams)) {
+      map.optional("beams")->error("must be a whole number (got " + format_number(beams) + ")");
+    }
+    spec.beams = static_cast<int>(beams);
+  }
+  if (map.read_number("rays_per_beam", Need::kOptional, Range::closed(1.0, 64.0), &rays)) {
+    if (rays != std::floor(rays)) {
+      map.optional("rays_per_beam")->error("must be a whole number (got " + format_number(rays) + ")");
+    }
+    spec.rays_per_beam = static_cast<int>(rays);
+  }
+  double fov_deg = spec.fov / kDegToRad, width_deg = spec.beam_width / kDegToRad;
+  if (map.read_number("fov_deg", Need::kOptional, Range::left_open(0.0, 360.0), &fov_deg)) spec.fov = fov_deg * kDegToRad;
+  if (map.read_number("beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &width_deg)) {
+    spec.beam_width = width_deg * kDegToRad;
+  }
+  map.read_number("min_range", Need::kOptional, Range::non_negative(), &spec.min_range);
+  if (map.read_number("max_range", Need::kOptional, Range::positive(), &spec.max_range) &&
+      !(spec.max_range > spec.min_range)) {
+    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
+                     "max_range (" + format_number(spec.max_range) + " m) must exceed min_range (" +
+                         format_number(spec.min_range) + " m)");
+  }
+  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &spec.noise_stddev);
+  map.read_number("resolution", Need::kOptional, Range::non_negative(), &spec.resolution);
+  return spec;
+}
+
+ProfilerSensor::State ProfilerSensor::initial_state(const Spec& spec, const SensorSetup& setup) {
+  State state;
+  state.noise = make_noise_state(channel(spec, setup.period),
+                                 channel_key(setup.seed, setup.vehicle, setup.sensor, "range"));
+  state.ranges.assign(static_cast<std::size_t>(spec.beams), std::numeric_limits<double>::infinity());
+  return state;
+}
+
+geometry::RayBatch ProfilerSensor::capture_rays(const CaptureContext& context, const Spec& spec) {
+  const Eigen::Isometry3d X_WS = context.X_WS();
+  geometry::RayBatch batch;
+  batch.sim_time = context.time;
+  batch.step_count = context.step_count;
+  batch.X_WB = context.X_WB;
+  batch.coherence = geometry::RayCoherence::kCoherent;  // one origin, neighbouring directions
+  batch.reserve(static_cast<std::size_t>(spec.beams) * static_cast<std::size_t>(spec.rays_per_beam));
+  const Eigen::Vector3f p_WS = X_WS.translation().cast<float>();
+  const float t_far = static_cast<float>(1.01 * spec.max_range);
+  for (int k = 0; k < spec.beams; ++k) {
+    for (int j = 0; j < spec.rays_per_beam; ++j) {
+      const double phi = beam_angle(spec, k) + spec.beam_width * ((j + 0.5) / spec.rays_per_beam - 0.5);
+      const Eigen::Vector3d d_W = X_WS.linear() * Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0);
+      batch.add_ray(p_WS, d_W.normalized().cast<float>(), 0.0f, t_far, static_cast<std::int32_t>(context.vehicle_index));
+    }
+  }
+  return batch;
+}
+
+void ProfilerSensor::deliver(const SampleContext& context, const Spec& spec, State& state,
+                             const geometry::RayHits& hits) {
+  const NoiseChannelParams range_channel = channel(spec, context.period);
+  state.ranges.resize(static_cast<std::size_t>(spec.beams));
+  for (int k = 0; k < spec.beams; ++k) {
+    float nearest = std::numeric_limits<float>::infinity();
+    for (int j = 0; j < spec.rays_per_beam; ++j) {
+      nearest = std::min(nearest, hits.distance[static_cast<std::size_t>(k * spec.rays_per_beam + j)]);
+    }
+    const double range = nearest;
+    // The noise stream advances for every beam, hit or not.
+    const double measured =
+        measure(range_channel, state.noise, std::isfinite(range) ? range : 0.0, context.period);
+    double& out = state.ranges[static_cast<std::size_t>(k)];
+    if (range < spec.min_range) {
+      out = -std::numeric_limits<double>::infinity();
+    } else if (!(range <= spec.max_range)) {
+      out = std::numeric_limits<double>::infinity();
+    } else {
+      out = measured;
+    }
+  }
+}
+
+void ProfilerSensor::fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  msg.angle_min(static_cast<float>(beam_angle(spec, 0)));
+  msg.angle_max(static_cast<float>(beam_angle(spec, spec.beams - 1)));
+  msg.angle_increment(static_cast<float>(beam_spacing(spec)));
+  msg.time_increment(0.0f);  // every beam of a scan at once
+  msg.scan_time(static_cast<float>(1.0 / header.rate_hz));
+  msg.range_min(static_cast<float>(spec.min_range));
+  msg.range_max(static_cast<float>(spec.max_range));
+  msg.ranges().resize(state.ranges.size());
+  for (std::size_t k = 0; k < state.ranges.size(); ++k) msg.ranges()[k] = static_cast<float>(state.ranges[k]);
+  msg.intensities().clear();
+}
+
+}  // namespace hadal::sensors
