@@ -7,7 +7,7 @@ namespace hadal::geometry {
 
 namespace {
 
-// splitmix64: a stateless hash of lattice coordinates (no global generator, DESIGN.md 5).
+// splitmix64: a stateless hash of lattice coordinates (no global generator: docs/ARCHITECTURE.md, "Noise and random streams").
 std::uint64_t mix(std::uint64_t x) {
   x += 0x9E3779B97F4A7C15ull;
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;

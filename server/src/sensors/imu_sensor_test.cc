@@ -140,7 +140,7 @@ TEST(ImuSensorTest, Message) {
   EXPECT_EQ(msg.header().frame_id(), "auv/imu");
 }
 
-// The presets carry their data sheets' figures unchanged.
+// The presets carry the figures of docs/reference/sensors/imu_datasheet_figures.csv unchanged.
 TEST(ImuSensorTest, PresetsCarryTheDataSheetFigures) {
   ASSERT_EQ(imu_presets().size(), 5u);
   const ImuDatasheet* hg1700 = find_imu_preset("honeywell_hg1700");

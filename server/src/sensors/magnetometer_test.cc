@@ -372,7 +372,7 @@ MagnetometerParams noisy_params() {
   return params;
 }
 
-// Same key -> bit-identical stream; another key -> a different one (DESIGN.md 5).
+// Same key -> bit-identical stream; another key -> a different one (docs/ARCHITECTURE.md, "Noise and random streams").
 TEST(MagnetometerTest, SameSeedSameNoiseDifferentSeedDifferentNoise) {
   const MagnetometerParams params = noisy_params();
   const Eigen::Vector3d B_earth_W(1e-6, 22e-6, -43e-6);

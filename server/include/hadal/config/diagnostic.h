@@ -1,5 +1,5 @@
 // A problem found while reading configuration: where it is (file, 1-based line and column, YAML path)
-// and what is wrong (DESIGN.md, "strict configuration").
+// and what is wrong (docs/ARCHITECTURE.md, "Strict configuration").
 #pragma once
 
 #include <string>

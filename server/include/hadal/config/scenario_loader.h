@@ -1,4 +1,4 @@
-// Strict YAML scenario loading (DESIGN.md, "strict configuration").
+// Strict YAML scenario loading (docs/ARCHITECTURE.md, "Strict configuration").
 //
 // A scenario file (configs/scenarios/*.yaml) is loaded into a hadal::Model. Vehicle definitions can be
 // inline or pulled from configs/vehicles/*.yaml with `include:` (a path relative to the including file).

@@ -1,4 +1,4 @@
-// Strict YAML reading (DESIGN.md, "strict configuration"): typed getters over yaml-cpp nodes that turn
+// Strict YAML reading (docs/ARCHITECTURE.md, "Strict configuration"): typed getters over yaml-cpp nodes that turn
 // every problem into a Diagnostic instead of throwing, so that one load reports all errors at once.
 //
 //   DiagnosticSink  collects diagnostics; sorts them by file (in the order files were opened, so a

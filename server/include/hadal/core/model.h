@@ -1,6 +1,6 @@
-// Model: everything loaded from a scenario. Immutable after load (DESIGN.md, "model / state split").
+// Model: everything loaded from a scenario. Immutable after load (docs/ARCHITECTURE.md, "Model and state").
 //
-// Frames (DESIGN.md): W world, ENU, z up, water surface at z = water.surface_z; B vehicle body frame
+// Frames (docs/ARCHITECTURE.md, "Model and state"): W world, ENU, z up, water surface at z = water.surface_z; B vehicle body frame
 // (x forward, y left, z up), the frame odometry reports; L link frame; G collision-geometry frame;
 // T thruster. Poses are X_AB (pose of B in A), positions p_AB, rotations R_AB.
 // Units: SI everywhere (m, kg, s, rad, N). Degrees exist only in YAML keys ending in `_deg` and are

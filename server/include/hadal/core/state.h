@@ -1,4 +1,4 @@
-// State: everything that evolves during a run (DESIGN.md, "model / state split"). A plain copyable
+// State: everything that evolves during a run (docs/ARCHITECTURE.md, "Model and state"). A plain copyable
 // value: Simulation::state() snapshots it after every step and Simulation::set_state() restores it.
 #pragma once
 

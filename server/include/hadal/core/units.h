@@ -1,4 +1,4 @@
-// Constants and unit conversions shared by every module (DESIGN.md 3: SI inside; degrees exist only in
+// Constants and unit conversions shared by every module (docs/ARCHITECTURE.md, "Model and state": SI inside; degrees exist only in
 // YAML keys ending in `_deg` and are converted on load with kDegToRad).
 #pragma once
 

@@ -225,7 +225,7 @@ DvlState make_dvl_state(const DvlParams& params, std::uint64_t scenario_seed, st
 DvlPing dvl_ping(const DvlParams& params, DvlState& state, const DvlPingInput& input);
 
 // ---------------------------------------------------------------------------------------------------
-// Presets (../shared/reference/sensors/dvl_specs.csv). Every row's fields used here (beam angle,
+// Presets (docs/reference/sensors/dvl_specs.csv, the vendors' figures). Every row's fields used here (beam angle,
 // altitude window, update rate, per-beam and water-track noise) carry no "unverified" mark; the rows'
 // unverified long-term accuracy (a scale-factor figure) is not used.
 // ---------------------------------------------------------------------------------------------------

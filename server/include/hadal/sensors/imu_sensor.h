@@ -67,7 +67,8 @@ struct ImuSensor {
 };
 
 // ---------------------------------------------------------------------------------------------------
-// IMU data-sheet presets (the vendors' published figures; each preset names its source)
+// IMU data-sheet presets (docs/reference/sensors/imu_datasheet_figures.csv, rows not marked unverified;
+// each preset names its source)
 // ---------------------------------------------------------------------------------------------------
 
 // Figures as the data sheet gives them (0 = not listed). The accelerometer bias figure is used as its

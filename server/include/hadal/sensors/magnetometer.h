@@ -8,7 +8,7 @@
 //   B_meas_S  = clip(quantize(M (I + diag(s)) B_ideal_S + b + n))        sensors/noise.h, per sensor axis
 //   R_SW = (R_WB R_BS)^T,  p_WS = p_WB + R_WB p_BS.
 //
-// Frames (DESIGN.md 2): W world (ENU at the scenario origin), B body, S sensor, N the local geodetic
+// Frames (docs/ARCHITECTURE.md, "Model and state"): W world (ENU at the scenario origin), B body, S sensor, N the local geodetic
 // East-North-Up frame at the sensor's position (WMM's frame there), ECEF Earth-centred Earth-fixed (WGS84).
 //
 // Dipole field. A point dipole of moment m [A m^2] at offset r [m] from it (r = field point - dipole):
@@ -75,7 +75,7 @@
 // reference field toward W's +y (north at the origin), no inclination, no hard or soft iron:
 //   B_S = R_SW B_ref_W + noise,  B_ref_W = (0, B_ref, 0).
 //
-// Model / state split (DESIGN.md 1): MagnetometerParams is loaded once; MagnetometerState (the noise
+// Model / state split (docs/ARCHITECTURE.md, "Model and state"): MagnetometerParams is loaded once; MagnetometerState (the noise
 // triad's draws and generator states) is a copyable value in SimState. YAML keys belong to the loader
 // (the magnetometer's sensor spec); everything here is SI: m, A m^2, T.
 //

@@ -1,5 +1,5 @@
-// Sensor noise, implemented once for every channel (DESIGN.md, "One noise model, many channels" and
-// "No global random generator"). A sensor computes its ideal value, then a NoiseChannel (scalar) or a
+// Sensor noise, implemented once for every channel (docs/ARCHITECTURE.md, "Noise and random
+// streams"). A sensor computes its ideal value, then a NoiseChannel (scalar) or a
 // NoiseTriad (three axes) turns it into the measured value, following the paper's IMU chain:
 //
 //   x_s   = M (I + S) x_ideal                 misalignment M, scale-factor error S = diag(s)   [triad]

@@ -1,5 +1,5 @@
 // The contract every sensor kind fulfils, and the contexts each layer hands to it (docs/ARCHITECTURE.md,
-// "Sensor kinds"; DESIGN.md, "Module contracts").
+// "Sensor kinds", with a worked example of adding one).
 //
 // A kind is a struct K in sensors/<kind>_sensor.{h,cc} with
 //

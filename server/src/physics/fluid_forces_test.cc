@@ -1,0 +1,120 @@
+// Force elements alone (no Bullet): the fluid models' wrenches on a submerged box against Archimedes,
+// the current they report for the added mass, the Earth-rotation Coriolis force's closed form, and the
+// errors a vehicle without a hull gets.
+#include "hadal/physics/fluid_forces.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hadal/physics/ocean.h"
+#include "hadal/physics/test_models.h"
+
+namespace hadal::physics {
+namespace {
+
+constexpr double kG = 9.80665;
+
+// A 1 x 0.4 x 0.4 m box vehicle 20 m deep in still, constant-density water, centre of mass at B.
+VehicleSpec box_vehicle(FluidModelType model) {
+  VehicleSpec vehicle;
+  vehicle.name = "box";
+  const Eigen::Vector3d size(1.0, 0.4, 0.4);
+  vehicle.links = {testing::box_link("hull", 100.0, size, size.prod())};
+  vehicle.fluid.model = model;
+  vehicle.fluid.added_mass.model = AddedMassModel::kNone;
+  return vehicle;
+}
+
+StepWrench add(ForceElement& element, const RigidBodyState& body, const Eigen::Vector3d& p_WBcm,
+               const Eigen::Vector3d& v_WBcm) {
+  std::vector<ActuatorKindState> no_actuators;
+  StepWrench out;
+  element.add(ForceInput{0.0, body, p_WBcm, v_WBcm, no_actuators}, out);
+  return out;
+}
+
+// Both models at rest, fully submerged: buoyancy rho g V straight up at the centroid (no moment about
+// it), submerged fraction 1. The lumped model to rounding; the surface model integrates pressure over the
+// box's faces in float (physics/surface_hydrodynamics.h: a few 1e-7 relative), hence 1e-6.
+TEST(FluidForcesTest, SubmergedBoxFeelsArchimedes) {
+  Model model = testing::water_model({});
+  model.world.gravity_W = Eigen::Vector3d(0, 0, -kG);
+  const Ocean ocean(model.world);
+  RigidBodyState body;
+  body.X_WB.translation() = Eigen::Vector3d(3.0, -1.0, -20.0);
+  const Eigen::Vector3d p_WBcm = body.X_WB.translation();
+  const double expected = 1000.0 * kG * 0.16;
+  for (FluidModelType type : {FluidModelType::kLumped, FluidModelType::kSurface}) {
+    const VehicleSpec vehicle = box_vehicle(type);
+    VehicleFluid fluid = make_vehicle_fluid(vehicle, model.world, ocean, Eigen::Vector3d::Zero());
+    EXPECT_EQ(fluid.faces > 0, type == FluidModelType::kSurface);
+    EXPECT_TRUE(fluid.M_A0.isZero(0.0));
+    const StepWrench w = add(*fluid.force, body, p_WBcm, Eigen::Vector3d::Zero());
+    const double tolerance = (type == FluidModelType::kSurface ? 1e-6 : 1e-12) * expected;
+    EXPECT_NEAR(w.f_W.z(), expected, tolerance) << static_cast<int>(type);
+    EXPECT_NEAR(w.f_W.head<2>().norm(), 0.0, tolerance);
+    EXPECT_NEAR(w.tau_W.norm(), 0.0, tolerance);
+    EXPECT_NEAR(w.submerged_fraction, 1.0, 1e-6);
+    EXPECT_EQ(w.v_water_W, Eigen::Vector3d::Zero());
+  }
+}
+
+// The current at the centre of mass is reported for the added mass, and the lumped damping acts on the
+// velocity through the water: a vehicle drifting with a uniform current feels no damping.
+TEST(FluidForcesTest, CurrentIsReportedAndDampingActsThroughTheWater) {
+  Model model = testing::water_model({});
+  model.world.water.current.uniform_W = Eigen::Vector3d(0.4, -0.2, 0.0);
+  const Ocean ocean(model.world);
+  VehicleSpec vehicle = box_vehicle(FluidModelType::kLumped);
+  vehicle.links[0].buoyancy.volume = 0.0;
+  vehicle.fluid.linear_damping << 20, 50, 50, 5, 5, 5;
+  VehicleFluid fluid = make_vehicle_fluid(vehicle, model.world, ocean, Eigen::Vector3d::Zero());
+  RigidBodyState body;
+  body.X_WB.translation() = Eigen::Vector3d(0, 0, -10.0);
+  body.v_WB = model.world.water.current.uniform_W;
+  StepWrench drifting = add(*fluid.force, body, body.X_WB.translation(), body.v_WB);
+  EXPECT_EQ(drifting.v_water_W, model.world.water.current.uniform_W);
+  EXPECT_NEAR(drifting.f_W.norm(), 0.0, 1e-12);
+  body.v_WB.setZero();
+  const StepWrench held = add(*fluid.force, body, body.X_WB.translation(), body.v_WB);
+  EXPECT_NEAR(held.f_W.x(), 20.0 * 0.4, 1e-12);  // dragged along by the current: -D (v - u)
+  EXPECT_NEAR(held.f_W.y(), 50.0 * -0.2, 1e-12);
+}
+
+// F = -2 m Omega x v with Omega = Omega_E (0, cos lat, sin lat) in ENU: at 45 N a 100 kg vehicle moving
+// east at 1 m/s is pushed south (to its right) and up by 2 m Omega_E cos/sin 45 deg.
+TEST(FluidForcesTest, EarthRotationCoriolisClosedForm) {
+  WorldSpec world;
+  world.origin.latitude = 45.0 * kDegToRad;
+  RigidBodyState body;
+  StepWrench out;
+  std::vector<ActuatorKindState> none;
+  EarthRotationForce element(world, 100.0);
+  element.add(ForceInput{0.0, body, Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.0, 0.0), none}, out);
+  const double a = 2.0 * 100.0 * world.dynamics.earth_rotation_rate * std::sqrt(0.5);
+  EXPECT_NEAR(out.f_W.x(), 0.0, 1e-18);
+  EXPECT_NEAR(out.f_W.y(), -a, 1e-15 * a);
+  EXPECT_NEAR(out.f_W.z(), a, 1e-15 * a);
+  EXPECT_EQ(out.tau_W, Eigen::Vector3d::Zero());
+}
+
+// A surface model needs faces; an ellipsoid fitted to the hull needs a hull.
+TEST(FluidForcesTest, VehiclesWithoutAHullAreClearErrors) {
+  const Model model = testing::water_model({});
+  const Ocean ocean(model.world);
+  VehicleSpec vehicle = box_vehicle(FluidModelType::kSurface);
+  vehicle.links[0].collisions.clear();
+  EXPECT_THROW(make_vehicle_fluid(vehicle, model.world, ocean, Eigen::Vector3d::Zero()), std::invalid_argument);
+  vehicle.fluid.model = FluidModelType::kLumped;
+  vehicle.fluid.added_mass.model = AddedMassModel::kEllipsoid;
+  try {
+    make_vehicle_fluid(vehicle, model.world, ocean, Eigen::Vector3d::Zero());
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("vehicle 'box': fluid.added_mass"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hadal::physics
