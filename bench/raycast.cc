@@ -20,6 +20,7 @@
 // static seabed scene (the scene a bare loop would build); "seabed+hull" adds one vehicle hull
 // instance, so rays go through Embree's two-level (instanced) traversal, bare loop included.
 #include "hadal/geometry/raycast_service.h"
+#include "hadal/core/units.h"
 
 #include <embree3/rtcore.h>
 
@@ -53,7 +54,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using hadal::kPi;
 constexpr float kSize = 1000.0f;  // seabed edge [m]
 
 struct Bump {

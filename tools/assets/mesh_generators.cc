@@ -1,4 +1,5 @@
 #include "hadal/assets/mesh_generators.h"
+#include "hadal/core/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace hadal::assets {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void push3(std::vector<float>& v, double x, double y, double z) {
   v.push_back(static_cast<float>(x));

@@ -1,4 +1,5 @@
 #include "hadal/assets/scene_writer.h"
+#include "hadal/core/units.h"
 
 #include <assimp/material.h>
 #include <assimp/mesh.h>
@@ -135,7 +136,7 @@ SceneSpec two_node_scene() {
   spec.root.meshes = {0};
   SceneNode child;
   child.name = "child";
-  child.transform = rigid_transform(z_axis, 0.5 * 3.14159265358979323846, child_t);
+  child.transform = rigid_transform(z_axis, 0.5 * kPi, child_t);
   child.meshes = {1};
   spec.root.children.push_back(child);
   return spec;

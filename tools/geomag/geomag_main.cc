@@ -20,6 +20,7 @@
 
 #include "hadal/sensors/geomagnetic.h"
 #include "json_number.h"
+#include "hadal/core/units.h"
 
 namespace {
 
@@ -109,7 +110,7 @@ int main(int argc, char** argv) {
                        json_number(model.valid_from_year()) + ".." + json_number(model.valid_until_year()));
   }
 
-  constexpr double kDeg = M_PI / 180.0;
+  constexpr double kDeg = hadal::kDegToRad;
   const hadal::sensors::GeomagneticElements e =
       model.field(lat_deg * kDeg, lon_deg * kDeg, height_km * 1e3, year);
   std::printf(

@@ -305,7 +305,7 @@ int main(int argc, char** argv) {
 
   // Closed forms at the cruise speed of the Coriolis run.
   const VehicleSpec& vehicle = model_on.vehicles[0];
-  const double latitude = model_on.world.origin.latitude;
+  const double latitude = model_on.world.origin.latitude_rad;
   const double omega = model_on.world.dynamics.earth_rotation_rate;
   const double f = omega * std::sin(latitude);  // Omega sin(phi) [rad/s]
   const double U = cruise_speed(on);

@@ -1049,13 +1049,13 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
     if (origin.ok()) {
       double latitude_deg = 0.0, longitude_deg = 0.0;
       if (origin.read_number("latitude_deg", Need::kOptional, Range::closed(-90.0, 90.0), &latitude_deg)) {
-        world->origin.latitude = latitude_deg * kDegToRad;
+        world->origin.latitude_rad = latitude_deg * kDegToRad;
       }
       if (origin.read_number("longitude_deg", Need::kOptional, Range::closed(-180.0, 180.0),
                              &longitude_deg)) {
-        world->origin.longitude = longitude_deg * kDegToRad;
+        world->origin.longitude_rad = longitude_deg * kDegToRad;
       }
-      origin.read_number("altitude", Need::kOptional, Range::finite(), &world->origin.altitude);
+      origin.read_number("altitude", Need::kOptional, Range::finite(), &world->origin.height_m);
     }
   }
 }

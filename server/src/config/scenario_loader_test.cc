@@ -102,9 +102,9 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_EQ(model.world.seabed.mesh->num_triangles(), 80000u);  // (400 / 2)^2 cells x 2
   EXPECT_EQ(model.world.seabed.procedural.seed, 42u);             // world.seed
   EXPECT_NEAR(model.world.seabed.procedural.slope, M_PI / 180.0, kTol);
-  EXPECT_NEAR(model.world.origin.latitude, 43.0 * M_PI / 180.0, kTol);
-  EXPECT_NEAR(model.world.origin.longitude, 5.0 * M_PI / 180.0, kTol);
-  EXPECT_EQ(model.world.origin.altitude, 0.0);
+  EXPECT_NEAR(model.world.origin.latitude_rad, 43.0 * M_PI / 180.0, kTol);
+  EXPECT_NEAR(model.world.origin.longitude_rad, 5.0 * M_PI / 180.0, kTol);
+  EXPECT_EQ(model.world.origin.height_m, 0.0);
 
   ASSERT_EQ(model.vehicles.size(), 1u);
   const VehicleSpec& auv = model.vehicles[0];

@@ -188,8 +188,7 @@ const Model& validated(const Model& model) {
 Simulation::Simulation(Model model)
     : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
-  const GeodeticOrigin& origin = model_.world.origin;
-  environment_ = std::make_unique<sensors::SensorEnvironment>(origin.latitude, origin.longitude, origin.altitude);
+  environment_ = std::make_unique<sensors::SensorEnvironment>(model_.world.origin);
   bool casts_rays = false, captures = false;
   runtime_.reserve(model_.vehicles.size());
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {

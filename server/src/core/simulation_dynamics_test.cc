@@ -134,7 +134,7 @@ TEST(SimulationDynamicsTest, EarthRotationCoriolisMatchesTheInertialCircle) {
     vehicle.v_WB_initial = v0;
     Model model = testing::water_model({vehicle});
     model.world.gravity_W.setZero();
-    model.world.origin.latitude = latitude;
+    model.world.origin.latitude_rad = latitude;
     model.world.dynamics.earth_rotation = earth_rotation;
     Simulation sim(std::move(model));
     const int steps = static_cast<int>(seconds * sim.model().world.physics_rate_hz);

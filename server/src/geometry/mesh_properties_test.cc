@@ -7,13 +7,13 @@
 #include <stdexcept>
 
 #include "hadal/assets/mesh_generators.h"
+#include "hadal/core/units.h"
 
 namespace hadal::geometry {
 namespace {
 
 using assets::MeshData;
 
-constexpr double kPi = 3.14159265358979323846;
 // Positions are stored as float: each coordinate carries a relative rounding error <= 2^-24
 // (6e-8), so volumes (cubic) and inertias (fifth power) of O(1) meshes agree with their closed
 // forms to a few 1e-7 relative; 1e-6 leaves margin for the double sums over a few thousand faces.

@@ -7,11 +7,11 @@
 #include <memory>
 
 #include "hadal/geometry/mesh_properties.h"
+#include "hadal/core/units.h"
 
 namespace hadal::geometry {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Vertices are float: relative volume error a few float epsilons (1.2e-7) per term.
 constexpr double kFloatRel = 1e-5;
 

@@ -1,4 +1,5 @@
 #include "hadal/geometry/shape_overlap.h"
+#include "hadal/core/units.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,6 @@
 namespace hadal::geometry {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Sums over up to ~1e5 cells: rounding well below 1e-10 of the total.
 constexpr double kSumRel = 1e-10;
 // Results that come from a handful of whole cells (regions equal to the overlap): a few roundings

@@ -1,4 +1,5 @@
 #include "hadal/geometry/terrain.h"
+#include "hadal/core/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,7 +64,7 @@ HeightField procedural_seabed(const ProceduralSeabedSpec& spec) {
   field.y0 = -0.5 * spec.size_y;
   field.heights.resize(static_cast<std::size_t>(field.nx) * field.ny);
 
-  const double heading = M_PI * (lattice(spec.seed, 7, 11, 99) + 1.0);  // seeded slope direction
+  const double heading = kPi * (lattice(spec.seed, 7, 11, 99) + 1.0);  // seeded slope direction
   const double ux = std::cos(heading), uy = std::sin(heading);
   const double tan_slope = std::tan(spec.slope);
   const std::uint64_t ridge_seed = mix(spec.seed + 1);

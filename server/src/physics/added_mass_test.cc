@@ -8,11 +8,11 @@
 
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/primitive_mesh.h"
+#include "hadal/core/units.h"
 
 namespace hadal::physics {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRho = 1025.0;
 
 // Carlson (1995), table of test values for R_D (printed to 13-14 digits).

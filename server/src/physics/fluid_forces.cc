@@ -239,7 +239,7 @@ VehicleFluid make_vehicle_fluid(const VehicleSpec& vehicle, const WorldSpec& wor
 
 EarthRotationForce::EarthRotationForce(const WorldSpec& world, double mass)
     : Omega_W_(world.dynamics.earth_rotation_rate *
-               Eigen::Vector3d(0.0, std::cos(world.origin.latitude), std::sin(world.origin.latitude))),
+               Eigen::Vector3d(0.0, std::cos(world.origin.latitude_rad), std::sin(world.origin.latitude_rad))),
       mass_(mass) {}
 
 void EarthRotationForce::add(const ForceInput& in, StepWrench& out) {

@@ -86,7 +86,7 @@ TEST(FluidForcesTest, CurrentIsReportedAndDampingActsThroughTheWater) {
 // east at 1 m/s is pushed south (to its right) and up by 2 m Omega_E cos/sin 45 deg.
 TEST(FluidForcesTest, EarthRotationCoriolisClosedForm) {
   WorldSpec world;
-  world.origin.latitude = 45.0 * kDegToRad;
+  world.origin.latitude_rad = 45.0 * kDegToRad;
   RigidBodyState body;
   StepWrench out;
   std::vector<ActuatorKindState> none;

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "hadal/physics/seawater.h"
+#include "hadal/core/units.h"
 
 namespace hadal::physics {
 
@@ -57,9 +58,9 @@ struct Ocean::GaussMarkovTrack {
     const double u1 = (static_cast<double>(rng() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
     const double u2 = static_cast<double>(rng() >> 11) * 0x1.0p-53;
     const double r = std::sqrt(-2.0 * std::log(u1));
-    spare = r * std::sin(2.0 * M_PI * u2);
+    spare = r * std::sin(2.0 * kPi * u2);
     has_spare = true;
-    return r * std::cos(2.0 * M_PI * u2);
+    return r * std::cos(2.0 * kPi * u2);
   }
 
   // Appends chunks until sample `index` exists (caller holds the unique lock).

@@ -8,11 +8,11 @@
 #include "hadal/assets/mesh_generators.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/triangle_mesh.h"
+#include "hadal/core/units.h"
 
 namespace hadal::physics {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRho = 1025.0;
 constexpr double kG = 9.80665;
 // The kernel works in float (see the header): each face term carries a relative rounding error of a

@@ -1,4 +1,5 @@
 #include "hadal/sensors/geomagnetic.h"
+#include "hadal/core/units.h"
 
 #include <array>
 #include <cerrno>
@@ -158,7 +159,7 @@ GeomagneticElements GeomagneticModel::field(double latitude_rad, double longitud
       !std::isfinite(decimal_year)) {
     throw std::domain_error("GeomagneticModel::field: non-finite input");
   }
-  if (std::abs(latitude_rad) > M_PI / 2) {
+  if (std::abs(latitude_rad) > kPi / 2) {
     throw std::domain_error("GeomagneticModel::field: latitude " + std::to_string(latitude_rad) +
                             " rad outside [-pi/2, pi/2]");
   }

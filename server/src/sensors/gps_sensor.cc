@@ -1,6 +1,5 @@
 #include "hadal/sensors/gps_sensor.h"
 
-#include <GeographicLib/LocalCartesian.hpp>
 #include <sensor_msgs.h>
 #include <sensor_msgsPubSubTypes.h>
 
@@ -8,6 +7,7 @@
 
 #include "hadal/config/yaml_reader.h"
 #include "hadal/dds/time_msg.h"
+#include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/sample_context.h"
 
 namespace hadal::sensors {
@@ -48,8 +48,10 @@ void GpsSensor::sample(const SampleContext& context, const Spec& spec, State& st
   const Eigen::Vector3d p_meas = measure(position_noise(spec, context.period), state.noise, p_WS, context.period);
   state.fix = p_WS.z() > context.world.water.surface_z;
   if (state.fix) {
-    context.environment.local_cartesian().Reverse(p_meas.x(), p_meas.y(), p_meas.z(), state.latitude_deg,
-                                                  state.longitude_deg, state.height_m);
+    const GeodeticPosition fix = context.environment.frame_W().to_geodetic(p_meas);
+    state.latitude_deg = fix.latitude_rad / kDegToRad;
+    state.longitude_deg = fix.longitude_rad / kDegToRad;
+    state.height_m = fix.height_m;
   } else {
     state.latitude_deg = state.longitude_deg = state.height_m = std::numeric_limits<double>::quiet_NaN();
   }

@@ -18,8 +18,8 @@ using testing::SensorTestWorld;
 
 SensorTestWorld world_with_vehicle_at(double z) {
   Model model = testing::one_vehicle_world(Eigen::Vector3d(120.0, -40.0, z));
-  model.world.origin.latitude = 43.0 * kDegToRad;
-  model.world.origin.longitude = 5.0 * kDegToRad;
+  model.world.origin.latitude_rad = 43.0 * kDegToRad;
+  model.world.origin.longitude_rad = 5.0 * kDegToRad;
   return SensorTestWorld(model);
 }
 

@@ -10,6 +10,7 @@
 #include "hadal/dds/time_msg.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/sensors/sample_context.h"
+#include "hadal/core/units.h"
 
 namespace hadal::sensors {
 
@@ -176,7 +177,7 @@ void ImuSensor::sample(const SampleContext& context, const Spec& spec, State& st
     const auto& thruster = std::get<physics::ThrusterActuator::State>(
         context.vehicle().actuators[static_cast<std::size_t>(spec.vibration_thruster)]);
     const double f = spec.vibration_blades * std::abs(thruster.rotor_speed_rev_s);
-    vibration = std::sin(2.0 * EIGEN_PI * f * context.time);
+    vibration = std::sin(2.0 * kPi * f * context.time);
   }
   const Eigen::Vector3d gyro_terms = Eigen::Vector3d::Constant(dT * spec.gyro_temperature_coefficient +
                                                                vibration * spec.gyro_vibration_amplitude);

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sensor_test_support.h"
+#include "hadal/core/units.h"
 
 namespace hadal::sensors {
 namespace {
@@ -114,7 +115,7 @@ TEST(ImuSensorTest, ThrusterVibrationAtTheBladePassFrequency) {
   EXPECT_EQ(state.specific_force_S, Eigen::Vector3d::Zero());
   std::get<physics::ThrusterActuator::State>(world.state.vehicles[0].actuators[1]).rotor_speed_rev_s = -12.5;  // 50 Hz
   world.sample<ImuSensor>(spec, state, Eigen::Isometry3d::Identity(), 100.0);
-  const double phase = std::sin(2.0 * EIGEN_PI * 50.0 * 0.0123);
+  const double phase = std::sin(2.0 * kPi * 50.0 * 0.0123);
   EXPECT_NEAR((state.specific_force_S - Eigen::Vector3d::Constant(0.01 * phase)).norm(), 0.0, 1e-15);
   EXPECT_NEAR((state.angular_velocity_S - Eigen::Vector3d::Constant(0.002 * phase)).norm(), 0.0, 1e-15);
 }

@@ -27,14 +27,6 @@ void validate_dipoles(const std::vector<MagneticDipole>& dipoles, const std::str
   }
 }
 
-const GeodeticPosition& checked_origin(const GeodeticPosition& g) {
-  if (!std::isfinite(g.latitude_rad) || !std::isfinite(g.longitude_rad) || !std::isfinite(g.height_m)) {
-    throw std::domain_error("LocalEnuFrame: non-finite origin");
-  }
-  if (std::abs(g.latitude_rad) > kPi / 2) throw std::domain_error("LocalEnuFrame: origin |latitude| > pi/2");
-  return g;
-}
-
 }  // namespace
 
 // ----- dipoles -------------------------------------------------------------------------------------
@@ -59,90 +51,12 @@ Eigen::Vector3d dipoles_field_T(const std::vector<MagneticDipole>& dipoles_F, co
   return B;
 }
 
-// ----- geodesy -------------------------------------------------------------------------------------
-
-Eigen::Vector3d geodetic_to_ecef(const GeodeticPosition& g) {
-  const double e2 = kWgs84EccentricitySquared;
-  const double sin_lat = std::sin(g.latitude_rad), cos_lat = std::cos(g.latitude_rad);
-  const double n = kWgs84SemiMajorAxis_m / std::sqrt(1.0 - e2 * sin_lat * sin_lat);
-  return {(n + g.height_m) * cos_lat * std::cos(g.longitude_rad),
-          (n + g.height_m) * cos_lat * std::sin(g.longitude_rad), (n * (1.0 - e2) + g.height_m) * sin_lat};
-}
-
-GeodeticPosition ecef_to_geodetic(const Eigen::Vector3d& p_ECEF) {
-  if (!p_ECEF.allFinite()) throw std::domain_error("ecef_to_geodetic: non-finite point");
-  // Vermeille (2002); p, q, r, s, t, u, v, w, k, D as in the paper (lengths scaled by a_e).
-  const double a = kWgs84SemiMajorAxis_m;
-  const double e2 = kWgs84EccentricitySquared;
-  const double e4 = e2 * e2;
-  const double x = p_ECEF.x(), y = p_ECEF.y(), z = p_ECEF.z();
-  const double rho = std::hypot(x, y);  // distance from the polar axis
-  const double p = (rho / a) * (rho / a);
-  const double q = (1.0 - e2) * (z / a) * (z / a);
-  const double r = (p + q - e4) / 6.0;
-  if (!(r > 0.0)) throw std::domain_error("ecef_to_geodetic: point within 43 km of the Earth's centre");
-  const double s = e4 * p * q / (4.0 * r * r * r);
-  const double t = std::cbrt(1.0 + s + std::sqrt(s * (2.0 + s)));
-  const double u = r * (1.0 + t + 1.0 / t);
-  const double v = std::sqrt(u * u + e4 * q);
-  const double w = e2 * (u + v - q) / (2.0 * v);
-  const double k = std::sqrt(u + v + w * w) - w;
-  const double d = k * rho / (k + e2);
-  const double hyp = std::hypot(d, z);
-  GeodeticPosition g;
-  // The paper's half-angle form of atan2(z, d).
-  g.latitude_rad = 2.0 * std::atan(z / (d + hyp));
-  g.longitude_rad = std::atan2(y, x);  // 0 on the polar axis (atan2(0, 0) = 0)
-  g.height_m = (k + e2 - 1.0) / k * hyp;
-  return g;
-}
-
-Eigen::Matrix3d R_ECEF_ENU(double latitude_rad, double longitude_rad) {
-  const double sl = std::sin(latitude_rad), cl = std::cos(latitude_rad);
-  const double so = std::sin(longitude_rad), co = std::cos(longitude_rad);
-  Eigen::Matrix3d R;
-  R.col(0) << -so, co, 0.0;            // east
-  R.col(1) << -sl * co, -sl * so, cl;  // north
-  R.col(2) << cl * co, cl * so, sl;    // up
-  return R;
-}
-
-LocalEnuFrame::LocalEnuFrame(const GeodeticPosition& origin)
-    : origin_(checked_origin(origin)),
-      p_ECEF_O_(geodetic_to_ecef(origin_)),
-      R_ECEF_W_(R_ECEF_ENU(origin.latitude_rad, origin.longitude_rad)) {}
-
-Eigen::Vector3d LocalEnuFrame::to_ecef(const Eigen::Vector3d& p_WQ) const {
-  return p_ECEF_O_ + R_ECEF_W_ * p_WQ;
-}
-
-Eigen::Vector3d LocalEnuFrame::from_ecef(const Eigen::Vector3d& p_ECEF) const {
-  return R_ECEF_W_.transpose() * (p_ECEF - p_ECEF_O_);
-}
-
-GeodeticPosition LocalEnuFrame::to_geodetic(const Eigen::Vector3d& p_WQ) const {
-  return ecef_to_geodetic(to_ecef(p_WQ));
-}
-
-Eigen::Vector3d LocalEnuFrame::from_geodetic(const GeodeticPosition& position) const {
-  return from_ecef(geodetic_to_ecef(position));
-}
-
-Eigen::Matrix3d LocalEnuFrame::R_WN(const GeodeticPosition& at) const {
-  return R_ECEF_W_.transpose() * R_ECEF_ENU(at.latitude_rad, at.longitude_rad);
-}
-
-double LocalEnuFrame::meridian_convergence_rad(const GeodeticPosition& at) const {
-  const Eigen::Vector3d north_W = R_WN(at).col(1);
-  return std::atan2(-north_W.x(), north_W.y());
-}
-
 Eigen::Vector3d earth_field_W_T(const GeomagneticModel& model, const LocalEnuFrame& frame_W,
                                 const Eigen::Vector3d& p_WQ, double decimal_year) {
-  const GeodeticPosition g = frame_W.to_geodetic(p_WQ);
-  const Eigen::Vector3d B_N =
-      model.field(g.latitude_rad, g.longitude_rad, g.height_m, decimal_year).B_ENU_T();
-  return frame_W.R_WN(g) * B_N;
+  Eigen::Matrix3d R_WN;
+  const GeodeticPosition g = frame_W.to_geodetic(p_WQ, &R_WN);
+  const Eigen::Vector3d B_N = model.field(g.latitude_rad, g.longitude_rad, g.height_m, decimal_year).B_ENU_T();
+  return R_WN * B_N;
 }
 
 // ----- magnetometer --------------------------------------------------------------------------------

@@ -21,8 +21,8 @@ using testing::SensorTestWorld;
 // A vehicle 30 m below W's origin at 43 N 5 E on 2026-06-01 (the tests sample at sim time 0.1 s).
 Model model_at_43n() {
   Model model = testing::one_vehicle_world(Eigen::Vector3d(0, 0, -30.0));
-  model.world.origin.latitude = 43.0 * kDegToRad;
-  model.world.origin.longitude = 5.0 * kDegToRad;
+  model.world.origin.latitude_rad = 43.0 * kDegToRad;
+  model.world.origin.longitude_rad = 5.0 * kDegToRad;
   model.world.start_decimal_year = decimal_year_from_date(2026, 6, 1);
   return model;
 }
@@ -43,7 +43,7 @@ TEST(MagnetometerSensorTest, ReadsWmmPlusHardIron) {
   world.sample<MagnetometerSensor>(plain, state, Eigen::Isometry3d::Identity(), 10.0);
   const double year = world.model.world.start_decimal_year + 0.1 / (365.25 * 86400.0);
   const Eigen::Vector3d expected =
-      wmm().field(world.model.world.origin.latitude, world.model.world.origin.longitude, -30.0, year).B_ENU_T();
+      wmm().field(world.model.world.origin.latitude_rad, world.model.world.origin.longitude_rad, -30.0, year).B_ENU_T();
   EXPECT_NEAR((state.B_S - expected).norm(), 0.0, 1e-12);
 
   MagnetometerSensor::Spec iron;

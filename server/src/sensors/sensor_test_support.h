@@ -24,7 +24,7 @@ class SensorTestWorld {
   explicit SensorTestWorld(Model model_in, bool with_rays = false)
       : model(std::move(model_in)),
         ocean(model.world),
-        environment(model.world.origin.latitude, model.world.origin.longitude, model.world.origin.altitude) {
+        environment(model.world.origin) {
     for (const VehicleSpec& vehicle : model.vehicles) {
       VehicleState& v = state.vehicles.emplace_back();
       v.body.X_WB = vehicle.X_WB_initial;

@@ -12,6 +12,7 @@
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/actuator_kinds.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/sensor_kinds.h"
 
@@ -242,13 +243,6 @@ struct WaterSpec {
   CurrentSpec current;
 };
 
-// Geodetic position of W's origin (WGS84), for geo-referenced sensors.
-struct GeodeticOrigin {
-  double latitude = 0.0;   // [rad] (YAML: latitude_deg)
-  double longitude = 0.0;  // [rad] (YAML: longitude_deg)
-  double altitude = 0.0;   // height above the ellipsoid [m]
-};
-
 // Rigid-body inertial effects (YAML world.dynamics). Bullet integrates in the inertial world frame,
 // where the paper's body-frame terms -m (w x v) and -(I w) x w are implicit: translation needs
 // nothing, and the gyroscopic moment -(I w) x w is Bullet's gyroscopic term (on by default, implicit
@@ -271,7 +265,7 @@ struct WorldSpec {
   std::uint64_t seed = 0;
   WaterSpec water;
   SeabedSpec seabed;
-  GeodeticOrigin origin;
+  sensors::GeodeticPosition origin;  // of W's origin, WGS84 (YAML: latitude_deg, longitude_deg, altitude)
   DynamicsSpec dynamics;
   std::string frame_id = "world";  // header.frame_id of world-frame messages
   double clock_rate_hz = 100.0;    // rt/clock

@@ -8,8 +8,8 @@
 //   B_meas_S  = clip(quantize(M (I + diag(s)) B_ideal_S + b + n))        sensors/noise.h, per sensor axis
 //   R_SW = (R_WB R_BS)^T,  p_WS = p_WB + R_WB p_BS.
 //
-// Frames (docs/ARCHITECTURE.md, "Model and state"): W world (ENU at the scenario origin), B body, S sensor, N the local geodetic
-// East-North-Up frame at the sensor's position (WMM's frame there), ECEF Earth-centred Earth-fixed (WGS84).
+// Frames (docs/ARCHITECTURE.md, "Model and state"): W world (ENU at the scenario origin), B body, S
+// sensor, N the local geodetic East-North-Up frame at the sensor's position (WMM's frame there).
 //
 // Dipole field. A point dipole of moment m [A m^2] at offset r [m] from it (r = field point - dipole):
 //   B(r) = mu0 / (4 pi) (3 (m . r_hat) r_hat - m) / |r|^3   [T],
@@ -22,22 +22,9 @@
 // then reports it): the loader should reject a vehicle dipole of radius 0 at a magnetometer's position.
 // mu0 = 1.25663706212e-6 N/A^2 (CODATA 2018; 4 pi 1e-7 up to 5.5e-10 relative, no longer exact).
 //
-// Earth field at a point Q of W. W is the East-North-Up tangent frame at the scenario origin O
-// (geodetic lat0, lon0, h0 on WGS84) -- the same mapping as GeographicLib's LocalCartesian, which GPS uses:
-//   p_ECEF = p_ECEF_O + R_ECEF_W p_WQ,   R_ECEF_W = R_ECEF_ENU(lat0, lon0) = [e n u] (columns)
-//     e = (-sin lon, cos lon, 0), n = (-sin lat cos lon, -sin lat sin lon, cos lat),
-//     u = (cos lat cos lon, cos lat sin lon, sin lat),
-//   geodetic -> ECEF: N(lat) = a_e / sqrt(1 - e^2 sin^2 lat),
-//     p_ECEF = ((N + h) cos lat cos lon, (N + h) cos lat sin lon, (N (1 - e^2) + h) sin lat),
-//   ECEF -> geodetic: Vermeille's closed form (J. Geodesy 76:451-454, 2002), exact up to rounding (round
-//     trips within 3e-16 rad and 4e-9 m, magnetometer_test.cc) wherever |p_ECEF| > e^2 a_e = 43 km, i.e.
-//     outside the ellipsoid's evolute -- everywhere a vehicle can be; closer to the centre it throws.
-// WMM gives the field in N (the local ENU at Q), which is W's frame only at the origin: N is W rotated
-// by R_WN = R_ECEF_W^T R_ECEF_ENU(lat_Q, lon_Q). Seen from W that rotation is
-//   - the tilt of the vertical, |Q - O| / R ~ 1.57e-4 rad per km (the ellipsoid normals diverge), and
-//   - the meridian convergence gamma about the vertical (local north vs W's y axis), exactly
-//     tan gamma = sin(lat) sin(dlon) / (sin^2(lat) cos(dlon) + cos^2(lat)) for a point at the origin's
-//     latitude dlon east of it (~ dlon sin lat: 0.9 deg at 100 km east of 45 N),
+// Earth field at a point Q of W. WMM gives the field in N, the local ENU frame at Q, which is W's frame
+// only at the origin: B_earth_W = R_WN B_N, with Q's geodetic position and R_WN from the one geodesy of W
+// (sensors/geodesy.h, GeographicLib's LocalCartesian, which GPS fixes use too),
 // and B_earth_W = R_WN B_N is evaluated exactly. No small-area approximation (using B_N as if it were in
 // W) is good to 0.1 nT over a scenario: at 45 N the tilt moves the ~42 uT vertical field by 1.57e-4 rad/km
 // (7.5 nT per km north-south; with the convergence 10 nT per km east-west), so the approximation holds to
@@ -45,8 +32,8 @@
 // A property of the tangent-plane mapping to know about: W's horizontal plane leaves the ellipsoid as
 // d^2 / (2 R) (0.08 m at 1 km, 7.8 m at 10 km, 785 m at 100 km), so a point at constant z far from the
 // origin maps to a greater ellipsoidal height; the field's vertical gradient (~3 F / r = 0.02 nT/m)
-// turns that into ~18 nT at 100 km (0.18 nT at 10 km) -- small beside WMM's own O(100 nT) error, and
-// the same mapping GPS uses, so both sensors agree on where the vehicle is.
+// turns that into ~18 nT at 100 km (0.18 nT at 10 km) -- small beside WMM's own O(100 nT) error; GPS
+// uses the same mapping, so both sensors agree on where the vehicle is.
 //
 // Soft iron. S_S acts in the sensor's axes, the frame a magnetometer calibration (ellipsoid fit)
 // identifies it in; soft iron is the vehicle's induced magnetisation, fixed in the vehicle like S, so a
@@ -79,8 +66,8 @@
 // triad's draws and generator states) is a copyable value in SimState. YAML keys belong to the loader
 // (the magnetometer's sensor spec); everything here is SI: m, A m^2, T.
 //
-// Cost: one sample is one WMM synthesis (~0.7 us, geomagnetic.h), one ECEF -> geodetic conversion
-// (a cube root and a few square roots) and ~20 flops per dipole.
+// Cost: one sample is one WMM synthesis (~0.7 us, geomagnetic.h), one local-cartesian -> geodetic
+// conversion with its rotation (GeographicLib) and ~20 flops per dipole.
 #pragma once
 
 #include <Eigen/Core>
@@ -89,6 +76,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 
@@ -117,53 +105,6 @@ struct MagneticDipole {
 Eigen::Vector3d dipole_field_T(const MagneticDipole& dipole_F, const Eigen::Vector3d& p_FQ);
 // Sum over dipoles, expressed in F.
 Eigen::Vector3d dipoles_field_T(const std::vector<MagneticDipole>& dipoles_F, const Eigen::Vector3d& p_FQ);
-
-// ---------------------------------------------------------------------------------------------------
-// WGS84 geodetic <-> ECEF <-> local ENU (W)
-// ---------------------------------------------------------------------------------------------------
-
-inline constexpr double kWgs84EccentricitySquared = kWgs84Flattening * (2.0 - kWgs84Flattening);
-
-struct GeodeticPosition {
-  double latitude_rad = 0.0;   // geodetic, [-pi/2, pi/2]
-  double longitude_rad = 0.0;  // (-pi, pi] from ecef_to_geodetic; 0 at the poles there
-  double height_m = 0.0;       // above the WGS84 ellipsoid
-};
-
-Eigen::Vector3d geodetic_to_ecef(const GeodeticPosition& position);
-// Vermeille's closed form (header). Throws std::domain_error for a non-finite point or one within
-// e^2 a_e (43 km) of the Earth's centre.
-GeodeticPosition ecef_to_geodetic(const Eigen::Vector3d& p_ECEF);
-// Columns: east, north, up at (latitude, longitude), in ECEF.
-Eigen::Matrix3d R_ECEF_ENU(double latitude_rad, double longitude_rad);
-
-// W: the ENU tangent frame at a geodetic origin. Immutable; copyable.
-class LocalEnuFrame {
- public:
-  // Throws std::domain_error for a non-finite origin or |latitude| > pi/2.
-  explicit LocalEnuFrame(const GeodeticPosition& origin);
-
-  const GeodeticPosition& origin() const { return origin_; }
-  const Eigen::Vector3d& p_ECEF_O() const { return p_ECEF_O_; }
-  const Eigen::Matrix3d& R_ECEF_W() const { return R_ECEF_W_; }
-
-  // p_ECEF_O + R_ECEF_W p_WQ.
-  Eigen::Vector3d to_ecef(const Eigen::Vector3d& p_WQ) const;
-  // R_ECEF_W^T (p_ECEF - p_ECEF_O).
-  Eigen::Vector3d from_ecef(const Eigen::Vector3d& p_ECEF) const;
-  GeodeticPosition to_geodetic(const Eigen::Vector3d& p_WQ) const;
-  Eigen::Vector3d from_geodetic(const GeodeticPosition& position) const;
-  // R_WN: the local ENU frame N at `at` in W's axes (identity at the origin).
-  Eigen::Matrix3d R_WN(const GeodeticPosition& at) const;
-  // Meridian convergence at `at` [rad]: angle about W's z from W's +y to the horizontal projection of
-  // local north, counter-clockwise positive (positive east of the origin in the northern hemisphere).
-  double meridian_convergence_rad(const GeodeticPosition& at) const;
-
- private:
-  GeodeticPosition origin_;
-  Eigen::Vector3d p_ECEF_O_;
-  Eigen::Matrix3d R_ECEF_W_;
-};
 
 // Earth's main field [T] at Q, in W's axes: R_WN * model.field(geodetic of Q, decimal_year).B_ENU_T().
 // Throws as GeomagneticModel::field (year outside the model's validity) and ecef_to_geodetic.

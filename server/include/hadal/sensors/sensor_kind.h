@@ -43,14 +43,11 @@
 namespace hadal::config {
 class MapReader;
 }
-namespace GeographicLib {
-class LocalCartesian;
-}
-
 namespace hadal::sensors {
 
 class GeomagneticModel;
 class LocalEnuFrame;
+struct GeodeticPosition;
 struct SampleContext;  // sensors/sample_context.h
 
 // What a kind's YAML reader gets besides its own map: the sensor entry (common keys already read and
@@ -66,11 +63,10 @@ struct SensorReader {
 };
 
 // Data shared by every sensor of a simulation that needs it, made on first use: the World Magnetic
-// Model and W as a local East-North-Up frame on WGS84 (world.origin).
+// Model and W as a local East-North-Up frame on WGS84 (world.origin; sensors/geodesy.h).
 class SensorEnvironment {
  public:
-  // origin: W's origin, geodetic latitude and longitude [rad], height above the ellipsoid [m].
-  SensorEnvironment(double latitude_rad, double longitude_rad, double height_m);
+  explicit SensorEnvironment(const GeodeticPosition& origin);
   ~SensorEnvironment();
   SensorEnvironment(const SensorEnvironment&) = delete;
   SensorEnvironment& operator=(const SensorEnvironment&) = delete;
@@ -78,14 +74,11 @@ class SensorEnvironment {
   // WMM2025 (server/data/WMM2025.COF), loaded on the first call; throws std::runtime_error if the
   // file cannot be read.
   const GeomagneticModel& geomagnetic();
-  const LocalEnuFrame& frame_W();
-  const GeographicLib::LocalCartesian& local_cartesian();
+  const LocalEnuFrame& frame_W() const { return *frame_W_; }
 
  private:
-  double latitude_rad_, longitude_rad_, height_m_;
   std::unique_ptr<GeomagneticModel> geomagnetic_;
   std::unique_ptr<LocalEnuFrame> frame_W_;
-  std::unique_ptr<GeographicLib::LocalCartesian> local_cartesian_;
 };
 
 // What initial_state() gets: the names that key the sensor's random streams (noise.h channel_key), its
