@@ -51,8 +51,8 @@ class SampleLog {
 };
 
 // A lockstep hadald on its own domain (scenario: a path, absolute or relative to the source tree), with
-// a client. Subscribe first, then connect(), then step: samples published before a subscription
-// matched are lost (VOLATILE).
+// a client. Subscribe first, then connect(), then step: a subscription receives the samples the
+// server's writer still keeps (its history depth) and everything after (dds/topic_registry.h).
 class LockstepServer {
  public:
   explicit LockstepServer(const std::string& scenario = kClientScenario, const std::vector<std::string>& extra = {})

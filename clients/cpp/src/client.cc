@@ -236,7 +236,10 @@ struct Client::Impl {
   template <class PubSubType, class Msg, class Handler>
   void subscribe(const std::string& topic, Handler handler) {
     auto listener = make_listener<Msg>(std::move(handler));
-    fdds::DataReader* reader = registry->reader<PubSubType>(topic, kHistoryDepth, listener.get());
+    // The server's kept samples too: a sample written after this reader matched the server's writer but
+    // before that writer matched this reader is delivered all the same (topic_registry.h).
+    fdds::DataReader* reader = registry->reader<PubSubType>(topic, kHistoryDepth, listener.get(),
+                                                            dds::TopicRegistry::Durability::kKeptSamples);
     std::lock_guard<std::mutex> lock(mutex);
     readers.push_back(reader);
     listeners.push_back(std::move(listener));

@@ -1,8 +1,12 @@
 // Registers message types and creates topics once per participant (Fast DDS refuses a second
 // create_topic with the same name), plus the QoS Hadal uses on every endpoint.
 //
-// QoS: writers are RELIABLE + VOLATILE with KEEP_LAST history, which matches both reliable and
-// best-effort readers (ROS 2 sensor-data QoS included); readers are RELIABLE + VOLATILE.
+// QoS: writers are RELIABLE + TRANSIENT_LOCAL with KEEP_LAST history, which matches reliable and
+// best-effort, volatile and transient-local readers (ROS 2 sensor-data QoS included). Readers are
+// RELIABLE, VOLATILE by default (a command reader must never see what was written before it existed);
+// a reader of state and sensor topics may ask for the writer's kept samples (kKeptSamples): the two
+// directions of endpoint discovery are independent, so a reader can match a writer before the writer
+// matches it, and whatever is written in between would otherwise never reach it.
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -61,23 +65,32 @@ class TopicRegistry {
                                             eprosima::fastdds::dds::DataWriterListener* listener = nullptr) {
     eprosima::fastdds::dds::DataWriterQos qos = eprosima::fastdds::dds::DATAWRITER_QOS_DEFAULT;
     set_endpoint_qos(qos, history_depth);
+    qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
     auto* writer = publisher_->create_datawriter(topic<PubSubType>(topic_name), qos, listener);
     if (writer == nullptr) throw std::runtime_error("could not create a DDS writer on " + topic_name);
     return writer;
   }
 
+  // What a reader receives on matching a writer: only what is written from then on, or also the
+  // samples the writer kept (its last history_depth).
+  enum class Durability { kNewSamples, kKeptSamples };
+
   template <class PubSubType>
   eprosima::fastdds::dds::DataReader* reader(const std::string& topic_name, int history_depth,
-                                            eprosima::fastdds::dds::DataReaderListener* listener) {
+                                            eprosima::fastdds::dds::DataReaderListener* listener,
+                                            Durability durability = Durability::kNewSamples) {
     eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
     set_endpoint_qos(qos, history_depth);
+    if (durability == Durability::kKeptSamples) {
+      qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    }
     auto* reader = subscriber_->create_datareader(topic<PubSubType>(topic_name), qos, listener);
     if (reader == nullptr) throw std::runtime_error("could not create a DDS reader on " + topic_name);
     return reader;
   }
 
  private:
-  // RELIABLE + VOLATILE + KEEP_LAST(depth), for writers and readers alike.
+  // RELIABLE + VOLATILE + KEEP_LAST(depth); writers then keep their samples (above).
   template <class EndpointQos>
   static void set_endpoint_qos(EndpointQos& qos, int history_depth) {
     qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
