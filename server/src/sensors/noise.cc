@@ -266,6 +266,15 @@ void validate(const NoiseTriadParams& params) {
   validate_output(params.lsb, params.min, params.max);
 }
 
+NoiseChannelParams per_sample_white_noise(double stddev, double period, double lsb, double min, double max) {
+  NoiseChannelParams channel;
+  channel.noise.white_noise_density = stddev * std::sqrt(period);
+  channel.lsb = lsb;
+  channel.min = min;
+  channel.max = max;
+  return channel;
+}
+
 NoiseChannelState make_noise_state(const NoiseChannelParams& params, std::uint64_t key) {
   validate(params);
   NoiseChannelState state;

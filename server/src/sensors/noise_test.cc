@@ -600,5 +600,16 @@ TEST(NoiseDatasheetTest, BiasInstabilityMappings) {
   EXPECT_THROW(bias_instability_to_gauss_markov(1.0, 0.0), std::invalid_argument);
 }
 
+// Figures per sample become a channel: density sigma sqrt(T), so a sample's white noise is sigma again
+// (white_noise_sigma), with the resolution and range as given.
+TEST(NoiseChannelTest, PerSampleWhiteNoiseFigures) {
+  const NoiseChannelParams c = per_sample_white_noise(0.05, 0.1, 0.01, 0.3, 100.0);
+  EXPECT_DOUBLE_EQ(white_noise_sigma(c.noise.white_noise_density, 0.1), 0.05);
+  EXPECT_EQ(c.lsb, 0.01);
+  EXPECT_EQ(c.min, 0.3);
+  EXPECT_EQ(c.max, 100.0);
+  EXPECT_TRUE(std::isinf(per_sample_white_noise(1.0, 1.0, 0.0).max));
+}
+
 }  // namespace
 }  // namespace hadal::sensors

@@ -17,12 +17,7 @@ using config::Need;
 using config::Range;
 
 NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
-  NoiseChannelParams channel;
-  channel.noise.white_noise_density = spec.noise_stddev * std::sqrt(period);
-  channel.lsb = spec.resolution;
-  channel.min = 0.0;
-  channel.max = spec.range_max;
-  return channel;
+  return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_max);
 }
 
 const std::vector<std::string>& PressureSensor::keys() {

@@ -24,12 +24,7 @@ double ProfilerSensor::beam_angle(const Spec& spec, int k) {
 }
 
 NoiseChannelParams ProfilerSensor::channel(const Spec& spec, double period) {
-  NoiseChannelParams channel;
-  channel.noise.white_noise_density = spec.noise_stddev * std::sqrt(period);
-  channel.lsb = spec.resolution;
-  channel.min = spec.min_range;
-  channel.max = spec.max_range;
-  return channel;
+  return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, spec.min_range, spec.max_range);
 }
 
 const std::vector<std::string>& ProfilerSensor::keys() {

@@ -231,6 +231,13 @@ struct NoiseTriadState {
   friend bool operator!=(const NoiseTriadState& a, const NoiseTriadState& b) { return !(a == b); }
 };
 
+// A scalar channel with white noise of `stddev` per sample [u] at sample period `period` [s] (the
+// density stddev sqrt(period)), quantised to `lsb` and clipped to [min, max]: a sensor's figures "noise
+// per sample, resolution, range" as channel parameters.
+NoiseChannelParams per_sample_white_noise(double stddev, double period, double lsb,
+                                          double min = -std::numeric_limits<double>::infinity(),
+                                          double max = std::numeric_limits<double>::infinity());
+
 // Checks parameters (non-negative sigmas and densities, tau_c > 0, at most kMaxGaussMarkovTerms terms,
 // lsb >= 0, min <= max, finite scale and misalignment); throws std::invalid_argument naming the field.
 void validate(const NoiseChannelParams& params);
