@@ -137,7 +137,7 @@ struct VehicleDefinition {
   std::vector<std::string> actuator_types;
 };
 
-// ixx, iyy, izz > 0 and products (default 0) form I_Lcm = [[ixx ixy ixz] [ixy iyy iyz] [ixz iyz izz]]
+// ixx, iyy, izz > 0 and products (default 0) form I_LLcm_L = [[ixx ixy ixz] [ixy iyy iyz] [ixz iyz izz]]
 // (tensor entries, as URDF/SDF). A physical body has a positive-definite I whose principal moments
 // satisfy the triangle inequalities A + B >= C (because A + B - C = 2 * integral of z^2 dm).
 bool read_inertia(const Value& value, Eigen::Matrix3d* I_out) {
@@ -564,7 +564,7 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
       // Mass properties of the homogeneous solid the mesh encloses, already in L.
       link->mass = density * mesh_properties->volume;
       link->p_LLcm = mesh_properties->centroid;
-      link->I_Lcm = density * mesh_properties->inertia_unit_density;
+      link->I_LLcm_L = density * mesh_properties->inertia_unit_density;
     }
     for (const char* key : {"mass", "center_of_mass", "inertia"}) {
       if (map.has(key)) {
@@ -575,7 +575,7 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
   } else if (!has_density) {
     map.read_number("mass", Need::kRequired, Range::positive(), &link->mass);
     map.read_vector3("center_of_mass", Need::kOptional, Range::finite(), &link->p_LLcm);
-    if (const auto inertia = map.required("inertia")) read_inertia(*inertia, &link->I_Lcm);
+    if (const auto inertia = map.required("inertia")) read_inertia(*inertia, &link->I_LLcm_L);
   }
 
   if (const auto collisions = map.optional("collisions")) {

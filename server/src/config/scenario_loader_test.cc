@@ -126,7 +126,7 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_EQ(hull.name, "hull");
   EXPECT_EQ(hull.mass, 30.0);
   EXPECT_EQ(hull.p_LLcm, Eigen::Vector3d(-0.0082, 0.0, -0.01));
-  EXPECT_EQ(hull.I_Lcm, Eigen::Vector3d(0.0901, 6.445, 6.445).asDiagonal().toDenseMatrix());
+  EXPECT_EQ(hull.I_LLcm_L, Eigen::Vector3d(0.0901, 6.445, 6.445).asDiagonal().toDenseMatrix());
   EXPECT_TRUE(hull.X_BL.isApprox(Eigen::Isometry3d::Identity(), kTol));
   ASSERT_EQ(hull.collisions.size(), 5u);  // capsule hull + four fins
   const CollisionShape& capsule = hull.collisions[0];
@@ -215,8 +215,8 @@ vehicles:
   EXPECT_TRUE(
       (rov.X_WB_initial.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), kTol));
   ASSERT_EQ(rov.links.size(), 2u);
-  EXPECT_EQ(rov.links[0].I_Lcm(0, 1), 1.0);
-  EXPECT_EQ(rov.links[0].I_Lcm(1, 0), 1.0);
+  EXPECT_EQ(rov.links[0].I_LLcm_L(0, 1), 1.0);
+  EXPECT_EQ(rov.links[0].I_LLcm_L(1, 0), 1.0);
   EXPECT_EQ(rov.links[0].buoyancy.volume, 0.0);
   ASSERT_EQ(rov.links[0].collisions.size(), 2u);
   EXPECT_EQ(rov.links[0].collisions[0].box_size, Eigen::Vector3d(1, 0.5, 0.4));
@@ -1447,7 +1447,7 @@ vehicles:
   EXPECT_NEAR(link.mass, 1000.0, 1e-6);
   EXPECT_NEAR((link.p_LLcm - Eigen::Vector3d(1.0, 0.0, 0.0)).norm(), 0.0, 1e-9);
   const Eigen::Matrix3d I_expected = Eigen::Vector3d(1.25, 4.25, 5.0).asDiagonal() * (1000.0 / 12.0);
-  EXPECT_LT((link.I_Lcm - I_expected).norm(), 1e-9 * I_expected.norm());
+  EXPECT_LT((link.I_LLcm_L - I_expected).norm(), 1e-9 * I_expected.norm());
   // No buoyancy key: the closed hull displaces its own volume at its centroid.
   EXPECT_NEAR(link.buoyancy.volume, 1.0, 1e-9);
   EXPECT_NEAR((link.buoyancy.p_LCb - Eigen::Vector3d(1.0, 0.0, 0.0)).norm(), 0.0, 1e-9);

@@ -148,18 +148,18 @@ AddedMassDynamics::AddedMassDynamics(const RigidBodyInertia& body, const Matrix6
     : M_RB_(Matrix6d::Zero()),
       M_A0_(M_A0),
       mass_(body.mass),
-      I_C_(body.I_C),
+      I_BC_B_(body.I_BC_B),
       coriolis_(coriolis),
       gyroscopic_(gyroscopic) {
   M_RB_.topLeftCorner<3, 3>() = body.mass * Eigen::Matrix3d::Identity();
-  M_RB_.bottomRightCorner<3, 3>() = body.I_C;
+  M_RB_.bottomRightCorner<3, 3>() = body.I_BC_B;
 }
 
 Vector6d AddedMassDynamics::rigid_body_coriolis(const Vector6d& nu) const {
   const Eigen::Vector3d v = nu.head<3>(), w = nu.tail<3>();
   Vector6d out;
   out.head<3>() = mass_ * w.cross(v);
-  out.tail<3>() = gyroscopic_ ? Eigen::Vector3d(w.cross(I_C_ * w)) : Eigen::Vector3d::Zero();
+  out.tail<3>() = gyroscopic_ ? Eigen::Vector3d(w.cross(I_BC_B_ * w)) : Eigen::Vector3d::Zero();
   return out;
 }
 
@@ -189,7 +189,7 @@ Vector6d AddedMassDynamics::contact_wrench(const Vector6d& nu0, const Vector6d& 
   tau_c.head<3>() -= mass_ * gravity_B;
   if (gyroscopic_) {
     const Eigen::Vector3d w = nu0.tail<3>();
-    tau_c.tail<3>() += w.cross(I_C_ * w);
+    tau_c.tail<3>() += w.cross(I_BC_B_ * w);
   }
   return tau_c;
 }

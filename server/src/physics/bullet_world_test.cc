@@ -177,7 +177,7 @@ TEST(BulletWorldTest, PrimitivesRestOnTheSeabedAtTheirHalfHeight) {
     vehicle.name = name;
     LinkSpec link;
     link.mass = 20.0;
-    link.I_Lcm = solid_sphere_inertia(20.0, 0.3);
+    link.I_LLcm_L = solid_sphere_inertia(20.0, 0.3);
     link.collisions.push_back(shape);
     vehicle.links.push_back(link);
     vehicle.X_WB_initial.translation() = Eigen::Vector3d(x, 0.0, 0.0);

@@ -24,7 +24,7 @@ MassProperties composite_mass_properties(const std::vector<LinkSpec>& links) {
   for (const LinkSpec& link : links) {
     const Eigen::Matrix3d R_BL = link.X_BL.linear();
     const Eigen::Vector3d r = link.X_BL * link.p_LLcm - props.p_BBcm;
-    I += R_BL * link.I_Lcm * R_BL.transpose();
+    I += R_BL * link.I_LLcm_L * R_BL.transpose();
     I += link.mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
   }
   // Symmetrise so round-off in the rotations cannot make the eigen-solver see an asymmetric matrix.

@@ -54,7 +54,7 @@ TEST(MassPropertiesTest, LinkInertiaIsRotatedIntoB) {
   // centre of mass at p_LLcm = (1, 0, 0) is at X_BL p_LLcm = p_BL + (0, 1, 0).
   LinkSpec link;
   link.mass = 2.0;
-  link.I_Lcm = Eigen::Vector3d(1.0, 2.0, 3.0).asDiagonal();
+  link.I_LLcm_L = Eigen::Vector3d(1.0, 2.0, 3.0).asDiagonal();
   link.p_LLcm = Eigen::Vector3d(1.0, 0.0, 0.0);
   link.X_BL = translation(Eigen::Vector3d(0.0, 0.0, 5.0));
   link.X_BL.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();

@@ -67,7 +67,7 @@ struct LinkMesh {
 struct LinkSpec {
   std::string name;
   double mass = 0.0;                                      // [kg], > 0
-  Eigen::Matrix3d I_Lcm = Eigen::Matrix3d::Identity();    // inertia about the link's CoM, L axes [kg m^2]
+  Eigen::Matrix3d I_LLcm_L = Eigen::Matrix3d::Identity();  // L about its centre of mass Lcm, L axes [kg m^2]
   Eigen::Vector3d p_LLcm = Eigen::Vector3d::Zero();       // centre of mass in L [m]
   Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();  // link frame in the vehicle body frame
   std::vector<CollisionShape> collisions;

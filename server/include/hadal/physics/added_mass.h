@@ -89,7 +89,7 @@ Vector6d added_mass_coriolis(const Matrix6d& M_A, const Vector6d& nu);
 // Rigid-body inertia of the vehicle at C in B axes.
 struct RigidBodyInertia {
   double mass = 0.0;                               // [kg]
-  Eigen::Matrix3d I_C = Eigen::Matrix3d::Zero();   // about C, B axes [kg m^2]
+  Eigen::Matrix3d I_BC_B = Eigen::Matrix3d::Zero();  // B about its centre of mass C, B axes [kg m^2]
 };
 
 struct AddedMassInput {
@@ -129,7 +129,7 @@ class AddedMassDynamics {
   Matrix6d M_RB_;
   Matrix6d M_A0_;
   double mass_;
-  Eigen::Matrix3d I_C_;
+  Eigen::Matrix3d I_BC_B_;
   bool coriolis_;
   bool gyroscopic_;
 };

@@ -29,7 +29,7 @@ inline LinkSpec box_link(std::string name, double mass, const Eigen::Vector3d& s
   LinkSpec link;
   link.name = std::move(name);
   link.mass = mass;
-  link.I_Lcm = solid_box_inertia(mass, size);
+  link.I_LLcm_L = solid_box_inertia(mass, size);
   link.X_BL = X_BL;
   CollisionShape box;
   box.type = CollisionShapeType::kBox;
@@ -77,7 +77,7 @@ inline VehicleSpec surface_vehicle(const CollisionShape& shape, double mass, con
   LinkSpec link;
   link.name = "hull";
   link.mass = mass;
-  link.I_Lcm = I;
+  link.I_LLcm_L = I;
   link.collisions.push_back(shape);
   vehicle.links.push_back(link);
   vehicle.fluid.model = FluidModelType::kSurface;
