@@ -38,8 +38,9 @@ summarise hadald_realtime_mode 10 "$out"
 # 4. The default scenario (surface fluid model, added mass) with an 11 136-face torpedo hull mesh
 #    (generated) in place of the tessellated capsule + fins: forces on every face every step at 500 Hz;
 #    the simulation core alone and the whole server in fast mode.
-# 6 (at the end). Sensors: cost per sample of each of the default AUV's sensors and their share of a
-#    core at the configured rates (bench/sensors.cc).
+# 6 and 7 (at the end): memory over a 1M-triangle seabed; sensors: cost per sample of each of the
+#    default AUV's sensors, their share of a core at the configured rates, and a captured sensor's scan
+#    (bench/sensors.cc).
 # 5. Two such AUVs (20 m apart): their fluid forces run on the worker pool, so with 2 cores the RTF
 #    stays close to the single-vehicle figure instead of halving.
 work=$(mktemp -d)
@@ -65,4 +66,33 @@ for r in 1 2 3; do
   summarise hadald_fast_mode_surface_model - "$out" "default.yaml + surface model, 11136-face hull"
 done
 "$build/bin/hadal_bench_step_rate" "$work/two_surface.yaml" --sim-seconds 20 --repetitions 3
+
+# 6. Memory: hadald's peak resident set with the default AUV (DVL and altimeter: the world's ray-cast
+#    scene is built) over a generated 1M-triangle seabed mesh, 10 s in fast mode; the figure is the
+#    summary's "peak memory" (getrusage). One ray-cast world: the seabed's BVH and buffers exist once.
+"$build/bin/hadal-make-asset" seabed "$work/seabed1m.glb" --triangles 1000000 --extent 1000 >/dev/null
+/usr/bin/python3 - "$work" <<'PY'
+import os, sys
+work = sys.argv[1]
+scenario = open("configs/scenarios/default.yaml").read()
+start = scenario.index("  seabed:")
+end = scenario.index("  # Calendar date")
+scenario = (scenario[:start] + "  seabed:\n    type: mesh\n    file: seabed1m.glb\n"
+            "    pose: {position: [0.0, 0.0, -150.0]}\n" + scenario[end:])
+scenario = scenario.replace("include: ../vehicles/torpedo_auv.yaml",
+                            "include: " + os.path.abspath("configs/vehicles/torpedo_auv.yaml"))
+open(f"{work}/seabed1m.yaml", "w").write(scenario)
+PY
+for r in 1 2 3; do
+  out=$("$build/bin/hadald" "$work/seabed1m.yaml" --mode fast --duration 10 --domain-id 231 \
+        --discovery-wait 0 --no-status-line 2>/dev/null)
+  /usr/bin/python3 - "$out" <<'PY'
+import json, re, sys
+m = re.search(r"peak memory: ([\d.]+) MiB", sys.argv[1])
+print(json.dumps({"benchmark": "hadald_peak_memory", "scenario": "default.yaml over a 999698-triangle seabed mesh",
+                  "peak_rss_mib": float(m[1])}))
+PY
+done
+
+# 7. Sensors (bench/sensors.cc).
 "$build/bin/hadal_bench_sensors"

@@ -3,16 +3,19 @@
 // sampling at the physics rate (every step), and with no sensor; the difference of the median step
 // times divided by kCopies is the cost of one sample (ideal value + noise chain) -- the copies lift it
 // well above the run-to-run noise of a ~6.5 us step. The default AUV's sensor load is then
-// sum_i rate_i x cost_i, as a share of one core. Prints one JSON object per measurement.
+// sum_i rate_i x cost_i, as a share of one core. Last, the wall time a captured sensor's scan (the
+// profiler) adds to the step that waits for it. Prints one JSON object per measurement.
 //   build/bin/hadal_bench_sensors [--steps N] [--repetitions R]
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
+#include "hadal/core/units.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -74,5 +77,26 @@ int main(int argc, char** argv) {
   std::printf("{\"benchmark\": \"default_auv_sensor_load\", \"sensors\": %zu, \"step_without_sensors_ns\": %.0f, "
               "\"core_share\": %.3e, \"target\": 0.05}\n",
               sensors.size(), without * 1e9, load);
+
+  // A captured sensor: the default profiler (256 beams x 10 rays, sensors/profiler_sensor.h) looking down
+  // from the AUV, one scan every 10th step with no latency, so each scan's wall time on the ray-cast
+  // workers (all hardware threads) adds to the step that waits for it: the stepping thread's wall time
+  // per scan, rays and all.
+  {
+    hadal::Model with = base;
+    hadal::SensorSpec profiler;
+    profiler.name = "profiler";
+    profiler.frame_id = "auv/profiler";
+    profiler.X_LS.linear() = Eigen::AngleAxisd(hadal::kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    profiler.rate_hz = physics_hz / 10.0;
+    const hadal::sensors::ProfilerSensor::Spec spec;
+    profiler.kind.emplace<hadal::sensors::ProfilerSensor::Spec>(spec);
+    with.vehicles[0].sensors.push_back(std::move(profiler));
+    const double per_scan = std::max(seconds_per_step(with, steps, repetitions) - without, 0.0) * 10.0;
+    const double rays = static_cast<double>(spec.beams) * spec.rays_per_beam;
+    std::printf("{\"benchmark\": \"captured_sensor_cost\", \"sensor\": \"profiler\", \"rays_per_scan\": %.0f, "
+                "\"ns_per_scan\": %.0f, \"rays_per_s\": %.3e}\n",
+                rays, per_scan * 1e9, per_scan > 0.0 ? rays / per_scan : 0.0);
+  }
   return 0;
 }

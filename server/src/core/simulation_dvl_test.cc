@@ -76,9 +76,6 @@ Model dvl_vehicle(const Eigen::Vector3d& p_W, const Eigen::Matrix3d& R_WB, const
 const sensors::DvlPing& ping_of(const Simulation& sim) {
   return state_of<sensors::DvlSensor>(sim.state().vehicles[0].sensors[0]).ping;
 }
-double range_of(const Simulation& sim) {
-  return state_of<sensors::AltimeterSensor>(sim.state().vehicles[0].sensors[1]).range;
-}
 
 // The DVL's pose and velocity in the current state: R_WS, p_WS, v_WS_S.
 struct DvlKinematics {

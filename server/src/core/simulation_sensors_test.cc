@@ -210,7 +210,9 @@ TEST(SimulationSensorsTest, CapturesAreDeliveredAtCaptureTimePlusLatency) {
     ASSERT_EQ(s.samples, static_cast<std::uint64_t>(delivered)) << k;
     const bool pending = k >= 50 && k % 50 < 25;
     ASSERT_EQ(s.captures.size(), pending ? 1u : 0u) << k;
-    if (pending) EXPECT_EQ(s.captures.front().time, static_cast<double>(50 * (k / 50)) * sim.model().world.step_size());
+    if (pending) {
+      EXPECT_EQ(s.captures.front().time, static_cast<double>(50 * (k / 50)) * sim.model().world.step_size());
+    }
     if (delivered > 0 && (k - 75) % 50 == 0) {
       EXPECT_EQ(s.stamp, static_cast<double>(k - 25) * sim.model().world.step_size()) << k;
       const auto& spec = std::get<sensors::ProfilerSensor::Spec>(sim.model().vehicles[0].sensors[0].kind);
