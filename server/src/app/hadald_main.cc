@@ -25,6 +25,24 @@ void install_signal_handlers() {
   sigaction(SIGTERM, &action, nullptr);
 }
 
+// One line per vehicle for the start-up log: name, type, links, actuators and sensors by kind.
+std::string describe(const hadal::VehicleSpec& vehicle) {
+  std::string text = "vehicle " + vehicle.name + " (" + hadal::to_string(vehicle.type) + "): " +
+                     std::to_string(vehicle.links.size()) + " link(s), actuators [";
+  const char* separator = "";
+  for (const auto& actuator : vehicle.actuators) {
+    text += separator + actuator.name + ": " + std::string(actuator.type());
+    separator = ", ";
+  }
+  text += "], sensors [";
+  separator = "";
+  for (const auto& sensor : vehicle.sensors) {
+    text += separator + sensor.name + ": " + std::string(sensor.type());
+    separator = ", ";
+  }
+  return text + "]";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,6 +72,7 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d\n",
                cli.options.scenario_file.c_str(), model.vehicles.size(), model.world.physics_rate_hz,
                app::to_string(cli.options.mode), cli.options.domain_id);
+  for (const auto& vehicle : model.vehicles) std::fprintf(stderr, "hadald: %s\n", describe(vehicle).c_str());
   try {
     const app::RunSummary summary = app::run_server(model, cli.options, g_stop);
     std::fputs(summary.format().c_str(), stdout);
