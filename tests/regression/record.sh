@@ -6,13 +6,15 @@
 #   CASE     default            configs/scenarios/default.yaml, 60 s (30 000 steps), its schedule only
 #            two_vehicles       tests/regression/scenarios/two_vehicles_all_sensors.yaml, 20 s, with
 #                               client commands and a watchdog timeout
-#   --write  (re)writes tests/regression/digests/CASE.txt
-#   --check  (default) records and compares with tests/regression/digests/CASE.txt topic by topic; skips
-#            (exit 77) when the file was recorded on a machine with another floating-point signature
+#   --write  (re)writes tests/regression/digests/CASE/SIGNATURE.txt, this machine's file
+#   --check  (default) records and compares with tests/regression/digests/CASE/SIGNATURE.txt topic by
+#            topic; skips (exit 77) when no digests were recorded on a machine of this floating-point
+#            signature
 #
 # The digests are only comparable between builds on machines with the same signature: glibc picks its
 # libm kernels and Embree its traversal kernels by CPU feature (FMA, AVX2, AVX-512), which can change the
-# last bits of a result. The signature is the x86 feature flags among those that steer such choices.
+# last bits of a result. The signature is the x86 feature flags among those that steer such choices;
+# each signature has its own file, e.g. digests/default/x86_64-sse4_2-avx-fma-avx2-avx512f.txt.
 # Completeness: every topic's recorded count must equal the count hadald reports having published.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -40,7 +42,6 @@ case "$CASE" in
     ;;
   *) echo "record.sh: unknown case $CASE (default, two_vehicles)" >&2; exit 2 ;;
 esac
-DIGESTS=tests/regression/digests/$CASE.txt
 
 signature() {
   local flags
@@ -52,14 +53,16 @@ signature() {
   echo "$out"
 }
 SIGNATURE=$(signature)
+DIGESTS=tests/regression/digests/$CASE/${SIGNATURE// /-}.txt
 
 if [[ "$MODE" == --check ]]; then
-  [[ -f "$DIGESTS" ]] || { echo "record.sh: no $DIGESTS; record it with --write" >&2; exit 1; }
-  recorded=$(sed -n 's/^# signature: //p' "$DIGESTS")
-  if [[ "$recorded" != "$SIGNATURE" ]]; then
-    echo "record.sh: SKIP: $DIGESTS was recorded on '$recorded', this machine is '$SIGNATURE'" >&2
+  if [[ ! -f "$DIGESTS" ]]; then
+    echo "record.sh: SKIP: no digests of case $CASE recorded on a machine like this one ('$SIGNATURE');" \
+         "recorded: $(cd "tests/regression/digests/$CASE" && ls -- *.txt | tr '\n' ' ')" >&2
     exit 77
   fi
+  recorded=$(sed -n 's/^# signature: //p' "$DIGESTS")
+  [[ "$recorded" == "$SIGNATURE" ]] || { echo "record.sh: $DIGESTS says signature '$recorded'" >&2; exit 1; }
 fi
 
 # A DDS domain of our own (the lock files the integration tests and interop script use), held on fd 9.
