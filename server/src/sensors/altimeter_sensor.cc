@@ -13,7 +13,6 @@
 
 namespace hadal::sensors {
 
-using config::format_number;
 using config::MapReader;
 using config::Need;
 using config::Range;
@@ -32,15 +31,7 @@ const std::vector<std::string>& AltimeterSensor::keys() {
 AltimeterSensor::Spec AltimeterSensor::read(const SensorReader& reader) {
   const MapReader& map = reader.map;
   Spec spec;
-  map.read_number("min_range", Need::kOptional, Range::non_negative(), &spec.min_range);
-  if (map.read_number("max_range", Need::kOptional, Range::positive(), &spec.max_range) &&
-      !(spec.max_range > spec.min_range)) {
-    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
-                     "max_range (" + format_number(spec.max_range) + " m) must exceed min_range (" +
-                         format_number(spec.min_range) + " m)");
-  }
-  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &spec.noise_stddev);
-  map.read_number("resolution", Need::kOptional, Range::non_negative(), &spec.resolution);
+  read_range_figures(map, spec.min_range, spec.max_range, spec.noise_stddev, spec.resolution);
   double fov_deg = spec.field_of_view / kDegToRad;
   if (map.read_number("field_of_view_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) {
     spec.field_of_view = fov_deg * kDegToRad;

@@ -54,15 +54,7 @@ ProfilerSensor::Spec ProfilerSensor::read(const SensorReader& reader) {
   if (map.read_number("beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &width_deg)) {
     spec.beam_width = width_deg * kDegToRad;
   }
-  map.read_number("min_range", Need::kOptional, Range::non_negative(), &spec.min_range);
-  if (map.read_number("max_range", Need::kOptional, Range::positive(), &spec.max_range) &&
-      !(spec.max_range > spec.min_range)) {
-    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
-                     "max_range (" + format_number(spec.max_range) + " m) must exceed min_range (" +
-                         format_number(spec.min_range) + " m)");
-  }
-  map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &spec.noise_stddev);
-  map.read_number("resolution", Need::kOptional, Range::non_negative(), &spec.resolution);
+  read_range_figures(map, spec.min_range, spec.max_range, spec.noise_stddev, spec.resolution);
   return spec;
 }
 

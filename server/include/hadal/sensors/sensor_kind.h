@@ -62,6 +62,12 @@ struct SensorReader {
   double& rate_hz;          // [Hz]; a kind may set it when !rate_given
 };
 
+// The range window and per-sample figures of a range-finding kind (altimeter, profiler), each read
+// where the map gives it and kept otherwise: min_range [m] >= 0, max_range [m] > 0 and > min_range,
+// noise_stddev [m] >= 0 (per sample), resolution [m] >= 0 (0: none). Errors at the offending key.
+void read_range_figures(const config::MapReader& map, double& min_range, double& max_range,
+                        double& noise_stddev, double& resolution);
+
 // Data shared by every sensor of a simulation that needs it, made on first use: the World Magnetic
 // Model and W as a local East-North-Up frame on WGS84 (world.origin; sensors/geodesy.h).
 class SensorEnvironment {
