@@ -62,7 +62,7 @@ struct SensorReader {
   double& rate_hz;          // [Hz]; a kind may set it when !rate_given
 };
 
-// The range window and per-sample figures of a range-finding kind (altimeter, profiler), each read
+// The range window and per-sample figures of a range-finding kind (the altimeter, say), each read
 // where the map gives it and kept otherwise: min_range [m] >= 0, max_range [m] > 0 and > min_range,
 // noise_stddev [m] >= 0 (per sample), resolution [m] >= 0 (0: none). Errors at the offending key.
 void read_range_figures(const config::MapReader& map, double& min_range, double& max_range,
