@@ -3,7 +3,6 @@
 #include "hadal/render/lens.h"
 
 #include <gtest/gtest.h>
-#include <opencv2/calib3d.hpp>
 
 #include <cmath>
 #include <random>
@@ -11,62 +10,21 @@
 #include <vector>
 
 #include "hadal/core/units.h"
+#include "render_test_support.h"
 
 namespace hadal::render {
 namespace {
 
-LensSpec pinhole() {
-  LensSpec l;
-  l.fx = 512.3;
-  l.fy = 508.9;
-  l.cx = 322.7;
-  l.cy = 236.1;
-  return l;
-}
-
-// Barrel distortion of a wide-angle underwater housing: strong negative k1, small tangential terms.
-LensSpec barrel() {
-  LensSpec l = pinhole();
-  l.model = LensModel::kRadialTangential;
-  l.distortion = {-0.28, 0.09, 1.2e-3, -6.0e-4, -0.01};
-  return l;
-}
+using testing::opencv_project;
+LensSpec pinhole() { return testing::pinhole_lens(); }
+LensSpec barrel() { return testing::barrel_lens(); }
+LensSpec fisheye() { return testing::fisheye_lens(); }
 
 LensSpec pincushion() {
   LensSpec l = pinhole();
   l.model = LensModel::kRadialTangential;
   l.distortion = {0.15, 0.02, -8.0e-4, 9.0e-4, 0.0};
   return l;
-}
-
-// A fisheye whose image corners see 76 deg off the axis.
-LensSpec fisheye() {
-  LensSpec l;
-  l.fx = 300.0;
-  l.fy = 299.2;
-  l.cx = 318.4;
-  l.cy = 241.6;
-  l.model = LensModel::kEquidistant;
-  l.distortion = {0.03, -0.012, 0.004, -0.0006, 0.0};
-  return l;
-}
-
-cv::Mat camera_matrix(const LensSpec& l) {
-  return (cv::Mat_<double>(3, 3) << l.fx, 0.0, l.cx, 0.0, l.fy, l.cy, 0.0, 0.0, 1.0);
-}
-
-// OpenCV's projection of points given in the optical frame (identity pose).
-std::vector<cv::Point2d> opencv_project(const LensSpec& l, const std::vector<cv::Point3d>& points) {
-  std::vector<cv::Point2d> pixels;
-  const cv::Mat rvec = cv::Mat::zeros(3, 1, CV_64F), tvec = cv::Mat::zeros(3, 1, CV_64F);
-  if (l.model == LensModel::kEquidistant) {
-    const cv::Mat D = (cv::Mat_<double>(4, 1) << l.distortion[0], l.distortion[1], l.distortion[2], l.distortion[3]);
-    cv::fisheye::projectPoints(points, pixels, rvec, tvec, camera_matrix(l), D);
-  } else {
-    const cv::Mat D(1, 5, CV_64F, const_cast<double*>(l.distortion.data()));
-    cv::projectPoints(points, rvec, tvec, camera_matrix(l), D, pixels);
-  }
-  return pixels;
 }
 
 struct Case {

@@ -1,0 +1,47 @@
+#include "hadal/render/camera_rays.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace hadal::render {
+
+Eigen::Isometry3d X_SC() {
+  Eigen::Matrix3d R_SC;
+  // Columns: the optical frame's axes x_C, y_C, z_C expressed in S.
+  R_SC << 0.0, 0.0, 1.0,
+         -1.0, 0.0, 0.0,
+          0.0, -1.0, 0.0;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R_SC;
+  return X;
+}
+
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+                     std::int32_t ignore_body, geometry::RayBatch& batch) {
+  if (!(near_m >= 0.0f) || !(far_m > near_m)) {
+    throw std::invalid_argument("camera clip: need 0 <= near < far (got near " + std::to_string(near_m) +
+                                " m, far " + std::to_string(far_m) + " m)");
+  }
+  if (!X_WC.matrix().allFinite()) throw std::invalid_argument("camera pose X_WC is not finite");
+  const Eigen::Matrix3f R_WC = X_WC.linear().cast<float>();
+  const Eigen::Vector3f p_WC = X_WC.translation().cast<float>();
+  batch.coherence = geometry::RayCoherence::kCoherent;
+  for (const Eigen::Vector3f& d_C : lens.rays_C()) {
+    batch.add_ray(p_WC, (R_WC * d_C).normalized(), near_m, far_m, ignore_body);
+  }
+}
+
+std::vector<float> depth_image_m(const Lens& lens, const geometry::RayHits& hits, std::size_t first) {
+  const std::size_t n = lens.rays_C().size();
+  if (first + n > hits.size()) throw std::out_of_range("depth_image_m: the hits hold fewer rays than the camera's");
+  std::vector<float> depth(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float z = hits.distance[first + i] * lens.rays_C()[i].z();
+    depth[i] = hits.hit(first + i) && z > 0.0f ? z : std::numeric_limits<float>::quiet_NaN();
+  }
+  return depth;
+}
+
+}  // namespace hadal::render
