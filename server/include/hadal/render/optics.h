@@ -1,0 +1,75 @@
+// Deep-sea image formation, the per-ray physics (docs/ARCHITECTURE.md, "Cameras"): water as absorption
+// and scattering per colour channel, spot lights with a smooth beam edge, Lambertian reflection of a
+// light seen through the water, and single-scattering backscatter along a camera ray with a
+// Henyey–Greenstein phase function. The paper leaves this to an external renderer; these are the
+// building blocks of Hadal's own renderer on Embree (issue 11).
+//
+// Units: lengths [m]; coefficients [1/m]; radiant intensity [W/sr]; irradiance [W/m^2]; radiance
+// [W/(m^2 sr)]; all per channel (R, G, B) as Rgb. Frames: everything in the world frame W.
+// Model:
+//   beam attenuation        c = a + b;  light over a path of length d is multiplied by exp(-c d)
+//   Lambertian surface      L = (albedo / pi) E,  E = I(u) max(0, n . -u) / d_l^2 exp(-c d_l)
+//                           (u the unit direction from the light to the point, d_l their distance),
+//                           seen by the camera as L exp(-c d_cam)
+//   phase function          Henyey–Greenstein, p(psi) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos psi)^1.5)
+//                           [1/sr], psi the angle between the light's travel and the scattered ray;
+//                           g = 0.924 by default, the mean cosine of Petzold's average particle phase
+//                           function (a forward-peaked, "Petzold-like" fit)
+//   backscatter             L_b = sum over lights of  integral_{s0}^{s1} b p(psi(s)) I(u(s)) / r(s)^2
+//                           exp(-c r(s)) exp(-c s) ds  along the camera ray x(s) = o + s d, r(s) the
+//                           distance from the light; single scattering, no shadowing of the water
+//                           volume. Evaluated by the midpoint rule on a geometric grid in s (the
+//                           integrand of a light beside the camera falls as 1/s^2; on a log grid it is
+//                           smooth), error below 0.1 % with 64 samples over three decades.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace hadal::render {
+
+using Rgb = Eigen::Array3d;
+
+struct WaterOptics {
+  Rgb absorption_per_m = Rgb::Zero();  // a
+  Rgb scattering_per_m = Rgb::Zero();  // b
+  double phase_g = 0.924;              // Henyey–Greenstein asymmetry, -1 < g < 1
+  Rgb attenuation_per_m() const { return absorption_per_m + scattering_per_m; }  // c
+};
+
+// A spot light: full radiant intensity inside inner_half_angle of its axis, none beyond
+// outer_half_angle, a smoothstep in the angle between (a soft beam edge).
+struct SpotLight {
+  Eigen::Vector3d p_WL = Eigen::Vector3d::Zero();  // position in W [m]
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitX();  // unit beam axis in W
+  double inner_half_angle_rad = 0.4;
+  double outer_half_angle_rad = 0.6;
+  Rgb intensity_W_per_sr = Rgb::Constant(100.0);  // on the axis
+
+  // Radiant intensity towards the unit direction u_W (from the light) [W/sr].
+  Rgb intensity_towards(const Eigen::Vector3d& u_W) const;
+};
+
+// Throws std::invalid_argument naming the field: negative or non-finite coefficients, |g| >= 1; a
+// light's axis not unit (within 1e-6), 0 <= inner < outer <= pi, negative or non-finite intensity.
+void validate(const WaterOptics& water);
+void validate(const SpotLight& light);
+
+// Henyey–Greenstein phase function p(cos psi) [1/sr] (header formula); integrates to 1 over the sphere.
+double henyey_greenstein(double g, double cos_psi);
+
+// Radiance reaching the camera from a Lambertian surface point p_W with unit normal n_W and `albedo`,
+// lit by `light` through water of attenuation c, the camera being d_camera_m away (header formula).
+// Zero for a point the light's beam or the surface's front side does not face.
+Rgb lambertian_radiance(const Rgb& albedo, const SpotLight& light, const Eigen::Vector3d& p_W,
+                        const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m);
+
+// Single-scattering backscatter radiance along the camera ray o_W + s d_W (d_W unit) for s in
+// [s0, s1] (0 < s0 < s1, typically the camera's near clip and the hit distance or its far clip), from
+// every light, with `samples` midpoint samples on a geometric grid (header).
+Rgb backscatter_radiance(const WaterOptics& water, const std::vector<SpotLight>& lights,
+                         const Eigen::Vector3d& o_W, const Eigen::Vector3d& d_W, double s0, double s1,
+                         int samples = 64);
+
+}  // namespace hadal::render
