@@ -9,6 +9,8 @@
 namespace hadal::render {
 namespace {
 
+constexpr std::size_t kSky = static_cast<std::size_t>(-1);  // a shadow ray towards the surface
+
 geometry::RayHits cast(const geometry::EmbreeScene& scene, const geometry::RayBatch& batch) {
   geometry::RayHits hits;
   hits.resize(batch.size());
@@ -22,6 +24,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
                               float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoOfMaterial& albedo_of) {
   validate(lighting.water);
+  validate(lighting.daylight);
   for (const SpotLight& light : lighting.lights) validate(light);
 
   geometry::RayBatch primary;
@@ -58,26 +61,49 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       shadow_pixel.push_back(i);
       shadow_light.push_back(l);
     }
+    // Daylight: a ray straight up to the surface (index kSky in shadow_light).
+    const double sky = lighting.daylight.surface_z_m - p_W[i].z();
+    if (normal.z() > 0.0 && (lighting.daylight.irradiance_at(p_W[i].z()) > 0.0).any()) {
+      const Eigen::Vector3d origin = p_W[i] + lighting.shadow_bias_m * normal;
+      shadows.add_ray(origin.cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
+                      sky > 0.0 ? static_cast<float>(sky) : 0.0f, ignore_body);
+      shadow_pixel.push_back(i);
+      shadow_light.push_back(kSky);
+    }
   }
   const geometry::RayHits blocked = cast(scene, shadows);
   const Rgb c = lighting.water.attenuation_per_m();
   for (std::size_t k = 0; k < shadows.size(); ++k) {
     if (blocked.hit(k)) continue;
     const std::size_t i = shadow_pixel[k];
+    if (shadow_light[k] == kSky) {
+      frame.radiance[i] += daylight_surface_radiance(albedo_of(hits.material[i]), lighting.daylight, p_W[i], n_W[i], c,
+                                                     static_cast<double>(hits.distance[i]));
+      continue;
+    }
     frame.radiance[i] += lambertian_radiance(albedo_of(hits.material[i]), lighting.lights[shadow_light[k]], p_W[i],
                                              n_W[i], c, static_cast<double>(hits.distance[i]));
   }
 
-  // Backscatter along every ray, up to what it hit.
-  if (!lighting.lights.empty() && (lighting.water.scattering_per_m > 0.0).any()) {
+  // Scattered light along every ray, up to what it hit: the lights' backscatter and daylight's path
+  // radiance.
+  const bool lit_water = !lighting.lights.empty() && (lighting.water.scattering_per_m > 0.0).any();
+  const bool daylit_water = (lighting.water.scattering_per_m > 0.0).any() &&
+                            (lighting.daylight.surface_irradiance_W_per_m2 > 0.0).any();
+  if (lit_water || daylit_water) {
     for (std::size_t i = 0; i < n; ++i) {
       const double s0 = std::max(static_cast<double>(near_m), 1e-3);
-      double s1 = hits.hit(i) ? static_cast<double>(hits.distance[i])
-                              : (std::isfinite(far_m) ? static_cast<double>(far_m) : lighting.max_backscatter_range_m);
-      if (!(s1 > s0)) continue;
+      const double s_end = hits.hit(i) ? static_cast<double>(hits.distance[i]) : static_cast<double>(far_m);
+      if (!(s_end > s0)) continue;
       const Eigen::Vector3d o(primary.p_WO_x[i], primary.p_WO_y[i], primary.p_WO_z[i]);
       const Eigen::Vector3d d(primary.d_W_x[i], primary.d_W_y[i], primary.d_W_z[i]);
-      frame.radiance[i] += backscatter_radiance(lighting.water, lighting.lights, o, d, s0, s1, lighting.backscatter_samples);
+      if (lit_water) {
+        const double s1 = std::isfinite(s_end) ? s_end : lighting.max_backscatter_range_m;
+        if (s1 > s0) {
+          frame.radiance[i] += backscatter_radiance(lighting.water, lighting.lights, o, d, s0, s1, lighting.backscatter_samples);
+        }
+      }
+      if (daylit_water) frame.radiance[i] += daylight_path_radiance(lighting.water, lighting.daylight, o, d, s0, s_end);
     }
   }
   return frame;

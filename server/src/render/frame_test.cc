@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -112,6 +113,35 @@ TEST(FrameTest, OpenWaterShowsBackscatterOnly) {
   EXPECT_TRUE(std::isnan(thin.depth_m[mid]));
   EXPECT_TRUE((thin.radiance[mid] > 0.0).all());
   EXPECT_TRUE((thick.radiance[mid] > 2.0 * thin.radiance[mid]).all());
+}
+
+// Daylight only (no lights): a seabed at 20 m is seen, the same scene at 2000 m is black (Jerlov type I
+// Kd: the blue channel, the deepest-reaching, is down by exp(-0.019 * 2000) = 3e-17).
+TEST(FrameTest, DaylightFadesToBlackWithDepth) {
+  const Lens lens = make_lens(lens_from_horizontal_fov(80, 60, 1.2));
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.35, 0.06, 0.02);
+  lighting.water.scattering_per_m = Rgb::Constant(0.01);
+  lighting.daylight.surface_irradiance_W_per_m2 = Rgb(120.0, 150.0, 140.0);
+  lighting.daylight.Kd_per_m = Rgb(0.36, 0.063, 0.019);
+  double brightest[2] = {0.0, 0.0};
+  const double depth[2] = {20.0, 2000.0};
+  for (int k = 0; k < 2; ++k) {
+    const float z = static_cast<float>(-depth[k]);
+    EmbreeScene scene;
+    TriangleMesh floor;
+    floor.positions = {-100, -100, z - 3, 100, -100, z - 3, 100, 100, z - 3, -100, 100, z - 3};
+    floor.indices = {0, 1, 2, 0, 2, 3};
+    scene.add_static_mesh(floor, 0, "seabed");
+    scene.build();
+    Eigen::Isometry3d X_WS = Eigen::Isometry3d::Identity();
+    X_WS.translation() = Eigen::Vector3d(0.0, 0.0, z);
+    X_WS.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY()));  // pitched down
+    const RadianceFrame frame = render_radiance(scene, lens, X_WS * X_SC(), 0.1f, 500.0f, geometry::kNoHit, lighting, white);
+    for (const Rgb& r : frame.radiance) brightest[k] = std::max(brightest[k], r.maxCoeff());
+  }
+  EXPECT_GT(brightest[0], 1.0);
+  EXPECT_LT(brightest[1], 1e-12);
 }
 
 TEST(FrameTest, SameInputsGiveTheSameFrame) {

@@ -42,6 +42,45 @@ void validate(const SpotLight& light) {
   if (!finite_non_negative(light.intensity_W_per_sr)) invalid("intensity", "must be finite and >= 0 per channel [W/sr]");
 }
 
+Rgb Daylight::irradiance_at(double z_W) const {
+  const double depth = std::max(0.0, surface_z_m - z_W);
+  return surface_irradiance_W_per_m2 * (-Kd_per_m * depth).exp();
+}
+
+void validate(const Daylight& daylight) {
+  if (!finite_non_negative(daylight.surface_irradiance_W_per_m2)) invalid("surface_irradiance", "must be finite and >= 0 per channel [W/m^2]");
+  if (!finite_non_negative(daylight.Kd_per_m)) invalid("Kd", "must be finite and >= 0 per channel [1/m]");
+  if (!std::isfinite(daylight.surface_z_m)) invalid("surface_z", "must be finite");
+}
+
+Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const Eigen::Vector3d& p_W,
+                              const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m) {
+  const double cos_incidence = n_W.z();  // light travelling along -z_W
+  if (!(cos_incidence > 0.0)) return Rgb::Zero();
+  return albedo / kPi * daylight.irradiance_at(p_W.z()) * cos_incidence * (-c_per_m * d_camera_m).exp();
+}
+
+Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
+                           const Eigen::Vector3d& d_W, double s0, double s1) {
+  if (!(s0 >= 0.0 && s1 > s0)) throw std::invalid_argument("daylight_path_radiance: need 0 <= s0 < s1");
+  if ((water.scattering_per_m == 0.0).all()) return Rgb::Zero();
+  // A ray going up leaves the water at the surface.
+  if (d_W.z() > 0.0) s1 = std::min(s1, std::max(0.0, (daylight.surface_z_m - o_W.z()) / d_W.z()));
+  if (!(s1 > s0)) return Rgb::Zero();
+  const Rgb scale = water.scattering_per_m * henyey_greenstein(water.phase_g, d_W.z()) * daylight.irradiance_at(o_W.z());
+  // k > 0 on every downward or level ray (c >= b > 0 where b > 0), and s1 is finite on an upward one.
+  const Rgb k = water.attenuation_per_m() - daylight.Kd_per_m * d_W.z();
+  Rgb integral;
+  for (int ch = 0; ch < 3; ++ch) {
+    if (std::abs(k[ch]) * s1 < 1e-9) {
+      integral[ch] = s1 - s0;
+    } else {
+      integral[ch] = (std::exp(-k[ch] * s0) - (std::isfinite(s1) ? std::exp(-k[ch] * s1) : 0.0)) / k[ch];
+    }
+  }
+  return scale * integral;
+}
+
 double henyey_greenstein(double g, double cos_psi) {
   const double denominator = 1.0 + g * g - 2.0 * g * cos_psi;
   return (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));

@@ -6,8 +6,11 @@
 // Per pixel (row-major, v * width + u):
 //   radiance  [W/(m^2 sr)] per channel arriving at the camera: sum over lights of the Lambertian term
 //             when the light sees the hit point (shadow ray from 'shadow_bias_m' off the surface to the
-//             light), plus backscatter from near_m to the hit distance (to far_m on a miss, or, with an
-//             infinite far clip, to 'max_backscatter_range_m').
+//             light), daylight's Lambertian term when nothing is above the hit point (a shadow ray
+//             straight up to the surface), plus backscatter of the lights from near_m to the hit
+//             distance (to far_m on a miss, or, with an infinite far clip, to
+//             'max_backscatter_range_m') and daylight's path radiance over the same range (closed form,
+//             to infinity on a miss with an infinite far clip).
 //   depth_m   metres along the optical axis, NaN on a miss (render/camera_rays.h).
 // Deterministic: a function of its inputs (no random numbers; Embree's results are deterministic for
 // the same rays and scene).
@@ -28,6 +31,7 @@ namespace hadal::render {
 struct FrameLighting {
   WaterOptics water;
   std::vector<SpotLight> lights;
+  Daylight daylight;  // none by default (the deep sea)
   // Midpoint samples per ray (render/optics.h). A light beside the camera puts a peak in the integrand
   // where the ray passes closest to it; 32 samples showed as horizontal banding in a 640x480 frame of
   // turbid water (b = 0.15 /m, lights 0.8 m off the axis), 128 did not.

@@ -56,6 +56,32 @@ struct SpotLight {
 void validate(const WaterOptics& water);
 void validate(const SpotLight& light);
 
+// Daylight: downwelling irradiance E0 [W/m^2] per channel just below the sea surface (z_W =
+// surface_z_m), decaying with depth by the diffuse attenuation Kd: E_d(z) = E0 exp(-Kd (surface_z - z)),
+// E0 above the surface. Treated as coming straight down (a simplification of the downwelling light
+// field's angular spread). Below a few hundred metres it is negligible (Kd >= 0.02 /m in every Jerlov
+// water type: exp(-0.02 * 1000) = 2e-9).
+struct Daylight {
+  Rgb surface_irradiance_W_per_m2 = Rgb::Zero();  // E0
+  Rgb Kd_per_m = Rgb::Zero();
+  double surface_z_m = 0.0;  // z_W of the sea surface [m]
+  Rgb irradiance_at(double z_W) const;
+};
+void validate(const Daylight& daylight);
+
+// Radiance reaching the camera from a Lambertian point lit by daylight: albedo / pi E_d(z) max(0, n_z)
+// exp(-c d_camera) (the caller decides whether the sky is occluded).
+Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const Eigen::Vector3d& p_W,
+                              const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m);
+
+// In-water path radiance of daylight scattered into the camera ray o_W + s d_W over [s0, s1] (s1 may
+// be +inf; an upward ray ends at the surface), single scattering. With the light coming straight down,
+// cos psi = d_z and E_d(z(s)) = E_d(z_o) exp(Kd d_z s), so the integral has the closed form
+//   b p(d_z) E_d(z_o) (exp(-k s0) - exp(-k s1)) / k,  k = c - Kd d_z (> 0 on level and downward rays, as c >= b > 0),
+// and b p(d_z) E_d(z_o) (s1 - s0) in the limit k -> 0.
+Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
+                           const Eigen::Vector3d& d_W, double s0, double s1);
+
 // Henyey–Greenstein phase function p(cos psi) [1/sr] (header formula); integrates to 1 over the sphere.
 double henyey_greenstein(double g, double cos_psi);
 
