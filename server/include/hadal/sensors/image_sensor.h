@@ -1,0 +1,47 @@
+// A camera's image sensor: scene radiance per pixel to 8-bit counts, with the noise of a real sensor
+// (the linear camera model of EMVA 1288), seeded so that the same seed and frame give the same image.
+//
+// Per pixel and channel (R, G, B), with L the radiance reaching the lens [W/(m^2 sr)] and theta the
+// angle of the pixel's ray off the optical axis:
+//   mean electrons   mu = sensitivity * L * exposure_s * cos^4(theta)      (cos^4: natural vignetting)
+//   shot noise       Poisson(mu): drawn exactly (inversion) below 30 electrons, as mu + sqrt(mu) N(0,1)
+//                    above (the normal approximation's error there is below 1 % of sigma)
+//   full well        electrons clipped to full_well_e
+//   read noise       + read_noise_e N(0,1)
+//   counts           DN = round(gain_dn_per_e * electrons), clipped to [0, 255]
+// 'sensitivity' [electrons per second per W/(m^2 sr)] lumps the lens (f-number, transmission), the pixel
+// area, the quantum efficiency and the photon energy of each channel: it is the one figure to fit to a
+// real camera's exposure. Noise off (shot_noise false, read_noise_e 0) gives the rounded mean.
+//
+// Random stream of frame k: derive_key(key, "frame <k>") (sensors/noise.h), drawn pixel by pixel in
+// row-major order, R, G, B; a pixel draws its Poisson variate first, then its read noise.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace hadal::sensors {
+
+struct ImageSensorSpec {
+  Eigen::Array3d sensitivity = Eigen::Array3d::Constant(2.0e5);  // [e- / s / (W/(m^2 sr))] per channel
+  double exposure_s = 0.01;
+  double gain_dn_per_e = 0.05;  // counts per electron (analog gain)
+  double full_well_e = 10000.0;
+  double read_noise_e = 3.0;  // rms [electrons]
+  bool shot_noise = true;
+  bool vignetting = true;  // the cos^4 law
+};
+
+// Throws std::invalid_argument naming the field: sensitivity, exposure, gain, full well must be
+// positive and finite, read noise >= 0.
+void validate(const ImageSensorSpec& spec);
+
+// Counts of one frame: `radiance` and `cos_theta` (the z of each pixel's unit ray in the optical frame,
+// render::Lens::rays_C) per pixel, row-major; returns rgb8, 3 bytes per pixel. `key` is the camera's
+// noise key (channel_key(seed, vehicle, camera, "image")), `frame_index` the frame's number.
+std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3d>& radiance,
+                                      const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index);
+
+}  // namespace hadal::sensors
