@@ -21,6 +21,7 @@
 // instance, so rays go through Embree's two-level (instanced) traversal, bare loop included.
 #include "hadal/geometry/raycast_service.h"
 #include "hadal/core/units.h"
+#include "seabed.h"
 
 #include <embree3/rtcore.h>
 
@@ -55,54 +56,11 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 using hadal::kPi;
-constexpr float kSize = 1000.0f;  // seabed edge [m]
-
-struct Bump {
-  float x, y, sigma, amplitude;
-};
-
-std::vector<Bump> make_bumps() {
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<float> position(-kSize / 2, kSize / 2), sigma(20.0f, 120.0f),
-      amplitude(1.0f, 8.0f), sign(-1.0f, 1.0f);
-  std::vector<Bump> bumps;
-  for (int i = 0; i < 40; ++i) {
-    const float a = amplitude(rng);
-    bumps.push_back({position(rng), position(rng), sigma(rng), sign(rng) < 0 ? -a : a});
-  }
-  return bumps;
-}
-
-float seabed_height(const std::vector<Bump>& bumps, float x, float y) {
-  float z = -100.0f;
-  for (const Bump& b : bumps) {
-    const float r2 = (x - b.x) * (x - b.x) + (y - b.y) * (y - b.y);
-    z += b.amplitude * std::exp(-r2 / (2.0f * b.sigma * b.sigma));
-  }
-  return z;
-}
-
-TriangleMesh make_seabed(const std::vector<Bump>& bumps, int quads) {
-  TriangleMesh mesh;
-  const auto n = static_cast<std::size_t>(quads);
-  mesh.positions.reserve(3 * (n + 1) * (n + 1));
-  mesh.indices.reserve(6 * n * n);
-  for (std::size_t j = 0; j <= n; ++j) {
-    for (std::size_t i = 0; i <= n; ++i) {
-      const float x = -kSize / 2 + kSize * static_cast<float>(i) / static_cast<float>(n);
-      const float y = -kSize / 2 + kSize * static_cast<float>(j) / static_cast<float>(n);
-      mesh.positions.insert(mesh.positions.end(), {x, y, seabed_height(bumps, x, y)});
-    }
-  }
-  for (std::size_t j = 0; j < n; ++j) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto a = static_cast<std::uint32_t>(j * (n + 1) + i), b = a + 1;
-      const auto c = a + static_cast<std::uint32_t>(n + 1), d = c + 1;
-      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
-    }
-  }
-  return mesh;
-}
+using hadal::bench::Bump;
+using hadal::bench::make_bumps;
+using hadal::bench::make_seabed;
+using hadal::bench::seabed_height;
+using hadal::bench::kSeabedSize;
 
 TriangleMesh make_hull() {  // 2 m x 1 m x 1 m box in B, outward winding
   TriangleMesh mesh;

@@ -96,3 +96,7 @@ done
 
 # 7. Sensors (bench/sensors.cc).
 "$build/bin/hadal_bench_sensors"
+
+# 8. Cameras (bench/render.cc): one 640 x 480 deep-sea frame (radiance, depth, counts) over a 1M-triangle
+#    seabed on one thread, next to its primary rays alone.
+"$build/bin/hadal_bench_render" --repetitions 3

@@ -1,0 +1,115 @@
+// A deep-sea camera frame over a ~1M-triangle seabed: the wall time of render::render_radiance (640 x 480
+// radiance and depth: primary rays, a shadow ray per hit and light, backscatter with 128 samples per
+// ray from two lights) and of sensors::expose_rgb8, next to the primary rays alone traced through
+// EmbreeScene::intersect (the stream path; bench/raycast.cc relates it to a bare rtcIntersect1 loop),
+// on one thread (the renderer is not yet spread over the ray-cast workers). Prints one JSON object per
+// measurement (median of N repetitions).
+//   build/bin/hadal_bench_render [--repetitions N]
+// Scene: bench/seabed.h (708 x 708 quads, 1 002 528 triangles); camera 20 m above the seabed at the
+// origin, pitched 45 deg down looking along +x, 60 deg horizontal field of view with barrel distortion
+// (k1 = -0.2, k2 = 0.05); lights 0.5 m left and right of the camera along its axis, 40-50 deg beams,
+// 300 W/sr; water a = pure water (Pope & Fry) + 0.02 /m, b = 0.05 /m, g = 0.924.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "hadal/core/units.h"
+#include "hadal/render/camera_rays.h"
+#include "hadal/render/frame.h"
+#include "hadal/render/water_presets.h"
+#include "hadal/sensors/image_sensor.h"
+#include "seabed.h"
+
+using namespace hadal;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int repetitions = 5;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--repetitions" && i + 1 < argc) {
+      repetitions = std::max(1, std::atoi(argv[++i]));
+    } else {
+      std::fprintf(stderr, "usage: hadal_bench_render [--repetitions N]\n");
+      return 2;
+    }
+  }
+  const auto bumps = bench::make_bumps();
+  geometry::EmbreeScene scene;
+  scene.add_static_mesh(bench::make_seabed(bumps, 708), 0, "seabed");
+  scene.build();
+
+  render::LensSpec spec = render::lens_from_horizontal_fov(640, 480, 60.0 * kDegToRad);
+  spec.model = render::LensModel::kRadialTangential;
+  spec.distortion = {-0.2, 0.05, 0.0, 0.0, 0.0};
+  const render::Lens lens = render::make_lens(spec);
+  Eigen::Isometry3d X_WS = Eigen::Isometry3d::Identity();
+  X_WS.translation() = Eigen::Vector3d(0.0, 0.0, bench::seabed_height(bumps, 0.0f, 0.0f) + 20.0);
+  X_WS.rotate(Eigen::AngleAxisd(45.0 * kDegToRad, Eigen::Vector3d::UnitY()));  // pitched down
+  const Eigen::Isometry3d X_WC = X_WS * render::X_SC();
+
+  render::FrameLighting lighting;
+  lighting.water.absorption_per_m = render::pure_water_absorption_per_m() + 0.02;
+  lighting.water.scattering_per_m = render::Rgb::Constant(0.05);
+  for (double side : {0.5, -0.5}) {
+    render::SpotLight light;
+    light.p_WL = X_WS * Eigen::Vector3d(0.0, side, 0.0);
+    light.axis_W = X_WS.linear() * Eigen::Vector3d::UnitX();
+    light.inner_half_angle_rad = 40.0 * kDegToRad;
+    light.outer_half_angle_rad = 50.0 * kDegToRad;
+    light.intensity_W_per_sr = render::Rgb::Constant(300.0);
+    lighting.lights.push_back(light);
+  }
+  const auto albedo = [](std::uint32_t) { return render::Rgb(0.45, 0.42, 0.35); };
+  std::vector<float> cos_theta;
+  for (const auto& d : lens.rays_C()) cos_theta.push_back(d.z());
+
+  std::vector<double> frame_s, expose_s, primary_s;
+  std::size_t hit_pixels = 0;
+  for (int r = 0; r < repetitions; ++r) {
+    auto start = Clock::now();
+    const render::RadianceFrame frame =
+        render::render_radiance(scene, lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, lighting, albedo);
+    frame_s.push_back(seconds_since(start));
+    hit_pixels = static_cast<std::size_t>(std::count_if(frame.depth_m.begin(), frame.depth_m.end(),
+                                                         [](float z) { return z == z; }));
+    sensors::ImageSensorSpec sensor;
+    start = Clock::now();
+    const auto rgb = sensors::expose_rgb8(sensor, frame.radiance, cos_theta, 1, static_cast<std::uint64_t>(r));
+    expose_s.push_back(seconds_since(start));
+    geometry::RayBatch batch;
+    render::add_camera_rays(lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, batch);
+    geometry::RayHits hits;
+    hits.resize(batch.size());
+    start = Clock::now();
+    scene.intersect(batch, 0, batch.size(), geometry::QueryPath::kAuto, hits);
+    primary_s.push_back(seconds_since(start));
+    if (rgb.empty()) return 1;
+  }
+  const double pixels = 640.0 * 480.0;
+  const double frame = median(frame_s), expose = median(expose_s), primary = median(primary_s);
+  std::printf("{\"benchmark\": \"render_frame\", \"threads\": 1, \"width\": 640, \"height\": 480, \"lights\": 2, "
+              "\"backscatter_samples\": %d, \"seabed_triangles\": 1002528, \"hit_pixels\": %zu, \"frame_s\": %.4f, "
+              "\"fps\": %.2f, \"expose_rgb8_s\": %.4f}\n",
+              lighting.backscatter_samples, hit_pixels, frame, 1.0 / frame, expose);
+  std::printf("{\"benchmark\": \"render_primary_rays_only\", \"threads\": 1, \"rays\": %.0f, \"wall_s\": %.4f, "
+              "\"rays_per_s\": %.4g}\n",
+              pixels, primary, pixels / primary);
+  return 0;
+}
