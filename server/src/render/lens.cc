@@ -39,6 +39,12 @@ double radial_d_r2(const LensSpec& l, double r2) {
   return d[0] + r2 * (2.0 * d[1] + 3.0 * r2 * d[4]);
 }
 
+// Plumb bob's radial map r -> r radial(r²) (the distorted radius when p1 = p2 = 0) and its derivative.
+double radial_map(const LensSpec& l, double r) { return r * radial(l, r * r); }
+double radial_map_derivative(const LensSpec& l, double r) {
+  return radial(l, r * r) + 2.0 * r * r * radial_d_r2(l, r * r);
+}
+
 // Equidistant: θ_d(θ) and its derivative.
 double theta_d(const LensSpec& l, double theta) {
   const auto& k = l.distortion;
@@ -57,7 +63,7 @@ double theta_d_derivative(const LensSpec& l, double theta) {
 double monotone_limit(const LensSpec& l) {
   const bool fisheye = l.model == LensModel::kEquidistant;
   const auto derivative = [&](double s) {
-    return fisheye ? theta_d_derivative(l, s) : radial(l, s * s) + 2.0 * s * s * radial_d_r2(l, s * s);
+    return fisheye ? theta_d_derivative(l, s) : radial_map_derivative(l, s);
   };
   const int n = 4096;
   const double s_max = fisheye ? kPi : 1e4;
@@ -149,9 +155,8 @@ bool pixel_ray(const LensSpec& l, double limit, const Eigen::Vector2d& uv, Eigen
       Eigen::Vector2d p = xd;
       if (rd > 0.0) {
         double r = 0.0;
-        if (!invert_monotone([&](double s) { return s * radial(l, s * s); },
-                             [&](double s) { return radial(l, s * s) + 2.0 * s * s * radial_d_r2(l, s * s); },
-                             rd, limit, &r)) {
+        if (!invert_monotone([&](double s) { return radial_map(l, s); },
+                             [&](double s) { return radial_map_derivative(l, s); }, rd, limit, &r)) {
           return false;
         }
         p = xd * (r / rd);
