@@ -38,21 +38,29 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   frame.depth_m = depth_image_m(lens, hits, 0);
   frame.radiance.assign(n, Rgb::Zero());
 
-  // Hit points, normals turned towards the camera, and one shadow ray per (hit, light).
+  const auto origin_W = [&](std::size_t i) {
+    return Eigen::Vector3d(primary.p_WO_x[i], primary.p_WO_y[i], primary.p_WO_z[i]);
+  };
+  const auto direction_W = [&](std::size_t i) {
+    return Eigen::Vector3d(primary.d_W_x[i], primary.d_W_y[i], primary.d_W_z[i]);
+  };
+
+  // Hit points, normals turned towards the camera, albedos, and one shadow ray per (hit, light).
   std::vector<Eigen::Vector3d> p_W(n), n_W(n);
+  std::vector<Rgb> albedo(n);
   geometry::RayBatch shadows;
   std::vector<std::size_t> shadow_pixel;
   std::vector<std::size_t> shadow_light;
   for (std::size_t i = 0; i < n; ++i) {
     if (!hits.hit(i)) continue;
-    const Eigen::Vector3d o(primary.p_WO_x[i], primary.p_WO_y[i], primary.p_WO_z[i]);
-    const Eigen::Vector3d d(primary.d_W_x[i], primary.d_W_y[i], primary.d_W_z[i]);
-    p_W[i] = o + static_cast<double>(hits.distance[i]) * d;
+    const Eigen::Vector3d d = direction_W(i);
+    p_W[i] = origin_W(i) + static_cast<double>(hits.distance[i]) * d;
     Eigen::Vector3d normal(hits.n_W_x[i], hits.n_W_y[i], hits.n_W_z[i]);
     if (normal.dot(d) > 0.0) normal = -normal;
     n_W[i] = normal;
+    albedo[i] = albedo_of(hits.material[i]);
+    const Eigen::Vector3d origin = p_W[i] + lighting.shadow_bias_m * normal;  // shadow rays start here
     for (std::size_t l = 0; l < lighting.lights.size(); ++l) {
-      const Eigen::Vector3d origin = p_W[i] + lighting.shadow_bias_m * normal;
       const Eigen::Vector3d to_light = lighting.lights[l].p_WL - origin;
       const double distance = to_light.norm();
       if (!(distance > lighting.shadow_bias_m) || normal.dot(to_light) <= 0.0) continue;  // light behind the surface
@@ -64,7 +72,6 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     // Daylight: a ray straight up to the surface (index kSky in shadow_light).
     const double sky = lighting.daylight.surface_z_m - p_W[i].z();
     if (normal.z() > 0.0 && (lighting.daylight.irradiance_at(p_W[i].z()) > 0.0).any()) {
-      const Eigen::Vector3d origin = p_W[i] + lighting.shadow_bias_m * normal;
       shadows.add_ray(origin.cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
                       sky > 0.0 ? static_cast<float>(sky) : 0.0f, ignore_body);
       shadow_pixel.push_back(i);
@@ -77,11 +84,11 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     if (blocked.hit(k)) continue;
     const std::size_t i = shadow_pixel[k];
     if (shadow_light[k] == kSky) {
-      frame.radiance[i] += daylight_surface_radiance(albedo_of(hits.material[i]), lighting.daylight, p_W[i], n_W[i], c,
+      frame.radiance[i] += daylight_surface_radiance(albedo[i], lighting.daylight, p_W[i], n_W[i], c,
                                                      static_cast<double>(hits.distance[i]));
       continue;
     }
-    frame.radiance[i] += lambertian_radiance(albedo_of(hits.material[i]), lighting.lights[shadow_light[k]], p_W[i],
+    frame.radiance[i] += lambertian_radiance(albedo[i], lighting.lights[shadow_light[k]], p_W[i],
                                              n_W[i], c, static_cast<double>(hits.distance[i]));
   }
 
@@ -95,8 +102,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       const double s0 = std::max(static_cast<double>(near_m), 1e-3);
       const double s_end = hits.hit(i) ? static_cast<double>(hits.distance[i]) : static_cast<double>(far_m);
       if (!(s_end > s0)) continue;
-      const Eigen::Vector3d o(primary.p_WO_x[i], primary.p_WO_y[i], primary.p_WO_z[i]);
-      const Eigen::Vector3d d(primary.d_W_x[i], primary.d_W_y[i], primary.d_W_z[i]);
+      const Eigen::Vector3d o = origin_W(i), d = direction_W(i);
       if (lit_water) {
         const double s1 = std::isfinite(s_end) ? s_end : lighting.max_backscatter_range_m;
         if (s1 > s0) {
