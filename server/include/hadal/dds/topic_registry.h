@@ -2,7 +2,11 @@
 // create_topic with the same name), plus the QoS Hadal uses on every endpoint.
 //
 // QoS: writers are RELIABLE + TRANSIENT_LOCAL with KEEP_LAST history, which matches reliable and
-// best-effort, volatile and transient-local readers (ROS 2 sensor-data QoS included). Readers are
+// best-effort, volatile and transient-local readers (ROS 2 sensor-data QoS included). A sample the
+// transport lost (a full shared-memory port on a loaded machine) is resent when the reader asks for
+// it, which it does after the writer's next heartbeat: writers send one every kHeartbeatPeriod_s
+// (Fast DDS's default of 3 s let a writer overwrite the lost sample in its history before the
+// request came, and the reader then saw a gap). Readers are
 // RELIABLE, VOLATILE by default (a command reader must never see what was written before it existed);
 // a reader of state and sensor topics may ask for the writer's kept samples (kKeptSamples): the two
 // directions of endpoint discovery are independent, so a reader can match a writer before the writer
@@ -60,12 +64,15 @@ class TopicRegistry {
     return created;
   }
 
+  static constexpr double kHeartbeatPeriod_s = 0.1;
+
   template <class PubSubType>
   eprosima::fastdds::dds::DataWriter* writer(const std::string& topic_name, int history_depth,
                                             eprosima::fastdds::dds::DataWriterListener* listener = nullptr) {
     eprosima::fastdds::dds::DataWriterQos qos = eprosima::fastdds::dds::DATAWRITER_QOS_DEFAULT;
     set_endpoint_qos(qos, history_depth);
     qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(kHeartbeatPeriod_s);
     auto* writer = publisher_->create_datawriter(topic<PubSubType>(topic_name), qos, listener);
     if (writer == nullptr) throw std::runtime_error("could not create a DDS writer on " + topic_name);
     return writer;
