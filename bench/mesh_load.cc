@@ -31,20 +31,13 @@
 #include "hadal/assets/scene_writer.h"
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
+#include "timing.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using hadal::bench::Clock;
+using hadal::bench::median;
+using hadal::bench::seconds_since;
 
 std::string runs_json(const std::vector<double>& v) {
   std::string out = "[";

@@ -22,6 +22,7 @@
 #include "hadal/geometry/raycast_service.h"
 #include "hadal/core/units.h"
 #include "seabed.h"
+#include "timing.h"
 
 #include <embree3/rtcore.h>
 
@@ -51,7 +52,9 @@ using hadal::geometry::RayHits;
 using hadal::geometry::RaycastService;
 using hadal::geometry::RaycastServiceOptions;
 using hadal::geometry::TriangleMesh;
-using Clock = std::chrono::steady_clock;
+using hadal::bench::Clock;
+using hadal::bench::median;
+using hadal::bench::seconds_since;
 
 namespace {
 
@@ -169,16 +172,6 @@ void bare(RTCScene scene, const RayBatch& rays, int threads, BareHits& out) {
   for (int t = 1; t < threads; ++t) helpers.emplace_back(work);
   work();
   for (std::thread& h : helpers) h.join();
-}
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 double load_average() {

@@ -22,22 +22,12 @@
 #include "hadal/render/water_presets.h"
 #include "hadal/sensors/image_sensor.h"
 #include "seabed.h"
+#include "timing.h"
 
 using namespace hadal;
-using Clock = std::chrono::steady_clock;
-
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-}  // namespace
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
 
 int main(int argc, char** argv) {
   int repetitions = 5;
