@@ -19,15 +19,11 @@ namespace {
 using geometry::EmbreeScene;
 using geometry::RayBatch;
 using geometry::RayHits;
-using geometry::TriangleMesh;
 
 // A wall perpendicular to x_W at x = wall_x [m], 400 m square, facing -x (towards the camera).
 EmbreeScene wall_at(float wall_x) {
   EmbreeScene scene;
-  TriangleMesh wall;
-  wall.positions = {wall_x, -200, -200, wall_x, 200, -200, wall_x, 200, 200, wall_x, -200, 200};
-  wall.indices = {0, 2, 1, 0, 3, 2};
-  scene.add_static_mesh(wall, 0, "wall");
+  scene.add_static_mesh(testing::plate(wall_x, 0.0f, 0.0f, 200.0f), 0, "wall");
   scene.build();
   return scene;
 }

@@ -9,7 +9,9 @@
 #include <cstring>
 #include <limits>
 
+#include "hadal/core/units.h"
 #include "hadal/render/camera_rays.h"
+#include "render_test_support.h"
 
 namespace hadal::render {
 namespace {
@@ -17,17 +19,11 @@ namespace {
 using geometry::EmbreeScene;
 using geometry::TriangleMesh;
 
-// A square plate perpendicular to x_W at x [m], centred on (y, z), half size h, material id `material`.
-TriangleMesh plate(float x, float y, float z, float h) {
-  TriangleMesh m;
-  m.positions = {x, y - h, z - h, x, y + h, z - h, x, y + h, z + h, x, y - h, z + h};
-  m.indices = {0, 2, 1, 0, 3, 2};
-  return m;
-}
+using testing::plate;
 
 // A lens with its principal point on pixel (320, 240), so that pixel's ray is the optical axis.
 Lens centred_lens() {
-  LensSpec spec = lens_from_horizontal_fov(641, 481, 60.0 * 3.14159265358979323846 / 180.0);
+  LensSpec spec = lens_from_horizontal_fov(641, 481, 60.0 * kDegToRad);
   return make_lens(spec);
 }
 

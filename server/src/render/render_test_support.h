@@ -1,4 +1,4 @@
-// Shared by the render module's tests: calibrations used throughout, and OpenCV's projection of points
+// Shared by the render module's tests: a plate to look at, calibrations used throughout, and OpenCV's projection of points
 // in the optical frame with the same K and D (the reference the lens and camera tests compare with).
 #pragma once
 
@@ -6,9 +6,19 @@
 
 #include <vector>
 
+#include "hadal/geometry/triangle_mesh.h"
 #include "hadal/render/lens.h"
 
 namespace hadal::render::testing {
+
+// A square plate perpendicular to x_W at x [m], centred on (y, z), half size h [m], its front face
+// towards -x.
+inline geometry::TriangleMesh plate(float x, float y, float z, float h) {
+  geometry::TriangleMesh m;
+  m.positions = {x, y - h, z - h, x, y + h, z - h, x, y + h, z + h, x, y - h, z + h};
+  m.indices = {0, 2, 1, 0, 3, 2};
+  return m;
+}
 
 // An undistorted lens with an off-centre principal point and non-square pixels, 640 x 480.
 inline LensSpec pinhole_lens() {
