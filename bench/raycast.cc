@@ -23,6 +23,7 @@
 #include "hadal/core/units.h"
 #include "seabed.h"
 #include "timing.h"
+#include "bare_embree.h"
 
 #include <embree3/rtcore.h>
 
@@ -38,11 +39,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#if defined(__SSE__)
-#include <pmmintrin.h>
-#include <xmmintrin.h>
-#endif
 
 using hadal::geometry::EmbreeScene;
 using hadal::geometry::QueryPath;
@@ -64,6 +60,9 @@ using hadal::bench::make_bumps;
 using hadal::bench::make_seabed;
 using hadal::bench::seabed_height;
 using hadal::bench::kSeabedSize;
+using hadal::bench::BareHits;
+using hadal::bench::bare;
+using hadal::bench::set_ftz_daz;
 
 TriangleMesh make_hull() {  // 2 m x 1 m x 1 m box in B, outward winding
   TriangleMesh mesh;
@@ -114,65 +113,6 @@ RayBatch incoherent_batch(const std::vector<Bump>& bumps, std::size_t n) {
   return batch;
 }
 
-void set_ftz_daz() {
-#if defined(__SSE__)
-  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-#endif
-}
-
-// What a bare loop keeps per ray.
-struct BareHits {
-  std::vector<float> t, ng_x, ng_y, ng_z;
-  std::vector<unsigned> prim, geom;
-  explicit BareHits(std::size_t n) : t(n), ng_x(n), ng_y(n), ng_z(n), prim(n), geom(n) {}
-};
-
-void bare_loop(RTCScene scene, const RayBatch& r, std::size_t begin, std::size_t end, BareHits& out) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  for (std::size_t i = begin; i < end; ++i) {
-    RTCRayHit rh;
-    rh.ray.org_x = r.p_WO_x[i];
-    rh.ray.org_y = r.p_WO_y[i];
-    rh.ray.org_z = r.p_WO_z[i];
-    rh.ray.tnear = r.t_near[i];
-    rh.ray.dir_x = r.d_W_x[i];
-    rh.ray.dir_y = r.d_W_y[i];
-    rh.ray.dir_z = r.d_W_z[i];
-    rh.ray.time = 0.0f;
-    rh.ray.tfar = r.t_far[i];
-    rh.ray.mask = ~0u;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, &context, &rh);
-    out.t[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
-    out.ng_x[i] = rh.hit.Ng_x;
-    out.ng_y[i] = rh.hit.Ng_y;
-    out.ng_z[i] = rh.hit.Ng_z;
-    out.prim[i] = rh.hit.primID;
-    out.geom[i] = rh.hit.geomID;
-  }
-}
-
-void bare(RTCScene scene, const RayBatch& rays, int threads, BareHits& out) {
-  const std::size_t n = rays.size(), chunk = 1024;
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    set_ftz_daz();
-    for (;;) {
-      const std::size_t begin = next.fetch_add(chunk);
-      if (begin >= n) return;
-      bare_loop(scene, rays, begin, std::min(n, begin + chunk), out);
-    }
-  };
-  std::vector<std::thread> helpers;
-  for (int t = 1; t < threads; ++t) helpers.emplace_back(work);
-  work();
-  for (std::thread& h : helpers) h.join();
-}
 
 double load_average() {
   std::ifstream in("/proc/loadavg");

@@ -1,9 +1,9 @@
 // A deep-sea camera frame over a ~1M-triangle seabed: the wall time of render::render_radiance (640 x 480
-// radiance and depth: primary rays, a shadow ray per hit and light, backscatter with 128 samples per
-// ray from two lights) and of sensors::expose_rgb8, next to the primary rays alone traced through
-// EmbreeScene::intersect (the stream path; bench/raycast.cc relates it to a bare rtcIntersect1 loop),
-// on one thread (the renderer is not yet spread over the ray-cast workers). Prints one JSON object per
-// measurement (median of N repetitions).
+// radiance and depth: primary rays, a shadow ray per hit and light inside its beam, backscatter from two
+// lights through the frame's table, render/backscatter_table.h) and of sensors::expose_rgb8, on 1 and 2
+// threads (the renderer's tasks on bench::run_on_threads), next to a bare rtcIntersect1 loop over the
+// same primary rays on as many threads (bench/bare_embree.h). rays_per_s counts primary and shadow
+// rays. Prints one JSON object per measurement (median of N repetitions, thread counts interleaved).
 //   build/bin/hadal_bench_render [--repetitions N]
 // Scene: bench/seabed.h (708 x 708 quads, 1 002 528 triangles); camera 20 m above the seabed at the
 // origin, pitched 45 deg down looking along +x, 60 deg horizontal field of view with barrel distortion
@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "hadal/render/frame.h"
 #include "hadal/render/water_presets.h"
 #include "hadal/sensors/image_sensor.h"
+#include "bare_embree.h"
 #include "seabed.h"
 #include "timing.h"
 
@@ -69,37 +71,49 @@ int main(int argc, char** argv) {
   const auto albedo = [](std::uint32_t) { return render::Rgb(0.45, 0.42, 0.35); };
   std::vector<float> cos_theta;
   for (const auto& d : lens.rays_C()) cos_theta.push_back(d.z());
+  geometry::RayBatch primary;
+  render::add_camera_rays(lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, primary);
+  bench::BareHits bare_hits(primary.size());
 
-  std::vector<double> frame_s, expose_s, primary_s;
-  std::size_t hit_pixels = 0;
+  // Per thread count: frame, exposure and bare-loop times, interleaved over the repetitions.
+  const int thread_counts[] = {1, 2};
+  std::vector<double> frame_s[2], expose_s[2], bare_s[2];
+  std::size_t hit_pixels = 0, shadow_rays = 0;
   for (int r = 0; r < repetitions; ++r) {
-    auto start = Clock::now();
-    const render::RadianceFrame frame =
-        render::render_radiance(scene, lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, lighting, albedo);
-    frame_s.push_back(seconds_since(start));
-    hit_pixels = static_cast<std::size_t>(std::count_if(frame.depth_m.begin(), frame.depth_m.end(),
-                                                         [](float z) { return z == z; }));
-    sensors::ImageSensorSpec sensor;
-    start = Clock::now();
-    const auto rgb = sensors::expose_rgb8(sensor, frame.radiance, cos_theta, 1, static_cast<std::uint64_t>(r));
-    expose_s.push_back(seconds_since(start));
-    geometry::RayBatch batch;
-    render::add_camera_rays(lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, batch);
-    geometry::RayHits hits;
-    hits.resize(batch.size());
-    start = Clock::now();
-    scene.intersect(batch, 0, batch.size(), geometry::QueryPath::kAuto, hits);
-    primary_s.push_back(seconds_since(start));
-    if (rgb.empty()) return 1;
+    for (int t = 0; t < 2; ++t) {
+      const int threads = thread_counts[t];
+      const ParallelFor parallel = [threads](std::size_t count, const std::function<void(std::size_t)>& task) {
+        bench::run_on_threads(threads, count, task);
+      };
+      auto start = Clock::now();
+      const render::RadianceFrame frame =
+          render::render_radiance(scene, lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, lighting, albedo, parallel);
+      frame_s[t].push_back(seconds_since(start));
+      hit_pixels = static_cast<std::size_t>(std::count_if(frame.depth_m.begin(), frame.depth_m.end(),
+                                                           [](float z) { return z == z; }));
+      shadow_rays = frame.shadow_rays;
+      sensors::ImageSensorSpec sensor;
+      start = Clock::now();
+      const auto rgb = sensors::expose_rgb8(sensor, frame.radiance, cos_theta, 1, static_cast<std::uint64_t>(r), parallel);
+      expose_s[t].push_back(seconds_since(start));
+      start = Clock::now();
+      bench::bare(scene.embree_scene(), primary, threads, bare_hits);
+      bare_s[t].push_back(seconds_since(start));
+      if (rgb.empty()) return 1;
+    }
   }
   const double pixels = 640.0 * 480.0;
-  const double frame = median(frame_s), expose = median(expose_s), primary = median(primary_s);
-  std::printf("{\"benchmark\": \"render_frame\", \"threads\": 1, \"width\": 640, \"height\": 480, \"lights\": 2, "
-              "\"backscatter_samples\": %d, \"seabed_triangles\": 1002528, \"hit_pixels\": %zu, \"frame_s\": %.4f, "
-              "\"fps\": %.2f, \"expose_rgb8_s\": %.4f}\n",
-              lighting.backscatter_samples, hit_pixels, frame, 1.0 / frame, expose);
-  std::printf("{\"benchmark\": \"render_primary_rays_only\", \"threads\": 1, \"rays\": %.0f, \"wall_s\": %.4f, "
-              "\"rays_per_s\": %.4g}\n",
-              pixels, primary, pixels / primary);
+  for (int t = 0; t < 2; ++t) {
+    const double frame = median(frame_s[t]), expose = median(expose_s[t]), bare = median(bare_s[t]);
+    std::printf("{\"benchmark\": \"render_frame\", \"threads\": %d, \"width\": 640, \"height\": 480, \"lights\": 2, "
+                "\"backscatter_samples\": %d, \"backscatter_grid_px\": %d, \"seabed_triangles\": 1002528, "
+                "\"hit_pixels\": %zu, \"shadow_rays\": %zu, \"frame_s\": %.4f, \"fps\": %.2f, "
+                "\"rays_per_s\": %.4g, \"expose_rgb8_s\": %.4f}\n",
+                thread_counts[t], lighting.backscatter_samples, lighting.backscatter_grid_px, hit_pixels, shadow_rays,
+                frame, 1.0 / frame, (pixels + static_cast<double>(shadow_rays)) / frame, expose);
+    std::printf("{\"benchmark\": \"bare_rtcIntersect1_primary_rays\", \"threads\": %d, \"rays\": %.0f, "
+                "\"wall_s\": %.4f, \"rays_per_s\": %.4g}\n",
+                thread_counts[t], pixels, bare, pixels / bare);
+  }
   return 0;
 }

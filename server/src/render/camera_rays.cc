@@ -20,6 +20,15 @@ Eigen::Isometry3d X_SC() {
 
 void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
                      std::int32_t ignore_body, geometry::RayBatch& batch) {
+  add_camera_rays(lens, X_WC, near_m, far_m, ignore_body, 0, lens.height_px(), batch);
+}
+
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+                     std::int32_t ignore_body, int row_begin, int row_end, geometry::RayBatch& batch) {
+  if (!(0 <= row_begin && row_begin <= row_end && row_end <= lens.height_px())) {
+    throw std::invalid_argument("camera rays: rows [" + std::to_string(row_begin) + ", " + std::to_string(row_end) +
+                                ") outside the image's " + std::to_string(lens.height_px()));
+  }
   if (!(near_m >= 0.0f) || !(far_m > near_m)) {
     throw std::invalid_argument("camera clip: need 0 <= near < far (got near " + std::to_string(near_m) +
                                 " m, far " + std::to_string(far_m) + " m)");
@@ -28,8 +37,9 @@ void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near
   const Eigen::Matrix3f R_WC = X_WC.linear().cast<float>();
   const Eigen::Vector3f p_WC = X_WC.translation().cast<float>();
   batch.coherence = geometry::RayCoherence::kCoherent;
-  for (const Eigen::Vector3f& d_C : lens.rays_C()) {
-    batch.add_ray(p_WC, (R_WC * d_C).normalized(), near_m, far_m, ignore_body);
+  const std::size_t width = static_cast<std::size_t>(lens.width_px());
+  for (std::size_t i = static_cast<std::size_t>(row_begin) * width; i < static_cast<std::size_t>(row_end) * width; ++i) {
+    batch.add_ray(p_WC, (R_WC * lens.rays_C()[i]).normalized(), near_m, far_m, ignore_body);
   }
 }
 
@@ -38,8 +48,7 @@ std::vector<float> depth_image_m(const Lens& lens, const geometry::RayHits& hits
   if (first + n > hits.size()) throw std::out_of_range("depth_image_m: the hits hold fewer rays than the camera's");
   std::vector<float> depth(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const float z = hits.distance[first + i] * lens.rays_C()[i].z();
-    depth[i] = hits.hit(first + i) && z > 0.0f ? z : std::numeric_limits<float>::quiet_NaN();
+    depth[i] = depth_along_axis_m(hits.hit(first + i), hits.distance[first + i], lens.rays_C()[i].z());
   }
   return depth;
 }

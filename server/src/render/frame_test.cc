@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <algorithm>
+#include <atomic>
+#include <functional>
+#include <thread>
 #include <cstring>
 #include <limits>
 
@@ -153,6 +156,44 @@ TEST(FrameTest, SameInputsGiveTheSameFrame) {
   ASSERT_EQ(a.radiance.size(), b.radiance.size());
   EXPECT_EQ(std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(Rgb)), 0);
   EXPECT_EQ(std::memcmp(a.depth_m.data(), b.depth_m.data(), a.depth_m.size() * sizeof(float)), 0);
+}
+
+// Bands and backscatter rows as tasks on two threads, or backwards on one: the same frame bit for bit
+// (render/frame.h: a function of its inputs whatever the threads).
+TEST(FrameTest, SameFrameWhateverTheThreads) {
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
+  EmbreeScene scene;
+  scene.add_static_mesh(plate(6.0f, 0.5f, 0.3f, 2.0f), 0, "wall");
+  scene.add_static_mesh(plate(3.0f, 0.2f, 0.0f, 0.3f), 1, "plate");
+  scene.build();
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
+  lighting.water.scattering_per_m = Rgb::Constant(0.08);
+  SpotLight left, right;
+  left.p_WL = Eigen::Vector3d(0.0, 0.4, 0.0);
+  right.p_WL = Eigen::Vector3d(0.0, -0.4, 0.0);
+  lighting.lights = {left, right};
+  const RadianceFrame serial = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white);
+  const ParallelFor backwards = [](std::size_t count, const std::function<void(std::size_t)>& task) {
+    for (std::size_t i = count; i-- > 0;) task(i);
+  };
+  const ParallelFor two_threads = [](std::size_t count, const std::function<void(std::size_t)>& task) {
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t i = next++; i < count; i = next++) task(i);
+    };
+    std::thread helper(work);
+    work();
+    helper.join();
+  };
+  for (const ParallelFor& parallel : {backwards, two_threads}) {
+    const RadianceFrame frame = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white, parallel);
+    ASSERT_EQ(frame.radiance.size(), serial.radiance.size());
+    EXPECT_EQ(std::memcmp(frame.radiance.data(), serial.radiance.data(), serial.radiance.size() * sizeof(Rgb)), 0);
+    EXPECT_EQ(std::memcmp(frame.depth_m.data(), serial.depth_m.data(), serial.depth_m.size() * sizeof(float)), 0);
+    EXPECT_EQ(frame.shadow_rays, serial.shadow_rays);
+  }
+  EXPECT_GT(serial.shadow_rays, 0u);
 }
 
 }  // namespace

@@ -18,12 +18,18 @@ bool finite_non_negative(const Rgb& x) { return x.allFinite() && (x >= 0.0).all(
 
 }  // namespace
 
-Rgb SpotLight::intensity_towards(const Eigen::Vector3d& u_W) const {
-  const double angle = std::acos(std::clamp(axis_W.dot(u_W), -1.0, 1.0));
-  if (angle <= inner_half_angle_rad) return intensity_W_per_sr;
-  if (angle >= outer_half_angle_rad) return Rgb::Zero();
-  const double x = (outer_half_angle_rad - angle) / (outer_half_angle_rad - inner_half_angle_rad);
-  return intensity_W_per_sr * (x * x * (3.0 - 2.0 * x));
+Rgb SpotLight::intensity_towards(const Eigen::Vector3d& u_W) const { return LightBeam(*this).intensity_towards(u_W); }
+
+LightBeam::LightBeam(const SpotLight& spot)
+    : light(spot), cos_inner(std::cos(spot.inner_half_angle_rad)), cos_outer(std::cos(spot.outer_half_angle_rad)) {}
+
+Rgb LightBeam::intensity_towards(const Eigen::Vector3d& u_W) const {
+  const double cos_angle = std::clamp(light.axis_W.dot(u_W), -1.0, 1.0);
+  if (cos_angle >= cos_inner) return light.intensity_W_per_sr;
+  if (cos_angle <= cos_outer) return Rgb::Zero();
+  const double angle = std::acos(cos_angle);
+  const double x = std::clamp((light.outer_half_angle_rad - angle) / (light.outer_half_angle_rad - light.inner_half_angle_rad), 0.0, 1.0);
+  return light.intensity_W_per_sr * (x * x * (3.0 - 2.0 * x));
 }
 
 void validate(const WaterOptics& water) {
@@ -44,7 +50,7 @@ void validate(const SpotLight& light) {
 
 Rgb Daylight::irradiance_at(double z_W) const {
   const double depth = std::max(0.0, surface_z_m - z_W);
-  return surface_irradiance_W_per_m2 * (-Kd_per_m * depth).exp();
+  return surface_irradiance_W_per_m2 * transmittance(Kd_per_m, depth);
 }
 
 void validate(const Daylight& daylight) {
@@ -57,7 +63,7 @@ Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const
                               const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m) {
   const double cos_incidence = n_W.z();  // light travelling along -z_W
   if (!(cos_incidence > 0.0)) return Rgb::Zero();
-  return albedo / kPi * daylight.irradiance_at(p_W.z()) * cos_incidence * (-c_per_m * d_camera_m).exp();
+  return albedo / kPi * daylight.irradiance_at(p_W.z()) * cos_incidence * transmittance(c_per_m, d_camera_m);
 }
 
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
@@ -86,16 +92,28 @@ double henyey_greenstein(double g, double cos_psi) {
   return (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));
 }
 
-Rgb lambertian_radiance(const Rgb& albedo, const SpotLight& light, const Eigen::Vector3d& p_W,
+Rgb lambertian_radiance(const Rgb& albedo, const LightBeam& beam, const Eigen::Vector3d& p_W,
                         const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m) {
-  const Eigen::Vector3d to_point = p_W - light.p_WL;
+  const Eigen::Vector3d to_point = p_W - beam.light.p_WL;
   const double d_light = to_point.norm();
   if (!(d_light > 0.0)) return Rgb::Zero();
   const Eigen::Vector3d u = to_point / d_light;
   const double cos_incidence = -n_W.dot(u);
   if (!(cos_incidence > 0.0)) return Rgb::Zero();
-  const Rgb irradiance = light.intensity_towards(u) * (cos_incidence / (d_light * d_light)) * (-c_per_m * d_light).exp();
-  return albedo / kPi * irradiance * (-c_per_m * d_camera_m).exp();
+  // Irradiance at the point, times the water's transmittance on the way to the camera.
+  return albedo / kPi * beam.intensity_towards(u) * (cos_incidence / (d_light * d_light)) *
+         transmittance(c_per_m, d_light + d_camera_m);
+}
+
+Rgb backscatter_from_light(const WaterOptics& water, const Rgb& c_per_m, const LightBeam& beam,
+                           const Eigen::Vector3d& x_W, const Eigen::Vector3d& d_W) {
+  const Eigen::Vector3d from_light = x_W - beam.light.p_WL;
+  const double r = from_light.norm();
+  if (!(r > 0.0)) return Rgb::Zero();
+  const Eigen::Vector3d u = from_light / r;
+  if (beam.light.axis_W.dot(u) <= beam.cos_outer) return Rgb::Zero();  // outside the beam
+  const double p = henyey_greenstein(water.phase_g, -u.dot(d_W));  // scattered back along -d
+  return water.scattering_per_m * p * beam.intensity_towards(u) / (r * r) * transmittance(c_per_m, r);
 }
 
 Rgb backscatter_radiance(const WaterOptics& water, const std::vector<SpotLight>& lights,
@@ -104,9 +122,9 @@ Rgb backscatter_radiance(const WaterOptics& water, const std::vector<SpotLight>&
   if (!(s0 > 0.0 && s1 > s0) || samples < 1) {
     throw std::invalid_argument("backscatter_radiance: need 0 < s0 < s1 and samples >= 1");
   }
-  const Rgb& b = water.scattering_per_m;
-  if ((b == 0.0).all() || lights.empty()) return Rgb::Zero();
+  if ((water.scattering_per_m == 0.0).all() || lights.empty()) return Rgb::Zero();
   const Rgb c = water.attenuation_per_m();
+  const std::vector<LightBeam> beams(lights.begin(), lights.end());
   const double log_ratio = std::log(s1 / s0);
   Rgb sum = Rgb::Zero();
   for (int k = 0; k < samples; ++k) {
@@ -114,15 +132,9 @@ Rgb backscatter_radiance(const WaterOptics& water, const std::vector<SpotLight>&
     const double s = s0 * std::exp(log_ratio * (k + 0.5) / samples);
     const double ds = s * log_ratio / samples;
     const Eigen::Vector3d x = o_W + s * d_W;
-    const Rgb towards_camera = (-c * s).exp();
-    for (const SpotLight& light : lights) {
-      const Eigen::Vector3d from_light = x - light.p_WL;
-      const double r = from_light.norm();
-      if (!(r > 0.0)) continue;
-      const Eigen::Vector3d u = from_light / r;
-      const double p = henyey_greenstein(water.phase_g, -u.dot(d_W));  // scattered back along -d
-      sum += b * p * light.intensity_towards(u) / (r * r) * (-c * r).exp() * towards_camera * ds;
-    }
+    Rgb from_lights = Rgb::Zero();
+    for (const LightBeam& beam : beams) from_lights += backscatter_from_light(water, c, beam, x, d_W);
+    sum += from_lights * transmittance(c, s) * ds;
   }
   return sum;
 }

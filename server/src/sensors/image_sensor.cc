@@ -45,26 +45,32 @@ void validate(const ImageSensorSpec& spec) {
 }
 
 std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3d>& radiance,
-                                      const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index) {
+                                      const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index,
+                                      const ParallelFor& parallel) {
   validate(spec);
   if (cos_theta.size() != radiance.size()) throw std::invalid_argument("expose_rgb8: one cos_theta per pixel needed");
-  RandomStream stream(derive_key(key, "frame " + std::to_string(frame_index)));
   std::vector<std::uint8_t> rgb(3 * radiance.size());
-  for (std::size_t i = 0; i < radiance.size(); ++i) {
-    double falloff = 1.0;
-    if (spec.vignetting) {
-      const double c = std::max(0.0, static_cast<double>(cos_theta[i]));
-      falloff = (c * c) * (c * c);
+  const std::string frame = "frame " + std::to_string(frame_index) + " block ";
+  const std::size_t blocks = (radiance.size() + kExposureBlockPixels - 1) / kExposureBlockPixels;
+  parallel(blocks, [&](std::size_t block) {
+    RandomStream stream(derive_key(key, frame + std::to_string(block)));
+    const std::size_t end = std::min(radiance.size(), (block + 1) * kExposureBlockPixels);
+    for (std::size_t i = block * kExposureBlockPixels; i < end; ++i) {
+      double falloff = 1.0;
+      if (spec.vignetting) {
+        const double c = std::max(0.0, static_cast<double>(cos_theta[i]));
+        falloff = (c * c) * (c * c);
+      }
+      for (int ch = 0; ch < 3; ++ch) {
+        const double mu = spec.sensitivity[ch] * std::max(0.0, radiance[i][ch]) * spec.exposure_s * falloff;
+        double electrons = spec.shot_noise ? poisson(stream, mu) : mu;
+        electrons = std::min(electrons, spec.full_well_e);
+        if (spec.read_noise_e > 0.0) electrons += spec.read_noise_e * stream.normal();
+        const double dn = std::round(spec.gain_dn_per_e * electrons);
+        rgb[3 * i + ch] = static_cast<std::uint8_t>(std::clamp(dn, 0.0, 255.0));
+      }
     }
-    for (int ch = 0; ch < 3; ++ch) {
-      const double mu = spec.sensitivity[ch] * std::max(0.0, radiance[i][ch]) * spec.exposure_s * falloff;
-      double electrons = spec.shot_noise ? poisson(stream, mu) : mu;
-      electrons = std::min(electrons, spec.full_well_e);
-      if (spec.read_noise_e > 0.0) electrons += spec.read_noise_e * stream.normal();
-      const double dn = std::round(spec.gain_dn_per_e * electrons);
-      rgb[3 * i + ch] = static_cast<std::uint8_t>(std::clamp(dn, 0.0, 255.0));
-    }
-  }
+  });
   return rgb;
 }
 

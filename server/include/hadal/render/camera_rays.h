@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "hadal/geometry/ray_batch.h"
@@ -33,6 +34,16 @@ Eigen::Isometry3d X_SC();
 // unless 0 <= near_m < far_m (far_m may be +inf) and X_WC is finite.
 void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
                      std::int32_t ignore_body, geometry::RayBatch& batch);
+// The same for the image rows [row_begin, row_end) only (0 <= row_begin <= row_end <= height).
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+                     std::int32_t ignore_body, int row_begin, int row_end, geometry::RayBatch& batch);
+
+// Depth [m] of one ray: distance along the ray times the z of its unit direction in C, NaN for a miss
+// or a point not in front of the camera.
+inline float depth_along_axis_m(bool hit, float distance_m, float ray_C_z) {
+  const float z = distance_m * ray_C_z;
+  return hit && z > 0.0f ? z : std::numeric_limits<float>::quiet_NaN();
+}
 
 // The depth image [m] of the rays add_camera_rays() appended at index `first` of the batch whose hits
 // these are: width x height floats, row-major.

@@ -13,14 +13,19 @@
 // area, the quantum efficiency and the photon energy of each channel: it is the one figure to fit to a
 // real camera's exposure. Noise off (shot_noise false, read_noise_e 0) gives the rounded mean.
 //
-// Random stream of frame k: derive_key(key, "frame <k>") (sensors/noise.h), drawn pixel by pixel in
-// row-major order, R, G, B; a pixel draws its Poisson variate first, then its read noise.
+// Random streams of frame k: one per block of kExposureBlockPixels pixels in row-major order,
+// derive_key(key, "frame <k> block <j>") (sensors/noise.h), drawn pixel by pixel, R, G, B; a pixel
+// draws its Poisson variate first, then its read noise. Blocks are independent tasks of a parallel
+// loop, so the image does not depend on the threads that expose it.
 #pragma once
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "hadal/core/parallel_for.h"
 
 namespace hadal::sensors {
 
@@ -41,7 +46,9 @@ void validate(const ImageSensorSpec& spec);
 // Counts of one frame: `radiance` and `cos_theta` (the z of each pixel's unit ray in the optical frame,
 // render::Lens::rays_C) per pixel, row-major; returns rgb8, 3 bytes per pixel. `key` is the camera's
 // noise key (channel_key(seed, vehicle, camera, "image")), `frame_index` the frame's number.
+constexpr std::size_t kExposureBlockPixels = 8192;
 std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3d>& radiance,
-                                      const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index);
+                                      const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index,
+                                      const ParallelFor& parallel = serial_for);
 
 }  // namespace hadal::sensors
