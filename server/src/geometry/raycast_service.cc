@@ -26,7 +26,21 @@ constexpr std::size_t kMaxSpareBuffers = 4;
 }  // namespace
 
 struct RaycastService::Impl {
+  // One parallel loop of a running scene work: the workers take its tasks by index.
+  struct TaskLoop {
+    const std::function<void(std::size_t)>* task = nullptr;
+    std::size_t count = 0;
+    std::atomic<std::size_t> next{0};
+    std::atomic<std::size_t> finished{0};
+    std::mutex error_mutex;
+    std::size_t error_index = std::numeric_limits<std::size_t>::max();
+    std::exception_ptr error;
+  };
+
   struct Job {
+    SceneWork work;  // empty: a ray batch
+    std::promise<void> work_done;
+    std::shared_ptr<TaskLoop> loop;  // the work's open loop, if any (guarded by Impl::mutex)
     RayBatch batch;
     RayHits hits;
     std::promise<RayHits> promise;
@@ -160,6 +174,65 @@ struct RaycastService::Impl {
     }
   }
 
+  // Runs tasks of `loop` until none is left to take; the worker finishing the last one wakes the loop's
+  // owner.
+  void run_tasks(TaskLoop& loop) {
+    for (std::size_t i = loop.next.fetch_add(1); i < loop.count; i = loop.next.fetch_add(1)) {
+      try {
+        (*loop.task)(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(loop.error_mutex);
+        if (loop.error == nullptr || i < loop.error_index) {
+          loop.error_index = i;
+          loop.error = std::current_exception();
+        }
+      }
+      if (loop.finished.fetch_add(1) + 1 == loop.count) {
+        std::lock_guard<std::mutex> lock(mutex);
+        wake.notify_all();
+      }
+    }
+  }
+
+  // The ParallelFor handed to a scene work: publishes the loop to the other workers, works on it, waits
+  // for the tasks the others took, rethrows a task's exception.
+  void parallel_for(Job& job, std::size_t count, const std::function<void(std::size_t)>& task) {
+    if (count == 0) return;
+    auto loop = std::make_shared<TaskLoop>();
+    loop->task = &task;
+    loop->count = count;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      job.loop = loop;
+    }
+    wake.notify_all();
+    run_tasks(*loop);
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      wake.wait(lock, [&] { return loop->finished.load() == count; });
+      job.loop.reset();
+    }
+    if (loop->error != nullptr) std::rethrow_exception(loop->error);
+  }
+
+  // Runs a scene work on this worker (the scene posed at its snapshot), then releases the next job.
+  void run_work(const std::shared_ptr<Job>& job) {
+    try {
+      const ParallelFor parallel = [this, &job](std::size_t count, const std::function<void(std::size_t)>& task) {
+        parallel_for(*job, count, task);
+      };
+      job->work(scene, parallel);
+      job->work_done.set_value();
+    } catch (...) {
+      job->work_done.set_exception(std::current_exception());
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      current.reset();
+    }
+    wake.notify_all();
+  }
+
   // Traces chunks of the current job until none is left; the worker completing the last chunk
   // delivers the job and releases the next one.
   void trace_chunks(const std::shared_ptr<Job>& job) {
@@ -196,6 +269,13 @@ struct RaycastService::Impl {
 #endif
     std::unique_lock<std::mutex> lock(mutex);
     for (;;) {
+      if (current != nullptr && current->loop != nullptr && current->loop->next.load() < current->loop->count) {
+        const std::shared_ptr<TaskLoop> loop = current->loop;
+        lock.unlock();
+        run_tasks(*loop);
+        lock.lock();
+        continue;
+      }
       if (current != nullptr && current->next_ray.load() < current->num_rays) {
         const std::shared_ptr<Job> job = current;
         lock.unlock();
@@ -207,8 +287,23 @@ struct RaycastService::Impl {
         std::shared_ptr<Job> job = std::move(queue.front());
         queue.pop_front();
         preparing = true;
-        RayHits storage = take_spare(job->num_rays);
+        RayHits storage = job->work ? RayHits{} : take_spare(job->num_rays);
         lock.unlock();
+        if (job->work) {
+          const bool posed = prepare(*job, std::move(storage));
+          lock.lock();
+          preparing = false;
+          if (!posed) {
+            job->work_done.set_exception(job->error);
+            wake.notify_all();
+            continue;
+          }
+          current = job;
+          lock.unlock();
+          run_work(job);
+          lock.lock();
+          continue;
+        }
         const bool ready = prepare(*job, std::move(storage)) && job->num_rays > 0;
         if (!ready) deliver(*job);  // failed or empty: still in order, before the next job starts
         lock.lock();
@@ -256,6 +351,17 @@ void RaycastService::submit(RayBatch batch, Callback on_done) {
   std::shared_ptr<Impl::Job> job = impl_->make_job(std::move(batch));
   job->callback = std::move(on_done);
   impl_->enqueue(std::move(job));
+}
+
+std::future<void> RaycastService::submit(std::vector<Eigen::Isometry3d> X_WB, SceneWork work) {
+  if (!work) throw std::invalid_argument("RaycastService::submit: empty scene work");
+  RayBatch snapshot;  // no rays: the poses only
+  snapshot.X_WB = std::move(X_WB);
+  std::shared_ptr<Impl::Job> job = impl_->make_job(std::move(snapshot));
+  job->work = std::move(work);
+  std::future<void> result = job->work_done.get_future();
+  impl_->enqueue(std::move(job));
+  return result;
 }
 
 void RaycastService::recycle(RayHits hits) { impl_->give_back(std::move(hits)); }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <mutex>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -343,6 +344,66 @@ TEST(RaycastService, RecycledBuffersAreReused) {
   EXPECT_EQ(second.distance.data(), buffer);
   EXPECT_EQ(second.size(), 4000u);
   EXPECT_NEAR(second.distance[3999], hull_distance(-50.0), 4 * kEps * 50.0f);
+}
+
+// Scene work between ray batches: each job, work or batch, sees the bodies where its own snapshot put
+// them, in submission order; the work's parallel loop runs every task once (on 1 and 2 workers), and
+// tasks trace against the posed scene.
+TEST(RaycastService, SceneWorkSeesItsSnapshotBetweenBatches) {
+  for (int threads : {1, 2}) {
+    RaycastService service(seabed_and_hull(), {threads});
+    std::vector<std::future<RayHits>> batches;
+    std::vector<std::future<void>> works;
+    std::vector<std::vector<float>> distances(20);
+    for (int k = 0; k < 20; ++k) {
+      const SimState state = state_with_hull_at(0.01 * k, k, {0.0, 0.0, -20.0 - 10.0 * (k % 5)});
+      batches.push_back(service.submit(rays_down(state, k % 2 ? 3000 : 7)));
+      const RayBatch rays = rays_down(state, 160);
+      works.push_back(service.submit(rays.X_WB, [rays, &out = distances[k]](const EmbreeScene& scene, const ParallelFor& parallel) {
+        RayHits hits;
+        hits.resize(rays.size());
+        // Ten tasks of 16 rays each, every task writing its own range.
+        parallel(10, [&](std::size_t task) { scene.intersect(rays, 16 * task, 16 * task + 16, QueryPath::kSingle, hits); });
+        out = hits.distance;
+      }));
+    }
+    for (int k = 0; k < 20; ++k) {
+      const float expected = hull_distance(-20.0 - 10.0 * (k % 5));
+      const RayHits hits = batches[k].get();
+      for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_NEAR(hits.distance[i], expected, 4 * kEps * 100.0f) << k;
+      works[k].get();
+      ASSERT_EQ(distances[k].size(), 160u);
+      for (float d : distances[k]) ASSERT_NEAR(d, expected, 4 * kEps * 100.0f) << "work " << k << ", " << threads << " threads";
+    }
+  }
+}
+
+// A task's exception reaches the work (the lowest failing task's), a work's exception its future; the
+// service goes on with the next job. Bad poses and empty work are refused at submit().
+TEST(RaycastService, SceneWorkErrorsReachTheFuture) {
+  RaycastService service(seabed_and_hull(), {2});
+  const std::vector<Eigen::Isometry3d> X_WB{Eigen::Isometry3d::Identity()};
+  std::atomic<int> ran{0};
+  auto failing = service.submit(X_WB, [&](const EmbreeScene&, const ParallelFor& parallel) {
+    parallel(50, [&](std::size_t i) {
+      ++ran;
+      if (i == 7 || i == 31) throw std::runtime_error("task " + std::to_string(i));
+    });
+  });
+  try {
+    failing.get();
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "task 7");
+  }
+  EXPECT_EQ(ran.load(), 50);  // the other tasks still ran
+  auto thrown = service.submit(X_WB, [](const EmbreeScene&, const ParallelFor&) { throw std::logic_error("work"); });
+  EXPECT_THROW(thrown.get(), std::logic_error);
+  EXPECT_NEAR(service.submit(rays_down(state_with_hull_at(0.0, 0, {0.0, 0.0, -30.0}), 4)).get().distance[0],
+              hull_distance(-30.0), 4 * kEps * 100.0f);
+  EXPECT_THROW(service.submit(X_WB, RaycastService::SceneWork{}), std::invalid_argument);
+  EXPECT_THROW(service.submit(std::vector<Eigen::Isometry3d>{}, [](const EmbreeScene&, const ParallelFor&) {}),
+               std::invalid_argument);
 }
 
 TEST(RaycastService, BadOptionsAreClearErrors) {

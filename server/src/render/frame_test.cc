@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "hadal/core/units.h"
+#include "hadal/geometry/raycast_service.h"
 #include "hadal/render/camera_rays.h"
 #include "render_test_support.h"
 
@@ -194,6 +195,29 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
     EXPECT_EQ(frame.shadow_rays, serial.shadow_rays);
   }
   EXPECT_GT(serial.shadow_rays, 0u);
+}
+
+// A frame as scene work on the ray-cast workers (how a camera renders in the simulation): the same
+// frame on 1 and 2 workers, and the same as on the test's own thread.
+TEST(FrameTest, SameFrameOnTheRayCastWorkers) {
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
+  EmbreeScene scene;
+  scene.add_static_mesh(plate(6.0f, 0.5f, 0.3f, 2.0f), 0, "wall");
+  scene.build();
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
+  lighting.water.scattering_per_m = Rgb::Constant(0.08);
+  lighting.lights = {SpotLight{}};
+  const RadianceFrame here = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white);
+  for (int threads : {1, 2}) {
+    geometry::RaycastService service(scene.view(), {threads});
+    RadianceFrame frame;
+    service.submit({}, [&](const EmbreeScene& posed, const ParallelFor& parallel) {
+      frame = render_radiance(posed, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white, parallel);
+    }).get();
+    ASSERT_EQ(frame.radiance.size(), here.radiance.size());
+    EXPECT_EQ(std::memcmp(frame.radiance.data(), here.radiance.data(), here.radiance.size() * sizeof(Rgb)), 0) << threads;
+  }
 }
 
 }  // namespace

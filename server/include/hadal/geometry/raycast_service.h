@@ -21,19 +21,31 @@
 //   path         Embree query path, QueryPath::kAuto = streams (default)
 //   chunk_rays   most rays a worker takes at a time, >= 16 (default 1024)
 //
+// Scene work: besides ray batches, a job may be any work on the posed scene (a camera frame: rays,
+// shadow rays and shading in bands). submit(X_WB, work) queues it like a batch (same order, same
+// snapshot rule); one worker calls work(scene, parallel) with the scene posed at X_WB, and `parallel`
+// spreads the tasks of a loop over every worker, the calling one included, returning when all are done
+// (a task's exception is rethrown there, the lowest-indexed task's first). Every worker runs in
+// FTZ/DAZ mode, so results do not depend on which worker ran a task. The future is ready when work()
+// returns, and carries its exception.
+//
 // Buffers: results are written into RayHits whose vectors are reused when the caller hands finished
 // results back with recycle() (a camera does this every frame; allocating and zeroing 10 MB per
 // 640x480 frame would otherwise cost ~1 ms).
 #pragma once
 
+#include "hadal/core/parallel_for.h"
 #include "hadal/geometry/embree_scene.h"
 #include "hadal/geometry/ray_batch.h"
+
+#include <Eigen/Geometry>
 
 #include <cstddef>
 #include <exception>
 #include <functional>
 #include <future>
 #include <memory>
+#include <vector>
 
 namespace hadal::geometry {
 
@@ -58,6 +70,11 @@ class RaycastService {
 
   std::future<RayHits> submit(RayBatch batch);
   void submit(RayBatch batch, Callback on_done);
+
+  // Scene work (above). Throws at once, like submit(RayBatch), for missing or bad poses, an empty
+  // work function or after shutdown().
+  using SceneWork = std::function<void(const EmbreeScene& scene, const ParallelFor& parallel)>;
+  std::future<void> submit(std::vector<Eigen::Isometry3d> X_WB, SceneWork work);
 
   // Hands finished results back so that a later job can write into their buffers.
   void recycle(RayHits hits);
