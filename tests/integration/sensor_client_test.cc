@@ -319,6 +319,59 @@ TEST(SensorClientTest, ProfilerScansArriveTheirLatencyAfterTheScanStampedWithIt)
   EXPECT_TRUE(m.intensities.empty());
 }
 
+// ---- camera (sensor_msgs/Image, CameraInfo; rendered on the ray-cast workers) -------------------
+
+// tests/integration/scenarios/camera.yaml: frames taken at 0.1 s and 0.2 s are published 0.05 s later on
+// image_raw, depth and camera_info, stamped with the frame's time, in the optical frame. Looking straight
+// down 10 m at the plane through water that only absorbs, with the light at the camera and the sensor's
+// noise off, the centre pixel's counts are the Lambertian closed form
+//   round(gain sensitivity exposure albedo / pi I / d^2 exp(-2 c d)) = 117, 140, 128 (R, G, B),
+// its depth is 10 m (float rays: 1e-4 m), and its own hull (around the camera and the light) is
+// transparent to camera and shadow rays.
+TEST(SensorClientTest, CameraFramesArriveOnThreeTopicsWithTheClosedFormCounts) {
+  LockstepServer s("tests/integration/scenarios/camera.yaml");
+  SampleLog<Image> images, depths;
+  SampleLog<CameraInfo> infos;
+  s.client().on_image("auv", "camera", [&](const Image& m) { images.add(m); });
+  s.client().on_depth_image("auv", "camera", [&](const Image& m) { depths.add(m); });
+  s.client().on_camera_info("auv", "camera", [&](const CameraInfo& m) { infos.add(m); });
+  ASSERT_NO_FATAL_FAILURE(s.connect());
+  EXPECT_NEAR(s.client().step(124), 0.248, 1e-12);
+  ASSERT_TRUE(wait_until([&] { return images.has(0.1) && depths.has(0.1) && infos.has(0.1); }, kWait));
+  EXPECT_FALSE(images.has(0.2));  // due at 0.25 s
+  EXPECT_NEAR(s.client().step(1), 0.25, 1e-12);
+  ASSERT_TRUE(wait_until([&] { return images.has(0.2) && depths.has(0.2); }, kWait));
+
+  const Image image = images.at(0.2);
+  EXPECT_EQ(image.frame_id, "auv/camera_optical");
+  EXPECT_EQ(image.encoding, "rgb8");
+  ASSERT_EQ(image.width, 160u);
+  ASSERT_EQ(image.height, 120u);
+  ASSERT_EQ(image.step, 480u);
+  ASSERT_EQ(image.data.size(), 480u * 120u);
+  // The centre of the image (cx = 79.5, cy = 59.5) lies between four pixels; all four see 10 m.
+  const double albedo[3] = {0.5, 0.4, 0.3}, c[3] = {0.05, 0.03, 0.02};
+  for (int ch = 0; ch < 3; ++ch) {
+    const double L = albedo[ch] / M_PI * 2000.0 / 100.0 * std::exp(-2.0 * c[ch] * 10.0);
+    // The pixel's ray is 0.71 px (0.29 deg) off the axis: cos^3 and the longer path change L by ~1e-4,
+    // far from a count.
+    EXPECT_EQ(image.data[59 * 480 + 79 * 3 + ch], static_cast<std::uint8_t>(std::round(100.0 * L))) << ch;
+  }
+  const Image depth = depths.at(0.2);
+  EXPECT_EQ(depth.encoding, "32FC1");
+  EXPECT_EQ(depth.frame_id, "auv/camera_optical");
+  EXPECT_NEAR(depth.depth_m(79, 59), 10.0, 1e-4);
+  EXPECT_NEAR(depth.depth_m(0, 0), 10.0, 1e-4);  // a plane perpendicular to the axis: one depth
+  const CameraInfo info = infos.at(0.1);
+  EXPECT_EQ(info.frame_id, "auv/camera_optical");
+  EXPECT_EQ(info.distortion_model, "plumb_bob");
+  EXPECT_EQ(info.d, std::vector<double>(5, 0.0));
+  EXPECT_NEAR(info.k[0], 80.0 / std::tan(30.0 * M_PI / 180.0), 1e-9);
+  EXPECT_EQ(info.k[2], 79.5);
+  EXPECT_EQ(info.k[5], 59.5);
+  EXPECT_EQ(info.p[3], 0.0);
+}
+
 // A topic already subscribed with one message type refuses another (its samples would be misread):
 // a clear error at subscription, no server needed.
 TEST(SensorClientTest, SubscribingATopicWithAnotherTypeIsRefused) {

@@ -19,6 +19,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <random>
@@ -185,6 +186,33 @@ Range from_msg(const sensor_msgs::msg::Range& m) {
   r.max_range = m.max_range();
   r.range = m.range();
   return r;
+}
+
+Image from_msg(const sensor_msgs::msg::Image& m) {
+  Image image;
+  image.stamp = dds::from_time_msg(m.header().stamp());
+  image.frame_id = m.header().frame_id();
+  image.height = m.height();
+  image.width = m.width();
+  image.encoding = m.encoding();
+  image.is_bigendian = m.is_bigendian() != 0;
+  image.step = m.step();
+  image.data = m.data();
+  return image;
+}
+
+CameraInfo from_msg(const sensor_msgs::msg::CameraInfo& m) {
+  CameraInfo info;
+  info.stamp = dds::from_time_msg(m.header().stamp());
+  info.frame_id = m.header().frame_id();
+  info.height = m.height();
+  info.width = m.width();
+  info.distortion_model = m.distortion_model();
+  info.d = m.d();
+  info.k = m.k();
+  info.r = m.r();
+  info.p = m.p();
+  return info;
 }
 
 LaserScan from_msg(const sensor_msgs::msg::LaserScan& m) {
@@ -379,6 +407,34 @@ void Client::on_range(const std::string& vehicle, const std::string& sensor,
   impl_->subscribe<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>(
       dds::sensor_topic(vehicle, sensor),
       [callback = std::move(callback)](const sensor_msgs::msg::Range& m) { callback(from_msg(m)); });
+}
+
+float Image::depth_m(std::uint32_t u, std::uint32_t v) const {
+  if (encoding != "32FC1") throw std::logic_error("Image::depth_m: encoding is '" + encoding + "', not 32FC1");
+  if (u >= width || v >= height) throw std::out_of_range("Image::depth_m: pixel outside the image");
+  float z = 0.0f;
+  std::memcpy(&z, data.data() + static_cast<std::size_t>(v) * step + u * sizeof(float), sizeof(float));
+  return z;
+}
+
+void Client::on_image(const std::string& vehicle, const std::string& camera, std::function<void(const Image&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::ImagePubSubType, sensor_msgs::msg::Image>(
+      dds::sensor_topic(vehicle, camera) + "/image_raw",
+      [callback = std::move(callback)](const sensor_msgs::msg::Image& m) { callback(from_msg(m)); });
+}
+
+void Client::on_depth_image(const std::string& vehicle, const std::string& camera,
+                            std::function<void(const Image&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::ImagePubSubType, sensor_msgs::msg::Image>(
+      dds::sensor_topic(vehicle, camera) + "/depth",
+      [callback = std::move(callback)](const sensor_msgs::msg::Image& m) { callback(from_msg(m)); });
+}
+
+void Client::on_camera_info(const std::string& vehicle, const std::string& camera,
+                            std::function<void(const CameraInfo&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>(
+      dds::sensor_topic(vehicle, camera) + "/camera_info",
+      [callback = std::move(callback)](const sensor_msgs::msg::CameraInfo& m) { callback(from_msg(m)); });
 }
 
 void Client::on_laser_scan(const std::string& vehicle, const std::string& sensor,

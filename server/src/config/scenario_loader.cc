@@ -17,6 +17,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/core/units.h"
 #include "hadal/physics/seawater.h"
+#include "hadal/render/water_presets.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kinds.h"
@@ -38,7 +39,7 @@ const std::vector<std::string>& definition_keys() {
     std::vector<std::string> list = {"type", "links"};
     physics::ActuatorKinds::for_each(
         [&](auto tag) { list.emplace_back(decltype(tag)::type::kListKey); });
-    list.insert(list.end(), {"sensors", "fluid"});
+    list.insert(list.end(), {"sensors", "lights", "fluid"});
     return list;
   }();
   return keys;
@@ -127,6 +128,7 @@ struct VehicleDefinition {
   std::vector<LinkSpec> links;
   std::vector<ActuatorSpec> actuators;
   std::vector<SensorSpec> sensors;
+  std::vector<LightSpec> lights;
   FluidSpec fluid;
   // Length and names of the control vector, or nullopt when an actuator list itself is unusable (not a
   // list, an actuator without a valid name): the schedule's setpoint count is then not checked.
@@ -731,6 +733,33 @@ void read_sensor(const Value& value, const std::optional<std::vector<std::string
       sensors::SensorReader{map, actuator_names, actuator_types, map.has("rate_hz"), sensor->rate_hz});
 }
 
+// One entry of a vehicle's `lights` list (LightSpec): name, link, pose, beam half angles, intensity.
+void read_light(const Value& value, const std::optional<std::vector<std::string>>& link_names,
+                std::map<std::string, std::string>* seen_names, LightSpec* light) {
+  const MapReader map(value, {"name", "link", "pose", "inner_half_angle_deg", "outer_half_angle_deg",
+                              "intensity_w_per_sr"});
+  if (!map.ok()) return;
+  read_unique_name(map, "light", seen_names, &light->name);
+  if (const auto link = map.required("link")) {
+    if (const auto index = read_link_reference(*link, link_names)) light->link_index = *index;
+  }
+  if (const auto pose = map.optional("pose")) read_pose(*pose, &light->X_LF);
+  double inner_deg = light->inner_half_angle / kDegToRad, outer_deg = light->outer_half_angle / kDegToRad;
+  const bool inner_ok = map.read_number("inner_half_angle_deg", Need::kOptional, Range::right_open(0.0, 180.0), &inner_deg);
+  const bool outer_ok = map.read_number("outer_half_angle_deg", Need::kOptional, Range::left_open(0.0, 180.0), &outer_deg);
+  if (inner_ok && outer_ok && !(inner_deg < outer_deg)) {
+    map.error_at_key(map.has("outer_half_angle_deg") ? "outer_half_angle_deg" : "inner_half_angle_deg",
+                     "the beam's outer half angle (" + format_number(outer_deg) +
+                         " deg) must exceed its inner half angle (" + format_number(inner_deg) + " deg)");
+  }
+  light->inner_half_angle = inner_deg * kDegToRad;
+  light->outer_half_angle = outer_deg * kDegToRad;
+  Eigen::Vector3d intensity = light->intensity_W_per_sr.matrix();
+  if (map.read_vector3("intensity_w_per_sr", Need::kOptional, Range::closed(0.0, 1e7), &intensity)) {
+    light->intensity_W_per_sr = intensity.array();
+  }
+}
+
 void read_hydrodynamics(const Value& value, physics::HydrodynamicCoefficients* coefficients) {
   const MapReader map(value, {"drag", "skin_friction", "lift", "magnus"});
   if (!map.ok()) return;
@@ -925,8 +954,56 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
     }
   }
 
+  if (const auto lights = map.optional("lights")) {
+    if (const auto items = lights->list()) {
+      std::map<std::string, std::string> seen;
+      for (const Value& item : *items) read_light(item, link_names, &seen, &definition.lights.emplace_back());
+    }
+  }
+
   read_fluid(map.optional("fluid"), definition.links, &definition.fluid);
   return definition;
+}
+
+// world.optics (OpticsSpec), its defaults filled whether or not the block is given: water absorption
+// = pure water (Pope & Fry 1997, render/water_presets.h) unless given, scattering 0.037 /m per channel
+// (Petzold's clear ocean at 530 nm, b = 0.037 /m: Mobley, Light and Water (1994), Table 3.10), the
+// Henyey-Greenstein g 0.924; daylight E0 [W/m^2 per channel] at the water surface decaying by a Jerlov
+// type's Kd (type I by default).
+void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec* optics) {
+  optics->water.absorption_per_m = render::pure_water_absorption_per_m();
+  optics->water.scattering_per_m = render::Rgb::Constant(0.037);
+  optics->daylight.surface_irradiance_W_per_m2 = render::Rgb(150.0, 170.0, 160.0);
+  optics->daylight.Kd_per_m = render::jerlov_Kd_per_m(render::JerlovType::kI);
+  optics->daylight.surface_z_m = surface_z;
+  if (!value) return;
+  const MapReader map(*value, {"absorption", "scattering", "phase_g", "daylight", "seabed_albedo", "vehicle_albedo"});
+  if (!map.ok()) return;
+  const auto read_rgb = [](const MapReader& from, const std::string& key, const Range& range, Eigen::Array3d* out) {
+    Eigen::Vector3d v = out->matrix();
+    if (from.read_vector3(key, Need::kOptional, range, &v)) *out = v.array();
+  };
+  read_rgb(map, "absorption", Range::closed(0.0, 100.0), &optics->water.absorption_per_m);
+  read_rgb(map, "scattering", Range::closed(0.0, 100.0), &optics->water.scattering_per_m);
+  map.read_number("phase_g", Need::kOptional, Range{-1.0, 1.0, false, false}, &optics->water.phase_g);
+  read_rgb(map, "seabed_albedo", Range::closed(0.0, 1.0), &optics->seabed_albedo);
+  read_rgb(map, "vehicle_albedo", Range::closed(0.0, 1.0), &optics->vehicle_albedo);
+  if (const auto daylight_value = map.optional("daylight")) {
+    const MapReader daylight(*daylight_value, {"surface_irradiance", "jerlov_type"});
+    if (!daylight.ok()) return;
+    read_rgb(daylight, "surface_irradiance", Range::closed(0.0, 1e5), &optics->daylight.surface_irradiance_W_per_m2);
+    if (const auto type = daylight.optional("jerlov_type")) {
+      if (const auto name = type->string()) {
+        render::JerlovType jerlov = render::JerlovType::kI;
+        if (render::jerlov_type_from_string(*name, &jerlov)) {
+          optics->daylight.Kd_per_m = render::jerlov_Kd_per_m(jerlov);
+        } else {
+          type->error("unknown Jerlov water type " + quoted(*name) +
+                      " (one of I, IA, IB, II, III, 1C, 3C, 5C, 7C, 9C)");
+        }
+      }
+    }
+  }
 }
 
 // --- scenario ------------------------------------------------------------------------------------------
@@ -989,7 +1066,7 @@ LoadResult ScenarioLoader::load(const std::string& path) {
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
                               "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "dynamics",
-                              "date", "magnetic_dipoles"});
+                              "date", "magnetic_dipoles", "optics"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
                       &world->physics_rate_hz)) {
@@ -1014,6 +1091,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   }
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
+  read_optics(map.optional("optics"), world->water.surface_z, &world->optics);
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
   if (const auto date = map.optional("date")) {
     // "YYYY-MM-DD" within the geomagnetic model's validity (WMM2025: 2025-01-01 .. 2029-12-31).
@@ -1102,6 +1180,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     vehicle->links = definition->links;
     vehicle->actuators = definition->actuators;
     vehicle->sensors = definition->sensors;
+    vehicle->lights = definition->lights;
     vehicle->fluid = definition->fluid;
     for (SensorSpec& sensor : vehicle->sensors) {
       if (sensor.frame_id.empty()) sensor.frame_id = vehicle->name + "/" + sensor.name;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hadal/render/water_presets.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 #include <opencv2/imgcodecs.hpp>
@@ -512,7 +513,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
-                          "'magnetometer', 'gps', 'dvl', 'altimeter', 'profiler' (got 'barometer')",
+                          "'magnetometer', 'gps', 'dvl', 'altimeter', 'profiler', 'camera' (got 'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
@@ -572,6 +573,92 @@ vehicles:
                          "(0.5 m)",
                    bad + ":9:39: error: vehicles[0].sensors[1].latency_s: key 'latency_s' is not used by sensor "
                          "type 'pressure' (it samples on the stepping thread, without latency)"}));
+}
+
+// A camera (calibration, lens model, clip, sensor figures), a vehicle's lights and world.optics; then
+// their errors.
+TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
+  const std::string path = write("s.yaml", R"(world:
+  physics_rate_hz: 500
+  optics: {absorption: [0.4, 0.07, 0.03], scattering: [0.1, 0.1, 0.1], phase_g: 0.9,
+           daylight: {surface_irradiance: [100, 120, 110], jerlov_type: II}, seabed_albedo: [0.2, 0.2, 0.1]}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: cam, type: camera, rate_hz: 5, latency_s: 0.05, width: 320, height: 240, fx: 300, fy: 301,
+         cx: 160.5, cy: 119, lens_model: plumb_bob, distortion: [-0.1, 0.02, 0.001, 0, 0], near_clip: 0.2,
+         far_clip: 30, encoding: mono8, exposure_s: 0.02, read_noise_e: 2, shot_noise: false}
+      - {name: wide, type: camera}
+    lights:
+      - {name: lamp, link: hull, pose: {position: [0.5, 0.3, 0], rpy_deg: [0, 10, 0]}, inner_half_angle_deg: 30,
+         outer_half_angle_deg: 35, intensity_w_per_sr: [300, 310, 320]}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const auto& sensors = result.model->vehicles[0].sensors;
+  const sensors::CameraSensor::Spec& cam = spec_of<sensors::CameraSensor>(sensors[0]);
+  EXPECT_EQ(sensors[0].latency_s, 0.05);
+  EXPECT_EQ(cam.lens->width_px(), 320);
+  EXPECT_EQ(cam.lens->spec().fy, 301.0);
+  EXPECT_EQ(cam.lens->spec().cx, 160.5);
+  EXPECT_EQ(cam.lens->distortion_model(), "plumb_bob");
+  EXPECT_EQ(cam.lens->D(), (std::vector<double>{-0.1, 0.02, 0.001, 0.0, 0.0}));
+  EXPECT_EQ(cam.near_m, 0.2);
+  EXPECT_EQ(cam.far_m, 30.0);
+  EXPECT_TRUE(cam.mono);
+  EXPECT_EQ(cam.sensor.exposure_s, 0.02);
+  EXPECT_FALSE(cam.sensor.shot_noise);
+  const sensors::CameraSensor::Spec& wide = spec_of<sensors::CameraSensor>(sensors[1]);
+  EXPECT_EQ(wide.lens->width_px(), 640);
+  EXPECT_NEAR(2.0 * std::atan(320.0 / wide.lens->spec().fx), 90.0 * kDegToRad, 1e-12);
+  EXPECT_EQ(wide.lens->spec().cx, 319.5);
+  const LightSpec& lamp = result.model->vehicles[0].lights.at(0);
+  EXPECT_EQ(lamp.X_LF.translation(), Eigen::Vector3d(0.5, 0.3, 0.0));
+  EXPECT_DOUBLE_EQ(lamp.outer_half_angle, 35.0 * kDegToRad);
+  EXPECT_EQ(lamp.intensity_W_per_sr[2], 320.0);
+  const OpticsSpec& optics = result.model->world.optics;
+  EXPECT_EQ(optics.water.absorption_per_m[1], 0.07);
+  EXPECT_EQ(optics.water.phase_g, 0.9);
+  EXPECT_EQ(optics.daylight.surface_irradiance_W_per_m2[0], 100.0);
+  EXPECT_EQ(optics.daylight.Kd_per_m[2], render::jerlov_Kd_per_m(render::JerlovType::kII)[2]);
+  EXPECT_EQ(optics.seabed_albedo[2], 0.1);
+
+  const std::string bad = write("bad.yaml", R"(world:
+  optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: a, type: camera, hfov_deg: 60, fx: 300, fy: 300}
+      - {name: b, type: camera, distortion: [0.1, 0, 0, 0, 0], near_clip: 3, far_clip: 2}
+      - {name: c, type: camera, lens_model: fisheye, width: 0}
+      - {name: d, type: camera, lens_model: plumb_bob, distortion: [-0.9, 0, 0, 0, 0]}
+    lights:
+      - {name: lamp, link: mast, inner_half_angle_deg: 40, outer_half_angle_deg: 30}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":2:30: error: world.optics.scattering[1]: must be in [0, 100] (got -1)",
+                   bad + ":2:62: error: world.optics.daylight.jerlov_type: unknown Jerlov water type 'XI' (one of I, "
+                         "IA, IB, II, III, 1C, 3C, 5C, 7C, 9C)",
+                   bad + ":9:33: error: vehicles[0].sensors[0].hfov_deg: give either hfov_deg or the calibration fx, "
+                         "fy, not both",
+                   bad + ":10:33: error: vehicles[0].sensors[1].distortion: a pinhole lens has no distortion (set "
+                         "lens_model: plumb_bob or equidistant)",
+                   bad + ":10:78: error: vehicles[0].sensors[1].far_clip: far_clip (2 m) must exceed near_clip (3 m)",
+                   bad + ":11:45: error: vehicles[0].sensors[2].lens_model: must be one of 'pinhole', 'plumb_bob', "
+                         "'radial_tangential', 'equidistant' (got 'fisheye')",
+                   bad + ":11:61: error: vehicles[0].sensors[2].width: must be in [1, 8192] (got 0)",
+                   bad + ":12:56: error: vehicles[0].sensors[3].distortion: unusable lens: distortion: the "
+                         "radial_tangential distortion has no inverse at pixel (0, 0): the lens folds over inside the "
+                         "image (monotone up to r = 0.6085806195); check the coefficients' signs and the image size",
+                   bad + ":14:28: error: vehicles[0].lights[0].link: no link named 'mast' in this vehicle (links: hull)",
+                   bad + ":14:60: error: vehicles[0].lights[0].outer_half_angle_deg: the beam's outer half angle (30 "
+                         "deg) must exceed its inner half angle (40 deg)"}));
 }
 
 TEST_F(ScenarioLoaderTest, DvlAndAltimeterFromPresetAndKeys) {

@@ -63,13 +63,20 @@ struct Simulation::VehicleRuntime {
   Matrix6d M_A0 = Matrix6d::Zero();  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
   std::size_t fluid_faces = 0;                             // surface-model faces per step
+  // A capture on the workers: a ray batch's hits, or a scene work's completion and what it fills (the
+  // kind's Capture, kept alive by the work itself too, so that a dropped capture may finish safely).
+  struct InFlight {
+    std::future<geometry::RayHits> hits;
+    std::future<void> done;
+    std::shared_ptr<void> output;
+  };
   // Per sensor (same order as VehicleSpec::sensors): its pose in B, its sample period, and for a
-  // captured kind its latency in steps and the ray casts in flight (one per pending capture, same order).
+  // captured kind its latency in steps and the captures in flight (one per pending capture, same order).
   struct Sensor {
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
     double period = 0.0;  // nominal sample period 1 / rate_hz [s]
     std::uint64_t latency_steps = 0;
-    std::deque<std::future<geometry::RayHits>> in_flight;
+    std::deque<InFlight> in_flight;
   };
   std::deque<Sensor> sensors;  // a deque: Sensor holds futures, which do not copy
   // Step scratch (not state). The centre of mass, its velocity and the angular velocity at the step
@@ -455,13 +462,23 @@ void Simulation::sample_sensors(double dt) {
                 submit_capture<Kind>(i, k, kind_spec, capture);
               }
               while (!out.captures.empty() && out.captures.front().due_step <= state_.step_count) {
-                std::future<geometry::RayHits>& result = mount.in_flight.front();
-                if (wait_for_captures_ || result.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-                  geometry::RayHits hits = result.get();
-                  Kind::deliver(context, kind_spec, kind_state, hits);
+                VehicleRuntime::InFlight& flight = mount.in_flight.front();
+                constexpr bool kByWork = sensors::CapturesByWork<Kind>::value;
+                const bool ready = wait_for_captures_ ||
+                                   (kByWork ? flight.done.wait_for(std::chrono::seconds(0))
+                                            : flight.hits.wait_for(std::chrono::seconds(0))) == std::future_status::ready;
+                if (ready) {
+                  if constexpr (kByWork) {
+                    flight.done.get();
+                    Kind::deliver(context, kind_spec, kind_state,
+                                  std::move(*std::static_pointer_cast<typename Kind::Capture>(flight.output)));
+                  } else {
+                    geometry::RayHits hits = flight.hits.get();
+                    Kind::deliver(context, kind_spec, kind_state, hits);
+                    service_->recycle(std::move(hits));
+                  }
                   out.stamp = out.captures.front().time;
                   ++out.samples;
-                  service_->recycle(std::move(hits));
                 } else {
                   ++dropped_captures_;  // late in real time: dropped, never waited for
                 }
@@ -484,8 +501,21 @@ void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const t
                                 const PendingCapture& capture) {
   VehicleRuntime::Sensor& mount = runtime_[vehicle]->sensors[sensor];
   const sensors::CaptureContext context{capture.time, capture.step_count, capture.X_WB, static_cast<int>(vehicle),
-                                        mount.X_BS};
-  mount.in_flight.push_back(raycast_service().submit(Kind::capture_rays(context, spec)));
+                                        mount.X_BS, &model_};
+  VehicleRuntime::InFlight flight;
+  if constexpr (sensors::CapturesByWork<Kind>::value) {
+    auto output = std::make_shared<typename Kind::Capture>();
+    const auto& state = std::get<typename Kind::State>(state_.vehicles[vehicle].sensors[sensor].kind);
+    sensors::CaptureWork work = Kind::capture(context, spec, state, *output);
+    flight.done = raycast_service().submit(
+        capture.X_WB, [work = std::move(work), output](const geometry::EmbreeScene& scene, const ParallelFor& parallel) {
+          work(scene, parallel);
+        });
+    flight.output = std::move(output);
+  } else {
+    flight.hits = raycast_service().submit(Kind::capture_rays(context, spec));
+  }
+  mount.in_flight.push_back(std::move(flight));
 }
 
 // After a restore: the captures in flight belong to another history; the restored state's pending

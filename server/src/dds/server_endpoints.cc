@@ -24,15 +24,6 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
-// Every sensor kind's message type, for the sensor endpoints' reused messages.
-template <class List>
-struct MessagesOf;
-template <class... Kinds>
-struct MessagesOf<KindList<Kinds...>> {
-  using type = std::variant<typename Kinds::Message...>;
-};
-using SensorMessage = MessagesOf<sensors::SensorKinds>::type;
-
 constexpr int kStateHistoryDepth = 10;
 constexpr int kCommandHistoryDepth = 32;
 
@@ -68,13 +59,14 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
   std::vector<fdds::DataWriter*> thruster_writers;
-  // One per sensor: its writer, its slot in `counts` and its kind's message, reused every sample.
-  struct SensorEndpoint {
+  // One per topic of a sensor (sensors/sensor_kind.h, "Topics"): its writer, its slot in `counts` and
+  // the topic's message (of the topic's Message type), reused every sample.
+  struct SensorTopic {
     fdds::DataWriter* writer = nullptr;
     std::size_t slot = 0;
-    SensorMessage message;
+    std::shared_ptr<void> message;
   };
-  std::vector<std::vector<SensorEndpoint>> sensors;  // [vehicle][sensor]
+  std::vector<std::vector<std::vector<SensorTopic>>> sensors;  // [vehicle][sensor][topic]
   std::vector<fdds::DataReader*> setpoint_readers;
   fdds::DataReader* step_reader = nullptr;
 
@@ -228,18 +220,23 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
     d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
 
-    std::vector<Impl::SensorEndpoint>& endpoints = d.sensors.emplace_back();
+    std::vector<std::vector<Impl::SensorTopic>>& endpoints = d.sensors.emplace_back();
     for (const SensorSpec& sensor : model.vehicles[i].sensors) {
-      const std::string topic = sensor_topic(name, sensor.name);
-      Impl::SensorEndpoint& endpoint = endpoints.emplace_back();
+      std::vector<Impl::SensorTopic>& topics = endpoints.emplace_back();
       std::visit(
           [&](const auto& spec) {
             using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
-            endpoint.writer = r.writer<typename Kind::PubSubType>(topic, kStateHistoryDepth);
-            endpoint.message.template emplace<typename Kind::Message>();
+            sensors::TopicsOf<Kind>::for_each([&](auto tag, std::size_t) {
+              using Topic = typename decltype(tag)::type;
+              std::string topic = sensor_topic(name, sensor.name);
+              if (!Topic::kSuffix.empty()) topic += "/" + std::string(Topic::kSuffix);
+              Impl::SensorTopic& endpoint = topics.emplace_back();
+              endpoint.writer = r.writer<typename Topic::PubSubType>(topic, kStateHistoryDepth);
+              endpoint.message = std::make_shared<typename Topic::Message>();
+              endpoint.slot = d.add_count(topic);
+            });
           },
           sensor.kind);
-      endpoint.slot = d.add_count(topic);
     }
 
     auto listener = std::make_unique<Impl::SetpointListener>();
@@ -315,14 +312,19 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
   const auto k = static_cast<std::size_t>(sensor_index);
   const SensorSpec& sensor = impl_->model.vehicles[i].sensors[k];
   const SensorState& sample = state.vehicles[i].sensors[k];
-  Impl::SensorEndpoint& endpoint = impl_->sensors[i][k];
+  std::vector<Impl::SensorTopic>& topics = impl_->sensors[i][k];
   const sensors::MessageHeader header{sample.stamp, sensor.frame_id, sensor.rate_hz};
   std::visit(
       [&](const auto& spec) {
         using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
-        auto& msg = std::get<typename Kind::Message>(endpoint.message);
-        Kind::fill_message(spec, std::get<typename Kind::State>(sample.kind), header, msg);
-        impl_->write(endpoint.writer, &msg, endpoint.slot);
+        const auto& kind_state = std::get<typename Kind::State>(sample.kind);
+        sensors::TopicsOf<Kind>::for_each([&](auto tag, std::size_t t) {
+          using Topic = typename decltype(tag)::type;
+          Impl::SensorTopic& endpoint = topics[t];
+          auto& msg = *static_cast<typename Topic::Message*>(endpoint.message.get());
+          Topic::fill(spec, kind_state, header, msg);
+          impl_->write(endpoint.writer, &msg, endpoint.slot);
+        });
       },
       sensor.kind);
 }

@@ -191,6 +191,42 @@ struct LaserScan {
   std::vector<float> intensities;  // device-specific; may be empty
 };
 
+// sensor_msgs/Image of a camera: rt/<vehicle>/<camera>/image_raw (encoding "rgb8": 3 bytes per pixel
+// R, G, B, or "mono8") or rt/<vehicle>/<camera>/depth ("32FC1": one little-endian float per pixel,
+// metres along the optical axis, NaN where nothing is hit). Row-major, `step` bytes per row. frame_id
+// is the camera's optical frame (z forward, x right, y down); the stamp the sim time of the snapshot
+// the frame was rendered from.
+struct Image {
+  double stamp = 0.0;  // [s]
+  std::string frame_id;
+  std::uint32_t height = 0;  // rows [px]
+  std::uint32_t width = 0;   // columns [px]
+  std::string encoding;
+  bool is_bigendian = false;
+  std::uint32_t step = 0;  // bytes per row
+  std::vector<std::uint8_t> data;
+
+  // The depth at pixel (u, v) of a 32FC1 image [m] (NaN: no hit); throws std::logic_error for another
+  // encoding and std::out_of_range outside the image.
+  float depth_m(std::uint32_t u, std::uint32_t v) const;
+};
+
+// sensor_msgs/CameraInfo of a camera, rt/<vehicle>/<camera>/camera_info: its calibration exactly as
+// configured. distortion_model "plumb_bob" (d = k1, k2, p1, p2, k3) or "equidistant" (d = k1..k4); k the
+// 3x3 intrinsics [fx 0 cx; 0 fy cy; 0 0 1], r the rectification (identity), p the 3x4 projection, all
+// row-major.
+struct CameraInfo {
+  double stamp = 0.0;  // [s]
+  std::string frame_id;
+  std::uint32_t height = 0;
+  std::uint32_t width = 0;
+  std::string distortion_model;
+  std::vector<double> d;
+  std::array<double, 9> k{};
+  std::array<double, 9> r{};
+  std::array<double, 12> p{};
+};
+
 struct ClientOptions {
   int domain_id = 0;  // 0..232, as hadald --domain-id
   std::string name = "hadal_client";
@@ -235,6 +271,12 @@ class Client {
   void on_range(const std::string& vehicle, const std::string& sensor, std::function<void(const Range&)> callback);
   void on_laser_scan(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const LaserScan&)> callback);
+  // A camera's colour (or mono) images, depth images and calibration (its three topics).
+  void on_image(const std::string& vehicle, const std::string& camera, std::function<void(const Image&)> callback);
+  void on_depth_image(const std::string& vehicle, const std::string& camera,
+                      std::function<void(const Image&)> callback);
+  void on_camera_info(const std::string& vehicle, const std::string& camera,
+                      std::function<void(const CameraInfo&)> callback);
 
   // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
   // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The

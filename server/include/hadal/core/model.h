@@ -7,11 +7,13 @@
 // converted on load.
 #pragma once
 
+#include "hadal/core/units.h"
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/terrain.h"
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/actuator_kinds.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/render/optics.h"
 #include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/sensor_kinds.h"
@@ -161,6 +163,17 @@ const typename K::Spec& spec_of(const SensorSpec& sensor) {
   return std::get<typename K::Spec>(sensor.kind);
 }
 
+// An artificial light on a link (docs/ARCHITECTURE.md, "Cameras"): a spot light (render/optics.h) whose
+// beam points along x of its frame F, mounted at X_LF. Cameras of every vehicle see every light.
+struct LightSpec {
+  std::string name;    // unique within the vehicle
+  int link_index = 0;  // index into VehicleSpec::links
+  Eigen::Isometry3d X_LF = Eigen::Isometry3d::Identity();  // light frame in the link frame
+  double inner_half_angle = 20.0 * kDegToRad;  // full intensity inside [rad]
+  double outer_half_angle = 26.0 * kDegToRad;  // none beyond [rad]; a smooth edge between
+  Eigen::Array3d intensity_W_per_sr = Eigen::Array3d::Constant(100.0);  // on the axis, per channel (R, G, B)
+};
+
 // Zero-order-hold keyframe of a scenario schedule: from time (sim time, s) on, the vehicle's actuators
 // take this control vector (one normalised setpoint per thruster, in [-1, 1]).
 struct SetpointKeyframe {
@@ -175,6 +188,7 @@ struct VehicleSpec {
   std::vector<LinkSpec> links;      // links[0] is the base link; links are rigidly attached to B
   std::vector<ActuatorSpec> actuators;  // their controls form the vehicle's control vector, in order
   std::vector<SensorSpec> sensors;
+  std::vector<LightSpec> lights;
   FluidSpec fluid;
   Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_WB_initial = Eigen::Vector3d::Zero();  // initial linear velocity in W [m/s]
@@ -255,6 +269,17 @@ struct DynamicsSpec {
   double earth_rotation_rate = 7.2921150e-5;  // Omega_E [rad/s] (WGS84)
 };
 
+// What cameras see (render/optics.h, docs/ARCHITECTURE.md "Cameras"): the water's absorption and
+// scattering per channel, daylight from the surface, and the albedo of the world's surfaces. YAML
+// world.optics; the loader fills the defaults (pure water plus a little scattering, Jerlov type I
+// daylight at the water surface).
+struct OpticsSpec {
+  render::WaterOptics water;
+  render::Daylight daylight;
+  Eigen::Array3d seabed_albedo = Eigen::Array3d(0.30, 0.28, 0.22);   // sediment, per channel (R, G, B)
+  Eigen::Array3d vehicle_albedo = Eigen::Array3d(0.85, 0.70, 0.15);  // hulls (survey-yellow)
+};
+
 struct WorldSpec {
   Eigen::Vector3d gravity_W = Eigen::Vector3d(0.0, 0.0, -9.80665);  // [m/s^2]
   // Calendar date at sim time 0 as a decimal year (YAML world.date: "YYYY-MM-DD"); the sim time adds
@@ -267,6 +292,7 @@ struct WorldSpec {
   SeabedSpec seabed;
   sensors::GeodeticPosition origin;  // of W's origin, WGS84 (YAML: latitude_deg, longitude_deg, altitude)
   DynamicsSpec dynamics;
+  OpticsSpec optics;
   std::string frame_id = "world";  // header.frame_id of world-frame messages
   double clock_rate_hz = 100.0;    // rt/clock
   double status_rate_hz = 10.0;    // rt/hadal/status

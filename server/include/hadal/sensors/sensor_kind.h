@@ -30,18 +30,43 @@
 //   static void deliver(const SampleContext&, const Spec&, State&, const geometry::RayHits&);
 // Both are functions of their inputs only, so a restored state re-casts its pending captures and
 // continues bit-identically.
+// A captured kind whose capture is more than one batch of rays (a camera: shadow rays, shading) defines
+// instead of capture_rays() and deliver(hits)
+//   using Capture = ...;                       what the workers make (a frame)
+//   static CaptureWork capture(const CaptureContext&, const Spec&, const State&, Capture& out);
+//   static void deliver(const SampleContext&, const Spec&, State&, Capture&&);
+// capture() returns the scene work (geometry/raycast_service.h) that fills `out` on the workers; it may
+// read the State's constants (noise keys) but nothing that delivery changes.
+//
+// Topics: a kind publishes rt/<vehicle>/<sensor> with Message and fill_message(), or, to publish
+// several topics (a camera's image_raw, depth and camera_info), lists them as
+//   using Topics = TopicList<T...>;
+// where each T has kSuffix (the topic is rt/<vehicle>/<sensor>/<suffix>), Message, PubSubType and
+//   static void fill(const Spec&, const State&, const MessageHeader&, Message&);
 #pragma once
 
 #include <Eigen/Geometry>
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <type_traits>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "hadal/core/kind_list.h"
+#include "hadal/core/parallel_for.h"
+
+namespace hadal {
+struct Model;
+}
 namespace hadal::config {
 class MapReader;
+}
+namespace hadal::geometry {
+class EmbreeScene;
 }
 namespace hadal::sensors {
 
@@ -97,13 +122,14 @@ struct SensorSetup {
   SensorEnvironment& environment;
 };
 
-// What capture_rays() gets: the snapshot of the capture.
+// What capture_rays() / capture() get: the snapshot of the capture, and the model (lights, optics).
 struct CaptureContext {
   double time = 0.0;  // sim time of the snapshot [s]
   std::uint64_t step_count = 0;
   const std::vector<Eigen::Isometry3d>& X_WB;  // every body's pose at the snapshot (SimState order)
   int vehicle_index = 0;                       // the sensor's vehicle
   const Eigen::Isometry3d& X_BS;               // mounting pose of S in B
+  const Model* model = nullptr;               // the simulation's model (a camera's lights and optics)
 
   Eigen::Isometry3d X_WS() const { return X_WB[static_cast<std::size_t>(vehicle_index)] * X_BS; }
 };
@@ -118,5 +144,49 @@ struct MessageHeader {
 // Kind<Spec>: the kind a spec belongs to.
 template <class Spec>
 using KindOf = typename Spec::Kind;
+
+// Scene work of a capture (RaycastService::SceneWork's signature): run on the workers with the scene
+// posed at the snapshot; `parallel` spreads a loop over them.
+using CaptureWork = std::function<void(const geometry::EmbreeScene& scene, const ParallelFor& parallel)>;
+
+// A kind's topics (above): TopicList<T...>::for_each(f) calls f(KindTag<T>{}, index) in order.
+template <class... Topics>
+struct TopicList {
+  static constexpr std::size_t kSize = sizeof...(Topics);
+  template <class F>
+  static void for_each(F&& f) {
+    std::size_t index = 0;
+    (f(KindTag<Topics>{}, index++), ...);
+  }
+};
+
+// The one topic of a kind without a Topics list.
+template <class Kind>
+struct SingleTopic {
+  static constexpr std::string_view kSuffix = "";
+  using Message = typename Kind::Message;
+  using PubSubType = typename Kind::PubSubType;
+  template <class Spec, class State>
+  static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+    Kind::fill_message(spec, state, header, msg);
+  }
+};
+
+template <class Kind, class = void>
+struct TopicsOfKind {
+  using type = TopicList<SingleTopic<Kind>>;
+};
+template <class Kind>
+struct TopicsOfKind<Kind, std::void_t<typename Kind::Topics>> {
+  using type = typename Kind::Topics;
+};
+template <class Kind>
+using TopicsOf = typename TopicsOfKind<Kind>::type;
+
+// Whether a captured kind captures by scene work (defines Capture) rather than by a ray batch.
+template <class Kind, class = void>
+struct CapturesByWork : std::false_type {};
+template <class Kind>
+struct CapturesByWork<Kind, std::void_t<typename Kind::Capture>> : std::true_type {};
 
 }  // namespace hadal::sensors

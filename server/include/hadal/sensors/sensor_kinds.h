@@ -5,6 +5,7 @@
 
 #include "hadal/core/kind_list.h"
 #include "hadal/sensors/altimeter_sensor.h"
+#include "hadal/sensors/camera_sensor.h"
 #include "hadal/sensors/dvl_sensor.h"
 #include "hadal/sensors/gps_sensor.h"
 #include "hadal/sensors/imu_sensor.h"
@@ -15,7 +16,8 @@
 namespace hadal::sensors {
 
 using SensorKinds =
-    KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor>;
+    KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
+             CameraSensor>;
 
 using SensorKindSpec = SensorKinds::Specs;    // one alternative per kind: its Spec
 using SensorKindState = SensorKinds::States;  // the matching State, same index

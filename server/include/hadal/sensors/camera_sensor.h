@@ -1,0 +1,111 @@
+// Camera (YAML `type: camera`): a calibrated lens and an image sensor, rendered natively on the ray-cast
+// workers with deep-sea image formation (docs/ARCHITECTURE.md, "Cameras"; render/frame.h). Topics:
+//   rt/<vehicle>/<camera>/image_raw    sensor_msgs/Image, rgb8 (or mono8: the counts' Rec. 601 luma,
+//                                      0.299 R + 0.587 G + 0.114 B, rounded)
+//   rt/<vehicle>/<camera>/depth        sensor_msgs/Image, 32FC1: metres along the optical axis, NaN where
+//                                      nothing is hit within the clip
+//   rt/<vehicle>/<camera>/camera_info  sensor_msgs/CameraInfo: plumb_bob or equidistant, D, K, R, P exactly
+//                                      as configured (render/lens.h)
+// all with header.frame_id "<frame_id>_optical" (the optical frame C: z forward, x right, y down; REP
+// 103/105) and stamped with the sim time of the snapshot the frame was rendered from. Mounted like every
+// sensor, looking along x_S (C = S rotated by render::X_SC()).
+//
+// A frame is a captured sample (sensors/sensor_kind.h): at each sample time the snapshot's scene work
+// renders radiance and depth (render::render_radiance: every vehicle's lights posed at the snapshot, the
+// world's optics, shadows, backscatter, daylight), then exposes it (sensors/image_sensor.h, noise stream
+// keyed by world.seed, vehicle, camera and the capture's step count, so the same seed gives the same
+// images), on every ray-cast worker; the frame is published latency_s later. Its own vehicle is
+// transparent to its rays and to its shadow rays. Surfaces: world.optics.seabed_albedo for the seabed,
+// vehicle_albedo for hulls.
+//
+// YAML keys (configs/REFERENCE.md), defaults in brackets:
+//   width, height [px] (640, 480)
+//   hfov_deg (90): square pixels, principal point at the centre; or the calibration fx, fy [px] and
+//     cx, cy [px] (default the centre, (width - 1) / 2, (height - 1) / 2); not both
+//   lens_model: pinhole | plumb_bob (= radial_tangential) | equidistant (pinhole)
+//   distortion: plumb_bob [k1, k2, p1, p2, k3]; equidistant [k1, k2, k3, k4]
+//   near_clip, far_clip [m] (0.1, 50)
+//   encoding: rgb8 | mono8 (rgb8)
+//   exposure_s (0.01), gain_dn_per_e (0.05), full_well_e (10000), read_noise_e (3), shot_noise (true),
+//   vignetting (true), sensitivity [e-/s per W/(m^2 sr)] per channel ([2e5, 2e5, 2e5])
+//   latency_s (common to captured sensors, default 0)
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hadal/render/lens.h"
+#include "hadal/sensors/image_sensor.h"
+#include "hadal/sensors/sensor_kind.h"
+
+namespace sensor_msgs::msg {
+class Image;
+class ImagePubSubType;
+class CameraInfo;
+class CameraInfoPubSubType;
+}  // namespace sensor_msgs::msg
+
+namespace hadal::sensors {
+
+struct CameraSensor {
+  static constexpr std::string_view kType = "camera";
+  static constexpr bool kCastsRays = false;  // rendered on the workers
+  static constexpr bool kCaptures = true;
+
+  struct Spec {
+    using Kind = CameraSensor;
+    std::shared_ptr<const render::Lens> lens;  // the calibration and its ray table (shared, immutable)
+    std::shared_ptr<const std::vector<float>> cos_theta;  // z_C of each pixel's ray (vignetting)
+    double near_m = 0.1;
+    double far_m = 50.0;
+    bool mono = false;  // mono8 instead of rgb8
+    ImageSensorSpec sensor;
+  };
+  struct State {
+    std::uint64_t noise_key = 0;
+    std::vector<std::uint8_t> image;  // rgb8 (3 bytes per pixel) or mono8, row-major
+    std::vector<float> depth_m;       // row-major
+  };
+  struct Capture {
+    std::vector<std::uint8_t> image;
+    std::vector<float> depth_m;
+  };
+
+  struct ImageRawTopic {
+    static constexpr std::string_view kSuffix = "image_raw";
+    using Message = sensor_msgs::msg::Image;
+    using PubSubType = sensor_msgs::msg::ImagePubSubType;
+    static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  };
+  struct DepthTopic {
+    static constexpr std::string_view kSuffix = "depth";
+    using Message = sensor_msgs::msg::Image;
+    using PubSubType = sensor_msgs::msg::ImagePubSubType;
+    static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  };
+  struct CameraInfoTopic {
+    static constexpr std::string_view kSuffix = "camera_info";
+    using Message = sensor_msgs::msg::CameraInfo;
+    using PubSubType = sensor_msgs::msg::CameraInfoPubSubType;
+    static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  };
+  using Topics = TopicList<ImageRawTopic, DepthTopic, CameraInfoTopic>;
+
+  static const std::vector<std::string>& keys();
+  static Spec read(const SensorReader& reader);
+  static State initial_state(const Spec& spec, const SensorSetup& setup);
+  static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
+  static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);
+
+  // Makes the spec's lens (its ray table) and the rays' cos theta; throws std::invalid_argument as
+  // render::make_lens does.
+  static void set_lens(Spec& spec, const render::LensSpec& lens);
+
+  // "<frame_id>_optical", the frame id of the camera's messages.
+  static std::string optical_frame_id(const std::string& frame_id) { return frame_id + "_optical"; }
+};
+
+}  // namespace hadal::sensors

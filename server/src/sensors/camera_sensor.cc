@@ -1,0 +1,242 @@
+#include "hadal/sensors/camera_sensor.h"
+
+#include <sensor_msgs.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/core/model.h"
+#include "hadal/core/units.h"
+#include "hadal/dds/time_msg.h"
+#include "hadal/geometry/embree_scene.h"
+#include "hadal/geometry/world_scene.h"
+#include "hadal/render/camera_rays.h"
+#include "hadal/render/frame.h"
+#include "hadal/sensors/noise.h"
+#include "hadal/sensors/sample_context.h"
+
+namespace hadal::sensors {
+
+using config::format_number;
+using config::MapReader;
+using config::Need;
+using config::Range;
+
+namespace {
+
+// A whole number in [lo, hi] at `key`, into *out; false when absent or invalid (reported).
+bool read_whole(const MapReader& map, const std::string& key, double lo, double hi, int* out) {
+  double value = *out;
+  if (!map.read_number(key, Need::kOptional, Range::closed(lo, hi), &value) || !map.has(key)) return false;
+  if (value != std::floor(value)) {
+    map.optional(key)->error("must be a whole number (got " + format_number(value) + ")");
+    return false;
+  }
+  *out = static_cast<int>(value);
+  return true;
+}
+
+// Every vehicle's lights posed at the snapshot, and the world's optics.
+render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB) {
+  render::FrameLighting lighting;
+  lighting.water = model.world.optics.water;
+  lighting.daylight = model.world.optics.daylight;
+  for (std::size_t i = 0; i < model.vehicles.size() && i < X_WB.size(); ++i) {
+    const VehicleSpec& vehicle = model.vehicles[i];
+    for (const LightSpec& light : vehicle.lights) {
+      const Eigen::Isometry3d X_WF =
+          X_WB[i] * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF;
+      render::SpotLight spot;
+      spot.p_WL = X_WF.translation();
+      spot.axis_W = X_WF.linear().col(0).normalized();
+      spot.inner_half_angle_rad = light.inner_half_angle;
+      spot.outer_half_angle_rad = light.outer_half_angle;
+      spot.intensity_W_per_sr = light.intensity_W_per_sr;
+      lighting.lights.push_back(spot);
+    }
+  }
+  return lighting;
+}
+
+void fill_header(const MessageHeader& header, std_msgs::msg::Header& out) {
+  out.stamp(dds::to_time_msg(header.stamp));
+  out.frame_id(CameraSensor::optical_frame_id(header.frame_id));
+}
+
+}  // namespace
+
+const std::vector<std::string>& CameraSensor::keys() {
+  static const std::vector<std::string> keys = {
+      "width",       "height",        "hfov_deg",    "fx",           "fy",         "cx",
+      "cy",          "lens_model",    "distortion",  "near_clip",    "far_clip",   "encoding",
+      "exposure_s",  "gain_dn_per_e", "full_well_e", "read_noise_e", "shot_noise", "vignetting",
+      "sensitivity"};
+  return keys;
+}
+
+CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  render::LensSpec lens;
+  read_whole(map, "width", 1.0, 8192.0, &lens.width_px);
+  read_whole(map, "height", 1.0, 8192.0, &lens.height_px);
+  const bool calibrated = map.has("fx") || map.has("fy");
+  double hfov_deg = 90.0;
+  if (map.has("hfov_deg") && calibrated) {
+    map.error_at_key("hfov_deg", "give either hfov_deg or the calibration fx, fy, not both");
+  }
+  map.read_number("hfov_deg", Need::kOptional, Range::closed(1.0, 179.0), &hfov_deg);
+  const render::LensSpec fov = render::lens_from_horizontal_fov(lens.width_px, lens.height_px, hfov_deg * kDegToRad);
+  lens.fx = fov.fx;
+  lens.fy = fov.fy;
+  lens.cx = fov.cx;
+  lens.cy = fov.cy;
+  if (calibrated) {
+    map.read_number("fx", Need::kRequired, Range::positive(), &lens.fx);
+    map.read_number("fy", Need::kRequired, Range::positive(), &lens.fy);
+  }
+  map.read_number("cx", Need::kOptional, Range::finite(), &lens.cx);
+  map.read_number("cy", Need::kOptional, Range::finite(), &lens.cy);
+  map.read_choice("lens_model", Need::kOptional,
+                  {{"pinhole", render::LensModel::kPinhole},
+                   {"plumb_bob", render::LensModel::kRadialTangential},
+                   {"radial_tangential", render::LensModel::kRadialTangential},
+                   {"equidistant", render::LensModel::kEquidistant}},
+                  &lens.model);
+  if (const auto distortion = map.optional("distortion")) {
+    if (lens.model == render::LensModel::kPinhole) {
+      map.error_at_key("distortion", "a pinhole lens has no distortion (set lens_model: plumb_bob or equidistant)");
+    } else {
+      const std::size_t count = lens.model == render::LensModel::kEquidistant ? 4 : 5;
+      if (const auto d = distortion->numbers(count)) std::copy(d->begin(), d->end(), lens.distortion.begin());
+    }
+  }
+  map.read_number("near_clip", Need::kOptional, Range::non_negative(), &spec.near_m);
+  map.read_number("far_clip", Need::kOptional, Range::positive(), &spec.far_m);
+  if (!(spec.far_m > spec.near_m)) {
+    map.error_at_key(map.has("far_clip") ? "far_clip" : "near_clip",
+                     "far_clip (" + format_number(spec.far_m) + " m) must exceed near_clip (" +
+                         format_number(spec.near_m) + " m)");
+  }
+  map.read_choice("encoding", Need::kOptional, {{"rgb8", false}, {"mono8", true}}, &spec.mono);
+  ImageSensorSpec& sensor = spec.sensor;
+  map.read_number("exposure_s", Need::kOptional, Range::left_open(0.0, 10.0), &sensor.exposure_s);
+  map.read_number("gain_dn_per_e", Need::kOptional, Range::left_open(0.0, 1e3), &sensor.gain_dn_per_e);
+  map.read_number("full_well_e", Need::kOptional, Range::left_open(0.0, 1e8), &sensor.full_well_e);
+  map.read_number("read_noise_e", Need::kOptional, Range::closed(0.0, 1e4), &sensor.read_noise_e);
+  map.read_bool("shot_noise", Need::kOptional, &sensor.shot_noise);
+  map.read_bool("vignetting", Need::kOptional, &sensor.vignetting);
+  Eigen::Vector3d sensitivity = sensor.sensitivity.matrix();
+  if (map.read_vector3("sensitivity", Need::kOptional, Range::left_open(0.0, 1e12), &sensitivity)) {
+    sensor.sensitivity = sensitivity.array();
+  }
+  // The lens: its own checks (a distortion without an inverse inside the image, say) at the lens keys.
+  try {
+    set_lens(spec, lens);
+  } catch (const std::invalid_argument& e) {
+    const char* key = map.has("distortion") ? "distortion" : map.has("fx") ? "fx" : map.has("hfov_deg") ? "hfov_deg" : nullptr;
+    if (key != nullptr) {
+      map.error_at_key(key, std::string("unusable lens: ") + e.what());
+    } else {
+      map.value().error(std::string("unusable lens: ") + e.what());
+    }
+  }
+  return spec;
+}
+
+void CameraSensor::set_lens(Spec& spec, const render::LensSpec& lens) {
+  auto made = std::make_shared<const render::Lens>(render::make_lens(lens));
+  auto cos_theta = std::make_shared<std::vector<float>>();
+  cos_theta->reserve(made->rays_C().size());
+  for (const Eigen::Vector3f& d : made->rays_C()) cos_theta->push_back(d.z());
+  spec.lens = std::move(made);
+  spec.cos_theta = std::move(cos_theta);
+}
+
+CameraSensor::State CameraSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {
+  State state;
+  state.noise_key = channel_key(setup.seed, setup.vehicle, setup.sensor, "image");
+  return state;
+}
+
+CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out) {
+  if (context.model == nullptr) throw std::logic_error("camera capture: no model in the capture context");
+  if (!spec.lens) throw std::logic_error("camera capture: the camera has no lens (a failed read)");
+  const Eigen::Isometry3d X_WC = context.X_WS() * render::X_SC();
+  const std::int32_t own_body = static_cast<std::int32_t>(context.vehicle_index);
+  const OpticsSpec& optics = context.model->world.optics;
+  const std::uint64_t key = state.noise_key, frame = context.step_count;
+  return [&out, spec, X_WC, own_body, optics, key, frame,
+          lighting = lighting_at(*context.model, context.X_WB)](const geometry::EmbreeScene& scene,
+                                                                const ParallelFor& parallel) {
+    const auto albedo = [&optics](std::uint32_t material) -> render::Rgb {
+      if (material == geometry::kSeabedMaterial) return optics.seabed_albedo;
+      if (material == geometry::kVehicleMaterial) return optics.vehicle_albedo;
+      return render::Rgb::Constant(0.5);
+    };
+    render::RadianceFrame frame_radiance =
+        render::render_radiance(scene, *spec.lens, X_WC, static_cast<float>(spec.near_m), static_cast<float>(spec.far_m),
+                                own_body, lighting, albedo, parallel);
+    std::vector<std::uint8_t> rgb = expose_rgb8(spec.sensor, frame_radiance.radiance, *spec.cos_theta, key, frame, parallel);
+    if (spec.mono) {
+      out.image.resize(rgb.size() / 3);
+      for (std::size_t i = 0; i < out.image.size(); ++i) {
+        const double luma = 0.299 * rgb[3 * i] + 0.587 * rgb[3 * i + 1] + 0.114 * rgb[3 * i + 2];
+        out.image[i] = static_cast<std::uint8_t>(std::lround(luma));
+      }
+    } else {
+      out.image = std::move(rgb);
+    }
+    out.depth_m = std::move(frame_radiance.depth_m);
+  };
+}
+
+void CameraSensor::deliver(const SampleContext& /*context*/, const Spec& /*spec*/, State& state, Capture&& capture) {
+  state.image = std::move(capture.image);
+  state.depth_m = std::move(capture.depth_m);
+}
+
+void CameraSensor::ImageRawTopic::fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  fill_header(header, msg.header());
+  const std::uint32_t width = static_cast<std::uint32_t>(spec.lens->width_px());
+  msg.height(static_cast<std::uint32_t>(spec.lens->height_px()));
+  msg.width(width);
+  msg.encoding(spec.mono ? "mono8" : "rgb8");
+  msg.is_bigendian(0);
+  msg.step(width * (spec.mono ? 1u : 3u));
+  msg.data() = state.image;
+}
+
+void CameraSensor::DepthTopic::fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  fill_header(header, msg.header());
+  const std::uint32_t width = static_cast<std::uint32_t>(spec.lens->width_px());
+  msg.height(static_cast<std::uint32_t>(spec.lens->height_px()));
+  msg.width(width);
+  msg.encoding("32FC1");
+  msg.is_bigendian(0);  // x86-64 and ARM64 hosts: little-endian floats
+  msg.step(width * static_cast<std::uint32_t>(sizeof(float)));
+  msg.data().resize(state.depth_m.size() * sizeof(float));
+  if (!state.depth_m.empty()) std::memcpy(msg.data().data(), state.depth_m.data(), msg.data().size());
+}
+
+void CameraSensor::CameraInfoTopic::fill(const Spec& spec, const State& /*state*/, const MessageHeader& header,
+                                         Message& msg) {
+  fill_header(header, msg.header());
+  const render::Lens& lens = *spec.lens;
+  msg.height(static_cast<std::uint32_t>(lens.height_px()));
+  msg.width(static_cast<std::uint32_t>(lens.width_px()));
+  msg.distortion_model(lens.distortion_model());
+  msg.d(lens.D());
+  msg.k(lens.K());
+  msg.r(lens.R());
+  msg.p(lens.P());
+  msg.binning_x(0);
+  msg.binning_y(0);
+  msg.roi(sensor_msgs::msg::RegionOfInterest{});
+}
+
+}  // namespace hadal::sensors

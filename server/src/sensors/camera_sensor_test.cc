@@ -1,0 +1,168 @@
+// The camera kind alone (no Bullet): a capture of a real Embree world rendered on the ray-cast service's
+// workers, against closed forms; determinism of its noise; its three messages.
+#include "hadal/sensors/camera_sensor.h"
+
+#include <gtest/gtest.h>
+#include <sensor_msgs.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "hadal/core/units.h"
+#include "hadal/geometry/raycast_service.h"
+#include "sensor_test_support.h"
+
+namespace hadal::sensors {
+namespace {
+
+using testing::pose;
+using testing::rpy;
+using testing::SensorTestWorld;
+
+constexpr double kAltitude = 10.0;  // camera above the plane seabed [m]
+// Looking straight down: x_S down.
+const Eigen::Isometry3d kX_BS = pose(Eigen::Vector3d::Zero(), rpy(0.0, EIGEN_PI / 2.0, 0.0));
+
+// A world with the vehicle 10 m above a plane seabed, clear water (absorption only), no daylight, and one
+// light at the camera pointing down (40 deg beam).
+Model lit_world(double scattering_per_m = 0.0) {
+  Model model = testing::one_vehicle_world(Eigen::Vector3d(0.0, 0.0, -100.0 + kAltitude));
+  model.world.optics.water.absorption_per_m = render::Rgb(0.05, 0.03, 0.02);
+  model.world.optics.water.scattering_per_m = render::Rgb::Constant(scattering_per_m);
+  model.world.optics.seabed_albedo = Eigen::Array3d(0.5, 0.4, 0.3);
+  LightSpec light;
+  light.name = "lamp";
+  light.X_LF = kX_BS;  // at the camera, beam along x_S
+  light.inner_half_angle = 40.0 * kDegToRad;
+  light.outer_half_angle = 45.0 * kDegToRad;
+  light.intensity_W_per_sr = Eigen::Array3d::Constant(2000.0);
+  model.vehicles[0].lights = {light};
+  return model;
+}
+
+CameraSensor::Spec camera_spec(bool noise) {
+  CameraSensor::Spec spec;
+  CameraSensor::set_lens(spec, render::lens_from_horizontal_fov(161, 121, 60.0 * kDegToRad));
+  spec.sensor.sensitivity = Eigen::Array3d::Constant(2.0e5);
+  spec.sensor.exposure_s = 0.01;
+  spec.sensor.gain_dn_per_e = 0.05;
+  spec.sensor.shot_noise = noise;
+  spec.sensor.read_noise_e = noise ? 3.0 : 0.0;
+  spec.sensor.vignetting = false;
+  return spec;
+}
+
+// One frame of the vehicle's camera at the world's state, rendered on a 2-worker ray-cast service.
+CameraSensor::Capture capture(SensorTestWorld& world, const CameraSensor::Spec& spec, const CameraSensor::State& state,
+                              std::uint64_t step = 0) {
+  std::vector<Eigen::Isometry3d> X_WB;
+  for (const VehicleState& vehicle : world.state.vehicles) X_WB.push_back(vehicle.body.X_WB);
+  const CaptureContext context{0.002 * static_cast<double>(step), step, X_WB, 0, kX_BS, &world.model};
+  CameraSensor::Capture out;
+  const CaptureWork work = CameraSensor::capture(context, spec, state, out);
+  geometry::RaycastService service(world.rays->scene().view(), {2});
+  service.submit(X_WB, work).get();
+  return out;
+}
+
+// Looking straight down on the plane: depth = altitude at every pixel (float rays: 1e-4 m); the centre
+// pixel's counts are the Lambertian closed form through the sensor without noise:
+//   DN = round(gain * sensitivity * exposure * albedo / pi * I / d^2 * exp(-2 c d))  (117, 140, 128 here).
+TEST(CameraSensorTest, DownwardFrameFollowsTheClosedForms) {
+  SensorTestWorld world(lit_world(), true);
+  const CameraSensor::Spec spec = camera_spec(false);
+  const CameraSensor::State state = world.initial_state<CameraSensor>(spec, 10.0, "cam");
+  const CameraSensor::Capture frame = capture(world, spec, state);
+  ASSERT_EQ(frame.depth_m.size(), 161u * 121u);
+  ASSERT_EQ(frame.image.size(), 3u * 161u * 121u);
+  for (float z : frame.depth_m) ASSERT_NEAR(z, kAltitude, 1e-4);
+  const std::size_t centre = 60u * 161u + 80u;
+  const LightSpec& light = world.model.vehicles[0].lights[0];
+  const OpticsSpec& optics = world.model.world.optics;
+  for (int ch = 0; ch < 3; ++ch) {
+    const double L = optics.seabed_albedo[ch] / kPi * light.intensity_W_per_sr[ch] / (kAltitude * kAltitude) *
+                     std::exp(-2.0 * optics.water.attenuation_per_m()[ch] * kAltitude);
+    const double dn = std::round(0.05 * 2.0e5 * 0.01 * L);
+    EXPECT_GT(dn, 100.0);
+    EXPECT_EQ(frame.image[3 * centre + ch], static_cast<std::uint8_t>(dn)) << "channel " << ch << ", L " << L;
+  }
+}
+
+// Same seed and capture step: the same image; another step draws other noise. With the seabed beyond
+// the far clip the camera looks into open water: black in clear water, lit by backscatter when the
+// water scatters.
+TEST(CameraSensorTest, NoiseIsSeededPerFrameAndOpenWaterShowsBackscatter) {
+  SensorTestWorld world(lit_world(), true);
+  const CameraSensor::Spec spec = camera_spec(true);
+  const CameraSensor::State state = world.initial_state<CameraSensor>(spec, 10.0, "cam");
+  const CameraSensor::Capture a = capture(world, spec, state, 5);
+  EXPECT_EQ(a.image, capture(world, spec, state, 5).image);
+  EXPECT_NE(a.image, capture(world, spec, state, 6).image);
+
+  CameraSensor::Spec short_sighted = camera_spec(false);
+  short_sighted.far_m = 5.0;
+  const std::size_t centre = 60u * 161u + 80u;
+  const CameraSensor::Capture clear_water = capture(world, short_sighted, state);
+  EXPECT_TRUE(std::isnan(clear_water.depth_m[centre]));
+  for (std::uint8_t count : clear_water.image) ASSERT_EQ(count, 0);
+  SensorTestWorld turbid(lit_world(0.2), true);
+  const CameraSensor::Capture turbid_water = capture(turbid, short_sighted, state);
+  for (int ch = 0; ch < 3; ++ch) EXPECT_GT(turbid_water.image[3 * centre + ch], 0) << ch;
+}
+
+TEST(CameraSensorTest, Messages) {
+  SensorTestWorld world(lit_world(), true);
+  CameraSensor::Spec spec = camera_spec(false);
+  CameraSensor::State state = world.initial_state<CameraSensor>(spec, 10.0, "cam");
+  const std::string frame_id = "auv/cam";
+  const MessageHeader header{12.5, frame_id, 10.0};
+  CameraSensor::Capture frame = capture(world, spec, state);
+  state.image = frame.image;  // what deliver() does (the simulation's tests cover it)
+  state.depth_m = frame.depth_m;
+
+  sensor_msgs::msg::Image image;
+  CameraSensor::ImageRawTopic::fill(spec, state, header, image);
+  EXPECT_EQ(image.header().frame_id(), "auv/cam_optical");
+  EXPECT_EQ(image.header().stamp().sec(), 12);
+  EXPECT_EQ(image.header().stamp().nanosec(), 500000000u);
+  EXPECT_EQ(image.width(), 161u);
+  EXPECT_EQ(image.height(), 121u);
+  EXPECT_EQ(image.encoding(), "rgb8");
+  EXPECT_EQ(image.step(), 3u * 161u);
+  EXPECT_EQ(image.data(), state.image);
+
+  sensor_msgs::msg::Image depth;
+  CameraSensor::DepthTopic::fill(spec, state, header, depth);
+  EXPECT_EQ(depth.encoding(), "32FC1");
+  EXPECT_EQ(depth.step(), 4u * 161u);
+  ASSERT_EQ(depth.data().size(), 4u * 161u * 121u);
+  float z = 0.0f;
+  std::memcpy(&z, depth.data().data() + 4 * (60 * 161 + 80), 4);
+  EXPECT_NEAR(z, kAltitude, 1e-4);
+
+  sensor_msgs::msg::CameraInfo info;
+  CameraSensor::CameraInfoTopic::fill(spec, state, header, info);
+  EXPECT_EQ(info.distortion_model(), "plumb_bob");
+  EXPECT_EQ(info.d(), spec.lens->D());
+  EXPECT_EQ(info.k(), spec.lens->K());
+  EXPECT_EQ(info.p(), spec.lens->P());
+  EXPECT_EQ(info.width(), 161u);
+
+  // mono8: the luma of the same counts.
+  CameraSensor::Spec mono = spec;
+  mono.mono = true;
+  CameraSensor::State mono_state = state;
+  mono_state.image = capture(world, mono, mono_state).image;
+  ASSERT_EQ(mono_state.image.size(), 161u * 121u);
+  const std::size_t centre = 60u * 161u + 80u;
+  EXPECT_EQ(mono_state.image[centre], static_cast<std::uint8_t>(std::lround(
+                                          0.299 * state.image[3 * centre] + 0.587 * state.image[3 * centre + 1] +
+                                          0.114 * state.image[3 * centre + 2])));
+  sensor_msgs::msg::Image mono_image;
+  CameraSensor::ImageRawTopic::fill(mono, mono_state, header, mono_image);
+  EXPECT_EQ(mono_image.encoding(), "mono8");
+  EXPECT_EQ(mono_image.step(), 161u);
+}
+
+}  // namespace
+}  // namespace hadal::sensors
