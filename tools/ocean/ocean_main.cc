@@ -13,12 +13,14 @@
 #include <vector>
 
 #include "json_number.h"
+#include "parse_number.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/physics/ocean.h"
 
 namespace {
 
 using hadal::tools::json_number;
+using hadal::tools::parse_number;
 
 constexpr const char* kUsage =
     "usage: hadal-ocean SCENARIO.yaml [--depths D1,D2,...] [--time T]\n"
@@ -32,15 +34,6 @@ int usage_error(const std::string& message) {
   return 2;
 }
 
-// A whole-string finite number, or false.
-bool parse_number(const std::string& text, double* out) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  const double x = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
-  *out = x;
-  return true;
-}
 
 
 }  // namespace

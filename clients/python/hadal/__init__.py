@@ -11,11 +11,13 @@
     mag = client.wait_magnetic_field("auv", "magnetometer", min_stamp=client.step(50))
     print(mag.magnetic_field)                                         # tesla, in the sensor frame
 
+    frame = client.wait_image("auv", "camera", min_stamp=t)          # cameras: frame.array is (H, W, 3) uint8
+
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
-from ._hadal import (Client, ClientError, Dvl, FluidPressure, Imu, LaserScan, MagneticField, NavSatFix, Odometry,
-                     Range, ServerMode, SimStatus, ThrusterStates)
+from ._hadal import (CameraInfo, Client, ClientError, Dvl, FluidPressure, Image, Imu, LaserScan, MagneticField,
+                     NavSatFix, Odometry, Range, ServerMode, SimStatus, ThrusterStates)
 
-__all__ = ["Client", "ClientError", "Dvl", "FluidPressure", "Imu", "LaserScan", "MagneticField", "NavSatFix",
-           "Odometry", "Range", "ServerMode", "SimStatus", "ThrusterStates"]
+__all__ = ["CameraInfo", "Client", "ClientError", "Dvl", "FluidPressure", "Image", "Imu", "LaserScan",
+           "MagneticField", "NavSatFix", "Odometry", "Range", "ServerMode", "SimStatus", "ThrusterStates"]

@@ -14,8 +14,10 @@
 #include <condition_variable>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 
 namespace py = pybind11;
 
@@ -51,6 +53,35 @@ py::array_t<T> to_numpy(const std::vector<T>& values) {
   return out;
 }
 
+// A sample's stamp, whether kept by value or (images) by shared pointer.
+template <class Sample>
+double stamp_of(const Sample& s) {
+  return s.stamp;
+}
+template <class Sample>
+double stamp_of(const std::shared_ptr<const Sample>& s) {
+  return s->stamp;
+}
+
+// An image's pixels as a numpy array viewing the image's bytes (no copy; the array keeps `owner`, the
+// Python Image, alive): (H, W, 3) uint8 for rgb8, (H, W) uint8 for mono8, (H, W) float32 for 32FC1.
+py::array image_array(const hadal::Image& image, py::handle owner) {
+  const auto h = static_cast<py::ssize_t>(image.height), w = static_cast<py::ssize_t>(image.width);
+  const auto step = static_cast<py::ssize_t>(image.step);
+  void* data = const_cast<std::uint8_t*>(image.data.data());
+  if (image.encoding == "rgb8") {
+    return py::array(py::dtype::of<std::uint8_t>(), {h, w, py::ssize_t{3}}, {step, py::ssize_t{3}, py::ssize_t{1}},
+                     data, owner);
+  }
+  if (image.encoding == "mono8") {
+    return py::array(py::dtype::of<std::uint8_t>(), {h, w}, {step, py::ssize_t{1}}, data, owner);
+  }
+  if (image.encoding == "32FC1" && !image.is_bigendian) {
+    return py::array(py::dtype::of<float>(), {h, w}, {step, py::ssize_t{4}}, data, owner);
+  }
+  throw std::invalid_argument("Image.array: unsupported encoding '" + image.encoding + "'");
+}
+
 // Latest sample per key, with a wait for a sample at or after a sim time.
 template <class Sample>
 class Latest {
@@ -70,7 +101,7 @@ class Latest {
     std::unique_lock<std::mutex> lock(mutex_);
     const bool ok = changed_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
       auto found = samples_.find(key);
-      return found != samples_.end() && found->second.stamp >= min_stamp - 1e-9;
+      return found != samples_.end() && stamp_of(found->second) >= min_stamp - 1e-9;
     });
     if (!ok) return std::nullopt;
     return samples_.at(key);
@@ -81,6 +112,8 @@ class Latest {
   mutable std::condition_variable changed_;
   std::map<std::string, Sample> samples_;
 };
+
+using ImagePtr = std::shared_ptr<const hadal::Image>;
 
 class PyClient {
  public:
@@ -147,6 +180,20 @@ class PyClient {
     return wait_sensor("laser_scan", &hadal::Client::on_laser_scan, laser_scan_, vehicle, sensor, min_stamp,
                        timeout_s);
   }
+  // A camera's topics; images are kept by shared pointer so that Python can view them without a copy.
+  std::optional<ImagePtr> wait_image(const std::string& vehicle, const std::string& camera, double min_stamp,
+                                     double timeout_s) {
+    return wait_image_topic("image", &hadal::Client::on_image, image_, vehicle, camera, min_stamp, timeout_s);
+  }
+  std::optional<ImagePtr> wait_depth_image(const std::string& vehicle, const std::string& camera, double min_stamp,
+                                           double timeout_s) {
+    return wait_image_topic("depth", &hadal::Client::on_depth_image, depth_, vehicle, camera, min_stamp, timeout_s);
+  }
+  std::optional<hadal::CameraInfo> wait_camera_info(const std::string& vehicle, const std::string& camera,
+                                                    double min_stamp, double timeout_s) {
+    return wait_sensor("camera_info", &hadal::Client::on_camera_info, camera_info_, vehicle, camera, min_stamp,
+                       timeout_s);
+  }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
     client_.set_thrusters(vehicle, setpoints);
   }
@@ -172,6 +219,21 @@ class PyClient {
     return latest.wait(key, min_stamp, timeout_s);
   }
 
+  std::optional<ImagePtr> wait_image_topic(const std::string& kind, Subscription<hadal::Image> subscribe,
+                                           Latest<ImagePtr>& latest, const std::string& vehicle,
+                                           const std::string& camera, double min_stamp, double timeout_s) {
+    const std::string key = vehicle + "/" + camera;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace(kind + ":" + key, true).second) {
+        (client_.*subscribe)(vehicle, camera, [&latest, key](const hadal::Image& m) {
+          latest.put(key, std::make_shared<const hadal::Image>(m));
+        });
+      }
+    }
+    return latest.wait(key, min_stamp, timeout_s);
+  }
+
   hadal::Client client_;
   std::mutex mutex_;
   std::map<std::string, bool> subscribed_;
@@ -184,6 +246,9 @@ class PyClient {
   Latest<hadal::Dvl> dvl_;
   Latest<hadal::Range> range_;
   Latest<hadal::LaserScan> laser_scan_;
+  Latest<ImagePtr> image_;
+  Latest<ImagePtr> depth_;
+  Latest<hadal::CameraInfo> camera_info_;
 };
 
 }  // namespace
@@ -358,6 +423,39 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("rejected_commands", &hadal::SimStatus::rejected_commands)
       .def_readonly("last_error", &hadal::SimStatus::last_error);
 
+  py::class_<hadal::Image, std::shared_ptr<hadal::Image>>(
+      m, "Image",
+      "sensor_msgs/Image of a camera: image_raw (rgb8 or mono8) or depth (32FC1, metres along the optical axis, "
+      "NaN where nothing is hit); `array` views the pixels without a copy")
+      .def_readonly("stamp", &hadal::Image::stamp, "sim time of the frame's snapshot [s]")
+      .def_readonly("frame_id", &hadal::Image::frame_id, "the camera's optical frame (z forward, x right, y down)")
+      .def_readonly("height", &hadal::Image::height, "[px]")
+      .def_readonly("width", &hadal::Image::width, "[px]")
+      .def_readonly("encoding", &hadal::Image::encoding)
+      .def_readonly("step", &hadal::Image::step, "bytes per row")
+      .def_property_readonly(
+          "array", [](py::object self) { return image_array(self.cast<const hadal::Image&>(), self); },
+          "numpy view of the pixels: (H, W, 3) uint8 (rgb8), (H, W) uint8 (mono8), (H, W) float32 (32FC1)");
+  py::class_<hadal::CameraInfo>(m, "CameraInfo",
+                                "sensor_msgs/CameraInfo of a camera: its calibration as configured")
+      .def_readonly("stamp", &hadal::CameraInfo::stamp, "[s]")
+      .def_readonly("frame_id", &hadal::CameraInfo::frame_id)
+      .def_readonly("height", &hadal::CameraInfo::height, "[px]")
+      .def_readonly("width", &hadal::CameraInfo::width, "[px]")
+      .def_readonly("distortion_model", &hadal::CameraInfo::distortion_model, "plumb_bob or equidistant")
+      .def_property_readonly("d", [](const hadal::CameraInfo& c) { return to_numpy(c.d); },
+                             "distortion: k1, k2, p1, p2, k3 (plumb_bob) or k1..k4 (equidistant)")
+      .def_property_readonly("k", [](const hadal::CameraInfo& c) { return to_numpy_3x3(c.k); }, "(3, 3) intrinsics")
+      .def_property_readonly("r", [](const hadal::CameraInfo& c) { return to_numpy_3x3(c.r); }, "(3, 3) rectification")
+      .def_property_readonly(
+          "p",
+          [](const hadal::CameraInfo& c) {
+            py::array_t<double> out({3, 4});
+            std::copy(c.p.begin(), c.p.end(), out.mutable_data());
+            return out;
+          },
+          "(3, 4) projection");
+
   using release = py::call_guard<py::gil_scoped_release>;
   py::class_<PyClient>(m, "Client")
       .def(py::init<int, const std::string&>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
@@ -394,6 +492,15 @@ PYBIND11_MODULE(_hadal, m) {
       .def("wait_laser_scan", &PyClient::wait_laser_scan, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "LaserScan of rt/<vehicle>/<sensor> (a profiler) with stamp >= min_stamp, or None on timeout")
+      .def("wait_image", &PyClient::wait_image, py::arg("vehicle"), py::arg("camera"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "Image of rt/<vehicle>/<camera>/image_raw with stamp >= min_stamp, or None on timeout")
+      .def("wait_depth_image", &PyClient::wait_depth_image, py::arg("vehicle"), py::arg("camera"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "Image (32FC1) of rt/<vehicle>/<camera>/depth with stamp >= min_stamp, or None on timeout")
+      .def("wait_camera_info", &PyClient::wait_camera_info, py::arg("vehicle"), py::arg("camera"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "CameraInfo of rt/<vehicle>/<camera>/camera_info with stamp >= min_stamp, or None on timeout")
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
            "Normalised setpoints in [-1, 1], one per thruster in scenario order")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),

@@ -59,3 +59,9 @@ def lockstep_server(domain_id):
 def profiler_server(domain_id):
     """hadald in lockstep mode on the profiler test scenario (a captured sensor kind)."""
     yield from _lockstep("tests/integration/scenarios/profiler.yaml", domain_id)
+
+
+@pytest.fixture
+def camera_server(domain_id):
+    """hadald in lockstep mode on the camera test scenario (tests/integration/scenarios/camera.yaml)."""
+    yield from _lockstep("tests/integration/scenarios/camera.yaml", domain_id)

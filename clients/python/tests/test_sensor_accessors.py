@@ -1,7 +1,8 @@
 """The Python sensor accessors (wait_magnetic_field, wait_nav_sat_fix, wait_dvl, wait_range,
-wait_laser_scan) against a real hadald over real DDS: the lockstep test scenario's AUV
-(configs/vehicles/torpedo_auv.yaml) at 50 m depth, at rest, yawed 30 deg, world origin 43 N 5 E; and the
-profiler scenario (tests/integration/scenarios/profiler.yaml)."""
+wait_laser_scan, wait_image, wait_depth_image, wait_camera_info) against a real hadald over real DDS: the
+lockstep test scenario's AUV (configs/vehicles/torpedo_auv.yaml) at 50 m depth, at rest, yawed 30 deg,
+world origin 43 N 5 E; the profiler scenario (tests/integration/scenarios/profiler.yaml) and the camera
+scenario (tests/integration/scenarios/camera.yaml)."""
 
 import math
 
@@ -141,3 +142,36 @@ def test_laser_scan_of_the_profiler(profiler_server):
     np.testing.assert_allclose(scan.ranges[31:33], [40.0, 40.0], rtol=0, atol=1e-3)
     assert scan.intensities.shape == (0,)
     assert abs(scan.angle_increment - math.radians(90.0) / 64) < 1e-6
+
+
+def test_camera_images_are_numpy_views(camera_server):
+    """The camera 10 m above the seabed looking down, light at the camera, noise off: a frame taken at
+    0.1 s arrives 0.05 s later as an (H, W, 3) uint8 array viewing the message's bytes (no copy), the
+    pixels beside the centre at the Lambertian closed form (117, 140, 128); depth an (H, W) float32 array
+    of 10 m; the calibration as configured."""
+    _, domain_id = camera_server
+    client = subscribed_client(domain_id, lambda c: c.wait_image("auv", "camera", timeout_s=0.1),
+                               lambda c: c.wait_depth_image("auv", "camera", timeout_s=0.1),
+                               lambda c: c.wait_camera_info("auv", "camera", timeout_s=0.1))
+    client.step(75)
+    image = client.wait_image("auv", "camera", min_stamp=0.1, timeout_s=WAIT_S)
+    assert image is not None and isinstance(image, hadal.Image)
+    assert abs(image.stamp - 0.1) < 1e-9
+    assert image.frame_id == "auv/camera_optical" and image.encoding == "rgb8"
+    pixels = image.array
+    assert pixels.dtype == np.uint8 and pixels.shape == (120, 160, 3)
+    assert not pixels.flags.owndata and pixels.base is not None  # a view of the message's bytes
+    assert image.array.__array_interface__["data"][0] == pixels.__array_interface__["data"][0]
+    albedo, c = np.array([0.5, 0.4, 0.3]), np.array([0.05, 0.03, 0.02])
+    expected = np.round(100.0 * albedo / math.pi * 2000.0 / 100.0 * np.exp(-2.0 * c * 10.0))
+    np.testing.assert_array_equal(pixels[59, 79], expected.astype(np.uint8))
+    depth = client.wait_depth_image("auv", "camera", min_stamp=0.1, timeout_s=WAIT_S)
+    assert depth.encoding == "32FC1"
+    assert depth.array.dtype == np.float32 and depth.array.shape == (120, 160)
+    np.testing.assert_allclose(depth.array, 10.0, rtol=0, atol=1e-4)
+    info = client.wait_camera_info("auv", "camera", min_stamp=0.1, timeout_s=WAIT_S)
+    assert isinstance(info, hadal.CameraInfo) and info.distortion_model == "plumb_bob"
+    assert info.k.shape == (3, 3) and info.p.shape == (3, 4)
+    assert abs(info.k[0, 0] - 80.0 / math.tan(math.radians(30.0))) < 1e-9
+    assert info.k[0, 2] == 79.5 and info.k[1, 2] == 59.5
+    np.testing.assert_array_equal(info.d, np.zeros(5))

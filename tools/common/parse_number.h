@@ -1,0 +1,20 @@
+// Shared by Hadal's command-line tools: a command-line argument as a number. Header-only.
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+namespace hadal::tools {
+
+// The whole of `text` as a finite number into *out; false (and *out unchanged) otherwise.
+inline bool parse_number(const std::string& text, double* out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
+  *out = x;
+  return true;
+}
+
+}  // namespace hadal::tools
