@@ -2,7 +2,7 @@
 # ROS 2 wire-compatibility check: Cyclone DDS (hadal-ros2-probe) reads hadald's rt/clock,
 # rt/<vehicle>/odometry and the default AUV's sensor topics (depth, imu, magnetometer, gps, dvl, altimeter)
 # by their ROS 2 type names and commands rt/<vehicle>/thrusters/setpoints. Decoded sensor values are
-# checked against physics (the AUV starts level at 50 m depth, ~50 m above the sediment plain at
+# checked against physics (the AUV starts level at 96 m depth, ~4 m above the sediment plain at
 # z = -100 m, heading east, at 43 N 5 E), which also catches layout mistakes that a type-name match
 # alone would not.
 #
@@ -228,17 +228,17 @@ def span(summary, unit=""):
     return f"{s.get('min')}..{s.get('max')}{unit} over {s.get('n')} samples ({s.get('non_finite')} non-finite)"
 
 # Depth (sensor_msgs/FluidPressure, absolute [Pa]): the sensor sits 0.05 m above the hull centre, which
-# starts at 50 m depth; the AUV trims ~1.3 deg nose down and moves ~1 m/s, so it stays within a few cm
-# of 49.95 m over a few seconds. p = p_atm + rho g d with p_atm 101325 Pa, rho 1025 kg/m^3, g 9.80665:
-# 6.034e5 Pa; +-2 m (+-20 kPa) bounds it far beyond motion and the 50 Pa noise, yet would catch a gauge
-# pressure (no p_atm: 5.02e5), a bar/dbar scale or a misread double.
+# starts at 96 m depth; the AUV trims ~1.3 deg nose down and moves ~1 m/s, so it stays within a few cm
+# of 95.95 m over a few seconds. p = p_atm + rho g d with p_atm 101325 Pa, rho 1025 kg/m^3, g 9.80665:
+# 1.0658e6 Pa; +-2 m (+-20 kPa) bounds it far beyond motion and the 50 Pa noise, yet would catch a gauge
+# pressure (no p_atm: 9.645e5), a bar/dbar scale or a misread double.
 P_ATM, RHO, G = 101325.0, 1025.0, 9.80665
 m = check_sensor_stream("depth", SENSOR_RATES_HZ["depth"])
 if m:
-    lo, hi = P_ATM + RHO * G * 47.95, P_ATM + RHO * G * 51.95
+    lo, hi = P_ATM + RHO * G * 93.95, P_ATM + RHO * G * 97.95
     check(within(m.get("fluid_pressure"), lo, hi),
           f"rt/auv/depth fluid_pressure {span(m.get('fluid_pressure'), ' Pa')}, expected {lo:.0f}..{hi:.0f} Pa "
-          f"(p_atm + rho g (50 +- 2) m)")
+          f"(p_atm + rho g (96 +- 2) m)")
     # variance 0 means "unknown" in ROS; hadald knows its noise (stddev^2 + resolution^2 / 12).
     check((m.get("variance") or 0) > 0, f"rt/auv/depth variance {m.get('variance')}, expected > 0")
 
@@ -263,7 +263,7 @@ if m:
           f"rt/auv/imu covariance diagonals {m.get('linear_acceleration_variance')} / "
           f"{m.get('angular_velocity_variance')}, expected > 0")
 
-# Magnetometer (sensor_msgs/MagneticField, tesla, body frame): WMM2025 at 43 N 5 E, 50 m below sea level,
+# Magnetometer (sensor_msgs/MagneticField, tesla, body frame): WMM2025 at 43 N 5 E, 96 m below sea level,
 # mid-2026: |B| ~ 46.7 uT, inclination ~ +59 deg (pointing down). The hard-iron
 # dipole of the motor adds ~6 nT, noise 5 nT. |B| in 40..52 uT; with the AUV level and heading east
 # (yaw 0 in ENU: x east, y north, z up) the field points north and down: B_y > 0, B_z < 0. A gauss or
@@ -275,7 +275,7 @@ if m:
     b = m.get("magnetic_field") or [0, 0, 0]
     check(b[1] > 0 and b[2] < 0, f"rt/auv/magnetometer last field {b} T: expected north (+y) and down (-z)")
 
-# GPS (sensor_msgs/NavSatFix): the antenna is ~50 m under water, so no fix: status NO_FIX (-1) on every
+# GPS (sensor_msgs/NavSatFix): the antenna is ~96 m under water, so no fix: status NO_FIX (-1) on every
 # sample and no position (hadald sends NaN latitude/longitude/altitude). service = SERVICE_GPS (1) and
 # position_covariance_type = COVARIANCE_TYPE_DIAGONAL_KNOWN (2) are what hadald writes; a uint16 after an
 # int8 and a uint8 after a double array, they fail if the probe's XCDR1 alignment differed from hadald's.
@@ -291,9 +291,10 @@ if m:
           f"rt/auv/gps position_covariance_type {m.get('position_covariance_type')}, expected DIAGONAL_KNOWN (2)")
 
 # DVL (marine_acoustic_msgs/Dvl; frame S: z down along the DVL axis, x forward, y starboard). The
-# transducer is 0.0775 m below the hull centre, so ~49.9 m above the sediment plain (z = -100 m, 60 m
-# around the start): inside the Workhorse 600 preset's bottom-lock window (0.7-90 m) and, with no
-# dropout configured, every ping is bottom track (velocity_mode 1) with all 4 beams, altitude 50 +- 5 m.
+# transducer is 0.0775 m below the hull centre, so ~3.9 m above the sediment plain (z = -100 m, 60 m
+# around the start, tilted 1 deg): inside the Workhorse 600 preset's bottom-lock window (0.7-90 m) and,
+# with no dropout configured, every ping is bottom track (velocity_mode 1) with all 4 beams, altitude
+# 4 +- 1 m (the lander 12 m ahead stays outside the beams' footprint in these seconds).
 # The AUV accelerates from rest to < 1.1 m/s (its cruise speed at 0.6 thrust): |velocity| < 2 m/s. The
 # bottom-track velocity is the DVL's own over the ground, so it must agree with the odometry's body
 # velocity at the same instant (both stream to the last sim instant), turned into S (y and z flipped):
@@ -307,12 +308,12 @@ m = check_sensor_stream("dvl", SENSOR_RATES_HZ["dvl"])
 if m:
     check(m.get("mode_bottom") == m["count"],
           f"rt/auv/dvl: {m.get('mode_bottom')} of {m['count']} pings in bottom track (water track "
-          f"{m.get('mode_water')}, none {m.get('mode_other')}), expected all ~50 m above the seabed")
+          f"{m.get('mode_water')}, none {m.get('mode_other')}), expected all ~4 m above the seabed")
     nb = m.get("num_good_beams") or {}
     check(nb.get("n", 0) > 0 and nb.get("min") == 4 and nb.get("max") == 4,
           f"rt/auv/dvl num_good_beams {span(nb)}, expected 4 on every ping")
-    check(within(m.get("altitude"), 45.0, 55.0),
-          f"rt/auv/dvl altitude {span(m.get('altitude'), ' m')}, expected 50 +- 5 m")
+    check(within(m.get("altitude"), 3.0, 5.0),
+          f"rt/auv/dvl altitude {span(m.get('altitude'), ' m')}, expected 4 +- 1 m")
     check(within(m.get("speed"), 0.0, 2.0), f"rt/auv/dvl |velocity| {span(m.get('speed'), ' m/s')}, expected < 2 m/s")
     v_dvl = m.get("velocity") or [math.nan] * 3
     v_odom = (odom.get("last") or {}).get("linear_velocity") or [math.nan] * 3
@@ -329,13 +330,13 @@ if m:
           f"rt/auv/dvl last beam ranges {ranges} (valid {m.get('beam_ranges_valid')}): mean x cos 30 deg should be "
           f"the altitude {(m.get('altitude') or {}).get('last')} m")
 
-# Altimeter (sensor_msgs/Range, one acoustic beam straight down): 0.0775 m below the hull centre, ~49.9 m
-# above the seabed, so range 50 +- 5 m on every sample, finite and inside [min_range, max_range]. The
+# Altimeter (sensor_msgs/Range, one acoustic beam straight down): 0.0775 m below the hull centre, ~3.9 m
+# above the seabed, so range 4 +- 1 m on every sample, finite and inside [min_range, max_range]. The
 # limits, radiation type and beam width are the default AUV's configuration as hadald writes it (0.3 m,
 # 100 m, ULTRASOUND = 0, 6 deg); as float32s after a uint8 they also check the XCDR1 alignment.
 m = check_sensor_stream("altimeter", SENSOR_RATES_HZ["altimeter"])
 if m:
-    check(within(m.get("range"), 45.0, 55.0), f"rt/auv/altimeter range {span(m.get('range'), ' m')}, expected 50 +- 5 m")
+    check(within(m.get("range"), 3.0, 5.0), f"rt/auv/altimeter range {span(m.get('range'), ' m')}, expected 4 +- 1 m")
     check(m.get("range_outside_limits") == 0,
           f"rt/auv/altimeter: {m.get('range_outside_limits')} ranges outside [min_range, max_range]")
     check(abs((m.get("min_range") or 0) - 0.3) < 1e-6 and m.get("max_range") == 100.0,

@@ -137,6 +137,9 @@ struct VehicleDefinition {
   // Names and kinds of the actuators (for sensors that refer to one); empty when a name is unusable.
   std::vector<std::string> actuator_names;
   std::vector<std::string> actuator_types;
+  // The links' names (nullopt when some link has no usable name), for entries that extend an included
+  // definition with sensors and lights.
+  std::optional<std::vector<std::string>> link_names;
 };
 
 // ixx, iyy, izz > 0 and products (default 0) form I_LLcm_L = [[ixx ixy ixz] [ixy iyy iyz] [ixz iyz izz]]
@@ -883,6 +886,31 @@ void read_fluid(const std::optional<Value>& value, const std::vector<LinkSpec>& 
       "fluid model 'surface' needs a hydrodynamic mesh: no link has a 'mesh' or 'collisions'");
 }
 
+// Appends the `sensors` and `lights` lists of `map` to the definition (names unique within each list,
+// those already in the definition included): a definition's own lists, or a scenario's vehicle entry
+// extending an included definition.
+void read_sensors_and_lights(const MapReader& map, std::optional<double> physics_rate_hz, VehicleDefinition* definition) {
+  if (const auto sensors = map.optional("sensors")) {
+    if (const auto items = sensors->list()) {
+      std::map<std::string, std::string> seen;
+      for (const SensorSpec& sensor : definition->sensors) seen.emplace(sensor.name, definition->source_file);
+      for (std::size_t i = 0; i < items->size(); ++i) {
+        SensorSpec sensor;
+        read_sensor((*items)[i], definition->link_names, definition->actuator_names, definition->actuator_types,
+                    physics_rate_hz, &seen, &sensor);
+        definition->sensors.push_back(std::move(sensor));
+      }
+    }
+  }
+  if (const auto lights = map.optional("lights")) {
+    if (const auto items = lights->list()) {
+      std::map<std::string, std::string> seen;
+      for (const LightSpec& light : definition->lights) seen.emplace(light.name, definition->source_file);
+      for (const Value& item : *items) read_light(item, definition->link_names, &seen, &definition->lights.emplace_back());
+    }
+  }
+}
+
 // Reads the definition keys (type, links, the actuator lists, sensors, fluid) of `map`: the included file's root, or the
 // scenario's vehicle entry for an inline definition.
 VehicleDefinition read_definition(const MapReader& map, std::optional<double> physics_rate_hz) {
@@ -942,24 +970,8 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
     definition.actuator_types.clear();
   }
 
-  if (const auto sensors = map.optional("sensors")) {
-    if (const auto items = sensors->list()) {
-      std::map<std::string, std::string> seen;
-      for (std::size_t i = 0; i < items->size(); ++i) {
-        SensorSpec sensor;
-        read_sensor((*items)[i], link_names, definition.actuator_names, definition.actuator_types, physics_rate_hz,
-                    &seen, &sensor);
-        definition.sensors.push_back(std::move(sensor));
-      }
-    }
-  }
-
-  if (const auto lights = map.optional("lights")) {
-    if (const auto items = lights->list()) {
-      std::map<std::string, std::string> seen;
-      for (const Value& item : *items) read_light(item, link_names, &seen, &definition.lights.emplace_back());
-    }
-  }
+  definition.link_names = link_names;
+  read_sensors_and_lights(map, physics_rate_hz, &definition);
 
   read_fluid(map.optional("fluid"), definition.links, &definition.fluid);
   return definition;
@@ -1153,22 +1165,29 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     }
   }
 
-  // The definition: either `include` or inline keys, never both.
+  // The definition: either `include` (which the entry may extend with more `sensors` and `lights`) or
+  // inline keys, never both.
   std::vector<std::string> inline_keys;
   for (const std::string& key : definition_keys()) {
-    if (map.has(key)) inline_keys.push_back(quoted(key));
+    if (map.has(key) && key != "sensors" && key != "lights") inline_keys.push_back(quoted(key));
   }
   std::optional<VehicleDefinition> inline_definition;
   const VehicleDefinition* definition = nullptr;
   if (const auto include = map.optional("include")) {
     if (!inline_keys.empty()) {
-      map.error_at_key(
-          "include", "cannot be combined with an inline definition (found " + join_names(inline_keys) + ")");
+      map.error_at_key("include", "cannot be combined with an inline definition (found " + join_names(inline_keys) +
+                                      "; an entry with 'include' may only add 'sensors' and 'lights')");
     } else if (const auto include_path = include->string()) {
       const auto& included = included_definition(*include, *include_path);
-      if (included) definition = &*included;
+      if (included && (map.has("sensors") || map.has("lights"))) {
+        inline_definition = *included;  // extended by the entry's own lists
+        read_sensors_and_lights(map, physics_rate_hz_, &*inline_definition);
+        definition = &*inline_definition;
+      } else if (included) {
+        definition = &*included;
+      }
     }
-  } else if (!inline_keys.empty()) {
+  } else if (!inline_keys.empty() || map.has("sensors") || map.has("lights")) {
     inline_definition = read_definition(map, physics_rate_hz_);
     definition = &*inline_definition;
   } else {

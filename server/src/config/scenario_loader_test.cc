@@ -107,7 +107,9 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_NEAR(model.world.origin.longitude_rad, 5.0 * M_PI / 180.0, kTol);
   EXPECT_EQ(model.world.origin.height_m, 0.0);
 
-  ASSERT_EQ(model.vehicles.size(), 1u);
+  ASSERT_EQ(model.vehicles.size(), 2u);  // the AUV and the lander it looks at
+  EXPECT_EQ(model.vehicles[1].name, "lander");
+  EXPECT_EQ(model.vehicles[1].type, VehicleType::kLander);
   const VehicleSpec& auv = model.vehicles[0];
   EXPECT_EQ(auv.name, "auv");
   EXPECT_EQ(auv.type, VehicleType::kAuv);
@@ -116,7 +118,16 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
             std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/../vehicles/torpedo_auv.yaml");
   EXPECT_TRUE(
       fs::equivalent(auv.source_file, std::string(HADAL_SOURCE_DIR) + "/configs/vehicles/torpedo_auv.yaml"));
-  EXPECT_TRUE(auv.X_WB_initial.isApprox(Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, -50.0)), kTol));
+  EXPECT_TRUE(auv.X_WB_initial.isApprox(Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, -96.0)), kTol));
+  // The entry adds a camera to the included sensors, and two lights.
+  ASSERT_EQ(auv.sensors.size(), 7u);
+  EXPECT_EQ(auv.sensors[6].name, "camera");
+  EXPECT_EQ(auv.sensors[6].type(), "camera");
+  EXPECT_EQ(auv.sensors[6].frame_id, "auv/camera");
+  EXPECT_EQ(spec_of<sensors::CameraSensor>(auv.sensors[6]).lens->D()[0], -0.25);
+  ASSERT_EQ(auv.lights.size(), 2u);
+  EXPECT_EQ(auv.lights[1].name, "light_starboard");
+  EXPECT_EQ(model.world.optics.daylight.Kd_per_m[2], render::jerlov_Kd_per_m(render::JerlovType::kIII)[2]);
   EXPECT_EQ(auv.v_WB_initial, Eigen::Vector3d::Zero());
   EXPECT_EQ(auv.command_timeout, 1.0);
   EXPECT_EQ(auv.odometry_rate_hz, 50.0);
@@ -1231,6 +1242,53 @@ vehicles:
                                     dir_.string() + "/scenarios/../vehicles/nope.yaml' (file not found)"}));
 }
 
+// An entry with `include` may add sensors and lights to the included definition; their names must not
+// repeat the included ones, and their links are the included vehicle's.
+TEST_F(ScenarioLoaderTest, IncludedVehicleExtendedWithSensorsAndLights) {
+  write("v.yaml", R"(type: auv
+links:
+  - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+sensors:
+  - {name: depth, type: pressure}
+)");
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: a
+    include: v.yaml
+    sensors:
+      - {name: cam, type: camera, link: hull}
+    lights:
+      - {name: lamp, link: hull}
+  - name: b
+    include: v.yaml
+    sensors:
+      - {name: depth, type: pressure, link: mast}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":12:16: error: vehicles[1].sensors[0].name: duplicate sensor name 'depth' (first used by " +
+                       dir_.string() + "/v.yaml)",
+                   path + ":12:45: error: vehicles[1].sensors[0].link: no link named 'mast' in this vehicle (links: "
+                          "hull)"}));
+  const std::string good = write("good.yaml", R"(world: {}
+vehicles:
+  - name: a
+    include: v.yaml
+    sensors:
+      - {name: cam, type: camera, link: hull}
+    lights:
+      - {name: lamp, link: hull}
+  - name: b
+    include: v.yaml
+)");
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  ASSERT_EQ(loaded.model->vehicles[0].sensors.size(), 2u);
+  EXPECT_EQ(loaded.model->vehicles[0].sensors[1].name, "cam");
+  EXPECT_EQ(loaded.model->vehicles[0].lights.size(), 1u);
+  EXPECT_EQ(loaded.model->vehicles[1].sensors.size(), 1u);  // the include itself is unchanged
+  EXPECT_TRUE(loaded.model->vehicles[1].lights.empty());
+}
+
 TEST_F(ScenarioLoaderTest, IncludeAndInlineDefinitionBothOrNeither) {
   const std::string path = write("s.yaml", R"(world: {}
 vehicles:
@@ -1243,7 +1301,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":4:5: error: vehicles[0].include: cannot be combined with an inline definition "
-                          "(found 'type', 'fluid')",
+                          "(found 'type', 'fluid'; an entry with 'include' may only add 'sensors' and 'lights')",
                    path + ":7:5: error: vehicles[1]: needs either 'include' or an inline definition ('type', "
                           "'links', ...)"}));
 }

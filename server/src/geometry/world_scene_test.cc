@@ -30,22 +30,22 @@ TEST(WorldSceneTest, RayStraightDownFromTheDefaultAuvMeetsTheGeneratedSeabed) {
   ASSERT_TRUE(loaded.ok());
   const Model& model = *loaded.model;
   EmbreeScene scene = build_world_scene(model);
-  const std::vector<Eigen::Isometry3d> X_WB = {model.vehicles[0].X_WB_initial};
+  const std::vector<Eigen::Isometry3d> X_WB = {model.vehicles[0].X_WB_initial, model.vehicles[1].X_WB_initial};
   const Eigen::Vector3f p_WO = model.vehicles[0].X_WB_initial.translation().cast<float>();
   // From the AUV's centre the ray first leaves its own hull (a back face 0.0775 m down: the capsule's
   // radius, less the inscribed polygon's deficit); ignoring its own body it meets the seabed.
   const RayHits own = cast_one(scene, p_WO, Eigen::Vector3f(0, 0, -1), X_WB);
-  ASSERT_EQ(scene.num_bodies(), 1);  // the AUV's capsule and fins (collision primitives)
+  ASSERT_EQ(scene.num_bodies(), 2);  // the AUV's capsule and fins, the lander's frame (collision primitives)
   ASSERT_TRUE(own.hit(0));
   EXPECT_EQ(own.body[0], 0);
   EXPECT_NEAR(own.distance[0], 0.0775f, 0.0775f * 0.01f);  // 32 segments: deficit < 0.5 %
   EXPECT_LT(own.n_W_z[0], -0.9f);  // outward (down): a back face seen from inside
   const RayHits hits = cast_one(scene, p_WO, Eigen::Vector3f(0, 0, -1), X_WB, 0);
   ASSERT_TRUE(hits.hit(0));
-  // The AUV starts at (0, 0, -50) over the sediment plain, whose height at the origin is exactly the
-  // datum -100 m (the regional slope term vanishes there): 50 m, to float rounding of a 100 m
+  // The AUV starts at (0, 0, -96) over the sediment plain, whose height at the origin is exactly the
+  // datum -100 m (the regional slope term vanishes there): 4 m, to float rounding of a 100 m
   // coordinate (4 ulp of 100 m ~ 3e-5 m).
-  EXPECT_NEAR(hits.distance[0], 50.0f, 4 * FLT_EPSILON * 100.0f);
+  EXPECT_NEAR(hits.distance[0], 4.0f, 4 * FLT_EPSILON * 100.0f);
   EXPECT_EQ(hits.body[0], kStaticBody);
   EXPECT_EQ(hits.material[0], kSeabedMaterial);
   // The plain is tilted by the 1 deg regional slope: the normal is 1 deg off vertical.
