@@ -46,7 +46,8 @@ const std::vector<std::string>& definition_keys() {
 }
 const std::vector<std::string>& vehicle_entry_keys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> list = {"name", "include", "initial_pose", "initial_velocity", "command_timeout_s",
+    std::vector<std::string> list = {"name", "include", "initial_pose", "initial_velocity",
+                                     "initial_angular_velocity", "command_timeout_s",
                                      "odometry_rate_hz", "thruster_state_rate_hz", "schedule"};
     list.insert(list.end(), definition_keys().begin(), definition_keys().end());
     return list;
@@ -542,10 +543,46 @@ std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkM
   return properties;
 }
 
+// A link's `appearance` (AppearanceSpec): albedo, and a checkerboard {squares: [columns, rows],
+// square_size, dark_albedo, pose}.
+void read_appearance(const Value& value, AppearanceSpec* appearance) {
+  const MapReader map(value, {"albedo", "checkerboard"});
+  if (!map.ok()) return;
+  Eigen::Vector3d albedo;
+  if (map.has("albedo") && map.read_vector3("albedo", Need::kOptional, Range::closed(0.0, 1.0), &albedo)) {
+    appearance->albedo = albedo.array();
+  }
+  if (const auto board_value = map.optional("checkerboard")) {
+    const MapReader board(*board_value, {"squares", "square_size", "dark_albedo", "pose"});
+    if (!board.ok()) return;
+    CheckerboardSpec spec;
+    bool ok = true;
+    if (const auto squares = board.required("squares")) {
+      if (const auto counts = squares->numbers(2, Range::closed(2.0, 1000.0))) {
+        if ((*counts)[0] != std::floor((*counts)[0]) || (*counts)[1] != std::floor((*counts)[1])) {
+          squares->error("must be two whole numbers [columns, rows] (got " + squares->describe() + ")");
+          ok = false;
+        }
+        spec.columns = static_cast<int>((*counts)[0]);
+        spec.rows = static_cast<int>((*counts)[1]);
+      } else {
+        ok = false;
+      }
+    } else {
+      ok = false;
+    }
+    ok &= board.read_number("square_size", Need::kRequired, Range::positive(), &spec.square_size);
+    Eigen::Vector3d dark = spec.dark_albedo.matrix();
+    if (board.read_vector3("dark_albedo", Need::kOptional, Range::closed(0.0, 1.0), &dark)) spec.dark_albedo = dark.array();
+    if (const auto pose = board.optional("pose")) ok &= read_pose(*pose, &spec.X_LP);
+    if (ok) appearance->checkerboard = spec;
+  }
+}
+
 std::optional<std::string> read_link(const Value& value, std::map<std::string, std::string>* seen_names,
                                      LinkSpec* link) {
   const MapReader map(value, {"name", "pose", "mass", "center_of_mass", "inertia", "collisions", "buoyancy",
-                              "mesh", "density"});
+                              "mesh", "density", "appearance"});
   if (!map.ok()) return std::nullopt;
   const bool name_ok = read_unique_name(map, "link", seen_names, &link->name);
   if (const auto pose = map.optional("pose")) read_pose(*pose, &link->X_BL);
@@ -605,6 +642,7 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
                                  "give buoyancy: {volume, center} or close the mesh");
     }
   }
+  if (const auto appearance = map.optional("appearance")) read_appearance(*appearance, &link->appearance);
   if (!name_ok) return std::nullopt;
   return link->name;
 }
@@ -1208,6 +1246,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
 
   if (const auto pose = map.optional("initial_pose")) read_pose(*pose, &vehicle->X_WB_initial);
   map.read_vector3("initial_velocity", Need::kOptional, Range::finite(), &vehicle->v_WB_initial);
+  map.read_vector3("initial_angular_velocity", Need::kOptional, Range::closed(-100.0, 100.0), &vehicle->w_WB_initial);
   map.read_number("command_timeout_s", Need::kOptional, Range::positive(), &vehicle->command_timeout);
   read_rate(map, "odometry_rate_hz", physics_rate_hz_, &vehicle->odometry_rate_hz);
   read_rate(map, "thruster_state_rate_hz", physics_rate_hz_, &vehicle->thruster_state_rate_hz);

@@ -139,6 +139,7 @@ VehicleState initial_vehicle_state(const VehicleSpec& spec) {
   VehicleState vehicle;
   vehicle.body.X_WB = spec.X_WB_initial;
   vehicle.body.v_WB = spec.v_WB_initial;
+  vehicle.body.w_WB = spec.w_WB_initial;
   vehicle.actuators = physics::VehicleActuators::initial_states(spec);
   vehicle.command_source = spec.schedule.empty() ? CommandSource::kNone : CommandSource::kSchedule;
   return vehicle;

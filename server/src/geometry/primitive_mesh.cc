@@ -141,14 +141,20 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) {
   TriangleMesh mesh_B;
-  for (const LinkSpec& link : spec.links) {
+  for (std::size_t k = 0; k < spec.links.size(); ++k) {
+    const LinkSpec& link = spec.links[k];
     if (link.mesh && link.mesh->mesh) {
       append_transformed(*link.mesh->mesh, link.X_BL, &mesh_B);
-      continue;
+    } else {
+      for (const CollisionShape& shape : link.collisions) {
+        append_transformed(tessellate(shape, segments), link.X_BL * shape.X_LG, &mesh_B);
+      }
     }
-    for (const CollisionShape& shape : link.collisions) {
-      append_transformed(tessellate(shape, segments), link.X_BL * shape.X_LG, &mesh_B);
-    }
+    // Material k is link k: its triangles say which link a ray hit.
+    Material material;
+    material.name = link.name;
+    mesh_B.materials.push_back(material);
+    mesh_B.triangle_materials.resize(mesh_B.num_triangles(), static_cast<std::uint32_t>(k));
   }
   return mesh_B;
 }

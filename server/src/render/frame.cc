@@ -24,7 +24,7 @@ geometry::RayHits cast(const geometry::EmbreeScene& scene, const geometry::RayBa
 
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
                               float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
-                              const AlbedoOfMaterial& albedo_of, const ParallelFor& parallel) {
+                              const AlbedoAt& albedo_of, const ParallelFor& parallel) {
   validate(lighting.water);
   validate(lighting.daylight);
   for (const SpotLight& light : lighting.lights) validate(light);
@@ -85,7 +85,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       Eigen::Vector3d normal(hits.n_W_x[i], hits.n_W_y[i], hits.n_W_z[i]);
       if (normal.dot(d) > 0.0) normal = -normal;
       n_W[i] = normal;
-      albedo[i] = albedo_of(hits.material[i]);
+      albedo[i] = albedo_of(hits.material[i], hits.body[i], p_W[i]);
     }
     // One shadow ray per (hit, light) that the light's beam reaches, from shadow_bias_m off the surface;
     // light by light, so that neighbouring rays run in similar directions (coherent for Embree), then

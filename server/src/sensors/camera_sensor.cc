@@ -62,6 +62,29 @@ render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::I
   return lighting;
 }
 
+// The albedo of a surface point (render::AlbedoAt): the seabed's, or the hit link's appearance
+// (AppearanceSpec: its albedo or the world's vehicle albedo, and its checkerboard, evaluated in the
+// pattern frame of the link at the snapshot X_WB).
+render::Rgb surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
+                           std::int32_t body, const Eigen::Vector3d& p_W) {
+  const OpticsSpec& optics = model.world.optics;
+  if (material == geometry::kSeabedMaterial || body < 0) return optics.seabed_albedo;
+  const auto b = static_cast<std::size_t>(body);
+  const std::size_t link = material - geometry::kVehicleMaterial;  // vehicle_surface_B: material k is link k
+  if (material < geometry::kVehicleMaterial || b >= model.vehicles.size() || b >= X_WB.size() ||
+      link >= model.vehicles[b].links.size()) {
+    return optics.vehicle_albedo;
+  }
+  const LinkSpec& spec = model.vehicles[b].links[link];
+  const render::Rgb base = spec.appearance.albedo.value_or(optics.vehicle_albedo);
+  if (!spec.appearance.checkerboard) return base;
+  const CheckerboardSpec& board = *spec.appearance.checkerboard;
+  const Eigen::Vector3d p_P = (X_WB[b] * spec.X_BL * board.X_LP).inverse() * p_W;
+  const double column = std::floor(p_P.x() / board.square_size), row = std::floor(p_P.y() / board.square_size);
+  if (column < 0.0 || row < 0.0 || column >= board.columns || row >= board.rows) return base;
+  return (static_cast<long>(column) + static_cast<long>(row)) % 2 == 0 ? render::Rgb(board.dark_albedo) : base;
+}
+
 void fill_header(const MessageHeader& header, std_msgs::msg::Header& out) {
   out.stamp(dds::to_time_msg(header.stamp));
   out.frame_id(CameraSensor::optical_frame_id(header.frame_id));
@@ -168,15 +191,12 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   if (!spec.lens) throw std::logic_error("camera capture: the camera has no lens (a failed read)");
   const Eigen::Isometry3d X_WC = context.X_WS() * render::X_SC();
   const std::int32_t own_body = static_cast<std::int32_t>(context.vehicle_index);
-  const OpticsSpec& optics = context.model->world.optics;
   const std::uint64_t key = state.noise_key, frame = context.step_count;
-  return [&out, spec, X_WC, own_body, optics, key, frame,
+  return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB,
           lighting = lighting_at(*context.model, context.X_WB)](const geometry::EmbreeScene& scene,
                                                                 const ParallelFor& parallel) {
-    const auto albedo = [&optics](std::uint32_t material) -> render::Rgb {
-      if (material == geometry::kSeabedMaterial) return optics.seabed_albedo;
-      if (material == geometry::kVehicleMaterial) return optics.vehicle_albedo;
-      return render::Rgb::Constant(0.5);
+    const auto albedo = [&](std::uint32_t material, std::int32_t body, const Eigen::Vector3d& p_W) {
+      return surface_albedo(*model, X_WB, material, body, p_W);
     };
     render::RadianceFrame frame_radiance =
         render::render_radiance(scene, *spec.lens, X_WC, static_cast<float>(spec.near_m), static_cast<float>(spec.far_m),

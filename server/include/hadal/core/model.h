@@ -66,6 +66,23 @@ struct LinkMesh {
   Eigen::Vector3d p_LMc = Eigen::Vector3d::Zero();         // centroid of that volume in L [m]
 };
 
+// How cameras see a link's surface (render/frame.h): a uniform albedo, optionally painted with a
+// checkerboard (a calibration target) in the x-y plane of a pattern frame P: squares of square_size
+// along x_P (columns) and y_P (rows) from P's origin, square (0, 0) dark, then alternating; points
+// outside the pattern keep `albedo` (the target's white border). The pattern is painted by (x_P, y_P)
+// through the link's whole depth (a thin board shows it on both faces).
+struct CheckerboardSpec {
+  int columns = 0;           // squares along x_P
+  int rows = 0;              // squares along y_P
+  double square_size = 0.0;  // [m]
+  Eigen::Isometry3d X_LP = Eigen::Isometry3d::Identity();
+  Eigen::Array3d dark_albedo = Eigen::Array3d::Constant(0.03);
+};
+struct AppearanceSpec {
+  std::optional<Eigen::Array3d> albedo;  // per channel (R, G, B); none: world.optics.vehicle_albedo
+  std::optional<CheckerboardSpec> checkerboard;
+};
+
 struct LinkSpec {
   std::string name;
   double mass = 0.0;                                      // [kg], > 0
@@ -75,6 +92,7 @@ struct LinkSpec {
   std::vector<CollisionShape> collisions;
   BuoyancySpec buoyancy;
   std::optional<LinkMesh> mesh;
+  AppearanceSpec appearance;
 };
 
 // An actuator (YAML: a list of the vehicle definition per kind, e.g. `thrusters`), mounted on a link. Its
@@ -192,6 +210,7 @@ struct VehicleSpec {
   FluidSpec fluid;
   Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_WB_initial = Eigen::Vector3d::Zero();  // initial linear velocity in W [m/s]
+  Eigen::Vector3d w_WB_initial = Eigen::Vector3d::Zero();  // initial angular velocity in W [rad/s]
   std::vector<SetpointKeyframe> schedule;   // used until a client first commands the vehicle
   double command_timeout = 1.0;             // watchdog [s of sim time]
   double odometry_rate_hz = 50.0;

@@ -41,7 +41,8 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 // A vehicle's surface in its body frame B, the hydrodynamic mesh of the surface fluid model: per link
 // its mesh (in L) if it has one, else its collision primitives tessellated with `segments`, moved by
 // X_BL (and X_LG). Parts are appended in link order, each primitive's triangles contiguous; nothing
-// is merged. Empty if no link has a mesh or collision shapes.
+// is merged. Empty if no link has a mesh or collision shapes. Material k (`materials[k]`, named after
+// the link; `triangle_materials`) is link k, so that a ray's hit names the link it hit.
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
 // Whether vehicle_surface_B of these links has any face: some link has a non-empty mesh or collision
 // shapes.

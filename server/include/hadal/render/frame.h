@@ -57,9 +57,10 @@ struct RadianceFrame {
   std::size_t shadow_rays = 0;  // shadow rays cast (lights and sky), for statistics
 };
 
-// The albedo (0..1 per channel) of a hit's material id (geometry::RayHits::material). Called from
-// several threads at once: a pure function.
-using AlbedoOfMaterial = std::function<Rgb(std::uint32_t material)>;
+// The albedo (0..1 per channel) of a surface point a ray hit: its material id and body
+// (geometry::RayHits::material, ::body) and its position in W (for patterns). Called from several
+// threads at once: a pure function.
+using AlbedoAt = std::function<Rgb(std::uint32_t material, std::int32_t body, const Eigen::Vector3d& p_W)>;
 
 constexpr int kBandRows = 16;  // image rows per rendering task
 
@@ -69,6 +70,6 @@ constexpr int kBandRows = 16;  // image rows per rendering task
 // backscatter_samples or backscatter_grid_px below 1.
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
                               float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
-                              const AlbedoOfMaterial& albedo_of, const ParallelFor& parallel = serial_for);
+                              const AlbedoAt& albedo_of, const ParallelFor& parallel = serial_for);
 
 }  // namespace hadal::render
