@@ -560,7 +560,8 @@ void read_appearance(const Value& value, AppearanceSpec* appearance) {
     if (const auto squares = board.required("squares")) {
       if (const auto counts = squares->numbers(2, Range::closed(2.0, 1000.0))) {
         if ((*counts)[0] != std::floor((*counts)[0]) || (*counts)[1] != std::floor((*counts)[1])) {
-          squares->error("must be two whole numbers [columns, rows] (got " + squares->describe() + ")");
+          squares->error("must be two whole numbers [columns, rows] (got [" + format_number((*counts)[0]) + ", " +
+                         format_number((*counts)[1]) + "])");
           ok = false;
         }
         spec.columns = static_cast<int>((*counts)[0]);

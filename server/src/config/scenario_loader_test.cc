@@ -672,6 +672,58 @@ vehicles:
                          "deg) must exceed its inner half angle (40 deg)"}));
 }
 
+// A link's appearance (albedo, checkerboard) and a vehicle's initial angular velocity; then their errors.
+TEST_F(ScenarioLoaderTest, AppearanceAndInitialAngularVelocity) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: target
+    type: lander
+    initial_angular_velocity: [0.1, -0.2, 0.3]
+    links:
+      - name: board
+        mass: 1.0
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+        appearance:
+          albedo: [0.9, 0.8, 0.7]
+          checkerboard: {squares: [8, 6], square_size: 0.05, pose: {position: [-0.2, -0.15, 0.0]}}
+      - {name: plain, mass: 1.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const VehicleSpec& target = result.model->vehicles[0];
+  EXPECT_EQ(target.w_WB_initial, Eigen::Vector3d(0.1, -0.2, 0.3));
+  const AppearanceSpec& board = target.links[0].appearance;
+  ASSERT_TRUE(board.albedo && board.checkerboard);
+  EXPECT_EQ((*board.albedo)[2], 0.7);
+  EXPECT_EQ(board.checkerboard->columns, 8);
+  EXPECT_EQ(board.checkerboard->rows, 6);
+  EXPECT_EQ(board.checkerboard->square_size, 0.05);
+  EXPECT_EQ(board.checkerboard->X_LP.translation(), Eigen::Vector3d(-0.2, -0.15, 0.0));
+  EXPECT_EQ(board.checkerboard->dark_albedo[0], 0.03);
+  EXPECT_FALSE(target.links[1].appearance.albedo || target.links[1].appearance.checkerboard);
+
+  const std::string bad = write("bad.yaml", R"(world: {}
+vehicles:
+  - name: target
+    type: lander
+    initial_angular_velocity: [0, 0, 500]
+    links:
+      - name: board
+        mass: 1.0
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+        appearance:
+          albedo: [1.5, 0, 0]
+          checkerboard: {squares: [8.5, 6], dark_albedo: [0, 0, 0]}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":5:38: error: vehicles[0].initial_angular_velocity[2]: must be in [-100, 100] (got 500)",
+                   bad + ":11:20: error: vehicles[0].links[0].appearance.albedo[0]: must be in [0, 1] (got 1.5)",
+                   bad + ":12:25: error: vehicles[0].links[0].appearance.checkerboard: missing required key "
+                         "'square_size'",
+                   bad + ":12:35: error: vehicles[0].links[0].appearance.checkerboard.squares: must be two whole "
+                         "numbers [columns, rows] (got [8.5, 6])"}));
+}
+
 TEST_F(ScenarioLoaderTest, DvlAndAltimeterFromPresetAndKeys) {
   const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
 vehicles:
