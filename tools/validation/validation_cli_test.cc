@@ -253,6 +253,23 @@ TEST_F(ValidationCliTest, DvlShortRecord) {
   EXPECT_EQ(parse(other.out)["seed"].number, 2.0);
 }
 
+// The camera figure (its whole run, ~1 s): six 480 x 360 panels in one PNG; backscatter, the mean of a
+// patch looking into open water beside the target, grows with the scattering coefficient (panel 6 vs 5
+// vs 1: b = 0.4, 0.05, 0.01 /m), and the shallow panel is lit by daylight alone.
+TEST_F(ValidationCliTest, CameraFigure) {
+  const RunResult r = run(HADAL_VALIDATE_CAMERA, "--out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  ASSERT_TRUE(std::filesystem::exists(dir_ + "/camera_figure.png"));
+  const Json& panels = json["panels"];
+  ASSERT_EQ(panels.array.size(), 6u);
+  const auto top = [&](std::size_t p) { return panels[p]["open_water_mean_counts"][1].number; };  // green
+  EXPECT_GT(top(5), 2.0 * top(4));
+  EXPECT_GT(top(4), top(0));
+  EXPECT_GT(panels[3]["mean_counts"][2].number, 10.0);  // shallow: daylight, blue
+  EXPECT_EQ(run(HADAL_VALIDATE_CAMERA, "--frames 3").exit_code, 2);
+}
+
 TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--depth -5").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--segments 7").exit_code, 2);

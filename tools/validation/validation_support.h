@@ -22,6 +22,7 @@
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/units.h"
 #include "json_number.h"
+#include "parse_number.h"
 #include "hadal/core/model.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/triangle_mesh.h"
@@ -30,17 +31,8 @@ namespace hadal::validation {
 
 constexpr double kDegPerRad = 180.0 / kPi;
 
-// A whole-string finite number, or false.
-inline bool parse_number(const std::string& text, double* out) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  const double x = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
-  *out = x;
-  return true;
-}
-
 using tools::json_number;
+using tools::parse_number;
 
 // A number rounded to `digits` significant digits (summary values, not round-trip data).
 inline std::string json_rounded(double x, int digits = 6) {

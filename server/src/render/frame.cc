@@ -110,7 +110,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
-      if (!hits.hit(i) || !(n_W[i].z() > 0.0) || !(lighting.daylight.irradiance_at(p_W[i].z()) > 0.0).any()) continue;
+      if (!hits.hit(i) || !(n_W[i].z() > -1.0) || !(lighting.daylight.irradiance_at(p_W[i].z()) > 0.0).any()) continue;
       const double sky = lighting.daylight.surface_z_m - p_W[i].z();
       shadows.add_ray(shadow_origin(i).cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
                       sky > 0.0 ? static_cast<float>(sky) : 0.0f, ignore_body);

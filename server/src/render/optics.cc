@@ -61,9 +61,9 @@ void validate(const Daylight& daylight) {
 
 Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const Eigen::Vector3d& p_W,
                               const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m) {
-  const double cos_incidence = n_W.z();  // light travelling along -z_W
-  if (!(cos_incidence > 0.0)) return Rgb::Zero();
-  return albedo / kPi * daylight.irradiance_at(p_W.z()) * cos_incidence * transmittance(c_per_m, d_camera_m);
+  const double sky_share = 0.5 * (1.0 + n_W.z());  // isotropic-sky tilt factor (header)
+  if (!(sky_share > 0.0)) return Rgb::Zero();
+  return albedo / kPi * daylight.irradiance_at(p_W.z()) * sky_share * transmittance(c_per_m, d_camera_m);
 }
 
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,

@@ -182,17 +182,22 @@ TEST(OpticsTest, DaylightPathRadianceMatchesItsIntegral) {
     }
     for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(closed[ch] / sum[ch], 1.0, 1e-5) << ray.d.transpose() << " ch " << ch;
   }
-  // Lambertian under daylight: E_d(z) n_z albedo / pi, attenuated towards the camera (relative 1e-6:
-  // single-precision transmittance).
+  // Lambertian under daylight: E_d(z) (1 + n_z) / 2 albedo / pi, attenuated towards the camera (relative
+  // 1e-6: single-precision transmittance); a vertical face gets half a level one's, a downward face none.
   const Rgb L = daylight_surface_radiance(Rgb::Constant(0.5), daylight, Eigen::Vector3d(0, 0, -30.0),
                                           Eigen::Vector3d(0.6, 0.0, 0.8), water.attenuation_per_m(), 4.0);
   for (int ch = 0; ch < 3; ++ch) {
     const double expected = 0.5 / kPi * daylight.surface_irradiance_W_per_m2[ch] * std::exp(-daylight.Kd_per_m[ch] * 30.0) *
-                            0.8 * std::exp(-water.attenuation_per_m()[ch] * 4.0);
+                            0.9 * std::exp(-water.attenuation_per_m()[ch] * 4.0);
     EXPECT_NEAR(L[ch], expected, 1e-6 * expected);
   }
   EXPECT_TRUE((daylight_surface_radiance(Rgb::Ones(), daylight, Eigen::Vector3d(0, 0, -30.0), Eigen::Vector3d(0, 0, -1),
                                          water.attenuation_per_m(), 4.0) == 0.0).all());
+  const Rgb level = daylight_surface_radiance(Rgb::Ones(), daylight, Eigen::Vector3d(0, 0, -30.0),
+                                              Eigen::Vector3d(0, 0, 1), water.attenuation_per_m(), 4.0);
+  const Rgb vertical = daylight_surface_radiance(Rgb::Ones(), daylight, Eigen::Vector3d(0, 0, -30.0),
+                                                 Eigen::Vector3d(1, 0, 0), water.attenuation_per_m(), 4.0);
+  for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(vertical[ch], 0.5 * level[ch], 1e-12 * level[ch]);
 }
 
 TEST(OpticsTest, InvalidParametersAreRejected) {

@@ -69,8 +69,8 @@ void validate(const SpotLight& light);
 
 // Daylight: downwelling irradiance E0 [W/m^2] per channel just below the sea surface (z_W =
 // surface_z_m), decaying with depth by the diffuse attenuation Kd: E_d(z) = E0 exp(-Kd (surface_z - z)),
-// E0 above the surface. Treated as coming straight down (a simplification of the downwelling light
-// field's angular spread). Below a few hundred metres it is negligible (Kd >= 0.02 /m in every Jerlov
+// E0 above the surface. Its path radiance in the water is scattered from light travelling straight
+// down; surfaces receive it as from a uniformly bright upper hemisphere (below). Below a few hundred metres it is negligible (Kd >= 0.02 /m in every Jerlov
 // water type: exp(-0.02 * 1000) = 2e-9).
 struct Daylight {
   Rgb surface_irradiance_W_per_m2 = Rgb::Zero();  // E0
@@ -80,8 +80,10 @@ struct Daylight {
 };
 void validate(const Daylight& daylight);
 
-// Radiance reaching the camera from a Lambertian point lit by daylight: albedo / pi E_d(z) max(0, n_z)
-// exp(-c d_camera) (the caller decides whether the sky is occluded).
+// Radiance reaching the camera from a Lambertian point lit by daylight: albedo / pi E_d(z) (1 + n_z) / 2
+// exp(-c d_camera), E_d the irradiance on a level surface and (1 + n_z) / 2 the share of a uniformly
+// bright upper hemisphere a surface tilted to normal n sees (the isotropic-sky tilt factor: 1 facing up,
+// 1/2 vertical, 0 facing down); the caller decides whether the sky is occluded.
 Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const Eigen::Vector3d& p_W,
                               const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m);
 
