@@ -1028,7 +1028,8 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   optics->daylight.Kd_per_m = render::jerlov_Kd_per_m(render::JerlovType::kI);
   optics->daylight.surface_z_m = surface_z;
   if (!value) return;
-  const MapReader map(*value, {"absorption", "scattering", "phase_g", "daylight", "seabed_albedo", "vehicle_albedo"});
+  const MapReader map(*value, {"absorption", "scattering", "phase_g", "daylight", "seabed_albedo", "vehicle_albedo",
+                               "marine_snow"});
   if (!map.ok()) return;
   const auto read_rgb = [](const MapReader& from, const std::string& key, const Range& range, Eigen::Array3d* out) {
     Eigen::Vector3d v = out->matrix();
@@ -1039,6 +1040,16 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   map.read_number("phase_g", Need::kOptional, Range{-1.0, 1.0, false, false}, &optics->water.phase_g);
   read_rgb(map, "seabed_albedo", Range::closed(0.0, 1.0), &optics->seabed_albedo);
   read_rgb(map, "vehicle_albedo", Range::closed(0.0, 1.0), &optics->vehicle_albedo);
+  if (const auto snow_value = map.optional("marine_snow")) {
+    const MapReader snow(*snow_value, {"density", "radius", "max_range", "albedo"});
+    if (snow.ok()) {
+      render::MarineSnow& out = optics->marine_snow;
+      snow.read_number("density", Need::kRequired, Range::closed(0.0, 1e5), &out.density_per_m3);
+      snow.read_number("radius", Need::kOptional, Range::left_open(0.0, 0.1), &out.radius_m);
+      snow.read_number("max_range", Need::kOptional, Range::left_open(0.0, 50.0), &out.max_range_m);
+      snow.read_number("albedo", Need::kOptional, Range::closed(0.0, 1.0), &out.albedo);
+    }
+  }
   if (const auto daylight_value = map.optional("daylight")) {
     const MapReader daylight(*daylight_value, {"surface_irradiance", "jerlov_type"});
     if (!daylight.ok()) return;
@@ -1143,6 +1154,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   read_optics(map.optional("optics"), world->water.surface_z, &world->optics);
+  world->optics.marine_snow.seed = world->seed;
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
   if (const auto date = map.optional("date")) {
     // "YYYY-MM-DD" within the geomagnetic model's validity (WMM2025: 2025-01-01 .. 2029-12-31).

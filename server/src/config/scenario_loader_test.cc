@@ -592,7 +592,8 @@ TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
   const std::string path = write("s.yaml", R"(world:
   physics_rate_hz: 500
   optics: {absorption: [0.4, 0.07, 0.03], scattering: [0.1, 0.1, 0.1], phase_g: 0.9,
-           daylight: {surface_irradiance: [100, 120, 110], jerlov_type: II}, seabed_albedo: [0.2, 0.2, 0.1]}
+           daylight: {surface_irradiance: [100, 120, 110], jerlov_type: II}, seabed_albedo: [0.2, 0.2, 0.1],
+           marine_snow: {density: 50, radius: 0.002}}
 vehicles:
   - name: auv
     type: auv
@@ -636,6 +637,9 @@ vehicles:
   EXPECT_EQ(optics.daylight.surface_irradiance_W_per_m2[0], 100.0);
   EXPECT_EQ(optics.daylight.Kd_per_m[2], render::jerlov_Kd_per_m(render::JerlovType::kII)[2]);
   EXPECT_EQ(optics.seabed_albedo[2], 0.1);
+  EXPECT_EQ(optics.marine_snow.density_per_m3, 50.0);
+  EXPECT_EQ(optics.marine_snow.radius_m, 0.002);
+  EXPECT_EQ(optics.marine_snow.max_range_m, render::MarineSnow{}.max_range_m);
 
   const std::string bad = write("bad.yaml", R"(world:
   optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}}

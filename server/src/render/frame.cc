@@ -143,6 +143,8 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     }
   });
   for (std::size_t count : band_shadow_rays) frame.shadow_rays += count;
+  frame.snow_particles = add_marine_snow(lighting.marine_snow, lens, X_WC, lighting.water, lighting.lights,
+                                         frame.depth_m, frame.radiance);
   return frame;
 }
 

@@ -45,6 +45,7 @@ render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::I
   render::FrameLighting lighting;
   lighting.water = model.world.optics.water;
   lighting.daylight = model.world.optics.daylight;
+  lighting.marine_snow = model.world.optics.marine_snow;
   for (std::size_t i = 0; i < model.vehicles.size() && i < X_WB.size(); ++i) {
     const VehicleSpec& vehicle = model.vehicles[i];
     for (const LightSpec& light : vehicle.lights) {

@@ -28,6 +28,7 @@
 #include "hadal/geometry/embree_scene.h"
 #include "hadal/render/backscatter_table.h"
 #include "hadal/render/lens.h"
+#include "hadal/render/marine_snow.h"
 #include "hadal/render/optics.h"
 
 namespace hadal::render {
@@ -47,6 +48,7 @@ struct FrameLighting {
   int backscatter_grid_px = 8;
   float shadow_bias_m = 1e-3f;             // shadow rays start this far off the surface [m]
   double max_backscatter_range_m = 200.0;  // backscatter of a miss with an infinite far clip [m]
+  MarineSnow marine_snow;  // none by default (density 0); drawn after the bands (render/marine_snow.h)
 };
 
 struct RadianceFrame {
@@ -55,6 +57,7 @@ struct RadianceFrame {
   std::vector<Rgb> radiance;  // [W/(m^2 sr)]
   std::vector<float> depth_m;
   std::size_t shadow_rays = 0;  // shadow rays cast (lights and sky), for statistics
+  std::size_t snow_particles = 0;  // marine snow particles drawn
 };
 
 // The albedo (0..1 per channel) of a surface point a ray hit: its material id and body
