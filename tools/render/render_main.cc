@@ -4,7 +4,8 @@
 // The scenario runs (its schedules, physics and sensors, as hadald --mode fast would) from 0 to the
 // physics step nearest T; then each camera renders the state there exactly as it renders a frame in the
 // simulation (sensors/camera_sensor.h: the same lights, optics, lens and image sensor, noise keyed by
-// the step), on N ray-cast workers (default: one per hardware thread). Files in DIR (default .):
+// the step), on the simulation's own ray-cast workers over its one world scene: N of them (default the
+// scenario's world.raycast_threads; 0: one per hardware thread). Files in DIR (default .):
 //   <vehicle>_<camera>.png        the image (rgb8 or mono8)
 //   <vehicle>_<camera>_depth.png  depth along the optical axis, 16-bit millimetres (0: nothing hit;
 //                                 depths beyond 65.535 m are written as 65535)
@@ -27,7 +28,6 @@
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 #include "hadal/geometry/raycast_service.h"
-#include "hadal/geometry/world_scene.h"
 #include "hadal/sensors/camera_sensor.h"
 #include "json_number.h"
 #include "parse_number.h"
@@ -42,7 +42,7 @@ constexpr const char* kUsage =
     "  --time T     simulation time [s] to render at (default 0); the scenario runs up to it\n"
     "  --camera N   only the camera named N (or VEHICLE/N); default every camera\n"
     "  --out DIR    directory for the PNG files (default .; created if missing)\n"
-    "  --threads N  ray-cast worker threads (default 0: one per hardware thread)\n"
+    "  --threads N  ray-cast worker threads (default world.raycast_threads; 0: one per hardware thread)\n"
     "Writes <vehicle>_<camera>.png and <vehicle>_<camera>_depth.png (16-bit mm) per camera and\n"
     "prints one JSON object per camera.\n";
 
@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   using namespace hadal;
   std::string scenario, only, out_dir = ".";
   double time = 0.0, threads = 0.0;
+  bool threads_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") {
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
                                  threads != std::floor(threads))) {
         return usage_error("--threads must be a whole number in [0, 256] (got '" + value + "')");
       }
+      threads_given = threads_given || arg == "--threads";
       if (arg == "--camera") only = value;
       if (arg == "--out") out_dir = value;
       continue;
@@ -94,7 +96,8 @@ int main(int argc, char** argv) {
     for (const auto& error : loaded.errors) std::fprintf(stderr, "%s\n", error.format().c_str());
     return 1;
   }
-  const Model& model = *loaded.model;
+  Model model = std::move(*loaded.model);
+  if (threads_given) model.world.raycast_threads = static_cast<int>(threads);
   std::vector<CameraRef> cameras;
   std::vector<std::string> names;
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
@@ -125,9 +128,6 @@ int main(int argc, char** argv) {
   const auto steps = static_cast<std::uint64_t>(std::llround(time * model.world.physics_rate_hz));
   while (sim.state().step_count < steps) sim.step();
 
-  geometry::RaycastServiceOptions options;
-  options.num_threads = static_cast<int>(threads);
-  geometry::RaycastService service(geometry::build_world_scene(model), options);
   std::vector<Eigen::Isometry3d> X_WB;
   for (const VehicleState& vehicle : sim.state().vehicles) X_WB.push_back(vehicle.body.X_WB);
   for (const CameraRef& ref : cameras) {
@@ -137,9 +137,9 @@ int main(int argc, char** argv) {
     const auto& state = std::get<sensors::CameraSensor::State>(sim.state().vehicles[ref.vehicle].sensors[ref.sensor].kind);
     const Eigen::Isometry3d X_BS = vehicle.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
     const sensors::CaptureContext context{sim.time(), sim.state().step_count, X_WB, static_cast<int>(ref.vehicle), X_BS,
-                                          &model};
+                                          &sim.model()};
     sensors::CameraSensor::Capture frame;
-    service.submit(X_WB, sensors::CameraSensor::capture(context, spec, state, frame)).get();
+    sim.raycast_service().submit(X_WB, sensors::CameraSensor::capture(context, spec, state, frame)).get();
 
     const int width = spec.lens->width_px(), height = spec.lens->height_px();
     const int channels = spec.mono ? 1 : 3;
