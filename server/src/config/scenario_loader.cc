@@ -1143,14 +1143,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   world->clock_rate_hz = std::min(world->clock_rate_hz, world->physics_rate_hz);
   read_rate(map, "clock_rate_hz", physics_rate_hz_, &world->clock_rate_hz);
   read_rate(map, "status_rate_hz", physics_rate_hz_, &world->status_rate_hz);
-  double raycast_threads = 0.0;
-  if (map.read_number("raycast_threads", Need::kOptional, Range::closed(0.0, 256.0), &raycast_threads)) {
-    if (raycast_threads != std::floor(raycast_threads)) {
-      map.optional("raycast_threads")->error("must be a whole number (got " + format_number(raycast_threads) + ")");
-    } else {
-      world->raycast_threads = static_cast<int>(raycast_threads);
-    }
-  }
+  map.read_whole_number("raycast_threads", Need::kOptional, Range::closed(0.0, 256.0), &world->raycast_threads);
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   read_optics(map.optional("optics"), world->water.surface_z, &world->optics);

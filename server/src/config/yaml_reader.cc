@@ -482,6 +482,19 @@ bool MapReader::read_number(const std::string& key, Need need, const Range& rang
   return x.has_value();
 }
 
+bool MapReader::read_whole_number(const std::string& key, Need need, const Range& range, int* out) const {
+  const std::optional<Value> value = get(key, need);
+  if (!value) return need == Need::kOptional;
+  const std::optional<double> x = value->number(range);
+  if (!x) return false;
+  if (*x != std::floor(*x)) {
+    value->error("must be a whole number (got " + format_number(*x) + ")");
+    return false;
+  }
+  *out = static_cast<int>(*x);
+  return true;
+}
+
 bool MapReader::read_vector3(const std::string& key, Need need, const Range& each,
                              Eigen::Vector3d* out) const {
   const std::optional<Value> value = get(key, need);

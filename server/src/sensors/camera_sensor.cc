@@ -28,18 +28,6 @@ using config::Range;
 
 namespace {
 
-// A whole number in [lo, hi] at `key`, into *out; false when absent or invalid (reported).
-bool read_whole(const MapReader& map, const std::string& key, double lo, double hi, int* out) {
-  double value = *out;
-  if (!map.read_number(key, Need::kOptional, Range::closed(lo, hi), &value) || !map.has(key)) return false;
-  if (value != std::floor(value)) {
-    map.optional(key)->error("must be a whole number (got " + format_number(value) + ")");
-    return false;
-  }
-  *out = static_cast<int>(value);
-  return true;
-}
-
 // Every vehicle's lights posed at the snapshot, and the world's optics.
 render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB) {
   render::FrameLighting lighting;
@@ -106,8 +94,8 @@ CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
   const MapReader& map = reader.map;
   Spec spec;
   render::LensSpec lens;
-  read_whole(map, "width", 1.0, 8192.0, &lens.width_px);
-  read_whole(map, "height", 1.0, 8192.0, &lens.height_px);
+  map.read_whole_number("width", Need::kOptional, Range::closed(1.0, 8192.0), &lens.width_px);
+  map.read_whole_number("height", Need::kOptional, Range::closed(1.0, 8192.0), &lens.height_px);
   const bool calibrated = map.has("fx") || map.has("fy");
   double hfov_deg = 90.0;
   if (map.has("hfov_deg") && calibrated) {

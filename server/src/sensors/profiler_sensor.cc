@@ -14,7 +14,6 @@
 
 namespace hadal::sensors {
 
-using config::format_number;
 using config::MapReader;
 using config::Need;
 using config::Range;
@@ -36,19 +35,8 @@ const std::vector<std::string>& ProfilerSensor::keys() {
 ProfilerSensor::Spec ProfilerSensor::read(const SensorReader& reader) {
   const MapReader& map = reader.map;
   Spec spec;
-  double beams = spec.beams, rays = spec.rays_per_beam;
-  if (map.read_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &beams)) {
-    if (beams != std::floor(beams)) {
-      map.optional("beams")->error("must be a whole number (got " + format_number(beams) + ")");
-    }
-    spec.beams = static_cast<int>(beams);
-  }
-  if (map.read_number("rays_per_beam", Need::kOptional, Range::closed(1.0, 64.0), &rays)) {
-    if (rays != std::floor(rays)) {
-      map.optional("rays_per_beam")->error("must be a whole number (got " + format_number(rays) + ")");
-    }
-    spec.rays_per_beam = static_cast<int>(rays);
-  }
+  map.read_whole_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &spec.beams);
+  map.read_whole_number("rays_per_beam", Need::kOptional, Range::closed(1.0, 64.0), &spec.rays_per_beam);
   double fov_deg = spec.fov / kDegToRad, width_deg = spec.beam_width / kDegToRad;
   if (map.read_number("fov_deg", Need::kOptional, Range::left_open(0.0, 360.0), &fov_deg)) spec.fov = fov_deg * kDegToRad;
   if (map.read_number("beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &width_deg)) {

@@ -169,6 +169,8 @@ class MapReader {
   // Shorthands: read `key` into *out (unchanged when an optional key is absent). They return false when
   // the value is invalid or a required key is missing, true otherwise.
   bool read_number(const std::string& key, Need need, const Range& range, double* out) const;
+  // A number in `range` that must also be whole ("must be a whole number (got x)" otherwise).
+  bool read_whole_number(const std::string& key, Need need, const Range& range, int* out) const;
   bool read_vector3(const std::string& key, Need need, const Range& each, Eigen::Vector3d* out) const;
   bool read_string(const std::string& key, Need need, std::string* out) const;
   bool read_bool(const std::string& key, Need need, bool* out) const;
