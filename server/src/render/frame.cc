@@ -74,8 +74,9 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       return Eigen::Vector3d(primary.d_W_x[i], primary.d_W_y[i], primary.d_W_z[i]);
     };
 
-    // Hit points, normals turned towards the camera, albedos.
-    std::vector<Eigen::Vector3d> p_W(m), n_W(m);
+    // Hit points, normals turned towards the camera, albedos, and where shadow rays start
+    // (shadow_bias_m off the surface).
+    std::vector<Eigen::Vector3d> p_W(m), n_W(m), shadow_origin_W(m);
     std::vector<Rgb> albedo(m);
     for (std::size_t i = 0; i < m; ++i) {
       frame.depth_m[first + i] = depth_along_axis_m(hits.hit(i), hits.distance[i], lens.rays_C()[first + i].z());
@@ -85,20 +86,19 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       Eigen::Vector3d normal(hits.n_W_x[i], hits.n_W_y[i], hits.n_W_z[i]);
       if (normal.dot(d) > 0.0) normal = -normal;
       n_W[i] = normal;
+      shadow_origin_W[i] = p_W[i] + lighting.shadow_bias_m * normal;
       albedo[i] = albedo_of(hits.material[i], hits.body[i], p_W[i]);
     }
-    // One shadow ray per (hit, light) that the light's beam reaches, from shadow_bias_m off the surface;
-    // light by light, so that neighbouring rays run in similar directions (coherent for Embree), then
+    // One shadow ray per (hit, light) that the light's beam reaches; light by light, so that neighbouring rays run in similar directions (coherent for Embree), then
     // daylight's rays straight up to the surface (light index kSky).
     geometry::RayBatch shadows;
     shadows.coherence = geometry::RayCoherence::kCoherent;
     std::vector<std::size_t> shadow_pixel;
     std::vector<std::size_t> shadow_light;
-    const auto shadow_origin = [&](std::size_t i) { return Eigen::Vector3d(p_W[i] + lighting.shadow_bias_m * n_W[i]); };
     for (std::size_t l = 0; l < beams.size(); ++l) {
       for (std::size_t i = 0; i < m; ++i) {
         if (!hits.hit(i)) continue;
-        const Eigen::Vector3d origin = shadow_origin(i);
+        const Eigen::Vector3d& origin = shadow_origin_W[i];
         const Eigen::Vector3d to_light = beams[l].light.p_WL - origin;
         const double distance = to_light.norm();
         if (!(distance > lighting.shadow_bias_m) || n_W[i].dot(to_light) <= 0.0) continue;  // light behind the surface
@@ -112,7 +112,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     for (std::size_t i = 0; i < m; ++i) {
       if (!hits.hit(i) || !(n_W[i].z() > -1.0) || !(lighting.daylight.irradiance_at(p_W[i].z()) > 0.0).any()) continue;
       const double sky = lighting.daylight.surface_z_m - p_W[i].z();
-      shadows.add_ray(shadow_origin(i).cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
+      shadows.add_ray(shadow_origin_W[i].cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
                       sky > 0.0 ? static_cast<float>(sky) : 0.0f, ignore_body);
       shadow_pixel.push_back(i);
       shadow_light.push_back(kSky);
