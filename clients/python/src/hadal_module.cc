@@ -18,6 +18,7 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 namespace py = pybind11;
 
@@ -183,11 +184,13 @@ class PyClient {
   // A camera's topics; images are kept by shared pointer so that Python can view them without a copy.
   std::optional<ImagePtr> wait_image(const std::string& vehicle, const std::string& camera, double min_stamp,
                                      double timeout_s) {
-    return wait_image_topic("image", &hadal::Client::on_image, image_, vehicle, camera, min_stamp, timeout_s);
+    return wait_sensor<hadal::Image, ImagePtr>("image", &hadal::Client::on_image, image_, vehicle, camera, min_stamp,
+                                               timeout_s);
   }
   std::optional<ImagePtr> wait_depth_image(const std::string& vehicle, const std::string& camera, double min_stamp,
                                            double timeout_s) {
-    return wait_image_topic("depth", &hadal::Client::on_depth_image, depth_, vehicle, camera, min_stamp, timeout_s);
+    return wait_sensor<hadal::Image, ImagePtr>("depth", &hadal::Client::on_depth_image, depth_, vehicle, camera,
+                                               min_stamp, timeout_s);
   }
   std::optional<hadal::CameraInfo> wait_camera_info(const std::string& vehicle, const std::string& camera,
                                                     double min_stamp, double timeout_s) {
@@ -204,30 +207,22 @@ class PyClient {
   using Subscription = void (hadal::Client::*)(const std::string&, const std::string&,
                                                std::function<void(const Sample&)>);
 
-  // Subscribes `latest` to rt/<vehicle>/<sensor> on first use, then waits for a sample.
-  template <class Sample>
-  std::optional<Sample> wait_sensor(const std::string& kind, Subscription<Sample> subscribe, Latest<Sample>& latest,
+  // Subscribes `latest` to rt/<vehicle>/<sensor> on first use, then waits for a sample. Samples are kept
+  // as Stored: by value, or (images) by shared pointer, so that Python can view them without a copy.
+  template <class Sample, class Stored = Sample>
+  std::optional<Stored> wait_sensor(const std::string& kind, Subscription<Sample> subscribe, Latest<Stored>& latest,
                                     const std::string& vehicle, const std::string& sensor, double min_stamp,
                                     double timeout_s) {
     const std::string key = vehicle + "/" + sensor;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + key, true).second) {
-        (client_.*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) { latest.put(key, m); });
-      }
-    }
-    return latest.wait(key, min_stamp, timeout_s);
-  }
-
-  std::optional<ImagePtr> wait_image_topic(const std::string& kind, Subscription<hadal::Image> subscribe,
-                                           Latest<ImagePtr>& latest, const std::string& vehicle,
-                                           const std::string& camera, double min_stamp, double timeout_s) {
-    const std::string key = vehicle + "/" + camera;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (subscribed_.emplace(kind + ":" + key, true).second) {
-        (client_.*subscribe)(vehicle, camera, [&latest, key](const hadal::Image& m) {
-          latest.put(key, std::make_shared<const hadal::Image>(m));
+        (client_.*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) {
+          if constexpr (std::is_same_v<Stored, Sample>) {
+            latest.put(key, m);
+          } else {
+            latest.put(key, std::make_shared<const Sample>(m));
+          }
         });
       }
     }
