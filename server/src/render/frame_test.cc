@@ -35,6 +35,24 @@ Rgb white(std::uint32_t, std::int32_t, const Eigen::Vector3d&) { return Rgb::One
 
 std::size_t centre(const Lens& lens) { return static_cast<std::size_t>(240) * lens.width_px() + 320; }
 
+// The determinism tests' scene: a wall 6 m ahead, off-centre; `with_plate` adds a small plate at 3 m
+// that shadows it.
+EmbreeScene wall_scene(bool with_plate = false) {
+  EmbreeScene scene;
+  scene.add_static_mesh(plate(6.0f, 0.5f, 0.3f, 2.0f), 0, "wall");
+  if (with_plate) scene.add_static_mesh(plate(3.0f, 0.2f, 0.0f, 0.3f), 1, "plate");
+  scene.build();
+  return scene;
+}
+
+// Radiance and depth bit for bit.
+void expect_same_frame(const RadianceFrame& a, const RadianceFrame& b) {
+  ASSERT_EQ(a.radiance.size(), b.radiance.size());
+  ASSERT_EQ(a.depth_m.size(), b.depth_m.size());
+  EXPECT_EQ(std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(Rgb)), 0);
+  EXPECT_EQ(std::memcmp(a.depth_m.data(), b.depth_m.data(), a.depth_m.size() * sizeof(float)), 0);
+}
+
 // Issue 11: a white Lambertian wall facing a co-located light and camera; the centre pixel's ratio at
 // two distances is (d1/d2)^2 exp(-2 c (d2 - d1)) per channel, within 2 %. Here without scattering (the
 // formula has no backscatter term); float hit distances make it agree to ~1e-6.
@@ -146,27 +164,20 @@ TEST(FrameTest, DaylightFadesToBlackWithDepth) {
 
 TEST(FrameTest, SameInputsGiveTheSameFrame) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
-  EmbreeScene scene;
-  scene.add_static_mesh(plate(6.0f, 0.5f, 0.3f, 2.0f), 0, "wall");
-  scene.build();
+  const EmbreeScene scene = wall_scene();
   FrameLighting lighting;
   lighting.water.scattering_per_m = Rgb::Constant(0.05);
   lighting.lights = {SpotLight{}};
   const RadianceFrame a = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white);
   const RadianceFrame b = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white);
-  ASSERT_EQ(a.radiance.size(), b.radiance.size());
-  EXPECT_EQ(std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(Rgb)), 0);
-  EXPECT_EQ(std::memcmp(a.depth_m.data(), b.depth_m.data(), a.depth_m.size() * sizeof(float)), 0);
+  expect_same_frame(a, b);
 }
 
 // Bands and backscatter rows as tasks on two threads, or backwards on one: the same frame bit for bit
 // (render/frame.h: a function of its inputs whatever the threads).
 TEST(FrameTest, SameFrameWhateverTheThreads) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
-  EmbreeScene scene;
-  scene.add_static_mesh(plate(6.0f, 0.5f, 0.3f, 2.0f), 0, "wall");
-  scene.add_static_mesh(plate(3.0f, 0.2f, 0.0f, 0.3f), 1, "plate");
-  scene.build();
+  const EmbreeScene scene = wall_scene(true);
   FrameLighting lighting;
   lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
   lighting.water.scattering_per_m = Rgb::Constant(0.08);
@@ -189,9 +200,7 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
   };
   for (const ParallelFor& parallel : {backwards, two_threads}) {
     const RadianceFrame frame = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white, parallel);
-    ASSERT_EQ(frame.radiance.size(), serial.radiance.size());
-    EXPECT_EQ(std::memcmp(frame.radiance.data(), serial.radiance.data(), serial.radiance.size() * sizeof(Rgb)), 0);
-    EXPECT_EQ(std::memcmp(frame.depth_m.data(), serial.depth_m.data(), serial.depth_m.size() * sizeof(float)), 0);
+    expect_same_frame(frame, serial);
     EXPECT_EQ(frame.shadow_rays, serial.shadow_rays);
   }
   EXPECT_GT(serial.shadow_rays, 0u);
@@ -201,9 +210,7 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
 // frame on 1 and 2 workers, and the same as on the test's own thread.
 TEST(FrameTest, SameFrameOnTheRayCastWorkers) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
-  EmbreeScene scene;
-  scene.add_static_mesh(plate(6.0f, 0.5f, 0.3f, 2.0f), 0, "wall");
-  scene.build();
+  const EmbreeScene scene = wall_scene();
   FrameLighting lighting;
   lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
   lighting.water.scattering_per_m = Rgb::Constant(0.08);
@@ -215,8 +222,8 @@ TEST(FrameTest, SameFrameOnTheRayCastWorkers) {
     service.submit({}, [&](const EmbreeScene& posed, const ParallelFor& parallel) {
       frame = render_radiance(posed, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white, parallel);
     }).get();
-    ASSERT_EQ(frame.radiance.size(), here.radiance.size());
-    EXPECT_EQ(std::memcmp(frame.radiance.data(), here.radiance.data(), here.radiance.size() * sizeof(Rgb)), 0) << threads;
+    SCOPED_TRACE(threads);
+    expect_same_frame(frame, here);
   }
 }
 
