@@ -171,6 +171,10 @@ void normalize(float* nx, float* ny, float* nz, std::size_t n) {
   }
 }
 
+void occluded_packet(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay4* r) { rtcOccluded4(valid, s, c, r); }
+void occluded_packet(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay8* r) { rtcOccluded8(valid, s, c, r); }
+void occluded_packet(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay16* r) { rtcOccluded16(valid, s, c, r); }
+
 void intersect_packet(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit4* r) {
   rtcIntersect4(valid, s, c, r);
 }
@@ -295,6 +299,7 @@ struct EmbreeScene::Impl {
   RTCScene top = nullptr;
   RTCScene trace = nullptr;  // what rays are traced against: top, or the static scene without bodies
   std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
+  std::vector<std::int32_t> instance_body;  // instances[i].body, for occluded()'s filter
   bool poses_set = false;
 
   ~Impl() {
@@ -313,7 +318,6 @@ struct EmbreeScene::Impl {
     }
     top = rtcNewScene(w.device);
     // Rebuilt at every pose change, over a handful of instances: fast build beats best quality.
-    rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC);
     rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_LOW);
     const Transform12 identity = to_transform12(Eigen::Isometry3d::Identity());
     auto add_instance = [&](RTCScene scene, std::int32_t body, const std::vector<int>& mesh_of_geometry) {
@@ -332,6 +336,8 @@ struct EmbreeScene::Impl {
     };
     if (!w.static_mesh_of_geometry.empty()) add_instance(w.static_scene, kStaticBody, w.static_mesh_of_geometry);
     for (const auto& [body, scene] : w.body_scenes) add_instance(scene.scene, body, scene.mesh_of_geometry);
+    for (const Instance& instance : instances) instance_body.push_back(instance.body);
+    rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcCommitScene(top);
     w.check("building the top-level scene");
     trace = top;
@@ -528,6 +534,74 @@ struct EmbreeScene::Impl {
     finish(begin, end, geom, inst, hits);
   }
 
+  // Occlusion of rays [begin, end) (one block): rtcOccludedNp on the batch's arrays when they are
+  // 16-byte aligned, else packets; Embree sets tfar to -inf on a blocked ray.
+  void occlude_block(const RayBatch& rays, std::size_t begin, std::size_t end, RTCIntersectContext* context,
+                     std::uint8_t* blocked) const {
+    alignas(64) float tfar[kBlock], time[kBlock];
+    alignas(64) unsigned mask[kBlock], id[kBlock], flags[kBlock];
+    const std::size_t n = end - begin;
+    std::copy(rays.t_far.begin() + begin, rays.t_far.begin() + end, tfar);
+    const bool aligned = aligned16(&rays.p_WO_x[begin]) && aligned16(&rays.p_WO_y[begin]) &&
+                         aligned16(&rays.p_WO_z[begin]) && aligned16(&rays.d_W_x[begin]) &&
+                         aligned16(&rays.d_W_y[begin]) && aligned16(&rays.d_W_z[begin]) && aligned16(&rays.t_near[begin]);
+    if (aligned) {
+      std::fill_n(mask, n, ~0u);
+      for (std::size_t k = 0; k < n; ++k) id[k] = static_cast<unsigned>(begin + k);  // for the ignore filter
+      std::fill_n(flags, n, 0u);
+      std::fill_n(time, n, 0.0f);
+      RTCRayNp r;  // Embree only reads the inputs
+      r.org_x = const_cast<float*>(&rays.p_WO_x[begin]);
+      r.org_y = const_cast<float*>(&rays.p_WO_y[begin]);
+      r.org_z = const_cast<float*>(&rays.p_WO_z[begin]);
+      r.tnear = const_cast<float*>(&rays.t_near[begin]);
+      r.dir_x = const_cast<float*>(&rays.d_W_x[begin]);
+      r.dir_y = const_cast<float*>(&rays.d_W_y[begin]);
+      r.dir_z = const_cast<float*>(&rays.d_W_z[begin]);
+      r.time = time;
+      r.tfar = tfar;
+      r.mask = mask;
+      r.id = id;
+      r.flags = flags;
+      rtcOccludedNp(trace, context, &r, static_cast<unsigned>(n));
+    } else if (world->packet_width == 16) {
+      occlude_packets<16, RTCRay16>(rays, begin, end, context, tfar);
+    } else if (world->packet_width == 8) {
+      occlude_packets<8, RTCRay8>(rays, begin, end, context, tfar);
+    } else {
+      occlude_packets<4, RTCRay4>(rays, begin, end, context, tfar);
+    }
+    for (std::size_t k = 0; k < n; ++k) blocked[begin + k] = tfar[k] < 0.0f ? 1 : 0;
+  }
+
+  template <int N, typename RayN>
+  void occlude_packets(const RayBatch& rays, std::size_t begin, std::size_t end, RTCIntersectContext* context,
+                       float* tfar) const {
+    RayN r;
+    alignas(64) int valid[N];
+    for (std::size_t p = begin; p < end; p += N) {
+      const std::size_t m = std::min<std::size_t>(N, end - p);
+      for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
+        const std::size_t i = k < m ? p + k : p;  // inactive lanes repeat the first ray
+        valid[k] = k < m ? -1 : 0;
+        r.org_x[k] = rays.p_WO_x[i];
+        r.org_y[k] = rays.p_WO_y[i];
+        r.org_z[k] = rays.p_WO_z[i];
+        r.tnear[k] = rays.t_near[i];
+        r.dir_x[k] = rays.d_W_x[i];
+        r.dir_y[k] = rays.d_W_y[i];
+        r.dir_z[k] = rays.d_W_z[i];
+        r.time[k] = 0.0f;
+        r.tfar[k] = rays.t_far[i];
+        r.mask[k] = ~0u;
+        r.id[k] = static_cast<unsigned>(i);  // for the ignore filter
+        r.flags[k] = 0;
+      }
+      occluded_packet(valid, trace, context, &r);
+      for (std::size_t k = 0; k < m; ++k) tfar[p + k - begin] = r.tfar[k];
+    }
+  }
+
   bool stream_aligned(const RayBatch& rays, std::size_t i, const RayHits& hits) const {
     return aligned16(&rays.p_WO_x[i]) && aligned16(&rays.p_WO_y[i]) && aligned16(&rays.p_WO_z[i]) &&
            aligned16(&rays.d_W_x[i]) && aligned16(&rays.d_W_y[i]) && aligned16(&rays.d_W_z[i]) &&
@@ -551,6 +625,8 @@ EmbreeScene::EmbreeScene(const std::string& device_config) : impl_(std::make_uni
     w.packet_width = 8;
   }
   w.static_scene = rtcNewScene(w.device);
+  // occluded() may pass a filter in its context (bodies to ignore); Embree calls it only then.
+  rtcSetSceneFlags(w.static_scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   w.check("creating the static scene");
 }
 
@@ -582,6 +658,7 @@ int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::
   EmbreeWorld::BodyScene& body = w.body_scenes[body_index];
   if (body.scene == nullptr) {
     body.scene = rtcNewScene(w.device);
+    rtcSetSceneFlags(body.scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     w.check("creating a body scene");
   }
   SceneMeshInfo info{name, body_index, material_id, 0};
@@ -698,6 +775,59 @@ void EmbreeScene::intersect(const RayBatch& rays, std::size_t begin, std::size_t
     i = block_end;
   }
   if (!rays.ignore_body.empty()) s.pass_ignored_bodies(rays, begin, end, &context, hits);
+}
+
+namespace {
+
+// An occlusion query's context when rays ignore bodies: Embree hands &context back to the filter, which
+// reads the rest (the view's instance -> body map and each ray's ignored body, by ray id = index in the
+// batch). Standard layout, `context` first, so the cast back is valid.
+struct IgnoringContext {
+  RTCIntersectContext context;
+  const std::vector<std::int32_t>* instance_body;  // body of each top-level instance (empty: no instances)
+  const std::int32_t* ignore_body;
+};
+
+// Rejects every candidate hit on the ray's ignored body (Embree then looks further along the ray).
+void reject_ignored_body(const RTCFilterFunctionNArguments* args) {
+  const auto* self = reinterpret_cast<const IgnoringContext*>(args->context);
+  for (unsigned k = 0; k < args->N; ++k) {
+    if (args->valid[k] != -1) continue;
+    const unsigned inst = RTCHitN_instID(args->hit, args->N, k, 0);
+    const std::int32_t body = inst == kInvalidId || self->instance_body->empty() ? kStaticBody : (*self->instance_body)[inst];
+    if (body == self->ignore_body[RTCRayN_id(args->ray, args->N, k)]) args->valid[k] = 0;
+  }
+}
+
+}  // namespace
+
+void EmbreeScene::occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
+                           std::vector<std::uint8_t>& blocked) const {
+  const Impl& s = *impl_;
+  if (!s.world->built) throw std::logic_error("EmbreeScene::occluded: called before build()");
+  if (!s.poses_set) throw std::logic_error("EmbreeScene::occluded: body poses were never set");
+  if (!rays.consistent()) throw std::invalid_argument("EmbreeScene::occluded: ray arrays differ in length");
+  if (begin > end || end > rays.size() || blocked.size() < end) {
+    throw std::out_of_range("EmbreeScene::occluded: range [" + std::to_string(begin) + ", " + std::to_string(end) +
+                            ") outside the batch (" + std::to_string(rays.size()) + " rays) or the output (" +
+                            std::to_string(blocked.size()) + ")");
+  }
+  IgnoringContext ignoring{};
+  rtcInitIntersectContext(&ignoring.context);
+  ignoring.context.flags = rays.coherence == RayCoherence::kCoherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                                                      : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  if (!rays.ignore_body.empty()) {
+    ignoring.context.filter = &reject_ignored_body;
+    ignoring.instance_body = &s.instance_body;
+    ignoring.ignore_body = rays.ignore_body.data();
+  }
+  for (std::size_t i = begin; i < end;) {
+    std::size_t block_end = std::min(end, i + kBlock);
+    if (i % 4 != 0) block_end = std::min(block_end, (i + 3) / 4 * 4);  // later blocks start aligned
+    validate_rays(rays, i, block_end);
+    s.occlude_block(rays, i, block_end, &ignoring.context, blocked.data());
+    i = block_end;
+  }
 }
 
 int EmbreeScene::num_bodies() const { return impl_->world->num_bodies; }

@@ -131,6 +131,16 @@ class EmbreeScene {
   void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, QueryPath path,
                  RayHits& hits) const;
 
+  // Whether anything lies on each ray of [begin, end) between its t_near and t_far: blocked[i] = 1 if
+  // so, else 0 (`blocked` must already have rays.size() entries; entries outside the range are left
+  // alone). A shadow-ray query: Embree stops at the first surface found (rtcOccludedNp, or packets
+  // when the arrays are not 16-byte aligned), cheaper than intersect(), which finds the nearest. A ray's
+  // ignore_body is left out by a filter on the candidate hits, so the answer is intersect()'s "hit or
+  // not" (intersect() steps 0.1 mm past each ignored surface, at most kMaxIgnoredHits times: the two
+  // differ only for another surface within 0.1 mm behind an ignored one). Thread-safe with itself and
+  // intersect(); throws as intersect() does.
+  void occluded(const RayBatch& rays, std::size_t begin, std::size_t end, std::vector<std::uint8_t>& blocked) const;
+
   // 1 + the largest body index that has a mesh (the number of poses set_body_poses needs); 0 without
   // bodies.
   int num_bodies() const;
