@@ -11,6 +11,7 @@ namespace hadal::sensors {
 namespace {
 
 constexpr double kExactPoissonBelow = 30.0;  // electrons (header)
+constexpr double kMergeSigmas = 6.0;         // shot and read noise drawn as one normal (header)
 
 [[noreturn]] void invalid(const std::string& field, const std::string& what) {
   throw std::invalid_argument(field + ": " + what);
@@ -31,7 +32,7 @@ double poisson(RandomStream& stream, double mu) {
     }
     return k;
   }
-  return std::max(0.0, mu + std::sqrt(mu) * stream.normal());
+  return std::max(0.0, mu + std::sqrt(mu) * stream.ziggurat_normal());
 }
 
 }  // namespace
@@ -52,6 +53,8 @@ std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::ve
   std::vector<std::uint8_t> rgb(3 * radiance.size());
   const std::string frame = "frame " + std::to_string(frame_index) + " block ";
   const std::size_t blocks = (radiance.size() + kExposureBlockPixels - 1) / kExposureBlockPixels;
+  const Eigen::Array3d scale = spec.sensitivity * spec.exposure_s;  // electrons per W/(m^2 sr)
+  const double read_variance = spec.read_noise_e * spec.read_noise_e;
   parallel(blocks, [&](std::size_t block) {
     RandomStream stream(derive_key(key, frame + std::to_string(block)));
     const std::size_t end = std::min(radiance.size(), (block + 1) * kExposureBlockPixels);
@@ -62,12 +65,18 @@ std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::ve
         falloff = (c * c) * (c * c);
       }
       for (int ch = 0; ch < 3; ++ch) {
-        const double mu = spec.sensitivity[ch] * std::max(0.0, radiance[i][ch]) * spec.exposure_s * falloff;
-        double electrons = spec.shot_noise ? poisson(stream, mu) : mu;
-        electrons = std::min(electrons, spec.full_well_e);
-        if (spec.read_noise_e > 0.0) electrons += spec.read_noise_e * stream.normal();
-        const double dn = std::round(spec.gain_dn_per_e * electrons);
-        rgb[3 * i + ch] = static_cast<std::uint8_t>(std::clamp(dn, 0.0, 255.0));
+        const double mu = scale[ch] * std::max(0.0, radiance[i][ch]) * falloff;
+        double electrons = 0.0;
+        if (spec.shot_noise && mu >= kExactPoissonBelow && mu + kMergeSigmas * std::sqrt(mu) <= spec.full_well_e) {
+          // Shot and read noise in one draw (header): the clips at 0 and at the full well lie beyond
+          // kMergeSigmas sigma, so the sum of the two normals is the whole story.
+          electrons = mu + std::sqrt(mu + read_variance) * stream.ziggurat_normal();
+        } else {
+          electrons = std::min(spec.shot_noise ? poisson(stream, mu) : mu, spec.full_well_e);
+          if (spec.read_noise_e > 0.0) electrons += spec.read_noise_e * stream.ziggurat_normal();
+        }
+        const double dn = std::clamp(spec.gain_dn_per_e * electrons, 0.0, 255.0);
+        rgb[3 * i + ch] = static_cast<std::uint8_t>(dn + 0.5);  // round half up (dn >= 0)
       }
     }
   });

@@ -160,6 +160,18 @@ double portable_log(double x) {
   return de * kLn2Hi + (de * kLn2Lo + 2.0 * z * p);
 }
 
+double portable_exp(double x) {
+  constexpr double kLn2Hi = 0x1.62e42fee00000p-1;
+  constexpr double kLn2Lo = 0x1.a39ef35793c76p-33;
+  constexpr double kInvLn2 = 1.44269504088896338700;
+  const double k = std::floor(x * kInvLn2 + 0.5);  // |k| <= 1010: k ln2_hi exact (21 trailing zero bits)
+  const double r = (x - k * kLn2Hi) - k * kLn2Lo;  // |r| <= ln 2 / 2 (+ rounding)
+  // e^r = 1 + r (1 + r/2 (1 + r/3 (... (1 + r/14)))).
+  double p = 1.0;
+  for (int n = 14; n >= 1; --n) p = 1.0 + r / n * p;
+  return std::ldexp(p, static_cast<int>(k));
+}
+
 RandomStream::RandomStream(std::uint64_t key) {
   for (std::uint64_t i = 0; i < 4; ++i) s_[i] = splitmix64(key + i * kGolden);
 }
@@ -195,6 +207,54 @@ double RandomStream::normal() {
   spare_ = v * f;
   has_spare_ = true;
   return u * f;
+}
+
+namespace {
+
+// The 256-layer ziggurat of N(0, 1)'s density f(x) = exp(-x^2 / 2) (unnormalised): layer i (0..255) is
+// the rectangle [0, x[i]] x [f(x[i]), f(x[i + 1])], x decreasing from x[1] = r to x[256] = 0; every
+// layer has area v, and layer 0 (width x[0] = v / f(r)) stands for the base strip [0, r] x [0, f(r)]
+// plus the tail beyond r. r and v: Marsaglia & Tsang (2000), 256 layers.
+struct Ziggurat {
+  static constexpr double kR = 3.6541528853610088;
+  static constexpr double kV = 0.00492867323399;
+  std::array<double, 257> x{};
+  std::array<double, 257> f{};
+  Ziggurat() {
+    x[0] = kV / portable_exp(-0.5 * kR * kR);
+    x[1] = kR;
+    for (int i = 1; i < 255; ++i) x[i + 1] = std::sqrt(-2.0 * portable_log(kV / x[i] + portable_exp(-0.5 * x[i] * x[i])));
+    x[256] = 0.0;
+    for (int i = 0; i <= 256; ++i) f[i] = portable_exp(-0.5 * x[i] * x[i]);
+  }
+};
+
+const Ziggurat& ziggurat() {
+  static const Ziggurat table;
+  return table;
+}
+
+}  // namespace
+
+double RandomStream::ziggurat_normal() {
+  const Ziggurat& z = ziggurat();
+  for (;;) {
+    const std::uint64_t bits = next_u64();
+    const int i = static_cast<int>(bits & 0xff);
+    const double sign = (bits & 0x100) ? -1.0 : 1.0;
+    const double x = static_cast<double>(bits >> 11) * 0x1.0p-53 * z.x[i];
+    if (x < z.x[i + 1]) return sign * x;  // inside the part of the layer under the curve
+    if (i == 0) {  // the tail beyond r (Marsaglia 1964): r + a, a ~ Exp(r), accepted with exp(-a^2 / 2)
+      double a = 0.0, b = 0.0;
+      do {
+        a = -portable_log(1.0 - uniform()) / Ziggurat::kR;
+        b = -portable_log(1.0 - uniform());
+      } while (b + b < a * a);
+      return sign * (Ziggurat::kR + a);
+    }
+    // The wedge: a uniform height in the layer, accepted under the curve.
+    if (z.f[i] + uniform() * (z.f[i + 1] - z.f[i]) < portable_exp(-0.5 * x * x)) return sign * x;
+  }
 }
 
 // --- processes -----------------------------------------------------------------------------------------

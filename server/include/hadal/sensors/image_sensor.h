@@ -8,15 +8,21 @@
 //                    above (the normal approximation's error there is below 1 % of sigma)
 //   full well        electrons clipped to full_well_e
 //   read noise       + read_noise_e N(0,1)
-//   counts           DN = round(gain_dn_per_e * electrons), clipped to [0, 255]
+//   counts           DN = gain_dn_per_e * electrons clipped to [0, 255], rounded half up
 // 'sensitivity' [electrons per second per W/(m^2 sr)] lumps the lens (f-number, transmission), the pixel
 // area, the quantum efficiency and the photon energy of each channel: it is the one figure to fit to a
 // real camera's exposure. Noise off (shot_noise false, read_noise_e 0) gives the rounded mean.
 //
+// Where mu >= 30 and the full well is at least 6 sigma above mu, shot and read noise are one normal
+// draw, mu + sqrt(mu + read_noise_e^2) N(0,1): the sum of the two independent normals, exact while
+// neither clip can act (each is beyond 5.4 sigma: probability < 1e-7 per pixel). Half the draws on a
+// well-exposed frame.
+//
 // Random streams of frame k: one per block of kExposureBlockPixels pixels in row-major order,
 // derive_key(key, "frame <k> block <j>") (sensors/noise.h), drawn pixel by pixel, R, G, B; a pixel
-// draws its Poisson variate first, then its read noise. Blocks are independent tasks of a parallel
-// loop, so the image does not depend on the threads that expose it.
+// draws its Poisson variate first, then its read noise (or the one merged draw); normals are
+// RandomStream::ziggurat_normal. Blocks are independent tasks of a parallel loop, so the image does not
+// depend on the threads that expose it.
 #pragma once
 
 #include <Eigen/Core>
