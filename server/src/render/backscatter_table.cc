@@ -70,10 +70,8 @@ void BackscatterTable::locate(const std::vector<int>& nodes, int x, std::size_t*
   *weight = std::clamp(static_cast<double>(x - nodes[i]) / (nodes[i + 1] - nodes[i]), 0.0, 1.0);
 }
 
-Rgb BackscatterTable::cumulative(std::size_t node, double t) const {
+Rgb BackscatterTable::cumulative(std::size_t node, std::size_t k, double f) const {
   const std::size_t stride = 3 * static_cast<std::size_t>(samples_ + 1);
-  const std::size_t k = std::min(static_cast<std::size_t>(t), static_cast<std::size_t>(samples_ - 1));
-  const double f = t - static_cast<double>(k);
   const float* lo = &cumulative_[node * stride + 3 * k];
   Rgb value;
   for (int ch = 0; ch < 3; ++ch) value[ch] = lo[ch] + f * (static_cast<double>(lo[3 + ch]) - lo[ch]);
@@ -84,14 +82,17 @@ Rgb BackscatterTable::at(int u, int v, double s_end) const {
   if (node_u_.empty()) return Rgb::Zero();
   const double s = std::clamp(s_end, s0_, s_max_);
   const double t = samples_ * std::log(s / s0_) / log_ratio_;  // position in the s grid, 0..samples
+  // The interval of the s grid and the position in it: the same for the four nodes.
+  const std::size_t k = std::min(static_cast<std::size_t>(t), static_cast<std::size_t>(samples_ - 1));
+  const double f = t - static_cast<double>(k);
   std::size_t i, j;
   double wu, wv;
   locate(node_u_, u, &i, &wu);
   locate(node_v_, v, &j, &wv);
   const std::size_t columns = node_u_.size();
   const std::size_t i1 = std::min(i + 1, columns - 1), j1 = std::min(j + 1, node_v_.size() - 1);
-  return (1.0 - wv) * ((1.0 - wu) * cumulative(j * columns + i, t) + wu * cumulative(j * columns + i1, t)) +
-         wv * ((1.0 - wu) * cumulative(j1 * columns + i, t) + wu * cumulative(j1 * columns + i1, t));
+  return (1.0 - wv) * ((1.0 - wu) * cumulative(j * columns + i, k, f) + wu * cumulative(j * columns + i1, k, f)) +
+         wv * ((1.0 - wu) * cumulative(j1 * columns + i, k, f) + wu * cumulative(j1 * columns + i1, k, f));
 }
 
 }  // namespace hadal::render

@@ -20,7 +20,65 @@ geometry::RayHits cast(const geometry::EmbreeScene& scene, const geometry::RayBa
   return hits;
 }
 
+double backscatter_start_m(float near_m) { return std::max(static_cast<double>(near_m), 1e-3); }
+
+double backscatter_end_m(const FrameLighting& lighting, float far_m) {
+  return std::isfinite(far_m) ? static_cast<double>(far_m) : lighting.max_backscatter_range_m;
+}
+
 }  // namespace
+
+std::shared_ptr<const BackscatterTable> make_backscatter_table(const FrameLighting& lighting,
+                                                               const std::vector<SpotLight>& lights_C, const Lens& lens,
+                                                               float near_m, float far_m, const ParallelFor& parallel) {
+  const double s0 = backscatter_start_m(near_m), s_max = backscatter_end_m(lighting, far_m);
+  if (lights_C.empty() || !(lighting.water.scattering_per_m > 0.0).any() || !(s_max > s0)) return nullptr;
+  return std::make_shared<const BackscatterTable>(lighting.water, lights_C, lens, Eigen::Isometry3d::Identity(), s0,
+                                                  s_max, lighting.backscatter_samples, lighting.backscatter_grid_px,
+                                                  parallel);
+}
+
+namespace {
+
+bool same_light(const SpotLight& a, const SpotLight& b) {
+  return a.p_WL == b.p_WL && a.axis_W == b.axis_W && a.inner_half_angle_rad == b.inner_half_angle_rad &&
+         a.outer_half_angle_rad == b.outer_half_angle_rad && (a.intensity_W_per_sr == b.intensity_W_per_sr).all();
+}
+
+}  // namespace
+
+std::shared_ptr<const BackscatterTable> BackscatterTableCache::get(const FrameLighting& lighting,
+                                                                   const std::vector<SpotLight>& lights_C,
+                                                                   const std::shared_ptr<const Lens>& lens,
+                                                                   float near_m, float far_m,
+                                                                   const ParallelFor& parallel) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const WaterOptics& water = lighting.water;
+  const bool same = valid_ && (water_.absorption_per_m == water.absorption_per_m).all() &&
+                    (water_.scattering_per_m == water.scattering_per_m).all() && water_.phase_g == water.phase_g &&
+                    samples_ == lighting.backscatter_samples && grid_px_ == lighting.backscatter_grid_px &&
+                    max_range_m_ == lighting.max_backscatter_range_m && lens_ == lens && near_m_ == near_m &&
+                    far_m_ == far_m && lights_C_.size() == lights_C.size() &&
+                    std::equal(lights_C.begin(), lights_C.end(), lights_C_.begin(), same_light);
+  if (same) return table_;
+  table_ = make_backscatter_table(lighting, lights_C, *lens, near_m, far_m, parallel);
+  valid_ = true;
+  water_ = water;
+  samples_ = lighting.backscatter_samples;
+  grid_px_ = lighting.backscatter_grid_px;
+  max_range_m_ = lighting.max_backscatter_range_m;
+  lens_ = lens;
+  near_m_ = near_m;
+  far_m_ = far_m;
+  lights_C_ = lights_C;
+  ++made_;
+  return table_;
+}
+
+std::size_t BackscatterTableCache::tables_made() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return made_;
+}
 
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
                               float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
@@ -45,17 +103,24 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
 
   // Scattered light along the rays: the lights' backscatter (from the table, up to s_max at most) and
   // daylight's path radiance (closed form).
-  const double s0 = std::max(static_cast<double>(near_m), 1e-3);
-  const double s_max = std::isfinite(far_m) ? static_cast<double>(far_m) : lighting.max_backscatter_range_m;
+  const double s0 = backscatter_start_m(near_m);
   const bool scattering = (lighting.water.scattering_per_m > 0.0).any();
   const bool daylit_water = scattering && (lighting.daylight.surface_irradiance_W_per_m2 > 0.0).any();
-  std::optional<BackscatterTable> backscatter;
-  if (scattering && !lighting.lights.empty() && s_max > s0) {
-    backscatter.emplace(lighting.water, lighting.lights, lens, X_WC, s0, s_max, lighting.backscatter_samples,
-                        lighting.backscatter_grid_px, parallel);
+  std::shared_ptr<const BackscatterTable> backscatter = lighting.backscatter;
+  if (!backscatter) {
+    std::vector<SpotLight> lights_C = lighting.lights;
+    const Eigen::Isometry3d X_CW = X_WC.inverse();
+    for (SpotLight& light : lights_C) {
+      light.p_WL = X_CW * light.p_WL;
+      light.axis_W = X_CW.linear() * light.axis_W;
+    }
+    backscatter = make_backscatter_table(lighting, lights_C, lens, near_m, far_m, parallel);
   }
   const std::vector<LightBeam> beams(lighting.lights.begin(), lighting.lights.end());
   const Rgb c = lighting.water.attenuation_per_m();
+  // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
+  // rays hold it).
+  const Rgb E_camera = lighting.daylight.irradiance_at(static_cast<float>(X_WC.translation().z()));
 
   const int bands = (lens.height_px() + kBandRows - 1) / kBandRows;
   std::vector<std::size_t> band_shadow_rays(static_cast<std::size_t>(bands), 0);
@@ -117,10 +182,11 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       shadow_pixel.push_back(i);
       shadow_light.push_back(kSky);
     }
-    const geometry::RayHits blocked = cast(scene, shadows);
+    std::vector<std::uint8_t> blocked(shadows.size());
+    if (shadows.size() > 0) scene.occluded(shadows, 0, shadows.size(), blocked);
     band_shadow_rays[band] = shadows.size();
     for (std::size_t k = 0; k < shadows.size(); ++k) {
-      if (blocked.hit(k)) continue;
+      if (blocked[k] != 0) continue;
       const std::size_t i = shadow_pixel[k];
       const double d_camera = static_cast<double>(hits.distance[i]);
       if (shadow_light[k] == kSky) {
@@ -138,7 +204,8 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
         frame.radiance[first + i] += backscatter->at(u, v, s_end);
       }
       if (daylit_water) {
-        frame.radiance[first + i] += daylight_path_radiance(lighting.water, lighting.daylight, origin_W(i), direction_W(i), s0, s_end);
+        frame.radiance[first + i] +=
+            daylight_path_radiance(lighting.water, lighting.daylight, E_camera, origin_W(i), direction_W(i), s0, s_end);
       }
     }
   });

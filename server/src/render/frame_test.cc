@@ -227,5 +227,68 @@ TEST(FrameTest, SameFrameOnTheRayCastWorkers) {
   }
 }
 
+// A camera whose lights ride with it keeps its backscatter table (BackscatterTableCache): the cache
+// makes one table for the same inputs and a new one when a light moves relative to the camera, and a
+// frame given the kept table is the frame that makes its own (bit for bit), here with the camera posed
+// away from the world origin (the table lives in the camera frame).
+TEST(FrameTest, KeptBackscatterTableGivesTheSameFrame) {
+  const auto lens = std::make_shared<const Lens>(make_lens(lens_from_horizontal_fov(160, 120, 1.2)));
+  const EmbreeScene scene = wall_scene();
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
+  lighting.water.scattering_per_m = Rgb::Constant(0.08);
+  Eigen::Isometry3d X_WC = X_SC();
+  X_WC.pretranslate(Eigen::Vector3d(0.5, -0.25, 0.125));
+  std::vector<SpotLight> lights_C(2);
+  lights_C[0].p_WL = Eigen::Vector3d(0.5, 0.0, 0.0);
+  lights_C[1].p_WL = Eigen::Vector3d(-0.5, 0.0, 0.0);
+  lights_C[0].axis_W = lights_C[1].axis_W = Eigen::Vector3d::UnitZ();
+  for (const SpotLight& light : lights_C) {
+    SpotLight world = light;
+    world.p_WL = X_WC * light.p_WL;
+    world.axis_W = X_WC.linear() * light.axis_W;
+    lighting.lights.push_back(world);
+  }
+  // render_radiance's own table: the world lights taken into the camera frame, which rounds; the kept
+  // table from lights_C made the same way so that the two frames can be compared bit for bit.
+  std::vector<SpotLight> lights_C_as_rendered = lighting.lights;
+  for (SpotLight& light : lights_C_as_rendered) {
+    light.p_WL = X_WC.inverse() * light.p_WL;
+    light.axis_W = X_WC.inverse().linear() * light.axis_W;
+  }
+  const RadianceFrame own = render_radiance(scene, *lens, X_WC, 0.1f, 50.0f, geometry::kNoHit, lighting, white);
+
+  BackscatterTableCache cache;
+  const auto table = cache.get(lighting, lights_C_as_rendered, lens, 0.1f, 50.0f, serial_for);
+  ASSERT_NE(table, nullptr);
+  EXPECT_EQ(cache.get(lighting, lights_C_as_rendered, lens, 0.1f, 50.0f, serial_for), table);
+  EXPECT_EQ(cache.tables_made(), 1u);
+  FrameLighting with_table = lighting;
+  with_table.backscatter = table;
+  expect_same_frame(render_radiance(scene, *lens, X_WC, 0.1f, 50.0f, geometry::kNoHit, with_table, white), own);
+
+  // The exact camera-frame lights give a table within float rounding of it: the same picture.
+  const auto exact = cache.get(lighting, lights_C, lens, 0.1f, 50.0f, serial_for);
+  EXPECT_EQ(cache.tables_made(), lights_C[0].p_WL == lights_C_as_rendered[0].p_WL ? 1u : 2u);
+  with_table.backscatter = exact;
+  const RadianceFrame from_exact = render_radiance(scene, *lens, X_WC, 0.1f, 50.0f, geometry::kNoHit, with_table, white);
+  for (std::size_t i = 0; i < own.radiance.size(); ++i) {
+    ASSERT_NEAR((from_exact.radiance[i] - own.radiance[i]).abs().maxCoeff(), 0.0, 1e-5 * own.radiance[i].maxCoeff() + 1e-12);
+  }
+  // A light moved relative to the camera, another far clip, another water: new tables.
+  std::vector<SpotLight> moved = lights_C;
+  moved[1].p_WL.x() = -0.75;
+  const std::size_t made = cache.tables_made();
+  EXPECT_NE(cache.get(lighting, moved, lens, 0.1f, 50.0f, serial_for), exact);
+  EXPECT_NE(cache.get(lighting, moved, lens, 0.1f, 40.0f, serial_for), nullptr);
+  FrameLighting clearer = lighting;
+  clearer.water.scattering_per_m = Rgb::Constant(0.02);
+  EXPECT_NE(cache.get(clearer, moved, lens, 0.1f, 40.0f, serial_for), nullptr);
+  EXPECT_EQ(cache.tables_made(), made + 3);
+  // No scattering: no table.
+  clearer.water.scattering_per_m = Rgb::Zero();
+  EXPECT_EQ(cache.get(clearer, moved, lens, 0.1f, 40.0f, serial_for), nullptr);
+}
+
 }  // namespace
 }  // namespace hadal::render

@@ -63,26 +63,34 @@ Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const
                               const Eigen::Vector3d& n_W, const Rgb& c_per_m, double d_camera_m) {
   const double sky_share = 0.5 * (1.0 + n_W.z());  // isotropic-sky tilt factor (header)
   if (!(sky_share > 0.0)) return Rgb::Zero();
-  return albedo / kPi * daylight.irradiance_at(p_W.z()) * sky_share * transmittance(c_per_m, d_camera_m);
+  // E_d(z) exp(-c d_camera) = E0 exp(-(Kd depth + c d_camera)): one exp per channel.
+  const double depth = std::max(0.0, daylight.surface_z_m - p_W.z());
+  const Rgb optical_depth = daylight.Kd_per_m * depth + c_per_m * d_camera_m;
+  return albedo / kPi * daylight.surface_irradiance_W_per_m2 * sky_share *
+         (-optical_depth).cast<float>().exp().cast<double>();
 }
 
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
                            const Eigen::Vector3d& d_W, double s0, double s1) {
+  return daylight_path_radiance(water, daylight, daylight.irradiance_at(o_W.z()), o_W, d_W, s0, s1);
+}
+
+Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Rgb& E_origin,
+                           const Eigen::Vector3d& o_W, const Eigen::Vector3d& d_W, double s0, double s1) {
   if (!(s0 >= 0.0 && s1 > s0)) throw std::invalid_argument("daylight_path_radiance: need 0 <= s0 < s1");
   if ((water.scattering_per_m == 0.0).all()) return Rgb::Zero();
   // A ray going up leaves the water at the surface.
   if (d_W.z() > 0.0) s1 = std::min(s1, std::max(0.0, (daylight.surface_z_m - o_W.z()) / d_W.z()));
   if (!(s1 > s0)) return Rgb::Zero();
-  const Rgb scale = water.scattering_per_m * henyey_greenstein(water.phase_g, d_W.z()) * daylight.irradiance_at(o_W.z());
+  const Rgb scale = water.scattering_per_m * henyey_greenstein(water.phase_g, d_W.z()) * E_origin;
   // k > 0 on every downward or level ray (c >= b > 0 where b > 0), and s1 is finite on an upward one.
+  // The exponentials in single precision, as transmittance() (relative error ~1e-7).
   const Rgb k = water.attenuation_per_m() - daylight.Kd_per_m * d_W.z();
+  const Eigen::Array3f near = (-(k * s0)).cast<float>().exp();
+  const Eigen::Array3f far = std::isfinite(s1) ? Eigen::Array3f((-(k * s1)).cast<float>().exp()) : Eigen::Array3f::Zero();
   Rgb integral;
   for (int ch = 0; ch < 3; ++ch) {
-    if (std::abs(k[ch]) * s1 < 1e-9) {
-      integral[ch] = s1 - s0;
-    } else {
-      integral[ch] = (std::exp(-k[ch] * s0) - (std::isfinite(s1) ? std::exp(-k[ch] * s1) : 0.0)) / k[ch];
-    }
+    integral[ch] = std::abs(k[ch]) * s1 < 1e-9 ? s1 - s0 : (static_cast<double>(near[ch]) - far[ch]) / k[ch];
   }
   return scale * integral;
 }

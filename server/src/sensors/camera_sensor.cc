@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include "hadal/config/yaml_reader.h"
@@ -28,6 +29,16 @@ using config::Range;
 
 namespace {
 
+render::SpotLight spot_light(const LightSpec& light, const Eigen::Isometry3d& X_AF) {
+  render::SpotLight spot;
+  spot.p_WL = X_AF.translation();
+  spot.axis_W = X_AF.linear().col(0).normalized();
+  spot.inner_half_angle_rad = light.inner_half_angle;
+  spot.outer_half_angle_rad = light.outer_half_angle;
+  spot.intensity_W_per_sr = light.intensity_W_per_sr;
+  return spot;
+}
+
 // Every vehicle's lights posed at the snapshot, and the world's optics.
 render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB) {
   render::FrameLighting lighting;
@@ -37,18 +48,29 @@ render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::I
   for (std::size_t i = 0; i < model.vehicles.size() && i < X_WB.size(); ++i) {
     const VehicleSpec& vehicle = model.vehicles[i];
     for (const LightSpec& light : vehicle.lights) {
-      const Eigen::Isometry3d X_WF =
-          X_WB[i] * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF;
-      render::SpotLight spot;
-      spot.p_WL = X_WF.translation();
-      spot.axis_W = X_WF.linear().col(0).normalized();
-      spot.inner_half_angle_rad = light.inner_half_angle;
-      spot.outer_half_angle_rad = light.outer_half_angle;
-      spot.intensity_W_per_sr = light.intensity_W_per_sr;
-      lighting.lights.push_back(spot);
+      lighting.lights.push_back(
+          spot_light(light, X_WB[i] * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF));
     }
   }
   return lighting;
+}
+
+// The lights in the camera's optical frame C when they all ride on the camera's own vehicle (rigid:
+// the same in every frame, from the specs alone, so their backscatter table is kept); nullopt when
+// another vehicle has lights (they move relative to the camera).
+std::optional<std::vector<render::SpotLight>> own_lights_C(const Model& model, int vehicle_index,
+                                                           const Eigen::Isometry3d& X_BS) {
+  std::vector<render::SpotLight> lights_C;
+  const Eigen::Isometry3d X_CB = (X_BS * render::X_SC()).inverse();
+  for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
+    const VehicleSpec& vehicle = model.vehicles[i];
+    if (vehicle.lights.empty()) continue;
+    if (static_cast<int>(i) != vehicle_index) return std::nullopt;
+    for (const LightSpec& light : vehicle.lights) {
+      lights_C.push_back(spot_light(light, X_CB * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF));
+    }
+  }
+  return lights_C;
 }
 
 // The albedo of a surface point (render::AlbedoAt): the seabed's, or the hit link's appearance
@@ -167,6 +189,7 @@ void CameraSensor::set_lens(Spec& spec, const render::LensSpec& lens) {
   for (const Eigen::Vector3f& d : made->rays_C()) cos_theta->push_back(d.z());
   spec.lens = std::move(made);
   spec.cos_theta = std::move(cos_theta);
+  spec.backscatter_cache = std::make_shared<render::BackscatterTableCache>();
 }
 
 CameraSensor::State CameraSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {
@@ -181,12 +204,17 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   const Eigen::Isometry3d X_WC = context.X_WS() * render::X_SC();
   const std::int32_t own_body = static_cast<std::int32_t>(context.vehicle_index);
   const std::uint64_t key = state.noise_key, frame = context.step_count;
-  return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB,
-          lighting = lighting_at(*context.model, context.X_WB)](const geometry::EmbreeScene& scene,
-                                                                const ParallelFor& parallel) {
+  render::FrameLighting lighting = lighting_at(*context.model, context.X_WB);
+  return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB, lighting = std::move(lighting),
+          lights_C = own_lights_C(*context.model, context.vehicle_index, context.X_BS)](
+             const geometry::EmbreeScene& scene, const ParallelFor& parallel) mutable {
     const auto albedo = [&](std::uint32_t material, std::int32_t body, const Eigen::Vector3d& p_W) {
       return surface_albedo(*model, X_WB, material, body, p_W);
     };
+    if (lights_C && spec.backscatter_cache) {
+      lighting.backscatter = spec.backscatter_cache->get(lighting, *lights_C, spec.lens, static_cast<float>(spec.near_m),
+                                                         static_cast<float>(spec.far_m), parallel);
+    }
     render::RadianceFrame frame_radiance =
         render::render_radiance(scene, *spec.lens, X_WC, static_cast<float>(spec.near_m), static_cast<float>(spec.far_m),
                                 own_body, lighting, albedo, parallel);

@@ -10,6 +10,7 @@
 
 #include "hadal/core/units.h"
 #include "hadal/geometry/raycast_service.h"
+#include "hadal/render/frame.h"
 #include "sensor_test_support.h"
 
 namespace hadal::sensors {
@@ -108,6 +109,24 @@ TEST(CameraSensorTest, NoiseIsSeededPerFrameAndOpenWaterShowsBackscatter) {
   SensorTestWorld turbid(lit_world(0.2), true);
   const CameraSensor::Capture turbid_water = capture(turbid, short_sighted, state);
   for (int ch = 0; ch < 3; ++ch) EXPECT_GT(turbid_water.image[3 * centre + ch], 0) << ch;
+}
+
+// The light rides on the camera's vehicle: its backscatter table is made for the first frame and kept
+// (render::BackscatterTableCache), whatever the vehicle's pose; a frame rendered with the kept table is
+// the same as the first one.
+TEST(CameraSensorTest, BackscatterTableOfOwnLightsIsMadeOnce) {
+  SensorTestWorld world(lit_world(0.2), true);
+  CameraSensor::Spec spec = camera_spec(false);
+  spec.far_m = 5.0;
+  const CameraSensor::State state = world.initial_state<CameraSensor>(spec, 10.0, "cam");
+  const CameraSensor::Capture first = capture(world, spec, state, 1);
+  ASSERT_NE(spec.backscatter_cache, nullptr);
+  EXPECT_EQ(spec.backscatter_cache->tables_made(), 1u);
+  world.state.vehicles[0].body.X_WB = pose(Eigen::Vector3d(3.0, -2.0, -95.0), rpy(0.1, 0.2, 0.3));
+  capture(world, spec, state, 2);
+  world.state.vehicles[0].body.X_WB = pose(Eigen::Vector3d(0.0, 0.0, -100.0 + kAltitude), rpy(0.0, 0.0, 0.0));
+  EXPECT_EQ(capture(world, spec, state, 1).image, first.image);
+  EXPECT_EQ(spec.backscatter_cache->tables_made(), 1u);
 }
 
 TEST(CameraSensorTest, Messages) {

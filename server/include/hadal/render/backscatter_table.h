@@ -45,7 +45,8 @@ class BackscatterTable {
  private:
   // Node index below pixel coordinate x in a node list, and the weight of the node after it.
   void locate(const std::vector<int>& nodes, int x, std::size_t* below, double* weight) const;
-  Rgb cumulative(std::size_t node, double t) const;
+  // A node's cumulative integral at position f in interval k of the s grid.
+  Rgb cumulative(std::size_t node, std::size_t k, double f) const;
 
   std::vector<int> node_u_, node_v_;  // pixel columns and rows of the nodes
   int grid_ = 1;  // [px]

@@ -23,6 +23,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "hadal/geometry/embree_scene.h"
@@ -49,6 +51,9 @@ struct FrameLighting {
   float shadow_bias_m = 1e-3f;             // shadow rays start this far off the surface [m]
   double max_backscatter_range_m = 200.0;  // backscatter of a miss with an infinite far clip [m]
   MarineSnow marine_snow;  // none by default (density 0); drawn after the bands (render/marine_snow.h)
+  // The frame's backscatter table if the caller already has it for these lights as this camera sees
+  // them (BackscatterTableCache below); null: render_radiance makes one for the frame.
+  std::shared_ptr<const BackscatterTable> backscatter;
 };
 
 struct RadianceFrame {
@@ -58,6 +63,38 @@ struct RadianceFrame {
   std::vector<float> depth_m;
   std::size_t shadow_rays = 0;  // shadow rays cast (lights and sky), for statistics
   std::size_t snow_particles = 0;  // marine snow particles drawn
+};
+
+// The backscatter table render_radiance integrates for `lights_C`, the lights in the camera's optical
+// frame C, with this lens and clip (the table depends only on where the lights are relative to the
+// camera: the water is uniform). Null when nothing scatters (no lights, no scattering, or no range
+// between the near clip and the far clip or max_backscatter_range_m). Throws as BackscatterTable does.
+std::shared_ptr<const BackscatterTable> make_backscatter_table(const FrameLighting& lighting,
+                                                               const std::vector<SpotLight>& lights_C, const Lens& lens,
+                                                               float near_m, float far_m, const ParallelFor& parallel);
+
+// One camera's backscatter table, kept while its inputs stay the same: a camera whose lights ride on its
+// own vehicle sees them in the same place in every frame, so their table (a fifth of a frame's work)
+// is made once. get() compares the inputs (water, table settings, lens, clip and lights_C, exactly) with
+// those of the kept table and makes a new one when any differs. Thread-safe.
+class BackscatterTableCache {
+ public:
+  std::shared_ptr<const BackscatterTable> get(const FrameLighting& lighting, const std::vector<SpotLight>& lights_C,
+                                              const std::shared_ptr<const Lens>& lens, float near_m, float far_m,
+                                              const ParallelFor& parallel);
+  std::size_t tables_made() const;  // how many get() has made (tests)
+
+ private:
+  mutable std::mutex mutex_;
+  bool valid_ = false;
+  WaterOptics water_;
+  int samples_ = 0, grid_px_ = 0;
+  double max_range_m_ = 0.0;
+  std::shared_ptr<const Lens> lens_;
+  float near_m_ = 0.0f, far_m_ = 0.0f;
+  std::vector<SpotLight> lights_C_;
+  std::shared_ptr<const BackscatterTable> table_;
+  std::size_t made_ = 0;
 };
 
 // The albedo (0..1 per channel) of a surface point a ray hit: its material id and body

@@ -94,6 +94,9 @@ Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const
 // and b p(d_z) E_d(z_o) (s1 - s0) in the limit k -> 0.
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
                            const Eigen::Vector3d& d_W, double s0, double s1);
+// The same with E_d(z_o) = daylight.irradiance_at(o_W.z()) given (a camera's rays share their origin).
+Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Rgb& E_origin,
+                           const Eigen::Vector3d& o_W, const Eigen::Vector3d& d_W, double s0, double s1);
 
 // Beam transmittance exp(-c d) per channel over a path of d metres. Evaluated in single precision
 // (relative error ~1e-7, far below any image's noise; a third of the cost of three double exps, and the

@@ -48,6 +48,10 @@ class CameraInfo;
 class CameraInfoPubSubType;
 }  // namespace sensor_msgs::msg
 
+namespace hadal::render {
+class BackscatterTableCache;
+}  // namespace hadal::render
+
 namespace hadal::sensors {
 
 struct CameraSensor {
@@ -59,6 +63,10 @@ struct CameraSensor {
     using Kind = CameraSensor;
     std::shared_ptr<const render::Lens> lens;  // the calibration and its ray table (shared, immutable)
     std::shared_ptr<const std::vector<float>> cos_theta;  // z_C of each pixel's ray (vignetting)
+    // The backscatter table of the lights on the camera's own vehicle, kept from frame to frame
+    // (render/frame.h); shared by copies of the spec, rebuilt if its inputs change. Made by read() and
+    // set_lens(); without one, every frame makes its table.
+    std::shared_ptr<render::BackscatterTableCache> backscatter_cache;
     double near_m = 0.1;
     double far_m = 50.0;
     bool mono = false;  // mono8 instead of rgb8
