@@ -314,6 +314,40 @@ std::set<std::string> fastdds_shm_files() {
   return names;
 }
 
+// Real time never waits for the renderer: a camera whose frames cannot be ready by their due step
+// (1600 x 1200 at 20 Hz, no latency: due 2 ms after their snapshot, where a frame takes a good fraction
+// of a second on any CPU) has them dropped and counted in rt/hadal/status; the server keeps stepping
+// in real time and summarises the count.
+TEST(HadaldTest, LateCameraFramesAreDroppedAndCountedInTheStatus) {
+  const std::string path = "/tmp/hadald-test-late-camera-" + std::to_string(::getpid()) + ".yaml";
+  {
+    std::ofstream f(path);
+    f << "world:\n  physics_rate_hz: 500\n  seabed: {type: plane, z: -100.0}\n"
+         "vehicles:\n  - name: auv\n    include: " << source_path("configs/vehicles/torpedo_auv.yaml") << "\n"
+         "    initial_pose: {position: [0.0, 0.0, -96.0]}\n"
+         "    sensors:\n      - {name: camera, type: camera, link: hull, rate_hz: 20, latency_s: 0.0,"
+         " width: 1600, height: 1200, pose: {rpy_deg: [0.0, 30.0, 0.0]}}\n";
+  }
+  DomainLease domain;
+  ServerProcess server({path, "--mode", "realtime", "--domain-id", std::to_string(domain.id())});
+  Client client(ClientOptions{domain.id(), "hadald_test"});
+  ASSERT_TRUE(client.wait_for_server(kWait)) << server.err();
+  ASSERT_TRUE(wait_until(
+      [&] {
+        auto st = client.latest_status();
+        return st && st->dropped_captures >= 3 && st->sim_time > 0.5;
+      },
+      kWait))
+      << server.err();
+  EXPECT_TRUE(server.running());
+  EXPECT_EQ(server.stop(SIGTERM), 0) << server.err();
+  const std::string out = server.out();
+  const auto at = out.find("late captures dropped: ");
+  ASSERT_NE(at, std::string::npos) << out;
+  EXPECT_GE(std::atoi(out.c_str() + at + 23), 3) << out;
+  std::remove(path.c_str());
+}
+
 TEST(HadaldTest, SigtermStopsARealtimeServerCleanly) {
   DomainLease domain;
   const std::set<std::string> before = fastdds_shm_files();

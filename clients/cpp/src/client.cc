@@ -82,6 +82,7 @@ SimStatus from_msg(const hadal_msgs::msg::SimStatus& m) {
   s.vehicle_faults = m.vehicle_faults();
   s.rejected_commands = m.rejected_commands();
   s.last_error = m.last_error();
+  s.dropped_captures = m.dropped_captures();
   return s;
 }
 

@@ -416,7 +416,8 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("vehicle_names", &hadal::SimStatus::vehicle_names)
       .def_readonly("vehicle_faults", &hadal::SimStatus::vehicle_faults)
       .def_readonly("rejected_commands", &hadal::SimStatus::rejected_commands)
-      .def_readonly("last_error", &hadal::SimStatus::last_error);
+      .def_readonly("last_error", &hadal::SimStatus::last_error)
+      .def_readonly("dropped_captures", &hadal::SimStatus::dropped_captures);
 
   py::class_<hadal::Image, std::shared_ptr<hadal::Image>>(
       m, "Image",

@@ -240,6 +240,7 @@ class Runner {
     for (const auto& v : sim_.state().vehicles) report.vehicle_faults.push_back(v.faults);
     report.rejected_commands = rejected_;
     report.last_error = last_error_;
+    report.dropped_captures = sim_.dropped_captures();
     dds_.publish_status(report);
   }
 

@@ -1,6 +1,7 @@
 #include "hadal/core/simulation.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <charconv>
 #include <cmath>
@@ -65,10 +66,13 @@ struct Simulation::VehicleRuntime {
   std::size_t fluid_faces = 0;                             // surface-model faces per step
   // A capture on the workers: a ray batch's hits, or a scene work's completion and what it fills (the
   // kind's Capture, kept alive by the work itself too, so that a dropped capture may finish safely).
+  // A scene work dropped before a worker started it is skipped (`dropped`, read when it starts), so
+  // that in real time one late frame does not make every frame queued behind it late as well.
   struct InFlight {
     std::future<geometry::RayHits> hits;
     std::future<void> done;
     std::shared_ptr<void> output;
+    std::shared_ptr<std::atomic<bool>> dropped;
   };
   // Per sensor (same order as VehicleSpec::sensors): its pose in B, its sample period, and for a
   // captured kind its latency in steps and the captures in flight (one per pending capture, same order).
@@ -482,6 +486,7 @@ void Simulation::sample_sensors(double dt) {
                   ++out.samples;
                 } else {
                   ++dropped_captures_;  // late in real time: dropped, never waited for
+                  if (flight.dropped) flight.dropped->store(true);  // skipped if not started yet
                 }
                 mount.in_flight.pop_front();
                 out.captures.erase(out.captures.begin());
@@ -508,9 +513,11 @@ void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const t
     auto output = std::make_shared<typename Kind::Capture>();
     const auto& state = std::get<typename Kind::State>(state_.vehicles[vehicle].sensors[sensor].kind);
     sensors::CaptureWork work = Kind::capture(context, spec, state, *output);
+    flight.dropped = std::make_shared<std::atomic<bool>>(false);
     flight.done = raycast_service().submit(
-        capture.X_WB, [work = std::move(work), output](const geometry::EmbreeScene& scene, const ParallelFor& parallel) {
-          work(scene, parallel);
+        capture.X_WB, [work = std::move(work), output, dropped = flight.dropped](const geometry::EmbreeScene& scene,
+                                                                                 const ParallelFor& parallel) {
+          if (!dropped->load()) work(scene, parallel);
         });
     flight.output = std::move(output);
   } else {

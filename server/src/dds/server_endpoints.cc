@@ -344,6 +344,7 @@ void ServerEndpoints::publish_status(const StatusReport& report) {
   msg.vehicle_faults(report.vehicle_faults);
   msg.rejected_commands(report.rejected_commands);
   msg.last_error(report.last_error);
+  msg.dropped_captures(report.dropped_captures);
   impl_->write(impl_->status_writer, &msg, impl_->status_slot);
 }
 

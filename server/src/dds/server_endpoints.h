@@ -48,6 +48,7 @@ struct StatusReport {
   std::vector<std::uint32_t> vehicle_faults;
   std::uint64_t rejected_commands = 0;
   std::string last_error;
+  std::uint64_t dropped_captures = 0;  // late in real time (Simulation::dropped_captures)
 };
 
 struct TopicCount {

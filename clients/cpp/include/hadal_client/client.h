@@ -49,6 +49,7 @@ struct SimStatus {
   std::vector<std::uint32_t> vehicle_faults;  // bits: 1 command timeout, 2 non-finite state reset
   std::uint64_t rejected_commands = 0;
   std::string last_error;
+  std::uint64_t dropped_captures = 0;  // camera frames / ray-cast samples late in real time, dropped
 };
 
 // hadal_msgs/ThrusterState of rt/<vehicle>/thrusters/state.
