@@ -124,7 +124,8 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_EQ(auv.sensors[6].name, "camera");
   EXPECT_EQ(auv.sensors[6].type(), "camera");
   EXPECT_EQ(auv.sensors[6].frame_id, "auv/camera");
-  EXPECT_EQ(spec_of<sensors::CameraSensor>(auv.sensors[6]).lens->D()[0], -0.25);
+  EXPECT_EQ(spec_of<sensors::CameraSensor>(auv.sensors[6]).lens->D()[0], -0.17473019446863114);  // svin2 preset
+  EXPECT_EQ(spec_of<sensors::CameraSensor>(auv.sensors[6]).lens->width_px(), 640);
   ASSERT_EQ(auv.lights.size(), 2u);
   EXPECT_EQ(auv.lights[1].name, "light_starboard");
   EXPECT_EQ(model.world.optics.daylight.Kd_per_m[2], render::jerlov_Kd_per_m(render::JerlovType::kIII)[2]);
@@ -674,6 +675,46 @@ vehicles:
                    bad + ":14:28: error: vehicles[0].lights[0].link: no link named 'mast' in this vehicle (links: hull)",
                    bad + ":14:60: error: vehicles[0].lights[0].outer_half_angle_deg: the beam's outer half angle (30 "
                          "deg) must exceed its inner half angle (40 deg)"}));
+}
+
+// A camera from a preset (render/camera_presets.h), downscaled; then the preset's errors.
+TEST_F(ScenarioLoaderTest, CameraPresetAndDownscale) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: cam, type: camera, preset: svin2_stereo_rig_v2_left, downscale: 2.5}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const render::Lens& lens = *spec_of<sensors::CameraSensor>(result.model->vehicles[0].sensors[0]).lens;
+  EXPECT_EQ(lens.width_px(), 640);
+  EXPECT_EQ(lens.height_px(), 480);
+  EXPECT_DOUBLE_EQ(lens.spec().fx, 1156.5188534683703 / 2.5);
+  EXPECT_DOUBLE_EQ(lens.spec().cy, (617.2779853849335 + 0.5) / 2.5 - 0.5);
+  EXPECT_EQ(lens.D()[0], -0.17473019446863114);
+
+  const std::string bad = write("bad.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: a, type: camera, preset: gopro}
+      - {name: b, type: camera, preset: subpipe_gopro_hero10, fx: 300}
+      - {name: c, type: camera, preset: subpipe_gopro_hero10, downscale: 3}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":8:33: error: vehicles[0].sensors[0].preset: unknown camera preset 'gopro' (presets: "
+                         "svin2_stereo_rig_v2_left, subpipe_gopro_hero10)",
+                   bad + ":9:63: error: vehicles[0].sensors[1].fx: the preset sets the calibration; give either 'fx' "
+                         "or 'preset' (use 'downscale' for a smaller image)",
+                   bad + ":10:63: error: vehicles[0].sensors[2].downscale: downscale 3 does not divide the "
+                         "2704 x 1520 image into whole pixels"}));
 }
 
 // A link's appearance (albedo, checkerboard) and a vehicle's initial angular velocity; then their errors.

@@ -15,6 +15,7 @@
 #include "hadal/dds/time_msg.h"
 #include "hadal/geometry/embree_scene.h"
 #include "hadal/geometry/world_scene.h"
+#include "hadal/render/camera_presets.h"
 #include "hadal/render/camera_rays.h"
 #include "hadal/render/frame.h"
 #include "hadal/sensors/noise.h"
@@ -108,14 +109,14 @@ const std::vector<std::string>& CameraSensor::keys() {
       "width",       "height",        "hfov_deg",    "fx",           "fy",         "cx",
       "cy",          "lens_model",    "distortion",  "near_clip",    "far_clip",   "encoding",
       "exposure_s",  "gain_dn_per_e", "full_well_e", "read_noise_e", "shot_noise", "vignetting",
-      "sensitivity"};
+      "sensitivity", "preset",        "downscale"};
   return keys;
 }
 
-CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  render::LensSpec lens;
+namespace {
+
+// The calibration keys (a field of view, or fx, fy, cx, cy, a lens model and its distortion).
+void read_calibration(const MapReader& map, render::LensSpec& lens) {
   map.read_whole_number("width", Need::kOptional, Range::closed(1.0, 8192.0), &lens.width_px);
   map.read_whole_number("height", Need::kOptional, Range::closed(1.0, 8192.0), &lens.height_px);
   const bool calibrated = map.has("fx") || map.has("fy");
@@ -149,6 +150,52 @@ CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
       if (const auto d = distortion->numbers(count)) std::copy(d->begin(), d->end(), lens.distortion.begin());
     }
   }
+}
+
+// A preset's calibration (render/camera_presets.h); nullopt after reporting an unknown name or a
+// calibration key given with it.
+std::optional<render::LensSpec> read_preset(const MapReader& map) {
+  std::string name;
+  map.read_string("preset", Need::kRequired, &name);
+  std::optional<render::LensSpec> preset = render::camera_preset(name);
+  if (!preset) {
+    std::string names;
+    for (const auto& p : render::camera_presets()) names += (names.empty() ? "" : ", ") + std::string(p.name);
+    map.error_at_key("preset", "unknown camera preset '" + name + "' (presets: " + names + ")");
+  }
+  for (const char* key : {"width", "height", "hfov_deg", "fx", "fy", "cx", "cy", "lens_model", "distortion"}) {
+    if (map.has(key)) {
+      map.error_at_key(key, std::string("the preset sets the calibration; give either '") + key +
+                                "' or 'preset' (use 'downscale' for a smaller image)");
+      preset.reset();
+    }
+  }
+  return preset;
+}
+
+}  // namespace
+
+CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  render::LensSpec lens;
+  bool lens_read = true;  // false after an error in the calibration's own keys: no lens is made
+  if (map.has("preset")) {
+    const std::optional<render::LensSpec> preset = read_preset(map);
+    lens_read = preset.has_value();
+    if (preset) lens = *preset;
+  } else {
+    read_calibration(map, lens);
+  }
+  double downscale = 1.0;
+  if (map.read_number("downscale", Need::kOptional, Range::closed(1.0, 64.0), &downscale) && lens_read) {
+    try {
+      lens = render::downscaled(lens, downscale);
+    } catch (const std::invalid_argument& e) {
+      map.error_at_key("downscale", e.what());
+      lens_read = false;
+    }
+  }
   map.read_number("near_clip", Need::kOptional, Range::non_negative(), &spec.near_m);
   map.read_number("far_clip", Need::kOptional, Range::positive(), &spec.far_m);
   if (!(spec.far_m > spec.near_m)) {
@@ -169,10 +216,15 @@ CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
     sensor.sensitivity = sensitivity.array();
   }
   // The lens: its own checks (a distortion without an inverse inside the image, say) at the lens keys.
+  if (!lens_read) return spec;
   try {
     set_lens(spec, lens);
   } catch (const std::invalid_argument& e) {
-    const char* key = map.has("distortion") ? "distortion" : map.has("fx") ? "fx" : map.has("hfov_deg") ? "hfov_deg" : nullptr;
+    const char* key = map.has("preset")       ? "preset"
+                      : map.has("distortion") ? "distortion"
+                      : map.has("fx")         ? "fx"
+                      : map.has("hfov_deg")   ? "hfov_deg"
+                                              : nullptr;
     if (key != nullptr) {
       map.error_at_key(key, std::string("unusable lens: ") + e.what());
     } else {
