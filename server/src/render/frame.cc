@@ -118,6 +118,15 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   }
   const std::vector<LightBeam> beams(lighting.lights.begin(), lighting.lights.end());
   const Rgb c = lighting.water.attenuation_per_m();
+  // Below daylight_floor_z daylight is nothing in every channel (exp3 of Kd times the depth below
+  // -87.3, ~1e-38 of the surface's): no sky rays there. -inf: daylight everywhere; +inf: none.
+  double daylight_floor_z = std::numeric_limits<double>::infinity();
+  for (int ch = 0; ch < 3; ++ch) {
+    if (!(lighting.daylight.surface_irradiance_W_per_m2[ch] > 0.0)) continue;
+    const double Kd = lighting.daylight.Kd_per_m[ch];
+    daylight_floor_z = std::min(daylight_floor_z, Kd > 0.0 ? lighting.daylight.surface_z_m - 87.3 / Kd
+                                                           : -std::numeric_limits<double>::infinity());
+  }
   // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
   // rays hold it).
   const Rgb E_camera = lighting.daylight.irradiance_at(static_cast<float>(X_WC.translation().z()));
@@ -129,6 +138,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     const int row_end = std::min(row_begin + kBandRows, lens.height_px());
     const std::size_t first = static_cast<std::size_t>(row_begin) * width;  // pixel index of the band's ray 0
     geometry::RayBatch primary;
+    primary.reserve(static_cast<std::size_t>(row_end - row_begin) * width);
     add_camera_rays(lens, X_WC, near_m, far_m, ignore_body, row_begin, row_end, primary);
     const geometry::RayHits hits = cast(scene, primary);
     const std::size_t m = primary.size();
@@ -158,6 +168,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     // daylight's rays straight up to the surface (light index kSky).
     geometry::RayBatch shadows;
     shadows.coherence = geometry::RayCoherence::kCoherent;
+    shadows.reserve(m * (beams.size() + 1));
     std::vector<std::size_t> shadow_pixel;
     std::vector<std::size_t> shadow_light;
     for (std::size_t l = 0; l < beams.size(); ++l) {
@@ -175,7 +186,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
-      if (!hits.hit(i) || !(n_W[i].z() > -1.0) || !(lighting.daylight.irradiance_at(p_W[i].z()) > 0.0).any()) continue;
+      if (!hits.hit(i) || !(n_W[i].z() > -1.0) || !(p_W[i].z() > daylight_floor_z)) continue;
       const double sky = lighting.daylight.surface_z_m - p_W[i].z();
       shadows.add_ray(shadow_origin_W[i].cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
                       sky > 0.0 ? static_cast<float>(sky) : 0.0f, ignore_body);
@@ -200,7 +211,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       const double s_end = hits.hit(i) ? static_cast<double>(hits.distance[i]) : static_cast<double>(far_m);
       if (!(s_end > s0)) continue;
       if (backscatter) {
-        const int u = static_cast<int>((first + i) % width), v = static_cast<int>((first + i) / width);
+        const int v = row_begin + static_cast<int>(i / width), u = static_cast<int>(i % width);
         frame.radiance[first + i] += backscatter->at(u, v, s_end);
       }
       if (daylit_water) {

@@ -1,5 +1,9 @@
 #include "hadal/render/optics.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -17,6 +21,35 @@ namespace {
 bool finite_non_negative(const Rgb& x) { return x.allFinite() && (x >= 0.0).all(); }
 
 }  // namespace
+
+Eigen::Array3f exp3(const Eigen::Array3f& x) {
+#if defined(__SSE2__)
+  constexpr float kLog2e = 1.44269504088896341f;
+  constexpr float kC1 = 0.693359375f;     // ln 2 split: C1 + C2 (Cephes), C1 exact in 9 bits
+  constexpr float kC2 = -2.12194440e-4f;
+  const __m128 v = _mm_setr_ps(x[0], x[1], x[2], 0.0f);
+  const __m128 clamped = _mm_max_ps(_mm_min_ps(v, _mm_set1_ps(88.0f)), _mm_set1_ps(-87.3365447505531f));
+  // n = round(x log2 e) by floor(x log2 e + 1/2).
+  const __m128 t = _mm_add_ps(_mm_mul_ps(clamped, _mm_set1_ps(kLog2e)), _mm_set1_ps(0.5f));
+  __m128 n = _mm_cvtepi32_ps(_mm_cvttps_epi32(t));
+  n = _mm_sub_ps(n, _mm_and_ps(_mm_cmpgt_ps(n, t), _mm_set1_ps(1.0f)));  // truncation -> floor
+  const __m128 r = _mm_sub_ps(_mm_sub_ps(clamped, _mm_mul_ps(n, _mm_set1_ps(kC1))), _mm_mul_ps(n, _mm_set1_ps(kC2)));
+  __m128 p = _mm_set1_ps(1.9875691500e-4f);
+  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(1.3981999507e-3f));
+  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(8.3334519073e-3f));
+  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(4.1665795894e-2f));
+  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(1.6666665459e-1f));
+  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(5.0000001201e-1f));
+  p = _mm_add_ps(_mm_add_ps(_mm_mul_ps(p, _mm_mul_ps(r, r)), r), _mm_set1_ps(1.0f));
+  // 2^n from the exponent bits (n in [-126, 127] after the clamp).
+  const __m128i exponent = _mm_slli_epi32(_mm_add_epi32(_mm_cvttps_epi32(n), _mm_set1_epi32(127)), 23);
+  alignas(16) float out[4];
+  _mm_store_ps(out, _mm_mul_ps(p, _mm_castsi128_ps(exponent)));
+  return Eigen::Array3f(out[0], out[1], out[2]);
+#else
+  return x.exp();
+#endif
+}
 
 Rgb SpotLight::intensity_towards(const Eigen::Vector3d& u_W) const { return LightBeam(*this).intensity_towards(u_W); }
 
@@ -67,7 +100,7 @@ Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const
   const double depth = std::max(0.0, daylight.surface_z_m - p_W.z());
   const Rgb optical_depth = daylight.Kd_per_m * depth + c_per_m * d_camera_m;
   return albedo / kPi * daylight.surface_irradiance_W_per_m2 * sky_share *
-         (-optical_depth).cast<float>().exp().cast<double>();
+         exp3((-optical_depth).cast<float>()).cast<double>();
 }
 
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
@@ -86,8 +119,8 @@ Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, c
   // k > 0 on every downward or level ray (c >= b > 0 where b > 0), and s1 is finite on an upward one.
   // The exponentials in single precision, as transmittance() (relative error ~1e-7).
   const Rgb k = water.attenuation_per_m() - daylight.Kd_per_m * d_W.z();
-  const Eigen::Array3f near = (-(k * s0)).cast<float>().exp();
-  const Eigen::Array3f far = std::isfinite(s1) ? Eigen::Array3f((-(k * s1)).cast<float>().exp()) : Eigen::Array3f::Zero();
+  const Eigen::Array3f near = exp3((-(k * s0)).cast<float>());
+  const Eigen::Array3f far = std::isfinite(s1) ? exp3((-(k * s1)).cast<float>()) : Eigen::Array3f::Zero();
   Rgb integral;
   for (int ch = 0; ch < 3; ++ch) {
     integral[ch] = std::abs(k[ch]) * s1 < 1e-9 ? s1 - s0 : (static_cast<double>(near[ch]) - far[ch]) / k[ch];

@@ -7,7 +7,8 @@
 //   radiance  [W/(m^2 sr)] per channel arriving at the camera: sum over lights of the Lambertian term
 //             when the light sees the hit point (shadow ray from 'shadow_bias_m' off the surface to the
 //             light), daylight's Lambertian term when nothing is above the hit point (a shadow ray
-//             straight up to the surface), plus backscatter of the lights from near_m to the hit
+//             straight up to the surface; none where daylight is below e^-87.3 of the surface's in
+//             every channel), plus backscatter of the lights from near_m to the hit
 //             distance (to far_m on a miss, or, with an infinite far clip, to
 //             'max_backscatter_range_m'), looked up in the frame's BackscatterTable
 //             (render/backscatter_table.h), and daylight's path radiance over the same range (closed
