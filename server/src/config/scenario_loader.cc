@@ -1029,7 +1029,7 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   optics->daylight.surface_z_m = surface_z;
   if (!value) return;
   const MapReader map(*value, {"absorption", "scattering", "phase_g", "daylight", "seabed_albedo", "vehicle_albedo",
-                               "marine_snow"});
+                               "marine_snow", "seabed_pattern"});
   if (!map.ok()) return;
   const auto read_rgb = [](const MapReader& from, const std::string& key, const Range& range, Eigen::Array3d* out) {
     Eigen::Vector3d v = out->matrix();
@@ -1040,6 +1040,15 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   map.read_number("phase_g", Need::kOptional, Range{-1.0, 1.0, false, false}, &optics->water.phase_g);
   read_rgb(map, "seabed_albedo", Range::closed(0.0, 1.0), &optics->seabed_albedo);
   read_rgb(map, "vehicle_albedo", Range::closed(0.0, 1.0), &optics->vehicle_albedo);
+  if (const auto pattern_value = map.optional("seabed_pattern")) {
+    const MapReader pattern(*pattern_value, {"amplitude", "scale", "octaves"});
+    if (pattern.ok()) {
+      render::SedimentPattern& out = optics->seabed_pattern;
+      pattern.read_number("amplitude", Need::kRequired, Range::closed(0.0, 1.0), &out.amplitude);
+      pattern.read_number("scale", Need::kOptional, Range::left_open(0.0, 1e4), &out.scale_m);
+      pattern.read_whole_number("octaves", Need::kOptional, Range::closed(1.0, 8.0), &out.octaves);
+    }
+  }
   if (const auto snow_value = map.optional("marine_snow")) {
     const MapReader snow(*snow_value, {"density", "radius", "max_range", "albedo"});
     if (snow.ok()) {
@@ -1148,6 +1157,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   read_optics(map.optional("optics"), world->water.surface_z, &world->optics);
   world->optics.marine_snow.seed = world->seed;
+  world->optics.seabed_pattern.seed = world->seed;
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
   if (const auto date = map.optional("date")) {
     // "YYYY-MM-DD" within the geomagnetic model's validity (WMM2025: 2025-01-01 .. 2029-12-31).

@@ -594,7 +594,7 @@ TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
   physics_rate_hz: 500
   optics: {absorption: [0.4, 0.07, 0.03], scattering: [0.1, 0.1, 0.1], phase_g: 0.9,
            daylight: {surface_irradiance: [100, 120, 110], jerlov_type: II}, seabed_albedo: [0.2, 0.2, 0.1],
-           marine_snow: {density: 50, radius: 0.002}}
+           marine_snow: {density: 50, radius: 0.002}, seabed_pattern: {amplitude: 0.3, scale: 0.5, octaves: 3}}
 vehicles:
   - name: auv
     type: auv
@@ -640,10 +640,14 @@ vehicles:
   EXPECT_EQ(optics.seabed_albedo[2], 0.1);
   EXPECT_EQ(optics.marine_snow.density_per_m3, 50.0);
   EXPECT_EQ(optics.marine_snow.radius_m, 0.002);
+  EXPECT_EQ(optics.seabed_pattern.amplitude, 0.3);
+  EXPECT_EQ(optics.seabed_pattern.scale_m, 0.5);
+  EXPECT_EQ(optics.seabed_pattern.octaves, 3);
+  EXPECT_EQ(optics.seabed_pattern.seed, result.model->world.seed);
   EXPECT_EQ(optics.marine_snow.max_range_m, render::MarineSnow{}.max_range_m);
 
   const std::string bad = write("bad.yaml", R"(world:
-  optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}}
+  optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}, seabed_pattern: {amplitude: 2, octaves: 0}}
 vehicles:
   - name: auv
     type: auv
@@ -661,6 +665,8 @@ vehicles:
             (Lines{bad + ":2:30: error: world.optics.scattering[1]: must be in [0, 100] (got -1)",
                    bad + ":2:62: error: world.optics.daylight.jerlov_type: unknown Jerlov water type 'XI' (one of I, "
                          "IA, IB, II, III, 1C, 3C, 5C, 7C, 9C)",
+                   bad + ":2:95: error: world.optics.seabed_pattern.amplitude: must be in [0, 1] (got 2)",
+                   bad + ":2:107: error: world.optics.seabed_pattern.octaves: must be in [1, 8] (got 0)",
                    bad + ":9:33: error: vehicles[0].sensors[0].hfov_deg: give either hfov_deg or the calibration fx, "
                          "fy, not both",
                    bad + ":10:33: error: vehicles[0].sensors[1].distortion: a pinhole lens has no distortion (set "

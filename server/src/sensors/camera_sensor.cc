@@ -80,7 +80,9 @@ std::optional<std::vector<render::SpotLight>> own_lights_C(const Model& model, i
 render::Rgb surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
                            std::int32_t body, const Eigen::Vector3d& p_W) {
   const OpticsSpec& optics = model.world.optics;
-  if (material == geometry::kSeabedMaterial || body < 0) return optics.seabed_albedo;
+  if (material == geometry::kSeabedMaterial || body < 0) {
+    return render::sediment_albedo(optics.seabed_pattern, optics.seabed_albedo, p_W.x(), p_W.y());
+  }
   const auto b = static_cast<std::size_t>(body);
   const std::size_t link = material - geometry::kVehicleMaterial;  // vehicle_surface_B: material k is link k
   if (material < geometry::kVehicleMaterial || b >= model.vehicles.size() || b >= X_WB.size() ||

@@ -14,6 +14,7 @@
 #include "hadal/physics/actuator_kinds.h"
 #include "hadal/physics/surface_hydrodynamics.h"
 #include "hadal/render/marine_snow.h"
+#include "hadal/render/sediment_pattern.h"
 #include "hadal/render/optics.h"
 #include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/magnetometer.h"
@@ -298,6 +299,7 @@ struct OpticsSpec {
   render::Daylight daylight;
   render::MarineSnow marine_snow;  // none by default; its seed is world.seed
   Eigen::Array3d seabed_albedo = Eigen::Array3d(0.30, 0.28, 0.22);   // sediment, per channel (R, G, B)
+  render::SedimentPattern seabed_pattern;  // none by default (amplitude 0); its seed is world.seed
   Eigen::Array3d vehicle_albedo = Eigen::Array3d(0.85, 0.70, 0.15);  // hulls (survey-yellow)
 };
 
