@@ -1,8 +1,5 @@
 #include "hadal/render/optics.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include <algorithm>
 #include <cmath>
@@ -21,35 +18,6 @@ namespace {
 bool finite_non_negative(const Rgb& x) { return x.allFinite() && (x >= 0.0).all(); }
 
 }  // namespace
-
-Eigen::Array3f exp3(const Eigen::Array3f& x) {
-#if defined(__SSE2__)
-  constexpr float kLog2e = 1.44269504088896341f;
-  constexpr float kC1 = 0.693359375f;     // ln 2 split: C1 + C2 (Cephes), C1 exact in 9 bits
-  constexpr float kC2 = -2.12194440e-4f;
-  const __m128 v = _mm_setr_ps(x[0], x[1], x[2], 0.0f);
-  const __m128 clamped = _mm_max_ps(_mm_min_ps(v, _mm_set1_ps(88.0f)), _mm_set1_ps(-87.3365447505531f));
-  // n = round(x log2 e) by floor(x log2 e + 1/2).
-  const __m128 t = _mm_add_ps(_mm_mul_ps(clamped, _mm_set1_ps(kLog2e)), _mm_set1_ps(0.5f));
-  __m128 n = _mm_cvtepi32_ps(_mm_cvttps_epi32(t));
-  n = _mm_sub_ps(n, _mm_and_ps(_mm_cmpgt_ps(n, t), _mm_set1_ps(1.0f)));  // truncation -> floor
-  const __m128 r = _mm_sub_ps(_mm_sub_ps(clamped, _mm_mul_ps(n, _mm_set1_ps(kC1))), _mm_mul_ps(n, _mm_set1_ps(kC2)));
-  __m128 p = _mm_set1_ps(1.9875691500e-4f);
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(1.3981999507e-3f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(8.3334519073e-3f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(4.1665795894e-2f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(1.6666665459e-1f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(5.0000001201e-1f));
-  p = _mm_add_ps(_mm_add_ps(_mm_mul_ps(p, _mm_mul_ps(r, r)), r), _mm_set1_ps(1.0f));
-  // 2^n from the exponent bits (n in [-126, 127] after the clamp).
-  const __m128i exponent = _mm_slli_epi32(_mm_add_epi32(_mm_cvttps_epi32(n), _mm_set1_epi32(127)), 23);
-  alignas(16) float out[4];
-  _mm_store_ps(out, _mm_mul_ps(p, _mm_castsi128_ps(exponent)));
-  return Eigen::Array3f(out[0], out[1], out[2]);
-#else
-  return x.exp();
-#endif
-}
 
 Rgb SpotLight::intensity_towards(const Eigen::Vector3d& u_W) const { return LightBeam(*this).intensity_towards(u_W); }
 

@@ -20,11 +20,16 @@ double lattice_value(std::int64_t i, std::int64_t j, std::uint64_t seed) {
 
 double smoothstep(double t) { return t * t * (3.0 - 2.0 * t); }
 
+// floor(x) for |x| < 2^62 without libm (baseline x86-64 has no SSE4.1 round instruction).
+std::int64_t floor_to_int(double x) {
+  const auto i = static_cast<std::int64_t>(x);
+  return static_cast<double>(i) > x ? i - 1 : i;
+}
+
 // Value noise at (x, y) in lattice units, in [0, 1).
 double value_noise(double x, double y, std::uint64_t seed) {
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto i = static_cast<std::int64_t>(fx), j = static_cast<std::int64_t>(fy);
-  const double u = smoothstep(x - fx), v = smoothstep(y - fy);
+  const std::int64_t i = floor_to_int(x), j = floor_to_int(y);
+  const double u = smoothstep(x - static_cast<double>(i)), v = smoothstep(y - static_cast<double>(j));
   const double a = lattice_value(i, j, seed), b = lattice_value(i + 1, j, seed);
   const double c = lattice_value(i, j + 1, seed), d = lattice_value(i + 1, j + 1, seed);
   return (1.0 - v) * ((1.0 - u) * a + u * b) + v * ((1.0 - u) * c + u * d);
