@@ -143,18 +143,24 @@ TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) {
   TriangleMesh mesh_B;
   for (std::size_t k = 0; k < spec.links.size(); ++k) {
     const LinkSpec& link = spec.links[k];
+    const std::size_t first = mesh_B.num_triangles();
     if (link.mesh && link.mesh->mesh) {
-      append_transformed(*link.mesh->mesh, link.X_BL, &mesh_B);
+      const TriangleMesh& mesh_L = *link.mesh->mesh;
+      append_transformed(mesh_L, link.X_BL, &mesh_B);
+      // The link's triangles name the link and their own material (header).
+      mesh_B.triangle_materials.resize(mesh_B.num_triangles(), link_material(k, 0));
+      if (mesh_L.triangle_materials.size() == mesh_L.num_triangles()) {
+        for (std::size_t t = 0; t < mesh_L.num_triangles(); ++t) {
+          mesh_B.triangle_materials[first + t] =
+              link_material(k, std::min(mesh_L.triangle_materials[t], kLinkMaterialStride - 1));
+        }
+      }
     } else {
       for (const CollisionShape& shape : link.collisions) {
         append_transformed(tessellate(shape, segments), link.X_BL * shape.X_LG, &mesh_B);
       }
+      mesh_B.triangle_materials.resize(mesh_B.num_triangles(), link_material(k, 0));
     }
-    // Material k is link k: its triangles say which link a ray hit.
-    Material material;
-    material.name = link.name;
-    mesh_B.materials.push_back(material);
-    mesh_B.triangle_materials.resize(mesh_B.num_triangles(), static_cast<std::uint32_t>(k));
   }
   return mesh_B;
 }

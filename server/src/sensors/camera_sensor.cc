@@ -14,6 +14,7 @@
 #include "hadal/core/units.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/geometry/embree_scene.h"
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/world_scene.h"
 #include "hadal/render/camera_presets.h"
 #include "hadal/render/camera_rays.h"
@@ -74,23 +75,39 @@ std::optional<std::vector<render::SpotLight>> own_lights_C(const Model& model, i
   return lights_C;
 }
 
-// The albedo of a surface point (render::AlbedoAt): the seabed's, or the hit link's appearance
-// (AppearanceSpec: its albedo or the world's vehicle albedo, and its checkerboard, evaluated in the
-// pattern frame of the link at the snapshot X_WB).
-render::Rgb surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
-                           std::int32_t body, const Eigen::Vector3d& p_W) {
+void fill_header(const MessageHeader& header, std_msgs::msg::Header& out) {
+  out.stamp(dds::to_time_msg(header.stamp));
+  out.frame_id(CameraSensor::optical_frame_id(header.frame_id));
+}
+
+}  // namespace
+
+Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
+                              std::int32_t body, const Eigen::Vector3d& p_W) {
   const OpticsSpec& optics = model.world.optics;
   if (material == geometry::kSeabedMaterial || body < 0) {
     return render::sediment_albedo(optics.seabed_pattern, optics.seabed_albedo, p_W.x(), p_W.y());
   }
   const auto b = static_cast<std::size_t>(body);
-  const std::size_t link = material - geometry::kVehicleMaterial;  // vehicle_surface_B: material k is link k
+  const std::uint32_t code = material - geometry::kVehicleMaterial;  // geometry::link_material(link, m)
+  const std::size_t link = geometry::link_of_material(code);
   if (material < geometry::kVehicleMaterial || b >= model.vehicles.size() || b >= X_WB.size() ||
       link >= model.vehicles[b].links.size()) {
     return optics.vehicle_albedo;
   }
   const LinkSpec& spec = model.vehicles[b].links[link];
-  const render::Rgb base = spec.appearance.albedo.value_or(optics.vehicle_albedo);
+  render::Rgb base = optics.vehicle_albedo;
+  if (spec.appearance.albedo) {
+    base = *spec.appearance.albedo;
+  } else if (spec.mesh && spec.mesh->mesh) {
+    // The link mesh's own material: its glTF base colour factor (linear RGB, clipped to [0, 1]).
+    const std::vector<geometry::Material>& materials = spec.mesh->mesh->materials;
+    const std::uint32_t m = geometry::mesh_material_of(code);
+    if (m < materials.size()) {
+      const auto& c = materials[m].base_color;
+      base = render::Rgb(c[0], c[1], c[2]).cwiseMax(0.0).cwiseMin(1.0);
+    }
+  }
   if (!spec.appearance.checkerboard) return base;
   const CheckerboardSpec& board = *spec.appearance.checkerboard;
   const Eigen::Vector3d p_P = (X_WB[b] * spec.X_BL * board.X_LP).inverse() * p_W;
@@ -98,13 +115,6 @@ render::Rgb surface_albedo(const Model& model, const std::vector<Eigen::Isometry
   if (column < 0.0 || row < 0.0 || column >= board.columns || row >= board.rows) return base;
   return (static_cast<long>(column) + static_cast<long>(row)) % 2 == 0 ? render::Rgb(board.dark_albedo) : base;
 }
-
-void fill_header(const MessageHeader& header, std_msgs::msg::Header& out) {
-  out.stamp(dds::to_time_msg(header.stamp));
-  out.frame_id(CameraSensor::optical_frame_id(header.frame_id));
-}
-
-}  // namespace
 
 const std::vector<std::string>& CameraSensor::keys() {
   static const std::vector<std::string> keys = {

@@ -10,6 +10,8 @@
 
 #include "hadal/core/units.h"
 #include "hadal/geometry/raycast_service.h"
+#include "hadal/geometry/world_scene.h"
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/render/frame.h"
 #include "sensor_test_support.h"
 
@@ -127,6 +129,54 @@ TEST(CameraSensorTest, BackscatterTableOfOwnLightsIsMadeOnce) {
   world.state.vehicles[0].body.X_WB = pose(Eigen::Vector3d(0.0, 0.0, -100.0 + kAltitude), rpy(0.0, 0.0, 0.0));
   EXPECT_EQ(capture(world, spec, state, 1).image, first.image);
   EXPECT_EQ(spec.backscatter_cache->tables_made(), 1u);
+}
+
+// A link mesh with two glTF materials (a red and a blue plate) as the camera sees it: rays cast through
+// the world scene hit triangles whose material code names the link and the mesh material, and the
+// albedo is that material's base colour factor; a YAML appearance albedo on the link wins over it; the
+// seabed is the seabed's albedo.
+TEST(CameraSensorTest, GltfBaseColourIsTheAlbedoOfAMeshedLink) {
+  Model model = testing::one_vehicle_world(Eigen::Vector3d(0.0, 0.0, -90.0));
+  LinkSpec target;
+  target.name = "target";
+  target.mass = 1.0;
+  auto mesh = std::make_shared<geometry::TriangleMesh>();
+  // Two 1 m plates facing +x at x = 5 m: material 0 at y in [0, 1], material 1 at y in [-1, 0].
+  mesh->positions = {5, 0, -0.5, 5, 1, -0.5, 5, 1, 0.5, 5, 0, 0.5, 5, -1, -0.5, 5, 0, -0.5, 5, 0, 0.5, 5, -1, 0.5};
+  mesh->indices = {0, 2, 1, 0, 3, 2, 4, 6, 5, 4, 7, 6};
+  mesh->triangle_materials = {0, 0, 1, 1};
+  mesh->materials.resize(2);
+  mesh->materials[0].base_color = {0.9f, 0.1f, 0.1f, 1.0f};
+  mesh->materials[1].base_color = {0.1f, 0.2f, 0.9f, 1.0f};
+  LinkMesh link_mesh;
+  link_mesh.mesh = mesh;
+  target.mesh = link_mesh;
+  model.vehicles[0].links.push_back(target);
+  const geometry::TriangleMesh surface = geometry::vehicle_surface_B(model.vehicles[0]);
+  ASSERT_EQ(surface.triangle_materials.back(), geometry::link_material(1, 1));
+
+  geometry::EmbreeScene scene = geometry::build_world_scene(model);
+  scene.build();
+  const std::vector<Eigen::Isometry3d> X_WB = {model.vehicles[0].X_WB_initial};
+  scene.set_body_poses(X_WB);
+  geometry::RayBatch rays;
+  const Eigen::Vector3f from(0.0f, 0.0f, -90.0f);
+  rays.add_ray(from, Eigen::Vector3f(5.0f, 0.5f, 0.0f).normalized());   // red plate
+  rays.add_ray(from, Eigen::Vector3f(5.0f, -0.5f, 0.0f).normalized());  // blue plate
+  rays.add_ray(from, Eigen::Vector3f(0.0f, 0.0f, -1.0f));                // seabed
+  geometry::RayHits hits;
+  hits.resize(rays.size());
+  scene.intersect(rays, 0, rays.size(), geometry::QueryPath::kSingle, hits);
+  const auto albedo = [&](std::size_t i) {
+    const Eigen::Vector3d p = from.cast<double>() + hits.distance[i] * Eigen::Vector3d(rays.d_W_x[i], rays.d_W_y[i], rays.d_W_z[i]);
+    return surface_albedo(model, X_WB, hits.material[i], hits.body[i], p);
+  };
+  ASSERT_TRUE(hits.hit(0) && hits.hit(1) && hits.hit(2));
+  EXPECT_TRUE(albedo(0).isApprox(Eigen::Array3d(0.9, 0.1, 0.1), 1e-6)) << albedo(0).transpose();
+  EXPECT_TRUE(albedo(1).isApprox(Eigen::Array3d(0.1, 0.2, 0.9), 1e-6)) << albedo(1).transpose();
+  EXPECT_TRUE(albedo(2).isApprox(model.world.optics.seabed_albedo)) << albedo(2).transpose();
+  model.vehicles[0].links[1].appearance.albedo = Eigen::Array3d(0.5, 0.5, 0.5);
+  EXPECT_TRUE(albedo(0).isApprox(Eigen::Array3d(0.5, 0.5, 0.5)));
 }
 
 TEST(CameraSensorTest, Messages) {

@@ -41,9 +41,19 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 // A vehicle's surface in its body frame B, the hydrodynamic mesh of the surface fluid model: per link
 // its mesh (in L) if it has one, else its collision primitives tessellated with `segments`, moved by
 // X_BL (and X_LG). Parts are appended in link order, each primitive's triangles contiguous; nothing
-// is merged. Empty if no link has a mesh or collision shapes. Material k (`materials[k]`, named after
-// the link; `triangle_materials`) is link k, so that a ray's hit names the link it hit.
+// is merged. Empty if no link has a mesh or collision shapes. A triangle's material
+// (`triangle_materials`) is link_material(k, m): link k, and m the material of the link mesh's own
+// triangle (its glTF material; 0 for primitives), so that a ray's hit names the link and the material
+// it hit. `materials` stays empty (the ids are a code, not indices).
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
+
+// The material code of vehicle_surface_B: link k's mesh material m (m < kLinkMaterialStride).
+inline constexpr std::uint32_t kLinkMaterialStride = 1u << 16;
+inline constexpr std::uint32_t link_material(std::size_t link, std::uint32_t mesh_material) {
+  return static_cast<std::uint32_t>(link) * kLinkMaterialStride + mesh_material;
+}
+inline constexpr std::size_t link_of_material(std::uint32_t code) { return code / kLinkMaterialStride; }
+inline constexpr std::uint32_t mesh_material_of(std::uint32_t code) { return code % kLinkMaterialStride; }
 // Whether vehicle_surface_B of these links has any face: some link has a non-empty mesh or collision
 // shapes.
 bool has_surface_geometry(const std::vector<LinkSpec>& links);

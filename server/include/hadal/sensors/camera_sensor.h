@@ -54,6 +54,14 @@ class BackscatterTableCache;
 
 namespace hadal::sensors {
 
+// The albedo (0..1 per channel) of a surface point a camera ray hit (render::AlbedoAt), from the hit's
+// material id and body: the seabed's (with its sediment pattern at p_W), or the hit link's: its YAML
+// appearance albedo if given, else the base colour factor of the link mesh's glTF material the
+// triangle belongs to (geometry::link_material; textures are not sampled yet), else the world's
+// vehicle albedo; a checkerboard appearance is evaluated in the link's pattern frame at the snapshot X_WB.
+Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
+                              std::int32_t body, const Eigen::Vector3d& p_W);
+
 struct CameraSensor {
   static constexpr std::string_view kType = "camera";
   static constexpr bool kCastsRays = false;  // rendered on the workers
