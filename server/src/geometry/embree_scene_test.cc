@@ -457,12 +457,12 @@ TEST(EmbreeScene, OccludedAgreesWithIntersect) {
   std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   RayBatch batch;
   for (int k = 0; k < 3000; ++k) {
-    const int kind = k % 3;  // 0: no ignored body, 1: ignores body 0, 2: ignores body 1
+    const int kind = k % 3;  // 0: no ignored body (every 7th: ignores the static world), 1: body 0, 2: body 1
     Eigen::Vector3f p(8.0f * uniform(rng), 6.0f * uniform(rng), -91.0f + 3.0f * uniform(rng));
     if (k % 5 == 0) p = (kind == 2 ? poses[1] : poses[0]).translation().cast<float>();  // inside a body
     const Eigen::Vector3f d = Eigen::Vector3f(uniform(rng), uniform(rng), uniform(rng)).normalized();
     const float t_far = k % 4 == 0 ? kInf : 12.0f * (1.0f + uniform(rng));
-    batch.add_ray(p, d, 0.0f, t_far, kind == 0 ? kNoHit : kind - 1);
+    batch.add_ray(p, d, 0.0f, t_far, kind == 0 ? (k % 7 == 0 ? kStaticBody : kNoHit) : kind - 1);
   }
   const RayHits hits = trace(scene, batch);
   std::vector<std::uint8_t> blocked(batch.size(), 7);

@@ -137,7 +137,8 @@ class EmbreeScene {
   // when the arrays are not 16-byte aligned), cheaper than intersect(), which finds the nearest. A ray's
   // ignore_body is left out by a filter on the candidate hits, so the answer is intersect()'s "hit or
   // not" (intersect() steps 0.1 mm past each ignored surface, at most kMaxIgnoredHits times: the two
-  // differ only for another surface within 0.1 mm behind an ignored one). Thread-safe with itself and
+  // differ only for another surface within 0.1 mm behind an ignored one; a ray ignoring the static
+  // world, which the filter does not see, is answered by intersect()). Thread-safe with itself and
   // intersect(); throws as intersect() does.
   void occluded(const RayBatch& rays, std::size_t begin, std::size_t end, std::vector<std::uint8_t>& blocked) const;
 
