@@ -231,7 +231,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
               std::string topic = sensor_topic(name, sensor.name);
               if (!Topic::kSuffix.empty()) topic += "/" + std::string(Topic::kSuffix);
               Impl::SensorTopic& endpoint = topics.emplace_back();
-              endpoint.writer = r.writer<typename Topic::PubSubType>(topic, kStateHistoryDepth);
+              endpoint.writer = r.writer<typename Topic::PubSubType>(topic, sensors::TopicHistoryDepth<Topic>::value);
               endpoint.message = std::make_shared<typename Topic::Message>();
               endpoint.slot = d.add_count(topic);
             });

@@ -90,14 +90,17 @@ struct CameraSensor {
     std::vector<float> depth_m;
   };
 
+  // Images are large (0.9 and 1.2 MB at 640 x 480): their writers keep 10, not 100 (TopicHistoryDepth).
   struct ImageRawTopic {
     static constexpr std::string_view kSuffix = "image_raw";
+    static constexpr int kHistoryDepth = 10;
     using Message = sensor_msgs::msg::Image;
     using PubSubType = sensor_msgs::msg::ImagePubSubType;
     static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
   };
   struct DepthTopic {
     static constexpr std::string_view kSuffix = "depth";
+    static constexpr int kHistoryDepth = 10;
     using Message = sensor_msgs::msg::Image;
     using PubSubType = sensor_msgs::msg::ImagePubSubType;
     static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);

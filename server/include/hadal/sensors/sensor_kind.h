@@ -183,6 +183,17 @@ struct TopicsOfKind<Kind, std::void_t<typename Kind::Topics>> {
 template <class Kind>
 using TopicsOf = typename TopicsOfKind<Kind>::type;
 
+// Samples a topic's writer keeps for readers that have not acknowledged them yet (dds/topic_registry.h):
+// enough that a lockstep burst (a 2 s step publishes 20 samples of a 10 Hz sensor within ~60 ms) is
+// still there when a reader asks again for a sample the transport lost (after the next heartbeat,
+// 0.1 s). A topic of large messages (camera images) declares a smaller kHistoryDepth.
+inline constexpr int kSensorHistoryDepth = 100;
+template <class Topic, class = void>
+struct TopicHistoryDepth : std::integral_constant<int, kSensorHistoryDepth> {};
+template <class Topic>
+struct TopicHistoryDepth<Topic, std::void_t<decltype(Topic::kHistoryDepth)>>
+    : std::integral_constant<int, Topic::kHistoryDepth> {};
+
 // Whether a captured kind captures by scene work (defines Capture) rather than by a ray batch.
 template <class Kind, class = void>
 struct CapturesByWork : std::false_type {};
