@@ -1,5 +1,6 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/core/units.h"
+#include "hadal/core/value_noise.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,43 +9,8 @@ namespace hadal::geometry {
 
 namespace {
 
-// splitmix64: a stateless hash of lattice coordinates (no global generator: docs/ARCHITECTURE.md, "Noise and random streams").
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-// Uniform value in [-1, 1] at lattice point (i, j) of octave `octave`.
-double lattice(std::uint64_t seed, std::int64_t i, std::int64_t j, int octave) {
-  const std::uint64_t h = mix(seed ^ mix(static_cast<std::uint64_t>(i) ^ mix(static_cast<std::uint64_t>(j) +
-                                                                             static_cast<std::uint64_t>(octave))));
-  return static_cast<double>(h >> 11) * (2.0 / 9007199254740992.0) - 1.0;
-}
-
-double smooth(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }  // quintic fade
-
-double value_noise(std::uint64_t seed, double x, double y, int octave) {
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto i = static_cast<std::int64_t>(fx), j = static_cast<std::int64_t>(fy);
-  const double u = smooth(x - fx), v = smooth(y - fy);
-  const double a = lattice(seed, i, j, octave), b = lattice(seed, i + 1, j, octave);
-  const double c = lattice(seed, i, j + 1, octave), d = lattice(seed, i + 1, j + 1, octave);
-  return (a + (b - a) * u) + ((c + (d - c) * u) - (a + (b - a) * u)) * v;
-}
-
-// 5-octave fractional Brownian motion, normalised to [-1, 1].
-double fbm(std::uint64_t seed, double x, double y) {
-  double sum = 0.0, amplitude = 1.0, norm = 0.0, frequency = 1.0;
-  for (int octave = 0; octave < 5; ++octave) {
-    sum += amplitude * value_noise(seed, x * frequency, y * frequency, octave);
-    norm += amplitude;
-    amplitude *= 0.5;
-    frequency *= 2.0;
-  }
-  return sum / norm;
-}
+// The seabed's noise: hadal/core/value_noise.h, five octaves.
+double fbm(std::uint64_t seed, double x, double y) { return noise::fbm(seed, x, y, 5); }
 
 double smoothstep(double edge0, double edge1, double x) {
   if (edge1 <= edge0) return x < edge0 ? 0.0 : 1.0;
@@ -64,10 +30,10 @@ HeightField procedural_seabed(const ProceduralSeabedSpec& spec) {
   field.y0 = -0.5 * spec.size_y;
   field.heights.resize(static_cast<std::size_t>(field.nx) * field.ny);
 
-  const double heading = kPi * (lattice(spec.seed, 7, 11, 99) + 1.0);  // seeded slope direction
+  const double heading = kPi * (noise::lattice(spec.seed, 7, 11, 99) + 1.0);  // seeded slope direction
   const double ux = std::cos(heading), uy = std::sin(heading);
   const double tan_slope = std::tan(spec.slope);
-  const std::uint64_t ridge_seed = mix(spec.seed + 1);
+  const std::uint64_t ridge_seed = splitmix64(spec.seed + 1);
   for (int j = 0; j < field.ny; ++j) {
     const double y = field.y0 + j * field.dy;
     for (int i = 0; i < field.nx; ++i) {

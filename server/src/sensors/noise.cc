@@ -106,13 +106,6 @@ double step_axis(const AxisNoiseParams& p, AxisNoiseState& s, NoiseStreams& stre
 
 // --- random streams ----------------------------------------------------------------------------------
 
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += kGolden;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h) {
   for (const char c : bytes) {
     h ^= static_cast<unsigned char>(c);

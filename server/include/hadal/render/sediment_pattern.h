@@ -3,14 +3,14 @@
 // camera sees texture to track and to judge motion by (a uniform albedo shows a smooth gradient only).
 //
 //   albedo(x, y) = seabed_albedo * clamp(1 + amplitude * (2 n(x, y) - 1), 0, 1/max(seabed_albedo))
-//   n(x, y) = sum_{k=0}^{octaves-1} 0.5^k v(2^k x / scale, 2^k y / scale) / sum_k 0.5^k     (in [0, 1])
+//   n(x, y) = (fbm(seed, x / scale, y / scale, octaves) + 1) / 2                       (in [0, 1))
 //
-// v is value noise: a uniform random value at every integer lattice point (splitmix64 of the point and
-// the seed; sensors/noise.h's hash), interpolated with the smoothstep across each cell. 'scale' is the
-// size of the largest patches [m]; each further octave adds detail half that size with half the weight
-// (fractal Brownian motion: 4 octaves at 1 m show patches down to 12 cm grain). Seeded from world.seed:
-// the same scenario gives the same sea floor. A function of the world position (x_W, y_W) only, so the
-// pattern stays on the ground as the camera moves.
+// fbm is the seeded fractal value noise of hadal/core/value_noise.h, the procedural seabed's own (with
+// its cheaper MixedLattice hash):
+// 'scale' is the size of the largest patches [m]; each further octave adds detail half that size with
+// half the weight (4 octaves at 1 m show patches down to 12 cm grain). Seeded from world.seed: the same
+// scenario gives the same sea floor. A function of the world position (x_W, y_W) only, so the pattern
+// stays on the ground as the camera moves.
 #pragma once
 
 #include <Eigen/Core>

@@ -63,6 +63,7 @@
 #include <vector>
 
 #include "hadal/core/units.h"
+#include "hadal/core/value_noise.h"
 
 namespace hadal::sensors {
 
@@ -70,8 +71,9 @@ namespace hadal::sensors {
 // Deterministic random streams
 // ---------------------------------------------------------------------------------------------------
 
-// splitmix64 output for state x: mix(x + 0x9e3779b97f4a7c15) (Steele, Lea & Flood 2014; as ocean.cc).
-std::uint64_t splitmix64(std::uint64_t x);
+// splitmix64 output for state x: mix(x + 0x9e3779b97f4a7c15) (Steele, Lea & Flood 2014;
+// hadal/core/value_noise.h, shared with the ocean and the seabed noise).
+using hadal::splitmix64;
 // FNV-1a 64 over bytes, continuing from hash h.
 std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL);
 // derive(parent, name) above.
