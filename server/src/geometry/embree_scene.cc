@@ -185,6 +185,24 @@ void intersect_packet(const int* valid, RTCScene s, RTCIntersectContext* c, RTCR
   rtcIntersect16(valid, s, c, r);
 }
 
+// Lane k of a packet (RTCRayN, or RTCRayHitN's .ray) from ray i of the batch; the id is i, for
+// occluded()'s ignore filter.
+template <typename RayN>
+void set_lane(RayN& r, std::size_t k, const RayBatch& rays, std::size_t i) {
+  r.org_x[k] = rays.p_WO_x[i];
+  r.org_y[k] = rays.p_WO_y[i];
+  r.org_z[k] = rays.p_WO_z[i];
+  r.tnear[k] = rays.t_near[i];
+  r.dir_x[k] = rays.d_W_x[i];
+  r.dir_y[k] = rays.d_W_y[i];
+  r.dir_z[k] = rays.d_W_z[i];
+  r.time[k] = 0.0f;
+  r.tfar[k] = rays.t_far[i];
+  r.mask[k] = ~0u;
+  r.id[k] = static_cast<unsigned>(i);
+  r.flags[k] = 0;
+}
+
 bool aligned16(const void* p) { return reinterpret_cast<std::uintptr_t>(p) % 16 == 0; }
 
 }  // namespace
@@ -299,7 +317,6 @@ struct EmbreeScene::Impl {
   RTCScene top = nullptr;
   RTCScene trace = nullptr;  // what rays are traced against: top, or the static scene without bodies
   std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
-  std::vector<std::int32_t> instance_body;  // instances[i].body, for occluded()'s filter
   bool poses_set = false;
 
   ~Impl() {
@@ -336,7 +353,6 @@ struct EmbreeScene::Impl {
     };
     if (!w.static_mesh_of_geometry.empty()) add_instance(w.static_scene, kStaticBody, w.static_mesh_of_geometry);
     for (const auto& [body, scene] : w.body_scenes) add_instance(scene.scene, body, scene.mesh_of_geometry);
-    for (const Instance& instance : instances) instance_body.push_back(instance.body);
     rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcCommitScene(top);
     w.check("building the top-level scene");
@@ -452,18 +468,7 @@ struct EmbreeScene::Impl {
       for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
         const std::size_t i = k < m ? p + k : p;  // inactive lanes repeat the first ray
         valid[k] = k < m ? -1 : 0;
-        rh.ray.org_x[k] = rays.p_WO_x[i];
-        rh.ray.org_y[k] = rays.p_WO_y[i];
-        rh.ray.org_z[k] = rays.p_WO_z[i];
-        rh.ray.tnear[k] = rays.t_near[i];
-        rh.ray.dir_x[k] = rays.d_W_x[i];
-        rh.ray.dir_y[k] = rays.d_W_y[i];
-        rh.ray.dir_z[k] = rays.d_W_z[i];
-        rh.ray.time[k] = 0.0f;
-        rh.ray.tfar[k] = rays.t_far[i];
-        rh.ray.mask[k] = ~0u;
-        rh.ray.id[k] = 0;
-        rh.ray.flags[k] = 0;
+        set_lane(rh.ray, k, rays, i);
         rh.hit.geomID[k] = kInvalidId;
         rh.hit.instID[0][k] = kInvalidId;
       }
@@ -584,21 +589,31 @@ struct EmbreeScene::Impl {
       for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
         const std::size_t i = k < m ? p + k : p;  // inactive lanes repeat the first ray
         valid[k] = k < m ? -1 : 0;
-        r.org_x[k] = rays.p_WO_x[i];
-        r.org_y[k] = rays.p_WO_y[i];
-        r.org_z[k] = rays.p_WO_z[i];
-        r.tnear[k] = rays.t_near[i];
-        r.dir_x[k] = rays.d_W_x[i];
-        r.dir_y[k] = rays.d_W_y[i];
-        r.dir_z[k] = rays.d_W_z[i];
-        r.time[k] = 0.0f;
-        r.tfar[k] = rays.t_far[i];
-        r.mask[k] = ~0u;
-        r.id[k] = static_cast<unsigned>(i);  // for the ignore filter
-        r.flags[k] = 0;
+        set_lane(r, k, rays, i);
       }
       occluded_packet(valid, trace, context, &r);
       for (std::size_t k = 0; k < m; ++k) tfar[p + k - begin] = r.tfar[k];
+    }
+  }
+
+  // An occlusion query's context when rays ignore bodies: Embree hands &context back to the filter,
+  // which reads the rest (this view, for the body of a hit's instance, and each ray's ignored body, by
+  // ray id = index in the batch). Standard layout, `context` first, so the cast back is valid.
+  struct IgnoringContext {
+    RTCIntersectContext context;
+    const Impl* view;
+    const std::int32_t* ignore_body;
+  };
+
+  // Rejects every candidate hit on the ray's ignored body (Embree then looks further along the ray).
+  static void reject_ignored_body(const RTCFilterFunctionNArguments* args) {
+    const auto* self = reinterpret_cast<const IgnoringContext*>(args->context);
+    const std::vector<Instance>& instances = self->view->instances;
+    for (unsigned k = 0; k < args->N; ++k) {
+      if (args->valid[k] != -1) continue;
+      const unsigned inst = RTCHitN_instID(args->hit, args->N, k, 0);
+      const std::int32_t body = inst == kInvalidId || instances.empty() ? kStaticBody : instances[inst].body;
+      if (body == self->ignore_body[RTCRayN_id(args->ray, args->N, k)]) args->valid[k] = 0;
     }
   }
 
@@ -777,30 +792,6 @@ void EmbreeScene::intersect(const RayBatch& rays, std::size_t begin, std::size_t
   if (!rays.ignore_body.empty()) s.pass_ignored_bodies(rays, begin, end, &context, hits);
 }
 
-namespace {
-
-// An occlusion query's context when rays ignore bodies: Embree hands &context back to the filter, which
-// reads the rest (the view's instance -> body map and each ray's ignored body, by ray id = index in the
-// batch). Standard layout, `context` first, so the cast back is valid.
-struct IgnoringContext {
-  RTCIntersectContext context;
-  const std::vector<std::int32_t>* instance_body;  // body of each top-level instance (empty: no instances)
-  const std::int32_t* ignore_body;
-};
-
-// Rejects every candidate hit on the ray's ignored body (Embree then looks further along the ray).
-void reject_ignored_body(const RTCFilterFunctionNArguments* args) {
-  const auto* self = reinterpret_cast<const IgnoringContext*>(args->context);
-  for (unsigned k = 0; k < args->N; ++k) {
-    if (args->valid[k] != -1) continue;
-    const unsigned inst = RTCHitN_instID(args->hit, args->N, k, 0);
-    const std::int32_t body = inst == kInvalidId || self->instance_body->empty() ? kStaticBody : (*self->instance_body)[inst];
-    if (body == self->ignore_body[RTCRayN_id(args->ray, args->N, k)]) args->valid[k] = 0;
-  }
-}
-
-}  // namespace
-
 void EmbreeScene::occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
                            std::vector<std::uint8_t>& blocked) const {
   const Impl& s = *impl_;
@@ -812,13 +803,13 @@ void EmbreeScene::occluded(const RayBatch& rays, std::size_t begin, std::size_t 
                             ") outside the batch (" + std::to_string(rays.size()) + " rays) or the output (" +
                             std::to_string(blocked.size()) + ")");
   }
-  IgnoringContext ignoring{};
+  Impl::IgnoringContext ignoring{};
   rtcInitIntersectContext(&ignoring.context);
   ignoring.context.flags = rays.coherence == RayCoherence::kCoherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
                                                                       : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   if (!rays.ignore_body.empty()) {
-    ignoring.context.filter = &reject_ignored_body;
-    ignoring.instance_body = &s.instance_body;
+    ignoring.context.filter = &Impl::reject_ignored_body;
+    ignoring.view = &s;
     ignoring.ignore_body = rays.ignore_body.data();
   }
   for (std::size_t i = begin; i < end;) {
