@@ -1019,17 +1019,18 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
 // world.optics (OpticsSpec), its defaults filled whether or not the block is given: water absorption
 // = pure water (Pope & Fry 1997, render/water_presets.h) unless given, scattering 0.037 /m per channel
 // (Petzold's clear ocean at 530 nm, b = 0.037 /m: Mobley, Light and Water (1994), Table 3.10), the
-// Henyey-Greenstein g 0.924; daylight E0 [W/m^2 per channel] at the water surface decaying by a Jerlov
+// Henyey-Greenstein g 0.924, forward scatter within 10 deg (render/forward_scatter.h); daylight E0 [W/m^2 per channel] at the water surface decaying by a Jerlov
 // type's Kd (type I by default).
 void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec* optics) {
   optics->water.absorption_per_m = render::pure_water_absorption_per_m();
   optics->water.scattering_per_m = render::Rgb::Constant(0.037);
+  optics->water.forward_scatter_max_angle_rad = 10.0 * kDegToRad;
   optics->daylight.surface_irradiance_W_per_m2 = render::Rgb(150.0, 170.0, 160.0);
   optics->daylight.Kd_per_m = render::jerlov_Kd_per_m(render::JerlovType::kI);
   optics->daylight.surface_z_m = surface_z;
   if (!value) return;
-  const MapReader map(*value, {"absorption", "scattering", "phase_g", "daylight", "seabed_albedo", "vehicle_albedo",
-                               "marine_snow", "seabed_pattern"});
+  const MapReader map(*value, {"absorption", "scattering", "phase_g", "forward_scatter_max_angle_deg", "daylight",
+                               "seabed_albedo", "vehicle_albedo", "marine_snow", "seabed_pattern"});
   if (!map.ok()) return;
   const auto read_rgb = [](const MapReader& from, const std::string& key, const Range& range, Eigen::Array3d* out) {
     Eigen::Vector3d v = out->matrix();
@@ -1038,6 +1039,10 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   read_rgb(map, "absorption", Range::closed(0.0, 100.0), &optics->water.absorption_per_m);
   read_rgb(map, "scattering", Range::closed(0.0, 100.0), &optics->water.scattering_per_m);
   map.read_number("phase_g", Need::kOptional, Range{-1.0, 1.0, false, false}, &optics->water.phase_g);
+  double forward_deg = optics->water.forward_scatter_max_angle_rad / kDegToRad;
+  if (map.read_number("forward_scatter_max_angle_deg", Need::kOptional, Range::closed(0.0, 30.0), &forward_deg)) {
+    optics->water.forward_scatter_max_angle_rad = forward_deg * kDegToRad;
+  }
   read_rgb(map, "seabed_albedo", Range::closed(0.0, 1.0), &optics->seabed_albedo);
   read_rgb(map, "vehicle_albedo", Range::closed(0.0, 1.0), &optics->vehicle_albedo);
   if (const auto pattern_value = map.optional("seabed_pattern")) {

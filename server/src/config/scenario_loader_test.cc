@@ -592,7 +592,7 @@ vehicles:
 TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
   const std::string path = write("s.yaml", R"(world:
   physics_rate_hz: 500
-  optics: {absorption: [0.4, 0.07, 0.03], scattering: [0.1, 0.1, 0.1], phase_g: 0.9,
+  optics: {absorption: [0.4, 0.07, 0.03], scattering: [0.1, 0.1, 0.1], phase_g: 0.9, forward_scatter_max_angle_deg: 5,
            daylight: {surface_irradiance: [100, 120, 110], jerlov_type: II}, seabed_albedo: [0.2, 0.2, 0.1],
            marine_snow: {density: 50, radius: 0.002}, seabed_pattern: {amplitude: 0.3, scale: 0.5, octaves: 3}}
 vehicles:
@@ -635,6 +635,7 @@ vehicles:
   const OpticsSpec& optics = result.model->world.optics;
   EXPECT_EQ(optics.water.absorption_per_m[1], 0.07);
   EXPECT_EQ(optics.water.phase_g, 0.9);
+  EXPECT_DOUBLE_EQ(optics.water.forward_scatter_max_angle_rad, 5.0 * kDegToRad);
   EXPECT_EQ(optics.daylight.surface_irradiance_W_per_m2[0], 100.0);
   EXPECT_EQ(optics.daylight.Kd_per_m[2], render::jerlov_Kd_per_m(render::JerlovType::kII)[2]);
   EXPECT_EQ(optics.seabed_albedo[2], 0.1);
@@ -647,7 +648,8 @@ vehicles:
   EXPECT_EQ(optics.marine_snow.max_range_m, render::MarineSnow{}.max_range_m);
 
   const std::string bad = write("bad.yaml", R"(world:
-  optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}, seabed_pattern: {amplitude: 2, octaves: 0}}
+  optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}, seabed_pattern: {amplitude: 2, octaves: 0},
+           forward_scatter_max_angle_deg: 40}
 vehicles:
   - name: auv
     type: auv
@@ -667,19 +669,20 @@ vehicles:
                          "IA, IB, II, III, 1C, 3C, 5C, 7C, 9C)",
                    bad + ":2:95: error: world.optics.seabed_pattern.amplitude: must be in [0, 1] (got 2)",
                    bad + ":2:107: error: world.optics.seabed_pattern.octaves: must be in [1, 8] (got 0)",
-                   bad + ":9:33: error: vehicles[0].sensors[0].hfov_deg: give either hfov_deg or the calibration fx, "
+                   bad + ":3:43: error: world.optics.forward_scatter_max_angle_deg: must be in [0, 30] (got 40)",
+                   bad + ":10:33: error: vehicles[0].sensors[0].hfov_deg: give either hfov_deg or the calibration fx, "
                          "fy, not both",
-                   bad + ":10:33: error: vehicles[0].sensors[1].distortion: a pinhole lens has no distortion (set "
+                   bad + ":11:33: error: vehicles[0].sensors[1].distortion: a pinhole lens has no distortion (set "
                          "lens_model: plumb_bob or equidistant)",
-                   bad + ":10:78: error: vehicles[0].sensors[1].far_clip: far_clip (2 m) must exceed near_clip (3 m)",
-                   bad + ":11:45: error: vehicles[0].sensors[2].lens_model: must be one of 'pinhole', 'plumb_bob', "
+                   bad + ":11:78: error: vehicles[0].sensors[1].far_clip: far_clip (2 m) must exceed near_clip (3 m)",
+                   bad + ":12:45: error: vehicles[0].sensors[2].lens_model: must be one of 'pinhole', 'plumb_bob', "
                          "'radial_tangential', 'equidistant' (got 'fisheye')",
-                   bad + ":11:61: error: vehicles[0].sensors[2].width: must be in [1, 8192] (got 0)",
-                   bad + ":12:56: error: vehicles[0].sensors[3].distortion: unusable lens: distortion: the "
+                   bad + ":12:61: error: vehicles[0].sensors[2].width: must be in [1, 8192] (got 0)",
+                   bad + ":13:56: error: vehicles[0].sensors[3].distortion: unusable lens: distortion: the "
                          "radial_tangential distortion has no inverse at pixel (0, 0): the lens folds over inside the "
                          "image (monotone up to r = 0.6085806195); check the coefficients' signs and the image size",
-                   bad + ":14:28: error: vehicles[0].lights[0].link: no link named 'mast' in this vehicle (links: hull)",
-                   bad + ":14:60: error: vehicles[0].lights[0].outer_half_angle_deg: the beam's outer half angle (30 "
+                   bad + ":15:28: error: vehicles[0].lights[0].link: no link named 'mast' in this vehicle (links: hull)",
+                   bad + ":15:60: error: vehicles[0].lights[0].outer_half_angle_deg: the beam's outer half angle (30 "
                          "deg) must exceed its inner half angle (40 deg)"}));
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "hadal/render/camera_rays.h"
+#include "hadal/render/forward_scatter.h"
 
 namespace hadal::render {
 namespace {
@@ -130,6 +131,12 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
   // rays hold it).
   const Rgb E_camera = lighting.daylight.irradiance_at(static_cast<float>(X_WC.translation().z()));
+  // Forward scatter (render/forward_scatter.h): each surface pixel's radiance times exp(b_f d) - 1,
+  // spread over the image after the bands.
+  const Rgb forward_per_m = forward_scattering_per_m(lighting.water);
+  const bool forward = (forward_per_m > 0.0).any();
+  std::vector<Rgb> forward_source;
+  if (forward) forward_source.assign(n, Rgb::Zero());
 
   const int bands = (lens.height_px() + kBandRows - 1) / kBandRows;
   std::vector<std::size_t> band_shadow_rays(static_cast<std::size_t>(bands), 0);
@@ -200,10 +207,17 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       if (blocked[k] != 0) continue;
       const std::size_t i = shadow_pixel[k];
       const double d_camera = static_cast<double>(hits.distance[i]);
-      if (shadow_light[k] == kSky) {
-        frame.radiance[first + i] += daylight_surface_radiance(albedo[i], lighting.daylight, p_W[i], n_W[i], c, d_camera);
-      } else {
-        frame.radiance[first + i] += lambertian_radiance(albedo[i], beams[shadow_light[k]], p_W[i], n_W[i], c, d_camera);
+      const Rgb surface = shadow_light[k] == kSky
+                              ? daylight_surface_radiance(albedo[i], lighting.daylight, p_W[i], n_W[i], c, d_camera)
+                              : lambertian_radiance(albedo[i], beams[shadow_light[k]], p_W[i], n_W[i], c, d_camera);
+      frame.radiance[first + i] += surface;
+      if (forward) forward_source[first + i] += surface;
+    }
+    if (forward) {
+      for (std::size_t i = 0; i < m; ++i) {
+        if (!hits.hit(i)) continue;
+        const Eigen::Array3f bd = (forward_per_m * static_cast<double>(hits.distance[i])).cast<float>();
+        forward_source[first + i] *= (exp3(bd) - 1.0f).cast<double>();
       }
     }
     if (!backscatter && !daylit_water) return;
@@ -221,6 +235,10 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     }
   });
   for (std::size_t count : band_shadow_rays) frame.shadow_rays += count;
+  if (forward) {
+    add_forward_scatter(*forward_scatter_kernel(lighting.water, lens.spec().fx, lens.spec().fy), frame.width_px,
+                        frame.height_px, forward_source, frame.radiance, parallel);
+  }
   frame.snow_particles = add_marine_snow(lighting.marine_snow, lens, X_WC, lighting.water, lighting.lights,
                                          frame.depth_m, frame.radiance);
   return frame;

@@ -173,7 +173,7 @@ TEST(FrameTest, SameInputsGiveTheSameFrame) {
   expect_same_frame(a, b);
 }
 
-// Bands and backscatter rows as tasks on two threads, or backwards on one: the same frame bit for bit
+// Bands, backscatter rows and forward-scatter rows as tasks on two threads, or backwards on one: the same frame bit for bit
 // (render/frame.h: a function of its inputs whatever the threads).
 TEST(FrameTest, SameFrameWhateverTheThreads) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
@@ -181,6 +181,7 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
   FrameLighting lighting;
   lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
   lighting.water.scattering_per_m = Rgb::Constant(0.08);
+  lighting.water.forward_scatter_max_angle_rad = 0.15;  // the spread's row tasks too
   SpotLight left, right;
   left.p_WL = Eigen::Vector3d(0.0, 0.4, 0.0);
   right.p_WL = Eigen::Vector3d(0.0, -0.4, 0.0);

@@ -37,6 +37,9 @@ void validate(const WaterOptics& water) {
   if (!finite_non_negative(water.absorption_per_m)) invalid("absorption", "must be finite and >= 0 per channel [1/m]");
   if (!finite_non_negative(water.scattering_per_m)) invalid("scattering", "must be finite and >= 0 per channel [1/m]");
   if (!(std::abs(water.phase_g) < 1.0)) invalid("phase_g", "must be in (-1, 1)");
+  if (!(water.forward_scatter_max_angle_rad >= 0.0 && water.forward_scatter_max_angle_rad <= kPi / 6.0)) {
+    invalid("forward_scatter_max_angle", "must be in [0, 30] deg");
+  }
 }
 
 void validate(const SpotLight& light) {

@@ -12,10 +12,12 @@
 //             distance (to far_m on a miss, or, with an infinite far clip, to
 //             'max_backscatter_range_m'), looked up in the frame's BackscatterTable
 //             (render/backscatter_table.h), and daylight's path radiance over the same range (closed
-//             form, to infinity on a miss with an infinite far clip).
+//             form, to infinity on a miss with an infinite far clip), plus, when the water's
+//             forward_scatter_max_angle_rad is above 0, the surfaces' forward-scattered light spread
+//             over the image (render/forward_scatter.h; backscatter and marine snow are not spread).
 //   depth_m   metres along the optical axis, NaN on a miss (render/camera_rays.h).
 // Work: the backscatter table's rows of nodes, then bands of kBandRows image rows (rays, shadow rays,
-// shading), each a task of the ParallelFor given. Deterministic: a function of its inputs, the same
+// shading), each a task of the ParallelFor given, then the forward-scatter spread (rows in tasks). Deterministic: a function of its inputs, the same
 // whatever the threads (no random numbers; a band's rays are cast as one batch whatever thread casts
 // it, and Embree's results are deterministic for the same rays and scene).
 #pragma once

@@ -39,6 +39,9 @@ struct WaterOptics {
   Rgb absorption_per_m = Rgb::Zero();  // a
   Rgb scattering_per_m = Rgb::Zero();  // b
   double phase_g = 0.924;              // Henyey–Greenstein asymmetry, -1 < g < 1
+  // Light scattered within this angle of forward still reaches the camera, blurred
+  // (render/forward_scatter.h); 0: none (the unscattered beam only). At most 30 deg.
+  double forward_scatter_max_angle_rad = 0.0;
   Rgb attenuation_per_m() const { return absorption_per_m + scattering_per_m; }  // c
 };
 
