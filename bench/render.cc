@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     light.intensity_W_per_sr = render::Rgb::Constant(300.0);
     lighting.lights.push_back(light);
   }
-  const auto albedo = [](std::uint32_t, std::int32_t, const Eigen::Vector3d&) { return render::Rgb(0.45, 0.42, 0.35); };
+  const auto albedo = [](const render::SurfacePoint&) { return render::Rgb(0.45, 0.42, 0.35); };
   std::vector<float> cos_theta;
   for (const auto& d : lens.rays_C()) cos_theta.push_back(d.z());
   geometry::RayBatch primary;

@@ -24,6 +24,7 @@ namespace {
 constexpr std::size_t kBlock = 256;
 constexpr unsigned kInvalidId = RTC_INVALID_GEOMETRY_ID;
 constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // 3x4 column-major affine transform as Embree takes it (RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR).
 using Transform12 = std::array<float, 12>;
@@ -72,6 +73,10 @@ void validate_mesh(const TriangleMesh& mesh, const std::string& prefix) {
                                   std::to_string(mesh.indices[i]) + ", out of range (the mesh has " +
                                   std::to_string(num_vertices) + " vertices)");
     }
+  }
+  if (!mesh.uvs.empty() && mesh.uvs.size() != 2 * num_vertices) {
+    throw std::invalid_argument(prefix + "uvs has " + std::to_string(mesh.uvs.size()) + " values for " +
+                                std::to_string(num_vertices) + " vertices (2 each)");
   }
   if (!mesh.triangle_materials.empty()) {
     if (mesh.triangle_materials.size() != num_triangles) {
@@ -227,6 +232,10 @@ struct EmbreeWorld {
   struct Mesh {
     SceneMeshInfo info;
     std::vector<std::uint32_t> triangle_materials;
+    // Texture coordinates (2 per vertex) and the triangles' vertex indices, kept when the mesh has
+    // texture coordinates (RayHits::tex_u, tex_v); empty otherwise.
+    std::vector<float> uvs;
+    std::vector<std::uint32_t> indices;
   };
 
   RTCDevice device = nullptr;
@@ -296,7 +305,12 @@ struct EmbreeWorld {
     if (mesh_of_geometry.size() <= geom_id) mesh_of_geometry.resize(geom_id + 1, -1);
     mesh_of_geometry[geom_id] = mesh_id;
     info.num_triangles = mesh.num_triangles();
-    meshes.push_back(Mesh{std::move(info), mesh.triangle_materials});
+    Mesh kept{std::move(info), mesh.triangle_materials, {}, {}};
+    if (!mesh.uvs.empty()) {
+      kept.uvs = mesh.uvs;
+      kept.indices = mesh.indices;
+    }
+    meshes.push_back(std::move(kept));
     return mesh_id;
   }
 };
@@ -379,6 +393,7 @@ struct EmbreeScene::Impl {
         hits.mesh[i] = kNoHit;
         hits.material[i] = kInvalidIndex;
         hits.triangle[i] = kInvalidIndex;
+        hits.tex_u[i] = hits.tex_v[i] = kNaN;
         continue;
       }
       int mesh_id;
@@ -401,6 +416,18 @@ struct EmbreeScene::Impl {
       hits.mesh[i] = mesh_id;
       hits.material[i] = mesh.info.material_id +
                          (mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[hits.triangle[i]]);
+      // tex_u, tex_v hold Embree's barycentric u, v of the hit: texture coordinates from them.
+      if (mesh.uvs.empty()) {
+        hits.tex_u[i] = hits.tex_v[i] = kNaN;
+      } else {
+        const std::uint32_t* tri = &mesh.indices[3 * static_cast<std::size_t>(hits.triangle[i])];
+        const float b1 = hits.tex_u[i], b2 = hits.tex_v[i], b0 = 1.0f - b1 - b2;
+        const float* t0 = &mesh.uvs[2 * static_cast<std::size_t>(tri[0])];
+        const float* t1 = &mesh.uvs[2 * static_cast<std::size_t>(tri[1])];
+        const float* t2 = &mesh.uvs[2 * static_cast<std::size_t>(tri[2])];
+        hits.tex_u[i] = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
+        hits.tex_v[i] = b0 * t0[1] + b1 * t1[1] + b2 * t2[1];
+      }
     }
     normalize(nx, ny, nz, n);
   }
@@ -438,6 +465,8 @@ struct EmbreeScene::Impl {
     hits.n_W_y[i] = rh.hit.Ng_y;
     hits.n_W_z[i] = rh.hit.Ng_z;
     hits.triangle[i] = rh.hit.primID;
+    hits.tex_u[i] = rh.hit.u;
+    hits.tex_v[i] = rh.hit.v;
     *geom = rh.hit.geomID;
     *inst = rh.hit.instID[0];
   }
@@ -480,6 +509,8 @@ struct EmbreeScene::Impl {
         hits.n_W_y[i] = rh.hit.Ng_y[k];
         hits.n_W_z[i] = rh.hit.Ng_z[k];
         hits.triangle[i] = rh.hit.primID[k];
+        hits.tex_u[i] = rh.hit.u[k];
+        hits.tex_v[i] = rh.hit.v[k];
         geom[i - begin] = rh.hit.geomID[k];
         inst[i - begin] = rh.hit.instID[0][k];
       }
@@ -504,7 +535,7 @@ struct EmbreeScene::Impl {
   void trace_stream(const RayBatch& rays, std::size_t begin, std::size_t end, RTCIntersectContext* context,
                     RayHits& hits) const {
     alignas(64) unsigned geom[kBlock], inst[kBlock], mask[kBlock], id[kBlock], flags[kBlock];
-    alignas(64) float time[kBlock], u[kBlock], v[kBlock];
+    alignas(64) float time[kBlock];
     const std::size_t n = end - begin;
     std::fill_n(mask, n, ~0u);
     std::fill_n(id, n, 0u);
@@ -530,8 +561,8 @@ struct EmbreeScene::Impl {
     rh.hit.Ng_x = &hits.n_W_x[begin];
     rh.hit.Ng_y = &hits.n_W_y[begin];
     rh.hit.Ng_z = &hits.n_W_z[begin];
-    rh.hit.u = u;
-    rh.hit.v = v;
+    rh.hit.u = &hits.tex_u[begin];
+    rh.hit.v = &hits.tex_v[begin];
     rh.hit.primID = &hits.triangle[begin];
     rh.hit.geomID = geom;
     rh.hit.instID[0] = inst;
@@ -621,7 +652,8 @@ struct EmbreeScene::Impl {
     return aligned16(&rays.p_WO_x[i]) && aligned16(&rays.p_WO_y[i]) && aligned16(&rays.p_WO_z[i]) &&
            aligned16(&rays.d_W_x[i]) && aligned16(&rays.d_W_y[i]) && aligned16(&rays.d_W_z[i]) &&
            aligned16(&rays.t_near[i]) && aligned16(&hits.distance[i]) && aligned16(&hits.n_W_x[i]) &&
-           aligned16(&hits.n_W_y[i]) && aligned16(&hits.n_W_z[i]) && aligned16(&hits.triangle[i]);
+           aligned16(&hits.n_W_y[i]) && aligned16(&hits.n_W_z[i]) && aligned16(&hits.triangle[i]) &&
+           aligned16(&hits.tex_u[i]) && aligned16(&hits.tex_v[i]);
   }
 };
 

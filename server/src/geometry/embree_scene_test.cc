@@ -194,6 +194,52 @@ TEST(EmbreeScene, PerTriangleMaterialsAddToTheMeshMaterialId) {
   EXPECT_EQ(trace(scene, one_ray({-10.0f, 20.0f, 0.0f}, {0.0f, 0.0f, -1.0f})).material[0], 11u);
 }
 
+// Texture coordinates of a hit interpolate the mesh's uvs over the hit triangle, the same on every
+// query path (single rays, packets, streams) and on a posed body; NaN on a mesh without uvs and on a
+// miss. The square's uvs are (x + h, y + h) / 2h, so a hit at (x, y) has tex (x / 2h + 1/2, y / 2h + 1/2)
+// (float interpolation: within 1e-5).
+TEST(EmbreeScene, HitsCarryTheMeshTextureCoordinates) {
+  TriangleMesh textured = flat_square(10.0f, 0.0f);
+  textured.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  EmbreeScene scene;
+  scene.add_static_mesh(flat_square(100.0f, -100.0f), 1, "seabed");  // no uvs
+  scene.add_body_mesh(0, textured, 2, "plate");
+  scene.build();
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.translation() = Eigen::Vector3d(30.0, -20.0, -50.0);
+  scene.set_body_poses({X_WB});
+  RayBatch batch;
+  batch.coherence = RayCoherence::kCoherent;
+  std::vector<Eigen::Vector2f> expected;
+  for (int k = 0; k < 37; ++k) {  // a row of points across the plate, both triangles
+    const float x = -9.5f + 0.5f * static_cast<float>(k), y = 7.0f - 0.37f * static_cast<float>(k);
+    batch.add_ray({30.0f + x, -20.0f + y, 0.0f}, {0.0f, 0.0f, -1.0f});
+    expected.emplace_back(x / 20.0f + 0.5f, y / 20.0f + 0.5f);
+  }
+  batch.add_ray({60.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f});  // beside the plate: the seabed
+  batch.add_ray({60.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f});   // up: nothing
+  for (QueryPath path : {QueryPath::kSingle, QueryPath::kPacket, QueryPath::kStream}) {
+    SCOPED_TRACE(to_string(path));
+    RayHits hits;
+    hits.resize(batch.size());
+    scene.intersect(batch, 0, batch.size(), path, hits);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      ASSERT_EQ(hits.body[i], 0);
+      EXPECT_NEAR(hits.tex_u[i], expected[i].x(), 1e-5f) << i;
+      EXPECT_NEAR(hits.tex_v[i], expected[i].y(), 1e-5f) << i;
+    }
+    const std::size_t seabed = expected.size(), miss = seabed + 1;
+    ASSERT_EQ(hits.body[seabed], kStaticBody);
+    EXPECT_TRUE(std::isnan(hits.tex_u[seabed]) && std::isnan(hits.tex_v[seabed]));
+    ASSERT_FALSE(hits.hit(miss));
+    EXPECT_TRUE(std::isnan(hits.tex_u[miss]) && std::isnan(hits.tex_v[miss]));
+  }
+  TriangleMesh bad = flat_square(1.0f, 0.0f);
+  bad.uvs = {0, 0, 1, 0};
+  EmbreeScene other;
+  EXPECT_THROW(other.add_static_mesh(bad), std::invalid_argument);
+}
+
 TEST(EmbreeScene, BodyInstanceIsHitWhereItsPoseMovedIt) {
   EmbreeScene scene;
   scene.add_static_mesh(flat_square(500.0f, -100.0f), 1, "seabed");

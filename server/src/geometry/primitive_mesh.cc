@@ -132,6 +132,15 @@ TriangleMesh tessellate(const CollisionShape& shape, int segments) {
 
 void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM, TriangleMesh* out) {
   const auto offset = static_cast<std::uint32_t>(out->num_vertices());
+  // Texture coordinates go along when either mesh has them (0, 0 for the vertices of one without).
+  if (!mesh.uvs.empty() || !out->uvs.empty()) {
+    out->uvs.resize(2 * static_cast<std::size_t>(offset), 0.0f);
+    if (mesh.uvs.size() == 2 * mesh.num_vertices()) {
+      out->uvs.insert(out->uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
+    } else {
+      out->uvs.resize(2 * (static_cast<std::size_t>(offset) + mesh.num_vertices()), 0.0f);
+    }
+  }
   for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
     const Eigen::Vector3d p_M(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
     add_vertex(X_AM * p_M, out);

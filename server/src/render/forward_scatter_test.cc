@@ -145,7 +145,7 @@ TEST(ForwardScatterTest, FrameHaloCarriesTheScatteredShare) {
   lighting.lights = {SpotLight{}};
   lighting.lights[0].inner_half_angle_rad = 1.0;
   lighting.lights[0].outer_half_angle_rad = 1.2;
-  const auto white = [](std::uint32_t, std::int32_t, const Eigen::Vector3d&) { return Rgb::Ones(); };
+  const auto white = [](const SurfacePoint&) { return Rgb::Ones(); };
   const auto render = [&](const FrameLighting& l) {
     return render_radiance(scene, lens, X_SC(), 0.1f, 20.0f, geometry::kNoHit, l, white);
   };

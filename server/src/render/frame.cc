@@ -169,7 +169,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       if (normal.dot(d) > 0.0) normal = -normal;
       n_W[i] = normal;
       shadow_origin_W[i] = p_W[i] + lighting.shadow_bias_m * normal;
-      albedo[i] = albedo_of(hits.material[i], hits.body[i], p_W[i]);
+      albedo[i] = albedo_of(SurfacePoint{hits.material[i], hits.body[i], p_W[i], hits.tex_u[i], hits.tex_v[i]});
     }
     // One shadow ray per (hit, light) that the light's beam reaches; light by light, so that neighbouring rays run in similar directions (coherent for Embree), then
     // daylight's rays straight up to the surface (light index kSky).

@@ -31,7 +31,7 @@ Lens centred_lens() {
   return make_lens(spec);
 }
 
-Rgb white(std::uint32_t, std::int32_t, const Eigen::Vector3d&) { return Rgb::Ones(); }
+Rgb white(const SurfacePoint&) { return Rgb::Ones(); }
 
 std::size_t centre(const Lens& lens) { return static_cast<std::size_t>(240) * lens.width_px() + 320; }
 

@@ -17,7 +17,7 @@ namespace {
 
 using testing::plate;
 
-Rgb white(std::uint32_t, std::int32_t, const Eigen::Vector3d&) { return Rgb::Ones(); }
+Rgb white(const SurfacePoint&) { return Rgb::Ones(); }
 
 // Camera at the origin looking along +x (90 deg), a light at the camera, clear water; a wall at `wall_m`.
 RadianceFrame frame_with_snow(double density, std::uint64_t seed, float wall_m) {

@@ -19,6 +19,7 @@
 #include "hadal/render/camera_presets.h"
 #include "hadal/render/camera_rays.h"
 #include "hadal/render/frame.h"
+#include "hadal/render/texture.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sample_context.h"
 
@@ -82,16 +83,17 @@ void fill_header(const MessageHeader& header, std_msgs::msg::Header& out) {
 
 }  // namespace
 
-Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
-                              std::int32_t body, const Eigen::Vector3d& p_W) {
+Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB,
+                              const render::SurfacePoint& hit) {
   const OpticsSpec& optics = model.world.optics;
-  if (material == geometry::kSeabedMaterial || body < 0) {
+  const Eigen::Vector3d& p_W = hit.p_W;
+  if (hit.material == geometry::kSeabedMaterial || hit.body < 0) {
     return render::sediment_albedo(optics.seabed_pattern, optics.seabed_albedo, p_W.x(), p_W.y());
   }
-  const auto b = static_cast<std::size_t>(body);
-  const std::uint32_t code = material - geometry::kVehicleMaterial;  // geometry::link_material(link, m)
+  const auto b = static_cast<std::size_t>(hit.body);
+  const std::uint32_t code = hit.material - geometry::kVehicleMaterial;  // geometry::link_material(link, m)
   const std::size_t link = geometry::link_of_material(code);
-  if (material < geometry::kVehicleMaterial || b >= model.vehicles.size() || b >= X_WB.size() ||
+  if (hit.material < geometry::kVehicleMaterial || b >= model.vehicles.size() || b >= X_WB.size() ||
       link >= model.vehicles[b].links.size()) {
     return optics.vehicle_albedo;
   }
@@ -100,12 +102,20 @@ Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isome
   if (spec.appearance.albedo) {
     base = *spec.appearance.albedo;
   } else if (spec.mesh && spec.mesh->mesh) {
-    // The link mesh's own material: its glTF base colour factor (linear RGB, clipped to [0, 1]).
-    const std::vector<geometry::Material>& materials = spec.mesh->mesh->materials;
+    // The link mesh's own material: its glTF base colour factor (linear RGB), times its base-colour
+    // texture at the hit's texture coordinates when it has one (render/texture.h), clipped to [0, 1].
+    const geometry::TriangleMesh& mesh = *spec.mesh->mesh;
     const std::uint32_t m = geometry::mesh_material_of(code);
-    if (m < materials.size()) {
-      const auto& c = materials[m].base_color;
-      base = render::Rgb(c[0], c[1], c[2]).cwiseMax(0.0).cwiseMin(1.0);
+    if (m < mesh.materials.size()) {
+      const geometry::Material& material = mesh.materials[m];
+      const auto& c = material.base_color;
+      base = render::Rgb(c[0], c[1], c[2]);
+      const int t = material.base_color_texture;
+      if (t >= 0 && static_cast<std::size_t>(t) < mesh.textures.size() && std::isfinite(hit.tex_u) &&
+          std::isfinite(hit.tex_v)) {
+        base *= render::sample_texture(mesh.textures[static_cast<std::size_t>(t)], hit.tex_u, hit.tex_v);
+      }
+      base = base.cwiseMax(0.0).cwiseMin(1.0);
     }
   }
   if (!spec.appearance.checkerboard) return base;
@@ -272,9 +282,7 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB, lighting = std::move(lighting),
           lights_C = own_lights_C(*context.model, context.vehicle_index, context.X_BS)](
              const geometry::EmbreeScene& scene, const ParallelFor& parallel) mutable {
-    const auto albedo = [&](std::uint32_t material, std::int32_t body, const Eigen::Vector3d& p_W) {
-      return surface_albedo(*model, X_WB, material, body, p_W);
-    };
+    const auto albedo = [&](const render::SurfacePoint& hit) { return surface_albedo(*model, X_WB, hit); };
     if (lights_C && spec.backscatter_cache) {
       lighting.backscatter = spec.backscatter_cache->get(lighting, *lights_C, spec.lens, static_cast<float>(spec.near_m),
                                                          static_cast<float>(spec.far_m), parallel);

@@ -7,12 +7,17 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <unistd.h>
 
 #include "hadal/core/units.h"
 #include "hadal/geometry/raycast_service.h"
 #include "hadal/geometry/world_scene.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/render/frame.h"
+#include "hadal/render/texture.h"
+#include "hadal/assets/scene_writer.h"
+#include "hadal/geometry/mesh_import.h"
 #include "sensor_test_support.h"
 
 namespace hadal::sensors {
@@ -169,7 +174,7 @@ TEST(CameraSensorTest, GltfBaseColourIsTheAlbedoOfAMeshedLink) {
   scene.intersect(rays, 0, rays.size(), geometry::QueryPath::kSingle, hits);
   const auto albedo = [&](std::size_t i) {
     const Eigen::Vector3d p = from.cast<double>() + hits.distance[i] * Eigen::Vector3d(rays.d_W_x[i], rays.d_W_y[i], rays.d_W_z[i]);
-    return surface_albedo(model, X_WB, hits.material[i], hits.body[i], p);
+    return surface_albedo(model, X_WB, render::SurfacePoint{hits.material[i], hits.body[i], p, hits.tex_u[i], hits.tex_v[i]});
   };
   ASSERT_TRUE(hits.hit(0) && hits.hit(1) && hits.hit(2));
   EXPECT_TRUE(albedo(0).isApprox(Eigen::Array3d(0.9, 0.1, 0.1), 1e-6)) << albedo(0).transpose();
@@ -177,6 +182,69 @@ TEST(CameraSensorTest, GltfBaseColourIsTheAlbedoOfAMeshedLink) {
   EXPECT_TRUE(albedo(2).isApprox(model.world.optics.seabed_albedo)) << albedo(2).transpose();
   model.vehicles[0].links[1].appearance.albedo = Eigen::Array3d(0.5, 0.5, 0.5);
   EXPECT_TRUE(albedo(0).isApprox(Eigen::Array3d(0.5, 0.5, 0.5)));
+}
+
+// A link whose mesh is a real GLB (the asset tools' textured quad: a 1 m quad, texture coordinates over
+// [0, 1]^2, base colour factor (1, 0.5, 0.25) times an 8 x 4 test texture), imported as a scenario
+// would: a ray's hit samples the texture at the hit's texture coordinates, sRGB-decoded, times the
+// factor. Rays aimed at texel centres see that texel exactly (bilinear weights 1 and 0, to float
+// rounding: 1e-5).
+TEST(CameraSensorTest, GltfBaseColourTextureIsSampledAtTheHit) {
+  const std::string dir = ::testing::TempDir() + "/camera_texture_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/quad.glb";
+  ASSERT_EQ(assets::write_scene(assets::textured_quad_scene(8, 4), path), "");
+  const geometry::ImportResult imported = geometry::import_mesh(path);
+  ASSERT_TRUE(imported.mesh) << imported.error;
+  ASSERT_EQ(imported.mesh->textures.size(), 1u);
+
+  Model model = testing::one_vehicle_world(Eigen::Vector3d(0.0, 0.0, -90.0));
+  LinkSpec target;
+  target.name = "target";
+  target.mass = 1.0;
+  // The quad (in the xy-plane, facing +z) stood up 5 m ahead, facing the vehicle: x_L = -z_M.
+  target.X_BL = pose(Eigen::Vector3d(5.0, 0.0, 0.0), rpy(0.0, -EIGEN_PI / 2.0, 0.0));
+  LinkMesh link_mesh;
+  link_mesh.mesh = std::make_shared<geometry::TriangleMesh>(*imported.mesh);
+  target.mesh = link_mesh;
+  model.vehicles[0].links.push_back(target);
+  geometry::EmbreeScene scene = geometry::build_world_scene(model);
+  scene.build();
+  const std::vector<Eigen::Isometry3d> X_WB = {model.vehicles[0].X_WB_initial};
+  scene.set_body_poses(X_WB);
+
+  const Eigen::Isometry3d X_WL = X_WB[0] * target.X_BL;
+  const Eigen::Vector3f from(0.0f, 0.0f, -90.0f);
+  geometry::RayBatch rays;
+  std::vector<std::pair<int, int>> texels;
+  for (int row = 0; row < 4; ++row) {
+    for (int column = 0; column < 8; ++column) {
+      // Texel (column, row)'s centre: u = (column + 1/2) / 8, v = 1 - (row + 1/2) / 4; on the quad
+      // p_M = (u - 1/2, v - 1/2, 0).
+      const double u = (column + 0.5) / 8.0, v = 1.0 - (row + 0.5) / 4.0;
+      const Eigen::Vector3d p_W = X_WL * Eigen::Vector3d(u - 0.5, v - 0.5, 0.0);
+      rays.add_ray(from, (p_W.cast<float>() - from).normalized());
+      texels.emplace_back(column, row);
+    }
+  }
+  geometry::RayHits hits;
+  hits.resize(rays.size());
+  scene.intersect(rays, 0, rays.size(), geometry::QueryPath::kAuto, hits);
+  const Eigen::Array3d factor(1.0, 0.5, 0.25);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_TRUE(hits.hit(i));
+    const Eigen::Vector3d p = from.cast<double>() + hits.distance[i] * Eigen::Vector3d(rays.d_W_x[i], rays.d_W_y[i], rays.d_W_z[i]);
+    const Eigen::Array3d albedo =
+        surface_albedo(model, X_WB, render::SurfacePoint{hits.material[i], hits.body[i], p, hits.tex_u[i], hits.tex_v[i]});
+    const auto rgb = assets::test_texture_pixel(texels[i].first, texels[i].second);
+    const Eigen::Array3d expected = factor * Eigen::Array3d(render::srgb_to_linear(rgb[0] / 255.0),
+                                                            render::srgb_to_linear(rgb[1] / 255.0),
+                                                            render::srgb_to_linear(rgb[2] / 255.0));
+    EXPECT_TRUE(((albedo - expected).abs() < 1e-5).all())
+        << "texel " << texels[i].first << ", " << texels[i].second << ": " << albedo.transpose() << " vs "
+        << expected.transpose();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(CameraSensorTest, Messages) {

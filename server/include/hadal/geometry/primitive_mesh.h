@@ -34,8 +34,9 @@ std::vector<std::pair<double, double>> revolution_profile(const CollisionShape& 
 // Exact enclosed volume of `profile` revolved at `segments` longitudes (formula above) [m^3].
 double revolved_polyhedron_volume(const std::vector<std::pair<double, double>>& profile, int segments);
 
-// Appends `mesh` (positions in frame M) to `out` with positions X_AM * p_M (positions and indices
-// only; normals, uvs and materials are not carried over).
+// Appends `mesh` (positions in frame M) to `out` with positions X_AM * p_M, its indices, and its
+// texture coordinates when either has them ((0, 0) for the vertices of one without); normals and
+// materials are not carried over.
 void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM, TriangleMesh* out);
 
 // A vehicle's surface in its body frame B, the hydrodynamic mesh of the surface fluid model: per link
@@ -44,7 +45,8 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 // is merged. Empty if no link has a mesh or collision shapes. A triangle's material
 // (`triangle_materials`) is link_material(k, m): link k, and m the material of the link mesh's own
 // triangle (its glTF material; 0 for primitives), so that a ray's hit names the link and the material
-// it hit. `materials` stays empty (the ids are a code, not indices).
+// it hit. `materials` stays empty (the ids are a code, not indices). The link meshes' texture
+// coordinates come along (append_transformed), so a hit's RayHits::tex_u, tex_v are the link mesh's.
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
 
 // The material code of vehicle_surface_B: link k's mesh material m (m < kLinkMaterialStride).

@@ -27,6 +27,8 @@
 //                 the mesh has per-triangle materials; kInvalidIndex for a miss.
 //   triangle[i]   index of the triangle in that mesh (TriangleMesh::indices[3 triangle ...]);
 //                 kInvalidIndex for a miss.
+//   tex_u[i], tex_v[i]  texture coordinates of the hit point, interpolated linearly over the triangle
+//                 from the mesh's uvs (TriangleMesh's convention); NaN for a miss or a mesh without uvs.
 #pragma once
 
 #include "hadal/core/state.h"
@@ -122,12 +124,13 @@ struct RayHits {
   std::vector<std::int32_t> mesh;           // scene mesh id or kNoHit
   std::vector<std::uint32_t> material;      // material id or kInvalidIndex
   std::vector<std::uint32_t> triangle;      // triangle index in the mesh or kInvalidIndex
+  std::vector<float> tex_u, tex_v;          // texture coordinates, NaN without
 
   std::size_t size() const { return distance.size(); }
   bool hit(std::size_t i) const { return std::isfinite(distance[i]); }
 
   void resize(std::size_t n) {
-    for (auto* v : {&distance, &n_W_x, &n_W_y, &n_W_z}) v->resize(n);
+    for (auto* v : {&distance, &n_W_x, &n_W_y, &n_W_z, &tex_u, &tex_v}) v->resize(n);
     body.resize(n);
     mesh.resize(n);
     material.resize(n);

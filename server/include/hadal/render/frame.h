@@ -100,10 +100,16 @@ class BackscatterTableCache {
   std::size_t made_ = 0;
 };
 
-// The albedo (0..1 per channel) of a surface point a ray hit: its material id and body
-// (geometry::RayHits::material, ::body) and its position in W (for patterns). Called from several
-// threads at once: a pure function.
-using AlbedoAt = std::function<Rgb(std::uint32_t material, std::int32_t body, const Eigen::Vector3d& p_W)>;
+// A surface point a camera ray hit, as the albedo function sees it (geometry::RayHits's fields).
+struct SurfacePoint {
+  std::uint32_t material = 0;  // RayHits::material
+  std::int32_t body = 0;       // RayHits::body
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // the hit point in W [m] (for patterns)
+  float tex_u = 0.0f, tex_v = 0.0f;  // RayHits::tex_u, tex_v: texture coordinates, NaN without
+};
+
+// The albedo (0..1 per channel) of a surface point. Called from several threads at once: a pure function.
+using AlbedoAt = std::function<Rgb(const SurfacePoint& hit)>;
 
 constexpr int kBandRows = 16;  // image rows per rendering task
 

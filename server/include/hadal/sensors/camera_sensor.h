@@ -50,17 +50,19 @@ class CameraInfoPubSubType;
 
 namespace hadal::render {
 class BackscatterTableCache;
+struct SurfacePoint;
 }  // namespace hadal::render
 
 namespace hadal::sensors {
 
 // The albedo (0..1 per channel) of a surface point a camera ray hit (render::AlbedoAt), from the hit's
 // material id and body: the seabed's (with its sediment pattern at p_W), or the hit link's: its YAML
-// appearance albedo if given, else the base colour factor of the link mesh's glTF material the
-// triangle belongs to (geometry::link_material; textures are not sampled yet), else the world's
-// vehicle albedo; a checkerboard appearance is evaluated in the link's pattern frame at the snapshot X_WB.
-Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, std::uint32_t material,
-                              std::int32_t body, const Eigen::Vector3d& p_W);
+// appearance albedo if given, else the base colour of the link mesh's glTF material the triangle
+// belongs to (geometry::link_material): its factor times its base-colour texture at the hit's texture
+// coordinates (render/texture.h), else the world's vehicle albedo; a checkerboard appearance is
+// evaluated in the link's pattern frame at the snapshot X_WB.
+Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB,
+                              const render::SurfacePoint& hit);
 
 struct CameraSensor {
   static constexpr std::string_view kType = "camera";
