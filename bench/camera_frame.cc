@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 #include "hadal/geometry/raycast_service.h"
@@ -20,6 +21,7 @@
 using namespace hadal;
 
 int main(int argc, char** argv) {
+  hadal::keep_frame_buffers_mapped();  // core/allocator.h
   std::string scenario = HADAL_SOURCE_DIR "/configs/scenarios/default.yaml";
   double time = 0.0;
   int repetitions = 20, threads = -1;

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 #include "hadal/geometry/raycast_service.h"
@@ -61,6 +62,7 @@ struct CameraRef {
 
 int main(int argc, char** argv) {
   using namespace hadal;
+  hadal::keep_frame_buffers_mapped();  // core/allocator.h
   std::string scenario, only, out_dir = ".";
   double time = 0.0, threads = 0.0;
   bool threads_given = false;

@@ -1,5 +1,6 @@
 // hadald: the Hadal simulation server. See cli.h for the command line and README.md for the topics.
 #include "cli.h"
+#include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
 #include "server_loop.h"
 
@@ -47,6 +48,7 @@ std::string describe(const hadal::VehicleSpec& vehicle) {
 
 int main(int argc, char** argv) {
   using namespace hadal;
+  hadal::keep_frame_buffers_mapped();  // core/allocator.h
   const std::vector<std::string> args(argv + 1, argv + argc);
   const app::CliParse cli = app::parse_cli(args, std::getenv("ROS_DOMAIN_ID"));
   if (cli.options.help) {

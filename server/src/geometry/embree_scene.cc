@@ -228,6 +228,7 @@ struct EmbreeWorld {
   struct BodyScene {
     RTCScene scene = nullptr;
     std::vector<int> mesh_of_geometry;
+    Eigen::AlignedBox3d bounds_B;  // of its meshes' vertices, in B
   };
   struct Mesh {
     SceneMeshInfo info;
@@ -244,6 +245,10 @@ struct EmbreeWorld {
   std::map<int, BodyScene> body_scenes;  // by body index
   std::vector<Mesh> meshes;
   std::size_t static_triangles = 0;
+  // The steepest slope |grad h| of the static meshes declared height fields, and how many static
+  // meshes were not (static_height_field_max_slope()).
+  double height_field_max_slope = 0.0;
+  int static_height_fields = 0, other_static_meshes = 0;
   int num_bodies = 0;
   int packet_width = 4;
   bool built = false;
@@ -684,15 +689,69 @@ EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
 EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 
 int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t material_id,
-                                 const std::string& name) {
+                                 const std::string& name, StaticShape shape) {
   EmbreeWorld& w = *impl_->world;
   const std::string prefix = format_mesh("static mesh", name);
   if (w.built) throw std::logic_error(prefix + "added after build()");
   validate_mesh(mesh_W, prefix);
+  double max_slope = 0.0;
+  if (shape == StaticShape::kHeightField) {
+    // |grad h| of each triangle's plane: |n_xy| / n_z of its normal, which must point up.
+    for (std::size_t t = 0; t < mesh_W.num_triangles(); ++t) {
+      const auto vertex = [&](int k) {
+        const std::size_t v = mesh_W.indices[3 * t + static_cast<std::size_t>(k)];
+        return Eigen::Vector3d(mesh_W.positions[3 * v], mesh_W.positions[3 * v + 1], mesh_W.positions[3 * v + 2]);
+      };
+      const Eigen::Vector3d n = (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0));
+      if (n.squaredNorm() == 0.0) continue;  // degenerate: no plane, no slope
+      if (!(n.z() > 0.0)) {
+        throw std::invalid_argument(prefix + "declared a height field, but triangle " + std::to_string(t) +
+                                    " does not face up (counter-clockwise seen from above)");
+      }
+      max_slope = std::max(max_slope, std::hypot(n.x(), n.y()) / n.z());
+    }
+  }
   SceneMeshInfo info{name, kStaticBody, material_id, 0};
   const int id = w.add_mesh(w.static_scene, w.static_mesh_of_geometry, mesh_W, info);
   w.static_triangles += mesh_W.num_triangles();
+  if (shape == StaticShape::kHeightField) {
+    ++w.static_height_fields;
+    w.height_field_max_slope = std::max(w.height_field_max_slope, max_slope);
+  } else {
+    ++w.other_static_meshes;
+  }
   return id;
+}
+
+std::optional<double> EmbreeScene::static_height_field_max_slope() const {
+  const EmbreeWorld& w = *impl_->world;
+  if (w.static_height_fields != 1 || w.other_static_meshes != 0) return std::nullopt;
+  return w.height_field_max_slope;
+}
+
+std::vector<BodyBounds> EmbreeScene::body_bounds_W() const {
+  const Impl& s = *impl_;
+  if (!s.world->built) throw std::logic_error("EmbreeScene::body_bounds_W: called before build()");
+  if (!s.poses_set) throw std::logic_error("EmbreeScene::body_bounds_W: body poses were never set");
+  std::vector<BodyBounds> out;
+  for (const Impl::Instance& instance : s.instances) {
+    if (instance.body == kStaticBody) continue;
+    const Eigen::AlignedBox3d& box_B = s.world->body_scenes.at(instance.body).bounds_B;
+    // The pose as Embree has it (column-major 3x4, single precision).
+    const Transform12& m = instance.transform;
+    BodyBounds bounds{instance.body, Eigen::AlignedBox3d()};
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d c = box_B.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
+      bounds.box_W.extend(Eigen::Vector3d(m[0] * c.x() + m[3] * c.y() + m[6] * c.z() + m[9],
+                                          m[1] * c.x() + m[4] * c.y() + m[7] * c.z() + m[10],
+                                          m[2] * c.x() + m[5] * c.y() + m[8] * c.z() + m[11]));
+    }
+    // Padded by 1 cm: Embree moves the vertices in single precision.
+    bounds.box_W.min().array() -= 0.01;
+    bounds.box_W.max().array() += 0.01;
+    out.push_back(bounds);
+  }
+  return out;
 }
 
 int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::uint32_t material_id,
@@ -707,6 +766,9 @@ int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::
     body.scene = rtcNewScene(w.device);
     rtcSetSceneFlags(body.scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // occluded()'s ignore filter
     w.check("creating a body scene");
+  }
+  for (std::size_t v = 0; v < mesh_B.num_vertices(); ++v) {
+    body.bounds_B.extend(Eigen::Vector3d(mesh_B.positions[3 * v], mesh_B.positions[3 * v + 1], mesh_B.positions[3 * v + 2]));
   }
   SceneMeshInfo info{name, body_index, material_id, 0};
   return w.add_mesh(body.scene, body.mesh_of_geometry, mesh_B, info);

@@ -240,6 +240,48 @@ TEST(EmbreeScene, HitsCarryTheMeshTextureCoordinates) {
   EXPECT_THROW(other.add_static_mesh(bad), std::invalid_argument);
 }
 
+// A static mesh declared a height field reports its steepest slope (a tilted plane z = 0.3 x + 0.1 y:
+// sqrt(0.1) on every triangle); any other static mesh, declared or not, withdraws it; a declared mesh
+// with a face turned down is an error. Body bounds are the posed box of the body's vertices, padded 1 cm.
+TEST(EmbreeScene, HeightFieldSlopeAndBodyBounds) {
+  const TriangleMesh tilted = grid(8, 10.0f, [](float x, float y) { return -100.0f + 0.3f * x + 0.1f * y; });
+  {
+    EmbreeScene scene;
+    scene.add_static_mesh(tilted, 0, "seabed", StaticShape::kHeightField);
+    scene.add_body_mesh(1, box(1.0f, 0.5f, 0.5f), 4, "hull");
+    scene.build();
+    ASSERT_TRUE(scene.static_height_field_max_slope().has_value());
+    EXPECT_NEAR(*scene.static_height_field_max_slope(), std::sqrt(0.1), 1e-6);
+    EXPECT_THROW(scene.body_bounds_W(), std::logic_error);  // no poses yet
+    Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+    X_WB.translate(Eigen::Vector3d(10.0, 20.0, -50.0));
+    X_WB.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+    scene.set_body_poses({Eigen::Isometry3d::Identity(), X_WB});
+    const std::vector<BodyBounds> bounds = scene.body_bounds_W();
+    ASSERT_EQ(bounds.size(), 1u);
+    EXPECT_EQ(bounds[0].body, 1);
+    EXPECT_TRUE(bounds[0].box_W.min().isApprox(Eigen::Vector3d(9.49, 18.99, -50.51), 1e-6)) << bounds[0].box_W.min().transpose();
+    EXPECT_TRUE(bounds[0].box_W.max().isApprox(Eigen::Vector3d(10.51, 21.01, -49.49), 1e-6)) << bounds[0].box_W.max().transpose();
+  }
+  {
+    EmbreeScene scene;
+    scene.add_static_mesh(tilted, 0, "seabed", StaticShape::kHeightField);
+    scene.add_static_mesh(flat_square(1.0f, -90.0f), 0, "rock");  // something above it: no longer a height field
+    scene.build();
+    EXPECT_FALSE(scene.static_height_field_max_slope().has_value());
+  }
+  {
+    EmbreeScene scene;
+    scene.add_static_mesh(tilted, 0, "seabed");
+    scene.build();
+    EXPECT_FALSE(scene.static_height_field_max_slope().has_value());
+  }
+  TriangleMesh down = flat_square(1.0f, 0.0f);
+  down.indices = {0, 2, 1, 0, 3, 2};
+  EmbreeScene scene;
+  EXPECT_THROW(scene.add_static_mesh(down, 0, "upside down", StaticShape::kHeightField), std::invalid_argument);
+}
+
 TEST(EmbreeScene, BodyInstanceIsHitWhereItsPoseMovedIt) {
   EmbreeScene scene;
   scene.add_static_mesh(flat_square(500.0f, -100.0f), 1, "seabed");

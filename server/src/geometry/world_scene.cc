@@ -21,10 +21,12 @@ TriangleMesh plane_square(double z) {
 EmbreeScene build_world_scene(const Model& model, const std::string& device_config) {
   EmbreeScene scene(device_config);
   const SeabedSpec& seabed = model.world.seabed;
+  // Heightmaps and procedural seabeds are grids of heights (a height field); a mesh file may be anything.
   if (seabed.mesh) {
-    scene.add_static_mesh(*seabed.mesh, kSeabedMaterial, "seabed");
+    scene.add_static_mesh(*seabed.mesh, kSeabedMaterial, "seabed",
+                          seabed.type == SeabedType::kMesh ? StaticShape::kAny : StaticShape::kHeightField);
   } else {
-    scene.add_static_mesh(plane_square(seabed.z), kSeabedMaterial, "seabed plane");
+    scene.add_static_mesh(plane_square(seabed.z), kSeabedMaterial, "seabed plane", StaticShape::kHeightField);
   }
   for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
     const VehicleSpec& vehicle = model.vehicles[v];

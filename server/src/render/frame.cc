@@ -23,6 +23,58 @@ geometry::RayHits cast(const geometry::EmbreeScene& scene, const geometry::RayBa
 
 double backscatter_start_m(float near_m) { return std::max(static_cast<double>(near_m), 1e-3); }
 
+// Shadow rays that need no Embree query (render/frame.h): from a point on a static height field of
+// steepest slope L, a segment whose origin is above the field and which climbs faster than L stays
+// above it all the way; if it also misses every body's bounding box (but the one it ignores) nothing
+// can block it.
+class ClearShadows {
+ public:
+  ClearShadows(const geometry::EmbreeScene& scene, std::int32_t ignore_body)
+      : max_slope_(scene.static_height_field_max_slope()) {
+    if (!max_slope_) return;
+    for (const geometry::BodyBounds& bounds : scene.body_bounds_W()) {
+      if (bounds.body != ignore_body) boxes_.push_back(bounds.box_W);
+    }
+  }
+
+  // Whether the segment origin + t d, t in [0, length] (d unit), from a hit on body `body` with unit
+  // normal n (turned towards the camera; the origin is the hit point moved along n) is clear. Margins:
+  // the origin at least 0.1 of the shadow bias above the field, the slope 0.1 % + 1e-4 above L.
+  bool clear(std::int32_t body, const Eigen::Vector3d& n, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+             double length) const {
+    if (!max_slope_ || body != geometry::kStaticBody) return false;
+    const double L = *max_slope_;
+    if (!(n.z() - L * std::sqrt(n.x() * n.x() + n.y() * n.y()) >= 0.1)) return false;
+    if (!(d.z() > (1.001 * L + 1e-4) * std::sqrt(d.x() * d.x() + d.y() * d.y()))) return false;
+    for (const Eigen::AlignedBox3d& box : boxes_) {
+      if (segment_meets(box, origin, d, length)) return false;
+    }
+    return true;
+  }
+
+ private:
+  // Slab test: whether origin + t d meets the box for some t in [0, length].
+  static bool segment_meets(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+                            double length) {
+    double t0 = 0.0, t1 = length;
+    for (int k = 0; k < 3; ++k) {
+      if (d[k] == 0.0) {
+        if (origin[k] < box.min()[k] || origin[k] > box.max()[k]) return false;
+        continue;
+      }
+      double a = (box.min()[k] - origin[k]) / d[k], b = (box.max()[k] - origin[k]) / d[k];
+      if (a > b) std::swap(a, b);
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, b);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+
+  std::optional<double> max_slope_;
+  std::vector<Eigen::AlignedBox3d> boxes_;
+};
+
 double backscatter_end_m(const FrameLighting& lighting, float far_m) {
   return std::isfinite(far_m) ? static_cast<double>(far_m) : lighting.max_backscatter_range_m;
 }
@@ -138,6 +190,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   std::vector<Rgb> forward_source;
   if (forward) forward_source.assign(n, Rgb::Zero());
 
+  const ClearShadows clear_shadows(scene, ignore_body);
   const int bands = (lens.height_px() + kBandRows - 1) / kBandRows;
   std::vector<std::size_t> band_shadow_rays(static_cast<std::size_t>(bands), 0);
   parallel(static_cast<std::size_t>(bands), [&](std::size_t band) {
@@ -171,40 +224,44 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
       shadow_origin_W[i] = p_W[i] + lighting.shadow_bias_m * normal;
       albedo[i] = albedo_of(SurfacePoint{hits.material[i], hits.body[i], p_W[i], hits.tex_u[i], hits.tex_v[i]});
     }
-    // One shadow ray per (hit, light) that the light's beam reaches; light by light, so that neighbouring rays run in similar directions (coherent for Embree), then
-    // daylight's rays straight up to the surface (light index kSky).
+    // One shadow ray per (hit, light) that the light's beam reaches, then daylight's straight up to the
+    // surface (light index kSky); those ClearShadows proves clear are not cast (cast[k] = kNotCast).
+    // Light by light, so that neighbouring rays run in similar directions (coherent for Embree).
+    constexpr std::size_t kNotCast = static_cast<std::size_t>(-1);
     geometry::RayBatch shadows;
     shadows.coherence = geometry::RayCoherence::kCoherent;
     shadows.reserve(m * (beams.size() + 1));
-    std::vector<std::size_t> shadow_pixel;
-    std::vector<std::size_t> shadow_light;
+    std::vector<std::size_t> shadow_pixel, shadow_light, cast;
+    const auto add_shadow = [&](std::size_t i, std::size_t light, const Eigen::Vector3d& d, float length) {
+      shadow_pixel.push_back(i);
+      shadow_light.push_back(light);
+      if (clear_shadows.clear(hits.body[i], n_W[i], shadow_origin_W[i], d, length)) {
+        cast.push_back(kNotCast);
+        return;
+      }
+      cast.push_back(shadows.size());
+      shadows.add_ray(shadow_origin_W[i].cast<float>(), d.cast<float>(), 0.0f, length, ignore_body);
+    };
     for (std::size_t l = 0; l < beams.size(); ++l) {
       for (std::size_t i = 0; i < m; ++i) {
         if (!hits.hit(i)) continue;
-        const Eigen::Vector3d& origin = shadow_origin_W[i];
-        const Eigen::Vector3d to_light = beams[l].light.p_WL - origin;
+        const Eigen::Vector3d to_light = beams[l].light.p_WL - shadow_origin_W[i];
         const double distance = to_light.norm();
         if (!(distance > lighting.shadow_bias_m) || n_W[i].dot(to_light) <= 0.0) continue;  // light behind the surface
         if (-beams[l].light.axis_W.dot(to_light) <= beams[l].cos_outer * distance) continue;  // outside the beam
-        shadows.add_ray(origin.cast<float>(), (to_light / distance).cast<float>(), 0.0f,
-                        static_cast<float>(distance) - lighting.shadow_bias_m, ignore_body);
-        shadow_pixel.push_back(i);
-        shadow_light.push_back(l);
+        add_shadow(i, l, to_light / distance, static_cast<float>(distance) - lighting.shadow_bias_m);
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
       if (!hits.hit(i) || !(n_W[i].z() > -1.0) || !(p_W[i].z() > daylight_floor_z)) continue;
       const double sky = lighting.daylight.surface_z_m - p_W[i].z();
-      shadows.add_ray(shadow_origin_W[i].cast<float>(), Eigen::Vector3f::UnitZ(), 0.0f,
-                      sky > 0.0 ? static_cast<float>(sky) : 0.0f, ignore_body);
-      shadow_pixel.push_back(i);
-      shadow_light.push_back(kSky);
+      add_shadow(i, kSky, Eigen::Vector3d::UnitZ(), sky > 0.0 ? static_cast<float>(sky) : 0.0f);
     }
     std::vector<std::uint8_t> blocked(shadows.size());
     if (shadows.size() > 0) scene.occluded(shadows, 0, shadows.size(), blocked);
     band_shadow_rays[band] = shadows.size();
-    for (std::size_t k = 0; k < shadows.size(); ++k) {
-      if (blocked[k] != 0) continue;
+    for (std::size_t k = 0; k < shadow_pixel.size(); ++k) {
+      if (cast[k] != kNotCast && blocked[cast[k]] != 0) continue;
       const std::size_t i = shadow_pixel[k];
       const double d_camera = static_cast<double>(hits.distance[i]);
       const Rgb surface = shadow_light[k] == kSky

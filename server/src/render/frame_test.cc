@@ -162,6 +162,72 @@ TEST(FrameTest, DaylightFadesToBlackWithDepth) {
   EXPECT_LT(brightest[1], 1e-12);
 }
 
+// Shadow rays the height-field test proves clear are not cast and change nothing: a bumpy seabed with
+// a box floating over it (a body, casting shadows), two lights beside the camera and daylight; the
+// frame with the seabed declared a height field is the frame without, bit for bit, from fewer rays.
+TEST(FrameTest, ProvablyClearShadowRaysAreNotCastAndChangeNothing) {
+  TriangleMesh seabed;
+  const int n = 80;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const float x = -20.0f + 0.5f * i, y = -20.0f + 0.5f * j;
+      seabed.positions.insert(seabed.positions.end(), {x, y, -10.0f + 0.3f * std::sin(0.7f * x) * std::cos(0.5f * y)});
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = static_cast<std::uint32_t>(j * (n + 1) + i), b = a + 1, c = a + n + 1, d = c + 1;
+      seabed.indices.insert(seabed.indices.end(), {a, b, d, a, d, c});  // counter-clockwise from above
+    }
+  }
+  TriangleMesh cube = plate(0.0f, 0.0f, 0.0f, 0.4f);  // a square plate on a body, tilted below
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
+  lighting.water.scattering_per_m = Rgb::Constant(0.05);
+  lighting.daylight.surface_irradiance_W_per_m2 = Rgb(120.0, 150.0, 140.0);
+  lighting.daylight.Kd_per_m = Rgb(0.36, 0.063, 0.019);
+  lighting.daylight.surface_z_m = 5.0;
+  for (double y : {-0.5, 0.5}) {
+    SpotLight light;
+    light.p_WL = Eigen::Vector3d(-3.0, y, -4.0);
+    light.axis_W = Eigen::Vector3d(0.5, 0.0, -1.0).normalized();
+    light.inner_half_angle_rad = 0.5;
+    light.outer_half_angle_rad = 0.7;
+    lighting.lights.push_back(light);
+  }
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.translate(Eigen::Vector3d(0.5, 0.2, -8.5));
+  X_WB.rotate(Eigen::AngleAxisd(1.2, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()));
+  Eigen::Isometry3d X_WS = Eigen::Isometry3d::Identity();
+  X_WS.translation() = Eigen::Vector3d(-3.0, 0.0, -4.0);
+  X_WS.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d::UnitY()));  // pitched down
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.3));
+  RadianceFrame frames[2];
+  for (int k = 0; k < 2; ++k) {
+    EmbreeScene scene;
+    scene.add_static_mesh(seabed, 0, "seabed", k == 0 ? geometry::StaticShape::kHeightField : geometry::StaticShape::kAny);
+    scene.add_body_mesh(0, cube, 1, "plate");
+    scene.build();
+    scene.set_body_poses({X_WB});
+    frames[k] = render_radiance(scene, lens, X_WS * X_SC(), 0.1f, 60.0f, geometry::kNoHit, lighting, white);
+  }
+  expect_same_frame(frames[0], frames[1]);
+  EXPECT_LT(frames[0].shadow_rays, frames[1].shadow_rays / 2);
+  // The plate shadows the seabed in this frame: seabed pixels (same depth without the plate) that are
+  // darker with it; they are lit by whichever shadow rays were still cast.
+  EmbreeScene bare;
+  bare.add_static_mesh(seabed, 0, "seabed", geometry::StaticShape::kHeightField);
+  bare.build();
+  const RadianceFrame unshadowed = render_radiance(bare, lens, X_WS * X_SC(), 0.1f, 60.0f, geometry::kNoHit, lighting, white);
+  std::size_t shadowed = 0;
+  for (std::size_t i = 0; i < unshadowed.radiance.size(); ++i) {
+    if (frames[0].depth_m[i] == unshadowed.depth_m[i] && frames[0].radiance[i].sum() < 0.8 * unshadowed.radiance[i].sum()) {
+      ++shadowed;
+    }
+  }
+  EXPECT_GT(shadowed, 100u);
+}
+
 TEST(FrameTest, SameInputsGiveTheSameFrame) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
   const EmbreeScene scene = wall_scene();

@@ -40,6 +40,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -81,6 +82,15 @@ struct SceneMeshInfo {
   std::size_t num_triangles = 0;
 };
 
+// What add_static_mesh may assume of a static mesh.
+enum class StaticShape { kAny, kHeightField };
+
+// A body instance's bounds (EmbreeScene::body_bounds_W).
+struct BodyBounds {
+  std::int32_t body = 0;
+  Eigen::AlignedBox3d box_W;
+};
+
 class EmbreeScene {
  public:
   // device_config: Embree's rtcNewDevice configuration string ("" for defaults, e.g. "threads=1"
@@ -99,10 +109,22 @@ class EmbreeScene {
   // are not multiples of 3, a vertex index >= the number of vertices, non-finite positions,
   // triangle_materials of the wrong length or (when `materials` is non-empty) out of its range, and
   // a negative body index. Throws std::logic_error after build().
+  // shape kHeightField declares the static mesh a height field z = h(x, y) (every vertical line meets
+  // it at most once; the caller vouches for it, e.g. a terrain grid): then its triangles must face up
+  // (otherwise std::invalid_argument) and static_height_field_max_slope() reports its steepest slope.
   int add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t material_id = 0,
-                      const std::string& name = "static mesh");
+                      const std::string& name = "static mesh", StaticShape shape = StaticShape::kAny);
   int add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::uint32_t material_id = 0,
                     const std::string& name = "body mesh");
+
+  // When the static world is one mesh declared a height field: its steepest slope L = max |grad h| over
+  // its triangles (|h(q) - h(p)| <= L |q - p|_xy everywhere on it, so a segment that starts above it
+  // and climbs faster than L never meets it). nullopt otherwise.
+  std::optional<double> static_height_field_max_slope() const;
+  // Every body instance's axis-aligned bounding box in W at the poses last set (the box of its meshes'
+  // vertices in B, moved as Embree moves them, padded by 1 cm). Requires build() and, with bodies,
+  // set_body_poses() (std::logic_error otherwise).
+  std::vector<BodyBounds> body_bounds_W() const;
 
   // Builds the BVHs (static scene, body scenes, top level). Once; throws std::logic_error if called
   // again, std::runtime_error on an Embree error (e.g. out of memory).

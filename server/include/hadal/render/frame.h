@@ -6,7 +6,7 @@
 // Per pixel (row-major, v * width + u):
 //   radiance  [W/(m^2 sr)] per channel arriving at the camera: sum over lights of the Lambertian term
 //             when the light sees the hit point (shadow ray from 'shadow_bias_m' off the surface to the
-//             light), daylight's Lambertian term when nothing is above the hit point (a shadow ray
+//             light; not cast when it provably reaches it: see below), daylight's Lambertian term when nothing is above the hit point (a shadow ray
 //             straight up to the surface; none where daylight is below e^-87.3 of the surface's in
 //             every channel), plus backscatter of the lights from near_m to the hit
 //             distance (to far_m on a miss, or, with an infinite far clip, to
@@ -16,6 +16,12 @@
 //             forward_scatter_max_angle_rad is above 0, the surfaces' forward-scattered light spread
 //             over the image (render/forward_scatter.h; backscatter and marine snow are not spread).
 //   depth_m   metres along the optical axis, NaN on a miss (render/camera_rays.h).
+// Shadow rays proved clear: when the static world is one height field of steepest slope L
+// (EmbreeScene::static_height_field_max_slope), a shadow ray from a point on it whose origin lies above
+// it (n_z - L |n_xy| >= 0.1 for the hit's unit normal n, with the 1 mm bias: 0.1 mm) and which climbs
+// faster than L (d_z > (1.001 L + 1e-4) |d_xy|) stays above it all the way; if it also misses the
+// bounding box of every body but the ignored one (EmbreeScene::body_bounds_W) nothing can block it,
+// and it is not cast. The frame is the same bit for bit (frame_test.cc); shadow_rays counts the cast ones.
 // Work: the backscatter table's rows of nodes, then bands of kBandRows image rows (rays, shadow rays,
 // shading), each a task of the ParallelFor given, then the forward-scatter spread (rows in tasks). Deterministic: a function of its inputs, the same
 // whatever the threads (no random numbers; a band's rays are cast as one batch whatever thread casts
@@ -64,7 +70,7 @@ struct RadianceFrame {
   int height_px = 0;
   std::vector<Rgb> radiance;  // [W/(m^2 sr)]
   std::vector<float> depth_m;
-  std::size_t shadow_rays = 0;  // shadow rays cast (lights and sky), for statistics
+  std::size_t shadow_rays = 0;  // shadow rays cast (lights and sky; not those proved clear), for statistics
   std::size_t snow_particles = 0;  // marine snow particles drawn
 };
 
