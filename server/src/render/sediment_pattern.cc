@@ -16,7 +16,10 @@ void validate(const SedimentPattern& pattern) {
 }
 
 double sediment_noise(const SedimentPattern& pattern, double x_m, double y_m) {
-  return 0.5 * (noise::fbm<noise::MixedLattice>(pattern.seed, x_m / pattern.scale_m, y_m / pattern.scale_m, pattern.octaves) + 1.0);
+  // The same values as noise::fbm, each thread remembering the last cell of every octave (a camera's
+  // neighbouring pixels share them).
+  thread_local noise::FbmMemo<noise::MixedLattice> fbm;
+  return 0.5 * (fbm(pattern.seed, x_m / pattern.scale_m, y_m / pattern.scale_m, pattern.octaves) + 1.0);
 }
 
 Eigen::Array3d sediment_albedo(const SedimentPattern& pattern, const Eigen::Array3d& mean_albedo, double x_m,

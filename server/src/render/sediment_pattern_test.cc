@@ -1,5 +1,6 @@
 // The sediment pattern: in range, mean-preserving, textured at the configured scale, seeded.
 #include "hadal/render/sediment_pattern.h"
+#include "hadal/core/value_noise.h"
 
 #include <gtest/gtest.h>
 
@@ -99,6 +100,28 @@ TEST(SedimentPatternTest, SeededAndValidated) {
   EXPECT_THROW(validate(bad), std::invalid_argument);
   bad.octaves = 3;
   EXPECT_NO_THROW(validate(bad));
+}
+
+// The memo that sediment_noise uses (noise::FbmMemo) returns noise::fbm's values bit for bit, whatever
+// the order of the points: along a row, jumping about, across cell edges, after a change of seed, and
+// beyond the octaves it remembers.
+TEST(SedimentPatternTest, FbmMemoGivesFbmsValues) {
+  noise::FbmMemo<noise::MixedLattice, 4> memo;
+  std::uint64_t state = 7;
+  const auto next = [&] { return static_cast<double>((state = splitmix64(state)) >> 11) / 9007199254740992.0; };
+  for (int k = 0; k < 20000; ++k) {
+    const std::uint64_t seed = k < 10000 ? 42 : 43;
+    double x, y;
+    if (k % 3 == 0) {
+      x = 200.0 * next() - 100.0;  // a jump
+      y = 200.0 * next() - 100.0;
+    } else {
+      x = -3.0 + 0.013 * k;  // along a row, crossing cell edges
+      y = 1.7;
+    }
+    const int octaves = 1 + k % 6;
+    ASSERT_EQ(memo(seed, x, y, octaves), noise::fbm<noise::MixedLattice>(seed, x, y, octaves)) << k;
+  }
 }
 
 }  // namespace

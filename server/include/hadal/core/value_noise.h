@@ -58,14 +58,28 @@ inline std::int64_t floor_to_int(double x) {
   return static_cast<double>(i) > x ? i - 1 : i;
 }
 
+// The four lattice values around a unit cell: (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1).
+struct Cell {
+  std::int64_t i = 0, j = 0;
+  double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
+};
+
+template <class Lattice>
+Cell lattice_cell(std::uint64_t seed, std::int64_t i, std::int64_t j, int octave) {
+  const Lattice lattice;
+  return Cell{i, j, lattice(seed, i, j, octave), lattice(seed, i + 1, j, octave), lattice(seed, i, j + 1, octave),
+              lattice(seed, i + 1, j + 1, octave)};
+}
+
+// The cell's values interpolated at (x, y) inside it.
+inline double interpolate(const Cell& cell, double x, double y) {
+  const double u = quintic_fade(x - static_cast<double>(cell.i)), v = quintic_fade(y - static_cast<double>(cell.j));
+  return (cell.a + (cell.b - cell.a) * u) + ((cell.c + (cell.d - cell.c) * u) - (cell.a + (cell.b - cell.a) * u)) * v;
+}
+
 template <class Lattice = ChainedLattice>
 double value_noise(std::uint64_t seed, double x, double y, int octave) {
-  const Lattice lattice;
-  const std::int64_t i = floor_to_int(x), j = floor_to_int(y);
-  const double u = quintic_fade(x - static_cast<double>(i)), v = quintic_fade(y - static_cast<double>(j));
-  const double a = lattice(seed, i, j, octave), b = lattice(seed, i + 1, j, octave);
-  const double c = lattice(seed, i, j + 1, octave), d = lattice(seed, i + 1, j + 1, octave);
-  return (a + (b - a) * u) + ((c + (d - c) * u) - (a + (b - a) * u)) * v;
+  return interpolate(lattice_cell<Lattice>(seed, floor_to_int(x), floor_to_int(y), octave), x, y);
 }
 
 template <class Lattice = ChainedLattice>
@@ -79,6 +93,45 @@ double fbm(std::uint64_t seed, double x, double y, int octaves) {
   }
   return sum / norm;
 }
+
+// fbm remembering the last cell of each octave: the same values, for callers that evaluate points in
+// sequence close together (a camera's pixels along a row share each coarse cell with dozens of
+// neighbours), which then hash a cell's four lattice values once instead of at every point. One
+// instance per thread.
+template <class Lattice, int kMaxOctaves = 8>
+class FbmMemo {
+ public:
+  double operator()(std::uint64_t seed, double x, double y, int octaves) {
+    if (seed != seed_) {
+      seed_ = seed;
+      for (bool& v : valid_) v = false;
+    }
+    double sum = 0.0, amplitude = 1.0, norm = 0.0, frequency = 1.0;
+    for (int octave = 0; octave < octaves; ++octave) {
+      const double xo = x * frequency, yo = y * frequency;
+      const std::int64_t i = floor_to_int(xo), j = floor_to_int(yo);
+      if (octave >= kMaxOctaves) {
+        sum += amplitude * interpolate(lattice_cell<Lattice>(seed, i, j, octave), xo, yo);
+      } else {
+        Cell& cell = cells_[octave];
+        if (!valid_[octave] || cell.i != i || cell.j != j) {
+          cell = lattice_cell<Lattice>(seed, i, j, octave);
+          valid_[octave] = true;
+        }
+        sum += amplitude * interpolate(cell, xo, yo);
+      }
+      norm += amplitude;
+      amplitude *= 0.5;
+      frequency *= 2.0;
+    }
+    return sum / norm;
+  }
+
+ private:
+  std::uint64_t seed_ = 0;
+  Cell cells_[kMaxOctaves];
+  bool valid_[kMaxOctaves] = {};
+};
 
 }  // namespace noise
 }  // namespace hadal
