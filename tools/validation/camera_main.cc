@@ -66,6 +66,7 @@ Model panel_model(const Panel& panel) {
   OpticsSpec& optics = model.world.optics;
   optics.water.absorption_per_m = render::pure_water_absorption_per_m() + 0.02;
   optics.water.scattering_per_m = render::Rgb::Constant(panel.scattering_per_m);
+  optics.water.forward_scatter_max_angle_rad = 10.0 * kDegToRad;  // the scenario default (configs/REFERENCE.md)
   optics.daylight.surface_z_m = 0.0;
   optics.daylight.surface_irradiance_W_per_m2 = panel.daylight ? render::Rgb(150.0, 170.0, 160.0) : render::Rgb::Zero();
   optics.daylight.Kd_per_m = render::jerlov_Kd_per_m(render::JerlovType::kII);
