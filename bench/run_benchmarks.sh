@@ -98,5 +98,8 @@ done
 "$build/bin/hadal_bench_sensors"
 
 # 8. Cameras (bench/render.cc): one 640 x 480 deep-sea frame (radiance, depth, counts) over a 1M-triangle
-#    seabed on one thread, next to its primary rays alone.
+#    seabed on one and two threads, with and without the seabed declared a height field, next to its
+#    primary rays alone; then the default scenario's camera frame as the simulation renders it
+#    (bench/camera_frame.cc).
 "$build/bin/hadal_bench_render" --repetitions 3
+"$build/bin/hadal_bench_camera_frame" --repetitions 10
