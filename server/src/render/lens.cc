@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "hadal/core/units.h"
+#include "hadal/core/validation_error.h"
 
 namespace hadal::render {
 namespace {
@@ -25,9 +26,7 @@ std::string number(double x) {
   return out.str();
 }
 
-[[noreturn]] void invalid(const std::string& field, const std::string& what) {
-  throw std::invalid_argument(field + ": " + what);
-}
+using validation::invalid;
 
 // Plumb bob: the radial polynomial and its derivative in r² (header).
 double radial(const LensSpec& l, double r2) {

@@ -7,13 +7,12 @@
 #include <string>
 
 #include "hadal/core/units.h"
+#include "hadal/core/validation_error.h"
 
 namespace hadal::render {
 namespace {
 
-[[noreturn]] void invalid(const std::string& field, const std::string& what) {
-  throw std::invalid_argument(field + ": " + what);
-}
+using validation::invalid;
 
 bool finite_non_negative(const Rgb& x) { return x.allFinite() && (x >= 0.0).all(); }
 

@@ -6,15 +6,14 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include "hadal/core/validation_error.h"
 
 namespace hadal::sensors {
 
 namespace {
 
 [[noreturn]] void invalid(const std::string& field, const std::string& requirement, double got) {
-  std::ostringstream message;
-  message << "dvl: " << field << ": " << requirement << " (got " << got << ")";
-  throw std::invalid_argument(message.str());
+  validation::invalid("dvl: " + field, requirement, got);
 }
 
 void validate_non_negative(const char* field, double value) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "hadal/sensors/noise.h"
+#include "hadal/core/validation_error.h"
 
 namespace hadal::sensors {
 namespace {
@@ -13,9 +14,7 @@ namespace {
 constexpr double kExactPoissonBelow = 30.0;  // electrons (header)
 constexpr double kMergeSigmas = 6.0;         // shot and read noise drawn as one normal (header)
 
-[[noreturn]] void invalid(const std::string& field, const std::string& what) {
-  throw std::invalid_argument(field + ": " + what);
-}
+using validation::invalid;
 
 // Poisson variate of mean mu (header): inversion of the cumulative distribution below 30, the normal
 // approximation above, never negative.

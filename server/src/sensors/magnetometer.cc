@@ -4,15 +4,12 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include "hadal/core/validation_error.h"
 
 namespace hadal::sensors {
 namespace {
 
-[[noreturn]] void invalid(const std::string& field, const std::string& requirement, double got) {
-  std::ostringstream message;
-  message << field << ": " << requirement << " (got " << got << ")";
-  throw std::invalid_argument(message.str());
-}
+using validation::invalid;
 
 void validate_dipoles(const std::vector<MagneticDipole>& dipoles, const std::string& name) {
   for (std::size_t i = 0; i < dipoles.size(); ++i) {

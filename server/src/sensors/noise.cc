@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include "hadal/core/validation_error.h"
 
 namespace hadal::sensors {
 
@@ -23,9 +24,7 @@ std::uint64_t fnv1a64_le64(std::uint64_t value, std::uint64_t h) {
 }
 
 [[noreturn]] void invalid(const std::string& field, const std::string& requirement, double got) {
-  std::ostringstream message;
-  message << "noise: " << field << ": " << requirement << " (got " << got << ")";
-  throw std::invalid_argument(message.str());
+  validation::invalid("noise: " + field, requirement, got);
 }
 
 void validate_axis(const AxisNoiseParams& p, const std::string& prefix) {
