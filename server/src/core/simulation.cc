@@ -515,9 +515,13 @@ void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const t
     sensors::CaptureWork work = Kind::capture(context, spec, state, *output);
     flight.dropped = std::make_shared<std::atomic<bool>>(false);
     flight.done = raycast_service().submit(
-        capture.X_WB, [work = std::move(work), output, dropped = flight.dropped](const geometry::EmbreeScene& scene,
-                                                                                 const ParallelFor& parallel) {
-          if (!dropped->load()) work(scene, parallel);
+        capture.X_WB, [work = std::move(work), output, dropped = flight.dropped, skipped = skipped_captures_](
+                          const geometry::EmbreeScene& scene, const ParallelFor& parallel) {
+          if (dropped->load()) {
+            skipped->fetch_add(1);
+            return;
+          }
+          work(scene, parallel);
         });
     flight.output = std::move(output);
   } else {

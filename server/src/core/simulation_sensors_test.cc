@@ -2,12 +2,16 @@
 // of the step handed to the IMU, determinism and state restore. Each kind's own model is tested in its
 // module (sensors/<kind>_sensor_test.cc).
 #include "hadal/core/simulation.h"
+#include "hadal/geometry/raycast_service.h"
 #include "hadal/sensors/camera_sensor.h"
 
 #include <gtest/gtest.h>
 
 #include <cfloat>
 #include <cmath>
+#include <atomic>
+#include <future>
+#include <thread>
 #include <string>
 
 #include "hadal/physics/ocean.h"
@@ -310,6 +314,44 @@ Model camera_vehicle(std::uint64_t seed) {
   light.intensity_W_per_sr = Eigen::Array3d::Constant(5e4);
   model.vehicles[0].lights = {light};
   return model;
+}
+
+// Real time (the step never waits): frames dropped before any worker started them are skipped, never
+// rendered. The test holds both ray-cast workers in a job of its own (every task of its parallel loop
+// waits for a latch) while the simulation steps past three frames' due steps (taken at 0.1, 0.2 and
+// 0.3 s, due 0.07 s later): all three are dropped, and when the workers are let go each is skipped.
+// Then, waiting again, the frame taken at 0.4 s renders and is delivered as usual.
+TEST(SimulationSensorsTest, CameraFramesDroppedBeforeTheyStartAreSkipped) {
+  Model model = camera_vehicle(3);
+  model.world.raycast_threads = 2;
+  Simulation sim(std::move(model));
+  sim.set_wait_for_captures(false);
+  geometry::RaycastService& service = sim.raycast_service();
+  ASSERT_EQ(service.num_threads(), 2);
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<int> holding{0};
+  const std::vector<Eigen::Isometry3d> X_WB = {sim.state().vehicles[0].body.X_WB};
+  std::future<void> blocker = service.submit(X_WB, [&](const geometry::EmbreeScene&, const ParallelFor& parallel) {
+    parallel(64, [&](std::size_t) {
+      ++holding;
+      released.wait();
+    });
+  });
+  while (holding.load() < 2) std::this_thread::yield();  // both workers are in the test's job
+  for (int k = 0; k < 190; ++k) sim.step();             // to 0.38 s: frames of 0.1, 0.2, 0.3 s due and dropped
+  EXPECT_EQ(sim.dropped_captures(), 3u);
+  EXPECT_EQ(sim.state().vehicles[0].sensors[0].samples, 0u);
+  release.set_value();
+  blocker.get();
+  // A job submitted now finishes after every job before it: the three dropped frames have been reached.
+  service.submit(X_WB, [](const geometry::EmbreeScene&, const ParallelFor&) {}).get();
+  EXPECT_EQ(sim.skipped_captures(), 3u);
+  sim.set_wait_for_captures(true);
+  for (int k = 0; k < 60; ++k) sim.step();  // to 0.5 s: the 0.4 s frame is due at 0.47 s
+  EXPECT_EQ(sim.state().vehicles[0].sensors[0].samples, 1u);
+  EXPECT_EQ(sim.dropped_captures(), 3u);
+  EXPECT_EQ(sim.skipped_captures(), 3u);
 }
 
 // A camera's frames are captures like the profiler's scans: restoring a state saved with a frame in

@@ -26,6 +26,7 @@
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -97,6 +98,10 @@ class Simulation {
   // their rays are not done yet (real time: the step never waits), counted in dropped_captures().
   void set_wait_for_captures(bool wait) { wait_for_captures_ = wait; }
   std::uint64_t dropped_captures() const { return dropped_captures_; }
+  // Of the dropped captures done as scene work (cameras), those no worker had started when they were
+  // dropped: skipped, their work never runs (so one late frame does not hold up the ones behind it).
+  // Counted when a worker reaches them, so it may trail dropped_captures() while they wait in the queue.
+  std::uint64_t skipped_captures() const { return skipped_captures_->load(); }
 
  private:
   struct VehicleRuntime;  // per-vehicle actuators, force elements, added mass, sensor mounts (simulation.cc)
@@ -128,6 +133,8 @@ class Simulation {
   std::unique_ptr<geometry::RaycastService> service_;
   bool wait_for_captures_ = true;
   std::uint64_t dropped_captures_ = 0;
+  // Shared with the queued scene work, which counts itself when it finds it was dropped.
+  std::shared_ptr<std::atomic<std::uint64_t>> skipped_captures_ = std::make_shared<std::atomic<std::uint64_t>>(0);
 };
 
 }  // namespace hadal
