@@ -266,6 +266,7 @@ class Runner {
     s.steps = sim_.state().step_count;
     s.rejected_commands = rejected_;
     s.dropped_captures = sim_.dropped_captures();
+    s.skipped_captures = sim_.skipped_captures();
     rusage usage{};
     if (getrusage(RUSAGE_SELF, &usage) == 0) s.peak_memory_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
@@ -317,7 +318,8 @@ std::string RunSummary::format() const {
   out << "  samples published:\n";
   for (const auto& [topic, count] : samples_published) out << "    " << topic << " " << count << "\n";
   out << "  rejected commands: " << rejected_commands << "\n";
-  out << "  late captures dropped: " << dropped_captures << "\n";
+  out << "  late captures dropped: " << dropped_captures << " (" << skipped_captures
+      << " before a worker started them)\n";
   out << "  peak memory: " << peak_memory_mb << " MiB\n";
   return out.str();
 }

@@ -32,6 +32,7 @@ struct RunSummary {
   std::uint64_t steps = 0;
   std::uint64_t rejected_commands = 0;
   std::uint64_t dropped_captures = 0;  // captures late in real time, never waited for
+  std::uint64_t skipped_captures = 0;  // of those, the ones no worker had started (never rendered)
   double peak_memory_mb = 0.0;         // the process's peak resident set size [MiB]
   std::vector<VehicleSummary> vehicles;
   std::vector<std::pair<std::string, std::uint64_t>> samples_published;  // per topic
