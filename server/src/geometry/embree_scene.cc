@@ -1,5 +1,7 @@
 #include "hadal/geometry/embree_scene.h"
 
+#include "hadal/geometry/slope_grid.h"
+
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -247,7 +249,7 @@ struct EmbreeWorld {
   std::size_t static_triangles = 0;
   // The steepest slope |grad h| of the static meshes declared height fields, and how many static
   // meshes were not (static_height_field_max_slope()).
-  double height_field_max_slope = 0.0;
+  SlopeGrid height_field_slopes;  // of the (one) height field, by region
   int static_height_fields = 0, other_static_meshes = 0;
   int num_bodies = 0;
   int packet_width = 4;
@@ -694,9 +696,8 @@ int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t mater
   const std::string prefix = format_mesh("static mesh", name);
   if (w.built) throw std::logic_error(prefix + "added after build()");
   validate_mesh(mesh_W, prefix);
-  double max_slope = 0.0;
   if (shape == StaticShape::kHeightField) {
-    // |grad h| of each triangle's plane: |n_xy| / n_z of its normal, which must point up.
+    // Every triangle's plane must face up (|grad h| = |n_xy| / n_z, the slope SlopeGrid keeps by region).
     for (std::size_t t = 0; t < mesh_W.num_triangles(); ++t) {
       const auto vertex = [&](int k) {
         const std::size_t v = mesh_W.indices[3 * t + static_cast<std::size_t>(k)];
@@ -708,7 +709,6 @@ int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t mater
         throw std::invalid_argument(prefix + "declared a height field, but triangle " + std::to_string(t) +
                                     " does not face up (counter-clockwise seen from above)");
       }
-      max_slope = std::max(max_slope, std::hypot(n.x(), n.y()) / n.z());
     }
   }
   SceneMeshInfo info{name, kStaticBody, material_id, 0};
@@ -716,7 +716,7 @@ int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t mater
   w.static_triangles += mesh_W.num_triangles();
   if (shape == StaticShape::kHeightField) {
     ++w.static_height_fields;
-    w.height_field_max_slope = std::max(w.height_field_max_slope, max_slope);
+    w.height_field_slopes = SlopeGrid(mesh_W);
   } else {
     ++w.other_static_meshes;
   }
@@ -726,7 +726,13 @@ int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t mater
 std::optional<double> EmbreeScene::static_height_field_max_slope() const {
   const EmbreeWorld& w = *impl_->world;
   if (w.static_height_fields != 1 || w.other_static_meshes != 0) return std::nullopt;
-  return w.height_field_max_slope;
+  return w.height_field_slopes.max_slope();
+}
+
+std::optional<double> EmbreeScene::static_height_field_max_slope(const Eigen::AlignedBox2d& region_xy) const {
+  const EmbreeWorld& w = *impl_->world;
+  if (w.static_height_fields != 1 || w.other_static_meshes != 0) return std::nullopt;
+  return w.height_field_slopes.max_slope_in(region_xy);
 }
 
 std::vector<BodyBounds> EmbreeScene::body_bounds_W() const {

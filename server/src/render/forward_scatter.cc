@@ -306,10 +306,12 @@ std::shared_ptr<const ForwardScatterKernel> forward_scatter_kernel(const WaterOp
   return kernel;
 }
 
-void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int height, const std::vector<Rgb>& source,
-                         std::vector<Rgb>& radiance, const ParallelFor& parallel) {
+void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int height,
+                         const std::array<std::vector<float>, 3>& source, std::vector<Eigen::Array3f>& radiance,
+                         const ParallelFor& parallel) {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  if (width < 1 || height < 1 || source.size() != n || radiance.size() != n) {
+  if (width < 1 || height < 1 || source[0].size() != n || source[1].size() != n || source[2].size() != n ||
+      radiance.size() != n) {
     throw std::invalid_argument("add_forward_scatter: source and radiance must hold width x height pixels");
   }
   if (kernel.levels.empty()) throw std::invalid_argument("add_forward_scatter: a kernel without levels");
@@ -323,7 +325,7 @@ void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int heig
   // and the finest level's reaches the pixels the same way.
   std::vector<Planes> sums;  // sums[k]: blocks of 2^(k + 1) px
   sums.push_back(pair_sums(width, height, parallel, [&](int ch, int x, int y) {
-    return static_cast<float>(source[static_cast<std::size_t>(y) * width + x][ch]);
+    return source[static_cast<std::size_t>(ch)][static_cast<std::size_t>(y) * width + x];
   }));
   for (std::size_t k = 1; k < kernel.levels.size(); ++k) {
     const Planes& finer = sums.back();
@@ -354,8 +356,8 @@ void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int heig
     coarser = std::move(density);
   }
   upsample(*coarser, width, height, parallel, [&](int y, const std::array<std::vector<float>, 3>& row) {
-    Rgb* out = radiance.data() + static_cast<std::size_t>(y) * width;
-    for (int x = 0; x < width; ++x) out[x] += Rgb(row[0][x], row[1][x], row[2][x]);
+    Eigen::Array3f* out = radiance.data() + static_cast<std::size_t>(y) * width;
+    for (int x = 0; x < width; ++x) out[x] += Eigen::Array3f(row[0][x], row[1][x], row[2][x]);
   });
 }
 

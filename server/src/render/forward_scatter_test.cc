@@ -86,10 +86,14 @@ TEST(ForwardScatterTest, PointSpreadIsNormalisedAndItsEncircledEnergyIsItsIntegr
 }
 
 // One pixel's light spread over a 640 x 480 image by the multi-scale kernel.
-std::vector<Rgb> spread_of_one_pixel(const ForwardScatterKernel& kernel, int x0, int y0) {
+std::vector<Rgbf> spread_of_one_pixel(const ForwardScatterKernel& kernel, int x0, int y0) {
   const int w = 640, h = 480;
-  std::vector<Rgb> source(static_cast<std::size_t>(w) * h, Rgb::Zero()), out(source.size(), Rgb::Zero());
-  source[static_cast<std::size_t>(y0) * w + x0] = Rgb(1.0, 2.0, 3.0);
+  std::array<std::vector<float>, 3> source;
+  for (int ch = 0; ch < 3; ++ch) {
+    source[ch].assign(static_cast<std::size_t>(w) * h, 0.0f);
+    source[ch][static_cast<std::size_t>(y0) * w + x0] = 1.0f + ch;  // (1, 2, 3)
+  }
+  std::vector<Rgbf> out(source[0].size(), Rgbf::Zero());
   add_forward_scatter(kernel, w, h, source, out);
   return out;
 }
@@ -108,9 +112,9 @@ TEST(ForwardScatterTest, PixelKernelKeepsTheEnergyAndTheEncircledEnergy) {
   EXPECT_NEAR(total, 1.0, 1e-12);
   // A pixel well inside the image, at several positions relative to the blocks.
   for (const auto& [x0, y0] : std::vector<std::pair<int, int>>{{320, 240}, {301, 257}, {333, 222}}) {
-    const std::vector<Rgb> out = spread_of_one_pixel(kernel, x0, y0);
+    const std::vector<Rgbf> out = spread_of_one_pixel(kernel, x0, y0);
     Rgb sum = Rgb::Zero();
-    for (const Rgb& v : out) sum += v;
+    for (const Rgbf& v : out) sum += v.cast<double>();
     // Float planes: the sum is exact to ~1e-6.
     EXPECT_TRUE(((sum - Rgb(1.0, 2.0, 3.0)).abs() < 1e-5).all()) << sum.transpose();
     // Encircled energy at radius r against the PSF's: the blocks of the ring holding r (r < 6 px on
@@ -162,14 +166,14 @@ TEST(ForwardScatterTest, FrameHaloCarriesTheScatteredShare) {
   Rgb halo = Rgb::Zero(), expected = Rgb::Zero();
   std::size_t outside_lit = 0;
   for (std::size_t i = 0; i < plain.radiance.size(); ++i) {
-    halo += blurred.radiance[i] - plain.radiance[i];
+    halo += (blurred.radiance[i] - plain.radiance[i]).cast<double>();
     if (std::isnan(plain.depth_m[i])) {
       if ((blurred.radiance[i] > plain.radiance[i]).all()) ++outside_lit;
       continue;
     }
     const int u = static_cast<int>(i % lens.width_px()), v = static_cast<int>(i / lens.width_px());
     const double d = plain.depth_m[i] / lens.ray_C(u, v).z();
-    expected += surface.radiance[i] * ((b_f * d).exp() - 1.0);
+    expected += surface.radiance[i].cast<double>() * ((b_f * d).exp() - 1.0);
   }
   EXPECT_TRUE(((halo - expected).abs() < 1e-3 * expected).all()) << halo.transpose() << " vs " << expected.transpose();
   EXPECT_GT(outside_lit, 1000u);  // the halo reaches past the plate's edge

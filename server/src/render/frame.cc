@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <stdexcept>
 
 #include "hadal/render/camera_rays.h"
@@ -12,68 +11,7 @@
 namespace hadal::render {
 namespace {
 
-constexpr std::size_t kSky = static_cast<std::size_t>(-1);  // a shadow ray towards the surface
-
-geometry::RayHits cast(const geometry::EmbreeScene& scene, const geometry::RayBatch& batch) {
-  geometry::RayHits hits;
-  hits.resize(batch.size());
-  if (batch.size() > 0) scene.intersect(batch, 0, batch.size(), geometry::QueryPath::kAuto, hits);
-  return hits;
-}
-
 double backscatter_start_m(float near_m) { return std::max(static_cast<double>(near_m), 1e-3); }
-
-// Shadow rays that need no Embree query (render/frame.h): from a point on a static height field of
-// steepest slope L, a segment whose origin is above the field and which climbs faster than L stays
-// above it all the way; if it also misses every body's bounding box (but the one it ignores) nothing
-// can block it.
-class ClearShadows {
- public:
-  ClearShadows(const geometry::EmbreeScene& scene, std::int32_t ignore_body)
-      : max_slope_(scene.static_height_field_max_slope()) {
-    if (!max_slope_) return;
-    for (const geometry::BodyBounds& bounds : scene.body_bounds_W()) {
-      if (bounds.body != ignore_body) boxes_.push_back(bounds.box_W);
-    }
-  }
-
-  // Whether the segment origin + t d, t in [0, length] (d unit), from a hit on body `body` with unit
-  // normal n (turned towards the camera; the origin is the hit point moved along n) is clear. Margins:
-  // the origin at least 0.1 of the shadow bias above the field, the slope 0.1 % + 1e-4 above L.
-  bool clear(std::int32_t body, const Eigen::Vector3d& n, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
-             double length) const {
-    if (!max_slope_ || body != geometry::kStaticBody) return false;
-    const double L = *max_slope_;
-    if (!(n.z() - L * std::sqrt(n.x() * n.x() + n.y() * n.y()) >= 0.1)) return false;
-    if (!(d.z() > (1.001 * L + 1e-4) * std::sqrt(d.x() * d.x() + d.y() * d.y()))) return false;
-    for (const Eigen::AlignedBox3d& box : boxes_) {
-      if (segment_meets(box, origin, d, length)) return false;
-    }
-    return true;
-  }
-
- private:
-  // Slab test: whether origin + t d meets the box for some t in [0, length].
-  static bool segment_meets(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
-                            double length) {
-    double t0 = 0.0, t1 = length;
-    for (int k = 0; k < 3; ++k) {
-      if (d[k] == 0.0) {
-        if (origin[k] < box.min()[k] || origin[k] > box.max()[k]) return false;
-        continue;
-      }
-      double a = (box.min()[k] - origin[k]) / d[k], b = (box.max()[k] - origin[k]) / d[k];
-      if (a > b) std::swap(a, b);
-      t0 = std::max(t0, a);
-      t1 = std::min(t1, b);
-      if (t0 > t1) return false;
-    }
-    return true;
-  }
-
-  std::optional<double> max_slope_;
-  std::vector<Eigen::AlignedBox3d> boxes_;
-};
 
 double backscatter_end_m(const FrameLighting& lighting, float far_m) {
   return std::isfinite(far_m) ? static_cast<double>(far_m) : lighting.max_backscatter_range_m;
@@ -133,9 +71,424 @@ std::size_t BackscatterTableCache::tables_made() const {
   return made_;
 }
 
+AlbedoOfPoints per_point(AlbedoAt albedo_of) {
+  return [albedo_of = std::move(albedo_of)](const SurfacePoints& points, float* r, float* g, float* b) {
+    for (std::size_t i = 0; i < points.count; ++i) {
+      if (points.body[i] == geometry::kNoHit) continue;  // a miss: not used
+      const Rgb albedo = albedo_of(points.point(i));
+      r[i] = static_cast<float>(albedo[0]);
+      g[i] = static_cast<float>(albedo[1]);
+      b[i] = static_cast<float>(albedo[2]);
+    }
+  };
+}
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kInvPi = static_cast<float>(1.0 / 3.14159265358979323846);
+
+// A spot light as the band passes use it: single precision, positioned relative to the camera's centre.
+struct BandLight {
+  float x = 0, y = 0, z = 0;     // position relative to the camera's centre, W axes [m]
+  float ax = 0, ay = 0, az = 0;  // unit beam axis in W
+  float cos_inner = 1, cos_outer = -1, outer_rad = 0, inv_edge_rad = 0;  // 1 / (outer - inner)
+  float intensity[3] = {0, 0, 0};  // on the axis [W/sr]
+};
+
+BandLight band_light(const SpotLight& light, const Eigen::Vector3d& p_WC) {
+  const LightBeam beam(light);
+  BandLight out;
+  const Eigen::Vector3d p = light.p_WL - p_WC;
+  out.x = static_cast<float>(p.x());
+  out.y = static_cast<float>(p.y());
+  out.z = static_cast<float>(p.z());
+  out.ax = static_cast<float>(light.axis_W.x());
+  out.ay = static_cast<float>(light.axis_W.y());
+  out.az = static_cast<float>(light.axis_W.z());
+  out.cos_inner = static_cast<float>(beam.cos_inner);
+  out.cos_outer = static_cast<float>(beam.cos_outer);
+  out.outer_rad = static_cast<float>(light.outer_half_angle_rad);
+  out.inv_edge_rad = static_cast<float>(1.0 / (light.outer_half_angle_rad - light.inner_half_angle_rad));
+  for (int ch = 0; ch < 3; ++ch) out.intensity[ch] = static_cast<float>(light.intensity_W_per_sr[ch]);
+  return out;
+}
+
+// A body's bounding box relative to the camera's centre (padded by EmbreeScene::body_bounds_W's 1 cm,
+// far more than single precision's rounding here).
+struct BandBox {
+  float lo[3], hi[3];
+};
+
+// Whether the segment o + s d, s in [0, length], meets the box (slab test; a zero direction component
+// is taken as 1e-30, which keeps the test's answer for origins inside or outside that slab).
+inline bool segment_meets(const BandBox& box, float ox, float oy, float oz, float dx, float dy, float dz, float length) {
+  const float o[3] = {ox, oy, oz};
+  const float d[3] = {dx, dy, dz};
+  float t0 = 0.0f, t1 = length;
+  for (int k = 0; k < 3; ++k) {
+    const float inv = 1.0f / (d[k] == 0.0f ? 1e-30f : d[k]);
+    const float ta = (box.lo[k] - o[k]) * inv, tb = (box.hi[k] - o[k]) * inv;
+    t0 = fast::max(t0, fast::min(ta, tb));
+    t1 = fast::min(t1, fast::max(ta, tb));
+  }
+  return t0 <= t1;
+}
+
+// What every band of a frame shares.
+struct FrameSetup {
+  const geometry::EmbreeScene* scene = nullptr;
+  const Lens* lens = nullptr;
+  const AlbedoOfPoints* albedo_of = nullptr;
+  const BackscatterTable* backscatter = nullptr;
+  Eigen::Vector3d p_WC = Eigen::Vector3d::Zero();
+  Eigen::Matrix3f R_WC = Eigen::Matrix3f::Identity();
+  float near_m = 0, far_m = 0;
+  std::int32_t ignore_body = geometry::kNoHit;
+  float bias_m = 1e-3f;
+  float c[3] = {0, 0, 0};  // attenuation [1/m]
+  std::vector<BandLight> lights;
+  std::vector<Eigen::Vector2d> light_xy_W;  // the lights' xy in W, for the band's shadow region
+  std::vector<BandBox> boxes;  // of the bodies other than ignore_body
+  bool height_field = false;   // the static world is one height field (shadow rays may be proved clear)
+  // Daylight, heights relative to the camera's centre: sky rays from hits above floor_z (none: +inf).
+  bool sky = false;
+  float floor_z = kInf, surface_z = 0;
+  float E0[3] = {0, 0, 0}, Kd[3] = {0, 0, 0};
+  // Scattered light along the rays.
+  bool daylit_water = false;
+  float s0 = 0;
+  float b[3] = {0, 0, 0}, phase_g = 0, E_camera[3] = {0, 0, 0};
+  bool forward = false;
+  float forward_per_m[3] = {0, 0, 0};
+};
+
+// One band's per-pixel arrays (structure of arrays; the loops over them vectorize).
+struct BandArrays {
+  explicit BandArrays(std::size_t n)
+      : px(n), py(n), pz(n), nx(n), ny(n), nz(n), ar(n, 0.0f), ag(n, 0.0f), ab(n, 0.0f), sr(n, 0.0f), sg(n, 0.0f),
+        sb(n, 0.0f), above(n), cast(n), sdx(n), sdy(n), sdz(n), slen(n), s_end(n) {}
+  std::vector<float> px, py, pz;  // hit point relative to the camera's centre, W axes (0 on a miss) [m]
+  std::vector<float> nx, ny, nz;  // unit normal turned towards the camera (0 on a miss)
+  std::vector<float> ar, ag, ab;  // albedo
+  std::vector<float> sr, sg, sb;  // radiance at the camera [W/(m^2 sr)]
+  std::vector<float> above;       // 1: the shadow origin is proved above the height field
+  std::vector<float> cast;        // 1: the current light's shadow ray must be cast
+  std::vector<float> sdx, sdy, sdz, slen;  // the current light's shadow ray: unit direction, length [m]
+  std::vector<float> s_end;       // where the ray's water ends: the hit, or the far clip [m]
+  std::vector<std::vector<float>> lit;  // per light, then the sky: 1 where it reaches the point
+};
+
+// Shadow-ray candidates of one source (a light, or the sky) whose rays are in a.sdx.. and a.cast: the
+// clear ones are tested against the bodies' boxes, and those that must be cast are appended.
+// Vectorized loops here and in render_band: every array element and constant is loaded into a local
+// before any condition uses it (a load inside a branch keeps GCC from turning the branch into a select).
+HADAL_VECTOR_KERNEL void gather_shadow_rays(const FrameSetup& f, BandArrays& a, const std::vector<float>& lit, std::size_t n,
+                        std::uint16_t source, geometry::RayBatch& shadows, std::vector<std::uint32_t>& pixel,
+                        std::vector<std::uint16_t>& source_of) {
+  const float bias = f.bias_m;
+  for (const BandBox& box : f.boxes) {
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float ox = a.px[i] + bias * a.nx[i], oy = a.py[i] + bias * a.ny[i], oz = a.pz[i] + bias * a.nz[i];
+      const bool meets = segment_meets(box, ox, oy, oz, a.sdx[i], a.sdy[i], a.sdz[i], a.slen[i]);
+      const float reaches = lit[i], cast = a.cast[i];
+      a.cast[i] = (reaches != 0.0f) & meets ? 1.0f : cast;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (a.cast[i] == 0.0f) continue;
+    const Eigen::Vector3d origin_C(a.px[i] + bias * a.nx[i], a.py[i] + bias * a.ny[i], a.pz[i] + bias * a.nz[i]);
+    shadows.add_ray((f.p_WC + origin_C).cast<float>(), Eigen::Vector3f(a.sdx[i], a.sdy[i], a.sdz[i]), 0.0f, a.slen[i],
+                    f.ignore_body);
+    pixel.push_back(static_cast<std::uint32_t>(i));
+    source_of.push_back(source);
+  }
+}
+
+// The band of image rows [row_begin, row_end): its rays, shadow rays and shading. Writes the band's
+// pixels of frame.radiance and frame.depth_m (and of forward_source when the water scatters forward);
+// returns the number of shadow rays cast.
+HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, int row_end, RadianceFrame& frame,
+                        std::array<std::vector<float>, 3>* forward_source) {
+  const Lens& lens = *f.lens;
+  const std::size_t width = static_cast<std::size_t>(lens.width_px());
+  const std::size_t first = static_cast<std::size_t>(row_begin) * width;
+  const std::size_t n = static_cast<std::size_t>(row_end - row_begin) * width;
+  const float* ray_C = lens.rays_C()[first].data();  // x, y, z per pixel (Eigen::Vector3f is 3 floats)
+  const float far_m = f.far_m, bias = f.bias_m;
+  const float c0 = f.c[0], c1 = f.c[1], c2 = f.c[2];
+
+  // Primary rays: the lens's rays rotated into W, from the camera's centre.
+  geometry::RayBatch primary;
+  primary.coherence = geometry::RayCoherence::kCoherent;
+  primary.p_WO_x.assign(n, static_cast<float>(f.p_WC.x()));
+  primary.p_WO_y.assign(n, static_cast<float>(f.p_WC.y()));
+  primary.p_WO_z.assign(n, static_cast<float>(f.p_WC.z()));
+  primary.t_near.assign(n, f.near_m);
+  primary.t_far.assign(n, far_m);
+  if (f.ignore_body != geometry::kNoHit) primary.ignore_body.assign(n, f.ignore_body);
+  primary.d_W_x.resize(n);
+  primary.d_W_y.resize(n);
+  primary.d_W_z.resize(n);
+  float* dx = primary.d_W_x.data();
+  float* dy = primary.d_W_y.data();
+  float* dz = primary.d_W_z.data();
+  {
+    const Eigen::Matrix3f R = f.R_WC;
+    const float r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2);
+    const float r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float x = ray_C[3 * i], y = ray_C[3 * i + 1], z = ray_C[3 * i + 2];
+      const float wx = r00 * x + r01 * y + r02 * z;
+      const float wy = r10 * x + r11 * y + r12 * z;
+      const float wz = r20 * x + r21 * y + r22 * z;
+      const float norm = __builtin_sqrtf(wx * wx + wy * wy + wz * wz);
+      dx[i] = wx / norm;
+      dy[i] = wy / norm;
+      dz[i] = wz / norm;
+    }
+  }
+  geometry::RayHits hits;
+  hits.resize(n);
+  if (n > 0) f.scene->intersect(primary, 0, n, geometry::QueryPath::kAuto, hits);
+  const float* t = hits.distance.data();
+
+  // Hit points, normals turned towards the camera, depth along the optical axis.
+  BandArrays a(n);
+  float* depth = frame.depth_m.data() + first;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+#pragma GCC ivdep
+  for (std::size_t i = 0; i < n; ++i) {
+    const float ti = t[i], x = dx[i], y = dy[i], z = dz[i], ray_z = ray_C[3 * i + 2];
+    const float nx = hits.n_W_x[i], ny = hits.n_W_y[i], nz = hits.n_W_z[i];
+    const bool hit = ti < kInf;
+    const float d = hit ? ti : 0.0f;
+    a.px[i] = d * x;
+    a.py[i] = d * y;
+    a.pz[i] = d * z;
+    const float sign = nx * x + ny * y + nz * z > 0.0f ? -1.0f : 1.0f;
+    a.nx[i] = sign * nx;
+    a.ny[i] = sign * ny;
+    a.nz[i] = sign * nz;
+    const float along_axis = d * ray_z;
+    depth[i] = hit & (along_axis > 0.0f) ? along_axis : nan;
+    a.s_end[i] = hit ? ti : far_m;
+  }
+  const SurfacePoints points{n,
+                             f.p_WC,
+                             a.px.data(),
+                             a.py.data(),
+                             a.pz.data(),
+                             hits.material.data(),
+                             hits.body.data(),
+                             hits.tex_u.data(),
+                             hits.tex_v.data()};
+  (*f.albedo_of)(points, a.ar.data(), a.ag.data(), a.ab.data());
+
+  // Shadow rays proved clear (frame.h): the steepest slope of the ground under the band's shadow rays,
+  // which run between its hit points and the lights (or straight up from the hit points).
+  float climb = kInf;  // a shadow ray climbing faster than this is clear (when also above the ground)
+  float slope = 0.0f;
+  bool field = false;
+  if (f.height_field && (!f.lights.empty() || f.sky)) {
+    Eigen::AlignedBox2d region;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (t[i] < kInf) region.extend(Eigen::Vector2d(f.p_WC.x() + a.px[i], f.p_WC.y() + a.py[i]));
+    }
+    if (!region.isEmpty()) {
+      for (const Eigen::Vector2d& xy : f.light_xy_W) region.extend(xy);
+      const double pad = 0.01 + f.bias_m;  // the shadow origins lie bias_m off the hit points
+      region.min() -= Eigen::Vector2d::Constant(pad);
+      region.max() += Eigen::Vector2d::Constant(pad);
+      const double L = f.scene->static_height_field_max_slope(region).value_or(kInf);
+      field = std::isfinite(L);
+      slope = static_cast<float>(L);
+      climb = static_cast<float>(1.001 * L + 1e-4);
+    }
+  }
+  {
+    const std::int32_t* body = hits.body.data();
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float nx = a.nx[i], ny = a.ny[i], nz = a.nz[i];
+      const bool on_field = body[i] == geometry::kStaticBody;
+      a.above[i] = field & on_field & (nz - slope * __builtin_sqrtf(nx * nx + ny * ny) >= 0.1f) ? 1.0f : 0.0f;
+    }
+  }
+
+  // Where each light (then the sky) reaches the point, and the shadow rays that must be cast.
+  const std::size_t sources = f.lights.size() + (f.sky ? 1 : 0);
+  a.lit.assign(sources, std::vector<float>(n, 0.0f));
+  geometry::RayBatch shadows;
+  shadows.coherence = geometry::RayCoherence::kCoherent;
+  std::vector<std::uint32_t> shadow_pixel;
+  std::vector<std::uint16_t> shadow_source;
+  for (std::size_t l = 0; l < f.lights.size(); ++l) {
+    const BandLight L = f.lights[l];
+    float* lit = a.lit[l].data();
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float px = a.px[i], py = a.py[i], pz = a.pz[i], nx = a.nx[i], ny = a.ny[i], nz = a.nz[i];
+      const float ti = t[i], above = a.above[i];
+      // From the shadow origin (bias_m off the surface) to the light.
+      const float tx = L.x - (px + bias * nx), ty = L.y - (py + bias * ny), tz = L.z - (pz + bias * nz);
+      const float distance = __builtin_sqrtf(tx * tx + ty * ty + tz * tz);
+      const bool front = nx * tx + ny * ty + nz * tz > 0.0f;  // the light before the surface
+      const bool in_beam = -(L.ax * tx + L.ay * ty + L.az * tz) > L.cos_outer * distance;
+      const bool candidate = (ti < kInf) & (distance > bias) & front & in_beam;
+      const float inv = 1.0f / distance;
+      const float sx = tx * inv, sy = ty * inv, sz = tz * inv;
+      a.sdx[i] = sx;
+      a.sdy[i] = sy;
+      a.sdz[i] = sz;
+      a.slen[i] = distance - bias;
+      // (Masks as 0/1 floats: GCC turns `candidate & !clear ? ..` into branches, this into selects.)
+      const float clear = (above != 0.0f) & (sz > climb * __builtin_sqrtf(sx * sx + sy * sy)) ? 1.0f : 0.0f;
+      lit[i] = candidate ? 1.0f : 0.0f;
+      a.cast[i] = candidate ? 1.0f - clear : 0.0f;
+    }
+    gather_shadow_rays(f, a, a.lit[l], n, static_cast<std::uint16_t>(l), shadows, shadow_pixel, shadow_source);
+  }
+  const float floor_z = f.floor_z, surface_z = f.surface_z;
+  if (f.sky) {
+    float* lit = a.lit.back().data();
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float ti = t[i], nz = a.nz[i], pz = a.pz[i], above = a.above[i];
+      const float candidate = (ti < kInf) & (nz > -1.0f) & (pz > floor_z) ? 1.0f : 0.0f;
+      a.sdx[i] = 0.0f;
+      a.sdy[i] = 0.0f;
+      a.sdz[i] = 1.0f;
+      a.slen[i] = fast::max(0.0f, surface_z - pz);
+      lit[i] = candidate;
+      a.cast[i] = candidate * (1.0f - above);  // straight up climbs faster than any slope
+    }
+    gather_shadow_rays(f, a, a.lit.back(), n, static_cast<std::uint16_t>(sources - 1), shadows, shadow_pixel,
+                       shadow_source);
+  }
+  if (shadows.size() > 0) {
+    std::vector<std::uint8_t> blocked(shadows.size());
+    f.scene->occluded(shadows, 0, shadows.size(), blocked);
+    for (std::size_t k = 0; k < blocked.size(); ++k) {
+      if (blocked[k] != 0) a.lit[shadow_source[k]][shadow_pixel[k]] = 0.0f;
+    }
+  }
+
+  // The surfaces' radiance at the camera: each light's Lambertian term (render/optics.h), seen through
+  // the water over d_light + d_camera.
+  for (std::size_t l = 0; l < f.lights.size(); ++l) {
+    const BandLight L = f.lights[l];
+    const float i0 = L.intensity[0] * kInvPi, i1 = L.intensity[1] * kInvPi, i2 = L.intensity[2] * kInvPi;
+    const float* lit = a.lit[l].data();
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float px = a.px[i], py = a.py[i], pz = a.pz[i], nx = a.nx[i], ny = a.ny[i], nz = a.nz[i];
+      const float ti = t[i], reaches = lit[i];
+      const float qx = px - L.x, qy = py - L.y, qz = pz - L.z;  // from the light to the point
+      const float d2 = qx * qx + qy * qy + qz * qz;
+      const float d_light = __builtin_sqrtf(d2);
+      const float inv = 1.0f / d_light;
+      const float ux = qx * inv, uy = qy * inv, uz = qz * inv;
+      const float cos_incidence = -(nx * ux + ny * uy + nz * uz);
+      const float cos_axis = fast::max(-1.0f, fast::min(1.0f, L.ax * ux + L.ay * uy + L.az * uz));
+      const float edge = fast::max(0.0f, fast::min(1.0f, (L.outer_rad - fast::acos(cos_axis)) * L.inv_edge_rad));
+      const float smooth = edge * edge * (3.0f - 2.0f * edge);
+      const float beam = cos_axis >= L.cos_inner ? 1.0f : (cos_axis <= L.cos_outer ? 0.0f : smooth);
+      const bool shade = (reaches != 0.0f) & (cos_incidence > 0.0f) & (d_light > 0.0f);
+      const float irradiance = beam * cos_incidence / d2;
+      const float g = shade ? irradiance : 0.0f;
+      const float path = d_light + (ti < kInf ? ti : 0.0f);  // finite on a miss (g is 0 there)
+      a.sr[i] += g * a.ar[i] * i0 * fast::exp(-c0 * path);
+      a.sg[i] += g * a.ag[i] * i1 * fast::exp(-c1 * path);
+      a.sb[i] += g * a.ab[i] * i2 * fast::exp(-c2 * path);
+    }
+  }
+  // Daylight on the surface (render/optics.h daylight_surface_radiance): E0 exp(-(Kd depth + c d_camera))
+  // times the sky's share (1 + n_z) / 2.
+  const float Kd0 = f.Kd[0], Kd1 = f.Kd[1], Kd2 = f.Kd[2];
+  if (f.sky) {
+    const float e0 = f.E0[0] * kInvPi, e1 = f.E0[1] * kInvPi, e2 = f.E0[2] * kInvPi;
+    const float* lit = a.lit.back().data();
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float reaches = lit[i], nz = a.nz[i], pz = a.pz[i], ti = t[i];
+      const float tilt = 0.5f * (1.0f + nz);
+      const float share = reaches != 0.0f ? tilt : 0.0f;
+      const float below = fast::max(0.0f, surface_z - pz);  // depth of the point [m]
+      const float d = ti < kInf ? ti : 0.0f;
+      a.sr[i] += share * a.ar[i] * e0 * fast::exp(-(Kd0 * below + c0 * d));
+      a.sg[i] += share * a.ag[i] * e1 * fast::exp(-(Kd1 * below + c1 * d));
+      a.sb[i] += share * a.ab[i] * e2 * fast::exp(-(Kd2 * below + c2 * d));
+    }
+  }
+  // Forward scatter's source: the surfaces' radiance times exp(b_f d) - 1 (render/forward_scatter.h).
+  if (f.forward) {
+    float* source_r = (*forward_source)[0].data() + first;
+    float* source_g = (*forward_source)[1].data() + first;
+    float* source_b = (*forward_source)[2].data() + first;
+    const float bf0 = f.forward_per_m[0], bf1 = f.forward_per_m[1], bf2 = f.forward_per_m[2];
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float ti = t[i];
+      const float d = ti < kInf ? ti : 0.0f;
+      source_r[i] = a.sr[i] * (fast::exp(bf0 * d) - 1.0f);
+      source_g[i] = a.sg[i] * (fast::exp(bf1 * d) - 1.0f);
+      source_b[i] = a.sb[i] * (fast::exp(bf2 * d) - 1.0f);
+    }
+  }
+  // Backscatter of the lights, from the frame's table, along [s0, s_end].
+  if (f.backscatter != nullptr) {
+    for (int v = row_begin; v < row_end; ++v) {
+      const std::size_t o = static_cast<std::size_t>(v - row_begin) * width;
+      f.backscatter->add_row(v, a.s_end.data() + o, a.sr.data() + o, a.sg.data() + o, a.sb.data() + o);
+    }
+  }
+  // Daylight's path radiance along [s0, s_end] (render/optics.h daylight_path_radiance): with k = c -
+  // Kd d_z, b p(d_z) E_camera (exp(-k s0) - exp(-k s1)) / k; an upward ray ends at the surface.
+  if (f.daylit_water) {
+    const float g = f.phase_g;
+    const float hg_scale = (1.0f - g * g) / (4.0f * 3.14159265358979f);
+    const float s0 = f.s0;
+    const float w0 = f.b[0] * f.E_camera[0], w1 = f.b[1] * f.E_camera[1], w2 = f.b[2] * f.E_camera[2];
+    const auto integral = [s0](float k, float s1, bool bounded) {
+      const float near = fast::exp(-k * s0);
+      const float far_end = fast::exp(-k * s1);
+      const float far = bounded ? far_end : 0.0f;
+      const float magnitude = k < 0.0f ? -k : k;
+      return magnitude * s1 < 1e-4f ? s1 - s0 : (near - far) / k;
+    };
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) {
+      const float z = dz[i], s_end = a.s_end[i];
+      const float up_end = fast::max(0.0f, surface_z / z);  // where an upward ray leaves the water
+      const float s1 = z > 0.0f ? fast::min(s_end, up_end) : s_end;
+      const float denominator = 1.0f + g * g - 2.0f * g * z;
+      const float phase = hg_scale / (denominator * __builtin_sqrtf(denominator));
+      const float weight = (s_end > s0) & (s1 > s0) ? phase : 0.0f;
+      const bool bounded = s1 < kInf;
+      a.sr[i] += weight * w0 * integral(c0 - Kd0 * z, s1, bounded);
+      a.sg[i] += weight * w1 * integral(c1 - Kd1 * z, s1, bounded);
+      a.sb[i] += weight * w2 * integral(c2 - Kd2 * z, s1, bounded);
+    }
+  }
+  Rgbf* radiance = frame.radiance.data() + first;
+  for (std::size_t i = 0; i < n; ++i) radiance[i] = Rgbf(a.sr[i], a.sg[i], a.sb[i]);
+  return shadows.size();
+}
+
+}  // namespace
+
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
                               float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoAt& albedo_of, const ParallelFor& parallel) {
+  return render_radiance(scene, lens, X_WC, near_m, far_m, ignore_body, lighting, per_point(albedo_of), parallel);
+}
+
+RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
+                              float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
+                              const AlbedoOfPoints& albedo_of, const ParallelFor& parallel) {
   validate(lighting.water);
   validate(lighting.daylight);
   for (const SpotLight& light : lighting.lights) validate(light);
@@ -146,19 +499,75 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     geometry::RayBatch none;  // checks the clip and the pose before any work
     add_camera_rays(lens, X_WC, near_m, far_m, ignore_body, 0, 0, none);
   }
-  const std::size_t width = static_cast<std::size_t>(lens.width_px());
-  const std::size_t n = width * static_cast<std::size_t>(lens.height_px());
+  if (lighting.lights.size() >= 0xffff) throw std::invalid_argument("lights: at most 65534 per frame");
+  const std::size_t n = static_cast<std::size_t>(lens.width_px()) * static_cast<std::size_t>(lens.height_px());
   RadianceFrame frame;
   frame.width_px = lens.width_px();
   frame.height_px = lens.height_px();
-  frame.radiance.assign(n, Rgb::Zero());
-  frame.depth_m.assign(n, std::numeric_limits<float>::quiet_NaN());
+  frame.radiance.resize(n);
+  frame.depth_m.resize(n);
+
+  FrameSetup f;
+  f.scene = &scene;
+  f.lens = &lens;
+  f.albedo_of = &albedo_of;
+  f.p_WC = X_WC.translation();
+  f.R_WC = X_WC.linear().cast<float>();
+  f.near_m = near_m;
+  f.far_m = far_m;
+  f.ignore_body = ignore_body;
+  f.bias_m = lighting.shadow_bias_m;
+  const Rgb c = lighting.water.attenuation_per_m();
+  for (int ch = 0; ch < 3; ++ch) f.c[ch] = static_cast<float>(c[ch]);
+  for (const SpotLight& light : lighting.lights) {
+    f.lights.push_back(band_light(light, f.p_WC));
+    f.light_xy_W.push_back(light.p_WL.head<2>());
+  }
+  f.height_field = scene.static_height_field_max_slope().has_value();
+  if (f.height_field) {
+    for (const geometry::BodyBounds& bounds : scene.body_bounds_W()) {
+      if (bounds.body == ignore_body) continue;
+      BandBox box;
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = static_cast<float>(bounds.box_W.min()[k] - f.p_WC[k]);
+        box.hi[k] = static_cast<float>(bounds.box_W.max()[k] - f.p_WC[k]);
+      }
+      f.boxes.push_back(box);
+    }
+  }
+
+  // Daylight: sky rays only above the depth where it falls below e^-87.3 of the surface's in every
+  // channel (below floor_z; -inf: daylight everywhere).
+  const Daylight& daylight = lighting.daylight;
+  double daylight_floor_z = std::numeric_limits<double>::infinity();
+  for (int ch = 0; ch < 3; ++ch) {
+    if (!(daylight.surface_irradiance_W_per_m2[ch] > 0.0)) continue;
+    const double Kd = daylight.Kd_per_m[ch];
+    daylight_floor_z = std::min(daylight_floor_z, Kd > 0.0 ? daylight.surface_z_m - 87.3 / Kd
+                                                           : -std::numeric_limits<double>::infinity());
+  }
+  f.sky = std::isfinite(daylight_floor_z) || daylight_floor_z < 0.0;
+  f.floor_z = static_cast<float>(daylight_floor_z - f.p_WC.z());
+  f.surface_z = static_cast<float>(daylight.surface_z_m - f.p_WC.z());
+  for (int ch = 0; ch < 3; ++ch) {
+    f.E0[ch] = static_cast<float>(daylight.surface_irradiance_W_per_m2[ch]);
+    f.Kd[ch] = static_cast<float>(daylight.Kd_per_m[ch]);
+  }
 
   // Scattered light along the rays: the lights' backscatter (from the table, up to s_max at most) and
   // daylight's path radiance (closed form).
   const double s0 = backscatter_start_m(near_m);
+  f.s0 = static_cast<float>(s0);
   const bool scattering = (lighting.water.scattering_per_m > 0.0).any();
-  const bool daylit_water = scattering && (lighting.daylight.surface_irradiance_W_per_m2 > 0.0).any();
+  f.daylit_water = scattering && (daylight.surface_irradiance_W_per_m2 > 0.0).any();
+  f.phase_g = static_cast<float>(lighting.water.phase_g);
+  // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
+  // rays hold it).
+  const Rgb E_camera = daylight.irradiance_at(static_cast<float>(f.p_WC.z()));
+  for (int ch = 0; ch < 3; ++ch) {
+    f.b[ch] = static_cast<float>(lighting.water.scattering_per_m[ch]);
+    f.E_camera[ch] = static_cast<float>(E_camera[ch]);
+  }
   std::shared_ptr<const BackscatterTable> backscatter = lighting.backscatter;
   if (!backscatter) {
     std::vector<SpotLight> lights_C = lighting.lights;
@@ -169,130 +578,26 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     }
     backscatter = make_backscatter_table(lighting, lights_C, lens, near_m, far_m, parallel);
   }
-  const std::vector<LightBeam> beams(lighting.lights.begin(), lighting.lights.end());
-  const Rgb c = lighting.water.attenuation_per_m();
-  // Below daylight_floor_z daylight is nothing in every channel (exp3 of Kd times the depth below
-  // -87.3, ~1e-38 of the surface's): no sky rays there. -inf: daylight everywhere; +inf: none.
-  double daylight_floor_z = std::numeric_limits<double>::infinity();
-  for (int ch = 0; ch < 3; ++ch) {
-    if (!(lighting.daylight.surface_irradiance_W_per_m2[ch] > 0.0)) continue;
-    const double Kd = lighting.daylight.Kd_per_m[ch];
-    daylight_floor_z = std::min(daylight_floor_z, Kd > 0.0 ? lighting.daylight.surface_z_m - 87.3 / Kd
-                                                           : -std::numeric_limits<double>::infinity());
-  }
-  // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
-  // rays hold it).
-  const Rgb E_camera = lighting.daylight.irradiance_at(static_cast<float>(X_WC.translation().z()));
+  f.backscatter = backscatter.get();
   // Forward scatter (render/forward_scatter.h): each surface pixel's radiance times exp(b_f d) - 1,
   // spread over the image after the bands.
   const Rgb forward_per_m = forward_scattering_per_m(lighting.water);
-  const bool forward = (forward_per_m > 0.0).any();
-  std::vector<Rgb> forward_source;
-  if (forward) forward_source.assign(n, Rgb::Zero());
+  f.forward = (forward_per_m > 0.0).any();
+  for (int ch = 0; ch < 3; ++ch) f.forward_per_m[ch] = static_cast<float>(forward_per_m[ch]);
+  std::array<std::vector<float>, 3> forward_source;  // R, G, B planes
+  if (f.forward) {
+    for (std::vector<float>& plane : forward_source) plane.resize(n);
+  }
 
-  const ClearShadows clear_shadows(scene, ignore_body);
   const int bands = (lens.height_px() + kBandRows - 1) / kBandRows;
   std::vector<std::size_t> band_shadow_rays(static_cast<std::size_t>(bands), 0);
   parallel(static_cast<std::size_t>(bands), [&](std::size_t band) {
     const int row_begin = static_cast<int>(band) * kBandRows;
-    const int row_end = std::min(row_begin + kBandRows, lens.height_px());
-    const std::size_t first = static_cast<std::size_t>(row_begin) * width;  // pixel index of the band's ray 0
-    geometry::RayBatch primary;
-    primary.reserve(static_cast<std::size_t>(row_end - row_begin) * width);
-    add_camera_rays(lens, X_WC, near_m, far_m, ignore_body, row_begin, row_end, primary);
-    const geometry::RayHits hits = cast(scene, primary);
-    const std::size_t m = primary.size();
-    const auto origin_W = [&](std::size_t i) {
-      return Eigen::Vector3d(primary.p_WO_x[i], primary.p_WO_y[i], primary.p_WO_z[i]);
-    };
-    const auto direction_W = [&](std::size_t i) {
-      return Eigen::Vector3d(primary.d_W_x[i], primary.d_W_y[i], primary.d_W_z[i]);
-    };
-
-    // Hit points, normals turned towards the camera, albedos, and where shadow rays start
-    // (shadow_bias_m off the surface).
-    std::vector<Eigen::Vector3d> p_W(m), n_W(m), shadow_origin_W(m);
-    std::vector<Rgb> albedo(m);
-    for (std::size_t i = 0; i < m; ++i) {
-      frame.depth_m[first + i] = depth_along_axis_m(hits.hit(i), hits.distance[i], lens.rays_C()[first + i].z());
-      if (!hits.hit(i)) continue;
-      const Eigen::Vector3d d = direction_W(i);
-      p_W[i] = origin_W(i) + static_cast<double>(hits.distance[i]) * d;
-      Eigen::Vector3d normal(hits.n_W_x[i], hits.n_W_y[i], hits.n_W_z[i]);
-      if (normal.dot(d) > 0.0) normal = -normal;
-      n_W[i] = normal;
-      shadow_origin_W[i] = p_W[i] + lighting.shadow_bias_m * normal;
-      albedo[i] = albedo_of(SurfacePoint{hits.material[i], hits.body[i], p_W[i], hits.tex_u[i], hits.tex_v[i]});
-    }
-    // One shadow ray per (hit, light) that the light's beam reaches, then daylight's straight up to the
-    // surface (light index kSky); those ClearShadows proves clear are not cast (cast[k] = kNotCast).
-    // Light by light, so that neighbouring rays run in similar directions (coherent for Embree).
-    constexpr std::size_t kNotCast = static_cast<std::size_t>(-1);
-    geometry::RayBatch shadows;
-    shadows.coherence = geometry::RayCoherence::kCoherent;
-    shadows.reserve(m * (beams.size() + 1));
-    std::vector<std::size_t> shadow_pixel, shadow_light, cast;
-    const auto add_shadow = [&](std::size_t i, std::size_t light, const Eigen::Vector3d& d, float length) {
-      shadow_pixel.push_back(i);
-      shadow_light.push_back(light);
-      if (clear_shadows.clear(hits.body[i], n_W[i], shadow_origin_W[i], d, length)) {
-        cast.push_back(kNotCast);
-        return;
-      }
-      cast.push_back(shadows.size());
-      shadows.add_ray(shadow_origin_W[i].cast<float>(), d.cast<float>(), 0.0f, length, ignore_body);
-    };
-    for (std::size_t l = 0; l < beams.size(); ++l) {
-      for (std::size_t i = 0; i < m; ++i) {
-        if (!hits.hit(i)) continue;
-        const Eigen::Vector3d to_light = beams[l].light.p_WL - shadow_origin_W[i];
-        const double distance = to_light.norm();
-        if (!(distance > lighting.shadow_bias_m) || n_W[i].dot(to_light) <= 0.0) continue;  // light behind the surface
-        if (-beams[l].light.axis_W.dot(to_light) <= beams[l].cos_outer * distance) continue;  // outside the beam
-        add_shadow(i, l, to_light / distance, static_cast<float>(distance) - lighting.shadow_bias_m);
-      }
-    }
-    for (std::size_t i = 0; i < m; ++i) {
-      if (!hits.hit(i) || !(n_W[i].z() > -1.0) || !(p_W[i].z() > daylight_floor_z)) continue;
-      const double sky = lighting.daylight.surface_z_m - p_W[i].z();
-      add_shadow(i, kSky, Eigen::Vector3d::UnitZ(), sky > 0.0 ? static_cast<float>(sky) : 0.0f);
-    }
-    std::vector<std::uint8_t> blocked(shadows.size());
-    if (shadows.size() > 0) scene.occluded(shadows, 0, shadows.size(), blocked);
-    band_shadow_rays[band] = shadows.size();
-    for (std::size_t k = 0; k < shadow_pixel.size(); ++k) {
-      if (cast[k] != kNotCast && blocked[cast[k]] != 0) continue;
-      const std::size_t i = shadow_pixel[k];
-      const double d_camera = static_cast<double>(hits.distance[i]);
-      const Rgb surface = shadow_light[k] == kSky
-                              ? daylight_surface_radiance(albedo[i], lighting.daylight, p_W[i], n_W[i], c, d_camera)
-                              : lambertian_radiance(albedo[i], beams[shadow_light[k]], p_W[i], n_W[i], c, d_camera);
-      frame.radiance[first + i] += surface;
-      if (forward) forward_source[first + i] += surface;
-    }
-    if (forward) {
-      for (std::size_t i = 0; i < m; ++i) {
-        if (!hits.hit(i)) continue;
-        const Eigen::Array3f bd = (forward_per_m * static_cast<double>(hits.distance[i])).cast<float>();
-        forward_source[first + i] *= (exp3(bd) - 1.0f).cast<double>();
-      }
-    }
-    if (!backscatter && !daylit_water) return;
-    for (std::size_t i = 0; i < m; ++i) {
-      const double s_end = hits.hit(i) ? static_cast<double>(hits.distance[i]) : static_cast<double>(far_m);
-      if (!(s_end > s0)) continue;
-      if (backscatter) {
-        const int v = row_begin + static_cast<int>(i / width), u = static_cast<int>(i % width);
-        frame.radiance[first + i] += backscatter->at(u, v, s_end);
-      }
-      if (daylit_water) {
-        frame.radiance[first + i] +=
-            daylight_path_radiance(lighting.water, lighting.daylight, E_camera, origin_W(i), direction_W(i), s0, s_end);
-      }
-    }
+    band_shadow_rays[band] =
+        render_band(f, row_begin, std::min(row_begin + kBandRows, lens.height_px()), frame, &forward_source);
   });
   for (std::size_t count : band_shadow_rays) frame.shadow_rays += count;
-  if (forward) {
+  if (f.forward) {
     add_forward_scatter(*forward_scatter_kernel(lighting.water, lens.spec().fx, lens.spec().fy), frame.width_px,
                         frame.height_px, forward_source, frame.radiance, parallel);
   }

@@ -49,7 +49,7 @@ EmbreeScene wall_scene(bool with_plate = false) {
 void expect_same_frame(const RadianceFrame& a, const RadianceFrame& b) {
   ASSERT_EQ(a.radiance.size(), b.radiance.size());
   ASSERT_EQ(a.depth_m.size(), b.depth_m.size());
-  EXPECT_EQ(std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(Rgb)), 0);
+  EXPECT_EQ(std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(Rgbf)), 0);
   EXPECT_EQ(std::memcmp(a.depth_m.data(), b.depth_m.data(), a.depth_m.size() * sizeof(float)), 0);
 }
 
@@ -72,7 +72,7 @@ TEST(FrameTest, WallRatioFollowsInverseSquareAndTwoWayAttenuation) {
     scene.add_static_mesh(plate(static_cast<float>(d[k]), 0, 0, 50), 0, "wall");
     scene.build();
     const RadianceFrame frame = render_radiance(scene, lens, X_WC, 0.1f, 100.0f, geometry::kNoHit, lighting, white);
-    L[k] = frame.radiance[centre(lens)];
+    L[k] = frame.radiance[centre(lens)].cast<double>();
     EXPECT_NEAR(frame.depth_m[centre(lens)], d[k], 1e-5);
   }
   for (int ch = 0; ch < 3; ++ch) {
@@ -156,22 +156,22 @@ TEST(FrameTest, DaylightFadesToBlackWithDepth) {
     X_WS.translation() = Eigen::Vector3d(0.0, 0.0, z);
     X_WS.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY()));  // pitched down
     const RadianceFrame frame = render_radiance(scene, lens, X_WS * X_SC(), 0.1f, 500.0f, geometry::kNoHit, lighting, white);
-    for (const Rgb& r : frame.radiance) brightest[k] = std::max(brightest[k], r.maxCoeff());
+    for (const Rgbf& r : frame.radiance) brightest[k] = std::max(brightest[k], static_cast<double>(r.maxCoeff()));
   }
   EXPECT_GT(brightest[0], 1.0);
   EXPECT_LT(brightest[1], 1e-12);
 }
 
-// Shadow rays the height-field test proves clear are not cast and change nothing: a bumpy seabed with
-// a box floating over it (a body, casting shadows), two lights beside the camera and daylight; the
-// frame with the seabed declared a height field is the frame without, bit for bit, from fewer rays.
-TEST(FrameTest, ProvablyClearShadowRaysAreNotCastAndChangeNothing) {
+// A bumpy seabed around z = -10 over [-20, 20] m at 0.5 m spacing, two triangles per cell facing up;
+// with `ridge`, the ground beyond x = 15 climbs 8 m in 5 m (slope 1.6), out of the tests' view.
+TriangleMesh bumpy_seabed(bool ridge) {
   TriangleMesh seabed;
   const int n = 80;
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
       const float x = -20.0f + 0.5f * i, y = -20.0f + 0.5f * j;
-      seabed.positions.insert(seabed.positions.end(), {x, y, -10.0f + 0.3f * std::sin(0.7f * x) * std::cos(0.5f * y)});
+      const float rise = ridge ? 1.6f * std::clamp(x - 15.0f, 0.0f, 5.0f) : 0.0f;
+      seabed.positions.insert(seabed.positions.end(), {x, y, -10.0f + 0.3f * std::sin(0.7f * x) * std::cos(0.5f * y) + rise});
     }
   }
   for (int j = 0; j < n; ++j) {
@@ -180,7 +180,12 @@ TEST(FrameTest, ProvablyClearShadowRaysAreNotCastAndChangeNothing) {
       seabed.indices.insert(seabed.indices.end(), {a, b, d, a, d, c});  // counter-clockwise from above
     }
   }
-  TriangleMesh cube = plate(0.0f, 0.0f, 0.0f, 0.4f);  // a square plate on a body, tilted below
+  return seabed;
+}
+
+// The shadow tests' lighting: oceanic water, daylight from a surface 5 m above, two lights beside a
+// camera 6 m above the seabed, aimed down and forward.
+FrameLighting seabed_lighting() {
   FrameLighting lighting;
   lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
   lighting.water.scattering_per_m = Rgb::Constant(0.05);
@@ -195,12 +200,34 @@ TEST(FrameTest, ProvablyClearShadowRaysAreNotCastAndChangeNothing) {
     light.outer_half_angle_rad = 0.7;
     lighting.lights.push_back(light);
   }
+  return lighting;
+}
+
+// The shadow tests' camera: 6 m above the seabed, pitched down; and the pose of the plate body that
+// floats over the seabed in its view, tilted.
+Eigen::Isometry3d seabed_camera() {
+  Eigen::Isometry3d X_WS = Eigen::Isometry3d::Identity();
+  X_WS.translation() = Eigen::Vector3d(-3.0, 0.0, -4.0);
+  X_WS.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d::UnitY()));
+  return X_WS * X_SC();
+}
+
+Eigen::Isometry3d floating_plate_pose() {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.translate(Eigen::Vector3d(0.5, 0.2, -8.5));
   X_WB.rotate(Eigen::AngleAxisd(1.2, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()));
-  Eigen::Isometry3d X_WS = Eigen::Isometry3d::Identity();
-  X_WS.translation() = Eigen::Vector3d(-3.0, 0.0, -4.0);
-  X_WS.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d::UnitY()));  // pitched down
+  return X_WB;
+}
+
+// Shadow rays the height-field test proves clear are not cast and change nothing: a bumpy seabed with
+// a steep ridge out of view (its slope, 1.6, would prove no light's ray clear: the test takes the
+// slope of the ground under the band's rays, render/frame.h), a plate body floating over it casting
+// shadows, two lights beside the camera and daylight; the frame with the seabed declared a height
+// field is the frame without, bit for bit, from fewer rays.
+TEST(FrameTest, ProvablyClearShadowRaysAreNotCastAndChangeNothing) {
+  const TriangleMesh seabed = bumpy_seabed(true);
+  const TriangleMesh cube = plate(0.0f, 0.0f, 0.0f, 0.4f);  // a square plate on a body, tilted below
+  const FrameLighting lighting = seabed_lighting();
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.3));
   RadianceFrame frames[2];
   for (int k = 0; k < 2; ++k) {
@@ -208,24 +235,114 @@ TEST(FrameTest, ProvablyClearShadowRaysAreNotCastAndChangeNothing) {
     scene.add_static_mesh(seabed, 0, "seabed", k == 0 ? geometry::StaticShape::kHeightField : geometry::StaticShape::kAny);
     scene.add_body_mesh(0, cube, 1, "plate");
     scene.build();
-    scene.set_body_poses({X_WB});
-    frames[k] = render_radiance(scene, lens, X_WS * X_SC(), 0.1f, 60.0f, geometry::kNoHit, lighting, white);
+    scene.set_body_poses({floating_plate_pose()});
+    if (k == 0) {
+      EXPECT_GT(*scene.static_height_field_max_slope(), 1.6);  // the ridge, and the bumps on it
+    }
+    frames[k] = render_radiance(scene, lens, seabed_camera(), 0.1f, 60.0f, geometry::kNoHit, lighting, white);
   }
   expect_same_frame(frames[0], frames[1]);
-  EXPECT_LT(frames[0].shadow_rays, frames[1].shadow_rays / 2);
+  EXPECT_LT(frames[0].shadow_rays, frames[1].shadow_rays / 4);
   // The plate shadows the seabed in this frame: seabed pixels (same depth without the plate) that are
   // darker with it; they are lit by whichever shadow rays were still cast.
   EmbreeScene bare;
   bare.add_static_mesh(seabed, 0, "seabed", geometry::StaticShape::kHeightField);
   bare.build();
-  const RadianceFrame unshadowed = render_radiance(bare, lens, X_WS * X_SC(), 0.1f, 60.0f, geometry::kNoHit, lighting, white);
+  const RadianceFrame unshadowed = render_radiance(bare, lens, seabed_camera(), 0.1f, 60.0f, geometry::kNoHit, lighting, white);
   std::size_t shadowed = 0;
   for (std::size_t i = 0; i < unshadowed.radiance.size(); ++i) {
-    if (frames[0].depth_m[i] == unshadowed.depth_m[i] && frames[0].radiance[i].sum() < 0.8 * unshadowed.radiance[i].sum()) {
+    if (frames[0].depth_m[i] == unshadowed.depth_m[i] && frames[0].radiance[i].sum() < 0.8f * unshadowed.radiance[i].sum()) {
       ++shadowed;
     }
   }
   EXPECT_GT(shadowed, 100u);
+}
+
+// The frame's single-precision passes against render/optics.h's per-ray physics in double precision,
+// pixel by pixel: the same rays cast one at a time, each light's candidate test and shadow ray, the
+// Lambertian and daylight terms, the backscatter table's value and daylight's path radiance. A
+// patterned albedo, a body and shadows on the seabed. Within 1e-4 of the pixel's radiance plus 1e-6 of
+// the frame's brightest (single precision's rounding over a few dozen operations, and the table's
+// float log: ~1e-6); a pixel whose shadow ray grazes an edge may go either way in single precision,
+// so up to 0.2 % of the pixels may differ by more.
+TEST(FrameTest, MatchesThePerPixelPhysicsInDoublePrecision) {
+  const TriangleMesh seabed = bumpy_seabed(false);
+  EmbreeScene scene;
+  scene.add_static_mesh(seabed, 0, "seabed", geometry::StaticShape::kHeightField);
+  scene.add_body_mesh(0, plate(0.0f, 0.0f, 0.0f, 0.4f), 1, "plate");
+  scene.build();
+  scene.set_body_poses({floating_plate_pose()});
+  const FrameLighting lighting = seabed_lighting();
+  const auto albedo = [](const SurfacePoint& hit) {
+    return hit.body == 0 ? Rgb(0.9, 0.2, 0.1) : Rgb(0.5 + 0.3 * std::sin(2.0 * hit.p_W.x()), 0.4, 0.3 + 0.2 * std::cos(hit.p_W.y()));
+  };
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.3));
+  const Eigen::Isometry3d X_WC = seabed_camera();
+  const float near_m = 0.1f, far_m = 60.0f;
+  const RadianceFrame frame = render_radiance(scene, lens, X_WC, near_m, far_m, geometry::kNoHit, lighting, albedo);
+
+  std::vector<SpotLight> lights_C = lighting.lights;
+  for (SpotLight& light : lights_C) {
+    light.p_WL = X_WC.inverse() * light.p_WL;
+    light.axis_W = X_WC.linear().transpose() * light.axis_W;
+  }
+  const auto table = make_backscatter_table(lighting, lights_C, lens, near_m, far_m, serial_for);
+  ASSERT_TRUE(table);
+  const Rgb c = lighting.water.attenuation_per_m();
+  const Daylight& sun = lighting.daylight;
+  const Rgb E_camera = sun.irradiance_at(static_cast<float>(X_WC.translation().z()));
+  const auto blocked = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to_unit, double length) {
+    geometry::RayBatch one;
+    one.add_ray(from.cast<float>(), to_unit.cast<float>(), 0.0f, static_cast<float>(length));
+    std::vector<std::uint8_t> out(1);
+    scene.occluded(one, 0, 1, out);
+    return out[0] != 0;
+  };
+  float brightest = 0.0f;
+  for (const Rgbf& L : frame.radiance) brightest = std::max(brightest, L.maxCoeff());
+  std::size_t checked = 0, outliers = 0, lit = 0;
+  for (int v = 0; v < lens.height_px(); v += 3) {
+    for (int u = 0; u < lens.width_px(); u += 3) {
+      const std::size_t i = static_cast<std::size_t>(v) * lens.width_px() + u;
+      geometry::RayBatch ray;
+      const Eigen::Vector3f d_f = (X_WC.linear().cast<float>() * lens.ray_C(u, v)).normalized();
+      ray.add_ray(X_WC.translation().cast<float>(), d_f, near_m, far_m);
+      geometry::RayHits hit;
+      hit.resize(1);
+      scene.intersect(ray, 0, 1, geometry::QueryPath::kSingle, hit);
+      const Eigen::Vector3d o = X_WC.translation().cast<float>().cast<double>(), d = d_f.cast<double>();
+      Rgb expected = Rgb::Zero();
+      double s_end = far_m;
+      if (hit.hit(0)) {
+        s_end = hit.distance[0];
+        const Eigen::Vector3d p = o + s_end * d;
+        Eigen::Vector3d n(hit.n_W_x[0], hit.n_W_y[0], hit.n_W_z[0]);
+        if (n.dot(d) > 0.0) n = -n;
+        const Rgb a = albedo(SurfacePoint{hit.material[0], hit.body[0], p, hit.tex_u[0], hit.tex_v[0]});
+        const Eigen::Vector3d origin = p + lighting.shadow_bias_m * n;
+        for (const SpotLight& spot : lighting.lights) {
+          const LightBeam beam(spot);
+          const Eigen::Vector3d to_light = spot.p_WL - origin;
+          const double distance = to_light.norm();
+          if (!(distance > lighting.shadow_bias_m) || n.dot(to_light) <= 0.0) continue;
+          if (-spot.axis_W.dot(to_light) <= beam.cos_outer * distance) continue;
+          if (blocked(origin, to_light / distance, distance - lighting.shadow_bias_m)) continue;
+          expected += lambertian_radiance(a, beam, p, n, c, s_end);
+          ++lit;
+        }
+        if (n.z() > -1.0 && !blocked(origin, Eigen::Vector3d::UnitZ(), std::max(0.0, sun.surface_z_m - p.z()))) {
+          expected += daylight_surface_radiance(a, sun, p, n, c, s_end);
+        }
+      }
+      expected += table->at(u, v, s_end);
+      expected += daylight_path_radiance(lighting.water, sun, E_camera, o, d, static_cast<double>(near_m), s_end);  // s0: the near clip
+      const Rgb got = frame.radiance[i].cast<double>();
+      ++checked;
+      if (((got - expected).abs() > 1e-4 * expected.abs() + 1e-6 * brightest).any()) ++outliers;
+    }
+  }
+  EXPECT_GT(lit, checked / 2);  // most of the view is lit by the lights
+  EXPECT_LE(outliers, checked / 500) << outliers << " of " << checked;
 }
 
 TEST(FrameTest, SameInputsGiveTheSameFrame) {
@@ -340,7 +457,7 @@ TEST(FrameTest, KeptBackscatterTableGivesTheSameFrame) {
   with_table.backscatter = exact;
   const RadianceFrame from_exact = render_radiance(scene, *lens, X_WC, 0.1f, 50.0f, geometry::kNoHit, with_table, white);
   for (std::size_t i = 0; i < own.radiance.size(); ++i) {
-    ASSERT_NEAR((from_exact.radiance[i] - own.radiance[i]).abs().maxCoeff(), 0.0, 1e-5 * own.radiance[i].maxCoeff() + 1e-12);
+    ASSERT_NEAR((from_exact.radiance[i] - own.radiance[i]).abs().maxCoeff(), 0.0, 1e-5f * own.radiance[i].maxCoeff() + 1e-12f);
   }
   // A light moved relative to the camera, another far clip, another water: new tables.
   std::vector<SpotLight> moved = lights_C;

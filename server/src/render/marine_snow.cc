@@ -44,7 +44,7 @@ void validate(const MarineSnow& snow) {
 
 std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eigen::Isometry3d& X_WC,
                             const WaterOptics& water, const std::vector<SpotLight>& lights,
-                            const std::vector<float>& depth_m, std::vector<Rgb>& radiance) {
+                            const std::vector<float>& depth_m, std::vector<Eigen::Array3f>& radiance) {
   validate(snow);
   if (snow.density_per_m3 == 0.0 || lights.empty()) return 0;
   const int width = lens.width_px(), height = lens.height_px();
@@ -85,7 +85,7 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
         const double radius_px = radius * lens.spec().fx / p_C.z();
         const Rgb L = snow.albedo / kPi * irradiance * transmittance(c, d);
         if (radius_px <= 0.5) {
-          radiance[pixel] += L * std::min(1.0, kPi * radius_px * radius_px);
+          radiance[pixel] += (L * std::min(1.0, kPi * radius_px * radius_px)).cast<float>();
         } else {
           const long reach = static_cast<long>(std::ceil(radius_px));
           for (long dv = -reach; dv <= reach; ++dv) {
@@ -94,7 +94,7 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
               if (x < 0 || y < 0 || x >= width || y >= height || du * du + dv * dv > radius_px * radius_px) continue;
               const std::size_t q = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
               if (std::isfinite(depth_m[q]) && depth_m[q] <= p_C.z()) continue;
-              radiance[q] += L;
+              radiance[q] += L.cast<float>();
             }
           }
         }

@@ -126,6 +126,20 @@ Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isome
   return (static_cast<long>(column) + static_cast<long>(row)) % 2 == 0 ? render::Rgb(board.dark_albedo) : base;
 }
 
+void surface_albedos(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, const render::SurfacePoints& points,
+                     float* r, float* g, float* b) {
+  const OpticsSpec& optics = model.world.optics;
+  render::sediment_albedo(optics.seabed_pattern, optics.seabed_albedo, points.origin_W.head<2>(), points.x, points.y,
+                          points.count, r, g, b);
+  for (std::size_t i = 0; i < points.count; ++i) {
+    if (points.material[i] == geometry::kSeabedMaterial || points.body[i] < 0) continue;  // the seabed, or a miss
+    const Eigen::Array3d albedo = surface_albedo(model, X_WB, points.point(i));
+    r[i] = static_cast<float>(albedo[0]);
+    g[i] = static_cast<float>(albedo[1]);
+    b[i] = static_cast<float>(albedo[2]);
+  }
+}
+
 const std::vector<std::string>& CameraSensor::keys() {
   static const std::vector<std::string> keys = {
       "width",       "height",        "hfov_deg",    "fx",           "fy",         "cx",
@@ -282,7 +296,9 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB, lighting = std::move(lighting),
           lights_C = own_lights_C(*context.model, context.vehicle_index, context.X_BS)](
              const geometry::EmbreeScene& scene, const ParallelFor& parallel) mutable {
-    const auto albedo = [&](const render::SurfacePoint& hit) { return surface_albedo(*model, X_WB, hit); };
+    const render::AlbedoOfPoints albedo = [&](const render::SurfacePoints& points, float* r, float* g, float* b) {
+      surface_albedos(*model, X_WB, points, r, g, b);
+    };
     if (lights_C && spec.backscatter_cache) {
       lighting.backscatter = spec.backscatter_cache->get(lighting, *lights_C, spec.lens, static_cast<float>(spec.near_m),
                                                          static_cast<float>(spec.far_m), parallel);

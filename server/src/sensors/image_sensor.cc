@@ -5,24 +5,52 @@
 #include <stdexcept>
 #include <string>
 
-#include "hadal/sensors/noise.h"
 #include "hadal/core/validation_error.h"
+#include "hadal/core/value_noise.h"
+#include "hadal/render/fast_math.h"
+#include "hadal/sensors/noise.h"
 
 namespace hadal::sensors {
 namespace {
 
-constexpr double kExactPoissonBelow = 30.0;  // electrons (header)
-constexpr double kMergeSigmas = 6.0;         // shot and read noise drawn as one normal (header)
+namespace fast = render::fast;
+
+constexpr float kExactPoissonBelow = 30.0f;  // electrons (header)
+constexpr float kMergeSigmas = 6.0f;         // shot and read noise drawn as one normal (header)
+constexpr std::uint32_t kSampleStep = 0x9E3779B1U;  // odd: j -> j C is a bijection of 32-bit indices
 
 using validation::invalid;
 
-// Poisson variate of mean mu (header): inversion of the cumulative distribution below 30, the normal
-// approximation above, never negative.
-double poisson(RandomStream& stream, double mu) {
+// A frame's stream keys (header): four 32-bit keys from splitmix64 of the camera's key and the frame.
+struct FrameKeys {
+  std::uint32_t normal_radius, normal_angle, poisson, poisson_normal;
+};
+
+FrameKeys frame_keys(std::uint64_t key, std::uint64_t frame) {
+  const std::uint64_t a = splitmix64(key ^ splitmix64(frame)), b = splitmix64(a);
+  return FrameKeys{static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(a >> 32), static_cast<std::uint32_t>(b),
+                   static_cast<std::uint32_t>(b >> 32)};
+}
+
+// Uniform in (0, 1) from the top 24 bits of a hash: never 0, so its log is finite.
+inline float unit_open(std::uint32_t h) {
+  return (static_cast<float>(static_cast<std::int32_t>(h >> 8)) + 0.5f) * (1.0f / 16777216.0f);
+}
+
+// Sample j's uniform of stream `stream_key`.
+inline float uniform(std::uint32_t stream_key, std::uint32_t j) { return unit_open(mix32(stream_key ^ (j * kSampleStep))); }
+
+// N(0, 1) by Box and Muller's transform, cosine half: sqrt(-2 ln u1) cos(2 pi u2).
+inline float normal(std::uint32_t radius_key, std::uint32_t angle_key, std::uint32_t j) {
+  return __builtin_sqrtf(-2.0f * fast::log(uniform(radius_key, j))) * fast::cos_2pi(uniform(angle_key, j));
+}
+
+// Poisson variate of mean mu from the uniform u (header): inversion of the cumulative distribution
+// below 30, the normal approximation mu + sqrt(mu) z above, never negative.
+double poisson(double mu, double u, double z) {
   if (mu <= 0.0) return 0.0;
   if (mu < kExactPoissonBelow) {
-    const double u = stream.uniform();
-    double p = std::exp(-mu), cumulative = p;
+    double p = fast::exp(static_cast<float>(-mu)), cumulative = p;
     int k = 0;
     while (u >= cumulative && k < 1000) {
       ++k;
@@ -31,7 +59,89 @@ double poisson(RandomStream& stream, double mu) {
     }
     return k;
   }
-  return std::max(0.0, mu + std::sqrt(mu) * stream.ziggurat_normal());
+  return std::max(0.0, mu + std::sqrt(mu) * z);
+}
+
+constexpr std::size_t kChunk = 256;  // pixels per vectorized pass
+
+// The sensor's constants as the passes use them.
+struct Exposure {
+  float read_noise, read_variance, full_well, gain;
+  bool shot, vignetting;
+};
+
+// One channel of m pixels (header): counts before rounding into dn, and exact[i] = 1 where the shot
+// noise must be drawn exactly (by the scalar pass). Vectorized: the switches are template arguments (GCC
+// does not vectorize a select on a loop-invariant bool), and the function is not inlined into its
+// caller's chunk loop (where GCC no longer sees plain arrays).
+template <bool kShot, bool kVignetting>
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void expose_channel(const Exposure& e, float scale,
+                                                                  const float* __restrict radiance,
+                                                                  const float* __restrict cos_theta, std::uint32_t m,
+                                                                  std::uint32_t j0, const FrameKeys& keys,
+                                                                  float* __restrict dn, float* __restrict exact) {
+  const float read_noise = e.read_noise, read_variance = e.read_variance, full_well = e.full_well, gain = e.gain;
+  const std::uint32_t radius_key = keys.normal_radius, angle_key = keys.normal_angle;
+  for (std::uint32_t i = 0; i < m; ++i) {
+    const float c = fast::max(0.0f, cos_theta[i]), L = radiance[i];
+    const float mu = scale * fast::max(0.0f, L) * (kVignetting ? (c * c) * (c * c) : 1.0f);
+    const float z = normal(radius_key, angle_key, j0 + 3 * i);
+    if constexpr (kShot) {
+      // Shot and read noise merged where neither clip can act; elsewhere the scalar pass draws them.
+      const bool merged = (mu >= kExactPoissonBelow) & (mu + kMergeSigmas * __builtin_sqrtf(mu) <= full_well);
+      dn[i] = fast::max(0.0f, fast::min(gain * (mu + __builtin_sqrtf(mu + read_variance) * z), 255.0f));
+      exact[i] = merged ? 0.0f : 1.0f;
+    } else {
+      dn[i] = fast::max(0.0f, fast::min(gain * (fast::min(mu, full_well) + read_noise * z), 255.0f));
+      exact[i] = 0.0f;
+    }
+  }
+}
+
+// The counts of pixels [begin, end) (header), in chunks: the radiance split into channel planes, each
+// channel's mean, normal draw and merged case in a vectorized pass, then the exact Poisson variates
+// where needed, point by point.
+void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance,
+                                       const float* cos_theta, const FrameKeys& keys, std::size_t begin,
+                                       std::size_t end, std::uint8_t* rgb) {
+  const auto read_noise = static_cast<float>(spec.read_noise_e);
+  const Exposure e{read_noise, read_noise * read_noise, static_cast<float>(spec.full_well_e),
+                   static_cast<float>(spec.gain_dn_per_e), spec.shot_noise, spec.vignetting};
+  float plane[3][kChunk];  // the chunk's radiance per channel (GCC vectorizes no stride-3 access)
+  float dn[3][kChunk];
+  float exact[3][kChunk];
+  for (std::size_t first = begin; first < end; first += kChunk) {
+    const std::size_t m = std::min(kChunk, end - first);
+    const float* L = radiance[first].data();  // R, G, B per pixel
+    for (std::size_t i = 0; i < m; ++i) {
+      for (int ch = 0; ch < 3; ++ch) plane[ch][i] = L[3 * i + static_cast<std::size_t>(ch)];
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+      const auto scale = static_cast<float>(spec.sensitivity[ch] * spec.exposure_s);  // e- per W/(m^2 sr)
+      const auto expose = e.shot ? (e.vignetting ? expose_channel<true, true> : expose_channel<true, false>)
+                                 : (e.vignetting ? expose_channel<false, true> : expose_channel<false, false>);
+      expose(e, scale, plane[ch], cos_theta + first, static_cast<std::uint32_t>(m),
+             static_cast<std::uint32_t>(3 * first + static_cast<std::size_t>(ch)), keys, dn[ch], exact[ch]);
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+      const auto scale = static_cast<float>(spec.sensitivity[ch] * spec.exposure_s);
+      for (std::size_t i = 0; i < m; ++i) {
+        if (exact[ch][i] == 0.0f) continue;
+        const float c = std::max(0.0f, cos_theta[first + i]);
+        const float falloff = e.vignetting ? (c * c) * (c * c) : 1.0f;
+        const float mu = scale * std::max(0.0f, plane[ch][i]) * falloff;
+        const auto j = static_cast<std::uint32_t>(3 * (first + i) + static_cast<std::size_t>(ch));
+        const double shot_e = poisson(mu, uniform(keys.poisson, j), normal(keys.poisson, keys.poisson_normal, j));
+        const double electrons = std::min(shot_e, static_cast<double>(e.full_well)) +
+                                 e.read_noise * normal(keys.normal_radius, keys.normal_angle, j);
+        dn[ch][i] = static_cast<float>(std::clamp(e.gain * electrons, 0.0, 255.0));
+      }
+    }
+    std::uint8_t* bytes = rgb + 3 * first;
+    for (std::size_t i = 0; i < m; ++i) {
+      for (int ch = 0; ch < 3; ++ch) bytes[3 * i + ch] = static_cast<std::uint8_t>(dn[ch][i] + 0.5f);  // round half up
+    }
+  }
 }
 
 }  // namespace
@@ -44,40 +154,21 @@ void validate(const ImageSensorSpec& spec) {
   if (!(spec.read_noise_e >= 0.0) || !std::isfinite(spec.read_noise_e)) invalid("read_noise_e", "must be >= 0 [e-]");
 }
 
-std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3d>& radiance,
+std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3f>& radiance,
                                       const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index,
                                       const ParallelFor& parallel) {
   validate(spec);
   if (cos_theta.size() != radiance.size()) throw std::invalid_argument("expose_rgb8: one cos_theta per pixel needed");
+  if (radiance.size() > kMaxExposurePixels) {
+    throw std::invalid_argument("expose_rgb8: at most " + std::to_string(kMaxExposurePixels) + " pixels");
+  }
   std::vector<std::uint8_t> rgb(3 * radiance.size());
-  const std::string frame = "frame " + std::to_string(frame_index) + " block ";
+  const FrameKeys keys = frame_keys(key, frame_index);
   const std::size_t blocks = (radiance.size() + kExposureBlockPixels - 1) / kExposureBlockPixels;
-  const Eigen::Array3d scale = spec.sensitivity * spec.exposure_s;  // electrons per W/(m^2 sr)
-  const double read_variance = spec.read_noise_e * spec.read_noise_e;
   parallel(blocks, [&](std::size_t block) {
-    RandomStream stream(derive_key(key, frame + std::to_string(block)));
-    const std::size_t end = std::min(radiance.size(), (block + 1) * kExposureBlockPixels);
-    for (std::size_t i = block * kExposureBlockPixels; i < end; ++i) {
-      double falloff = 1.0;
-      if (spec.vignetting) {
-        const double c = std::max(0.0, static_cast<double>(cos_theta[i]));
-        falloff = (c * c) * (c * c);
-      }
-      for (int ch = 0; ch < 3; ++ch) {
-        const double mu = scale[ch] * std::max(0.0, radiance[i][ch]) * falloff;
-        double electrons = 0.0;
-        if (spec.shot_noise && mu >= kExactPoissonBelow && mu + kMergeSigmas * std::sqrt(mu) <= spec.full_well_e) {
-          // Shot and read noise in one draw (header): the clips at 0 and at the full well lie beyond
-          // kMergeSigmas sigma, so the sum of the two normals is the whole story.
-          electrons = mu + std::sqrt(mu + read_variance) * stream.ziggurat_normal();
-        } else {
-          electrons = std::min(spec.shot_noise ? poisson(stream, mu) : mu, spec.full_well_e);
-          if (spec.read_noise_e > 0.0) electrons += spec.read_noise_e * stream.ziggurat_normal();
-        }
-        const double dn = std::clamp(spec.gain_dn_per_e * electrons, 0.0, 255.0);
-        rgb[3 * i + ch] = static_cast<std::uint8_t>(dn + 0.5);  // round half up (dn >= 0)
-      }
-    }
+    const std::size_t begin = block * kExposureBlockPixels;
+    expose_pixels(spec, radiance.data(), cos_theta.data(), keys, begin,
+                  std::min(radiance.size(), begin + kExposureBlockPixels), rgb.data());
   });
   return rgb;
 }

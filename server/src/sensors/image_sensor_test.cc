@@ -15,7 +15,9 @@
 namespace hadal::sensors {
 namespace {
 
-std::vector<Eigen::Array3d> uniform(std::size_t n, double L) { return std::vector<Eigen::Array3d>(n, Eigen::Array3d::Constant(L)); }
+std::vector<Eigen::Array3f> uniform(std::size_t n, double L) {
+  return std::vector<Eigen::Array3f>(n, Eigen::Array3f::Constant(static_cast<float>(L)));
+}
 std::vector<float> on_axis(std::size_t n) { return std::vector<float>(n, 1.0f); }
 
 ImageSensorSpec noiseless() {
@@ -79,6 +81,45 @@ TEST(ImageSensorTest, LowLightCountsArePoisson) {
   EXPECT_NEAR(m.variance, 2.0, 0.05);
   const double zeros = static_cast<double>(std::count(rgb.begin(), rgb.end(), 0)) / rgb.size();
   EXPECT_NEAR(zeros, std::exp(-2.0), 0.005);
+}
+
+// Read noise alone (no shot noise): the counts are the rounded normal of mean 120 DN and 20 DN rms
+// that the counter-based Box-Muller draws give (header). Chi-square of the 121 counts within 3 sigma
+// plus the two tails against the normal's bin probabilities (122 degrees of freedom: 0.1 % critical
+// value 173); neighbouring samples (a pixel's R and G, a pixel and the next) uncorrelated within
+// 4 / sqrt(N) (4 sigma of a sample correlation).
+TEST(ImageSensorTest, ReadNoiseIsNormalAndUncorrelated) {
+  ImageSensorSpec spec;
+  spec.shot_noise = false;
+  spec.read_noise_e = 200.0;
+  spec.gain_dn_per_e = 0.1;  // 20 DN rms
+  const double mean = 120.0, sd = 20.0;
+  const double L = (mean / spec.gain_dn_per_e) / (spec.sensitivity[0] * spec.exposure_s);
+  const std::size_t pixels = 100000;
+  const auto rgb = expose_rgb8(spec, uniform(pixels, L), on_axis(pixels), 21, 4);
+  const auto cdf = [&](double x) { return 0.5 * std::erfc(-(x - mean) / (sd * std::sqrt(2.0))); };
+  std::vector<double> observed(123, 0.0), expected(123, 0.0);  // [0]: below 60, [1..121]: 60..180, [122]: above
+  const auto bin = [](int dn) { return dn < 60 ? 0 : dn > 180 ? 122 : dn - 59; };
+  for (std::uint8_t x : rgb) observed[static_cast<std::size_t>(bin(x))] += 1.0;
+  const double n = static_cast<double>(rgb.size());
+  expected[0] = n * cdf(59.5);
+  expected[122] = n * (1.0 - cdf(180.5));
+  for (int dn = 60; dn <= 180; ++dn) expected[static_cast<std::size_t>(bin(dn))] = n * (cdf(dn + 0.5) - cdf(dn - 0.5));
+  double chi2 = 0.0;
+  for (std::size_t k = 0; k < observed.size(); ++k) chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+  EXPECT_LT(chi2, 173.0);
+  const auto correlation = [&](std::size_t offset, std::size_t stride) {
+    double sa = 0, sb = 0, sab = 0, saa = 0, sbb = 0, count = 0;
+    for (std::size_t i = 0; i + offset < rgb.size(); i += stride) {
+      const double a = rgb[i] - mean, b = rgb[i + offset] - mean;
+      sa += a, sb += b, sab += a * b, saa += a * a, sbb += b * b, count += 1;
+    }
+    return (sab - sa * sb / count) / std::sqrt((saa - sa * sa / count) * (sbb - sb * sb / count));
+  };
+  const double bound = 4.0 / std::sqrt(static_cast<double>(pixels));
+  EXPECT_LT(std::abs(correlation(1, 3)), bound);  // R and G of a pixel
+  EXPECT_LT(std::abs(correlation(3, 3)), bound);  // R of a pixel and of the next
+  EXPECT_LT(std::abs(correlation(3 * 640, 3)), bound);  // the pixel below in a 640 px wide image
 }
 
 TEST(ImageSensorTest, FullWellAndEightBitsSaturate) {

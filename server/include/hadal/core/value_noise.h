@@ -1,10 +1,10 @@
-// Seeded, stateless noise on the plane shared by the procedural seabed (geometry/terrain.h) and the
-// seabed's sediment pattern (render/sediment_pattern.h): no global generator, every value a hash of
-// its lattice point (docs/ARCHITECTURE.md, "Noise and random streams").
+// Seeded, stateless noise on the plane of the procedural seabed (geometry/terrain.h; the sediment
+// pattern, render/sediment_pattern.h, has its own 32-bit lattice): no global generator, every value a
+// hash of its lattice point (docs/ARCHITECTURE.md, "Noise and random streams").
 //
 //   splitmix64(x)                Steele, Lea & Flood (2014): the finaliser of x + 0x9e3779b97f4a7c15
-//   lattice(seed, i, j, octave)  uniform in [-1, 1) at lattice point (i, j) of an octave (ChainedLattice;
-//                                value_noise and fbm take MixedLattice, a cheaper hash, instead)
+//   mix32(h)                     a 32-bit finaliser for per-pixel hashes (below)
+//   lattice(seed, i, j, octave)  uniform in [-1, 1) at lattice point (i, j) of an octave (ChainedLattice)
 //   value_noise(seed, x, y, o)   the lattice values interpolated across each unit cell with the
 //                                quintic fade 6t^5 - 15t^4 + 10t^3, in [-1, 1)
 //   fbm(seed, x, y, octaves)     fractal Brownian motion: octave k at frequency 2^k with weight 0.5^k,
@@ -22,6 +22,18 @@ inline std::uint64_t splitmix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+// murmur3's 32-bit finaliser (Appleby), with Wellons' constants (lowbias32): a bijection of 32-bit keys
+// whose output bits each depend on every input bit; cheap enough for a camera's every pixel, and in
+// 32-bit integer arithmetic, which vectorizes (render/sediment_pattern.h, sensors/image_sensor.h).
+inline std::uint32_t mix32(std::uint32_t h) {
+  h ^= h >> 16;
+  h *= 0x7feb352dU;
+  h ^= h >> 15;
+  h *= 0x846ca68bU;
+  h ^= h >> 16;
+  return h;
+}
+
 namespace noise {
 
 // Uniform in [-1, 1) from the top 53 bits of a hash.
@@ -33,16 +45,6 @@ struct ChainedLattice {
     return signed_unit(splitmix64(
         seed ^ splitmix64(static_cast<std::uint64_t>(i) ^
                           splitmix64(static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(octave)))));
-  }
-};
-
-// One splitmix64 round of the seed and the coordinates and octave times odd constants: a third of
-// ChainedLattice's cost, for the sediment pattern, which evaluates ~20 lattice points per camera pixel.
-struct MixedLattice {
-  double operator()(std::uint64_t seed, std::int64_t i, std::int64_t j, int octave) const {
-    return signed_unit(splitmix64(seed ^ (static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull) ^
-                                  (static_cast<std::uint64_t>(j) * 0xC2B2AE3D27D4EB4Full) ^
-                                  (static_cast<std::uint64_t>(octave) * 0x165667B19E3779F9ull)));
   }
 };
 
@@ -93,45 +95,6 @@ double fbm(std::uint64_t seed, double x, double y, int octaves) {
   }
   return sum / norm;
 }
-
-// fbm remembering the last cell of each octave: the same values, for callers that evaluate points in
-// sequence close together (a camera's pixels along a row share each coarse cell with dozens of
-// neighbours), which then hash a cell's four lattice values once instead of at every point. One
-// instance per thread.
-template <class Lattice, int kMaxOctaves = 8>
-class FbmMemo {
- public:
-  double operator()(std::uint64_t seed, double x, double y, int octaves) {
-    if (seed != seed_) {
-      seed_ = seed;
-      for (bool& v : valid_) v = false;
-    }
-    double sum = 0.0, amplitude = 1.0, norm = 0.0, frequency = 1.0;
-    for (int octave = 0; octave < octaves; ++octave) {
-      const double xo = x * frequency, yo = y * frequency;
-      const std::int64_t i = floor_to_int(xo), j = floor_to_int(yo);
-      if (octave >= kMaxOctaves) {
-        sum += amplitude * interpolate(lattice_cell<Lattice>(seed, i, j, octave), xo, yo);
-      } else {
-        Cell& cell = cells_[octave];
-        if (!valid_[octave] || cell.i != i || cell.j != j) {
-          cell = lattice_cell<Lattice>(seed, i, j, octave);
-          valid_[octave] = true;
-        }
-        sum += amplitude * interpolate(cell, xo, yo);
-      }
-      norm += amplitude;
-      amplitude *= 0.5;
-      frequency *= 2.0;
-    }
-    return sum / norm;
-  }
-
- private:
-  std::uint64_t seed_ = 0;
-  Cell cells_[kMaxOctaves];
-  bool valid_[kMaxOctaves] = {};
-};
 
 }  // namespace noise
 }  // namespace hadal

@@ -121,6 +121,9 @@ class EmbreeScene {
   // its triangles (|h(q) - h(p)| <= L |q - p|_xy everywhere on it, so a segment that starts above it
   // and climbs faster than L never meets it). nullopt otherwise.
   std::optional<double> static_height_field_max_slope() const;
+  // The same over the triangles whose xy extent meets `region_xy` (an upper bound of it:
+  // geometry/slope_grid.h), for segments whose xy projection lies inside the region.
+  std::optional<double> static_height_field_max_slope(const Eigen::AlignedBox2d& region_xy) const;
   // Every body instance's axis-aligned bounding box in W at the poses last set (the box of its meshes'
   // vertices in B, moved as Embree moves them, padded by 1 cm). Requires build() and, with bodies,
   // set_body_poses() (std::logic_error otherwise).

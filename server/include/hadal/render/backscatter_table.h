@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "hadal/core/parallel_for.h"
@@ -39,6 +40,9 @@ class BackscatterTable {
 
   // Backscatter radiance [W/(m^2 sr)] along pixel (u, v)'s ray from s0 to s_end (clamped to [s0, s_max]).
   Rgb at(int u, int v, double s_end) const;
+  // at(u, v, s_end[u]) for every pixel u of image row v added to r[u], g[u], b[u], in single precision
+  // (the log by fast::log: within ~1e-6 of at()); pixels with s_end[u] <= s0 get nothing.
+  void add_row(int v, const float* s_end, float* r, float* g, float* b) const;
 
   std::size_t nodes() const { return node_u_.size() * node_v_.size(); }
 
@@ -49,6 +53,8 @@ class BackscatterTable {
   Rgb cumulative(std::size_t node, std::size_t k, double f) const;
 
   std::vector<int> node_u_, node_v_;  // pixel columns and rows of the nodes
+  std::vector<std::uint32_t> column_node_;  // per pixel column: the node column at or left of it
+  std::vector<float> column_weight_;        // and the weight of the node column after it
   int grid_ = 1;  // [px]
   int samples_ = 0;
   double s0_ = 0.0, s_max_ = 0.0, log_ratio_ = 0.0;

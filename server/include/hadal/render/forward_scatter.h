@@ -34,6 +34,7 @@
 // ~0.035 of E (forward_scatter_test.cc), and detail of the spread under ~2 px is smoothed.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -83,10 +84,11 @@ ForwardScatterKernel make_forward_scatter_kernel(const ForwardScatterPsf& psf, d
 // the run (the last 16 made; thread-safe): a camera's frames share it.
 std::shared_ptr<const ForwardScatterKernel> forward_scatter_kernel(const WaterOptics& water, double fx_px, double fy_px);
 
-// Adds the spread of `source` (width x height, row-major; per pixel the radiance to spread, i.e. the
+// Adds the spread of `source` (R, G and B planes of width x height, row-major; per pixel the radiance to spread, i.e. the
 // surface's radiance at the camera times exp(b_f d) - 1) to `radiance`. Rows in parallel tasks;
 // deterministic whatever the threads.
-void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int height, const std::vector<Rgb>& source,
-                         std::vector<Rgb>& radiance, const ParallelFor& parallel = serial_for);
+void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int height,
+                         const std::array<std::vector<float>, 3>& source, std::vector<Eigen::Array3f>& radiance,
+                         const ParallelFor& parallel = serial_for);
 
 }  // namespace hadal::render

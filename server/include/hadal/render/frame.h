@@ -65,10 +65,12 @@ struct FrameLighting {
   std::shared_ptr<const BackscatterTable> backscatter;
 };
 
+using Rgbf = Eigen::Array3f;  // radiance of one pixel in single precision [W/(m^2 sr)]
+
 struct RadianceFrame {
   int width_px = 0;
   int height_px = 0;
-  std::vector<Rgb> radiance;  // [W/(m^2 sr)]
+  std::vector<Rgbf> radiance;  // [W/(m^2 sr)]
   std::vector<float> depth_m;
   std::size_t shadow_rays = 0;  // shadow rays cast (lights and sky; not those proved clear), for statistics
   std::size_t snow_particles = 0;  // marine snow particles drawn
@@ -117,12 +119,41 @@ struct SurfacePoint {
 // The albedo (0..1 per channel) of a surface point. Called from several threads at once: a pure function.
 using AlbedoAt = std::function<Rgb(const SurfacePoint& hit)>;
 
+// The points a band of camera rays hit, as structure of arrays over `count` pixels (RayHits's fields and
+// the hit points). A miss has material geometry::kInvalidIndex and body geometry::kNoHit; its albedo is
+// not used.
+struct SurfacePoints {
+  std::size_t count = 0;
+  Eigen::Vector3d origin_W = Eigen::Vector3d::Zero();  // the camera's centre in W [m]
+  const float* x = nullptr;  // the hit point relative to origin_W, W axes: p_W = origin_W + (x, y, z) [m]
+  const float* y = nullptr;
+  const float* z = nullptr;
+  const std::uint32_t* material = nullptr;
+  const std::int32_t* body = nullptr;
+  const float* tex_u = nullptr;
+  const float* tex_v = nullptr;
+  SurfacePoint point(std::size_t i) const {
+    return SurfacePoint{material[i], body[i], origin_W + Eigen::Vector3d(x[i], y[i], z[i]), tex_u[i], tex_v[i]};
+  }
+};
+
+// The albedo of every point of a band into r[i], g[i], b[i] (count floats each). Called from several
+// threads at once, each with its own band.
+using AlbedoOfPoints = std::function<void(const SurfacePoints& points, float* r, float* g, float* b)>;
+
+// A per-point albedo function called for each point of a band.
+AlbedoOfPoints per_point(AlbedoAt albedo_of);
+
 constexpr int kBandRows = 16;  // image rows per rendering task
 
 // Renders with `scene` as posed now (EmbreeScene::set_body_poses); `ignore_body` (the camera's own
 // vehicle, or geometry::kNoHit) is passed through by camera and shadow rays alike. Throws
 // std::invalid_argument for invalid water, lights or clip (validate(), add_camera_rays()) and
 // backscatter_samples or backscatter_grid_px below 1.
+RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
+                              float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
+                              const AlbedoOfPoints& albedo_of, const ParallelFor& parallel = serial_for);
+// The same with a per-point albedo function (per_point()).
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
                               float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoAt& albedo_of, const ParallelFor& parallel = serial_for);

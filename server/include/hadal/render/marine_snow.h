@@ -38,6 +38,6 @@ void validate(const MarineSnow& snow);
 // the optical axis, NaN: nothing hit) is nearer. Returns the number of particles drawn.
 std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eigen::Isometry3d& X_WC,
                             const WaterOptics& water, const std::vector<SpotLight>& lights,
-                            const std::vector<float>& depth_m, std::vector<Rgb>& radiance);
+                            const std::vector<float>& depth_m, std::vector<Eigen::Array3f>& radiance);
 
 }  // namespace hadal::render

@@ -25,11 +25,9 @@
 
 #include <Eigen/Core>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <vector>
+
+#include "hadal/render/fast_math.h"
 
 namespace hadal::render {
 
@@ -105,40 +103,12 @@ Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, c
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Rgb& E_origin,
                            const Eigen::Vector3d& o_W, const Eigen::Vector3d& d_W, double s0, double s1);
 
-// e^x of three channels at once in single precision: Cephes' expf (x = n ln 2 + r, |r| <= ln 2 / 2,
-// a degree-7 polynomial for e^r, times 2^n), four lanes of SSE2 arithmetic on x86-64 (no FMA
-// contraction: the same bits on every x86-64 CPU), std::exp of floats elsewhere. Within 2 ulp of e^x
-// for x in [-87.3, 88] (render/optics_test.cc checks 1e6 arguments against std::exp); x below that
-// gives e^-87.3 ~ 1.2e-38 instead of a denormal or 0, a transmittance far below any image's noise.
+// e^x of three channels in single precision: render/fast_math.h's fast::exp (Cephes' expf, within 2 ulp
+// for x in [-87.3, 88], the same bits on every x86-64 CPU, no libm) per channel; x below -87.3 gives
+// e^-87.3 ~ 1.2e-38 instead of a denormal or 0, a transmittance far below any image's noise.
 inline Eigen::Array3f exp3(const Eigen::Array3f& x) {
-#if defined(__SSE2__)
-  constexpr float kLog2e = 1.44269504088896341f;
-  constexpr float kC1 = 0.693359375f;     // ln 2 split: C1 + C2 (Cephes), C1 exact in 9 bits
-  constexpr float kC2 = -2.12194440e-4f;
-  const __m128 v = _mm_setr_ps(x[0], x[1], x[2], 0.0f);
-  const __m128 clamped = _mm_max_ps(_mm_min_ps(v, _mm_set1_ps(88.0f)), _mm_set1_ps(-87.3365447505531f));
-  // n = round(x log2 e) by floor(x log2 e + 1/2).
-  const __m128 t = _mm_add_ps(_mm_mul_ps(clamped, _mm_set1_ps(kLog2e)), _mm_set1_ps(0.5f));
-  __m128 n = _mm_cvtepi32_ps(_mm_cvttps_epi32(t));
-  n = _mm_sub_ps(n, _mm_and_ps(_mm_cmpgt_ps(n, t), _mm_set1_ps(1.0f)));  // truncation -> floor
-  const __m128 r = _mm_sub_ps(_mm_sub_ps(clamped, _mm_mul_ps(n, _mm_set1_ps(kC1))), _mm_mul_ps(n, _mm_set1_ps(kC2)));
-  __m128 p = _mm_set1_ps(1.9875691500e-4f);
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(1.3981999507e-3f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(8.3334519073e-3f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(4.1665795894e-2f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(1.6666665459e-1f));
-  p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(5.0000001201e-1f));
-  p = _mm_add_ps(_mm_add_ps(_mm_mul_ps(p, _mm_mul_ps(r, r)), r), _mm_set1_ps(1.0f));
-  // 2^n from the exponent bits (n in [-126, 127] after the clamp).
-  const __m128i exponent = _mm_slli_epi32(_mm_add_epi32(_mm_cvttps_epi32(n), _mm_set1_epi32(127)), 23);
-  alignas(16) float out[4];
-  _mm_store_ps(out, _mm_mul_ps(p, _mm_castsi128_ps(exponent)));
-  return Eigen::Array3f(out[0], out[1], out[2]);
-#else
-  return x.exp();
-#endif
+  return Eigen::Array3f(fast::exp(x[0]), fast::exp(x[1]), fast::exp(x[2]));
 }
-
 
 // Beam transmittance exp(-c d) per channel over a path of d metres. Evaluated in single precision
 // (relative error ~1e-7, far below any image's noise) by exp3: the renderer takes ~10 of them per pixel.

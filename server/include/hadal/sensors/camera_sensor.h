@@ -51,6 +51,7 @@ class CameraInfoPubSubType;
 namespace hadal::render {
 class BackscatterTableCache;
 struct SurfacePoint;
+struct SurfacePoints;
 }  // namespace hadal::render
 
 namespace hadal::sensors {
@@ -63,6 +64,10 @@ namespace hadal::sensors {
 // evaluated in the link's pattern frame at the snapshot X_WB.
 Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB,
                               const render::SurfacePoint& hit);
+// The same for a band of points (render::AlbedoOfPoints): the seabed's in one vectorized pass
+// (render::sediment_albedo's batch form), the links' point by point.
+void surface_albedos(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, const render::SurfacePoints& points,
+                     float* r, float* g, float* b);
 
 struct CameraSensor {
   static constexpr std::string_view kType = "camera";

@@ -18,11 +18,16 @@
 // neither clip can act (each is beyond 5.4 sigma: probability < 1e-7 per pixel). Half the draws on a
 // well-exposed frame.
 //
-// Random streams of frame k: one per block of kExposureBlockPixels pixels in row-major order,
-// derive_key(key, "frame <k> block <j>") (sensors/noise.h), drawn pixel by pixel, R, G, B; a pixel
-// draws its Poisson variate first, then its read noise (or the one merged draw); normals are
-// RandomStream::ziggurat_normal. Blocks are independent tasks of a parallel loop, so the image does not
-// depend on the threads that expose it.
+// Random numbers are counter-based, not streams: sample j = 3 pixel + channel of frame k draws
+// 32-bit hashes mix32(K ^ j C) (hadal/core/value_noise.h; C odd, so distinct samples get distinct
+// hashes) under four keys K of the frame, from splitmix64 of the camera's noise key
+// (channel_key(seed, vehicle, camera, "image")) and k. Its normal N(0,1) is Box and Muller's
+// sqrt(-2 ln u1) cos(2 pi u2) from two of them (u in (0, 1) from the top 24 bits: the tails stop at
+// 5.8 sigma, a probability of 7e-9); where the Poisson variate is needed, it inverts a third uniform
+// (or, above 30 electrons near the full well, takes a fourth normal), and its read noise is the first
+// normal. So a pixel's noise depends on nothing but the seed, the frame and where it is: exposed in any
+// order, on any threads, the image is the same; the per-channel passes run vectorized
+// (render/fast_math.h's functions: the same bits on every x86-64 CPU).
 #pragma once
 
 #include <Eigen/Core>
@@ -52,8 +57,9 @@ void validate(const ImageSensorSpec& spec);
 // Counts of one frame: `radiance` and `cos_theta` (the z of each pixel's unit ray in the optical frame,
 // render::Lens::rays_C) per pixel, row-major; returns rgb8, 3 bytes per pixel. `key` is the camera's
 // noise key (channel_key(seed, vehicle, camera, "image")), `frame_index` the frame's number.
-constexpr std::size_t kExposureBlockPixels = 8192;
-std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3d>& radiance,
+constexpr std::size_t kExposureBlockPixels = 8192;  // pixels per task of the parallel loop
+constexpr std::size_t kMaxExposurePixels = (std::size_t{1} << 32) / 3;  // j must fit in 32 bits
+std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3f>& radiance,
                                       const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index,
                                       const ParallelFor& parallel = serial_for);
 
