@@ -339,6 +339,28 @@ struct EmbreeScene::Impl {
   RTCScene trace = nullptr;  // what rays are traced against: top, or the static scene without bodies
   std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
   bool poses_set = false;
+  // Two passes (make_view): the static scene traced directly, then the top level with the static
+  // instance left out by ray mask, from the first pass's hit on (its tfar). Instance traversal costs a
+  // quarter of a coherent stream's throughput; the bodies' pass, a few boxes, little.
+  bool split = false;
+  // Every body index below 31: each body instance has a mask bit of its own, and a ray leaves out the
+  // body it ignores by mask (otherwise by filter, or by tracing on past its hits).
+  bool unique_body_masks = false;
+
+  static constexpr unsigned kStaticMask = 1u;
+  static unsigned body_mask(std::int32_t body) { return 1u << (1u + static_cast<unsigned>(body) % 31u); }
+  static std::int32_t ignored_by(const RayBatch& rays, std::size_t i) {
+    return rays.ignore_body.empty() ? kNoHit : rays.ignore_body[i];
+  }
+  // Ray masks of the first pass (the static scene: none for a ray that ignores it) and of the second
+  // (the bodies, but the ignored one when masks can tell it apart).
+  unsigned static_pass_mask(std::int32_t ignored) const { return ignored == kStaticBody ? 0u : ~0u; }
+  unsigned body_pass_mask(std::int32_t ignored) const {
+    if (!split) return ~0u;
+    return ignored >= 0 && unique_body_masks ? ~(kStaticMask | body_mask(ignored)) : ~kStaticMask;
+  }
+  // The scene of the first pass: the static scene when split, else everything.
+  RTCScene first_pass() const { return split ? world->static_scene : trace; }
 
   ~Impl() {
     if (top != nullptr) rtcReleaseScene(top);
@@ -358,10 +380,12 @@ struct EmbreeScene::Impl {
     // Rebuilt at every pose change, over a handful of instances: fast build beats best quality.
     rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_LOW);
     const Transform12 identity = to_transform12(Eigen::Isometry3d::Identity());
+    const bool masks = rtcGetDeviceProperty(w.device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED) != 0;
     auto add_instance = [&](RTCScene scene, std::int32_t body, const std::vector<int>& mesh_of_geometry) {
       RTCGeometry geometry = rtcNewGeometry(w.device, RTC_GEOMETRY_TYPE_INSTANCE);
       rtcSetGeometryInstancedScene(geometry, scene);
       rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity.data());
+      if (masks) rtcSetGeometryMask(geometry, body == kStaticBody ? kStaticMask : body_mask(body));
       rtcCommitGeometry(geometry);
       const unsigned id = rtcAttachGeometry(top, geometry);
       rtcReleaseGeometry(geometry);  // the top-level scene keeps it alive
@@ -378,6 +402,8 @@ struct EmbreeScene::Impl {
     rtcCommitScene(top);
     w.check("building the top-level scene");
     trace = top;
+    split = masks && !w.static_mesh_of_geometry.empty();
+    unique_body_masks = split && w.body_scenes.rbegin()->first < 31;
     poses_set = false;
   }
 
@@ -405,7 +431,7 @@ struct EmbreeScene::Impl {
       }
       int mesh_id;
       std::int32_t body = kStaticBody;
-      if (trace == world->static_scene) {
+      if (inst[k] == kInvalidId) {  // the static scene traced directly
         mesh_id = world->static_mesh_of_geometry[g];
       } else {
         const Instance& instance = instances[inst[k]];
@@ -451,6 +477,7 @@ struct EmbreeScene::Impl {
   // Ray i of the batch from t_near on (its own or a later start); geometry and instance ids out.
   void trace_ray(const RayBatch& rays, std::size_t i, float t_near, RTCIntersectContext* context, RayHits& hits,
                  unsigned* geom, unsigned* inst) const {
+    const std::int32_t ignored = ignored_by(rays, i);
     RTCRayHit rh;
     rh.ray.org_x = rays.p_WO_x[i];
     rh.ray.org_y = rays.p_WO_y[i];
@@ -461,12 +488,23 @@ struct EmbreeScene::Impl {
     rh.ray.dir_z = rays.d_W_z[i];
     rh.ray.time = 0.0f;
     rh.ray.tfar = rays.t_far[i];
-    rh.ray.mask = ~0u;
+    rh.ray.mask = split ? static_pass_mask(ignored) : ~0u;
     rh.ray.id = 0;
     rh.ray.flags = 0;
     rh.hit.geomID = kInvalidId;
     rh.hit.instID[0] = kInvalidId;
-    rtcIntersect1(trace, context, &rh);
+    rtcIntersect1(first_pass(), context, &rh);
+    *geom = rh.hit.geomID;
+    *inst = rh.hit.instID[0];
+    if (split) {  // the bodies, up to the static hit
+      rh.ray.mask = body_pass_mask(ignored);
+      rh.hit.geomID = kInvalidId;
+      rtcIntersect1(top, context, &rh);
+      if (rh.hit.geomID != kInvalidId) {
+        *geom = rh.hit.geomID;
+        *inst = rh.hit.instID[0];
+      }
+    }
     hits.distance[i] = rh.ray.tfar;
     hits.n_W_x[i] = rh.hit.Ng_x;
     hits.n_W_y[i] = rh.hit.Ng_y;
@@ -474,8 +512,6 @@ struct EmbreeScene::Impl {
     hits.triangle[i] = rh.hit.primID;
     hits.tex_u[i] = rh.hit.u;
     hits.tex_v[i] = rh.hit.v;
-    *geom = rh.hit.geomID;
-    *inst = rh.hit.instID[0];
   }
 
   // Rays that ignore a body and hit it are continued past the hit (ray_batch.h).
@@ -505,10 +541,23 @@ struct EmbreeScene::Impl {
         const std::size_t i = k < m ? p + k : p;  // inactive lanes repeat the first ray
         valid[k] = k < m ? -1 : 0;
         set_lane(rh.ray, k, rays, i);
+        if (split) rh.ray.mask[k] = static_pass_mask(ignored_by(rays, i));
         rh.hit.geomID[k] = kInvalidId;
         rh.hit.instID[0][k] = kInvalidId;
       }
-      intersect_packet(valid, trace, context, &rh);
+      intersect_packet(valid, first_pass(), context, &rh);
+      if (split) {  // the bodies, up to the static hits: a lane they hit gets their ids
+        unsigned static_geom[N];
+        for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
+          static_geom[k] = rh.hit.geomID[k];
+          rh.hit.geomID[k] = kInvalidId;
+          rh.ray.mask[k] = body_pass_mask(ignored_by(rays, k < m ? p + k : p));
+        }
+        intersect_packet(valid, top, context, &rh);
+        for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
+          if (rh.hit.geomID[k] == kInvalidId) rh.hit.geomID[k] = static_geom[k];  // instID stays invalid
+        }
+      }
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t i = p + k;
         hits.distance[i] = rh.ray.tfar[k];
@@ -544,7 +593,11 @@ struct EmbreeScene::Impl {
     alignas(64) unsigned geom[kBlock], inst[kBlock], mask[kBlock], id[kBlock], flags[kBlock];
     alignas(64) float time[kBlock];
     const std::size_t n = end - begin;
-    std::fill_n(mask, n, ~0u);
+    if (split) {
+      for (std::size_t k = 0; k < n; ++k) mask[k] = static_pass_mask(ignored_by(rays, begin + k));
+    } else {
+      std::fill_n(mask, n, ~0u);
+    }
     std::fill_n(id, n, 0u);
     std::fill_n(flags, n, 0u);
     std::fill_n(time, n, 0.0f);
@@ -573,7 +626,23 @@ struct EmbreeScene::Impl {
     rh.hit.primID = &hits.triangle[begin];
     rh.hit.geomID = geom;
     rh.hit.instID[0] = inst;
-    rtcIntersectNp(trace, context, &rh, static_cast<unsigned>(n));
+    rtcIntersectNp(first_pass(), context, &rh, static_cast<unsigned>(n));
+    if (split) {
+      // The bodies, from the same arrays: tfar is the static hit's distance (or the ray's end), and
+      // Embree overwrites a ray's hit fields only where a body is nearer.
+      alignas(64) unsigned body_geom[kBlock], body_inst[kBlock];
+      std::fill_n(body_geom, n, kInvalidId);
+      std::fill_n(body_inst, n, kInvalidId);
+      for (std::size_t k = 0; k < n; ++k) mask[k] = body_pass_mask(ignored_by(rays, begin + k));
+      rh.hit.geomID = body_geom;
+      rh.hit.instID[0] = body_inst;
+      rtcIntersectNp(top, context, &rh, static_cast<unsigned>(n));
+      for (std::size_t k = 0; k < n; ++k) {
+        if (body_geom[k] == kInvalidId) continue;
+        geom[k] = body_geom[k];
+        inst[k] = body_inst[k];
+      }
+    }
     finish(begin, end, geom, inst, hits);
   }
 
@@ -589,7 +658,7 @@ struct EmbreeScene::Impl {
                          aligned16(&rays.p_WO_z[begin]) && aligned16(&rays.d_W_x[begin]) &&
                          aligned16(&rays.d_W_y[begin]) && aligned16(&rays.d_W_z[begin]) && aligned16(&rays.t_near[begin]);
     if (aligned) {
-      std::fill_n(mask, n, ~0u);
+      for (std::size_t k = 0; k < n; ++k) mask[k] = split ? static_pass_mask(ignored_by(rays, begin + k)) : ~0u;
       for (std::size_t k = 0; k < n; ++k) id[k] = static_cast<unsigned>(begin + k);  // for the ignore filter
       std::fill_n(flags, n, 0u);
       std::fill_n(time, n, 0.0f);
@@ -606,7 +675,13 @@ struct EmbreeScene::Impl {
       r.mask = mask;
       r.id = id;
       r.flags = flags;
-      rtcOccludedNp(trace, context, &r, static_cast<unsigned>(n));
+      RTCIntersectContext unfiltered = *context;  // the static scene has no context filter (make_view)
+      unfiltered.filter = nullptr;
+      rtcOccludedNp(first_pass(), split ? &unfiltered : context, &r, static_cast<unsigned>(n));
+      if (split) {  // the bodies, for the rays the static scene left clear (Embree skips tfar -inf)
+        for (std::size_t k = 0; k < n; ++k) mask[k] = body_pass_mask(ignored_by(rays, begin + k));
+        rtcOccludedNp(top, context, &r, static_cast<unsigned>(n));
+      }
     } else if (world->packet_width == 16) {
       occlude_packets<16, RTCRay16>(rays, begin, end, context, tfar);
     } else if (world->packet_width == 8) {
@@ -628,8 +703,18 @@ struct EmbreeScene::Impl {
         const std::size_t i = k < m ? p + k : p;  // inactive lanes repeat the first ray
         valid[k] = k < m ? -1 : 0;
         set_lane(r, k, rays, i);
+        if (split) r.mask[k] = static_pass_mask(ignored_by(rays, i));
       }
-      occluded_packet(valid, trace, context, &r);
+      RTCIntersectContext unfiltered = *context;  // the static scene has no context filter (make_view)
+      unfiltered.filter = nullptr;
+      occluded_packet(valid, first_pass(), split ? &unfiltered : context, &r);
+      if (split) {  // the bodies, for the lanes the static scene left clear
+        for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
+          r.mask[k] = body_pass_mask(ignored_by(rays, k < m ? p + k : p));
+          if (r.tfar[k] < 0.0f) valid[k] = 0;
+        }
+        occluded_packet(valid, top, context, &r);
+      }
       for (std::size_t k = 0; k < m; ++k) tfar[p + k - begin] = r.tfar[k];
     }
   }
@@ -920,8 +1005,9 @@ void EmbreeScene::occluded(const RayBatch& rays, std::size_t begin, std::size_t 
     i = block_end;
   }
   // The filter runs on body hits only (the static scene has no context filter, for speed): a ray that
-  // ignores the static world itself takes intersect()'s answer instead.
-  if (rays.ignore_body.empty()) return;
+  // ignores the static world itself takes intersect()'s answer instead (unless split: then its first
+  // pass has mask 0, and the static instance is left out of the second by mask).
+  if (rays.ignore_body.empty() || s.split) return;
   for (std::size_t k = begin; k < end; ++k) {
     if (rays.ignore_body[k] != kStaticBody || blocked[k] == 0) continue;
     RayBatch one;

@@ -571,5 +571,50 @@ TEST(EmbreeScene, OccludedAgreesWithIntersect) {
   EXPECT_THROW(scene.occluded(batch, 0, 20, short_output), std::out_of_range);
 }
 
+// A ray that ignores its own body passes through it and stops at the next one, whatever the body
+// indices: with bodies 0..30 each instance has a ray-mask bit of its own (the ignored body left out by
+// mask); body 32 shares body 1's bit, so there the re-trace past ignored hits (intersect) and the
+// filter (occluded) do it. Boxes on a line over the seabed, rays from inside one box along the line,
+// on every query path.
+TEST(EmbreeScene, IgnoredBodyIsPassedWhateverItsIndex) {
+  for (const std::int32_t far_body : {2, 32}) {
+    SCOPED_TRACE(far_body);
+    EmbreeScene scene;
+    scene.add_static_mesh(grid(16, 50.0f, [](float, float) { return -100.0f; }));
+    scene.add_body_mesh(1, box(0.5f, 0.5f, 0.5f));
+    scene.add_body_mesh(far_body, box(0.5f, 0.5f, 0.5f));
+    scene.build();
+    std::vector<Eigen::Isometry3d> poses(static_cast<std::size_t>(far_body) + 1, Eigen::Isometry3d::Identity());
+    poses[1].translation() = Eigen::Vector3d(0.0, 0.0, -90.0);
+    poses[static_cast<std::size_t>(far_body)].translation() = Eigen::Vector3d(5.0, 0.0, -90.0);
+    scene.set_body_poses(poses);
+    RayBatch batch;
+    batch.coherence = RayCoherence::kCoherent;
+    for (int k = 0; k < 64; ++k) {
+      const float dy = 0.004f * static_cast<float>(k % 8 - 4), dz = 0.004f * static_cast<float>(k / 8 - 4);
+      // From inside body 1 towards the far body, ignoring body 1; and back, ignoring the far body.
+      batch.add_ray(Eigen::Vector3f(0.0f, 0.0f, -90.0f), Eigen::Vector3f(1.0f, dy, dz).normalized(), 0.0f, kInf, 1);
+      batch.add_ray(Eigen::Vector3f(5.0f, 0.0f, -90.0f), Eigen::Vector3f(-1.0f, dy, dz).normalized(), 0.0f, kInf, far_body);
+      // Straight down from below body 1, ignoring the static world: nothing below but the seabed.
+      batch.add_ray(Eigen::Vector3f(0.0f, 0.0f, -95.0f), Eigen::Vector3f(dy, dz, -1.0f).normalized(), 0.0f, kInf,
+                    kStaticBody);
+    }
+    for (QueryPath path : {QueryPath::kSingle, QueryPath::kPacket, QueryPath::kStream}) {
+      SCOPED_TRACE(to_string(path));
+      const RayHits hits = trace(scene, batch, path);
+      for (std::size_t i = 0; i < batch.size(); i += 3) {
+        ASSERT_EQ(hits.body[i], far_body) << i;
+        ASSERT_NEAR(hits.distance[i], 4.5f, 0.01f) << i;  // the far box's near face
+        ASSERT_EQ(hits.body[i + 1], 1) << i;
+        ASSERT_NEAR(hits.distance[i + 1], 4.5f, 0.01f) << i;
+        ASSERT_FALSE(hits.hit(i + 2)) << i;
+      }
+    }
+    std::vector<std::uint8_t> blocked(batch.size(), 7);
+    scene.occluded(batch, 0, batch.size(), blocked);
+    for (std::size_t i = 0; i < batch.size(); ++i) ASSERT_EQ(blocked[i], i % 3 == 2 ? 0 : 1) << i;
+  }
+}
+
 }  // namespace
 }  // namespace hadal::geometry

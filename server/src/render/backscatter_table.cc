@@ -104,7 +104,7 @@ Rgb BackscatterTable::at(int u, int v, double s_end) const {
          wv * ((1.0 - wu) * cumulative(j1 * columns + i, k, f) + wu * cumulative(j1 * columns + i1, k, f));
 }
 
-void BackscatterTable::add_row(int v, const float* s_end, float* r, float* g, float* b) const {
+HADAL_VECTOR_KERNEL void BackscatterTable::add_row(int v, const float* s_end, float* r, float* g, float* b) const {
   if (node_u_.empty()) return;
   std::size_t node_row;
   double wv_d;

@@ -163,11 +163,24 @@ struct FrameSetup {
   float forward_per_m[3] = {0, 0, 0};
 };
 
-// One band's per-pixel arrays (structure of arrays; the loops over them vectorize).
+// One band's per-pixel arrays (structure of arrays; the loops over them vectorize), and its rays.
+// Each worker thread keeps one set from band to band (frame after frame): no allocation, no clearing
+// but of the sums (every other array is written before it is read).
 struct BandArrays {
-  explicit BandArrays(std::size_t n)
-      : px(n), py(n), pz(n), nx(n), ny(n), nz(n), ar(n, 0.0f), ag(n, 0.0f), ab(n, 0.0f), sr(n, 0.0f), sg(n, 0.0f),
-        sb(n, 0.0f), above(n), cast(n), sdx(n), sdy(n), sdz(n), slen(n), s_end(n) {}
+  void resize(std::size_t n, std::size_t sources) {
+    for (std::vector<float>* v : {&px, &py, &pz, &nx, &ny, &nz, &ar, &ag, &ab, &sr, &sg, &sb, &above, &cast, &sdx, &sdy,
+                                  &sdz, &slen, &s_end}) {
+      v->resize(n);
+    }
+    for (std::vector<float>* v : {&ar, &ag, &ab, &sr, &sg, &sb}) std::fill(v->begin(), v->end(), 0.0f);
+    lit.resize(sources);
+    for (std::vector<float>& v : lit) v.resize(n);
+    primary.clear_rays();
+    shadows.clear_rays();
+    hits.resize(n);
+    shadow_pixel.clear();
+    shadow_source.clear();
+  }
   std::vector<float> px, py, pz;  // hit point relative to the camera's centre, W axes (0 on a miss) [m]
   std::vector<float> nx, ny, nz;  // unit normal turned towards the camera (0 on a miss)
   std::vector<float> ar, ag, ab;  // albedo
@@ -177,6 +190,11 @@ struct BandArrays {
   std::vector<float> sdx, sdy, sdz, slen;  // the current light's shadow ray: unit direction, length [m]
   std::vector<float> s_end;       // where the ray's water ends: the hit, or the far clip [m]
   std::vector<std::vector<float>> lit;  // per light, then the sky: 1 where it reaches the point
+  geometry::RayBatch primary, shadows;
+  geometry::RayHits hits;
+  std::vector<std::uint32_t> shadow_pixel;   // per shadow ray cast: its pixel
+  std::vector<std::uint16_t> shadow_source;  // and its light (the sky last)
+  std::vector<std::uint8_t> blocked;
 };
 
 // Shadow-ray candidates of one source (a light, or the sky) whose rays are in a.sdx.. and a.cast: the
@@ -219,8 +237,11 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   const float far_m = f.far_m, bias = f.bias_m;
   const float c0 = f.c[0], c1 = f.c[1], c2 = f.c[2];
 
+  const std::size_t sources = f.lights.size() + (f.sky ? 1 : 0);
+  thread_local BandArrays a;
+  a.resize(n, sources);
   // Primary rays: the lens's rays rotated into W, from the camera's centre.
-  geometry::RayBatch primary;
+  geometry::RayBatch& primary = a.primary;
   primary.coherence = geometry::RayCoherence::kCoherent;
   primary.p_WO_x.assign(n, static_cast<float>(f.p_WC.x()));
   primary.p_WO_y.assign(n, static_cast<float>(f.p_WC.y()));
@@ -250,13 +271,11 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
       dz[i] = wz / norm;
     }
   }
-  geometry::RayHits hits;
-  hits.resize(n);
-  if (n > 0) f.scene->intersect(primary, 0, n, geometry::QueryPath::kAuto, hits);
+  const geometry::RayHits& hits = a.hits;
+  if (n > 0) f.scene->intersect(primary, 0, n, geometry::QueryPath::kAuto, a.hits);
   const float* t = hits.distance.data();
 
   // Hit points, normals turned towards the camera, depth along the optical axis.
-  BandArrays a(n);
   float* depth = frame.depth_m.data() + first;
   const float nan = std::numeric_limits<float>::quiet_NaN();
 #pragma GCC ivdep
@@ -319,12 +338,10 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   }
 
   // Where each light (then the sky) reaches the point, and the shadow rays that must be cast.
-  const std::size_t sources = f.lights.size() + (f.sky ? 1 : 0);
-  a.lit.assign(sources, std::vector<float>(n, 0.0f));
-  geometry::RayBatch shadows;
+  geometry::RayBatch& shadows = a.shadows;
   shadows.coherence = geometry::RayCoherence::kCoherent;
-  std::vector<std::uint32_t> shadow_pixel;
-  std::vector<std::uint16_t> shadow_source;
+  std::vector<std::uint32_t>& shadow_pixel = a.shadow_pixel;
+  std::vector<std::uint16_t>& shadow_source = a.shadow_source;
   for (std::size_t l = 0; l < f.lights.size(); ++l) {
     const BandLight L = f.lights[l];
     float* lit = a.lit[l].data();
@@ -369,7 +386,8 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
                        shadow_source);
   }
   if (shadows.size() > 0) {
-    std::vector<std::uint8_t> blocked(shadows.size());
+    std::vector<std::uint8_t>& blocked = a.blocked;
+    blocked.resize(shadows.size());
     f.scene->occluded(shadows, 0, shadows.size(), blocked);
     for (std::size_t k = 0; k < blocked.size(); ++k) {
       if (blocked[k] != 0) a.lit[shadow_source[k]][shadow_pixel[k]] = 0.0f;

@@ -56,10 +56,20 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
   // Cells of the cube of side 2 max_range around the camera (particles beyond the range are skipped).
   const auto lo = [&](int axis) { return static_cast<std::int64_t>(std::floor((p_WC[axis] - snow.max_range_m) / cell)); };
   const auto hi = [&](int axis) { return static_cast<std::int64_t>(std::floor((p_WC[axis] + snow.max_range_m) / cell)); };
+  // A cell's particle lies within half a cell diagonal of its centre: cells whose centre is further
+  // than the range plus that, or that far behind the camera's image plane, hold none to draw (most of
+  // the cube: skipped before hashing).
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * cell;
+  const double reach2 = (snow.max_range_m + half_diagonal) * (snow.max_range_m + half_diagonal);
+  const Eigen::Vector3d z_C_in_W = X_WC.linear().col(2);  // the optical axis in W
   std::size_t drawn = 0;
   for (std::int64_t i = lo(0); i <= hi(0); ++i) {
     for (std::int64_t j = lo(1); j <= hi(1); ++j) {
       for (std::int64_t k = lo(2); k <= hi(2); ++k) {
+        const Eigen::Vector3d centre_C_W = Eigen::Vector3d((static_cast<double>(i) + 0.5) * cell,
+                                                           (static_cast<double>(j) + 0.5) * cell,
+                                                           (static_cast<double>(k) + 0.5) * cell) - p_WC;
+        if (centre_C_W.squaredNorm() > reach2 || centre_C_W.dot(z_C_in_W) < -half_diagonal) continue;
         const std::uint64_t h = cell_hash(snow.seed, i, j, k);
         const Eigen::Vector3d p_W((static_cast<double>(i) + unit(mix(h + 1))) * cell,
                                   (static_cast<double>(j) + unit(mix(h + 2))) * cell,
