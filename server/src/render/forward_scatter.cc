@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <array>
 #include <limits>
 #include <memory>
@@ -10,9 +11,7 @@
 #include <stdexcept>
 #include <utility>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "hadal/render/fast_math.h"
 
 namespace hadal::render {
 namespace {
@@ -163,13 +162,51 @@ void for_rows(int rows, const ParallelFor& parallel, const std::function<void(in
   });
 }
 
-// out += the level's weights applied to `in` (both w x h cells): out(x, y) = sum w(dx, dy) in(x - dx, y - dy).
-// Eight outputs at a time accumulate over all taps in registers (one store each, not one per tap).
-void convolve(const ForwardScatterKernel::Level& level, const Planes& in, Planes& out, const ParallelFor& parallel) {
-  struct Tap {
-    int dx, dy;
-    float weight;
+struct Tap {
+  int dx, dy;
+  float weight;
+};
+
+// One row of a convolution (below): dst[x] += sum over taps of weight * sources[t][x] for x in [0, w),
+// where sources[t] is the tap's source row shifted by its dx and the taps are those whose source row
+// exists; sixteen outputs at a time accumulate over all taps (one store each, not one per tap).
+HADAL_VECTOR_KERNEL void convolve_row(const std::vector<Tap>& taps, const std::vector<const float*>& sources, int w,
+                                      int inner_begin, int inner_end, float* dst) {
+  const auto one = [&](int x) {
+    float sum = 0.0f;
+    for (std::size_t t = 0; t < taps.size(); ++t) {
+      const int xs = x - taps[t].dx;
+      if (xs >= 0 && xs < w) sum += taps[t].weight * sources[t][x];
+    }
+    dst[x] += sum;
   };
+  for (int x = 0; x < inner_begin; ++x) one(x);
+  // GCC's vector extension: eight floats, one AVX register or two SSE ones (per clone); unaligned
+  // loads and stores by memcpy.
+  typedef float Lanes __attribute__((vector_size(32)));
+  constexpr int kLanes = 16;
+  int x = inner_begin;
+  for (; x + kLanes <= inner_end; x += kLanes) {
+    Lanes a0 = {}, a1 = {}, s0, s1;
+    for (std::size_t t = 0; t < taps.size(); ++t) {
+      const float weight = taps[t].weight;
+      std::memcpy(&s0, sources[t] + x, sizeof s0);
+      std::memcpy(&s1, sources[t] + x + 8, sizeof s1);
+      a0 += weight * s0;
+      a1 += weight * s1;
+    }
+    std::memcpy(&s0, dst + x, sizeof s0);
+    std::memcpy(&s1, dst + x + 8, sizeof s1);
+    s0 += a0;
+    s1 += a1;
+    std::memcpy(dst + x, &s0, sizeof s0);
+    std::memcpy(dst + x + 8, &s1, sizeof s1);
+  }
+  for (; x < w; ++x) one(x);
+}
+
+// out += the level's weights applied to `in` (both w x h cells): out(x, y) = sum w(dx, dy) in(x - dx, y - dy).
+void convolve(const ForwardScatterKernel::Level& level, const Planes& in, Planes& out, const ParallelFor& parallel) {
   const int w = in.width, h = in.height, reach = level.reach, side = 2 * reach + 1;
   std::vector<Tap> taps;
   for (int dy = -reach; dy <= reach; ++dy) {
@@ -178,7 +215,6 @@ void convolve(const ForwardScatterKernel::Level& level, const Planes& in, Planes
       if (weight != 0.0f) taps.push_back({dx, dy, weight});
     }
   }
-  constexpr int kLanes = 8;
   for_rows(h, parallel, [&](int row_begin, int row_end) {
     std::vector<Tap> row_taps;
     std::vector<const float*> sources;
@@ -189,57 +225,32 @@ void convolve(const ForwardScatterKernel::Level& level, const Planes& in, Planes
       }
       const int inner_begin = std::min(reach, w), inner_end = std::max(inner_begin, w - reach);  // x - dx inside for every tap
       for (int ch = 0; ch < 3; ++ch) {
-        float* dst = out.row(ch, y);
         sources.clear();
         for (const Tap& tap : row_taps) sources.push_back(in.row(ch, y - tap.dy) - tap.dx);
-        const auto one = [&](int x) {
-          float sum = 0.0f;
-          for (std::size_t t = 0; t < row_taps.size(); ++t) {
-            const int xs = x - row_taps[t].dx;
-            if (xs >= 0 && xs < w) sum += row_taps[t].weight * sources[t][x];
-          }
-          dst[x] += sum;
-        };
-        for (int x = 0; x < inner_begin; ++x) one(x);
-        int x = inner_begin;
-        for (; x + kLanes <= inner_end; x += kLanes) {
-#if defined(__SSE2__)
-          __m128 a0 = _mm_setzero_ps(), a1 = _mm_setzero_ps();
-          for (std::size_t t = 0; t < row_taps.size(); ++t) {
-            const __m128 weight = _mm_set1_ps(row_taps[t].weight);
-            const float* src = sources[t] + x;
-            a0 = _mm_add_ps(a0, _mm_mul_ps(weight, _mm_loadu_ps(src)));
-            a1 = _mm_add_ps(a1, _mm_mul_ps(weight, _mm_loadu_ps(src + 4)));
-          }
-          _mm_storeu_ps(dst + x, _mm_add_ps(_mm_loadu_ps(dst + x), a0));
-          _mm_storeu_ps(dst + x + 4, _mm_add_ps(_mm_loadu_ps(dst + x + 4), a1));
-#else
-          float acc[kLanes] = {};
-          for (std::size_t t = 0; t < row_taps.size(); ++t) {
-            const float weight = row_taps[t].weight;
-            const float* src = sources[t] + x;
-            for (int j = 0; j < kLanes; ++j) acc[j] += weight * src[j];
-          }
-          for (int j = 0; j < kLanes; ++j) dst[x + j] += acc[j];
-#endif
-        }
-        for (; x < w; ++x) one(x);
+        convolve_row(row_taps, sources, w, inner_begin, inner_end, out.row(ch, y));
       }
     }
   });
 }
 
+// dst[m] += row[2 m] + row[2 m + 1] (the sums in that order), for the width cells of a row.
+HADAL_VECTOR_KERNEL void add_pairs(const float* row, int width, float* dst) {
+  const int pairs = width / 2;
+  for (int m = 0; m < pairs; ++m) {  // vectorized
+    const float a = row[2 * m], b = row[2 * m + 1];
+    dst[m] = (dst[m] + a) + b;
+  }
+  if (width % 2 != 0) dst[pairs] += row[width - 1];
+}
+
 // Sums over blocks of 2 x 2 cells of a grid of width x height cells (the last row and column of blocks
-// may hold fewer); at(ch, x, y) is a cell's value.
-template <typename At>
-Planes pair_sums(int width, int height, const ParallelFor& parallel, const At& at) {
+// may hold fewer); row(ch, y) is a row of cells.
+template <typename Row>
+Planes pair_sums(int width, int height, const ParallelFor& parallel, const Row& row) {
   Planes out((width + 1) / 2, (height + 1) / 2);
   for_rows(out.height, parallel, [&](int row_begin, int row_end) {
     for (int ch = 0; ch < 3; ++ch) {
-      for (int y = 2 * row_begin; y < std::min(2 * row_end, height); ++y) {
-        float* dst = out.row(ch, y / 2);
-        for (int x = 0; x < width; ++x) dst[x / 2] += at(ch, x, y);
-      }
+      for (int y = 2 * row_begin; y < std::min(2 * row_end, height); ++y) add_pairs(row(ch, y), width, out.row(ch, y / 2));
     }
   });
   return out;
@@ -260,6 +271,23 @@ struct Bracket {
   }
 };
 
+// dst[x] = src[lo[x]] + f[x] (src[hi[x]] - src[lo[x]]) for the width cells of a row twice as fine as src
+// (Bracket's weights): interior cells in pairs, x = 2 m (lo m - 1, f 3/4) and 2 m + 1 (lo m, f 1/4), as
+// Bracket gives them; the edges from Bracket itself.
+HADAL_VECTOR_KERNEL void upsample_row(const Bracket& b, const float* src, int width, int coarse_width, float* dst) {
+  const auto at = [&](int x) { dst[x] = src[b.lo[x]] + b.f[x] * (src[b.hi[x]] - src[b.lo[x]]); };
+  // Pairs (2 m, 2 m + 1) with 1 <= m and m + 1 <= coarse_width - 1: both brackets inside the grid.
+  const int pairs_end = std::min(coarse_width - 1, width / 2);
+  at(0);
+  if (width > 1) at(1);
+  for (int m = 1; m < pairs_end; ++m) {  // vectorized
+    const float left = src[m - 1], centre = src[m], right = src[m + 1];
+    dst[2 * m] = left + 0.75f * (centre - left);
+    dst[2 * m + 1] = centre + 0.25f * (right - centre);
+  }
+  for (int x = std::max(2, 2 * pairs_end); x < width; ++x) at(x);
+}
+
 // Adds `coarse` interpolated bilinearly between cell centres to each cell of a grid twice as fine, of
 // width x height cells: add(y, row) receives row y's three channels (row[ch][x]).
 template <typename Add>
@@ -269,15 +297,13 @@ void upsample(const Planes& coarse, int width, int height, const ParallelFor& pa
     std::vector<float> top(static_cast<std::size_t>(width)), bottom(static_cast<std::size_t>(width));
     std::array<std::vector<float>, 3> row;
     for (auto& r : row) r.resize(static_cast<std::size_t>(width));
-    const auto along_x = [&](const float* src, std::vector<float>& dst) {
-      for (int x = 0; x < width; ++x) dst[x] = src[bx.lo[x]] + bx.f[x] * (src[bx.hi[x]] - src[bx.lo[x]]);
-    };
     for (int y = row_begin; y < row_end; ++y) {
       for (int ch = 0; ch < 3; ++ch) {
-        along_x(coarse.row(ch, by.lo[y]), top);
-        along_x(coarse.row(ch, by.hi[y]), bottom);
+        upsample_row(bx, coarse.row(ch, by.lo[y]), width, coarse.width, top.data());
+        upsample_row(bx, coarse.row(ch, by.hi[y]), width, coarse.width, bottom.data());
         const float fy = by.f[y];
-        for (int x = 0; x < width; ++x) row[ch][x] = top[x] + fy * (bottom[x] - top[x]);
+        float* out = row[ch].data();
+        for (int x = 0; x < width; ++x) out[x] = top[x] + fy * (bottom[x] - top[x]);
       }
       add(y, row);
     }
@@ -324,12 +350,12 @@ void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int heig
   // pixel, is added to the next finer level's after interpolating the coarser ones' (coarsest first),
   // and the finest level's reaches the pixels the same way.
   std::vector<Planes> sums;  // sums[k]: blocks of 2^(k + 1) px
-  sums.push_back(pair_sums(width, height, parallel, [&](int ch, int x, int y) {
-    return source[static_cast<std::size_t>(ch)][static_cast<std::size_t>(y) * width + x];
+  sums.push_back(pair_sums(width, height, parallel, [&](int ch, int y) {
+    return source[static_cast<std::size_t>(ch)].data() + static_cast<std::size_t>(y) * width;
   }));
   for (std::size_t k = 1; k < kernel.levels.size(); ++k) {
     const Planes& finer = sums.back();
-    sums.push_back(pair_sums(finer.width, finer.height, serial_for, [&](int ch, int x, int y) { return finer.row(ch, y)[x]; }));
+    sums.push_back(pair_sums(finer.width, finer.height, serial_for, [&](int ch, int y) { return finer.row(ch, y); }));
   }
   std::optional<Planes> coarser;  // the spread of the levels coarser than the current one, per pixel
   for (std::size_t k = kernel.levels.size(); k-- > 0;) {
