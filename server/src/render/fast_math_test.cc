@@ -40,13 +40,14 @@ TEST(FastMathTest, LogIsWithinTwoUlpOverThePositiveNormals) {
   EXPECT_EQ(fast::log(1.0f), 0.0f);
 }
 
-TEST(FastMathTest, AcosAndCos2PiAreWithinTheirBounds) {
+TEST(FastMathTest, AcosCos2PiAndSin2PiAreWithinTheirBounds) {
   double worst_acos = 0.0, worst_cos = 0.0;
   for (float x : spread(-1.0f, 1.0f, 1000000)) {
     worst_acos = std::max(worst_acos, std::abs(fast::acos(x) - std::acos(static_cast<double>(x))));
   }
   for (float u : spread(0.0f, 1.0f, 1000000)) {
     worst_cos = std::max(worst_cos, std::abs(fast::cos_2pi(u) - std::cos(2.0 * M_PI * static_cast<double>(u))));
+    worst_cos = std::max(worst_cos, std::abs(fast::sin_2pi(u) - std::sin(2.0 * M_PI * static_cast<double>(u))));
   }
   EXPECT_LT(worst_acos, 3e-7);
   EXPECT_LT(worst_cos, 1e-7 + 4e-7);  // 1e-7 for the polynomials, 4e-7 for u's rounding times 2 pi
@@ -66,7 +67,7 @@ TEST(FastMathTest, AcosAndCos2PiAreWithinTheirBounds) {
     for (std::size_t i = 0; i < n; ++i) y[i] = fast::log(x[i]);                             \
   }                                                                                         \
   attribute void trig_##suffix(const float* x, float* y, std::size_t n) {                  \
-    for (std::size_t i = 0; i < n; ++i) y[i] = fast::acos(2.0f * x[i] - 1.0f) + fast::cos_2pi(x[i]); \
+    for (std::size_t i = 0; i < n; ++i) y[i] = fast::acos(2.0f * x[i] - 1.0f) + fast::cos_2pi(x[i]) - fast::sin_2pi(x[i]); \
   }
 
 HADAL_TEST_LOOPS(baseline, )
@@ -91,7 +92,9 @@ TEST(FastMathTest, SameBitsVectorizedForAvx2AndForTheBaseline) {
   trig_avx2(unit.data(), b.data(), n);
   EXPECT_EQ(std::memcmp(a.data(), b.data(), n * sizeof(float)), 0);
   // And the same as one value at a time.
-  for (std::size_t i = 0; i < n; i += 997) EXPECT_EQ(a[i], fast::acos(2.0f * unit[i] - 1.0f) + fast::cos_2pi(unit[i]));
+  for (std::size_t i = 0; i < n; i += 997) {
+    EXPECT_EQ(a[i], fast::acos(2.0f * unit[i] - 1.0f) + fast::cos_2pi(unit[i]) - fast::sin_2pi(unit[i]));
+  }
 #else
   GTEST_SKIP() << "function multiversioning is GCC on x86-64 only";
 #endif

@@ -65,10 +65,16 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
   std::size_t drawn = 0;
   for (std::int64_t i = lo(0); i <= hi(0); ++i) {
     for (std::int64_t j = lo(1); j <= hi(1); ++j) {
-      for (std::int64_t k = lo(2); k <= hi(2); ++k) {
-        const Eigen::Vector3d centre_C_W = Eigen::Vector3d((static_cast<double>(i) + 0.5) * cell,
-                                                           (static_cast<double>(j) + 0.5) * cell,
-                                                           (static_cast<double>(k) + 0.5) * cell) - p_WC;
+      // The column's cells within reach: centres with (z - p_z)^2 <= reach^2 - dx^2 - dy^2 (one cell
+      // of margin each way; the test below is exact).
+      const double dx = (static_cast<double>(i) + 0.5) * cell - p_WC.x(), dy = (static_cast<double>(j) + 0.5) * cell - p_WC.y();
+      const double dz2 = reach2 - dx * dx - dy * dy;
+      if (dz2 < 0.0) continue;
+      const double dz = std::sqrt(dz2);
+      const std::int64_t k0 = std::max(lo(2), static_cast<std::int64_t>(std::floor((p_WC.z() - dz) / cell)) - 1);
+      const std::int64_t k1 = std::min(hi(2), static_cast<std::int64_t>(std::floor((p_WC.z() + dz) / cell)) + 1);
+      for (std::int64_t k = k0; k <= k1; ++k) {
+        const Eigen::Vector3d centre_C_W(dx, dy, (static_cast<double>(k) + 0.5) * cell - p_WC.z());
         if (centre_C_W.squaredNorm() > reach2 || centre_C_W.dot(z_C_in_W) < -half_diagonal) continue;
         const std::uint64_t h = cell_hash(snow.seed, i, j, k);
         const Eigen::Vector3d p_W((static_cast<double>(i) + unit(mix(h + 1))) * cell,

@@ -45,24 +45,8 @@ inline float normal(std::uint32_t radius_key, std::uint32_t angle_key, std::uint
   return __builtin_sqrtf(-2.0f * fast::log(uniform(radius_key, j))) * fast::cos_2pi(uniform(angle_key, j));
 }
 
-// Poisson variate of mean mu from the uniform u (header): inversion of the cumulative distribution
-// below 30, the normal approximation mu + sqrt(mu) z above, never negative.
-double poisson(double mu, double u, double z) {
-  if (mu <= 0.0) return 0.0;
-  if (mu < kExactPoissonBelow) {
-    double p = fast::exp(static_cast<float>(-mu)), cumulative = p;
-    int k = 0;
-    while (u >= cumulative && k < 1000) {
-      ++k;
-      p *= mu / k;
-      cumulative += p;
-    }
-    return k;
-  }
-  return std::max(0.0, mu + std::sqrt(mu) * z);
-}
-
-constexpr std::size_t kChunk = 256;  // pixels per vectorized pass
+constexpr std::size_t kChunk = 256;  // pixels per vectorized pass (even: pixel pairs stay in a chunk)
+constexpr std::uint32_t kMaxPoissonSteps = 200;  // the inversion's search (P(k > 200 | mu < 30) < 1e-80)
 
 // The sensor's constants as the passes use them.
 struct Exposure {
@@ -70,46 +54,92 @@ struct Exposure {
   bool shot, vignetting;
 };
 
-// One channel of m pixels (header): counts before rounding into dn, and exact[i] = 1 where the shot
-// noise must be drawn exactly (by the scalar pass). Vectorized: the switches are template arguments (GCC
-// does not vectorize a select on a loop-invariant bool), and the function is not inlined into its
-// caller's chunk loop (where GCC no longer sees plain arrays).
+// The read noise of `pairs` pixel pairs of one channel into z[q] and z[q + pairs]: the two halves of
+// Box and Muller's transform, r cos(2 pi u2) and r sin(2 pi u2), r = sqrt(-2 ln u1), from the pair's
+// two uniforms (stream keys normal_radius and normal_angle, index first_id + 3 q). Vectorized.
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void pair_normals(const FrameKeys& keys, std::uint32_t first_id,
+                                                                std::uint32_t pairs, float* __restrict z) {
+  const std::uint32_t radius_key = keys.normal_radius, angle_key = keys.normal_angle;
+  float* __restrict second = z + pairs;
+  for (std::uint32_t q = 0; q < pairs; ++q) {
+    const std::uint32_t id = first_id + 3 * q;
+    const float r = __builtin_sqrtf(-2.0f * fast::log(uniform(radius_key, id)));
+    const float angle = uniform(angle_key, id);
+    z[q] = r * fast::cos_2pi(angle);
+    second[q] = r * fast::sin_2pi(angle);
+  }
+}
+
+// One channel of m pixels (header): the mean electrons mu, the counts before rounding into dn, and
+// exact[i] = 1 where the shot noise must be drawn exactly (the scalar pass), from the read noise z.
+// Vectorized: the switches are template arguments (GCC does not vectorize a select on a loop-invariant
+// bool), and the function is not inlined into its caller's chunk loop (where GCC no longer sees plain
+// arrays).
 template <bool kShot, bool kVignetting>
 HADAL_VECTOR_KERNEL __attribute__((noinline)) void expose_channel(const Exposure& e, float scale,
                                                                   const float* __restrict radiance,
-                                                                  const float* __restrict cos_theta, std::uint32_t m,
-                                                                  std::uint32_t j0, const FrameKeys& keys,
-                                                                  float* __restrict dn, float* __restrict exact) {
+                                                                  const float* __restrict cos_theta,
+                                                                  const float* __restrict z, std::uint32_t m,
+                                                                  float* __restrict mean, float* __restrict dn,
+                                                                  float* __restrict exact) {
   const float read_noise = e.read_noise, read_variance = e.read_variance, full_well = e.full_well, gain = e.gain;
-  const std::uint32_t radius_key = keys.normal_radius, angle_key = keys.normal_angle;
   for (std::uint32_t i = 0; i < m; ++i) {
-    const float c = fast::max(0.0f, cos_theta[i]), L = radiance[i];
+    const float c = fast::max(0.0f, cos_theta[i]), L = radiance[i], zi = z[i];
     const float mu = scale * fast::max(0.0f, L) * (kVignetting ? (c * c) * (c * c) : 1.0f);
-    const float z = normal(radius_key, angle_key, j0 + 3 * i);
+    mean[i] = mu;
     if constexpr (kShot) {
       // Shot and read noise merged where neither clip can act; elsewhere the scalar pass draws them.
       const bool merged = (mu >= kExactPoissonBelow) & (mu + kMergeSigmas * __builtin_sqrtf(mu) <= full_well);
-      dn[i] = fast::max(0.0f, fast::min(gain * (mu + __builtin_sqrtf(mu + read_variance) * z), 255.0f));
+      dn[i] = fast::max(0.0f, fast::min(gain * (mu + __builtin_sqrtf(mu + read_variance) * zi), 255.0f));
       exact[i] = merged ? 0.0f : 1.0f;
     } else {
-      dn[i] = fast::max(0.0f, fast::min(gain * (fast::min(mu, full_well) + read_noise * z), 255.0f));
+      dn[i] = fast::max(0.0f, fast::min(gain * (fast::min(mu, full_well) + read_noise * zi), 255.0f));
       exact[i] = 0.0f;
     }
   }
 }
 
+// Poisson variates k[n] of means mu[n] < kExactPoissonBelow by inversion of the cumulative
+// distribution with the uniforms u[n]: the smallest k with u < P(K <= k). Vectorized across the
+// samples: each step of the search updates every sample still searching, until none is.
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void poisson_by_inversion(const float* __restrict mu,
+                                                                        const float* __restrict u, std::uint32_t n,
+                                                                        float* __restrict k) {
+  float p[kChunk], cumulative[kChunk];
+  for (std::uint32_t i = 0; i < n; ++i) {
+    p[i] = fast::exp(-mu[i]);
+    cumulative[i] = p[i];
+    k[i] = 0.0f;
+  }
+  for (std::uint32_t step = 1; step <= kMaxPoissonSteps; ++step) {
+    const auto s = static_cast<float>(step);
+    int searching = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const float pi = p[i], ci = cumulative[i], ki = k[i], next = pi * (mu[i] / s);
+      const bool on = u[i] >= ci;
+      p[i] = on ? next : pi;
+      cumulative[i] = on ? ci + next : ci;
+      k[i] = on ? s : ki;
+      searching |= on ? 1 : 0;
+    }
+    if (searching == 0) break;
+  }
+}
+
 // The counts of pixels [begin, end) (header), in chunks: the radiance split into channel planes, each
-// channel's mean, normal draw and merged case in a vectorized pass, then the exact Poisson variates
-// where needed, point by point.
-void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance,
-                                       const float* cos_theta, const FrameKeys& keys, std::size_t begin,
-                                       std::size_t end, std::uint8_t* rgb) {
+// channel's read noise, mean and merged case in vectorized passes, then the exact shot noise of the
+// samples that need it (compacted: inversion vectorized, the normal approximation point by point).
+void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, const float* cos_theta,
+                   const FrameKeys& keys, std::size_t begin, std::size_t end, std::uint8_t* rgb) {
   const auto read_noise = static_cast<float>(spec.read_noise_e);
   const Exposure e{read_noise, read_noise * read_noise, static_cast<float>(spec.full_well_e),
                    static_cast<float>(spec.gain_dn_per_e), spec.shot_noise, spec.vignetting};
+  const auto expose = e.shot ? (e.vignetting ? expose_channel<true, true> : expose_channel<true, false>)
+                             : (e.vignetting ? expose_channel<false, true> : expose_channel<false, false>);
   float plane[3][kChunk];  // the chunk's radiance per channel (GCC vectorizes no stride-3 access)
-  float dn[3][kChunk];
-  float exact[3][kChunk];
+  float z[3][kChunk + 1], mean[3][kChunk], dn[3][kChunk], exact[3][kChunk];  // z: one spare for odd m
+  std::uint32_t index[kChunk];
+  float small_mu[kChunk], small_u[kChunk], small_k[kChunk];
   for (std::size_t first = begin; first < end; first += kChunk) {
     const std::size_t m = std::min(kChunk, end - first);
     const float* L = radiance[first].data();  // R, G, B per pixel
@@ -117,24 +147,37 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance,
       for (int ch = 0; ch < 3; ++ch) plane[ch][i] = L[3 * i + static_cast<std::size_t>(ch)];
     }
     for (int ch = 0; ch < 3; ++ch) {
+      // The chunk's pixels q and q + h (h = ceil(m / 2); chunks start at even pixels) share their
+      // channel's Box-Muller draw, index 3 (first / 2 + q) + ch: unique in the frame.
+      pair_normals(keys, static_cast<std::uint32_t>(3 * (first / 2) + static_cast<std::size_t>(ch)),
+                   static_cast<std::uint32_t>((m + 1) / 2), z[ch]);
       const auto scale = static_cast<float>(spec.sensitivity[ch] * spec.exposure_s);  // e- per W/(m^2 sr)
-      const auto expose = e.shot ? (e.vignetting ? expose_channel<true, true> : expose_channel<true, false>)
-                                 : (e.vignetting ? expose_channel<false, true> : expose_channel<false, false>);
-      expose(e, scale, plane[ch], cos_theta + first, static_cast<std::uint32_t>(m),
-             static_cast<std::uint32_t>(3 * first + static_cast<std::size_t>(ch)), keys, dn[ch], exact[ch]);
-    }
-    for (int ch = 0; ch < 3; ++ch) {
-      const auto scale = static_cast<float>(spec.sensitivity[ch] * spec.exposure_s);
-      for (std::size_t i = 0; i < m; ++i) {
-        if (exact[ch][i] == 0.0f) continue;
-        const float c = std::max(0.0f, cos_theta[first + i]);
-        const float falloff = e.vignetting ? (c * c) * (c * c) : 1.0f;
-        const float mu = scale * std::max(0.0f, plane[ch][i]) * falloff;
-        const auto j = static_cast<std::uint32_t>(3 * (first + i) + static_cast<std::size_t>(ch));
-        const double shot_e = poisson(mu, uniform(keys.poisson, j), normal(keys.poisson, keys.poisson_normal, j));
-        const double electrons = std::min(shot_e, static_cast<double>(e.full_well)) +
-                                 e.read_noise * normal(keys.normal_radius, keys.normal_angle, j);
-        dn[ch][i] = static_cast<float>(std::clamp(e.gain * electrons, 0.0, 255.0));
+      expose(e, scale, plane[ch], cos_theta + first, z[ch], static_cast<std::uint32_t>(m), mean[ch], dn[ch], exact[ch]);
+      if (!e.shot) continue;
+      std::uint32_t count = 0;
+      for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(m); ++i) {  // the samples needing exact shot noise
+        index[count] = i;
+        count += exact[ch][i] != 0.0f ? 1 : 0;
+      }
+      if (count == 0) continue;
+      std::uint32_t small = 0;
+      for (std::uint32_t n = 0; n < count; ++n) {
+        const std::uint32_t i = index[n];
+        const float mu = mean[ch][i];
+        const auto j = static_cast<std::uint32_t>(3 * (first + i) + static_cast<std::size_t>(ch));  // the sample
+        if (mu < kExactPoissonBelow) {
+          small_mu[small] = mu;
+          small_u[small] = uniform(keys.poisson, j);
+          index[small++] = i;  // reuses the slots already read
+        } else {  // near the full well: the normal approximation, then clipped
+          const float shot_e = fast::max(0.0f, mu + __builtin_sqrtf(mu) * normal(keys.poisson, keys.poisson_normal, j));
+          dn[ch][i] = fast::max(0.0f, fast::min(e.gain * (fast::min(shot_e, e.full_well) + e.read_noise * z[ch][i]), 255.0f));
+        }
+      }
+      poisson_by_inversion(small_mu, small_u, small, small_k);
+      for (std::uint32_t n = 0; n < small; ++n) {
+        const std::uint32_t i = index[n];
+        dn[ch][i] = fast::max(0.0f, fast::min(e.gain * (fast::min(small_k[n], e.full_well) + e.read_noise * z[ch][i]), 255.0f));
       }
     }
     std::uint8_t* bytes = rgb + 3 * first;

@@ -9,7 +9,7 @@
 //               within 2 ulp for positive normal x (what the renderer passes: ratios of distances >= 1).
 //   fast::acos  Cephes asinf's polynomial on [0, 1/2], acos(x) = 2 asin(sqrt((1 - x) / 2)) above it and
 //               pi - acos(-x) below zero; within 3e-7 rad on [-1, 1] (clamped outside).
-//   fast::cos_2pi  cos(2 pi u) for u in [0, 1] (below), within 1e-7.
+//   fast::cos_2pi, sin_2pi  cos(2 pi u) and sin(2 pi u) for u in [0, 1] (below), within 1e-7.
 #pragma once
 
 #include <cstdint>
@@ -104,18 +104,32 @@ inline float acos(float x) {
   return x < 0.0f ? kPi - acos_a : acos_a;
 }
 
-// cos(2 pi u) for u in [0, 1]: the nearest quarter turn q / 4 split off exactly, then Cephes' sinf and
-// cosf polynomials on the remaining |2 pi (u - q / 4)| <= pi / 4; within 1e-7 (absolute).
-inline float cos_2pi(float u) {
+// cos(2 pi u) and sin(2 pi u) for u in [0, 1]: the nearest quarter turn q / 4 split off exactly, then
+// Cephes' sinf and cosf polynomials on the remaining |2 pi (u - q / 4)| <= pi / 4; within 1e-7
+// (absolute).
+struct QuarterTurn {
+  std::int32_t q;      // the quarter turns, mod 4
+  float sin_r, cos_r;  // of the rest
+};
+inline QuarterTurn quarter_turn(float u) {
   const float quarter = static_cast<float>(static_cast<std::int32_t>(4.0f * u + 0.5f));  // u >= 0: floor
   const float r = (u - 0.25f * quarter) * 6.28318530717958648f;
   const float r2 = r * r;
   const float sin_r = r + r * r2 * (-1.6666654611e-1f + r2 * (8.3321608736e-3f + r2 * -1.9515295891e-4f));
   const float cos_r = (1.0f - 0.5f * r2) + r2 * r2 * (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
-  const std::int32_t q = static_cast<std::int32_t>(quarter) & 3;
-  const float even = q == 0 ? cos_r : -cos_r;  // q = 0 or 2
-  const float odd = q == 1 ? -sin_r : sin_r;   // q = 1 or 3
-  return (q & 1) != 0 ? odd : even;
+  return QuarterTurn{static_cast<std::int32_t>(quarter) & 3, sin_r, cos_r};
+}
+inline float cos_2pi(float u) {
+  const QuarterTurn t = quarter_turn(u);
+  const float even = t.q == 0 ? t.cos_r : -t.cos_r;  // q = 0 or 2
+  const float odd = t.q == 1 ? -t.sin_r : t.sin_r;   // q = 1 or 3
+  return (t.q & 1) != 0 ? odd : even;
+}
+inline float sin_2pi(float u) {
+  const QuarterTurn t = quarter_turn(u);
+  const float even = t.q == 0 ? t.sin_r : -t.sin_r;  // q = 0 or 2
+  const float odd = t.q == 1 ? t.cos_r : -t.cos_r;   // q = 1 or 3
+  return (t.q & 1) != 0 ? odd : even;
 }
 
 }  // namespace hadal::render::fast
