@@ -201,11 +201,14 @@ struct BandArrays {
 // clear ones are tested against the bodies' boxes, and those that must be cast are appended.
 // Vectorized loops here and in render_band: every array element and constant is loaded into a local
 // before any condition uses it (a load inside a branch keeps GCC from turning the branch into a select).
+// `extent` bounds every segment of the source in the band (camera-relative): a box it misses is not
+// tested pixel by pixel.
 HADAL_VECTOR_KERNEL void gather_shadow_rays(const FrameSetup& f, BandArrays& a, const std::vector<float>& lit, std::size_t n,
-                        std::uint16_t source, geometry::RayBatch& shadows, std::vector<std::uint32_t>& pixel,
-                        std::vector<std::uint16_t>& source_of) {
+                        std::uint16_t source, const Eigen::AlignedBox3f& extent, geometry::RayBatch& shadows,
+                        std::vector<std::uint32_t>& pixel, std::vector<std::uint16_t>& source_of) {
   const float bias = f.bias_m;
   for (const BandBox& box : f.boxes) {
+    if (!extent.intersects(Eigen::AlignedBox3f(Eigen::Vector3f(box.lo), Eigen::Vector3f(box.hi)))) continue;
 #pragma GCC ivdep
     for (std::size_t i = 0; i < n; ++i) {
       const float ox = a.px[i] + bias * a.nx[i], oy = a.py[i] + bias * a.ny[i], oz = a.pz[i] + bias * a.nz[i];
@@ -308,19 +311,23 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
 
   // Shadow rays proved clear (frame.h): the steepest slope of the ground under the band's shadow rays,
   // which run between its hit points and the lights (or straight up from the hit points).
+  // The band's hit points (camera-relative) bound its shadow rays' origins, with the bias.
+  Eigen::AlignedBox3f hit_box;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (t[i] < kInf) hit_box.extend(Eigen::Vector3f(a.px[i], a.py[i], a.pz[i]));
+  }
+  if (!hit_box.isEmpty()) {
+    hit_box.min() -= Eigen::Vector3f::Constant(0.01f + bias);
+    hit_box.max() += Eigen::Vector3f::Constant(0.01f + bias);
+  }
   float climb = kInf;  // a shadow ray climbing faster than this is clear (when also above the ground)
   float slope = 0.0f;
   bool field = false;
-  if (f.height_field && (!f.lights.empty() || f.sky)) {
-    Eigen::AlignedBox2d region;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (t[i] < kInf) region.extend(Eigen::Vector2d(f.p_WC.x() + a.px[i], f.p_WC.y() + a.py[i]));
-    }
-    if (!region.isEmpty()) {
+  if (f.height_field && (!f.lights.empty() || f.sky) && !hit_box.isEmpty()) {
+    Eigen::AlignedBox2d region(hit_box.min().head<2>().cast<double>() + f.p_WC.head<2>(),
+                               hit_box.max().head<2>().cast<double>() + f.p_WC.head<2>());
+    {
       for (const Eigen::Vector2d& xy : f.light_xy_W) region.extend(xy);
-      const double pad = 0.01 + f.bias_m;  // the shadow origins lie bias_m off the hit points
-      region.min() -= Eigen::Vector2d::Constant(pad);
-      region.max() += Eigen::Vector2d::Constant(pad);
       const double L = f.scene->static_height_field_max_slope(region).value_or(kInf);
       field = std::isfinite(L);
       slope = static_cast<float>(L);
@@ -366,7 +373,9 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
       lit[i] = candidate ? 1.0f : 0.0f;
       a.cast[i] = candidate ? 1.0f - clear : 0.0f;
     }
-    gather_shadow_rays(f, a, a.lit[l], n, static_cast<std::uint16_t>(l), shadows, shadow_pixel, shadow_source);
+    Eigen::AlignedBox3f extent = hit_box;
+    extent.extend(Eigen::Vector3f(L.x, L.y, L.z));
+    gather_shadow_rays(f, a, a.lit[l], n, static_cast<std::uint16_t>(l), extent, shadows, shadow_pixel, shadow_source);
   }
   const float floor_z = f.floor_z, surface_z = f.surface_z;
   if (f.sky) {
@@ -382,7 +391,9 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
       lit[i] = candidate;
       a.cast[i] = candidate * (1.0f - above);  // straight up climbs faster than any slope
     }
-    gather_shadow_rays(f, a, a.lit.back(), n, static_cast<std::uint16_t>(sources - 1), shadows, shadow_pixel,
+    Eigen::AlignedBox3f extent = hit_box;  // and up to the surface
+    if (!extent.isEmpty()) extent.max().z() = std::max(extent.max().z(), surface_z);
+    gather_shadow_rays(f, a, a.lit.back(), n, static_cast<std::uint16_t>(sources - 1), extent, shadows, shadow_pixel,
                        shadow_source);
   }
   if (shadows.size() > 0) {
@@ -620,7 +631,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
                         frame.height_px, forward_source, frame.radiance, parallel);
   }
   frame.snow_particles = add_marine_snow(lighting.marine_snow, lens, X_WC, lighting.water, lighting.lights,
-                                         frame.depth_m, frame.radiance);
+                                         frame.depth_m, frame.radiance, parallel);
   return frame;
 }
 

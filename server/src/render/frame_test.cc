@@ -356,7 +356,8 @@ TEST(FrameTest, SameInputsGiveTheSameFrame) {
   expect_same_frame(a, b);
 }
 
-// Bands, backscatter rows and forward-scatter rows as tasks on two threads, or backwards on one: the same frame bit for bit
+// Bands, backscatter rows, forward-scatter rows and marine snow's slabs as tasks on two threads, or
+// backwards on one: the same frame bit for bit
 // (render/frame.h: a function of its inputs whatever the threads).
 TEST(FrameTest, SameFrameWhateverTheThreads) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
@@ -365,6 +366,9 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
   lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
   lighting.water.scattering_per_m = Rgb::Constant(0.08);
   lighting.water.forward_scatter_max_angle_rad = 0.15;  // the spread's row tasks too
+  lighting.marine_snow.density_per_m3 = 300.0;         // and marine snow's slabs
+  lighting.marine_snow.max_range_m = 5.0;
+  lighting.marine_snow.seed = 3;
   SpotLight left, right;
   left.p_WL = Eigen::Vector3d(0.0, 0.4, 0.0);
   right.p_WL = Eigen::Vector3d(0.0, -0.4, 0.0);
@@ -386,8 +390,10 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
     const RadianceFrame frame = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white, parallel);
     expect_same_frame(frame, serial);
     EXPECT_EQ(frame.shadow_rays, serial.shadow_rays);
+    EXPECT_EQ(frame.snow_particles, serial.snow_particles);
   }
   EXPECT_GT(serial.shadow_rays, 0u);
+  EXPECT_GT(serial.snow_particles, 100u);
 }
 
 // A frame as scene work on the ray-cast workers (how a camera renders in the simulation): the same

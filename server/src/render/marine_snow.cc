@@ -44,7 +44,8 @@ void validate(const MarineSnow& snow) {
 
 std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eigen::Isometry3d& X_WC,
                             const WaterOptics& water, const std::vector<SpotLight>& lights,
-                            const std::vector<float>& depth_m, std::vector<Eigen::Array3f>& radiance) {
+                            const std::vector<float>& depth_m, std::vector<Eigen::Array3f>& radiance,
+                            const ParallelFor& parallel) {
   validate(snow);
   if (snow.density_per_m3 == 0.0 || lights.empty()) return 0;
   const int width = lens.width_px(), height = lens.height_px();
@@ -62,8 +63,20 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
   const double half_diagonal = 0.5 * std::sqrt(3.0) * cell;
   const double reach2 = (snow.max_range_m + half_diagonal) * (snow.max_range_m + half_diagonal);
   const Eigen::Vector3d z_C_in_W = X_WC.linear().col(2);  // the optical axis in W
-  std::size_t drawn = 0;
-  for (std::int64_t i = lo(0); i <= hi(0); ++i) {
+  // Slabs of cells (one x index each) are tasks; each lists what it adds where, and the lists are
+  // added in slab order afterwards: the same sums whatever the threads.
+  struct Splat {
+    std::size_t pixel;
+    Eigen::Array3f radiance;
+  };
+  const std::int64_t first_slab = lo(0);
+  const auto slabs = static_cast<std::size_t>(hi(0) - first_slab + 1);
+  std::vector<std::vector<Splat>> splats(slabs);
+  std::vector<std::size_t> drawn_in(slabs, 0);
+  parallel(slabs, [&](std::size_t slab) {
+    const std::int64_t i = first_slab + static_cast<std::int64_t>(slab);
+    std::vector<Splat>& out = splats[slab];
+    std::size_t& drawn = drawn_in[slab];
     for (std::int64_t j = lo(1); j <= hi(1); ++j) {
       // The column's cells within reach: centres with (z - p_z)^2 <= reach^2 - dx^2 - dy^2 (one cell
       // of margin each way; the test below is exact).
@@ -101,7 +114,7 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
         const double radius_px = radius * lens.spec().fx / p_C.z();
         const Rgb L = snow.albedo / kPi * irradiance * transmittance(c, d);
         if (radius_px <= 0.5) {
-          radiance[pixel] += (L * std::min(1.0, kPi * radius_px * radius_px)).cast<float>();
+          out.push_back({pixel, (L * std::min(1.0, kPi * radius_px * radius_px)).cast<float>()});
         } else {
           const long reach = static_cast<long>(std::ceil(radius_px));
           for (long dv = -reach; dv <= reach; ++dv) {
@@ -110,13 +123,18 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
               if (x < 0 || y < 0 || x >= width || y >= height || du * du + dv * dv > radius_px * radius_px) continue;
               const std::size_t q = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
               if (std::isfinite(depth_m[q]) && depth_m[q] <= p_C.z()) continue;
-              radiance[q] += L.cast<float>();
+              out.push_back({q, L.cast<float>()});
             }
           }
         }
         ++drawn;
       }
     }
+  });
+  std::size_t drawn = 0;
+  for (std::size_t slab = 0; slab < slabs; ++slab) {
+    for (const Splat& splat : splats[slab]) radiance[splat.pixel] += splat.radiance;
+    drawn += drawn_in[slab];
   }
   return drawn;
 }

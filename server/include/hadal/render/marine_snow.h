@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "hadal/core/parallel_for.h"
 #include "hadal/render/lens.h"
 #include "hadal/render/optics.h"
 
@@ -35,9 +36,11 @@ struct MarineSnow {
 void validate(const MarineSnow& snow);
 
 // Adds the particles' radiance to `radiance` (row-major, lens-sized), not where `depth_m` (metres along
-// the optical axis, NaN: nothing hit) is nearer. Returns the number of particles drawn.
+// the optical axis, NaN: nothing hit) is nearer. Returns the number of particles drawn. Slabs of cells
+// are the tasks of `parallel`; the sums are the same whatever the threads.
 std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eigen::Isometry3d& X_WC,
                             const WaterOptics& water, const std::vector<SpotLight>& lights,
-                            const std::vector<float>& depth_m, std::vector<Eigen::Array3f>& radiance);
+                            const std::vector<float>& depth_m, std::vector<Eigen::Array3f>& radiance,
+                            const ParallelFor& parallel = serial_for);
 
 }  // namespace hadal::render
