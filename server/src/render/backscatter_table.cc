@@ -34,7 +34,8 @@ BackscatterTable::BackscatterTable(const WaterOptics& water, const std::vector<S
     std::size_t i;
     double w;
     locate(node_u_, u, &i, &w);
-    column_node_.push_back(static_cast<std::uint32_t>(i));
+    column_node_.push_back(static_cast<std::int32_t>(i));
+    column_next_node_.push_back(static_cast<std::int32_t>(std::min(i + 1, node_u_.size() - 1)));
     column_weight_.push_back(static_cast<float>(w));
   }
 
@@ -112,12 +113,12 @@ HADAL_VECTOR_KERNEL void BackscatterTable::add_row(int v, const float* s_end, fl
   const float wv = static_cast<float>(wv_d);
   const std::size_t columns = node_u_.size();
   const std::size_t next_row = std::min(node_row + 1, node_v_.size() - 1);
-  const std::size_t stride = 3 * static_cast<std::size_t>(samples_ + 1);
-  const float* row0 = &cumulative_[node_row * columns * stride];
-  const float* row1 = &cumulative_[next_row * columns * stride];
+  const std::int32_t stride = 3 * (samples_ + 1);
+  const float* row0 = &cumulative_[node_row * columns * static_cast<std::size_t>(stride)];
+  const float* row1 = &cumulative_[next_row * columns * static_cast<std::size_t>(stride)];
   const float s0 = static_cast<float>(s0_), s_max = static_cast<float>(s_max_);
   const float scale = static_cast<float>(samples_ / log_ratio_), inv_s0 = static_cast<float>(1.0 / s0_);
-  const std::size_t last_interval = static_cast<std::size_t>(samples_ - 1);
+  const std::int32_t last_interval = samples_ - 1;
   const std::size_t width = column_node_.size();
   constexpr std::size_t kChunk = 64;
   float position[kChunk];  // in the s grid, 0..samples
@@ -127,27 +128,36 @@ HADAL_VECTOR_KERNEL void BackscatterTable::add_row(int v, const float* s_end, fl
       const float s = fast::max(s0, fast::min(s_end[begin + j], s_max));
       position[j] = fast::max(0.0f, scale * fast::log(s * inv_s0));
     }
-    for (std::size_t j = 0; j < count; ++j) {
-      const std::size_t u = begin + j;
-      if (!(s_end[u] > s0)) continue;
+    // The four nodes around each pixel, interpolated in s, then bilinearly: vectorized (AVX2 gathers)
+    // with 32-bit offsets into the table's two node rows.
+    const float* __restrict ends = s_end + begin;
+    const std::int32_t* __restrict nodes = column_node_.data() + begin;
+    const std::int32_t* __restrict next_nodes = column_next_node_.data() + begin;
+    const float* __restrict weights = column_weight_.data() + begin;
+    const float* __restrict table0 = row0;
+    const float* __restrict table1 = row1;
+    float* __restrict out_r = r + begin;
+    float* __restrict out_g = g + begin;
+    float* __restrict out_b = b + begin;
+#pragma GCC ivdep
+    for (std::int32_t j = 0; j < static_cast<std::int32_t>(count); ++j) {
+      const float end = ends[j], t = position[j], wu = weights[j];
       // The interval of the s grid and the position in it: the same for the four nodes around (u, v).
-      const std::size_t k = std::min(static_cast<std::size_t>(position[j]), last_interval);
-      const float f = position[j] - static_cast<float>(k);
-      const std::size_t i = column_node_[u], i1 = std::min(i + 1, columns - 1);
-      const float wu = column_weight_[u];
-      const float* n00 = row0 + i * stride + 3 * k;
-      const float* n10 = row0 + i1 * stride + 3 * k;
-      const float* n01 = row1 + i * stride + 3 * k;
-      const float* n11 = row1 + i1 * stride + 3 * k;
+      const std::int32_t k = std::min(static_cast<std::int32_t>(t), last_interval);
+      const float f = t - static_cast<float>(k);
+      const std::int32_t o0 = nodes[j] * stride + 3 * k, o1 = next_nodes[j] * stride + 3 * k;
+      const float keep = end > s0 ? 1.0f : 0.0f;  // beyond the start of the water's path only
       float out[3];
       for (int ch = 0; ch < 3; ++ch) {
-        const float v00 = n00[ch] + f * (n00[3 + ch] - n00[ch]), v10 = n10[ch] + f * (n10[3 + ch] - n10[ch]);
-        const float v01 = n01[ch] + f * (n01[3 + ch] - n01[ch]), v11 = n11[ch] + f * (n11[3 + ch] - n11[ch]);
-        out[ch] = (1.0f - wv) * ((1.0f - wu) * v00 + wu * v10) + wv * ((1.0f - wu) * v01 + wu * v11);
+        const float a00 = table0[o0 + ch], b00 = table0[o0 + 3 + ch], a10 = table0[o1 + ch], b10 = table0[o1 + 3 + ch];
+        const float a01 = table1[o0 + ch], b01 = table1[o0 + 3 + ch], a11 = table1[o1 + ch], b11 = table1[o1 + 3 + ch];
+        const float v00 = a00 + f * (b00 - a00), v10 = a10 + f * (b10 - a10);
+        const float v01 = a01 + f * (b01 - a01), v11 = a11 + f * (b11 - a11);
+        out[ch] = keep * ((1.0f - wv) * ((1.0f - wu) * v00 + wu * v10) + wv * ((1.0f - wu) * v01 + wu * v11));
       }
-      r[u] += out[0];
-      g[u] += out[1];
-      b[u] += out[2];
+      out_r[j] += out[0];
+      out_g[j] += out[1];
+      out_b[j] += out[2];
     }
   }
 }

@@ -53,8 +53,9 @@ class BackscatterTable {
   Rgb cumulative(std::size_t node, std::size_t k, double f) const;
 
   std::vector<int> node_u_, node_v_;  // pixel columns and rows of the nodes
-  std::vector<std::uint32_t> column_node_;  // per pixel column: the node column at or left of it
-  std::vector<float> column_weight_;        // and the weight of the node column after it
+  std::vector<std::int32_t> column_node_;       // per pixel column: the node column at or left of it,
+  std::vector<std::int32_t> column_next_node_;  // the one after it (the same at the last column)
+  std::vector<float> column_weight_;            // and the weight of the one after it
   int grid_ = 1;  // [px]
   int samples_ = 0;
   double s0_ = 0.0, s_max_ = 0.0, log_ratio_ = 0.0;
