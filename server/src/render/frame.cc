@@ -175,6 +175,8 @@ struct BandArrays {
     for (std::vector<float>* v : {&ar, &ag, &ab, &sr, &sg, &sb}) std::fill(v->begin(), v->end(), 0.0f);
     lit.resize(sources);
     for (std::vector<float>& v : lit) v.resize(n);
+    contribution.resize(3 * sources);
+    for (std::vector<float>& v : contribution) v.resize(n);
     primary.clear_rays();
     shadows.clear_rays();
     hits.resize(n);
@@ -189,7 +191,10 @@ struct BandArrays {
   std::vector<float> cast;        // 1: the current light's shadow ray must be cast
   std::vector<float> sdx, sdy, sdz, slen;  // the current light's shadow ray: unit direction, length [m]
   std::vector<float> s_end;       // where the ray's water ends: the hit, or the far clip [m]
-  std::vector<std::vector<float>> lit;  // per light, then the sky: 1 where it reaches the point
+  std::vector<std::vector<float>> lit;  // per light, then the sky: 1 where it may light the point
+  // Per source, R, G and B: its radiance at the camera from the surface, were nothing in its way (set
+  // to 0 where a shadow ray is blocked).
+  std::vector<std::vector<float>> contribution;
   geometry::RayBatch primary, shadows;
   geometry::RayHits hits;
   std::vector<std::uint32_t> shadow_pixel;   // per shadow ray cast: its pixel
@@ -347,13 +352,20 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   shadows.coherence = geometry::RayCoherence::kCoherent;
   std::vector<std::uint32_t>& shadow_pixel = a.shadow_pixel;
   std::vector<std::uint16_t>& shadow_source = a.shadow_source;
+  // Each light: where it may light the point (in its beam, before the surface), the Lambertian term it
+  // would give (render/optics.h), seen through the water over d_light + d_camera, and the shadow rays
+  // to cast (from bias_m off the surface; none where the term is 0).
   for (std::size_t l = 0; l < f.lights.size(); ++l) {
     const BandLight L = f.lights[l];
+    const float i0 = L.intensity[0] * kInvPi, i1 = L.intensity[1] * kInvPi, i2 = L.intensity[2] * kInvPi;
     float* lit = a.lit[l].data();
+    float* out_r = a.contribution[3 * l].data();
+    float* out_g = a.contribution[3 * l + 1].data();
+    float* out_b = a.contribution[3 * l + 2].data();
 #pragma GCC ivdep
     for (std::size_t i = 0; i < n; ++i) {
       const float px = a.px[i], py = a.py[i], pz = a.pz[i], nx = a.nx[i], ny = a.ny[i], nz = a.nz[i];
-      const float ti = t[i], above = a.above[i];
+      const float ti = t[i], above = a.above[i], ar = a.ar[i], ag = a.ag[i], ab = a.ab[i];
       // From the shadow origin (bias_m off the surface) to the light.
       const float tx = L.x - (px + bias * nx), ty = L.y - (py + bias * ny), tz = L.z - (pz + bias * nz);
       const float distance = __builtin_sqrtf(tx * tx + ty * ty + tz * tz);
@@ -366,21 +378,47 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
       a.sdy[i] = sy;
       a.sdz[i] = sz;
       a.slen[i] = distance - bias;
-      // (Masks as 0/1 floats: GCC turns `candidate & !clear ? ..` into branches, this into selects.)
+      // The Lambertian term at the hit point itself (from the light to the point).
+      const float qx = px - L.x, qy = py - L.y, qz = pz - L.z;
+      const float d2 = qx * qx + qy * qy + qz * qz;
+      const float d_light = __builtin_sqrtf(d2);
+      const float inv_d = 1.0f / d_light;
+      const float ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;
+      const float cos_incidence = -(nx * ux + ny * uy + nz * uz);
+      const float cos_axis = fast::max(-1.0f, fast::min(1.0f, L.ax * ux + L.ay * uy + L.az * uz));
+      const float edge = fast::max(0.0f, fast::min(1.0f, (L.outer_rad - fast::acos(cos_axis)) * L.inv_edge_rad));
+      const float smooth = edge * edge * (3.0f - 2.0f * edge);
+      const float beam = cos_axis >= L.cos_inner ? 1.0f : (cos_axis <= L.cos_outer ? 0.0f : smooth);
+      const bool shade = candidate & (cos_incidence > 0.0f) & (d_light > 0.0f);
+      const float irradiance = beam * cos_incidence / d2;
+      const float g = shade ? irradiance : 0.0f;
+      const float path = d_light + (ti < kInf ? ti : 0.0f);  // finite on a miss (g is 0 there)
+      out_r[i] = g * ar * i0 * fast::exp(-c0 * path);
+      out_g[i] = g * ag * i1 * fast::exp(-c1 * path);
+      out_b[i] = g * ab * i2 * fast::exp(-c2 * path);
+      // (Masks as 0/1 floats: GCC turns `lights & !clear ? ..` into branches, this into selects.)
       const float clear = (above != 0.0f) & (sz > climb * __builtin_sqrtf(sx * sx + sy * sy)) ? 1.0f : 0.0f;
-      lit[i] = candidate ? 1.0f : 0.0f;
-      a.cast[i] = candidate ? 1.0f - clear : 0.0f;
+      const float lights = g > 0.0f ? 1.0f : 0.0f;
+      lit[i] = lights;
+      a.cast[i] = lights * (1.0f - clear);
     }
     Eigen::AlignedBox3f extent = hit_box;
     extent.extend(Eigen::Vector3f(L.x, L.y, L.z));
     gather_shadow_rays(f, a, a.lit[l], n, static_cast<std::uint16_t>(l), extent, shadows, shadow_pixel, shadow_source);
   }
+  // Daylight on the surface (render/optics.h daylight_surface_radiance): E0 exp(-(Kd depth + c d_camera))
+  // times the sky's share (1 + n_z) / 2, where the hit sees up to the surface (a shadow ray straight up).
   const float floor_z = f.floor_z, surface_z = f.surface_z;
+  const float Kd0 = f.Kd[0], Kd1 = f.Kd[1], Kd2 = f.Kd[2];
   if (f.sky) {
+    const float e0 = f.E0[0] * kInvPi, e1 = f.E0[1] * kInvPi, e2 = f.E0[2] * kInvPi;
     float* lit = a.lit.back().data();
+    float* out_r = a.contribution[3 * (sources - 1)].data();
+    float* out_g = a.contribution[3 * (sources - 1) + 1].data();
+    float* out_b = a.contribution[3 * (sources - 1) + 2].data();
 #pragma GCC ivdep
     for (std::size_t i = 0; i < n; ++i) {
-      const float ti = t[i], nz = a.nz[i], pz = a.pz[i], above = a.above[i];
+      const float ti = t[i], nz = a.nz[i], pz = a.pz[i], above = a.above[i], ar = a.ar[i], ag = a.ag[i], ab = a.ab[i];
       const float candidate = (ti < kInf) & (nz > -1.0f) & (pz > floor_z) ? 1.0f : 0.0f;
       a.sdx[i] = 0.0f;
       a.sdy[i] = 0.0f;
@@ -388,6 +426,13 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
       a.slen[i] = fast::max(0.0f, surface_z - pz);
       lit[i] = candidate;
       a.cast[i] = candidate * (1.0f - above);  // straight up climbs faster than any slope
+      const float tilt = 0.5f * (1.0f + nz);
+      const float share = candidate != 0.0f ? tilt : 0.0f;
+      const float below = fast::max(0.0f, surface_z - pz);  // depth of the point [m]
+      const float d = ti < kInf ? ti : 0.0f;
+      out_r[i] = share * ar * e0 * fast::exp(-(Kd0 * below + c0 * d));
+      out_g[i] = share * ag * e1 * fast::exp(-(Kd1 * below + c1 * d));
+      out_b[i] = share * ab * e2 * fast::exp(-(Kd2 * below + c2 * d));
     }
     Eigen::AlignedBox3f extent = hit_box;  // and up to the surface
     if (!extent.isEmpty()) extent.max().z() = std::max(extent.max().z(), surface_z);
@@ -399,55 +444,20 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
     blocked.resize(shadows.size());
     f.scene->occluded(shadows, 0, shadows.size(), blocked);
     for (std::size_t k = 0; k < blocked.size(); ++k) {
-      if (blocked[k] != 0) a.lit[shadow_source[k]][shadow_pixel[k]] = 0.0f;
+      if (blocked[k] == 0) continue;
+      for (int ch = 0; ch < 3; ++ch) a.contribution[3 * std::size_t{shadow_source[k]} + static_cast<std::size_t>(ch)][shadow_pixel[k]] = 0.0f;
     }
   }
-
-  // The surfaces' radiance at the camera: each light's Lambertian term (render/optics.h), seen through
-  // the water over d_light + d_camera.
-  for (std::size_t l = 0; l < f.lights.size(); ++l) {
-    const BandLight L = f.lights[l];
-    const float i0 = L.intensity[0] * kInvPi, i1 = L.intensity[1] * kInvPi, i2 = L.intensity[2] * kInvPi;
-    const float* lit = a.lit[l].data();
+  // The surfaces' radiance at the camera: the sources' terms that reach it.
+  for (std::size_t source = 0; source < sources; ++source) {
+    const float* in_r = a.contribution[3 * source].data();
+    const float* in_g = a.contribution[3 * source + 1].data();
+    const float* in_b = a.contribution[3 * source + 2].data();
 #pragma GCC ivdep
     for (std::size_t i = 0; i < n; ++i) {
-      const float px = a.px[i], py = a.py[i], pz = a.pz[i], nx = a.nx[i], ny = a.ny[i], nz = a.nz[i];
-      const float ti = t[i], reaches = lit[i];
-      const float qx = px - L.x, qy = py - L.y, qz = pz - L.z;  // from the light to the point
-      const float d2 = qx * qx + qy * qy + qz * qz;
-      const float d_light = __builtin_sqrtf(d2);
-      const float inv = 1.0f / d_light;
-      const float ux = qx * inv, uy = qy * inv, uz = qz * inv;
-      const float cos_incidence = -(nx * ux + ny * uy + nz * uz);
-      const float cos_axis = fast::max(-1.0f, fast::min(1.0f, L.ax * ux + L.ay * uy + L.az * uz));
-      const float edge = fast::max(0.0f, fast::min(1.0f, (L.outer_rad - fast::acos(cos_axis)) * L.inv_edge_rad));
-      const float smooth = edge * edge * (3.0f - 2.0f * edge);
-      const float beam = cos_axis >= L.cos_inner ? 1.0f : (cos_axis <= L.cos_outer ? 0.0f : smooth);
-      const bool shade = (reaches != 0.0f) & (cos_incidence > 0.0f) & (d_light > 0.0f);
-      const float irradiance = beam * cos_incidence / d2;
-      const float g = shade ? irradiance : 0.0f;
-      const float path = d_light + (ti < kInf ? ti : 0.0f);  // finite on a miss (g is 0 there)
-      a.sr[i] += g * a.ar[i] * i0 * fast::exp(-c0 * path);
-      a.sg[i] += g * a.ag[i] * i1 * fast::exp(-c1 * path);
-      a.sb[i] += g * a.ab[i] * i2 * fast::exp(-c2 * path);
-    }
-  }
-  // Daylight on the surface (render/optics.h daylight_surface_radiance): E0 exp(-(Kd depth + c d_camera))
-  // times the sky's share (1 + n_z) / 2.
-  const float Kd0 = f.Kd[0], Kd1 = f.Kd[1], Kd2 = f.Kd[2];
-  if (f.sky) {
-    const float e0 = f.E0[0] * kInvPi, e1 = f.E0[1] * kInvPi, e2 = f.E0[2] * kInvPi;
-    const float* lit = a.lit.back().data();
-#pragma GCC ivdep
-    for (std::size_t i = 0; i < n; ++i) {
-      const float reaches = lit[i], nz = a.nz[i], pz = a.pz[i], ti = t[i];
-      const float tilt = 0.5f * (1.0f + nz);
-      const float share = reaches != 0.0f ? tilt : 0.0f;
-      const float below = fast::max(0.0f, surface_z - pz);  // depth of the point [m]
-      const float d = ti < kInf ? ti : 0.0f;
-      a.sr[i] += share * a.ar[i] * e0 * fast::exp(-(Kd0 * below + c0 * d));
-      a.sg[i] += share * a.ag[i] * e1 * fast::exp(-(Kd1 * below + c1 * d));
-      a.sb[i] += share * a.ab[i] * e2 * fast::exp(-(Kd2 * below + c2 * d));
+      a.sr[i] += in_r[i];
+      a.sg[i] += in_g[i];
+      a.sb[i] += in_b[i];
     }
   }
   // Forward scatter's source: the surfaces' radiance times exp(b_f d) - 1 (render/forward_scatter.h).
