@@ -200,6 +200,7 @@ struct BandArrays {
   std::vector<std::uint32_t> shadow_pixel;   // per shadow ray cast: its pixel
   std::vector<std::uint16_t> shadow_source;  // and its light (the sky last)
   std::vector<std::uint8_t> blocked;
+  std::vector<std::uint32_t> index;  // scratch: pixels whose shadow ray is cast
 };
 
 // Shadow-ray candidates of one source (a light, or the sky) whose rays are in a.sdx.. and a.cast: the
@@ -222,13 +223,35 @@ HADAL_VECTOR_KERNEL void gather_shadow_rays(const FrameSetup& f, BandArrays& a, 
       a.cast[i] = (reaches != 0.0f) & meets ? 1.0f : cast;
     }
   }
+  // The rays to cast, compacted without branches, then appended to the batch at once.
+  std::vector<std::uint32_t>& index = a.index;
+  index.resize(n);
+  std::size_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (a.cast[i] == 0.0f) continue;
-    const Eigen::Vector3d origin_C(a.px[i] + bias * a.nx[i], a.py[i] + bias * a.ny[i], a.pz[i] + bias * a.nz[i]);
-    shadows.add_ray((f.p_WC + origin_C).cast<float>(), Eigen::Vector3f(a.sdx[i], a.sdy[i], a.sdz[i]), 0.0f, a.slen[i],
-                    f.ignore_body);
-    pixel.push_back(static_cast<std::uint32_t>(i));
-    source_of.push_back(source);
+    index[count] = static_cast<std::uint32_t>(i);
+    count += a.cast[i] != 0.0f ? 1 : 0;
+  }
+  const std::size_t first = shadows.size();
+  for (std::vector<float>* v : {&shadows.p_WO_x, &shadows.p_WO_y, &shadows.p_WO_z, &shadows.d_W_x, &shadows.d_W_y,
+                                &shadows.d_W_z, &shadows.t_near, &shadows.t_far}) {
+    v->resize(first + count);
+  }
+  if (f.ignore_body != geometry::kNoHit) shadows.ignore_body.resize(first + count, f.ignore_body);
+  pixel.resize(first + count);
+  source_of.resize(first + count, source);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t i = index[k];
+    const std::size_t r = first + k;
+    // The origin in W in double precision before rounding (as far from the world origin as need be).
+    shadows.p_WO_x[r] = static_cast<float>(f.p_WC.x() + static_cast<double>(a.px[i] + bias * a.nx[i]));
+    shadows.p_WO_y[r] = static_cast<float>(f.p_WC.y() + static_cast<double>(a.py[i] + bias * a.ny[i]));
+    shadows.p_WO_z[r] = static_cast<float>(f.p_WC.z() + static_cast<double>(a.pz[i] + bias * a.nz[i]));
+    shadows.d_W_x[r] = a.sdx[i];
+    shadows.d_W_y[r] = a.sdy[i];
+    shadows.d_W_z[r] = a.sdz[i];
+    shadows.t_near[r] = 0.0f;
+    shadows.t_far[r] = a.slen[i];
+    pixel[r] = i;
   }
 }
 
