@@ -1,6 +1,6 @@
 // render/fast_math.h against the C library over a million arguments each, and the same bits whether
-// the compiler vectorizes a loop through them for AVX2 or for the x86-64 baseline (the renderer's
-// kernels are compiled both ways: HADAL_VECTOR_KERNEL).
+// the compiler vectorizes a loop through them for AVX-512, AVX2 or the x86-64 baseline (the renderer's
+// kernels are compiled all three ways: HADAL_VECTOR_KERNEL).
 #include "hadal/render/fast_math.h"
 
 #include <gtest/gtest.h>
@@ -73,6 +73,7 @@ TEST(FastMathTest, AcosCos2PiAndSin2PiAreWithinTheirBounds) {
 HADAL_TEST_LOOPS(baseline, )
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 HADAL_TEST_LOOPS(avx2, __attribute__((target("avx2"))))
+HADAL_TEST_LOOPS(avx512, __attribute__((target("avx512f"))))
 #endif
 
 TEST(FastMathTest, SameBitsVectorizedForAvx2AndForTheBaseline) {
@@ -95,6 +96,27 @@ TEST(FastMathTest, SameBitsVectorizedForAvx2AndForTheBaseline) {
   for (std::size_t i = 0; i < n; i += 997) {
     EXPECT_EQ(a[i], fast::acos(2.0f * unit[i] - 1.0f) + fast::cos_2pi(unit[i]) - fast::sin_2pi(unit[i]));
   }
+#else
+  GTEST_SKIP() << "function multiversioning is GCC on x86-64 only";
+#endif
+}
+
+TEST(FastMathTest, SameBitsVectorizedForAvx512AndForTheBaseline) {
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+  if (!__builtin_cpu_supports("avx512f")) GTEST_SKIP() << "this CPU has no AVX-512: nothing to compare";
+  const std::size_t n = 1000003;  // not a multiple of 16: the loops' scalar tails too
+  const std::vector<float> exponent = spread(-100.0f, 100.0f, n), positive = spread(1e-30f, 1e6f, n),
+                           unit = spread(0.0f, 1.0f, n);
+  std::vector<float> a(n), b(n);
+  exp_baseline(exponent.data(), a.data(), n);
+  exp_avx512(exponent.data(), b.data(), n);
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), n * sizeof(float)), 0);
+  log_baseline(positive.data(), a.data(), n);
+  log_avx512(positive.data(), b.data(), n);
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), n * sizeof(float)), 0);
+  trig_baseline(unit.data(), a.data(), n);
+  trig_avx512(unit.data(), b.data(), n);
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), n * sizeof(float)), 0);
 #else
   GTEST_SKIP() << "function multiversioning is GCC on x86-64 only";
 #endif

@@ -121,17 +121,19 @@ struct BandBox {
 };
 
 // Whether the segment o + s d, s in [0, length], meets the box (slab test; a zero direction component
-// is taken as 1e-30, which keeps the test's answer for origins inside or outside that slab).
+// is taken as 1e-30, which keeps the test's answer for origins inside or outside that slab). Written
+// out axis by axis without branches, so that the loop calling it vectorizes.
+inline void slab(float lo, float hi, float o, float d, float& t0, float& t1) {
+  const float inv = 1.0f / (d == 0.0f ? 1e-30f : d);
+  const float ta = (lo - o) * inv, tb = (hi - o) * inv;
+  t0 = fast::max(t0, fast::min(ta, tb));
+  t1 = fast::min(t1, fast::max(ta, tb));
+}
 inline bool segment_meets(const BandBox& box, float ox, float oy, float oz, float dx, float dy, float dz, float length) {
-  const float o[3] = {ox, oy, oz};
-  const float d[3] = {dx, dy, dz};
   float t0 = 0.0f, t1 = length;
-  for (int k = 0; k < 3; ++k) {
-    const float inv = 1.0f / (d[k] == 0.0f ? 1e-30f : d[k]);
-    const float ta = (box.lo[k] - o[k]) * inv, tb = (box.hi[k] - o[k]) * inv;
-    t0 = fast::max(t0, fast::min(ta, tb));
-    t1 = fast::min(t1, fast::max(ta, tb));
-  }
+  slab(box.lo[0], box.hi[0], ox, dx, t0, t1);
+  slab(box.lo[1], box.hi[1], oy, dy, t0, t1);
+  slab(box.lo[2], box.hi[2], oz, dz, t0, t1);
   return t0 <= t1;
 }
 
@@ -215,12 +217,25 @@ HADAL_VECTOR_KERNEL void gather_shadow_rays(const FrameSetup& f, BandArrays& a, 
   const float bias = f.bias_m;
   for (const BandBox& box : f.boxes) {
     if (!extent.intersects(Eigen::AlignedBox3f(Eigen::Vector3f(box.lo), Eigen::Vector3f(box.hi)))) continue;
+    const BandBox b = box;
+    const float* px = a.px.data();
+    const float* py = a.py.data();
+    const float* pz = a.pz.data();
+    const float* nx = a.nx.data();
+    const float* ny = a.ny.data();
+    const float* nz = a.nz.data();
+    const float* sdx = a.sdx.data();
+    const float* sdy = a.sdy.data();
+    const float* sdz = a.sdz.data();
+    const float* slen = a.slen.data();
+    const float* reach = lit.data();
+    float* cast = a.cast.data();
 #pragma GCC ivdep
     for (std::size_t i = 0; i < n; ++i) {
-      const float ox = a.px[i] + bias * a.nx[i], oy = a.py[i] + bias * a.ny[i], oz = a.pz[i] + bias * a.nz[i];
-      const bool meets = segment_meets(box, ox, oy, oz, a.sdx[i], a.sdy[i], a.sdz[i], a.slen[i]);
-      const float reaches = lit[i], cast = a.cast[i];
-      a.cast[i] = (reaches != 0.0f) & meets ? 1.0f : cast;
+      const float ox = px[i] + bias * nx[i], oy = py[i] + bias * ny[i], oz = pz[i] + bias * nz[i];
+      const float meets = segment_meets(b, ox, oy, oz, sdx[i], sdy[i], sdz[i], slen[i]) ? 1.0f : 0.0f;
+      const float reaches = reach[i] != 0.0f ? 1.0f : 0.0f, was = cast[i];
+      cast[i] = fast::max(was, reaches * meets);
     }
   }
   // The rays to cast, compacted without branches, then appended to the batch at once.
