@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "hadal/render/fast_math.h"
@@ -50,19 +51,20 @@ BackscatterTable::BackscatterTable(const WaterOptics& water, const std::vector<S
   const std::vector<LightBeam> beams(lights.begin(), lights.end());
   const Eigen::Matrix3d R_WC = X_WC.linear();
   const Eigen::Vector3d p_WC = X_WC.translation();
-  const std::size_t stride = 3 * static_cast<std::size_t>(samples + 1);
-  cumulative_.assign(nodes() * stride, 0.0f);
+  // One float of padding: add_row's loads of the last node's last entry read one float past it.
+  cumulative_.assign(3 * nodes() * static_cast<std::size_t>(samples + 1) + 1, 0.0f);
   parallel(node_v_.size(), [&](std::size_t row) {
     for (std::size_t col = 0; col < node_u_.size(); ++col) {
       const Eigen::Vector3d d_W = (R_WC * lens.ray_C(node_u_[col], node_v_[row]).cast<double>()).normalized();
-      float* out = &cumulative_[(row * node_u_.size() + col) * stride];
+      const std::size_t node = row * node_u_.size() + col;
       Rgb sum = Rgb::Zero();
       for (int k = 0; k < samples; ++k) {
         const Eigen::Vector3d x_W = p_WC + s[k] * d_W;
         Rgb from_lights = Rgb::Zero();
         for (const LightBeam& beam : beams) from_lights += backscatter_from_light(water, c, beam, x_W, d_W);
         sum += from_lights * weight[k];
-        for (int ch = 0; ch < 3; ++ch) out[3 * (k + 1) + ch] = static_cast<float>(sum[ch]);
+        float* out = &cumulative_[entry(node, static_cast<std::size_t>(k) + 1)];
+        for (int ch = 0; ch < 3; ++ch) out[ch] = static_cast<float>(sum[ch]);
       }
     }
   });
@@ -81,10 +83,10 @@ void BackscatterTable::locate(const std::vector<int>& nodes, int x, std::size_t*
 }
 
 Rgb BackscatterTable::cumulative(std::size_t node, std::size_t k, double f) const {
-  const std::size_t stride = 3 * static_cast<std::size_t>(samples_ + 1);
-  const float* lo = &cumulative_[node * stride + 3 * k];
+  const float* lo = &cumulative_[entry(node, k)];
+  const float* hi = &cumulative_[entry(node, k + 1)];
   Rgb value;
-  for (int ch = 0; ch < 3; ++ch) value[ch] = lo[ch] + f * (static_cast<double>(lo[3 + ch]) - lo[ch]);
+  for (int ch = 0; ch < 3; ++ch) value[ch] = lo[ch] + f * (static_cast<double>(hi[ch]) - lo[ch]);
   return value;
 }
 
@@ -113,51 +115,62 @@ HADAL_VECTOR_KERNEL void BackscatterTable::add_row(int v, const float* s_end, fl
   const float wv = static_cast<float>(wv_d);
   const std::size_t columns = node_u_.size();
   const std::size_t next_row = std::min(node_row + 1, node_v_.size() - 1);
-  const std::int32_t stride = 3 * (samples_ + 1);
-  const float* row0 = &cumulative_[node_row * columns * static_cast<std::size_t>(stride)];
-  const float* row1 = &cumulative_[next_row * columns * static_cast<std::size_t>(stride)];
+  // Offsets in the table: of a node from its row's first, of the next node row, of the next s plane.
+  const std::size_t plane = 3 * nodes();
+  const float* row0 = &cumulative_[entry(node_row * columns, 0)];
+  const std::size_t next_row_offset = 3 * (next_row - node_row) * columns;
   const float s0 = static_cast<float>(s0_), s_max = static_cast<float>(s_max_);
   const float scale = static_cast<float>(samples_ / log_ratio_), inv_s0 = static_cast<float>(1.0 / s0_);
   const std::int32_t last_interval = samples_ - 1;
   const std::size_t width = column_node_.size();
   constexpr std::size_t kChunk = 64;
   float position[kChunk];  // in the s grid, 0..samples
+  float add_r[kChunk], add_g[kChunk], add_b[kChunk];
   for (std::size_t begin = 0; begin < width; begin += kChunk) {
     const std::size_t count = std::min(kChunk, width - begin);
     for (std::size_t j = 0; j < count; ++j) {  // the logs, vectorized
       const float s = fast::max(s0, fast::min(s_end[begin + j], s_max));
       position[j] = fast::max(0.0f, scale * fast::log(s * inv_s0));
     }
-    // The four nodes around each pixel, interpolated in s, then bilinearly: vectorized (AVX2 gathers)
-    // with 32-bit offsets into the table's two node rows.
-    const float* __restrict ends = s_end + begin;
-    const std::int32_t* __restrict nodes = column_node_.data() + begin;
-    const std::int32_t* __restrict next_nodes = column_next_node_.data() + begin;
-    const float* __restrict weights = column_weight_.data() + begin;
-    const float* __restrict table0 = row0;
-    const float* __restrict table1 = row1;
-    float* __restrict out_r = r + begin;
-    float* __restrict out_g = g + begin;
-    float* __restrict out_b = b + begin;
-#pragma GCC ivdep
-    for (std::int32_t j = 0; j < static_cast<std::int32_t>(count); ++j) {
-      const float end = ends[j], t = position[j], wu = weights[j];
+    // The four nodes around each pixel, interpolated in s, then bilinearly: one pixel at a time, its
+    // three channels in the lanes of one 4-float vector (GCC's vector extension: SSE on every x86-64
+    // clone), one unaligned load per node and s plane; the fourth lane reads the next float of the
+    // table (padded at its end) and is ignored. A row's pixels mostly share k: they sweep along four
+    // short runs of the table (two node rows in two planes).
+    // Lane by lane the operations are those of the scalar formula, in the same order.
+    typedef float Rgbx __attribute__((vector_size(16)));
+    const auto load = [](const float* p) {
+      Rgbx v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    };
+    for (std::size_t j = 0; j < count; ++j) {
+      const float t = position[j], wu = column_weight_[begin + j];
       // The interval of the s grid and the position in it: the same for the four nodes around (u, v).
       const std::int32_t k = std::min(static_cast<std::int32_t>(t), last_interval);
       const float f = t - static_cast<float>(k);
-      const std::int32_t o0 = nodes[j] * stride + 3 * k, o1 = next_nodes[j] * stride + 3 * k;
-      const float keep = end > s0 ? 1.0f : 0.0f;  // beyond the start of the water's path only
-      float out[3];
-      for (int ch = 0; ch < 3; ++ch) {
-        const float a00 = table0[o0 + ch], b00 = table0[o0 + 3 + ch], a10 = table0[o1 + ch], b10 = table0[o1 + 3 + ch];
-        const float a01 = table1[o0 + ch], b01 = table1[o0 + 3 + ch], a11 = table1[o1 + ch], b11 = table1[o1 + 3 + ch];
-        const float v00 = a00 + f * (b00 - a00), v10 = a10 + f * (b10 - a10);
-        const float v01 = a01 + f * (b01 - a01), v11 = a11 + f * (b11 - a11);
-        out[ch] = keep * ((1.0f - wv) * ((1.0f - wu) * v00 + wu * v10) + wv * ((1.0f - wu) * v01 + wu * v11));
-      }
-      out_r[j] += out[0];
-      out_g[j] += out[1];
-      out_b[j] += out[2];
+      const float* p0 = row0 + static_cast<std::size_t>(k) * plane;  // plane k, node row below
+      const float* p1 = p0 + next_row_offset;                         // plane k, node row after
+      const std::size_t o0 = 3 * static_cast<std::size_t>(column_node_[begin + j]);
+      const std::size_t o1 = 3 * static_cast<std::size_t>(column_next_node_[begin + j]);
+      const float keep = s_end[begin + j] > s0 ? 1.0f : 0.0f;  // beyond the start of the water's path only
+      const Rgbx a00 = load(p0 + o0), b00 = load(p0 + plane + o0), a10 = load(p0 + o1), b10 = load(p0 + plane + o1);
+      const Rgbx a01 = load(p1 + o0), b01 = load(p1 + plane + o0), a11 = load(p1 + o1), b11 = load(p1 + plane + o1);
+      const Rgbx v00 = a00 + f * (b00 - a00), v10 = a10 + f * (b10 - a10);
+      const Rgbx v01 = a01 + f * (b01 - a01), v11 = a11 + f * (b11 - a11);
+      const Rgbx out = keep * ((1.0f - wv) * ((1.0f - wu) * v00 + wu * v10) + wv * ((1.0f - wu) * v01 + wu * v11));
+      add_r[j] = out[0];
+      add_g[j] = out[1];
+      add_b[j] = out[2];
+    }
+    // Added to the row's sums afterwards, vectorized (not three scalar read-modify-writes per pixel).
+    float* __restrict out_r = r + begin;
+    float* __restrict out_g = g + begin;
+    float* __restrict out_b = b + begin;
+    for (std::size_t j = 0; j < count; ++j) {
+      out_r[j] += add_r[j];
+      out_g[j] += add_g[j];
+      out_b[j] += add_b[j];
     }
   }
 }

@@ -124,6 +124,41 @@ TEST(BackscatterTableTest, EmptyWithoutLightsOrScatteringAndRejectsBadGrids) {
   EXPECT_THROW(BackscatterTable(setup.water, setup.lights, lens, setup.X_WC, 0.1, 10.0, 16, 0), std::invalid_argument);
 }
 
+// add_row (single precision, a row at a time: what a frame uses) against at() (double precision), on
+// every row of a 100x75 frame, node rows and rows between, every column including the last, with each
+// pixel's ray end drawn across [s0, s_max] (and below s0 and beyond s_max): within 2e-6 of the frame's
+// largest value (fast::log's 2 ulp and float sums), nothing where s_end <= s0, and added to what the
+// row held (a second call doubles it, exactly).
+TEST(BackscatterTableTest, RowsInSinglePrecisionMatchThePixelLookup) {
+  const Lens lens = make_lens(lens_from_horizontal_fov(100, 75, 1.3));
+  const LitWater setup(0.2, 0.5);
+  const double s0 = 0.1, s_max = 18.0;
+  const BackscatterTable table(setup.water, setup.lights, lens, setup.X_WC, s0, s_max, 128, 8);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> log_s(std::log(0.05), std::log(25.0));
+  double largest = 0.0;
+  for (int u = 0; u < 100; ++u) largest = std::max(largest, table.at(u, 37, s_max).maxCoeff());
+  ASSERT_GT(largest, 0.0);
+  for (int v = 0; v < 75; ++v) {
+    std::vector<float> s_end(100), r(100, 0.0f), g(100, 0.0f), b(100, 0.0f);
+    for (float& s : s_end) s = static_cast<float>(std::exp(log_s(rng)));
+    s_end[0] = static_cast<float>(s0);  // exactly at the start: nothing
+    s_end[99] = 30.0f;                  // beyond s_max: the whole table
+    table.add_row(v, s_end.data(), r.data(), g.data(), b.data());
+    for (int u = 0; u < 100; ++u) {
+      const Rgb expected = s_end[u] > s0 ? table.at(u, v, s_end[u]) : Rgb::Zero();
+      const std::array<float, 3> got = {r[u], g[u], b[u]};
+      for (int ch = 0; ch < 3; ++ch) {
+        ASSERT_NEAR(got[ch], expected[ch], 2e-6 * largest) << "u " << u << " v " << v << " ch " << ch;
+      }
+    }
+    ASSERT_EQ(r[0], 0.0f);
+    const std::vector<float> once = g;
+    table.add_row(v, s_end.data(), r.data(), g.data(), b.data());
+    for (int u = 0; u < 100; ++u) ASSERT_EQ(g[u], 2.0f * once[u]);
+  }
+}
+
 // Rows of nodes are independent: built on a loop that runs them backwards, the table is the same.
 TEST(BackscatterTableTest, DoesNotDependOnTheOrderOfItsRows) {
   const Lens lens = make_lens(lens_from_horizontal_fov(96, 64, 1.2));

@@ -51,6 +51,8 @@ class BackscatterTable {
   void locate(const std::vector<int>& nodes, int x, std::size_t* below, double* weight) const;
   // A node's cumulative integral at position f in interval k of the s grid.
   Rgb cumulative(std::size_t node, std::size_t k, double f) const;
+  // Index in cumulative_ of a node's R at the end of interval k - 1 (k = 0: s0, where it is 0).
+  std::size_t entry(std::size_t node, std::size_t k) const { return 3 * (k * nodes() + node); }
 
   std::vector<int> node_u_, node_v_;  // pixel columns and rows of the nodes
   std::vector<std::int32_t> column_node_;       // per pixel column: the node column at or left of it,
@@ -59,7 +61,9 @@ class BackscatterTable {
   int grid_ = 1;  // [px]
   int samples_ = 0;
   double s0_ = 0.0, s_max_ = 0.0, log_ratio_ = 0.0;
-  std::vector<float> cumulative_;  // per node (row-major), samples + 1 entries of R, G, B
+  // samples + 1 planes (s0, then the end of each interval of the s grid), each with every node's
+  // (row-major) R, G, B: the pixels of an image row read short runs of it.
+  std::vector<float> cumulative_;
 };
 
 }  // namespace hadal::render
