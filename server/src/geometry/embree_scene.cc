@@ -339,6 +339,14 @@ struct EmbreeScene::Impl {
   RTCScene trace = nullptr;  // what rays are traced against: top, or the static scene without bodies
   std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
   bool poses_set = false;
+  // The body instances' boxes at the current poses (body_bounds_W), and the same in single precision
+  // widened by a little more than its rounding, for the bodies' pass's test (bodies_within_reach).
+  struct BodyBoxf {
+    std::int32_t body;
+    float lo[3], hi[3];
+  };
+  std::vector<BodyBounds> body_bounds;
+  std::vector<BodyBoxf> body_boxes;
   // Two passes (make_view): the static scene traced directly, then the top level with the static
   // instance left out by ray mask, from the first pass's hit on (its tfar). Instance traversal costs a
   // quarter of a coherent stream's throughput; the bodies' pass, a few boxes, little.
@@ -364,6 +372,121 @@ struct EmbreeScene::Impl {
 
   ~Impl() {
     if (top != nullptr) rtcReleaseScene(top);
+  }
+
+  // The bodies' pass over rays [begin, end) of one block, whose segments run from t_near to
+  // tfar[k - begin]: which rays may reach a body's box (the box of the body every ray of the block
+  // ignores left out, when they all ignore the same one). Writes each ray's t_near for that pass into
+  // t_near_out: its own where it may, +inf where it cannot (Embree passes over a ray whose tnear is
+  // above its tfar), and returns whether any ray may. For a camera, most rays of most frames reach no
+  // body (the bodies' pass was a quarter of a frame's tracing). Conservative: a ray is dropped only
+  // when its segment misses every box by more than the rounding here. Four rays at a time with SSE,
+  // branch-free slab tests; a zero direction component is taken as +-1e-30 (no inf * 0).
+  bool bodies_within_reach(const RayBatch& rays, std::size_t begin, std::size_t end, const float* tfar,
+                           float* t_near_out) const {
+    const std::size_t n = end - begin;
+    const float* t_near = &rays.t_near[begin];
+    std::copy(t_near, t_near + n, t_near_out);
+    if (body_boxes.empty() || n == 0) return n > 0 && !body_boxes.empty();
+    const std::int32_t ignored = ignored_by(rays, begin);
+    bool same_ignored = true;
+    if (!rays.ignore_body.empty()) {
+      for (std::size_t i = begin + 1; i < end && same_ignored; ++i) same_ignored = rays.ignore_body[i] == ignored;
+    }
+    // The boxes to test, widened by the slab test's rounding (a few ulp of the coordinates), generously.
+    thread_local std::vector<BodyBoxf> boxes;
+    boxes.clear();
+    for (const BodyBoxf& box : body_boxes) {
+      if (same_ignored && box.body == ignored) continue;
+      BodyBoxf wide = box;
+      for (int a = 0; a < 3; ++a) {
+        const float margin = 1e-3f + 1e-5f * std::max(std::abs(box.lo[a]), std::abs(box.hi[a]));
+        wide.lo[a] -= margin;
+        wide.hi[a] += margin;
+      }
+      boxes.push_back(wide);
+    }
+    if (boxes.empty()) {
+      std::fill(t_near_out, t_near_out + n, std::numeric_limits<float>::infinity());
+      return false;
+    }
+    const float* origin[3] = {&rays.p_WO_x[begin], &rays.p_WO_y[begin], &rays.p_WO_z[begin]};
+    const float* direction[3] = {&rays.d_W_x[begin], &rays.d_W_y[begin], &rays.d_W_z[begin]};
+    constexpr float kTiny = 1e-30f;
+    bool any = false;
+    std::size_t k = 0;
+#if defined(__SSE2__)
+    const __m128 sign_bit = _mm_set1_ps(-0.0f), tiny = _mm_set1_ps(kTiny), inf = _mm_set1_ps(kInf);
+    for (; k + 4 <= n; k += 4) {
+      __m128 inv[3], o[3];
+      for (int a = 0; a < 3; ++a) {
+        const __m128 d = _mm_loadu_ps(direction[a] + k);
+        const __m128 magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, d), tiny);
+        inv[a] = _mm_div_ps(_mm_set1_ps(1.0f), _mm_or_ps(magnitude, _mm_and_ps(sign_bit, d)));
+        o[a] = _mm_loadu_ps(origin[a] + k);
+      }
+      const __m128 t0 = _mm_loadu_ps(t_near + k), t1 = _mm_loadu_ps(tfar + k);
+      __m128 reach = _mm_setzero_ps();
+      for (const BodyBoxf& box : boxes) {
+        __m128 lo = t0, hi = t1;
+        for (int a = 0; a < 3; ++a) {
+          const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box.lo[a]), o[a]), inv[a]);
+          const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box.hi[a]), o[a]), inv[a]);
+          lo = _mm_max_ps(lo, _mm_min_ps(ta, tb));
+          hi = _mm_min_ps(hi, _mm_max_ps(ta, tb));
+        }
+        reach = _mm_or_ps(reach, _mm_cmple_ps(lo, hi));
+      }
+      any = any || _mm_movemask_ps(reach) != 0;
+      _mm_storeu_ps(t_near_out + k, _mm_or_ps(_mm_and_ps(reach, t0), _mm_andnot_ps(reach, inf)));
+    }
+#endif
+    for (; k < n; ++k) {
+      bool reach = false;
+      for (const BodyBoxf& box : boxes) {
+        float lo = t_near[k], hi = tfar[k];
+        for (int a = 0; a < 3; ++a) {
+          const float d = direction[a][k];
+          const float inv = 1.0f / std::copysign(std::max(std::abs(d), kTiny), d);
+          const float ta = (box.lo[a] - origin[a][k]) * inv, tb = (box.hi[a] - origin[a][k]) * inv;
+          lo = std::max(lo, std::min(ta, tb));
+          hi = std::min(hi, std::max(ta, tb));
+        }
+        reach = reach || lo <= hi;
+      }
+      any = any || reach;
+      if (!reach) t_near_out[k] = kInf;
+    }
+    return any;
+  }
+
+  // The body instances' boxes in W at their current transforms, padded by 1 cm (Embree moves the
+  // vertices in single precision), into body_bounds and body_boxes.
+  void update_body_bounds() {
+    body_bounds.clear();
+    body_boxes.clear();
+    for (const Instance& instance : instances) {
+      if (instance.body == kStaticBody) continue;
+      const Eigen::AlignedBox3d& box_B = world->body_scenes.at(instance.body).bounds_B;
+      // The pose as Embree has it (column-major 3x4, single precision).
+      const Transform12& m = instance.transform;
+      BodyBounds bounds{instance.body, Eigen::AlignedBox3d()};
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d c = box_B.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
+        bounds.box_W.extend(Eigen::Vector3d(m[0] * c.x() + m[3] * c.y() + m[6] * c.z() + m[9],
+                                            m[1] * c.x() + m[4] * c.y() + m[7] * c.z() + m[10],
+                                            m[2] * c.x() + m[5] * c.y() + m[8] * c.z() + m[11]));
+      }
+      bounds.box_W.min().array() -= 0.01;
+      bounds.box_W.max().array() += 0.01;
+      body_bounds.push_back(bounds);
+      BodyBoxf box{instance.body, {}, {}};
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = std::nextafter(static_cast<float>(bounds.box_W.min()[a]), -std::numeric_limits<float>::infinity());
+        box.hi[a] = std::nextafter(static_cast<float>(bounds.box_W.max()[a]), std::numeric_limits<float>::infinity());
+      }
+      body_boxes.push_back(box);
+    }
   }
 
   // This view's top level over the built world: the static scene traced directly when nothing moves
@@ -636,7 +759,11 @@ struct EmbreeScene::Impl {
       for (std::size_t k = 0; k < n; ++k) mask[k] = body_pass_mask(ignored_by(rays, begin + k));
       rh.hit.geomID = body_geom;
       rh.hit.instID[0] = body_inst;
-      rtcIntersectNp(top, context, &rh, static_cast<unsigned>(n));
+      alignas(64) float body_tnear[kBlock];
+      if (bodies_within_reach(rays, begin, end, &hits.distance[begin], body_tnear)) {
+        rh.ray.tnear = body_tnear;
+        rtcIntersectNp(top, context, &rh, static_cast<unsigned>(n));
+      }
       for (std::size_t k = 0; k < n; ++k) {
         if (body_geom[k] == kInvalidId) continue;
         geom[k] = body_geom[k];
@@ -678,8 +805,12 @@ struct EmbreeScene::Impl {
       RTCIntersectContext unfiltered = *context;  // the static scene has no context filter (make_view)
       unfiltered.filter = nullptr;
       rtcOccludedNp(first_pass(), split ? &unfiltered : context, &r, static_cast<unsigned>(n));
-      if (split) {  // the bodies, for the rays the static scene left clear (Embree skips tfar -inf)
+      // The bodies, for the rays the static scene left clear (Embree skips tfar -inf), if any may
+      // reach one (over the rays' whole length).
+      alignas(64) float body_tnear[kBlock];
+      if (split && bodies_within_reach(rays, begin, end, &rays.t_far[begin], body_tnear)) {
         for (std::size_t k = 0; k < n; ++k) mask[k] = body_pass_mask(ignored_by(rays, begin + k));
+        r.tnear = body_tnear;
         rtcOccludedNp(top, context, &r, static_cast<unsigned>(n));
       }
     } else if (world->packet_width == 16) {
@@ -824,25 +955,7 @@ std::vector<BodyBounds> EmbreeScene::body_bounds_W() const {
   const Impl& s = *impl_;
   if (!s.world->built) throw std::logic_error("EmbreeScene::body_bounds_W: called before build()");
   if (!s.poses_set) throw std::logic_error("EmbreeScene::body_bounds_W: body poses were never set");
-  std::vector<BodyBounds> out;
-  for (const Impl::Instance& instance : s.instances) {
-    if (instance.body == kStaticBody) continue;
-    const Eigen::AlignedBox3d& box_B = s.world->body_scenes.at(instance.body).bounds_B;
-    // The pose as Embree has it (column-major 3x4, single precision).
-    const Transform12& m = instance.transform;
-    BodyBounds bounds{instance.body, Eigen::AlignedBox3d()};
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3d c = box_B.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
-      bounds.box_W.extend(Eigen::Vector3d(m[0] * c.x() + m[3] * c.y() + m[6] * c.z() + m[9],
-                                          m[1] * c.x() + m[4] * c.y() + m[7] * c.z() + m[10],
-                                          m[2] * c.x() + m[5] * c.y() + m[8] * c.z() + m[11]));
-    }
-    // Padded by 1 cm: Embree moves the vertices in single precision.
-    bounds.box_W.min().array() -= 0.01;
-    bounds.box_W.max().array() += 0.01;
-    out.push_back(bounds);
-  }
-  return out;
+  return s.body_bounds;
 }
 
 int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::uint32_t material_id,
@@ -930,6 +1043,7 @@ void EmbreeScene::set_body_poses(const std::vector<Eigen::Isometry3d>& X_WB) {
   if (changed) {
     rtcCommitScene(s.top);
     s.world->check("committing body poses");
+    s.update_body_bounds();
   }
   s.poses_set = true;
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -524,6 +525,74 @@ TEST(EmbreeScene, AllQueryPathsGiveIdenticalHits) {
       }
     }
   }
+}
+
+// A camera's frame as the renderer traces it: every ray ignores the camera's own hull (a body around
+// the rays' origin), and a small body sits on the seabed in one corner of the view. The stream path
+// skips the bodies' pass for the blocks whose rays cannot reach a body (most of them here); its hits,
+// and occluded()'s answers, stay those of single rays, which always trace both passes.
+TEST(EmbreeScene, BlocksOutOfTheBodiesReachGiveTheSameHits) {
+  EmbreeScene scene;
+  scene.add_static_mesh(grid(64, 100.0f, [](float x, float y) { return -100.0f + 0.5f * std::sin(0.3f * x) * std::cos(0.2f * y); }));
+  scene.add_body_mesh(0, box(1.0f, 0.3f, 0.3f));  // the camera's hull
+  scene.add_body_mesh(1, box(0.6f, 0.6f, 0.6f));  // a small object on the seabed
+  scene.build();
+  std::vector<Eigen::Isometry3d> poses(2, Eigen::Isometry3d::Identity());
+  poses[0].translation() = Eigen::Vector3d(0.0, 0.0, -95.0);
+  poses[1].translate(Eigen::Vector3d(9.13, 1.27, -99.41));
+  poses[1].rotate(Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 0.1, 1.0).normalized()));
+  scene.set_body_poses(poses);
+
+  const int width = 160, height = 120;
+  const Eigen::Vector3f p_WC(0.5f, 0.0f, -95.0f);  // inside the hull
+  RayBatch batch;
+  batch.coherence = RayCoherence::kCoherent;
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {  // forward (x), 30 deg down, 60 deg across
+      const float across = 0.6f * (static_cast<float>(u) / width - 0.5f);
+      const float down = -0.55f - 0.45f * (static_cast<float>(v) / height - 0.5f);
+      batch.add_ray(p_WC, Eigen::Vector3f(1.0f, -across, down).normalized(), 0.0f, 30.0f, 0);
+    }
+  }
+  const RayHits single = trace(scene, batch, QueryPath::kSingle);
+  const RayHits stream = trace(scene, batch, QueryPath::kStream);
+  std::size_t object_hits = 0;
+  std::vector<bool> block_sees_object((batch.size() + 255) / 256, false);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    SCOPED_TRACE("ray " + std::to_string(i) + " bodies " + std::to_string(single.body[i]) + " " + std::to_string(stream.body[i]));
+    ASSERT_EQ(single.distance[i], stream.distance[i]);
+    ASSERT_EQ(single.body[i], stream.body[i]);
+    ASSERT_EQ(single.mesh[i], stream.mesh[i]);
+    ASSERT_NE(stream.body[i], 0);  // the hull is passed
+    if (stream.body[i] == 1) {
+      ++object_hits;
+      block_sees_object[i / 256] = true;
+    }
+  }
+  EXPECT_GT(object_hits, 50u);
+  const auto blocks_with_object = static_cast<std::size_t>(std::count(block_sees_object.begin(), block_sees_object.end(), true));
+  EXPECT_GT(blocks_with_object, 0u);
+  EXPECT_LT(blocks_with_object, block_sees_object.size() / 2);  // most blocks never see the object
+
+  // Rays from the seabed's hit points towards a light above the object: the object shadows some.
+  RayBatch shadows;
+  shadows.coherence = RayCoherence::kCoherent;
+  const Eigen::Vector3f light(9.1f, 1.3f, -96.0f);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    if (stream.body[i] != kStaticBody) continue;
+    const Eigen::Vector3f p = p_WC + stream.distance[i] * Eigen::Vector3f(batch.d_W_x[i], batch.d_W_y[i], batch.d_W_z[i]) +
+                              Eigen::Vector3f(0.0f, 0.0f, 1e-3f);
+    shadows.add_ray(p, (light - p).normalized(), 0.0f, (light - p).norm(), 0);
+  }
+  const RayHits shadow_hits = trace(scene, shadows, QueryPath::kSingle);
+  std::vector<std::uint8_t> blocked(shadows.size(), 7);
+  scene.occluded(shadows, 0, shadows.size(), blocked);
+  std::size_t shadowed = 0;
+  for (std::size_t i = 0; i < shadows.size(); ++i) {
+    ASSERT_EQ(blocked[i], shadow_hits.hit(i) ? 1 : 0) << "shadow ray " << i;
+    shadowed += blocked[i];
+  }
+  EXPECT_GT(shadowed, 20u);
 }
 
 // occluded() answers intersect()'s "hit or not" for every ray: random rays with random far clips, a
