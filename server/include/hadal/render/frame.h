@@ -144,7 +144,10 @@ using AlbedoOfPoints = std::function<void(const SurfacePoints& points, float* r,
 // A per-point albedo function called for each point of a band.
 AlbedoOfPoints per_point(AlbedoAt albedo_of);
 
-constexpr int kBandRows = 16;  // image rows per rendering task
+// Image rows per rendering task: a band's per-pixel arrays (~50 values a pixel: ~1 MB at 640 px) stay
+// within a server core's L2 cache, and 60 tasks for a 480-row frame keep two workers evenly busy to the
+// end (BENCHMARKS.md, camera frame: 16 rows were ~8 % slower on 2 workers).
+constexpr int kBandRows = 8;
 
 // Renders with `scene` as posed now (EmbreeScene::set_body_poses); `ignore_body` (the camera's own
 // vehicle, or geometry::kNoHit) is passed through by camera and shadow rays alike. Throws
