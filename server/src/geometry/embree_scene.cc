@@ -539,6 +539,14 @@ struct EmbreeScene::Impl {
     float* ny = &hits.n_W_y[begin];
     float* nz = &hits.n_W_z[begin];
     const std::size_t n = end - begin;
+    // What a hit's (geomID, instID) maps to, kept from one ray to the next: a block's rays mostly hit
+    // the same mesh (a camera's over a seabed), so the lookups run once per run of equal ids.
+    unsigned cached_geom = kInvalidId, cached_inst = kInvalidId;
+    bool cached = false;
+    int mesh_id = kNoHit;
+    std::int32_t body = kStaticBody;
+    const Eigen::Matrix3f* R_WB = nullptr;  // set for a moving body's instance: its normals rotate into W
+    const EmbreeWorld::Mesh* mesh = nullptr;
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = begin + k;
       const unsigned g = geom[k];
@@ -552,35 +560,41 @@ struct EmbreeScene::Impl {
         hits.tex_u[i] = hits.tex_v[i] = kNaN;
         continue;
       }
-      int mesh_id;
-      std::int32_t body = kStaticBody;
-      if (inst[k] == kInvalidId) {  // the static scene traced directly
-        mesh_id = world->static_mesh_of_geometry[g];
-      } else {
-        const Instance& instance = instances[inst[k]];
-        mesh_id = instance.mesh_of_geometry[g];
-        body = instance.body;
-        if (body != kStaticBody) {
-          const Eigen::Vector3f n_W = instance.R_WB * Eigen::Vector3f(nx[k], ny[k], nz[k]);
-          nx[k] = n_W.x();
-          ny[k] = n_W.y();
-          nz[k] = n_W.z();
+      if (!cached || g != cached_geom || inst[k] != cached_inst) {
+        cached = true;
+        cached_geom = g;
+        cached_inst = inst[k];
+        body = kStaticBody;
+        R_WB = nullptr;
+        if (inst[k] == kInvalidId) {  // the static scene traced directly
+          mesh_id = world->static_mesh_of_geometry[g];
+        } else {
+          const Instance& instance = instances[inst[k]];
+          mesh_id = instance.mesh_of_geometry[g];
+          body = instance.body;
+          if (body != kStaticBody) R_WB = &instance.R_WB;
         }
+        mesh = &world->meshes[static_cast<std::size_t>(mesh_id)];
       }
-      const EmbreeWorld::Mesh& mesh = world->meshes[static_cast<std::size_t>(mesh_id)];
+      if (R_WB != nullptr) {
+        const Eigen::Vector3f n_W = *R_WB * Eigen::Vector3f(nx[k], ny[k], nz[k]);
+        nx[k] = n_W.x();
+        ny[k] = n_W.y();
+        nz[k] = n_W.z();
+      }
       hits.body[i] = body;
       hits.mesh[i] = mesh_id;
-      hits.material[i] = mesh.info.material_id +
-                         (mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[hits.triangle[i]]);
+      hits.material[i] = mesh->info.material_id +
+                         (mesh->triangle_materials.empty() ? 0u : mesh->triangle_materials[hits.triangle[i]]);
       // tex_u, tex_v hold Embree's barycentric u, v of the hit: texture coordinates from them.
-      if (mesh.uvs.empty()) {
+      if (mesh->uvs.empty()) {
         hits.tex_u[i] = hits.tex_v[i] = kNaN;
       } else {
-        const std::uint32_t* tri = &mesh.indices[3 * static_cast<std::size_t>(hits.triangle[i])];
+        const std::uint32_t* tri = &mesh->indices[3 * static_cast<std::size_t>(hits.triangle[i])];
         const float b1 = hits.tex_u[i], b2 = hits.tex_v[i], b0 = 1.0f - b1 - b2;
-        const float* t0 = &mesh.uvs[2 * static_cast<std::size_t>(tri[0])];
-        const float* t1 = &mesh.uvs[2 * static_cast<std::size_t>(tri[1])];
-        const float* t2 = &mesh.uvs[2 * static_cast<std::size_t>(tri[2])];
+        const float* t0 = &mesh->uvs[2 * static_cast<std::size_t>(tri[0])];
+        const float* t1 = &mesh->uvs[2 * static_cast<std::size_t>(tri[1])];
+        const float* t2 = &mesh->uvs[2 * static_cast<std::size_t>(tri[2])];
         hits.tex_u[i] = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
         hits.tex_v[i] = b0 * t0[1] + b1 * t1[1] + b2 * t2[1];
       }
