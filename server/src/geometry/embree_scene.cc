@@ -391,7 +391,10 @@ struct EmbreeScene::Impl {
     const std::int32_t ignored = ignored_by(rays, begin);
     bool same_ignored = true;
     if (!rays.ignore_body.empty()) {
-      for (std::size_t i = begin + 1; i < end && same_ignored; ++i) same_ignored = rays.ignore_body[i] == ignored;
+      const std::int32_t* ignore = &rays.ignore_body[begin];
+      int differs = 0;
+      for (std::size_t k = 0; k < n; ++k) differs |= ignore[k] != ignored ? 1 : 0;  // no early exit: vectorized
+      same_ignored = differs == 0;
     }
     // The boxes to test, widened by the slab test's rounding (a few ulp of the coordinates), generously.
     thread_local std::vector<BodyBoxf> boxes;
@@ -535,9 +538,18 @@ struct EmbreeScene::Impl {
   // (index i - begin).
   void finish(std::size_t begin, std::size_t end, const unsigned* geom, const unsigned* inst,
               RayHits& hits) const {
-    float* nx = &hits.n_W_x[begin];
-    float* ny = &hits.n_W_y[begin];
-    float* nz = &hits.n_W_z[begin];
+    // The output arrays as restrict pointers from the block's first ray (else the compiler reloads the
+    // vectors' data pointers after every store).
+    float* __restrict nx = &hits.n_W_x[begin];
+    float* __restrict ny = &hits.n_W_y[begin];
+    float* __restrict nz = &hits.n_W_z[begin];
+    float* __restrict distance = &hits.distance[begin];
+    std::int32_t* __restrict body_of = &hits.body[begin];
+    std::int32_t* __restrict mesh_of = &hits.mesh[begin];
+    std::uint32_t* __restrict material = &hits.material[begin];
+    std::uint32_t* __restrict triangle = &hits.triangle[begin];
+    float* __restrict tex_u = &hits.tex_u[begin];
+    float* __restrict tex_v = &hits.tex_v[begin];
     const std::size_t n = end - begin;
     // What a hit's (geomID, instID) maps to, kept from one ray to the next: a block's rays mostly hit
     // the same mesh (a camera's over a seabed), so the lookups run once per run of equal ids.
@@ -548,16 +560,15 @@ struct EmbreeScene::Impl {
     const Eigen::Matrix3f* R_WB = nullptr;  // set for a moving body's instance: its normals rotate into W
     const EmbreeWorld::Mesh* mesh = nullptr;
     for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = begin + k;
       const unsigned g = geom[k];
       if (g == kInvalidId) {
-        hits.distance[i] = kInf;
+        distance[k] = kInf;
         nx[k] = ny[k] = nz[k] = 0.0f;
-        hits.body[i] = kNoHit;
-        hits.mesh[i] = kNoHit;
-        hits.material[i] = kInvalidIndex;
-        hits.triangle[i] = kInvalidIndex;
-        hits.tex_u[i] = hits.tex_v[i] = kNaN;
+        body_of[k] = kNoHit;
+        mesh_of[k] = kNoHit;
+        material[k] = kInvalidIndex;
+        triangle[k] = kInvalidIndex;
+        tex_u[k] = tex_v[k] = kNaN;
         continue;
       }
       if (!cached || g != cached_geom || inst[k] != cached_inst) {
@@ -582,21 +593,21 @@ struct EmbreeScene::Impl {
         ny[k] = n_W.y();
         nz[k] = n_W.z();
       }
-      hits.body[i] = body;
-      hits.mesh[i] = mesh_id;
-      hits.material[i] = mesh->info.material_id +
-                         (mesh->triangle_materials.empty() ? 0u : mesh->triangle_materials[hits.triangle[i]]);
+      body_of[k] = body;
+      mesh_of[k] = mesh_id;
+      material[k] = mesh->info.material_id +
+                    (mesh->triangle_materials.empty() ? 0u : mesh->triangle_materials[triangle[k]]);
       // tex_u, tex_v hold Embree's barycentric u, v of the hit: texture coordinates from them.
       if (mesh->uvs.empty()) {
-        hits.tex_u[i] = hits.tex_v[i] = kNaN;
+        tex_u[k] = tex_v[k] = kNaN;
       } else {
-        const std::uint32_t* tri = &mesh->indices[3 * static_cast<std::size_t>(hits.triangle[i])];
-        const float b1 = hits.tex_u[i], b2 = hits.tex_v[i], b0 = 1.0f - b1 - b2;
+        const std::uint32_t* tri = &mesh->indices[3 * static_cast<std::size_t>(triangle[k])];
+        const float b1 = tex_u[k], b2 = tex_v[k], b0 = 1.0f - b1 - b2;
         const float* t0 = &mesh->uvs[2 * static_cast<std::size_t>(tri[0])];
         const float* t1 = &mesh->uvs[2 * static_cast<std::size_t>(tri[1])];
         const float* t2 = &mesh->uvs[2 * static_cast<std::size_t>(tri[2])];
-        hits.tex_u[i] = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
-        hits.tex_v[i] = b0 * t0[1] + b1 * t1[1] + b2 * t2[1];
+        tex_u[k] = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
+        tex_v[k] = b0 * t0[1] + b1 * t1[1] + b2 * t2[1];
       }
     }
     normalize(nx, ny, nz, n);
