@@ -1,5 +1,6 @@
 #include "hadal/geometry/embree_scene.h"
 
+#include "hadal/geometry/segment_slab.h"
 #include "hadal/geometry/slope_grid.h"
 
 #include <embree3/rtcore.h>
@@ -340,7 +341,8 @@ struct EmbreeScene::Impl {
   std::vector<Instance> instances;  // by top-level geomID (= instID of a hit)
   bool poses_set = false;
   // The body instances' boxes at the current poses (body_bounds_W), and the same in single precision
-  // widened by a little more than its rounding, for the bodies' pass's test (bodies_within_reach).
+  // (rounded outwards), widened by the slab test's rounding (a few ulp of the coordinates, generously),
+  // for the bodies' pass's test (bodies_within_reach).
   struct BodyBoxf {
     std::int32_t body;
     float lo[3], hi[3];
@@ -381,13 +383,13 @@ struct EmbreeScene::Impl {
   // above its tfar), and returns whether any ray may. For a camera, most rays of most frames reach no
   // body (the bodies' pass was a quarter of a frame's tracing). Conservative: a ray is dropped only
   // when its segment misses every box by more than the rounding here. Four rays at a time with SSE,
-  // branch-free slab tests; a zero direction component is taken as +-1e-30 (no inf * 0).
+  // the operations of clip_to_slab (geometry/segment_slab.h) on four lanes; the rest with it.
   bool bodies_within_reach(const RayBatch& rays, std::size_t begin, std::size_t end, const float* tfar,
                            float* t_near_out) const {
     const std::size_t n = end - begin;
     const float* t_near = &rays.t_near[begin];
     std::copy(t_near, t_near + n, t_near_out);
-    if (body_boxes.empty() || n == 0) return n > 0 && !body_boxes.empty();
+    if (body_boxes.empty() || n == 0) return false;
     const std::int32_t ignored = ignored_by(rays, begin);
     bool same_ignored = true;
     if (!rays.ignore_body.empty()) {
@@ -396,30 +398,18 @@ struct EmbreeScene::Impl {
       for (std::size_t k = 0; k < n; ++k) differs |= ignore[k] != ignored ? 1 : 0;  // no early exit: vectorized
       same_ignored = differs == 0;
     }
-    // The boxes to test, widened by the slab test's rounding (a few ulp of the coordinates), generously.
-    thread_local std::vector<BodyBoxf> boxes;
-    boxes.clear();
-    for (const BodyBoxf& box : body_boxes) {
-      if (same_ignored && box.body == ignored) continue;
-      BodyBoxf wide = box;
-      for (int a = 0; a < 3; ++a) {
-        const float margin = 1e-3f + 1e-5f * std::max(std::abs(box.lo[a]), std::abs(box.hi[a]));
-        wide.lo[a] -= margin;
-        wide.hi[a] += margin;
-      }
-      boxes.push_back(wide);
-    }
-    if (boxes.empty()) {
-      std::fill(t_near_out, t_near_out + n, std::numeric_limits<float>::infinity());
+    // The body the block's rays all ignore (if they do) is left out.
+    const std::int32_t skipped = same_ignored ? ignored : kNoHit;
+    if (std::all_of(body_boxes.begin(), body_boxes.end(), [&](const BodyBoxf& box) { return box.body == skipped; })) {
+      std::fill(t_near_out, t_near_out + n, kInf);
       return false;
     }
     const float* origin[3] = {&rays.p_WO_x[begin], &rays.p_WO_y[begin], &rays.p_WO_z[begin]};
     const float* direction[3] = {&rays.d_W_x[begin], &rays.d_W_y[begin], &rays.d_W_z[begin]};
-    constexpr float kTiny = 1e-30f;
     bool any = false;
     std::size_t k = 0;
 #if defined(__SSE2__)
-    const __m128 sign_bit = _mm_set1_ps(-0.0f), tiny = _mm_set1_ps(kTiny), inf = _mm_set1_ps(kInf);
+    const __m128 sign_bit = _mm_set1_ps(-0.0f), tiny = _mm_set1_ps(kSlabTinyDirection), inf = _mm_set1_ps(kInf);
     for (; k + 4 <= n; k += 4) {
       __m128 inv[3], o[3];
       for (int a = 0; a < 3; ++a) {
@@ -430,7 +420,8 @@ struct EmbreeScene::Impl {
       }
       const __m128 t0 = _mm_loadu_ps(t_near + k), t1 = _mm_loadu_ps(tfar + k);
       __m128 reach = _mm_setzero_ps();
-      for (const BodyBoxf& box : boxes) {
+      for (const BodyBoxf& box : body_boxes) {
+        if (box.body == skipped) continue;
         __m128 lo = t0, hi = t1;
         for (int a = 0; a < 3; ++a) {
           const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box.lo[a]), o[a]), inv[a]);
@@ -446,15 +437,10 @@ struct EmbreeScene::Impl {
 #endif
     for (; k < n; ++k) {
       bool reach = false;
-      for (const BodyBoxf& box : boxes) {
+      for (const BodyBoxf& box : body_boxes) {
+        if (box.body == skipped) continue;
         float lo = t_near[k], hi = tfar[k];
-        for (int a = 0; a < 3; ++a) {
-          const float d = direction[a][k];
-          const float inv = 1.0f / std::copysign(std::max(std::abs(d), kTiny), d);
-          const float ta = (box.lo[a] - origin[a][k]) * inv, tb = (box.hi[a] - origin[a][k]) * inv;
-          lo = std::max(lo, std::min(ta, tb));
-          hi = std::min(hi, std::max(ta, tb));
-        }
+        for (int a = 0; a < 3; ++a) clip_to_slab(box.lo[a], box.hi[a], origin[a][k], direction[a][k], lo, hi);
         reach = reach || lo <= hi;
       }
       any = any || reach;
@@ -485,8 +471,11 @@ struct EmbreeScene::Impl {
       body_bounds.push_back(bounds);
       BodyBoxf box{instance.body, {}, {}};
       for (int a = 0; a < 3; ++a) {
-        box.lo[a] = std::nextafter(static_cast<float>(bounds.box_W.min()[a]), -std::numeric_limits<float>::infinity());
-        box.hi[a] = std::nextafter(static_cast<float>(bounds.box_W.max()[a]), std::numeric_limits<float>::infinity());
+        const float lo = std::nextafter(static_cast<float>(bounds.box_W.min()[a]), -kInf);
+        const float hi = std::nextafter(static_cast<float>(bounds.box_W.max()[a]), kInf);
+        const float margin = 1e-3f + 1e-5f * std::max(std::abs(lo), std::abs(hi));
+        box.lo[a] = lo - margin;
+        box.hi[a] = hi + margin;
       }
       body_boxes.push_back(box);
     }
@@ -775,20 +764,18 @@ struct EmbreeScene::Impl {
     rh.hit.geomID = geom;
     rh.hit.instID[0] = inst;
     rtcIntersectNp(first_pass(), context, &rh, static_cast<unsigned>(n));
-    if (split) {
-      // The bodies, from the same arrays: tfar is the static hit's distance (or the ray's end), and
-      // Embree overwrites a ray's hit fields only where a body is nearer.
+    // The bodies, if any ray may reach one, from the same arrays: tfar is the static hit's distance
+    // (or the ray's end), and Embree overwrites a ray's hit fields only where a body is nearer.
+    alignas(64) float body_tnear[kBlock];
+    if (split && bodies_within_reach(rays, begin, end, &hits.distance[begin], body_tnear)) {
       alignas(64) unsigned body_geom[kBlock], body_inst[kBlock];
       std::fill_n(body_geom, n, kInvalidId);
       std::fill_n(body_inst, n, kInvalidId);
       for (std::size_t k = 0; k < n; ++k) mask[k] = body_pass_mask(ignored_by(rays, begin + k));
       rh.hit.geomID = body_geom;
       rh.hit.instID[0] = body_inst;
-      alignas(64) float body_tnear[kBlock];
-      if (bodies_within_reach(rays, begin, end, &hits.distance[begin], body_tnear)) {
-        rh.ray.tnear = body_tnear;
-        rtcIntersectNp(top, context, &rh, static_cast<unsigned>(n));
-      }
+      rh.ray.tnear = body_tnear;
+      rtcIntersectNp(top, context, &rh, static_cast<unsigned>(n));
       for (std::size_t k = 0; k < n; ++k) {
         if (body_geom[k] == kInvalidId) continue;
         geom[k] = body_geom[k];

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "hadal/geometry/segment_slab.h"
 #include "hadal/render/camera_rays.h"
 #include "hadal/render/forward_scatter.h"
 
@@ -120,20 +121,13 @@ struct BandBox {
   float lo[3], hi[3];
 };
 
-// Whether the segment o + s d, s in [0, length], meets the box (slab test; a zero direction component
-// is taken as 1e-30, which keeps the test's answer for origins inside or outside that slab). Written
-// out axis by axis without branches, so that the loop calling it vectorizes.
-inline void slab(float lo, float hi, float o, float d, float& t0, float& t1) {
-  const float inv = 1.0f / (d == 0.0f ? 1e-30f : d);
-  const float ta = (lo - o) * inv, tb = (hi - o) * inv;
-  t0 = fast::max(t0, fast::min(ta, tb));
-  t1 = fast::min(t1, fast::max(ta, tb));
-}
+// Whether the segment o + s d, s in [0, length], meets the box (geometry/segment_slab.h: written out
+// axis by axis without branches, so that the loop calling it vectorizes).
 inline bool segment_meets(const BandBox& box, float ox, float oy, float oz, float dx, float dy, float dz, float length) {
   float t0 = 0.0f, t1 = length;
-  slab(box.lo[0], box.hi[0], ox, dx, t0, t1);
-  slab(box.lo[1], box.hi[1], oy, dy, t0, t1);
-  slab(box.lo[2], box.hi[2], oz, dz, t0, t1);
+  geometry::clip_to_slab(box.lo[0], box.hi[0], ox, dx, t0, t1);
+  geometry::clip_to_slab(box.lo[1], box.hi[1], oy, dy, t0, t1);
+  geometry::clip_to_slab(box.lo[2], box.hi[2], oz, dz, t0, t1);
   return t0 <= t1;
 }
 
