@@ -141,15 +141,17 @@ ForwardScatterKernel make_forward_scatter_kernel(const ForwardScatterPsf& psf, d
 
 namespace {
 
-// Planar single-precision images, one plane per channel.
+// Planar single-precision images, one plane per channel; each row has `pad` zero cells on either side
+// (a convolution's source: its taps then read zeros past the edges, and whole rows vectorize).
 struct Planes {
-  int width = 0, height = 0;
+  int width = 0, height = 0, pad = 0;
+  std::size_t stride = 0;
   std::vector<float> c[3];
-  Planes(int w, int h) : width(w), height(h) {
-    for (auto& plane : c) plane.assign(static_cast<std::size_t>(w) * h, 0.0f);
+  Planes(int w, int h, int p = 0) : width(w), height(h), pad(p), stride(static_cast<std::size_t>(w) + 2 * p) {
+    for (auto& plane : c) plane.assign(stride * h, 0.0f);
   }
-  float* row(int ch, int y) { return c[ch].data() + static_cast<std::size_t>(y) * width; }
-  const float* row(int ch, int y) const { return c[ch].data() + static_cast<std::size_t>(y) * width; }
+  float* row(int ch, int y) { return c[ch].data() + static_cast<std::size_t>(y) * stride + pad; }
+  const float* row(int ch, int y) const { return c[ch].data() + static_cast<std::size_t>(y) * stride + pad; }
 };
 
 constexpr int kRowsPerTask = 16;
@@ -168,25 +170,17 @@ struct Tap {
 };
 
 // One row of a convolution (below): dst[x] += sum over taps of weight * sources[t][x] for x in [0, w),
-// where sources[t] is the tap's source row shifted by its dx and the taps are those whose source row
-// exists; sixteen outputs at a time accumulate over all taps (one store each, not one per tap).
+// where sources[t] is the tap's source row shifted by its dx (read past the row's ends: the source's
+// zero padding) and the taps are those whose source row exists; sixteen outputs at a time accumulate
+// over all taps (one store each, not one per tap).
 HADAL_VECTOR_KERNEL void convolve_row(const std::vector<Tap>& taps, const std::vector<const float*>& sources, int w,
-                                      int inner_begin, int inner_end, float* dst) {
-  const auto one = [&](int x) {
-    float sum = 0.0f;
-    for (std::size_t t = 0; t < taps.size(); ++t) {
-      const int xs = x - taps[t].dx;
-      if (xs >= 0 && xs < w) sum += taps[t].weight * sources[t][x];
-    }
-    dst[x] += sum;
-  };
-  for (int x = 0; x < inner_begin; ++x) one(x);
+                                      float* dst) {
   // GCC's vector extension: sixteen floats, one AVX-512 register, two AVX ones or four SSE ones (per
-  // clone); unaligned loads and stores by memcpy. Lane by lane the sums of one() in its order.
+  // clone); unaligned loads and stores by memcpy. Lane by lane the sums of the scalar tail's order.
   typedef float Lanes __attribute__((vector_size(64)));
   constexpr int kLanes = 16;
-  int x = inner_begin;
-  for (; x + kLanes <= inner_end; x += kLanes) {
+  int x = 0;
+  for (; x + kLanes <= w; x += kLanes) {
     Lanes acc = {}, s;
     for (std::size_t t = 0; t < taps.size(); ++t) {
       std::memcpy(&s, sources[t] + x, sizeof s);
@@ -196,12 +190,18 @@ HADAL_VECTOR_KERNEL void convolve_row(const std::vector<Tap>& taps, const std::v
     s += acc;
     std::memcpy(dst + x, &s, sizeof s);
   }
-  for (; x < w; ++x) one(x);
+  for (; x < w; ++x) {
+    float sum = 0.0f;
+    for (std::size_t t = 0; t < taps.size(); ++t) sum += taps[t].weight * sources[t][x];
+    dst[x] += sum;
+  }
 }
 
 // out += the level's weights applied to `in` (both w x h cells): out(x, y) = sum w(dx, dy) in(x - dx, y - dy).
+// `in` is padded by at least the level's reach.
 void convolve(const ForwardScatterKernel::Level& level, const Planes& in, Planes& out, const ParallelFor& parallel) {
   const int w = in.width, h = in.height, reach = level.reach, side = 2 * reach + 1;
+  if (in.pad < reach) throw std::logic_error("forward scatter: a level's source padded less than its reach");
   std::vector<Tap> taps;
   for (int dy = -reach; dy <= reach; ++dy) {
     for (int dx = -reach; dx <= reach; ++dx) {
@@ -217,11 +217,10 @@ void convolve(const ForwardScatterKernel::Level& level, const Planes& in, Planes
       for (const Tap& tap : taps) {
         if (y - tap.dy >= 0 && y - tap.dy < h) row_taps.push_back(tap);
       }
-      const int inner_begin = std::min(reach, w), inner_end = std::max(inner_begin, w - reach);  // x - dx inside for every tap
       for (int ch = 0; ch < 3; ++ch) {
         sources.clear();
         for (const Tap& tap : row_taps) sources.push_back(in.row(ch, y - tap.dy) - tap.dx);
-        convolve_row(row_taps, sources, w, inner_begin, inner_end, out.row(ch, y));
+        convolve_row(row_taps, sources, w, out.row(ch, y));
       }
     }
   });
@@ -239,9 +238,10 @@ HADAL_VECTOR_KERNEL void add_pairs(const float* row, int width, float* dst) {
 
 // Sums over blocks of 2 x 2 cells of a grid of width x height cells (the last row and column of blocks
 // may hold fewer); row(ch, y) is a row of cells.
+// The sums padded by `pad` cells.
 template <typename Row>
-Planes pair_sums(int width, int height, const ParallelFor& parallel, const Row& row) {
-  Planes out((width + 1) / 2, (height + 1) / 2);
+Planes pair_sums(int width, int height, int pad, const ParallelFor& parallel, const Row& row) {
+  Planes out((width + 1) / 2, (height + 1) / 2, pad);
   for_rows(out.height, parallel, [&](int row_begin, int row_end) {
     for (int ch = 0; ch < 3; ++ch) {
       for (int y = 2 * row_begin; y < std::min(2 * row_end, height); ++y) add_pairs(row(ch, y), width, out.row(ch, y / 2));
@@ -288,13 +288,29 @@ template <typename Add>
 void upsample(const Planes& coarse, int width, int height, const ParallelFor& parallel, const Add& add) {
   const Bracket bx(width, coarse.width), by(height, coarse.height);
   for_rows(height, parallel, [&](int row_begin, int row_end) {
-    std::vector<float> top(static_cast<std::size_t>(width)), bottom(static_cast<std::size_t>(width));
+    // Per channel, the last two coarse rows upsampled in x (fine rows 2 m and 2 m + 1 share row m).
+    std::array<std::array<std::vector<float>, 2>, 3> kept;
+    std::array<std::array<int, 2>, 3> kept_row;
+    for (int ch = 0; ch < 3; ++ch) {
+      for (auto& r : kept[ch]) r.resize(static_cast<std::size_t>(width));
+      kept_row[ch] = {-1, -1};
+    }
+    // Coarse row cy of channel ch upsampled in x, without evicting coarse row `other`.
+    const auto upsampled = [&](int ch, int cy, int other) -> const float* {
+      for (int slot = 0; slot < 2; ++slot) {
+        if (kept_row[ch][slot] == cy) return kept[ch][slot].data();
+      }
+      const int slot = kept_row[ch][0] == other ? 1 : 0;
+      upsample_row(bx, coarse.row(ch, cy), width, coarse.width, kept[ch][slot].data());
+      kept_row[ch][slot] = cy;
+      return kept[ch][slot].data();
+    };
     std::array<std::vector<float>, 3> row;
     for (auto& r : row) r.resize(static_cast<std::size_t>(width));
     for (int y = row_begin; y < row_end; ++y) {
       for (int ch = 0; ch < 3; ++ch) {
-        upsample_row(bx, coarse.row(ch, by.lo[y]), width, coarse.width, top.data());
-        upsample_row(bx, coarse.row(ch, by.hi[y]), width, coarse.width, bottom.data());
+        const float* top = upsampled(ch, by.lo[y], by.hi[y]);
+        const float* bottom = upsampled(ch, by.hi[y], by.lo[y]);
         const float fy = by.f[y];
         float* out = row[ch].data();
         for (int x = 0; x < width; ++x) out[x] = top[x] + fy * (bottom[x] - top[x]);
@@ -344,12 +360,12 @@ void add_forward_scatter(const ForwardScatterKernel& kernel, int width, int heig
   // pixel, is added to the next finer level's after interpolating the coarser ones' (coarsest first),
   // and the finest level's reaches the pixels the same way.
   std::vector<Planes> sums;  // sums[k]: blocks of 2^(k + 1) px
-  sums.push_back(pair_sums(width, height, parallel, [&](int ch, int y) {
+  sums.push_back(pair_sums(width, height, kernel.levels[0].reach, parallel, [&](int ch, int y) {
     return source[static_cast<std::size_t>(ch)].data() + static_cast<std::size_t>(y) * width;
   }));
   for (std::size_t k = 1; k < kernel.levels.size(); ++k) {
     const Planes& finer = sums.back();
-    sums.push_back(pair_sums(finer.width, finer.height, k == 1 ? parallel : ParallelFor(serial_for),
+    sums.push_back(pair_sums(finer.width, finer.height, kernel.levels[k].reach, k == 1 ? parallel : ParallelFor(serial_for),
                              [&](int ch, int y) { return finer.row(ch, y); }));
   }
   std::optional<Planes> coarser;  // the spread of the levels coarser than the current one, per pixel

@@ -134,6 +134,31 @@ TEST(ForwardScatterTest, PixelKernelKeepsTheEnergyAndTheEncircledEnergy) {
   }
 }
 
+// A pixel on the image's edge spreads its light into the image only: none wraps around to the
+// opposite edge (the convolution reads zeros past a row's ends, not the neighbouring row), none is
+// negative, and what stays inside is between half (a quarter in a corner) and all of it: the spread is
+// symmetric about the pixel, and its part beyond the edge is lost.
+TEST(ForwardScatterTest, LightAtAnEdgeStaysNearIt) {
+  const ForwardScatterKernel kernel = make_forward_scatter_kernel(ForwardScatterPsf(0.924, 10.0 * kDegToRad), 400.0, 400.0);
+  for (const auto& [x0, y0] : std::vector<std::pair<int, int>>{{0, 240}, {639, 240}, {320, 0}, {320, 479}, {639, 479}}) {
+    const std::vector<Rgbf> out = spread_of_one_pixel(kernel, x0, y0);
+    double inside = 0.0, far = 0.0;
+    for (int y = 0; y < 480; ++y) {
+      for (int x = 0; x < 640; ++x) {
+        const double v = out[static_cast<std::size_t>(y) * 640 + x][0];
+        ASSERT_GE(v, 0.0) << "(" << x << ", " << y << ") from (" << x0 << ", " << y0 << ")";
+        inside += v;
+        // The spread reaches 70 px, its coarsest blocks (32 px) and their interpolation another 64.
+        if (std::abs(x - x0) > 200 || std::abs(y - y0) > 200) far += std::abs(v);
+      }
+    }
+    EXPECT_EQ(far, 0.0) << "light from (" << x0 << ", " << y0 << ") far from it";
+    const bool corner = (x0 == 0 || x0 == 639) && (y0 == 0 || y0 == 479);
+    EXPECT_GT(inside, corner ? 0.25 : 0.5) << x0 << ", " << y0;
+    EXPECT_LE(inside, 1.0 + 1e-5) << x0 << ", " << y0;
+  }
+}
+
 // A white plate 3 m ahead on a black background, lit by a light at the camera: with forward scatter on,
 // the frame gains a halo around the plate (and over it) that carries the plate's unscattered light
 // times exp(b_f d) - 1, d each pixel's distance: all of it lands inside the image (the spread reaches
