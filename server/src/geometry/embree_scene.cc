@@ -540,14 +540,66 @@ struct EmbreeScene::Impl {
     float* __restrict tex_u = &hits.tex_u[begin];
     float* __restrict tex_v = &hits.tex_v[begin];
     const std::size_t n = end - begin;
-    // What a hit's (geomID, instID) maps to, kept from one ray to the next: a block's rays mostly hit
-    // the same mesh (a camera's over a seabed), so the lookups run once per run of equal ids.
+    // What a hit's (geomID, instID) maps to: its mesh, body and, for a moving body's instance, the
+    // rotation of its normals into W.
+    struct Target {
+      int mesh_id = kNoHit;
+      std::int32_t body = kStaticBody;
+      const Eigen::Matrix3f* R_WB = nullptr;
+      const EmbreeWorld::Mesh* mesh = nullptr;
+    };
+    const auto target_of = [this](unsigned g, unsigned i) {
+      Target t;
+      if (i == kInvalidId) {  // the static scene traced directly
+        t.mesh_id = world->static_mesh_of_geometry[g];
+      } else {
+        const Instance& instance = instances[i];
+        t.mesh_id = instance.mesh_of_geometry[g];
+        t.body = instance.body;
+        if (t.body != kStaticBody) t.R_WB = &instance.R_WB;
+      }
+      t.mesh = &world->meshes[static_cast<std::size_t>(t.mesh_id)];
+      return t;
+    };
+    // The common block, a camera's over the seabed: every hit on one static mesh without per-triangle
+    // materials or texture coordinates. Its fields are the same for every hit, written without lookups
+    // or branches (vectorized); the loop below gives the same values.
+    std::size_t first_hit = 0;
+    while (first_hit < n && geom[first_hit] == kInvalidId) ++first_hit;
+    bool one_target = true;
+    Target target;
+    if (first_hit < n) {
+      const unsigned g0 = geom[first_hit], i0 = inst[first_hit];
+      for (std::size_t k = first_hit; k < n; ++k) {
+        one_target &= (geom[k] == kInvalidId) | ((geom[k] == g0) & (inst[k] == i0));
+      }
+      if (one_target) {
+        target = target_of(g0, i0);
+        one_target = target.R_WB == nullptr && target.mesh->uvs.empty() && target.mesh->triangle_materials.empty();
+      }
+    }
+    if (one_target) {
+      const std::int32_t body = target.body, mesh_id = target.mesh_id;
+      const std::uint32_t material_id = first_hit < n ? target.mesh->info.material_id : kInvalidIndex;
+      for (std::size_t k = 0; k < n; ++k) {
+        const bool hit = geom[k] != kInvalidId;
+        distance[k] = hit ? distance[k] : kInf;
+        nx[k] = hit ? nx[k] : 0.0f;
+        ny[k] = hit ? ny[k] : 0.0f;
+        nz[k] = hit ? nz[k] : 0.0f;
+        body_of[k] = hit ? body : kNoHit;
+        mesh_of[k] = hit ? mesh_id : kNoHit;
+        material[k] = hit ? material_id : kInvalidIndex;
+        triangle[k] = hit ? triangle[k] : kInvalidIndex;
+        tex_u[k] = kNaN;
+        tex_v[k] = kNaN;
+      }
+      normalize(nx, ny, nz, n);
+      return;
+    }
+    // Otherwise each hit looked up, once per run of equal ids (a block's rays mostly hit the same mesh).
     unsigned cached_geom = kInvalidId, cached_inst = kInvalidId;
     bool cached = false;
-    int mesh_id = kNoHit;
-    std::int32_t body = kStaticBody;
-    const Eigen::Matrix3f* R_WB = nullptr;  // set for a moving body's instance: its normals rotate into W
-    const EmbreeWorld::Mesh* mesh = nullptr;
     for (std::size_t k = 0; k < n; ++k) {
       const unsigned g = geom[k];
       if (g == kInvalidId) {
@@ -564,26 +616,18 @@ struct EmbreeScene::Impl {
         cached = true;
         cached_geom = g;
         cached_inst = inst[k];
-        body = kStaticBody;
-        R_WB = nullptr;
-        if (inst[k] == kInvalidId) {  // the static scene traced directly
-          mesh_id = world->static_mesh_of_geometry[g];
-        } else {
-          const Instance& instance = instances[inst[k]];
-          mesh_id = instance.mesh_of_geometry[g];
-          body = instance.body;
-          if (body != kStaticBody) R_WB = &instance.R_WB;
-        }
-        mesh = &world->meshes[static_cast<std::size_t>(mesh_id)];
+        target = target_of(g, inst[k]);
       }
+      const Eigen::Matrix3f* R_WB = target.R_WB;
+      const EmbreeWorld::Mesh* mesh = target.mesh;
       if (R_WB != nullptr) {
         const Eigen::Vector3f n_W = *R_WB * Eigen::Vector3f(nx[k], ny[k], nz[k]);
         nx[k] = n_W.x();
         ny[k] = n_W.y();
         nz[k] = n_W.z();
       }
-      body_of[k] = body;
-      mesh_of[k] = mesh_id;
+      body_of[k] = target.body;
+      mesh_of[k] = target.mesh_id;
       material[k] = mesh->info.material_id +
                     (mesh->triangle_materials.empty() ? 0u : mesh->triangle_materials[triangle[k]]);
       // tex_u, tex_v hold Embree's barycentric u, v of the hit: texture coordinates from them.
