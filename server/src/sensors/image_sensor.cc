@@ -99,6 +99,43 @@ HADAL_VECTOR_KERNEL __attribute__((noinline)) void expose_channel(const Exposure
   }
 }
 
+// u[i] = sample (first_j + 3 i)'s uniform of stream `key`, i < m (one channel's samples of a chunk).
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void uniforms(std::uint32_t key, std::uint32_t first_j, std::uint32_t m,
+                                                            float* __restrict u) {
+  for (std::uint32_t i = 0; i < m; ++i) u[i] = uniform(key, first_j + 3 * i);
+}
+
+// The samples needing exact shot noise (exact[i] = 1): small_mu[i] = mu[i] where it is below
+// kExactPoissonBelow, else 0; returns how many are, and counts the others into *large (integer
+// counts: a float sum would not vectorize).
+HADAL_VECTOR_KERNEL __attribute__((noinline)) std::uint32_t classify(const float* __restrict exact,
+                                                                     const float* __restrict mu, std::uint32_t m,
+                                                                     float* __restrict small_mu, std::uint32_t* large) {
+  std::uint32_t small = 0, rest = 0;
+  for (std::uint32_t i = 0; i < m; ++i) {
+    const float mean = mu[i];
+    const bool needed = exact[i] != 0.0f, low = mean < kExactPoissonBelow;
+    small_mu[i] = needed & low ? mean : 0.0f;
+    small += needed & low ? 1u : 0u;
+    rest += needed & !low ? 1u : 0u;
+  }
+  *large = rest;
+  return small;
+}
+
+// dn[i] from the Poisson count k[i] and the read noise z[i] where sample i's shot noise was drawn by
+// inversion (exact, mean below kExactPoissonBelow); the others keep theirs.
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void counts_to_dn(const Exposure& e, const float* __restrict k, const float* __restrict z,
+                                                                std::uint32_t m, const float* __restrict exact,
+                                                                const float* __restrict mu, float* __restrict dn) {
+  const float gain = e.gain, full_well = e.full_well, read_noise = e.read_noise;
+  for (std::uint32_t i = 0; i < m; ++i) {
+    const bool drawn = (exact[i] != 0.0f) & (mu[i] < kExactPoissonBelow);
+    const float counted = fast::max(0.0f, fast::min(gain * (fast::min(k[i], full_well) + read_noise * z[i]), 255.0f));
+    dn[i] = drawn ? counted : dn[i];
+  }
+}
+
 // Poisson variates k[n] of means mu[n] < kExactPoissonBelow by inversion of the cumulative
 // distribution with the uniforms u[n]: the smallest k with u < P(K <= k). Vectorized across the
 // samples: each step of the search updates every sample still searching, until none is.
@@ -138,7 +175,7 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
                              : (e.vignetting ? expose_channel<false, true> : expose_channel<false, false>);
   float plane[3][kChunk];  // the chunk's radiance per channel (GCC vectorizes no stride-3 access)
   float z[3][kChunk + 1], mean[3][kChunk], dn[3][kChunk], exact[3][kChunk];  // z: one spare for odd m
-  std::uint32_t index[kChunk];
+  std::uint32_t index[kChunk], large_index_count = 0;
   float small_mu[kChunk], small_u[kChunk], small_k[kChunk];
   for (std::size_t first = begin; first < end; first += kChunk) {
     const std::size_t m = std::min(kChunk, end - first);
@@ -154,31 +191,29 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
       const auto scale = static_cast<float>(spec.sensitivity[ch] * spec.exposure_s);  // e- per W/(m^2 sr)
       expose(e, scale, plane[ch], cos_theta + first, z[ch], static_cast<std::uint32_t>(m), mean[ch], dn[ch], exact[ch]);
       if (!e.shot) continue;
-      std::uint32_t count = 0;
-      for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(m); ++i) {  // the samples needing exact shot noise
-        index[count] = i;
-        count += exact[ch][i] != 0.0f ? 1 : 0;
-      }
-      if (count == 0) continue;
-      std::uint32_t small = 0;
-      for (std::uint32_t n = 0; n < count; ++n) {
-        const std::uint32_t i = index[n];
-        const float mu = mean[ch][i];
-        const auto j = static_cast<std::uint32_t>(3 * (first + i) + static_cast<std::size_t>(ch));  // the sample
-        if (mu < kExactPoissonBelow) {
-          small_mu[small] = mu;
-          small_u[small] = uniform(keys.poisson, j);
-          index[small++] = i;  // reuses the slots already read
-        } else {  // near the full well: the normal approximation, then clipped
-          const float shot_e = fast::max(0.0f, mu + __builtin_sqrtf(mu) * normal(keys.poisson, keys.poisson_normal, j));
+      // The samples needing exact shot noise: those of means below kExactPoissonBelow by inversion,
+      // across the whole chunk at once (a dark deep-sea frame's most: the other lanes get mean 0, so
+      // k = 0 at once, and keep their counts), and those near the full well by the normal
+      // approximation, point by point (compacted: few).
+      const auto first_j = static_cast<std::uint32_t>(3 * first + static_cast<std::size_t>(ch));  // pixel i's sample: first_j + 3 i
+      const std::uint32_t small = classify(exact[ch], mean[ch], static_cast<std::uint32_t>(m), small_mu, &large_index_count);
+      if (large_index_count > 0) {
+        std::uint32_t large = 0;
+        for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(m); ++i) {
+          index[large] = i;
+          large += exact[ch][i] != 0.0f && !(mean[ch][i] < kExactPoissonBelow) ? 1 : 0;
+        }
+        for (std::uint32_t n = 0; n < large; ++n) {
+          const std::uint32_t i = index[n];
+          const float mu = mean[ch][i];
+          const float shot_e = fast::max(0.0f, mu + __builtin_sqrtf(mu) * normal(keys.poisson, keys.poisson_normal, first_j + 3 * i));
           dn[ch][i] = fast::max(0.0f, fast::min(e.gain * (fast::min(shot_e, e.full_well) + e.read_noise * z[ch][i]), 255.0f));
         }
       }
-      poisson_by_inversion(small_mu, small_u, small, small_k);
-      for (std::uint32_t n = 0; n < small; ++n) {
-        const std::uint32_t i = index[n];
-        dn[ch][i] = fast::max(0.0f, fast::min(e.gain * (fast::min(small_k[n], e.full_well) + e.read_noise * z[ch][i]), 255.0f));
-      }
+      if (small == 0) continue;
+      uniforms(keys.poisson, first_j, static_cast<std::uint32_t>(m), small_u);
+      poisson_by_inversion(small_mu, small_u, static_cast<std::uint32_t>(m), small_k);
+      counts_to_dn(e, small_k, z[ch], static_cast<std::uint32_t>(m), exact[ch], mean[ch], dn[ch]);
     }
     std::uint8_t* bytes = rgb + 3 * first;
     for (std::size_t i = 0; i < m; ++i) {
