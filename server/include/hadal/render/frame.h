@@ -144,10 +144,12 @@ using AlbedoOfPoints = std::function<void(const SurfacePoints& points, float* r,
 // A per-point albedo function called for each point of a band.
 AlbedoOfPoints per_point(AlbedoAt albedo_of);
 
-// Image rows per rendering task: a band's per-pixel arrays (~50 values a pixel: ~1 MB at 640 px) stay
-// within a server core's L2 cache, and 60 tasks for a 480-row frame keep two workers evenly busy to the
-// end (BENCHMARKS.md, camera frame: 16 rows were ~8 % slower on 2 workers).
-constexpr int kBandRows = 8;
+// Image rows per rendering task: a band's per-pixel arrays (~50 values a pixel: ~0.5 MB at 640 px) stay
+// well within a server core's L2 cache (1 MB here) with room for the other data a band touches, and
+// 120 tasks for a 480-row frame keep two workers evenly busy to the end (BENCHMARKS.md, camera frame:
+// 16 rows were ~8 % slower than 8 on 2 workers, and 8 rows ~10 % slower than 4 in alternating runs;
+// 2 rows gained nothing more).
+constexpr int kBandRows = 4;
 
 // Renders with `scene` as posed now (EmbreeScene::set_body_poses); `ignore_body` (the camera's own
 // vehicle, or geometry::kNoHit) is passed through by camera and shadow rays alike. Throws
