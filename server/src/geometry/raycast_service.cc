@@ -92,6 +92,9 @@ struct RaycastService::Impl {
   // Bumped (holding `mutex`) at every change that may give an idle worker something to do: a worker
   // spinning before it sleeps watches it.
   std::atomic<std::uint64_t> generation{0};
+
+  // Marks a change of the state under `mutex` (held by the caller) that may give a worker work.
+  void changed() { generation.fetch_add(1, std::memory_order_release); }
   std::deque<std::shared_ptr<Job>> queue;
   std::shared_ptr<Job> current;  // the job whose rays are being traced
   bool preparing = false;        // a worker is moving the bodies for (or delivering) the next job
@@ -125,7 +128,7 @@ struct RaycastService::Impl {
       std::lock_guard<std::mutex> lock(mutex);
       if (stopping) throw std::logic_error("RaycastService::submit: the service is shut down");
       queue.push_back(std::move(job));
-      generation.fetch_add(1, std::memory_order_release);
+      changed();
     }
     wake.notify_one();
   }
@@ -228,7 +231,7 @@ struct RaycastService::Impl {
     {
       std::lock_guard<std::mutex> lock(mutex);
       job.loop = loop;
-      generation.fetch_add(1, std::memory_order_release);
+      changed();
     }
     wake.notify_all();
     run_tasks(*loop);
@@ -256,7 +259,7 @@ struct RaycastService::Impl {
     {
       std::lock_guard<std::mutex> lock(mutex);
       current.reset();
-      generation.fetch_add(1, std::memory_order_release);
+      changed();
     }
     wake.notify_all();
   }
@@ -282,7 +285,7 @@ struct RaycastService::Impl {
         {
           std::lock_guard<std::mutex> lock(mutex);
           current.reset();
-          generation.fetch_add(1, std::memory_order_release);
+          changed();
         }
         wake.notify_all();
         return;
@@ -322,7 +325,7 @@ struct RaycastService::Impl {
           const bool posed = prepare(*job, std::move(storage));
           lock.lock();
           preparing = false;
-          generation.fetch_add(1, std::memory_order_release);
+          changed();
           if (!posed) {
             job->work_done.set_exception(job->error);
             wake.notify_all();
@@ -338,7 +341,7 @@ struct RaycastService::Impl {
         if (!ready) deliver(*job);  // failed or empty: still in order, before the next job starts
         lock.lock();
         preparing = false;
-        generation.fetch_add(1, std::memory_order_release);
+        changed();
         if (ready) current = std::move(job);
         wake.notify_all();
         continue;
@@ -413,7 +416,7 @@ void RaycastService::shutdown() {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     impl_->stopping = true;
-    impl_->generation.fetch_add(1, std::memory_order_release);
+    impl_->changed();
   }
   impl_->wake.notify_all();
   for (std::thread& worker : impl_->workers) worker.join();

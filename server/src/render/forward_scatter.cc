@@ -237,8 +237,7 @@ HADAL_VECTOR_KERNEL void add_pairs(const float* row, int width, float* dst) {
 }
 
 // Sums over blocks of 2 x 2 cells of a grid of width x height cells (the last row and column of blocks
-// may hold fewer); row(ch, y) is a row of cells.
-// The sums padded by `pad` cells.
+// may hold fewer), padded by `pad` zero cells; row(ch, y) is a row of cells.
 template <typename Row>
 Planes pair_sums(int width, int height, int pad, const ParallelFor& parallel, const Row& row) {
   Planes out((width + 1) / 2, (height + 1) / 2, pad);

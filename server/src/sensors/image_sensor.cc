@@ -105,34 +105,41 @@ HADAL_VECTOR_KERNEL __attribute__((noinline)) void uniforms(std::uint32_t key, s
   for (std::uint32_t i = 0; i < m; ++i) u[i] = uniform(key, first_j + 3 * i);
 }
 
-// The samples needing exact shot noise (exact[i] = 1): small_mu[i] = mu[i] where it is below
-// kExactPoissonBelow, else 0; returns how many are, and counts the others into *large (integer
-// counts: a float sum would not vectorize).
-HADAL_VECTOR_KERNEL __attribute__((noinline)) std::uint32_t classify(const float* __restrict exact,
-                                                                     const float* __restrict mu, std::uint32_t m,
-                                                                     float* __restrict small_mu, std::uint32_t* large) {
-  std::uint32_t small = 0, rest = 0;
+// How a chunk's samples that need exact shot noise (exact[i] = 1) get it: by inversion where their mean
+// is below kExactPoissonBelow, else by the normal approximation.
+struct ShotDraws {
+  std::uint32_t by_inversion = 0, normal = 0;  // how many of each
+};
+
+// Classifies m samples (ShotDraws): by_inversion[i] = 1 for the samples drawn by inversion, else 0, and
+// small_mu[i] their mean, else 0 (their inversion stops at k = 0 at once). Integer counts: a float sum
+// would not vectorize.
+HADAL_VECTOR_KERNEL __attribute__((noinline)) ShotDraws classify(const float* __restrict exact,
+                                                                 const float* __restrict mu, std::uint32_t m,
+                                                                 float* __restrict by_inversion,
+                                                                 float* __restrict small_mu) {
+  std::uint32_t inverted = 0, approximated = 0;
   for (std::uint32_t i = 0; i < m; ++i) {
     const float mean = mu[i];
     const bool needed = exact[i] != 0.0f, low = mean < kExactPoissonBelow;
+    by_inversion[i] = needed & low ? 1.0f : 0.0f;
     small_mu[i] = needed & low ? mean : 0.0f;
-    small += needed & low ? 1u : 0u;
-    rest += needed & !low ? 1u : 0u;
+    inverted += needed & low ? 1u : 0u;
+    approximated += needed & !low ? 1u : 0u;
   }
-  *large = rest;
-  return small;
+  return ShotDraws{inverted, approximated};
 }
 
-// dn[i] from the Poisson count k[i] and the read noise z[i] where sample i's shot noise was drawn by
-// inversion (exact, mean below kExactPoissonBelow); the others keep theirs.
-HADAL_VECTOR_KERNEL __attribute__((noinline)) void counts_to_dn(const Exposure& e, const float* __restrict k, const float* __restrict z,
-                                                                std::uint32_t m, const float* __restrict exact,
-                                                                const float* __restrict mu, float* __restrict dn) {
+// dn[i] from the Poisson count k[i] and the read noise z[i] where by_inversion[i] is set; the other
+// samples keep theirs.
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void counts_to_dn(const Exposure& e, const float* __restrict k,
+                                                                const float* __restrict z, std::uint32_t m,
+                                                                const float* __restrict by_inversion,
+                                                                float* __restrict dn) {
   const float gain = e.gain, full_well = e.full_well, read_noise = e.read_noise;
   for (std::uint32_t i = 0; i < m; ++i) {
-    const bool drawn = (exact[i] != 0.0f) & (mu[i] < kExactPoissonBelow);
     const float counted = fast::max(0.0f, fast::min(gain * (fast::min(k[i], full_well) + read_noise * z[i]), 255.0f));
-    dn[i] = drawn ? counted : dn[i];
+    dn[i] = by_inversion[i] != 0.0f ? counted : dn[i];
   }
 }
 
@@ -165,7 +172,8 @@ HADAL_VECTOR_KERNEL __attribute__((noinline)) void poisson_by_inversion(const fl
 
 // The counts of pixels [begin, end) (header), in chunks: the radiance split into channel planes, each
 // channel's read noise, mean and merged case in vectorized passes, then the exact shot noise of the
-// samples that need it (compacted: inversion vectorized, the normal approximation point by point).
+// samples that need it (inversion across the whole chunk, vectorized; the normal approximation point
+// by point, compacted).
 void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, const float* cos_theta,
                    const FrameKeys& keys, std::size_t begin, std::size_t end, std::uint8_t* rgb) {
   const auto read_noise = static_cast<float>(spec.read_noise_e);
@@ -175,8 +183,8 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
                              : (e.vignetting ? expose_channel<false, true> : expose_channel<false, false>);
   float plane[3][kChunk];  // the chunk's radiance per channel (GCC vectorizes no stride-3 access)
   float z[3][kChunk + 1], mean[3][kChunk], dn[3][kChunk], exact[3][kChunk];  // z: one spare for odd m
-  std::uint32_t index[kChunk], large_index_count = 0;
-  float small_mu[kChunk], small_u[kChunk], small_k[kChunk];
+  std::uint32_t index[kChunk];
+  float by_inversion[kChunk], small_mu[kChunk], small_u[kChunk], small_k[kChunk];
   for (std::size_t first = begin; first < end; first += kChunk) {
     const std::size_t m = std::min(kChunk, end - first);
     const float* L = radiance[first].data();  // R, G, B per pixel
@@ -196,12 +204,12 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
       // k = 0 at once, and keep their counts), and those near the full well by the normal
       // approximation, point by point (compacted: few).
       const auto first_j = static_cast<std::uint32_t>(3 * first + static_cast<std::size_t>(ch));  // pixel i's sample: first_j + 3 i
-      const std::uint32_t small = classify(exact[ch], mean[ch], static_cast<std::uint32_t>(m), small_mu, &large_index_count);
-      if (large_index_count > 0) {
+      const ShotDraws draws = classify(exact[ch], mean[ch], static_cast<std::uint32_t>(m), by_inversion, small_mu);
+      if (draws.normal > 0) {
         std::uint32_t large = 0;
         for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(m); ++i) {
           index[large] = i;
-          large += exact[ch][i] != 0.0f && !(mean[ch][i] < kExactPoissonBelow) ? 1 : 0;
+          large += exact[ch][i] != 0.0f && by_inversion[i] == 0.0f ? 1 : 0;
         }
         for (std::uint32_t n = 0; n < large; ++n) {
           const std::uint32_t i = index[n];
@@ -210,10 +218,10 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
           dn[ch][i] = fast::max(0.0f, fast::min(e.gain * (fast::min(shot_e, e.full_well) + e.read_noise * z[ch][i]), 255.0f));
         }
       }
-      if (small == 0) continue;
+      if (draws.by_inversion == 0) continue;
       uniforms(keys.poisson, first_j, static_cast<std::uint32_t>(m), small_u);
       poisson_by_inversion(small_mu, small_u, static_cast<std::uint32_t>(m), small_k);
-      counts_to_dn(e, small_k, z[ch], static_cast<std::uint32_t>(m), exact[ch], mean[ch], dn[ch]);
+      counts_to_dn(e, small_k, z[ch], static_cast<std::uint32_t>(m), by_inversion, dn[ch]);
     }
     std::uint8_t* bytes = rgb + 3 * first;
     for (std::size_t i = 0; i < m; ++i) {
