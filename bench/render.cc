@@ -97,12 +97,9 @@ int main(int argc, char** argv) {
   geometry::RayBatch primary;
   render::add_camera_rays(lens, X_WC, 0.1f, 200.0f, geometry::kNoHit, primary);
   bench::BareHits bare_hits(primary.size());
-  // The lights in the camera's frame C, for the table kept across frames.
-  std::vector<render::SpotLight> lights_C = lighting.lights;
-  for (render::SpotLight& light : lights_C) {
-    light.p_WL = X_WC.inverse() * light.p_WL;
-    light.axis_W = X_WC.linear().transpose() * light.axis_W;
-  }
+  // The lights in the camera's frame C, for the table kept across frames (the one render_radiance would
+  // make for each frame).
+  const std::vector<render::SpotLight> lights_C = render::lights_in_camera_frame(lighting.lights, X_WC);
 
   // Per variant (height field or not) and thread count: frame, exposure and bare-loop times,
   // interleaved over the repetitions.

@@ -30,6 +30,16 @@ std::shared_ptr<const BackscatterTable> make_backscatter_table(const FrameLighti
                                                   parallel);
 }
 
+std::vector<SpotLight> lights_in_camera_frame(const std::vector<SpotLight>& lights_W, const Eigen::Isometry3d& X_WC) {
+  std::vector<SpotLight> lights_C = lights_W;
+  const Eigen::Isometry3d X_CW = X_WC.inverse();
+  for (SpotLight& light : lights_C) {
+    light.p_WL = X_CW * light.p_WL;
+    light.axis_W = X_CW.linear() * light.axis_W;
+  }
+  return lights_C;
+}
+
 namespace {
 
 bool same_light(const SpotLight& a, const SpotLight& b) {
@@ -639,13 +649,8 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   }
   std::shared_ptr<const BackscatterTable> backscatter = lighting.backscatter;
   if (!backscatter) {
-    std::vector<SpotLight> lights_C = lighting.lights;
-    const Eigen::Isometry3d X_CW = X_WC.inverse();
-    for (SpotLight& light : lights_C) {
-      light.p_WL = X_CW * light.p_WL;
-      light.axis_W = X_CW.linear() * light.axis_W;
-    }
-    backscatter = make_backscatter_table(lighting, lights_C, lens, near_m, far_m, parallel);
+    backscatter = make_backscatter_table(lighting, lights_in_camera_frame(lighting.lights, X_WC), lens, near_m, far_m,
+                                         parallel);
   }
   f.backscatter = backscatter.get();
   // Forward scatter (render/forward_scatter.h): each surface pixel's radiance times exp(b_f d) - 1,

@@ -84,6 +84,10 @@ std::shared_ptr<const BackscatterTable> make_backscatter_table(const FrameLighti
                                                                const std::vector<SpotLight>& lights_C, const Lens& lens,
                                                                float near_m, float far_m, const ParallelFor& parallel);
 
+// Lights given in W (SpotLight's p_WL, axis_W) moved into the optical frame C of a camera posed at X_WC,
+// as make_backscatter_table takes them (render_radiance does this when its lighting brings no table).
+std::vector<SpotLight> lights_in_camera_frame(const std::vector<SpotLight>& lights_W, const Eigen::Isometry3d& X_WC);
+
 // One camera's backscatter table, kept while its inputs stay the same: a camera whose lights ride on its
 // own vehicle sees them in the same place in every frame, so their table (a fifth of a frame's work)
 // is made once. get() compares the inputs (water, table settings, lens, clip and lights_C, exactly) with
