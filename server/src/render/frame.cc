@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "hadal/core/units.h"
 #include "hadal/geometry/segment_slab.h"
 #include "hadal/render/camera_rays.h"
 #include "hadal/render/forward_scatter.h"
@@ -167,6 +168,10 @@ struct FrameSetup {
   float b[3] = {0, 0, 0}, phase_g = 0, E_camera[3] = {0, 0, 0};
   bool forward = false;
   float forward_per_m[3] = {0, 0, 0};
+  // Half the frame's negligible radiance per channel (FrameLighting): a band whose daylight bound is
+  // below it in every channel leaves daylight out; `negligible_daylight` when any is above 0.
+  double half_negligible[3] = {0, 0, 0};
+  bool negligible_daylight = false;
 };
 
 // One band's per-pixel arrays (structure of arrays; the loops over them vectorize), and its rays.
@@ -274,6 +279,53 @@ HADAL_VECTOR_KERNEL void gather_shadow_rays(const FrameSetup& f, BandArrays& a, 
   }
 }
 
+// Whether daylight adds less than f.half_negligible to every pixel of the band in every channel (frame.h,
+// "Negligible daylight"): bounds from the band's highest and nearest hits, brightest albedo, steepest
+// and shallowest rays and farthest s_end. Needs the hits, albedos and s_end of render_band.
+HADAL_VECTOR_KERNEL bool daylight_negligible(const FrameSetup& f, const BandArrays& a, const float* t, const float* dz,
+                                             std::size_t n) {
+  if (!f.negligible_daylight) return false;
+  float top = -kInf, nearest = kInf, dz_hi = -kInf, dz_lo = kInf, s_far = 0.0f;
+  float albedo_r = 0.0f, albedo_g = 0.0f, albedo_b = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float ti = t[i], pz = a.pz[i], z = dz[i], s_end = a.s_end[i], ar = a.ar[i], ag = a.ag[i], ab = a.ab[i];
+    const bool hit = ti < kInf;
+    top = fast::max(top, hit ? pz : -kInf);
+    nearest = fast::min(nearest, ti);
+    albedo_r = fast::max(albedo_r, hit ? ar : 0.0f);
+    albedo_g = fast::max(albedo_g, hit ? ag : 0.0f);
+    albedo_b = fast::max(albedo_b, hit ? ab : 0.0f);
+    dz_hi = fast::max(dz_hi, z);
+    dz_lo = fast::min(dz_lo, z);
+    s_far = fast::max(s_far, s_end);
+  }
+  const double albedo[3] = {albedo_r, albedo_g, albedo_b};
+  const double g = f.phase_g;
+  // p_HG(cos psi) with cos psi = d_z (the light travels straight down): largest at the highest d_z
+  // when g >= 0, the lowest otherwise.
+  const double cos_psi = g >= 0.0 ? dz_hi : dz_lo;
+  const double denominator = 1.0 + g * g - 2.0 * g * cos_psi;
+  const double phase = (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));
+  for (int ch = 0; ch < 3; ++ch) {
+    const double c = f.c[ch], Kd = f.Kd[ch];
+    double bound = 0.0;
+    if (f.sky && nearest < kInf) {
+      const double below = std::max(0.0, static_cast<double>(f.surface_z) - top);
+      const double at_hit = albedo[ch] * f.E0[ch] / kPi * std::exp(-Kd * below);
+      const double forward = f.forward ? std::exp(-(c - f.forward_per_m[ch]) * nearest) : 0.0;
+      bound += at_hit * (std::exp(-c * nearest) + forward);
+    }
+    if (f.daylit_water) {
+      // int_0^S exp(-k s) ds, at least the integral over [s0, s1] of any of the band's rays.
+      const double k = c - Kd * dz_hi, S = s_far;
+      const double integral = k == 0.0 ? S : -std::expm1(-k * S) / k;
+      bound += f.b[ch] * f.E_camera[ch] * phase * integral;
+    }
+    if (!(bound == 0.0 || bound < f.half_negligible[ch])) return false;  // (NaN: not negligible)
+  }
+  return true;
+}
+
 // The band of image rows [row_begin, row_end): its rays, shadow rays and shading. Writes the band's
 // pixels of frame.radiance and frame.depth_m (and of forward_source when the water scatters forward);
 // returns the number of shadow rays cast.
@@ -353,6 +405,9 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
                              hits.tex_u.data(),
                              hits.tex_v.data()};
   (*f.albedo_of)(points, a.ar.data(), a.ag.data(), a.ab.data());
+  // Daylight in this band: on the surfaces (the sky, the last source) and along the rays.
+  const bool daylight = (f.sky || f.daylit_water) && !daylight_negligible(f, a, t, dz, n);
+  const bool sky = f.sky && daylight, daylit_water = f.daylit_water && daylight;
 
   // Shadow rays proved clear (frame.h): the steepest slope of the ground under the band's shadow rays,
   // which run between its hit points and the lights (or straight up from the hit points).
@@ -368,7 +423,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   float climb = kInf;  // a shadow ray climbing faster than this is clear (when also above the ground)
   float slope = 0.0f;
   bool field = false;
-  if (f.height_field && (!f.lights.empty() || f.sky) && !hit_box.isEmpty()) {
+  if (f.height_field && (!f.lights.empty() || sky) && !hit_box.isEmpty()) {
     Eigen::AlignedBox2d region(hit_box.min().head<2>().cast<double>() + f.p_WC.head<2>(),
                                hit_box.max().head<2>().cast<double>() + f.p_WC.head<2>());
     {
@@ -452,7 +507,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   // times the sky's share (1 + n_z) / 2, where the hit sees up to the surface (a shadow ray straight up).
   const float floor_z = f.floor_z, surface_z = f.surface_z;
   const float Kd0 = f.Kd[0], Kd1 = f.Kd[1], Kd2 = f.Kd[2];
-  if (f.sky) {
+  if (sky) {
     const float e0 = f.E0[0] * kInvPi, e1 = f.E0[1] * kInvPi, e2 = f.E0[2] * kInvPi;
     float* lit = a.lit.back().data();
     float* out_r = a.contribution[3 * (sources - 1)].data();
@@ -491,7 +546,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
     }
   }
   // The surfaces' radiance at the camera: the sources' terms that reach it.
-  for (std::size_t source = 0; source < sources; ++source) {
+  for (std::size_t source = 0; source < f.lights.size() + (sky ? 1 : 0); ++source) {
     const float* in_r = a.contribution[3 * source].data();
     const float* in_g = a.contribution[3 * source + 1].data();
     const float* in_b = a.contribution[3 * source + 2].data();
@@ -526,7 +581,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   }
   // Daylight's path radiance along [s0, s_end] (render/optics.h daylight_path_radiance): with k = c -
   // Kd d_z, b p(d_z) E_camera (exp(-k s0) - exp(-k s1)) / k; an upward ray ends at the surface.
-  if (f.daylit_water) {
+  if (daylit_water) {
     const float g = f.phase_g;
     const float hg_scale = (1.0f - g * g) / (4.0f * 3.14159265358979f);
     const float s0 = f.s0;
@@ -639,6 +694,12 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   f.s0 = static_cast<float>(s0);
   const bool scattering = (lighting.water.scattering_per_m > 0.0).any();
   f.daylit_water = scattering && (daylight.surface_irradiance_W_per_m2 > 0.0).any();
+  const Rgb& negligible = lighting.negligible_radiance_W_per_m2_sr;
+  if (!negligible.allFinite() || (negligible < 0.0).any()) {
+    throw std::invalid_argument("negligible radiance: need finite values >= 0");
+  }
+  for (int ch = 0; ch < 3; ++ch) f.half_negligible[ch] = 0.5 * negligible[ch];
+  f.negligible_daylight = (negligible > 0.0).any();
   f.phase_g = static_cast<float>(lighting.water.phase_g);
   // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
   // rays hold it).

@@ -345,6 +345,93 @@ TEST(FrameTest, MatchesThePerPixelPhysicsInDoublePrecision) {
   EXPECT_LE(outliers, checked / 500) << outliers << " of " << checked;
 }
 
+// Negligible daylight (frame.h): given a negligible radiance F, daylight is left out of the bands where
+// its bound is below F / 2, and no pixel differs from the exact frame by F or more. F = 0 computes it
+// everywhere (the exact frame, bit for bit), a huge F nowhere (the frame without daylight, bit for bit),
+// and F around daylight's own largest share leaves it out of some bands only. Murky water (forward
+// scatter carries more light than the unscattered beam: b_f d > 1) and a shallow camera (bright path
+// radiance), so that each of the bound's terms matters.
+TEST(FrameTest, NegligibleDaylightChangesNoPixelByTheNegligibleRadiance) {
+  EmbreeScene scene;
+  scene.add_static_mesh(bumpy_seabed(false), 0, "seabed", geometry::StaticShape::kHeightField);
+  scene.add_body_mesh(0, plate(0.0f, 0.0f, 0.0f, 0.4f), 1, "plate");
+  scene.build();
+  scene.set_body_poses({floating_plate_pose()});
+  const auto albedo = [](const SurfacePoint& hit) {
+    return hit.body == 0 ? Rgb(0.9, 0.8, 0.7) : Rgb(0.3 + 0.2 * std::sin(2.0 * hit.p_W.x()), 0.4, 0.2 + 0.1 * std::cos(hit.p_W.y()));
+  };
+  FrameLighting lighting = seabed_lighting();
+  lighting.water.scattering_per_m = Rgb::Constant(0.4);
+  lighting.water.forward_scatter_max_angle_rad = 0.5;
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.3));
+  const auto render = [&](const FrameLighting& l) {
+    return render_radiance(scene, lens, seabed_camera(), 0.1f, 60.0f, geometry::kNoHit, l, albedo);
+  };
+  const auto largest_difference = [](const RadianceFrame& a, const RadianceFrame& b) {
+    Rgb largest = Rgb::Zero();
+    for (std::size_t i = 0; i < a.radiance.size(); ++i) {
+      largest = largest.max((a.radiance[i] - b.radiance[i]).abs().cast<double>());
+    }
+    return largest;
+  };
+  const RadianceFrame exact = render(lighting);
+  FrameLighting dark = lighting;
+  dark.daylight.surface_irradiance_W_per_m2 = Rgb::Zero();
+  const RadianceFrame without = render(dark);
+  const Rgb daylight = largest_difference(exact, without);  // daylight's largest share of a pixel
+  ASSERT_TRUE((daylight > 0.0).all());
+
+  lighting.negligible_radiance_W_per_m2_sr = Rgb::Constant(1e-30);
+  expect_same_frame(render(lighting), exact);
+  lighting.negligible_radiance_W_per_m2_sr = Rgb::Constant(1e30);
+  expect_same_frame(render(lighting), without);
+  int mixed = 0;
+  for (double scale : {0.5, 1.0, 2.0, 4.0, 8.0}) {
+    lighting.negligible_radiance_W_per_m2_sr = scale * daylight;
+    const RadianceFrame frame = render(lighting);
+    const Rgb change = largest_difference(frame, exact);
+    EXPECT_TRUE((change < scale * daylight).all()) << "scale " << scale << ": " << change.transpose() << " against "
+                                                   << (scale * daylight).transpose();
+    if ((change > 0.0).any() && (largest_difference(frame, without) > 0.0).any()) ++mixed;
+  }
+  EXPECT_GE(mixed, 2);
+}
+
+// Daylight's path radiance alone (open water, level and rising rays; no forward scatter, so a pixel
+// changes only by its own band's daylight): bands whose bound is below F / 2 are left out, and the
+// bound is near the band's brightest path radiance here, so a finer sweep of F finds bands left out
+// that lose almost F / 2, and none that lose more.
+TEST(FrameTest, NegligiblePathRadianceIsBoundedBandByBand) {
+  EmbreeScene scene;
+  scene.add_static_mesh(plate(30.0f, 0.0f, -4.0f, 1.0f), 0, "plate");  // something to hit, far ahead
+  scene.build();
+  FrameLighting lighting = seabed_lighting();
+  lighting.lights.clear();
+  lighting.water.scattering_per_m = Rgb::Constant(0.1);
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.3));
+  Eigen::Isometry3d X_WS = Eigen::Isometry3d::Identity();
+  X_WS.translation() = Eigen::Vector3d(0.0, 0.0, -4.0);
+  X_WS.rotate(Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()));  // pitched up a little
+  const auto render = [&](const FrameLighting& l) {
+    return render_radiance(scene, lens, X_WS * X_SC(), 0.1f, 60.0f, geometry::kNoHit, l, white);
+  };
+  const RadianceFrame exact = render(lighting);
+  Rgb brightest = Rgb::Zero();
+  for (const Rgbf& r : exact.radiance) brightest = brightest.max(r.cast<double>());
+  double closest = 0.0;  // the largest change found, as a fraction of F / 2
+  for (int step = 1; step <= 40; ++step) {
+    const Rgb negligible = brightest * (0.05 * step);
+    lighting.negligible_radiance_W_per_m2_sr = negligible;
+    const RadianceFrame frame = render(lighting);
+    for (std::size_t i = 0; i < frame.radiance.size(); ++i) {
+      const Rgb change = (frame.radiance[i] - exact.radiance[i]).abs().cast<double>();
+      ASSERT_TRUE((change < 0.5 * negligible).all()) << "pixel " << i << ": " << change.transpose();
+      closest = std::max(closest, (change / (0.5 * negligible)).maxCoeff());
+    }
+  }
+  EXPECT_GT(closest, 0.8);
+}
+
 TEST(FrameTest, SameInputsGiveTheSameFrame) {
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.2));
   const EmbreeScene scene = wall_scene();

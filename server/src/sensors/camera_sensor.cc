@@ -293,6 +293,7 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   const std::int32_t own_body = static_cast<std::int32_t>(context.vehicle_index);
   const std::uint64_t key = state.noise_key, frame = context.step_count;
   render::FrameLighting lighting = lighting_at(*context.model, context.X_WB);
+  lighting.negligible_radiance_W_per_m2_sr = negligible_radiance(spec.sensor);
   return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB, lighting = std::move(lighting),
           lights_C = own_lights_C(*context.model, context.vehicle_index, context.X_BS)](
              const geometry::EmbreeScene& scene, const ParallelFor& parallel) mutable {

@@ -240,6 +240,11 @@ void validate(const ImageSensorSpec& spec) {
   if (!(spec.read_noise_e >= 0.0) || !std::isfinite(spec.read_noise_e)) invalid("read_noise_e", "must be >= 0 [e-]");
 }
 
+Eigen::Array3d negligible_radiance(const ImageSensorSpec& spec, double counts) {
+  validate(spec);
+  return counts / (spec.gain_dn_per_e * spec.sensitivity * spec.exposure_s);
+}
+
 std::vector<std::uint8_t> expose_rgb8(const ImageSensorSpec& spec, const std::vector<Eigen::Array3f>& radiance,
                                       const std::vector<float>& cos_theta, std::uint64_t key, std::uint64_t frame_index,
                                       const ParallelFor& parallel) {

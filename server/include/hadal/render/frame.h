@@ -22,6 +22,17 @@
 // faster than L (d_z > (1.001 L + 1e-4) |d_xy|) stays above it all the way; if it also misses the
 // bounding box of every body but the ignored one (EmbreeScene::body_bounds_W) nothing can block it,
 // and it is not cast. The frame is the same bit for bit (frame_test.cc); shadow_rays counts the cast ones.
+// Negligible daylight: deep down, daylight may add far less to a pixel than one count of the camera
+// that sees it, and its shading, sky shadow rays and path radiance are then work for nothing. A band
+// of rows leaves daylight out when, in every channel, B_surface + B_path < negligible / 2, with
+//   B_surface = max albedo E0 / pi exp(-Kd (surface - highest hit)) (exp(-c d) + exp(-(c - b_f) d)),
+//               d the nearest hit (the second term: its forward-scattered share, render/forward_scatter.h,
+//               whose spread never raises a pixel above the brightest source pixel)
+//   B_path    = b E_camera p_HG(d_z at the phase's peak over the band's rays) int_0^S exp(-k s) ds,
+//               k = c - Kd max d_z, S the band's farthest s_end
+// over the band's hits and rays: bounds on the terms render_band would add. A pixel changes by at
+// most its own band's bound plus the brightest forward-scattered bound of another: less than
+// 'negligible'.
 // Work: the backscatter table's rows of nodes, then bands of kBandRows image rows (rays, shadow rays,
 // shading), each a task of the ParallelFor given, then the forward-scatter spread (rows in tasks). Deterministic: a function of its inputs, the same
 // whatever the threads (no random numbers; a band's rays are cast as one batch whatever thread casts
@@ -60,6 +71,11 @@ struct FrameLighting {
   float shadow_bias_m = 1e-3f;             // shadow rays start this far off the surface [m]
   double max_backscatter_range_m = 200.0;  // backscatter of a miss with an infinite far clip [m]
   MarineSnow marine_snow;  // none by default (density 0); drawn after the bands (render/marine_snow.h)
+  // Radiance too faint to matter [W/(m^2 sr)] per channel (a camera's choice: image_sensor.h,
+  // negligible_radiance): daylight is left out of a band of rows where a bound on what it adds there
+  // is below half of this in every channel, so no pixel changes by as much as this (see "Negligible
+  // daylight" above). Zero (the default): daylight is always computed.
+  Rgb negligible_radiance_W_per_m2_sr = Rgb::Zero();
   // The frame's backscatter table if the caller already has it for these lights as this camera sees
   // them (BackscatterTableCache below); null: render_radiance makes one for the frame.
   std::shared_ptr<const BackscatterTable> backscatter;
