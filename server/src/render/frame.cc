@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -285,21 +286,62 @@ HADAL_VECTOR_KERNEL void gather_shadow_rays(const FrameSetup& f, BandArrays& a, 
 HADAL_VECTOR_KERNEL bool daylight_negligible(const FrameSetup& f, const BandArrays& a, const float* t, const float* dz,
                                              std::size_t n) {
   if (!f.negligible_daylight) return false;
-  float top = -kInf, nearest = kInf, dz_hi = -kInf, dz_lo = kInf, s_far = 0.0f;
-  float albedo_r = 0.0f, albedo_g = 0.0f, albedo_b = 0.0f;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float ti = t[i], pz = a.pz[i], z = dz[i], s_end = a.s_end[i], ar = a.ar[i], ag = a.ag[i], ab = a.ab[i];
-    const bool hit = ti < kInf;
-    top = fast::max(top, hit ? pz : -kInf);
-    nearest = fast::min(nearest, ti);
-    albedo_r = fast::max(albedo_r, hit ? ar : 0.0f);
-    albedo_g = fast::max(albedo_g, hit ? ag : 0.0f);
-    albedo_b = fast::max(albedo_b, hit ? ab : 0.0f);
-    dz_hi = fast::max(dz_hi, z);
-    dz_lo = fast::min(dz_lo, z);
-    s_far = fast::max(s_far, s_end);
+  // Sixteen lanes at a time (GCC's vector extension, as in forward_scatter.cc's convolve_row: GCC does
+  // not vectorize a float max reduction by itself), then across the lanes and over the tail.
+  typedef float Lanes __attribute__((vector_size(64)));
+  typedef std::int32_t Mask __attribute__((vector_size(64)));
+  constexpr std::size_t kLanes = 16;
+  const Lanes inf = Lanes{} + kInf, zero = Lanes{};
+  Lanes top_lanes = -inf, nearest_lanes = inf, dz_hi_lanes = -inf, dz_lo_lanes = inf, s_far_lanes = zero;
+  Lanes albedo_r_lanes = zero, albedo_g_lanes = zero, albedo_b_lanes = zero;
+  // (No helper functions: passing these vectors by value changes the ABI in the clones without them.)
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    Lanes ti, z, pz, ar, ag, ab, s_end;
+    std::memcpy(&ti, t + i, sizeof ti);
+    std::memcpy(&z, dz + i, sizeof z);
+    std::memcpy(&pz, a.pz.data() + i, sizeof pz);
+    std::memcpy(&ar, a.ar.data() + i, sizeof ar);
+    std::memcpy(&ag, a.ag.data() + i, sizeof ag);
+    std::memcpy(&ab, a.ab.data() + i, sizeof ab);
+    std::memcpy(&s_end, a.s_end.data() + i, sizeof s_end);
+    const Mask hit = ti < inf;
+    pz = hit ? pz : -inf;
+    ar = hit ? ar : zero;
+    ag = hit ? ag : zero;
+    ab = hit ? ab : zero;
+    top_lanes = top_lanes < pz ? pz : top_lanes;
+    nearest_lanes = ti < nearest_lanes ? ti : nearest_lanes;
+    albedo_r_lanes = albedo_r_lanes < ar ? ar : albedo_r_lanes;
+    albedo_g_lanes = albedo_g_lanes < ag ? ag : albedo_g_lanes;
+    albedo_b_lanes = albedo_b_lanes < ab ? ab : albedo_b_lanes;
+    dz_hi_lanes = dz_hi_lanes < z ? z : dz_hi_lanes;
+    dz_lo_lanes = z < dz_lo_lanes ? z : dz_lo_lanes;
+    s_far_lanes = s_far_lanes < s_end ? s_end : s_far_lanes;
   }
-  const double albedo[3] = {albedo_r, albedo_g, albedo_b};
+  float top = -kInf, nearest = kInf, dz_hi = -kInf, dz_lo = kInf, s_far = 0.0f;
+  float albedo_max[3] = {0.0f, 0.0f, 0.0f};
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    top = fast::max(top, top_lanes[k]);
+    nearest = fast::min(nearest, nearest_lanes[k]);
+    albedo_max[0] = fast::max(albedo_max[0], albedo_r_lanes[k]);
+    albedo_max[1] = fast::max(albedo_max[1], albedo_g_lanes[k]);
+    albedo_max[2] = fast::max(albedo_max[2], albedo_b_lanes[k]);
+    dz_hi = fast::max(dz_hi, dz_hi_lanes[k]);
+    dz_lo = fast::min(dz_lo, dz_lo_lanes[k]);
+    s_far = fast::max(s_far, s_far_lanes[k]);
+  }
+  for (; i < n; ++i) {
+    const bool hit = t[i] < kInf;
+    top = fast::max(top, hit ? a.pz[i] : -kInf);
+    nearest = fast::min(nearest, t[i]);
+    albedo_max[0] = fast::max(albedo_max[0], hit ? a.ar[i] : 0.0f);
+    albedo_max[1] = fast::max(albedo_max[1], hit ? a.ag[i] : 0.0f);
+    albedo_max[2] = fast::max(albedo_max[2], hit ? a.ab[i] : 0.0f);
+    dz_hi = fast::max(dz_hi, dz[i]);
+    dz_lo = fast::min(dz_lo, dz[i]);
+    s_far = fast::max(s_far, a.s_end[i]);
+  }
   const double g = f.phase_g;
   // p_HG(cos psi) with cos psi = d_z (the light travels straight down): largest at the highest d_z
   // when g >= 0, the lowest otherwise.
@@ -311,7 +353,7 @@ HADAL_VECTOR_KERNEL bool daylight_negligible(const FrameSetup& f, const BandArra
     double bound = 0.0;
     if (f.sky && nearest < kInf) {
       const double below = std::max(0.0, static_cast<double>(f.surface_z) - top);
-      const double at_hit = albedo[ch] * f.E0[ch] / kPi * std::exp(-Kd * below);
+      const double at_hit = albedo_max[ch] * f.E0[ch] / kPi * std::exp(-Kd * below);
       const double forward = f.forward ? std::exp(-(c - f.forward_per_m[ch]) * nearest) : 0.0;
       bound += at_hit * (std::exp(-c * nearest) + forward);
     }
