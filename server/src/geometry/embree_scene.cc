@@ -1,5 +1,6 @@
 #include "hadal/geometry/embree_scene.h"
 
+#include "hadal/core/vector_kernel.h"
 #include "hadal/geometry/segment_slab.h"
 #include "hadal/geometry/slope_grid.h"
 
@@ -15,10 +16,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <utility>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace hadal::geometry {
 namespace {
@@ -131,9 +128,9 @@ void throw_first_invalid_ray(const RayBatch& rays, std::size_t begin, std::size_
   }
 }
 
-// Branch-free check of [begin, end) (the compiler vectorises it); the slow scan above names the
-// culprit only when something is wrong.
-void validate_rays(const RayBatch& rays, std::size_t begin, std::size_t end) {
+// Branch-free check of [begin, end) (vectorized; it returns and validate_rays throws: an exception out
+// of a HADAL_VECTOR_KERNEL function terminates the program, core/vector_kernel.h).
+HADAL_VECTOR_KERNEL bool rays_valid(const RayBatch& rays, std::size_t begin, std::size_t end) {
   constexpr float kMax = std::numeric_limits<float>::max();
   const float* ox = rays.p_WO_x.data();
   const float* oy = rays.p_WO_y.data();
@@ -150,32 +147,28 @@ void validate_rays(const RayBatch& rays, std::size_t begin, std::size_t end) {
     ok &= (std::abs(ox[i]) <= kMax) & (std::abs(oy[i]) <= kMax) & (std::abs(oz[i]) <= kMax) &
           (std::abs(d2 - 1.0f) <= 1e-5f) & (t0[i] >= 0.0f) & (t0[i] <= kMax) & (t1[i] >= t0[i]);
   }
-  if (ok == 0) throw_first_invalid_ray(rays, begin, end);
+  return ok != 0;
+}
+
+// Throws InvalidRayError for the first invalid ray of [begin, end), if any (the slow scan above names
+// the culprit only when something is wrong).
+void validate_rays(const RayBatch& rays, std::size_t begin, std::size_t end) {
+  if (!rays_valid(rays, begin, end)) throw_first_invalid_ray(rays, begin, end);
 }
 
 // n /= max(|n|, FLT_MIN) for n arrays of normals: unit normals, misses' (0, 0, 0) stay zero. Division
-// rather than multiplication by 1/|n| keeps axis-aligned normals exact. Four at a time with SSE (std::
-// sqrt's errno handling keeps the compiler from vectorising); the packed and scalar code compute the
-// same correctly rounded operations in the same order, so results do not depend on the position.
-void normalize(float* nx, float* ny, float* nz, std::size_t n) {
+// rather than multiplication by 1/|n| keeps axis-aligned normals exact. Vectorized (sqrt without errno:
+// server/CMakeLists.txt); every element gets the same correctly rounded operations in the same order,
+// so results do not depend on the position or the clone.
+HADAL_VECTOR_KERNEL void normalize(float* __restrict nx, float* __restrict ny, float* __restrict nz, std::size_t n) {
   constexpr float kMin = std::numeric_limits<float>::min();
-  std::size_t k = 0;
-#if defined(__SSE2__)
-  const __m128 min = _mm_set1_ps(kMin);
-  for (; k + 4 <= n; k += 4) {
-    const __m128 x = _mm_loadu_ps(nx + k), y = _mm_loadu_ps(ny + k), z = _mm_loadu_ps(nz + k);
-    const __m128 squared = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)), _mm_mul_ps(z, z));
-    const __m128 length = _mm_max_ps(_mm_sqrt_ps(squared), min);
-    _mm_storeu_ps(nx + k, _mm_div_ps(x, length));
-    _mm_storeu_ps(ny + k, _mm_div_ps(y, length));
-    _mm_storeu_ps(nz + k, _mm_div_ps(z, length));
-  }
-#endif
-  for (; k < n; ++k) {
-    const float length = std::max(std::sqrt(nx[k] * nx[k] + ny[k] * ny[k] + nz[k] * nz[k]), kMin);
-    nx[k] /= length;
-    ny[k] /= length;
-    nz[k] /= length;
+  for (std::size_t k = 0; k < n; ++k) {
+    const float x = nx[k], y = ny[k], z = nz[k];
+    const float root = __builtin_sqrtf(x * x + y * y + z * z);
+    const float length = root < kMin ? kMin : root;
+    nx[k] = x / length;
+    ny[k] = y / length;
+    nz[k] = z / length;
   }
 }
 
@@ -376,17 +369,17 @@ struct EmbreeScene::Impl {
     if (top != nullptr) rtcReleaseScene(top);
   }
 
-  // The bodies' pass over rays [begin, end) of one block, whose segments run from t_near to
-  // tfar[k - begin]: which rays may reach a body's box (the box of the body every ray of the block
-  // ignores left out, when they all ignore the same one). Writes each ray's t_near for that pass into
-  // t_near_out: its own where it may, +inf where it cannot (Embree passes over a ray whose tnear is
-  // above its tfar), and returns whether any ray may. For a camera, most rays of most frames reach no
-  // body (the bodies' pass was a quarter of a frame's tracing). Conservative: a ray is dropped only
-  // when its segment misses every box by more than the rounding here. Four rays at a time with SSE,
-  // the operations of clip_to_slab (geometry/segment_slab.h) on four lanes; the rest with it.
-  bool bodies_within_reach(const RayBatch& rays, std::size_t begin, std::size_t end, const float* tfar,
-                           float* t_near_out) const {
-    const std::size_t n = end - begin;
+  // The bodies' pass over rays [begin, end) of one block (at most kBlock rays), whose segments run from
+  // t_near to tfar[k - begin]: which rays may reach a body's box (the box of the body every ray of the
+  // block ignores left out, when they all ignore the same one). Writes each ray's t_near for that pass
+  // into t_near_out: its own where it may, +inf where it cannot (Embree passes over a ray whose tnear
+  // is above its tfar), and returns whether any ray may. For a camera, most rays of most frames reach
+  // no body (the bodies' pass was a quarter of a frame's tracing). Conservative: a ray is dropped only
+  // when its segment misses every box by more than the rounding here. Vectorized loops over the rays
+  // (clip_to_slab, geometry/segment_slab.h: the directions' reciprocals once, then box by box).
+  HADAL_VECTOR_KERNEL bool bodies_within_reach(const RayBatch& rays, std::size_t begin, std::size_t end,
+                                               const float* tfar, float* t_near_out) const {
+    const std::size_t n = end - begin;  // <= kBlock (trace_stream's block)
     const float* t_near = &rays.t_near[begin];
     std::copy(t_near, t_near + n, t_near_out);
     if (body_boxes.empty() || n == 0) return false;
@@ -404,49 +397,51 @@ struct EmbreeScene::Impl {
       std::fill(t_near_out, t_near_out + n, kInf);
       return false;
     }
-    const float* origin[3] = {&rays.p_WO_x[begin], &rays.p_WO_y[begin], &rays.p_WO_z[begin]};
-    const float* direction[3] = {&rays.d_W_x[begin], &rays.d_W_y[begin], &rays.d_W_z[begin]};
-    bool any = false;
-    std::size_t k = 0;
-#if defined(__SSE2__)
-    const __m128 sign_bit = _mm_set1_ps(-0.0f), tiny = _mm_set1_ps(kSlabTinyDirection), inf = _mm_set1_ps(kInf);
-    for (; k + 4 <= n; k += 4) {
-      __m128 inv[3], o[3];
-      for (int a = 0; a < 3; ++a) {
-        const __m128 d = _mm_loadu_ps(direction[a] + k);
-        const __m128 magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, d), tiny);
-        inv[a] = _mm_div_ps(_mm_set1_ps(1.0f), _mm_or_ps(magnitude, _mm_and_ps(sign_bit, d)));
-        o[a] = _mm_loadu_ps(origin[a] + k);
+    const float* __restrict ox = &rays.p_WO_x[begin];
+    const float* __restrict oy = &rays.p_WO_y[begin];
+    const float* __restrict oz = &rays.p_WO_z[begin];
+    // 1 / d per axis as clip_to_slab takes it (magnitude at least kSlabTinyDirection).
+    alignas(64) float inv_x[kBlock], inv_y[kBlock], inv_z[kBlock], reach[kBlock];
+    {
+      const float* __restrict dx = &rays.d_W_x[begin];
+      const float* __restrict dy = &rays.d_W_y[begin];
+      const float* __restrict dz = &rays.d_W_z[begin];
+      const auto reciprocal = [](float d) {
+        const float magnitude = std::fabs(d) < kSlabTinyDirection ? kSlabTinyDirection : std::fabs(d);
+        return 1.0f / std::copysign(magnitude, d);
+      };
+      for (std::size_t k = 0; k < n; ++k) {
+        inv_x[k] = reciprocal(dx[k]);
+        inv_y[k] = reciprocal(dy[k]);
+        inv_z[k] = reciprocal(dz[k]);
+        reach[k] = 0.0f;
       }
-      const __m128 t0 = _mm_loadu_ps(t_near + k), t1 = _mm_loadu_ps(tfar + k);
-      __m128 reach = _mm_setzero_ps();
-      for (const BodyBoxf& box : body_boxes) {
-        if (box.body == skipped) continue;
-        __m128 lo = t0, hi = t1;
-        for (int a = 0; a < 3; ++a) {
-          const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box.lo[a]), o[a]), inv[a]);
-          const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box.hi[a]), o[a]), inv[a]);
-          lo = _mm_max_ps(lo, _mm_min_ps(ta, tb));
-          hi = _mm_min_ps(hi, _mm_max_ps(ta, tb));
+    }
+    for (const BodyBoxf& box : body_boxes) {
+      if (box.body == skipped) continue;
+      const float lo_x = box.lo[0], lo_y = box.lo[1], lo_z = box.lo[2];
+      const float hi_x = box.hi[0], hi_y = box.hi[1], hi_z = box.hi[2];
+      for (std::size_t k = 0; k < n; ++k) {
+        float t0 = t_near[k], t1 = tfar[k];
+        const float o[3] = {ox[k], oy[k], oz[k]}, inv[3] = {inv_x[k], inv_y[k], inv_z[k]};
+        const float lo[3] = {lo_x, lo_y, lo_z}, hi[3] = {hi_x, hi_y, hi_z};
+        for (int a = 0; a < 3; ++a) {  // clip_to_slab's operations, with 1 / d given
+          const float ta = (lo[a] - o[a]) * inv[a], tb = (hi[a] - o[a]) * inv[a];
+          const float near = tb < ta ? tb : ta, far = ta < tb ? tb : ta;
+          t0 = t0 < near ? near : t0;
+          t1 = far < t1 ? far : t1;
         }
-        reach = _mm_or_ps(reach, _mm_cmple_ps(lo, hi));
+        const float was = reach[k];
+        reach[k] = t0 <= t1 ? 1.0f : was;
       }
-      any = any || _mm_movemask_ps(reach) != 0;
-      _mm_storeu_ps(t_near_out + k, _mm_or_ps(_mm_and_ps(reach, t0), _mm_andnot_ps(reach, inf)));
     }
-#endif
-    for (; k < n; ++k) {
-      bool reach = false;
-      for (const BodyBoxf& box : body_boxes) {
-        if (box.body == skipped) continue;
-        float lo = t_near[k], hi = tfar[k];
-        for (int a = 0; a < 3; ++a) clip_to_slab(box.lo[a], box.hi[a], origin[a][k], direction[a][k], lo, hi);
-        reach = reach || lo <= hi;
-      }
-      any = any || reach;
-      if (!reach) t_near_out[k] = kInf;
+    int any = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const bool may = reach[k] != 0.0f;
+      any |= may ? 1 : 0;
+      t_near_out[k] = may ? t_near[k] : kInf;
     }
-    return any;
+    return any != 0;
   }
 
   // The body instances' boxes in W at their current transforms, padded by 1 cm (Embree moves the
@@ -525,8 +520,8 @@ struct EmbreeScene::Impl {
   // Fills hit fields of rays [begin, end) from Embree's raw output: hits.distance holds tfar,
   // hits.n_W_* the unnormalised object-space Ng, hits.triangle the primID; geom/inst the IDs
   // (index i - begin).
-  void finish(std::size_t begin, std::size_t end, const unsigned* geom, const unsigned* inst,
-              RayHits& hits) const {
+  HADAL_VECTOR_KERNEL void finish(std::size_t begin, std::size_t end, const unsigned* geom, const unsigned* inst,
+                                  RayHits& hits) const {
     // The output arrays as restrict pointers from the block's first ray (else the compiler reloads the
     // vectors' data pointers after every store).
     float* __restrict nx = &hits.n_W_x[begin];

@@ -1,6 +1,7 @@
 // The slab test of a ray segment against an axis-aligned box, one axis at a time: shared by the
 // renderer's shadow-ray culling (render/frame.cc) and the ray-cast bodies' pass
-// (EmbreeScene::Impl::bodies_within_reach, whose SSE loop does the same operations four rays at a time).
+// (EmbreeScene::Impl::bodies_within_reach, whose vectorized loop does the same operations with 1 / d
+// computed first).
 #pragma once
 
 #include <cmath>

@@ -15,16 +15,9 @@
 #include <cstdint>
 #include <cstring>
 
-// A function whose loops this header's code vectorizes is compiled three times, for AVX-512 (16 floats
-// a vector), AVX2 (8) and the x86-64 baseline (SSE2, 4), and the CPU picks at load time (GCC function
-// multiversioning). No FMA contraction (-ffp-contract=off on these files, server/CMakeLists.txt; GCC
-// contracts by default in C++, and AVX-512 implies FMA): every version does the same IEEE operations
-// per element and gives the same bits (render/fast_math_test.cc; whole frames compared across builds).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define HADAL_VECTOR_KERNEL __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define HADAL_VECTOR_KERNEL
-#endif
+// Functions whose loops call these are marked HADAL_VECTOR_KERNEL: compiled for AVX-512, AVX2 and the
+// baseline, every version giving the same bits.
+#include "hadal/core/vector_kernel.h"
 
 namespace hadal::render::fast {
 
