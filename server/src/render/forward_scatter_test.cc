@@ -164,44 +164,47 @@ TEST(ForwardScatterTest, LightAtAnEdgeStaysNearIt) {
 // times exp(b_f d) - 1, d each pixel's distance: all of it lands inside the image (the spread reaches
 // ~50 px, the plate's edge is ~70 px from the image's). Within 1e-3: float planes and exp3.
 TEST(ForwardScatterTest, FrameHaloCarriesTheScatteredShare) {
-  const Lens lens = make_lens(lens_from_horizontal_fov(320, 240, 50.0 * kDegToRad));
-  geometry::EmbreeScene scene;
-  scene.add_static_mesh(testing::plate(3.0f, 0.0f, 0.0f, 0.15f), 0, "plate");
-  scene.build();
-  FrameLighting lighting;
-  lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
-  lighting.water.scattering_per_m = Rgb(0.1, 0.2, 0.4);
-  lighting.lights = {SpotLight{}};
-  lighting.lights[0].inner_half_angle_rad = 1.0;
-  lighting.lights[0].outer_half_angle_rad = 1.2;
-  const auto white = [](const SurfacePoint&) { return Rgb::Ones(); };
-  const auto render = [&](const FrameLighting& l) {
-    return render_radiance(scene, lens, X_SC(), 0.1f, 20.0f, geometry::kNoHit, l, white);
-  };
-  // The surface term alone: the same attenuation c, none of it scattering (no backscatter).
-  FrameLighting clear = lighting;
-  clear.water.absorption_per_m = lighting.water.attenuation_per_m();
-  clear.water.scattering_per_m = Rgb::Zero();
-  const RadianceFrame surface = render(clear);
-  const RadianceFrame plain = render(lighting);
-  lighting.water.forward_scatter_max_angle_rad = 8.0 * kDegToRad;
-  const RadianceFrame blurred = render(lighting);
-  const Rgb b_f = forward_scattering_per_m(lighting.water);
-  ASSERT_TRUE((b_f > 0.0).all());
-  Rgb halo = Rgb::Zero(), expected = Rgb::Zero();
-  std::size_t outside_lit = 0;
-  for (std::size_t i = 0; i < plain.radiance.size(); ++i) {
-    halo += (blurred.radiance[i] - plain.radiance[i]).cast<double>();
-    if (std::isnan(plain.depth_m[i])) {
-      if ((blurred.radiance[i] > plain.radiance[i]).all()) ++outside_lit;
-      continue;
+  // Coloured scattering, then grey (render_band's shared exponential).
+  for (const Rgb& scattering : {Rgb(0.1, 0.2, 0.4), Rgb(0.2, 0.2, 0.2)}) {
+    const Lens lens = make_lens(lens_from_horizontal_fov(320, 240, 50.0 * kDegToRad));
+    geometry::EmbreeScene scene;
+    scene.add_static_mesh(testing::plate(3.0f, 0.0f, 0.0f, 0.15f), 0, "plate");
+    scene.build();
+    FrameLighting lighting;
+    lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
+    lighting.water.scattering_per_m = scattering;
+    lighting.lights = {SpotLight{}};
+    lighting.lights[0].inner_half_angle_rad = 1.0;
+    lighting.lights[0].outer_half_angle_rad = 1.2;
+    const auto white = [](const SurfacePoint&) { return Rgb::Ones(); };
+    const auto render = [&](const FrameLighting& l) {
+      return render_radiance(scene, lens, X_SC(), 0.1f, 20.0f, geometry::kNoHit, l, white);
+    };
+    // The surface term alone: the same attenuation c, none of it scattering (no backscatter).
+    FrameLighting clear = lighting;
+    clear.water.absorption_per_m = lighting.water.attenuation_per_m();
+    clear.water.scattering_per_m = Rgb::Zero();
+    const RadianceFrame surface = render(clear);
+    const RadianceFrame plain = render(lighting);
+    lighting.water.forward_scatter_max_angle_rad = 8.0 * kDegToRad;
+    const RadianceFrame blurred = render(lighting);
+    const Rgb b_f = forward_scattering_per_m(lighting.water);
+    ASSERT_TRUE((b_f > 0.0).all());
+    Rgb halo = Rgb::Zero(), expected = Rgb::Zero();
+    std::size_t outside_lit = 0;
+    for (std::size_t i = 0; i < plain.radiance.size(); ++i) {
+      halo += (blurred.radiance[i] - plain.radiance[i]).cast<double>();
+      if (std::isnan(plain.depth_m[i])) {
+        if ((blurred.radiance[i] > plain.radiance[i]).all()) ++outside_lit;
+        continue;
+      }
+      const int u = static_cast<int>(i % lens.width_px()), v = static_cast<int>(i / lens.width_px());
+      const double d = plain.depth_m[i] / lens.ray_C(u, v).z();
+      expected += surface.radiance[i].cast<double>() * ((b_f * d).exp() - 1.0);
     }
-    const int u = static_cast<int>(i % lens.width_px()), v = static_cast<int>(i / lens.width_px());
-    const double d = plain.depth_m[i] / lens.ray_C(u, v).z();
-    expected += surface.radiance[i].cast<double>() * ((b_f * d).exp() - 1.0);
+    EXPECT_TRUE(((halo - expected).abs() < 1e-3 * expected).all()) << halo.transpose() << " vs " << expected.transpose();
+    EXPECT_GT(outside_lit, 1000u);  // the halo reaches past the plate's edge
   }
-  EXPECT_TRUE(((halo - expected).abs() < 1e-3 * expected).all()) << halo.transpose() << " vs " << expected.transpose();
-  EXPECT_GT(outside_lit, 1000u);  // the halo reaches past the plate's edge
 }
 
 }  // namespace

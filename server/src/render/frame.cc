@@ -605,13 +605,25 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
     float* source_g = (*forward_source)[1].data() + first;
     float* source_b = (*forward_source)[2].data() + first;
     const float bf0 = f.forward_per_m[0], bf1 = f.forward_per_m[1], bf2 = f.forward_per_m[2];
+    if (bf0 == bf1 && bf1 == bf2) {  // grey scattering (the default scenario's): one exponential, same bits
 #pragma GCC ivdep
-    for (std::size_t i = 0; i < n; ++i) {
-      const float ti = t[i];
-      const float d = ti < kInf ? ti : 0.0f;
-      source_r[i] = a.sr[i] * (fast::exp(bf0 * d) - 1.0f);
-      source_g[i] = a.sg[i] * (fast::exp(bf1 * d) - 1.0f);
-      source_b[i] = a.sb[i] * (fast::exp(bf2 * d) - 1.0f);
+      for (std::size_t i = 0; i < n; ++i) {
+        const float ti = t[i];
+        const float d = ti < kInf ? ti : 0.0f;
+        const float share = fast::exp(bf0 * d) - 1.0f;
+        source_r[i] = a.sr[i] * share;
+        source_g[i] = a.sg[i] * share;
+        source_b[i] = a.sb[i] * share;
+      }
+    } else {
+#pragma GCC ivdep
+      for (std::size_t i = 0; i < n; ++i) {
+        const float ti = t[i];
+        const float d = ti < kInf ? ti : 0.0f;
+        source_r[i] = a.sr[i] * (fast::exp(bf0 * d) - 1.0f);
+        source_g[i] = a.sg[i] * (fast::exp(bf1 * d) - 1.0f);
+        source_b[i] = a.sb[i] * (fast::exp(bf2 * d) - 1.0f);
+      }
     }
   }
   // Backscatter of the lights, from the frame's table, along [s0, s_end].
