@@ -143,6 +143,28 @@ HADAL_VECTOR_KERNEL __attribute__((noinline)) void counts_to_dn(const Exposure& 
   }
 }
 
+// A chunk's m pixels of R, G, B (interleaved) into three planes, and back as rounded counts (half up):
+// one statement per channel, so that GCC vectorizes the stride-3 accesses (with permutes).
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void split_channels(const float* __restrict rgb, std::size_t m,
+                                                                  float* __restrict r, float* __restrict g,
+                                                                  float* __restrict b) {
+  for (std::size_t i = 0; i < m; ++i) {
+    r[i] = rgb[3 * i];
+    g[i] = rgb[3 * i + 1];
+    b[i] = rgb[3 * i + 2];
+  }
+}
+
+HADAL_VECTOR_KERNEL __attribute__((noinline)) void round_to_bytes(const float* __restrict r, const float* __restrict g,
+                                                                  const float* __restrict b, std::size_t m,
+                                                                  std::uint8_t* __restrict bytes) {
+  for (std::size_t i = 0; i < m; ++i) {
+    bytes[3 * i] = static_cast<std::uint8_t>(r[i] + 0.5f);
+    bytes[3 * i + 1] = static_cast<std::uint8_t>(g[i] + 0.5f);
+    bytes[3 * i + 2] = static_cast<std::uint8_t>(b[i] + 0.5f);
+  }
+}
+
 // Poisson variates k[n] of means mu[n] < kExactPoissonBelow by inversion of the cumulative
 // distribution with the uniforms u[n]: the smallest k with u < P(K <= k). Vectorized across the
 // samples: each step of the search updates every sample still searching, until none is.
@@ -181,16 +203,13 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
                    static_cast<float>(spec.gain_dn_per_e), spec.shot_noise, spec.vignetting};
   const auto expose = e.shot ? (e.vignetting ? expose_channel<true, true> : expose_channel<true, false>)
                              : (e.vignetting ? expose_channel<false, true> : expose_channel<false, false>);
-  float plane[3][kChunk];  // the chunk's radiance per channel (GCC vectorizes no stride-3 access)
+  float plane[3][kChunk];  // the chunk's radiance per channel
   float z[3][kChunk + 1], mean[3][kChunk], dn[3][kChunk], exact[3][kChunk];  // z: one spare for odd m
   std::uint32_t index[kChunk];
   float by_inversion[kChunk], small_mu[kChunk], small_u[kChunk], small_k[kChunk];
   for (std::size_t first = begin; first < end; first += kChunk) {
     const std::size_t m = std::min(kChunk, end - first);
-    const float* L = radiance[first].data();  // R, G, B per pixel
-    for (std::size_t i = 0; i < m; ++i) {
-      for (int ch = 0; ch < 3; ++ch) plane[ch][i] = L[3 * i + static_cast<std::size_t>(ch)];
-    }
+    split_channels(radiance[first].data(), m, plane[0], plane[1], plane[2]);  // R, G, B per pixel
     for (int ch = 0; ch < 3; ++ch) {
       // The chunk's pixels q and q + h (h = ceil(m / 2); chunks start at even pixels) share their
       // channel's Box-Muller draw, index 3 (first / 2 + q) + ch: unique in the frame.
@@ -223,10 +242,7 @@ void expose_pixels(const ImageSensorSpec& spec, const Eigen::Array3f* radiance, 
       poisson_by_inversion(small_mu, small_u, static_cast<std::uint32_t>(m), small_k);
       counts_to_dn(e, small_k, z[ch], static_cast<std::uint32_t>(m), by_inversion, dn[ch]);
     }
-    std::uint8_t* bytes = rgb + 3 * first;
-    for (std::size_t i = 0; i < m; ++i) {
-      for (int ch = 0; ch < 3; ++ch) bytes[3 * i + ch] = static_cast<std::uint8_t>(dn[ch][i] + 0.5f);  // round half up
-    }
+    round_to_bytes(dn[0], dn[1], dn[2], m, rgb + 3 * first);
   }
 }
 
