@@ -132,33 +132,47 @@ HADAL_VECTOR_KERNEL void BackscatterTable::add_row(int v, const float* s_end, fl
       const float s = fast::max(s0, fast::min(s_end[begin + j], s_max));
       position[j] = fast::max(0.0f, scale * fast::log(s * inv_s0));
     }
-    // The four nodes around each pixel, interpolated in s, then bilinearly: one pixel at a time, its
-    // three channels in the lanes of one 4-float vector (GCC's vector extension: SSE on every x86-64
-    // clone), one unaligned load per node and s plane; the fourth lane reads the next float of the
-    // table (padded at its end) and is ignored. A row's pixels mostly share k: they sweep along four
-    // short runs of the table (two node rows in two planes).
-    // Lane by lane the operations are those of the scalar formula, in the same order.
+    // The four nodes around each pixel, interpolated bilinearly and in s, one pixel at a time, its three
+    // channels in the lanes of one 4-float vector (GCC's vector extension: SSE on every x86-64 clone;
+    // the fourth lane reads the next float of the table, padded at its end, and is ignored). For the
+    // interval k of the s grid and the node column i of the pixel, the value is linear in the column
+    // weight wu and in the position f inside the interval:
+    //   value = (A + wu dA) + f (D + wu dD),
+    // with A, A + dA the node columns' values at the interval's start, interpolated between the node
+    // rows, and D, D + dD their increments over the interval. A row's neighbouring pixels mostly share
+    // (i, k): the four vectors are computed (eight loads) when it changes, and kept while it does not.
     typedef float Rgbx __attribute__((vector_size(16)));
     const auto load = [](const float* p) {
       Rgbx v;
       std::memcpy(&v, p, sizeof v);
       return v;
     };
+    std::int32_t kept_k = -1, kept_column = -1;
+    Rgbx A = {}, dA = {}, D = {}, dD = {};
     for (std::size_t j = 0; j < count; ++j) {
       const float t = position[j], wu = column_weight_[begin + j];
       // The interval of the s grid and the position in it: the same for the four nodes around (u, v).
       const std::int32_t k = std::min(static_cast<std::int32_t>(t), last_interval);
       const float f = t - static_cast<float>(k);
-      const float* p0 = row0 + static_cast<std::size_t>(k) * plane;  // plane k, node row below
-      const float* p1 = p0 + next_row_offset;                         // plane k, node row after
-      const std::size_t o0 = 3 * static_cast<std::size_t>(column_node_[begin + j]);
-      const std::size_t o1 = 3 * static_cast<std::size_t>(column_next_node_[begin + j]);
+      const std::int32_t column = column_node_[begin + j];
+      if (k != kept_k || column != kept_column) {
+        kept_k = k;
+        kept_column = column;
+        const float* p0 = row0 + static_cast<std::size_t>(k) * plane;  // plane k, node row below
+        const float* p1 = p0 + next_row_offset;                         // plane k, node row after
+        const std::size_t o0 = 3 * static_cast<std::size_t>(column);
+        const std::size_t o1 = 3 * static_cast<std::size_t>(column_next_node_[begin + j]);
+        const Rgbx a00 = load(p0 + o0), b00 = load(p0 + plane + o0), a10 = load(p0 + o1), b10 = load(p0 + plane + o1);
+        const Rgbx a01 = load(p1 + o0), b01 = load(p1 + plane + o0), a11 = load(p1 + o1), b11 = load(p1 + plane + o1);
+        const Rgbx start0 = (1.0f - wv) * a00 + wv * a01, start1 = (1.0f - wv) * a10 + wv * a11;
+        const Rgbx end0 = (1.0f - wv) * b00 + wv * b01, end1 = (1.0f - wv) * b10 + wv * b11;
+        A = start0;
+        dA = start1 - start0;
+        D = end0 - start0;
+        dD = (end1 - start1) - D;
+      }
       const float keep = s_end[begin + j] > s0 ? 1.0f : 0.0f;  // beyond the start of the water's path only
-      const Rgbx a00 = load(p0 + o0), b00 = load(p0 + plane + o0), a10 = load(p0 + o1), b10 = load(p0 + plane + o1);
-      const Rgbx a01 = load(p1 + o0), b01 = load(p1 + plane + o0), a11 = load(p1 + o1), b11 = load(p1 + plane + o1);
-      const Rgbx v00 = a00 + f * (b00 - a00), v10 = a10 + f * (b10 - a10);
-      const Rgbx v01 = a01 + f * (b01 - a01), v11 = a11 + f * (b11 - a11);
-      const Rgbx out = keep * ((1.0f - wv) * ((1.0f - wu) * v00 + wu * v10) + wv * ((1.0f - wu) * v01 + wu * v11));
+      const Rgbx out = keep * ((A + wu * dA) + f * (D + wu * dD));
       add_r[j] = out[0];
       add_g[j] = out[1];
       add_b[j] = out[2];

@@ -126,7 +126,8 @@ TEST(BackscatterTableTest, EmptyWithoutLightsOrScatteringAndRejectsBadGrids) {
 
 // add_row (single precision, a row at a time: what a frame uses) against at() (double precision), on
 // every row of a 100x75 frame, node rows and rows between, every column including the last, with each
-// pixel's ray end drawn across [s0, s_max] (and below s0 and beyond s_max): within 2e-6 of the frame's
+// pixel's ray end drawn across [s0, s_max] (and below s0 and beyond s_max), or on every other row rising
+// slowly along the row: within 2e-6 of the frame's
 // largest value (fast::log's 2 ulp and float sums), nothing where s_end <= s0, and added to what the
 // row held (a second call doubles it, exactly).
 TEST(BackscatterTableTest, RowsInSinglePrecisionMatchThePixelLookup) {
@@ -141,7 +142,11 @@ TEST(BackscatterTableTest, RowsInSinglePrecisionMatchThePixelLookup) {
   ASSERT_GT(largest, 0.0);
   for (int v = 0; v < 75; ++v) {
     std::vector<float> s_end(100), r(100, 0.0f), g(100, 0.0f), b(100, 0.0f);
-    for (float& s : s_end) s = static_cast<float>(std::exp(log_s(rng)));
+    if (v % 2 == 0) {
+      for (float& s : s_end) s = static_cast<float>(std::exp(log_s(rng)));
+    } else {  // a slow ramp, as over a seabed: runs of pixels in the same interval of s and node column
+      for (int u = 0; u < 100; ++u) s_end[u] = static_cast<float>(0.3 * std::exp(0.04 * u + 0.01 * v));
+    }
     s_end[0] = static_cast<float>(s0);  // exactly at the start: nothing
     s_end[99] = 30.0f;                  // beyond s_max: the whole table
     table.add_row(v, s_end.data(), r.data(), g.data(), b.data());
