@@ -377,7 +377,7 @@ struct EmbreeScene::Impl {
   // is above its tfar), and returns whether any ray may. For a camera, most rays of most frames reach
   // no body (the bodies' pass was a quarter of a frame's tracing). Conservative: a ray is dropped only
   // when its segment misses every box by more than the rounding here. Vectorized loops over the rays
-  // (clip_to_slab, geometry/segment_slab.h: the directions' reciprocals once, then box by box).
+  // (geometry/segment_slab.h: the directions' reciprocals once, then box by box).
   HADAL_VECTOR_KERNEL bool bodies_within_reach(const RayBatch& rays, std::size_t begin, std::size_t end,
                                                const float* tfar, float* t_near_out) const {
     const std::size_t n = end - begin;  // <= kBlock (trace_stream's block)
@@ -401,20 +401,16 @@ struct EmbreeScene::Impl {
     const float* __restrict ox = &rays.p_WO_x[begin];
     const float* __restrict oy = &rays.p_WO_y[begin];
     const float* __restrict oz = &rays.p_WO_z[begin];
-    // 1 / d per axis as clip_to_slab takes it (magnitude at least kSlabTinyDirection).
+    // Each ray's 1 / d per axis, once for all boxes (geometry/segment_slab.h).
     alignas(64) float inv_x[kBlock], inv_y[kBlock], inv_z[kBlock], reach[kBlock];
     {
       const float* __restrict dx = &rays.d_W_x[begin];
       const float* __restrict dy = &rays.d_W_y[begin];
       const float* __restrict dz = &rays.d_W_z[begin];
-      const auto reciprocal = [](float d) {
-        const float magnitude = std::fabs(d) < kSlabTinyDirection ? kSlabTinyDirection : std::fabs(d);
-        return 1.0f / std::copysign(magnitude, d);
-      };
       for (std::size_t k = 0; k < n; ++k) {
-        inv_x[k] = reciprocal(dx[k]);
-        inv_y[k] = reciprocal(dy[k]);
-        inv_z[k] = reciprocal(dz[k]);
+        inv_x[k] = slab_reciprocal(dx[k]);
+        inv_y[k] = slab_reciprocal(dy[k]);
+        inv_z[k] = slab_reciprocal(dz[k]);
         reach[k] = 0.0f;
       }
     }
@@ -424,14 +420,9 @@ struct EmbreeScene::Impl {
       const float hi_x = box.hi[0], hi_y = box.hi[1], hi_z = box.hi[2];
       for (std::size_t k = 0; k < n; ++k) {
         float t0 = t_near[k], t1 = tfar[k];
-        const float o[3] = {ox[k], oy[k], oz[k]}, inv[3] = {inv_x[k], inv_y[k], inv_z[k]};
-        const float lo[3] = {lo_x, lo_y, lo_z}, hi[3] = {hi_x, hi_y, hi_z};
-        for (int a = 0; a < 3; ++a) {  // clip_to_slab's operations, with 1 / d given
-          const float ta = (lo[a] - o[a]) * inv[a], tb = (hi[a] - o[a]) * inv[a];
-          const float near = tb < ta ? tb : ta, far = ta < tb ? tb : ta;
-          t0 = t0 < near ? near : t0;
-          t1 = far < t1 ? far : t1;
-        }
+        clip_to_slab_reciprocal(lo_x, hi_x, ox[k], inv_x[k], t0, t1);
+        clip_to_slab_reciprocal(lo_y, hi_y, oy[k], inv_y[k], t0, t1);
+        clip_to_slab_reciprocal(lo_z, hi_z, oz[k], inv_z[k], t0, t1);
         const float was = reach[k];
         reach[k] = t0 <= t1 ? 1.0f : was;
       }

@@ -345,9 +345,7 @@ HADAL_VECTOR_KERNEL bool daylight_negligible(const FrameSetup& f, const BandArra
   const double g = f.phase_g;
   // p_HG(cos psi) with cos psi = d_z (the light travels straight down): largest at the highest d_z
   // when g >= 0, the lowest otherwise.
-  const double cos_psi = g >= 0.0 ? dz_hi : dz_lo;
-  const double denominator = 1.0 + g * g - 2.0 * g * cos_psi;
-  const double phase = (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));
+  const double phase = henyey_greenstein(g, g >= 0.0 ? dz_hi : dz_lo);
   for (int ch = 0; ch < 3; ++ch) {
     const double c = f.c[ch], Kd = f.Kd[ch];
     double bound = 0.0;
