@@ -381,6 +381,10 @@ TEST(FrameTest, NegligibleDaylightChangesNoPixelByTheNegligibleRadiance) {
   const Rgb daylight = largest_difference(exact, without);  // daylight's largest share of a pixel
   ASSERT_TRUE((daylight > 0.0).all());
 
+  for (const Rgb& bad : {Rgb(-1e-3, 0.0, 0.0), Rgb(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0)}) {
+    lighting.negligible_radiance_W_per_m2_sr = bad;
+    EXPECT_THROW(render(lighting), std::invalid_argument);
+  }
   lighting.negligible_radiance_W_per_m2_sr = Rgb::Constant(1e-30);
   expect_same_frame(render(lighting), exact);
   lighting.negligible_radiance_W_per_m2_sr = Rgb::Constant(1e30);

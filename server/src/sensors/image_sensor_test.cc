@@ -49,6 +49,30 @@ TEST(ImageSensorTest, NoiselessResponseIsLinearThenRounded) {
   }
 }
 
+// negligible_radiance(spec, counts) is the radiance worth `counts` on the axis: noise off, raising a
+// pixel's radiance by negligible_radiance(spec, 1) raises its count by exactly one in every channel
+// (means at 40.25 and 41.25 counts, away from rounding's half), and a twentieth of a count's worth
+// (kNegligibleCounts) moves the mean by 0.05 counts: 40.25 -> 40.30, the same rounded count.
+TEST(ImageSensorTest, NegligibleRadianceIsTheRadianceOfThatManyCounts) {
+  ImageSensorSpec spec = noiseless();
+  spec.sensitivity = Eigen::Array3d(1.0e5, 2.0e5, 3.0e5);
+  spec.vignetting = false;
+  const Eigen::Array3d one_count = negligible_radiance(spec, 1.0);
+  EXPECT_TRUE(((negligible_radiance(spec) / one_count - kNegligibleCounts).abs() < 1e-15).all());
+  std::vector<Eigen::Array3f> radiance(3);
+  radiance[0] = (40.25 * one_count).cast<float>();
+  radiance[1] = (41.25 * one_count).cast<float>();
+  radiance[2] = (40.25 * one_count + negligible_radiance(spec)).cast<float>();
+  const auto rgb = expose_rgb8(spec, radiance, on_axis(3), 1, 0);
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_EQ(rgb[ch], 40) << ch;
+    EXPECT_EQ(rgb[3 + ch], 41) << ch;
+    EXPECT_EQ(rgb[6 + ch], 40) << ch;
+  }
+  spec.exposure_s = 0.0;
+  EXPECT_THROW(negligible_radiance(spec), std::invalid_argument);
+}
+
 // Photon transfer: var(DN) = K^2 (mu + sigma_r^2) + 1/12 (quantisation), mean K mu. 120 000 samples:
 // the variance's relative standard error is sqrt(2/N) = 0.4 %, the tolerance 3 % (7 sigma). Both ways
 // the sensor draws it: one merged normal (full well far above) and shot then read noise apart (full well
