@@ -17,6 +17,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/core/units.h"
 #include "hadal/physics/seawater.h"
+#include "hadal/physics/soil_presets.h"
 #include "hadal/render/water_presets.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
@@ -36,7 +37,7 @@ constexpr double kTriangleRelativeTolerance = 1e-3;
 // the actuator kinds' lists, e.g. "thrusters" (physics/actuator_kinds.h), between links and sensors.
 const std::vector<std::string>& definition_keys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> list = {"type", "links"};
+    std::vector<std::string> list = {"type", "seabed_contact", "links"};
     physics::ActuatorKinds::for_each(
         [&](auto tag) { list.emplace_back(decltype(tag)::type::kListKey); });
     list.insert(list.end(), {"sensors", "lights", "fluid"});
@@ -126,6 +127,7 @@ bool check_unique(const Value& name_value, const std::string& name, const std::s
 struct VehicleDefinition {
   std::string source_file;
   VehicleType type = VehicleType::kAuv;
+  SeabedContact seabed_contact = SeabedContact::kRigid;
   std::vector<LinkSpec> links;
   std::vector<ActuatorSpec> actuators;
   std::vector<SensorSpec> sensors;
@@ -956,6 +958,9 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
   VehicleDefinition definition;
   definition.source_file = map.value().file();
   map.read_choice("type", Need::kRequired, vehicle_type_choices(), &definition.type);
+  map.read_choice<SeabedContact>("seabed_contact", Need::kOptional,
+                                 {{"rigid", SeabedContact::kRigid}, {"soil", SeabedContact::kSoil}},
+                                 &definition.seabed_contact);
 
   std::optional<std::vector<std::string>> link_names;  // nullopt: not all links have a usable name
   if (const auto links = map.required("links")) {
@@ -1010,6 +1015,11 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
   }
 
   definition.link_names = link_names;
+  if (definition.seabed_contact == SeabedContact::kSoil && !definition.links.empty() &&
+      !geometry::has_surface_geometry(definition.links)) {
+    map.error_at_key("seabed_contact", "soil contact presses on the vehicle's surface, and no link has a mesh or "
+                                       "collision shapes");
+  }
   read_sensors_and_lights(map, physics_rate_hz, &definition);
 
   read_fluid(map.optional("fluid"), definition.links, &definition.fluid);
@@ -1082,6 +1092,45 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   }
 }
 
+// world.soil (SoilSpec): a preset (physics/soil_presets.h; the deep-sea ooze when neither the block nor
+// its preset is given) with any of its parameters overridden, in SI.
+void read_soil(const std::optional<Value>& value, SoilSpec* soil) {
+  const auto start_from = [&](const std::string& name) {
+    soil->preset = name;
+    soil->parameters = physics::find_soil_preset(name)->soil;
+  };
+  start_from("deep_sea_ooze");
+  if (!value) return;
+  const MapReader map(*value, {"preset", "sinkage_exponent", "k_c", "k_phi", "cohesion", "friction_angle_deg",
+                               "shear_deformation_modulus", "damping", "shear_damping_time"});
+  if (!map.ok()) return;
+  if (const auto preset = map.optional("preset")) {
+    if (const auto name = preset->string()) {
+      if (physics::find_soil_preset(*name)) {
+        start_from(*name);
+      } else {
+        preset->error("unknown soil preset " + quoted(*name) + " (one of " + physics::soil_preset_names() + ")");
+      }
+    }
+  }
+  physics::SoilParameters& p = soil->parameters;
+  map.read_number("sinkage_exponent", Need::kOptional, Range::left_open(0.0, 3.0), &p.sinkage_exponent);
+  map.read_number("k_c", Need::kOptional, Range::closed(0.0, 1e9), &p.k_c);
+  map.read_number("k_phi", Need::kOptional, Range::closed(0.0, 1e10), &p.k_phi);
+  map.read_number("cohesion", Need::kOptional, Range::closed(0.0, 1e7), &p.cohesion);
+  double friction_angle_deg = p.friction_angle / kDegToRad;
+  if (map.read_number("friction_angle_deg", Need::kOptional, Range::closed(0.0, 60.0), &friction_angle_deg)) {
+    p.friction_angle = friction_angle_deg * kDegToRad;
+  }
+  map.read_number("shear_deformation_modulus", Need::kOptional, Range::left_open(0.0, 1.0),
+                  &p.shear_deformation_modulus);
+  map.read_number("damping", Need::kOptional, Range::closed(0.0, 1e9), &p.damping);
+  map.read_number("shear_damping_time", Need::kOptional, Range::closed(0.0, 1.0), &p.shear_damping_time);
+  if (p.k_c == 0.0 && p.k_phi == 0.0 && (map.has("k_c") || map.has("k_phi"))) {
+    map.error_at_key(map.has("k_phi") ? "k_phi" : "k_c", "k_c and k_phi are both 0: the soil would bear nothing");
+  }
+}
+
 // --- scenario ------------------------------------------------------------------------------------------
 
 class ScenarioLoader {
@@ -1142,7 +1191,7 @@ LoadResult ScenarioLoader::load(const std::string& path) {
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
                               "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "dynamics",
-                              "date", "magnetic_dipoles", "optics"});
+                              "date", "magnetic_dipoles", "optics", "soil"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
                       &world->physics_rate_hz)) {
@@ -1164,6 +1213,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   world->optics.marine_snow.seed = world->seed;
   world->optics.seabed_pattern.seed = world->seed;
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);
+  read_soil(map.optional("soil"), &world->soil);
   if (const auto date = map.optional("date")) {
     // "YYYY-MM-DD" within the geomagnetic model's validity (WMM2025: 2025-01-01 .. 2029-12-31).
     if (const auto text = date->string()) {
@@ -1255,6 +1305,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
   if (definition) {
     vehicle->source_file = definition->source_file;
     vehicle->type = definition->type;
+    vehicle->seabed_contact = definition->seabed_contact;
     vehicle->links = definition->links;
     vehicle->actuators = definition->actuators;
     vehicle->sensors = definition->sensors;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hadal/physics/soil_presets.h"
 #include "hadal/render/water_presets.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
@@ -1147,6 +1148,84 @@ vehicles:)") + kInlineVehicle);
   EXPECT_EQ(water.current.shear_decay_depth, 25.0);
   EXPECT_EQ(water.current.gauss_markov_sigma_W, Eigen::Vector3d(0.01, 0.02, 0.0));
   EXPECT_EQ(water.current.gauss_markov_time_constant, 300.0);
+}
+
+TEST_F(ScenarioLoaderTest, SoilPresetOverridesAndSeabedContact) {
+  // No soil block: the deep-sea ooze preset; a vehicle meets the seabed rigidly unless it says soil.
+  const auto plain = load_scenario_file(write("plain.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle));
+  ASSERT_TRUE(plain.model) << plain.errors.front().format();
+  EXPECT_EQ(plain.model->world.soil.preset, "deep_sea_ooze");
+  EXPECT_EQ(plain.model->world.soil.parameters.k_phi, physics::find_soil_preset("deep_sea_ooze")->soil.k_phi);
+  EXPECT_EQ(plain.model->vehicles[0].seabed_contact, SeabedContact::kRigid);
+
+  const std::string path = write("s.yaml", R"(world:
+  soil:
+    preset: dry_sand
+    cohesion: 1500
+    friction_angle_deg: 30
+    damping: 5000
+vehicles:
+  - name: crawler
+    type: crawler
+    seabed_contact: soil
+    links:
+      - name: body
+        mass: 300.0
+        inertia: {ixx: 50, iyy: 80, izz: 100}
+        collisions: [{shape: box, size: [2.0, 1.2, 0.6]}]
+)");
+  const auto result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << result.errors.front().format();
+  const SoilSpec& soil = result.model->world.soil;
+  const physics::SoilParameters& sand = physics::find_soil_preset("dry_sand")->soil;
+  EXPECT_EQ(soil.preset, "dry_sand");
+  EXPECT_EQ(soil.parameters.sinkage_exponent, sand.sinkage_exponent);
+  EXPECT_EQ(soil.parameters.k_c, sand.k_c);
+  EXPECT_EQ(soil.parameters.k_phi, sand.k_phi);
+  EXPECT_EQ(soil.parameters.cohesion, 1500.0);
+  EXPECT_NEAR(soil.parameters.friction_angle, 30.0 * kDegToRad, kTol);
+  EXPECT_EQ(soil.parameters.shear_deformation_modulus, sand.shear_deformation_modulus);
+  EXPECT_EQ(soil.parameters.damping, 5000.0);
+  EXPECT_EQ(result.model->vehicles[0].seabed_contact, SeabedContact::kSoil);
+}
+
+TEST_F(ScenarioLoaderTest, SoilErrors) {
+  const std::string path = write("s.yaml", R"(world:
+  soil:
+    preset: quicksand
+    sinkage_exponent: 0
+    k_c: 0
+    k_phi: 0
+    friction_angle_deg: 75
+    shear_deformation_modulus: -0.01
+    porosity: 0.4
+vehicles:
+  - name: crawler
+    type: crawler
+    seabed_contact: sticky
+    links:
+      - name: body
+        mass: 300.0
+        inertia: {ixx: 50, iyy: 80, izz: 100}
+  - name: sled
+    type: crawler
+    seabed_contact: soil
+    links:
+      - name: body
+        mass: 300.0
+        inertia: {ixx: 50, iyy: 80, izz: 100}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":3:13: error: world.soil.preset: unknown soil preset 'quicksand' (one of " +
+                       physics::soil_preset_names() + ")",
+                   path + ":4:23: error: world.soil.sinkage_exponent: must be in (0, 3] (got 0)",
+                   path + ":6:5: error: world.soil.k_phi: k_c and k_phi are both 0: the soil would bear nothing",
+                   path + ":7:25: error: world.soil.friction_angle_deg: must be in [0, 60] (got 75)",
+                   path + ":8:32: error: world.soil.shear_deformation_modulus: must be in (0, 1] (got -0.01)",
+                   path + ":9:5: error: world.soil.porosity: unknown key 'porosity'",
+                   path + ":13:21: error: vehicles[0].seabed_contact: must be one of 'rigid', 'soil' (got 'sticky')",
+                   path + ":20:5: error: vehicles[1].seabed_contact: soil contact presses on the vehicle's "
+                          "surface, and no link has a mesh or collision shapes"}));
 }
 
 TEST_F(ScenarioLoaderTest, WaterCtdLoads) {

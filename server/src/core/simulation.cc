@@ -14,7 +14,9 @@
 
 #include "hadal/core/rate_divider.h"
 #include "hadal/geometry/raycast_service.h"
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/scene_rays.h"
+#include "hadal/geometry/seabed_height.h"
 #include "hadal/geometry/world_scene.h"
 #include "hadal/physics/actuators.h"
 #include "hadal/physics/added_mass.h"
@@ -22,6 +24,7 @@
 #include "hadal/physics/fluid_forces.h"
 #include "hadal/physics/mass_properties.h"
 #include "hadal/physics/ocean.h"
+#include "hadal/physics/terramechanics.h"
 #include "hadal/sensors/sample_context.h"
 #include "hadal/sensors/sensor_kinds.h"
 #include "worker_pool.h"
@@ -32,15 +35,21 @@ namespace hadal {
 // scratch. Holds references into the model: made in place, never moved.
 struct Simulation::VehicleRuntime {
   VehicleRuntime(const VehicleSpec& spec, const WorldSpec& world, const physics::MassProperties& mass_properties,
-                 const physics::Ocean& ocean)
+                 const physics::Ocean& ocean, const geometry::SeabedHeight* seabed)
       : actuators(spec, world), p_BBcm(mass_properties.p_BBcm), mass(mass_properties.mass) {
-    // The force elements, in the order they add up: actuators, fluid, Earth rotation.
+    // The force elements, in the order they add up: actuators, fluid, Earth rotation, soil.
     forces.push_back(std::make_unique<physics::ActuatorForces>(actuators));
     physics::VehicleFluid fluid = physics::make_vehicle_fluid(spec, world, ocean, p_BBcm);
     forces.push_back(std::move(fluid.force));
     fluid_faces = fluid.faces;
     M_A0 = fluid.M_A0;
     if (world.dynamics.earth_rotation) forces.push_back(std::make_unique<physics::EarthRotationForce>(world, mass));
+    if (spec.seabed_contact == SeabedContact::kSoil) {
+      auto element = std::make_unique<physics::SoilForces>(geometry::vehicle_surface_B(spec), world.soil.parameters,
+                                                           *seabed, p_BBcm, mass, world.step_size());
+      soil = element.get();
+      forces.push_back(std::move(element));
+    }
     if (!M_A0.isZero(0.0)) {
       added_mass = std::make_unique<physics::AddedMassDynamics>(
           physics::RigidBodyInertia{mass, mass_properties.I_BBcm_B}, M_A0, spec.fluid.added_mass.coriolis,
@@ -64,6 +73,8 @@ struct Simulation::VehicleRuntime {
   Matrix6d M_A0 = Matrix6d::Zero();  // added mass at the surface, about Bcm, B axes
   std::unique_ptr<physics::AddedMassDynamics> added_mass;  // null without added mass
   std::size_t fluid_faces = 0;                             // surface-model faces per step
+  const physics::SoilForces* soil = nullptr;               // in `forces`; null without soil contact
+  std::vector<Eigen::Vector3d> belts;                      // per link, its surface's velocity in B (tracks)
   // A capture on the workers: a ray batch's hits, or a scene work's completion and what it fills (the
   // kind's Capture, kept alive by the work itself too, so that a dropped capture may finish safely).
   // A scene work dropped before a worker started it is skipped (`dropped`, read when it starts), so
@@ -158,6 +169,7 @@ void reset_non_finite(const VehicleSpec& spec, VehicleState& vehicle) {
   physics::VehicleActuators::stop(vehicle.actuators);
   std::fill(vehicle.client_controls.begin(), vehicle.client_controls.end(), 0.0);
   vehicle.contact_wrench_B.setZero();
+  vehicle.soil_shear_W.clear();
   vehicle.faults |= kFaultNonFiniteState;
   ++vehicle.fault_resets;
 }
@@ -200,13 +212,19 @@ const Model& validated(const Model& model) {
 Simulation::Simulation(Model model)
     : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
+  for (const VehicleSpec& spec : model_.vehicles) {
+    if (spec.seabed_contact != SeabedContact::kSoil || seabed_height_) continue;
+    const SeabedSpec& seabed = model_.world.seabed;
+    seabed_height_ = std::make_unique<geometry::SeabedHeight>(
+        seabed.mesh ? geometry::SeabedHeight(*seabed.mesh) : geometry::SeabedHeight::plane(seabed.z));
+  }
   environment_ = std::make_unique<sensors::SensorEnvironment>(model_.world.origin);
   bool casts_rays = false, captures = false;
   runtime_.reserve(model_.vehicles.size());
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
-    runtime_.push_back(std::make_unique<VehicleRuntime>(spec, model_.world,
-                                                        world_->mass_properties(static_cast<int>(i)), *ocean_));
+    runtime_.push_back(std::make_unique<VehicleRuntime>(
+        spec, model_.world, world_->mass_properties(static_cast<int>(i)), *ocean_, seabed_height_.get()));
     VehicleState vehicle = initial_vehicle_state(spec);
     for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
       const SensorSpec& sensor = spec.sensors[k];
@@ -247,6 +265,11 @@ Simulation::~Simulation() = default;
 
 const physics::MassProperties& Simulation::mass_properties(int vehicle_index) const {
   return world_->mass_properties(vehicle_index);
+}
+
+const physics::SoilWrench* Simulation::soil_wrench(int vehicle_index) const {
+  const VehicleRuntime& runtime = *runtime_.at(static_cast<std::size_t>(vehicle_index));
+  return runtime.soil ? &runtime.soil->last() : nullptr;
 }
 
 unsigned Simulation::fluid_helper_threads() const { return pool_ ? pool_->helpers() : 0; }
@@ -354,8 +377,16 @@ void Simulation::apply_forces(double t) {
     VehicleRuntime& runtime = *runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
     runtime.wrench = physics::StepWrench{};
-    const physics::ForceInput in{t, vehicle.body, runtime.p_WBcm, runtime.v_WBcm, vehicle.actuators};
+    const bool belts = runtime.soil && runtime.actuators.drives_surfaces();
+    if (belts) runtime.actuators.belt_velocities(vehicle.actuators, runtime.belts);
+    const physics::ForceInput in{t, vehicle.body, runtime.p_WBcm, runtime.v_WBcm, vehicle.actuators,
+                                 &vehicle.soil_shear_W, belts ? &runtime.belts : nullptr};
     for (const auto& element : runtime.forces) element->add(in, runtime.wrench);
+    // The soil's shear on each driven surface is its drive's load in the next step.
+    if (belts) {
+      runtime.actuators.take_belt_forces(vehicle.actuators, runtime.soil->last().link_shear_force_W,
+                                         vehicle.body.X_WB.linear());
+    }
   };
   if (pool_) {
     pool_->run(runtime_.size(), add_forces);

@@ -1,5 +1,7 @@
 #include "hadal/physics/actuators.h"
 
+#include <type_traits>
+
 namespace hadal::physics {
 
 namespace {
@@ -7,14 +9,22 @@ namespace {
 template <class Spec>
 using Kind = typename Spec::Kind;
 
+// Whether kind K drives a surface (K::kDrivesSurface, physics/track.h).
+template <class K, class = void>
+struct DrivesSurface : std::false_type {};
+template <class K>
+struct DrivesSurface<K, std::void_t<decltype(K::kDrivesSurface)>> : std::bool_constant<K::kDrivesSurface> {};
+
 }  // namespace
 
 VehicleActuators::VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world)
     : vehicle_(vehicle), surface_z_(world.water.surface_z) {
   for (const ActuatorSpec& actuator : vehicle.actuators) {
-    const ActuatorSetup setup{vehicle.links[static_cast<std::size_t>(actuator.link_index)].X_BL,
-                              world.water.density, world.step_size()};
+    const auto link = static_cast<std::size_t>(actuator.link_index);
+    const ActuatorSetup setup{vehicle.links[link].X_BL, world.water.density, world.step_size(), link};
     std::visit([&](const auto& spec) { runtimes_.emplace_back(Kind<std::decay_t<decltype(spec)>>::prepare(spec, setup)); },
+               actuator.kind);
+    std::visit([&](const auto& spec) { drives_surfaces_ |= DrivesSurface<Kind<std::decay_t<decltype(spec)>>>::value; },
                actuator.kind);
     first_control_.push_back(num_controls_);
     num_controls_ += actuator.num_controls();
@@ -98,6 +108,40 @@ void VehicleActuators::add_wrenches(const ForceInput& in, StepWrench& out) const
           K::add_wrench(std::get<typename K::Runtime>(runtimes_[k]), state, input, out);
         },
         in.actuators[k]);
+  }
+}
+
+void VehicleActuators::belt_velocities(const std::vector<ActuatorKindState>& states,
+                                       std::vector<Eigen::Vector3d>& belts) const {
+  belts.assign(vehicle_.links.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    std::visit(
+        [&](const auto& state) {
+          using K = typename std::decay_t<decltype(state)>::Kind;
+          if constexpr (DrivesSurface<K>::value) {
+            const auto& runtime = std::get<typename K::Runtime>(runtimes_[k]);
+            belts[K::belt_link(runtime)] += K::belt_velocity_B(runtime, state);
+          }
+        },
+        states[k]);
+  }
+}
+
+void VehicleActuators::take_belt_forces(std::vector<ActuatorKindState>& states,
+                                        const std::vector<Eigen::Vector3d>& link_forces_W,
+                                        const Eigen::Matrix3d& R_WB) const {
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    std::visit(
+        [&](auto& state) {
+          using K = typename std::decay_t<decltype(state)>::Kind;
+          if constexpr (DrivesSurface<K>::value) {
+            const auto& runtime = std::get<typename K::Runtime>(runtimes_[k]);
+            const std::size_t link = K::belt_link(runtime);
+            const Eigen::Vector3d force_W = link < link_forces_W.size() ? link_forces_W[link] : Eigen::Vector3d::Zero();
+            K::take_belt_force(runtime, state, R_WB.transpose() * force_W);
+          }
+        },
+        states[k]);
   }
 }
 

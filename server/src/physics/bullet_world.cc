@@ -75,6 +75,7 @@ struct BulletWorld::Impl {
     std::vector<std::unique_ptr<btCollisionShape>> children;
     std::unique_ptr<btCompoundShape> compound;
     std::unique_ptr<btRigidBody> body;
+    bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
   };
 
   btDefaultCollisionConfiguration configuration;
@@ -93,7 +94,16 @@ struct BulletWorld::Impl {
 
   void add_bodies() {
     world.addRigidBody(seabed.get());
-    for (Vehicle& v : vehicles) world.addRigidBody(v.body.get());
+    // The seabed is static (StaticFilter, colliding with everything else); a vehicle on soil contact
+    // leaves static bodies out of its mask, so Bullet never pairs it with the seabed.
+    for (Vehicle& v : vehicles) {
+      if (v.soil_contact) {
+        world.addRigidBody(v.body.get(), btBroadphaseProxy::DefaultFilter,
+                           btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+      } else {
+        world.addRigidBody(v.body.get());
+      }
+    }
   }
 
   ~Impl() {
@@ -135,6 +145,7 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
   w.vehicles.reserve(model.vehicles.size());
   for (const VehicleSpec& spec : model.vehicles) {
     Impl::Vehicle v;
+    v.soil_contact = spec.seabed_contact == SeabedContact::kSoil;
     v.mass = composite_mass_properties(spec.links);
     v.X_PB = v.mass.X_BP.inverse();
     v.compound = std::make_unique<btCompoundShape>();

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/triangle_mesh.h"
 
 // The hot loops are compiled twice, for x86-64-v3 (AVX2 + FMA, 8 float lanes) and for the baseline
@@ -208,14 +209,6 @@ void push_face(HydroFaces& f, double area, const Eigen::Vector3d& n, const Eigen
   f.c_z.push_back(static_cast<float>(c.z()));
 }
 
-// Second area moment per area of triangle (a, b, c) about its centroid: (1/12) sum_k d_k d_k^T.
-Eigen::Matrix3d triangle_moment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                const Eigen::Vector3d& c) {
-  const Eigen::Vector3d m = (a + b + c) / 3.0;
-  const Eigen::Vector3d da = a - m, db = b - m, dc = c - m;
-  return (da * da.transpose() + db * db.transpose() + dc * dc.transpose()) / 12.0;
-}
-
 }  // namespace
 
 double UniformWater::gauge_pressure(double z_W) const {
@@ -275,7 +268,7 @@ SurfaceHydrodynamics::SurfaceHydrodynamics(const geometry::TriangleMesh& mesh,
     const double twice_area = cr.norm();
     if (!(twice_area > 0.0)) continue;
     push_face(faces_, 0.5 * twice_area, cr / twice_area, (a + b + c) / 3.0,
-              triangle_moment(a, b, c), exposed.empty() || exposed[t] ? 1.0f : 0.0f);
+              geometry::triangle_second_moment(a, b, c), exposed.empty() || exposed[t] ? 1.0f : 0.0f);
     surface_area_ += 0.5 * twice_area;
     for (int k = 0; k < 3; ++k) {
       v_[k].push_back(static_cast<float>(a[k]));
@@ -379,7 +372,7 @@ void SurfaceHydrodynamics::clip_crossing_faces(const BodyMotion& m, double surfa
     Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
     for (int k = 1; k + 1 < count; ++k) {
       const Eigen::Vector3d d = sub_centroid[k - 1] - centroid;
-      C += sub_area[k - 1] * (triangle_moment(poly[0], poly[k], poly[k + 1]) + d * d.transpose());
+      C += sub_area[k - 1] * (geometry::triangle_second_moment(poly[0], poly[k], poly[k + 1]) + d * d.transpose());
     }
     push_face(clipped_, area, Eigen::Vector3d(faces_.n_x[i], faces_.n_y[i], faces_.n_z[i]),
               centroid, C / area, faces_.exposed[i]);

@@ -13,6 +13,7 @@
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/actuator_kinds.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/physics/terramechanics.h"
 #include "hadal/render/marine_snow.h"
 #include "hadal/render/sediment_pattern.h"
 #include "hadal/render/optics.h"
@@ -201,9 +202,16 @@ struct SetpointKeyframe {
   std::vector<double> setpoints;
 };
 
+// How a vehicle meets the seabed (YAML: the vehicle definition's `seabed_contact`).
+//   kRigid  Bullet's rigid contact of its collision shapes with the seabed (friction 0.4, no bounce).
+//   kSoil   the soil's Bekker pressure and Janosi-Hanamoto shear under every face of its surface
+//           (physics/terramechanics.h, world.soil) instead; Bullet leaves it and the seabed apart.
+enum class SeabedContact { kRigid, kSoil };
+
 struct VehicleSpec {
   std::string name;                 // DDS topics are rt/<name>/...
   VehicleType type = VehicleType::kAuv;
+  SeabedContact seabed_contact = SeabedContact::kRigid;
   std::string source_file;          // file the vehicle definition came from (scenario or include)
   std::vector<LinkSpec> links;      // links[0] is the base link; links are rigidly attached to B
   std::vector<ActuatorSpec> actuators;  // their controls form the vehicle's control vector, in order
@@ -239,6 +247,14 @@ struct SeabedSpec {
   geometry::ProceduralSeabedSpec procedural;  // kProcedural (z_datum = z)
   // The surface in W for every type but kPlane, built by the loader; shared, never modified.
   std::shared_ptr<const geometry::TriangleMesh> mesh;
+};
+
+// The seabed's soil (YAML world.soil, physics/terramechanics.h): a preset of published parameters
+// (physics/soil_presets.h) with any parameter overridden; the deep-sea ooze preset when not given. Used
+// by vehicles with seabed_contact soil.
+struct SoilSpec {
+  std::string preset = "deep_sea_ooze";  // the preset the parameters started from ("" if none)
+  physics::SoilParameters parameters;    // SI, filled by the loader
 };
 
 // The water column (YAML `world.water`; see configs/REFERENCE.md and hadal/physics/ocean.h for the model).
@@ -313,6 +329,7 @@ struct WorldSpec {
   std::uint64_t seed = 0;
   WaterSpec water;
   SeabedSpec seabed;
+  SoilSpec soil;
   sensors::GeodeticPosition origin;  // of W's origin, WGS84 (YAML: latitude_deg, longitude_deg, altitude)
   DynamicsSpec dynamics;
   OpticsSpec optics;

@@ -41,11 +41,13 @@ class SensorEnvironment;
 namespace geometry {
 class RaycastService;
 class SceneRays;
+class SeabedHeight;
 }
 
 namespace physics {
 class BulletWorld;
 class Ocean;
+struct SoilWrench;
 struct MassProperties;
 }
 
@@ -68,6 +70,9 @@ class Simulation {
   // The vehicle's added mass at the surface, M_A0 about its centre of mass in B axes (zero for
   // added_mass.model none) [kg, kg m, kg m^2].
   const Matrix6d& added_mass(int vehicle_index) const;
+  // The soil's wrench on the vehicle in the last step (physics/terramechanics.h), or null for a vehicle
+  // without soil contact.
+  const physics::SoilWrench* soil_wrench(int vehicle_index) const;
   // The scenario's water column.
   const physics::Ocean& ocean() const { return *ocean_; }
   // Helper threads computing force elements besides the stepping thread (0: serial).
@@ -124,6 +129,7 @@ class Simulation {
   SimState state_;
   std::unique_ptr<physics::BulletWorld> world_;
   std::unique_ptr<physics::Ocean> ocean_;  // the water column
+  std::unique_ptr<geometry::SeabedHeight> seabed_height_;  // for soil contact; null when no vehicle has it
   std::vector<std::unique_ptr<VehicleRuntime>> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;  // force elements in parallel; null when it does not pay
   std::unique_ptr<sensors::SensorEnvironment> environment_;  // WMM, W's geodetic frame (on first use)

@@ -74,6 +74,9 @@ struct VehicleState {
   // of that step's start [N; N m]; zero without contact. Added-mass vehicles feed it into the next
   // step (physics/added_mass.h).
   Eigen::Matrix<double, 6, 1> contact_wrench_B = Eigen::Matrix<double, 6, 1>::Zero();
+  // Soil contact (seabed_contact soil, physics/terramechanics.h): per face of the vehicle's surface, its
+  // shear displacement in the soil, in W [m]; empty until the vehicle first touches soil.
+  std::vector<Eigen::Vector3d> soil_shear_W;
 };
 
 struct SimState {

@@ -49,4 +49,13 @@ struct MeshProperties {
 // range (import_mesh never produces such a mesh).
 MeshProperties compute_mesh_properties(const TriangleMesh& mesh);
 
+// Second area moment of triangle (a, b, c) about its centroid m, per unit area:
+// C = (1/A) int (x - m)(x - m)^T dA = (1/12) sum_k d_k d_k^T with d_k = vertex_k - m [m^2].
+inline Eigen::Matrix3d triangle_second_moment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                              const Eigen::Vector3d& c) {
+  const Eigen::Vector3d m = (a + b + c) / 3.0;
+  const Eigen::Vector3d da = a - m, db = b - m, dc = c - m;
+  return (da * da.transpose() + db * db.transpose() + dc * dc.transpose()) / 12.0;
+}
+
 }  // namespace hadal::geometry

@@ -29,6 +29,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cstddef>
 #include <string_view>
 
 namespace hadal::config {
@@ -57,6 +58,7 @@ struct ActuatorSetup {
   const Eigen::Isometry3d& X_BL;
   double water_density = 1025.0;  // [kg/m^3], world.water.density
   double step_size = 0.002;       // physics step [s]
+  std::size_t link_index = 0;     // the link's index in the vehicle's links
 };
 
 // What add_wrench() reads: the vehicle's pose and centre of mass at the step's start, and the water.

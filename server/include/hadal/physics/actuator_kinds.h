@@ -1,14 +1,15 @@
 // The actuator kinds: the one list every layer dispatches over (physics/actuator_kind.h has the contract
-// a kind fulfils). Adding a kind is its module and one entry here; fins, buoyancy engines, drop weights
-// and track motors come next.
+// a kind fulfils). Adding a kind is its module and one entry here; fins, buoyancy engines and drop
+// weights come next.
 #pragma once
 
 #include "hadal/core/kind_list.h"
 #include "hadal/physics/thruster.h"
+#include "hadal/physics/track.h"
 
 namespace hadal::physics {
 
-using ActuatorKinds = KindList<ThrusterActuator>;
+using ActuatorKinds = KindList<ThrusterActuator, TrackActuator>;
 
 using ActuatorKindSpec = ActuatorKinds::Specs;
 using ActuatorKindState = ActuatorKinds::States;

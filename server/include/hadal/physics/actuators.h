@@ -46,6 +46,16 @@ class VehicleActuators {
   // Adds every actuator's wrench (in actuator order) at the vehicle's pose.
   void add_wrenches(const ForceInput& in, StepWrench& out) const;
 
+  // Kinds that drive a surface (kDrivesSurface: tracks, wheels) move their link's faces over the body:
+  // per link, the velocity of its surface in B (zero for the others), for the soil contact
+  // (physics/terramechanics.h). `belts` is resized to the vehicle's link count.
+  void belt_velocities(const std::vector<ActuatorKindState>& states, std::vector<Eigen::Vector3d>& belts) const;
+  // Hands each such actuator the soil's shear force on its link in the last step (per link, in W) as its
+  // load; R_WB the vehicle's orientation then.
+  void take_belt_forces(std::vector<ActuatorKindState>& states, const std::vector<Eigen::Vector3d>& link_forces_W,
+                        const Eigen::Matrix3d& R_WB) const;
+  bool drives_surfaces() const { return drives_surfaces_; }
+
   std::size_t num_controls() const { return num_controls_; }
 
  private:
@@ -54,6 +64,7 @@ class VehicleActuators {
   std::vector<ActuatorKindRuntime> runtimes_;  // one per actuator
   std::vector<std::size_t> first_control_;     // index of each actuator's first control
   std::size_t num_controls_ = 0;
+  bool drives_surfaces_ = false;
 };
 
 // The actuators as a force element: their wrenches, from the states actuate() left.

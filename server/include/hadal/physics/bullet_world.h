@@ -8,7 +8,8 @@
 // Collision primitives of all links go into one btCompoundShape with child poses
 // X_PG = X_BP^-1 X_BL X_LG (cylinder/capsule along G-z: btCylinderShapeZ / btCapsuleShapeZ); a
 // vehicle without shapes gets an empty compound and collides with nothing. The seabed is a static
-// plane z = seabed.z with normal +z. Gravity (WorldSpec::gravity_W) is applied by Bullet at each
+// plane z = seabed.z with normal +z, or the seabed's mesh; a vehicle with seabed_contact soil does not
+// collide with it (its soil forces do, physics/terramechanics.h), only with other vehicles. Gravity (WorldSpec::gravity_W) is applied by Bullet at each
 // centre of mass.
 //
 // Gyroscopic moment: with world.dynamics.gyroscopic (default) Bullet integrates the rigid-body

@@ -1,0 +1,266 @@
+#include "hadal/physics/terramechanics.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "hadal/geometry/mesh_properties.h"
+#include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/seabed_height.h"
+#include "hadal/geometry/triangle_mesh.h"
+
+namespace hadal::physics {
+
+namespace {
+
+// Faces are split until no edge is longer than this [m] (header: pressure is sampled per face).
+constexpr double kMaxFaceSize = 0.05;
+
+// The soil has yielded once 1 - e^(-j/K) reaches 0.999: j_cap = K ln(1000) (header).
+const double kShearCapPerK = std::log(1000.0);
+
+void check_parameters(const SoilParameters& s) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("SoilParameters: " + what); };
+  if (!(s.sinkage_exponent > 0.0) || !std::isfinite(s.sinkage_exponent)) fail("sinkage_exponent must be > 0");
+  if (!(s.k_c >= 0.0) || !std::isfinite(s.k_c)) fail("k_c must be >= 0");
+  if (!(s.k_phi >= 0.0) || !std::isfinite(s.k_phi)) fail("k_phi must be >= 0");
+  if (!(s.cohesion >= 0.0) || !std::isfinite(s.cohesion)) fail("cohesion must be >= 0");
+  if (!(s.friction_angle >= 0.0) || !(s.friction_angle < 0.5 * M_PI)) fail("friction_angle must be in [0, pi/2)");
+  if (!(s.shear_deformation_modulus > 0.0) || !std::isfinite(s.shear_deformation_modulus)) {
+    fail("shear_deformation_modulus must be > 0");
+  }
+  if (!(s.damping >= 0.0) || !std::isfinite(s.damping)) fail("damping must be >= 0");
+  if (!(s.shear_damping_time >= 0.0) || !std::isfinite(s.shear_damping_time)) fail("shear_damping_time must be >= 0");
+}
+
+}  // namespace
+
+double SoilParameters::pressure(double sinkage, double width) const {
+  if (!(sinkage > 0.0)) return 0.0;
+  return (k_c / width + k_phi) * std::pow(sinkage, sinkage_exponent);
+}
+
+double SoilParameters::shear_strength(double p) const { return cohesion + p * std::tan(friction_angle); }
+
+double SoilParameters::static_sinkage(double load, double area, double width) const {
+  return std::pow(load / (area * (k_c / width + k_phi)), 1.0 / sinkage_exponent);
+}
+
+SoilContact::SoilContact(const geometry::TriangleMesh& mesh, const SoilParameters& soil, double mass, double dt)
+    : soil_(soil), mass_(mass), dt_(dt) {
+  check_parameters(soil);
+  tan_phi_ = std::tan(soil.friction_angle);
+  if (!(mass > 0.0) || !(dt > 0.0)) throw std::invalid_argument("SoilContact: mass and dt must be > 0");
+  if (mesh.positions.size() % 3 != 0 || mesh.indices.size() % 3 != 0) {
+    throw std::invalid_argument("SoilContact: positions/indices are not whole triples");
+  }
+  const std::size_t nv = mesh.num_vertices();
+  const bool has_materials = mesh.triangle_materials.size() == mesh.num_triangles();
+  Eigen::AlignedBox3d bounds;
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+    Eigen::Vector3d v[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t index = mesh.indices[3 * t + k];
+      if (index >= nv) throw std::invalid_argument("SoilContact: vertex index out of range");
+      v[k] = Eigen::Vector3d(mesh.positions[3 * index], mesh.positions[3 * index + 1], mesh.positions[3 * index + 2]);
+      bounds.extend(v[k]);
+    }
+    const Eigen::Vector3d cross = (v[1] - v[0]).cross(v[2] - v[0]);
+    const double twice_area = cross.norm();
+    if (!(twice_area > 0.0)) continue;
+    const std::size_t link = has_materials ? geometry::link_of_material(mesh.triangle_materials[t]) : 0;
+    num_links_ = std::max(num_links_, link + 1);
+    // Split into s^2 similar triangles on a barycentric grid, s = ceil(longest edge / kMaxFaceSize).
+    const double longest = std::max({(v[1] - v[0]).norm(), (v[2] - v[1]).norm(), (v[0] - v[2]).norm()});
+    const int split = std::max(1, static_cast<int>(std::ceil(longest / kMaxFaceSize - 1e-9)));
+    const Eigen::Vector3d e1 = (v[1] - v[0]) / split, e2 = (v[2] - v[0]) / split;
+    const auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+      faces_.push_back(Face{0.5 * twice_area / (split * split), cross / twice_area, (a + b + c) / 3.0,
+                            geometry::triangle_second_moment(a, b, c), link});
+    };
+    for (int i = 0; i < split; ++i) {
+      for (int j = 0; i + j < split; ++j) {
+        const Eigen::Vector3d p = v[0] + i * e1 + j * e2;
+        add(p, p + e1, p + e2);
+        if (i + j + 1 < split) add(p + e1, p + e1 + e2, p + e2);
+      }
+    }
+  }
+  if (!faces_.empty()) {
+    sphere_center_B_ = bounds.center();
+    sphere_radius_ = 0.5 * bounds.diagonal().norm();
+  }
+  patch_width_.assign(num_links_, 0.0);
+  contacts_.reserve(faces_.size());
+}
+
+SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::SeabedHeight& seabed,
+                                SoilShearState& shear, const std::vector<Eigen::Vector3d>& belt_velocity_B) {
+  SoilWrench out;
+  out.link_shear_force_W.assign(num_links_, Eigen::Vector3d::Zero());
+  if (shear.size() != faces_.size()) {
+    shear.assign(faces_.size(), Eigen::Vector3d::Zero());
+    shear_clear_ = true;
+  }
+  std::fill(patch_width_.begin(), patch_width_.end(), 0.0);
+  contacts_.clear();
+  const Eigen::Matrix3d R = motion.X_WB.linear();
+  // Cull: the body's bounding sphere above the highest seabed under it touches nothing.
+  const Eigen::Vector3d center_W = motion.X_WB * sphere_center_B_;
+  const Eigen::AlignedBox2d under(center_W.head<2>() - Eigen::Vector2d::Constant(sphere_radius_),
+                                  center_W.head<2>() + Eigen::Vector2d::Constant(sphere_radius_));
+  const double top = faces_.empty() ? -INFINITY : seabed.max_height_in(under);
+  if (center_W.z() - sphere_radius_ < top) {
+    geometry::SeabedHeight::Sample ground;
+    for (std::size_t f = 0; f < faces_.size(); ++f) {
+      const Face& face = faces_[f];
+      const Eigen::Vector3d c_W = motion.X_WB * face.c_B;
+      if (c_W.z() >= top || !seabed.sample(c_W.x(), c_W.y(), &ground)) continue;
+      const double sinkage = ground.normal_W.z() * (ground.height - c_W.z());
+      const double facing = -(R * face.n_B).dot(ground.normal_W);
+      if (!(sinkage > 0.0) || !(facing > 0.0)) continue;
+      contacts_.push_back(Contact{f, sinkage, face.area * facing, c_W, ground.normal_W});
+    }
+  }
+  // Faces that left contact lose their shear.
+  std::size_t next = 0;
+  if (!shear_clear_) {
+    for (const Contact& contact : contacts_) {
+      for (; next < contact.face; ++next) shear[next].setZero();
+      next = contact.face + 1;
+    }
+    for (; next < faces_.size(); ++next) shear[next].setZero();
+  }
+  shear_clear_ = contacts_.empty();
+  if (contacts_.empty()) return out;
+
+  std::vector<Patch>& patches = patches_;
+  patches.assign(num_links_, Patch{});
+  for (const Contact& contact : contacts_) {
+    Patch& patch = patches[faces_[contact.face].link];
+    patch.area += contact.bearing_area;
+    patch.first += contact.bearing_area * contact.c_W;
+    patch.second += contact.bearing_area * contact.c_W * contact.c_W.transpose();
+    patch.own += contact.bearing_area * faces_[contact.face].C_B;
+    patch.normal += contact.bearing_area * contact.n_s;
+  }
+  for (std::size_t link = 0; link < num_links_; ++link) {
+    Patch& patch = patches[link];
+    if (!(patch.area > 0.0)) continue;
+    const Eigen::Vector3d n = patch.normal.normalized();
+    const Eigen::Vector3d mean = patch.first / patch.area;
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
+    const Eigen::Matrix3d spread = (patch.second + R * patch.own * R.transpose()) / patch.area - mean * mean.transpose();
+    const Eigen::Matrix3d C = P * spread * P;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(C, Eigen::EigenvaluesOnly);
+    // Eigenvalues ascending: ~0 along n, then the patch's short and long in-plane directions.
+    patch_width_[link] = std::sqrt(12.0 * std::max(solver.eigenvalues()(1), 0.0));
+    if (link < belt_velocity_B.size()) {
+      const Eigen::Vector3d v = P * (R * belt_velocity_B[link]);
+      patch.belt_W = R * belt_velocity_B[link];
+      patch.belt_speed = v.norm();
+      if (patch.belt_speed > 0.0) patch.belt_direction = v / patch.belt_speed;
+    }
+  }
+  for (const Contact& contact : contacts_) {
+    Patch& patch = patches[faces_[contact.face].link];
+    if (!(patch.belt_speed > 0.0)) continue;
+    const Eigen::Vector3d& u = patch.belt_direction;
+    const Eigen::Vector3d u_B = R.transpose() * u;
+    const double half_length = std::sqrt(3.0 * std::max(u_B.dot(faces_[contact.face].C_B * u_B), 0.0));
+    patch.leading_edge = std::min(patch.leading_edge, u.dot(contact.c_W) - half_length);
+  }
+
+  // Forces. The damping coefficients summed over the faces are capped at mass / dt (header).
+  const SoilParameters& s = soil_;
+  const double K = s.shear_deformation_modulus;
+  const double j_cap = kShearCapPerK * K;
+  double normal_damping_sum = 0.0;
+  for (const Contact& contact : contacts_) normal_damping_sum += s.damping * contact.bearing_area;
+  const double normal_damping_scale =
+      normal_damping_sum * dt_ > mass_ ? mass_ / (normal_damping_sum * dt_) : 1.0;
+  std::vector<FaceForce>& face_forces = face_forces_;
+  face_forces.clear();
+  double shear_damping_sum = 0.0;
+  for (const Contact& contact : contacts_) {
+    const Face& face = faces_[contact.face];
+    const Patch& patch = patches[face.link];
+    const double width = patch_width_[face.link];
+    const double p = width > 0.0 ? s.pressure(contact.sinkage, width) : 0.0;
+    const double A = contact.bearing_area;
+    const Eigen::Vector3d& n_s = contact.n_s;
+    const Eigen::Vector3d r = contact.c_W - motion.p_WBcm;
+    const Eigen::Vector3d v = motion.v_WBcm + motion.w_WB.cross(r) + patch.belt_W;  // over the soil
+    const double v_n = v.dot(n_s);
+    const Eigen::Vector3d v_t = v - v_n * n_s;
+    // Shear displacement: onto the current seabed plane, plus this step's slip; a belt element's
+    // relaxes by the time it has been in contact (header), implicitly.
+    Eigen::Vector3d& j = shear[contact.face];
+    j -= j.dot(n_s) * n_s;
+    j += v_t * dt_;
+    if (patch.belt_speed > 0.0) {
+      const double s_travel = std::max(patch.belt_direction.dot(contact.c_W) - patch.leading_edge, 1e-9);
+      j /= 1.0 + dt_ * patch.belt_speed / s_travel;
+    }
+    const double j_norm = j.norm();
+    if (j_norm > j_cap) {
+      j *= j_cap / j_norm;
+    }
+    const double j_len = std::min(j_norm, j_cap);
+    const double tau_max = s.cohesion + p * tan_phi_;
+    const double e = std::exp(-j_len / K);
+    // Normal: pressure less damping (scaled), never pulling; added here with its moment. The shear is
+    // kept apart to be clipped with its damping below.
+    const double normal_stress = std::max(0.0, p - normal_damping_scale * s.damping * v_n);
+    const Eigen::Vector3d f_n = normal_stress * A * n_s;
+    out.normal_force_W += f_n;
+    out.f_W += f_n;
+    out.tau_W += r.cross(f_n);
+    FaceForce force;
+    force.r = r;
+    force.limit = A * tau_max;
+    force.elastic = j_len > 0.0 ? Eigen::Vector3d(-(A * tau_max * (1.0 - e) / j_len) * j) : Eigen::Vector3d::Zero();
+    const double shear_damping = s.shear_damping_time * A * tau_max * e / K;
+    shear_damping_sum += shear_damping;
+    force.damping = -shear_damping * v_t;
+    force.link = face.link;
+    face_forces.push_back(force);
+    out.contact_area += A;
+    out.max_sinkage = std::max(out.max_sinkage, contact.sinkage);
+  }
+  const double shear_damping_scale = shear_damping_sum * dt_ > mass_ ? mass_ / (shear_damping_sum * dt_) : 1.0;
+  for (const FaceForce& force : face_forces) {
+    Eigen::Vector3d f_t = force.elastic + shear_damping_scale * force.damping;
+    const double magnitude = f_t.norm();
+    if (magnitude > force.limit) f_t *= force.limit / magnitude;
+    out.shear_force_W += f_t;
+    out.link_shear_force_W[force.link] += f_t;
+    out.f_W += f_t;
+    out.tau_W += force.r.cross(f_t);
+  }
+  out.faces_in_contact = contacts_.size();
+  return out;
+}
+
+SoilForces::SoilForces(const geometry::TriangleMesh& mesh_B, const SoilParameters& soil,
+                       const geometry::SeabedHeight& seabed, const Eigen::Vector3d& p_BBcm, double mass, double dt)
+    : contact_(mesh_B, soil, mass, dt), seabed_(seabed), p_BBcm_(p_BBcm) {}
+
+void SoilForces::add(const ForceInput& in, StepWrench& out) {
+  if (!in.soil_shear) throw std::logic_error("SoilForces: the vehicle has no soil shear state");
+  BodyMotion motion;
+  motion.X_WB = in.body.X_WB;
+  motion.p_WBcm = in.p_WBcm;
+  motion.v_WBcm = in.v_WBcm;
+  motion.w_WB = in.body.w_WB;
+  static const std::vector<Eigen::Vector3d> kNoBelts;
+  last_ = contact_.compute(motion, seabed_, *in.soil_shear, in.belt_velocity_B ? *in.belt_velocity_B : kNoBelts);
+  out.f_W += last_.f_W;
+  out.tau_W += last_.tau_W;
+}
+
+}  // namespace hadal::physics
