@@ -216,7 +216,8 @@ Simulation::Simulation(Model model)
     if (spec.seabed_contact != SeabedContact::kSoil || seabed_height_) continue;
     const SeabedSpec& seabed = model_.world.seabed;
     seabed_height_ = std::make_unique<geometry::SeabedHeight>(
-        seabed.mesh ? geometry::SeabedHeight(*seabed.mesh) : geometry::SeabedHeight::plane(seabed.z));
+        seabed.mesh ? geometry::SeabedHeight(*seabed.mesh, /*height_field=*/seabed.type != SeabedType::kMesh)
+                    : geometry::SeabedHeight::plane(seabed.z));
   }
   environment_ = std::make_unique<sensors::SensorEnvironment>(model_.world.origin);
   bool casts_rays = false, captures = false;

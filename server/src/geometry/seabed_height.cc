@@ -24,7 +24,7 @@ SeabedHeight SeabedHeight::plane(double height_W) {
   return out;
 }
 
-SeabedHeight::SeabedHeight(const TriangleMesh& mesh) {
+SeabedHeight::SeabedHeight(const TriangleMesh& mesh, bool height_field) : height_field_(height_field) {
   const std::size_t nt = mesh.num_triangles();
   const std::size_t nv = mesh.num_vertices();
   Eigen::AlignedBox2d bounds;
@@ -92,13 +92,40 @@ SeabedHeight::SeabedHeight(const TriangleMesh& mesh) {
   }
 }
 
-bool SeabedHeight::sample(double x, double y, Sample* out) const {
+namespace {
+
+// (x, y) in triangle v's xy projection (inclusive edges, a few ulp of slack so that a point on a shared
+// edge finds a triangle): its height there and its upward unit normal.
+bool height_in_triangle(const double* v, double x, double y, double* height, Eigen::Vector3d* normal) {
+  const double e1x = v[3] - v[0], e1y = v[4] - v[1], e2x = v[6] - v[0], e2y = v[7] - v[1];
+  const double det = e1x * e2y - e1y * e2x;
+  const double px = x - v[0], py = y - v[1];
+  const double s = (px * e2y - py * e2x) / det, t = (e1x * py - e1y * px) / det;
+  constexpr double kSlack = 1e-12;
+  if (!(s >= -kSlack && t >= -kSlack && s + t <= 1.0 + kSlack)) return false;
+  *height = v[2] + s * (v[5] - v[2]) + t * (v[8] - v[2]);
+  if (normal) {
+    Eigen::Vector3d n = Eigen::Vector3d(e1x, e1y, v[5] - v[2]).cross(Eigen::Vector3d(e2x, e2y, v[8] - v[2]));
+    if (n.z() < 0.0) n = -n;
+    *normal = n.normalized();
+  }
+  return true;
+}
+
+}  // namespace
+
+bool SeabedHeight::sample(double x, double y, Sample* out, std::uint32_t* hint) const {
   if (is_plane_) {
     out->height = plane_z_;
     out->normal_W = Eigen::Vector3d::UnitZ();
     return true;
   }
   if (nx_ == 0) return false;
+  // On a height field the triangle over the point is the only one: the hint's, if it still holds it.
+  if (height_field_ && hint && *hint != kNoHint &&
+      height_in_triangle(&vertices_[9 * static_cast<std::size_t>(*hint)], x, y, &out->height, &out->normal_W)) {
+    return true;
+  }
   const double fx = (x - x0_) / cell_x_, fy = (y - y0_) / cell_y_;
   // The last row and column of cells are closed on their far side (the mesh's edge belongs to it).
   if (!(fx >= 0.0 && fx <= nx_ && fy >= 0.0 && fy <= ny_)) return false;
@@ -107,21 +134,12 @@ bool SeabedHeight::sample(double x, double y, Sample* out) const {
   bool found = false;
   for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
     const double* v = &vertices_[9 * cell_triangles_[k]];
-    // Barycentric coordinates of (x, y) in the triangle's xy projection.
-    const double e1x = v[3] - v[0], e1y = v[4] - v[1], e2x = v[6] - v[0], e2y = v[7] - v[1];
-    const double det = e1x * e2y - e1y * e2x;
-    const double px = x - v[0], py = y - v[1];
-    const double s = (px * e2y - py * e2x) / det, t = (e1x * py - e1y * px) / det;
-    // Inclusive edges, with a few ulp of slack so that a point on a shared edge finds a triangle.
-    constexpr double kSlack = 1e-12;
-    if (!(s >= -kSlack && t >= -kSlack && s + t <= 1.0 + kSlack)) continue;
-    const double h = v[2] + s * (v[5] - v[2]) + t * (v[8] - v[2]);
-    if (found && h <= out->height) continue;
-    Eigen::Vector3d n = Eigen::Vector3d(e1x, e1y, v[5] - v[2]).cross(Eigen::Vector3d(e2x, e2y, v[8] - v[2]));
-    if (n.z() < 0.0) n = -n;
-    out->height = h;
-    out->normal_W = n.normalized();
+    double h = 0.0;
+    if (!height_in_triangle(v, x, y, &h, nullptr) || (found && h <= out->height)) continue;
+    height_in_triangle(v, x, y, &out->height, &out->normal_W);
+    if (hint) *hint = cell_triangles_[k];
     found = true;
+    if (height_field_) break;
   }
   return found;
 }

@@ -41,7 +41,7 @@ TEST(SeabedHeight, HeightFieldSamplesAreItsTrianglesPlane) {
   const SeabedHeight seabed(heightfield_to_mesh(tilted(a, b, z0)));
   const Eigen::Vector3d normal = Eigen::Vector3d(-a, -b, 1.0).normalized();
   SeabedHeight::Sample s;
-  for (const Eigen::Vector2d p : {Eigen::Vector2d(0.13, 0.71), Eigen::Vector2d(-4.99, 2.49), Eigen::Vector2d(4.0, -1.0),
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.13, 0.71), Eigen::Vector2d(-4.99, 2.49), Eigen::Vector2d(4.0, -1.0),
                                   Eigen::Vector2d(5.0, 2.5), Eigen::Vector2d(-5.0, -2.5)}) {
     ASSERT_TRUE(seabed.sample(p.x(), p.y(), &s)) << p.transpose();
     EXPECT_NEAR(s.height, z0 + a * p.x() + b * p.y(), 1e-5) << p.transpose();

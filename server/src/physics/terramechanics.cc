@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -17,7 +18,7 @@ namespace hadal::physics {
 namespace {
 
 // Faces are split until no edge is longer than this [m] (header: pressure is sampled per face).
-constexpr double kMaxFaceSize = 0.05;
+constexpr double kMaxFaceSize = 0.1;
 
 // The soil has yielded once 1 - e^(-j/K) reaches 0.999: j_cap = K ln(1000) (header).
 const double kShearCapPerK = std::log(1000.0);
@@ -59,39 +60,74 @@ SoilContact::SoilContact(const geometry::TriangleMesh& mesh, const SoilParameter
   }
   const std::size_t nv = mesh.num_vertices();
   const bool has_materials = mesh.triangle_materials.size() == mesh.num_triangles();
-  Eigen::AlignedBox3d bounds;
+  std::vector<std::vector<Face>> by_link;
   for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
     Eigen::Vector3d v[3];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t index = mesh.indices[3 * t + k];
       if (index >= nv) throw std::invalid_argument("SoilContact: vertex index out of range");
       v[k] = Eigen::Vector3d(mesh.positions[3 * index], mesh.positions[3 * index + 1], mesh.positions[3 * index + 2]);
-      bounds.extend(v[k]);
     }
     const Eigen::Vector3d cross = (v[1] - v[0]).cross(v[2] - v[0]);
     const double twice_area = cross.norm();
     if (!(twice_area > 0.0)) continue;
+    const Eigen::Vector3d normal = cross / twice_area;
     const std::size_t link = has_materials ? geometry::link_of_material(mesh.triangle_materials[t]) : 0;
-    num_links_ = std::max(num_links_, link + 1);
-    // Split into s^2 similar triangles on a barycentric grid, s = ceil(longest edge / kMaxFaceSize).
-    const double longest = std::max({(v[1] - v[0]).norm(), (v[2] - v[1]).norm(), (v[0] - v[2]).norm()});
-    const int split = std::max(1, static_cast<int>(std::ceil(longest / kMaxFaceSize - 1e-9)));
-    const Eigen::Vector3d e1 = (v[1] - v[0]) / split, e2 = (v[2] - v[0]) / split;
-    const auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-      faces_.push_back(Face{0.5 * twice_area / (split * split), cross / twice_area, (a + b + c) / 3.0,
-                            geometry::triangle_second_moment(a, b, c), link});
-    };
-    for (int i = 0; i < split; ++i) {
-      for (int j = 0; i + j < split; ++j) {
-        const Eigen::Vector3d p = v[0] + i * e1 + j * e2;
-        add(p, p + e1, p + e2);
-        if (i + j + 1 < split) add(p + e1, p + e1 + e2, p + e2);
+    if (link >= by_link.size()) by_link.resize(link + 1);
+    // Split at the midpoint of the longest edge until no edge is longer than kMaxFaceSize: pieces of
+    // kMaxFaceSize / 2 .. kMaxFaceSize across in every direction, whatever the triangle's shape.
+    std::vector<std::array<Eigen::Vector3d, 3>> pending = {{v[0], v[1], v[2]}};
+    while (!pending.empty()) {
+      const std::array<Eigen::Vector3d, 3> tri = pending.back();
+      pending.pop_back();
+      int longest = 0;
+      double length = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double edge = (tri[(k + 1) % 3] - tri[k]).norm();
+        if (edge > length) {
+          length = edge;
+          longest = k;
+        }
       }
+      if (length > kMaxFaceSize) {
+        const Eigen::Vector3d& a = tri[longest];
+        const Eigen::Vector3d& b = tri[(longest + 1) % 3];
+        const Eigen::Vector3d& c = tri[(longest + 2) % 3];
+        const Eigen::Vector3d m = 0.5 * (a + b);
+        pending.push_back({a, m, c});
+        pending.push_back({m, b, c});
+        continue;
+      }
+      const double area = 0.5 * (tri[1] - tri[0]).cross(tri[2] - tri[0]).norm();
+      if (!(area > 0.0)) continue;
+      by_link[link].push_back(Face{area, normal, (tri[0] + tri[1] + tri[2]) / 3.0,
+                                   geometry::triangle_second_moment(tri[0], tri[1], tri[2]), link});
     }
   }
-  if (!faces_.empty()) {
-    sphere_center_B_ = bounds.center();
-    sphere_radius_ = 0.5 * bounds.diagonal().norm();
+  num_links_ = by_link.size();
+  // Faces in link order, each link's range with its bounding sphere (culled as a whole).
+  for (std::size_t link = 0; link < num_links_; ++link) {
+    LinkFaces range;
+    range.begin = faces_.size();
+    Eigen::AlignedBox3d bounds;
+    for (const Face& face : by_link[link]) {
+      faces_.push_back(face);
+      bounds.extend(face.c_B);  // contact is decided at centroids, so their sphere is enough
+    }
+    range.end = faces_.size();
+    if (range.end > range.begin) {
+      range.center_B = bounds.center();
+      range.radius = 0.5 * bounds.diagonal().norm();
+    }
+    links_.push_back(range);
+  }
+  c_x_.resize(faces_.size());
+  c_y_.resize(faces_.size());
+  c_z_.resize(faces_.size());
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    c_x_[f] = faces_[f].c_B.x();
+    c_y_[f] = faces_[f].c_B.y();
+    c_z_[f] = faces_[f].c_B.z();
   }
   patch_width_.assign(num_links_, 0.0);
   contacts_.reserve(faces_.size());
@@ -108,17 +144,23 @@ SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::Seabed
   std::fill(patch_width_.begin(), patch_width_.end(), 0.0);
   contacts_.clear();
   const Eigen::Matrix3d R = motion.X_WB.linear();
-  // Cull: the body's bounding sphere above the highest seabed under it touches nothing.
-  const Eigen::Vector3d center_W = motion.X_WB * sphere_center_B_;
-  const Eigen::AlignedBox2d under(center_W.head<2>() - Eigen::Vector2d::Constant(sphere_radius_),
-                                  center_W.head<2>() + Eigen::Vector2d::Constant(sphere_radius_));
-  const double top = faces_.empty() ? -INFINITY : seabed.max_height_in(under);
-  if (center_W.z() - sphere_radius_ < top) {
-    geometry::SeabedHeight::Sample ground;
-    for (std::size_t f = 0; f < faces_.size(); ++f) {
+  // Cull link by link: a link whose bounding sphere is above the highest seabed under it touches nothing;
+  // of the others, only faces whose centroid is below that height are sampled.
+  geometry::SeabedHeight::Sample ground;
+  std::uint32_t hint = geometry::SeabedHeight::kNoHint;
+  const double r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2), t_z = motion.X_WB.translation().z();
+  for (const LinkFaces& link : links_) {
+    if (link.end == link.begin) continue;
+    const Eigen::Vector3d center_W = motion.X_WB * link.center_B;
+    const Eigen::AlignedBox2d under(center_W.head<2>() - Eigen::Vector2d::Constant(link.radius),
+                                    center_W.head<2>() + Eigen::Vector2d::Constant(link.radius));
+    const double top = seabed.max_height_in(under);
+    if (!(center_W.z() - link.radius < top)) continue;
+    for (std::size_t f = link.begin; f < link.end; ++f) {
+      if (r20 * c_x_[f] + r21 * c_y_[f] + r22 * c_z_[f] + t_z >= top) continue;
       const Face& face = faces_[f];
       const Eigen::Vector3d c_W = motion.X_WB * face.c_B;
-      if (c_W.z() >= top || !seabed.sample(c_W.x(), c_W.y(), &ground)) continue;
+      if (!seabed.sample(c_W.x(), c_W.y(), &ground, &hint)) continue;
       const double sinkage = ground.normal_W.z() * (ground.height - c_W.z());
       const double facing = -(R * face.n_B).dot(ground.normal_W);
       if (!(sinkage > 0.0) || !(facing > 0.0)) continue;

@@ -185,7 +185,7 @@ TEST(SoilContact, TrackTractionGrowsWithSlipAndSaturatesAtTheSoilsStrength) {
   double previous = 0.0;
   for (double slip : {0.002, 0.01, 0.05, 0.2, 0.6, 1.0}) {
     SCOPED_TRACE("slip " + std::to_string(slip));
-    SoilContact contact(plate(L, b, 100, 8), s, 1e6, dt);  // faces below the 5 cm that would be split
+    SoilContact contact(plate(L, b, 100, 8), s, 1e6, dt);  // faces below the 10 cm that would be split
     SoilShearState shear;
     BodyMotion m = pressed(sinkage);
     m.v_WBcm = Eigen::Vector3d((1.0 - slip) * V, 0.0, 0.0);

@@ -24,15 +24,19 @@ class SeabedHeight {
  public:
   // The plane z = height_W.
   static SeabedHeight plane(double height_W);
-  // The top surface of a mesh in W.
-  explicit SeabedHeight(const TriangleMesh& mesh_W);
+  // The top surface of a mesh in W. height_field: the mesh is single-valued over the plane (a height
+  // field's triangles never overlap in xy), so a sample may stop at the first triangle over the point.
+  explicit SeabedHeight(const TriangleMesh& mesh_W, bool height_field = false);
 
   struct Sample {
     double height = 0.0;                                 // h [m]
     Eigen::Vector3d normal_W = Eigen::Vector3d::UnitZ();  // unit, n_z > 0
   };
-  // The seabed at (x, y) in W; false where there is none.
-  bool sample(double x_W, double y_W, Sample* out) const;
+  // The seabed at (x, y) in W; false where there is none. hint: the triangle a previous nearby sample
+  // found (updated; start with kNoHint), tried first on a height field, where neighbouring samples mostly
+  // fall in the same triangle.
+  static constexpr std::uint32_t kNoHint = 0xffffffffu;
+  bool sample(double x_W, double y_W, Sample* out, std::uint32_t* hint = nullptr) const;
   // An upper bound of h over the region (the highest vertex of the cells it meets; the plane's z);
   // -infinity where there is no seabed.
   double max_height_in(const Eigen::AlignedBox2d& region_xy) const;
@@ -40,6 +44,7 @@ class SeabedHeight {
  private:
   SeabedHeight() = default;
   bool is_plane_ = false;
+  bool height_field_ = false;
   double plane_z_ = 0.0;
   // Grid over the triangles' xy bounding box: cell (i, j) covers [x0 + i cx, x0 + (i + 1) cx) x ...
   double x0_ = 0.0, y0_ = 0.0, cell_x_ = 1.0, cell_y_ = 1.0;

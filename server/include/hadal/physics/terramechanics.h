@@ -23,6 +23,9 @@
 // summed over the faces in contact.
 //
 // Where Hadal goes beyond the paper, and why:
+// - Faces are split at the midpoint of their longest edge until no edge is longer than 10 cm: pressure
+//   is sampled at face centroids, and a box's bottom as two triangles would be sampled at two diagonal
+//   points, too few to resist rocking (a 0.3 m block pushed sideways rocked itself into sliding).
 // - b is the width of the contact patch, not sqrt of each face's area. Bekker's b is the smaller
 //   dimension of the loaded area; with b = sqrt(A_face) a plate's sinkage would depend on how finely it
 //   is tessellated (k_c / b grows tenfold from 2 to 200 triangles). Each link's faces in contact form a
@@ -157,8 +160,14 @@ class SoilContact {
   double mass_, dt_;
   std::vector<Face> faces_;
   std::size_t num_links_ = 0;
-  Eigen::Vector3d sphere_center_B_ = Eigen::Vector3d::Zero();
-  double sphere_radius_ = 0.0;
+  // Each link's faces (faces_[begin, end)) and a sphere in B that holds their centroids.
+  struct LinkFaces {
+    std::size_t begin = 0, end = 0;
+    Eigen::Vector3d center_B = Eigen::Vector3d::Zero();
+    double radius = 0.0;
+  };
+  std::vector<LinkFaces> links_;
+  std::vector<double> c_x_, c_y_, c_z_;  // the faces' centroids in B (the culling loop's inputs)
   std::vector<Contact> contacts_;      // scratch
   std::vector<Patch> patches_;         // scratch, per link
   std::vector<FaceForce> face_forces_; // scratch, per contact
