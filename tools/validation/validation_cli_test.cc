@@ -1,5 +1,5 @@
 // Smoke runs of the validation commands as users run them, shortened (a 30 m descent, a 200 m leg, a
-// 180 s IMU record, a 60 s heading track, a 15 min DVL record; under a second each): exit code, outputs
+// 180 s IMU record, a 60 s heading track, a 15 min DVL record, 6 s of crawler driving; under a second each): exit code, outputs
 // written, and the printed JSON against the closed forms the tools print themselves.
 #include <gtest/gtest.h>
 
@@ -49,6 +49,25 @@ TEST_F(ValidationCliTest, LanderShortDescent) {
   // Lift on the canted vanes spins the lander up faster than their pressure drag alone.
   EXPECT_GT(on["spin_rate_deg_s"].number, 2.0 * off["spin_rate_deg_s"].number);
   EXPECT_LT(on["max_tilt_deg"].number, 1.0);
+}
+
+// The crawler figure, 6 s of driving: traction balances the water's drag once the speed is steady,
+// exceeds it while accelerating, the lateral forces stay near zero, and the tracks sink what Bekker
+// predicts (3 %, the tolerance).
+TEST_F(ValidationCliTest, CrawlerShortDrive) {
+  const RunResult r = run(HADAL_VALIDATE_CRAWLER, "--duration 6 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  expect_outputs("crawler_forces");
+  const double traction = json["steady_traction_N"].number, resistance = json["steady_resistance_N"].number;
+  EXPECT_GT(resistance, 0.0);
+  EXPECT_NEAR(traction, resistance, 0.02 * resistance);
+  EXPECT_GT(json["peak_net_force_N"].number, 10.0 * resistance);
+  EXPECT_LT(json["peak_lateral_force_N"].number, 0.01 * resistance + 1.0);
+  EXPECT_NEAR(json["steady_speed_m_s"].number, json["belt_speed_m_s"].number, 0.01 * json["belt_speed_m_s"].number);
+  const double z = json["sinkage_closed_form_m"].number;
+  EXPECT_NEAR(json["sinkage_m"].number, z, 0.03 * z);
+  EXPECT_EQ(run(HADAL_VALIDATE_CRAWLER, "--setpoint 1.5").exit_code, 2);
 }
 
 TEST_F(ValidationCliTest, CoriolisShortLeg) {

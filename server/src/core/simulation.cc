@@ -273,6 +273,10 @@ const physics::SoilWrench* Simulation::soil_wrench(int vehicle_index) const {
   return runtime.soil ? &runtime.soil->last() : nullptr;
 }
 
+const physics::StepWrench& Simulation::applied_wrench(int vehicle_index) const {
+  return runtime_.at(static_cast<std::size_t>(vehicle_index))->wrench;
+}
+
 unsigned Simulation::fluid_helper_threads() const { return pool_ ? pool_->helpers() : 0; }
 
 const Matrix6d& Simulation::added_mass(int vehicle_index) const { return runtime_.at(vehicle_index)->M_A0; }

@@ -48,6 +48,7 @@ namespace physics {
 class BulletWorld;
 class Ocean;
 struct SoilWrench;
+struct StepWrench;
 struct MassProperties;
 }
 
@@ -73,6 +74,9 @@ class Simulation {
   // The soil's wrench on the vehicle in the last step (physics/terramechanics.h), or null for a vehicle
   // without soil contact.
   const physics::SoilWrench* soil_wrench(int vehicle_index) const;
+  // The wrench the vehicle's force elements added up in the last step (actuators, fluid, Earth rotation,
+  // soil), at its centre of mass in W, before the added-mass conversion; gravity is not in it.
+  const physics::StepWrench& applied_wrench(int vehicle_index) const;
   // The scenario's water column.
   const physics::Ocean& ocean() const { return *ocean_; }
   // Helper threads computing force elements besides the stepping thread (0: serial).
