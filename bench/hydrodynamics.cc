@@ -13,6 +13,10 @@
 // per measurement. Issue 4's target: >= 1e8 face evaluations per second per core (Stonefish ~3.3e7).
 //   build/bin/hadal_bench_hydrodynamics [--repetitions N] [--segments S] [--profile-steps P]
 // Defaults (128 segments, 22 profile steps) give 11 264 faces.
+// Soil contact in the same run ("benchmark": "soil_contact", issue 12): SoilContact::compute for a
+// crawler track's box (1.8 m x 0.3 m x 0.35 m, its faces split to 10 cm: physics/terramechanics.h) sunk
+// 4 cm into the deep-sea ooze preset and driven with a belt, over a plane and over a 2 m height field
+// (the procedural seabed's grid); ns_per_face is per face in contact, ns_per_step per call.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -25,7 +29,12 @@
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/ocean_fluid.h"
+#include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/seabed_height.h"
+#include "hadal/geometry/terrain.h"
+#include "hadal/physics/soil_presets.h"
 #include "hadal/physics/surface_hydrodynamics.h"
+#include "hadal/physics/terramechanics.h"
 
 namespace {
 
@@ -142,6 +151,55 @@ int main(int argc, char** argv) {
         c.name, c.fluid_name, hydro.num_faces(), r.wrench.clipped_faces, r.seconds_per_call,
         1e9 * r.seconds_per_call / faces, faces / r.seconds_per_call, 1.0 / r.seconds_per_call,
         r.wrench.f_W.x(), r.wrench.f_W.y(), r.wrench.f_W.z());
+  }
+  // Soil contact: one track link, its bottom 4 cm into the sediment, driving at 0.3 m/s with 5 % slip.
+  hadal::CollisionShape track;
+  track.type = hadal::CollisionShapeType::kBox;
+  track.box_size = Eigen::Vector3d(1.8, 0.3, 0.35);
+  const hadal::geometry::TriangleMesh track_mesh = hadal::geometry::tessellate(track);
+  hadal::geometry::HeightField field;
+  field.nx = field.ny = 101;
+  field.dx = field.dy = 2.0;
+  field.x0 = field.y0 = -100.0;
+  field.heights.assign(static_cast<std::size_t>(field.nx * field.ny), -100.0f);
+  const hadal::geometry::SeabedHeight plane = hadal::geometry::SeabedHeight::plane(-100.0);
+  const hadal::geometry::SeabedHeight grid(hadal::geometry::heightfield_to_mesh(field), true);
+  const struct {
+    const char* name;
+    const hadal::geometry::SeabedHeight* seabed;
+  } soils[] = {{"plane", &plane}, {"height_field_2m", &grid}};
+  for (const auto& soil_case : soils) {
+    hadal::physics::SoilContact contact(track_mesh, hadal::physics::find_soil_preset("deep_sea_ooze")->soil, 700.0,
+                                        0.005);
+    hadal::physics::SoilShearState shear;
+    BodyMotion m;
+    m.X_WB.translation() = Eigen::Vector3d(10.3, -20.1, -100.0 + 0.175 - 0.04);
+    m.p_WBcm = m.X_WB.translation();
+    m.v_WBcm = Eigen::Vector3d(0.285, 0.0, 0.0);
+    const std::vector<Eigen::Vector3d> belt = {Eigen::Vector3d(-0.3, 0.0, 0.0)};
+    hadal::physics::SoilWrench w;
+    int calls = 1;
+    for (;;) {
+      const auto start = Clock::now();
+      for (int i = 0; i < calls; ++i) w = contact.compute(m, *soil_case.seabed, shear, belt);
+      if (std::chrono::duration<double>(Clock::now() - start).count() > 0.05) break;
+      calls *= 2;
+    }
+    std::vector<double> per_call;
+    for (int r = 0; r < repetitions; ++r) {
+      const auto start = Clock::now();
+      for (int i = 0; i < calls; ++i) w = contact.compute(m, *soil_case.seabed, shear, belt);
+      per_call.push_back(std::chrono::duration<double>(Clock::now() - start).count() / calls);
+    }
+    std::sort(per_call.begin(), per_call.end());
+    const double seconds = per_call[per_call.size() / 2];
+    std::printf(
+        "{\"benchmark\": \"soil_contact\", \"case\": \"track_1.8x0.3m_sunk_4cm\", \"seabed\": \"%s\", "
+        "\"faces\": %zu, \"faces_in_contact\": %zu, \"seconds_per_call\": %.4g, \"ns_per_face\": %.3f, "
+        "\"traction_N\": %.6g, \"normal_N\": %.6g}\n",
+        soil_case.name, contact.num_faces(), w.faces_in_contact, seconds,
+        1e9 * seconds / static_cast<double>(std::max<std::size_t>(w.faces_in_contact, 1)), w.shear_force_W.x(),
+        w.normal_force_W.z());
   }
   return 0;
 }
