@@ -16,7 +16,9 @@ namespace {
 TEST(ZooTest, CrawlerDrivesItsCommandedDistanceWithThePredictedSinkage) {
   LockstepServer s("configs/scenarios/crawler.yaml");
   SampleLog<Odometry> odometry;
+  SampleLog<TrackStates> tracks;
   s.client().on_odometry("crawler", [&](const Odometry& o) { odometry.add(o); });
+  s.client().on_track_state("crawler", [&](const TrackStates& t) { tracks.add(t); });
   s.connect();
 
   // 2 s at rest (200 Hz physics; the schedule holds the tracks at 0 until a client commands).
@@ -43,6 +45,20 @@ TEST(ZooTest, CrawlerDrivesItsCommandedDistanceWithThePredictedSinkage) {
   EXPECT_NEAR(end.p_WB[1] - start.p_WB[1], 0.0, 0.01);
   EXPECT_NEAR(end.v_WB_B[0], V, 0.01 * V);
   EXPECT_NEAR(seabed_z - end.p_WB[2], sinkage, 0.03 * sinkage);
+  // The tracks' state (20 Hz): both belts at V, commanded by the client, each pulling its share of the
+  // water's drag (~15 N) at a motor current of torque / 8 N m/A.
+  ASSERT_TRUE(wait_until([&] { return tracks.has(t); }, kWait));
+  const TrackStates state = tracks.at(t);
+  ASSERT_EQ(state.names, (std::vector<std::string>{"track_port", "track_starboard"}));
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(state.setpoint[k], 0.6);
+    EXPECT_NEAR(state.belt_speed[k], V, 1e-3 * V);
+    EXPECT_NEAR(state.sprocket_speed[k], state.belt_speed[k] / 0.15, 1e-9);
+    EXPECT_GT(state.load[k], 5.0);
+    EXPECT_LT(state.load[k], 50.0);
+    EXPECT_NEAR(state.current[k], state.motor_torque[k] / 8.0, 1e-9);
+  }
+  EXPECT_EQ(state.command_source, 2);
 }
 
 }  // namespace

@@ -86,6 +86,21 @@ SimStatus from_msg(const hadal_msgs::msg::SimStatus& m) {
   return s;
 }
 
+TrackStates from_msg(const hadal_msgs::msg::TrackState& m) {
+  TrackStates t;
+  t.stamp = dds::from_time_msg(m.header().stamp());
+  t.names = m.name();
+  t.setpoint = m.setpoint();
+  t.belt_speed = m.belt_speed();
+  t.sprocket_speed = m.sprocket_speed();
+  t.motor_torque = m.motor_torque();
+  t.current = m.current();
+  t.power = m.power();
+  t.load = m.load();
+  t.command_source = m.command_source();
+  return t;
+}
+
 ThrusterStates from_msg(const hadal_msgs::msg::ThrusterState& m) {
   ThrusterStates t;
   t.stamp = dds::from_time_msg(m.header().stamp());
@@ -353,6 +368,12 @@ void Client::on_odometry(const std::string& vehicle, std::function<void(const Od
   impl_->subscribe<nav_msgs::msg::OdometryPubSubType, nav_msgs::msg::Odometry>(
       dds::odometry_topic(vehicle),
       [callback = std::move(callback)](const nav_msgs::msg::Odometry& m) { callback(from_msg(m)); });
+}
+
+void Client::on_track_state(const std::string& vehicle, std::function<void(const TrackStates&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::TrackStatePubSubType, hadal_msgs::msg::TrackState>(
+      dds::track_state_topic(vehicle),
+      [callback = std::move(callback)](const hadal_msgs::msg::TrackState& m) { callback(from_msg(m)); });
 }
 
 void Client::on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback) {

@@ -17,7 +17,7 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
 from ._hadal import (CameraInfo, Client, ClientError, Dvl, FluidPressure, Image, Imu, LaserScan, MagneticField,
-                     NavSatFix, Odometry, Range, ServerMode, SimStatus, ThrusterStates)
+                     NavSatFix, Odometry, Range, ServerMode, SimStatus, ThrusterStates, TrackStates)
 
 __all__ = ["CameraInfo", "Client", "ClientError", "Dvl", "FluidPressure", "Image", "Imu", "LaserScan",
-           "MagneticField", "NavSatFix", "Odometry", "Range", "ServerMode", "SimStatus", "ThrusterStates"]
+           "MagneticField", "NavSatFix", "Odometry", "Range", "ServerMode", "SimStatus", "ThrusterStates", "TrackStates"]

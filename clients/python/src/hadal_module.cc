@@ -17,6 +17,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <type_traits>
 
@@ -148,6 +149,16 @@ class PyClient {
     subscribe(vehicle);
     return thrusters_.wait(vehicle, min_stamp, timeout_s);
   }
+  // rt/<vehicle>/tracks/state, subscribed on first use (only vehicles with tracks publish it).
+  std::optional<hadal::TrackStates> wait_track_state(const std::string& vehicle, double min_stamp, double timeout_s) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (track_subscribed_.insert(vehicle).second) {
+        client_.on_track_state(vehicle, [this, vehicle](const hadal::TrackStates& t) { tracks_.put(vehicle, t); });
+      }
+    }
+    return tracks_.wait(vehicle, min_stamp, timeout_s);
+  }
   // Sensors, keyed "<vehicle>/<sensor>", subscribed on first use.
   std::optional<hadal::Imu> wait_imu(const std::string& vehicle, const std::string& sensor, double min_stamp,
                                      double timeout_s) {
@@ -234,6 +245,8 @@ class PyClient {
   std::map<std::string, bool> subscribed_;
   Latest<hadal::Odometry> odometry_;
   Latest<hadal::ThrusterStates> thrusters_;
+  Latest<hadal::TrackStates> tracks_;
+  std::set<std::string> track_subscribed_;
   Latest<hadal::Imu> imu_;
   Latest<hadal::FluidPressure> pressure_;
   Latest<hadal::MagneticField> magnetic_field_;
@@ -284,6 +297,21 @@ PYBIND11_MODULE(_hadal, m) {
       .def_property_readonly("torque", [](const hadal::ThrusterStates& t) { return to_numpy(t.torque); }, "[N m]")
       .def_readonly("command_source", &hadal::ThrusterStates::command_source,
                     "0 none, 1 scenario schedule, 2 client");
+
+  py::class_<hadal::TrackStates>(m, "TrackStates", "hadal_msgs/TrackState: a crawler's tracks, in scenario order")
+      .def_readonly("stamp", &hadal::TrackStates::stamp, "sim time [s]")
+      .def_readonly("names", &hadal::TrackStates::names)
+      .def_property_readonly("setpoint", [](const hadal::TrackStates& t) { return to_numpy(t.setpoint); })
+      .def_property_readonly("belt_speed", [](const hadal::TrackStates& t) { return to_numpy(t.belt_speed); }, "[m/s]")
+      .def_property_readonly("sprocket_speed", [](const hadal::TrackStates& t) { return to_numpy(t.sprocket_speed); },
+                             "[rad/s]")
+      .def_property_readonly("motor_torque", [](const hadal::TrackStates& t) { return to_numpy(t.motor_torque); },
+                             "at the sprocket [N m]")
+      .def_property_readonly("current", [](const hadal::TrackStates& t) { return to_numpy(t.current); }, "[A]")
+      .def_property_readonly("power", [](const hadal::TrackStates& t) { return to_numpy(t.power); }, "[W]")
+      .def_property_readonly("load", [](const hadal::TrackStates& t) { return to_numpy(t.load); },
+                             "the soil's shear on the belt [N]")
+      .def_readonly("command_source", &hadal::TrackStates::command_source, "0 none, 1 scenario schedule, 2 client");
 
   py::class_<hadal::Imu>(m, "Imu", "sensor_msgs/Imu sample: rate and specific force in the sensor frame")
       .def_readonly("stamp", &hadal::Imu::stamp, "sim time [s]")
@@ -468,6 +496,8 @@ PYBIND11_MODULE(_hadal, m) {
       .def("thruster_state", &PyClient::thruster_state, py::arg("vehicle"), release())
       .def("wait_thruster_state", &PyClient::wait_thruster_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release())
+      .def("wait_track_state", &PyClient::wait_track_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(), "TrackStates with stamp >= min_stamp, or None on timeout")
       .def("wait_imu", &PyClient::wait_imu, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(), "Imu sample with stamp >= min_stamp, or None on timeout")
       .def("wait_fluid_pressure", &PyClient::wait_fluid_pressure, py::arg("vehicle"), py::arg("sensor"),

@@ -65,3 +65,9 @@ def profiler_server(domain_id):
 def camera_server(domain_id):
     """hadald in lockstep mode on the camera test scenario (tests/integration/scenarios/camera.yaml)."""
     yield from _lockstep("tests/integration/scenarios/camera.yaml", domain_id)
+
+
+@pytest.fixture
+def crawler_server(domain_id):
+    """hadald in lockstep mode on the crawler zoo scenario (configs/scenarios/crawler.yaml)."""
+    yield from _lockstep("configs/scenarios/crawler.yaml", domain_id)

@@ -11,9 +11,9 @@ import hadal
 WAIT_S = 20.0  # generous bound on DDS events; not a speed assertion
 
 
-def connect(domain_id):
+def connect(domain_id, vehicle="auv"):
     client = hadal.Client(domain_id=domain_id, name="pytest")
-    client.subscribe("auv")
+    client.subscribe(vehicle)
     assert client.wait_for_server(WAIT_S), "no status from hadald"
     assert client.wait_for_subscriptions(WAIT_S)
     return client
@@ -89,3 +89,23 @@ def test_sensor_samples_arrive_as_numpy(lockstep_server):
     assert depth is not None and depth.frame_id == "auv/depth"
     # ~50 m of water: p_atm + rho g d within a metre.
     assert abs((depth.pressure - 101325.0) / (1025.0 * 9.80665) - 49.95) < 1.0
+
+
+def test_crawler_tracks_drive_and_report_their_state(crawler_server):
+    """The crawler's control vector is its two belt speeds; its tracks' state comes back as numpy arrays."""
+    _, domain_id = crawler_server
+    client = connect(domain_id, "crawler")
+    t = client.step(400)  # 2 s at 200 Hz: settled into the sediment
+    start = client.wait_odometry("crawler", min_stamp=t, timeout_s=WAIT_S)
+    for _ in range(8):  # 4 s at 0.6 of full belt speed, commands refreshed every 0.5 s
+        client.set_thrusters("crawler", [0.6, 0.6])
+        t = client.step(100)
+    end = client.wait_odometry("crawler", min_stamp=t, timeout_s=WAIT_S)
+    belt = 0.6 * 32.0 * 2.0 * math.pi / 60.0 * 0.15  # setpoint x max_rpm x sprocket radius [m/s]
+    assert abs((end.p_WB[0] - start.p_WB[0]) - belt * (4.0 - 0.3)) < 0.02 * belt * 4.0
+    tracks = client.wait_track_state("crawler", min_stamp=t, timeout_s=WAIT_S)
+    assert tracks.names == ["track_port", "track_starboard"]
+    assert isinstance(tracks.belt_speed, np.ndarray)
+    np.testing.assert_allclose(tracks.belt_speed, [belt, belt], rtol=1e-3)
+    assert tracks.command_source == 2
+    assert np.all(tracks.load > 0.0)

@@ -177,7 +177,10 @@ class Runner {
     if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) dds_.publish_odometry(static_cast<int>(i), state);
-      if (thruster_dividers_[i].due(state.time)) dds_.publish_thruster_state(static_cast<int>(i), state);
+      if (thruster_dividers_[i].due(state.time)) {
+        dds_.publish_thruster_state(static_cast<int>(i), state);
+        dds_.publish_track_state(static_cast<int>(i), state);
+      }
       // Sensors sample inside the simulation at their own rates; publish each new sample once.
       const std::vector<SensorState>& sensors = state.vehicles[i].sensors;
       for (std::size_t k = 0; k < sensors.size(); ++k) {

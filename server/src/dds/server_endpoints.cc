@@ -16,6 +16,7 @@
 #include <sensor_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
 
+#include <algorithm>
 #include <set>
 
 namespace hadal::dds {
@@ -59,6 +60,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
   std::vector<fdds::DataWriter*> thruster_writers;
+  std::vector<fdds::DataWriter*> track_writers;  // null for a vehicle without tracks
   // One per topic of a sensor (sensors/sensor_kind.h, "Topics"): its writer, its slot in `counts` and
   // the topic's message (of the topic's Message type), reused every sample.
   struct SensorTopic {
@@ -74,12 +76,13 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<std::string> topic_names;
   std::vector<std::uint64_t> counts;
   std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0;
-  std::vector<std::size_t> odometry_slot, thruster_slot;
+  std::vector<std::size_t> odometry_slot, thruster_slot, track_slot;
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
   nav_msgs::msg::Odometry odometry_msg;
   hadal_msgs::msg::ThrusterState thruster_msg;
+  hadal_msgs::msg::TrackState track_msg;
   hadal_msgs::msg::SimStatus status_msg;
 
   mutable std::mutex mutex;
@@ -219,6 +222,14 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
     d.thruster_writers.push_back(
         r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
     d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
+    const bool has_tracks = std::any_of(model.vehicles[i].actuators.begin(), model.vehicles[i].actuators.end(),
+                                        [](const ActuatorSpec& a) {
+                                          return std::holds_alternative<physics::TrackActuator::Spec>(a.kind);
+                                        });
+    d.track_writers.push_back(
+        has_tracks ? r.writer<hadal_msgs::msg::TrackStatePubSubType>(track_state_topic(name), kStateHistoryDepth)
+                   : nullptr);
+    d.track_slot.push_back(has_tracks ? d.add_count(track_state_topic(name)) : 0);
 
     std::vector<std::vector<Impl::SensorTopic>>& endpoints = d.sensors.emplace_back();
     for (const SensorSpec& sensor : model.vehicles[i].sensors) {
@@ -307,6 +318,13 @@ void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& 
   impl_->write(impl_->thruster_writers[i], &impl_->thruster_msg, impl_->thruster_slot[i]);
 }
 
+void ServerEndpoints::publish_track_state(int vehicle_index, const SimState& state) {
+  const auto i = static_cast<std::size_t>(vehicle_index);
+  if (impl_->track_writers[i] == nullptr) return;
+  fill_track_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->track_msg);
+  impl_->write(impl_->track_writers[i], &impl_->track_msg, impl_->track_slot[i]);
+}
+
 void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
   const auto k = static_cast<std::size_t>(sensor_index);
@@ -365,6 +383,9 @@ void ServerEndpoints::flush(double timeout_s) {
   std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer};
   writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
   writers.insert(writers.end(), impl_->thruster_writers.begin(), impl_->thruster_writers.end());
+  for (fdds::DataWriter* writer : impl_->track_writers) {
+    if (writer) writers.push_back(writer);
+  }
   for (fdds::DataWriter* writer : writers) {
     const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
     if (left <= 0.0) break;

@@ -63,6 +63,20 @@ struct ThrusterStates {
   std::uint8_t command_source = 0;  // 0 none, 1 scenario schedule, 2 client
 };
 
+// hadal_msgs/TrackState of rt/<vehicle>/tracks/state (vehicles with tracks only).
+struct TrackStates {
+  double stamp = 0.0;  // sim time [s]
+  std::vector<std::string> names;
+  std::vector<double> setpoint;        // [-1, 1]
+  std::vector<double> belt_speed;      // [m/s]
+  std::vector<double> sprocket_speed;  // [rad/s]
+  std::vector<double> motor_torque;    // at the sprocket [N m]
+  std::vector<double> current;         // [A]
+  std::vector<double> power;           // [W]
+  std::vector<double> load;            // the soil's shear on the belt [N]
+  std::uint8_t command_source = 0;     // 0 none, 1 scenario schedule, 2 client
+};
+
 // sensor_msgs/FluidPressure of a pressure sensor, rt/<vehicle>/<sensor>: absolute pressure with the
 // sensor's noise. Depth below the surface follows as d = (p - p_atm) / (rho g) for the water's mean
 // density above the sensor (p_atm = 101325 Pa and rho = 1025 kg/m^3 unless the scenario says otherwise).
@@ -261,6 +275,8 @@ class Client {
   void on_status(std::function<void(const SimStatus&)> callback);
   void on_odometry(const std::string& vehicle, std::function<void(const Odometry&)> callback);
   void on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback);
+  // rt/<vehicle>/tracks/state (a vehicle with tracks: its belt speeds, motor torques and currents).
+  void on_track_state(const std::string& vehicle, std::function<void(const TrackStates&)> callback);
   void on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                          std::function<void(const FluidPressure&)> callback);
   void on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback);

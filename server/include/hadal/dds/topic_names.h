@@ -21,6 +21,7 @@ inline std::string thruster_setpoints_topic(const std::string& vehicle) {
 inline std::string thruster_state_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/thrusters/state";
 }
+inline std::string track_state_topic(const std::string& vehicle) { return "rt/" + vehicle + "/tracks/state"; }
 // Frame id of a vehicle's body frame B in message headers (REP-105 style).
 inline std::string base_frame_id(const std::string& vehicle) { return vehicle + "/base_link"; }
 
