@@ -10,6 +10,7 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -248,17 +249,30 @@ class Runner {
   }
 
   // One ray straight down from each vehicle's origin, through its own hull, against the last snapshot
-  // (the simulation's ray-cast workers over the one world scene, exercised end to end).
+  // (the simulation's ray-cast workers over the one world scene, exercised end to end); where it finds
+  // nothing, one straight up: an origin sunk into the seabed (soil contact) is below its surface.
   std::vector<double> altitudes() {
-    geometry::RayBatch batch;
-    batch.set_snapshot(sim_.state());
-    const auto& vehicles = sim_.state().vehicles;
-    for (std::size_t i = 0; i < vehicles.size(); ++i) {
-      batch.add_ray(vehicles[i].body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, -1.0f), 0.0f,
-                    std::numeric_limits<float>::infinity(), static_cast<std::int32_t>(i));
+    const auto cast = [&](float direction_z) {
+      geometry::RayBatch batch;
+      batch.set_snapshot(sim_.state());
+      const auto& vehicles = sim_.state().vehicles;
+      for (std::size_t i = 0; i < vehicles.size(); ++i) {
+        batch.add_ray(vehicles[i].body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, direction_z),
+                      0.0f, std::numeric_limits<float>::infinity(), static_cast<std::int32_t>(i));
+      }
+      return sim_.raycast_service().submit(std::move(batch)).get();
+    };
+    const geometry::RayHits down = cast(-1.0f);
+    std::vector<double> altitude(down.distance.begin(), down.distance.end());
+    if (std::any_of(altitude.begin(), altitude.end(), [](double a) { return !std::isfinite(a); })) {
+      const geometry::RayHits up = cast(1.0f);
+      for (std::size_t i = 0; i < altitude.size(); ++i) {
+        if (!std::isfinite(altitude[i]) && std::isfinite(up.distance[i]) && up.body[i] == geometry::kStaticBody) {
+          altitude[i] = -static_cast<double>(up.distance[i]);
+        }
+      }
     }
-    const geometry::RayHits hits = sim_.raycast_service().submit(std::move(batch)).get();
-    return std::vector<double>(hits.distance.begin(), hits.distance.end());
+    return altitude;
   }
 
   RunSummary summary() {
@@ -312,7 +326,9 @@ std::string RunSummary::format() const {
   for (const auto& v : vehicles) {
     out << "  " << v.name << ": distance travelled " << v.distance_travelled << " m (net displacement "
         << v.net_displacement << " m), ";
-    if (std::isfinite(v.altitude)) {
+    if (std::isfinite(v.altitude) && v.altitude < 0.0) {
+      out << "altitude " << v.altitude << " m (its origin below the seabed's surface)\n";
+    } else if (std::isfinite(v.altitude)) {
       out << "altitude " << v.altitude << " m\n";
     } else {
       out << "no seabed below\n";

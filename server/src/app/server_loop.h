@@ -23,7 +23,9 @@ struct VehicleSummary {
   std::string name;
   double distance_travelled = 0.0;  // path length of B's origin [m]
   double net_displacement = 0.0;    // |p_end - p_start| [m]
-  double altitude = 0.0;            // range straight down (-z) to the seabed at the end, ray-cast; inf: none
+  // Range straight down (-z) to the seabed at the end, ray-cast; negative: B's origin is that far below the
+  // seabed's surface (a crawler's tracks sunk into soil; the ray straight up finds it); inf: no seabed.
+  double altitude = 0.0;
 };
 
 struct RunSummary {
