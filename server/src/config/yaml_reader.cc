@@ -504,6 +504,20 @@ bool MapReader::read_vector3(const std::string& key, Need need, const Range& eac
   return v.has_value();
 }
 
+bool MapReader::read_direction(const std::string& key, Need need, Eigen::Vector3d* out) const {
+  const std::optional<Value> value = get(key, need);
+  if (!value) return need == Need::kOptional;
+  const std::optional<Eigen::Vector3d> v = value->vector3();
+  if (!v) return false;
+  if (v->norm() < 1e-9) {
+    value->error("must be non-zero (got [" + format_number(v->x()) + ", " + format_number(v->y()) + ", " +
+                 format_number(v->z()) + "])");
+    return false;
+  }
+  *out = v->normalized();
+  return true;
+}
+
 bool MapReader::read_string(const std::string& key, Need need, std::string* out) const {
   const std::optional<Value> value = get(key, need);
   if (!value) return need == Need::kOptional;

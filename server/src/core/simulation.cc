@@ -46,7 +46,7 @@ struct Simulation::VehicleRuntime {
     if (world.dynamics.earth_rotation) forces.push_back(std::make_unique<physics::EarthRotationForce>(world, mass));
     if (spec.seabed_contact == SeabedContact::kSoil) {
       auto element = std::make_unique<physics::SoilForces>(geometry::vehicle_surface_B(spec), world.soil.parameters,
-                                                           *seabed, p_BBcm, mass, world.step_size());
+                                                           *seabed, mass, world.step_size());
       soil = element.get();
       forces.push_back(std::move(element));
     }

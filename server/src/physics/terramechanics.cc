@@ -289,8 +289,8 @@ SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::Seabed
 }
 
 SoilForces::SoilForces(const geometry::TriangleMesh& mesh_B, const SoilParameters& soil,
-                       const geometry::SeabedHeight& seabed, const Eigen::Vector3d& p_BBcm, double mass, double dt)
-    : contact_(mesh_B, soil, mass, dt), seabed_(seabed), p_BBcm_(p_BBcm) {}
+                       const geometry::SeabedHeight& seabed, double mass, double dt)
+    : contact_(mesh_B, soil, mass, dt), seabed_(seabed) {}
 
 void SoilForces::add(const ForceInput& in, StepWrench& out) {
   if (!in.soil_shear) throw std::logic_error("SoilForces: the vehicle has no soil shear state");

@@ -8,7 +8,6 @@
 
 namespace hadal::physics {
 
-using config::format_number;
 using config::MapReader;
 using config::Need;
 using config::Range;
@@ -24,17 +23,7 @@ ThrusterActuator::Spec ThrusterActuator::read(const ActuatorReader& reader) {
   const MapReader& map = reader.map;
   Spec spec;
   map.read_vector3("position", Need::kRequired, Range::finite(), &spec.p_LT);
-  if (const auto direction = map.required("direction")) {
-    if (const auto axis = direction->vector3()) {
-      // Below 1e-9 the normalised axis would be dominated by rounding.
-      if (axis->norm() < 1e-9) {
-        direction->error("must be non-zero (got [" + format_number(axis->x()) + ", " + format_number(axis->y()) +
-                         ", " + format_number(axis->z()) + "])");
-      } else {
-        spec.axis_L = axis->normalized();
-      }
-    }
-  }
+  map.read_direction("direction", Need::kRequired, &spec.axis_L);
   map.read_number("propeller_diameter", Need::kRequired, Range::positive(), &spec.propeller_diameter);
   map.read_number("thrust_coefficient", Need::kRequired, Range::positive(), &spec.thrust_coefficient);
   map.read_number("torque_coefficient", Need::kOptional, Range::non_negative(), &spec.torque_coefficient);
@@ -52,17 +41,10 @@ Thruster ThrusterActuator::prepare(const Spec& spec, const ActuatorSetup& setup)
 }
 
 std::string ThrusterActuator::check(const Spec&, const double* controls, std::size_t first) {
-  const double value = controls[0];
-  const std::string label = "setpoint[" + std::to_string(first) + "]";
-  if (std::isnan(value)) return label + " is NaN";
-  if (std::isinf(value)) return label + " is " + (value > 0 ? "+inf" : "-inf");
-  if (value < -1.0 || value > 1.0) return label + " = " + format_number(value) + " is outside [-1, 1]";
-  return {};
+  return check_normalised_setpoint(controls[0], first);
 }
 
-void ThrusterActuator::command(State& state, const double* controls) {
-  state.setpoint = std::isfinite(controls[0]) ? std::clamp(controls[0], -1.0, 1.0) : 0.0;
-}
+void ThrusterActuator::command(State& state, const double* controls) { state.setpoint = held_setpoint(controls[0]); }
 
 void ThrusterActuator::actuate(const Runtime& runtime, State& state) {
   state.rotor_speed_rev_s = runtime.next_rotor_speed(state.rotor_speed_rev_s, state.setpoint);

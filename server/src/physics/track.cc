@@ -8,7 +8,6 @@
 
 namespace hadal::physics {
 
-using config::format_number;
 using config::MapReader;
 using config::Need;
 using config::Range;
@@ -23,17 +22,7 @@ const std::vector<std::string>& TrackActuator::keys() {
 TrackActuator::Spec TrackActuator::read(const ActuatorReader& reader) {
   const MapReader& map = reader.map;
   Spec spec;
-  if (const auto direction = map.optional("direction")) {
-    if (const auto axis = direction->vector3()) {
-      // Below 1e-9 the normalised direction would be dominated by rounding.
-      if (axis->norm() < 1e-9) {
-        direction->error("must be non-zero (got [" + format_number(axis->x()) + ", " + format_number(axis->y()) +
-                         ", " + format_number(axis->z()) + "])");
-      } else {
-        spec.direction_L = axis->normalized();
-      }
-    }
-  }
+  map.read_direction("direction", Need::kOptional, &spec.direction_L);
   map.read_number("sprocket_radius", Need::kRequired, Range::left_open(0.0, 10.0), &spec.sprocket_radius);
   double max_rpm = 0.0;
   if (map.read_number("max_rpm", Need::kRequired, Range::left_open(0.0, 1e5), &max_rpm)) {
@@ -62,17 +51,10 @@ TrackDrive TrackActuator::prepare(const Spec& spec, const ActuatorSetup& setup) 
 }
 
 std::string TrackActuator::check(const Spec&, const double* controls, std::size_t first) {
-  const double value = controls[0];
-  const std::string label = "setpoint[" + std::to_string(first) + "]";
-  if (std::isnan(value)) return label + " is NaN";
-  if (std::isinf(value)) return label + " is " + (value > 0 ? "+inf" : "-inf");
-  if (value < -1.0 || value > 1.0) return label + " = " + format_number(value) + " is outside [-1, 1]";
-  return {};
+  return check_normalised_setpoint(controls[0], first);
 }
 
-void TrackActuator::command(State& state, const double* controls) {
-  state.setpoint = std::isfinite(controls[0]) ? std::clamp(controls[0], -1.0, 1.0) : 0.0;
-}
+void TrackActuator::command(State& state, const double* controls) { state.setpoint = held_setpoint(controls[0]); }
 
 void TrackActuator::actuate(const Runtime& d, State& state) {
   const double r = d.radius;

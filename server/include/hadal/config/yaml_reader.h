@@ -172,6 +172,9 @@ class MapReader {
   // A number in `range` that must also be whole ("must be a whole number (got x)" otherwise).
   bool read_whole_number(const std::string& key, Need need, const Range& range, int* out) const;
   bool read_vector3(const std::string& key, Need need, const Range& each, Eigen::Vector3d* out) const;
+  // A direction: a non-zero 3-vector ("must be non-zero (got [x, y, z])" below 1e-9, where the normalised
+  // vector would be dominated by rounding), stored normalised.
+  bool read_direction(const std::string& key, Need need, Eigen::Vector3d* out) const;
   bool read_string(const std::string& key, Need need, std::string* out) const;
   bool read_bool(const std::string& key, Need need, bool* out) const;
   template <typename E>

@@ -30,6 +30,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <string>
 #include <string_view>
 
 namespace hadal::config {
@@ -47,6 +48,12 @@ struct StepWrench {
   double submerged_fraction = 0.0;                  // of the vehicle [-]
   Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();  // current at the centre of mass [m/s]
 };
+
+// A normalised setpoint, the control of thrusters and tracks: "" when `value` is finite and in [-1, 1],
+// else why not, naming it setpoint[first] ("setpoint[1] is NaN", "setpoint[0] = 1.5 is outside [-1, 1]").
+std::string check_normalised_setpoint(double value, std::size_t first);
+// The setpoint held over a step: a last-line guard clamps it to [-1, 1], NaN to 0.
+double held_setpoint(double value);
 
 // What an actuator's YAML reader gets: its entry (name and link already read and checked).
 struct ActuatorReader {

@@ -180,7 +180,7 @@ class SoilContact {
 class SoilForces : public ForceElement {
  public:
   SoilForces(const geometry::TriangleMesh& mesh_B, const SoilParameters& soil, const geometry::SeabedHeight& seabed,
-             const Eigen::Vector3d& p_BBcm, double mass, double dt);
+             double mass, double dt);
   void add(const ForceInput& in, StepWrench& out) override;
   const SoilWrench& last() const { return last_; }
   std::size_t num_faces() const { return contact_.num_faces(); }
@@ -188,7 +188,6 @@ class SoilForces : public ForceElement {
  private:
   SoilContact contact_;
   const geometry::SeabedHeight& seabed_;
-  Eigen::Vector3d p_BBcm_;
   SoilWrench last_;
 };
 
