@@ -101,6 +101,45 @@ TrackStates from_msg(const hadal_msgs::msg::TrackState& m) {
   return t;
 }
 
+FinStates from_msg(const hadal_msgs::msg::FinState& m) {
+  FinStates f;
+  f.stamp = dds::from_time_msg(m.header().stamp());
+  f.names = m.name();
+  f.setpoint = m.setpoint();
+  f.angle = m.angle();
+  f.attack_angle = m.attack_angle();
+  f.lift = m.lift();
+  f.drag = m.drag();
+  f.command_source = m.command_source();
+  return f;
+}
+
+BuoyancyEngineStates from_msg(const hadal_msgs::msg::BuoyancyEngineState& m) {
+  BuoyancyEngineStates b;
+  b.stamp = dds::from_time_msg(m.header().stamp());
+  b.names = m.name();
+  b.setpoint = m.setpoint();
+  b.volume_change = m.volume_change();
+  b.volume_rate = m.volume_rate();
+  b.force = m.force();
+  b.power = m.power();
+  b.energy = m.energy();
+  b.command_source = m.command_source();
+  return b;
+}
+
+DropWeightStates from_msg(const hadal_msgs::msg::DropWeightState& m) {
+  DropWeightStates d;
+  d.stamp = dds::from_time_msg(m.header().stamp());
+  d.names = m.name();
+  d.attached.assign(m.attached().begin(), m.attached().end());
+  d.reason = m.reason();
+  d.release_time = m.release_time();
+  d.force = m.force();
+  d.command_source = m.command_source();
+  return d;
+}
+
 ThrusterStates from_msg(const hadal_msgs::msg::ThrusterState& m) {
   ThrusterStates t;
   t.stamp = dds::from_time_msg(m.header().stamp());
@@ -372,8 +411,27 @@ void Client::on_odometry(const std::string& vehicle, std::function<void(const Od
 
 void Client::on_track_state(const std::string& vehicle, std::function<void(const TrackStates&)> callback) {
   impl_->subscribe<hadal_msgs::msg::TrackStatePubSubType, hadal_msgs::msg::TrackState>(
-      dds::track_state_topic(vehicle),
+      dds::actuator_state_topic(vehicle, "tracks"),
       [callback = std::move(callback)](const hadal_msgs::msg::TrackState& m) { callback(from_msg(m)); });
+}
+
+void Client::on_fin_state(const std::string& vehicle, std::function<void(const FinStates&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::FinStatePubSubType, hadal_msgs::msg::FinState>(
+      dds::actuator_state_topic(vehicle, "fins"),
+      [callback = std::move(callback)](const hadal_msgs::msg::FinState& m) { callback(from_msg(m)); });
+}
+
+void Client::on_buoyancy_engine_state(const std::string& vehicle,
+                                      std::function<void(const BuoyancyEngineStates&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::BuoyancyEngineStatePubSubType, hadal_msgs::msg::BuoyancyEngineState>(
+      dds::actuator_state_topic(vehicle, "buoyancy_engines"),
+      [callback = std::move(callback)](const hadal_msgs::msg::BuoyancyEngineState& m) { callback(from_msg(m)); });
+}
+
+void Client::on_drop_weight_state(const std::string& vehicle, std::function<void(const DropWeightStates&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::DropWeightStatePubSubType, hadal_msgs::msg::DropWeightState>(
+      dds::actuator_state_topic(vehicle, "drop_weights"),
+      [callback = std::move(callback)](const hadal_msgs::msg::DropWeightState& m) { callback(from_msg(m)); });
 }
 
 void Client::on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback) {

@@ -16,8 +16,10 @@
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
-from ._hadal import (CameraInfo, Client, ClientError, Dvl, FluidPressure, Image, Imu, LaserScan, MagneticField,
-                     NavSatFix, Odometry, Range, ServerMode, SimStatus, ThrusterStates, TrackStates)
+from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, ClientError, DropWeightStates, Dvl, FinStates,
+                     FluidPressure, Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, ServerMode,
+                     SimStatus, ThrusterStates, TrackStates)
 
-__all__ = ["CameraInfo", "Client", "ClientError", "Dvl", "FluidPressure", "Image", "Imu", "LaserScan",
-           "MagneticField", "NavSatFix", "Odometry", "Range", "ServerMode", "SimStatus", "ThrusterStates", "TrackStates"]
+__all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "DropWeightStates", "Dvl", "FinStates",
+           "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix", "Odometry", "Range",
+           "ServerMode", "SimStatus", "ThrusterStates", "TrackStates"]

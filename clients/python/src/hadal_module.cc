@@ -149,15 +149,23 @@ class PyClient {
     subscribe(vehicle);
     return thrusters_.wait(vehicle, min_stamp, timeout_s);
   }
-  // rt/<vehicle>/tracks/state, subscribed on first use (only vehicles with tracks publish it).
+  // rt/<vehicle>/<kind>/state of the actuator kinds besides thrusters, subscribed on first use (only
+  // vehicles with such actuators publish them).
   std::optional<hadal::TrackStates> wait_track_state(const std::string& vehicle, double min_stamp, double timeout_s) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (track_subscribed_.insert(vehicle).second) {
-        client_.on_track_state(vehicle, [this, vehicle](const hadal::TrackStates& t) { tracks_.put(vehicle, t); });
-      }
-    }
-    return tracks_.wait(vehicle, min_stamp, timeout_s);
+    return wait_actuator_state("tracks", &hadal::Client::on_track_state, tracks_, vehicle, min_stamp, timeout_s);
+  }
+  std::optional<hadal::FinStates> wait_fin_state(const std::string& vehicle, double min_stamp, double timeout_s) {
+    return wait_actuator_state("fins", &hadal::Client::on_fin_state, fins_, vehicle, min_stamp, timeout_s);
+  }
+  std::optional<hadal::BuoyancyEngineStates> wait_buoyancy_engine_state(const std::string& vehicle, double min_stamp,
+                                                                        double timeout_s) {
+    return wait_actuator_state("buoyancy_engines", &hadal::Client::on_buoyancy_engine_state, buoyancy_engines_,
+                               vehicle, min_stamp, timeout_s);
+  }
+  std::optional<hadal::DropWeightStates> wait_drop_weight_state(const std::string& vehicle, double min_stamp,
+                                                                double timeout_s) {
+    return wait_actuator_state("drop_weights", &hadal::Client::on_drop_weight_state, drop_weights_, vehicle,
+                               min_stamp, timeout_s);
   }
   // Sensors, keyed "<vehicle>/<sensor>", subscribed on first use.
   std::optional<hadal::Imu> wait_imu(const std::string& vehicle, const std::string& sensor, double min_stamp,
@@ -218,6 +226,23 @@ class PyClient {
   using Subscription = void (hadal::Client::*)(const std::string&, const std::string&,
                                                std::function<void(const Sample&)>);
 
+  template <class State>
+  using VehicleSubscription = void (hadal::Client::*)(const std::string&, std::function<void(const State&)>);
+
+  // Subscribes `latest` to rt/<vehicle>/<kind>/state on first use, then waits for a sample.
+  template <class State>
+  std::optional<State> wait_actuator_state(const std::string& kind, VehicleSubscription<State> subscribe,
+                                           Latest<State>& latest, const std::string& vehicle, double min_stamp,
+                                           double timeout_s) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace(kind + ":" + vehicle, true).second) {
+        (client_.*subscribe)(vehicle, [&latest, vehicle](const State& m) { latest.put(vehicle, m); });
+      }
+    }
+    return latest.wait(vehicle, min_stamp, timeout_s);
+  }
+
   // Subscribes `latest` to rt/<vehicle>/<sensor> on first use, then waits for a sample. Samples are kept
   // as Stored: by value, or (images) by shared pointer, so that Python can view them without a copy.
   template <class Sample, class Stored = Sample>
@@ -246,7 +271,9 @@ class PyClient {
   Latest<hadal::Odometry> odometry_;
   Latest<hadal::ThrusterStates> thrusters_;
   Latest<hadal::TrackStates> tracks_;
-  std::set<std::string> track_subscribed_;
+  Latest<hadal::FinStates> fins_;
+  Latest<hadal::BuoyancyEngineStates> buoyancy_engines_;
+  Latest<hadal::DropWeightStates> drop_weights_;
   Latest<hadal::Imu> imu_;
   Latest<hadal::FluidPressure> pressure_;
   Latest<hadal::MagneticField> magnetic_field_;
@@ -312,6 +339,51 @@ PYBIND11_MODULE(_hadal, m) {
       .def_property_readonly("load", [](const hadal::TrackStates& t) { return to_numpy(t.load); },
                              "the soil's shear on the belt [N]")
       .def_readonly("command_source", &hadal::TrackStates::command_source, "0 none, 1 scenario schedule, 2 client");
+  py::class_<hadal::FinStates>(m, "FinStates", "hadal_msgs/FinState: a vehicle's fins, in scenario order")
+      .def_readonly("stamp", &hadal::FinStates::stamp, "sim time [s]")
+      .def_readonly("names", &hadal::FinStates::names)
+      .def_property_readonly("setpoint", [](const hadal::FinStates& f) { return to_numpy(f.setpoint); })
+      .def_property_readonly("angle", [](const hadal::FinStates& f) { return to_numpy(f.angle); },
+                             "deflection about the hinge axis [rad]")
+      .def_property_readonly("attack_angle", [](const hadal::FinStates& f) { return to_numpy(f.attack_angle); },
+                             "the water's angle of attack [rad]")
+      .def_property_readonly("lift", [](const hadal::FinStates& f) { return to_numpy(f.lift); }, "[N]")
+      .def_property_readonly("drag", [](const hadal::FinStates& f) { return to_numpy(f.drag); }, "[N]")
+      .def_readonly("command_source", &hadal::FinStates::command_source, "0 none, 1 scenario schedule, 2 client");
+  py::class_<hadal::BuoyancyEngineStates>(m, "BuoyancyEngineStates",
+                                          "hadal_msgs/BuoyancyEngineState: a glider's buoyancy engines")
+      .def_readonly("stamp", &hadal::BuoyancyEngineStates::stamp, "sim time [s]")
+      .def_readonly("names", &hadal::BuoyancyEngineStates::names)
+      .def_property_readonly("setpoint", [](const hadal::BuoyancyEngineStates& b) { return to_numpy(b.setpoint); })
+      .def_property_readonly("volume_change",
+                             [](const hadal::BuoyancyEngineStates& b) { return to_numpy(b.volume_change); },
+                             "displaced volume beyond neutral [m^3]")
+      .def_property_readonly("volume_rate", [](const hadal::BuoyancyEngineStates& b) { return to_numpy(b.volume_rate); },
+                             "[m^3/s]")
+      .def_property_readonly("force", [](const hadal::BuoyancyEngineStates& b) { return to_numpy(b.force); },
+                             "buoyancy of the volume change, up [N]")
+      .def_property_readonly("power", [](const hadal::BuoyancyEngineStates& b) { return to_numpy(b.power); }, "[W]")
+      .def_property_readonly("energy", [](const hadal::BuoyancyEngineStates& b) { return to_numpy(b.energy); },
+                             "pump energy since the start [J]")
+      .def_readonly("command_source", &hadal::BuoyancyEngineStates::command_source,
+                    "0 none, 1 scenario schedule, 2 client");
+  py::class_<hadal::DropWeightStates>(m, "DropWeightStates", "hadal_msgs/DropWeightState: a vehicle's drop weights")
+      .def_readonly("stamp", &hadal::DropWeightStates::stamp, "sim time [s]")
+      .def_readonly("names", &hadal::DropWeightStates::names)
+      .def_property_readonly("attached",
+                             [](const hadal::DropWeightStates& d) {
+                               py::array_t<bool> out(d.attached.size());
+                               std::copy(d.attached.begin(), d.attached.end(), out.mutable_data());
+                               return out;
+                             })
+      .def_property_readonly("reason", [](const hadal::DropWeightStates& d) { return to_numpy(d.reason); },
+                             "0 attached, 1 released on command, 2 at altitude, 3 at time")
+      .def_property_readonly("release_time", [](const hadal::DropWeightStates& d) { return to_numpy(d.release_time); },
+                             "sim time of the release [s]; NaN while attached")
+      .def_property_readonly("force", [](const hadal::DropWeightStates& d) { return to_numpy(d.force); },
+                             "vertical force while attached [N]")
+      .def_readonly("command_source", &hadal::DropWeightStates::command_source,
+                    "0 none, 1 scenario schedule, 2 client");
 
   py::class_<hadal::Imu>(m, "Imu", "sensor_msgs/Imu sample: rate and specific force in the sensor frame")
       .def_readonly("stamp", &hadal::Imu::stamp, "sim time [s]")
@@ -498,6 +570,13 @@ PYBIND11_MODULE(_hadal, m) {
            py::arg("timeout_s") = 10.0, release())
       .def("wait_track_state", &PyClient::wait_track_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(), "TrackStates with stamp >= min_stamp, or None on timeout")
+      .def("wait_fin_state", &PyClient::wait_fin_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(), "FinStates with stamp >= min_stamp, or None on timeout")
+      .def("wait_buoyancy_engine_state", &PyClient::wait_buoyancy_engine_state, py::arg("vehicle"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "BuoyancyEngineStates with stamp >= min_stamp, or None on timeout")
+      .def("wait_drop_weight_state", &PyClient::wait_drop_weight_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(), "DropWeightStates with stamp >= min_stamp, or None on timeout")
       .def("wait_imu", &PyClient::wait_imu, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(), "Imu sample with stamp >= min_stamp, or None on timeout")
       .def("wait_fluid_pressure", &PyClient::wait_fluid_pressure, py::arg("vehicle"), py::arg("sensor"),

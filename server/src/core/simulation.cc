@@ -5,6 +5,7 @@
 #include <chrono>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <deque>
 #include <future>
 #include <iterator>
@@ -36,7 +37,10 @@ namespace hadal {
 struct Simulation::VehicleRuntime {
   VehicleRuntime(const VehicleSpec& spec, const WorldSpec& world, const physics::MassProperties& mass_properties,
                  const physics::Ocean& ocean, const geometry::SeabedHeight* seabed)
-      : actuators(spec, world), p_BBcm(mass_properties.p_BBcm), mass(mass_properties.mass) {
+      : actuators(spec, world, &ocean),
+        seabed_below(physics::VehicleActuators::needs_seabed(spec) ? seabed : nullptr),
+        p_BBcm(mass_properties.p_BBcm),
+        mass(mass_properties.mass) {
     // The force elements, in the order they add up: actuators, fluid, Earth rotation, soil.
     forces.push_back(std::make_unique<physics::ActuatorForces>(actuators));
     physics::VehicleFluid fluid = physics::make_vehicle_fluid(spec, world, ocean, p_BBcm);
@@ -67,6 +71,8 @@ struct Simulation::VehicleRuntime {
   }
 
   physics::VehicleActuators actuators;
+  // The seabed, when an actuator reads its height under the vehicle (a drop weight's release altitude).
+  const geometry::SeabedHeight* seabed_below;
   std::vector<std::unique_ptr<physics::ForceElement>> forces;
   Eigen::Vector3d p_BBcm;  // composite centre of mass in B
   double mass;             // [kg]
@@ -213,7 +219,9 @@ Simulation::Simulation(Model model)
     : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
   for (const VehicleSpec& spec : model_.vehicles) {
-    if (spec.seabed_contact != SeabedContact::kSoil || seabed_height_) continue;
+    const bool needs_seabed =
+        spec.seabed_contact == SeabedContact::kSoil || physics::VehicleActuators::needs_seabed(spec);
+    if (!needs_seabed || seabed_height_) continue;
     const SeabedSpec& seabed = model_.world.seabed;
     seabed_height_ = std::make_unique<geometry::SeabedHeight>(
         seabed.mesh ? geometry::SeabedHeight(*seabed.mesh, /*height_field=*/seabed.type != SeabedType::kMesh)
@@ -384,8 +392,14 @@ void Simulation::apply_forces(double t) {
     runtime.wrench = physics::StepWrench{};
     const bool belts = runtime.soil && runtime.actuators.drives_surfaces();
     if (belts) runtime.actuators.belt_velocities(vehicle.actuators, runtime.belts);
+    double seabed_z_below = -std::numeric_limits<double>::infinity();
+    geometry::SeabedHeight::Sample below;
+    const Eigen::Vector3d& p_WB = vehicle.body.X_WB.translation();
+    if (runtime.seabed_below && runtime.seabed_below->sample(p_WB.x(), p_WB.y(), &below)) {
+      seabed_z_below = below.height;
+    }
     const physics::ForceInput in{t, vehicle.body, runtime.p_WBcm, runtime.v_WBcm, vehicle.actuators,
-                                 &vehicle.soil_shear_W, belts ? &runtime.belts : nullptr};
+                                 &vehicle.soil_shear_W, belts ? &runtime.belts : nullptr, seabed_z_below};
     for (const auto& element : runtime.forces) element->add(in, runtime.wrench);
     // The soil's shear on each driven surface is its drive's load in the next step.
     if (belts) {

@@ -63,28 +63,4 @@ void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, dou
   msg.command_source(static_cast<std::uint8_t>(state.command_source));
 }
 
-void fill_track_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
-                      hadal_msgs::msg::TrackState& msg) {
-  msg.header().stamp(to_time_msg(time_s));
-  msg.header().frame_id(base_frame_id(spec.name));
-  for (auto* field : {&msg.setpoint(), &msg.belt_speed(), &msg.sprocket_speed(), &msg.motor_torque(), &msg.current(),
-                      &msg.power(), &msg.load()}) {
-    field->clear();
-  }
-  msg.name().clear();
-  for (std::size_t k = 0; k < state.actuators.size(); ++k) {
-    const auto* track = std::get_if<physics::TrackActuator::State>(&state.actuators[k]);
-    if (track == nullptr) continue;
-    msg.name().push_back(spec.actuators[k].name);
-    msg.setpoint().push_back(track->setpoint);
-    msg.belt_speed().push_back(track->belt_speed);
-    msg.sprocket_speed().push_back(track->sprocket_speed);
-    msg.motor_torque().push_back(track->motor_torque_Nm);
-    msg.current().push_back(track->current_A);
-    msg.power().push_back(track->power_W);
-    msg.load().push_back(track->load_N);
-  }
-  msg.command_source(static_cast<std::uint8_t>(state.command_source));
-}
-
 }  // namespace hadal::dds

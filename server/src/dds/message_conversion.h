@@ -22,8 +22,5 @@ void fill_odometry(const std::string& world_frame_id, const std::string& vehicle
 // [rev/s], thrust [N], reaction torque [N m], and the command source.
 void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
                          hadal_msgs::msg::ThrusterState& msg);
-// The vehicle's tracks (physics/track.h), in actuator order.
-void fill_track_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
-                      hadal_msgs::msg::TrackState& msg);
 
 }  // namespace hadal::dds

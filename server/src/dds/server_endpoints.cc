@@ -3,6 +3,7 @@
 #include "hadal/dds/participant.h"
 #include "hadal/dds/topic_names.h"
 #include "hadal/dds/topic_registry.h"
+#include "actuator_topics.h"
 #include "message_conversion.h"
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
@@ -60,7 +61,23 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
   std::vector<fdds::DataWriter*> thruster_writers;
-  std::vector<fdds::DataWriter*> track_writers;  // null for a vehicle without tracks
+  // Per vehicle, a writer per actuator kind with a state topic that the vehicle has (actuator_topics.h).
+  struct ActuatorStateWriter {
+    virtual ~ActuatorStateWriter() = default;
+    // Fills the kind's message from the state; returns it for writing.
+    virtual void* fill(const VehicleSpec& spec, const VehicleState& state, double time_s) = 0;
+    fdds::DataWriter* writer = nullptr;
+    std::size_t slot = 0;
+  };
+  template <class K>
+  struct KindStateWriter : ActuatorStateWriter {
+    typename ActuatorStateTopic<K>::Message msg;  // reused every sample
+    void* fill(const VehicleSpec& spec, const VehicleState& state, double time_s) override {
+      fill_actuator_state<K>(spec, state, time_s, msg);
+      return &msg;
+    }
+  };
+  std::vector<std::vector<std::unique_ptr<ActuatorStateWriter>>> actuator_state_writers;
   // One per topic of a sensor (sensors/sensor_kind.h, "Topics"): its writer, its slot in `counts` and
   // the topic's message (of the topic's Message type), reused every sample.
   struct SensorTopic {
@@ -76,13 +93,12 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<std::string> topic_names;
   std::vector<std::uint64_t> counts;
   std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0;
-  std::vector<std::size_t> odometry_slot, thruster_slot, track_slot;
+  std::vector<std::size_t> odometry_slot, thruster_slot;
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
   nav_msgs::msg::Odometry odometry_msg;
   hadal_msgs::msg::ThrusterState thruster_msg;
-  hadal_msgs::msg::TrackState track_msg;
   hadal_msgs::msg::SimStatus status_msg;
 
   mutable std::mutex mutex;
@@ -222,14 +238,18 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
     d.thruster_writers.push_back(
         r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
     d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
-    const bool has_tracks = std::any_of(model.vehicles[i].actuators.begin(), model.vehicles[i].actuators.end(),
-                                        [](const ActuatorSpec& a) {
-                                          return std::holds_alternative<physics::TrackActuator::Spec>(a.kind);
-                                        });
-    d.track_writers.push_back(
-        has_tracks ? r.writer<hadal_msgs::msg::TrackStatePubSubType>(track_state_topic(name), kStateHistoryDepth)
-                   : nullptr);
-    d.track_slot.push_back(has_tracks ? d.add_count(track_state_topic(name)) : 0);
+    auto& actuator_writers = d.actuator_state_writers.emplace_back();
+    physics::ActuatorKinds::for_each([&](auto tag) {
+      using K = typename decltype(tag)::type;
+      if constexpr (ActuatorStateTopic<K>::kPublished) {
+        if (!has_actuator_of_kind<K>(model.vehicles[i])) return;
+        auto writer = std::make_unique<Impl::KindStateWriter<K>>();
+        const std::string topic = actuator_state_topic(name, K::kListKey);
+        writer->writer = r.writer<typename ActuatorStateTopic<K>::PubSubType>(topic, kStateHistoryDepth);
+        writer->slot = d.add_count(topic);
+        actuator_writers.push_back(std::move(writer));
+      }
+    });
 
     std::vector<std::vector<Impl::SensorTopic>>& endpoints = d.sensors.emplace_back();
     for (const SensorSpec& sensor : model.vehicles[i].sensors) {
@@ -318,11 +338,11 @@ void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& 
   impl_->write(impl_->thruster_writers[i], &impl_->thruster_msg, impl_->thruster_slot[i]);
 }
 
-void ServerEndpoints::publish_track_state(int vehicle_index, const SimState& state) {
+void ServerEndpoints::publish_actuator_states(int vehicle_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
-  if (impl_->track_writers[i] == nullptr) return;
-  fill_track_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->track_msg);
-  impl_->write(impl_->track_writers[i], &impl_->track_msg, impl_->track_slot[i]);
+  for (const auto& writer : impl_->actuator_state_writers[i]) {
+    impl_->write(writer->writer, writer->fill(impl_->model.vehicles[i], state.vehicles[i], state.time), writer->slot);
+  }
 }
 
 void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const SimState& state) {
@@ -383,8 +403,8 @@ void ServerEndpoints::flush(double timeout_s) {
   std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer};
   writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
   writers.insert(writers.end(), impl_->thruster_writers.begin(), impl_->thruster_writers.end());
-  for (fdds::DataWriter* writer : impl_->track_writers) {
-    if (writer) writers.push_back(writer);
+  for (const auto& vehicle_writers : impl_->actuator_state_writers) {
+    for (const auto& writer : vehicle_writers) writers.push_back(writer->writer);
   }
   for (fdds::DataWriter* writer : writers) {
     const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();

@@ -75,8 +75,9 @@ class ServerEndpoints {
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);
   void publish_thruster_state(int vehicle_index, const SimState& state);
-  // rt/<vehicle>/tracks/state, for a vehicle with tracks (nothing otherwise).
-  void publish_track_state(int vehicle_index, const SimState& state);
+  // rt/<vehicle>/<kind>/state of each actuator kind the vehicle has besides thrusters (tracks, fins,
+  // buoyancy engines, drop weights: dds/actuator_topics.h).
+  void publish_actuator_states(int vehicle_index, const SimState& state);
   // The sensor's last sample (state.vehicles[v].sensors[s]).
   void publish_sensor(int vehicle_index, int sensor_index, const SimState& state);
   void publish_status(const StatusReport& report);

@@ -15,10 +15,30 @@ struct DrivesSurface : std::false_type {};
 template <class K>
 struct DrivesSurface<K, std::void_t<decltype(K::kDrivesSurface)>> : std::bool_constant<K::kDrivesSurface> {};
 
+// Whether a spec of kind K reads the seabed (K::needs_seabed(spec), physics/drop_weight.h).
+template <class K, class = void>
+struct HasNeedsSeabed : std::false_type {};
+template <class K>
+struct HasNeedsSeabed<K, std::void_t<decltype(K::needs_seabed(std::declval<const typename K::Spec&>()))>>
+    : std::true_type {};
+
 }  // namespace
 
-VehicleActuators::VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world)
-    : vehicle_(vehicle), surface_z_(world.water.surface_z) {
+bool VehicleActuators::needs_seabed(const VehicleSpec& vehicle) {
+  bool needs = false;
+  for (const ActuatorSpec& actuator : vehicle.actuators) {
+    std::visit(
+        [&](const auto& spec) {
+          using K = Kind<std::decay_t<decltype(spec)>>;
+          if constexpr (HasNeedsSeabed<K>::value) needs |= K::needs_seabed(spec);
+        },
+        actuator.kind);
+  }
+  return needs;
+}
+
+VehicleActuators::VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world, const Ocean* ocean)
+    : vehicle_(vehicle), ocean_(ocean), surface_z_(world.water.surface_z) {
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     const auto link = static_cast<std::size_t>(actuator.link_index);
     const ActuatorSetup setup{vehicle.links[link].X_BL, world.water.density, world.step_size(), link};
@@ -100,7 +120,8 @@ bool VehicleActuators::is_finite(const std::vector<ActuatorKindState>& states) {
 }
 
 void VehicleActuators::add_wrenches(const ForceInput& in, StepWrench& out) const {
-  const ActuatorForceInput input{in.body.X_WB, in.p_WBcm, surface_z_};
+  const ActuatorForceInput input{in.body.X_WB, in.p_WBcm, surface_z_,     in.time,
+                                 in.body.v_WB, in.body.w_WB, ocean_, in.seabed_z_below};
   for (std::size_t k = 0; k < in.actuators.size(); ++k) {
     std::visit(
         [&](auto& state) {

@@ -77,6 +77,43 @@ struct TrackStates {
   std::uint8_t command_source = 0;     // 0 none, 1 scenario schedule, 2 client
 };
 
+// hadal_msgs/FinState of rt/<vehicle>/fins/state (vehicles with fins only).
+struct FinStates {
+  double stamp = 0.0;  // sim time [s]
+  std::vector<std::string> names;
+  std::vector<double> setpoint;      // [-1, 1]
+  std::vector<double> angle;         // deflection about the hinge axis [rad]
+  std::vector<double> attack_angle;  // the water's angle of attack [rad]
+  std::vector<double> lift;          // [N], signed as the lift coefficient
+  std::vector<double> drag;          // [N]
+  std::uint8_t command_source = 0;   // 0 none, 1 scenario schedule, 2 client
+};
+
+// hadal_msgs/BuoyancyEngineState of rt/<vehicle>/buoyancy_engines/state (vehicles with one only).
+struct BuoyancyEngineStates {
+  double stamp = 0.0;  // sim time [s]
+  std::vector<std::string> names;
+  std::vector<double> setpoint;       // [-1, 1]
+  std::vector<double> volume_change;  // displaced volume beyond neutral [m^3]
+  std::vector<double> volume_rate;    // [m^3/s]
+  std::vector<double> force;          // buoyancy of the volume change, up [N]
+  std::vector<double> power;          // pump power [W]
+  std::vector<double> energy;         // pump energy since the start [J]
+  std::uint8_t command_source = 0;    // 0 none, 1 scenario schedule, 2 client
+};
+
+// hadal_msgs/DropWeightState of rt/<vehicle>/drop_weights/state (vehicles with one only).
+struct DropWeightStates {
+  static constexpr std::uint8_t kAttached = 0, kReleasedOnCommand = 1, kReleasedAtAltitude = 2, kReleasedAtTime = 3;
+  double stamp = 0.0;  // sim time [s]
+  std::vector<std::string> names;
+  std::vector<bool> attached;
+  std::vector<std::uint8_t> reason;   // kAttached, kReleasedOn...
+  std::vector<double> release_time;   // [s]; NaN while attached
+  std::vector<double> force;          // vertical force while attached [N] (negative: down)
+  std::uint8_t command_source = 0;    // 0 none, 1 scenario schedule, 2 client
+};
+
 // sensor_msgs/FluidPressure of a pressure sensor, rt/<vehicle>/<sensor>: absolute pressure with the
 // sensor's noise. Depth below the surface follows as d = (p - p_atm) / (rho g) for the water's mean
 // density above the sensor (p_atm = 101325 Pa and rho = 1025 kg/m^3 unless the scenario says otherwise).
@@ -277,6 +314,10 @@ class Client {
   void on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback);
   // rt/<vehicle>/tracks/state (a vehicle with tracks: its belt speeds, motor torques and currents).
   void on_track_state(const std::string& vehicle, std::function<void(const TrackStates&)> callback);
+  // rt/<vehicle>/fins/state, buoyancy_engines/state, drop_weights/state (vehicles with those actuators).
+  void on_fin_state(const std::string& vehicle, std::function<void(const FinStates&)> callback);
+  void on_buoyancy_engine_state(const std::string& vehicle, std::function<void(const BuoyancyEngineStates&)> callback);
+  void on_drop_weight_state(const std::string& vehicle, std::function<void(const DropWeightStates&)> callback);
   void on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                          std::function<void(const FluidPressure&)> callback);
   void on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 namespace hadal::dds {
 
@@ -21,7 +22,11 @@ inline std::string thruster_setpoints_topic(const std::string& vehicle) {
 inline std::string thruster_state_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/thrusters/state";
 }
-inline std::string track_state_topic(const std::string& vehicle) { return "rt/" + vehicle + "/tracks/state"; }
+// The state of a vehicle's actuators of one kind besides thrusters, by the kind's YAML list key:
+// rt/<vehicle>/tracks/state, fins/state, buoyancy_engines/state, drop_weights/state.
+inline std::string actuator_state_topic(const std::string& vehicle, std::string_view list_key) {
+  return "rt/" + vehicle + "/" + std::string(list_key) + "/state";
+}
 // Frame id of a vehicle's body frame B in message headers (REP-105 style).
 inline std::string base_frame_id(const std::string& vehicle) { return vehicle + "/base_link"; }
 

@@ -23,6 +23,9 @@
 //   static void stop(State&);                  the non-finite policy: at rest, no force
 //   static bool is_finite(const State&);
 //
+// Optional: static constexpr bool kDrivesSurface (a track: physics/track.h) and
+//   static bool needs_seabed(const Spec&)      true: add_wrench() reads in.seabed_z_below
+//
 // and one line in physics/actuator_kinds.h. Common to every actuator (ActuatorSpec in core/model.h):
 // name and link.
 #pragma once
@@ -30,6 +33,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -38,6 +42,8 @@ class MapReader;
 }
 
 namespace hadal::physics {
+
+class Ocean;
 
 // The wrench a step's force elements add up for one vehicle: force and moment about the vehicle's
 // centre of mass p_WBcm at the step's start, in W, plus what the fluid model reports for the added-mass
@@ -68,11 +74,21 @@ struct ActuatorSetup {
   std::size_t link_index = 0;     // the link's index in the vehicle's links
 };
 
-// What add_wrench() reads: the vehicle's pose and centre of mass at the step's start, and the water.
+// What add_wrench() reads: the vehicle's pose, velocity and centre of mass at the step's start, and the
+// water and seabed around it.
 struct ActuatorForceInput {
   const Eigen::Isometry3d& X_WB;
   const Eigen::Vector3d& p_WBcm;
   double surface_z = 0.0;  // water surface height in W [m]
+  double time = 0.0;       // sim time at the step's start [s]
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();  // velocity of B's origin in W [m/s]
+  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();  // angular velocity of B in W [rad/s]
+  // The water column (density, pressure, current; physics/ocean.h); null only in unit tests of kinds
+  // that do not read it.
+  const Ocean* ocean = nullptr;
+  // Height in W of the seabed under B's origin [m]; -infinity where there is none or it was not asked
+  // for (a kind asks with needs_seabed(), physics/drop_weight.h).
+  double seabed_z_below = -std::numeric_limits<double>::infinity();
 };
 
 }  // namespace hadal::physics

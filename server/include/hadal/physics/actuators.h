@@ -26,8 +26,13 @@ using ActuatorKindRuntime = RuntimesOf<ActuatorKinds>::type;
 
 class VehicleActuators {
  public:
-  // Prepares every actuator of `vehicle` (its links must exist). Keeps a reference to `vehicle`.
-  VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world);
+  // Prepares every actuator of `vehicle` (its links must exist). Keeps references to `vehicle` and
+  // `ocean` (the water column the kinds read: density, pressure, current; null in tests of kinds that
+  // read none of it).
+  VehicleActuators(const VehicleSpec& vehicle, const WorldSpec& world, const Ocean* ocean = nullptr);
+
+  // Whether an actuator of `vehicle` reads the seabed's height under it (ForceInput::seabed_z_below).
+  static bool needs_seabed(const VehicleSpec& vehicle);
 
   // The states at the start of a run: every actuator at rest.
   static std::vector<ActuatorKindState> initial_states(const VehicleSpec& vehicle);
@@ -60,6 +65,7 @@ class VehicleActuators {
 
  private:
   const VehicleSpec& vehicle_;
+  const Ocean* ocean_;
   double surface_z_;
   std::vector<ActuatorKindRuntime> runtimes_;  // one per actuator
   std::vector<std::size_t> first_control_;     // index of each actuator's first control

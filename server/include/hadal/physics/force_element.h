@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <vector>
 
 #include "hadal/core/state.h"
@@ -33,6 +34,9 @@ struct ForceInput {
   SoilShearState* soil_shear = nullptr;
   // Per link, the velocity of its surface relative to the body in B (a track's belt) [m/s]; null: none.
   const std::vector<Eigen::Vector3d>* belt_velocity_B = nullptr;
+  // Height in W of the seabed under B's origin [m], for actuators that read it
+  // (VehicleActuators::needs_seabed); -infinity where there is none or no actuator asked.
+  double seabed_z_below = -std::numeric_limits<double>::infinity();
 };
 
 class ForceElement {

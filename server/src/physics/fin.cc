@@ -1,0 +1,129 @@
+#include "hadal/physics/fin.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/core/units.h"
+#include "hadal/physics/ocean.h"
+
+namespace hadal::physics {
+
+using config::MapReader;
+using config::Need;
+using config::Range;
+
+const std::vector<std::string>& FinActuator::keys() {
+  static const std::vector<std::string> keys = {"position",         "hinge_axis",        "chord_direction",
+                                                "area",             "aspect_ratio",      "max_angle_deg",
+                                                "max_rate_deg_per_s", "lift_slope",      "stall_angle_deg",
+                                                "drag_coefficient", "oswald_efficiency"};
+  return keys;
+}
+
+FinActuator::Spec FinActuator::read(const ActuatorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  map.read_vector3("position", Need::kRequired, Range::finite(), &spec.p_LF);
+  const bool axis_ok = map.read_direction("hinge_axis", Need::kRequired, &spec.hinge_axis_L);
+  const bool chord_ok = map.read_direction("chord_direction", Need::kOptional, &spec.chord_L);
+  if (axis_ok && chord_ok && std::abs(spec.hinge_axis_L.dot(spec.chord_L)) > 1e-6) {
+    map.error_at_key(map.has("chord_direction") ? "chord_direction" : "hinge_axis",
+                     "the chord direction must be perpendicular to the hinge axis (their angle is " +
+                         config::format_approximate(std::acos(std::clamp(spec.hinge_axis_L.dot(spec.chord_L), -1.0, 1.0)) /
+                                                    kDegToRad) +
+                         " deg)");
+  }
+  map.read_number("area", Need::kRequired, Range::left_open(0.0, 1e3), &spec.area);
+  map.read_number("aspect_ratio", Need::kRequired, Range::left_open(0.0, 100.0), &spec.aspect_ratio);
+  double deg = 25.0;
+  map.read_number("max_angle_deg", Need::kOptional, Range::left_open(0.0, 90.0), &deg);
+  spec.max_angle = deg * kDegToRad;
+  deg = 60.0;
+  map.read_number("max_rate_deg_per_s", Need::kOptional, Range::left_open(0.0, 1e4), &deg);
+  spec.max_rate = deg * kDegToRad;
+  spec.lift_slope = helmbold_lift_slope(spec.aspect_ratio);
+  map.read_number("lift_slope", Need::kOptional, Range::left_open(0.0, 20.0), &spec.lift_slope);
+  deg = 20.0;
+  map.read_number("stall_angle_deg", Need::kOptional, Range::left_open(0.0, 90.0), &deg);
+  spec.stall_angle = deg * kDegToRad;
+  map.read_number("drag_coefficient", Need::kOptional, Range::closed(0.0, 10.0), &spec.drag_coefficient);
+  map.read_number("oswald_efficiency", Need::kOptional, Range::left_open(0.0, 1.0), &spec.oswald_efficiency);
+  return spec;
+}
+
+FinActuator::Runtime FinActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
+  Runtime r;
+  r.p_BF = setup.X_BL * spec.p_LF;
+  r.a_B = (setup.X_BL.linear() * spec.hinge_axis_L).normalized();
+  r.c0_B = (setup.X_BL.linear() * spec.chord_L).normalized();
+  r.area = spec.area;
+  r.aspect_ratio = spec.aspect_ratio;
+  r.max_angle = spec.max_angle;
+  r.max_step = spec.max_rate * setup.step_size;
+  r.lift_slope = spec.lift_slope;
+  r.stall_angle = spec.stall_angle;
+  r.drag_coefficient = spec.drag_coefficient;
+  r.oswald_efficiency = spec.oswald_efficiency;
+  return r;
+}
+
+std::string FinActuator::check(const Spec&, const double* controls, std::size_t first) {
+  return check_normalised_setpoint(controls[0], first);
+}
+
+void FinActuator::command(State& state, const double* controls) { state.setpoint = held_setpoint(controls[0]); }
+
+void FinActuator::actuate(const Runtime& r, State& state) {
+  const double target = state.setpoint * r.max_angle;
+  state.angle += std::clamp(target - state.angle, -r.max_step, r.max_step);
+}
+
+void FinActuator::coefficients(const Runtime& r, double alpha, double* C_L, double* C_D) {
+  if (std::abs(alpha) <= r.stall_angle) {
+    *C_L = r.lift_slope * alpha;
+    *C_D = r.drag_coefficient + *C_L * *C_L / (kPi * r.oswald_efficiency * r.aspect_ratio);
+  } else {
+    const double s = std::sin(alpha);
+    *C_L = kBroadsideNormalForce * s * std::cos(alpha);
+    *C_D = r.drag_coefficient + kBroadsideNormalForce * s * s;
+  }
+}
+
+void FinActuator::add_wrench(const Runtime& r, State& state, const ActuatorForceInput& in, StepWrench& out) {
+  state.attack_angle = 0.0;
+  state.lift_N = 0.0;
+  state.drag_N = 0.0;
+  const Eigen::Vector3d p_WF = in.X_WB * r.p_BF;
+  if (in.ocean == nullptr || p_WF.z() >= in.surface_z) return;  // in air
+  const Eigen::Matrix3d& R_WB = in.X_WB.linear();
+  const Eigen::Vector3d a_W = R_WB * r.a_B;
+  const Eigen::Vector3d c0_W = R_WB * r.c0_B;
+  const Eigen::Vector3d c_W = c0_W * std::cos(state.angle) + a_W.cross(c0_W) * std::sin(state.angle);
+  const Eigen::Vector3d n_W = a_W.cross(c_W);
+  const Eigen::Vector3d v_WF = in.v_WB + in.w_WB.cross(p_WF - in.X_WB.translation());
+  const Eigen::Vector3d U_W = in.ocean->current_W(p_WF, in.time) - v_WF;
+  const Eigen::Vector3d U_p = U_W - U_W.dot(a_W) * a_W;
+  const double speed = U_p.norm();
+  if (speed < 1e-9) return;
+  const Eigen::Vector3d e_W = U_p / speed;
+  const double alpha = std::atan2(e_W.dot(n_W), -e_W.dot(c_W));
+  double C_L = 0.0, C_D = 0.0;
+  coefficients(r, alpha, &C_L, &C_D);
+  const double qS = 0.5 * in.ocean->density(in.ocean->depth(p_WF.z())) * speed * speed * r.area;
+  const Eigen::Vector3d f_W = qS * (C_L * e_W.cross(a_W) + C_D * e_W);
+  state.attack_angle = alpha;
+  state.lift_N = qS * C_L;
+  state.drag_N = qS * C_D;
+  out.f_W += f_W;
+  out.tau_W += (p_WF - in.p_WBcm).cross(f_W);
+}
+
+void FinActuator::stop(State& state) {
+  if (!std::isfinite(state.angle)) state.angle = 0.0;
+  state.attack_angle = 0.0;
+  state.lift_N = 0.0;
+  state.drag_N = 0.0;
+}
+
+}  // namespace hadal::physics

@@ -1,0 +1,142 @@
+// Fin: the servo's rate limit, lift and drag against the finite-wing closed forms (Helmbold's slope,
+// induced drag), the flat plate past stall, Galilean invariance against a current, nothing in air.
+#include "hadal/physics/fin.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hadal/core/model.h"
+#include "hadal/core/units.h"
+#include "hadal/physics/ocean.h"
+
+namespace hadal::physics {
+namespace {
+
+constexpr double kDt = 0.01;
+
+// An elevator: hinge along y, chord along x, 0.02 m^2, effective aspect ratio 2.
+FinActuator::Spec elevator() {
+  FinActuator::Spec spec;
+  spec.p_LF = Eigen::Vector3d(-0.6, 0.1, 0.0);
+  spec.hinge_axis_L = Eigen::Vector3d::UnitY();
+  spec.chord_L = Eigen::Vector3d::UnitX();
+  spec.area = 0.02;
+  spec.aspect_ratio = 2.0;
+  spec.max_angle = 25.0 * kDegToRad;
+  spec.max_rate = 60.0 * kDegToRad;
+  spec.lift_slope = FinActuator::helmbold_lift_slope(2.0);
+  spec.stall_angle = 20.0 * kDegToRad;
+  return spec;
+}
+
+struct Wrench {
+  FinActuator::State state;
+  StepWrench out;
+};
+
+// The fin's wrench with B at the origin (identity pose) moving at v_WB, at 50 m depth.
+Wrench fin_wrench(const FinActuator::Spec& spec, double angle, const Eigen::Vector3d& v_WB, const Ocean& ocean,
+                  double z = -50.0) {
+  const Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+  const FinActuator::Runtime runtime = FinActuator::prepare(spec, ActuatorSetup{X_BL, 1025.0, kDt, 0});
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.translation() = Eigen::Vector3d(0.0, 0.0, z);
+  const Eigen::Vector3d p_WBcm = X_WB.translation();
+  Wrench w;
+  w.state.angle = angle;
+  ActuatorForceInput in{X_WB, p_WBcm, 0.0};
+  in.v_WB = v_WB;
+  in.ocean = &ocean;
+  FinActuator::add_wrench(runtime, w.state, in, w.out);
+  return w;
+}
+
+TEST(Fin, HelmboldLiftSlope) {
+  // 2 pi AR / (2 + sqrt(AR^2 + 4)): AR 2 -> 4 pi / (2 + 2 sqrt 2); large AR -> 2 pi; AR -> 0: pi AR / 2.
+  EXPECT_NEAR(FinActuator::helmbold_lift_slope(2.0), 4.0 * kPi / (2.0 + 2.0 * std::sqrt(2.0)), 1e-12);
+  EXPECT_NEAR(FinActuator::helmbold_lift_slope(1e4) / (2.0 * kPi), 1.0, 1e-3);
+  EXPECT_NEAR(FinActuator::helmbold_lift_slope(1e-4) / (kPi * 1e-4 / 2.0), 1.0, 1e-3);
+}
+
+// The servo turns at its rate to the commanded angle and stops there.
+TEST(Fin, ServoTurnsAtItsRate) {
+  const FinActuator::Spec spec = elevator();
+  const Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+  const FinActuator::Runtime runtime = FinActuator::prepare(spec, ActuatorSetup{X_BL, 1025.0, kDt, 0});
+  FinActuator::State state;
+  const double setpoint = 0.8;  // 20 deg: 1/3 s at 60 deg/s
+  FinActuator::command(state, &setpoint);
+  for (int k = 1; k <= 50; ++k) {
+    FinActuator::actuate(runtime, state);
+    ASSERT_NEAR(state.angle, std::min(k * 0.6, 20.0) * kDegToRad, 1e-12) << k;
+  }
+  EXPECT_EQ(FinActuator::check(spec, &setpoint, 3), "");
+  const double bad = 1.2;
+  EXPECT_EQ(FinActuator::check(spec, &bad, 3), "setpoint[3] = 1.2 is outside [-1, 1]");
+}
+
+// Moving forward at 1.5 m/s with the fin turned 6 deg (leading edge down, the right-hand turn about +y):
+// the water meets it at alpha = 6 deg from above, lift L = q S C_La alpha down and drag
+// D = q S (C_D0 + C_L^2 / (pi e AR)) aft, at the centre of pressure.
+TEST(Fin, LiftAndDragOfAFiniteWing) {
+  const WorldSpec world;
+  const Ocean ocean(world);
+  const FinActuator::Spec spec = elevator();
+  const double delta = 6.0 * kDegToRad, U = 1.5;
+  const Wrench w = fin_wrench(spec, delta, Eigen::Vector3d(U, 0, 0), ocean);
+  const double rho = ocean.density(50.0);
+  const double qS = 0.5 * rho * U * U * spec.area;
+  const double C_L = spec.lift_slope * delta;
+  const double C_D = 0.01 + C_L * C_L / (kPi * 0.9 * 2.0);
+  EXPECT_NEAR(w.state.attack_angle, delta, 1e-12);
+  EXPECT_NEAR(w.state.lift_N, qS * C_L, 1e-9);
+  EXPECT_NEAR(w.state.drag_N, qS * C_D, 1e-9);
+  EXPECT_NEAR(w.out.f_W.x(), -qS * C_D, 1e-9);
+  EXPECT_NEAR(w.out.f_W.y(), 0.0, 1e-12);
+  EXPECT_NEAR(w.out.f_W.z(), -qS * C_L, 1e-9);
+  // About the centre of mass at B's origin: r = (-0.6, 0.1, 0) x f.
+  EXPECT_TRUE(w.out.tau_W.isApprox(Eigen::Vector3d(-0.6, 0.1, 0.0).cross(w.out.f_W), 1e-12));
+  // The tail pushed down pitches the nose up: with y to the left, a negative moment about y.
+  EXPECT_LT(w.out.tau_W.y(), 0.0);
+}
+
+// Past the stall angle the fin is a flat plate: C_L = 1.2 sin a cos a, C_D = C_D0 + 1.2 sin^2 a.
+TEST(Fin, StalledFinIsAFlatPlate) {
+  const WorldSpec world;
+  const Ocean ocean(world);
+  const FinActuator::Spec spec = elevator();
+  const double delta = 35.0 * kDegToRad, U = 1.0;
+  const Wrench w = fin_wrench(spec, delta, Eigen::Vector3d(U, 0, 0), ocean);
+  const double qS = 0.5 * ocean.density(50.0) * U * U * spec.area;
+  EXPECT_NEAR(w.state.lift_N, qS * 1.2 * std::sin(delta) * std::cos(delta), 1e-9);
+  EXPECT_NEAR(w.state.drag_N, qS * (0.01 + 1.2 * std::sin(delta) * std::sin(delta)), 1e-9);
+}
+
+// Only the water's velocity relative to the fin counts: moving at v through still water equals resting
+// in a current of -v; flow along the span (the hinge axis) makes no force.
+TEST(Fin, RelativeFlowOnly) {
+  const FinActuator::Spec spec = elevator();
+  const WorldSpec still;
+  const Ocean still_ocean(still);
+  WorldSpec flowing;
+  flowing.water.current.uniform_W = Eigen::Vector3d(-1.2, 0.0, 0.3);
+  const Ocean current_ocean(flowing);
+  const Wrench moving = fin_wrench(spec, 0.1, Eigen::Vector3d(1.2, 0.0, -0.3), still_ocean);
+  const Wrench drifting = fin_wrench(spec, 0.1, Eigen::Vector3d::Zero(), current_ocean);
+  EXPECT_TRUE(moving.out.f_W.isApprox(drifting.out.f_W, 1e-12));
+  EXPECT_GT(moving.out.f_W.norm(), 1.0);
+  const Wrench spanwise = fin_wrench(spec, 0.1, Eigen::Vector3d(0.0, 2.0, 0.0), still_ocean);
+  EXPECT_EQ(spanwise.out.f_W.norm(), 0.0);
+}
+
+TEST(Fin, NothingInAir) {
+  const WorldSpec world;
+  const Ocean ocean(world);
+  const Wrench w = fin_wrench(elevator(), 0.1, Eigen::Vector3d(2.0, 0, 0), ocean, /*z=*/1.0);
+  EXPECT_EQ(w.out.f_W.norm(), 0.0);
+  EXPECT_EQ(w.state.lift_N, 0.0);
+}
+
+}  // namespace
+}  // namespace hadal::physics
