@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 namespace hadal::test {
 namespace {
@@ -59,6 +60,62 @@ TEST(ZooTest, CrawlerDrivesItsCommandedDistanceWithThePredictedSinkage) {
     EXPECT_NEAR(state.current[k], state.motor_torque[k] / 8.0, 1e-9);
   }
   EXPECT_EQ(state.command_source, 2);
+}
+
+
+// configs/scenarios/lander.yaml: the free-fall lander sinks at a steady speed on its two weights, lets
+// the descent weight go at its 4 m altitude trigger, lands on its legs, and on the client's release
+// command drops the ascent weight and rises.
+TEST(ZooTest, LanderDescendsDropsItsWeightsAndAscends) {
+  LockstepServer s("configs/scenarios/lander.yaml");
+  SampleLog<Odometry> odometry;
+  SampleLog<DropWeightStates> weights;
+  s.client().on_odometry("lander", [&](const Odometry& o) { odometry.add(o); });
+  s.client().on_drop_weight_state("lander", [&](const DropWeightStates& w) { weights.add(w); });
+  s.connect();
+
+  // Sink for 95 s (100 Hz physics), one second per request.
+  double t = 0.0;
+  for (int i = 0; i < 95; ++i) t = s.client().step(100);
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t) && weights.has(t); }, kWait));
+  const std::map<double, Odometry> descent = odometry.all();
+  // A steady descent between 20 s and 60 s (terminal speed, both weights on): one speed within 0.5 %.
+  const double v20 = descent.lower_bound(20.0 - 1e-9)->second.v_WB_B[2];
+  const double v60 = descent.lower_bound(60.0 - 1e-9)->second.v_WB_B[2];
+  EXPECT_LT(v20, -0.3);
+  EXPECT_NEAR(v60, v20, 0.005 * std::abs(v20));
+  // The descent weight went by its altitude trigger, 4 m above the plain (z = -100 m): at the step its
+  // centre crossed -96 m, so the release came within one step of that depth (0.61 m/s x 0.01 s).
+  const DropWeightStates landed = weights.at(t);
+  ASSERT_EQ(landed.names, (std::vector<std::string>{"descent_weight", "ascent_weight"}));
+  EXPECT_FALSE(landed.attached[0]);
+  EXPECT_EQ(landed.reason[0], DropWeightStates::kReleasedAtAltitude);
+  EXPECT_TRUE(landed.attached[1]);
+  EXPECT_LT(landed.force[1], -500.0);  // 70 kg of steel: (1025 x 70 / 7850 - 70) g = -597 N
+  const double released_at = landed.release_time[0];
+  const Odometry at_release = descent.lower_bound(std::floor(released_at) - 1e-9)->second;  // the second before
+  EXPECT_GT(at_release.p_WB[2] + 100.0, 4.0);
+  EXPECT_LT(at_release.p_WB[2] + 100.0, 4.0 + 1.0 * std::abs(v20));
+  // Landed: at rest on its legs, whose feet are 0.89 m below B.
+  const Odometry resting = odometry.at(t);
+  EXPECT_NEAR(resting.p_WB[2], -100.0 + 0.89, 0.02);
+  EXPECT_LT(std::abs(resting.v_WB_B[2]), 0.01);
+
+  // The acoustic release: the client drops the ascent weight (commands [descent, ascent]).
+  s.client().set_thrusters("lander", {0.0, 1.0});
+  for (int i = 0; i < 60; ++i) t = s.client().step(100);
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t) && weights.has(t); }, kWait));
+  const DropWeightStates released = weights.at(t);
+  EXPECT_FALSE(released.attached[1]);
+  EXPECT_EQ(released.reason[1], DropWeightStates::kReleasedOnCommand);
+  EXPECT_NEAR(released.release_time[1], 95.0, 1e-9);
+  EXPECT_EQ(released.force[1], 0.0);
+  // Rising at a steady speed, with nothing left to hold it down (40 kg buoyant).
+  const Odometry rising = odometry.at(t);
+  const Odometry earlier = odometry.at(t - 20.0);
+  EXPECT_GT(rising.v_WB_B[2], 0.3);
+  EXPECT_NEAR(rising.v_WB_B[2], earlier.v_WB_B[2], 0.005 * rising.v_WB_B[2]);
+  EXPECT_GT(rising.p_WB[2], -100.0 + 0.89 + 0.3 * 40.0);
 }
 
 }  // namespace
