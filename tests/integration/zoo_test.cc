@@ -118,5 +118,72 @@ TEST(ZooTest, LanderDescendsDropsItsWeightsAndAscends) {
   EXPECT_GT(rising.p_WB[2], -100.0 + 0.89 + 0.3 * 40.0);
 }
 
+// configs/scenarios/glider.yaml: the glider flies its saw-tooth -- down while the buoyancy engine makes
+// it heavy, up while it makes it light -- at one glide angle each way, and reports its engine's volume
+// and the energy the pump drew against the sea's pressure. (That the angle is the one its lift and drag
+// give is checked in-process, where the fluid model's forces can be read: simulation_zoo_test.cc.)
+TEST(ZooTest, GliderFliesASawToothOnItsBuoyancyEngine) {
+  LockstepServer s("configs/scenarios/glider.yaml");
+  SampleLog<Odometry> odometry;
+  SampleLog<BuoyancyEngineStates> engine;
+  s.client().on_odometry("glider", [&](const Odometry& o) { odometry.add(o); });
+  s.client().on_buoyancy_engine_state("glider", [&](const BuoyancyEngineStates& b) { engine.add(b); });
+  s.connect();
+
+  // 440 s (50 Hz physics) of the schedule: dive 0-200 s, climb 200-400 s, dive again.
+  double t = 0.0;
+  for (int i = 0; i < 44; ++i) t = s.client().step(500);
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t) && engine.has(t); }, kWait));
+  const std::map<double, Odometry> flight = odometry.all();
+  const auto at = [&](double time) { return flight.lower_bound(time - 1e-9)->second; };
+  // Glide path angle below the horizontal from the velocity (v_WB_B turned into W).
+  const auto path_angle_deg = [](const Odometry& o) {
+    // v_W = R(q) v_B for the unit quaternion (x, y, z, w): v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z).
+    const double x = o.q_WB[0], y = o.q_WB[1], z = o.q_WB[2], w = o.q_WB[3];
+    const double vx = o.v_WB_B[0], vy = o.v_WB_B[1], vz = o.v_WB_B[2];
+    const double cx = y * vz - z * vy, cy = z * vx - x * vz, cz = x * vy - y * vx;  // u x v
+    const double v_Wx = vx + 2.0 * (w * cx + y * cz - z * cy);
+    const double v_Wy = vy + 2.0 * (w * cy + z * cx - x * cz);
+    const double v_Wz = vz + 2.0 * (w * cz + x * cy - y * cx);
+    return std::atan2(-v_Wz, std::hypot(v_Wx, v_Wy)) * 180.0 / M_PI;
+  };
+  // Steady legs: the second half of each, one glide angle to 0.1 deg, the same angle down and up to
+  // 1 deg (the hull is neutral to ~30 g), between 15 and 35 deg.
+  const double dive = path_angle_deg(at(150.0)), climb = path_angle_deg(at(350.0));
+  EXPECT_NEAR(path_angle_deg(at(190.0)), dive, 0.1);
+  EXPECT_NEAR(path_angle_deg(at(390.0)), climb, 0.1);
+  EXPECT_GT(dive, 15.0);
+  EXPECT_LT(dive, 35.0);
+  EXPECT_NEAR(climb, -dive, 1.0);
+  // The saw-tooth: deepest just after the first inflection (the pump takes 25 s to turn it around), back
+  // up by 400 s, and down again after.
+  double deepest_t = 0.0, deepest_z = 0.0;
+  for (const auto& [stamp, o] : flight) {
+    if (o.p_WB[2] < deepest_z) {
+      deepest_z = o.p_WB[2];
+      deepest_t = stamp;
+    }
+  }
+  EXPECT_GT(deepest_t, 200.0);
+  EXPECT_LT(deepest_t, 240.0);
+  EXPECT_LT(deepest_z, -35.0);
+  EXPECT_GT(at(400.0).p_WB[2], -30.0);
+  EXPECT_LT(at(440.0).p_WB[2], at(430.0).p_WB[2]);
+  EXPECT_GT(at(440.0).p_WB[0], 85.0);  // ~0.23 m/s forward all along
+
+  // The engine: heavy again at 440 s (driven from +250 to -250 cm^3 from 400 s, 10 cm^3/s), and the one
+  // pump stroke it paid for, out from -250 to +250 cm^3 at 35-41 m depth: (p - p_atm) 500 cm^3 / 0.5.
+  const BuoyancyEngineStates state = engine.at(t);
+  ASSERT_EQ(state.names, std::vector<std::string>{"pump"});
+  EXPECT_EQ(state.setpoint[0], -1.0);
+  EXPECT_NEAR(state.volume_change[0], 2.5e-4 - 40.0 * 1e-5, 1e-9);
+  EXPECT_NEAR(state.volume_rate[0], -1e-5, 1e-12);
+  EXPECT_EQ(state.power[0], 0.0);  // the valve
+  const double per_metre = 1025.0 * 9.80665 * 5e-4 / 0.5;
+  EXPECT_GT(state.energy[0], 35.0 * per_metre);
+  EXPECT_LT(state.energy[0], 41.0 * per_metre);
+  EXPECT_EQ(state.command_source, 1);  // the scenario's schedule
+}
+
 }  // namespace
 }  // namespace hadal::test
