@@ -5,11 +5,22 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
 namespace hadal::test {
 namespace {
+
+// Attitude from a ROS quaternion (x, y, z, w): nose-up pitch and yaw (heading from x, to the left) [rad].
+double nose_up_pitch(const Odometry& o) {
+  const double x = o.q_WB[0], y = o.q_WB[1], z = o.q_WB[2], w = o.q_WB[3];
+  return -std::asin(std::clamp(2.0 * (w * y - z * x), -1.0, 1.0));
+}
+double yaw(const Odometry& o) {
+  const double x = o.q_WB[0], y = o.q_WB[1], z = o.q_WB[2], w = o.q_WB[3];
+  return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+}
 
 // configs/scenarios/crawler.yaml: the tracked crawler settles into the deep-sea ooze and, commanded to
 // 0.6 of full belt speed, drives the distance its belts cover, at the sinkage Bekker predicts for half
@@ -183,6 +194,61 @@ TEST(ZooTest, GliderFliesASawToothOnItsBuoyancyEngine) {
   EXPECT_GT(state.energy[0], 35.0 * per_metre);
   EXPECT_LT(state.energy[0], 41.0 * per_metre);
   EXPECT_EQ(state.command_source, 1);  // the scenario's schedule
+}
+
+// configs/scenarios/auv.yaml: the finned AUV, cruising at 20 m, is ordered 10 m deeper and follows with
+// its elevators alone under a client's autopilot at 10 Hz (the main propeller held at 0.6): a depth loop
+// asks for a pitch (at most 20 deg), a pitch loop turns the elevators; the rudders hold the heading.
+TEST(ZooTest, AuvFollowsADepthChangeWithItsFins) {
+  LockstepServer s("configs/scenarios/auv.yaml");
+  SampleLog<Odometry> odometry;
+  SampleLog<FinStates> fins;
+  s.client().on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
+  s.client().on_fin_state("auv", [&](const FinStates& f) { fins.add(f); });
+  s.connect();
+
+  const double target_z = -30.0;
+  double t = s.client().step(100);  // 1 s of cruise
+  double deepest = 0.0, max_pitch = 0.0, max_elevator = 0.0;
+  std::map<double, double> depth_error;
+  for (int i = 0; i < 800; ++i) {  // 80 s at 10 Hz
+    ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait)) << t;
+    const Odometry o = odometry.at(t);
+    const double z = o.p_WB[2], theta = nose_up_pitch(o), q = -o.w_WB_B[1];
+    const double w_z = o.v_WB_B[2] * std::cos(theta) + o.v_WB_B[0] * std::sin(theta);  // ~ dz/dt
+    // Depth loop: a nose-down pitch when too shallow, damped by the climb rate; pitch loop: elevators
+    // (positive: nose up), damped by the pitch rate; heading loop: rudders (positive: nose to starboard).
+    const double theta_cmd = std::clamp(0.08 * (target_z - z) - 0.4 * w_z, -0.35, 0.35);
+    const double elevator = std::clamp(2.0 * (theta_cmd - theta) - 1.0 * q, -1.0, 1.0);
+    const double rudder = std::clamp(2.0 * yaw(o) + 1.0 * o.w_WB_B[2], -1.0, 1.0);
+    s.client().set_thrusters("auv", {0.6, rudder, rudder, elevator, elevator});
+    t = s.client().step(10);
+    deepest = std::min(deepest, z);
+    max_pitch = std::max(max_pitch, std::abs(theta));
+    max_elevator = std::max(max_elevator, std::abs(elevator));
+    depth_error[t] = z - target_z;
+  }
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t) && fins.has(t); }, kWait));
+  const Odometry end = odometry.at(t);
+  // It went down on its fins: pitched nose down by more than 10 deg on the way, arrived within 0.2 m and
+  // stays there (the last 20 s), overshooting by less than 1 m, on its heading to 2 deg.
+  EXPECT_GT(max_pitch, 10.0 * M_PI / 180.0);
+  EXPECT_LT(max_pitch, 25.0 * M_PI / 180.0);
+  EXPECT_GT(max_elevator, 0.2);
+  for (auto it = depth_error.lower_bound(t - 20.0); it != depth_error.end(); ++it) {
+    ASSERT_LT(std::abs(it->second), 0.2) << "at t = " << it->first;
+  }
+  EXPECT_GT(deepest, target_z - 1.0);
+  EXPECT_LT(std::abs(yaw(end)), 2.0 * M_PI / 180.0);
+  EXPECT_GT(end.v_WB_B[0], 1.0);
+  // The fins report what they were told and the lift they make: the elevators turned alike.
+  const FinStates state = fins.at(t);
+  ASSERT_EQ(state.names,
+            (std::vector<std::string>{"rudder_top", "rudder_bottom", "elevator_port", "elevator_starboard"}));
+  EXPECT_EQ(state.setpoint[2], state.setpoint[3]);
+  EXPECT_NEAR(state.angle[2], state.angle[3], 1e-12);
+  EXPECT_LE(std::abs(state.angle[2]), 25.0 * M_PI / 180.0 + 1e-12);
+  EXPECT_EQ(state.command_source, 2);
 }
 
 }  // namespace
