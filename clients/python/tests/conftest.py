@@ -71,3 +71,9 @@ def camera_server(domain_id):
 def crawler_server(domain_id):
     """hadald in lockstep mode on the crawler zoo scenario (configs/scenarios/crawler.yaml)."""
     yield from _lockstep("configs/scenarios/crawler.yaml", domain_id)
+
+
+@pytest.fixture
+def rov_server(domain_id):
+    """hadald in lockstep mode on the ROV zoo scenario (configs/scenarios/rov.yaml: a 0.3 m/s current)."""
+    yield from _lockstep("configs/scenarios/rov.yaml", domain_id)
