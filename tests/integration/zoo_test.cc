@@ -251,5 +251,65 @@ TEST(ZooTest, AuvFollowsADepthChangeWithItsFins) {
   EXPECT_EQ(state.command_source, 2);
 }
 
+// configs/scenarios/vessel.yaml: the catamaran, let go 5 cm high on a calm sea, floats at the draft its
+// displacement predicts and, driven east on both thrusters, reports GPS fixes around its track.
+TEST(ZooTest, VesselFloatsAtItsDraftAndReportsGpsFixes) {
+  LockstepServer s("configs/scenarios/vessel.yaml");
+  SampleLog<Odometry> odometry;
+  SampleLog<NavSatFix> fixes;
+  s.client().on_odometry("vessel", [&](const Odometry& o) { odometry.add(o); });
+  s.client().on_nav_sat_fix("vessel", "gps", [&](const NavSatFix& f) { fixes.add(f); });
+  s.connect();
+
+  // 10 s adrift (100 Hz). Draft T = m / (rho A_wp) = 147.6 / (1025 x 2 x 2.0 x 0.3) = 0.120 m: B (the
+  // hulls' mid-height, 0.2 m above their bottoms) 0.08 m above the water. Without waves there is no
+  // radiation damping: it bobs about that height (period 1.25 s, ~1 % damping), so the test averages
+  // 2-10 s (6.4 periods: the mean is off the equilibrium by at most amplitude / (pi x 6.4) ~ 2 mm).
+  double t = 0.0;
+  for (int i = 0; i < 10; ++i) t = s.client().step(100);
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& [stamp, o] : odometry.all()) {
+    if (stamp < 2.0) continue;
+    sum += o.p_WB[2];
+    ++n;
+    EXPECT_LT(std::abs(nose_up_pitch(o)), 0.01);
+  }
+  const double draft = 147.6 / (1025.0 * 2.0 * 2.0 * 0.3);
+  EXPECT_NEAR(0.2 - sum / n, draft, 0.003);
+
+  // 30 s east at 0.6 on both thrusters (commands refreshed every 0.5 s): fixes at 5 Hz, every one a fix.
+  for (int i = 0; i < 60; ++i) {
+    s.client().set_thrusters("vessel", {0.6, 0.6});
+    t = s.client().step(50);
+  }
+  ASSERT_TRUE(wait_until([&] { return odometry.has(t) && fixes.has(t); }, kWait));
+  EXPECT_GT(odometry.at(t).p_WB[0], 20.0);
+  // Each fix against the antenna's true position (B + 1 m of mast, upright) in the local tangent plane at
+  // world.origin (43.1 N, 5.9 E; metres per degree of WGS84 latitude and longitude there): within 5
+  // sigma (1.5 m) on each axis, and the mean error within 4 sigma / sqrt(n) of zero.
+  const double lat0 = 43.1, lon0 = 5.9, phi = lat0 * M_PI / 180.0;
+  const double m_per_deg_lat = 111132.92 - 559.82 * std::cos(2 * phi) + 1.175 * std::cos(4 * phi);
+  const double m_per_deg_lon = 111412.84 * std::cos(phi) - 93.5 * std::cos(3 * phi);
+  double east_sum = 0.0, north_sum = 0.0;
+  int count = 0;
+  for (const auto& [stamp, fix] : fixes.all()) {
+    if (stamp < 10.0 + 1e-9 || !odometry.has(stamp)) continue;
+    ASSERT_TRUE(fix.has_fix()) << stamp;
+    const Odometry o = odometry.at(stamp);
+    const double east = (fix.longitude - lon0) * m_per_deg_lon - o.p_WB[0];
+    const double north = (fix.latitude - lat0) * m_per_deg_lat - o.p_WB[1];
+    EXPECT_LT(std::abs(east), 5.0 * 1.5) << stamp;
+    EXPECT_LT(std::abs(north), 5.0 * 1.5) << stamp;
+    east_sum += east;
+    north_sum += north;
+    ++count;
+  }
+  ASSERT_GE(count, 140);  // 30 s at 5 Hz, less the odometry samples not on the fixes' stamps
+  EXPECT_LT(std::abs(east_sum / count), 4.0 * 1.5 / std::sqrt(count));
+  EXPECT_LT(std::abs(north_sum / count), 4.0 * 1.5 / std::sqrt(count));
+}
+
 }  // namespace
 }  // namespace hadal::test
