@@ -17,6 +17,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/core/units.h"
 #include "hadal/physics/seawater.h"
+#include "hadal/physics/soil_map.h"
 #include "hadal/physics/soil_presets.h"
 #include "hadal/render/water_presets.h"
 #include "hadal/sensors/geomagnetic.h"
@@ -1092,43 +1093,98 @@ void read_optics(const std::optional<Value>& value, double surface_z, OpticsSpec
   }
 }
 
-// world.soil (SoilSpec): a preset (physics/soil_presets.h; the deep-sea ooze when neither the block nor
-// its preset is given) with any of its parameters overridden, in SI.
-void read_soil(const std::optional<Value>& value, SoilSpec* soil) {
-  const auto start_from = [&](const std::string& name) {
-    soil->preset = name;
-    soil->parameters = physics::find_soil_preset(name)->soil;
-  };
-  start_from("deep_sea_ooze");
-  if (!value) return;
-  const MapReader map(*value, {"preset", "sinkage_exponent", "k_c", "k_phi", "cohesion", "friction_angle_deg",
-                               "shear_deformation_modulus", "damping", "shear_damping_time"});
-  if (!map.ok()) return;
+// A soil's parameters: a preset (physics/soil_presets.h) with any of them overridden, in SI; `preset_name`
+// and `p` hold the starting soil on entry.
+const std::vector<std::string> kSoilParameterKeys = {"preset",   "sinkage_exponent", "k_c",
+                                                     "k_phi",    "cohesion",         "friction_angle_deg",
+                                                     "shear_deformation_modulus", "damping", "shear_damping_time"};
+
+void read_soil_parameters(const MapReader& map, std::string* preset_name, physics::SoilParameters* p) {
   if (const auto preset = map.optional("preset")) {
     if (const auto name = preset->string()) {
-      if (physics::find_soil_preset(*name)) {
-        start_from(*name);
+      if (const physics::SoilPreset* found = physics::find_soil_preset(*name)) {
+        *preset_name = *name;
+        *p = found->soil;
       } else {
         preset->error("unknown soil preset " + quoted(*name) + " (one of " + physics::soil_preset_names() + ")");
       }
     }
   }
-  physics::SoilParameters& p = soil->parameters;
-  map.read_number("sinkage_exponent", Need::kOptional, Range::left_open(0.0, 3.0), &p.sinkage_exponent);
-  map.read_number("k_c", Need::kOptional, Range::closed(0.0, 1e9), &p.k_c);
-  map.read_number("k_phi", Need::kOptional, Range::closed(0.0, 1e10), &p.k_phi);
-  map.read_number("cohesion", Need::kOptional, Range::closed(0.0, 1e7), &p.cohesion);
-  double friction_angle_deg = p.friction_angle / kDegToRad;
+  map.read_number("sinkage_exponent", Need::kOptional, Range::left_open(0.0, 3.0), &p->sinkage_exponent);
+  map.read_number("k_c", Need::kOptional, Range::closed(0.0, 1e9), &p->k_c);
+  map.read_number("k_phi", Need::kOptional, Range::closed(0.0, 1e10), &p->k_phi);
+  map.read_number("cohesion", Need::kOptional, Range::closed(0.0, 1e7), &p->cohesion);
+  double friction_angle_deg = p->friction_angle / kDegToRad;
   if (map.read_number("friction_angle_deg", Need::kOptional, Range::closed(0.0, 60.0), &friction_angle_deg)) {
-    p.friction_angle = friction_angle_deg * kDegToRad;
+    p->friction_angle = friction_angle_deg * kDegToRad;
   }
   map.read_number("shear_deformation_modulus", Need::kOptional, Range::left_open(0.0, 1.0),
-                  &p.shear_deformation_modulus);
-  map.read_number("damping", Need::kOptional, Range::closed(0.0, 1e9), &p.damping);
-  map.read_number("shear_damping_time", Need::kOptional, Range::closed(0.0, 1.0), &p.shear_damping_time);
-  if (p.k_c == 0.0 && p.k_phi == 0.0 && (map.has("k_c") || map.has("k_phi"))) {
+                  &p->shear_deformation_modulus);
+  map.read_number("damping", Need::kOptional, Range::closed(0.0, 1e9), &p->damping);
+  map.read_number("shear_damping_time", Need::kOptional, Range::closed(0.0, 1.0), &p->shear_damping_time);
+  if (p->k_c == 0.0 && p->k_phi == 0.0 && (map.has("k_c") || map.has("k_phi"))) {
     map.error_at_key(map.has("k_phi") ? "k_phi" : "k_c", "k_c and k_phi are both 0: the soil would bear nothing");
   }
+}
+
+// world.soil (SoilSpec): the world's soil (the deep-sea ooze when neither the block nor its preset is
+// given), and optionally soils by region: `regions` (each a soil like the world's, starting from the
+// ooze) placed by the image `map`.
+void read_soil(const std::optional<Value>& value, SoilSpec* soil) {
+  soil->preset = "deep_sea_ooze";
+  soil->parameters = physics::find_soil_preset(soil->preset)->soil;
+  if (!value) return;
+  std::vector<std::string> keys = kSoilParameterKeys;
+  keys.insert(keys.end(), {"regions", "map"});
+  const MapReader map(*value, keys);
+  if (!map.ok()) return;
+  read_soil_parameters(map, &soil->preset, &soil->parameters);
+  if (const auto regions = map.optional("regions")) {
+    if (const auto list = regions->list()) {
+      if (list->empty()) regions->error("must list at least one soil (or leave regions out)");
+      if (list->size() > 255) regions->error("at most 255 regions (a map pixel is 8 bits; 0 is the world's soil)");
+      for (const Value& entry : *list) {
+        const MapReader region_map(entry, kSoilParameterKeys);
+        if (!region_map.ok()) continue;
+        SoilSpec::Region region{"deep_sea_ooze", physics::find_soil_preset("deep_sea_ooze")->soil};
+        read_soil_parameters(region_map, &region.preset, &region.parameters);
+        soil->regions.push_back(region);
+      }
+    }
+  }
+  const auto map_value = map.optional("map");
+  if (map.has("regions") && !map_value) {
+    map.error_at_key("regions", "regions need a `map` that says where each one is");
+  }
+  if (!map_value) return;
+  if (!map.has("regions")) {
+    map.error_at_key("map", "a soil map places `regions`, and there are none");
+    return;
+  }
+  const MapReader image(*map_value, {"file", "meters_per_pixel", "center"});
+  if (!image.ok()) return;
+  std::string file;
+  double meters_per_pixel = 0.0;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  bool ok = image.read_string("file", Need::kRequired, &file);
+  ok &= image.read_number("meters_per_pixel", Need::kRequired, Range::left_open(0.0, 1e6), &meters_per_pixel);
+  if (const auto center_value = image.optional("center")) {
+    if (const auto xy = center_value->numbers(2)) {
+      center.head<2>() = Eigen::Vector2d((*xy)[0], (*xy)[1]);
+    } else {
+      ok = false;
+    }
+  }
+  if (!ok || soil->regions.empty()) return;
+  const auto file_value = image.optional("file");
+  const std::string path = (std::filesystem::path(file_value->file()).parent_path() / file).string();
+  const physics::SoilMapLoad load =
+      physics::load_soil_region_map(path, meters_per_pixel, center.head<2>(), soil->regions.size());
+  if (!load.map) {
+    file_value->error(load.error);
+    return;
+  }
+  soil->map = load.map;
 }
 
 // --- scenario ------------------------------------------------------------------------------------------

@@ -1228,6 +1228,91 @@ vehicles:
                           "surface, and no link has a mesh or collision shapes"}));
 }
 
+// world.soil.regions placed by world.soil.map: an 8-bit image of region numbers next to the scenario.
+TEST_F(ScenarioLoaderTest, SoilRegionsByMap) {
+  // 2 x 3 pixels, 5 m each, centred on (10, 0): row 0 (north) is [0, 1, 2], row 1 [2, 2, 0].
+  cv::Mat image(2, 3, CV_8UC1, cv::Scalar(0));
+  image.at<std::uint8_t>(0, 1) = 1;
+  image.at<std::uint8_t>(0, 2) = 2;
+  image.at<std::uint8_t>(1, 0) = 2;
+  image.at<std::uint8_t>(1, 1) = 2;
+  fs::create_directories(dir_ / "maps");
+  ASSERT_TRUE(cv::imwrite((dir_ / "maps" / "soil.png").string(), image));
+  const std::string path = write("scenarios/s.yaml", std::string(R"(world:
+  soil:
+    preset: deep_sea_ooze
+    regions:
+      - {preset: dry_sand}
+      - {preset: clayey_soil, cohesion: 5000}
+    map: {file: ../maps/soil.png, meters_per_pixel: 5, center: [10, 0]}
+vehicles:)") + kInlineVehicle);
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& d : result.errors) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(result.ok());
+  const SoilSpec& soil = result.model->world.soil;
+  ASSERT_EQ(soil.regions.size(), 2u);
+  EXPECT_EQ(soil.regions[0].preset, "dry_sand");
+  EXPECT_EQ(soil.regions[1].parameters.cohesion, 5000.0);
+  EXPECT_EQ(soil.regions[1].parameters.k_phi, physics::find_soil_preset("clayey_soil")->soil.k_phi);
+  ASSERT_NE(soil.map, nullptr);
+  const physics::SoilLayout layout = soil.layout();
+  ASSERT_EQ(layout.soils.size(), 3u);
+  // Cells: x in [-5, 0), [0, 5), [5, 10) ... from the west edge at 10 - 7.5 = 2.5; y north half [0, 5).
+  EXPECT_EQ(layout.region_at(3.0, 2.0), 0u);    // row 0, column 0
+  EXPECT_EQ(layout.region_at(9.0, 2.0), 1u);    // row 0, column 1
+  EXPECT_EQ(layout.region_at(16.0, 4.9), 2u);   // row 0, column 2
+  EXPECT_EQ(layout.region_at(3.0, -2.0), 2u);   // row 1, column 0
+  EXPECT_EQ(layout.region_at(16.0, -2.0), 0u);  // row 1, column 2
+  EXPECT_EQ(layout.region_at(2.4, 0.0), 0u);    // off the map: the world's soil
+  EXPECT_EQ(layout.region_at(9.0, 5.1), 0u);
+}
+
+TEST_F(ScenarioLoaderTest, SoilMapErrors) {
+  cv::Mat image(2, 2, CV_8UC1, cv::Scalar(0));
+  image.at<std::uint8_t>(1, 0) = 3;
+  ASSERT_TRUE(cv::imwrite((dir_ / "three.png").string(), image));
+  ASSERT_TRUE(cv::imwrite((dir_ / "colour.png").string(), cv::Mat(2, 2, CV_8UC3, cv::Scalar(0, 0, 0))));
+  const std::string beyond = write("a.yaml", std::string(R"(world:
+  soil:
+    regions: [{preset: dry_sand}, {preset: lunar_soil}]
+    map: {file: three.png, meters_per_pixel: 1}
+vehicles:)") + kInlineVehicle);
+  EXPECT_EQ(errors_of(beyond),
+            (Lines{beyond + ":4:17: error: world.soil.map.file: " + (dir_ / "three.png").string() +
+                   ": pixel (row 1, column 0) names region 3, but there are 2 regions (0 is the world's soil)"}));
+  const std::string colour = write("b.yaml", std::string(R"(world:
+  soil:
+    regions: [{preset: dry_sand}]
+    map: {file: colour.png, meters_per_pixel: 0}
+vehicles:)") + kInlineVehicle);
+  EXPECT_EQ(errors_of(colour),
+            (Lines{colour + ":4:47: error: world.soil.map.meters_per_pixel: must be in (0, 1000000] (got 0)"}));
+  const std::string colour2 = write("c.yaml", std::string(R"(world:
+  soil:
+    regions: [{preset: dry_sand}]
+    map: {file: colour.png, meters_per_pixel: 2}
+vehicles:)") + kInlineVehicle);
+  EXPECT_EQ(errors_of(colour2),
+            (Lines{colour2 + ":4:17: error: world.soil.map.file: " + (dir_ / "colour.png").string() +
+                   ": a soil map is an 8-bit single-channel image of region numbers (this one has 3 channel(s) of "
+                   "8 bits)"}));
+  const std::string unplaced = write("d.yaml", std::string(R"(world:
+  soil:
+    regions: [{preset: dry_sand, porosity: 1}, {preset: basalt}]
+vehicles:)") + kInlineVehicle);
+  EXPECT_EQ(errors_of(unplaced),
+            (Lines{unplaced + ":3:5: error: world.soil.regions: regions need a `map` that says where each one is",
+                   unplaced + ":3:34: error: world.soil.regions[0].porosity: unknown key 'porosity'",
+                   unplaced + ":3:57: error: world.soil.regions[1].preset: unknown soil preset 'basalt' (one of " +
+                       physics::soil_preset_names() + ")"}));
+  const std::string no_regions = write("e.yaml", std::string(R"(world:
+  soil:
+    map: {file: three.png, meters_per_pixel: 1}
+vehicles:)") + kInlineVehicle);
+  EXPECT_EQ(errors_of(no_regions),
+            (Lines{no_regions + ":3:5: error: world.soil.map: a soil map places `regions`, and there are none"}));
+}
+
 TEST_F(ScenarioLoaderTest, WaterCtdLoads) {
   const std::string path = write("s.yaml", std::string(R"(world:
   water:

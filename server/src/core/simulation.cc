@@ -49,7 +49,7 @@ struct Simulation::VehicleRuntime {
     M_A0 = fluid.M_A0;
     if (world.dynamics.earth_rotation) forces.push_back(std::make_unique<physics::EarthRotationForce>(world, mass));
     if (spec.seabed_contact == SeabedContact::kSoil) {
-      auto element = std::make_unique<physics::SoilForces>(geometry::vehicle_surface_B(spec), world.soil.parameters,
+      auto element = std::make_unique<physics::SoilForces>(geometry::vehicle_surface_B(spec), world.soil.layout(),
                                                            *seabed, mass, world.step_size());
       soil = element.get();
       forces.push_back(std::move(element));

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "hadal/config/scenario_loader.h"
@@ -64,6 +65,41 @@ TEST(SimulationSoil, StaticSinkageOfAPlateMatchesBekkerOnEveryPreset) {
     EXPECT_LT(std::abs(sim.state().vehicles[0].body.v_WB.z()), 1e-3 * expected);
     EXPECT_LT(sim.state().vehicles[0].body.X_WB.translation().head<2>().norm(), 1e-12);
   }
+}
+
+// Soils by region (world.soil.map): two like plates, one on each half of a two-cell map -- clayey soil
+// to the west (the world's soil, region 0), dry sand to the east (region 1) -- each sink what Bekker
+// predicts for its own soil (to 1e-3, as on one soil; the sinkages differ by a factor ~2).
+TEST(SimulationSoil, EachPlateSinksIntoTheSoilOfItsRegion) {
+  const Eigen::Vector3d size(0.5, 0.5, 0.05);
+  const double A = size.x() * size.y(), b = size.x(), mass = 60.0, W = mass * kG;
+  physics::SoilParameters clay = physics::find_soil_preset("clayey_soil")->soil;
+  physics::SoilParameters sand = physics::find_soil_preset("dry_sand")->soil;
+  for (physics::SoilParameters* soil : {&clay, &sand}) {  // critical normal damping at each one's sinkage
+    const double z = soil->static_sinkage(W, A, b);
+    soil->damping = 2.0 * std::sqrt(soil->sinkage_exponent * W / z * mass) / A;
+  }
+  VehicleSpec west = soil_plate(size, mass), east = soil_plate(size, mass);
+  west.name = "west";
+  east.name = "east";
+  west.X_WB_initial.translation().x() = -5.0;
+  east.X_WB_initial.translation().x() = 5.0;
+  Model model = testing::water_model({west, east});
+  model.world.soil.parameters = clay;
+  model.world.soil.regions = {SoilSpec::Region{"dry_sand", sand}};
+  auto map = std::make_shared<physics::SoilRegionMap>();
+  map->columns = 2;
+  map->rows = 1;
+  map->meters_per_pixel = 10.0;
+  map->index = {0, 1};
+  model.world.soil.map = map;
+  Simulation sim(model);
+  for (int step = 0; step < 2000; ++step) sim.step();
+  const double west_sinkage = kSeabedZ - (sim.state().vehicles[0].body.X_WB.translation().z() - 0.5 * size.z());
+  const double east_sinkage = kSeabedZ - (sim.state().vehicles[1].body.X_WB.translation().z() - 0.5 * size.z());
+  EXPECT_NEAR(west_sinkage, clay.static_sinkage(W, A, b), 1e-3 * clay.static_sinkage(W, A, b));
+  EXPECT_NEAR(east_sinkage, sand.static_sinkage(W, A, b), 1e-3 * sand.static_sinkage(W, A, b));
+  EXPECT_GT(std::abs(east_sinkage / west_sinkage - 1.0), 0.2);
 }
 
 // A 0.3 m square block of 100 kg on clayey soil, pushed along x by a thruster in its bottom plane (no

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/primitive_mesh.h"
@@ -50,10 +51,33 @@ double SoilParameters::static_sinkage(double load, double area, double width) co
   return std::pow(load / (area * (k_c / width + k_phi)), 1.0 / sinkage_exponent);
 }
 
+std::size_t SoilRegionMap::region_at(double x_W, double y_W) const {
+  const double column = std::floor((x_W - center_W.x()) / meters_per_pixel + 0.5 * columns);
+  const double row = std::floor((center_W.y() - y_W) / meters_per_pixel + 0.5 * rows);
+  if (!(column >= 0.0 && column < columns && row >= 0.0 && row < rows)) return 0;
+  return index[static_cast<std::size_t>(row) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(column)];
+}
+
 SoilContact::SoilContact(const geometry::TriangleMesh& mesh, const SoilParameters& soil, double mass, double dt)
-    : soil_(soil), mass_(mass), dt_(dt) {
-  check_parameters(soil);
-  tan_phi_ = std::tan(soil.friction_angle);
+    : SoilContact(mesh, SoilLayout{{soil}, nullptr}, mass, dt) {}
+
+SoilContact::SoilContact(const geometry::TriangleMesh& mesh, SoilLayout layout, double mass, double dt)
+    : layout_(std::move(layout)), mass_(mass), dt_(dt) {
+  if (layout_.soils.empty()) throw std::invalid_argument("SoilContact: no soil");
+  for (const SoilParameters& soil : layout_.soils) {
+    check_parameters(soil);
+    tan_phi_.push_back(std::tan(soil.friction_angle));
+  }
+  if (layout_.map) {
+    const SoilRegionMap& map = *layout_.map;
+    if (!(map.meters_per_pixel > 0.0) || map.columns < 1 || map.rows < 1 ||
+        map.index.size() != static_cast<std::size_t>(map.columns) * static_cast<std::size_t>(map.rows)) {
+      throw std::invalid_argument("SoilContact: malformed soil map");
+    }
+    for (const std::uint8_t region : map.index) {
+      if (region >= layout_.soils.size()) throw std::invalid_argument("SoilContact: soil map names a missing region");
+    }
+  }
   if (!(mass > 0.0) || !(dt > 0.0)) throw std::invalid_argument("SoilContact: mass and dt must be > 0");
   if (mesh.positions.size() % 3 != 0 || mesh.indices.size() % 3 != 0) {
     throw std::invalid_argument("SoilContact: positions/indices are not whole triples");
@@ -164,7 +188,8 @@ SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::Seabed
       const double sinkage = ground.normal_W.z() * (ground.height - c_W.z());
       const double facing = -(R * face.n_B).dot(ground.normal_W);
       if (!(sinkage > 0.0) || !(facing > 0.0)) continue;
-      contacts_.push_back(Contact{f, sinkage, face.area * facing, c_W, ground.normal_W});
+      contacts_.push_back(
+          Contact{f, layout_.region_at(c_W.x(), c_W.y()), sinkage, face.area * facing, c_W, ground.normal_W});
     }
   }
   // Faces that left contact lose their shear.
@@ -217,18 +242,21 @@ SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::Seabed
     patch.leading_edge = std::min(patch.leading_edge, u.dot(contact.c_W) - half_length);
   }
 
-  // Forces. The damping coefficients summed over the faces are capped at mass / dt (header).
-  const SoilParameters& s = soil_;
-  const double K = s.shear_deformation_modulus;
-  const double j_cap = kShearCapPerK * K;
+  // Forces, each face with the soil under it. The damping coefficients summed over the faces are capped
+  // at mass / dt (header).
   double normal_damping_sum = 0.0;
-  for (const Contact& contact : contacts_) normal_damping_sum += s.damping * contact.bearing_area;
+  for (const Contact& contact : contacts_) {
+    normal_damping_sum += layout_.soils[contact.region].damping * contact.bearing_area;
+  }
   const double normal_damping_scale =
       normal_damping_sum * dt_ > mass_ ? mass_ / (normal_damping_sum * dt_) : 1.0;
   std::vector<FaceForce>& face_forces = face_forces_;
   face_forces.clear();
   double shear_damping_sum = 0.0;
   for (const Contact& contact : contacts_) {
+    const SoilParameters& s = layout_.soils[contact.region];
+    const double K = s.shear_deformation_modulus;
+    const double j_cap = kShearCapPerK * K;
     const Face& face = faces_[contact.face];
     const Patch& patch = patches[face.link];
     const double width = patch_width_[face.link];
@@ -253,7 +281,7 @@ SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::Seabed
       j *= j_cap / j_norm;
     }
     const double j_len = std::min(j_norm, j_cap);
-    const double tau_max = s.cohesion + p * tan_phi_;
+    const double tau_max = s.cohesion + p * tan_phi_[contact.region];
     const double e = std::exp(-j_len / K);
     // Normal: pressure less damping (scaled), never pulling; added here with its moment. The shear is
     // kept apart to be clipped with its damping below.
@@ -288,9 +316,9 @@ SoilWrench SoilContact::compute(const BodyMotion& motion, const geometry::Seabed
   return out;
 }
 
-SoilForces::SoilForces(const geometry::TriangleMesh& mesh_B, const SoilParameters& soil,
-                       const geometry::SeabedHeight& seabed, double mass, double dt)
-    : contact_(mesh_B, soil, mass, dt), seabed_(seabed) {}
+SoilForces::SoilForces(const geometry::TriangleMesh& mesh_B, SoilLayout layout, const geometry::SeabedHeight& seabed,
+                       double mass, double dt)
+    : contact_(mesh_B, std::move(layout), mass, dt), seabed_(seabed) {}
 
 void SoilForces::add(const ForceInput& in, StepWrench& out) {
   if (!in.soil_shear) throw std::logic_error("SoilForces: the vehicle has no soil shear state");

@@ -255,6 +255,20 @@ struct SeabedSpec {
 struct SoilSpec {
   std::string preset = "deep_sea_ooze";  // the preset the parameters started from ("" if none)
   physics::SoilParameters parameters;    // SI, filled by the loader
+  // Soils by region (world.soil.regions and map): the map's region k >= 1 is regions[k - 1]; region 0
+  // and everywhere off the map is `parameters`.
+  struct Region {
+    std::string preset;
+    physics::SoilParameters parameters;
+  };
+  std::vector<Region> regions;
+  std::shared_ptr<const physics::SoilRegionMap> map;  // null: `parameters` everywhere
+
+  physics::SoilLayout layout() const {
+    physics::SoilLayout layout{{parameters}, map};
+    for (const Region& region : regions) layout.soils.push_back(region.parameters);
+    return layout;
+  }
 };
 
 // The water column (YAML `world.water`; see configs/REFERENCE.md and hadal/physics/ocean.h for the model).

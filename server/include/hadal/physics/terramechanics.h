@@ -64,6 +64,8 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "hadal/physics/force_element.h"
@@ -95,6 +97,28 @@ struct SoilParameters {
   double static_sinkage(double load, double area, double width) const;
 };
 
+// Which soil is where (YAML world.soil.map and regions, configs/REFERENCE.md): an image of region
+// indices laid over the horizontal plane of W like a heightmap seabed (centred on center_W, image row 0
+// its north (+y) edge), each pixel a square cell meters_per_pixel wide. Region 0 -- and everywhere
+// outside the image -- is the world's soil, region k >= 1 the k-th entry of world.soil.regions.
+struct SoilRegionMap {
+  int columns = 0, rows = 0;
+  double meters_per_pixel = 1.0;                       // [m]
+  Eigen::Vector2d center_W = Eigen::Vector2d::Zero();  // [m]
+  std::vector<std::uint8_t> index;                     // row-major, row 0 the north edge
+
+  // The region of the cell that holds (x, y) in W; 0 outside the image.
+  std::size_t region_at(double x_W, double y_W) const;
+};
+
+// A world's soils: soils[0] everywhere the map does not name another (no map: everywhere).
+struct SoilLayout {
+  std::vector<SoilParameters> soils;         // non-empty
+  std::shared_ptr<const SoilRegionMap> map;  // null: one soil
+
+  std::size_t region_at(double x_W, double y_W) const { return map ? map->region_at(x_W, y_W) : 0; }
+};
+
 struct SoilWrench {
   Eigen::Vector3d f_W = Eigen::Vector3d::Zero();    // [N]
   Eigen::Vector3d tau_W = Eigen::Vector3d::Zero();  // about p_WBcm [N m]
@@ -112,6 +136,8 @@ class SoilContact {
   // names its link, geometry::link_material). Zero-area faces are dropped. mass [kg] and dt [s] bound the
   // damping (header). Throws std::invalid_argument for malformed index arrays or parameters.
   SoilContact(const geometry::TriangleMesh& mesh_B, const SoilParameters& soil, double mass, double dt);
+  // The same with soils by region: each face in contact takes the soil under its centroid.
+  SoilContact(const geometry::TriangleMesh& mesh_B, SoilLayout layout, double mass, double dt);
 
   // The soil's wrench on the body in `motion` over `seabed`; advances `shear` (resized to num_faces()
   // if it is not) by one step. belt_velocity_B: empty, or per link the velocity of its surface relative
@@ -121,7 +147,7 @@ class SoilContact {
 
   std::size_t num_faces() const { return faces_.size(); }
   std::size_t num_links() const { return num_links_; }
-  const SoilParameters& soil() const { return soil_; }
+  const SoilParameters& soil() const { return layout_.soils.front(); }
   // The width b of each link's contact patch in the last compute() (0 for a link not in contact) [m].
   const std::vector<double>& patch_widths() const { return patch_width_; }
 
@@ -133,7 +159,7 @@ class SoilContact {
     std::size_t link;
   };
   struct Contact {
-    std::size_t face;
+    std::size_t face, region;
     double sinkage, bearing_area;
     Eigen::Vector3d c_W, n_s;
   };
@@ -155,8 +181,8 @@ class SoilContact {
     double limit;  // A_b tau_max
     std::size_t link;
   };
-  SoilParameters soil_;
-  double tan_phi_ = 0.0;
+  SoilLayout layout_;
+  std::vector<double> tan_phi_;  // per soil
   double mass_, dt_;
   std::vector<Face> faces_;
   std::size_t num_links_ = 0;
@@ -179,7 +205,7 @@ class SoilContact {
 // its links' belt velocities from ForceInput.
 class SoilForces : public ForceElement {
  public:
-  SoilForces(const geometry::TriangleMesh& mesh_B, const SoilParameters& soil, const geometry::SeabedHeight& seabed,
+  SoilForces(const geometry::TriangleMesh& mesh_B, SoilLayout layout, const geometry::SeabedHeight& seabed,
              double mass, double dt);
   void add(const ForceInput& in, StepWrench& out) override;
   const SoilWrench& last() const { return last_; }
