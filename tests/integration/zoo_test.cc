@@ -85,6 +85,20 @@ TEST(ZooTest, LanderDescendsDropsItsWeightsAndAscends) {
   s.client().on_drop_weight_state("lander", [&](const DropWeightStates& w) { weights.add(w); });
   s.connect();
 
+  // A drop weight's command is 0 or 1: anything else is refused with the reason, and nothing moves.
+  for (const auto& [bad, reason] : std::vector<std::pair<std::vector<double>, std::string>>{
+           {{0.0, 0.5}, "setpoint[1] = 0.5 is not 0 (hold) or 1 (release)"},
+           {{std::nan(""), 0.0}, "setpoint[0] is NaN, not 0 (hold) or 1 (release)"},
+           {{1.0}, "expected 2 setpoints (descent_weight, ascent_weight), got 1"}}) {
+    s.client().set_thrusters("lander", bad);
+    try {
+      s.client().step(100);
+      ADD_FAILURE() << "accepted: " << reason;
+    } catch (const ClientError& e) {
+      EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    }
+  }
+
   // Sink for 95 s (100 Hz physics), one second per request.
   double t = 0.0;
   for (int i = 0; i < 95; ++i) t = s.client().step(100);

@@ -74,6 +74,22 @@ def crawler_server(domain_id):
 
 
 @pytest.fixture
+def zoo_server(domain_id):
+    """A function starting hadald in lockstep on configs/scenarios/<name>.yaml; yields its domain id."""
+    started = []
+
+    def start(name):
+        generator = _lockstep(f"configs/scenarios/{name}.yaml", domain_id)
+        started.append(generator)
+        next(generator)
+        return domain_id
+
+    yield start
+    for generator in started:
+        next(generator, None)
+
+
+@pytest.fixture
 def rov_server(domain_id):
     """hadald in lockstep mode on the ROV zoo scenario (configs/scenarios/rov.yaml: a 0.3 m/s current)."""
     yield from _lockstep("configs/scenarios/rov.yaml", domain_id)

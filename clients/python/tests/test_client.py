@@ -109,3 +109,46 @@ def test_crawler_tracks_drive_and_report_their_state(crawler_server):
     np.testing.assert_allclose(tracks.belt_speed, [belt, belt], rtol=1e-3)
     assert tracks.command_source == 2
     assert np.all(tracks.load > 0.0)
+
+
+def test_drop_weight_state(zoo_server):
+    """The lander's drop weights report on rt/lander/drop_weights/state, read as numpy arrays."""
+    client = connect(zoo_server("lander"), "lander")
+    client.wait_drop_weight_state("lander", timeout_s=0)  # subscribe, then step
+    assert client.wait_for_subscriptions(WAIT_S)
+    client.set_thrusters("lander", [0.0, 1.0])  # release the ascent weight at once
+    t = client.step(100)
+    weights = client.wait_drop_weight_state("lander", min_stamp=t, timeout_s=WAIT_S)
+    assert weights.names == ["descent_weight", "ascent_weight"]
+    assert weights.attached.dtype == np.bool_
+    np.testing.assert_array_equal(weights.attached, [True, False])
+    np.testing.assert_array_equal(weights.reason, [0, 1])  # attached; released on command
+    assert math.isnan(weights.release_time[0]) and weights.release_time[1] == 0.0
+    assert weights.force[0] < -400.0 and weights.force[1] == 0.0  # 50 kg of steel in water: -426 N
+
+
+def test_buoyancy_engine_state(zoo_server):
+    """The glider's buoyancy engine (rt/glider/buoyancy_engines/state): heavy from the start at 10 cm^3/s."""
+    client = connect(zoo_server("glider"), "glider")
+    client.wait_buoyancy_engine_state("glider", timeout_s=0)
+    assert client.wait_for_subscriptions(WAIT_S)
+    t = client.step(500)  # 10 s at 50 Hz
+    engine = client.wait_buoyancy_engine_state("glider", min_stamp=t, timeout_s=WAIT_S)
+    assert engine.names == ["pump"]
+    np.testing.assert_allclose(engine.volume_change, [-1e-4], rtol=1e-9)
+    np.testing.assert_allclose(engine.volume_rate, [-1e-5], rtol=1e-9)
+    assert engine.energy[0] == 0.0  # the valve lets oil in for free
+    assert engine.force[0] < 0.0
+
+
+def test_fin_state(zoo_server):
+    """The AUV's fins (rt/auv/fins/state): commanded elevators turn at the servo's 60 deg/s."""
+    client = connect(zoo_server("auv"), "auv")
+    client.wait_fin_state("auv", timeout_s=0)
+    assert client.wait_for_subscriptions(WAIT_S)
+    client.set_thrusters("auv", [0.6, 0.0, 0.0, 0.4, 0.4])  # elevators to 10 deg
+    t = client.step(10)  # 0.1 s at 100 Hz: 6 deg
+    fins = client.wait_fin_state("auv", min_stamp=t, timeout_s=WAIT_S)
+    assert fins.names == ["rudder_top", "rudder_bottom", "elevator_port", "elevator_starboard"]
+    np.testing.assert_allclose(np.degrees(fins.angle), [0.0, 0.0, 6.0, 6.0], atol=1e-9)
+    assert fins.lift.shape == (4,) and fins.command_source == 2
