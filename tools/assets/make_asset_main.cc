@@ -9,6 +9,7 @@
 
 #include "hadal/assets/mesh_generators.h"
 #include "hadal/assets/scene_writer.h"
+#include "hadal/assets/zoo_meshes.h"
 
 namespace {
 
@@ -31,6 +32,8 @@ constexpr const char* kUsage =
     "  textured-quad  quad with a generated PNG base-colour texture\n"
     "                                                 --texture-size W H [16 8] --external-texture "
     "NAME\n"
+    "  zoo            the vehicle zoo's visual models: OUTPUT is a directory, one <part>.glb each\n"
+    "                 (configs/meshes/ holds the committed copies)\n"
     "options: --stl-ascii (ASCII STL instead of binary)\n"
     "All lengths in metres; Hadal's frame (z up, x forward).\n";
 
@@ -104,6 +107,18 @@ int main(int argc, char** argv) {
     if (!ok) return usage_error("bad or missing value for " + arg);
   }
 
+  if (shape == "zoo") {
+    for (const std::string& part : zoo_parts()) {
+      const std::string path = output + "/" + part + ".glb";
+      const std::string error = write_scene(zoo_part_scene(part), path);
+      if (!error.empty()) {
+        std::fprintf(stderr, "hadal-make-asset: %s\n", error.c_str());
+        return 1;
+      }
+      std::printf("wrote %s\n", path.c_str());
+    }
+    return 0;
+  }
   SceneSpec spec;
   try {
     const int n = static_cast<int>(segments);

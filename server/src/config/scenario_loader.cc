@@ -586,7 +586,7 @@ void read_appearance(const Value& value, AppearanceSpec* appearance) {
 std::optional<std::string> read_link(const Value& value, std::map<std::string, std::string>* seen_names,
                                      LinkSpec* link) {
   const MapReader map(value, {"name", "pose", "mass", "center_of_mass", "inertia", "collisions", "buoyancy",
-                              "mesh", "density", "appearance"});
+                              "mesh", "visual", "density", "appearance"});
   if (!map.ok()) return std::nullopt;
   const bool name_ok = read_unique_name(map, "link", seen_names, &link->name);
   if (const auto pose = map.optional("pose")) read_pose(*pose, &link->X_BL);
@@ -645,6 +645,11 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
                                  " boundary edges): its volume is undefined, so the link gets no buoyancy; "
                                  "give buoyancy: {volume, center} or close the mesh");
     }
+  }
+  if (const auto visual = map.optional("visual")) {
+    // How the link looks (open meshes welcome: their volume is never used).
+    LinkMesh visual_mesh;
+    if (read_link_mesh(*visual, &visual_mesh)) link->visual = std::move(visual_mesh);
   }
   if (const auto appearance = map.optional("appearance")) read_appearance(*appearance, &link->appearance);
   if (!name_ok) return std::nullopt;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/soil_presets.h"
 #include "hadal/render/water_presets.h"
 #include "hadal/sensors/geomagnetic.h"
@@ -1834,6 +1835,63 @@ vehicles: [])");
 vehicles: [])");
   EXPECT_EQ(errors_of(huge)[0], huge + ":2:11: error: world.seabed: size / resolution gives 1.00002e+10 height "
                                        "samples; at most 16777216 are allowed");
+}
+
+// link.visual: what ray casts see (geometry::vehicle_visual_B); the physics keeps the collision shapes
+// (geometry::vehicle_surface_B), and mass and buoyancy ignore the visual mesh.
+TEST_F(ScenarioLoaderTest, LinkVisualIsSeenNotSimulated) {
+  ASSERT_EQ(assets::write_scene(assets::single_mesh_scene(assets::make_uv_sphere(0.5, 16, 8)),
+                                (dir_ / "looks.glb").string()),
+            "");
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - name: frame
+        visual: {file: looks.glb, pose: {position: [0, 0, 0.1]}}
+        mass: 10.0
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+        collisions: [{shape: box, size: [1.0, 0.8, 0.5]}]
+  - name: ghost
+    type: rov
+    links:
+      - name: frame
+        visual: {file: missing.glb}
+        mass: 10.0
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_EQ(result.errors.size(), 1u);
+  EXPECT_NE(result.errors[0].format().find(path + ":15:24: error: vehicles[1].links[0].visual.file: "),
+            std::string::npos)
+      << result.errors[0].format();
+  const std::string good = write("g.yaml", R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - name: frame
+        visual: {file: looks.glb, pose: {position: [0, 0, 0.1]}}
+        mass: 10.0
+        inertia: {ixx: 1, iyy: 1, izz: 1}
+        collisions: [{shape: box, size: [1.0, 0.8, 0.5]}]
+)");
+  const LoadResult loaded = load_scenario_file(good);
+  for (const Diagnostic& d : loaded.errors) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(loaded.ok());
+  const VehicleSpec& rov = loaded.model->vehicles[0];
+  const LinkSpec& link = rov.links[0];
+  ASSERT_TRUE(link.visual.has_value());
+  EXPECT_EQ(link.seen_mesh(), &*link.visual);
+  EXPECT_FALSE(link.mesh.has_value());
+  EXPECT_EQ(link.buoyancy.volume, 0.0);
+  EXPECT_EQ(geometry::vehicle_surface_B(rov).num_triangles(), 12u);  // the box
+  const geometry::TriangleMesh seen = geometry::vehicle_visual_B(rov);
+  EXPECT_EQ(seen.num_triangles(), link.visual->mesh->num_triangles());  // the sphere
+  float top = -1.0f;
+  for (std::size_t v = 0; v < seen.num_vertices(); ++v) top = std::max(top, seen.positions[3 * v + 2]);
+  EXPECT_NEAR(top, 0.6f, 1e-6f);  // 0.5 m radius, raised 0.1 m by its pose
 }
 
 TEST_F(ScenarioLoaderTest, LinkMassPropertiesAndBuoyancyFromAClosedMesh) {

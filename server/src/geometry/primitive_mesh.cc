@@ -148,13 +148,17 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
   for (std::uint32_t index : mesh.indices) out->indices.push_back(index + offset);
 }
 
-TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) {
+namespace {
+
+// vehicle_surface_B, or with `seen` each link's seen_mesh() in place of its own mesh.
+TriangleMesh vehicle_mesh_B(const VehicleSpec& spec, int segments, bool seen) {
   TriangleMesh mesh_B;
   for (std::size_t k = 0; k < spec.links.size(); ++k) {
     const LinkSpec& link = spec.links[k];
     const std::size_t first = mesh_B.num_triangles();
-    if (link.mesh && link.mesh->mesh) {
-      const TriangleMesh& mesh_L = *link.mesh->mesh;
+    const LinkMesh* own = seen ? link.seen_mesh() : (link.mesh && link.mesh->mesh ? &*link.mesh : nullptr);
+    if (own) {
+      const TriangleMesh& mesh_L = *own->mesh;
       append_transformed(mesh_L, link.X_BL, &mesh_B);
       // The link's triangles name the link and their own material (header).
       mesh_B.triangle_materials.resize(mesh_B.num_triangles(), link_material(k, 0));
@@ -172,6 +176,18 @@ TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) {
     }
   }
   return mesh_B;
+}
+
+}  // namespace
+
+TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) { return vehicle_mesh_B(spec, segments, false); }
+
+TriangleMesh vehicle_visual_B(const VehicleSpec& spec, int segments) { return vehicle_mesh_B(spec, segments, true); }
+
+bool has_visual_geometry(const std::vector<LinkSpec>& links) {
+  return has_surface_geometry(links) || std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {
+           return link.visual && link.visual->mesh && link.visual->mesh->num_triangles() > 0;
+         });
 }
 
 bool has_surface_geometry(const std::vector<LinkSpec>& links) {

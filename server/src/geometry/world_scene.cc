@@ -30,8 +30,8 @@ EmbreeScene build_world_scene(const Model& model, const std::string& device_conf
   }
   for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
     const VehicleSpec& vehicle = model.vehicles[v];
-    if (!has_surface_geometry(vehicle.links)) continue;
-    scene.add_body_mesh(static_cast<int>(v), vehicle_surface_B(vehicle), kVehicleMaterial, vehicle.name);
+    if (!has_visual_geometry(vehicle.links)) continue;
+    scene.add_body_mesh(static_cast<int>(v), vehicle_visual_B(vehicle), kVehicleMaterial, vehicle.name);
   }
   return scene;
 }

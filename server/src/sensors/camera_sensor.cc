@@ -101,10 +101,11 @@ Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isome
   render::Rgb base = optics.vehicle_albedo;
   if (spec.appearance.albedo) {
     base = *spec.appearance.albedo;
-  } else if (spec.mesh && spec.mesh->mesh) {
-    // The link mesh's own material: its glTF base colour factor (linear RGB), times its base-colour
-    // texture at the hit's texture coordinates when it has one (render/texture.h), clipped to [0, 1].
-    const geometry::TriangleMesh& mesh = *spec.mesh->mesh;
+  } else if (const LinkMesh* seen = spec.seen_mesh()) {
+    // The link mesh's own material (its visual mesh's, if it has one): its glTF base colour factor
+    // (linear RGB), times its base-colour texture at the hit's texture coordinates when it has one
+    // (render/texture.h), clipped to [0, 1].
+    const geometry::TriangleMesh& mesh = *seen->mesh;
     const std::uint32_t m = geometry::mesh_material_of(code);
     if (m < mesh.materials.size()) {
       const geometry::Material& material = mesh.materials[m];

@@ -95,7 +95,17 @@ struct LinkSpec {
   std::vector<CollisionShape> collisions;
   BuoyancySpec buoyancy;
   std::optional<LinkMesh> mesh;
+  // How the link looks to ray casts (cameras, DVL and altimeter beams, geometry/world_scene.h), in place
+  // of its surface there (YAML link.visual): a detailed model over simple physics. The physics --
+  // fluid forces, soil, Bullet -- keeps `mesh` or `collisions`.
+  std::optional<LinkMesh> visual;
   AppearanceSpec appearance;
+
+  // The mesh ray casts see: `visual`, else `mesh` (null: the collision shapes, or nothing).
+  const LinkMesh* seen_mesh() const {
+    if (visual && visual->mesh) return &*visual;
+    return mesh && mesh->mesh ? &*mesh : nullptr;
+  }
 };
 
 // An actuator (YAML: a list of the vehicle definition per kind, e.g. `thrusters`), mounted on a link. Its

@@ -48,6 +48,9 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 // it hit. `materials` stays empty (the ids are a code, not indices). The link meshes' texture
 // coordinates come along (append_transformed), so a hit's RayHits::tex_u, tex_v are the link mesh's.
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
+// What ray casts see of the vehicle, in B: vehicle_surface_B with each link's `visual` mesh, where it has
+// one, in place of its surface (same material codes, the visual mesh's own materials).
+TriangleMesh vehicle_visual_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
 
 // The material code of vehicle_surface_B: link k's mesh material m (m < kLinkMaterialStride).
 inline constexpr std::uint32_t kLinkMaterialStride = 1u << 16;
@@ -59,5 +62,7 @@ inline constexpr std::uint32_t mesh_material_of(std::uint32_t code) { return cod
 // Whether vehicle_surface_B of these links has any face: some link has a non-empty mesh or collision
 // shapes.
 bool has_surface_geometry(const std::vector<LinkSpec>& links);
+// Whether vehicle_visual_B has any face (a surface, or a visual mesh).
+bool has_visual_geometry(const std::vector<LinkSpec>& links);
 
 }  // namespace hadal::geometry

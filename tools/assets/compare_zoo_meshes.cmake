@@ -1,0 +1,23 @@
+# Regenerates the zoo's visual models with hadal-make-asset and compares them byte for byte with the
+# committed copies in configs/meshes/ (cmake -DTOOL=... -DCOMMITTED=... -DOUT=... -P this file).
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+execute_process(COMMAND ${TOOL} zoo ${OUT} RESULT_VARIABLE result OUTPUT_QUIET)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "hadal-make-asset zoo failed (${result})")
+endif()
+file(GLOB generated RELATIVE ${OUT} ${OUT}/*.glb)
+file(GLOB committed RELATIVE ${COMMITTED} ${COMMITTED}/*.glb)
+list(SORT generated)
+list(SORT committed)
+if(NOT generated STREQUAL committed)
+  message(FATAL_ERROR "configs/meshes holds [${committed}], the generator writes [${generated}]")
+endif()
+foreach(part ${generated})
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${OUT}/${part} ${COMMITTED}/${part} RESULT_VARIABLE differ)
+  if(NOT differ EQUAL 0)
+    message(FATAL_ERROR "configs/meshes/${part} differs from what hadal-make-asset zoo writes: regenerate it "
+                        "(build/bin/hadal-make-asset zoo configs/meshes)")
+  endif()
+endforeach()
+message(STATUS "${generated}: as generated")
