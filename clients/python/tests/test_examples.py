@@ -47,3 +47,17 @@ def test_rov_station_keeping_holds_against_the_current(rov_server):
     assert -40.0 < upstream < -10.0
     assert thrusters.command_source == 2
     np.testing.assert_array_less(np.abs(thrusters.setpoint), 1.0)
+
+
+def test_auv_depth_change_on_its_fins(zoo_server):
+    """The example autopilot takes the finned AUV from 20 m to 30 m on its elevators: nose down on the
+    way, there within 0.3 m after 60 s, no deeper than 31 m."""
+    example = load_example("auv_depth_change")
+    client = hadal.Client(domain_id=zoo_server("auv"), name="pytest")
+    client.subscribe("auv")
+    assert client.wait_for_server(WAIT_S)
+    assert client.wait_for_subscriptions(WAIT_S)
+    track = example.fly(client, depth_m=30.0, until_s=70.0, report=None)
+    assert min(pitch for _, _, pitch in track) < math.radians(-10.0)
+    assert min(z for _, z, _ in track) > -31.0
+    assert all(abs(z + 30.0) < 0.3 for t, z, _ in track if t > 60.0)
