@@ -265,7 +265,8 @@ class PyClient {
     return latest.wait(key, min_stamp, timeout_s);
   }
 
-  hadal::Client client_;
+  // The client is declared last so that it is destroyed first: its DDS callbacks write into the members
+  // above, which must outlive them.
   std::mutex mutex_;
   std::map<std::string, bool> subscribed_;
   Latest<hadal::Odometry> odometry_;
@@ -284,6 +285,7 @@ class PyClient {
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
   Latest<hadal::CameraInfo> camera_info_;
+  hadal::Client client_;
 };
 
 }  // namespace
@@ -607,7 +609,7 @@ PYBIND11_MODULE(_hadal, m) {
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "CameraInfo of rt/<vehicle>/<camera>/camera_info with stamp >= min_stamp, or None on timeout")
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
-           "Normalised setpoints in [-1, 1], one per thruster in scenario order")
+           "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop weights, each kind in scenario order), normalised [-1, 1] (a drop weight: 0 or 1)")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),
            "Lockstep: advance the server by `steps` physics steps; returns the sim time reached [s]");
 }

@@ -509,7 +509,8 @@ bool read_unique_name(const MapReader& map, const std::string& what, std::map<st
 // Returns the link's name when it has a valid one (nullopt otherwise).
 // link.mesh: {file, scale, up_axis, pose}. Imports the file into L and computes its volume properties;
 // the returned properties are those of the mesh in L.
-std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkMesh* link_mesh) {
+std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkMesh* link_mesh,
+                                                       bool volume_matters = true) {
   const MapReader map(value, {"file", "scale", "up_axis", "pose"});
   if (!map.ok()) return std::nullopt;
   bool ok = true;
@@ -538,7 +539,7 @@ std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkM
   link_mesh->volume = properties.volume;
   link_mesh->p_LMc = properties.centroid;
   link_mesh->mesh = std::make_shared<const geometry::TriangleMesh>(std::move(mesh));
-  if (properties.closed && !(properties.volume > 0.0)) {
+  if (volume_matters && properties.closed && !(properties.volume > 0.0)) {
     value.error("mesh '" + file + "' encloses a volume of " + format_approximate(properties.volume) +
                 " m^3 (faces oriented inward?)");
     return std::nullopt;
@@ -649,7 +650,7 @@ std::optional<std::string> read_link(const Value& value, std::map<std::string, s
   if (const auto visual = map.optional("visual")) {
     // How the link looks (open meshes welcome: their volume is never used).
     LinkMesh visual_mesh;
-    if (read_link_mesh(*visual, &visual_mesh)) link->visual = std::move(visual_mesh);
+    if (read_link_mesh(*visual, &visual_mesh, /*volume_matters=*/false)) link->visual = std::move(visual_mesh);
   }
   if (const auto appearance = map.optional("appearance")) read_appearance(*appearance, &link->appearance);
   if (!name_ok) return std::nullopt;
@@ -1150,9 +1151,9 @@ void read_soil(const std::optional<Value>& value, SoilSpec* soil) {
       if (list->size() > 255) regions->error("at most 255 regions (a map pixel is 8 bits; 0 is the world's soil)");
       for (const Value& entry : *list) {
         const MapReader region_map(entry, kSoilParameterKeys);
-        if (!region_map.ok()) continue;
         SoilSpec::Region region{"deep_sea_ooze", physics::find_soil_preset("deep_sea_ooze")->soil};
-        read_soil_parameters(region_map, &region.preset, &region.parameters);
+        // A malformed entry (reported) still holds its place, so the map's numbers keep their meaning.
+        if (region_map.ok()) read_soil_parameters(region_map, &region.preset, &region.parameters);
         soil->regions.push_back(region);
       }
     }
@@ -1439,7 +1440,23 @@ void ScenarioLoader::read_schedule(const Value& value, const VehicleDefinition* 
         const std::string names =
             definition->control_names ? " (" + join_names(*definition->control_names) + ")" : "";
         setpoints->error("expected " + std::to_string(*definition->control_count) +
-                         " setpoints, one per thruster" + names + " (got " + std::to_string(count) + ")");
+                         " setpoints, one per actuator" + names + " (got " + std::to_string(count) + ")");
+      } else if (!keyframe.setpoints.empty() && definition && definition->control_count &&
+                 keyframe.setpoints.size() == *definition->control_count) {
+        // Each actuator's own check (a drop weight's 0 or 1), as for a command at run time.
+        std::size_t first = 0;
+        for (const ActuatorSpec& actuator : definition->actuators) {
+          const std::string reason = std::visit(
+              [&](const auto& spec) {
+                return std::decay_t<decltype(spec)>::Kind::check(spec, &keyframe.setpoints[first], first);
+              },
+              actuator.kind);
+          if (!reason.empty()) {
+            setpoints->error(reason + " (" + actuator.name + ")");
+            break;
+          }
+          first += actuator.num_controls();
+        }
       }
     }
     schedule->push_back(std::move(keyframe));

@@ -1230,6 +1230,40 @@ vehicles:
 }
 
 // world.soil.regions placed by world.soil.map: an 8-bit image of region numbers next to the scenario.
+// A schedule keyframe is a control vector: each actuator's own check applies at load (a drop weight's
+// command is 0 or 1), as for a client's command at run time; a fin turned beyond its stall is a warning.
+TEST_F(ScenarioLoaderTest, ScheduleKeyframesPassEachActuatorsCheck) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: lander
+    type: lander
+    links:
+      - name: frame
+        mass: 100.0
+        inertia: {ixx: 10, iyy: 10, izz: 10}
+        collisions: [{shape: box, size: [1, 1, 1]}]
+    fins:
+      - {name: tail, link: frame, position: [-0.5, 0, 0], hinge_axis: [0, 1, 0], area: 0.02, aspect_ratio: 2,
+         max_angle_deg: 35}
+    drop_weights:
+      - {name: weight, link: frame, position: [0, 0, -0.5], mass: 20}
+    schedule:
+      - {time_s: 0.0, setpoints: [0.5, 0.0]}
+      - {time_s: 5.0, setpoints: [0.0, 0.5]}
+      - {time_s: 6.0, setpoints: [0.0]}
+)");
+  const LoadResult result = load_scenario_file(path);
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":17:34: error: vehicles[0].schedule[1].setpoints: setpoint[1] = 0.5 is not 0 (hold) or "
+                          "1 (release) (weight)",
+                   path + ":18:34: error: vehicles[0].schedule[2].setpoints: expected 2 setpoints, one per actuator "
+                          "(tail, weight) (got 1)"}));
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].format(),
+            path + ":11:9: warning: vehicles[0].fins[0]: max_angle_deg 35 is beyond stall_angle_deg 30: full "
+                   "deflection stalls the fin and gives less lift than a smaller one");
+}
+
 TEST_F(ScenarioLoaderTest, SoilRegionsByMap) {
   // 2 x 3 pixels, 5 m each, centred on (10, 0): row 0 (north) is [0, 1, 2], row 1 [2, 2, 0].
   cv::Mat image(2, 3, CV_8UC1, cv::Scalar(0));
@@ -1596,7 +1630,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":7:33: error: vehicles[0].schedule[1].setpoints: expected 2 setpoints, one "
-                          "per thruster (left, right) (got 1)"}));
+                          "per actuator (left, right) (got 1)"}));
 }
 
 TEST_F(ScenarioLoaderTest, ScheduleTimesMustIncreaseAndSetpointsStayInRange) {

@@ -44,9 +44,14 @@ FinActuator::Spec FinActuator::read(const ActuatorReader& reader) {
   spec.max_rate = deg * kDegToRad;
   spec.lift_slope = helmbold_lift_slope(spec.aspect_ratio);
   map.read_number("lift_slope", Need::kOptional, Range::left_open(0.0, 20.0), &spec.lift_slope);
-  deg = 20.0;
-  map.read_number("stall_angle_deg", Need::kOptional, Range::left_open(0.0, 90.0), &deg);
+  deg = 30.0;
+  map.read_number("stall_angle_deg", Need::kOptional, Range::left_open(0.0, 60.0), &deg);
   spec.stall_angle = deg * kDegToRad;
+  if (spec.max_angle > spec.stall_angle + 1e-12) {
+    map.value().warn("max_angle_deg " + config::format_approximate(spec.max_angle / kDegToRad) +
+                     " is beyond stall_angle_deg " + config::format_approximate(spec.stall_angle / kDegToRad) +
+                     ": full deflection stalls the fin and gives less lift than a smaller one");
+  }
   map.read_number("drag_coefficient", Need::kOptional, Range::closed(0.0, 10.0), &spec.drag_coefficient);
   map.read_number("oswald_efficiency", Need::kOptional, Range::left_open(0.0, 1.0), &spec.oswald_efficiency);
   return spec;
@@ -84,9 +89,12 @@ void FinActuator::coefficients(const Runtime& r, double alpha, double* C_L, doub
     *C_L = r.lift_slope * alpha;
     *C_D = r.drag_coefficient + *C_L * *C_L / (kPi * r.oswald_efficiency * r.aspect_ratio);
   } else {
-    const double s = std::sin(alpha);
-    *C_L = kBroadsideNormalForce * s * std::cos(alpha);
-    *C_D = r.drag_coefficient + kBroadsideNormalForce * s * s;
+    const double a_s = r.stall_angle;
+    const double C_L_s = r.lift_slope * a_s;
+    const double C_D_s = r.drag_coefficient + C_L_s * C_L_s / (kPi * r.oswald_efficiency * r.aspect_ratio);
+    const double s = std::sin(alpha), s_s = std::sin(a_s);
+    *C_L = C_L_s * std::sin(2.0 * alpha) / std::sin(2.0 * a_s);
+    *C_D = C_D_s + kBroadsideNormalForce * (s * s - s_s * s_s);
   }
 }
 

@@ -101,16 +101,29 @@ TEST(Fin, LiftAndDragOfAFiniteWing) {
   EXPECT_LT(w.out.tau_W.y(), 0.0);
 }
 
-// Past the stall angle the fin is a flat plate: C_L = 1.2 sin a cos a, C_D = C_D0 + 1.2 sin^2 a.
-TEST(Fin, StalledFinIsAFlatPlate) {
+// Past the stall angle: the lift falls off as sin 2 alpha from its value at the stall (zero broadside),
+// the drag rises toward the flat plate's 1.2 broadside; both continuous at alpha_s.
+TEST(Fin, StalledFinFallsOffContinuously) {
   const WorldSpec world;
   const Ocean ocean(world);
-  const FinActuator::Spec spec = elevator();
-  const double delta = 35.0 * kDegToRad, U = 1.0;
-  const Wrench w = fin_wrench(spec, delta, Eigen::Vector3d(U, 0, 0), ocean);
+  const FinActuator::Spec spec = elevator();  // stall at 20 deg
+  const double U = 1.0, a_s = spec.stall_angle;
   const double qS = 0.5 * ocean.density(50.0) * U * U * spec.area;
-  EXPECT_NEAR(w.state.lift_N, qS * 1.2 * std::sin(delta) * std::cos(delta), 1e-9);
-  EXPECT_NEAR(w.state.drag_N, qS * (0.01 + 1.2 * std::sin(delta) * std::sin(delta)), 1e-9);
+  const double C_L_s = spec.lift_slope * a_s;
+  const double C_D_s = 0.01 + C_L_s * C_L_s / (kPi * 0.9 * 2.0);
+  const double delta = 35.0 * kDegToRad;
+  const Wrench w = fin_wrench(spec, delta, Eigen::Vector3d(U, 0, 0), ocean);
+  EXPECT_NEAR(w.state.lift_N, qS * C_L_s * std::sin(2 * delta) / std::sin(2 * a_s), 1e-9);
+  EXPECT_NEAR(w.state.drag_N, qS * (C_D_s + 1.2 * (std::pow(std::sin(delta), 2) - std::pow(std::sin(a_s), 2))), 1e-9);
+  // Continuous at the stall angle: just below and just above agree to first order in the step.
+  const Wrench below = fin_wrench(spec, a_s - 1e-7, Eigen::Vector3d(U, 0, 0), ocean);
+  const Wrench above = fin_wrench(spec, a_s + 1e-7, Eigen::Vector3d(U, 0, 0), ocean);
+  EXPECT_NEAR(below.state.lift_N, above.state.lift_N, 1e-5);
+  EXPECT_NEAR(below.state.drag_N, above.state.drag_N, 1e-5);
+  // Broadside: no lift, the drag near a flat plate's.
+  const Wrench broadside = fin_wrench(spec, 0.5 * kPi, Eigen::Vector3d(U, 0, 0), ocean);
+  EXPECT_NEAR(broadside.state.lift_N, 0.0, 1e-9);
+  EXPECT_NEAR(broadside.state.drag_N / qS, C_D_s + 1.2 * std::pow(std::cos(a_s), 2), 1e-9);
 }
 
 // Only the water's velocity relative to the fin counts: moving at v through still water equals resting

@@ -336,7 +336,8 @@ class Client {
   void on_camera_info(const std::string& vehicle, const std::string& camera,
                       std::function<void(const CameraInfo&)> callback);
 
-  // Publishes normalised setpoints (one per thruster in scenario order, each in [-1, 1]) on
+  // Publishes the vehicle's control vector (one entry per actuator: thrusters, tracks, fins, buoyancy
+  // engines, drop weights, each kind in scenario order; normalised [-1, 1], a drop weight 0 or 1) on
   // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The
   // setpoints are also attached to the next step() request, so in lockstep they take effect exactly
   // before that request's first step. The server validates them: a rejected command shows up in

@@ -14,9 +14,12 @@
 //             angle of attack alpha = atan2(e . n, -e . c)  (0 when the water comes at the leading edge)
 //   forces    L = q S C_L(alpha) (e x a),  D = q S C_D(alpha) e,  q = rho |U_p|^2 / 2,  at p_WF
 //             attached (|alpha| <= alpha_s): C_L = C_La alpha,  C_D = C_D0 + C_L^2 / (pi e_O AR)
-//             stalled: the flat plate, C_L = C_N90 sin alpha cos alpha,  C_D = C_D0 + C_N90 sin^2 alpha
+//             stalled, continuous at alpha_s (a controller that saturates the fin meets no jump):
+//               C_L = C_La alpha_s sin(2 alpha) / sin(2 alpha_s)      (zero broadside, reversed behind)
+//               C_D = C_D(alpha_s) + C_N90 (sin^2 alpha - sin^2 alpha_s)  (toward the flat plate's)
 //             (C_N90 = 1.2, a flat plate's normal-force coefficient broadside: Hoerner, "Fluid-Dynamic
-//             Drag", 1965, ch. 3)
+//             Drag", 1965, ch. 3). Real stall is more abrupt; this keeps the force a continuous
+//             function of the state. Low-aspect-ratio fins stall late, ~30 deg below AR 2 (default).
 //   C_La      the lift slope of a finite wing of effective aspect ratio AR (Helmbold's equation:
 //             C_La = 2 pi AR / (2 + sqrt(AR^2 + 4)); 2.60 per radian at AR 2)
 // Nothing above the water surface. A fin standing on a hull has the hull as a reflection plane: its
@@ -25,8 +28,8 @@
 // YAML keys (configs/REFERENCE.md): position [m] (p_LF, the centre of pressure), hinge_axis (a in L),
 // chord_direction (c0 in L, default [1, 0, 0]), area [m^2] (S), aspect_ratio (AR, effective),
 // max_angle_deg (delta_max, default 25), max_rate_deg_per_s (omega_s, default 60), lift_slope (C_La per
-// radian, default Helmbold's), stall_angle_deg (alpha_s, default 20), drag_coefficient (C_D0, default
-// 0.01), oswald_efficiency (e_O, default 0.9).
+// radian, default Helmbold's), stall_angle_deg (alpha_s, default 30, at most 60), drag_coefficient (C_D0,
+// default 0.01), oswald_efficiency (e_O, default 0.9).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -56,7 +59,7 @@ struct FinActuator {
     double max_angle = 0.0;                                // delta_max [rad] (YAML: max_angle_deg, 25)
     double max_rate = 0.0;                                 // omega_s [rad/s] (YAML: max_rate_deg_per_s, 60)
     double lift_slope = 0.0;                               // C_La [1/rad]; Helmbold's from AR by default
-    double stall_angle = 0.0;                              // alpha_s [rad] (YAML: stall_angle_deg, 20)
+    double stall_angle = 0.0;                              // alpha_s [rad] (YAML: stall_angle_deg, 30)
     double drag_coefficient = 0.01;                        // C_D0
     double oswald_efficiency = 0.9;                        // e_O
   };
