@@ -13,6 +13,9 @@
 
     frame = client.wait_image("auv", "camera", min_stamp=t)          # cameras: frame.array is (H, W, 3) uint8
 
+    with hadal.Server("rov", mode="lockstep") as server:            # launch hadald on a free domain
+        client = hadal.Client(domain_id=server.domain_id)
+
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
@@ -20,6 +23,8 @@ from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, ClientError, Drop
                      FluidPressure, Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, ServerMode,
                      SimStatus, ThrusterStates, TrackStates)
 
+from .server import Server, ServerNotFound
+
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "DropWeightStates", "Dvl", "FinStates",
            "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix", "Odometry", "Range",
-           "ServerMode", "SimStatus", "ThrusterStates", "TrackStates"]
+           "Server", "ServerMode", "ServerNotFound", "SimStatus", "ThrusterStates", "TrackStates"]

@@ -1,0 +1,147 @@
+"""hadal.Server: launch and stop a hadald process from Python.
+
+    import hadal
+    with hadal.Server("rov", mode="lockstep") as server:      # configs/scenarios/rov.yaml
+        client = hadal.Client(domain_id=server.domain_id)
+        client.wait_for_server()
+        t = client.step(100)
+
+The server gets a DDS domain id no other hadal.Server on this machine holds (a lock file per id,
+/tmp/hadal-dds-domain-<id>.lock, as the test suite's), is awaited until it publishes its status, keeps its log
+(server.log_path), and is stopped on leaving the `with` block -- also when the block raises -- or by
+stop(), at the latest when the interpreter exits.
+"""
+
+import atexit
+import fcntl
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+
+from ._hadal import Client
+
+try:  # written by the build (clients/python/CMakeLists.txt): where hadald and the configs are
+    from . import _build_paths
+except ImportError:  # pragma: no cover - an installed package without build paths
+    _build_paths = None
+
+
+class ServerNotFound(RuntimeError):
+    """hadald could not be found, started, or did not come up."""
+
+
+def find_hadald(explicit=None):
+    """The hadald executable: `explicit`, $HADALD, the build tree's, or hadald on PATH."""
+    candidates = [explicit, os.environ.get("HADALD"), getattr(_build_paths, "HADALD", None), shutil.which("hadald")]
+    for candidate in candidates:
+        if candidate and os.path.isfile(candidate) and os.access(candidate, os.X_OK):
+            return candidate
+    raise ServerNotFound("hadald not found (pass hadald=..., set HADALD, or put it on PATH); tried "
+                         + ", ".join(repr(c) for c in candidates if c))
+
+
+def scenario_path(scenario):
+    """A scenario file: a path as given, or a name of configs/scenarios/<name>.yaml."""
+    if os.path.isfile(scenario):
+        return os.path.abspath(scenario)
+    config_dir = getattr(_build_paths, "CONFIG_DIR", None)
+    if config_dir:
+        named = os.path.join(config_dir, "scenarios", scenario + ".yaml")
+        if os.path.isfile(named):
+            return named
+    raise FileNotFoundError(f"no scenario {scenario!r} (neither a file nor a name in configs/scenarios)")
+
+
+class Server:
+    """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
+
+    domain_id None picks a free id in 100..199. ready_timeout_s bounds the wait for its first status;
+    a server that exits first (a malformed scenario) raises ServerNotFound with its log's end.
+    """
+
+    def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
+                 extra_args=()):
+        if mode not in ("lockstep", "fast", "realtime"):
+            raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
+        self.scenario = scenario_path(scenario)
+        self.mode = mode
+        self._lock = None
+        self.domain_id = self._reserve(domain_id)
+        self._log_dir = tempfile.mkdtemp(prefix="hadald-")
+        self.log_path = os.path.join(self._log_dir, "hadald.log")
+        args = [find_hadald(hadald), self.scenario, "--mode", mode, "--domain-id", str(self.domain_id),
+                "--no-status-line", *extra_args]
+        if seed is not None:
+            args += ["--seed", str(int(seed))]
+        env = dict(os.environ)
+        env.setdefault("ROS_LOCALHOST_ONLY", "1")
+        with open(self.log_path, "w") as log:
+            self.process = subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, env=env)
+        atexit.register(self.stop)
+        try:
+            self._await_ready(ready_timeout_s)
+        except BaseException:
+            self.stop()
+            raise
+
+    def _reserve(self, domain_id):
+        for candidate in ([domain_id] if domain_id is not None else range(100, 200)):
+            # The same lock files as the test suite and tools (/tmp/hadal-dds-domain-<id>.lock).
+            handle = open(f"/tmp/hadal-dds-domain-{candidate}.lock", "a")
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                handle.close()
+                continue
+            self._lock = handle
+            return candidate
+        raise ServerNotFound(f"DDS domain {domain_id} is held by another hadal.Server" if domain_id is not None
+                             else "no free DDS domain id in 100..199")
+
+    def _await_ready(self, timeout_s):
+        client = Client(domain_id=self.domain_id, name="hadal_server_probe")
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if self.process.poll() is not None:
+                raise ServerNotFound(f"hadald exited with status {self.process.returncode} before it was ready:\n"
+                                     + self.log_tail())
+            if client.wait_for_server(0.2):
+                return
+        raise ServerNotFound(f"hadald published no status within {timeout_s} s:\n" + self.log_tail())
+
+    def log_tail(self, lines=20):
+        """The last lines of the server's log."""
+        with open(self.log_path, errors="replace") as log:
+            return "".join(log.readlines()[-lines:])
+
+    @property
+    def running(self):
+        return self.process is not None and self.process.poll() is None
+
+    def stop(self, timeout_s=20.0):
+        """Stops the server (SIGTERM, then SIGKILL after timeout_s); returns its exit status. Idempotent."""
+        if self.process is not None and self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=timeout_s)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        if self._lock is not None:
+            self._lock.close()
+            self._lock = None
+        atexit.unregister(self.stop)
+        return None if self.process is None else self.process.returncode
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+        return False
+
+    def __repr__(self):
+        state = "running" if self.running else f"exited {self.process.returncode}"
+        return f"<hadal.Server {os.path.basename(self.scenario)} {self.mode} domain {self.domain_id} {state}>"

@@ -1,0 +1,52 @@
+"""hadal.Server: a hadald process launched, awaited and stopped from Python."""
+
+import os
+
+import pytest
+
+import hadal
+from conftest import SOURCE_DIR
+
+WAIT_S = 20.0
+
+
+def test_server_lifecycle():
+    """By name, on a free domain, ready when it returns; stopped on leaving the block, its log kept."""
+    with hadal.Server("rov", mode="lockstep", seed=3) as server:
+        assert server.running
+        assert 100 <= server.domain_id < 200
+        assert os.path.samefile(server.scenario, os.path.join(SOURCE_DIR, "configs/scenarios/rov.yaml"))
+        client = hadal.Client(domain_id=server.domain_id, name="pytest")
+        assert client.wait_for_server(WAIT_S)
+        assert client.step(10) == pytest.approx(0.1)
+        pid = server.process.pid
+    assert not server.running
+    assert server.process.returncode == 0  # SIGTERM: a clean stop
+    assert not os.path.exists(f"/proc/{pid}")
+    assert "hadald" in open(server.log_path).read()
+    assert server.stop() == 0  # idempotent
+
+
+def test_server_is_stopped_when_the_block_raises():
+    with pytest.raises(KeyError):
+        with hadal.Server("lander", mode="lockstep") as server:
+            raise KeyError("a user's bug")
+    assert not server.running
+
+
+def test_two_servers_get_two_domains():
+    with hadal.Server("rov") as a, hadal.Server("rov") as b:
+        assert a.domain_id != b.domain_id
+        assert a.running and b.running
+
+
+def test_a_malformed_scenario_is_a_clear_error(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("world:\n  physics_rate_hz: -5\nvehicles: []\n")
+    with pytest.raises(hadal.ServerNotFound) as error:
+        hadal.Server(str(bad))
+    assert f"{bad}:2:20: error: world.physics_rate_hz" in str(error.value)
+    with pytest.raises(FileNotFoundError):
+        hadal.Server("no_such_scenario")
+    with pytest.raises(ValueError):
+        hadal.Server("rov", mode="turbo")
