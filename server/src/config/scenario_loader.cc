@@ -17,6 +17,7 @@
 #include "hadal/geometry/terrain.h"
 #include "hadal/core/units.h"
 #include "hadal/physics/seawater.h"
+#include "hadal/physics/control_vector.h"
 #include "hadal/physics/soil_map.h"
 #include "hadal/physics/soil_presets.h"
 #include "hadal/render/water_presets.h"
@@ -1444,19 +1445,9 @@ void ScenarioLoader::read_schedule(const Value& value, const VehicleDefinition* 
       } else if (!keyframe.setpoints.empty() && definition && definition->control_count &&
                  keyframe.setpoints.size() == *definition->control_count) {
         // Each actuator's own check (a drop weight's 0 or 1), as for a command at run time.
-        std::size_t first = 0;
-        for (const ActuatorSpec& actuator : definition->actuators) {
-          const std::string reason = std::visit(
-              [&](const auto& spec) {
-                return std::decay_t<decltype(spec)>::Kind::check(spec, &keyframe.setpoints[first], first);
-              },
-              actuator.kind);
-          if (!reason.empty()) {
-            setpoints->error(reason + " (" + actuator.name + ")");
-            break;
-          }
-          first += actuator.num_controls();
-        }
+        std::size_t failed = 0;
+        const std::string reason = physics::check_actuator_controls(definition->actuators, keyframe.setpoints, &failed);
+        if (!reason.empty()) setpoints->error(reason + " (" + definition->actuators[failed].name + ")");
       }
     }
     schedule->push_back(std::move(keyframe));

@@ -1,5 +1,7 @@
 #include "hadal/physics/actuators.h"
 
+#include "hadal/physics/control_vector.h"
+
 #include <type_traits>
 
 namespace hadal::physics {
@@ -70,15 +72,7 @@ std::string VehicleActuators::check(const std::vector<double>& controls) const {
     }
     return reason + ", got " + std::to_string(controls.size());
   }
-  for (std::size_t k = 0; k < vehicle_.actuators.size(); ++k) {
-    const std::string reason = std::visit(
-        [&](const auto& spec) {
-          return Kind<std::decay_t<decltype(spec)>>::check(spec, &controls[first_control_[k]], first_control_[k]);
-        },
-        vehicle_.actuators[k].kind);
-    if (!reason.empty()) return reason;
-  }
-  return {};
+  return check_actuator_controls(vehicle_.actuators, controls);
 }
 
 void VehicleActuators::command(std::vector<ActuatorKindState>& states, const std::vector<double>& controls) const {
