@@ -54,6 +54,20 @@ def scenario_path(scenario):
     raise FileNotFoundError(f"no scenario {scenario!r} (neither a file nor a name in configs/scenarios)")
 
 
+def reserve_domain(candidates):
+    """The first DDS domain id of `candidates` no other process holds, as (id, lock file handle; close it to
+    release), or None. The same lock files as the test suite and tools: /tmp/hadal-dds-domain-<id>.lock."""
+    for candidate in candidates:
+        handle = open(f"/tmp/hadal-dds-domain-{candidate}.lock", "a")
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        return candidate, handle
+    return None
+
+
 class Server:
     """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
 
@@ -87,18 +101,12 @@ class Server:
             raise
 
     def _reserve(self, domain_id):
-        for candidate in ([domain_id] if domain_id is not None else range(100, 200)):
-            # The same lock files as the test suite and tools (/tmp/hadal-dds-domain-<id>.lock).
-            handle = open(f"/tmp/hadal-dds-domain-{candidate}.lock", "a")
-            try:
-                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                handle.close()
-                continue
-            self._lock = handle
-            return candidate
-        raise ServerNotFound(f"DDS domain {domain_id} is held by another hadal.Server" if domain_id is not None
-                             else "no free DDS domain id in 100..199")
+        reserved = reserve_domain([domain_id] if domain_id is not None else range(100, 200))
+        if reserved is None:
+            raise ServerNotFound(f"DDS domain {domain_id} is held by another hadal.Server" if domain_id is not None
+                                 else "no free DDS domain id in 100..199")
+        candidate, self._lock = reserved
+        return candidate
 
     def _await_ready(self, timeout_s):
         client = Client(domain_id=self.domain_id, name="hadal_server_probe")

@@ -1,11 +1,12 @@
 """pytest fixtures: a real hadald process on a DDS domain reserved for the test."""
 
-import fcntl
 import os
 import subprocess
 import sys
 
 import pytest
+
+from hadal.server import reserve_domain
 
 HADALD = os.environ.get("HADALD", os.path.join(os.path.dirname(__file__), "../../../build/bin/hadald"))
 SOURCE_DIR = os.environ.get("HADAL_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "../../.."))
@@ -19,17 +20,12 @@ def scenario(relative):
 @pytest.fixture
 def domain_id():
     """A DDS domain id in 200..229 no other test holds (flock, as the C++ tests' DomainLease)."""
-    for candidate in range(200, 230):
-        handle = open(f"/tmp/hadal-dds-domain-{candidate}.lock", "a")
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            handle.close()
-            continue
-        yield candidate
-        handle.close()
-        return
-    pytest.fail("no free DDS domain id")
+    reserved = reserve_domain(range(200, 230))
+    if reserved is None:
+        pytest.fail("no free DDS domain id")
+    candidate, handle = reserved
+    yield candidate
+    handle.close()
 
 
 def _lockstep(relative_scenario, domain_id):
