@@ -73,7 +73,6 @@ TEST(ZooTest, CrawlerDrivesItsCommandedDistanceWithThePredictedSinkage) {
   EXPECT_EQ(state.command_source, 2);
 }
 
-
 // configs/scenarios/lander.yaml: the free-fall lander sinks at a steady speed on its two weights, lets
 // the descent weight go at its 4 m altitude trigger, lands on its legs, and on the client's release
 // command drops the ascent weight and rises.

@@ -1877,7 +1877,7 @@ TEST_F(ScenarioLoaderTest, LinkVisualIsSeenNotSimulated) {
   ASSERT_EQ(assets::write_scene(assets::single_mesh_scene(assets::make_uv_sphere(0.5, 16, 8)),
                                 (dir_ / "looks.glb").string()),
             "");
-  const std::string path = write("s.yaml", R"(world: {}
+  const std::string rov_yaml = R"(world: {}
 vehicles:
   - name: rov
     type: rov
@@ -1887,7 +1887,8 @@ vehicles:
         mass: 10.0
         inertia: {ixx: 1, iyy: 1, izz: 1}
         collisions: [{shape: box, size: [1.0, 0.8, 0.5]}]
-  - name: ghost
+)";
+  const std::string path = write("s.yaml", rov_yaml + R"(  - name: ghost
     type: rov
     links:
       - name: frame
@@ -1900,17 +1901,7 @@ vehicles:
   EXPECT_NE(result.errors[0].format().find(path + ":15:24: error: vehicles[1].links[0].visual.file: "),
             std::string::npos)
       << result.errors[0].format();
-  const std::string good = write("g.yaml", R"(world: {}
-vehicles:
-  - name: rov
-    type: rov
-    links:
-      - name: frame
-        visual: {file: looks.glb, pose: {position: [0, 0, 0.1]}}
-        mass: 10.0
-        inertia: {ixx: 1, iyy: 1, izz: 1}
-        collisions: [{shape: box, size: [1.0, 0.8, 0.5]}]
-)");
+  const std::string good = write("g.yaml", rov_yaml);
   const LoadResult loaded = load_scenario_file(good);
   for (const Diagnostic& d : loaded.errors) ADD_FAILURE() << d.format();
   ASSERT_TRUE(loaded.ok());
