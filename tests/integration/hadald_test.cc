@@ -231,6 +231,16 @@ TEST(HadaldTest, MalformedCommandsAreRejectedAndTheServerKeepsRunning) {
   expect_refused("auv", {0.5, 0.0}, "expected 3 setpoints");
   expect_refused("auv", {0.0, 1.5, 0.0}, "outside [-1, 1]");
   expect_refused("ghost", {0.1}, "unknown vehicle 'ghost'");
+  // Each refusal is the error it is, with the server's reason.
+  s.client().set_thrusters("auv", {0.5, 0.0});
+  try {
+    s.client().step(10);
+    ADD_FAILURE() << "a wrong setpoint count was accepted";
+  } catch (const CommandRejected& e) {
+    EXPECT_EQ(e.reason(), "auv: expected 3 setpoints (main, heave, sway), got 2");
+  }
+  s.client().set_thrusters("ghost", {0.1});
+  EXPECT_THROW(s.client().step(10), UnknownVehicle);
 
   s.client().set_thrusters("auv", {0.5, 0.0, 0.0});
   EXPECT_NEAR(s.client().step(10), 0.02, 1e-12);  // nothing was stepped by the refused requests
@@ -238,7 +248,7 @@ TEST(HadaldTest, MalformedCommandsAreRejectedAndTheServerKeepsRunning) {
   ASSERT_TRUE(wait_until(
       [&] {
         auto st = s.client().latest_status();
-        return st && st->rejected_commands >= 4;
+        return st && st->rejected_commands >= 6;
       },
       kWait));
   EXPECT_TRUE(wait_until([&] { return s.server().err().find("unknown vehicle 'ghost'") != std::string::npos; },

@@ -316,6 +316,9 @@ struct Client::Impl {
   std::map<std::string, std::vector<double>> pending_setpoints;  // attached to the next step()
   std::uint64_t next_request_id = 0;
 
+  // Attaches the pending setpoints, sends a step or reset request and waits for its reply.
+  double send(hadal_msgs::msg::StepRequest& request, double timeout_s);
+
   template <class PubSubType, class Msg, class Handler>
   void subscribe(const std::string& topic, Handler handler) {
     auto listener = make_listener<Msg>(std::move(handler));
@@ -545,18 +548,31 @@ void Client::set_thrusters(const std::string& vehicle, const std::vector<double>
   writer->write(&msg);
 }
 
-double Client::step(std::uint32_t steps, double timeout_s) {
-  Impl& d = *impl_;
-  if (!wait_for_match(d.step_writer, timeout_s)) {
-    throw ClientError("no lockstep server on this domain (rt/hadal/step_request has no reader)");
+namespace {
+
+// A refused request's reason as the error it is: a vehicle the server does not have, or anything else.
+[[noreturn]] void throw_refusal(const std::string& reason) {
+  for (const std::string prefix : {"unknown vehicle '", "reset: unknown vehicle '"}) {
+    if (reason.rfind(prefix, 0) == 0) {
+      const std::size_t end = reason.find('\'', prefix.size());
+      throw UnknownVehicle(reason.substr(prefix.size(), end - prefix.size()), "step request refused: " + reason);
+    }
   }
-  hadal_msgs::msg::StepRequest request;
+  throw CommandRejected(reason);
+}
+
+}  // namespace
+
+double Client::Impl::send(hadal_msgs::msg::StepRequest& request, double timeout_s) {
+  Impl& d = *this;
+  if (!wait_for_match(d.step_writer, timeout_s)) {
+    throw ServerNotFound("no lockstep server on this domain (rt/hadal/step_request has no reader)");
+  }
   std::uint64_t id = 0;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
     id = ++d.next_request_id;
     request.request_id(id);
-    request.steps(steps);
     for (const auto& [vehicle, setpoints] : d.pending_setpoints) {
       request.vehicle_names().push_back(vehicle);
       request.setpoint_counts().push_back(static_cast<std::uint32_t>(setpoints.size()));
@@ -569,12 +585,32 @@ double Client::step(std::uint32_t steps, double timeout_s) {
   std::unique_lock<std::mutex> lock(d.mutex);
   if (!d.changed.wait_for(lock, std::chrono::duration<double>(timeout_s),
                           [&] { return d.replies.count(id) > 0; })) {
-    throw ClientError("no step reply from the server within " + std::to_string(timeout_s) + " s");
+    throw Timeout("no step reply from the server within " + std::to_string(timeout_s) + " s");
   }
   const hadal_msgs::msg::StepReply reply = d.replies[id];
   d.replies.erase(id);
-  if (!reply.accepted()) throw ClientError("step request refused: " + reply.error());
+  if (!reply.accepted()) throw_refusal(reply.error());
   return reply.sim_time_s();
+}
+
+double Client::step(std::uint32_t steps, double timeout_s) {
+  hadal_msgs::msg::StepRequest request;
+  request.steps(steps);
+  return impl_->send(request, timeout_s);
+}
+
+double Client::reset(const ResetOptions& options, std::uint32_t steps, double timeout_s) {
+  hadal_msgs::msg::StepRequest request;
+  request.steps(steps);
+  request.reset(true);
+  request.reset_seed_given(options.seed.has_value());
+  request.reset_seed(options.seed.value_or(0));
+  for (const auto& [vehicle, pose] : options.poses) {
+    request.reset_vehicle_names().push_back(vehicle);
+    request.reset_poses().insert(request.reset_poses().end(), pose.p_WB.begin(), pose.p_WB.end());
+    request.reset_poses().insert(request.reset_poses().end(), pose.q_WB.begin(), pose.q_WB.end());
+  }
+  return impl_->send(request, timeout_s);
 }
 
 }  // namespace hadal

@@ -14,17 +14,21 @@
     frame = client.wait_image("auv", "camera", min_stamp=t)          # cameras: frame.array is (H, W, 3) uint8
 
     with hadal.Server("rov", mode="lockstep") as server:            # launch hadald on a free domain
-        client = hadal.Client(domain_id=server.domain_id)
+        with hadal.Client(domain_id=server.domain_id) as client:      # left at the end of the block
+            client.reset(seed=3, poses={"rov": (0, 0, -50)})          # start over at t = 0, no restart
+
+Errors: hadal.ClientError and its subclasses ServerNotFound, Timeout, UnknownVehicle, CommandRejected.
 
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
-from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, ClientError, DropWeightStates, Dvl, FinStates,
-                     FluidPressure, Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, ServerMode,
-                     SimStatus, ThrusterStates, TrackStates)
+from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
+                     Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, ServerMode, SimStatus,
+                     ThrusterStates, TrackStates)
+from .errors import ClientError, CommandRejected, ServerNotFound, Timeout, UnknownVehicle
+from .server import Server
 
-from .server import Server, ServerNotFound
-
-__all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "DropWeightStates", "Dvl", "FinStates",
-           "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix", "Odometry", "Range",
-           "Server", "ServerMode", "ServerNotFound", "SimStatus", "ThrusterStates", "TrackStates"]
+__all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
+           "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
+           "Odometry", "Range", "Server", "ServerMode", "ServerNotFound", "SimStatus", "ThrusterStates", "Timeout",
+           "TrackStates", "UnknownVehicle"]

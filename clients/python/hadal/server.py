@@ -21,15 +21,12 @@ import tempfile
 import time
 
 from ._hadal import Client
+from .errors import ServerNotFound
 
 try:  # written by the build (clients/python/CMakeLists.txt): where hadald and the configs are
     from . import _build_paths
 except ImportError:  # pragma: no cover - an installed package without build paths
     _build_paths = None
-
-
-class ServerNotFound(RuntimeError):
-    """hadald could not be found, started, or did not come up."""
 
 
 def find_hadald(explicit=None):
@@ -109,15 +106,23 @@ class Server:
         return candidate
 
     def _await_ready(self, timeout_s):
-        client = Client(domain_id=self.domain_id, name="hadal_server_probe")
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            if self.process.poll() is not None:
-                raise ServerNotFound(f"hadald exited with status {self.process.returncode} before it was ready:\n"
-                                     + self.log_tail())
-            if client.wait_for_server(0.2):
-                return
+        with Client(domain_id=self.domain_id, name="hadal_server_probe") as client:
+            deadline = time.monotonic() + timeout_s
+            while time.monotonic() < deadline:
+                if self.process.poll() is not None:
+                    raise ServerNotFound(f"hadald exited with status {self.process.returncode} before it was "
+                                         "ready:\n" + self.log_tail())
+                if client.wait_for_server(0.2):
+                    return
         raise ServerNotFound(f"hadald published no status within {timeout_s} s:\n" + self.log_tail())
+
+    def client(self, name="hadal_python", timeout_s=10.0):
+        """A Client on this server's domain that has seen its status (close it, or use it in a `with`)."""
+        client = Client(domain_id=self.domain_id, name=name)
+        if not client.wait_for_server(timeout_s):
+            client.close()
+            raise ServerNotFound(f"no status from hadald on domain {self.domain_id} within {timeout_s} s")
+        return client
 
     def log_tail(self, lines=20):
         """The last lines of the server's log."""

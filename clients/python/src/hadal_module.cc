@@ -99,6 +99,10 @@ class Latest {
     if (found == samples_.end()) return std::nullopt;
     return found->second;
   }
+  void clear() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    samples_.clear();
+  }
   std::optional<Sample> wait(const std::string& key, double min_stamp, double timeout_s) const {
     std::unique_lock<std::mutex> lock(mutex_);
     const bool ok = changed_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
@@ -119,17 +123,31 @@ using ImagePtr = std::shared_ptr<const hadal::Image>;
 
 class PyClient {
  public:
-  PyClient(int domain_id, const std::string& name) : client_(hadal::ClientOptions{domain_id, name}) {}
+  PyClient(int domain_id, const std::string& name)
+      : client_(std::make_unique<hadal::Client>(hadal::ClientOptions{domain_id, name})) {}
 
-  bool wait_for_server(double timeout_s) { return client_.wait_for_server(timeout_s); }
-  bool wait_for_subscriptions(double timeout_s) { return client_.wait_for_subscriptions(timeout_s); }
-  std::optional<hadal::SimStatus> status() const { return client_.latest_status(); }
+  // Leaves the DDS domain now (its participant and shared-memory segments go); later calls raise.
+  void close() {
+    std::unique_ptr<hadal::Client> client;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      client = std::move(client_);
+    }
+  }
+  bool closed() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return !client_;
+  }
+
+  bool wait_for_server(double timeout_s) { return client().wait_for_server(timeout_s); }
+  bool wait_for_subscriptions(double timeout_s) { return client().wait_for_subscriptions(timeout_s); }
+  std::optional<hadal::SimStatus> status() const { return client().latest_status(); }
 
   void subscribe(const std::string& vehicle) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!subscribed_.emplace(vehicle, true).second) return;
-    client_.on_odometry(vehicle, [this, vehicle](const hadal::Odometry& o) { odometry_.put(vehicle, o); });
-    client_.on_thruster_state(vehicle,
+    client().on_odometry(vehicle, [this, vehicle](const hadal::Odometry& o) { odometry_.put(vehicle, o); });
+    client().on_thruster_state(vehicle,
                               [this, vehicle](const hadal::ThrusterStates& t) { thrusters_.put(vehicle, t); });
   }
   std::optional<hadal::Odometry> odometry(const std::string& vehicle) {
@@ -217,11 +235,54 @@ class PyClient {
                        timeout_s);
   }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
-    client_.set_thrusters(vehicle, setpoints);
+    client().set_thrusters(vehicle, setpoints);
   }
-  double step(std::uint32_t steps, double timeout_s) { return client_.step(steps, timeout_s); }
+  double step(std::uint32_t steps, double timeout_s) { return client().step(steps, timeout_s); }
+  // The samples kept so far are forgotten first: after the reset sim time starts again at 0, and a kept
+  // sample of the run before would satisfy any min_stamp.
+  double reset(std::optional<std::uint64_t> seed, const std::map<std::string, std::vector<double>>& poses,
+               std::uint32_t steps, double timeout_s) {
+    hadal::ResetOptions options;
+    options.seed = seed;
+    for (const auto& [vehicle, pose] : poses) {
+      if (pose.size() != 3 && pose.size() != 7) {
+        throw std::invalid_argument("reset: the pose of '" + vehicle + "' has " + std::to_string(pose.size()) +
+                                    " numbers; give x, y, z [m] or x, y, z, qx, qy, qz, qw");
+      }
+      hadal::Pose p;
+      std::copy(pose.begin(), pose.begin() + 3, p.p_WB.begin());
+      if (pose.size() == 7) std::copy(pose.begin() + 3, pose.end(), p.q_WB.begin());
+      options.poses.emplace_back(vehicle, p);
+    }
+    forget_samples();
+    return client().reset(options, steps, timeout_s);
+  }
 
  private:
+  hadal::Client& client() const {
+    if (!client_) throw hadal::ClientError("the client is closed");
+    return *client_;
+  }
+
+  void forget_samples() {
+    odometry_.clear();
+    thrusters_.clear();
+    tracks_.clear();
+    fins_.clear();
+    buoyancy_engines_.clear();
+    drop_weights_.clear();
+    imu_.clear();
+    pressure_.clear();
+    magnetic_field_.clear();
+    nav_sat_fix_.clear();
+    dvl_.clear();
+    range_.clear();
+    laser_scan_.clear();
+    image_.clear();
+    depth_.clear();
+    camera_info_.clear();
+  }
+
   template <class Sample>
   using Subscription = void (hadal::Client::*)(const std::string&, const std::string&,
                                                std::function<void(const Sample&)>);
@@ -237,7 +298,7 @@ class PyClient {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + vehicle, true).second) {
-        (client_.*subscribe)(vehicle, [&latest, vehicle](const State& m) { latest.put(vehicle, m); });
+        (client().*subscribe)(vehicle, [&latest, vehicle](const State& m) { latest.put(vehicle, m); });
       }
     }
     return latest.wait(vehicle, min_stamp, timeout_s);
@@ -253,7 +314,7 @@ class PyClient {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + key, true).second) {
-        (client_.*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) {
+        (client().*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) {
           if constexpr (std::is_same_v<Stored, Sample>) {
             latest.put(key, m);
           } else {
@@ -267,7 +328,7 @@ class PyClient {
 
   // The client is declared last so that it is destroyed first: its DDS callbacks write into the members
   // above, which must outlive them.
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::map<std::string, bool> subscribed_;
   Latest<hadal::Odometry> odometry_;
   Latest<hadal::ThrusterStates> thrusters_;
@@ -285,14 +346,35 @@ class PyClient {
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
   Latest<hadal::CameraInfo> camera_info_;
-  hadal::Client client_;
+  std::unique_ptr<hadal::Client> client_;
 };
 
 }  // namespace
 
 PYBIND11_MODULE(_hadal, m) {
   m.doc() = "Python client of the Hadal deep-sea simulator (hadald) over DDS";
-  py::register_exception<hadal::ClientError>(m, "ClientError", PyExc_RuntimeError);
+  // The client's errors as hadal.errors' classes (Python classes, so that Timeout is also a TimeoutError).
+  py::register_exception_translator([](std::exception_ptr error) {
+    const auto raise = [](const char* name, const hadal::ClientError& e, const char* attribute = nullptr,
+                          const std::string& value = {}) {
+      py::object type = py::module_::import("hadal.errors").attr(name);
+      py::object exception = attribute ? type(e.what(), value) : type(e.what());
+      PyErr_SetObject(type.ptr(), exception.ptr());
+    };
+    try {
+      if (error) std::rethrow_exception(error);
+    } catch (const hadal::CommandRejected& e) {
+      raise("CommandRejected", e, "reason", e.reason());
+    } catch (const hadal::UnknownVehicle& e) {
+      raise("UnknownVehicle", e, "vehicle", e.vehicle());
+    } catch (const hadal::Timeout& e) {
+      raise("Timeout", e);
+    } catch (const hadal::ServerNotFound& e) {
+      raise("ServerNotFound", e);
+    } catch (const hadal::ClientError& e) {
+      raise("ClientError", e);
+    }
+  });
 
   py::enum_<hadal::ServerMode>(m, "ServerMode")
       .value("REALTIME", hadal::ServerMode::kRealtime)
@@ -555,9 +637,30 @@ PYBIND11_MODULE(_hadal, m) {
           "(3, 4) projection");
 
   using release = py::call_guard<py::gil_scoped_release>;
-  py::class_<PyClient>(m, "Client")
+  py::class_<PyClient>(m, "Client", R"doc(A client of a hadald on a DDS domain.
+
+Subscribes on first use and keeps the latest sample of each topic: wait_odometry, wait_imu, ... return the
+first sample at or after min_stamp (sim time [s]), or None on timeout. Commands with set_thrusters; steps
+and resets a lockstep server with step and reset. Use it as a context manager (or call close()) to leave
+the DDS domain at a known point:
+
+    with hadal.Server("default") as server, hadal.Client(server.domain_id) as client:
+        client.wait_for_server()
+        client.set_thrusters("auv", [0.5, 0.0, 0.0])
+        odom = client.wait_odometry("auv", min_stamp=client.step(500))
+
+Errors: hadal.ServerNotFound, hadal.Timeout, hadal.UnknownVehicle, hadal.CommandRejected (all
+hadal.ClientError).)doc")
       .def(py::init<int, const std::string&>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
            release())
+      .def("close", &PyClient::close, release(), "Leave the DDS domain now; later calls raise ClientError")
+      .def_property_readonly("closed", &PyClient::closed)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PyClient& self, py::args) {
+        py::gil_scoped_release unlocked;
+        self.close();
+        return false;
+      })
       .def("wait_for_server", &PyClient::wait_for_server, py::arg("timeout_s") = 10.0, release(),
            "Wait for the server's status topic; False on timeout")
       .def("wait_for_subscriptions", &PyClient::wait_for_subscriptions, py::arg("timeout_s") = 10.0, release())
@@ -611,5 +714,15 @@ PYBIND11_MODULE(_hadal, m) {
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
            "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop weights, each kind in scenario order), normalised [-1, 1] (a drop weight: 0 or 1)")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),
-           "Lockstep: advance the server by `steps` physics steps; returns the sim time reached [s]");
+           "Lockstep: advance the server by `steps` physics steps (setpoints set since the last request are "
+           "applied first); returns the sim time reached [s]. Raises ServerNotFound, Timeout, UnknownVehicle or "
+           "CommandRejected (with the server's reason)")
+      .def("reset", &PyClient::reset, py::arg("seed") = py::none(),
+           py::arg("poses") = std::map<std::string, std::vector<double>>{}, py::arg("steps") = 0,
+           py::arg("timeout_s") = 30.0, release(),
+           "Lockstep: start the run over from the scenario's initial state at sim time 0, without restarting the "
+           "server. seed: the sensors' noise seed (None: the scenario's); poses: {vehicle: (x, y, z) or (x, y, z, "
+           "qx, qy, qz, qw)} in W [m] to start those vehicles elsewhere, at rest. Then applies pending setpoints "
+           "and runs `steps` steps; returns the sim time reached [s]. Samples kept from before are forgotten; "
+           "odometry at t = 0 is published before the reply. Raises as step()");
 }

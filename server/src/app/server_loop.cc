@@ -134,12 +134,41 @@ class Runner {
         dds_.publish_step_reply(request->request_id, false, refused, sim_.state());
         continue;
       }
+      if (request->reset) {
+        // Checked before anything is applied, like the commands: a refused reset changes nothing.
+        const std::string reason = sim_.reset(request->reset_seed.value_or(model_.world.seed), request->reset_X_WB);
+        if (!reason.empty()) {
+          reject("step request " + std::to_string(request->request_id) + ": " + reason);
+          dds_.publish_step_reply(request->request_id, false, reason, sim_.state());
+          continue;
+        }
+        restart_streams();
+      }
       for (const auto& command : request->commands) apply_command(command);
       for (std::uint32_t i = 0; i < request->steps && !stop_.load() && !duration_reached(); ++i) {
         step_once();
       }
       dds_.publish_step_reply(request->request_id, true, "", sim_.state());
     }
+  }
+
+  // After a reset (sim time back at 0): every stream starts again as at the start, commands that
+  // arrived on the setpoint topics before the reset are dropped, and the initial state is published
+  // (the samples a fresh server would publish at t = 0) before the reply.
+  void restart_streams() {
+    dds_.take_commands();
+    clock_divider_.reset();
+    for (auto& divider : odometry_dividers_) divider.reset();
+    for (auto& divider : thruster_dividers_) divider.reset();
+    for (auto& samples : published_samples_) std::fill(samples.begin(), samples.end(), 0);
+    std::fill(last_command_stamp_.begin(), last_command_stamp_.end(), std::numeric_limits<std::int64_t>::min());
+    const auto& vehicles = sim_.state().vehicles;
+    for (std::size_t i = 0; i < vehicles.size(); ++i) {
+      previous_positions_[i] = vehicles[i].body.X_WB.translation();
+      reported_resets_[i] = vehicles[i].fault_resets;
+    }
+    ++resets_;
+    publish_due();
   }
 
   // Returns the rejection reason, or "" when the command was applied or superseded.
@@ -281,6 +310,7 @@ class Runner {
     s.sim_time = sim_.time();
     s.wall_time = seconds_since(start_wall_);
     s.steps = sim_.state().step_count;
+    s.resets = resets_;
     s.rejected_commands = rejected_;
     s.dropped_captures = sim_.dropped_captures();
     s.skipped_captures = sim_.skipped_captures();
@@ -310,7 +340,7 @@ class Runner {
   std::vector<Eigen::Vector3d> start_positions_, previous_positions_;
   Clock::time_point start_wall_, last_status_wall_, last_status_publish_wall_, last_line_wall_{};
   double last_line_sim_ = 0.0, last_status_sim_ = 0.0, last_reject_print_ = 0.0;
-  std::uint64_t last_line_steps_ = 0, rejected_ = 0;
+  std::uint64_t last_line_steps_ = 0, rejected_ = 0, resets_ = 0;
   std::string last_error_;
 };
 
@@ -336,6 +366,7 @@ std::string RunSummary::format() const {
   }
   out << "  samples published:\n";
   for (const auto& [topic, count] : samples_published) out << "    " << topic << " " << count << "\n";
+  if (resets > 0) out << "  resets: " << resets << " (sim time and steps since the last)\n";
   out << "  rejected commands: " << rejected_commands << "\n";
   out << "  late captures dropped: " << dropped_captures << " (" << skipped_captures
       << " before a worker started them)\n";

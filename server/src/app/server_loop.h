@@ -4,7 +4,8 @@
 // Realtime mode sleeps to an absolute schedule (step k starts at wall t0 + k dt / rtf), so the
 // real-time factor does not drift over long runs; when a step overruns, later steps run back to back
 // until the schedule is caught up. Fast mode never sleeps. Lockstep mode steps only when a
-// rt/hadal/step_request arrives, runs exactly the requested number of steps and then replies.
+// rt/hadal/step_request arrives, runs exactly the requested number of steps and then replies; a reset
+// request first starts the run over at sim time 0 (Simulation::reset), so an episode needs no restart.
 // Publication rates (clock, odometry, thruster state) are in sim time; the status heartbeat is in
 // wall time (so an idle lockstep server is still discoverable).
 #pragma once
@@ -32,6 +33,7 @@ struct RunSummary {
   double sim_time = 0.0;
   double wall_time = 0.0;
   std::uint64_t steps = 0;
+  std::uint64_t resets = 0;  // lockstep reset requests served
   std::uint64_t rejected_commands = 0;
   std::uint64_t dropped_captures = 0;  // captures late in real time, never waited for
   std::uint64_t skipped_captures = 0;  // of those, the ones no worker had started (never rendered)

@@ -234,23 +234,17 @@ Simulation::Simulation(Model model)
     const VehicleSpec& spec = model_.vehicles[i];
     runtime_.push_back(std::make_unique<VehicleRuntime>(
         spec, model_.world, world_->mass_properties(static_cast<int>(i)), *ocean_, seabed_height_.get()));
-    VehicleState vehicle = initial_vehicle_state(spec);
-    for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
-      const SensorSpec& sensor = spec.sensors[k];
-      SensorState& sensor_state = vehicle.sensors.emplace_back();
+    for (const SensorSpec& sensor : spec.sensors) {
       std::visit(
           [&](const auto& kind_spec) {
             using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
-            const sensors::SensorSetup setup{model_.world.seed, spec.name, sensor.name, runtime_[i]->sensors[k].period,
-                                             *environment_};
-            sensor_state.kind = Kind::initial_state(kind_spec, setup);
             casts_rays = casts_rays || Kind::kCastsRays;
             captures = captures || Kind::kCaptures;
           },
           sensor.kind);
     }
-    state_.vehicles.push_back(std::move(vehicle));
   }
+  state_ = initial_state(model_.world.seed);
   // The one ray-cast world, built at start when some sensor needs it (else on the first request).
   if (captures) {
     raycast_service();
@@ -328,6 +322,45 @@ void Simulation::set_state(const SimState& state) {
     world_->set_body_state(static_cast<int>(i), vehicle.body);
   }
   world_->clear_contacts();
+}
+
+SimState Simulation::initial_state(std::uint64_t seed) const {
+  SimState state;
+  for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
+    const VehicleSpec& spec = model_.vehicles[i];
+    VehicleState vehicle = initial_vehicle_state(spec);
+    for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
+      SensorState& sensor_state = vehicle.sensors.emplace_back();
+      std::visit(
+          [&](const auto& kind_spec) {
+            using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
+            const sensors::SensorSetup setup{seed, spec.name, spec.sensors[k].name, runtime_[i]->sensors[k].period,
+                                             *environment_};
+            sensor_state.kind = Kind::initial_state(kind_spec, setup);
+          },
+          spec.sensors[k].kind);
+    }
+    state.vehicles.push_back(std::move(vehicle));
+  }
+  return state;
+}
+
+std::string Simulation::reset(std::uint64_t seed, const std::vector<std::optional<Eigen::Isometry3d>>& X_WB) {
+  if (X_WB.size() > model_.vehicles.size()) {
+    return "reset: " + std::to_string(X_WB.size()) + " poses for " + std::to_string(model_.vehicles.size()) +
+           " vehicles";
+  }
+  for (std::size_t i = 0; i < X_WB.size(); ++i) {
+    if (X_WB[i] && !X_WB[i]->matrix().allFinite()) {
+      return "reset: vehicle '" + model_.vehicles[i].name + "': pose is not finite";
+    }
+  }
+  SimState state = initial_state(seed);
+  for (std::size_t i = 0; i < X_WB.size(); ++i) {
+    if (X_WB[i]) state.vehicles[i].body = RigidBodyState{*X_WB[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  }
+  set_state(state);
+  return "";
 }
 
 std::string Simulation::check_controls(int vehicle_index, const std::vector<double>& controls) const {

@@ -18,6 +18,7 @@
 #include <std_msgsPubSubTypes.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace hadal::dds {
@@ -148,8 +149,15 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     request.request_id = msg.request_id();
     request.steps = msg.steps();
     request.source_stamp_ns = stamp;
-    if (msg.steps() == 0) {
-      request.error = "steps must be >= 1";
+    if (msg.steps() == 0 && !msg.reset()) {
+      request.error = "steps must be >= 1 (0 only with a reset)";
+      return request;
+    }
+    if (msg.reset()) {
+      request.error = parse_reset(msg, request);
+      if (!request.error.empty()) return request;
+    } else if (msg.reset_seed_given() || !msg.reset_vehicle_names().empty() || !msg.reset_poses().empty()) {
+      request.error = "reset_seed or reset poses without reset = true";
       return request;
     }
     if (msg.vehicle_names().size() != msg.setpoint_counts().size()) {
@@ -183,6 +191,37 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
                       std::to_string(msg.setpoints().size()) + " setpoints are attached";
     }
     return request;
+  }
+
+  // The reset part of a step request: its seed and its poses (7 numbers per named vehicle: a finite
+  // position and a unit quaternion, normalised when its norm is within 1e-3 of 1). Returns the error.
+  std::string parse_reset(const hadal_msgs::msg::StepRequest& msg, InboundStepRequest& request) const {
+    request.reset = true;
+    if (msg.reset_seed_given()) request.reset_seed = msg.reset_seed();
+    const auto& names = msg.reset_vehicle_names();
+    const auto& poses = msg.reset_poses();
+    if (poses.size() != 7 * names.size()) {
+      return "reset_poses has " + std::to_string(poses.size()) + " numbers for " + std::to_string(names.size()) +
+             " reset_vehicle_names (7 each: x y z qx qy qz qw)";
+    }
+    request.reset_X_WB.assign(model.vehicles.size(), std::nullopt);
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const int index = model.vehicle_index(names[i]);
+      if (index < 0) return "reset: unknown vehicle '" + names[i] + "'";
+      const double* p = poses.data() + 7 * i;
+      for (int k = 0; k < 7; ++k) {
+        if (!std::isfinite(p[k])) return "reset: vehicle '" + names[i] + "': pose is not finite";
+      }
+      Eigen::Quaterniond q(p[6], p[3], p[4], p[5]);
+      if (std::abs(q.norm() - 1.0) > 1e-3) {
+        return "reset: vehicle '" + names[i] + "': quaternion norm " + std::to_string(q.norm()) + ", expected 1";
+      }
+      Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+      X_WB.translate(Eigen::Vector3d(p[0], p[1], p[2]));
+      X_WB.rotate(q.normalized());
+      request.reset_X_WB[static_cast<std::size_t>(index)] = X_WB;
+    }
+    return "";
   }
 
   // A writer on rt/<name>/thrusters/setpoints for a vehicle the scenario does not have.

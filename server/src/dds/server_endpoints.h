@@ -34,6 +34,11 @@ struct InboundStepRequest {
   std::uint64_t request_id = 0;
   std::uint32_t steps = 0;
   std::vector<InboundCommand> commands;  // setpoints attached to the request
+  // A reset request: start over from the initial state first (Simulation::reset), with this seed (the
+  // scenario's when none was given) and these poses (one per vehicle, given or not).
+  bool reset = false;
+  std::optional<std::uint64_t> reset_seed;
+  std::vector<std::optional<Eigen::Isometry3d>> reset_X_WB;
   std::int64_t source_stamp_ns = 0;
   std::string error;  // non-empty: the request is malformed and is refused as a whole
 };

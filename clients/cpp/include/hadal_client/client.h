@@ -19,6 +19,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hadal {
@@ -284,10 +285,52 @@ struct ClientOptions {
   std::string name = "hadal_client";
 };
 
-// Thrown by step() when the server refuses a request or does not answer in time.
+// Errors of the client. Every one is a ClientError; the subclasses say what went wrong.
 class ClientError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+// No server answers on this domain (no lockstep server's reader for step()/reset()).
+class ServerNotFound : public ClientError {
+ public:
+  using ClientError::ClientError;
+};
+// The server did not reply in time.
+class Timeout : public ClientError {
+ public:
+  using ClientError::ClientError;
+};
+// A vehicle the server does not have (the server's refusal of a step or reset request).
+class UnknownVehicle : public ClientError {
+ public:
+  UnknownVehicle(const std::string& vehicle, const std::string& what) : ClientError(what), vehicle_(vehicle) {}
+  const std::string& vehicle() const { return vehicle_; }
+
+ private:
+  std::string vehicle_;
+};
+// The server refused a request (a wrong setpoint count, a NaN, a value out of range, ...); reason() is
+// the server's own words.
+class CommandRejected : public ClientError {
+ public:
+  explicit CommandRejected(const std::string& reason)
+      : ClientError("step request refused: " + reason), reason_(reason) {}
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
+};
+
+// A pose of the body frame B in the world W (ENU).
+struct Pose {
+  std::array<double, 3> p_WB{};            // position [m]
+  std::array<double, 4> q_WB{0, 0, 0, 1};  // orientation quaternion x, y, z, w (unit)
+};
+
+// What a reset starts from (Client::reset).
+struct ResetOptions {
+  std::optional<std::uint64_t> seed;  // seed of the sensors' noise streams; the scenario's world.seed if empty
+  std::vector<std::pair<std::string, Pose>> poses;  // vehicles placed elsewhere than their scenario pose, at rest
 };
 
 class Client {
@@ -345,8 +388,16 @@ class Client {
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints);
 
   // Lockstep: advances the server by `steps` physics steps and returns the sim time reached [s].
-  // Throws ClientError if the server refuses the request or does not reply within timeout_s.
+  // Throws ServerNotFound without a lockstep server, Timeout without a reply within timeout_s,
+  // UnknownVehicle for setpoints of a vehicle the server does not have, CommandRejected when the server
+  // refuses the request (e.g. a wrong number of setpoints), with its reason.
   double step(std::uint32_t steps, double timeout_s = 30.0);
+  // Lockstep: starts the run over from the scenario's initial state at sim time 0 (every vehicle at its
+  // scenario pose or the given one, at rest; actuators at rest; no client command; sensor noise seeded
+  // from options.seed), then applies setpoints set since the last request, then runs `steps` steps.
+  // Returns the sim time reached [s]. The server publishes the initial state (odometry at t = 0) before
+  // it replies. Throws as step().
+  double reset(const ResetOptions& options = {}, std::uint32_t steps = 0, double timeout_s = 30.0);
 
  private:
   struct Impl;

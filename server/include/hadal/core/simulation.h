@@ -28,6 +28,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,16 @@ class Simulation {
   // non-finite policy at once (reset, kFaultNonFiniteState, fault_resets + 1), so NaN never enters
   // Bullet. Contact caches are cleared: restoring the same state twice continues bit-identically.
   void set_state(const SimState& state);
+
+  // The state the simulation starts from: sim time 0, every vehicle at its scenario pose and velocity,
+  // actuators at rest, no client command, no faults, the sensors' noise streams seeded from `seed` as
+  // world.seed seeds them at construction (so initial_state(model().world.seed) is the first state()).
+  SimState initial_state(std::uint64_t seed) const;
+  // Starts over from initial_state(seed), with vehicle i placed at X_WB[i] (at rest) where that is given
+  // (X_WB may be shorter than the vehicle list). The world itself (seabed, marine snow, textures) keeps
+  // world.seed. Returns "" when done, else the reason (a non-finite pose, more poses than vehicles) with
+  // the state untouched.
+  std::string reset(std::uint64_t seed, const std::vector<std::optional<Eigen::Isometry3d>>& X_WB = {});
 
   // Validates and applies a client command for a vehicle: a whole control vector (one normalised
   // setpoint per thruster, each finite and in [-1, 1]; physics/actuators.h). Returns an empty string

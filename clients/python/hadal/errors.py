@@ -1,0 +1,41 @@
+"""The errors of the hadal package. Every one is a ClientError (a RuntimeError), so `except
+hadal.ClientError` catches them all; the subclasses say what went wrong.
+
+    try:
+        client.step(10)
+    except hadal.CommandRejected as e:
+        print("the server said:", e.reason)
+"""
+
+
+class ClientError(RuntimeError):
+    """An error of the Hadal client."""
+
+
+class ServerNotFound(ClientError):
+    """No server: hadald could not be found or started, did not come up, or no lockstep server answers on
+    the client's DDS domain."""
+
+
+class Timeout(ClientError, TimeoutError):
+    """The server did not reply in time (also a builtin TimeoutError)."""
+
+
+class UnknownVehicle(ClientError, KeyError):
+    """A vehicle the server does not have; `vehicle` is its name."""
+
+    def __init__(self, message, vehicle=None):
+        super().__init__(message)
+        self.vehicle = vehicle
+
+    def __str__(self):  # KeyError would quote the message
+        return RuntimeError.__str__(self)
+
+
+class CommandRejected(ClientError):
+    """The server refused a request (a wrong number of setpoints, NaN, a value out of range, a malformed
+    reset); `reason` is the server's own words."""
+
+    def __init__(self, message, reason=None):
+        super().__init__(message)
+        self.reason = reason if reason is not None else message

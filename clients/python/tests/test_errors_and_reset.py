@@ -1,0 +1,149 @@
+"""The client's typed errors, its lifecycle (nothing left behind, even by a failing block) and the lockstep
+reset, against real hadald processes."""
+
+import math
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import hadal
+
+WAIT_S = 20.0
+
+
+def domain_ports(domain_id):
+    """The UDP/shared-memory port numbers RTPS gives a domain: 7400 + 250 d + [0, 250) (RTPS 9.6.1.1,
+    PB 7400, DG 250); Fast DDS names its shared-memory port segments after them."""
+    first = 7400 + 250 * domain_id
+    return range(first, first + 250)
+
+
+def segments_of(domain_id):
+    """/dev/shm entries of a domain's shared-memory ports (fastrtps_port<P>, its _el lock and semaphore)."""
+    ports = {str(p) for p in domain_ports(domain_id)}
+    left = []
+    for name in os.listdir("/dev/shm"):
+        for prefix in ("fastrtps_port", "sem.fastrtps_port"):
+            if name.startswith(prefix) and name[len(prefix):].split("_")[0] in ports:
+                left.append(name)
+    return sorted(left)
+
+
+def test_typed_errors_carry_the_servers_reason():
+    with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
+        client.set_thrusters("auv", [0.5, 0.0])  # the AUV has 3 thrusters
+        with pytest.raises(hadal.CommandRejected) as rejected:
+            client.step(1)
+        assert rejected.value.reason == "auv: expected 3 setpoints (main, heave, sway), got 2"
+        client.set_thrusters("auv", [math.nan, 0.0, 0.0])
+        with pytest.raises(hadal.CommandRejected, match=r"setpoint\[0\] is NaN"):
+            client.step(1)
+        client.set_thrusters("ghost", [0.1])
+        with pytest.raises(hadal.UnknownVehicle) as unknown:
+            client.step(1)
+        assert unknown.value.vehicle == "ghost"
+        with pytest.raises(hadal.UnknownVehicle):
+            client.reset(poses={"ghost": (0.0, 0.0, -50.0)})
+        # Refused requests stepped nothing, and the server runs on.
+        assert client.step(10) == pytest.approx(0.02)
+        assert isinstance(rejected.value, hadal.ClientError)
+    with hadal.Client(domain_id=server.domain_id, name="pytest") as client:  # the server is gone
+        with pytest.raises(hadal.ServerNotFound):
+            client.step(1, timeout_s=0.5)
+
+
+def test_a_request_without_reply_is_a_timeout():
+    with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
+        # A reset of a stopped (SIGSTOP) server: its reader is matched, but nothing answers.
+        os.kill(server.process.pid, 19)
+        try:
+            with pytest.raises(hadal.Timeout) as timeout:
+                client.step(1, timeout_s=0.5)
+            assert isinstance(timeout.value, TimeoutError)
+        finally:
+            os.kill(server.process.pid, 18)
+
+
+LIFECYCLE = textwrap.dedent("""
+    import sys, hadal
+    with hadal.Server("default", mode="lockstep") as server:
+        print(server.domain_id, server.process.pid, flush=True)
+        with server.client("pytest") as client:
+            client.step(5)
+            if sys.argv[1] == "fail":
+                assert False, "a failing test"
+""")
+
+
+@pytest.mark.parametrize("outcome", ["pass", "fail"])
+def test_nothing_is_left_behind(outcome):
+    """No hadald process and no shared-memory segment of the domain survive a block, even one that fails."""
+    run = subprocess.run([sys.executable, "-c", LIFECYCLE, outcome], capture_output=True, text=True, timeout=120)
+    assert run.returncode == (0 if outcome == "pass" else 1), run.stderr
+    if outcome == "fail":
+        assert "AssertionError: a failing test" in run.stderr
+    domain_id, pid = (int(x) for x in run.stdout.split())
+    assert not os.path.exists(f"/proc/{pid}")
+    assert segments_of(domain_id) == []
+
+
+def test_a_closed_client_says_so():
+    client = hadal.Client(domain_id=231, name="pytest")
+    client.close()
+    assert client.closed
+    with pytest.raises(hadal.ClientError, match="closed"):
+        client.step(1)
+    client.close()  # idempotent
+
+
+def episode(client, seed, steps=40):
+    """Reset with `seed`, then thrust: the IMU and depth samples of each step, and the poses."""
+    client.reset(seed=seed)
+    trace = []
+    for _ in range(steps):
+        client.set_thrusters("auv", [0.6, 0.1, -0.1])
+        t = client.step(10)  # 20 ms: one odometry sample (50 Hz), the second of two IMU samples (100 Hz)
+        imu = client.wait_imu("auv", "imu", min_stamp=t, timeout_s=WAIT_S)
+        odom = client.wait_odometry("auv", min_stamp=t, timeout_s=WAIT_S)
+        assert imu is not None and odom is not None
+        trace.append(np.concatenate([[imu.stamp], imu.linear_acceleration, imu.angular_velocity, odom.p_WB]))
+    return np.array(trace)
+
+
+def test_reset_repeats_an_episode_without_a_restart():
+    with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
+        client.wait_imu("auv", "imu", timeout_s=0)
+        client.wait_for_subscriptions(WAIT_S)
+        first = episode(client, seed=11)
+        again = episode(client, seed=11)
+        other = episode(client, seed=12)
+        pid = server.process.pid
+        assert server.running and server.process.pid == pid
+    assert first[0, 0] == pytest.approx(0.02)  # time starts over at 0
+    np.testing.assert_array_equal(first, again)  # bit for bit, noise included
+    assert np.array_equal(first[:, 7:], other[:, 7:])  # the physics has no randomness
+    assert not np.array_equal(first[:, 1:7], other[:, 1:7])  # the IMU's noise does
+    assert first[-1, 7] - first[0, 7] > 0.05  # and it moved
+
+
+def test_reset_places_a_vehicle_at_rest():
+    with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
+        client.set_thrusters("auv", [0.8, 0.0, 0.0])
+        client.step(200)
+        half = math.sqrt(0.5)
+        assert client.reset(seed=1, poses={"auv": (10.0, -5.0, -80.0, 0.0, 0.0, half, half)}) == 0.0
+        odom = client.wait_odometry("auv", min_stamp=0.0, timeout_s=WAIT_S)
+        assert odom.stamp == 0.0
+        np.testing.assert_allclose(odom.p_WB, [10.0, -5.0, -80.0], atol=1e-12)
+        np.testing.assert_allclose(odom.q_WB, [0.0, 0.0, half, half], atol=1e-12)
+        np.testing.assert_allclose(odom.v_WB_B, 0.0, atol=1e-12)
+        status = client.status()
+        with pytest.raises(hadal.CommandRejected, match="quaternion norm"):
+            client.reset(poses={"auv": (0.0, 0.0, -80.0, 0.0, 0.0, 0.0, 2.0)})
+        with pytest.raises(ValueError):
+            client.reset(poses={"auv": (0.0, 0.0)})
+        assert status is not None and server.running
