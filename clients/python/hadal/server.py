@@ -68,12 +68,14 @@ def reserve_domain(candidates):
 class Server:
     """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
 
-    domain_id None picks a free id in 100..199. ready_timeout_s bounds the wait for its first status;
-    a server that exits first (a malformed scenario) raises ServerNotFound with its log's end.
+    domain_id None picks a free id in 100..199; seed overrides the scenario's world.seed; cameras=False leaves
+    the scenario's cameras out (hadald --no-cameras). ready_timeout_s bounds the wait for its first status;
+    a server that exits first (a malformed scenario) raises ServerNotFound with its log's end. extra_args go
+    to hadald's command line as they are.
     """
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
-                 extra_args=()):
+                 extra_args=(), cameras=True):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
@@ -86,6 +88,8 @@ class Server:
                 "--no-status-line", *extra_args]
         if seed is not None:
             args += ["--seed", str(int(seed))]
+        if not cameras:
+            args.append("--no-cameras")
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")
         with open(self.log_path, "w") as log:

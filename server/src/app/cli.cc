@@ -45,7 +45,7 @@ const char* to_string(RunMode mode) {
 std::string usage() {
   return "usage: hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep]\n"
          "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
-         "                            [--discovery-wait SECONDS] [--no-status-line]\n"
+         "                            [--discovery-wait SECONDS] [--no-status-line] [--no-cameras]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -55,6 +55,7 @@ std::string usage() {
          "  --discovery-wait S  wall seconds to let DDS discovery match running subscribers before\n"
          "                   the first step (default 2 in fast mode, 0 otherwise)\n"
          "  --no-status-line no per-second status line on stderr\n"
+         "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
 }
 
@@ -74,6 +75,10 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
     }
     if (arg == "--no-status-line") {
       o.status_line = false;
+      continue;
+    }
+    if (arg == "--no-cameras") {
+      o.cameras = false;
       continue;
     }
     if (arg.rfind("--", 0) == 0) {

@@ -1,7 +1,8 @@
 // hadald command line:
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
-//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--no-status-line]
-// --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed.
+//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--no-status-line] [--no-cameras]
+// --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
+// leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
 #pragma once
 
 #include <cstdint>
@@ -23,6 +24,7 @@ struct CliOptions {
   std::optional<std::uint64_t> seed;
   int domain_id = 0;
   bool status_line = true;
+  bool cameras = true;  // false: --no-cameras
   // Wall seconds to wait after start-up before the first step, so subscribers that are already
   // running are matched before the first samples (a fast run can be over before DDS discovery is).
   // Default: 2 s in fast mode (Fast DDS <-> Cyclone DDS first contact sometimes takes

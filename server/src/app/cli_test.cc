@@ -14,7 +14,7 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_EQ(p.options.domain_id, 0);
 
   p = parse_cli({"--mode", "lockstep", "s.yaml", "--duration", "5", "--rtf", "2.5", "--seed", "7",
-                 "--domain-id", "42", "--no-status-line"},
+                 "--domain-id", "42", "--no-status-line", "--no-cameras"},
                 nullptr);
   ASSERT_EQ(p.error, "");
   EXPECT_EQ(p.options.mode, RunMode::kLockstep);
@@ -23,6 +23,8 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_EQ(*p.options.seed, 7u);
   EXPECT_EQ(p.options.domain_id, 42);
   EXPECT_FALSE(p.options.status_line);
+  EXPECT_FALSE(p.options.cameras);
+  EXPECT_TRUE(parse_cli({"s.yaml"}, nullptr).options.cameras);
   EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
 }
 

@@ -2,14 +2,17 @@
 #include "cli.h"
 #include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
+#include "hadal/sensors/camera_sensor.h"
 #include "server_loop.h"
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace {
@@ -69,6 +72,16 @@ int main(int argc, char** argv) {
   }
   Model model = std::move(*loaded.model);
   if (cli.options.seed) model.world.seed = *cli.options.seed;
+  if (!cli.options.cameras) {
+    for (VehicleSpec& vehicle : model.vehicles) {
+      auto& sensors = vehicle.sensors;
+      sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
+                                   [](const SensorSpec& s) {
+                                     return std::holds_alternative<sensors::CameraSensor::Spec>(s.kind);
+                                   }),
+                    sensors.end());
+    }
+  }
 
   install_signal_handlers();
   std::fprintf(stderr, "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d\n",

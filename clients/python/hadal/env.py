@@ -1,0 +1,465 @@
+"""hadal.env: Gymnasium-shaped environments over lockstep hadald servers, numpy only.
+
+    import hadal.env
+    env = hadal.env.HadalEnv(task="waypoint", seed=1)       # starts its own lockstep hadald
+    obs, info = env.reset()
+    for _ in range(100):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        if terminated or truncated:
+            obs, info = env.reset()
+    env.close()
+
+    envs = hadal.env.VectorEnv(4, task="waypoint", seed=1)  # 4 servers on 4 DDS domains, stepped concurrently
+    obs, infos = envs.reset()                                # obs: (4, 12)
+    obs, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
+
+The API is Gymnasium's (reset(seed, options) -> (observation, info); step(action) -> (observation, reward,
+terminated, truncated, info); observation_space and action_space with low, high, shape, dtype, sample(),
+contains(), seed()) without importing Gymnasium. When Gymnasium is importable, HadalEnv is a
+gymnasium.Env, its spaces are gymnasium.spaces.Box and the tasks are registered as "Hadal/WaypointAtDepth-v0"
+and "Hadal/StationKeeping-v0".
+
+Episodes never restart the server: reset() sends a lockstep reset request (Client.reset), which starts the
+run over at sim time 0 with the episode's initial pose and a sensor-noise seed drawn from the env's
+np_random. So the same seed gives the same episodes, and the same actions the same observations, bit for bit.
+
+Tasks (TASKS; each says where its observation comes from):
+  "waypoint"         WaypointAtDepth: the default scenario's torpedo AUV (cameras off), 3 thrusters; reach a
+                     random point 10-20 m away and 3-8 m shallower. Ground-truth observation.
+  "station_keeping"  StationKeeping: the vectored ROV of configs/scenarios/rov.yaml in a 0.3 m/s current,
+                     8 thrusters; hold the start point. Sensor observation (DVL, IMU, pressure) plus a
+                     position fix.
+"""
+
+import concurrent.futures
+import math
+
+import numpy as np
+
+from .errors import Timeout
+from .server import Server
+
+try:  # optional: only to be a registered gymnasium.Env with gymnasium spaces
+    import gymnasium
+except ImportError:  # Debian 12 has no Gymnasium package
+    gymnasium = None
+
+# Seawater and air as hadald's defaults (configs/REFERENCE.md, "world.water"): depth from absolute pressure.
+P_ATM_PA = 101325.0
+RHO_KG_M3 = 1025.0
+G_M_S2 = 9.80665
+
+
+class Box:
+    """A box in R^n with the attributes of gymnasium.spaces.Box: low, high, shape, dtype, np_random;
+    sample() (uniform where bounded, normal where not), contains(x), seed(seed)."""
+
+    def __init__(self, low, high, shape=None, dtype=np.float32, seed=None):
+        self.dtype = np.dtype(dtype)
+        shape = tuple(shape) if shape is not None else np.shape(low)
+        self.low = np.broadcast_to(np.asarray(low, dtype=self.dtype), shape).copy()
+        self.high = np.broadcast_to(np.asarray(high, dtype=self.dtype), shape).copy()
+        self.shape = shape
+        self.np_random = np.random.default_rng(seed)
+
+    def seed(self, seed=None):
+        self.np_random = np.random.default_rng(seed)
+        return [seed]
+
+    def is_bounded(self):
+        return bool(np.all(np.isfinite(self.low)) and np.all(np.isfinite(self.high)))
+
+    def sample(self):
+        bounded = np.isfinite(self.low) & np.isfinite(self.high)
+        value = self.np_random.standard_normal(self.shape)
+        uniform = self.np_random.uniform(np.where(bounded, self.low, 0.0), np.where(bounded, self.high, 1.0))
+        return np.where(bounded, uniform, value).astype(self.dtype)
+
+    def contains(self, x):
+        x = np.asarray(x)
+        return x.shape == self.shape and bool(np.all(x >= self.low) and np.all(x <= self.high))
+
+    __contains__ = contains
+
+    def __repr__(self):
+        return f"Box({self.low.min()}, {self.high.max()}, {self.shape}, {self.dtype})"
+
+
+def _box(low, high, shape, dtype=np.float32):
+    if gymnasium is not None:
+        return gymnasium.spaces.Box(low=low, high=high, shape=shape, dtype=dtype)
+    return Box(low, high, shape, dtype)
+
+
+def _rotation(q):
+    """The rotation matrix of a quaternion (x, y, z, w)."""
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def _yaw(q):
+    x, y, z, w = q
+    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+
+
+def _yawed(pose_q, yaw):
+    """The quaternion (x, y, z, w) of a rotation by `yaw` about W's z after pose_q."""
+    h = 0.5 * yaw
+    qz = np.array([0.0, 0.0, math.sin(h), math.cos(h)])
+    x1, y1, z1, w1 = qz
+    x2, y2, z2, w2 = pose_q
+    return np.array([w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2, w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+                     w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2, w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2])
+
+
+class Task:
+    """What an episode is: the scenario and vehicle, the control period, how an episode starts, what is
+    observed, and the reward. Subclass it for a task of your own and pass an instance as HadalEnv(task=...)."""
+
+    scenario = "default"
+    vehicle = "auv"
+    cameras = False           # start the server with the scenario's cameras
+    num_actions = 0           # the vehicle's control vector: one entry per actuator, [-1, 1]
+    control_period_s = 0.1    # sim time per env step
+    max_episode_steps = 600
+    observation_names = ()
+
+    def start(self, rng, scenario_pose):
+        """The episode's initial pose {vehicle: (x, y, z, qx, qy, qz, qw)} (at rest), drawn from rng;
+        scenario_pose is the vehicle's pose in the scenario (p_WB, q_WB)."""
+        raise NotImplementedError
+
+    def observe(self, env, t):
+        """The observation (float32, len(observation_names)) at sim time t [s]."""
+        raise NotImplementedError
+
+    def reward(self, env, observation, action):
+        """(reward, terminated, info) after a step."""
+        raise NotImplementedError
+
+
+class WaypointAtDepth(Task):
+    """Reach a waypoint at another depth: the default scenario's torpedo AUV (3 thrusters: main, heave,
+    sway in the nose) starts at its scenario pose with a random heading (+-30 deg); the waypoint lies 10-20 m
+    away, within +-45 deg of the start heading, 3-8 m shallower (clear of the seabed and the lander).
+    Observation: ground truth from odometry. Reward: the metres gained towards the waypoint in the step,
+    less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s)."""
+
+    scenario = "default"
+    vehicle = "auv"
+    num_actions = 3
+    control_period_s = 0.1
+    max_episode_steps = 600
+    success_radius_m = 1.0
+    observation_names = ("goal_x_B", "goal_y_B", "goal_z_B",      # waypoint in B [m]
+                         "v_x_B", "v_y_B", "v_z_B",               # velocity in B [m/s]
+                         "w_x_B", "w_y_B", "w_z_B",               # angular velocity in B [rad/s]
+                         "up_x_B", "up_y_B", "up_z_B")            # W's z axis in B (attitude)
+
+    def start(self, rng, scenario_pose):
+        p, q = scenario_pose
+        yaw0 = _yaw(q)
+        heading = yaw0 + rng.uniform(-math.radians(30), math.radians(30))
+        bearing = yaw0 + rng.uniform(-math.radians(45), math.radians(45))
+        distance = rng.uniform(10.0, 20.0)
+        self.goal_W = np.array([p[0] + distance * math.cos(bearing), p[1] + distance * math.sin(bearing),
+                                p[2] + rng.uniform(3.0, 8.0)])
+        self.last_distance = None
+        return {self.vehicle: (*p, *_yawed(q, heading - yaw0))}
+
+    def observe(self, env, t):
+        odom = env.odometry(t)
+        R_WB = _rotation(odom.q_WB)
+        goal_B = R_WB.T @ (self.goal_W - odom.p_WB)
+        self.distance = float(np.linalg.norm(self.goal_W - odom.p_WB))
+        return np.concatenate([goal_B, odom.v_WB_B, odom.w_WB_B, R_WB[2, :]]).astype(np.float32)
+
+    def reward(self, env, observation, action):
+        progress = 0.0 if self.last_distance is None else self.last_distance - self.distance
+        self.last_distance = self.distance
+        reward = progress - 0.01 * float(np.sum(np.square(action)))
+        success = self.distance < self.success_radius_m
+        if success:
+            reward += 10.0
+        return reward, success, {"distance_m": self.distance, "is_success": success}
+
+
+class StationKeeping(Task):
+    """Hold a point in a current: the vectored ROV of configs/scenarios/rov.yaml (8 thrusters) in a 0.3 m/s
+    current starts up to 1 m (0.5 m in depth, 0.3 rad in heading) from its station, the scenario's pose.
+    Observation: the sensors -- DVL bottom-track velocity (DVL frame), IMU rate and specific force (IMU
+    frame), depth error from the pressure sensor (metres below the station depth, for the sensor's mounting
+    0.2 m above B when level) -- and a position fix standing in for USBL: the horizontal offset from the
+    station in W and the heading error as sin and cos, from odometry. Reward: -(horizontal and depth
+    offset [m]) - 0.01 |a|^2 per step; terminated beyond 10 m. Truncated after 60 s (300 steps of 0.2 s,
+    the DVL's 5 Hz)."""
+
+    scenario = "rov"
+    vehicle = "rov"
+    num_actions = 8
+    control_period_s = 0.2
+    max_episode_steps = 300
+    lost_m = 10.0
+    sensors = {"dvl": 5.0, "imu": 50.0, "depth": 10.0}  # name: rate [Hz], configs/vehicles/vectored_rov.yaml
+    depth_sensor_above_B_m = 0.2                         # its pose there
+    observation_names = ("dvl_v_x", "dvl_v_y", "dvl_v_z",         # [m/s], DVL frame
+                         "imu_w_x", "imu_w_y", "imu_w_z",         # [rad/s], IMU frame
+                         "imu_f_x", "imu_f_y", "imu_f_z",         # specific force [m/s^2], IMU frame
+                         "depth_error",                           # [m], + deeper than the station
+                         "offset_x_W", "offset_y_W",              # position fix [m]
+                         "sin_heading_error", "cos_heading_error")
+
+    def start(self, rng, scenario_pose):
+        p, q = scenario_pose
+        self.station_W = np.array(p)
+        self.station_yaw = _yaw(q)
+        offset = np.array([rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-0.5, 0.5)])
+        return {self.vehicle: (*(self.station_W + offset), *_yawed(q, rng.uniform(-0.3, 0.3)))}
+
+    def observe(self, env, t):
+        dvl = env.sensor("wait_dvl", "dvl", t, self.sensors["dvl"])
+        imu = env.sensor("wait_imu", "imu", t, self.sensors["imu"])
+        pressure = env.sensor("wait_fluid_pressure", "depth", t, self.sensors["depth"])
+        odom = env.odometry(t)
+        depth_B = (pressure.pressure - P_ATM_PA) / (RHO_KG_M3 * G_M_S2) + self.depth_sensor_above_B_m
+        depth_error = depth_B + self.station_W[2]
+        offset = odom.p_WB - self.station_W
+        heading_error = _yaw(odom.q_WB) - self.station_yaw
+        self.offset_m = float(math.hypot(offset[0], offset[1]) + abs(depth_error))
+        velocity = dvl.velocity if dvl.velocity_mode != dvl.VELOCITY_MODE_NONE else np.zeros(3)
+        return np.concatenate([velocity, imu.angular_velocity, imu.linear_acceleration, [depth_error],
+                               offset[:2], [math.sin(heading_error), math.cos(heading_error)]]).astype(np.float32)
+
+    def reward(self, env, observation, action):
+        lost = self.offset_m > self.lost_m
+        return -self.offset_m - 0.01 * float(np.sum(np.square(action))), lost, {"offset_m": self.offset_m}
+
+
+TASKS = {"waypoint": WaypointAtDepth, "station_keeping": StationKeeping}
+
+_EnvBase = gymnasium.Env if gymnasium is not None else object
+
+
+class HadalEnv(_EnvBase):
+    """One environment: a task on a lockstep hadald (its own, or the one on domain_id).
+
+    HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, domain_id=None,
+             max_episode_steps=None, timeout_s=30.0, hadald=None)
+
+    scenario overrides the task's (a name in configs/scenarios or a path). With domain_id the env uses the
+    lockstep server already there (it must run the task's scenario) and does not stop it. Each step applies
+    the action (the vehicle's control vector, clipped to [-1, 1]) for the task's control period, then
+    observes. info: sim_time [s], episode_step, and the task's figures.
+    """
+
+    metadata = {"render_modes": []}
+    render_mode = None
+    spec = None
+
+    def __init__(self, task="waypoint", seed=None, scenario=None, domain_id=None, max_episode_steps=None,
+                 timeout_s=30.0, hadald=None):
+        self.task = TASKS[task]() if isinstance(task, str) else task
+        self.timeout_s = timeout_s
+        self.max_episode_steps = max_episode_steps or self.task.max_episode_steps
+        self.observation_space = _box(-np.inf, np.inf, (len(self.task.observation_names),))
+        self.action_space = _box(-1.0, 1.0, (self.task.num_actions,))
+        self.np_random = np.random.default_rng(seed)
+        self.action_space.seed(None if seed is None else seed + 1)
+        self._seeded = seed is not None
+        self.server = None
+        if domain_id is None:
+            self.server = Server(scenario or self.task.scenario, mode="lockstep", hadald=hadald,
+                                 cameras=self.task.cameras)
+            domain_id = self.server.domain_id
+        try:
+            self.client = self._connect(domain_id)
+        except BaseException:
+            if self.server is not None:
+                self.server.stop()
+            raise
+        self.domain_id = domain_id
+        self._scenario_pose = None
+        self._time = 0.0
+        self._steps = 0
+
+    def _connect(self, domain_id):
+        from ._hadal import Client
+        client = Client(domain_id=domain_id, name="hadal_env")
+        if not client.wait_for_server(self.timeout_s):
+            client.close()
+            raise Timeout(f"no hadald status on DDS domain {domain_id} within {self.timeout_s} s")
+        status = client.status()
+        self._dt = status.step_size
+        if self.task.vehicle not in status.vehicle_names:
+            client.close()
+            from .errors import UnknownVehicle
+            raise UnknownVehicle(f"the task's vehicle {self.task.vehicle!r} is not in the scenario "
+                                 f"({', '.join(status.vehicle_names)})", self.task.vehicle)
+        return client
+
+    @property
+    def frame_skip(self):
+        """Physics steps per env step."""
+        return max(1, round(self.task.control_period_s / self._dt))
+
+    # -- what tasks read -------------------------------------------------------------------------------
+    def odometry(self, t):
+        """The vehicle's odometry at sim time t (the last sample at or before it, at the odometry rate)."""
+        odom = self.client.wait_odometry(self.task.vehicle, min_stamp=t - self.task.control_period_s + 1e-6,
+                                         timeout_s=self.timeout_s)
+        if odom is None:
+            raise Timeout(f"no odometry of {self.task.vehicle!r} at t = {t:.3f} s within {self.timeout_s} s")
+        return odom
+
+    def sensor(self, wait, name, t, rate_hz):
+        """The sensor's last sample due at or before sim time t (rate_hz: its rate)."""
+        due = math.floor(t * rate_hz + 1e-6) / rate_hz
+        sample = getattr(self.client, wait)(self.task.vehicle, name, min_stamp=due - 1e-9, timeout_s=self.timeout_s)
+        if sample is None:
+            raise Timeout(f"no sample of {self.task.vehicle}/{name} at t = {due:.3f} s within {self.timeout_s} s")
+        return sample
+
+    # -- the Gymnasium API ------------------------------------------------------------------------------
+    def reset(self, *, seed=None, options=None):
+        """Starts an episode: (observation, info). seed reseeds np_random (and the episode's draws follow
+        from it); options may give {"pose": (x, y, z[, qx, qy, qz, qw])} to start there instead."""
+        if seed is not None:
+            self.np_random = np.random.default_rng(seed)
+            self._seeded = True
+        if self._scenario_pose is None:  # the scenario's own start, read once at t = 0
+            self.client.subscribe(self.task.vehicle)
+            self.client.wait_for_subscriptions(self.timeout_s)
+            self.client.reset(timeout_s=self.timeout_s)
+            odom = self.client.wait_odometry(self.task.vehicle, min_stamp=0.0, timeout_s=self.timeout_s)
+            if odom is None:
+                raise Timeout(f"no odometry of {self.task.vehicle!r} after a reset within {self.timeout_s} s")
+            self._scenario_pose = (np.array(odom.p_WB), np.array(odom.q_WB))
+        poses = self.task.start(self.np_random, self._scenario_pose)
+        if options and "pose" in options:
+            poses = {self.task.vehicle: tuple(options["pose"])}
+        noise_seed = int(self.np_random.integers(0, 2**63))
+        self.client.set_thrusters(self.task.vehicle, [0.0] * self.task.num_actions)
+        self._time = self.client.reset(seed=noise_seed, poses=poses, steps=self.frame_skip, timeout_s=self.timeout_s)
+        self._steps = 0
+        observation = self.task.observe(self, self._time)
+        self.task.reward(self, observation, np.zeros(self.task.num_actions))  # the task's reference point
+        return observation, {"sim_time": self._time, "episode_step": 0, "noise_seed": noise_seed}
+
+    def step(self, action):
+        """Applies `action` for one control period: (observation, reward, terminated, truncated, info)."""
+        action = np.clip(np.asarray(action, dtype=np.float64).reshape(self.task.num_actions), -1.0, 1.0)
+        if not np.all(np.isfinite(action)):
+            raise ValueError(f"action has non-finite entries: {action}")
+        self.client.set_thrusters(self.task.vehicle, action.tolist())
+        self._time = self.client.step(self.frame_skip, timeout_s=self.timeout_s)
+        self._steps += 1
+        observation = self.task.observe(self, self._time)
+        reward, terminated, info = self.task.reward(self, observation, action)
+        truncated = not terminated and self._steps >= self.max_episode_steps
+        info.update(sim_time=self._time, episode_step=self._steps)
+        return observation, float(reward), bool(terminated), bool(truncated), info
+
+    def render(self):
+        return None
+
+    def close(self):
+        """Leaves the domain and stops the env's own server. Idempotent."""
+        if getattr(self, "client", None) is not None:
+            self.client.close()
+        if getattr(self, "server", None) is not None:
+            self.server.stop()
+
+    @property
+    def unwrapped(self):
+        return self
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+class VectorEnv:
+    """n HadalEnvs, each on its own hadald (distinct DDS domains), stepped concurrently by n threads (the
+    clients release the GIL while they wait for their servers).
+
+    reset(seed=None) -> (observations (n, ...), infos: list of n dicts); with a seed, env i gets seed + i.
+    step(actions (n, ...)) -> (observations, rewards (n,), terminated (n,), truncated (n,), infos). An env
+    whose episode ended is reset in the same call: its row of observations is the new episode's first and
+    its info keeps the last one as info["final_observation"] (and info["final_info"]).
+    """
+
+    def __init__(self, num_envs, task="waypoint", seed=None, **kwargs):
+        self.num_envs = num_envs
+        self._pool = concurrent.futures.ThreadPoolExecutor(max_workers=num_envs)
+        seeds = [None if seed is None else seed + i for i in range(num_envs)]
+        futures = [self._pool.submit(HadalEnv, task=task, seed=s, **kwargs) for s in seeds]
+        self.envs = []
+        errors = []
+        for future in futures:
+            try:
+                self.envs.append(future.result())
+            except BaseException as error:  # stop the ones that started
+                errors.append(error)
+        if errors:
+            self.close()
+            raise errors[0]
+        first = self.envs[0]
+        self.single_observation_space = first.observation_space
+        self.single_action_space = first.action_space
+        n_obs, n_act = first.observation_space.shape, first.action_space.shape
+        self.observation_space = _box(-np.inf, np.inf, (num_envs, *n_obs))
+        self.action_space = _box(-1.0, 1.0, (num_envs, *n_act))
+        self.action_space.seed(None if seed is None else seed + num_envs)
+
+    def _map(self, function, *columns):
+        return list(self._pool.map(function, self.envs, *columns))
+
+    def reset(self, *, seed=None, options=None):
+        seeds = [None if seed is None else seed + i for i in range(self.num_envs)]
+        results = self._map(lambda env, s: env.reset(seed=s, options=options), seeds)
+        return np.stack([r[0] for r in results]), [r[1] for r in results]
+
+    def step(self, actions):
+        actions = np.asarray(actions)
+
+        def one(env, action):
+            observation, reward, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                info = dict(info, final_observation=observation, final_info=dict(info))
+                observation, reset_info = env.reset()
+                info.update(reset_info=reset_info)
+            return observation, reward, terminated, truncated, info
+
+        results = self._map(one, list(actions))
+        return (np.stack([r[0] for r in results]), np.array([r[1] for r in results]),
+                np.array([r[2] for r in results]), np.array([r[3] for r in results]), [r[4] for r in results])
+
+    def close(self):
+        for env in getattr(self, "envs", []):
+            env.close()
+        self._pool.shutdown(wait=True)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+
+if gymnasium is not None:  # pragma: no cover - Gymnasium is not a Debian 12 package
+    for _id, _task in (("Hadal/WaypointAtDepth-v0", "waypoint"), ("Hadal/StationKeeping-v0", "station_keeping")):
+        if _id not in gymnasium.registry:
+            gymnasium.register(id=_id, entry_point="hadal.env:HadalEnv", kwargs={"task": _task},
+                               max_episode_steps=TASKS[_task].max_episode_steps)

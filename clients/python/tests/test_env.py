@@ -1,0 +1,99 @@
+"""hadal.env against real lockstep hadald processes: the Gymnasium API shape, seeded episodes that repeat bit
+for bit without a server restart, both tasks' observations, and VectorEnv's concurrent servers."""
+
+import math
+
+import numpy as np
+import pytest
+
+import hadal
+import hadal.env
+
+
+def rollout(env, seed, steps):
+    """Observations and rewards of one episode under a seeded random policy."""
+    actions = np.random.default_rng(seed).uniform(-1.0, 1.0, (steps, env.action_space.shape[0]))
+    observation, info = env.reset(seed=seed)
+    observations, rewards = [observation], []
+    for action in actions:
+        observation, reward, terminated, truncated, info = env.step(action)
+        observations.append(observation)
+        rewards.append(reward)
+    return np.array(observations), np.array(rewards)
+
+
+def test_the_gymnasium_api_shape():
+    with hadal.env.HadalEnv(task="waypoint", seed=1, max_episode_steps=5) as env:
+        assert env.observation_space.shape == (12,) and env.action_space.shape == (3,)
+        assert env.action_space.dtype == np.float32
+        assert np.all(env.action_space.low == -1.0) and np.all(env.action_space.high == 1.0)
+        observation, info = env.reset()
+        assert observation.dtype == np.float32 and observation in env.observation_space
+        assert info["sim_time"] == pytest.approx(0.1) and info["episode_step"] == 0
+        # The waypoint is 10-20 m away and 3-8 m up: its offset in B says so (the AUV starts level).
+        assert 10.0 <= np.linalg.norm(observation[:2]) <= 21.0 and 2.5 <= observation[2] <= 8.5
+        np.testing.assert_allclose(observation[9:], [0.0, 0.0, 1.0], atol=1e-3)  # W's z in B: level
+        for k in range(5):
+            action = env.action_space.sample()
+            assert action in env.action_space
+            observation, reward, terminated, truncated, info = env.step(action)
+            assert isinstance(reward, float) and not terminated
+            assert truncated == (k == 4)  # max_episode_steps
+        assert info["sim_time"] == pytest.approx(0.6) and info["episode_step"] == 5
+        with pytest.raises(ValueError):
+            env.step([math.nan, 0.0, 0.0])
+        pid = env.server.process.pid
+    assert not env.server.running and pid > 0
+
+
+def test_the_same_seed_gives_the_same_observations():
+    with hadal.env.HadalEnv(task="waypoint", seed=0) as a, hadal.env.HadalEnv(task="waypoint", seed=0) as b:
+        assert a.domain_id != b.domain_id
+        first, first_rewards = rollout(a, seed=7, steps=30)
+        np.testing.assert_array_equal(first, rollout(b, seed=7, steps=30)[0])  # another server
+        again, again_rewards = rollout(a, seed=7, steps=30)                   # the same server, reset
+        np.testing.assert_array_equal(first, again)
+        np.testing.assert_array_equal(first_rewards, again_rewards)
+        other, _ = rollout(a, seed=8, steps=30)
+        assert not np.array_equal(first, other)  # another waypoint and start
+        assert np.abs(first[-1, 3]) > 0.05       # and it moved
+
+
+def test_station_keeping_observes_the_sensors():
+    with hadal.env.HadalEnv(task="station_keeping", seed=2) as env:
+        assert env.action_space.shape == (8,) and env.observation_space.shape == (14,)
+        start = np.array([0.6, -0.4, 0.3, 0.0, 0.0, 0.0, 1.0])  # 0.3 m above the station, level
+        observation, info = env.reset(options={"pose": start + [0, 0, -90.0, 0, 0, 0, 0]})
+        assert info["sim_time"] == pytest.approx(0.2)
+        # Depth error from the pressure sensor: 0.3 m above the station. Bounds: its noise (200 Pa: 0.02 m)
+        # and 0.2 s of rising on the ROV's positive buoyancy (seen: 0.03 m).
+        assert observation[9] == pytest.approx(-0.3, abs=0.06)
+        # The position fix: the offset as placed, less 0.2 s of drift in the 0.3 m/s current.
+        np.testing.assert_allclose(observation[10:12], [0.6, -0.4], atol=0.1)
+        # At rest the IMU feels +g along its z and almost no rotation.
+        assert observation[8] == pytest.approx(9.81, abs=0.3)
+        assert np.all(np.abs(observation[3:6]) < 0.1)
+        for _ in range(50):  # left alone for 10 s it drifts east with the current (> 0.5 m, the ROV example)
+            observation, reward, terminated, truncated, info = env.step(np.zeros(8))
+        assert observation[10] > 0.6 + 0.3 and reward < 0.0
+        assert info["offset_m"] == pytest.approx(-reward, rel=1e-6)
+
+
+def test_vector_env_steps_servers_concurrently():
+    with hadal.env.VectorEnv(2, task="waypoint", seed=3, max_episode_steps=3) as envs:
+        assert envs.observation_space.shape == (2, 12) and envs.action_space.shape == (2, 3)
+        assert len({env.domain_id for env in envs.envs}) == 2
+        observations, infos = envs.reset(seed=3)
+        assert observations.shape == (2, 12) and len(infos) == 2
+        assert not np.array_equal(observations[0], observations[1])  # seeds 3 and 4
+        for k in range(3):
+            observations, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
+            assert observations.shape == (2, 12) and rewards.shape == (2,)
+        assert np.all(truncated)  # the third step ends both episodes; both were reset in the same call
+        for info in infos:
+            assert info["final_observation"].shape == (12,)
+            assert info["reset_info"]["episode_step"] == 0
+        # Seeded like two single envs with seeds 3 and 4.
+        with hadal.env.HadalEnv(task="waypoint", seed=4) as single:
+            first, _ = single.reset(seed=4)
+        np.testing.assert_array_equal(envs.reset(seed=3)[0][1], first)
