@@ -32,7 +32,7 @@ constexpr const char* kUsage =
     "  LON_DEG       longitude [deg], east positive\n"
     "  HEIGHT_KM     height above the WGS84 ellipsoid [km] (negative below it)\n"
     "  DECIMAL_YEAR  e.g. 2027.5, within the model's validity (WMM2025: 2025.0..2030.0)\n"
-    "  --cof PATH    coefficient file (default " HADAL_WMM_COF ")\n"
+    "  --cof PATH    coefficient file (default: hadald's WMM2025.COF; $HADAL_DATA_DIR overrides its folder)\n"
     "Prints X, Y, Z, H, F [nT], I, D [deg] and their yearly rates as one JSON object.\n";
 
 int usage_error(const std::string& message) {
@@ -68,12 +68,13 @@ std::string json_escape(const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string cof_path = HADAL_WMM_COF;
+  std::string cof_path = hadal::sensors::GeomagneticModel::default_cof_path();
   std::vector<std::string> positional;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") {
       std::fputs(kUsage, stdout);
+      std::printf("Default coefficient file here: %s\n", cof_path.c_str());
       return 0;
     }
     if (arg == "--cof") {

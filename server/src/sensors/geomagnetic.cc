@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -76,6 +77,20 @@ const LegendreRecurrence& legendre_recurrence() {
 }
 
 }  // namespace
+
+std::string GeomagneticModel::default_cof_path() {
+  static constexpr const char* kName = "WMM2025.COF";
+  if (const char* dir = std::getenv("HADAL_DATA_DIR"); dir != nullptr && *dir != '\0') {
+    return (std::filesystem::path(dir) / kName).string();
+  }
+  std::error_code error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "hadal" / kName;
+    if (std::filesystem::is_regular_file(installed, error)) return installed.string();
+  }
+  return HADAL_SOURCE_DATA_DIR "/WMM2025.COF";
+}
 
 GeomagneticModel GeomagneticModel::load_cof(const std::string& path) {
   std::ifstream in(path);

@@ -237,5 +237,14 @@ TEST(GeomagneticModelTest, DecimalYearAsTheOfficialSoftware) {
   EXPECT_THROW(decimal_year_from_date(2027, 4, 0), std::invalid_argument);
 }
 
+// The coefficient file: $HADAL_DATA_DIR's when set, else (a build-tree binary, nothing installed beside
+// it) the source tree's; the installed case is tests/install/run_install_test.sh.
+TEST(GeomagneticModelTest, DefaultCoefficientFile) {
+  ::setenv("HADAL_DATA_DIR", "/opt/hadal-data", 1);
+  EXPECT_EQ(GeomagneticModel::default_cof_path(), "/opt/hadal-data/WMM2025.COF");
+  ::unsetenv("HADAL_DATA_DIR");
+  EXPECT_EQ(GeomagneticModel::default_cof_path(), kCofPath);
+}
+
 }  // namespace
 }  // namespace hadal::sensors

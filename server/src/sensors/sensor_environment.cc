@@ -12,7 +12,7 @@ SensorEnvironment::~SensorEnvironment() = default;
 
 const GeomagneticModel& SensorEnvironment::geomagnetic() {
   if (!geomagnetic_) {
-    geomagnetic_ = std::make_unique<GeomagneticModel>(GeomagneticModel::load_cof(HADAL_WMM_COF));
+    geomagnetic_ = std::make_unique<GeomagneticModel>(GeomagneticModel::load_cof(GeomagneticModel::default_cof_path()));
   }
   return *geomagnetic_;
 }
