@@ -145,7 +145,9 @@ class WaypointAtDepth(Task):
     sway in the nose) starts at its scenario pose with a random heading (+-30 deg); the waypoint lies 10-20 m
     away, within +-45 deg of the start heading, 3-8 m shallower (clear of the seabed and the lander).
     Observation: ground truth from odometry. Reward: the metres gained towards the waypoint in the step,
-    less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s)."""
+    less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s). The AUV is
+    ~1 N buoyant, so with the thrusters off it rises towards the (shallower) waypoint and earns a little
+    (~+1.6 in 20 s): a policy has to beat doing nothing, not only random actions."""
 
     scenario = "default"
     vehicle = "auv"
@@ -201,7 +203,8 @@ class StationKeeping(Task):
     num_actions = 8
     control_period_s = 0.2
     max_episode_steps = 300
-    lost_m = 10.0
+    lost_m = 10.0   # terminated beyond this offset
+    held_m = 0.5    # info["is_success"] within this offset
     sensors = {"dvl": 5.0, "imu": 50.0, "depth": 10.0}  # name: rate [Hz], configs/vehicles/vectored_rov.yaml
     depth_sensor_above_B_m = 0.2                         # its pose there
     observation_names = ("dvl_v_x", "dvl_v_y", "dvl_v_z",         # [m/s], DVL frame
@@ -234,7 +237,8 @@ class StationKeeping(Task):
 
     def reward(self, env, observation, action):
         lost = self.offset_m > self.lost_m
-        return -self.offset_m - 0.01 * float(np.sum(np.square(action))), lost, {"offset_m": self.offset_m}
+        info = {"offset_m": self.offset_m, "is_success": self.offset_m < self.held_m}
+        return -self.offset_m - 0.01 * float(np.sum(np.square(action))), lost, info
 
 
 TASKS = {"waypoint": WaypointAtDepth, "station_keeping": StationKeeping}
@@ -266,7 +270,8 @@ class HadalEnv(_EnvBase):
         self.observation_space = _box(-np.inf, np.inf, (len(self.task.observation_names),))
         self.action_space = _box(-1.0, 1.0, (self.task.num_actions,))
         self.np_random = np.random.default_rng(seed)
-        self.action_space.seed(None if seed is None else seed + 1)
+        # Its own stream, not the episode stream of an env seeded seed + 1 (VectorEnv seeds env i with seed + i).
+        self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7]).integers(2**31)))
         self._seeded = seed is not None
         self.server = None
         if domain_id is None:
@@ -283,6 +288,7 @@ class HadalEnv(_EnvBase):
         self._scenario_pose = None
         self._time = 0.0
         self._steps = 0
+        self._started = False
 
     def _connect(self, domain_id):
         from ._hadal import Client
@@ -345,10 +351,13 @@ class HadalEnv(_EnvBase):
         self._steps = 0
         observation = self.task.observe(self, self._time)
         self.task.reward(self, observation, np.zeros(self.task.num_actions))  # the task's reference point
+        self._started = True
         return observation, {"sim_time": self._time, "episode_step": 0, "noise_seed": noise_seed}
 
     def step(self, action):
         """Applies `action` for one control period: (observation, reward, terminated, truncated, info)."""
+        if not self._started:
+            raise RuntimeError("HadalEnv.step() before reset(): call reset() to start an episode")
         action = np.clip(np.asarray(action, dtype=np.float64).reshape(self.task.num_actions), -1.0, 1.0)
         if not np.all(np.isfinite(action)):
             raise ValueError(f"action has non-finite entries: {action}")
@@ -393,14 +402,17 @@ class VectorEnv:
     """n HadalEnvs, each on its own hadald (distinct DDS domains), stepped concurrently by n threads (the
     clients release the GIL while they wait for their servers).
 
-    reset(seed=None) -> (observations (n, ...), infos: list of n dicts); with a seed, env i gets seed + i.
-    step(actions (n, ...)) -> (observations, rewards (n,), terminated (n,), truncated (n,), infos). An env
-    whose episode ended is reset in the same call: its row of observations is the new episode's first and
-    its info keeps the last one as info["final_observation"] (and info["final_info"]).
+    reset(seed=None) -> (observations (n, ...), infos: list of n dicts); seed: an int (env i gets seed + i) or
+    a list of n seeds (None entries leave that env's stream alone).
+    step(actions (n, ...)) -> (observations, rewards (n,), terminated (n,), truncated (n,), infos). With
+    autoreset (the default) an env whose episode ended is reset in the same call: its row of observations is
+    the new episode's first and its info keeps the last one as info["final_observation"] (and
+    info["final_info"]). Without it, an ended env must be reset (envs.envs[i].reset()) before its next step.
     """
 
-    def __init__(self, num_envs, task="waypoint", seed=None, **kwargs):
+    def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, **kwargs):
         self.num_envs = num_envs
+        self.autoreset = autoreset
         self._pool = concurrent.futures.ThreadPoolExecutor(max_workers=num_envs)
         seeds = [None if seed is None else seed + i for i in range(num_envs)]
         futures = [self._pool.submit(HadalEnv, task=task, seed=s, **kwargs) for s in seeds]
@@ -420,13 +432,18 @@ class VectorEnv:
         n_obs, n_act = first.observation_space.shape, first.action_space.shape
         self.observation_space = _box(-np.inf, np.inf, (num_envs, *n_obs))
         self.action_space = _box(-1.0, 1.0, (num_envs, *n_act))
-        self.action_space.seed(None if seed is None else seed + num_envs)
+        self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
 
     def _map(self, function, *columns):
         return list(self._pool.map(function, self.envs, *columns))
 
     def reset(self, *, seed=None, options=None):
-        seeds = [None if seed is None else seed + i for i in range(self.num_envs)]
+        if seed is None or isinstance(seed, (int, np.integer)):
+            seeds = [None if seed is None else int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
         results = self._map(lambda env, s: env.reset(seed=s, options=options), seeds)
         return np.stack([r[0] for r in results]), [r[1] for r in results]
 
@@ -435,7 +452,7 @@ class VectorEnv:
 
         def one(env, action):
             observation, reward, terminated, truncated, info = env.step(action)
-            if terminated or truncated:
+            if (terminated or truncated) and self.autoreset:
                 info = dict(info, final_observation=observation, final_info=dict(info))
                 observation, reset_info = env.reset()
                 info.update(reset_info=reset_info)

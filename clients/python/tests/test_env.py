@@ -24,6 +24,8 @@ def rollout(env, seed, steps):
 
 def test_the_gymnasium_api_shape():
     with hadal.env.HadalEnv(task="waypoint", seed=1, max_episode_steps=5) as env:
+        with pytest.raises(RuntimeError, match="before reset"):
+            env.step([0.0, 0.0, 0.0])
         assert env.observation_space.shape == (12,) and env.action_space.shape == (3,)
         assert env.action_space.dtype == np.float32
         assert np.all(env.action_space.low == -1.0) and np.all(env.action_space.high == 1.0)
@@ -97,3 +99,4 @@ def test_vector_env_steps_servers_concurrently():
         with hadal.env.HadalEnv(task="waypoint", seed=4) as single:
             first, _ = single.reset(seed=4)
         np.testing.assert_array_equal(envs.reset(seed=3)[0][1], first)
+        np.testing.assert_array_equal(envs.reset(seed=[4, 4])[0][0], first)  # one seed per env

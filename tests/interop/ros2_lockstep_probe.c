@@ -1,0 +1,260 @@
+/* hadal-ros2-lockstep-probe: a ROS 2 node's view of a lockstep hadald, written with Cyclone DDS (as under
+ * rmw_cyclonedds_cpp) against the independently written ROS 2 types in ros2_types.idl. It commands the AUV
+ * with std_msgs/Float64MultiArray on rt/<vehicle>/thrusters/setpoints (as `ros2 topic pub` would) and steps
+ * the server with hadal_msgs/StepRequest on rt/hadal/step_request, reading rt/hadal/step_reply and
+ * rt/<vehicle>/odometry. Checks, each printed as "ok: ..." or "FAIL: ...":
+ *   1. every step request is answered (same request_id), accepted, and sim time advances by steps x dt;
+ *   2. the setpoints moved the vehicle forward (x grows by more than --min-advance metres);
+ *   3. a request with a wrong number of attached setpoints is refused with the server's reason;
+ *   4. a reset request (reset = true, steps = 0) brings sim time back to 0 and the vehicle to its start.
+ * usage: hadal-ros2-lockstep-probe --domain N [--vehicle auv] [--setpoints 0.8,0,0] [--requests 20]
+ *                                  [--steps 50] [--step-size 0.002] [--min-advance 0.3]
+ * Exit 0 when every check passed, 1 otherwise, 2 on a usage or DDS error. Discovery: loopback only, as
+ * hadal-ros2-probe (set CYCLONEDDS_URI to override). */
+#include <dds/dds.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "ros2_types.h"
+
+#define MAX_SETPOINTS 16
+
+static int failures = 0;
+
+static void check(bool ok, const char *what, double a, double b) {
+  printf("%s: %s (%.6g, %.6g)\n", ok ? "ok" : "FAIL", what, a, b);
+  if (!ok) ++failures;
+}
+
+static void configure_loopback(void) {
+  const char *uri = getenv("CYCLONEDDS_URI");
+  if (uri != NULL && *uri != '\0') return;
+  setenv("CYCLONEDDS_URI",
+         "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/>"
+         "</Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery>"
+         "<ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>"
+         "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>",
+         1);
+}
+
+static dds_entity_t endpoint(dds_entity_t pp, const dds_topic_descriptor_t *desc, const char *name, bool writer) {
+  dds_entity_t topic = dds_create_topic(pp, desc, name, NULL, NULL);
+  if (topic < 0) return topic;
+  dds_qos_t *qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 32);
+  dds_entity_t e = writer ? dds_create_writer(pp, topic, qos, NULL) : dds_create_reader(pp, topic, qos, NULL);
+  dds_delete_qos(qos);
+  return e;
+}
+
+static bool wait_matched(dds_entity_t writer, double seconds) {
+  for (int i = 0; i < (int)(seconds * 100); ++i) {
+    dds_publication_matched_status_t status;
+    if (dds_get_publication_matched_status(writer, &status) == DDS_RETCODE_OK && status.current_count > 0)
+      return true;
+    dds_sleepfor(DDS_MSECS(10));
+  }
+  return false;
+}
+
+/* Takes replies until the one for `id` arrives (or 20 s pass); returns it in *out. */
+static bool await_reply(dds_entity_t reader, uint64_t id, hadal_msgs_msg_dds__StepReply_ *out, char *error,
+                        size_t error_size) {
+  for (int i = 0; i < 20000; ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(reader, samples, &info, 1, 1) > 0) {
+      const hadal_msgs_msg_dds__StepReply_ *r = samples[0];
+      const bool mine = info.valid_data && r->request_id == id;
+      if (mine) {
+        *out = *r;
+        snprintf(error, error_size, "%s", r->error ? r->error : "");
+      }
+      dds_return_loan(reader, samples, 1);
+      samples[0] = NULL;
+      if (mine) return true;
+    }
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  return false;
+}
+
+/* The newest odometry sample with stamp >= t (waiting up to 20 s): its x and stamp. */
+static bool odometry_at(dds_entity_t reader, double t, double *x, double *stamp) {
+  for (int i = 0; i < 20000; ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(reader, samples, &info, 1, 1) > 0) {
+      const nav_msgs_msg_dds__Odometry_ *o = samples[0];
+      if (info.valid_data) {
+        *stamp = o->header.stamp.sec + 1e-9 * o->header.stamp.nanosec;
+        *x = o->pose.pose.position.x;
+      }
+      dds_return_loan(reader, samples, 1);
+      samples[0] = NULL;
+    }
+    if (*stamp >= t - 1e-9) return true;
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  return false;
+}
+
+int main(int argc, char **argv) {
+  int domain = -1;
+  const char *vehicle = "auv";
+  double setpoints[MAX_SETPOINTS] = {0.8, 0.0, 0.0};
+  uint32_t n_setpoints = 3, steps = 50;
+  int requests = 20;
+  double dt = 0.002, min_advance = 0.3;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const char *a = argv[i], *v = argv[i + 1];
+    if (strcmp(a, "--domain") == 0) domain = atoi(v);
+    else if (strcmp(a, "--vehicle") == 0) vehicle = v;
+    else if (strcmp(a, "--requests") == 0) requests = atoi(v);
+    else if (strcmp(a, "--steps") == 0) steps = (uint32_t)atoi(v);
+    else if (strcmp(a, "--step-size") == 0) dt = atof(v);
+    else if (strcmp(a, "--min-advance") == 0) min_advance = atof(v);
+    else if (strcmp(a, "--setpoints") == 0) {
+      n_setpoints = 0;
+      for (char *p = (char *)v; *p != '\0' && n_setpoints < MAX_SETPOINTS;) {
+        char *end = NULL;
+        setpoints[n_setpoints++] = strtod(p, &end);
+        p = (*end == ',') ? end + 1 : end;
+      }
+    } else {
+      fprintf(stderr, "hadal-ros2-lockstep-probe: unknown option %s\n", a);
+      return 2;
+    }
+  }
+  if (domain < 0 || domain > 232 || requests < 1 || steps < 1) {
+    fprintf(stderr, "usage: hadal-ros2-lockstep-probe --domain N [--vehicle V] [--setpoints a,b,c] [--requests K] "
+                    "[--steps S] [--step-size DT] [--min-advance M]\n");
+    return 2;
+  }
+  configure_loopback();
+  dds_entity_t pp = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
+  if (pp < 0) return 2;
+  char setpoints_topic[256], odometry_topic[256];
+  snprintf(setpoints_topic, sizeof(setpoints_topic), "rt/%s/thrusters/setpoints", vehicle);
+  snprintf(odometry_topic, sizeof(odometry_topic), "rt/%s/odometry", vehicle);
+  dds_entity_t wr_request = endpoint(pp, &hadal_msgs_msg_dds__StepRequest__desc, "rt/hadal/step_request", true);
+  dds_entity_t wr_setpoints = endpoint(pp, &std_msgs_msg_dds__Float64MultiArray__desc, setpoints_topic, true);
+  dds_entity_t rd_reply = endpoint(pp, &hadal_msgs_msg_dds__StepReply__desc, "rt/hadal/step_reply", false);
+  dds_entity_t rd_odom = endpoint(pp, &nav_msgs_msg_dds__Odometry__desc, odometry_topic, false);
+  if (wr_request < 0 || wr_setpoints < 0 || rd_reply < 0 || rd_odom < 0) return 2;
+  if (!wait_matched(wr_request, 20.0) || !wait_matched(wr_setpoints, 20.0)) {
+    printf("FAIL: hadald's readers on rt/hadal/step_request and %s never matched\n", setpoints_topic);
+    return 1;
+  }
+  /* Readers matched by hadald's writers before the first request (the writer side may lag the reader). */
+  for (int i = 0; i < 2000; ++i) {
+    dds_subscription_matched_status_t a, b;
+    dds_get_subscription_matched_status(rd_reply, &a);
+    dds_get_subscription_matched_status(rd_odom, &b);
+    if (a.current_count > 0 && b.current_count > 0) break;
+    dds_sleepfor(DDS_MSECS(10));
+  }
+
+  uint64_t id = 1000;
+  hadal_msgs_msg_dds__StepRequest_ request;
+  memset(&request, 0, sizeof(request));
+  std_msgs_msg_dds__Float64MultiArray_ command;
+  memset(&command, 0, sizeof(command));
+  command.data._buffer = setpoints;
+  command.data._length = command.data._maximum = n_setpoints;
+  hadal_msgs_msg_dds__StepReply_ reply;
+  char error[512];
+
+  /* Where the vehicle starts: the first odometry period (10 steps: 50 Hz at 500 Hz), then its odometry. */
+  request.request_id = ++id;
+  request.steps = 10;
+  dds_write(wr_request, &request);
+  if (!await_reply(rd_reply, id, &reply, error, sizeof(error))) {
+    printf("FAIL: no reply to the first step request\n");
+    return 1;
+  }
+  double x0 = 0.0, stamp = -1.0;
+  if (!odometry_at(rd_odom, reply.sim_time_s, &x0, &stamp)) {
+    printf("FAIL: no odometry at t = %.3f s\n", reply.sim_time_s);
+    return 1;
+  }
+  const double t0 = reply.sim_time_s;
+
+  /* 1 and 2: the setpoints on their own topic, the steps by request, as a ROS 2 node would. */
+  bool answered = true, accepted = true, on_time = true;
+  double t = t0;
+  for (int k = 0; k < requests && answered; ++k) {
+    dds_write(wr_setpoints, &command);  /* again each period: the server's command watchdog */
+    dds_sleepfor(DDS_MSECS(5));         /* topics are not ordered with each other; the request comes after */
+    request.request_id = ++id;
+    request.steps = steps;
+    dds_write(wr_request, &request);
+    answered = await_reply(rd_reply, id, &reply, error, sizeof(error));
+    accepted = accepted && answered && reply.accepted;
+    on_time = on_time && answered && fabs(reply.sim_time_s - (t + steps * dt)) < 1e-9;
+    t = reply.sim_time_s;
+  }
+  check(answered && accepted, "every step request answered and accepted", (double)requests, t);
+  check(on_time, "sim time advanced by steps x dt per request", t - t0, requests * steps * dt);
+  double x1 = 0.0;
+  stamp = -1.0;
+  const bool moved_known = odometry_at(rd_odom, t, &x1, &stamp);
+  check(moved_known && x1 - x0 > min_advance, "the setpoints moved the vehicle forward [m]", x1 - x0, min_advance);
+
+  /* 3: a refused request, with the server's reason. */
+  char *names[1] = {(char *)vehicle};
+  uint32_t counts[1] = {n_setpoints - 1};
+  request.request_id = ++id;
+  request.steps = 1;
+  request.vehicle_names._buffer = names;
+  request.vehicle_names._length = request.vehicle_names._maximum = 1;
+  request.setpoint_counts._buffer = counts;
+  request.setpoint_counts._length = request.setpoint_counts._maximum = 1;
+  request.setpoints._buffer = setpoints;
+  request.setpoints._length = request.setpoints._maximum = n_setpoints - 1;
+  dds_write(wr_request, &request);
+  const bool refused = await_reply(rd_reply, id, &reply, error, sizeof(error)) && !reply.accepted &&
+                       strstr(error, "setpoints") != NULL && fabs(reply.sim_time_s - t) < 1e-12;
+  printf("   server's reason: %s\n", error);
+  check(refused, "a wrong setpoint count is refused with a reason and steps nothing", reply.sim_time_s, t);
+
+  /* 4: a reset request. */
+  memset(&request.vehicle_names, 0, sizeof(request.vehicle_names));
+  memset(&request.setpoint_counts, 0, sizeof(request.setpoint_counts));
+  memset(&request.setpoints, 0, sizeof(request.setpoints));
+  request.request_id = ++id;
+  request.steps = 0;
+  request.reset = true;
+  dds_write(wr_request, &request);
+  const bool reset = await_reply(rd_reply, id, &reply, error, sizeof(error)) && reply.accepted;
+  double x_reset = 1e9;
+  stamp = -1.0;
+  /* The odometry published at the reset is the first with stamp 0 after the ones of the run before. */
+  bool at_start = false;
+  for (int i = 0; i < 20000 && reset && !at_start; ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(rd_odom, samples, &info, 1, 1) > 0) {
+      const nav_msgs_msg_dds__Odometry_ *o = samples[0];
+      if (info.valid_data && o->header.stamp.sec == 0 && o->header.stamp.nanosec == 0) {
+        x_reset = o->pose.pose.position.x;
+        at_start = true;
+      }
+      dds_return_loan(rd_odom, samples, 1);
+      samples[0] = NULL;
+    }
+    if (!at_start) dds_sleepfor(DDS_MSECS(1));
+  }
+  check(reset && reply.sim_time_s == 0.0, "a reset request brings sim time back to 0", reply.sim_time_s, 0.0);
+  /* x0 was 20 ms after the start, at rest: the same place to well under a millimetre. */
+  check(at_start && fabs(x_reset - x0) < 1e-3, "and the vehicle back to its start [m]", x_reset, x0);
+  dds_delete(pp);
+  return failures == 0 ? 0 : 1;
+}
