@@ -58,11 +58,10 @@ def evaluate(envs, thetas, seeds):
     n, steps = envs.num_envs, 0
     for first in range(0, len(jobs), n):
         batch = jobs[first:first + n]
-        obs = np.zeros((n, N_OBS), np.float32)
         rows = np.zeros((n, N_PARAMS))
-        for i in range(n):  # each server resets to its job's seed (VectorEnv's reset: seed + i); idle ones
-            k, j = batch[i] if i < len(batch) else batch[0]  # (in the last round) too: never-reset envs can't step
-            obs[i] = envs.envs[i].reset(seed=int(seeds[j]))[0]
+        jobs_now = [batch[i] if i < len(batch) else batch[0] for i in range(n)]  # idle envs (last round) too:
+        obs = envs.reset(seed=[int(seeds[j]) for _, j in jobs_now])[0]           # never-reset envs can't step
+        for i, (k, _) in enumerate(jobs_now):
             rows[i] = thetas[k]
         done = np.arange(n) >= len(batch)  # idle servers step with zero thrust, ignored
         total = np.zeros(n)

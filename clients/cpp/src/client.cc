@@ -527,6 +527,11 @@ void Client::on_laser_scan(const std::string& vehicle, const std::string& sensor
       [callback = std::move(callback)](const sensor_msgs::msg::LaserScan& m) { callback(from_msg(m)); });
 }
 
+void Client::attach_setpoints(const std::string& vehicle, const std::vector<double>& setpoints) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->pending_setpoints[vehicle] = setpoints;
+}
+
 void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
   Impl& d = *impl_;
   fdds::DataWriter* writer = nullptr;

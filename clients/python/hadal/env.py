@@ -31,8 +31,11 @@ Tasks (TASKS; each says where its observation comes from):
                      position fix.
 """
 
-import concurrent.futures
 import math
+import os
+import pickle
+import subprocess
+import sys
 
 import numpy as np
 
@@ -123,6 +126,7 @@ class Task:
     cameras = False           # start the server with the scenario's cameras
     num_actions = 0           # the vehicle's control vector: one entry per actuator, [-1, 1]
     control_period_s = 0.1    # sim time per env step
+    odometry_rate_hz = 50.0   # the vehicle's odometry_rate_hz in the scenario (which sample is "now")
     max_episode_steps = 600
     observation_names = ()
 
@@ -174,9 +178,14 @@ class WaypointAtDepth(Task):
     def observe(self, env, t):
         odom = env.odometry(t)
         R_WB = _rotation(odom.q_WB)
-        goal_B = R_WB.T @ (self.goal_W - odom.p_WB)
-        self.distance = float(np.linalg.norm(self.goal_W - odom.p_WB))
-        return np.concatenate([goal_B, odom.v_WB_B, odom.w_WB_B, R_WB[2, :]]).astype(np.float32)
+        offset_W = self.goal_W - odom.p_WB
+        self.distance = math.sqrt(offset_W @ offset_W)
+        observation = np.empty(12, dtype=np.float32)
+        observation[0:3] = offset_W @ R_WB  # R_WB^T offset
+        observation[3:6] = odom.v_WB_B
+        observation[6:9] = odom.w_WB_B
+        observation[9:12] = R_WB[2]
+        return observation
 
     def reward(self, env, observation, action):
         progress = 0.0 if self.last_distance is None else self.last_distance - self.distance
@@ -202,6 +211,7 @@ class StationKeeping(Task):
     vehicle = "rov"
     num_actions = 8
     control_period_s = 0.2
+    odometry_rate_hz = 20.0  # configs/scenarios/rov.yaml
     max_episode_steps = 300
     lost_m = 10.0   # terminated beyond this offset
     held_m = 0.5    # info["is_success"] within this offset
@@ -312,11 +322,12 @@ class HadalEnv(_EnvBase):
 
     # -- what tasks read -------------------------------------------------------------------------------
     def odometry(self, t):
-        """The vehicle's odometry at sim time t (the last sample at or before it, at the odometry rate)."""
-        odom = self.client.wait_odometry(self.task.vehicle, min_stamp=t - self.task.control_period_s + 1e-6,
-                                         timeout_s=self.timeout_s)
+        """The vehicle's odometry due last at or before sim time t (at the task's odometry_rate_hz)."""
+        rate = self.task.odometry_rate_hz
+        due = math.floor(t * rate + 1e-6) / rate
+        odom = self.client.wait_odometry(self.task.vehicle, min_stamp=due - 1e-9, timeout_s=self.timeout_s)
         if odom is None:
-            raise Timeout(f"no odometry of {self.task.vehicle!r} at t = {t:.3f} s within {self.timeout_s} s")
+            raise Timeout(f"no odometry of {self.task.vehicle!r} at t = {due:.3f} s within {self.timeout_s} s")
         return odom
 
     def sensor(self, wait, name, t, rate_hz):
@@ -335,7 +346,7 @@ class HadalEnv(_EnvBase):
             self.np_random = np.random.default_rng(seed)
             self._seeded = True
         if self._scenario_pose is None:  # the scenario's own start, read once at t = 0
-            self.client.subscribe(self.task.vehicle)
+            self.client.wait_odometry(self.task.vehicle, timeout_s=0)  # subscribes (odometry only)
             self.client.wait_for_subscriptions(self.timeout_s)
             self.client.reset(timeout_s=self.timeout_s)
             odom = self.client.wait_odometry(self.task.vehicle, min_stamp=0.0, timeout_s=self.timeout_s)
@@ -346,7 +357,7 @@ class HadalEnv(_EnvBase):
         if options and "pose" in options:
             poses = {self.task.vehicle: tuple(options["pose"])}
         noise_seed = int(self.np_random.integers(0, 2**63))
-        self.client.set_thrusters(self.task.vehicle, [0.0] * self.task.num_actions)
+        self.client.set_thrusters(self.task.vehicle, [0.0] * self.task.num_actions, publish=False)
         self._time = self.client.reset(seed=noise_seed, poses=poses, steps=self.frame_skip, timeout_s=self.timeout_s)
         self._steps = 0
         observation = self.task.observe(self, self._time)
@@ -361,7 +372,7 @@ class HadalEnv(_EnvBase):
         action = np.clip(np.asarray(action, dtype=np.float64).reshape(self.task.num_actions), -1.0, 1.0)
         if not np.all(np.isfinite(action)):
             raise ValueError(f"action has non-finite entries: {action}")
-        self.client.set_thrusters(self.task.vehicle, action.tolist())
+        self.client.set_thrusters(self.task.vehicle, action.tolist(), publish=False)
         self._time = self.client.step(self.frame_skip, timeout_s=self.timeout_s)
         self._steps += 1
         observation = self.task.observe(self, self._time)
@@ -399,73 +410,111 @@ class HadalEnv(_EnvBase):
 
 
 class VectorEnv:
-    """n HadalEnvs, each on its own hadald (distinct DDS domains), stepped concurrently by n threads (the
-    clients release the GIL while they wait for their servers).
+    """n HadalEnvs, each in a worker process of its own (python -m hadal._vector_worker) with its own hadald on
+    its own DDS domain, stepped concurrently: every call is sent to all workers before any answer is awaited,
+    so the servers and the workers' Python run in parallel (no GIL between them; threads in one process
+    reached only ~1.4x with two envs on two cores, processes ~1.7x: BENCHMARKS.md).
 
     reset(seed=None) -> (observations (n, ...), infos: list of n dicts); seed: an int (env i gets seed + i) or
     a list of n seeds (None entries leave that env's stream alone).
     step(actions (n, ...)) -> (observations, rewards (n,), terminated (n,), truncated (n,), infos). With
     autoreset (the default) an env whose episode ended is reset in the same call: its row of observations is
     the new episode's first and its info keeps the last one as info["final_observation"] (and
-    info["final_info"]). Without it, an ended env must be reset (envs.envs[i].reset()) before its next step.
+    info["final_info"]). Without it, an ended env must be reset (reset_env(i)) before its next step.
+    Keyword arguments other than these go to each HadalEnv. An error in a worker is raised here.
     """
 
     def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, **kwargs):
         self.num_envs = num_envs
         self.autoreset = autoreset
-        self._pool = concurrent.futures.ThreadPoolExecutor(max_workers=num_envs)
-        seeds = [None if seed is None else seed + i for i in range(num_envs)]
-        futures = [self._pool.submit(HadalEnv, task=task, seed=s, **kwargs) for s in seeds]
-        self.envs = []
-        errors = []
-        for future in futures:
-            try:
-                self.envs.append(future.result())
-            except BaseException as error:  # stop the ones that started
-                errors.append(error)
-        if errors:
+        self._workers = []
+        package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        environment = dict(os.environ)
+        environment["PYTHONPATH"] = os.pathsep.join(filter(None, [package_parent, environment.get("PYTHONPATH")]))
+        try:
+            for i in range(num_envs):
+                worker = subprocess.Popen([sys.executable, "-m", "hadal._vector_worker"], stdin=subprocess.PIPE,
+                                          stdout=subprocess.PIPE, env=environment)
+                self._workers.append(worker)
+                self._send(worker, ("make", dict(kwargs, task=task, seed=None if seed is None else seed + i)))
+            shapes = [self._receive(worker) for worker in self._workers]
+        except BaseException:
             self.close()
-            raise errors[0]
-        first = self.envs[0]
-        self.single_observation_space = first.observation_space
-        self.single_action_space = first.action_space
-        n_obs, n_act = first.observation_space.shape, first.action_space.shape
+            raise
+        self.domain_ids = [domain_id for _, _, domain_id in shapes]
+        n_obs, n_act, _ = shapes[0]
+        self.single_observation_space = _box(-np.inf, np.inf, n_obs)
+        self.single_action_space = _box(-1.0, 1.0, n_act)
         self.observation_space = _box(-np.inf, np.inf, (num_envs, *n_obs))
         self.action_space = _box(-1.0, 1.0, (num_envs, *n_act))
         self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
 
-    def _map(self, function, *columns):
-        return list(self._pool.map(function, self.envs, *columns))
+    @staticmethod
+    def _send(worker, message):
+        pickle.dump(message, worker.stdin, protocol=pickle.HIGHEST_PROTOCOL)
+        worker.stdin.flush()
+
+    @staticmethod
+    def _receive(worker):
+        try:
+            status, payload = pickle.load(worker.stdout)
+        except EOFError:
+            raise RuntimeError(f"a VectorEnv worker exited (status {worker.wait()})") from None
+        if status == "error":
+            raise payload
+        return payload
+
+    def _all(self, messages):
+        for worker, message in zip(self._workers, messages):
+            self._send(worker, message)
+        results, error = [], None
+        for worker in self._workers:  # every answer is read, so the pipes stay in step after an error
+            try:
+                results.append(self._receive(worker))
+            except BaseException as raised:
+                error = error or raised
+        if error is not None:
+            raise error
+        return results
 
     def reset(self, *, seed=None, options=None):
         if seed is None or isinstance(seed, (int, np.integer)):
             seeds = [None if seed is None else int(seed) + i for i in range(self.num_envs)]
         else:
-            seeds = list(seed)
+            seeds = [None if s is None else int(s) for s in seed]
             if len(seeds) != self.num_envs:
                 raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
-        results = self._map(lambda env, s: env.reset(seed=s, options=options), seeds)
+        results = self._all([("reset", (s, options)) for s in seeds])
         return np.stack([r[0] for r in results]), [r[1] for r in results]
 
+    def reset_env(self, index, seed=None, options=None):
+        """Resets env `index` alone: (observation, info)."""
+        self._send(self._workers[index], ("reset", (seed, options)))
+        return self._receive(self._workers[index])
+
     def step(self, actions):
-        actions = np.asarray(actions)
-
-        def one(env, action):
-            observation, reward, terminated, truncated, info = env.step(action)
-            if (terminated or truncated) and self.autoreset:
-                info = dict(info, final_observation=observation, final_info=dict(info))
-                observation, reset_info = env.reset()
-                info.update(reset_info=reset_info)
-            return observation, reward, terminated, truncated, info
-
-        results = self._map(one, list(actions))
+        actions = np.asarray(actions, dtype=np.float64).reshape(self.action_space.shape)
+        results = self._all([("step", (action, self.autoreset)) for action in actions])
         return (np.stack([r[0] for r in results]), np.array([r[1] for r in results]),
                 np.array([r[2] for r in results]), np.array([r[3] for r in results]), [r[4] for r in results])
 
     def close(self):
-        for env in getattr(self, "envs", []):
-            env.close()
-        self._pool.shutdown(wait=True)
+        """Closes every env (stopping its server) and ends the workers. Idempotent."""
+        for worker in self._workers:
+            try:
+                self._send(worker, ("close", None))
+                worker.stdin.close()
+            except (OSError, ValueError):
+                pass
+        for worker in self._workers:
+            try:
+                worker.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                worker.kill()
+                worker.wait()
+            if worker.stdout:
+                worker.stdout.close()
+        self._workers = []
 
     def __enter__(self):
         return self
@@ -473,6 +522,23 @@ class VectorEnv:
     def __exit__(self, *exc):
         self.close()
         return False
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+def step_with_autoreset(env, action, autoreset=True):
+    """env.step(action), then, when the episode ended and autoreset is on, env.reset() in the same call: the
+    new episode's first observation, the last one kept as info["final_observation"] (VectorEnv's rule)."""
+    observation, reward, terminated, truncated, info = env.step(action)
+    if (terminated or truncated) and autoreset:
+        info = dict(info, final_observation=observation, final_info=dict(info))
+        observation, reset_info = env.reset()
+        info.update(reset_info=reset_info)
+    return observation, reward, terminated, truncated, info
 
 
 if gymnasium is not None:  # pragma: no cover - Gymnasium is not a Debian 12 package

@@ -234,8 +234,12 @@ class PyClient {
     return wait_sensor("camera_info", &hadal::Client::on_camera_info, camera_info_, vehicle, camera, min_stamp,
                        timeout_s);
   }
-  void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
-    client().set_thrusters(vehicle, setpoints);
+  void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints, bool publish) {
+    if (publish) {
+      client().set_thrusters(vehicle, setpoints);
+    } else {
+      client().attach_setpoints(vehicle, setpoints);
+    }
   }
   double step(std::uint32_t steps, double timeout_s) { return client().step(steps, timeout_s); }
   // The samples kept so far are forgotten first: after the reset sim time starts again at 0, and a kept
@@ -711,8 +715,12 @@ hadal.ClientError).)doc")
       .def("wait_camera_info", &PyClient::wait_camera_info, py::arg("vehicle"), py::arg("camera"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "CameraInfo of rt/<vehicle>/<camera>/camera_info with stamp >= min_stamp, or None on timeout")
-      .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"), release(),
-           "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop weights, each kind in scenario order), normalised [-1, 1] (a drop weight: 0 or 1)")
+      .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"),
+           py::arg("publish") = true, release(),
+           "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop "
+           "weights, each kind in scenario order), normalised [-1, 1] (a drop weight: 0 or 1). Published on "
+           "rt/<vehicle>/thrusters/setpoints and attached to the next step()/reset(); publish=False: only attached "
+           "(lockstep; one DDS sample less per control period)")
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),
            "Lockstep: advance the server by `steps` physics steps (setpoints set since the last request are "
            "applied first); returns the sim time reached [s]. Raises ServerNotFound, Timeout, UnknownVehicle or "

@@ -2,6 +2,7 @@
 for bit without a server restart, both tasks' observations, and VectorEnv's concurrent servers."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -84,7 +85,7 @@ def test_station_keeping_observes_the_sensors():
 def test_vector_env_steps_servers_concurrently():
     with hadal.env.VectorEnv(2, task="waypoint", seed=3, max_episode_steps=3) as envs:
         assert envs.observation_space.shape == (2, 12) and envs.action_space.shape == (2, 3)
-        assert len({env.domain_id for env in envs.envs}) == 2
+        assert len(set(envs.domain_ids)) == 2
         observations, infos = envs.reset(seed=3)
         assert observations.shape == (2, 12) and len(infos) == 2
         assert not np.array_equal(observations[0], observations[1])  # seeds 3 and 4
@@ -100,3 +101,16 @@ def test_vector_env_steps_servers_concurrently():
             first, _ = single.reset(seed=4)
         np.testing.assert_array_equal(envs.reset(seed=3)[0][1], first)
         np.testing.assert_array_equal(envs.reset(seed=[4, 4])[0][0], first)  # one seed per env
+
+
+def test_vector_env_raises_a_workers_error_and_leaves_nothing_running():
+    with pytest.raises(KeyError):
+        hadal.env.VectorEnv(2, task="no_such_task")
+    with hadal.env.VectorEnv(2, task="waypoint", seed=1) as envs:
+        envs.reset()
+        with pytest.raises(ValueError, match="non-finite"):
+            envs.step([[0.0, 0.0, 0.0], [math.nan, 0.0, 0.0]])
+        envs.step(np.zeros((2, 3)))  # the workers are still in step
+        workers = [w.pid for w in envs._workers]
+    for pid in workers:
+        assert not os.path.exists(f"/proc/{pid}")

@@ -386,6 +386,10 @@ class Client {
   // before that request's first step. The server validates them: a rejected command shows up in
   // SimStatus::rejected_commands / last_error.
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints);
+  // Lockstep only: the control vector for the next step() or reset() request, attached to it and not
+  // published on the setpoints topic (one DDS sample less per control period; what the Python
+  // environments use). Validated by the server with the request (CommandRejected, UnknownVehicle).
+  void attach_setpoints(const std::string& vehicle, const std::vector<double>& setpoints);
 
   // Lockstep: advances the server by `steps` physics steps and returns the sim time reached [s].
   // Throws ServerNotFound without a lockstep server, Timeout without a reply within timeout_s,
