@@ -46,6 +46,17 @@ def lockstep_calls(seconds):
 
 
 def env_steps(seconds):
+    with hadal.env.HadalEnv(task="waypoint", seed=1) as env:  # one env in this process: the baseline
+        env.reset()
+        steps, start = 0, time.perf_counter()
+        while time.perf_counter() - start < seconds:
+            _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            steps += 1
+            if terminated or truncated:
+                env.reset()
+        wall = time.perf_counter() - start
+        yield {"benchmark": "env_steps", "task": "waypoint", "envs": 1, "vector": False, "env_steps": steps,
+               "wall_s": round(wall, 3), "env_steps_per_s": round(steps / wall, 1)}
     for n in (1, 2, 4):
         with hadal.env.VectorEnv(n, task="waypoint", seed=1) as envs:
             envs.reset()
@@ -54,7 +65,7 @@ def env_steps(seconds):
                 envs.step(envs.action_space.sample())
                 steps += n
             wall = time.perf_counter() - start
-            yield {"benchmark": "env_steps", "task": "waypoint", "envs": n, "env_steps": steps,
+            yield {"benchmark": "env_steps", "task": "waypoint", "envs": n, "vector": True, "env_steps": steps,
                    "wall_s": round(wall, 3), "env_steps_per_s": round(steps / wall, 1)}
 
 

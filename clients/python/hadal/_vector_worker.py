@@ -35,8 +35,8 @@ def main():
                 reply = ("ok", result)
             except Exception as error:  # reported to the parent, which raises it
                 reply = ("error", error)
-            pickle.dump(reply, replies, protocol=pickle.HIGHEST_PROTOCOL)
-            replies.flush()
+            replies.write(pickle.dumps(reply, protocol=pickle.HIGHEST_PROTOCOL))  # one write: stdout may be
+            replies.flush()                                                       # unbuffered (python -u)
             if command == "close":
                 break
     finally:

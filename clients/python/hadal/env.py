@@ -451,7 +451,7 @@ class VectorEnv:
 
     @staticmethod
     def _send(worker, message):
-        pickle.dump(message, worker.stdin, protocol=pickle.HIGHEST_PROTOCOL)
+        worker.stdin.write(pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))  # one write per message
         worker.stdin.flush()
 
     @staticmethod
