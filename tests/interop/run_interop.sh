@@ -39,16 +39,8 @@ fail() {
 case "$MODE" in fast | realtime) ;; *) fail "mode must be fast or realtime (got $MODE)" ;; esac
 
 # A DDS domain of our own, held (fd 9) for the life of this script.
-DOMAIN=""
-# Same lock files as the integration tests' DomainLease (which use 20..99).
-for n in $(seq 100 199); do
-  { exec 9>>"/tmp/hadal-dds-domain-$n.lock"; } 2>/dev/null || continue
-  if flock -n 9; then
-    DOMAIN=$n
-    break
-  fi
-  exec 9>&-
-done
+source "$(dirname "${BASH_SOURCE[0]}")/../reserve_domain.sh"
+reserve_domain 100 199 || true
 [[ -n "$DOMAIN" ]] || fail "no free DDS domain in 100..199 (all /tmp/hadal-dds-domain-*.lock held)"
 
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/hadal-interop.XXXXXX")

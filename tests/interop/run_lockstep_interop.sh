@@ -13,12 +13,8 @@ fail() { echo "FAIL: lockstep interop: $*" >&2; exit 1; }
 [[ -x "$HADALD" && -x "$PROBE" ]] || fail "hadald or the probe is missing"
 
 # A DDS domain of our own (fd 9), the same lock files as the other tests.
-DOMAIN=""
-for n in $(seq 100 199); do
-  { exec 9>>"/tmp/hadal-dds-domain-$n.lock"; } 2>/dev/null || continue
-  if flock -n 9; then DOMAIN=$n; break; fi
-  exec 9>&-
-done
+source "$(dirname "${BASH_SOURCE[0]}")/../reserve_domain.sh"
+reserve_domain 100 199 || true
 [[ -n "$DOMAIN" ]] || fail "no free DDS domain in 100..199"
 
 export ROS_LOCALHOST_ONLY=1

@@ -66,12 +66,8 @@ if [[ "$MODE" == --check ]]; then
 fi
 
 # A DDS domain of our own (the lock files the integration tests and interop script use), held on fd 9.
-DOMAIN=""
-for n in $(seq 200 231); do
-  { exec 9>>"/tmp/hadal-dds-domain-$n.lock"; } 2>/dev/null || continue
-  if flock -n 9; then DOMAIN=$n; break; fi
-  exec 9>&-
-done
+source tests/reserve_domain.sh
+reserve_domain 200 231 || true
 [[ -n "$DOMAIN" ]] || { echo "record.sh: no free DDS domain in 200..231" >&2; exit 1; }
 
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/hadal-regression.XXXXXX")

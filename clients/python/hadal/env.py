@@ -256,7 +256,24 @@ TASKS = {"waypoint": WaypointAtDepth, "station_keeping": StationKeeping}
 _EnvBase = gymnasium.Env if gymnasium is not None else object
 
 
-class HadalEnv(_EnvBase):
+class _Closing:
+    """close() on leaving a `with` block, and when garbage-collected at the latest."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+class HadalEnv(_Closing, _EnvBase):
     """One environment: a task on a lockstep hadald (its own, or the one on domain_id).
 
     HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, domain_id=None,
@@ -395,21 +412,8 @@ class HadalEnv(_EnvBase):
     def unwrapped(self):
         return self
 
-    def __enter__(self):
-        return self
 
-    def __exit__(self, *exc):
-        self.close()
-        return False
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
-
-
-class VectorEnv:
+class VectorEnv(_Closing):
     """n HadalEnvs, each in a worker process of its own (python -m hadal._vector_worker) with its own hadald on
     its own DDS domain, stepped concurrently: every call is sent to all workers before any answer is awaited,
     so the servers and the workers' Python run in parallel (no GIL between them; threads in one process
@@ -515,19 +519,6 @@ class VectorEnv:
             if worker.stdout:
                 worker.stdout.close()
         self._workers = []
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-        return False
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
 
 
 def step_with_autoreset(env, action, autoreset=True):
