@@ -153,10 +153,12 @@ class Runner {
   }
 
   // After a reset (sim time back at 0): every stream starts again as at the start, commands that
-  // arrived on the setpoint topics before the reset are dropped, and the initial state is published
-  // (the samples a fresh server would publish at t = 0) before the reply.
+  // arrived on the setpoint topics before the reset are dropped, the writers forget the samples they
+  // kept for late joiners (the run before's, whose stamps would satisfy a wait for the new run's), and
+  // the initial state is published (the samples a fresh server would publish at t = 0) before the reply.
   void restart_streams() {
     dds_.take_commands();
+    dds_.clear_kept_samples();
     clock_divider_.reset();
     for (auto& divider : odometry_dividers_) divider.reset();
     for (auto& divider : thruster_dividers_) divider.reset();

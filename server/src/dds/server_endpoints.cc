@@ -437,6 +437,8 @@ void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted
   impl_->write(impl_->reply_writer, &msg, impl_->reply_slot);
 }
 
+void ServerEndpoints::clear_kept_samples() { impl_->registry->clear_kept_samples(); }
+
 void ServerEndpoints::flush(double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer};

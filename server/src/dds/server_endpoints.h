@@ -92,6 +92,9 @@ class ServerEndpoints {
   // Waits up to timeout_s for matched reliable readers to acknowledge everything written, so the
   // last samples of a run are not lost when the participant goes away.
   void flush(double timeout_s);
+  // Drops the samples every writer kept (TopicRegistry::clear_kept_samples): after a lockstep reset, a
+  // client subscribing later must not receive the run before's samples, whose stamps the new run repeats.
+  void clear_kept_samples();
 
   // Samples written per published topic since start (for the run summary).
   std::vector<TopicCount> published_counts() const;

@@ -25,6 +25,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace hadal::dds {
 
@@ -75,7 +76,17 @@ class TopicRegistry {
     qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(kHeartbeatPeriod_s);
     auto* writer = publisher_->create_datawriter(topic<PubSubType>(topic_name), qos, listener);
     if (writer == nullptr) throw std::runtime_error("could not create a DDS writer on " + topic_name);
+    writers_.push_back(writer);
     return writer;
+  }
+
+  // Drops the samples every writer kept, so a reader that matches from now on receives none of them (a
+  // lockstep reset: the kept samples belong to the run before it, with stamps the new run will repeat).
+  void clear_kept_samples() {
+    for (auto* writer : writers_) {
+      std::size_t removed = 0;
+      writer->clear_history(&removed);
+    }
   }
 
   // What a reader receives on matching a writer: only what is written from then on, or also the
@@ -110,6 +121,7 @@ class TopicRegistry {
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  std::vector<eprosima::fastdds::dds::DataWriter*> writers_;
 };
 
 }  // namespace hadal::dds
