@@ -124,30 +124,31 @@ using ImagePtr = std::shared_ptr<const hadal::Image>;
 class PyClient {
  public:
   PyClient(int domain_id, const std::string& name)
-      : client_(std::make_unique<hadal::Client>(hadal::ClientOptions{domain_id, name})) {}
+      : client_(std::make_shared<hadal::Client>(hadal::ClientOptions{domain_id, name})) {}
 
-  // Leaves the DDS domain now (its participant and shared-memory segments go); later calls raise.
+  // Leaves the DDS domain (its participant and shared-memory segments go) once no call on another thread
+  // still uses it; later calls raise.
   void close() {
-    std::unique_ptr<hadal::Client> client;
+    std::shared_ptr<hadal::Client> client;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      std::lock_guard<std::mutex> lock(client_mutex_);
       client = std::move(client_);
     }
   }
   bool closed() const {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(client_mutex_);
     return !client_;
   }
 
-  bool wait_for_server(double timeout_s) { return client().wait_for_server(timeout_s); }
-  bool wait_for_subscriptions(double timeout_s) { return client().wait_for_subscriptions(timeout_s); }
-  std::optional<hadal::SimStatus> status() const { return client().latest_status(); }
+  bool wait_for_server(double timeout_s) { return client()->wait_for_server(timeout_s); }
+  bool wait_for_subscriptions(double timeout_s) { return client()->wait_for_subscriptions(timeout_s); }
+  std::optional<hadal::SimStatus> status() const { return client()->latest_status(); }
 
   void subscribe(const std::string& vehicle) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!subscribed_.emplace(vehicle, true).second) return;
-    client().on_odometry(vehicle, [this, vehicle](const hadal::Odometry& o) { odometry_.put(vehicle, o); });
-    client().on_thruster_state(vehicle,
+    client()->on_odometry(vehicle, [this, vehicle](const hadal::Odometry& o) { odometry_.put(vehicle, o); });
+    client()->on_thruster_state(vehicle,
                               [this, vehicle](const hadal::ThrusterStates& t) { thrusters_.put(vehicle, t); });
   }
   std::optional<hadal::Odometry> odometry(const std::string& vehicle) {
@@ -236,12 +237,12 @@ class PyClient {
   }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints, bool publish) {
     if (publish) {
-      client().set_thrusters(vehicle, setpoints);
+      client()->set_thrusters(vehicle, setpoints);
     } else {
-      client().attach_setpoints(vehicle, setpoints);
+      client()->attach_setpoints(vehicle, setpoints);
     }
   }
-  double step(std::uint32_t steps, double timeout_s) { return client().step(steps, timeout_s); }
+  double step(std::uint32_t steps, double timeout_s) { return client()->step(steps, timeout_s); }
   // The samples kept so far are forgotten first: after the reset sim time starts again at 0, and a kept
   // sample of the run before would satisfy any min_stamp.
   double reset(std::optional<std::uint64_t> seed, const std::map<std::string, std::vector<double>>& poses,
@@ -259,13 +260,16 @@ class PyClient {
       options.poses.emplace_back(vehicle, p);
     }
     forget_samples();
-    return client().reset(options, steps, timeout_s);
+    return client()->reset(options, steps, timeout_s);
   }
 
  private:
-  hadal::Client& client() const {
+  // The client for one call: a reference kept until the end of the caller's full expression, so that a
+  // close() on another thread (the GIL is released around every call) cannot destroy it mid-call.
+  std::shared_ptr<hadal::Client> client() const {
+    std::lock_guard<std::mutex> lock(client_mutex_);
     if (!client_) throw hadal::ClientError("the client is closed");
-    return *client_;
+    return client_;
   }
 
   void forget_samples() {
@@ -302,7 +306,7 @@ class PyClient {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + vehicle, true).second) {
-        (client().*subscribe)(vehicle, [&latest, vehicle](const State& m) { latest.put(vehicle, m); });
+        ((*client()).*subscribe)(vehicle, [&latest, vehicle](const State& m) { latest.put(vehicle, m); });
       }
     }
     return latest.wait(vehicle, min_stamp, timeout_s);
@@ -318,7 +322,7 @@ class PyClient {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + key, true).second) {
-        (client().*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) {
+        ((*client()).*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) {
           if constexpr (std::is_same_v<Stored, Sample>) {
             latest.put(key, m);
           } else {
@@ -350,7 +354,8 @@ class PyClient {
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
   Latest<hadal::CameraInfo> camera_info_;
-  std::unique_ptr<hadal::Client> client_;
+  mutable std::mutex client_mutex_;  // guards client_ alone (mutex_ is held around calls on it)
+  std::shared_ptr<hadal::Client> client_;
 };
 
 }  // namespace

@@ -6,6 +6,8 @@ import os
 import subprocess
 import sys
 import textwrap
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -64,6 +66,15 @@ def test_a_request_without_reply_is_a_timeout():
             with pytest.raises(hadal.Timeout) as timeout:
                 client.step(1, timeout_s=0.5)
             assert isinstance(timeout.value, TimeoutError)
+            # close() while another thread waits in a call: that call ends as it would have (a Timeout),
+            # the client is gone only after it.
+            errors = []
+            waiting = threading.Thread(target=lambda: errors.append(pytest.raises(hadal.Timeout, client.step, 1, 1.0)))
+            waiting.start()
+            time.sleep(0.3)
+            client.close()
+            waiting.join(10)
+            assert not waiting.is_alive() and len(errors) == 1 and client.closed
         finally:
             os.kill(server.process.pid, 18)
 
@@ -144,6 +155,8 @@ def test_reset_places_a_vehicle_at_rest():
         status = client.status()
         with pytest.raises(hadal.CommandRejected, match="quaternion norm"):
             client.reset(poses={"auv": (0.0, 0.0, -80.0, 0.0, 0.0, 0.0, 2.0)})
+        with pytest.raises(hadal.CommandRejected, match="reset: vehicle 'auv': pose is not finite"):
+            client.reset(poses={"auv": (math.nan, 0.0, -80.0)})
         with pytest.raises(ValueError):
             client.reset(poses={"auv": (0.0, 0.0)})
         assert status is not None and server.running
