@@ -39,7 +39,8 @@ import sys
 
 import numpy as np
 
-from .errors import Timeout
+from ._hadal import Client
+from .errors import Timeout, UnknownVehicle
 from .server import Server
 
 try:  # optional: only to be a registered gymnasium.Env with gymnasium spaces
@@ -318,7 +319,6 @@ class HadalEnv(_Closing, _EnvBase):
         self._started = False
 
     def _connect(self, domain_id):
-        from ._hadal import Client
         client = Client(domain_id=domain_id, name="hadal_env")
         if not client.wait_for_server(self.timeout_s):
             client.close()
@@ -327,7 +327,6 @@ class HadalEnv(_Closing, _EnvBase):
         self._dt = status.step_size
         if self.task.vehicle not in status.vehicle_names:
             client.close()
-            from .errors import UnknownVehicle
             raise UnknownVehicle(f"the task's vehicle {self.task.vehicle!r} is not in the scenario "
                                  f"({', '.join(status.vehicle_names)})", self.task.vehicle)
         return client
