@@ -6,7 +6,8 @@ per measurement.
                      without its camera (hadald --no-cameras), k = 1 and 10 physics steps per call,
                      with the AUV's setpoints attached to every request (as a controller sends them)
   env_steps          hadal.env steps per second (waypoint task, random actions, 0.1 s = 50 physics steps
-                     each) for VectorEnv(n), n = 1, 2, 4: n servers stepped concurrently
+                     each) for one HadalEnv and VectorEnv(n), n = 1, 2, 4 (n servers stepped concurrently),
+                     measured in interleaved rounds; then VectorEnv(2) over one env (vector_env_speedup)
   camera_frames      640 x 480 rgb8 frames per second delivered into numpy (frame.array copied) from
                      bench/scenarios/camera_stream.yaml (30 Hz camera, plane seabed, one lamp): lockstep
                      requests of one frame period each, waiting for that frame
@@ -17,8 +18,10 @@ Needs PYTHONPATH=build/python (or the installed package) and ROS_LOCALHOST_ONLY=
 """
 
 import argparse
+import contextlib
 import json
 import os
+import statistics
 import sys
 import time
 
@@ -45,28 +48,52 @@ def lockstep_calls(seconds):
                    "physics_steps_per_s": round(calls * steps / wall)}
 
 
-def env_steps(seconds):
-    with hadal.env.HadalEnv(task="waypoint", seed=1) as env:  # one env in this process: the baseline
-        env.reset()
-        steps, start = 0, time.perf_counter()
-        while time.perf_counter() - start < seconds:
-            _, _, terminated, truncated, _ = env.step(env.action_space.sample())
-            steps += 1
-            if terminated or truncated:
-                env.reset()
-        wall = time.perf_counter() - start
-        yield {"benchmark": "env_steps", "task": "waypoint", "envs": 1, "vector": False, "env_steps": steps,
-               "wall_s": round(wall, 3), "env_steps_per_s": round(steps / wall, 1)}
-    for n in (1, 2, 4):
-        with hadal.env.VectorEnv(n, task="waypoint", seed=1) as envs:
+def env_steps(seconds, rounds=8):
+    """All envs live at once and are measured in turn, `rounds` slices of seconds / rounds each, so that the
+    machine's drift (+-20 % over minutes on this VM) hits every configuration alike; each row gives the
+    median of its slices, and the ratios are medians of the per-round ratios."""
+    slice_s = seconds / rounds
+    with contextlib.ExitStack() as stack:
+        single = stack.enter_context(hadal.env.HadalEnv(task="waypoint", seed=1))  # the baseline, in this process
+        vectors = {n: stack.enter_context(hadal.env.VectorEnv(n, task="waypoint", seed=10 * n)) for n in (1, 2, 4)}
+        single.reset()
+        for envs in vectors.values():
             envs.reset()
+
+        def run_single():
             steps, start = 0, time.perf_counter()
-            while time.perf_counter() - start < seconds:
-                envs.step(envs.action_space.sample())
+            while time.perf_counter() - start < slice_s:
+                _, _, terminated, truncated, _ = single.step(single.action_space.sample())
+                steps += 1
+                if terminated or truncated:
+                    single.reset()
+            return steps / (time.perf_counter() - start)
+
+        def run_vector(n):
+            envs, steps, start = vectors[n], 0, time.perf_counter()
+            while time.perf_counter() - start < slice_s:
+                envs.step(envs.action_space.sample())  # ended episodes reset in the same call
                 steps += n
-            wall = time.perf_counter() - start
-            yield {"benchmark": "env_steps", "task": "waypoint", "envs": n, "vector": True, "env_steps": steps,
-                   "wall_s": round(wall, 3), "env_steps_per_s": round(steps / wall, 1)}
+            return steps / (time.perf_counter() - start)
+
+        runs = {"single": run_single, 1: lambda: run_vector(1), 2: lambda: run_vector(2), 4: lambda: run_vector(4)}
+        for run in runs.values():  # warm-up
+            run()
+        rates = {key: [] for key in runs}
+        for _ in range(rounds):
+            for key, run in runs.items():
+                rates[key].append(run())
+        threads = {n: vectors[n].envs[0].server.threads for n in vectors}
+    for key, values in rates.items():
+        yield {"benchmark": "env_steps", "task": "waypoint", "envs": 1 if key == "single" else key,
+               "vector": key != "single", "server_threads": threads.get(key), "rounds": rounds,
+               "slice_s": slice_s, "env_steps_per_s": round(statistics.median(values), 1),
+               "min": round(min(values), 1), "max": round(max(values), 1)}
+    for baseline in ("single", 1):
+        ratios = [two / one for two, one in zip(rates[2], rates[baseline])]
+        yield {"benchmark": "vector_env_speedup", "two_envs_over": "HadalEnv" if baseline == "single" else "VectorEnv(1)",
+               "median": round(statistics.median(ratios), 2), "min": round(min(ratios), 2),
+               "max": round(max(ratios), 2), "target": 1.6}
 
 
 def camera_frames(seconds):

@@ -157,6 +157,44 @@ TEST(HadaldTest, LockstepRunsWithSameSeedAndCommandsAreBitIdentical) {
   EXPECT_GT(std::abs(a.rbegin()->second.p_WB[0]) + std::abs(a.rbegin()->second.p_WB[1]), 0.1);
 }
 
+// The C++ client's split request: send_step() returns at once, wait_reply() gives what step() would; the
+// reply's ground truth equals the odometry sample at its sim time bit for bit, for the last reply waited for.
+TEST(HadaldTest, SplitRequestsAndTheGroundTruthTheRepliesCarry) {
+  LockstepServer s;
+  SampleLog<Odometry> odometry;
+  Client& client = s.client();
+  client.on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
+  s.connect();
+  EXPECT_THROW(client.reply_odometry("auv"), ClientError);  // no reply yet
+  client.attach_setpoints("auv", {0.8, 0.3, -0.2});
+  const std::uint64_t first = client.send_step(50);
+  const std::uint64_t second = client.send_step(50);
+  EXPECT_NEAR(client.wait_reply(first), 0.1, 1e-12);
+  const Odometry at_first = client.reply_odometry("auv");
+  EXPECT_NEAR(client.wait_reply(second), 0.2, 1e-12);
+  EXPECT_THROW(client.wait_reply(second), ClientError);  // waited for once
+  const Odometry at_second = client.reply_odometry("auv");
+  for (const Odometry& carried : {at_first, at_second}) {
+    ASSERT_TRUE(wait_until([&] { return odometry.has(carried.stamp); }, kWait));
+    const Odometry published = odometry.at(carried.stamp);
+    EXPECT_EQ(carried.stamp, published.stamp);
+    EXPECT_EQ(carried.child_frame_id, "auv/base_link");
+    EXPECT_EQ(carried.p_WB, published.p_WB);
+    EXPECT_EQ(carried.q_WB, published.q_WB);
+    EXPECT_EQ(carried.v_WB_B, published.v_WB_B);
+    EXPECT_EQ(carried.w_WB_B, published.w_WB_B);
+  }
+  EXPECT_GT(at_second.v_WB_B[0], at_first.v_WB_B[0]);  // the thrust acts
+  try {
+    client.reply_odometry("ghost");
+    ADD_FAILURE() << "no UnknownVehicle";
+  } catch (const UnknownVehicle& e) {
+    EXPECT_EQ(e.vehicle(), "ghost");
+  }
+  EXPECT_EQ(client.wait_reply(client.send_reset(ResetOptions{}, 0)), 0.0);
+  EXPECT_EQ(client.reply_odometry("auv").v_WB_B, (std::array<double, 3>{0.0, 0.0, 0.0}));
+}
+
 // The default AUV's depth sensor (configs/vehicles/torpedo_auv.yaml: pressure, 10 Hz, 50 Pa of
 // noise, 10 Pa resolution) over 2 s of lockstep: one sample per 0.1 s stamped with its sim time.
 std::map<double, FluidPressure> pressure_run(std::uint64_t seed) {

@@ -17,6 +17,7 @@
 #include <sensor_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstring>
@@ -312,12 +313,19 @@ struct Client::Impl {
   std::condition_variable changed;
   std::optional<SimStatus> status;
   std::vector<std::function<void(const SimStatus&)>> status_callbacks;
-  std::map<std::uint64_t, hadal_msgs::msg::StepReply> replies;
+  // This client's requests awaiting their reply (empty until it comes); replies to other clients' requests
+  // on the same server are not kept.
+  std::map<std::uint64_t, std::optional<hadal_msgs::msg::StepReply>> replies;
+  // The ground truth of the last reply waited for (reply_odometry), by vehicle name.
+  std::map<std::string, Odometry> reply_states;
+  bool replied = false;
   std::map<std::string, std::vector<double>> pending_setpoints;  // attached to the next step()
   std::uint64_t next_request_id = 0;
 
-  // Attaches the pending setpoints, sends a step or reset request and waits for its reply.
-  double send(hadal_msgs::msg::StepRequest& request, double timeout_s);
+  // Attaches the pending setpoints and sends a step or reset request: its id, for await().
+  std::uint64_t submit(hadal_msgs::msg::StepRequest& request, double timeout_s);
+  // Waits for the reply to request `id`: the sim time reached, or the refusal thrown.
+  double await(std::uint64_t id, double timeout_s);
 
   template <class PubSubType, class Msg, class Handler>
   void subscribe(const std::string& topic, Handler handler) {
@@ -356,7 +364,9 @@ Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
   d.subscribe<hadal_msgs::msg::StepReplyPubSubType, hadal_msgs::msg::StepReply>(
       dds::step_reply_topic(), [&d](const hadal_msgs::msg::StepReply& m) {
         std::lock_guard<std::mutex> lock(d.mutex);
-        d.replies[m.request_id()] = m;
+        auto waiting = d.replies.find(m.request_id());
+        if (waiting == d.replies.end()) return;
+        waiting->second = m;
         d.changed.notify_all();
       });
   d.step_writer = d.registry->writer<hadal_msgs::msg::StepRequestPubSubType>(dds::step_request_topic(),
@@ -568,7 +578,7 @@ namespace {
 
 }  // namespace
 
-double Client::Impl::send(hadal_msgs::msg::StepRequest& request, double timeout_s) {
+std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double timeout_s) {
   Impl& d = *this;
   if (!wait_for_match(d.step_writer, timeout_s)) {
     throw ServerNotFound("no lockstep server on this domain (rt/hadal/step_request has no reader)");
@@ -584,29 +594,52 @@ double Client::Impl::send(hadal_msgs::msg::StepRequest& request, double timeout_
       request.setpoints().insert(request.setpoints().end(), setpoints.begin(), setpoints.end());
     }
     d.pending_setpoints.clear();
+    d.replies.emplace(id, std::nullopt);
   }
   d.step_writer->write(&request);
+  return id;
+}
 
+double Client::Impl::await(std::uint64_t id, double timeout_s) {
+  Impl& d = *this;
   std::unique_lock<std::mutex> lock(d.mutex);
-  if (!d.changed.wait_for(lock, std::chrono::duration<double>(timeout_s),
-                          [&] { return d.replies.count(id) > 0; })) {
+  auto found = d.replies.find(id);
+  if (found == d.replies.end()) {
+    throw ClientError("no request " + std::to_string(id) + " of this client is waiting for its reply");
+  }
+  if (!d.changed.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return found->second.has_value(); })) {
+    d.replies.erase(found);  // a reply that comes later is dropped
     throw Timeout("no step reply from the server within " + std::to_string(timeout_s) + " s");
   }
-  const hadal_msgs::msg::StepReply reply = d.replies[id];
-  d.replies.erase(id);
+  const hadal_msgs::msg::StepReply reply = *found->second;
+  d.replies.erase(found);
+  d.replied = true;
+  d.reply_states.clear();
+  for (std::size_t i = 0; i < reply.vehicle_names().size() && 7 * i + 6 < reply.poses().size() &&
+                          6 * i + 5 < reply.twists().size();
+       ++i) {
+    Odometry& o = d.reply_states[reply.vehicle_names()[i]];
+    o.stamp = dds::from_time_msg(reply.sim_time());  // as odometry stamps it
+    o.child_frame_id = dds::base_frame_id(reply.vehicle_names()[i]);
+    std::copy_n(reply.poses().begin() + 7 * i, 3, o.p_WB.begin());
+    std::copy_n(reply.poses().begin() + 7 * i + 3, 4, o.q_WB.begin());
+    std::copy_n(reply.twists().begin() + 6 * i, 3, o.v_WB_B.begin());
+    std::copy_n(reply.twists().begin() + 6 * i + 3, 3, o.w_WB_B.begin());
+  }
   if (!reply.accepted()) throw_refusal(reply.error());
   return reply.sim_time_s();
 }
 
-double Client::step(std::uint32_t steps, double timeout_s) {
+namespace {
+
+hadal_msgs::msg::StepRequest step_request(std::uint32_t steps) {
   hadal_msgs::msg::StepRequest request;
   request.steps(steps);
-  return impl_->send(request, timeout_s);
+  return request;
 }
 
-double Client::reset(const ResetOptions& options, std::uint32_t steps, double timeout_s) {
-  hadal_msgs::msg::StepRequest request;
-  request.steps(steps);
+hadal_msgs::msg::StepRequest reset_request(const ResetOptions& options, std::uint32_t steps) {
+  hadal_msgs::msg::StepRequest request = step_request(steps);
   request.reset(true);
   request.reset_seed_given(options.seed.has_value());
   request.reset_seed(options.seed.value_or(0));
@@ -615,7 +648,39 @@ double Client::reset(const ResetOptions& options, std::uint32_t steps, double ti
     request.reset_poses().insert(request.reset_poses().end(), pose.p_WB.begin(), pose.p_WB.end());
     request.reset_poses().insert(request.reset_poses().end(), pose.q_WB.begin(), pose.q_WB.end());
   }
-  return impl_->send(request, timeout_s);
+  return request;
+}
+
+}  // namespace
+
+double Client::step(std::uint32_t steps, double timeout_s) {
+  return wait_reply(send_step(steps, timeout_s), timeout_s);
+}
+
+double Client::reset(const ResetOptions& options, std::uint32_t steps, double timeout_s) {
+  return wait_reply(send_reset(options, steps, timeout_s), timeout_s);
+}
+
+std::uint64_t Client::send_step(std::uint32_t steps, double timeout_s) {
+  hadal_msgs::msg::StepRequest request = step_request(steps);
+  return impl_->submit(request, timeout_s);
+}
+
+std::uint64_t Client::send_reset(const ResetOptions& options, std::uint32_t steps, double timeout_s) {
+  hadal_msgs::msg::StepRequest request = reset_request(options, steps);
+  return impl_->submit(request, timeout_s);
+}
+
+double Client::wait_reply(std::uint64_t request_id, double timeout_s) { return impl_->await(request_id, timeout_s); }
+
+Odometry Client::reply_odometry(const std::string& vehicle) const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  if (!impl_->replied) throw ClientError("reply_odometry: no step reply received yet");
+  const auto found = impl_->reply_states.find(vehicle);
+  if (found == impl_->reply_states.end()) {
+    throw UnknownVehicle(vehicle, "reply_odometry: the last step reply has no vehicle '" + vehicle + "'");
+  }
+  return found->second;
 }
 
 }  // namespace hadal

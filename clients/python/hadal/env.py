@@ -33,9 +33,6 @@ Tasks (TASKS; each says where its observation comes from):
 
 import math
 import os
-import pickle
-import subprocess
-import sys
 
 import numpy as np
 
@@ -127,7 +124,6 @@ class Task:
     cameras = False           # start the server with the scenario's cameras
     num_actions = 0           # the vehicle's control vector: one entry per actuator, [-1, 1]
     control_period_s = 0.1    # sim time per env step
-    odometry_rate_hz = 50.0   # the vehicle's odometry_rate_hz in the scenario (which sample is "now")
     max_episode_steps = 600
     observation_names = ()
 
@@ -137,7 +133,8 @@ class Task:
         raise NotImplementedError
 
     def observe(self, env, t):
-        """The observation (float32, len(observation_names)) at sim time t [s]."""
+        """The observation (float32, len(observation_names)) at sim time t [s]: from env.ground_truth() (the
+        vehicle's state carried by the step reply) and env.sensor(...) (the sensors' topics)."""
         raise NotImplementedError
 
     def reward(self, env, observation, action):
@@ -149,7 +146,7 @@ class WaypointAtDepth(Task):
     """Reach a waypoint at another depth: the default scenario's torpedo AUV (3 thrusters: main, heave,
     sway in the nose) starts at its scenario pose with a random heading (+-30 deg); the waypoint lies 10-20 m
     away, within +-45 deg of the start heading, 3-8 m shallower (clear of the seabed and the lander).
-    Observation: ground truth from odometry. Reward: the metres gained towards the waypoint in the step,
+    Observation: ground truth (the state each lockstep reply carries, as odometry would). Reward: the metres gained towards the waypoint in the step,
     less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s). The AUV is
     ~1 N buoyant, so with the thrusters off it rises towards the (shallower) waypoint and earns a little
     (~+1.6 in 20 s): a policy has to beat doing nothing, not only random actions."""
@@ -177,7 +174,7 @@ class WaypointAtDepth(Task):
         return {self.vehicle: (*p, *_yawed(q, heading - yaw0))}
 
     def observe(self, env, t):
-        odom = env.odometry(t)
+        odom = env.ground_truth()
         R_WB = _rotation(odom.q_WB)
         offset_W = self.goal_W - odom.p_WB
         self.distance = math.sqrt(offset_W @ offset_W)
@@ -191,7 +188,7 @@ class WaypointAtDepth(Task):
     def reward(self, env, observation, action):
         progress = 0.0 if self.last_distance is None else self.last_distance - self.distance
         self.last_distance = self.distance
-        reward = progress - 0.01 * float(np.sum(np.square(action)))
+        reward = progress - 0.01 * float(action @ action)
         success = self.distance < self.success_radius_m
         if success:
             reward += 10.0
@@ -204,7 +201,7 @@ class StationKeeping(Task):
     Observation: the sensors -- DVL bottom-track velocity (DVL frame), IMU rate and specific force (IMU
     frame), depth error from the pressure sensor (metres below the station depth, for the sensor's mounting
     0.2 m above B when level) -- and a position fix standing in for USBL: the horizontal offset from the
-    station in W and the heading error as sin and cos, from odometry. Reward: -(horizontal and depth
+    station in W and the heading error as sin and cos, from ground truth. Reward: -(horizontal and depth
     offset [m]) - 0.01 |a|^2 per step; terminated beyond 10 m. Truncated after 60 s (300 steps of 0.2 s,
     the DVL's 5 Hz)."""
 
@@ -212,7 +209,6 @@ class StationKeeping(Task):
     vehicle = "rov"
     num_actions = 8
     control_period_s = 0.2
-    odometry_rate_hz = 20.0  # configs/scenarios/rov.yaml
     max_episode_steps = 300
     lost_m = 10.0   # terminated beyond this offset
     held_m = 0.5    # info["is_success"] within this offset
@@ -236,7 +232,7 @@ class StationKeeping(Task):
         dvl = env.sensor("wait_dvl", "dvl", t, self.sensors["dvl"])
         imu = env.sensor("wait_imu", "imu", t, self.sensors["imu"])
         pressure = env.sensor("wait_fluid_pressure", "depth", t, self.sensors["depth"])
-        odom = env.odometry(t)
+        odom = env.ground_truth()
         depth_B = (pressure.pressure - P_ATM_PA) / (RHO_KG_M3 * G_M_S2) + self.depth_sensor_above_B_m
         depth_error = depth_B + self.station_W[2]
         offset = odom.p_WB - self.station_W
@@ -249,7 +245,7 @@ class StationKeeping(Task):
     def reward(self, env, observation, action):
         lost = self.offset_m > self.lost_m
         info = {"offset_m": self.offset_m, "is_success": self.offset_m < self.held_m}
-        return -self.offset_m - 0.01 * float(np.sum(np.square(action))), lost, info
+        return -self.offset_m - 0.01 * float(action @ action), lost, info
 
 
 TASKS = {"waypoint": WaypointAtDepth, "station_keeping": StationKeeping}
@@ -278,9 +274,10 @@ class HadalEnv(_Closing, _EnvBase):
     """One environment: a task on a lockstep hadald (its own, or the one on domain_id).
 
     HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, domain_id=None,
-             max_episode_steps=None, timeout_s=30.0, hadald=None)
+             max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None)
 
-    scenario overrides the task's (a name in configs/scenarios or a path). With domain_id the env uses the
+    scenario overrides the task's (a name in configs/scenarios or a path); threads caps the CPU threads its
+    server computes on (hadal.Server). With domain_id the env uses the
     lockstep server already there (it must run the task's scenario) and does not stop it. Each step applies
     the action (the vehicle's control vector, clipped to [-1, 1]) for the task's control period, then
     observes. info: sim_time [s], episode_step, and the task's figures.
@@ -291,7 +288,7 @@ class HadalEnv(_Closing, _EnvBase):
     spec = None
 
     def __init__(self, task="waypoint", seed=None, scenario=None, domain_id=None, max_episode_steps=None,
-                 timeout_s=30.0, hadald=None):
+                 timeout_s=30.0, hadald=None, threads=None):
         self.task = TASKS[task]() if isinstance(task, str) else task
         self.timeout_s = timeout_s
         self.max_episode_steps = max_episode_steps or self.task.max_episode_steps
@@ -304,7 +301,7 @@ class HadalEnv(_Closing, _EnvBase):
         self.server = None
         if domain_id is None:
             self.server = Server(scenario or self.task.scenario, mode="lockstep", hadald=hadald,
-                                 cameras=self.task.cameras)
+                                 cameras=self.task.cameras, threads=threads)
             domain_id = self.server.domain_id
         try:
             self.client = self._connect(domain_id)
@@ -337,14 +334,11 @@ class HadalEnv(_Closing, _EnvBase):
         return max(1, round(self.task.control_period_s / self._dt))
 
     # -- what tasks read -------------------------------------------------------------------------------
-    def odometry(self, t):
-        """The vehicle's odometry due last at or before sim time t (at the task's odometry_rate_hz)."""
-        rate = self.task.odometry_rate_hz
-        due = math.floor(t * rate + 1e-6) / rate
-        odom = self.client.wait_odometry(self.task.vehicle, min_stamp=due - 1e-9, timeout_s=self.timeout_s)
-        if odom is None:
-            raise Timeout(f"no odometry of {self.task.vehicle!r} at t = {due:.3f} s within {self.timeout_s} s")
-        return odom
+    def ground_truth(self):
+        """The vehicle's ground truth (an Odometry: p_WB, q_WB, v_WB_B, w_WB_B) at the last reply's sim time: the
+        numbers its odometry carries at that instant, taken from the lockstep reply (Client.reply_odometry), so
+        the env needs no odometry subscription."""
+        return self.client.reply_odometry(self.task.vehicle)
 
     def sensor(self, wait, name, t, rate_hz):
         """The sensor's last sample due at or before sim time t (rate_hz: its rate)."""
@@ -358,44 +352,58 @@ class HadalEnv(_Closing, _EnvBase):
     def reset(self, *, seed=None, options=None):
         """Starts an episode: (observation, info). seed reseeds np_random (and the episode's draws follow
         from it); options may give {"pose": (x, y, z[, qx, qy, qz, qw])} to start there instead."""
+        return self._begin_reset(seed, options)()
+
+    def step(self, action):
+        """Applies `action` for one control period: (observation, reward, terminated, truncated, info)."""
+        return self._begin_step(action)()
+
+    # reset() and step() in two halves: the request is sent, and the returned function waits for the reply
+    # and observes. VectorEnv sends to every env before it waits for any, so the servers step in parallel.
+    def _begin_reset(self, seed, options):
         if seed is not None:
             self.np_random = np.random.default_rng(seed)
             self._seeded = True
         if self._scenario_pose is None:  # the scenario's own start, read once at t = 0
-            self.client.wait_odometry(self.task.vehicle, timeout_s=0)  # subscribes (odometry only)
-            self.client.wait_for_subscriptions(self.timeout_s)
             self.client.reset(timeout_s=self.timeout_s)
-            odom = self.client.wait_odometry(self.task.vehicle, min_stamp=0.0, timeout_s=self.timeout_s)
-            if odom is None:
-                raise Timeout(f"no odometry of {self.task.vehicle!r} after a reset within {self.timeout_s} s")
+            odom = self.ground_truth()
             self._scenario_pose = (np.array(odom.p_WB), np.array(odom.q_WB))
         poses = self.task.start(self.np_random, self._scenario_pose)
         if options and "pose" in options:
             poses = {self.task.vehicle: tuple(options["pose"])}
         noise_seed = int(self.np_random.integers(0, 2**63))
         self.client.set_thrusters(self.task.vehicle, [0.0] * self.task.num_actions, publish=False)
-        self._time = self.client.reset(seed=noise_seed, poses=poses, steps=self.frame_skip, timeout_s=self.timeout_s)
-        self._steps = 0
-        observation = self.task.observe(self, self._time)
-        self.task.reward(self, observation, np.zeros(self.task.num_actions))  # the task's reference point
-        self._started = True
-        return observation, {"sim_time": self._time, "episode_step": 0, "noise_seed": noise_seed}
+        request = self.client.send_reset(seed=noise_seed, poses=poses, steps=self.frame_skip,
+                                         timeout_s=self.timeout_s)
 
-    def step(self, action):
-        """Applies `action` for one control period: (observation, reward, terminated, truncated, info)."""
+        def finish():
+            self._time = self.client.wait_reply(request, timeout_s=self.timeout_s)
+            self._steps = 0
+            observation = self.task.observe(self, self._time)
+            self.task.reward(self, observation, np.zeros(self.task.num_actions))  # the task's reference point
+            self._started = True
+            return observation, {"sim_time": self._time, "episode_step": 0, "noise_seed": noise_seed}
+        return finish
+
+    def _begin_step(self, action):
         if not self._started:
             raise RuntimeError("HadalEnv.step() before reset(): call reset() to start an episode")
-        action = np.clip(np.asarray(action, dtype=np.float64).reshape(self.task.num_actions), -1.0, 1.0)
-        if not np.all(np.isfinite(action)):
+        action = np.asarray(action, dtype=np.float64).reshape(self.task.num_actions)
+        if not np.isfinite(action).all():
             raise ValueError(f"action has non-finite entries: {action}")
+        action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its per-call checks
         self.client.set_thrusters(self.task.vehicle, action.tolist(), publish=False)
-        self._time = self.client.step(self.frame_skip, timeout_s=self.timeout_s)
-        self._steps += 1
-        observation = self.task.observe(self, self._time)
-        reward, terminated, info = self.task.reward(self, observation, action)
-        truncated = not terminated and self._steps >= self.max_episode_steps
-        info.update(sim_time=self._time, episode_step=self._steps)
-        return observation, float(reward), bool(terminated), bool(truncated), info
+        request = self.client.send_step(self.frame_skip, timeout_s=self.timeout_s)
+
+        def finish():
+            self._time = self.client.wait_reply(request, timeout_s=self.timeout_s)
+            self._steps += 1
+            observation = self.task.observe(self, self._time)
+            reward, terminated, info = self.task.reward(self, observation, action)
+            truncated = not terminated and self._steps >= self.max_episode_steps
+            info.update(sim_time=self._time, episode_step=self._steps)
+            return observation, float(reward), bool(terminated), bool(truncated), info
+        return finish
 
     def render(self):
         return None
@@ -413,10 +421,10 @@ class HadalEnv(_Closing, _EnvBase):
 
 
 class VectorEnv(_Closing):
-    """n HadalEnvs, each in a worker process of its own (python -m hadal._vector_worker) with its own hadald on
-    its own DDS domain, stepped concurrently: every call is sent to all workers before any answer is awaited,
-    so the servers and the workers' Python run in parallel (no GIL between them; threads in one process
-    reached only ~1.4x with two envs on two cores, processes ~1.7x: BENCHMARKS.md).
+    """n HadalEnvs, each with its own lockstep hadald on its own DDS domain, stepped concurrently from this
+    process: every call sends all n requests before it waits for any reply, so the servers step in parallel
+    while this thread observes the envs whose replies have come (BENCHMARKS.md, "Python: lockstep calls,
+    environments, camera frames").
 
     reset(seed=None) -> (observations (n, ...), infos: list of n dicts); seed: an int (env i gets seed + i) or
     a list of n seeds (None entries leave that env's stream alone).
@@ -424,57 +432,49 @@ class VectorEnv(_Closing):
     autoreset (the default) an env whose episode ended is reset in the same call: its row of observations is
     the new episode's first and its info keeps the last one as info["final_observation"] (and
     info["final_info"]). Without it, an ended env must be reset (reset_env(i)) before its next step.
-    Keyword arguments other than these go to each HadalEnv. An error in a worker is raised here.
+    Keyword arguments other than these go to each HadalEnv (envs[i] is env i). The servers share the CPUs
+    this process may run on: each computes on max(1, CPUs // n) threads unless threads= says otherwise. An
+    error in one env is raised after every request sent has been answered, so the others stay in step.
     """
 
     def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, **kwargs):
+        if num_envs < 1:
+            raise ValueError(f"num_envs must be >= 1 (got {num_envs})")
+        kwargs.setdefault("threads", max(1, len(os.sched_getaffinity(0)) // num_envs))
         self.num_envs = num_envs
         self.autoreset = autoreset
-        self._workers = []
-        package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-        environment = dict(os.environ)
-        environment["PYTHONPATH"] = os.pathsep.join(filter(None, [package_parent, environment.get("PYTHONPATH")]))
+        self.envs = []
         try:
             for i in range(num_envs):
-                worker = subprocess.Popen([sys.executable, "-m", "hadal._vector_worker"], stdin=subprocess.PIPE,
-                                          stdout=subprocess.PIPE, env=environment)
-                self._workers.append(worker)
-                self._send(worker, ("make", dict(kwargs, task=task, seed=None if seed is None else seed + i)))
-            shapes = [self._receive(worker) for worker in self._workers]
+                self.envs.append(HadalEnv(task=task, seed=None if seed is None else seed + i, **kwargs))
         except BaseException:
             self.close()
             raise
-        self.domain_ids = [domain_id for _, _, domain_id in shapes]
-        n_obs, n_act, _ = shapes[0]
-        self.single_observation_space = _box(-np.inf, np.inf, n_obs)
-        self.single_action_space = _box(-1.0, 1.0, n_act)
-        self.observation_space = _box(-np.inf, np.inf, (num_envs, *n_obs))
-        self.action_space = _box(-1.0, 1.0, (num_envs, *n_act))
+        self.domain_ids = [env.domain_id for env in self.envs]
+        single = self.envs[0]
+        self.single_observation_space = single.observation_space
+        self.single_action_space = single.action_space
+        self.observation_space = _box(-np.inf, np.inf, (num_envs, *single.observation_space.shape))
+        self.action_space = _box(-1.0, 1.0, (num_envs, *single.action_space.shape))
         self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
 
     @staticmethod
-    def _send(worker, message):
-        worker.stdin.write(pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))  # one write per message
-        worker.stdin.flush()
-
-    @staticmethod
-    def _receive(worker):
-        try:
-            status, payload = pickle.load(worker.stdout)
-        except EOFError:
-            raise RuntimeError(f"a VectorEnv worker exited (status {worker.wait()})") from None
-        if status == "error":
-            raise payload
-        return payload
-
-    def _all(self, messages):
-        for worker, message in zip(self._workers, messages):
-            self._send(worker, message)
-        results, error = [], None
-        for worker in self._workers:  # every answer is read, so the pipes stay in step after an error
+    def _all(begins):
+        """Calls each begin() (sending a request) and then each returned finish(): their results. The first
+        error is raised once every request sent has been answered."""
+        finishes, error = [], None
+        for begin in begins:
             try:
-                results.append(self._receive(worker))
+                finishes.append(begin())
             except BaseException as raised:
+                finishes.append(None)
+                error = error or raised
+        results = []
+        for finish in finishes:
+            try:
+                results.append(finish() if finish is not None else None)
+            except BaseException as raised:
+                results.append(None)
                 error = error or raised
         if error is not None:
             raise error
@@ -487,48 +487,33 @@ class VectorEnv(_Closing):
             seeds = [None if s is None else int(s) for s in seed]
             if len(seeds) != self.num_envs:
                 raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
-        results = self._all([("reset", (s, options)) for s in seeds])
+        results = self._all([lambda env=env, s=s: env._begin_reset(s, options) for env, s in zip(self.envs, seeds)])
         return np.stack([r[0] for r in results]), [r[1] for r in results]
 
     def reset_env(self, index, seed=None, options=None):
         """Resets env `index` alone: (observation, info)."""
-        self._send(self._workers[index], ("reset", (seed, options)))
-        return self._receive(self._workers[index])
+        return self.envs[index].reset(seed=seed, options=options)
 
     def step(self, actions):
         actions = np.asarray(actions, dtype=np.float64).reshape(self.action_space.shape)
-        results = self._all([("step", (action, self.autoreset)) for action in actions])
-        return (np.stack([r[0] for r in results]), np.array([r[1] for r in results]),
-                np.array([r[2] for r in results]), np.array([r[3] for r in results]), [r[4] for r in results])
+        results = self._all([lambda env=env, a=a: env._begin_step(a) for env, a in zip(self.envs, actions)])
+        observations = [r[0] for r in results]
+        infos = [r[4] for r in results]
+        ended = [i for i, r in enumerate(results) if r[2] or r[3]] if self.autoreset else []
+        if ended:  # the ended envs start their next episodes, concurrently too
+            starts = self._all([lambda env=self.envs[i]: env._begin_reset(None, None) for i in ended])
+            for i, (observation, reset_info) in zip(ended, starts):
+                infos[i] = dict(infos[i], final_observation=observations[i], final_info=dict(infos[i]),
+                                reset_info=reset_info)
+                observations[i] = observation
+        return (np.stack(observations), np.array([r[1] for r in results]), np.array([r[2] for r in results]),
+                np.array([r[3] for r in results]), infos)
 
     def close(self):
-        """Closes every env (stopping its server) and ends the workers. Idempotent."""
-        for worker in self._workers:
-            try:
-                self._send(worker, ("close", None))
-                worker.stdin.close()
-            except (OSError, ValueError):
-                pass
-        for worker in self._workers:
-            try:
-                worker.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                worker.kill()
-                worker.wait()
-            if worker.stdout:
-                worker.stdout.close()
-        self._workers = []
-
-
-def step_with_autoreset(env, action, autoreset=True):
-    """env.step(action), then, when the episode ended and autoreset is on, env.reset() in the same call: the
-    new episode's first observation, the last one kept as info["final_observation"] (VectorEnv's rule)."""
-    observation, reward, terminated, truncated, info = env.step(action)
-    if (terminated or truncated) and autoreset:
-        info = dict(info, final_observation=observation, final_info=dict(info))
-        observation, reset_info = env.reset()
-        info.update(reset_info=reset_info)
-    return observation, reward, terminated, truncated, info
+        """Closes every env, stopping its server. Idempotent."""
+        for env in self.envs:
+            env.close()
+        self.envs = []
 
 
 if gymnasium is not None:  # pragma: no cover - Gymnasium is not a Debian 12 package

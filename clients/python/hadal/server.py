@@ -69,17 +69,19 @@ class Server:
     """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
 
     domain_id None picks a free id in 100..199; seed overrides the scenario's world.seed; cameras=False leaves
-    the scenario's cameras out (hadald --no-cameras). ready_timeout_s bounds the wait for its first status;
+    the scenario's cameras out (hadald --no-cameras); threads caps the CPU threads it computes on (hadald
+    --threads; None: the scenario's world.threads, by default one per hardware thread). ready_timeout_s bounds the wait for its first status;
     a server that exits first (a malformed scenario) raises ServerNotFound with its log's end. extra_args go
     to hadald's command line as they are.
     """
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
-                 extra_args=(), cameras=True):
+                 extra_args=(), cameras=True, threads=None):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
         self.mode = mode
+        self.threads = threads  # --threads, or None (the scenario's world.threads)
         self._lock = None
         self.domain_id = self._reserve(domain_id)
         self._log_dir = tempfile.mkdtemp(prefix="hadald-")
@@ -90,6 +92,8 @@ class Server:
             args += ["--seed", str(int(seed))]
         if not cameras:
             args.append("--no-cameras")
+        if threads is not None:
+            args += ["--threads", str(int(threads))]
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")
         with open(self.log_path, "w") as log:

@@ -247,6 +247,23 @@ class PyClient {
   // sample of the run before would satisfy any min_stamp.
   double reset(std::optional<std::uint64_t> seed, const std::map<std::string, std::vector<double>>& poses,
                std::uint32_t steps, double timeout_s) {
+    const hadal::ResetOptions options = reset_options(seed, poses);
+    forget_samples();
+    return client()->reset(options, steps, timeout_s);
+  }
+  std::uint64_t send_step(std::uint32_t steps, double timeout_s) { return client()->send_step(steps, timeout_s); }
+  std::uint64_t send_reset(std::optional<std::uint64_t> seed, const std::map<std::string, std::vector<double>>& poses,
+                           std::uint32_t steps, double timeout_s) {
+    const hadal::ResetOptions options = reset_options(seed, poses);
+    forget_samples();
+    return client()->send_reset(options, steps, timeout_s);
+  }
+  double wait_reply(std::uint64_t request_id, double timeout_s) { return client()->wait_reply(request_id, timeout_s); }
+  hadal::Odometry reply_odometry(const std::string& vehicle) const { return client()->reply_odometry(vehicle); }
+
+ private:
+  static hadal::ResetOptions reset_options(std::optional<std::uint64_t> seed,
+                                           const std::map<std::string, std::vector<double>>& poses) {
     hadal::ResetOptions options;
     options.seed = seed;
     for (const auto& [vehicle, pose] : poses) {
@@ -259,11 +276,9 @@ class PyClient {
       if (pose.size() == 7) std::copy(pose.begin() + 3, pose.end(), p.q_WB.begin());
       options.poses.emplace_back(vehicle, p);
     }
-    forget_samples();
-    return client()->reset(options, steps, timeout_s);
+    return options;
   }
 
- private:
   // The client for one call: a reference kept until the end of the caller's full expression, so that a
   // close() on another thread (the GIL is released around every call) cannot destroy it mid-call.
   std::shared_ptr<hadal::Client> client() const {
@@ -737,5 +752,20 @@ hadal.ClientError).)doc")
            "server. seed: the sensors' noise seed (None: the scenario's); poses: {vehicle: (x, y, z) or (x, y, z, "
            "qx, qy, qz, qw)} in W [m] to start those vehicles elsewhere, at rest. Then applies pending setpoints "
            "and runs `steps` steps; returns the sim time reached [s]. Samples kept from before are forgotten; "
-           "odometry at t = 0 is published before the reply. Raises as step()");
+           "odometry at t = 0 is published before the reply. Raises as step()")
+      .def("send_step", &PyClient::send_step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),
+           "Lockstep, without waiting: sends the request step() would and returns its id at once; wait_reply(id) "
+           "returns what step() would have. Send to several servers, then wait for each: they step in parallel. "
+           "Raises ServerNotFound as step()")
+      .def("send_reset", &PyClient::send_reset, py::arg("seed") = py::none(),
+           py::arg("poses") = std::map<std::string, std::vector<double>>{}, py::arg("steps") = 0,
+           py::arg("timeout_s") = 30.0, release(), "reset() without waiting: its request id, for wait_reply()")
+      .def("wait_reply", &PyClient::wait_reply, py::arg("request_id"), py::arg("timeout_s") = 30.0, release(),
+           "Waits for the reply to a request sent with send_step()/send_reset(): the sim time reached [s]. Raises "
+           "as step(); ClientError for an id that is not waiting (each is waited for once)")
+      .def("reply_odometry", &PyClient::reply_odometry, py::arg("vehicle"), release(),
+           "Lockstep: the vehicle's ground truth at the sim time of the last reply waited for (step, reset, "
+           "wait_reply), the numbers its odometry carries at that instant (frame_id left empty). Every reply "
+           "carries every vehicle's: no odometry subscription needed. Raises ClientError before the first reply, "
+           "UnknownVehicle for a vehicle the reply does not have");
 }

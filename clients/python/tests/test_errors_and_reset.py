@@ -160,3 +160,48 @@ def test_reset_places_a_vehicle_at_rest():
         with pytest.raises(ValueError):
             client.reset(poses={"auv": (0.0, 0.0)})
         assert status is not None and server.running
+
+
+def test_replies_carry_every_vehicles_odometry():
+    with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
+        with pytest.raises(hadal.ClientError, match="no step reply"):
+            client.reply_odometry("auv")
+        client.wait_odometry("auv", timeout_s=0)
+        client.wait_odometry("lander", timeout_s=0)
+        client.wait_for_subscriptions(WAIT_S)
+        client.set_thrusters("auv", [0.7, 0.2, -0.1])
+        for _ in range(3):
+            t = client.step(50)  # 0.1 s: both odometry streams (the AUV's 50 Hz, the lander's 10 Hz) have a sample at t
+            for vehicle in ("auv", "lander"):
+                published = client.wait_odometry(vehicle, min_stamp=t, timeout_s=WAIT_S)
+                carried = client.reply_odometry(vehicle)
+                assert carried.stamp == published.stamp == pytest.approx(t, abs=1e-9)
+                assert carried.child_frame_id == published.child_frame_id == f"{vehicle}/base_link"
+                for field in ("p_WB", "q_WB", "v_WB_B", "w_WB_B"):  # the same numbers, bit for bit
+                    np.testing.assert_array_equal(getattr(carried, field), getattr(published, field))
+        assert np.linalg.norm(client.reply_odometry("auv").v_WB_B) > 0.01  # it moves
+        with pytest.raises(hadal.UnknownVehicle) as unknown:
+            client.reply_odometry("ghost")
+        assert unknown.value.vehicle == "ghost"
+        assert client.reset(seed=1) == 0.0
+        np.testing.assert_allclose(client.reply_odometry("auv").v_WB_B, 0.0, atol=1e-12)
+
+
+def test_requests_sent_without_waiting_are_answered_in_any_order():
+    with hadal.Server("default", mode="lockstep") as first_server, hadal.Server("default", mode="lockstep") as second_server:
+        with first_server.client("pytest") as first, second_server.client("pytest") as second:
+            # Two servers stepping at once, waited for in the other order; then one server, two requests.
+            a, b = first.send_step(10), second.send_step(20)
+            assert second.wait_reply(b) == pytest.approx(0.04)
+            assert first.wait_reply(a) == pytest.approx(0.02)
+            r1 = first.send_step(5)
+            r2 = first.send_reset(seed=3, steps=5)
+            assert first.wait_reply(r2) == pytest.approx(0.01)  # the reset came second
+            assert first.wait_reply(r1) == pytest.approx(0.03)
+            with pytest.raises(hadal.ClientError, match="is waiting"):
+                first.wait_reply(r1)  # each reply is waited for once
+            first.set_thrusters("auv", [0.5, 0.0], publish=False)
+            refused = first.send_step(1)
+            with pytest.raises(hadal.CommandRejected, match="expected 3 setpoints"):
+                first.wait_reply(refused)
+            assert first.step(1) == pytest.approx(0.012)

@@ -45,7 +45,8 @@ const char* to_string(RunMode mode) {
 std::string usage() {
   return "usage: hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep]\n"
          "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
-         "                            [--discovery-wait SECONDS] [--no-status-line] [--no-cameras]\n"
+         "                            [--discovery-wait SECONDS] [--threads N] [--no-status-line]\n"
+         "                            [--no-cameras]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -54,6 +55,8 @@ std::string usage() {
          "  --domain-id N    DDS domain 0..232 (default: $ROS_DOMAIN_ID, else 0)\n"
          "  --discovery-wait S  wall seconds to let DDS discovery match running subscribers before\n"
          "                   the first step (default 2 in fast mode, 0 otherwise)\n"
+         "  --threads N      CPU threads to compute on, 1..256 (default: the scenario's world.threads,\n"
+         "                   else one per hardware thread); 1 for several servers sharing a machine\n"
          "  --no-status-line no per-second status line on stderr\n"
          "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
@@ -121,6 +124,13 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
           return parse;
         }
         o.seed = seed;
+      } else if (arg == "--threads") {
+        std::uint64_t threads = 0;
+        if (!parse_uint64(value, threads) || threads < 1 || threads > 256) {
+          parse.error = "--threads must be an integer in 1..256 (got '" + value + "')";
+          return parse;
+        }
+        o.threads = static_cast<int>(threads);
       } else if (arg == "--domain-id") {
         if (!parse_domain(value, o.domain_id)) {
           parse.error = "--domain-id must be an integer in 0..232 (got '" + value + "')";

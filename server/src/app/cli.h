@@ -1,6 +1,6 @@
 // hadald command line:
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
-//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--no-status-line] [--no-cameras]
+//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--no-status-line] [--no-cameras]
 // --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
 // leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
 #pragma once
@@ -25,6 +25,7 @@ struct CliOptions {
   int domain_id = 0;
   bool status_line = true;
   bool cameras = true;  // false: --no-cameras
+  std::optional<int> threads;  // --threads N: overrides world.threads
   // Wall seconds to wait after start-up before the first step, so subscribers that are already
   // running are matched before the first samples (a fast run can be over before DDS discovery is).
   // Default: 2 s in fast mode (Fast DDS <-> Cyclone DDS first contact sometimes takes

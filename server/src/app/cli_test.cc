@@ -14,7 +14,7 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_EQ(p.options.domain_id, 0);
 
   p = parse_cli({"--mode", "lockstep", "s.yaml", "--duration", "5", "--rtf", "2.5", "--seed", "7",
-                 "--domain-id", "42", "--no-status-line", "--no-cameras"},
+                 "--domain-id", "42", "--no-status-line", "--no-cameras", "--threads", "1"},
                 nullptr);
   ASSERT_EQ(p.error, "");
   EXPECT_EQ(p.options.mode, RunMode::kLockstep);
@@ -25,6 +25,11 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_FALSE(p.options.status_line);
   EXPECT_FALSE(p.options.cameras);
   EXPECT_TRUE(parse_cli({"s.yaml"}, nullptr).options.cameras);
+  EXPECT_EQ(*p.options.threads, 1);
+  EXPECT_FALSE(parse_cli({"s.yaml"}, nullptr).options.threads.has_value());
+  EXPECT_EQ(parse_cli({"s.yaml", "--threads", "0"}, nullptr).error, "--threads must be an integer in 1..256 (got '0')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--threads", "two"}, nullptr).error,
+            "--threads must be an integer in 1..256 (got 'two')");
   EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
 }
 

@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
   }
   Model model = std::move(*loaded.model);
   if (cli.options.seed) model.world.seed = *cli.options.seed;
+  if (cli.options.threads) model.world.threads = *cli.options.threads;
   if (!cli.options.cameras) {
     for (VehicleSpec& vehicle : model.vehicles) {
       auto& sensors = vehicle.sensors;
@@ -84,9 +85,9 @@ int main(int argc, char** argv) {
   }
 
   install_signal_handlers();
-  std::fprintf(stderr, "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d\n",
+  std::fprintf(stderr, "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d, %d thread(s)\n",
                cli.options.scenario_file.c_str(), model.vehicles.size(), model.world.physics_rate_hz,
-               app::to_string(cli.options.mode), cli.options.domain_id);
+               app::to_string(cli.options.mode), cli.options.domain_id, model.world.effective_threads());
   for (const auto& vehicle : model.vehicles) std::fprintf(stderr, "hadald: %s\n", describe(vehicle).c_str());
   try {
     const app::RunSummary summary = app::run_server(model, cli.options, g_stop);

@@ -1253,7 +1253,7 @@ LoadResult ScenarioLoader::load(const std::string& path) {
 
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
-                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "dynamics",
+                              "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "threads", "dynamics",
                               "date", "magnetic_dipoles", "optics", "soil"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
@@ -1270,6 +1270,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   read_rate(map, "clock_rate_hz", physics_rate_hz_, &world->clock_rate_hz);
   read_rate(map, "status_rate_hz", physics_rate_hz_, &world->status_rate_hz);
   map.read_whole_number("raycast_threads", Need::kOptional, Range::closed(0.0, 256.0), &world->raycast_threads);
+  map.read_whole_number("threads", Need::kOptional, Range::closed(0.0, 256.0), &world->threads);
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   read_optics(map.optional("optics"), world->water.surface_z, &world->optics);

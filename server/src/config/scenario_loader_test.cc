@@ -2000,6 +2000,13 @@ TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {
   const LoadResult g = load_scenario_file(good);
   ASSERT_TRUE(g.ok());
   EXPECT_EQ(g.model->world.raycast_threads, 3);
+  EXPECT_EQ(g.model->world.threads, 0);  // default: one per hardware thread
+  EXPECT_GE(g.model->world.effective_threads(), 1);
+  const std::string one = write("one.yaml", std::string("world: {threads: 1}\nvehicles:") + kInlineVehicle);
+  EXPECT_EQ(load_scenario_file(one).model->world.threads, 1);
+  EXPECT_EQ(load_scenario_file(one).model->world.effective_threads(), 1);
+  const std::string many = write("many.yaml", "world:\n  threads: 300\nvehicles: []\n");
+  EXPECT_EQ(errors_of(many)[0], many + ":2:12: error: world.threads: must be in [0, 256] (got 300)");
   const std::string bad = write("b.yaml", "world:\n  raycast_threads: 1.5\nvehicles: []\n");
   EXPECT_EQ(errors_of(bad)[0], bad + ":2:20: error: world.raycast_threads: must be a whole number (got 1.5)");
   const std::string negative = write("n.yaml", "world:\n  raycast_threads: -1\nvehicles: []\n");

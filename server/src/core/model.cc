@@ -1,6 +1,13 @@
 #include "hadal/core/model.h"
 
+#include <algorithm>
+#include <thread>
+
 namespace hadal {
+
+int WorldSpec::effective_threads() const {
+  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 int VehicleSpec::link_index(const std::string& link_name) const {
   for (std::size_t i = 0; i < links.size(); ++i) {

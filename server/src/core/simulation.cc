@@ -258,9 +258,9 @@ Simulation::Simulation(Model model)
     if (runtime->fluid_faces > 0) faces.push_back(runtime->fluid_faces);
   }
   std::sort(faces.rbegin(), faces.rend());
-  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-  if (faces.size() >= 2 && faces[1] >= kParallelFluidFaces && hardware >= 2) {
-    pool_ = std::make_unique<WorkerPool>(static_cast<unsigned>(std::min<std::size_t>(hardware - 1, faces.size() - 1)));
+  const auto threads = static_cast<std::size_t>(model_.world.effective_threads());
+  if (faces.size() >= 2 && faces[1] >= kParallelFluidFaces && threads >= 2) {
+    pool_ = std::make_unique<WorkerPool>(static_cast<unsigned>(std::min(threads - 1, faces.size() - 1)));
   }
 }
 
@@ -633,14 +633,19 @@ void Simulation::restart_captures() {
 }
 
 geometry::SceneRays& Simulation::scene_rays() {
-  if (!rays_) rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_));
+  if (!rays_) {
+    // Embree builds its BVHs on world.threads threads (its own default: all).
+    const std::string device_config =
+        model_.world.threads > 0 ? "threads=" + std::to_string(model_.world.threads) : std::string();
+    rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_, device_config));
+  }
   return *rays_;
 }
 
 geometry::RaycastService& Simulation::raycast_service() {
   if (!service_) {
     geometry::RaycastServiceOptions options;
-    options.num_threads = model_.world.raycast_threads;
+    options.num_threads = model_.world.raycast_threads > 0 ? model_.world.raycast_threads : model_.world.effective_threads();
     service_ = std::make_unique<geometry::RaycastService>(scene_rays().scene().view(), options);
   }
   return *service_;

@@ -272,7 +272,6 @@ TEST(SimulationDynamicsTest, DefaultAuvHoldsItsCourseUnderThrust) {
 // Two vehicles with 4k+-face hulls: their fluid forces are computed on the worker pool, and each
 // trajectory is bit-identical to the same vehicle simulated alone (serially).
 TEST(SimulationDynamicsTest, ParallelFluidForcesEqualSerialBitForBit) {
-  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one hardware thread: no pool";
   auto fine_sphere_vehicle = [](const std::string& name, const Eigen::Vector3d& p_W) {
     const double R = 0.3, mass = 0.8 * kRho * 4.0 / 3.0 * EIGEN_PI * R * R * R;
     VehicleSpec vehicle = testing::surface_vehicle(sphere_shape(R), mass,
@@ -294,13 +293,23 @@ TEST(SimulationDynamicsTest, ParallelFluidForcesEqualSerialBitForBit) {
   Model only_a = both, only_b = both;
   only_a.vehicles = {a};
   only_b.vehicles = {b};
-  Simulation sim(both), sim_a(only_a), sim_b(only_b);
-  ASSERT_GE(sim.fluid_helper_threads(), 1u);
+  Model serial = both;
+  serial.world.threads = 1;  // world.threads caps the helpers: the stepping thread alone
+  Model two = both;
+  two.world.threads = 2;     // helpers however many cores this machine has
+  Simulation sim(two), sim_a(only_a), sim_b(only_b), sim_serial(serial);
+  ASSERT_EQ(sim.fluid_helper_threads(), 1u);
   ASSERT_EQ(sim_a.fluid_helper_threads(), 0u);
+  ASSERT_EQ(sim_serial.fluid_helper_threads(), 0u);
   for (int k = 0; k < 300; ++k) {
     sim.step();
     sim_a.step();
     sim_b.step();
+    sim_serial.step();
+  }
+  for (int i = 0; i < 2; ++i) {  // the same numbers on one thread as on two
+    EXPECT_TRUE(sim.state().vehicles[i].body.X_WB.matrix() == sim_serial.state().vehicles[i].body.X_WB.matrix());
+    EXPECT_TRUE(sim.state().vehicles[i].body.v_WB == sim_serial.state().vehicles[i].body.v_WB);
   }
   const RigidBodyState& pa = sim.state().vehicles[0].body;
   const RigidBodyState& pb = sim.state().vehicles[1].body;

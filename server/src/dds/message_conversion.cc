@@ -7,33 +7,47 @@
 
 namespace hadal::dds {
 
+OdometryValues odometry_values(const RigidBodyState& body) {
+  const Eigen::Matrix3d R_WB = body.X_WB.rotation();
+  return {body.X_WB.translation(), Eigen::Quaterniond(R_WB), R_WB.transpose() * body.v_WB,
+          R_WB.transpose() * body.w_WB};
+}
+
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg) {
   msg.header().stamp(to_time_msg(time_s));
   msg.header().frame_id(world_frame_id);
   msg.child_frame_id(base_frame_id(vehicle_name));
-
-  const Eigen::Vector3d& p_WB = body.X_WB.translation();
-  const Eigen::Matrix3d R_WB = body.X_WB.rotation();
-  const Eigen::Quaterniond q_WB(R_WB);
+  const OdometryValues o = odometry_values(body);
   auto& pose = msg.pose().pose();
-  pose.position().x(p_WB.x());
-  pose.position().y(p_WB.y());
-  pose.position().z(p_WB.z());
-  pose.orientation().x(q_WB.x());
-  pose.orientation().y(q_WB.y());
-  pose.orientation().z(q_WB.z());
-  pose.orientation().w(q_WB.w());
-
-  const Eigen::Vector3d v_WB_B = R_WB.transpose() * body.v_WB;
-  const Eigen::Vector3d w_WB_B = R_WB.transpose() * body.w_WB;
+  pose.position().x(o.p_WB.x());
+  pose.position().y(o.p_WB.y());
+  pose.position().z(o.p_WB.z());
+  pose.orientation().x(o.q_WB.x());
+  pose.orientation().y(o.q_WB.y());
+  pose.orientation().z(o.q_WB.z());
+  pose.orientation().w(o.q_WB.w());
   auto& twist = msg.twist().twist();
-  twist.linear().x(v_WB_B.x());
-  twist.linear().y(v_WB_B.y());
-  twist.linear().z(v_WB_B.z());
-  twist.angular().x(w_WB_B.x());
-  twist.angular().y(w_WB_B.y());
-  twist.angular().z(w_WB_B.z());
+  twist.linear().x(o.v_WB_B.x());
+  twist.linear().y(o.v_WB_B.y());
+  twist.linear().z(o.v_WB_B.z());
+  twist.angular().x(o.w_WB_B.x());
+  twist.angular().y(o.w_WB_B.y());
+  twist.angular().z(o.w_WB_B.z());
+}
+
+void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::msg::StepReply& msg) {
+  msg.vehicle_names().clear();
+  msg.poses().clear();
+  msg.twists().clear();
+  for (std::size_t i = 0; i < state.vehicles.size(); ++i) {
+    const OdometryValues o = odometry_values(state.vehicles[i].body);
+    msg.vehicle_names().push_back(model.vehicles[i].name);
+    msg.poses().insert(msg.poses().end(), {o.p_WB.x(), o.p_WB.y(), o.p_WB.z(), o.q_WB.x(), o.q_WB.y(),
+                                           o.q_WB.z(), o.q_WB.w()});
+    msg.twists().insert(msg.twists().end(), {o.v_WB_B.x(), o.v_WB_B.y(), o.v_WB_B.z(), o.w_WB_B.x(),
+                                             o.w_WB_B.y(), o.w_WB_B.z()});
+  }
 }
 
 void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,

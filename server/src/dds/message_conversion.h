@@ -15,8 +15,20 @@
 
 namespace hadal::dds {
 
+// B's pose in W and its twist in B axes, the numbers odometry carries.
+struct OdometryValues {
+  Eigen::Vector3d p_WB;
+  Eigen::Quaterniond q_WB;
+  Eigen::Vector3d v_WB_B;  // [m/s]
+  Eigen::Vector3d w_WB_B;  // [rad/s]
+};
+OdometryValues odometry_values(const RigidBodyState& body);
+
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
+
+// A step reply's ground truth: every vehicle's name, pose (7 numbers) and twist (6), as odometry_values.
+void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::msg::StepReply& msg);
 
 // The vehicle's thrusters (its actuators of kind thruster, in actuator order): setpoint, rotor speed
 // [rev/s], thrust [N], reaction torque [N m], and the command source.

@@ -432,6 +432,7 @@ void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted
   msg.sim_time(to_time_msg(state.time));
   msg.sim_time_s(state.time);
   msg.step_count(state.step_count);
+  fill_reply_states(impl_->model, state, msg);
   impl_->write(impl_->reply_writer, &msg, impl_->reply_slot);
 }
 

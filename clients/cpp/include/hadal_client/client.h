@@ -403,6 +403,22 @@ class Client {
   // it replies. Throws as step().
   double reset(const ResetOptions& options = {}, std::uint32_t steps = 0, double timeout_s = 30.0);
 
+  // Lockstep without waiting: send_step() and send_reset() send the request step() and reset() would send
+  // (with the setpoints attached so far) and return its id at once; wait_reply(id) then returns what
+  // step() or reset() would have, and throws as they do. One thread can so keep several servers (one
+  // client each) stepping at the same time: send to each, then wait for each (hadal.env.VectorEnv).
+  // The send throws ServerNotFound as step(); each id can be waited for once (else ClientError).
+  std::uint64_t send_step(std::uint32_t steps, double timeout_s = 30.0);
+  std::uint64_t send_reset(const ResetOptions& options = {}, std::uint32_t steps = 0, double timeout_s = 30.0);
+  double wait_reply(std::uint64_t request_id, double timeout_s = 30.0);
+
+  // Lockstep: the vehicle's ground truth at the sim time of the last reply waited for (step(), reset(),
+  // wait_reply()), as its odometry at that instant carries it (same numbers; frame_id left empty, the
+  // scenario's world.frame_id). Every reply carries every vehicle's, so a lockstep client needs no
+  // odometry subscription. Throws ClientError before the first reply, UnknownVehicle for a vehicle the
+  // reply does not have.
+  Odometry reply_odometry(const std::string& vehicle) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -360,7 +360,14 @@ struct WorldSpec {
   std::string frame_id = "world";  // header.frame_id of world-frame messages
   double clock_rate_hz = 100.0;    // rt/clock
   double status_rate_hz = 10.0;    // rt/hadal/status
-  int raycast_threads = 0;         // ray-cast worker threads; 0: one per hardware thread
+  int raycast_threads = 0;         // ray-cast worker threads; 0: `threads`
+  // CPU threads the server computes on: the stepping thread and the fluid-force helpers (threads - 1),
+  // Embree's BVH builders, and the ray-cast workers unless raycast_threads says otherwise; 0: one per
+  // hardware thread. 1 suits several servers sharing a machine (hadal.env.VectorEnv).
+  int threads = 0;
+
+  // The hardware threads when threads is 0.
+  int effective_threads() const;
 
   double step_size() const { return 1.0 / physics_rate_hz; }
 };
