@@ -4,7 +4,8 @@
  * the server with hadal_msgs/StepRequest on rt/hadal/step_request, reading rt/hadal/step_reply and
  * rt/<vehicle>/odometry. Checks, each printed as "ok: ..." or "FAIL: ...":
  *   1. every step request is answered (same request_id), accepted, and sim time advances by steps x dt;
- *   2. the setpoints moved the vehicle forward (x grows by more than --min-advance metres);
+ *   2. the setpoints moved the vehicle forward (x grows by more than --min-advance metres), and the reply's
+ *      ground truth (vehicle_names, poses) has the x its odometry has at the reply's sim time;
  *   3. a request with a wrong number of attached setpoints is refused with the server's reason;
  *   4. a reset request (reset = true, steps = 0) brings sim time back to 0 and the vehicle to its start.
  * usage: hadal-ros2-lockstep-probe --domain N [--vehicle auv] [--setpoints 0.8,0,0] [--requests 20]
@@ -64,7 +65,12 @@ static bool wait_matched(dds_entity_t writer, double seconds) {
   return false;
 }
 
-/* Takes replies until the one for `id` arrives (or 20 s pass); returns it in *out. */
+/* The vehicle the probe drives, and its x in the last reply taken (NAN when the reply has none). */
+static const char *g_vehicle = "auv";
+static double g_reply_x = NAN;
+
+/* Takes replies until the one for `id` arrives (or 20 s pass); returns it in *out (its sequences are the
+ * reader's loan, not kept: what is needed of them is copied, g_reply_x). */
 static bool await_reply(dds_entity_t reader, uint64_t id, hadal_msgs_msg_dds__StepReply_ *out, char *error,
                         size_t error_size) {
   for (int i = 0; i < 20000; ++i) {
@@ -76,6 +82,10 @@ static bool await_reply(dds_entity_t reader, uint64_t id, hadal_msgs_msg_dds__St
       if (mine) {
         *out = *r;
         snprintf(error, error_size, "%s", r->error ? r->error : "");
+        g_reply_x = NAN;
+        for (uint32_t v = 0; v < r->vehicle_names._length && 7 * v < r->poses._length; ++v) {
+          if (strcmp(r->vehicle_names._buffer[v], g_vehicle) == 0) g_reply_x = r->poses._buffer[7 * v];
+        }
       }
       dds_return_loan(reader, samples, 1);
       samples[0] = NULL;
@@ -116,7 +126,7 @@ int main(int argc, char **argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const char *a = argv[i], *v = argv[i + 1];
     if (strcmp(a, "--domain") == 0) domain = atoi(v);
-    else if (strcmp(a, "--vehicle") == 0) vehicle = v;
+    else if (strcmp(a, "--vehicle") == 0) vehicle = g_vehicle = v;
     else if (strcmp(a, "--requests") == 0) requests = atoi(v);
     else if (strcmp(a, "--steps") == 0) steps = (uint32_t)atoi(v);
     else if (strcmp(a, "--step-size") == 0) dt = atof(v);
@@ -207,6 +217,8 @@ int main(int argc, char **argv) {
   stamp = -1.0;
   const bool moved_known = odometry_at(rd_odom, t, &x1, &stamp);
   check(moved_known && x1 - x0 > min_advance, "the setpoints moved the vehicle forward [m]", x1 - x0, min_advance);
+  check(moved_known && fabs(stamp - t) < 1e-9 && x1 == g_reply_x, "the reply carries the odometry's x at its sim time [m]",
+        g_reply_x, x1);
 
   /* 3: a refused request, with the server's reason. */
   char *names[1] = {(char *)vehicle};
