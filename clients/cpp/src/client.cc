@@ -563,21 +563,6 @@ void Client::set_thrusters(const std::string& vehicle, const std::vector<double>
   writer->write(&msg);
 }
 
-namespace {
-
-// A refused request's reason as the error it is: a vehicle the server does not have, or anything else.
-[[noreturn]] void throw_refusal(const std::string& reason) {
-  for (const std::string prefix : {"unknown vehicle '", "reset: unknown vehicle '"}) {
-    if (reason.rfind(prefix, 0) == 0) {
-      const std::size_t end = reason.find('\'', prefix.size());
-      throw UnknownVehicle(reason.substr(prefix.size(), end - prefix.size()), "step request refused: " + reason);
-    }
-  }
-  throw CommandRejected(reason);
-}
-
-}  // namespace
-
 std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double timeout_s) {
   Impl& d = *this;
   if (!wait_for_match(d.step_writer, timeout_s)) {
@@ -626,7 +611,12 @@ double Client::Impl::await(std::uint64_t id, double timeout_s) {
     std::copy_n(reply.twists().begin() + 6 * i, 3, o.v_WB_B.begin());
     std::copy_n(reply.twists().begin() + 6 * i + 3, 3, o.w_WB_B.begin());
   }
-  if (!reply.accepted()) throw_refusal(reply.error());
+  if (!reply.accepted()) {
+    if (!reply.unknown_vehicle().empty()) {
+      throw UnknownVehicle(reply.unknown_vehicle(), "step request refused: " + reply.error());
+    }
+    throw CommandRejected(reply.error());
+  }
   return reply.sim_time_s();
 }
 

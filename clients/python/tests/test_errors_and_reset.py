@@ -48,8 +48,9 @@ def test_typed_errors_carry_the_servers_reason():
         with pytest.raises(hadal.UnknownVehicle) as unknown:
             client.step(1)
         assert unknown.value.vehicle == "ghost"
-        with pytest.raises(hadal.UnknownVehicle):
+        with pytest.raises(hadal.UnknownVehicle, match="reset: unknown vehicle 'ghost'") as unknown:
             client.reset(poses={"ghost": (0.0, 0.0, -50.0)})
+        assert unknown.value.vehicle == "ghost"  # the reply's unknown_vehicle, not parsed from the text
         # Refused requests stepped nothing, and the server runs on.
         assert client.step(10) == pytest.approx(0.02)
         assert isinstance(rejected.value, hadal.ClientError)

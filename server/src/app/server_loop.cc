@@ -120,7 +120,7 @@ class Runner {
       if (!request) continue;
       if (!request->error.empty()) {
         reject("step request " + std::to_string(request->request_id) + ": " + request->error);
-        dds_.publish_step_reply(request->request_id, false, request->error, sim_.state());
+        dds_.publish_step_reply(request->request_id, false, request->error, sim_.state(), request->unknown_vehicle);
         continue;
       }
       // All attached commands are checked before any is applied: a refused request changes nothing.

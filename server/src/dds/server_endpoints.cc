@@ -170,6 +170,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       const int index = model.vehicle_index(name);
       if (index < 0) {
         request.error = "unknown vehicle '" + name + "'";
+        request.unknown_vehicle = name;
         return request;
       }
       const std::size_t count = msg.setpoint_counts()[i];
@@ -208,7 +209,10 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     request.reset_X_WB.assign(model.vehicles.size(), std::nullopt);
     for (std::size_t i = 0; i < names.size(); ++i) {
       const int index = model.vehicle_index(names[i]);
-      if (index < 0) return "reset: unknown vehicle '" + names[i] + "'";
+      if (index < 0) {
+        request.unknown_vehicle = names[i];
+        return "reset: unknown vehicle '" + names[i] + "'";
+      }
       const double* p = poses.data() + 7 * i;  // a NaN passes here; Simulation::reset refuses the pose
       Eigen::Quaterniond q(p[6], p[3], p[4], p[5]);
       if (std::abs(q.norm() - 1.0) > 1e-3) {
@@ -424,11 +428,12 @@ void ServerEndpoints::publish_status(const StatusReport& report) {
 }
 
 void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,
-                                         const SimState& state) {
+                                         const SimState& state, const std::string& unknown_vehicle) {
   hadal_msgs::msg::StepReply msg;
   msg.request_id(request_id);
   msg.accepted(accepted);
   msg.error(error);
+  msg.unknown_vehicle(unknown_vehicle);
   msg.sim_time(to_time_msg(state.time));
   msg.sim_time_s(state.time);
   msg.step_count(state.step_count);

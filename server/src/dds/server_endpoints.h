@@ -41,6 +41,7 @@ struct InboundStepRequest {
   std::vector<std::optional<Eigen::Isometry3d>> reset_X_WB;
   std::int64_t source_stamp_ns = 0;
   std::string error;  // non-empty: the request is malformed and is refused as a whole
+  std::string unknown_vehicle;  // the vehicle the scenario does not have when that is the error
 };
 
 struct StatusReport {
@@ -86,8 +87,10 @@ class ServerEndpoints {
   // The sensor's last sample (state.vehicles[v].sensors[s]).
   void publish_sensor(int vehicle_index, int sensor_index, const SimState& state);
   void publish_status(const StatusReport& report);
+  // Every vehicle's ground truth rides along (fill_reply_states); unknown_vehicle names the vehicle a
+  // request was refused for (else empty).
   void publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,
-                          const SimState& state);
+                          const SimState& state, const std::string& unknown_vehicle = "");
 
   // Waits up to timeout_s for matched reliable readers to acknowledge everything written, so the
   // last samples of a run are not lost when the participant goes away.
