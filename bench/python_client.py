@@ -91,7 +91,8 @@ def env_steps(seconds, rounds=8):
                "min": round(min(values), 1), "max": round(max(values), 1)}
     for baseline in ("single", 1):
         ratios = [two / one for two, one in zip(rates[2], rates[baseline])]
-        yield {"benchmark": "vector_env_speedup", "two_envs_over": "HadalEnv" if baseline == "single" else "VectorEnv(1)",
+        over = "HadalEnv" if baseline == "single" else "VectorEnv(1)"
+        yield {"benchmark": "vector_env_speedup", "two_envs_over": over,
                "median": round(statistics.median(ratios), 2), "min": round(min(ratios), 2),
                "max": round(max(ratios), 2), "target": 1.6}
 

@@ -217,8 +217,8 @@ int main(int argc, char **argv) {
   stamp = -1.0;
   const bool moved_known = odometry_at(rd_odom, t, &x1, &stamp);
   check(moved_known && x1 - x0 > min_advance, "the setpoints moved the vehicle forward [m]", x1 - x0, min_advance);
-  check(moved_known && fabs(stamp - t) < 1e-9 && x1 == g_reply_x, "the reply carries the odometry's x at its sim time [m]",
-        g_reply_x, x1);
+  check(moved_known && fabs(stamp - t) < 1e-9 && x1 == g_reply_x,
+        "the reply carries the odometry's x at its sim time [m]", g_reply_x, x1);
 
   /* 3: a refused request, with the server's reason. */
   char *names[1] = {(char *)vehicle};

@@ -146,8 +146,8 @@ class WaypointAtDepth(Task):
     """Reach a waypoint at another depth: the default scenario's torpedo AUV (3 thrusters: main, heave,
     sway in the nose) starts at its scenario pose with a random heading (+-30 deg); the waypoint lies 10-20 m
     away, within +-45 deg of the start heading, 3-8 m shallower (clear of the seabed and the lander).
-    Observation: ground truth (the state each lockstep reply carries, as odometry would). Reward: the metres gained towards the waypoint in the step,
-    less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s). The AUV is
+    Observation: ground truth (the state each lockstep reply carries, as odometry would). Reward: the metres
+    gained towards the waypoint in the step, less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s). The AUV is
     ~1 N buoyant, so with the thrusters off it rises towards the (shallower) waypoint and earns a little
     (~+1.6 in 20 s): a policy has to beat doing nothing, not only random actions."""
 
@@ -277,8 +277,8 @@ class HadalEnv(_Closing, _EnvBase):
              max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None)
 
     scenario overrides the task's (a name in configs/scenarios or a path); threads caps the CPU threads its
-    server computes on (hadal.Server). With domain_id the env uses the
-    lockstep server already there (it must run the task's scenario) and does not stop it. Each step applies
+    server computes on (hadal.Server). With domain_id the env uses the lockstep server already there (it
+    must run the task's scenario) and does not stop it. Each step applies
     the action (the vehicle's control vector, clipped to [-1, 1]) for the task's control period, then
     observes. info: sim_time [s], episode_step, and the task's figures.
     """

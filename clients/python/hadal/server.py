@@ -70,8 +70,8 @@ class Server:
 
     domain_id None picks a free id in 100..199; seed overrides the scenario's world.seed; cameras=False leaves
     the scenario's cameras out (hadald --no-cameras); threads caps the CPU threads it computes on (hadald
-    --threads; None: the scenario's world.threads, by default one per hardware thread). ready_timeout_s bounds the wait for its first status;
-    a server that exits first (a malformed scenario) raises ServerNotFound with its log's end. extra_args go
+    --threads; None: the scenario's world.threads, by default one per hardware thread). ready_timeout_s
+    bounds the wait for its first status; a server that exits first (a malformed scenario) raises ServerNotFound with its log's end. extra_args go
     to hadald's command line as they are.
     """
 

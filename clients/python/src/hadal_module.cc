@@ -247,9 +247,7 @@ class PyClient {
   // sample of the run before would satisfy any min_stamp.
   double reset(std::optional<std::uint64_t> seed, const std::map<std::string, std::vector<double>>& poses,
                std::uint32_t steps, double timeout_s) {
-    const hadal::ResetOptions options = reset_options(seed, poses);
-    forget_samples();
-    return client()->reset(options, steps, timeout_s);
+    return wait_reply(send_reset(seed, poses, steps, timeout_s), timeout_s);
   }
   std::uint64_t send_step(std::uint32_t steps, double timeout_s) { return client()->send_step(steps, timeout_s); }
   std::uint64_t send_reset(std::optional<std::uint64_t> seed, const std::map<std::string, std::vector<double>>& poses,

@@ -189,7 +189,8 @@ def test_replies_carry_every_vehicles_odometry():
 
 
 def test_requests_sent_without_waiting_are_answered_in_any_order():
-    with hadal.Server("default", mode="lockstep") as first_server, hadal.Server("default", mode="lockstep") as second_server:
+    with hadal.Server("default", mode="lockstep") as first_server, \
+            hadal.Server("default", mode="lockstep") as second_server:
         with first_server.client("pytest") as first, second_server.client("pytest") as second:
             # Two servers stepping at once, waited for in the other order; then one server, two requests.
             a, b = first.send_step(10), second.send_step(20)

@@ -645,7 +645,8 @@ geometry::SceneRays& Simulation::scene_rays() {
 geometry::RaycastService& Simulation::raycast_service() {
   if (!service_) {
     geometry::RaycastServiceOptions options;
-    options.num_threads = model_.world.raycast_threads > 0 ? model_.world.raycast_threads : model_.world.effective_threads();
+    const WorldSpec& world = model_.world;
+    options.num_threads = world.raycast_threads > 0 ? world.raycast_threads : world.effective_threads();
     service_ = std::make_unique<geometry::RaycastService>(scene_rays().scene().view(), options);
   }
   return *service_;

@@ -99,6 +99,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
   nav_msgs::msg::Odometry odometry_msg;
+  hadal_msgs::msg::StepReply reply_msg;
   hadal_msgs::msg::ThrusterState thruster_msg;
   hadal_msgs::msg::SimStatus status_msg;
 
@@ -429,7 +430,7 @@ void ServerEndpoints::publish_status(const StatusReport& report) {
 
 void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,
                                          const SimState& state, const std::string& unknown_vehicle) {
-  hadal_msgs::msg::StepReply msg;
+  hadal_msgs::msg::StepReply& msg = impl_->reply_msg;
   msg.request_id(request_id);
   msg.accepted(accepted);
   msg.error(error);

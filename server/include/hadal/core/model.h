@@ -366,7 +366,7 @@ struct WorldSpec {
   // hardware thread. 1 suits several servers sharing a machine (hadal.env.VectorEnv).
   int threads = 0;
 
-  // The hardware threads when threads is 0.
+  // threads, or the hardware's thread count when it is 0 (at least 1).
   int effective_threads() const;
 
   double step_size() const { return 1.0 / physics_rate_hz; }
