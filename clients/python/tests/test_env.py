@@ -86,6 +86,10 @@ def test_vector_env_steps_servers_concurrently():
     with hadal.env.VectorEnv(2, task="waypoint", seed=3, max_episode_steps=3) as envs:
         assert envs.observation_space.shape == (2, 12) and envs.action_space.shape == (2, 3)
         assert len(set(envs.domain_ids)) == 2
+        threads = max(1, len(os.sched_getaffinity(0)) // 2)  # the CPUs shared between the two servers
+        for env in envs.envs:
+            with open(env.server.log_path) as log:
+                assert f", {threads} thread(s)\n" in log.readline()
         observations, infos = envs.reset(seed=3)
         assert observations.shape == (2, 12) and len(infos) == 2
         assert not np.array_equal(observations[0], observations[1])  # seeds 3 and 4
