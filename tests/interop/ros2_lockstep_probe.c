@@ -182,20 +182,17 @@ int main(int argc, char **argv) {
   hadal_msgs_msg_dds__StepReply_ reply;
   char error[512];
 
-  /* Where the vehicle starts: the first odometry period (10 steps: 50 Hz at 500 Hz), then its odometry. */
+  /* Where the vehicle starts: the first odometry period (10 steps: 50 Hz at 500 Hz), from the reply's ground
+   * truth. Not from odometry: its one sample may be written before hadald's writer has matched this
+   * volatile reader, which then never receives it (seen under CI load). */
   request.request_id = ++id;
   request.steps = 10;
   dds_write(wr_request, &request);
-  if (!await_reply(rd_reply, id, &reply, error, sizeof(error))) {
-    printf("FAIL: no reply to the first step request\n");
+  if (!await_reply(rd_reply, id, &reply, error, sizeof(error)) || isnan(g_reply_x)) {
+    printf("FAIL: no reply to the first step request, or none with %s's ground truth\n", vehicle);
     return 1;
   }
-  double x0 = 0.0, stamp = -1.0;
-  if (!odometry_at(rd_odom, reply.sim_time_s, &x0, &stamp)) {
-    printf("FAIL: no odometry at t = %.3f s\n", reply.sim_time_s);
-    return 1;
-  }
-  const double t0 = reply.sim_time_s;
+  const double x0 = g_reply_x, t0 = reply.sim_time_s;
 
   /* 1 and 2: the setpoints on their own topic, the steps by request, as a ROS 2 node would. */
   bool answered = true, accepted = true, on_time = true;
@@ -213,8 +210,7 @@ int main(int argc, char **argv) {
   }
   check(answered && accepted, "every step request answered and accepted", (double)requests, t);
   check(on_time, "sim time advanced by steps x dt per request", t - t0, requests * steps * dt);
-  double x1 = 0.0;
-  stamp = -1.0;
+  double x1 = 0.0, stamp = -1.0;
   const bool moved_known = odometry_at(rd_odom, t, &x1, &stamp);
   check(moved_known && x1 - x0 > min_advance, "the setpoints moved the vehicle forward [m]", x1 - x0, min_advance);
   check(moved_known && fabs(stamp - t) < 1e-9 && x1 == g_reply_x,
