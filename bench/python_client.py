@@ -6,8 +6,9 @@ per measurement.
                      without its camera (hadald --no-cameras), k = 1 and 10 physics steps per call,
                      with the AUV's setpoints attached to every request (as a controller sends them)
   env_steps          hadal.env steps per second (waypoint task, random actions, 0.1 s = 50 physics steps
-                     each) for one HadalEnv and VectorEnv(n), n = 1, 2, 4 (n servers stepped concurrently),
-                     measured in interleaved rounds; then VectorEnv(2) over one env (vector_env_speedup)
+                     each) for one HadalEnv (as it comes, and pinned like a VectorEnv's servers) and
+                     VectorEnv(n), n = 1, 2, 4 (n servers stepped concurrently; and 2 unpinned), measured
+                     in interleaved slices of 0.02 s; then VectorEnv(2) over one env (vector_env_speedup)
   camera_frames      640 x 480 rgb8 frames per second delivered into numpy (frame.array copied) from
                      bench/scenarios/camera_stream.yaml (30 Hz camera, plane seabed, one lamp): lockstep
                      requests of one frame period each, waiting for that frame
@@ -48,53 +49,72 @@ def lockstep_calls(seconds):
                    "physics_steps_per_s": round(calls * steps / wall)}
 
 
-def env_steps(seconds, rounds=8):
-    """All envs live at once and are measured in turn, `rounds` slices of seconds / rounds each, so that the
-    machine's drift (+-20 % over minutes on this VM) hits every configuration alike; each row gives the
-    median of its slices, and the ratios are medians of the per-round ratios."""
-    slice_s = seconds / rounds
-    with contextlib.ExitStack() as stack:
-        single = stack.enter_context(hadal.env.HadalEnv(task="waypoint", seed=1))  # the baseline, in this process
-        vectors = {n: stack.enter_context(hadal.env.VectorEnv(n, task="waypoint", seed=10 * n)) for n in (1, 2, 4)}
-        single.reset()
-        for envs in vectors.values():
-            envs.reset()
+def env_steps(seconds, slice_s=0.02, blocks=10):
+    """All configurations live at once and are measured in turn, in slices of slice_s each (seconds of them in
+    all per configuration), so that the machine's drift (+-20 % within a minute on this VM) hits each alike.
+    A configuration's rate is its env steps over its time summed over the slices; each ratio is the ratio of
+    two such rates, and min/max are those of the same ratio over `blocks` equal runs of consecutive rounds.
 
-        def run_single():
+    Configurations: "single", a HadalEnv as it comes (the kernel places its server); "single_pinned", a
+    HadalEnv whose server is pinned and batch-scheduled like a VectorEnv's (cpus=[first CPU], sched="batch");
+    VectorEnv(n) for n = 1, 2, 4 as they come (pinned: hadal.env.VectorEnv); "2_unpinned", VectorEnv(2,
+    pin_cpus=False)."""
+    rounds = max(blocks, round(seconds / slice_s))
+    first_cpu = min(os.sched_getaffinity(0))
+    with contextlib.ExitStack() as stack:
+        def env(**kwargs):
+            made = stack.enter_context(hadal.env.HadalEnv(task="waypoint", **kwargs))
+            made.reset()
+            return made
+
+        def vector(n, **kwargs):
+            made = stack.enter_context(hadal.env.VectorEnv(n, task="waypoint", **kwargs))
+            made.reset()
+            return made
+
+        configs = {"single": env(seed=1), "single_pinned": env(seed=2, cpus=[first_cpu], sched="batch"),
+                   1: vector(1, seed=10), 2: vector(2, seed=20), 4: vector(4, seed=40),
+                   "2_unpinned": vector(2, seed=30, pin_cpus=False)}
+
+        def run(made):
+            """(env steps, wall seconds) of one slice."""
+            vector_env = isinstance(made, hadal.env.VectorEnv)
             steps, start = 0, time.perf_counter()
             while time.perf_counter() - start < slice_s:
-                _, _, terminated, truncated, _ = single.step(single.action_space.sample())
-                steps += 1
-                if terminated or truncated:
-                    single.reset()
-            return steps / (time.perf_counter() - start)
+                _, _, terminated, truncated, _ = made.step(made.action_space.sample())
+                if vector_env:
+                    steps += made.num_envs  # ended episodes reset in the same call
+                else:
+                    steps += 1
+                    if terminated or truncated:
+                        made.reset()
+            return steps, time.perf_counter() - start
 
-        def run_vector(n):
-            envs, steps, start = vectors[n], 0, time.perf_counter()
-            while time.perf_counter() - start < slice_s:
-                envs.step(envs.action_space.sample())  # ended episodes reset in the same call
-                steps += n
-            return steps / (time.perf_counter() - start)
-
-        runs = {"single": run_single, 1: lambda: run_vector(1), 2: lambda: run_vector(2), 4: lambda: run_vector(4)}
-        for run in runs.values():  # warm-up
-            run()
-        rates = {key: [] for key in runs}
+        for made in configs.values():  # warm-up
+            run(made)
+        slices = {key: [] for key in configs}
         for _ in range(rounds):
-            for key, run in runs.items():
-                rates[key].append(run())
-        threads = {n: vectors[n].envs[0].server.threads for n in vectors}
-    for key, values in rates.items():
-        yield {"benchmark": "env_steps", "task": "waypoint", "envs": 1 if key == "single" else key,
-               "vector": key != "single", "server_threads": threads.get(key), "rounds": rounds,
-               "slice_s": slice_s, "env_steps_per_s": round(statistics.median(values), 1),
-               "min": round(min(values), 1), "max": round(max(values), 1)}
-    for baseline in ("single", 1):
-        ratios = [two / one for two, one in zip(rates[2], rates[baseline])]
-        over = "HadalEnv" if baseline == "single" else "VectorEnv(1)"
-        yield {"benchmark": "vector_env_speedup", "two_envs_over": over,
-               "median": round(statistics.median(ratios), 2), "min": round(min(ratios), 2),
-               "max": round(max(ratios), 2), "target": 1.6}
+            for key, made in configs.items():
+                slices[key].append(run(made))
+        cpus = {key: [env.server.cpus for env in (made.envs if isinstance(made, hadal.env.VectorEnv) else [made])]
+                for key, made in configs.items()}
+
+    def rate(key, part=slice(None)):
+        return sum(n for n, _ in slices[key][part]) / sum(t for _, t in slices[key][part])
+
+    for key in configs:
+        envs = 1 if str(key).startswith("single") else int(str(key).split("_")[0])
+        per_block = [rate(key, slice(b * rounds // blocks, (b + 1) * rounds // blocks)) for b in range(blocks)]
+        yield {"benchmark": "env_steps", "task": "waypoint", "config": str(key), "envs": envs,
+               "server_cpus": cpus[key], "rounds": rounds, "slice_s": slice_s,
+               "env_steps_per_s": round(rate(key), 1), "min": round(min(per_block), 1),
+               "max": round(max(per_block), 1)}
+    for two, over in ((2, "single"), (2, "single_pinned"), (2, 1), ("2_unpinned", "single")):
+        per_block = [rate(two, part) / rate(over, part)
+                     for part in (slice(b * rounds // blocks, (b + 1) * rounds // blocks) for b in range(blocks))]
+        yield {"benchmark": "vector_env_speedup", "config": str(two), "over": str(over),
+               "ratio": round(rate(two) / rate(over), 3), "min": round(min(per_block), 2),
+               "max": round(max(per_block), 2), "target": 1.6}
 
 
 def camera_frames(seconds):

@@ -274,10 +274,11 @@ class HadalEnv(_Closing, _EnvBase):
     """One environment: a task on a lockstep hadald (its own, or the one on domain_id).
 
     HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, domain_id=None,
-             max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None)
+             max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None)
 
-    scenario overrides the task's (a name in configs/scenarios or a path); threads caps the CPU threads its
-    server computes on (hadal.Server). With domain_id the env uses the lockstep server already there (it
+    scenario overrides the task's (a name in configs/scenarios or a path); threads, cpus and sched go to its
+    server (hadal.Server: the CPU threads it computes on, the CPUs it runs on, its scheduling policy). With
+    domain_id the env uses the lockstep server already there (it
     must run the task's scenario) and does not stop it. Each step applies
     the action (the vehicle's control vector, clipped to [-1, 1]) for the task's control period, then
     observes. info: sim_time [s], episode_step, and the task's figures.
@@ -288,7 +289,7 @@ class HadalEnv(_Closing, _EnvBase):
     spec = None
 
     def __init__(self, task="waypoint", seed=None, scenario=None, domain_id=None, max_episode_steps=None,
-                 timeout_s=30.0, hadald=None, threads=None):
+                 timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None):
         self.task = TASKS[task]() if isinstance(task, str) else task
         self.timeout_s = timeout_s
         self.max_episode_steps = max_episode_steps or self.task.max_episode_steps
@@ -301,7 +302,7 @@ class HadalEnv(_Closing, _EnvBase):
         self.server = None
         if domain_id is None:
             self.server = Server(scenario or self.task.scenario, mode="lockstep", hadald=hadald,
-                                 cameras=self.task.cameras, threads=threads)
+                                 cameras=self.task.cameras, threads=threads, cpus=cpus, sched=sched)
             domain_id = self.server.domain_id
         try:
             self.client = self._connect(domain_id)
@@ -432,21 +433,36 @@ class VectorEnv(_Closing):
     autoreset (the default) an env whose episode ended is reset in the same call: its row of observations is
     the new episode's first and its info keeps the last one as info["final_observation"] (and
     info["final_info"]). Without it, an ended env must be reset (reset_env(i)) before its next step.
-    Keyword arguments other than these go to each HadalEnv (envs[i] is env i). The servers share the CPUs
-    this process may run on: each computes on max(1, CPUs // n) threads unless threads= says otherwise. An
-    error in one env is raised after every request sent has been answered, so the others stay in step.
+    Keyword arguments other than these go to each HadalEnv (envs[i] is env i). An error in one env is raised
+    after every request sent has been answered, so the others stay in step.
+
+    The servers share the CPUs this process may run on. With pin_cpus (the default) server i runs on CPU
+    share i alone, max(1, CPUs // n) CPUs taken in turn (hadald --cpus), and computes on as many threads;
+    and its wake-ups do not preempt this thread (hadald --sched batch). Both keep the servers stepping in
+    parallel on a small machine: unpinned, the kernel moves their threads between cores (cold caches) and
+    the first server's wake-up can take the core from this thread before it has sent the second request
+    (BENCHMARKS.md). pin_cpus=False leaves placement to the kernel, each server on max(1, CPUs // n)
+    threads; so should several VectorEnvs stepping at once on one machine, as they would share CPU 0 first.
     """
 
-    def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, **kwargs):
+    def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, pin_cpus=True, **kwargs):
         if num_envs < 1:
             raise ValueError(f"num_envs must be >= 1 (got {num_envs})")
-        kwargs.setdefault("threads", max(1, len(os.sched_getaffinity(0)) // num_envs))
+        cpus = sorted(os.sched_getaffinity(0))
+        share = max(1, len(cpus) // num_envs)
+        if pin_cpus and "cpus" not in kwargs:
+            shares = [[cpus[(i * share + k) % len(cpus)] for k in range(share)] for i in range(num_envs)]
+            kwargs.setdefault("sched", "batch")
+        else:
+            shares = [kwargs.pop("cpus", None)] * num_envs
+            kwargs.setdefault("threads", share)
         self.num_envs = num_envs
         self.autoreset = autoreset
         self.envs = []
         try:
             for i in range(num_envs):
-                self.envs.append(HadalEnv(task=task, seed=None if seed is None else seed + i, **kwargs))
+                self.envs.append(HadalEnv(task=task, seed=None if seed is None else seed + i, cpus=shares[i],
+                                          **kwargs))
         except BaseException:
             self.close()
             raise

@@ -70,18 +70,21 @@ class Server:
 
     domain_id None picks a free id in 100..199; seed overrides the scenario's world.seed; cameras=False leaves
     the scenario's cameras out (hadald --no-cameras); threads caps the CPU threads it computes on (hadald
-    --threads; None: the scenario's world.threads, by default one per hardware thread). ready_timeout_s
+    --threads; None: the scenario's world.threads, by default one per CPU it may run on); cpus (a list of CPU
+    numbers) keeps all its threads on those CPUs (hadald --cpus); sched="batch" keeps its wake-ups from
+    preempting other threads, such as the client stepping it (hadald --sched batch). ready_timeout_s
     bounds the wait for its first status; a server that exits first (a malformed scenario) raises ServerNotFound with its log's end. extra_args go
     to hadald's command line as they are.
     """
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
-                 extra_args=(), cameras=True, threads=None):
+                 extra_args=(), cameras=True, threads=None, cpus=None, sched=None):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
         self.mode = mode
         self.threads = threads  # --threads, or None (the scenario's world.threads)
+        self.cpus = None if cpus is None else [int(cpu) for cpu in cpus]  # --cpus, or None (any CPU)
         self._lock = None
         self.domain_id = self._reserve(domain_id)
         self._log_dir = tempfile.mkdtemp(prefix="hadald-")
@@ -94,6 +97,10 @@ class Server:
             args.append("--no-cameras")
         if threads is not None:
             args += ["--threads", str(int(threads))]
+        if cpus is not None:
+            args += ["--cpus", ",".join(str(int(cpu)) for cpu in cpus)]
+        if sched is not None:
+            args += ["--sched", str(sched)]
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")
         with open(self.log_path, "w") as log:
@@ -119,7 +126,7 @@ class Server:
             while time.monotonic() < deadline:
                 if self.process.poll() is not None:
                     raise ServerNotFound(f"hadald exited with status {self.process.returncode} before it was "
-                                         "ready:\n" + self.log_tail())
+                                         "ready:\n" + self.log_tail(60))
                 if client.wait_for_server(0.2):
                     return
         raise ServerNotFound(f"hadald published no status within {timeout_s} s:\n" + self.log_tail())

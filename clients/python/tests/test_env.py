@@ -86,10 +86,19 @@ def test_vector_env_steps_servers_concurrently():
     with hadal.env.VectorEnv(2, task="waypoint", seed=3, max_episode_steps=3) as envs:
         assert envs.observation_space.shape == (2, 12) and envs.action_space.shape == (2, 3)
         assert len(set(envs.domain_ids)) == 2
-        threads = max(1, len(os.sched_getaffinity(0)) // 2)  # the CPUs shared between the two servers
-        for env in envs.envs:
+        # Pinned (the default): server i runs on CPU share i, max(1, CPUs // 2) CPUs taken in turn, on as
+        # many threads, every thread of it SCHED_BATCH.
+        cpus = sorted(os.sched_getaffinity(0))
+        share = max(1, len(cpus) // 2)
+        for i, env in enumerate(envs.envs):
+            mine = {cpus[(i * share + k) % len(cpus)] for k in range(share)}
             with open(env.server.log_path) as log:
-                assert f", {threads} thread(s)\n" in log.readline()
+                assert f", {share} thread(s) on CPU(s) " in log.readline()
+            tasks = [int(tid) for tid in os.listdir(f"/proc/{env.server.process.pid}/task")]
+            assert len(tasks) > 1  # DDS's threads too
+            for tid in tasks:
+                assert os.sched_getaffinity(tid) == mine
+                assert os.sched_getscheduler(tid) == os.SCHED_BATCH
         observations, infos = envs.reset(seed=3)
         assert observations.shape == (2, 12) and len(infos) == 2
         assert not np.array_equal(observations[0], observations[1])  # seeds 3 and 4
@@ -110,7 +119,13 @@ def test_vector_env_steps_servers_concurrently():
 def test_vector_env_raises_an_envs_error_and_leaves_nothing_running():
     with pytest.raises(KeyError):
         hadal.env.VectorEnv(2, task="no_such_task")
-    with hadal.env.VectorEnv(2, task="waypoint", seed=1) as envs:
+    with hadal.env.VectorEnv(2, task="waypoint", seed=1, pin_cpus=False) as envs:
+        threads = max(1, len(os.sched_getaffinity(0)) // 2)  # unpinned: the kernel places the servers
+        for env in envs.envs:
+            with open(env.server.log_path) as log:
+                assert f", {threads} thread(s) on CPU(s) " in log.readline()
+            assert os.sched_getaffinity(env.server.process.pid) == os.sched_getaffinity(0)
+            assert os.sched_getscheduler(env.server.process.pid) == os.SCHED_OTHER
         envs.reset()
         with pytest.raises(ValueError, match="non-finite"):
             envs.step([[0.0, 0.0, 0.0], [math.nan, 0.0, 0.0]])

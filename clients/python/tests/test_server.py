@@ -50,3 +50,13 @@ def test_a_malformed_scenario_is_a_clear_error(tmp_path):
         hadal.Server("no_such_scenario")
     with pytest.raises(ValueError):
         hadal.Server("rov", mode="turbo")
+
+
+def test_a_cpu_the_process_may_not_run_on_is_a_clear_error():
+    """hadald --cpus refuses a CPU outside the launching process's set before anything starts."""
+    missing = max(os.sched_getaffinity(0)) + 1
+    with pytest.raises(hadal.ServerNotFound) as error:
+        hadal.Server("rov", cpus=[missing], sched="batch")
+    assert f"--cpus {missing}: CPU {missing} is not one this process may run on" in str(error.value)
+    with pytest.raises(hadal.ServerNotFound, match="--sched must be batch or other"):
+        hadal.Server("rov", sched="fifo")

@@ -1,5 +1,7 @@
 #include "cli.h"
 
+#include "scheduling.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -45,8 +47,8 @@ const char* to_string(RunMode mode) {
 std::string usage() {
   return "usage: hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep]\n"
          "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
-         "                            [--discovery-wait SECONDS] [--threads N] [--no-status-line]\n"
-         "                            [--no-cameras]\n"
+         "                            [--discovery-wait SECONDS] [--threads N] [--cpus LIST]\n"
+         "                            [--sched batch|other] [--no-status-line] [--no-cameras]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -56,7 +58,12 @@ std::string usage() {
          "  --discovery-wait S  wall seconds to let DDS discovery match running subscribers before\n"
          "                   the first step (default 2 in fast mode, 0 otherwise)\n"
          "  --threads N      CPU threads to compute on, 1..256 (default: the scenario's world.threads,\n"
-         "                   else one per hardware thread); 1 for several servers sharing a machine\n"
+         "                   else one per CPU it may run on); 1 for several servers sharing a machine\n"
+         "  --cpus LIST      run all of hadald's threads on these CPUs only, as taskset writes them\n"
+         "                   (0 | 0,2 | 1-3); default: any CPU\n"
+         "  --sched P        other (default): the kernel's normal policy; batch: SCHED_BATCH, this\n"
+         "                   server's wake-ups do not preempt other threads (a lockstep server sharing\n"
+         "                   cores with the client that steps it)\n"
          "  --no-status-line no per-second status line on stderr\n"
          "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
@@ -131,6 +138,20 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
           return parse;
         }
         o.threads = static_cast<int>(threads);
+      } else if (arg == "--cpus") {
+        std::string why;
+        o.cpus = parse_cpu_list(value, &why);
+        if (o.cpus.empty()) {
+          parse.error = "--cpus: " + why;
+          return parse;
+        }
+      } else if (arg == "--sched") {
+        if (value == "batch") o.sched_batch = true;
+        else if (value == "other") o.sched_batch = false;
+        else {
+          parse.error = "--sched must be batch or other (got '" + value + "')";
+          return parse;
+        }
       } else if (arg == "--domain-id") {
         if (!parse_domain(value, o.domain_id)) {
           parse.error = "--domain-id must be an integer in 0..232 (got '" + value + "')";

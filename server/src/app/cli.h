@@ -1,6 +1,7 @@
 // hadald command line:
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
-//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--no-status-line] [--no-cameras]
+//          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--cpus LIST]
+//          [--sched batch|other] [--no-status-line] [--no-cameras]
 // --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
 // leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
 #pragma once
@@ -26,6 +27,8 @@ struct CliOptions {
   bool status_line = true;
   bool cameras = true;  // false: --no-cameras
   std::optional<int> threads;  // --threads N: overrides world.threads
+  std::vector<int> cpus;       // --cpus LIST: the CPUs all of hadald's threads run on (empty: any); scheduling.h
+  bool sched_batch = false;    // --sched batch: SCHED_BATCH, wake-ups do not preempt; scheduling.h
   // Wall seconds to wait after start-up before the first step, so subscribers that are already
   // running are matched before the first samples (a fast run can be over before DDS discovery is).
   // Default: 2 s in fast mode (Fast DDS <-> Cyclone DDS first contact sometimes takes

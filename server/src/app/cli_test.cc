@@ -33,6 +33,20 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
 }
 
+TEST(CliTest, CpusAndSchedulingPolicy) {
+  CliParse p = parse_cli({"s.yaml"}, nullptr);
+  EXPECT_TRUE(p.options.cpus.empty());
+  EXPECT_FALSE(p.options.sched_batch);
+  p = parse_cli({"s.yaml", "--cpus", "3,0-1", "--sched", "batch"}, nullptr);
+  ASSERT_EQ(p.error, "");
+  EXPECT_EQ(p.options.cpus, (std::vector<int>{0, 1, 3}));
+  EXPECT_TRUE(p.options.sched_batch);
+  EXPECT_FALSE(parse_cli({"s.yaml", "--sched", "batch", "--sched", "other"}, nullptr).options.sched_batch);
+  EXPECT_EQ(parse_cli({"s.yaml", "--sched", "fifo"}, nullptr).error, "--sched must be batch or other (got 'fifo')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--cpus", "1,x"}, nullptr).error,
+            "--cpus: 'x' in '1,x' is not a CPU number (0..1023) or an ascending range of them (as '0-3')");
+}
+
 TEST(CliTest, DiscoveryWaitDefaultsToTwoSecondsInFastMode) {
   EXPECT_DOUBLE_EQ(parse_cli({"s.yaml", "--mode", "fast"}, nullptr).options.effective_discovery_wait(), 2.0);
   EXPECT_DOUBLE_EQ(parse_cli({"s.yaml"}, nullptr).options.effective_discovery_wait(), 0.0);

@@ -3,6 +3,7 @@
 #include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/sensors/camera_sensor.h"
+#include "scheduling.h"
 #include "server_loop.h"
 
 #include <algorithm>
@@ -62,6 +63,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hadald: error: %s\n%s", cli.error.c_str(), app::usage().c_str());
     return 2;
   }
+  // Before any thread exists, so that all of hadald's threads inherit the CPUs and the policy.
+  if (const std::string why = app::apply_scheduling(cli.options.cpus, cli.options.sched_batch); !why.empty()) {
+    std::fprintf(stderr, "hadald: error: %s\n", why.c_str());
+    return 2;
+  }
 
   config::LoadResult loaded = config::load_scenario_file(cli.options.scenario_file);
   for (const auto& warning : loaded.warnings) std::fprintf(stderr, "%s\n", warning.format().c_str());
@@ -85,9 +91,11 @@ int main(int argc, char** argv) {
   }
 
   install_signal_handlers();
-  std::fprintf(stderr, "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d, %d thread(s)\n",
+  std::fprintf(stderr,
+               "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d, %d thread(s) on CPU(s) %s%s\n",
                cli.options.scenario_file.c_str(), model.vehicles.size(), model.world.physics_rate_hz,
-               app::to_string(cli.options.mode), cli.options.domain_id, model.world.effective_threads());
+               app::to_string(cli.options.mode), cli.options.domain_id, model.world.effective_threads(),
+               app::format_cpu_list(app::allowed_cpus()).c_str(), cli.options.sched_batch ? ", SCHED_BATCH" : "");
   for (const auto& vehicle : model.vehicles) std::fprintf(stderr, "hadald: %s\n", describe(vehicle).c_str());
   try {
     const app::RunSummary summary = app::run_server(model, cli.options, g_stop);

@@ -1,12 +1,18 @@
 #include "hadal/core/model.h"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <thread>
 
 namespace hadal {
 
 int WorldSpec::effective_threads() const {
-  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (threads > 0) return threads;
+  cpu_set_t allowed;  // the CPUs this process may run on (hadald --cpus, taskset, a container's cpuset)
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof(allowed), &allowed) == 0) return std::max(1, CPU_COUNT(&allowed));
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 int VehicleSpec::link_index(const std::string& link_name) const {

@@ -362,11 +362,12 @@ struct WorldSpec {
   double status_rate_hz = 10.0;    // rt/hadal/status
   int raycast_threads = 0;         // ray-cast worker threads; 0: `threads`
   // CPU threads the server computes on: the stepping thread and the fluid-force helpers (threads - 1),
-  // Embree's BVH builders, and the ray-cast workers unless raycast_threads says otherwise; 0: one per
-  // hardware thread. 1 suits several servers sharing a machine (hadal.env.VectorEnv).
+  // Embree's BVH builders, and the ray-cast workers unless raycast_threads says otherwise; 0: one per CPU
+  // the process may run on. 1 suits several servers sharing a machine (hadal.env.VectorEnv).
   int threads = 0;
 
-  // threads, or the hardware's thread count when it is 0 (at least 1).
+  // threads, or when it is 0 the number of CPUs the process may run on (sched_getaffinity: hadald --cpus,
+  // taskset, a container's cpuset), at least 1.
   int effective_threads() const;
 
   double step_size() const { return 1.0 / physics_rate_hz; }
