@@ -36,7 +36,7 @@ import os
 
 import numpy as np
 
-from ._hadal import Client
+from ._hadal import Client, current_cpu
 from .errors import Timeout, UnknownVehicle
 from .server import Server
 
@@ -441,7 +441,8 @@ class VectorEnv(_Closing):
     and its wake-ups do not preempt this thread (hadald --sched batch). Both keep the servers stepping in
     parallel on a small machine: unpinned, the kernel moves their threads between cores (cold caches) and
     the first server's wake-up can take the core from this thread before it has sent the second request
-    (BENCHMARKS.md). pin_cpus=False leaves placement to the kernel, each server on max(1, CPUs // n)
+    (BENCHMARKS.md); the servers on the CPU this thread runs on get their requests last, for the same
+    reason. pin_cpus=False leaves placement to the kernel, each server on max(1, CPUs // n)
     threads; so should several VectorEnvs stepping at once on one machine, as they would share CPU 0 first.
     """
 
@@ -450,7 +451,8 @@ class VectorEnv(_Closing):
             raise ValueError(f"num_envs must be >= 1 (got {num_envs})")
         cpus = sorted(os.sched_getaffinity(0))
         share = max(1, len(cpus) // num_envs)
-        if pin_cpus and "cpus" not in kwargs:
+        self.pin_cpus = pin_cpus and "cpus" not in kwargs
+        if self.pin_cpus:
             shares = [[cpus[(i * share + k) % len(cpus)] for k in range(share)] for i in range(num_envs)]
             kwargs.setdefault("sched", "batch")
         else:
@@ -474,23 +476,31 @@ class VectorEnv(_Closing):
         self.action_space = _box(-1.0, 1.0, (num_envs, *single.action_space.shape))
         self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
 
-    @staticmethod
-    def _all(begins):
-        """Calls each begin() (sending a request) and then each returned finish(): their results. The first
-        error is raised once every request sent has been answered."""
-        finishes, error = [], None
-        for begin in begins:
+    def _all(self, calls):
+        """calls: (env, begin) pairs. Calls each begin() (sending the env's request), then each finish() it
+        returned; the results in the order of calls. The first error is raised once every request sent has
+        been answered.
+
+        Pinned, the envs whose servers run on this thread's CPU get their requests last: such a server's
+        threads wake on this CPU and can run their whole step there before this thread has sent the other
+        servers their requests (BENCHMARKS.md, "Python")."""
+        order = list(range(len(calls)))
+        if self.pin_cpus and len(calls) > 1:
+            cpu = current_cpu()
+            order.sort(key=lambda k: cpu in (getattr(calls[k][0].server, "cpus", None) or ()))  # stable: the others keep their order
+        finishes, error = {}, None
+        for k in order:
             try:
-                finishes.append(begin())
+                finishes[k] = calls[k][1]()
             except BaseException as raised:
-                finishes.append(None)
                 error = error or raised
-        results = []
-        for finish in finishes:
+        results = [None] * len(calls)
+        for k in order:
+            if k not in finishes:
+                continue
             try:
-                results.append(finish() if finish is not None else None)
+                results[k] = finishes[k]()
             except BaseException as raised:
-                results.append(None)
                 error = error or raised
         if error is not None:
             raise error
@@ -503,7 +513,8 @@ class VectorEnv(_Closing):
             seeds = [None if s is None else int(s) for s in seed]
             if len(seeds) != self.num_envs:
                 raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
-        results = self._all([lambda env=env, s=s: env._begin_reset(s, options) for env, s in zip(self.envs, seeds)])
+        results = self._all([(env, lambda env=env, s=s: env._begin_reset(s, options))
+                              for env, s in zip(self.envs, seeds)])
         return np.stack([r[0] for r in results]), [r[1] for r in results]
 
     def reset_env(self, index, seed=None, options=None):
@@ -512,12 +523,12 @@ class VectorEnv(_Closing):
 
     def step(self, actions):
         actions = np.asarray(actions, dtype=np.float64).reshape(self.action_space.shape)
-        results = self._all([lambda env=env, a=a: env._begin_step(a) for env, a in zip(self.envs, actions)])
+        results = self._all([(env, lambda env=env, a=a: env._begin_step(a)) for env, a in zip(self.envs, actions)])
         observations = [r[0] for r in results]
         infos = [r[4] for r in results]
         ended = [i for i, r in enumerate(results) if r[2] or r[3]] if self.autoreset else []
         if ended:  # the ended envs start their next episodes, concurrently too
-            starts = self._all([lambda env=self.envs[i]: env._begin_reset(None, None) for i in ended])
+            starts = self._all([(self.envs[i], lambda env=self.envs[i]: env._begin_reset(None, None)) for i in ended])
             for i, (observation, reset_info) in zip(ended, starts):
                 infos[i] = dict(infos[i], final_observation=observations[i], final_info=dict(infos[i]),
                                 reset_info=reset_info)

@@ -8,6 +8,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <chrono>
@@ -375,6 +376,9 @@ class PyClient {
 
 PYBIND11_MODULE(_hadal, m) {
   m.doc() = "Python client of the Hadal deep-sea simulator (hadald) over DDS";
+  m.def("current_cpu", [] { return sched_getcpu(); },
+        "The CPU the calling thread runs on now (sched_getcpu(3)), -1 if unknown; hadal.env.VectorEnv sends the "
+        "server pinned there its request last");
   // The client's errors as hadal.errors' classes (Python classes, so that Timeout is also a TimeoutError).
   py::register_exception_translator([](std::exception_ptr error) {
     const auto raise = [](const char* name, const hadal::ClientError& e, const char* attribute = nullptr,

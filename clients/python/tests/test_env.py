@@ -99,6 +99,17 @@ def test_vector_env_steps_servers_concurrently():
             for tid in tasks:
                 assert os.sched_getaffinity(tid) == mine
                 assert os.sched_getscheduler(tid) == os.SCHED_BATCH
+        if len(cpus) >= 2:  # the server pinned to this thread's CPU is sent its request last
+            before = os.sched_getaffinity(0)
+            try:
+                for mine, other in ((0, 1), (1, 0)):
+                    os.sched_setaffinity(0, envs.envs[mine].server.cpus)
+                    sent = []
+                    results = envs._all([(env, lambda i=i: sent.append(i) or (lambda i=i: i))
+                                         for i, env in enumerate(envs.envs)])
+                    assert sent == [other, mine] and results == [0, 1]
+            finally:
+                os.sched_setaffinity(0, before)
         observations, infos = envs.reset(seed=3)
         assert observations.shape == (2, 12) and len(infos) == 2
         assert not np.array_equal(observations[0], observations[1])  # seeds 3 and 4
