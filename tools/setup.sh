@@ -7,7 +7,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libeigen3-dev libyaml-cpp-dev libbullet-dev
+  libeigen3-dev libyaml-cpp-dev libsqlite3-dev libbullet-dev
   libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev
   clang libclang-rt-14-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
