@@ -1,0 +1,58 @@
+// Subscribes to every topic a hadald participant writes and hands over each sample as the bytes on the
+// wire (CDR, encapsulation header included), knowing no message type: it discovers the server's writers
+// (topic, DDS type name, offered QoS) from the participant named "hadald" on the domain, registers an
+// opaque type under each type name and reads raw serialized samples. Used by the recorders (hadal-record,
+// hadald --record) and the regression digests (hadal-record-topics).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace hadal::record {
+
+struct TappedWriter {
+  std::string type;  // DDS type name: "nav_msgs::msg::dds_::Odometry_"
+  bool reliable = true;
+  bool transient_local = false;
+};
+
+struct TappedSample {
+  const std::string& topic;                 // DDS topic name: "rt/auv/odometry"
+  const std::vector<unsigned char>& bytes;  // the serialized sample
+  std::int64_t sequence;                    // the writer's sequence number (1, 2, ... per topic)
+};
+
+class TopicTap {
+ public:
+  // Joins `domain_id` as a participant named `participant_name`. Topics in `excluded` are never read.
+  TopicTap(int domain_id, const std::string& participant_name, std::set<std::string> excluded = {});
+  ~TopicTap();
+  TopicTap(const TopicTap&) = delete;
+  TopicTap& operator=(const TopicTap&) = delete;
+
+  // Waits (up to timeout_s) until a hadald's writers are known and their set has not changed for quiet_s
+  // (hadald creates them all before its first step). False when no hadald writer was seen.
+  bool discover(double timeout_s, double quiet_s = 1.0);
+  // topic -> writer, as discovered.
+  std::map<std::string, TappedWriter> writers() const;
+
+  // A reliable, keep-all reader on each discovered topic; `on_sample` gets every sample, one call at a time
+  // (from DDS's threads). Waits (up to timeout_s) until every reader has matched its writer; false if not.
+  bool subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s);
+  // Takes whatever the readers hold without having signalled it (after the last step of a run).
+  void drain();
+  // Wall seconds since the last sample or discovery event.
+  double seconds_quiet() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hadal::record
