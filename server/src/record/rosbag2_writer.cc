@@ -51,8 +51,8 @@ YAML::Node duration_node(std::int64_t sec, std::int64_t nsec) {
 // The offered QoS as rosbag2 (metadata version 9) writes it: a list with one profile.
 YAML::Node qos_node(const OfferedQos& qos) {
   YAML::Node profile;
-  profile["history"] = "keep_last";
-  profile["depth"] = qos.depth;
+  profile["history"] = "unknown";
+  profile["depth"] = 0;
   profile["reliability"] = qos.reliable ? "reliable" : "best_effort";
   profile["durability"] = qos.transient_local ? "transient_local" : "volatile";
   profile["deadline"] = duration_node(kInfiniteSec, kInfiniteNsec);
@@ -274,8 +274,8 @@ std::string Rosbag2Writer::metadata_yaml(bool for_database) const {
   info["relative_file_paths"] = paths;
   YAML::Node file_info;
   file_info["path"] = file;
-  file_info["starting_time"] = start;
-  file_info["duration"] = duration;
+  file_info["starting_time"] = YAML::Clone(start);  // copies, not aliases of the bag's own
+  file_info["duration"] = YAML::Clone(duration);
   file_info["message_count"] = total;
   YAML::Node files(YAML::NodeType::Sequence);
   files.push_back(file_info);
@@ -330,7 +330,10 @@ void Rosbag2Writer::close() {
   sqlite3_finalize(insert);
   sqlite3_finalize(d.insert_message);
   // Checkpoint the WAL into the database file, so that a closed bag is one .db3 file as rosbag2's are.
-  sqlite3_exec(d.db, "PRAGMA wal_checkpoint(TRUNCATE); PRAGMA journal_mode=DELETE;", nullptr, nullptr, nullptr);
+  // Left in WAL mode (all of it checkpointed into the .db3 all the same) while another process reads it.
+  std::string ignored;
+  sqlite3_busy_timeout(d.db, 2000);
+  if (d.exec("PRAGMA wal_checkpoint(TRUNCATE);", &ignored)) d.exec("PRAGMA journal_mode=DELETE;", &ignored);
   sqlite3_close(d.db);
   d.closed = true;
 }

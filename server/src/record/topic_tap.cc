@@ -143,7 +143,7 @@ std::map<std::string, TappedWriter> TopicTap::writers() const {
   return impl_->writers;
 }
 
-bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s) {
+bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s, bool kept_samples) {
   Impl& d = *impl_;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
@@ -157,7 +157,8 @@ bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, dou
     fdds::Topic* topic = d.participant->create_topic(topic_name, writer.type, fdds::TOPIC_QOS_DEFAULT);
     fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
     qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+    qos.durability().kind = kept_samples && writer.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS
+                                                                   : fdds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
     qos.endpoint().history_memory_policy = rtps::DYNAMIC_RESERVE_MEMORY_MODE;
     // The listener only once the reader is known, so every sample finds its topic.

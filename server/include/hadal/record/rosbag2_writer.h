@@ -18,11 +18,11 @@
 
 namespace hadal::record {
 
-// The QoS a topic's writer offered, as rosbag2 records it for replay.
+// The QoS a topic's writer offered, as rosbag2 records it for replay. DDS discovery does not carry a
+// writer's history, so rosbag2 records it as history "unknown", depth 0; so does this writer.
 struct OfferedQos {
   bool reliable = true;
   bool transient_local = false;
-  int depth = 1;  // history depth (keep_last)
 };
 
 struct BagTopic {

@@ -44,7 +44,9 @@ class TopicTap {
 
   // A reliable, keep-all reader on each discovered topic; `on_sample` gets every sample, one call at a time
   // (from DDS's threads). Waits (up to timeout_s) until every reader has matched its writer; false if not.
-  bool subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s);
+  // kept_samples: transient-local readers where the writer offers it, so that the samples the writer kept
+  // for late joiners (a lockstep server's t = 0 samples, published before anyone stepped it) come too.
+  bool subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s, bool kept_samples = false);
   // Takes whatever the readers hold without having signalled it (after the last step of a run).
   void drain();
   // Wall seconds since the last sample or discovery event.
