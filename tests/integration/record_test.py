@@ -117,3 +117,23 @@ def test_bad_use_is_a_clear_error(tmp_path):
     assert not (tmp_path / "b").exists()  # nothing written
     result = subprocess.run([RECORD, str(tmp_path / "c"), "--topics", "auv/imu"], capture_output=True, text=True)
     assert result.returncode == 2 and "--topics takes ROS 2 names" in result.stderr
+
+
+def test_hadald_record_writes_the_run_from_t_0(tmp_path):
+    """hadald --record: the same recorder in the server's process, matched before the first step."""
+    bag = str(tmp_path / "fast")
+    domain_id, lock = hadal.server.reserve_domain(range(100, 200))
+    try:
+        scenario = hadal.server.scenario_path("default")
+        result = subprocess.run([os.environ["HADALD"], scenario, "--mode", "fast", "--no-cameras", "--duration", "2",
+                                 "--discovery-wait", "0", "--domain-id", str(domain_id), "--no-status-line",
+                                 "--record", bag], capture_output=True, text=True, timeout=120)
+        assert result.returncode == 0, result.stderr
+        recorded = counts(os.path.join(bag, "fast_0.db3"))
+        assert recorded["/clock"] == 201 and recorded["/auv/odometry"] == 101 and recorded["/auv/imu"] == 200
+        assert f"recorded {sum(recorded.values())} message(s) into {bag}" in result.stderr
+        assert metadata(bag)["message_count"] == sum(recorded.values())
+        again = subprocess.run([os.environ["HADALD"], scenario, "--record", bag], capture_output=True, text=True)
+        assert again.returncode == 2 and f"--record {bag}: the directory already exists" in again.stderr
+    finally:
+        lock.close()

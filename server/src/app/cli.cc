@@ -48,7 +48,8 @@ std::string usage() {
   return "usage: hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep]\n"
          "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
          "                            [--discovery-wait SECONDS] [--threads N] [--cpus LIST]\n"
-         "                            [--sched batch|other] [--no-status-line] [--no-cameras]\n"
+         "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
+         "                            [--no-cameras]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -64,6 +65,8 @@ std::string usage() {
          "  --sched P        other (default): the kernel's normal policy; batch: SCHED_BATCH, this\n"
          "                   server's wake-ups do not preempt other threads (a lockstep server sharing\n"
          "                   cores with the client that steps it)\n"
+         "  --record DIR     record every topic into the rosbag2 bag DIR (sqlite3 storage; must not\n"
+         "                   exist), bag time = sim time, flushed once per wall second\n"
          "  --no-status-line no per-second status line on stderr\n"
          "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
@@ -152,6 +155,8 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
           parse.error = "--sched must be batch or other (got '" + value + "')";
           return parse;
         }
+      } else if (arg == "--record") {
+        o.record_dir = value;
       } else if (arg == "--domain-id") {
         if (!parse_domain(value, o.domain_id)) {
           parse.error = "--domain-id must be an integer in 0..232 (got '" + value + "')";

@@ -1,7 +1,7 @@
 // hadald command line:
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
 //          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--cpus LIST]
-//          [--sched batch|other] [--no-status-line] [--no-cameras]
+//          [--sched batch|other] [--record DIR] [--no-status-line] [--no-cameras]
 // --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
 // leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
 #pragma once
@@ -29,6 +29,7 @@ struct CliOptions {
   std::optional<int> threads;  // --threads N: overrides world.threads
   std::vector<int> cpus;       // --cpus LIST: the CPUs all of hadald's threads run on (empty: any); scheduling.h
   bool sched_batch = false;    // --sched batch: SCHED_BATCH, wake-ups do not preempt; scheduling.h
+  std::string record_dir;      // --record DIR: a rosbag2 bag of every topic (hadal/record/bag_recorder.h)
   // Wall seconds to wait after start-up before the first step, so subscribers that are already
   // running are matched before the first samples (a fast run can be over before DDS discovery is).
   // Default: 2 s in fast mode (Fast DDS <-> Cyclone DDS first contact sometimes takes

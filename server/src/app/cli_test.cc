@@ -43,6 +43,8 @@ TEST(CliTest, CpusAndSchedulingPolicy) {
   EXPECT_TRUE(p.options.sched_batch);
   EXPECT_FALSE(parse_cli({"s.yaml", "--sched", "batch", "--sched", "other"}, nullptr).options.sched_batch);
   EXPECT_EQ(parse_cli({"s.yaml", "--sched", "fifo"}, nullptr).error, "--sched must be batch or other (got 'fifo')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--record", "runs/a"}, nullptr).options.record_dir, "runs/a");
+  EXPECT_EQ(parse_cli({"s.yaml"}, nullptr).options.record_dir, "");
   EXPECT_EQ(parse_cli({"s.yaml", "--cpus", "1,x"}, nullptr).error,
             "--cpus: 'x' in '1,x' is not a CPU number (0..1023) or an ascending range of them (as '0-3')");
 }

@@ -6,6 +6,8 @@
 #include "scheduling.h"
 #include "server_loop.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <atomic>
 #include <csignal>
@@ -61,6 +63,11 @@ int main(int argc, char** argv) {
   }
   if (!cli.error.empty()) {
     std::fprintf(stderr, "hadald: error: %s\n%s", cli.error.c_str(), app::usage().c_str());
+    return 2;
+  }
+  if (struct stat existing {}; !cli.options.record_dir.empty() && stat(cli.options.record_dir.c_str(), &existing) == 0) {
+    std::fprintf(stderr, "hadald: error: --record %s: the directory already exists (a rosbag2 bag is never "
+                 "appended to)\n", cli.options.record_dir.c_str());
     return 2;
   }
   // Before any thread exists, so that all of hadald's threads inherit the CPUs and the policy.

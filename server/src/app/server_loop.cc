@@ -4,6 +4,7 @@
 #include "hadal/core/simulation.h"
 #include "hadal/geometry/ray_batch.h"
 #include "hadal/geometry/raycast_service.h"
+#include "hadal/record/bag_recorder.h"
 #include "../dds/server_endpoints.h"
 
 #include <hadal_msgs.h>
@@ -68,6 +69,7 @@ class Runner {
     last_status_wall_ = start_wall_;
     last_status_publish_wall_ = start_wall_;
     publish_status(0.0);
+    if (!options_.record_dir.empty()) start_recording();
     const double discovery_wait = options_.effective_discovery_wait();
     const Clock::time_point wait_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                                           std::chrono::duration<double>(discovery_wait));
@@ -88,10 +90,33 @@ class Runner {
     publish_status(seconds_since(start_wall_));
     RunSummary result = summary();  // before the flush, so the wall time is the run's alone
     dds_.flush(1.0);
+    if (recorder_) {
+      const std::string error = recorder_->stop();
+      std::fprintf(stderr, "hadald: recorded %llu message(s) into %s\n",
+                   static_cast<unsigned long long>(recorder_->message_count()), options_.record_dir.c_str());
+      if (!error.empty()) std::fprintf(stderr, "hadald: error: --record: %s\n", error.c_str());
+    }
     return result;
   }
 
  private:
+  // hadald --record: the same recorder as hadal-record, on its own participant in this process, subscribed
+  // (and matched) before the first step, so a run is recorded from t = 0. Bag time is sim time.
+  void start_recording() {
+    record::BagRecorderOptions options;
+    options.domain_id = options_.domain_id;
+    options.directory = options_.record_dir;
+    options.use_sim_time = true;
+    options.participant_name = "hadald_record";
+    recorder_ = std::make_unique<record::BagRecorder>(options);
+    if (const std::string error = recorder_->start(); !error.empty()) {
+      recorder_.reset();
+      throw std::runtime_error("--record " + options_.record_dir + ": " + error);
+    }
+    std::fprintf(stderr, "hadald: recording %zu topic(s) into %s\n", recorder_->topic_count(),
+                 options_.record_dir.c_str());
+  }
+
   bool duration_reached() const {
     // Half a step of slack: sim time is k * dt, so the last step lands within rounding of the duration.
     return options_.duration && sim_.time() >= *options_.duration - 0.5 * model_.world.step_size();
@@ -328,6 +353,7 @@ class Runner {
 
   using InboundCommandRef = const dds::InboundCommand&;
 
+  std::unique_ptr<record::BagRecorder> recorder_;  // --record
   const Model& model_;
   const CliOptions& options_;
   const std::atomic<bool>& stop_;

@@ -1,0 +1,42 @@
+// A hadald's topics into a rosbag2 bag: a TopicTap feeding a Rosbag2Writer, flushed once per wall second
+// on a thread of its own (docs/ARCHITECTURE.md, "Recording"). Used by hadal-record and hadald --record.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string>
+
+namespace hadal::record {
+
+struct BagRecorderOptions {
+  int domain_id = 0;
+  std::string directory;      // must not exist
+  std::set<std::string> topics;  // ROS 2 names to record; empty: every topic of the hadald
+  bool use_sim_time = false;  // bag time = sim time of the latest /clock sample; else receive time
+  double wait_s = 20.0;       // how long to look for the hadald and to match its writers
+  std::string participant_name = "hadal_record";
+};
+
+class BagRecorder {
+ public:
+  explicit BagRecorder(BagRecorderOptions options);
+  ~BagRecorder();  // stop()
+  BagRecorder(const BagRecorder&) = delete;
+  BagRecorder& operator=(const BagRecorder&) = delete;
+
+  // Finds the hadald, creates the bag and starts recording; returns "" or the reason it could not (then no
+  // bag directory is left behind unless the failure came after creating it). Warnings go to stderr.
+  std::string start();
+  std::size_t topic_count() const;
+  // Takes what the readers hold, stops reading and closes the bag; returns "" or the first write error.
+  // Idempotent.
+  std::string stop();
+  std::uint64_t message_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hadal::record
