@@ -87,8 +87,34 @@ def test_a_lockstep_run_is_recorded_whole_as_a_rosbag2_bag(server, tmp_path):
     assert row == 9
 
 
-def test_kill_9_leaves_a_readable_bag_as_of_the_last_flush(server, tmp_path):
+def remove_port_segments(domain_id):
+    """A killed process leaves Fast DDS's shared-memory port segments of its domain behind, and the ports it
+    had open stay referenced after their owners exit (issue 15's subject): remove the domain's, once nothing
+    runs on it, so that the next user of the domain id starts clean. Ports: 7400 + 250 * domain + offsets."""
+    ports = range(7400 + 250 * domain_id, 7400 + 250 * (domain_id + 1))
+    for name in os.listdir("/dev/shm"):
+        for prefix in ("fastrtps_port", "sem.fastrtps_port"):
+            number = name[len(prefix):].split("_")[0]
+            if name.startswith(prefix) and number.isdigit() and int(number) in ports:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(os.path.join("/dev/shm", name))
+
+
+def test_kill_9_leaves_a_readable_bag_as_of_the_last_flush(tmp_path):
+    with hadal.Server("default", mode="lockstep", cameras=False) as server:
+        domain_id = server.domain_id
+        try:
+            killed_recorder_run(server, tmp_path)
+        finally:  # hadald stopped, the domain's segments removed, and only then its domain id let go
+            server.process.terminate()
+            server.process.wait(timeout=30)
+            remove_port_segments(domain_id)
+            server.stop()
+
+
+def killed_recorder_run(server, tmp_path):
     bag = str(tmp_path / "killed")
+    before = set(os.listdir("/dev/shm"))
     recorder = start_recorder(bag, server.domain_id)
     with server.client("record_test") as client:
         client.step(STEPS)
@@ -98,6 +124,11 @@ def test_kill_9_leaves_a_readable_bag_as_of_the_last_flush(server, tmp_path):
     recorder.kill()
     recorder.wait()
     assert recorder.returncode == -signal.SIGKILL
+    # Its own segments (participant, data sharing) went with it; the ports are removed after the server.
+    for name in set(os.listdir("/dev/shm")) - before:
+        if name.startswith(("fastrtps_", "fast_datasharing_")) and not name.startswith("fastrtps_port"):
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(os.path.join("/dev/shm", name))
     recorded = counts(os.path.join(bag, "killed_0.db3"))
     info = metadata(bag)
     assert recorded["/clock"] == 201
