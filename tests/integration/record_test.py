@@ -57,7 +57,8 @@ def test_a_lockstep_run_is_recorded_whole_as_a_rosbag2_bag(server, tmp_path):
         for _ in range(STEPS // 50):
             client.step(50)
     db_path = os.path.join(bag, "run_0.db3")
-    # Published in 2 s of sim time, t = 0 included: /clock at 100 Hz, odometry at 50 Hz (configs/scenarios/default.yaml).
+    # Published in 2 s of sim time, t = 0 included: /clock at 100 Hz, odometry at 50 Hz
+    # (configs/scenarios/default.yaml).
     wait_until(lambda: counts(db_path).get("/auv/odometry") == 101 and counts(db_path).get("/clock") == 201)
     recorder.send_signal(signal.SIGINT)
     _, err = recorder.communicate(timeout=30)
@@ -159,6 +160,6 @@ def test_hadald_record_writes_the_run_from_t_0(tmp_path):
         assert f"recorded {sum(recorded.values())} message(s) into {bag}" in result.stderr
         assert metadata(bag)["message_count"] == sum(recorded.values())
         again = subprocess.run([os.environ["HADALD"], scenario, "--record", bag], capture_output=True, text=True)
-        assert again.returncode == 2 and f"--record {bag}: the directory already exists" in again.stderr
+        assert again.returncode == 2 and f"--record: bag directory {bag} already exists" in again.stderr
     finally:
         lock.close()

@@ -10,8 +10,7 @@
 // most the last second; SIGINT/SIGTERM or --duration (wall seconds) close it. Exit status 0, 1 when no
 // hadald was found within --wait seconds (default 20) or writing failed, 2 on a usage error.
 #include "hadal/record/bag_recorder.h"
-
-#include <sys/stat.h>
+#include "hadal/record/rosbag2_writer.h"
 
 #include <atomic>
 #include <chrono>
@@ -72,7 +71,9 @@ int main(int argc, char** argv) {
     } else if (arg == "--topics") {
       std::stringstream list(next());
       for (std::string topic; std::getline(list, topic, ',');) {
-        if (topic.empty() || topic[0] != '/') usage_error("--topics takes ROS 2 names such as /auv/odometry (got '" + topic + "')");
+        if (topic.empty() || topic[0] != '/') {
+          usage_error("--topics takes ROS 2 names such as /auv/odometry (got '" + topic + "')");
+        }
         options.topics.insert(topic);
       }
     } else if (arg == "--use-sim-time") {
@@ -90,9 +91,8 @@ int main(int argc, char** argv) {
     }
   }
   if (directory.empty()) usage_error("no bag directory given");
-  struct stat existing {};
-  if (stat(directory.c_str(), &existing) == 0) {
-    usage_error("bag directory " + directory + " already exists (a rosbag2 bag is never appended to)");
+  if (const std::string error = hadal::record::Rosbag2Writer::existing_directory_error(directory); !error.empty()) {
+    usage_error(error);
   }
   std::signal(SIGINT, handle_stop_signal);
   std::signal(SIGTERM, handle_stop_signal);

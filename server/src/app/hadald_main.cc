@@ -2,11 +2,10 @@
 #include "cli.h"
 #include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
+#include "hadal/record/rosbag2_writer.h"
 #include "hadal/sensors/camera_sensor.h"
 #include "scheduling.h"
 #include "server_loop.h"
-
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
@@ -65,9 +64,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hadald: error: %s\n%s", cli.error.c_str(), app::usage().c_str());
     return 2;
   }
-  if (struct stat existing {}; !cli.options.record_dir.empty() && stat(cli.options.record_dir.c_str(), &existing) == 0) {
-    std::fprintf(stderr, "hadald: error: --record %s: the directory already exists (a rosbag2 bag is never "
-                 "appended to)\n", cli.options.record_dir.c_str());
+  if (const std::string why = record::Rosbag2Writer::existing_directory_error(cli.options.record_dir); !why.empty()) {
+    std::fprintf(stderr, "hadald: error: --record: %s\n", why.c_str());
     return 2;
   }
   // Before any thread exists, so that all of hadald's threads inherit the CPUs and the policy.

@@ -3,8 +3,6 @@
 #include "hadal/record/rosbag2_writer.h"
 #include "hadal/record/topic_tap.h"
 
-#include <sys/stat.h>
-
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -82,10 +80,8 @@ BagRecorder::~BagRecorder() { stop(); }
 
 std::string BagRecorder::start() {
   Impl& d = *impl_;
-  struct stat existing {};
-  if (stat(d.options.directory.c_str(), &existing) == 0) {
-    return "bag directory " + d.options.directory + " already exists (a rosbag2 bag is never appended to)";
-  }
+  // Before the search for a hadald, which may take wait_s.
+  if (std::string error = Rosbag2Writer::existing_directory_error(d.options.directory); !error.empty()) return error;
   d.tap = std::make_unique<TopicTap>(d.options.domain_id, d.options.participant_name);
   if (!d.tap->discover(d.options.wait_s, 0.5)) {
     char seconds[32];

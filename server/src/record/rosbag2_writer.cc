@@ -108,6 +108,11 @@ struct Rosbag2Writer::Impl {
   std::int64_t committed_last_ns = 0;
   bool closed = false;
 
+  ~Impl() {  // a bag that failed half-made, or one closed already (db is then null)
+    sqlite3_finalize(insert_message);
+    sqlite3_close(db);
+  }
+
   bool exec(const char* sql, std::string* error) {
     char* message = nullptr;
     if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
@@ -119,12 +124,14 @@ struct Rosbag2Writer::Impl {
   }
 };
 
-std::unique_ptr<Rosbag2Writer> Rosbag2Writer::create(const std::string& directory, std::string* error) {
+std::string Rosbag2Writer::existing_directory_error(const std::string& directory) {
   struct stat existing {};
-  if (stat(directory.c_str(), &existing) == 0) {
-    *error = "bag directory " + directory + " already exists (a rosbag2 bag is never appended to)";
-    return nullptr;
-  }
+  if (stat(directory.c_str(), &existing) != 0) return "";
+  return "bag directory " + directory + " already exists (a rosbag2 bag is never appended to)";
+}
+
+std::unique_ptr<Rosbag2Writer> Rosbag2Writer::create(const std::string& directory, std::string* error) {
+  if (*error = existing_directory_error(directory); !error->empty()) return nullptr;
   if (mkdir(directory.c_str(), 0755) != 0) {
     *error = "cannot create bag directory " + directory + ": " + std::strerror(errno);
     return nullptr;
@@ -134,20 +141,15 @@ std::unique_ptr<Rosbag2Writer> Rosbag2Writer::create(const std::string& director
   if (sqlite3_open_v2(database.c_str(), &impl->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
       SQLITE_OK) {
     *error = "cannot create " + database + ": " + sqlite3_errmsg(impl->db);
-    sqlite3_close(impl->db);
     return nullptr;
   }
   // WAL with synchronous=NORMAL: a committed transaction survives the process being killed (rosbag2's
   // "resilient" preset uses the same two pragmas).
   if (!impl->exec("PRAGMA journal_mode=WAL;", error) || !impl->exec("PRAGMA synchronous=NORMAL;", error)) {
-    sqlite3_close(impl->db);
     return nullptr;
   }
   for (const char* statement : kCreateStatements) {
-    if (!impl->exec(statement, error)) {
-      sqlite3_close(impl->db);
-      return nullptr;
-    }
+    if (!impl->exec(statement, error)) return nullptr;
   }
   // ros_distro: the ROS 2 release whose rosbag2 these formats are (schema 4, metadata 9).
   const std::string insert_schema =
@@ -156,7 +158,6 @@ std::unique_ptr<Rosbag2Writer> Rosbag2Writer::create(const std::string& director
       sqlite3_prepare_v2(impl->db, "INSERT INTO messages (timestamp, topic_id, data) VALUES (?, ?, ?);", -1,
                          &impl->insert_message, nullptr) != SQLITE_OK) {
     if (error->empty()) *error = sqlite3_errmsg(impl->db);
-    sqlite3_close(impl->db);
     return nullptr;
   }
   std::unique_ptr<Rosbag2Writer> writer(new Rosbag2Writer(std::move(impl), directory, database));
@@ -329,12 +330,14 @@ void Rosbag2Writer::close() {
   sqlite3_step(insert);
   sqlite3_finalize(insert);
   sqlite3_finalize(d.insert_message);
+  d.insert_message = nullptr;
   // Checkpoint the WAL into the database file, so that a closed bag is one .db3 file as rosbag2's are.
   // Left in WAL mode (all of it checkpointed into the .db3 all the same) while another process reads it.
   std::string ignored;
   sqlite3_busy_timeout(d.db, 2000);
   if (d.exec("PRAGMA wal_checkpoint(TRUNCATE);", &ignored)) d.exec("PRAGMA journal_mode=DELETE;", &ignored);
   sqlite3_close(d.db);
+  d.db = nullptr;
   d.closed = true;
 }
 

@@ -42,6 +42,9 @@ class Rosbag2Writer {
   // Creates `directory` (it must not exist, as rosbag2 requires) with `directory`_0.db3 in it.
   // On failure returns null and the reason in *error.
   static std::unique_ptr<Rosbag2Writer> create(const std::string& directory, std::string* error);
+  // "" when create() may make `directory`, else why not (it exists): for the recorders to refuse a bag
+  // directory before they start anything.
+  static std::string existing_directory_error(const std::string& directory);
   ~Rosbag2Writer();  // close()
   Rosbag2Writer(const Rosbag2Writer&) = delete;
   Rosbag2Writer& operator=(const Rosbag2Writer&) = delete;
