@@ -22,7 +22,6 @@ import argparse
 import contextlib
 import json
 import os
-import statistics
 import sys
 import time
 
@@ -96,22 +95,21 @@ def env_steps(seconds, slice_s=0.02, blocks=10):
         for _ in range(rounds):
             for key, made in configs.items():
                 slices[key].append(run(made))
-        cpus = {key: [env.server.cpus for env in (made.envs if isinstance(made, hadal.env.VectorEnv) else [made])]
-                for key, made in configs.items()}
+        servers = {key: made.envs if isinstance(made, hadal.env.VectorEnv) else [made] for key, made in configs.items()}
+        cpus = {key: [env.server.cpus for env in envs] for key, envs in servers.items()}
 
     def rate(key, part=slice(None)):
         return sum(n for n, _ in slices[key][part]) / sum(t for _, t in slices[key][part])
 
+    parts = [slice(b * rounds // blocks, (b + 1) * rounds // blocks) for b in range(blocks)]
     for key in configs:
-        envs = 1 if str(key).startswith("single") else int(str(key).split("_")[0])
-        per_block = [rate(key, slice(b * rounds // blocks, (b + 1) * rounds // blocks)) for b in range(blocks)]
-        yield {"benchmark": "env_steps", "task": "waypoint", "config": str(key), "envs": envs,
+        per_block = [rate(key, part) for part in parts]
+        yield {"benchmark": "env_steps", "task": "waypoint", "config": str(key), "envs": len(servers[key]),
                "server_cpus": cpus[key], "rounds": rounds, "slice_s": slice_s,
                "env_steps_per_s": round(rate(key), 1), "min": round(min(per_block), 1),
                "max": round(max(per_block), 1)}
     for two, over in ((2, "single"), (2, "single_pinned"), (2, 1), ("2_unpinned", "single")):
-        per_block = [rate(two, part) / rate(over, part)
-                     for part in (slice(b * rounds // blocks, (b + 1) * rounds // blocks) for b in range(blocks))]
+        per_block = [rate(two, part) / rate(over, part) for part in parts]
         yield {"benchmark": "vector_env_speedup", "config": str(two), "over": str(over),
                "ratio": round(rate(two) / rate(over), 3), "min": round(min(per_block), 2),
                "max": round(max(per_block), 2), "target": 1.6}

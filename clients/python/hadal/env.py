@@ -147,9 +147,10 @@ class WaypointAtDepth(Task):
     sway in the nose) starts at its scenario pose with a random heading (+-30 deg); the waypoint lies 10-20 m
     away, within +-45 deg of the start heading, 3-8 m shallower (clear of the seabed and the lander).
     Observation: ground truth (the state each lockstep reply carries, as odometry would). Reward: the metres
-    gained towards the waypoint in the step, less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated after 60 s (600 steps of 0.1 s). The AUV is
-    ~1 N buoyant, so with the thrusters off it rises towards the (shallower) waypoint and earns a little
-    (~+1.6 in 20 s): a policy has to beat doing nothing, not only random actions."""
+    gained towards the waypoint in the step, less 0.01 |a|^2; +10 and terminated within 1 m of it. Truncated
+    after 60 s (600 steps of 0.1 s). The AUV is ~1 N buoyant, so with the thrusters off it rises towards the
+    (shallower) waypoint and earns a little (~+1.6 in 20 s): a policy has to beat doing nothing, not only
+    random actions."""
 
     scenario = "default"
     vehicle = "auv"
@@ -278,10 +279,9 @@ class HadalEnv(_Closing, _EnvBase):
 
     scenario overrides the task's (a name in configs/scenarios or a path); threads, cpus and sched go to its
     server (hadal.Server: the CPU threads it computes on, the CPUs it runs on, its scheduling policy). With
-    domain_id the env uses the lockstep server already there (it
-    must run the task's scenario) and does not stop it. Each step applies
-    the action (the vehicle's control vector, clipped to [-1, 1]) for the task's control period, then
-    observes. info: sim_time [s], episode_step, and the task's figures.
+    domain_id the env uses the lockstep server already there (it must run the task's scenario) and does not
+    stop it. Each step applies the action (the vehicle's control vector, clipped to [-1, 1]) for the task's
+    control period, then observes. info: sim_time [s], episode_step, and the task's figures.
     """
 
     metadata = {"render_modes": []}
@@ -442,8 +442,8 @@ class VectorEnv(_Closing):
     parallel on a small machine: unpinned, the kernel moves their threads between cores (cold caches) and
     the first server's wake-up can take the core from this thread before it has sent the second request
     (BENCHMARKS.md); the servers on the CPU this thread runs on get their requests last, for the same
-    reason. pin_cpus=False leaves placement to the kernel, each server on max(1, CPUs // n)
-    threads; so should several VectorEnvs stepping at once on one machine, as they would share CPU 0 first.
+    reason. pin_cpus=False leaves placement to the kernel, each server on max(1, CPUs // n) threads; so
+    should several VectorEnvs stepping at once on one machine, as they would share CPU 0 first.
     """
 
     def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, pin_cpus=True, **kwargs):
@@ -474,7 +474,8 @@ class VectorEnv(_Closing):
         self.single_action_space = single.action_space
         self.observation_space = _box(-np.inf, np.inf, (num_envs, *single.observation_space.shape))
         self.action_space = _box(-1.0, 1.0, (num_envs, *single.action_space.shape))
-        self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
+        self.action_space.seed(
+            None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
 
     def _all(self, calls):
         """calls: (env, begin) pairs. Calls each begin() (sending the env's request), then each finish() it
@@ -487,7 +488,8 @@ class VectorEnv(_Closing):
         order = list(range(len(calls)))
         if self.pin_cpus and len(calls) > 1:
             cpu = current_cpu()
-            order.sort(key=lambda k: cpu in (getattr(calls[k][0].server, "cpus", None) or ()))  # stable: the others keep their order
+            # Stable: the others keep their order.
+            order.sort(key=lambda k: cpu in (getattr(calls[k][0].server, "cpus", None) or ()))
         finishes, error = {}, None
         for k in order:
             try:
@@ -528,7 +530,8 @@ class VectorEnv(_Closing):
         infos = [r[4] for r in results]
         ended = [i for i, r in enumerate(results) if r[2] or r[3]] if self.autoreset else []
         if ended:  # the ended envs start their next episodes, concurrently too
-            starts = self._all([(self.envs[i], lambda env=self.envs[i]: env._begin_reset(None, None)) for i in ended])
+            starts = self._all([(self.envs[i], lambda env=self.envs[i]: env._begin_reset(None, None))
+                                for i in ended])
             for i, (observation, reset_info) in zip(ended, starts):
                 infos[i] = dict(infos[i], final_observation=observations[i], final_info=dict(infos[i]),
                                 reset_info=reset_info)

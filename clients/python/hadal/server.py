@@ -73,8 +73,8 @@ class Server:
     --threads; None: the scenario's world.threads, by default one per CPU it may run on); cpus (a list of CPU
     numbers) keeps all its threads on those CPUs (hadald --cpus); sched="batch" keeps its wake-ups from
     preempting other threads, such as the client stepping it (hadald --sched batch). ready_timeout_s
-    bounds the wait for its first status; a server that exits first (a malformed scenario) raises ServerNotFound with its log's end. extra_args go
-    to hadald's command line as they are.
+    bounds the wait for its first status; a server that exits first (a malformed scenario) raises
+    ServerNotFound with its log's end. extra_args go to hadald's command line as they are.
     """
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,

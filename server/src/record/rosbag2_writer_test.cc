@@ -25,7 +25,9 @@ std::string fresh_directory(const std::string& name) {
 
 struct Db {
   sqlite3* db = nullptr;
-  explicit Db(const std::string& path) { EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK); }
+  explicit Db(const std::string& path) {
+    EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  }
   ~Db() { sqlite3_close(db); }
   // Rows of a query, each as its columns' text.
   std::vector<std::vector<std::string>> rows(const std::string& sql) const {
@@ -49,7 +51,9 @@ struct Db {
 // (name, type, notnull, pk) of a table's columns, as PRAGMA table_info gives them.
 std::vector<std::vector<std::string>> columns(const Db& db, const std::string& table) {
   std::vector<std::vector<std::string>> result;
-  for (const auto& row : db.rows("PRAGMA table_info(" + table + ")")) result.push_back({row[1], row[2], row[3], row[5]});
+  for (const auto& row : db.rows("PRAGMA table_info(" + table + ")")) {
+    result.push_back({row[1], row[2], row[3], row[5]});
+  }
   return result;
 }
 
@@ -107,13 +111,15 @@ TEST(Rosbag2WriterTest, WritesRosbag2sSchemaMessagesAndMetadata) {
   EXPECT_EQ(db.rows("SELECT name FROM sqlite_master WHERE type = 'index'"), (Rows{{"timestamp_idx"}}));
   EXPECT_EQ(db.rows("SELECT schema_version, ros_distro FROM schema"), (Rows{{"4", "jazzy"}}));
   EXPECT_EQ(db.rows("SELECT id, name, type, serialization_format FROM topics ORDER BY id"),
-            (Rows{{"1", "/auv/odometry", "nav_msgs/msg/Odometry", "cdr"}, {"2", "/clock", "rosgraph_msgs/msg/Clock", "cdr"}}));
+            (Rows{{"1", "/auv/odometry", "nav_msgs/msg/Odometry", "cdr"},
+                  {"2", "/clock", "rosgraph_msgs/msg/Clock", "cdr"}}));
   // rosbag2's reader query.
   const Rows messages = db.rows(
       "SELECT data, timestamp, topics.name FROM messages JOIN topics ON messages.topic_id = topics.id "
       "ORDER BY messages.timestamp");
   ASSERT_EQ(messages.size(), 3u);
-  EXPECT_EQ(messages[0], (std::vector<std::string>{std::string(first.begin(), first.end()), "2000000000", "/auv/odometry"}));
+  EXPECT_EQ(messages[0],
+            (std::vector<std::string>{std::string(first.begin(), first.end()), "2000000000", "/auv/odometry"}));
   EXPECT_EQ(messages[1][2], "/clock");
   EXPECT_EQ(messages[2][0], std::string(second.begin(), second.end()));
   // The QoS column holds version 9's YAML list; the metadata row is the bag's metadata.
@@ -136,8 +142,8 @@ TEST(Rosbag2WriterTest, WritesRosbag2sSchemaMessagesAndMetadata) {
   EXPECT_EQ(info["files"][0]["message_count"].as<int>(), 3);
   EXPECT_EQ(info["topics_with_message_count"][0]["topic_metadata"]["name"].as<std::string>(), "/auv/odometry");
   EXPECT_EQ(info["topics_with_message_count"][0]["message_count"].as<int>(), 2);
-  EXPECT_EQ(info["topics_with_message_count"][1]["topic_metadata"]["offered_qos_profiles"][0]["history"].as<std::string>(),
-            "unknown");
+  const YAML::Node clock_qos = info["topics_with_message_count"][1]["topic_metadata"]["offered_qos_profiles"];
+  EXPECT_EQ(clock_qos[0]["history"].as<std::string>(), "unknown");
   EXPECT_EQ(info["compression_format"].as<std::string>(), "");
   EXPECT_TRUE(info["custom_data"].IsMap());
   EXPECT_EQ(info["ros_distro"].as<std::string>(), "jazzy");
