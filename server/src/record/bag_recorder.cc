@@ -100,7 +100,9 @@ std::string BagRecorder::start() {
       continue;
     }
     if (!d.options.topics.empty() && d.options.topics.count(name) == 0) continue;
-    topic_ids[dds_topic] = bag->add_topic({name, type, {writer.reliable, writer.transient_local}});
+    const int id = bag->add_topic({name, type, {writer.reliable, writer.transient_local}});
+    if (id < 0) return bag->error();
+    topic_ids[dds_topic] = id;
   }
   if (topic_ids.empty()) return "none of the server's topics is to be recorded";
   {

@@ -185,8 +185,14 @@ int Rosbag2Writer::add_topic(const BagTopic& topic) {
   sqlite3_bind_text(insert, 1, topic.name.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_text(insert, 2, topic.type.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_text(insert, 3, qos.c_str(), -1, SQLITE_TRANSIENT);
-  sqlite3_step(insert);
+  const int inserted = sqlite3_step(insert);
   sqlite3_finalize(insert);
+  if (inserted != SQLITE_DONE) {
+    error_ = std::string("cannot add topic ") + topic.name + ": " + sqlite3_errmsg(d.db);
+    return -1;
+  }
+  // The topic's id, before the definitions table takes its own row id.
+  const int id = static_cast<int>(sqlite3_last_insert_rowid(d.db));
   bool known_type = false;
   for (const BagTopic& other : d.topics) known_type = known_type || other.type == topic.type;
   if (!known_type) {  // rosbag2 writes one definition row per type; "unknown" when it has no definition
@@ -199,7 +205,6 @@ int Rosbag2Writer::add_topic(const BagTopic& topic) {
     sqlite3_step(definition);
     sqlite3_finalize(definition);
   }
-  const int id = static_cast<int>(sqlite3_last_insert_rowid(d.db));
   d.topics.resize(std::max<std::size_t>(d.topics.size(), static_cast<std::size_t>(id)));
   d.topics[static_cast<std::size_t>(id - 1)] = topic;
   d.counts.resize(d.topics.size(), 0);

@@ -81,11 +81,17 @@ TEST(Rosbag2WriterTest, WritesRosbag2sSchemaMessagesAndMetadata) {
   const int odometry = bag->add_topic({"/auv/odometry", "nav_msgs/msg/Odometry", {true, false}});
   const int clock = bag->add_topic({"/clock", "rosgraph_msgs/msg/Clock", {false, false}});
   EXPECT_EQ(bag->add_topic({"/auv/odometry", "nav_msgs/msg/Odometry", {}}), odometry);
+  // A second topic of a known type, then a new type: topic ids run on while the definitions table,
+  // one row per type, falls behind (ids once came from the wrong table).
+  EXPECT_EQ(bag->add_topic({"/lander/odometry", "nav_msgs/msg/Odometry", {true, false}}), 3);
+  const int imu = bag->add_topic({"/auv/imu", "sensor_msgs/msg/Imu", {true, false}});
+  EXPECT_EQ(imu, 4);
   const std::vector<unsigned char> first{0, 1, 0, 0, 42, 0, 0, 0};
   const std::vector<unsigned char> second{0, 1, 0, 0, 0, 0xff, 7};
   ASSERT_TRUE(bag->write(odometry, 2'000'000'000, first.data(), first.size()));
   ASSERT_TRUE(bag->write(clock, 2'010'000'000, second.data(), second.size()));
   ASSERT_TRUE(bag->write(odometry, 2'020'000'000, second.data(), second.size()));
+  ASSERT_TRUE(bag->write(imu, 2'030'000'000, first.data(), first.size()));
   EXPECT_FALSE(bag->write(7, 0, first.data(), first.size()));
   EXPECT_EQ(bag->error(), "no topic 7 in the bag");
   bag->close();
@@ -112,12 +118,15 @@ TEST(Rosbag2WriterTest, WritesRosbag2sSchemaMessagesAndMetadata) {
   EXPECT_EQ(db.rows("SELECT schema_version, ros_distro FROM schema"), (Rows{{"4", "jazzy"}}));
   EXPECT_EQ(db.rows("SELECT id, name, type, serialization_format FROM topics ORDER BY id"),
             (Rows{{"1", "/auv/odometry", "nav_msgs/msg/Odometry", "cdr"},
-                  {"2", "/clock", "rosgraph_msgs/msg/Clock", "cdr"}}));
+                  {"2", "/clock", "rosgraph_msgs/msg/Clock", "cdr"},
+                  {"3", "/lander/odometry", "nav_msgs/msg/Odometry", "cdr"},
+                  {"4", "/auv/imu", "sensor_msgs/msg/Imu", "cdr"}}));
   // rosbag2's reader query.
   const Rows messages = db.rows(
       "SELECT data, timestamp, topics.name FROM messages JOIN topics ON messages.topic_id = topics.id "
       "ORDER BY messages.timestamp");
-  ASSERT_EQ(messages.size(), 3u);
+  ASSERT_EQ(messages.size(), 4u);
+  EXPECT_EQ(messages[3][2], "/auv/imu");
   EXPECT_EQ(messages[0],
             (std::vector<std::string>{std::string(first.begin(), first.end()), "2000000000", "/auv/odometry"}));
   EXPECT_EQ(messages[1][2], "/clock");
@@ -130,16 +139,18 @@ TEST(Rosbag2WriterTest, WritesRosbag2sSchemaMessagesAndMetadata) {
   const Rows metadata_rows = db.rows("SELECT metadata_version, metadata FROM metadata");
   ASSERT_EQ(metadata_rows.size(), 1u);
   EXPECT_EQ(metadata_rows[0][0], "9");
-  EXPECT_EQ(YAML::Load(metadata_rows[0][1])["message_count"].as<int>(), 3);
+  EXPECT_EQ(YAML::Load(metadata_rows[0][1])["message_count"].as<int>(), 4);
 
   const YAML::Node info = YAML::LoadFile(directory + "/metadata.yaml")["rosbag2_bagfile_information"];
   EXPECT_EQ(info["version"].as<int>(), 9);
   EXPECT_EQ(info["storage_identifier"].as<std::string>(), "sqlite3");
-  EXPECT_EQ(info["message_count"].as<int>(), 3);
+  EXPECT_EQ(info["message_count"].as<int>(), 4);
   EXPECT_EQ(info["starting_time"]["nanoseconds_since_epoch"].as<std::int64_t>(), 2'000'000'000);
-  EXPECT_EQ(info["duration"]["nanoseconds"].as<std::int64_t>(), 20'000'000);
+  EXPECT_EQ(info["duration"]["nanoseconds"].as<std::int64_t>(), 30'000'000);
   EXPECT_EQ(info["relative_file_paths"][0].as<std::string>(), fs::path(file).filename().string());
-  EXPECT_EQ(info["files"][0]["message_count"].as<int>(), 3);
+  EXPECT_EQ(info["files"][0]["message_count"].as<int>(), 4);
+  EXPECT_EQ(info["topics_with_message_count"][3]["topic_metadata"]["name"].as<std::string>(), "/auv/imu");
+  EXPECT_EQ(info["topics_with_message_count"][3]["message_count"].as<int>(), 1);
   EXPECT_EQ(info["topics_with_message_count"][0]["topic_metadata"]["name"].as<std::string>(), "/auv/odometry");
   EXPECT_EQ(info["topics_with_message_count"][0]["message_count"].as<int>(), 2);
   const YAML::Node clock_qos = info["topics_with_message_count"][1]["topic_metadata"]["offered_qos_profiles"];

@@ -49,7 +49,8 @@ class Rosbag2Writer {
   Rosbag2Writer(const Rosbag2Writer&) = delete;
   Rosbag2Writer& operator=(const Rosbag2Writer&) = delete;
 
-  // Registers a topic; returns its id for write(). Registering a name again returns the first id.
+  // Registers a topic; returns its id for write(), or -1 with the reason in error() when sqlite refuses
+  // it. Registering a name again returns the first id.
   int add_topic(const BagTopic& topic);
   // One message: `timestamp_ns` (the bag's time: receive or sim time, ns) and the serialized bytes.
   // Returns false with the reason in error() when sqlite refuses it.
