@@ -150,7 +150,8 @@ int main(int argc, char** argv) {
   tap.discover(20.0);
   std::map<std::string, TopicRecord> records;
   for (const auto& [topic, writer] : tap.writers()) records[topic].type = writer.type;
-  if (!tap.subscribe([&](const hadal::record::TappedSample& sample) { digest(records, sample); }, 20.0)) {
+  // Kept samples too: rt/hadal/scene is written once, when the server starts, before anyone joins.
+  if (!tap.subscribe([&](const hadal::record::TappedSample& sample) { digest(records, sample); }, 20.0, true)) {
     std::fprintf(stderr, "hadal-record-topics: not every topic matched the server's writer\n");
     return 1;
   }

@@ -5,6 +5,7 @@
 #include "hadal/dds/topic_registry.h"
 #include "actuator_topics.h"
 #include "message_conversion.h"
+#include "scene_message.h"
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -60,6 +61,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* clock_writer = nullptr;
   fdds::DataWriter* status_writer = nullptr;
   fdds::DataWriter* reply_writer = nullptr;
+  fdds::DataWriter* scene_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
   std::vector<fdds::DataWriter*> thruster_writers;
   // Per vehicle, a writer per actuator kind with a state topic that the vehicle has (actuator_topics.h).
@@ -93,7 +95,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   // Counts indexed like topic_names.
   std::vector<std::string> topic_names;
   std::vector<std::uint64_t> counts;
-  std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0;
+  std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0, scene_slot = 0;
   std::vector<std::size_t> odometry_slot, thruster_slot;
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
@@ -102,6 +104,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   hadal_msgs::msg::StepReply reply_msg;
   hadal_msgs::msg::ThrusterState thruster_msg;
   hadal_msgs::msg::SimStatus status_msg;
+  hadal_msgs::msg::Scene scene_msg;  // written at start and after every reset
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -271,6 +274,10 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
   d.status_slot = d.add_count(status_topic());
   d.reply_writer = r.writer<hadal_msgs::msg::StepReplyPubSubType>(step_reply_topic(), kCommandHistoryDepth);
   d.reply_slot = d.add_count(step_reply_topic());
+  d.scene_writer = r.writer<hadal_msgs::msg::ScenePubSubType>(scene_topic(), 1);
+  d.scene_slot = d.add_count(scene_topic());
+  fill_scene(model, 0.0, d.scene_msg);
+  d.write(d.scene_writer, &d.scene_msg, d.scene_slot);
 
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     const std::string& name = model.vehicles[i].name;
@@ -442,11 +449,15 @@ void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted
   impl_->write(impl_->reply_writer, &msg, impl_->reply_slot);
 }
 
-void ServerEndpoints::clear_kept_samples() { impl_->registry->clear_kept_samples(); }
+void ServerEndpoints::clear_kept_samples() {
+  impl_->registry->clear_kept_samples();
+  impl_->write(impl_->scene_writer, &impl_->scene_msg, impl_->scene_slot);  // the scene is the same
+}
 
 void ServerEndpoints::flush(double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer};
+  std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer,
+                                            impl_->scene_writer};
   writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
   writers.insert(writers.end(), impl_->thruster_writers.begin(), impl_->thruster_writers.end());
   for (const auto& vehicle_writers : impl_->actuator_state_writers) {

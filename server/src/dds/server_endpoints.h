@@ -1,6 +1,7 @@
 // hadald's DDS side: every topic the server publishes or subscribes (README "Topics").
 //
-// Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/<vehicle>/odometry,
+// Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/hadal/scene (once, and again after a reset:
+// dds/scene_message.h), rt/<vehicle>/odometry,
 // rt/<vehicle>/thrusters/state and rt/<vehicle>/<sensor> (one topic per sensor, its ROS type); subscribes rt/<vehicle>/thrusters/setpoints and
 // rt/hadal/step_request. Incoming samples are queued by the DDS threads and taken by the step loop
 // at step boundaries, so the loop never waits on DDS. Writers to setpoint topics of vehicles that do

@@ -11,6 +11,7 @@ inline std::string clock_topic() { return "rt/clock"; }
 inline std::string status_topic() { return "rt/hadal/status"; }
 inline std::string step_request_topic() { return "rt/hadal/step_request"; }
 inline std::string step_reply_topic() { return "rt/hadal/step_reply"; }
+inline std::string scene_topic() { return "rt/hadal/scene"; }
 inline std::string odometry_topic(const std::string& vehicle) { return "rt/" + vehicle + "/odometry"; }
 // A sensor's samples (sensor_msgs/..., marine_acoustic_msgs/Dvl).
 inline std::string sensor_topic(const std::string& vehicle, const std::string& sensor) {

@@ -1,0 +1,178 @@
+#include "scene_message.h"
+
+#include "hadal/dds/time_msg.h"
+#include "hadal/geometry/primitive_mesh.h"
+#include "hadal/geometry/seabed_height.h"
+#include "hadal/sensors/sensor_kinds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <type_traits>
+
+namespace hadal::dds {
+namespace {
+
+void set_color(const Eigen::Array3d& albedo, std_msgs::msg::ColorRGBA& color) {
+  color.r(static_cast<float>(albedo[0]));
+  color.g(static_cast<float>(albedo[1]));
+  color.b(static_cast<float>(albedo[2]));
+  color.a(1.0f);
+}
+
+void set_pose(const Eigen::Isometry3d& X, geometry_msgs::msg::Pose& pose) {
+  const Eigen::Quaterniond q(X.linear());
+  pose.position().x(X.translation().x());
+  pose.position().y(X.translation().y());
+  pose.position().z(X.translation().z());
+  pose.orientation().x(q.x());
+  pose.orientation().y(q.y());
+  pose.orientation().z(q.z());
+  pose.orientation().w(q.w());
+}
+
+void copy_mesh(const geometry::TriangleMesh& mesh, hadal_msgs::msg::SceneMesh& out) {
+  out.positions(mesh.positions);
+  out.indices(mesh.indices);
+}
+
+// The plane as a square of side kPlaneSide centred under the vehicles' mean start position.
+void plane_mesh(const Model& model, double z, hadal_msgs::msg::SceneMesh& out) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const VehicleSpec& vehicle : model.vehicles) centre += vehicle.X_WB_initial.translation().head<2>();
+  if (!model.vehicles.empty()) centre /= static_cast<double>(model.vehicles.size());
+  const double h = 0.5 * kPlaneSide;
+  std::vector<float> positions;
+  for (const auto& [dx, dy] : {std::pair{-h, -h}, std::pair{h, -h}, std::pair{h, h}, std::pair{-h, h}}) {
+    positions.insert(positions.end(), {static_cast<float>(centre.x() + dx), static_cast<float>(centre.y() + dy),
+                                       static_cast<float>(z)});
+  }
+  out.positions(positions);
+  out.indices({0, 1, 2, 0, 2, 3});
+}
+
+// A large seabed mesh as its top surface sampled on a grid over its xy extent: vertices where the seabed
+// is, two triangles per cell whose four corners all have one.
+void resampled_mesh(const geometry::TriangleMesh& mesh, hadal_msgs::msg::SceneMesh& out) {
+  Eigen::AlignedBox2d box;
+  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) box.extend(Eigen::Vector2d(mesh.positions[3 * i], mesh.positions[3 * i + 1]));
+  const Eigen::Vector2d size = box.sizes();
+  const double cell = std::max(size.x(), size.y()) / kSeabedGrid;
+  const int nx = std::max(1, static_cast<int>(std::ceil(size.x() / cell))) + 1;
+  const int ny = std::max(1, static_cast<int>(std::ceil(size.y() / cell))) + 1;
+  const geometry::SeabedHeight height(mesh);
+  std::vector<float> positions;
+  std::vector<std::uint32_t> vertex(static_cast<std::size_t>(nx) * ny, std::numeric_limits<std::uint32_t>::max());
+  std::uint32_t hint = geometry::SeabedHeight::kNoHint;
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const double x = std::min(box.min().x() + i * cell, box.max().x());
+      const double y = std::min(box.min().y() + j * cell, box.max().y());
+      geometry::SeabedHeight::Sample sample;
+      if (!height.sample(x, y, &sample, &hint)) continue;
+      vertex[static_cast<std::size_t>(j) * nx + i] = static_cast<std::uint32_t>(positions.size() / 3);
+      positions.insert(positions.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(sample.height)});
+    }
+  }
+  std::vector<std::uint32_t> indices;
+  for (int j = 0; j + 1 < ny; ++j) {
+    for (int i = 0; i + 1 < nx; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * nx + i;
+      const std::uint32_t a = vertex[k], b = vertex[k + 1], c = vertex[k + nx + 1], d = vertex[k + nx];
+      if (std::max({a, b, c, d}) == std::numeric_limits<std::uint32_t>::max()) continue;
+      indices.insert(indices.end(), {a, b, c, a, c, d});
+    }
+  }
+  out.positions(positions);
+  out.indices(indices);
+}
+
+// How far a sensor's beams reach [m] and its cone half angle [rad], 0 where a viewer draws none.
+std::pair<double, double> sensor_reach(const SensorSpec& sensor) {
+  return std::visit(
+      [](const auto& spec) -> std::pair<double, double> {
+        using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
+        if constexpr (std::is_same_v<Kind, sensors::DvlSensor>) {
+          return {spec.params.max_altitude / std::cos(spec.params.beam_tilt), spec.params.beam_tilt};
+        } else if constexpr (std::is_same_v<Kind, sensors::AltimeterSensor>) {
+          return {spec.max_range, 0.5 * spec.field_of_view};
+        } else if constexpr (std::is_same_v<Kind, sensors::ProfilerSensor>) {
+          return {spec.max_range, 0.5 * spec.fov};
+        } else if constexpr (std::is_same_v<Kind, sensors::CameraSensor>) {
+          const render::LensSpec& lens = spec.lens->spec();
+          return {spec.far_m, std::atan2(0.5 * lens.width_px, lens.fx)};
+        } else {
+          return {0.0, 0.0};
+        }
+      },
+      sensor.kind);
+}
+
+Eigen::Array3d vehicle_albedo(const Model& model, const VehicleSpec& vehicle) {
+  for (const LinkSpec& link : vehicle.links) {
+    if (link.appearance.albedo) return *link.appearance.albedo;
+  }
+  return model.world.optics.vehicle_albedo;
+}
+
+}  // namespace
+
+void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) {
+  msg.header().stamp(to_time_msg(time_s));
+  msg.header().frame_id(model.world.frame_id);
+  msg.scenario(std::filesystem::path(model.scenario_file).filename().string());
+  msg.vehicle_names().clear();
+  msg.vehicle_types().clear();
+  msg.meshes().clear();
+  msg.frames().clear();
+
+  const SeabedSpec& seabed = model.world.seabed;
+  msg.seabed_is_plane(seabed.type == SeabedType::kPlane || !seabed.mesh);
+  msg.seabed_plane_z(seabed.z);
+  hadal_msgs::msg::SceneMesh& ground = msg.meshes().emplace_back();
+  ground.name("seabed");
+  ground.frame_id(model.world.frame_id);
+  set_color(model.world.optics.seabed_albedo, ground.color());
+  if (msg.seabed_is_plane()) {
+    plane_mesh(model, seabed.z, ground);
+  } else if (seabed.mesh->num_triangles() <= kMaxSeabedTriangles) {
+    copy_mesh(*seabed.mesh, ground);
+  } else {
+    resampled_mesh(*seabed.mesh, ground);
+  }
+
+  for (const VehicleSpec& vehicle : model.vehicles) {
+    msg.vehicle_names().push_back(vehicle.name);
+    msg.vehicle_types().push_back(to_string(vehicle.type));
+    hadal_msgs::msg::SceneMesh& mesh = msg.meshes().emplace_back();
+    mesh.name(vehicle.name);
+    mesh.frame_id(vehicle.name + "/base_link");
+    copy_mesh(geometry::vehicle_visual_B(vehicle), mesh);
+    set_color(vehicle_albedo(model, vehicle), mesh.color());
+
+    for (const SensorSpec& sensor : vehicle.sensors) {
+      hadal_msgs::msg::SceneFrame& frame = msg.frames().emplace_back();
+      frame.vehicle(vehicle.name);
+      frame.name(sensor.name);
+      frame.kind(std::string(sensor.type()));
+      frame.frame_id(sensor.frame_id);
+      set_pose(vehicle.links[sensor.link_index].X_BL * sensor.X_LS, frame.pose());
+      const auto [range, half_angle] = sensor_reach(sensor);
+      frame.range(range);
+      frame.half_angle(half_angle);
+    }
+    for (const LightSpec& light : vehicle.lights) {
+      hadal_msgs::msg::SceneFrame& frame = msg.frames().emplace_back();
+      frame.vehicle(vehicle.name);
+      frame.name(light.name);
+      frame.kind("light");
+      frame.frame_id(vehicle.name + "/" + light.name);
+      set_pose(vehicle.links[light.link_index].X_BL * light.X_LF, frame.pose());
+      frame.range(kLightReach);
+      frame.half_angle(light.outer_half_angle);
+    }
+  }
+}
+
+}  // namespace hadal::dds

@@ -1,0 +1,136 @@
+// rt/hadal/scene from the default scenario: the seabed's mesh is the procedural terrain as loaded, each
+// vehicle's mesh is its visual surface in B, every sensor and light has its frame (X_BS) and reach, and
+// a plane seabed becomes a square around the vehicles. The message survives a CDR round trip.
+#include "scene_message.h"
+
+#include "hadal/config/scenario_loader.h"
+#include "hadal/geometry/primitive_mesh.h"
+
+#include <fastdds/rtps/common/SerializedPayload.h>
+#include <hadal_msgsPubSubTypes.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hadal::dds {
+namespace {
+
+Model load(const std::string& name) {
+  config::LoadResult loaded = config::load_scenario_file(HADAL_SOURCE_DIR "/configs/scenarios/" + name);
+  EXPECT_TRUE(loaded.ok());
+  return *loaded.model;
+}
+
+const hadal_msgs::msg::SceneFrame* find_frame(const hadal_msgs::msg::Scene& msg, const std::string& vehicle,
+                                               const std::string& name) {
+  for (const auto& frame : msg.frames()) {
+    if (frame.vehicle() == vehicle && frame.name() == name) return &frame;
+  }
+  return nullptr;
+}
+
+TEST(SceneMessageTest, DefaultScenarioHasItsSeabedVehiclesAndFrames) {
+  const Model model = load("default.yaml");
+  hadal_msgs::msg::Scene msg;
+  fill_scene(model, 0.0, msg);
+  EXPECT_EQ(msg.scenario(), "default.yaml");
+  EXPECT_EQ(msg.header().frame_id(), "world");
+  EXPECT_FALSE(msg.seabed_is_plane());
+  ASSERT_EQ(msg.meshes().size(), 1 + model.vehicles.size());
+  // 400 m x 400 m at 2 m: under kMaxSeabedTriangles, so the loaded mesh itself.
+  const auto& seabed = msg.meshes()[0];
+  EXPECT_EQ(seabed.name(), "seabed");
+  EXPECT_EQ(seabed.indices(), model.world.seabed.mesh->indices);
+  EXPECT_EQ(seabed.positions(), model.world.seabed.mesh->positions);
+  for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
+    const auto& mesh = msg.meshes()[v + 1];
+    EXPECT_EQ(mesh.name(), model.vehicles[v].name);
+    EXPECT_EQ(mesh.frame_id(), model.vehicles[v].name + "/base_link");
+    EXPECT_EQ(mesh.indices(), geometry::vehicle_visual_B(model.vehicles[v]).indices);
+    EXPECT_GT(mesh.indices().size(), 0u);
+    EXPECT_EQ(msg.vehicle_names()[v], model.vehicles[v].name);
+  }
+  // torpedo_auv.yaml: the DVL looks down with 30 deg beams reaching max_altitude; the altimeter's beam
+  // is x of its frame, which points down.
+  const auto* dvl = find_frame(msg, "auv", "dvl");
+  ASSERT_NE(dvl, nullptr);
+  EXPECT_EQ(dvl->kind(), "dvl");
+  EXPECT_EQ(dvl->frame_id(), "auv/dvl");
+  EXPECT_NEAR(dvl->half_angle(), 30.0 * M_PI / 180.0, 1e-12);
+  const auto* altimeter = find_frame(msg, "auv", "altimeter");
+  ASSERT_NE(altimeter, nullptr);
+  const auto& q = altimeter->pose().orientation();
+  const Eigen::Vector3d x_S_in_B =
+      Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()) * Eigen::Vector3d::UnitX();
+  EXPECT_LT(x_S_in_B.z(), -0.99);
+  std::size_t lights = 0;
+  for (const auto& frame : msg.frames()) lights += frame.kind() == "light";
+  std::size_t expected_lights = 0;
+  for (const auto& vehicle : model.vehicles) expected_lights += vehicle.lights.size();
+  EXPECT_EQ(lights, expected_lights);
+  EXPECT_GT(lights, 0u);
+
+  hadal_msgs::msg::ScenePubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&msg)());
+  ASSERT_TRUE(type.serialize(&msg, &payload));
+  hadal_msgs::msg::Scene back;
+  ASSERT_TRUE(type.deserialize(&payload, &back));
+  EXPECT_EQ(back, msg);
+}
+
+TEST(SceneMessageTest, PlaneSeabedIsASquareAroundTheVehicles) {
+  const Model model = load("glider.yaml");
+  ASSERT_EQ(model.world.seabed.type, SeabedType::kPlane);
+  hadal_msgs::msg::Scene msg;
+  fill_scene(model, 0.0, msg);
+  EXPECT_TRUE(msg.seabed_is_plane());
+  const auto& seabed = msg.meshes()[0];
+  ASSERT_EQ(seabed.positions().size(), 12u);
+  EXPECT_EQ(seabed.indices().size(), 6u);
+  float x_min = 1e9f, x_max = -1e9f;
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_FLOAT_EQ(seabed.positions()[3 * i + 2], static_cast<float>(model.world.seabed.z));
+    x_min = std::min(x_min, seabed.positions()[3 * i]);
+    x_max = std::max(x_max, seabed.positions()[3 * i]);
+  }
+  EXPECT_FLOAT_EQ(x_max - x_min, static_cast<float>(kPlaneSide));
+  const double x0 = model.vehicles[0].X_WB_initial.translation().x();
+  EXPECT_NEAR(0.5 * (x_min + x_max), x0, 1e-3);
+}
+
+// A seabed of more than kMaxSeabedTriangles goes as its top surface resampled on a grid: the slope
+// z = 0.1 x - 50 over 300 m x 150 m, 300 x 300 cells, comes back at most kSeabedGrid cells along x with
+// its vertices on the slope (float rounding: 1e-4 m at 80 m).
+TEST(SceneMessageTest, LargeSeabedIsResampledOnAGrid) {
+  Model model = load("glider.yaml");
+  auto mesh = std::make_shared<geometry::TriangleMesh>();
+  const int n = 300;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const float x = static_cast<float>(i), y = 0.5f * static_cast<float>(j);
+      mesh->positions.insert(mesh->positions.end(), {x, y, 0.1f * x - 50.0f});
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      mesh->indices.insert(mesh->indices.end(), {a, b, c, a, c, d});
+    }
+  }
+  ASSERT_GT(mesh->num_triangles(), kMaxSeabedTriangles);
+  model.world.seabed.type = SeabedType::kMesh;
+  model.world.seabed.mesh = mesh;
+  hadal_msgs::msg::Scene msg;
+  fill_scene(model, 0.0, msg);
+  const auto& seabed = msg.meshes()[0];
+  const std::size_t vertices = seabed.positions().size() / 3;
+  EXPECT_EQ(vertices, static_cast<std::size_t>((kSeabedGrid + 1) * (kSeabedGrid / 2 + 1)));
+  EXPECT_EQ(seabed.indices().size(), static_cast<std::size_t>(6 * kSeabedGrid * (kSeabedGrid / 2)));
+  for (std::size_t k = 0; k < vertices; ++k) {
+    const float x = seabed.positions()[3 * k], z = seabed.positions()[3 * k + 2];
+    ASSERT_NEAR(z, 0.1 * x - 50.0, 1e-4) << "vertex " << k;
+  }
+}
+
+}  // namespace
+}  // namespace hadal::dds
