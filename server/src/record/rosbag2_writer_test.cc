@@ -1,4 +1,5 @@
 #include "hadal/record/rosbag2_writer.h"
+#include "hadal/record/rosbag2_reader.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -202,6 +203,50 @@ TEST(Rosbag2WriterTest, AKilledWriterLeavesTheBagAsOfItsLastFlush) {
   EXPECT_EQ(info["message_count"].as<int>(), 10);
   EXPECT_EQ(info["topics_with_message_count"][0]["message_count"].as<int>(), 10);
   EXPECT_FALSE(fs::exists(directory + "/metadata.yaml.tmp"));
+  fs::remove_all(directory);
+}
+
+// What the writer wrote reads back (record/rosbag2_reader.h): topics by name, the index in time order
+// whatever order messages were written in, each message's bytes; a killed writer's bag as of its last
+// flush; a directory that is no bag is refused with its reason.
+TEST(Rosbag2ReaderTest, ReadsBackWhatTheWriterWrote) {
+  const std::string directory = fresh_directory("read");
+  std::string error;
+  {
+    auto bag = Rosbag2Writer::create(directory, &error);
+    ASSERT_NE(bag, nullptr) << error;
+    const int odometry = bag->add_topic({"/auv/odometry", "nav_msgs/msg/Odometry", {}});
+    const int clock = bag->add_topic({"/clock", "rosgraph_msgs/msg/Clock", {}});
+    const std::vector<unsigned char> a{0, 1, 0, 0, 1}, b{0, 1, 0, 0, 2, 2}, c{0, 1, 0, 0, 3, 3, 3};
+    ASSERT_TRUE(bag->write(clock, 300, c.data(), c.size()));
+    ASSERT_TRUE(bag->write(odometry, 100, a.data(), a.size()));
+    ASSERT_TRUE(bag->write(clock, 200, b.data(), b.size()));
+    ASSERT_TRUE(bag->flush());
+    ASSERT_TRUE(bag->write(clock, 400, c.data(), c.size()));
+  }
+  auto reader = Rosbag2Reader::open(directory, &error);
+  ASSERT_NE(reader, nullptr) << error;
+  ASSERT_EQ(reader->topics().size(), 2u);
+  EXPECT_EQ(reader->topics()[0].name, "/auv/odometry");
+  EXPECT_EQ(reader->topics()[1].type, "rosgraph_msgs/msg/Clock");
+  const auto& index = reader->index();
+  ASSERT_EQ(index.size(), 4u);
+  const std::vector<std::int64_t> times{index[0].timestamp_ns, index[1].timestamp_ns, index[2].timestamp_ns,
+                                        index[3].timestamp_ns};
+  EXPECT_EQ(times, (std::vector<std::int64_t>{100, 200, 300, 400}));
+  EXPECT_EQ(index[0].topic, 0);
+  EXPECT_EQ(index[1].topic, 1);
+  std::vector<unsigned char> bytes;
+  ASSERT_TRUE(reader->read(index[1], &bytes, &error)) << error;
+  EXPECT_EQ(bytes, (std::vector<unsigned char>{0, 1, 0, 0, 2, 2}));
+  ASSERT_TRUE(reader->read(index[0], &bytes, &error)) << error;
+  EXPECT_EQ(bytes.size(), 5u);
+
+  EXPECT_EQ(Rosbag2Reader::open(directory + "/nothing", &error), nullptr);
+  EXPECT_EQ(error, "no bag directory " + directory + "/nothing");
+  fs::remove(directory + "/metadata.yaml");
+  EXPECT_EQ(Rosbag2Reader::open(directory, &error), nullptr);
+  EXPECT_NE(error.find(directory + "/metadata.yaml: "), std::string::npos) << error;
   fs::remove_all(directory);
 }
 
