@@ -130,6 +130,7 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
   const SeabedSpec& seabed = model.world.seabed;
   msg.seabed_is_plane(seabed.type == SeabedType::kPlane || !seabed.mesh);
   msg.seabed_plane_z(seabed.z);
+  msg.water_surface_z(model.world.water.surface_z);
   hadal_msgs::msg::SceneMesh& ground = msg.meshes().emplace_back();
   ground.name("seabed");
   ground.frame_id(model.world.frame_id);
