@@ -12,7 +12,8 @@ PACKAGES=(
   clang libclang-rt-14-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   cyclonedds-dev cyclonedds-tools
-  libgtest-dev libgmock-dev
+  libcivetweb-dev libjs-three
+  libgtest-dev libgmock-dev chromium python3-websocket
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-yaml python3-matplotlib
 )
 

@@ -11,6 +11,7 @@
 // hadald was found within --wait seconds (default 20) or writing failed, 2 on a usage error.
 #include "hadal/record/bag_recorder.h"
 #include "hadal/record/rosbag2_writer.h"
+#include "parse_number.h"
 
 #include <atomic>
 #include <chrono>
@@ -35,9 +36,8 @@ const char* const kUsage =
 }
 
 double parse_seconds(const std::string& option, const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !(value > 0.0) || value > 1e9) {
+  double value = 0.0;
+  if (!hadal::tools::parse_number(text, &value) || !(value > 0.0) || value > 1e9) {
     usage_error(option + " must be a number of seconds > 0 (got '" + text + "')");
   }
   return value;
@@ -62,12 +62,9 @@ int main(int argc, char** argv) {
       return 0;
     } else if (arg == "--domain-id") {
       const std::string value = next();
-      char* end = nullptr;
-      const long parsed = std::strtol(value.c_str(), &end, 10);
-      if (value.empty() || end != value.c_str() + value.size() || parsed < 0 || parsed > 232) {
+      if (!hadal::tools::parse_int(value, 0, 232, &domain)) {
         usage_error("--domain-id must be an integer in 0..232 (got '" + value + "')");
       }
-      domain = static_cast<int>(parsed);
     } else if (arg == "--topics") {
       std::stringstream list(next());
       for (std::string topic; std::getline(list, topic, ',');) {

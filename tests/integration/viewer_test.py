@@ -1,0 +1,236 @@
+"""hadal-viewer in a real browser (issue 14): Debian's headless Chromium, driven over its DevTools protocol,
+loads the page against a running lockstep hadald and a recorded bag. The page shows the seabed and the
+vehicle, the vehicle's pose in the 3-D view is the odometry's after steps, the camera pane shows a frame
+that is not black, and a bag replays with seeking. Screenshots go to HADAL_ARTIFACTS (build/test-artifacts/
+viewer) for a person to look at."""
+
+import base64
+import itertools
+import json
+import os
+import shutil
+import signal
+import subprocess
+import time
+import urllib.request
+
+import numpy as np
+import pytest
+import websocket
+
+import hadal
+
+VIEWER = os.environ["HADAL_VIEWER"]
+HADALD = os.environ["HADALD"]
+SOURCE_DIR = os.environ["HADAL_SOURCE_DIR"]
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+ARTIFACTS = os.environ.get("HADAL_ARTIFACTS", "test-artifacts/viewer")
+CAMERA = "/auv/camera/image_raw"
+
+
+def wait_until(condition, timeout_s=60.0, what="condition"):
+    deadline = time.monotonic() + timeout_s
+    while True:
+        value = condition()
+        if value:
+            return value
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.1)
+
+
+class Browser:
+    """Headless Chromium with one page, driven over the DevTools protocol (a WebSocket of JSON calls)."""
+
+    def __init__(self, profile_dir):
+        # The flags this machine's Chromium needs headless (no GPU: WebGL on SwiftShader; no background
+        # traffic on a closed network).
+        self.process = subprocess.Popen(
+            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+             "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run", "--disable-background-networking",
+             "--disable-component-update", "--disable-sync", f"--user-data-dir={profile_dir}",
+             "--window-size=1400,850", "--remote-debugging-port=0", "--remote-allow-origins=*", "about:blank"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        port_file = os.path.join(profile_dir, "DevToolsActivePort")
+        wait_until(lambda: os.path.exists(port_file) and open(port_file).read().strip(), 30, "Chromium's DevTools port")
+        port = int(open(port_file).read().split()[0])
+        targets = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list"))
+        page = next(t for t in targets if t["type"] == "page")
+        self.socket = websocket.create_connection(page["webSocketDebuggerUrl"], timeout=60)
+        self.ids = itertools.count(1)
+        self.console = []
+        self.call("Runtime.enable")
+        self.call("Page.enable")
+
+    def call(self, method, **params):
+        call_id = next(self.ids)
+        self.socket.send(json.dumps({"id": call_id, "method": method, "params": params}))
+        while True:
+            message = json.loads(self.socket.recv())
+            if message.get("method") == "Runtime.exceptionThrown":
+                self.console.append(message["params"]["exceptionDetails"].get("exception", {}).get("description"))
+            elif message.get("method") == "Runtime.consoleAPICalled":
+                self.console.append(" ".join(str(a.get("value")) for a in message["params"]["args"]))
+            if message.get("id") == call_id:
+                assert "error" not in message, message["error"]
+                return message["result"]
+
+    def evaluate(self, expression):
+        result = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
+        assert "exceptionDetails" not in result, result["exceptionDetails"]
+        return result["result"].get("value")
+
+    def open(self, url):
+        self.call("Page.navigate", url=url)
+        wait_until(lambda: self.evaluate("typeof window.hadalViewer === 'object'"), 30, "the page's script")
+
+    def screenshot(self, name):
+        os.makedirs(ARTIFACTS, exist_ok=True)
+        data = self.call("Page.captureScreenshot", format="png")["data"]
+        path = os.path.join(ARTIFACTS, name)
+        with open(path, "wb") as f:
+            f.write(base64.b64decode(data))
+        return path
+
+    def close(self):
+        self.socket.close()
+        self.process.terminate()
+        self.process.wait(timeout=30)
+
+
+def start_viewer(*args):
+    viewer = subprocess.Popen([VIEWER, "--port", "0", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    line = viewer.stdout.readline()
+    assert line.startswith("hadal-viewer: serving http://127.0.0.1:"), line + viewer.stderr.read()
+    return viewer, line.split()[2]
+
+
+def stop(process):
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=30)
+    assert process.returncode == 0, err
+    return err
+
+
+@pytest.fixture
+def browser(tmp_path):
+    browser = Browser(str(tmp_path / "chromium"))
+    yield browser
+    assert not [c for c in browser.console if c and "Error" in c], browser.console
+    browser.close()
+
+
+def page_pose(browser, vehicle):
+    return browser.evaluate(f"hadalViewer.vehiclePose('{vehicle}')")
+
+
+def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
+    with hadal.Server("default", mode="lockstep") as server:
+        viewer, url = start_viewer("--domain-id", str(server.domain_id))
+        try:
+            browser.open(url)
+            # The scene: the default scenario's procedural seabed (400 m at 2 m: 80 000 triangles) and both
+            # vehicles with their meshes.
+            wait_until(lambda: browser.evaluate("hadalViewer.seabedTriangles()") == 80000, 60, "the seabed")
+            with server.client("viewer_test") as client:
+                for _ in range(10):
+                    client.step(50)  # 1 s of sim time in all
+                odometry = client.wait_odometry("auv", min_stamp=1.0)
+                assert odometry is not None and abs(odometry.stamp - 1.0) < 1e-9
+                # The 3-D view's vehicle is where odometry says, to the last bit (JSON carries the shortest
+                # exact decimal of each double).
+                pose = wait_until(lambda: (p := page_pose(browser, "auv")) and p["stamp"] >= 1.0 and p, 30,
+                                  "the page's pose at t = 1 s")
+                assert pose["stamp"] == pytest.approx(1.0, abs=1e-9)
+                np.testing.assert_array_equal(pose["p"], odometry.p_WB)
+                np.testing.assert_array_equal(pose["q"], odometry.q_WB)
+                assert pose["meshes"] >= 1 and pose["on_screen"], pose
+                # The camera pane: a frame of the run, not black (the AUV's lights on the lander and seabed).
+                camera = wait_until(lambda: browser.evaluate(f"hadalViewer.cameraMean('{CAMERA}')"), 30,
+                                    "a camera frame in the page")
+                assert camera["width"] == 640 and camera["height"] == 480
+                assert camera["mean"] > 10.0, camera
+                browser.screenshot("live_lockstep_t1.png")
+                for _ in range(20):
+                    client.step(50)
+                odometry = client.wait_odometry("auv", min_stamp=3.0)
+                pose = wait_until(lambda: (p := page_pose(browser, "auv")) and p["stamp"] >= 3.0 and p, 30,
+                                  "the page's pose at t = 3 s")
+                np.testing.assert_array_equal(pose["p"], odometry.p_WB)
+                status = browser.evaluate("hadalViewer.state.lastUpdate.status")
+                assert status["mode"] == "lockstep" and status["steps"] == 1500
+                assert browser.evaluate("hadalViewer.state.vehicles.auv.trailCount") > 20
+                browser.screenshot("live_lockstep_t3.png")
+        finally:
+            err = stop(viewer)
+    assert "0 undecodable" in err, err
+
+
+def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
+    bag = str(tmp_path / "bag")
+    env = dict(os.environ, ROS_LOCALHOST_ONLY="1")
+    run = subprocess.run([HADALD, os.path.join(SOURCE_DIR, "configs/scenarios/default.yaml"), "--mode", "fast",
+                          "--duration", "4", "--record", bag, "--no-status-line"],
+                         env=env, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    viewer, url = start_viewer("--bag", bag)
+    try:
+        browser.open(url)
+        wait_until(lambda: browser.evaluate("hadalViewer.seabedTriangles()") == 80000, 60, "the seabed")
+        source = wait_until(lambda: browser.evaluate("hadalViewer.state.source"), 30, "the bag's controls")
+        assert source["kind"] == "bag" and source["duration"] == pytest.approx(4.0, abs=0.011)
+        assert browser.evaluate("document.getElementById('bagbar').hidden") is False
+        # Seek to 2 s: the vehicle is where the bag's odometry had it at 2 s (stamps in sim time).
+        browser.evaluate("document.getElementById('play').click()")  # pause
+        wait_until(lambda: not browser.evaluate("hadalViewer.state.source.playing"), 10, "pause")
+        browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 2;"
+                         " t.dispatchEvent(new Event('input')); })()")
+        pose2 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - 2.0) < 1e-9 and p, 30,
+                           "the pose at 2 s")
+        browser.screenshot("bag_seek_2s.png")
+        # Back to 1 s: the state starts over from the bag's beginning and lands on the 1 s pose; the trail
+        # is shorter; forward again to 2 s gives the same pose as before.
+        browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 1;"
+                         " t.dispatchEvent(new Event('input')); })()")
+        pose1 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - 1.0) < 1e-9 and p, 30,
+                           "the pose at 1 s")
+        assert pose1["p"] != pose2["p"]
+        browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 2;"
+                         " t.dispatchEvent(new Event('input')); })()")
+        again = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - 2.0) < 1e-9 and p, 30,
+                           "the pose at 2 s again")
+        assert again["p"] == pose2["p"] and again["q"] == pose2["q"]
+        camera = wait_until(lambda: browser.evaluate(f"hadalViewer.cameraMean('{CAMERA}')"), 30, "a camera frame")
+        assert camera["mean"] > 10.0, camera
+    finally:
+        err = stop(viewer)
+    assert "0 undecodable" in err, err
+
+
+def test_usage_errors_and_the_token(tmp_path):
+    run = subprocess.run([VIEWER, "--bind", "0.0.0.0"], capture_output=True, text=True, timeout=30)
+    assert run.returncode == 2 and "give --token" in run.stderr, run.stderr
+    run = subprocess.run([VIEWER, "--port", "70000"], capture_output=True, text=True, timeout=30)
+    assert run.returncode == 2 and "--port must be" in run.stderr, run.stderr
+    run = subprocess.run([VIEWER, "--bag", str(tmp_path / "none")], capture_output=True, text=True, timeout=30)
+    assert run.returncode == 1 and "no bag directory" in run.stderr, run.stderr
+    viewer, url = start_viewer("--token", "s3cret", "--domain-id", "231")
+    try:
+        assert url.endswith("/?token=s3cret")
+        base = url.split("?")[0]
+        with pytest.raises(urllib.error.HTTPError) as refused:
+            urllib.request.urlopen(base)
+        assert refused.value.code == 403
+        with urllib.request.urlopen(url) as page:
+            assert page.status == 200 and "hadal_token=s3cret" in page.headers["Set-Cookie"]
+        with pytest.raises((websocket.WebSocketBadStatusException, websocket.WebSocketConnectionClosedException)):
+            websocket.create_connection(base.replace("http", "ws") + "ws", timeout=10)
+        socket = websocket.create_connection(base.replace("http", "ws") + "ws", timeout=10,
+                                             cookie="hadal_token=s3cret")
+        assert json.loads(socket.recv())["type"] in ("history", "update")
+        socket.close()
+        with pytest.raises(urllib.error.HTTPError) as missing:
+            urllib.request.urlopen(base + "../etc/passwd?token=s3cret")
+        assert missing.value.code in (400, 404)
+    finally:
+        stop(viewer)

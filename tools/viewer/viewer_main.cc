@@ -1,0 +1,388 @@
+// hadal-viewer: a web page that shows a running hadald, or replays a rosbag2 bag of one
+// (docs/ARCHITECTURE.md, "Viewer"; README, "Watching a run in the browser").
+//
+//   hadal-viewer [--domain-id N] [--port 8080] [--bind 127.0.0.1] [--token T] [--bag DIR]
+//                [--rate-hz 20] [--image-rate-hz 5] [--web-root DIR] [--three-root DIR]
+//
+// A separate process: it subscribes to the hadald on the domain over DDS like any client (nothing in the
+// server knows of it) or reads the bag, keeps what the page shows (viewer_state.h) and pushes it over a
+// WebSocket at --rate-hz, camera frames at --image-rate-hz per camera (JPEG). Listens on loopback by
+// default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
+// read the bag, 2 on a usage error.
+#include "hadal/record/rosbag2_reader.h"
+#include "hadal/record/rosbag2_writer.h"
+#include "hadal/record/topic_tap.h"
+#include "json_number.h"
+#include "parse_number.h"
+#include "viewer_state.h"
+#include "web_server.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using hadal::tools::json_number;
+namespace fs = std::filesystem;
+
+std::atomic<bool> g_stop{false};
+extern "C" void handle_stop_signal(int) { g_stop.store(true); }
+
+const char* const kUsage =
+    "usage: hadal-viewer [--domain-id N] [--port 8080] [--bind 127.0.0.1] [--token T] [--bag DIR]\n"
+    "                    [--rate-hz 20] [--image-rate-hz 5] [--web-root DIR] [--three-root DIR]\n";
+
+[[noreturn]] void usage_error(const std::string& message) {
+  std::fprintf(stderr, "hadal-viewer: error: %s\n%s", message.c_str(), kUsage);
+  std::exit(2);
+}
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+bool is_loopback(const std::string& address) { return address == "localhost" || address.rfind("127.", 0) == 0; }
+
+// The page's files: beside the executable in an install tree (P/bin -> P/share/hadal/viewer), else the
+// source tree's.
+std::string default_web_root() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share/hadal/viewer";
+    if (fs::is_regular_file(installed / "index.html")) return installed.string();
+  }
+  return HADAL_VIEWER_SOURCE_WEB_ROOT;
+}
+
+// Live: the hadald on the domain, all its topics, kept samples included (the scene is written once).
+class LiveSource {
+ public:
+  LiveSource(int domain, hadal::viewer::ViewerState& state) : domain_(domain), state_(state) {
+    thread_ = std::thread([this] { run(); });
+  }
+  ~LiveSource() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::string json() const {
+    return "{\"kind\":\"live\",\"domain\":" + std::to_string(domain_) +
+           ",\"connected\":" + (connected_.load() ? "true" : "false") + "}";
+  }
+
+ private:
+  void run() {
+    hadal::record::TopicTap tap(domain_, "hadal_viewer");
+    while (!stop_ && !tap.discover(1.0)) {
+    }
+    if (stop_) return;
+    for (const auto& [dds_topic, writer] : tap.writers()) {
+      std::string topic, type;
+      if (hadal::record::ros_topic_name(dds_topic, &topic) && hadal::record::ros_type_name(writer.type, &type)) {
+        names_[dds_topic] = {topic, type};
+      }
+    }
+    const bool matched = tap.subscribe(
+        [this](const hadal::record::TappedSample& sample) {
+          const auto name = names_.find(sample.topic);
+          if (name != names_.end()) {
+            state_.add(name->second.first, name->second.second, sample.bytes.data(), sample.bytes.size());
+          }
+        },
+        20.0, true);
+    connected_ = true;
+    if (!matched) std::fprintf(stderr, "hadal-viewer: not every topic of hadald matched within 20 s\n");
+    while (!stop_) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+
+  int domain_;
+  hadal::viewer::ViewerState& state_;
+  std::map<std::string, std::pair<std::string, std::string>> names_;  // DDS topic -> ROS topic, type
+  std::atomic<bool> stop_{false}, connected_{false};
+  std::thread thread_;
+};
+
+// Bag replay: plays the bag in its own time (x speed), seeks on the page's command. A seek feeds what lies
+// before the target again (backwards: from the start), every message but the camera frames, of which
+// only each camera's last before the target.
+class BagPlayer {
+ public:
+  BagPlayer(std::unique_ptr<hadal::record::Rosbag2Reader> reader, std::string path, hadal::viewer::ViewerState& state)
+      : reader_(std::move(reader)), path_(std::move(path)), state_(state) {
+    const auto& index = reader_->index();
+    if (!index.empty()) start_ns_ = index.front().timestamp_ns, end_ns_ = index.back().timestamp_ns;
+    t_ns_ = start_ns_;
+    for (const auto& topic : reader_->topics()) is_image_.push_back(topic.type == "sensor_msgs/msg/Image");
+    thread_ = std::thread([this] { run(); });
+  }
+  ~BagPlayer() {
+    stop_ = true;
+    thread_.join();
+  }
+  void command(const std::string& text) {
+    static const std::regex cmd_re("\"cmd\"\\s*:\\s*\"(\\w+)\"");
+    static const std::regex t_re("\"t\"\\s*:\\s*(-?[0-9.eE+-]+)");
+    static const std::regex x_re("\"x\"\\s*:\\s*([0-9.eE+-]+)");
+    std::smatch m;
+    if (!std::regex_search(text, m, cmd_re)) return;
+    const std::string cmd = m[1];
+    std::lock_guard<std::mutex> lock(mutex_);
+    double value = 0.0;
+    if (cmd == "play") {
+      if (t_ns_ >= end_ns_) seek_ns_ = start_ns_;
+      playing_ = true;
+    } else if (cmd == "pause") {
+      playing_ = false;
+    } else if (cmd == "seek" && std::regex_search(text, m, t_re) && hadal::tools::parse_number(m[1], &value)) {
+      seek_ns_ = start_ns_ + static_cast<std::int64_t>(std::clamp(value, 0.0, 1e-9 * (end_ns_ - start_ns_)) * 1e9);
+    } else if (cmd == "speed" && std::regex_search(text, m, x_re) && hadal::tools::parse_number(m[1], &value)) {
+      speed_ = std::clamp(value, 0.05, 100.0);
+    }
+  }
+  std::string json() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::string json = "{\"kind\":\"bag\",\"path\":\"" + path_ + "\",\"duration\":" + json_number(1e-9 * (end_ns_ - start_ns_)) +
+                       ",\"t\":" + json_number(1e-9 * (t_ns_ - start_ns_)) + ",\"playing\":" + (playing_ ? "true" : "false") +
+                       ",\"speed\":" + json_number(speed_) + ",\"messages\":" + std::to_string(reader_->index().size()) + "}";
+    return json;
+  }
+
+ private:
+  // Feeds the messages from next_ up to and including time target_ns; skip_frames: of each camera only
+  // its last frame.
+  void feed_until(std::int64_t target_ns, bool skip_frames) {
+    const auto& index = reader_->index();
+    std::size_t end = next_;
+    while (end < index.size() && index[end].timestamp_ns <= target_ns) ++end;
+    std::map<int, std::size_t> last_frame;
+    if (skip_frames) {
+      for (std::size_t i = next_; i < end; ++i) {
+        if (is_image_[index[i].topic]) last_frame[index[i].topic] = i;
+      }
+    }
+    std::vector<unsigned char> bytes;
+    std::string error;
+    for (std::size_t i = next_; i < end; ++i) {
+      const auto& entry = index[i];
+      if (skip_frames && is_image_[entry.topic] && last_frame[entry.topic] != i) continue;
+      if (!reader_->read(entry, &bytes, &error)) {
+        std::fprintf(stderr, "hadal-viewer: %s\n", error.c_str());
+        continue;
+      }
+      const auto& topic = reader_->topics()[entry.topic];
+      state_.add(topic.name, topic.type, bytes.data(), bytes.size());
+    }
+    next_ = end;
+  }
+
+  void run() {
+    // The scene first, wherever it lies in the bag: it is written once, before the first step, but a
+    // recorder may take it after a few steps of a fast run (its bag time is then later).
+    const auto& index = reader_->index();
+    for (const auto& entry : index) {
+      const auto& topic = reader_->topics()[entry.topic];
+      std::vector<unsigned char> bytes;
+      std::string error;
+      if (topic.type == "hadal_msgs/msg/Scene" && reader_->read(entry, &bytes, &error)) {
+        state_.add(topic.name, topic.type, bytes.data(), bytes.size());
+        break;
+      }
+    }
+    feed_until(start_ns_, true);
+    double last = now_s();
+    while (!stop_) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      const double now = now_s();
+      std::int64_t target = 0;
+      bool seek = false;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (seek_ns_ >= 0) {
+          target = seek_ns_;
+          seek_ns_ = -1;
+          seek = true;
+          if (target < t_ns_) {
+            state_.clear();
+            next_ = 0;
+          }
+        } else if (playing_) {
+          target = std::min(end_ns_, t_ns_ + static_cast<std::int64_t>((now - last) * speed_ * 1e9));
+          if (target >= end_ns_) playing_ = false;
+        } else {
+          target = t_ns_;
+        }
+        t_ns_ = target;
+      }
+      last = now;
+      feed_until(target, seek);
+    }
+  }
+
+  std::unique_ptr<hadal::record::Rosbag2Reader> reader_;
+  std::string path_;
+  hadal::viewer::ViewerState& state_;
+  std::vector<bool> is_image_;
+  std::int64_t start_ns_ = 0, end_ns_ = 0;
+  mutable std::mutex mutex_;
+  std::int64_t t_ns_ = 0, seek_ns_ = -1;
+  bool playing_ = true;
+  double speed_ = 1.0;
+  std::size_t next_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hadal::viewer::WebOptions web;
+  web.web_root = default_web_root();
+  web.three_root = "/usr/share/javascript/three";
+  int domain = 0;
+  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env != nullptr && *env != '\0') domain = std::atoi(env);
+  std::string bag;
+  double rate_hz = 20.0, image_rate_hz = 5.0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) usage_error("option " + arg + " needs a value");
+      return argv[++i];
+    };
+    auto rate = [&](double* out) {
+      const std::string value = next();
+      if (!hadal::tools::parse_number(value, out) || !(*out > 0.0) || *out > 100.0) {
+        usage_error(arg + " must be a rate in (0, 100] Hz (got '" + value + "')");
+      }
+    };
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (arg == "--domain-id") {
+      const std::string value = next();
+      if (!hadal::tools::parse_int(value, 0, 232, &domain)) {
+        usage_error("--domain-id must be an integer in 0..232 (got '" + value + "')");
+      }
+    } else if (arg == "--port") {
+      const std::string value = next();
+      if (!hadal::tools::parse_int(value, 0, 65535, &web.port)) {
+        usage_error("--port must be an integer in 0..65535 (got '" + value + "'; 0: any free port)");
+      }
+    } else if (arg == "--bind") {
+      web.bind = next();
+    } else if (arg == "--token") {
+      web.token = next();
+      if (web.token.empty() || web.token.find_first_not_of(
+                                   "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_.~") != std::string::npos) {
+        usage_error("--token takes letters, digits and -_.~ (it goes into a URL)");
+      }
+    } else if (arg == "--bag") {
+      bag = next();
+    } else if (arg == "--rate-hz") {
+      rate(&rate_hz);
+    } else if (arg == "--image-rate-hz") {
+      rate(&image_rate_hz);
+    } else if (arg == "--web-root") {
+      web.web_root = next();
+    } else if (arg == "--three-root") {
+      web.three_root = next();
+    } else {
+      usage_error("unknown argument " + arg);
+    }
+  }
+  if (!is_loopback(web.bind) && web.token.empty()) {
+    usage_error("--bind " + web.bind + " lets other machines in: give --token T (the page is then opened as "
+                "http://HOST:PORT/?token=T), or keep the default 127.0.0.1 and use an SSH tunnel");
+  }
+
+  hadal::viewer::ViewerState state(1.0 / image_rate_hz);
+  std::unique_ptr<BagPlayer> player;
+  std::unique_ptr<LiveSource> live;
+  if (!bag.empty()) {
+    std::string error;
+    auto reader = hadal::record::Rosbag2Reader::open(bag, &error);
+    if (!reader) {
+      std::fprintf(stderr, "hadal-viewer: error: %s\n", error.c_str());
+      return 1;
+    }
+    player = std::make_unique<BagPlayer>(std::move(reader), bag, state);
+  }
+
+  std::string error;
+  auto server = hadal::viewer::WebServer::start(web, &error);
+  if (!server) {
+    std::fprintf(stderr, "hadal-viewer: error: %s\n", error.c_str());
+    return 1;
+  }
+  std::mutex clients_mutex;
+  std::vector<hadal::viewer::WebServer::ClientId> new_clients;
+  server->on_client([&](hadal::viewer::WebServer::ClientId client) {
+    std::lock_guard<std::mutex> lock(clients_mutex);
+    new_clients.push_back(client);
+  });
+  server->on_command([&](const std::string& text) {
+    if (player) player->command(text);
+  });
+  if (!player) live = std::make_unique<LiveSource>(domain, state);
+
+  std::signal(SIGINT, handle_stop_signal);
+  std::signal(SIGTERM, handle_stop_signal);
+  const std::string url = "http://" + web.bind + ":" + std::to_string(server->port()) + "/" +
+                          (web.token.empty() ? "" : "?token=" + web.token);
+  std::printf("hadal-viewer: serving %s (%s)\n", url.c_str(),
+              player ? ("bag " + bag).c_str() : ("live: DDS domain " + std::to_string(domain)).c_str());
+  std::fflush(stdout);
+
+  // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected.
+  const auto period = std::chrono::duration<double>(1.0 / rate_hz);
+  auto wake = std::chrono::steady_clock::now();
+  while (!g_stop.load()) {
+    wake += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+    std::this_thread::sleep_until(wake);
+    const std::string source = player ? player->json() : live->json();
+    auto with_source = [&](std::string update) { return update.insert(update.size() - 1, ",\"source\":" + source); };
+    std::vector<hadal::viewer::WebServer::ClientId> joined;
+    {
+      std::lock_guard<std::mutex> lock(clients_mutex);
+      joined.swap(new_clients);
+    }
+    hadal::viewer::PushOutput out = state.poll(now_s());
+    if (!out.scene_json.empty()) {
+      server->broadcast(out.scene_json, false);
+      for (const std::string& mesh : out.mesh_messages) server->broadcast(mesh, true);
+    }
+    if (!out.history_json.empty()) server->broadcast(out.history_json, false);
+    for (const std::string& image : out.image_messages) server->broadcast(image, true);
+    server->broadcast(with_source(out.update_json), false);
+    for (const auto client : joined) {
+      const hadal::viewer::PushOutput all = state.everything();
+      if (!all.scene_json.empty()) {
+        server->send(client, all.scene_json, false);
+        for (const std::string& mesh : all.mesh_messages) server->send(client, mesh, true);
+      }
+      server->send(client, all.history_json, false);
+      for (const std::string& image : all.image_messages) server->send(client, image, true);
+      server->send(client, with_source(all.update_json), false);
+      server->admit(client);
+    }
+    if (std::chrono::steady_clock::now() > wake + std::chrono::seconds(1)) wake = std::chrono::steady_clock::now();
+  }
+  std::fprintf(stderr, "hadal-viewer: %llu sample(s) shown, %llu undecodable\n",
+               static_cast<unsigned long long>(state.samples()), static_cast<unsigned long long>(state.undecodable()));
+  server.reset();
+  player.reset();
+  live.reset();
+  return 0;
+}

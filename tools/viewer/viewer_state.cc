@@ -1,0 +1,526 @@
+#include "viewer_state.h"
+
+#include "json_number.h"
+
+#include <fastdds/rtps/common/SerializedPayload.h>
+#include <hadal_msgsPubSubTypes.h>
+#include <marine_acoustic_msgsPubSubTypes.h>
+#include <nav_msgsPubSubTypes.h>
+#include <rosgraph_msgsPubSubTypes.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+
+namespace hadal::viewer {
+namespace {
+
+using tools::json_number;
+
+constexpr double kSeriesInterval = 0.1;         // sim seconds between two points of a series
+constexpr std::size_t kSeriesPoints = 3000;     // per series (5 min at 10 Hz)
+constexpr std::size_t kTrailPoints = 20000;     // per vehicle
+constexpr double kTrailStep = 0.05;             // [m] between trail points
+constexpr double kPi = 3.14159265358979323846;
+
+// Decodes CDR bytes as PubSubType's message; false when they do not decode.
+template <class PubSubType, class Message>
+bool decode(const unsigned char* data, std::size_t size, Message* msg) {
+  eprosima::fastrtps::rtps::SerializedPayload_t payload;
+  payload.data = const_cast<unsigned char*>(data);
+  payload.length = static_cast<std::uint32_t>(size);
+  payload.max_size = static_cast<std::uint32_t>(size);
+  bool ok = false;
+  try {
+    PubSubType type;
+    ok = type.deserialize(&payload, msg);
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  payload.data = nullptr;  // borrowed
+  return ok;
+}
+
+double stamp_of(const std_msgs::msg::Header& header) {
+  return header.stamp().sec() + 1e-9 * header.stamp().nanosec();
+}
+
+void append_string(std::string& out, const std::string& text) {
+  out += '"';
+  for (const char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  out += '"';
+}
+
+void append_numbers(std::string& out, const double* values, std::size_t n) {
+  out += '[';
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) out += ',';
+    out += json_number(values[i]);
+  }
+  out += ']';
+}
+
+// "/auv/dvl" -> ("auv", "dvl"); "/auv/camera/image_raw" -> ("auv", "camera/image_raw").
+std::pair<std::string, std::string> split_topic(const std::string& topic) {
+  const std::size_t slash = topic.find('/', 1);
+  if (topic.empty() || topic[0] != '/' || slash == std::string::npos) return {"", ""};
+  return {topic.substr(1, slash - 1), topic.substr(slash + 1)};
+}
+
+void append_u32(std::string& out, std::uint32_t value) { out.append(reinterpret_cast<const char*>(&value), 4); }
+
+}  // namespace
+
+std::string binary_message(const char (&tag)[5], const std::string& name, const std::string& payload) {
+  std::string out(tag, 4);
+  append_u32(out, static_cast<std::uint32_t>(name.size()));
+  out += name;
+  out.append((4 - out.size() % 4) % 4, '\0');
+  out += payload;
+  return out;
+}
+
+void ViewerState::add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++samples_;
+  ++counts_[topic];
+  const auto [vehicle, sensor] = split_topic(topic);
+  bool ok = true;
+  if (type == "hadal_msgs/msg/Scene") {
+    // The server writes the same scene again after a reset (the reset itself shows as time going back),
+    // and a bag player may feed it ahead of its time: only a different scene starts over.
+    if (scene_bytes_.size() == size && std::equal(data, data + size, scene_bytes_.begin())) return;
+    hadal_msgs::msg::Scene msg;
+    if ((ok = decode<hadal_msgs::msg::ScenePubSubType>(data, size, &msg))) {
+      scene_bytes_.assign(data, data + size);
+      water_surface_z_ = msg.water_surface_z();
+      std::string json = "{\"type\":\"scene\",\"scenario\":";
+      append_string(json, msg.scenario());
+      json += ",\"frame_id\":";
+      append_string(json, msg.header().frame_id());
+      json += ",\"water_surface_z\":" + json_number(msg.water_surface_z());
+      json += ",\"vehicles\":[";
+      for (std::size_t i = 0; i < msg.vehicle_names().size(); ++i) {
+        if (i) json += ',';
+        json += "{\"name\":";
+        append_string(json, msg.vehicle_names()[i]);
+        json += ",\"type\":";
+        append_string(json, i < msg.vehicle_types().size() ? msg.vehicle_types()[i] : "");
+        json += '}';
+      }
+      json += "],\"meshes\":[";
+      mesh_messages_.clear();
+      for (std::size_t i = 0; i < msg.meshes().size(); ++i) {
+        const auto& mesh = msg.meshes()[i];
+        if (i) json += ',';
+        json += "{\"name\":";
+        append_string(json, mesh.name());
+        json += ",\"frame_id\":";
+        append_string(json, mesh.frame_id());
+        const double color[3] = {mesh.color().r(), mesh.color().g(), mesh.color().b()};
+        json += ",\"color\":";
+        append_numbers(json, color, 3);
+        json += ",\"triangles\":" + std::to_string(mesh.indices().size() / 3) + '}';
+        std::string payload;
+        append_u32(payload, static_cast<std::uint32_t>(mesh.positions().size()));
+        append_u32(payload, static_cast<std::uint32_t>(mesh.indices().size()));
+        payload.append(reinterpret_cast<const char*>(mesh.positions().data()), 4 * mesh.positions().size());
+        payload.append(reinterpret_cast<const char*>(mesh.indices().data()), 4 * mesh.indices().size());
+        mesh_messages_.push_back(binary_message("MESH", std::to_string(i), payload));
+      }
+      json += "],\"frames\":[";
+      for (std::size_t i = 0; i < msg.frames().size(); ++i) {
+        const auto& frame = msg.frames()[i];
+        if (i) json += ',';
+        json += "{\"vehicle\":";
+        append_string(json, frame.vehicle());
+        json += ",\"name\":";
+        append_string(json, frame.name());
+        json += ",\"kind\":";
+        append_string(json, frame.kind());
+        const auto& pose = frame.pose();
+        const double p[3] = {pose.position().x(), pose.position().y(), pose.position().z()};
+        const double q[4] = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(),
+                             pose.orientation().w()};
+        json += ",\"p\":";
+        append_numbers(json, p, 3);
+        json += ",\"q\":";
+        append_numbers(json, q, 4);
+        json += ",\"range\":" + json_number(frame.range()) + ",\"half_angle\":" + json_number(frame.half_angle()) + '}';
+      }
+      json += "]}";
+      scene_json_ = std::move(json);
+      ++scene_generation_;
+      start_over();  // the server writes the scene at start and after a reset
+    }
+  } else if (type == "nav_msgs/msg/Odometry") {
+    nav_msgs::msg::Odometry msg;
+    if ((ok = decode<nav_msgs::msg::OdometryPubSubType>(data, size, &msg))) {
+      const double t = stamp_of(msg.header());
+      note_time(t);
+      Vehicle& v = vehicles_[vehicle];
+      const auto& pose = msg.pose().pose();
+      const auto& twist = msg.twist().twist();
+      v.has_pose = true;
+      v.stamp = t;
+      v.p[0] = pose.position().x(), v.p[1] = pose.position().y(), v.p[2] = pose.position().z();
+      v.q[0] = pose.orientation().x(), v.q[1] = pose.orientation().y(), v.q[2] = pose.orientation().z(),
+      v.q[3] = pose.orientation().w();
+      v.v[0] = twist.linear().x(), v.v[1] = twist.linear().y(), v.v[2] = twist.linear().z();
+      v.w[0] = twist.angular().x(), v.w[1] = twist.angular().y(), v.w[2] = twist.angular().z();
+      const std::size_t n = v.trail.size();
+      if (n == 0 || std::hypot(v.p[0] - v.trail[n - 3], v.p[1] - v.trail[n - 2], v.p[2] - v.trail[n - 1]) >= kTrailStep) {
+        if (n / 3 >= kTrailPoints) v.trail.erase(v.trail.begin(), v.trail.begin() + 3 * (kTrailPoints / 10));
+        v.trail.insert(v.trail.end(), {static_cast<float>(v.p[0]), static_cast<float>(v.p[1]), static_cast<float>(v.p[2])});
+        ++v.trail_total;
+      }
+      // Roll, pitch, yaw of B in W (z-y-x Euler angles, as REP-103's rpy).
+      const Eigen::Quaterniond q(v.q[3], v.q[0], v.q[1], v.q[2]);
+      const Eigen::Matrix3d R = q.normalized().toRotationMatrix();
+      const double roll = std::atan2(R(2, 1), R(2, 2)), pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0)),
+                   yaw = std::atan2(R(1, 0), R(0, 0));
+      add_point(vehicle + "/depth", vehicle + " depth", "depth", "m", t, water_surface_z_ - v.p[2]);
+      add_point(vehicle + "/speed", vehicle + " speed", "speed", "m/s", t, std::hypot(v.v[0], v.v[1], v.v[2]));
+      add_point(vehicle + "/roll", vehicle + " attitude", "roll", "deg", t, roll * 180.0 / kPi);
+      add_point(vehicle + "/pitch", vehicle + " attitude", "pitch", "deg", t, pitch * 180.0 / kPi);
+      add_point(vehicle + "/yaw", vehicle + " attitude", "yaw", "deg", t, yaw * 180.0 / kPi);
+    }
+  } else if (type == "hadal_msgs/msg/SimStatus") {
+    hadal_msgs::msg::SimStatus msg;
+    if ((ok = decode<hadal_msgs::msg::SimStatusPubSubType>(data, size, &msg))) {
+      static const char* const kModes[] = {"realtime", "fast", "lockstep"};
+      std::string json = "{\"sim_time\":" + json_number(msg.sim_time()) +
+                         ",\"rtf\":" + json_number(msg.real_time_factor()) +
+                         ",\"steps\":" + std::to_string(msg.step_count()) + ",\"mode\":";
+      append_string(json, msg.mode() < 3 ? kModes[msg.mode()] : "unknown");
+      json += ",\"faults\":{";
+      for (std::size_t i = 0; i < msg.vehicle_names().size() && i < msg.vehicle_faults().size(); ++i) {
+        if (i) json += ',';
+        append_string(json, msg.vehicle_names()[i]);
+        json += ':' + std::to_string(msg.vehicle_faults()[i]);
+      }
+      json += "},\"rejected_commands\":" + std::to_string(msg.rejected_commands()) + ",\"last_error\":";
+      append_string(json, msg.last_error());
+      json += ",\"dropped_captures\":" + std::to_string(msg.dropped_captures()) + '}';
+      status_json_ = std::move(json);
+    }
+  } else if (type == "rosgraph_msgs/msg/Clock") {
+    rosgraph_msgs::msg::Clock msg;
+    if ((ok = decode<rosgraph_msgs::msg::ClockPubSubType>(data, size, &msg))) {
+      note_time(msg.clock().sec() + 1e-9 * msg.clock().nanosec());
+    }
+  } else if (type == "marine_acoustic_msgs/msg/Dvl") {
+    marine_acoustic_msgs::msg::Dvl msg;
+    if ((ok = decode<marine_acoustic_msgs::msg::DvlPubSubType>(data, size, &msg))) {
+      const double t = stamp_of(msg.header());
+      std::string json = "{\"kind\":\"dvl\",\"vehicle\":";
+      append_string(json, vehicle);
+      json += ",\"sensor\":";
+      append_string(json, sensor);
+      json += ",\"beams\":[";
+      for (int i = 0; i < 4; ++i) {
+        const auto& u = msg.beam_unit_vec()[i];
+        const double beam[4] = {u.x(), u.y(), u.z(), msg.range()[i]};
+        if (i) json += ',';
+        append_numbers(json, beam, 4);
+      }
+      json += "],\"altitude\":" + json_number(msg.altitude()) + '}';
+      overlays_[topic] = std::move(json);
+      add_point(topic + "/altitude", vehicle + " altitude", sensor + " altitude", "m", t, msg.altitude());
+      add_point(topic + "/vx", vehicle + " " + sensor + " velocity", "vx", "m/s", t, msg.velocity().x());
+      add_point(topic + "/vy", vehicle + " " + sensor + " velocity", "vy", "m/s", t, msg.velocity().y());
+    }
+  } else if (type == "sensor_msgs/msg/Range") {
+    sensor_msgs::msg::Range msg;
+    if ((ok = decode<sensor_msgs::msg::RangePubSubType>(data, size, &msg))) {
+      std::string json = "{\"kind\":\"range\",\"vehicle\":";
+      append_string(json, vehicle);
+      json += ",\"sensor\":";
+      append_string(json, sensor);
+      json += ",\"range\":" + json_number(msg.range()) + ",\"max_range\":" + json_number(msg.max_range()) + '}';
+      overlays_[topic] = std::move(json);
+      add_point(topic, vehicle + " altitude", sensor, "m", stamp_of(msg.header()), msg.range());
+    }
+  } else if (type == "sensor_msgs/msg/FluidPressure") {
+    sensor_msgs::msg::FluidPressure msg;
+    if ((ok = decode<sensor_msgs::msg::FluidPressurePubSubType>(data, size, &msg))) {
+      add_point(topic, vehicle + " pressure", sensor, "kPa", stamp_of(msg.header()), 1e-3 * msg.fluid_pressure());
+    }
+  } else if (type == "sensor_msgs/msg/Imu") {
+    sensor_msgs::msg::Imu msg;
+    if ((ok = decode<sensor_msgs::msg::ImuPubSubType>(data, size, &msg))) {
+      const double t = stamp_of(msg.header());
+      const auto& w = msg.angular_velocity();
+      add_point(topic + "/wx", vehicle + " " + sensor + " rate", "wx", "deg/s", t, w.x() * 180.0 / kPi);
+      add_point(topic + "/wy", vehicle + " " + sensor + " rate", "wy", "deg/s", t, w.y() * 180.0 / kPi);
+      add_point(topic + "/wz", vehicle + " " + sensor + " rate", "wz", "deg/s", t, w.z() * 180.0 / kPi);
+    }
+  } else if (type == "sensor_msgs/msg/Image") {
+    // Decoded when due (poll): most frames are never sent.
+    Camera& camera = cameras_[topic];
+    camera.bytes.assign(data, data + size);
+    ++camera.frames;
+  }
+  if (!ok) ++undecodable_;
+}
+
+void ViewerState::add_point(const std::string& key, const std::string& plot, const std::string& label,
+                            const std::string& unit, double t, double value) {
+  auto [it, added] = series_.try_emplace(key);
+  Series& series = it->second;
+  if (added) series.plot = plot, series.label = label, series.unit = unit;
+  if (!series.points.empty() && t < series.points.back().first + kSeriesInterval) return;
+  if (series.points.size() >= kSeriesPoints) {
+    series.points.pop_front();
+    series.seq.pop_front();
+  }
+  series.points.emplace_back(t, value);
+  series.seq.push_back(next_seq_++);
+}
+
+void ViewerState::note_time(double t) {
+  // A lockstep reset starts over at 0 (the scene comes again too; this catches a bag of several runs).
+  if (t + 1e-6 < sim_time_ - 0.5) start_over();
+  sim_time_ = t;
+}
+
+void ViewerState::start_over() {
+  for (auto& [name, vehicle] : vehicles_) vehicle.trail.clear(), vehicle.trail_total = vehicle.polled_trail = 0;
+  series_.clear();
+  overlays_.clear();
+  sim_time_ = 0.0;
+  ++history_generation_;
+}
+
+void ViewerState::clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  vehicles_.clear();
+  cameras_.clear();
+  status_json_.clear();
+  start_over();
+}
+
+std::string ViewerState::history_json_locked() const {
+  std::string json = "{\"type\":\"history\",\"seq\":" + std::to_string(next_seq_ - 1) + ",\"trails\":{";
+  bool first = true;
+  for (const auto& [name, vehicle] : vehicles_) {
+    if (!first) json += ',';
+    first = false;
+    append_string(json, name);
+    json += ":{\"total\":" + std::to_string(vehicle.trail_total) + ",\"points\":";
+    append_trail(json, vehicle, 0);
+    json += '}';
+  }
+  json += "},\"series\":{";
+  first = true;
+  for (const auto& [key, series] : series_) {
+    if (!first) json += ',';
+    first = false;
+    append_string(json, key);
+    json += ":{\"plot\":";
+    append_string(json, series.plot);
+    json += ",\"label\":";
+    append_string(json, series.label);
+    json += ",\"unit\":";
+    append_string(json, series.unit);
+    json += ",\"t\":[";
+    for (std::size_t i = 0; i < series.points.size(); ++i) json += (i ? "," : "") + json_number(series.points[i].first);
+    json += "],\"v\":[";
+    for (std::size_t i = 0; i < series.points.size(); ++i) json += (i ? "," : "") + json_number(series.points[i].second);
+    json += "]}";
+  }
+  json += "}}";
+  return json;
+}
+
+void ViewerState::append_trail(std::string& json, const Vehicle& vehicle, std::uint64_t from) {
+  const std::uint64_t first = vehicle.trail_total - vehicle.trail.size() / 3;
+  json += '[';
+  for (std::size_t i = 3 * (std::max(from, first) - first); i < vehicle.trail.size(); ++i) {
+    if (json.back() != '[') json += ',';
+    json += json_number(vehicle.trail[i]);
+  }
+  json += ']';
+}
+
+std::string ViewerState::update_json_locked(std::uint64_t since_seq, bool trail_points) const {
+  std::string json = "{\"type\":\"update\",\"sim_time\":" + json_number(sim_time_) +
+                     ",\"samples\":" + std::to_string(samples_) + ",\"undecodable\":" + std::to_string(undecodable_);
+  json += ",\"status\":" + (status_json_.empty() ? std::string("null") : status_json_);
+  json += ",\"vehicles\":{";
+  bool first = true;
+  for (const auto& [name, v] : vehicles_) {
+    if (!v.has_pose) continue;
+    if (!first) json += ',';
+    first = false;
+    append_string(json, name);
+    json += ":{\"stamp\":" + json_number(v.stamp) + ",\"p\":";
+    append_numbers(json, v.p, 3);
+    json += ",\"q\":";
+    append_numbers(json, v.q, 4);
+    json += ",\"v\":";
+    append_numbers(json, v.v, 3);
+    json += ",\"w\":";
+    append_numbers(json, v.w, 3);
+    // The trail's points added since the pages were last sent some: [index of the first, x, y, z, ...].
+    const std::uint64_t from = trail_points ? v.polled_trail : v.trail_total;
+    json += ",\"trail_from\":" + std::to_string(from) + ",\"trail\":";
+    append_trail(json, v, from);
+    json += '}';
+  }
+  json += "},\"overlays\":[";
+  first = true;
+  for (const auto& [topic, overlay] : overlays_) {
+    json += (first ? "" : ",") + overlay;
+    first = false;
+  }
+  json += "],\"cameras\":{";
+  first = true;
+  for (const auto& [topic, camera] : cameras_) {
+    if (!first) json += ',';
+    first = false;
+    append_string(json, topic);
+    json += ":{\"frames\":" + std::to_string(camera.frames) + ",\"stamp\":" + json_number(camera.stamp) +
+            ",\"width\":" + std::to_string(camera.width) + ",\"height\":" + std::to_string(camera.height) +
+            ",\"encoding\":";
+    append_string(json, camera.encoding);
+    json += '}';
+  }
+  // New points as [key, seq, t, value], with what a page needs to plot a series it has not seen yet.
+  json += "},\"series\":{";
+  first = true;
+  for (const auto& [key, series] : series_) {
+    if (series.seq.empty() || series.seq.back() <= since_seq) continue;
+    if (!first) json += ',';
+    first = false;
+    append_string(json, key);
+    json += ":{\"plot\":";
+    append_string(json, series.plot);
+    json += ",\"label\":";
+    append_string(json, series.label);
+    json += ",\"unit\":";
+    append_string(json, series.unit);
+    json += '}';
+  }
+  json += "},\"points\":[";
+  first = true;
+  for (const auto& [key, series] : series_) {
+    const auto newer = std::upper_bound(series.seq.begin(), series.seq.end(), since_seq);
+    for (auto i = static_cast<std::size_t>(newer - series.seq.begin()); i < series.seq.size(); ++i) {
+      if (!first) json += ',';
+      first = false;
+      json += '[';
+      append_string(json, key);
+      json += ',' + std::to_string(series.seq[i]) + ',' + json_number(series.points[i].first) + ',' +
+              json_number(series.points[i].second) + ']';
+    }
+  }
+  json += "]}";
+  return json;
+}
+
+// The camera's latest frame as a JPEG message, decoded and encoded now; "" when it is no 8-bit image.
+std::string ViewerState::image_message_locked(const std::string& topic, Camera& camera) {
+  sensor_msgs::msg::Image msg;
+  if (!decode<sensor_msgs::msg::ImagePubSubType>(camera.bytes.data(), camera.bytes.size(), &msg)) {
+    ++undecodable_;
+    return "";
+  }
+  camera.stamp = stamp_of(msg.header());
+  camera.width = static_cast<int>(msg.width());
+  camera.height = static_cast<int>(msg.height());
+  camera.encoding = msg.encoding();
+  int channels = 0;
+  if (msg.encoding() == "rgb8" || msg.encoding() == "bgr8") channels = 3;
+  if (msg.encoding() == "mono8") channels = 1;
+  if (channels == 0 || msg.data().size() < static_cast<std::size_t>(msg.step()) * msg.height() ||
+      msg.step() < msg.width() * static_cast<std::uint32_t>(channels)) {
+    return "";  // depth images (32FC1) and anything else are listed, not shown
+  }
+  const cv::Mat image(camera.height, camera.width, channels == 3 ? CV_8UC3 : CV_8UC1, msg.data().data(), msg.step());
+  cv::Mat bgr;
+  if (msg.encoding() == "rgb8") {
+    cv::cvtColor(image, bgr, cv::COLOR_RGB2BGR);
+  } else {
+    bgr = image;
+  }
+  std::vector<unsigned char> jpeg;
+  cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
+  camera.last_jpeg.assign(jpeg.begin(), jpeg.end());
+  return binary_message("JPEG", topic, camera.last_jpeg);
+}
+
+PushOutput ViewerState::poll(double now_s) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PushOutput out;
+  if (polled_scene_ != scene_generation_) {
+    polled_scene_ = scene_generation_;
+    out.scene_json = scene_json_;
+    out.mesh_messages = mesh_messages_;
+  }
+  if (polled_history_ != history_generation_) {
+    polled_history_ = history_generation_;
+    out.history_json = history_json_locked();
+    polled_seq_ = next_seq_ - 1;
+  }
+  for (auto& [topic, camera] : cameras_) {
+    if (camera.frames == camera.sent_frame || now_s - camera.sent_at < image_interval_s_) continue;
+    camera.sent_frame = camera.frames;
+    camera.sent_at = now_s;
+    std::string message = image_message_locked(topic, camera);
+    if (!message.empty()) out.image_messages.push_back(std::move(message));
+  }
+  out.update_json = update_json_locked(polled_seq_, true);
+  polled_seq_ = next_seq_ - 1;
+  for (auto& [name, vehicle] : vehicles_) vehicle.polled_trail = vehicle.trail_total;
+  return out;
+}
+
+PushOutput ViewerState::everything() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PushOutput out;
+  out.scene_json = scene_json_;
+  out.mesh_messages = mesh_messages_;
+  out.history_json = history_json_locked();
+  for (const auto& [topic, camera] : cameras_) {
+    if (!camera.last_jpeg.empty()) out.image_messages.push_back(binary_message("JPEG", topic, camera.last_jpeg));
+  }
+  out.update_json = update_json_locked(next_seq_ - 1, false);  // the trails are in the history
+  return out;
+}
+
+std::uint64_t ViewerState::samples() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return samples_;
+}
+std::uint64_t ViewerState::undecodable() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return undecodable_;
+}
+double ViewerState::sim_time() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sim_time_;
+}
+
+}  // namespace hadal::viewer

@@ -1,0 +1,109 @@
+// What hadal-viewer shows, kept from the samples it is handed (live from DDS or replayed from a bag):
+// the scene (rt/hadal/scene), each vehicle's latest pose and twist (odometry) and its trail, the status
+// line (rt/hadal/status), DVL beams and altimeter ranges, the latest camera frame per image topic, and
+// time series for the plots (depth, speed, attitude, sensor streams). The push loop polls it at a bounded
+// rate and sends what changed to the page as JSON text and binary blobs (tools/viewer/web/viewer.js
+// reads them; docs/ARCHITECTURE.md, "Viewer").
+//
+// Frames and units as on the wire: W (ENU, z up), poses of B in W [m, unit quaternion], twists in B
+// [m/s, rad/s]; series in the unit they name (attitude in degrees, for people).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace hadal::viewer {
+
+// One binary message to the page: a 4-byte tag, the name (length-prefixed, padded to 4 bytes), then the
+// payload. "MESH": u32 float count, u32 index count, float32 positions, uint32 indices. "JPEG": the image.
+std::string binary_message(const char (&tag)[5], const std::string& name, const std::string& payload);
+
+struct PushOutput {
+  std::string scene_json;                                  // set when the scene changed
+  std::vector<std::string> mesh_messages;                  // with it, one binary message per mesh
+  std::string history_json;                                // set when trails and series started over
+  std::string update_json;                                 // the latest state, and new series points
+  std::vector<std::string> image_messages;                 // camera frames due
+};
+
+class ViewerState {
+ public:
+  // image_interval_s: the shortest wall interval between two frames of one camera sent to the page.
+  explicit ViewerState(double image_interval_s = 0.2) : image_interval_s_(image_interval_s) {}
+
+  // One sample: its ROS 2 topic ("/auv/odometry") and type ("nav_msgs/msg/Odometry") and its CDR bytes.
+  // Types the viewer does not draw are counted and otherwise ignored; a sample that does not decode is
+  // counted as such. Thread-safe.
+  void add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size);
+  // Forgets everything but the scene (a bag player seeking backwards).
+  void clear();
+
+  // What changed since the last poll (wall time now_s for the image rate). Thread-safe.
+  PushOutput poll(double now_s);
+  // Everything a newly connected page needs: the scene, the history and the latest camera frames.
+  PushOutput everything();
+
+  // Samples taken and samples that did not decode (for the status line and tests).
+  std::uint64_t samples() const;
+  std::uint64_t undecodable() const;
+  double sim_time() const;
+
+ private:
+  struct Vehicle {
+    bool has_pose = false;
+    double p[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, v[3] = {0, 0, 0}, w[3] = {0, 0, 0};
+    double stamp = 0;
+    std::vector<float> trail;         // x y z per point, the latest kTrailPoints
+    std::uint64_t trail_total = 0;    // points ever added (the first kept is trail_total - trail.size() / 3)
+    std::uint64_t polled_trail = 0;   // points sent to the pages so far
+  };
+  struct Series {
+    std::string plot, label, unit;
+    std::deque<std::pair<double, double>> points;  // (sim time, value)
+    std::deque<std::uint64_t> seq;                  // each point's sequence number
+  };
+  struct Camera {
+    std::vector<unsigned char> bytes;  // the latest Image sample
+    double stamp = 0;
+    std::uint64_t frames = 0;
+    std::uint64_t sent_frame = 0;
+    double sent_at = -1e9;
+    std::string last_jpeg;
+    int width = 0, height = 0;
+    std::string encoding;
+  };
+
+  void add_point(const std::string& key, const std::string& plot, const std::string& label, const std::string& unit,
+                 double t, double value);
+  void start_over();  // trails and series (new scene, or time went backwards)
+  void note_time(double t);
+  std::string history_json_locked() const;
+  // Series points after since_seq; with trail_points, the trail points not yet polled (else none).
+  std::string update_json_locked(std::uint64_t since_seq, bool trail_points) const;
+  static void append_trail(std::string& json, const Vehicle& vehicle, std::uint64_t from);
+  std::string image_message_locked(const std::string& topic, Camera& camera);
+
+  mutable std::mutex mutex_;
+  double image_interval_s_;
+  std::vector<unsigned char> scene_bytes_;  // the scene message as it came
+  std::string scene_json_;
+  std::vector<std::string> mesh_messages_;
+  double water_surface_z_ = 0.0;
+  std::uint64_t scene_generation_ = 0, polled_scene_ = 0;
+  std::uint64_t history_generation_ = 1, polled_history_ = 0;
+  std::map<std::string, Vehicle> vehicles_;
+  std::map<std::string, Series> series_;
+  std::uint64_t next_seq_ = 1, polled_seq_ = 0;
+  std::map<std::string, Camera> cameras_;
+  std::string status_json_;                       // the last SimStatus as JSON
+  std::map<std::string, std::string> overlays_;   // "/auv/dvl" -> its JSON (beams, ranges)
+  std::map<std::string, std::uint64_t> counts_;   // per topic
+  double sim_time_ = 0.0;
+  std::uint64_t samples_ = 0, undecodable_ = 0;
+};
+
+}  // namespace hadal::viewer

@@ -1,0 +1,55 @@
+// hadal-viewer's HTTP and WebSocket side (civetweb): serves the page (tools/viewer/web), three.js from
+// Debian's libjs-three, and one WebSocket endpoint (/ws) over which the push loop sends the state and the
+// page sends its few commands (bag replay: play, pause, seek). Nothing else is served: no directory
+// listing, no file outside the two roots.
+//
+// Access: listening on loopback needs nothing more; with a token, every request must carry it, as
+// ?token=T (the page's first request; it is then kept in a cookie, HttpOnly, SameSite=Strict) or that
+// cookie.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace hadal::viewer {
+
+struct WebOptions {
+  std::string bind = "127.0.0.1";
+  int port = 8080;          // 0: any free port (port() tells which)
+  std::string token;        // empty: none required
+  std::string web_root;     // index.html, viewer.js, viewer.css
+  std::string three_root;   // libjs-three's /usr/share/javascript/three
+};
+
+class WebServer {
+ public:
+  using ClientId = const void*;
+  // Starts listening; null with the reason in *error (port taken, address not local, files missing).
+  static std::unique_ptr<WebServer> start(const WebOptions& options, std::string* error);
+  ~WebServer();
+  WebServer(const WebServer&) = delete;
+  WebServer& operator=(const WebServer&) = delete;
+
+  int port() const;
+  // Called (from civetweb's threads) when a page's WebSocket is open, and with each text message a page
+  // sends. Set before clients connect.
+  void on_client(std::function<void(ClientId)> callback);
+  void on_command(std::function<void(const std::string&)> callback);
+
+  // Sends to every admitted WebSocket, or to one open one (ignored when it has gone). binary: a binary
+  // frame. A page is admitted to broadcasts once it has been sent everything (admit()), so that nothing
+  // broadcast reaches it before what it builds on.
+  void broadcast(const std::string& data, bool binary);
+  void send(ClientId client, const std::string& data, bool binary);
+  void admit(ClientId client);
+  int clients() const;
+
+  struct Impl;
+
+ private:
+  explicit WebServer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hadal::viewer
