@@ -68,12 +68,16 @@ std::string default_web_root() {
   return HADAL_VIEWER_SOURCE_WEB_ROOT;
 }
 
-// Live: the hadald on the domain, all its topics, kept samples included (the scene is written once).
+// Live: the hadald on the domain, the topics the page shows (ViewerState::shows), kept samples included (the
+// scene is written once), with readers that keep the latest sample only and, but for the scene, take what
+// arrives without acknowledging it: a viewer never holds the server's writers back. Camera images, the
+// heavy topics, are read only once a page is open (want_images()), by a second participant.
 class LiveSource {
  public:
   LiveSource(int domain, hadal::viewer::ViewerState& state) : domain_(domain), state_(state) {
     thread_ = std::thread([this] { run(); });
   }
+  void want_images() { images_wanted_ = true; }
   ~LiveSource() {
     stop_ = true;
     thread_.join();
@@ -95,23 +99,41 @@ class LiveSource {
         names_[dds_topic] = {topic, type};
       }
     }
-    const bool matched = tap.subscribe(
+    const bool matched = subscribe(tap, false);
+    connected_ = true;
+    if (!matched) std::fprintf(stderr, "hadal-viewer: not every topic of hadald matched within 20 s\n");
+    std::unique_ptr<hadal::record::TopicTap> image_tap;
+    while (!stop_) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (images_wanted_ && !image_tap) {
+        image_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_images");
+        if (image_tap->discover(5.0, 0.2)) subscribe(*image_tap, true);
+      }
+    }
+  }
+
+  // The shown topics of the hadald the tap found: its camera images or all the others.
+  bool subscribe(hadal::record::TopicTap& tap, bool images) {
+    return tap.subscribe(
         [this](const hadal::record::TappedSample& sample) {
           const auto name = names_.find(sample.topic);
           if (name != names_.end()) {
             state_.add(name->second.first, name->second.second, sample.bytes.data(), sample.bytes.size());
           }
         },
-        20.0, true);
-    connected_ = true;
-    if (!matched) std::fprintf(stderr, "hadal-viewer: not every topic of hadald matched within 20 s\n");
-    while (!stop_) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        20.0, true,
+        [this, images](const std::string& dds_topic, const hadal::record::TappedWriter&) {
+          const auto name = names_.find(dds_topic);
+          return name != names_.end() && hadal::viewer::ViewerState::shows(name->second.first, name->second.second) &&
+                 (name->second.second == "sensor_msgs/msg/Image") == images;
+        },
+        true);
   }
 
   int domain_;
   hadal::viewer::ViewerState& state_;
   std::map<std::string, std::pair<std::string, std::string>> names_;  // DDS topic -> ROS topic, type
-  std::atomic<bool> stop_{false}, connected_{false};
+  std::atomic<bool> stop_{false}, connected_{false}, images_wanted_{false};
   std::thread thread_;
 };
 
@@ -320,6 +342,8 @@ int main(int argc, char** argv) {
     player = std::make_unique<BagPlayer>(std::move(reader), bag, state);
   }
 
+  if (!player) live = std::make_unique<LiveSource>(domain, state);  // before any page can ask for images
+
   std::string error;
   auto server = hadal::viewer::WebServer::start(web, &error);
   if (!server) {
@@ -331,11 +355,11 @@ int main(int argc, char** argv) {
   server->on_client([&](hadal::viewer::WebServer::ClientId client) {
     std::lock_guard<std::mutex> lock(clients_mutex);
     new_clients.push_back(client);
+    if (live) live->want_images();
   });
   server->on_command([&](const std::string& text) {
     if (player) player->command(text);
   });
-  if (!player) live = std::make_unique<LiveSource>(domain, state);
 
   std::signal(SIGINT, handle_stop_signal);
   std::signal(SIGTERM, handle_stop_signal);

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <set>
 
 namespace hadal::viewer {
 namespace {
@@ -99,6 +100,15 @@ std::string binary_message(const char (&tag)[5], const std::string& name, const 
   out.append((4 - out.size() % 4) % 4, '\0');
   out += payload;
   return out;
+}
+
+bool ViewerState::shows(const std::string& topic, const std::string& type) {
+  static const std::set<std::string> kTypes = {
+      "hadal_msgs/msg/Scene", "nav_msgs/msg/Odometry", "hadal_msgs/msg/SimStatus", "marine_acoustic_msgs/msg/Dvl", "sensor_msgs/msg/Range", "sensor_msgs/msg/FluidPressure", "sensor_msgs/msg/Imu"};
+  const std::string image_suffix = "/image_raw";
+  return kTypes.count(type) > 0 ||
+         (type == "sensor_msgs/msg/Image" && topic.size() > image_suffix.size() &&
+          topic.compare(topic.size() - image_suffix.size(), image_suffix.size(), image_suffix) == 0);
 }
 
 void ViewerState::add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size) {
@@ -290,7 +300,7 @@ void ViewerState::add_point(const std::string& key, const std::string& plot, con
   auto [it, added] = series_.try_emplace(key);
   Series& series = it->second;
   if (added) series.plot = plot, series.label = label, series.unit = unit;
-  if (!series.points.empty() && t < series.points.back().first + kSeriesInterval) return;
+  if (!series.points.empty() && t < series.points.back().first + kSeriesInterval - 1e-9) return;
   if (series.points.size() >= kSeriesPoints) {
     series.points.pop_front();
     series.seq.pop_front();

@@ -39,6 +39,9 @@ class ViewerState {
   // Types the viewer does not draw are counted and otherwise ignored; a sample that does not decode is
   // counted as such. Thread-safe.
   void add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size);
+  // The topics a live viewer reads: the scene, odometry, status, DVL, ranges, pressure, IMU, and camera
+  // images (image_raw; depth images are not shown). add() also takes /clock (a bag's time).
+  static bool shows(const std::string& topic, const std::string& type);
   // Forgets everything but the scene (a bag player seeking backwards).
   void clear();
 

@@ -143,7 +143,9 @@ std::map<std::string, TappedWriter> TopicTap::writers() const {
   return impl_->writers;
 }
 
-bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s, bool kept_samples) {
+bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s, bool kept_samples,
+                         const std::function<bool(const std::string&, const TappedWriter&)>& wanted,
+                         bool latest_only) {
   Impl& d = *impl_;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
@@ -151,15 +153,17 @@ bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, dou
   }
   if (d.subscriber == nullptr) d.subscriber = d.participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   for (const auto& [topic_name, writer] : writers()) {
+    if (wanted && !wanted(topic_name, writer)) continue;
     if (d.participant->find_type(writer.type).empty()) {
       fdds::TypeSupport(new OpaqueType(writer.type)).register_type(d.participant);
     }
     fdds::Topic* topic = d.participant->create_topic(topic_name, writer.type, fdds::TOPIC_QOS_DEFAULT);
     fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
-    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    qos.durability().kind = kept_samples && writer.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS
-                                                                   : fdds::VOLATILE_DURABILITY_QOS;
-    qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
+    const bool kept = kept_samples && writer.transient_local;
+    qos.reliability().kind = kept || !latest_only ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+    qos.durability().kind = kept ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = latest_only ? fdds::KEEP_LAST_HISTORY_QOS : fdds::KEEP_ALL_HISTORY_QOS;
+    qos.history().depth = 1;
     qos.endpoint().history_memory_policy = rtps::DYNAMIC_RESERVE_MEMORY_MODE;
     // The listener only once the reader is known, so every sample finds its topic.
     fdds::DataReader* reader = d.subscriber->create_datareader(topic, qos, nullptr, fdds::StatusMask::none());

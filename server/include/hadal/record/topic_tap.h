@@ -46,7 +46,11 @@ class TopicTap {
   // (from DDS's threads). Waits (up to timeout_s) until every reader has matched its writer; false if not.
   // kept_samples: transient-local readers where the writer offers it, so that the samples the writer kept
   // for late joiners (a lockstep server's t = 0 samples, published before anyone stepped it) come too.
-  bool subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s, bool kept_samples = false);
+  // wanted: the topics to read (all when empty). latest_only: a viewer's readers, which show the latest sample
+  // and need not slow the writer: keep last 1, best effort (reliable where kept samples are read).
+  bool subscribe(std::function<void(const TappedSample&)> on_sample, double timeout_s, bool kept_samples = false,
+                 const std::function<bool(const std::string& topic, const TappedWriter&)>& wanted = {},
+                 bool latest_only = false);
   // Takes whatever the readers hold without having signalled it (after the last step of a run).
   void drain();
   // Wall seconds since the last sample or discovery event.

@@ -1,0 +1,204 @@
+// ViewerState (viewer_state.h) fed CDR samples as DDS delivers them: what a poll sends the page, and only
+// once; trails and series start over when time goes back; a scene sent again changes nothing; camera frames
+// go as JPEG at most once per interval, and only 8-bit ones; bytes that do not decode are counted.
+#include "viewer_state.h"
+
+#include <fastdds/rtps/common/SerializedPayload.h>
+#include <gtest/gtest.h>
+#include <hadal_msgsPubSubTypes.h>
+#include <nav_msgsPubSubTypes.h>
+#include <sensor_msgsPubSubTypes.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <string>
+#include <vector>
+
+namespace hadal::viewer {
+namespace {
+
+template <class PubSubType, class Message>
+std::vector<unsigned char> cdr(Message& msg) {
+  PubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&msg)());
+  EXPECT_TRUE(type.serialize(&msg, &payload));
+  return std::vector<unsigned char>(payload.data, payload.data + payload.length);
+}
+
+void add_odometry(ViewerState& state, double t, double x, double z) {
+  nav_msgs::msg::Odometry msg;
+  msg.header().stamp().sec(static_cast<std::int32_t>(std::floor(t)));
+  msg.header().stamp().nanosec(static_cast<std::uint32_t>(std::llround((t - std::floor(t)) * 1e9)));
+  msg.pose().pose().position().x(x);
+  msg.pose().pose().position().z(z);
+  msg.pose().pose().orientation().w(1.0);
+  msg.twist().twist().linear().x(1.0);
+  const auto bytes = cdr<nav_msgs::msg::OdometryPubSubType>(msg);
+  state.add("/auv/odometry", "nav_msgs/msg/Odometry", bytes.data(), bytes.size());
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// The JSON array after `"key":` (flat arrays only).
+std::string array_after(const std::string& json, const std::string& key) {
+  const std::size_t start = json.find("\"" + key + "\":[");
+  if (start == std::string::npos) return "";
+  const std::size_t open = json.find('[', start);
+  return json.substr(open, json.find(']', open) - open + 1);
+}
+
+std::size_t numbers_in(const std::string& array) { return array == "[]" ? 0 : count(array, ",") + 1; }
+
+// The AUV at 1 m/s along x, 96 m down (the water surface at z = 0 without a scene), odometry at 50 Hz for
+// 1 s: the pose as it came, a trail point every 5 cm (the first, then every third sample: 0.06 m apart), and
+// depth at 10 Hz of sim time.
+TEST(ViewerStateTest, OdometryBecomesPoseTrailAndSeriesSentOnce) {
+  ViewerState state;
+  for (int i = 0; i <= 50; ++i) add_odometry(state, 0.02 * i, 0.02 * i, -96.0);
+  PushOutput out = state.poll(0.0);
+  // The first poll starts the pages' history: the series so far are in it, not in the update.
+  ASSERT_FALSE(out.history_json.empty());
+  EXPECT_NE(out.history_json.find("\"auv/depth\":{\"plot\":\"auv depth\",\"label\":\"depth\",\"unit\":\"m\","),
+            std::string::npos);
+  const std::string depth_times = out.history_json.substr(out.history_json.find("\"auv/depth\""));
+  EXPECT_EQ(numbers_in(array_after(depth_times, "t")), 11u);
+  EXPECT_EQ(array_after(depth_times, "v").substr(0, 4), "[96,");
+  EXPECT_EQ(count(out.update_json, "[\"auv/depth\","), 0u);
+  EXPECT_NE(out.update_json.find("\"auv\":{\"stamp\":1,\"p\":[1,0,-96],\"q\":[0,0,0,1]"), std::string::npos)
+      << out.update_json;
+  EXPECT_EQ(numbers_in(array_after(out.update_json, "trail")), 3u * 17u);
+
+  // The next poll carries only what came since, with what a page needs to plot it.
+  add_odometry(state, 1.1, 1.1, -96.5);
+  out = state.poll(0.0);
+  EXPECT_TRUE(out.history_json.empty());
+  EXPECT_EQ(count(out.update_json, "[\"auv/depth\","), 1u);
+  EXPECT_NE(out.update_json.find("[\"auv/depth\",56,1.1,96.5]"), std::string::npos) << out.update_json;
+  EXPECT_NE(out.update_json.find("\"auv/depth\":{\"plot\":\"auv depth\",\"label\":\"depth\",\"unit\":\"m\"}"),
+            std::string::npos);
+  EXPECT_NE(out.update_json.find("\"trail_from\":17,\"trail\":[1.1000000"), std::string::npos)
+      << out.update_json;
+  out = state.poll(0.0);
+  EXPECT_EQ(count(out.update_json, "[\"auv/depth\","), 0u);
+  EXPECT_EQ(array_after(out.update_json, "trail"), "[]");
+
+  // A page that joins now gets the whole trail and series in its history, and no points twice.
+  const PushOutput all = state.everything();
+  EXPECT_NE(all.history_json.find("\"auv\":{\"total\":18,\"points\":["), std::string::npos) << all.history_json;
+  EXPECT_EQ(count(all.update_json, "[\"auv/depth\","), 0u);
+  EXPECT_EQ(state.samples(), 52u);
+  EXPECT_EQ(state.undecodable(), 0u);
+}
+
+TEST(ViewerStateTest, TimeGoingBackStartsTrailsAndSeriesOver) {
+  ViewerState state;
+  for (int i = 0; i <= 50; ++i) add_odometry(state, 0.02 * i, 0.02 * i, -96.0);
+  state.poll(0.0);
+  add_odometry(state, 0.0, 5.0, -90.0);  // a lockstep reset: sim time 0 again
+  const PushOutput out = state.poll(0.0);
+  ASSERT_FALSE(out.history_json.empty());
+  EXPECT_NE(out.history_json.find("\"auv\":{\"total\":1,\"points\":[5,0,-90]}"), std::string::npos)
+      << out.history_json;
+  EXPECT_NE(out.history_json.find("\"auv/depth\":{\"plot\":\"auv depth\",\"label\":\"depth\",\"unit\":\"m\","
+                                  "\"t\":[0],\"v\":[90]}"),
+            std::string::npos)
+      << out.history_json;
+}
+
+hadal_msgs::msg::Scene scene(float z) {
+  hadal_msgs::msg::Scene msg;
+  msg.scenario("test.yaml");
+  msg.water_surface_z(10.0);
+  msg.vehicle_names({"auv"});
+  hadal_msgs::msg::SceneMesh& mesh = msg.meshes().emplace_back();
+  mesh.name("seabed");
+  mesh.positions({0, 0, z, 1, 0, z, 0, 1, z});
+  mesh.indices({0, 1, 2});
+  return msg;
+}
+
+TEST(ViewerStateTest, TheSameSceneAgainChangesNothingAnotherStartsOver) {
+  ViewerState state;
+  auto first = scene(-100.0f);
+  const auto bytes = cdr<hadal_msgs::msg::ScenePubSubType>(first);
+  state.add("/hadal/scene", "hadal_msgs/msg/Scene", bytes.data(), bytes.size());
+  PushOutput out = state.poll(0.0);
+  EXPECT_NE(out.scene_json.find("\"scenario\":\"test.yaml\""), std::string::npos) << out.scene_json;
+  ASSERT_EQ(out.mesh_messages.size(), 1u);
+  // "MESH", name length 1, "0" padded to 4 bytes, 9 floats, 3 indices, then the data.
+  EXPECT_EQ(out.mesh_messages[0].size(), 4u + 4u + 4u + 8u + 9u * 4u + 3u * 4u);
+  EXPECT_EQ(out.mesh_messages[0].substr(0, 4), "MESH");
+  add_odometry(state, 0.0, 0.0, -96.0);  // depth below the scene's water surface at z = 10
+  out = state.poll(0.0);
+  EXPECT_NE(out.update_json.find("[\"auv/depth\",1,0,106]"), std::string::npos) << out.update_json;
+
+  state.add("/hadal/scene", "hadal_msgs/msg/Scene", bytes.data(), bytes.size());
+  out = state.poll(0.0);
+  EXPECT_TRUE(out.scene_json.empty());
+  EXPECT_TRUE(out.history_json.empty());
+
+  auto second = scene(-50.0f);
+  const auto other = cdr<hadal_msgs::msg::ScenePubSubType>(second);
+  state.add("/hadal/scene", "hadal_msgs/msg/Scene", other.data(), other.size());
+  out = state.poll(0.0);
+  EXPECT_FALSE(out.scene_json.empty());
+  EXPECT_FALSE(out.history_json.empty());
+}
+
+std::vector<unsigned char> image(const std::string& encoding, int width, int height, int bytes_per_pixel,
+                                 unsigned char value) {
+  sensor_msgs::msg::Image msg;
+  msg.header().stamp().sec(2);
+  msg.width(width);
+  msg.height(height);
+  msg.encoding(encoding);
+  msg.step(width * bytes_per_pixel);
+  msg.data(std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height * bytes_per_pixel, value));
+  return cdr<sensor_msgs::msg::ImagePubSubType>(msg);
+}
+
+TEST(ViewerStateTest, CameraFramesGoAsJpegAtMostOncePerInterval) {
+  ViewerState state(0.2);
+  const auto rgb = image("rgb8", 8, 4, 3, 200);
+  state.add("/auv/camera/image_raw", "sensor_msgs/msg/Image", rgb.data(), rgb.size());
+  const auto depth = image("32FC1", 8, 4, 4, 0);
+  state.add("/auv/camera/depth", "sensor_msgs/msg/Image", depth.data(), depth.size());
+  PushOutput out = state.poll(10.0);
+  ASSERT_EQ(out.image_messages.size(), 1u);  // the depth image is listed, not sent
+  const std::string& message = out.image_messages[0];
+  EXPECT_EQ(message.substr(0, 4), "JPEG");
+  const std::string name = "/auv/camera/image_raw";
+  const std::size_t offset = 8 + name.size() + (4 - name.size() % 4) % 4;
+  EXPECT_EQ(message.substr(8, name.size()), name);
+  const cv::Mat decoded = cv::imdecode(std::vector<unsigned char>(message.begin() + offset, message.end()),
+                                       cv::IMREAD_COLOR);
+  ASSERT_EQ(decoded.cols, 8);
+  EXPECT_NEAR(decoded.at<cv::Vec3b>(2, 4)[1], 200, 3);  // JPEG: within a few counts of the flat grey
+  EXPECT_NE(out.update_json.find("\"/auv/camera/depth\":{\"frames\":1"), std::string::npos) << out.update_json;
+
+  state.add("/auv/camera/image_raw", "sensor_msgs/msg/Image", rgb.data(), rgb.size());
+  EXPECT_TRUE(state.poll(10.1).image_messages.empty());  // 0.1 s after the last: not yet
+  EXPECT_EQ(state.poll(10.25).image_messages.size(), 1u);
+  EXPECT_TRUE(state.poll(10.5).image_messages.empty());  // no new frame
+  EXPECT_EQ(state.everything().image_messages.size(), 1u);  // the last frame, for a page that joins
+}
+
+TEST(ViewerStateTest, BytesThatDoNotDecodeAreCountedAndWhatIsShownIsKnown) {
+  ViewerState state;
+  const std::vector<unsigned char> garbage{0, 1, 0, 0, 7};
+  state.add("/auv/odometry", "nav_msgs/msg/Odometry", garbage.data(), garbage.size());
+  state.add("/auv/magnetometer", "sensor_msgs/msg/MagneticField", garbage.data(), garbage.size());
+  EXPECT_EQ(state.samples(), 2u);
+  EXPECT_EQ(state.undecodable(), 1u);  // the magnetometer is not drawn, so not decoded
+  EXPECT_TRUE(ViewerState::shows("/auv/camera/image_raw", "sensor_msgs/msg/Image"));
+  EXPECT_FALSE(ViewerState::shows("/auv/camera/depth", "sensor_msgs/msg/Image"));
+  EXPECT_FALSE(ViewerState::shows("/auv/magnetometer", "sensor_msgs/msg/MagneticField"));
+  EXPECT_TRUE(ViewerState::shows("/hadal/scene", "hadal_msgs/msg/Scene"));
+}
+
+}  // namespace
+}  // namespace hadal::viewer
