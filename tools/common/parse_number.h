@@ -27,4 +27,15 @@ inline bool parse_int(const std::string& text, long min, long max, int* out) {
   return true;
 }
 
+// A DDS domain id for --domain-id (0..232, as ROS_DOMAIN_ID) into *out: "" when valid, else the usage error.
+inline std::string parse_domain_id(const std::string& text, int* out) {
+  return parse_int(text, 0, 232, out) ? "" : "--domain-id must be an integer in 0..232 (got '" + text + "')";
+}
+
+// $ROS_DOMAIN_ID when set, else 0: the domain a tool joins without --domain-id.
+inline int default_domain_id() {
+  const char* env = std::getenv("ROS_DOMAIN_ID");
+  return env != nullptr && *env != '\0' ? std::atoi(env) : 0;
+}
+
 }  // namespace hadal::tools

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
   hadal::record::BagRecorderOptions options;
   std::string& directory = options.directory;
   int& domain = options.domain_id;
-  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env != nullptr && *env != '\0') domain = std::atoi(env);
+  domain = hadal::tools::default_domain_id();
   double duration_s = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -61,10 +61,7 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     } else if (arg == "--domain-id") {
-      const std::string value = next();
-      if (!hadal::tools::parse_int(value, 0, 232, &domain)) {
-        usage_error("--domain-id must be an integer in 0..232 (got '" + value + "')");
-      }
+      if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
     } else if (arg == "--topics") {
       std::stringstream list(next());
       for (std::string topic; std::getline(list, topic, ',');) {

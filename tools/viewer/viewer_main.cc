@@ -273,8 +273,7 @@ int main(int argc, char** argv) {
   hadal::viewer::WebOptions web;
   web.web_root = default_web_root();
   web.three_root = "/usr/share/javascript/three";
-  int domain = 0;
-  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env != nullptr && *env != '\0') domain = std::atoi(env);
+  int domain = hadal::tools::default_domain_id();
   std::string bag;
   double rate_hz = 20.0, image_rate_hz = 5.0;
   for (int i = 1; i < argc; ++i) {
@@ -293,10 +292,7 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     } else if (arg == "--domain-id") {
-      const std::string value = next();
-      if (!hadal::tools::parse_int(value, 0, 232, &domain)) {
-        usage_error("--domain-id must be an integer in 0..232 (got '" + value + "')");
-      }
+      if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
     } else if (arg == "--port") {
       const std::string value = next();
       if (!hadal::tools::parse_int(value, 0, 65535, &web.port)) {

@@ -348,12 +348,7 @@ std::string ViewerState::history_json_locked() const {
     if (!first) json += ',';
     first = false;
     append_string(json, key);
-    json += ":{\"plot\":";
-    append_string(json, series.plot);
-    json += ",\"label\":";
-    append_string(json, series.label);
-    json += ",\"unit\":";
-    append_string(json, series.unit);
+    append_series_info(json, series);
     json += ",\"t\":[";
     for (std::size_t i = 0; i < series.points.size(); ++i) json += (i ? "," : "") + json_number(series.points[i].first);
     json += "],\"v\":[";
@@ -362,6 +357,16 @@ std::string ViewerState::history_json_locked() const {
   }
   json += "}}";
   return json;
+}
+
+// `:{"plot":...,"label":...,"unit":...` (the object left open).
+void ViewerState::append_series_info(std::string& json, const Series& series) {
+  json += ":{\"plot\":";
+  append_string(json, series.plot);
+  json += ",\"label\":";
+  append_string(json, series.label);
+  json += ",\"unit\":";
+  append_string(json, series.unit);
 }
 
 void ViewerState::append_trail(std::string& json, const Vehicle& vehicle, std::uint64_t from) {
@@ -425,12 +430,7 @@ std::string ViewerState::update_json_locked(std::uint64_t since_seq, bool trail_
     if (!first) json += ',';
     first = false;
     append_string(json, key);
-    json += ":{\"plot\":";
-    append_string(json, series.plot);
-    json += ",\"label\":";
-    append_string(json, series.label);
-    json += ",\"unit\":";
-    append_string(json, series.unit);
+    append_series_info(json, series);
     json += '}';
   }
   json += "},\"points\":[";

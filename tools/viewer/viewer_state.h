@@ -88,6 +88,7 @@ class ViewerState {
   // Series points after since_seq; with trail_points, the trail points not yet polled (else none).
   std::string update_json_locked(std::uint64_t since_seq, bool trail_points) const;
   static void append_trail(std::string& json, const Vehicle& vehicle, std::uint64_t from);
+  static void append_series_info(std::string& json, const Series& series);
   std::string image_message_locked(const std::string& topic, Camera& camera);
 
   mutable std::mutex mutex_;
