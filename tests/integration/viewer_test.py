@@ -4,14 +4,11 @@ vehicle, the vehicle's pose in the 3-D view is the odometry's after steps, the c
 that is not black, and a bag replays with seeking. Screenshots go to HADAL_ARTIFACTS (build/test-artifacts/
 viewer) for a person to look at."""
 
-import base64
-import itertools
 import json
 import os
-import shutil
 import signal
 import subprocess
-import time
+import sys
 import urllib.request
 
 import numpy as np
@@ -20,81 +17,14 @@ import websocket
 
 import hadal
 
+sys.path.insert(0, os.path.join(os.environ["HADAL_SOURCE_DIR"], "tools/viewer"))
+from cdp_browser import Browser, wait_until  # noqa: E402
+
 VIEWER = os.environ["HADAL_VIEWER"]
 HADALD = os.environ["HADALD"]
 SOURCE_DIR = os.environ["HADAL_SOURCE_DIR"]
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 ARTIFACTS = os.environ.get("HADAL_ARTIFACTS", "test-artifacts/viewer")
 CAMERA = "/auv/camera/image_raw"
-
-
-def wait_until(condition, timeout_s=60.0, what="condition"):
-    deadline = time.monotonic() + timeout_s
-    while True:
-        value = condition()
-        if value:
-            return value
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.1)
-
-
-class Browser:
-    """Headless Chromium with one page, driven over the DevTools protocol (a WebSocket of JSON calls)."""
-
-    def __init__(self, profile_dir):
-        # The flags this machine's Chromium needs headless (no GPU: WebGL on SwiftShader; no background
-        # traffic on a closed network).
-        self.process = subprocess.Popen(
-            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-             "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run", "--disable-background-networking",
-             "--disable-component-update", "--disable-sync", f"--user-data-dir={profile_dir}",
-             "--window-size=1400,850", "--remote-debugging-port=0", "--remote-allow-origins=*", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        port_file = os.path.join(profile_dir, "DevToolsActivePort")
-        wait_until(lambda: os.path.exists(port_file) and open(port_file).read().strip(), 30, "Chromium's DevTools port")
-        port = int(open(port_file).read().split()[0])
-        targets = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list"))
-        page = next(t for t in targets if t["type"] == "page")
-        self.socket = websocket.create_connection(page["webSocketDebuggerUrl"], timeout=60)
-        self.ids = itertools.count(1)
-        self.console = []
-        self.call("Runtime.enable")
-        self.call("Page.enable")
-
-    def call(self, method, **params):
-        call_id = next(self.ids)
-        self.socket.send(json.dumps({"id": call_id, "method": method, "params": params}))
-        while True:
-            message = json.loads(self.socket.recv())
-            if message.get("method") == "Runtime.exceptionThrown":
-                self.console.append(message["params"]["exceptionDetails"].get("exception", {}).get("description"))
-            elif message.get("method") == "Runtime.consoleAPICalled":
-                self.console.append(" ".join(str(a.get("value")) for a in message["params"]["args"]))
-            if message.get("id") == call_id:
-                assert "error" not in message, message["error"]
-                return message["result"]
-
-    def evaluate(self, expression):
-        result = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
-        assert "exceptionDetails" not in result, result["exceptionDetails"]
-        return result["result"].get("value")
-
-    def open(self, url):
-        self.call("Page.navigate", url=url)
-        wait_until(lambda: self.evaluate("typeof window.hadalViewer === 'object'"), 30, "the page's script")
-
-    def screenshot(self, name):
-        os.makedirs(ARTIFACTS, exist_ok=True)
-        data = self.call("Page.captureScreenshot", format="png")["data"]
-        path = os.path.join(ARTIFACTS, name)
-        with open(path, "wb") as f:
-            f.write(base64.b64decode(data))
-        return path
-
-    def close(self):
-        self.socket.close()
-        self.process.terminate()
-        self.process.wait(timeout=30)
 
 
 def start_viewer(*args):
@@ -150,7 +80,7 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
                                     "a camera frame in the page")
                 assert camera["width"] == 640 and camera["height"] == 480
                 assert camera["mean"] > 10.0, camera
-                browser.screenshot("live_lockstep_t1.png")
+                browser.screenshot(os.path.join(ARTIFACTS, "live_lockstep_t1.png"))
                 for _ in range(20):
                     client.step(50)
                 odometry = client.wait_odometry("auv", min_stamp=3.0)
@@ -160,7 +90,7 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
                 status = browser.evaluate("hadalViewer.state.lastUpdate.status")
                 assert status["mode"] == "lockstep" and status["steps"] == 1500
                 assert browser.evaluate("hadalViewer.state.vehicles.auv.trailCount") > 20
-                browser.screenshot("live_lockstep_t3.png")
+                browser.screenshot(os.path.join(ARTIFACTS, "live_lockstep_t3.png"))
         finally:
             err = stop(viewer)
     assert "0 undecodable" in err, err
@@ -187,7 +117,7 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
                          " t.dispatchEvent(new Event('input')); })()")
         pose2 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - 2.0) < 1e-9 and p, 30,
                            "the pose at 2 s")
-        browser.screenshot("bag_seek_2s.png")
+        browser.screenshot(os.path.join(ARTIFACTS, "bag_seek_2s.png"))
         # Back to 1 s: the state starts over from the bag's beginning and lands on the 1 s pose; the trail
         # is shorter; forward again to 2 s gives the same pose as before.
         browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 1;"
