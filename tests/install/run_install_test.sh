@@ -2,8 +2,9 @@
 # The install tree on its own (README "Installing"): `cmake --install BUILD --prefix P` into a temporary P,
 # then, from a directory outside the source tree and with nothing pointing back into it (no HADALD,
 # HADAL_SOURCE_DIR or HADAL_DATA_DIR): the Python package imports from P alone, hadal.Server("default")
-# starts P/bin/hadald on P/share/hadal/configs, the magnetometer's World Magnetic Model is P's copy, and an
-# outside CMake project finds the C++ client with find_package(hadal_client), builds and steps that server.
+# starts P/bin/hadald on P/share/hadal/configs, the magnetometer's World Magnetic Model is P's copy,
+# hadal-viewer serves its page from P, and an outside CMake project finds the C++ client with
+# find_package(hadal_client), builds and steps that server.
 #
 # usage: run_install_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -16,7 +17,8 @@ PREFIX=$WORK/prefix
 fail() { echo "FAIL: install: $*" >&2; exit 1; }
 
 cmake --install "$BUILD" --prefix "$PREFIX" >"$WORK/install.log" || { cat "$WORK/install.log" >&2; fail "cmake --install failed"; }
-for f in bin/hadald bin/hadal-make-asset bin/hadal-geomag share/hadal/WMM2025.COF \
+for f in bin/hadald bin/hadal-make-asset bin/hadal-geomag bin/hadal-viewer share/hadal/viewer/viewer.js \
+         share/hadal/WMM2025.COF \
          share/hadal/configs/scenarios/default.yaml share/hadal/configs/meshes include/hadal_client/client.h \
          lib/python3/dist-packages/hadal/__init__.py lib/python3/dist-packages/hadal/env.py; do
   [[ -e "$PREFIX/$f" ]] || fail "$f is not in the install tree"
@@ -27,6 +29,14 @@ ls "$PREFIX"/lib/python3/dist-packages/hadal/_hadal*.so >/dev/null || fail "no P
 # Data found relative to the install.
 "$PREFIX/bin/hadal-geomag" --help | grep -qF "$PREFIX/share/hadal/WMM2025.COF" ||
   fail "hadal-geomag does not default to the installed WMM2025.COF: $("$PREFIX/bin/hadal-geomag" --help | tail -1)"
+
+# The installed viewer serves its page from the install tree (P/share/hadal/viewer), not the source tree.
+"$PREFIX/bin/hadal-viewer" --port 0 --domain-id 232 >"$WORK/viewer.log" 2>&1 &
+viewer_pid=$!
+for _ in $(seq 50); do grep -q "serving" "$WORK/viewer.log" && break; sleep 0.1; done
+kill -INT "$viewer_pid"; wait "$viewer_pid" || true
+grep -qF "page from $PREFIX/share/hadal/viewer" "$WORK/viewer.log" ||
+  fail "the installed hadal-viewer does not serve the installed page: $(cat "$WORK/viewer.log")"
 
 # An outside project against the install prefix only.
 cmake -S "$SOURCE/tests/install/consumer" -B "$WORK/consumer" -DCMAKE_PREFIX_PATH="$PREFIX" \

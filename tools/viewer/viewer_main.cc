@@ -361,8 +361,9 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, handle_stop_signal);
   const std::string url = "http://" + web.bind + ":" + std::to_string(server->port()) + "/" +
                           (web.token.empty() ? "" : "?token=" + web.token);
-  std::printf("hadal-viewer: serving %s (%s)\n", url.c_str(),
-              player ? ("bag " + bag).c_str() : ("live: DDS domain " + std::to_string(domain)).c_str());
+  std::printf("hadal-viewer: serving %s (%s; page from %s)\n", url.c_str(),
+              player ? ("bag " + bag).c_str() : ("live: DDS domain " + std::to_string(domain)).c_str(),
+              web.web_root.c_str());
   std::fflush(stdout);
 
   // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected.
