@@ -86,6 +86,29 @@ def test_a_lockstep_run_is_recorded_whole_as_a_rosbag2_bag(server, tmp_path):
     assert data[:2] == b"\x00\x01"  # CDR little endian, as on the wire
     assert int.from_bytes(data[4:8], "little") == 2 and int.from_bytes(data[8:12], "little") == 0  # 2.000 s
     assert row == 9
+    # Every topic holds what hadald says it published over its life, but for its wall-clock heartbeat
+    # (/hadal/status, published before the recorder joined and after it left).
+    assert server.stop() == 0
+    assert {topic: n for topic, n in published_counts(server.log_path).items() if topic != "/hadal/status"} == \
+        {topic: n for topic, n in recorded.items() if topic != "/hadal/status"}
+    assert recorded["/hadal/scene"] == 1 and recorded["/hadal/step_reply"] == STEPS // 50
+
+
+def published_counts(log_path):
+    """{ROS topic: samples} of the topics hadald's run summary lists as published with at least one sample."""
+    counts, listing = {}, False
+    with open(log_path) as log:
+        for line in log:
+            if line.strip() == "samples published:":
+                listing = True
+            elif listing and line.startswith("    rt/"):
+                topic, n = line.split()
+                if int(n):
+                    counts[topic[2:]] = int(n)
+            else:
+                listing = False
+    assert counts, "no 'samples published' in hadald's summary"
+    return counts
 
 
 def remove_port_segments(domain_id):
