@@ -32,10 +32,16 @@ inline std::string parse_domain_id(const std::string& text, int* out) {
   return parse_int(text, 0, 232, out) ? "" : "--domain-id must be an integer in 0..232 (got '" + text + "')";
 }
 
-// $ROS_DOMAIN_ID when set, else 0: the domain a tool joins without --domain-id.
-inline int default_domain_id() {
+// The domain a tool joins without --domain-id into *out: $ROS_DOMAIN_ID when set, else 0. "" when valid, else
+// the usage error.
+inline std::string default_domain_id(int* out) {
   const char* env = std::getenv("ROS_DOMAIN_ID");
-  return env != nullptr && *env != '\0' ? std::atoi(env) : 0;
+  if (env == nullptr || *env == '\0') {
+    *out = 0;
+    return "";
+  }
+  if (parse_int(env, 0, 232, out)) return "";
+  return "ROS_DOMAIN_ID must be an integer in 0..232 (got '" + std::string(env) + "')";
 }
 
 }  // namespace hadal::tools

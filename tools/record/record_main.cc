@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
   hadal::record::BagRecorderOptions options;
   std::string& directory = options.directory;
   int& domain = options.domain_id;
-  domain = hadal::tools::default_domain_id();
+  bool domain_given = false;
   double duration_s = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
       return 0;
     } else if (arg == "--domain-id") {
       if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
+      domain_given = true;
     } else if (arg == "--topics") {
       std::stringstream list(next());
       for (std::string topic; std::getline(list, topic, ',');) {
@@ -83,6 +84,9 @@ int main(int argc, char** argv) {
     } else {
       directory = arg;
     }
+  }
+  if (!domain_given) {
+    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) usage_error(error);
   }
   if (directory.empty()) usage_error("no bag directory given");
   if (const std::string error = hadal::record::Rosbag2Writer::existing_directory_error(directory); !error.empty()) {

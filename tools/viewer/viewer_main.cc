@@ -68,10 +68,11 @@ std::string default_web_root() {
   return HADAL_VIEWER_SOURCE_WEB_ROOT;
 }
 
-// Live: the hadald on the domain, the topics the page shows (ViewerState::shows), kept samples included (the
-// scene is written once), with readers that keep the latest sample only and, but for the scene, take what
-// arrives without acknowledging it: a viewer never holds the server's writers back. Camera images, the
-// heavy topics, are read only once a page is open (want_images()), by a second participant.
+// Live: the hadald on the domain, only the topics the page shows (ViewerState::shows), with readers that keep
+// the latest sample. Reliable and transient-local (the scene is written once, before anyone joins), but for
+// camera images, the heavy topics: those are read best effort (the server never resends a frame to the
+// viewer), and only once a page is open (want_images()), by a second participant. hadald's topics are
+// learnt once: a server restarted with another scenario needs the viewer restarted.
 class LiveSource {
  public:
   LiveSource(int domain, hadal::viewer::ViewerState& state) : domain_(domain), state_(state) {
@@ -82,13 +83,25 @@ class LiveSource {
     stop_ = true;
     thread_.join();
   }
+  // Connected: a sample came within the last 3 s (hadald's status is a 10 Hz wall-clock heartbeat).
   std::string json() const {
+    const bool connected = now_s() - last_sample_s_.load() < 3.0;
     return "{\"kind\":\"live\",\"domain\":" + std::to_string(domain_) +
-           ",\"connected\":" + (connected_.load() ? "true" : "false") + "}";
+           ",\"connected\":" + (connected ? "true" : "false") + "}";
   }
+  bool failed() const { return failed_; }
 
  private:
   void run() {
+    try {
+      read();
+    } catch (const std::exception& e) {  // DDS set-up (e.g. a participant that cannot be made)
+      std::fprintf(stderr, "hadal-viewer: error: %s\n", e.what());
+      failed_ = true;
+    }
+  }
+
+  void read() {
     hadal::record::TopicTap tap(domain_, "hadal_viewer");
     while (!stop_ && !tap.discover(1.0)) {
     }
@@ -99,15 +112,17 @@ class LiveSource {
         names_[dds_topic] = {topic, type};
       }
     }
-    const bool matched = subscribe(tap, false);
-    connected_ = true;
-    if (!matched) std::fprintf(stderr, "hadal-viewer: not every topic of hadald matched within 20 s\n");
+    if (!subscribe(tap, false)) std::fprintf(stderr, "hadal-viewer: not every topic of hadald matched within 20 s\n");
     std::unique_ptr<hadal::record::TopicTap> image_tap;
     while (!stop_) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
       if (images_wanted_ && !image_tap) {
         image_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_images");
-        if (image_tap->discover(5.0, 0.2)) subscribe(*image_tap, true);
+        if (image_tap->discover(5.0, 0.2)) {
+          subscribe(*image_tap, true);
+        } else {
+          image_tap.reset();  // hadald gone for now: try again
+        }
       }
     }
   }
@@ -116,16 +131,18 @@ class LiveSource {
   bool subscribe(hadal::record::TopicTap& tap, bool images) {
     return tap.subscribe(
         [this](const hadal::record::TappedSample& sample) {
+          last_sample_s_ = now_s();
           const auto name = names_.find(sample.topic);
           if (name != names_.end()) {
             state_.add(name->second.first, name->second.second, sample.bytes.data(), sample.bytes.size());
           }
         },
-        20.0, true,
+        20.0, !images,
         [this, images](const std::string& dds_topic, const hadal::record::TappedWriter&) {
           const auto name = names_.find(dds_topic);
-          return name != names_.end() && hadal::viewer::ViewerState::shows(name->second.first, name->second.second) &&
-                 (name->second.second == "sensor_msgs/msg/Image") == images;
+          if (name == names_.end()) return false;
+          const auto& [topic, type] = name->second;
+          return hadal::viewer::ViewerState::shows(topic, type) && (type == "sensor_msgs/msg/Image") == images;
         },
         true);
   }
@@ -133,7 +150,8 @@ class LiveSource {
   int domain_;
   hadal::viewer::ViewerState& state_;
   std::map<std::string, std::pair<std::string, std::string>> names_;  // DDS topic -> ROS topic, type
-  std::atomic<bool> stop_{false}, connected_{false}, images_wanted_{false};
+  std::atomic<bool> stop_{false}, failed_{false}, images_wanted_{false};
+  std::atomic<double> last_sample_s_{-1e9};
   std::thread thread_;
 };
 
@@ -155,6 +173,7 @@ class BagPlayer {
     thread_.join();
   }
   void command(const std::string& text) {
+    if (text.size() > 200) return;  // a page's commands are short; nothing long reaches the regexes
     static const std::regex cmd_re("\"cmd\"\\s*:\\s*\"(\\w+)\"");
     static const std::regex t_re("\"t\"\\s*:\\s*(-?[0-9.eE+-]+)");
     static const std::regex x_re("\"x\"\\s*:\\s*([0-9.eE+-]+)");
@@ -176,10 +195,10 @@ class BagPlayer {
   }
   std::string json() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::string json = "{\"kind\":\"bag\",\"path\":\"" + path_ + "\",\"duration\":" + json_number(1e-9 * (end_ns_ - start_ns_)) +
-                       ",\"t\":" + json_number(1e-9 * (t_ns_ - start_ns_)) + ",\"playing\":" + (playing_ ? "true" : "false") +
-                       ",\"speed\":" + json_number(speed_) + ",\"messages\":" + std::to_string(reader_->index().size()) + "}";
-    return json;
+    return "{\"kind\":\"bag\",\"path\":" + hadal::viewer::json_string(path_) +
+           ",\"duration\":" + json_number(1e-9 * (end_ns_ - start_ns_)) +
+           ",\"t\":" + json_number(1e-9 * (t_ns_ - start_ns_)) + ",\"playing\":" + (playing_ ? "true" : "false") +
+           ",\"speed\":" + json_number(speed_) + ",\"messages\":" + std::to_string(reader_->index().size()) + "}";
   }
 
  private:
@@ -273,7 +292,8 @@ int main(int argc, char** argv) {
   hadal::viewer::WebOptions web;
   web.web_root = default_web_root();
   web.three_root = "/usr/share/javascript/three";
-  int domain = hadal::tools::default_domain_id();
+  int domain = 0;
+  bool domain_given = false;
   std::string bag;
   double rate_hz = 20.0, image_rate_hz = 5.0;
   for (int i = 1; i < argc; ++i) {
@@ -293,6 +313,7 @@ int main(int argc, char** argv) {
       return 0;
     } else if (arg == "--domain-id") {
       if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
+      domain_given = true;
     } else if (arg == "--port") {
       const std::string value = next();
       if (!hadal::tools::parse_int(value, 0, 65535, &web.port)) {
@@ -302,9 +323,10 @@ int main(int argc, char** argv) {
       web.bind = next();
     } else if (arg == "--token") {
       web.token = next();
-      if (web.token.empty() || web.token.find_first_not_of(
-                                   "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_.~") != std::string::npos) {
-        usage_error("--token takes letters, digits and -_.~ (it goes into a URL)");
+      const char* const kTokenCharacters = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_.~";
+      if (web.token.empty() || web.token.size() > 128 ||
+          web.token.find_first_not_of(kTokenCharacters) != std::string::npos) {
+        usage_error("--token takes 1 to 128 letters, digits and -_.~ (it goes into a URL)");
       }
     } else if (arg == "--bag") {
       bag = next();
@@ -319,6 +341,9 @@ int main(int argc, char** argv) {
     } else {
       usage_error("unknown argument " + arg);
     }
+  }
+  if (!domain_given) {
+    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) usage_error(error);
   }
   if (!is_loopback(web.bind) && web.token.empty()) {
     usage_error("--bind " + web.bind + " lets other machines in: give --token T (the page is then opened as "
@@ -340,22 +365,23 @@ int main(int argc, char** argv) {
 
   if (!player) live = std::make_unique<LiveSource>(domain, state);  // before any page can ask for images
 
+  std::mutex clients_mutex;
+  std::vector<hadal::viewer::WebServer::ClientId> new_clients;
+  hadal::viewer::WebCallbacks callbacks;
+  callbacks.on_client = [&](hadal::viewer::WebServer::ClientId client) {
+    std::lock_guard<std::mutex> lock(clients_mutex);
+    new_clients.push_back(client);
+    if (live) live->want_images();
+  };
+  callbacks.on_command = [&](const std::string& text) {
+    if (player) player->command(text);
+  };
   std::string error;
-  auto server = hadal::viewer::WebServer::start(web, &error);
+  auto server = hadal::viewer::WebServer::start(web, callbacks, &error);
   if (!server) {
     std::fprintf(stderr, "hadal-viewer: error: %s\n", error.c_str());
     return 1;
   }
-  std::mutex clients_mutex;
-  std::vector<hadal::viewer::WebServer::ClientId> new_clients;
-  server->on_client([&](hadal::viewer::WebServer::ClientId client) {
-    std::lock_guard<std::mutex> lock(clients_mutex);
-    new_clients.push_back(client);
-    if (live) live->want_images();
-  });
-  server->on_command([&](const std::string& text) {
-    if (player) player->command(text);
-  });
 
   std::signal(SIGINT, handle_stop_signal);
   std::signal(SIGTERM, handle_stop_signal);
@@ -369,7 +395,7 @@ int main(int argc, char** argv) {
   // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected.
   const auto period = std::chrono::duration<double>(1.0 / rate_hz);
   auto wake = std::chrono::steady_clock::now();
-  while (!g_stop.load()) {
+  while (!g_stop.load() && !(live && live->failed())) {
     wake += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
     std::this_thread::sleep_until(wake);
     const std::string source = player ? player->json() : live->json();
@@ -402,8 +428,9 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr, "hadal-viewer: %llu sample(s) shown, %llu undecodable\n",
                static_cast<unsigned long long>(state.samples()), static_cast<unsigned long long>(state.undecodable()));
+  const bool failed = live && live->failed();
   server.reset();
   player.reset();
   live.reset();
-  return 0;
+  return failed ? 1 : 0;
 }

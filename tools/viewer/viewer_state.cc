@@ -30,6 +30,7 @@ constexpr std::size_t kSeriesPoints = 3000;     // per series (5 min at 10 Hz)
 constexpr std::size_t kTrailPoints = 20000;     // per vehicle
 constexpr double kTrailStep = 0.05;             // [m] between trail points
 constexpr double kPi = 3.14159265358979323846;
+constexpr std::uint64_t kMaxImageSide = 16384;  // [px]
 
 // Decodes CDR bytes as PubSubType's message; false when they do not decode.
 template <class PubSubType, class Message>
@@ -53,9 +54,50 @@ double stamp_of(const std_msgs::msg::Header& header) {
   return header.stamp().sec() + 1e-9 * header.stamp().nanosec();
 }
 
+// The length of the well-formed UTF-8 sequence at text[i] (Unicode's table of well-formed byte sequences:
+// no overlong forms, no surrogates, nothing past U+10FFFF), or 0 where the bytes are not one.
+std::size_t utf8_length(const std::string& text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0; };
+  const unsigned char lead = byte(i);
+  if (lead < 0x80) return 1;
+  std::size_t n = 0;
+  unsigned char low = 0x80, high = 0xbf;  // the range of the second byte
+  if (lead >= 0xc2 && lead <= 0xdf) {
+    n = 2;
+  } else if (lead >= 0xe0 && lead <= 0xef) {
+    n = 3;
+    if (lead == 0xe0) low = 0xa0;
+    if (lead == 0xed) high = 0x9f;
+  } else if (lead >= 0xf0 && lead <= 0xf4) {
+    n = 4;
+    if (lead == 0xf0) low = 0x90;
+    if (lead == 0xf4) high = 0x8f;
+  } else {
+    return 0;
+  }
+  if (byte(i + 1) < low || byte(i + 1) > high) return 0;
+  for (std::size_t k = 2; k < n; ++k) {
+    if ((byte(i + k) & 0xc0) != 0x80) return 0;
+  }
+  return n;
+}
+
+// A JSON string: escaped, and valid UTF-8 (a browser closes a WebSocket on a text frame that is not), with
+// U+FFFD for each byte that does not start a well-formed sequence (a vehicle name a client sent, a path).
 void append_string(std::string& out, const std::string& text) {
   out += '"';
-  for (const char c : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (static_cast<unsigned char>(c) >= 0x80) {
+      const std::size_t n = utf8_length(text, i);
+      if (n == 0) {
+        out += "\ufffd";
+      } else {
+        out.append(text, i, n);
+        i += n - 1;
+      }
+      continue;
+    }
     switch (c) {
       case '"': out += "\\\""; break;
       case '\\': out += "\\\\"; break;
@@ -93,6 +135,12 @@ void append_u32(std::string& out, std::uint32_t value) { out.append(reinterpret_
 
 }  // namespace
 
+std::string json_string(const std::string& text) {
+  std::string out;
+  append_string(out, text);
+  return out;
+}
+
 std::string binary_message(const char (&tag)[5], const std::string& name, const std::string& payload) {
   std::string out(tag, 4);
   append_u32(out, static_cast<std::uint32_t>(name.size()));
@@ -104,7 +152,9 @@ std::string binary_message(const char (&tag)[5], const std::string& name, const 
 
 bool ViewerState::shows(const std::string& topic, const std::string& type) {
   static const std::set<std::string> kTypes = {
-      "hadal_msgs/msg/Scene", "nav_msgs/msg/Odometry", "hadal_msgs/msg/SimStatus", "marine_acoustic_msgs/msg/Dvl", "sensor_msgs/msg/Range", "sensor_msgs/msg/FluidPressure", "sensor_msgs/msg/Imu"};
+      "hadal_msgs/msg/Scene",        "nav_msgs/msg/Odometry", "hadal_msgs/msg/SimStatus",
+      "marine_acoustic_msgs/msg/Dvl", "sensor_msgs/msg/Range", "sensor_msgs/msg/FluidPressure",
+      "sensor_msgs/msg/Imu"};
   const std::string image_suffix = "/image_raw";
   return kTypes.count(type) > 0 ||
          (type == "sensor_msgs/msg/Image" && topic.size() > image_suffix.size() &&
@@ -200,9 +250,10 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
       v.v[0] = twist.linear().x(), v.v[1] = twist.linear().y(), v.v[2] = twist.linear().z();
       v.w[0] = twist.angular().x(), v.w[1] = twist.angular().y(), v.w[2] = twist.angular().z();
       const std::size_t n = v.trail.size();
-      if (n == 0 || std::hypot(v.p[0] - v.trail[n - 3], v.p[1] - v.trail[n - 2], v.p[2] - v.trail[n - 1]) >= kTrailStep) {
+      if (n == 0 ||
+          std::hypot(v.p[0] - v.trail[n - 3], v.p[1] - v.trail[n - 2], v.p[2] - v.trail[n - 1]) >= kTrailStep) {
         if (n / 3 >= kTrailPoints) v.trail.erase(v.trail.begin(), v.trail.begin() + 3 * (kTrailPoints / 10));
-        v.trail.insert(v.trail.end(), {static_cast<float>(v.p[0]), static_cast<float>(v.p[1]), static_cast<float>(v.p[2])});
+        for (const double x : v.p) v.trail.push_back(static_cast<float>(x));
         ++v.trail_total;
       }
       // Roll, pitch, yaw of B in W (z-y-x Euler angles, as REP-103's rpy).
@@ -349,10 +400,13 @@ std::string ViewerState::history_json_locked() const {
     first = false;
     append_string(json, key);
     append_series_info(json, series);
-    json += ",\"t\":[";
-    for (std::size_t i = 0; i < series.points.size(); ++i) json += (i ? "," : "") + json_number(series.points[i].first);
-    json += "],\"v\":[";
-    for (std::size_t i = 0; i < series.points.size(); ++i) json += (i ? "," : "") + json_number(series.points[i].second);
+    for (const char* field : {",\"t\":[", "],\"v\":["}) {
+      json += field;
+      const bool times = field[2] == 't';
+      for (std::size_t i = 0; i < series.points.size(); ++i) {
+        json += (i ? "," : "") + json_number(times ? series.points[i].first : series.points[i].second);
+      }
+    }
     json += "]}";
   }
   json += "}}";
@@ -458,25 +512,36 @@ std::string ViewerState::image_message_locked(const std::string& topic, Camera& 
     return "";
   }
   camera.stamp = stamp_of(msg.header());
-  camera.width = static_cast<int>(msg.width());
-  camera.height = static_cast<int>(msg.height());
   camera.encoding = msg.encoding();
   int channels = 0;
   if (msg.encoding() == "rgb8" || msg.encoding() == "bgr8") channels = 3;
   if (msg.encoding() == "mono8") channels = 1;
-  if (channels == 0 || msg.data().size() < static_cast<std::size_t>(msg.step()) * msg.height() ||
-      msg.step() < msg.width() * static_cast<std::uint32_t>(channels)) {
-    return "";  // depth images (32FC1) and anything else are listed, not shown
-  }
-  const cv::Mat image(camera.height, camera.width, channels == 3 ? CV_8UC3 : CV_8UC1, msg.data().data(), msg.step());
-  cv::Mat bgr;
-  if (msg.encoding() == "rgb8") {
-    cv::cvtColor(image, bgr, cv::COLOR_RGB2BGR);
-  } else {
-    bgr = image;
+  // Sizes as any writer may send them: 1..16384 px, rows that hold their pixels, data that holds its rows
+  // (in 64 bits, so nothing wraps).
+  const std::uint64_t width = msg.width(), height = msg.height(), step = msg.step();
+  const bool sane = width >= 1 && width <= kMaxImageSide && height >= 1 && height <= kMaxImageSide &&
+                    step >= width * static_cast<std::uint64_t>(channels) && msg.data().size() >= step * height;
+  camera.width = sane ? static_cast<int>(width) : 0;
+  camera.height = sane ? static_cast<int>(height) : 0;
+  if (channels == 0) return "";  // depth images (32FC1) and anything else are listed, not shown
+  if (!sane) {
+    ++undecodable_;
+    return "";
   }
   std::vector<unsigned char> jpeg;
-  cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
+  try {
+    const cv::Mat image(camera.height, camera.width, channels == 3 ? CV_8UC3 : CV_8UC1, msg.data().data(), step);
+    cv::Mat bgr;
+    if (msg.encoding() == "rgb8") {
+      cv::cvtColor(image, bgr, cv::COLOR_RGB2BGR);
+    } else {
+      bgr = image;
+    }
+    cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
+  } catch (const cv::Exception&) {
+    ++undecodable_;
+    return "";
+  }
   camera.last_jpeg.assign(jpeg.begin(), jpeg.end());
   return binary_message("JPEG", topic, camera.last_jpeg);
 }

@@ -22,6 +22,9 @@ namespace hadal::viewer {
 // payload. "MESH": u32 float count, u32 index count, float32 positions, uint32 indices. "JPEG": the image.
 std::string binary_message(const char (&tag)[5], const std::string& name, const std::string& payload);
 
+// `text` as a JSON string: quoted, escaped, and valid UTF-8 (U+FFFD for bytes that are not).
+std::string json_string(const std::string& text);
+
 struct PushOutput {
   std::string scene_json;                                  // set when the scene changed
   std::vector<std::string> mesh_messages;                  // with it, one binary message per mesh

@@ -187,6 +187,41 @@ TEST(ViewerStateTest, CameraFramesGoAsJpegAtMostOncePerInterval) {
   EXPECT_EQ(state.everything().image_messages.size(), 1u);  // the last frame, for a page that joins
 }
 
+// Images as any writer may send them: empty, absurdly large, rows longer than the data. None is sent, each
+// is counted, nothing throws (the push loop would die with it).
+TEST(ViewerStateTest, ImpossibleImagesAreCountedNotSent) {
+  ViewerState state(0.0);
+  sensor_msgs::msg::Image msg;
+  msg.encoding("rgb8");
+  const auto empty = cdr<sensor_msgs::msg::ImagePubSubType>(msg);
+  msg.width(0x80000000u);
+  msg.height(2);
+  msg.step(0x80000000u * 3u);  // wraps in 32 bits
+  msg.data(std::vector<std::uint8_t>(12, 1));
+  const auto huge = cdr<sensor_msgs::msg::ImagePubSubType>(msg);
+  msg.width(4);
+  msg.step(12);
+  msg.height(1000);  // 12 000 bytes of rows in 12 bytes of data
+  const auto short_data = cdr<sensor_msgs::msg::ImagePubSubType>(msg);
+  double now = 0.0;
+  for (const auto* bytes : {&empty, &huge, &short_data}) {
+    state.add("/auv/camera/image_raw", "sensor_msgs/msg/Image", bytes->data(), bytes->size());
+    EXPECT_TRUE(state.poll(now += 1.0).image_messages.empty());
+  }
+  EXPECT_EQ(state.undecodable(), 3u);
+}
+
+// Names that are not UTF-8 (a vehicle name a client sent, echoed in the status) still make valid JSON text.
+TEST(ViewerStateTest, JsonStringsAreEscapedAndValidUtf8) {
+  EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\n\"");
+  EXPECT_EQ(json_string("t\xc3\xa9l\xff"), "\"t\xc3\xa9l\xef\xbf\xbd\"");  // é kept, a stray byte replaced
+  EXPECT_EQ(json_string("\xe2\x82"), "\"\xef\xbf\xbd\xef\xbf\xbd\"");           // a cut sequence
+  EXPECT_EQ(json_string(std::string("\x01", 1)), "\"\\u0001\"");
+  EXPECT_EQ(json_string("\xc0\x80"), "\"\xef\xbf\xbd\xef\xbf\xbd\"");  // an overlong NUL
+  EXPECT_EQ(json_string("\xed\xa0\x80"), "\"\xef\xbf\xbd\xef\xbf\xbd\xef\xbf\xbd\"");  // a surrogate
+  EXPECT_EQ(json_string("\xf0\x9f\x90\x99"), "\"\xf0\x9f\x90\x99\"");  // U+1F419 kept
+}
+
 TEST(ViewerStateTest, BytesThatDoNotDecodeAreCountedAndWhatIsShownIsKnown) {
   ViewerState state;
   const std::vector<unsigned char> garbage{0, 1, 0, 0, 7};

@@ -19,21 +19,43 @@ struct WebServer::Impl {
   mutable std::mutex mutex;  // the client set, and every write to a WebSocket
   std::set<mg_connection*> clients;   // open
   std::set<mg_connection*> admitted;  // open and sent everything
-  std::function<void(ClientId)> client_callback;
-  std::function<void(const std::string&)> command_callback;
+  WebCallbacks callbacks;
 
-  // Whether the request carries the token (or none is required).
+  // Compares in time that depends on the lengths only (secret: the token, never empty).
+  static bool same_secret(const std::string& secret, const char* given) {
+    const std::size_t n = std::strlen(given);
+    unsigned char diff = secret.size() == n ? 0 : 1;
+    for (std::size_t i = 0; i < n; ++i) diff |= static_cast<unsigned char>(secret[i % secret.size()] ^ given[i]);
+    return diff == 0;
+  }
+
+  // Whether the request may be served: it carries the token, or none is required and its Host is this
+  // machine's loopback or the bound address.
   bool authorised(const mg_connection* conn) const {
-    if (options.token.empty()) return true;
-    const mg_request_info* info = mg_get_request_info(conn);
     char value[256];
-    if (info->query_string &&
-        mg_get_var(info->query_string, std::strlen(info->query_string), "token", value, sizeof(value)) > 0 &&
-        options.token == value) {
-      return true;
+    if (!options.token.empty()) {
+      const mg_request_info* info = mg_get_request_info(conn);
+      if (info->query_string &&
+          mg_get_var(info->query_string, std::strlen(info->query_string), "token", value, sizeof(value)) > 0 &&
+          same_secret(options.token, value)) {
+        return true;
+      }
+      const char* cookies = mg_get_header(conn, "Cookie");
+      return cookies && mg_get_cookie(cookies, "hadal_token", value, sizeof(value)) > 0 &&
+             same_secret(options.token, value);
     }
-    const char* cookies = mg_get_header(conn, "Cookie");
-    return cookies && mg_get_cookie(cookies, "hadal_token", value, sizeof(value)) > 0 && options.token == value;
+    const char* host = mg_get_header(conn, "Host");
+    if (host == nullptr) return false;
+    std::string name(host);
+    name = name.substr(0, name.rfind(':') == std::string::npos ? name.size() : name.rfind(':'));
+    return name == "localhost" || name.rfind("127.", 0) == 0 || name == options.bind;
+  }
+
+  // A WebSocket opened by a page of another origin (another site in the same browser) is refused.
+  static bool same_origin(const mg_connection* conn) {
+    const char* origin = mg_get_header(conn, "Origin");
+    const char* host = mg_get_header(conn, "Host");
+    return origin == nullptr || (host != nullptr && std::string(origin) == std::string("http://") + host);
   }
 
   static int serve(mg_connection* conn, void* data) {
@@ -53,7 +75,9 @@ struct WebServer::Impl {
     body << in.rdbuf();
     const std::string text = body.str();
     std::string cookie;
-    if (!d.options.token.empty()) cookie = "Set-Cookie: hadal_token=" + d.options.token + "; HttpOnly; SameSite=Strict\r\n";
+    if (!d.options.token.empty()) {
+      cookie = "Set-Cookie: hadal_token=" + d.options.token + "; HttpOnly; SameSite=Strict\r\n";
+    }
     mg_printf(conn,
               "HTTP/1.1 200 OK\r\nContent-Type: %s\r\nContent-Length: %zu\r\nCache-Control: no-store\r\n%s"
               "Connection: close\r\n\r\n",
@@ -63,7 +87,7 @@ struct WebServer::Impl {
   }
 
   static int ws_connect(const mg_connection* conn, void* data) {
-    return static_cast<Impl*>(data)->authorised(conn) ? 0 : 1;  // non-zero refuses
+    return static_cast<Impl*>(data)->authorised(conn) && same_origin(conn) ? 0 : 1;  // non-zero refuses
   }
   static void ws_ready(mg_connection* conn, void* data) {
     Impl& d = *static_cast<Impl*>(data);
@@ -71,13 +95,15 @@ struct WebServer::Impl {
       std::lock_guard<std::mutex> lock(d.mutex);
       d.clients.insert(conn);
     }
-    if (d.client_callback) d.client_callback(conn);
+    if (d.callbacks.on_client) d.callbacks.on_client(conn);
   }
   static int ws_data(mg_connection* conn, int bits, char* text, size_t size, void* data) {
     Impl& d = *static_cast<Impl*>(data);
     const int opcode = bits & 0x0f;
     if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
-    if (opcode == MG_WEBSOCKET_OPCODE_TEXT && d.command_callback) d.command_callback(std::string(text, size));
+    if (opcode == MG_WEBSOCKET_OPCODE_TEXT && d.callbacks.on_command) {
+      d.callbacks.on_command(std::string(text, size));
+    }
     (void)conn;
     return 1;
   }
@@ -103,9 +129,11 @@ WebServer::~WebServer() {
   if (impl_->context) mg_stop(impl_->context);
 }
 
-std::unique_ptr<WebServer> WebServer::start(const WebOptions& options, std::string* error) {
+std::unique_ptr<WebServer> WebServer::start(const WebOptions& options, const WebCallbacks& callbacks,
+                                            std::string* error) {
   auto impl = std::make_unique<Impl>();
   impl->options = options;
+  impl->callbacks = callbacks;
   const std::string three_js = options.three_root + "/build/three.min.js";
   const std::string orbit_js = options.three_root + "/examples/js/controls/OrbitControls.js";
   impl->files = {{"/", {options.web_root + "/index.html", "text/html; charset=utf-8"}},
@@ -122,10 +150,10 @@ std::unique_ptr<WebServer> WebServer::start(const WebOptions& options, std::stri
   }
   mg_init_library(0);
   const std::string ports = options.bind + ":" + std::to_string(options.port);
-  const char* civet_options[] = {"listening_ports", ports.c_str(), "num_threads", "8", "websocket_timeout_ms",
+  const char* civet_options[] = {"listening_ports", ports.c_str(), "num_threads", "16", "websocket_timeout_ms",
                                  "3600000", nullptr};
-  mg_callbacks callbacks{};
-  impl->context = mg_start(&callbacks, nullptr, civet_options);
+  mg_callbacks civet_callbacks{};
+  impl->context = mg_start(&civet_callbacks, nullptr, civet_options);
   if (!impl->context) {
     *error = "cannot listen on " + ports + " (in use, or not an address of this machine)";
     return nullptr;
@@ -142,10 +170,6 @@ int WebServer::port() const {
   return n > 0 ? ports[0].port : -1;
 }
 
-void WebServer::on_client(std::function<void(ClientId)> callback) { impl_->client_callback = std::move(callback); }
-void WebServer::on_command(std::function<void(const std::string&)> callback) {
-  impl_->command_callback = std::move(callback);
-}
 
 void WebServer::broadcast(const std::string& data, bool binary) {
   std::lock_guard<std::mutex> lock(impl_->mutex);

@@ -3,9 +3,11 @@
 // page sends its few commands (bag replay: play, pause, seek). Nothing else is served: no directory
 // listing, no file outside the two roots.
 //
-// Access: listening on loopback needs nothing more; with a token, every request must carry it, as
-// ?token=T (the page's first request; it is then kept in a cookie, HttpOnly, SameSite=Strict) or that
-// cookie.
+// Access: with a token, every request must carry it, as ?token=T (the page's first request; it is then kept
+// in a cookie, HttpOnly, SameSite=Strict) or that cookie. Without one (loopback only), a request must name
+// a loopback host or the bound address in its Host header (no DNS rebinding). A WebSocket's Origin, when a
+// browser sends one, must be the page's own (http://<Host>): another site open in the same browser cannot
+// read the run.
 #pragma once
 
 #include <functional>
@@ -22,20 +24,23 @@ struct WebOptions {
   std::string three_root;   // libjs-three's /usr/share/javascript/three
 };
 
+// Called from civetweb's threads: when a page's WebSocket is open, and with each text message a page sends.
+struct WebCallbacks {
+  std::function<void(const void* client)> on_client;
+  std::function<void(const std::string& text)> on_command;
+};
+
 class WebServer {
  public:
   using ClientId = const void*;
   // Starts listening; null with the reason in *error (port taken, address not local, files missing).
-  static std::unique_ptr<WebServer> start(const WebOptions& options, std::string* error);
+  static std::unique_ptr<WebServer> start(const WebOptions& options, const WebCallbacks& callbacks,
+                                          std::string* error);
   ~WebServer();
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;
 
   int port() const;
-  // Called (from civetweb's threads) when a page's WebSocket is open, and with each text message a page
-  // sends. Set before clients connect.
-  void on_client(std::function<void(ClientId)> callback);
-  void on_command(std::function<void(const std::string&)> callback);
 
   // Sends to every admitted WebSocket, or to one open one (ignored when it has gone). binary: a binary
   // frame. A page is admitted to broadcasts once it has been sent everything (admit()), so that nothing

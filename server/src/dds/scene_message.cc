@@ -56,8 +56,12 @@ void plane_mesh(const Model& model, double z, hadal_msgs::msg::SceneMesh& out) {
 // is, two triangles per cell whose four corners all have one.
 void resampled_mesh(const geometry::TriangleMesh& mesh, hadal_msgs::msg::SceneMesh& out) {
   Eigen::AlignedBox2d box;
-  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) box.extend(Eigen::Vector2d(mesh.positions[3 * i], mesh.positions[3 * i + 1]));
+  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
+    box.extend(Eigen::Vector2d(mesh.positions[3 * i], mesh.positions[3 * i + 1]));
+  }
   const Eigen::Vector2d size = box.sizes();
+  // A mesh with no horizontal extent (a wall, seen from above) has no top surface to sample.
+  if (!(std::max(size.x(), size.y()) > 0.0)) return;
   const double cell = std::max(size.x(), size.y()) / kSeabedGrid;
   const int nx = std::max(1, static_cast<int>(std::ceil(size.x() / cell))) + 1;
   const int ny = std::max(1, static_cast<int>(std::ceil(size.y() / cell))) + 1;
@@ -72,7 +76,7 @@ void resampled_mesh(const geometry::TriangleMesh& mesh, hadal_msgs::msg::SceneMe
       geometry::SeabedHeight::Sample sample;
       if (!height.sample(x, y, &sample, &hint)) continue;
       vertex[static_cast<std::size_t>(j) * nx + i] = static_cast<std::uint32_t>(positions.size() / 3);
-      positions.insert(positions.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(sample.height)});
+      for (const double value : {x, y, sample.height}) positions.push_back(static_cast<float>(value));
     }
   }
   std::vector<std::uint32_t> indices;

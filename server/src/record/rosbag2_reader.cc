@@ -37,7 +37,9 @@ bool database_files(const std::string& directory, std::vector<std::string>* file
       *error = metadata + ": storage '" + storage + "' (only sqlite3 bags are read)";
       return false;
     }
-    for (const YAML::Node& path : info["relative_file_paths"]) files->push_back(directory + "/" + path.as<std::string>());
+    for (const YAML::Node& path : info["relative_file_paths"]) {
+      files->push_back(directory + "/" + path.as<std::string>());
+    }
   } catch (const YAML::Exception& e) {
     *error = metadata + ": " + e.what();
     return false;
@@ -97,7 +99,8 @@ std::unique_ptr<Rosbag2Reader> Rosbag2Reader::open(const std::string& directory,
     while (sqlite3_step(query) == SQLITE_ROW) {
       const auto topic = topic_of_id.find(sqlite3_column_int64(query, 2));
       if (topic == topic_of_id.end()) continue;  // a message of no topic: nothing to say what it is
-      index.push_back({sqlite3_column_int64(query, 1), topic->second, static_cast<int>(f), sqlite3_column_int64(query, 0)});
+      index.push_back(
+          {sqlite3_column_int64(query, 1), topic->second, static_cast<int>(f), sqlite3_column_int64(query, 0)});
     }
     sqlite3_finalize(query);
     sqlite3_stmt* read = nullptr;

@@ -63,6 +63,10 @@ function poseObject(object, p, q) {
 }
 
 function clearWorld() {
+  world.traverse((o) => {  // free the GPU's copies: a new scene or a reconnect builds everything again
+    if (o.geometry) o.geometry.dispose();
+    if (o.material) o.material.dispose();
+  });
   while (world.children.length) world.remove(world.children[0]);
   state.meshes = [];
   state.vehicles = {};
@@ -146,7 +150,10 @@ function onMesh(index, positions, indices) {
   if (info.name === 'seabed') {
     // Shade by height so relief reads at a glance: darker in the hollows.
     let zmin = Infinity, zmax = -Infinity;
-    for (let i = 2; i < positions.length; i += 3) { zmin = Math.min(zmin, positions[i]); zmax = Math.max(zmax, positions[i]); }
+    for (let i = 2; i < positions.length; i += 3) {
+      zmin = Math.min(zmin, positions[i]);
+      zmax = Math.max(zmax, positions[i]);
+    }
     const colors = new Float32Array(positions.length);
     for (let i = 0; i < positions.length; i += 3) {
       const s = 0.55 + 0.45 * (zmax > zmin ? (positions[i + 2] - zmin) / (zmax - zmin) : 1);
@@ -230,7 +237,9 @@ function onHistory(msg) {
     vehicle.trail.geometry.setDrawRange(0, vehicle.trailCount);
   }
   state.series = {};
-  for (const [key, s] of Object.entries(msg.series)) state.series[key] = {plot: s.plot, label: s.label, unit: s.unit, t: s.t, v: s.v};
+  for (const [key, s] of Object.entries(msg.series)) {
+    state.series[key] = {plot: s.plot, label: s.label, unit: s.unit, t: s.t, v: s.v};
+  }
   rebuildPlots();
 }
 
@@ -307,6 +316,7 @@ function onJpeg(topic, bytes) {
   const old = pane.url;
   pane.url = url;
   pane.img.onload = () => { if (old) URL.revokeObjectURL(old); pane.shown++; };
+  pane.img.onerror = () => { if (old) URL.revokeObjectURL(old); };
   pane.img.src = url;
 }
 
@@ -481,8 +491,12 @@ document.getElementById('follow').addEventListener('change', (e) => {
   if (v) v.followed = false;
   rebuildPlots();
 });
-for (const id of ['show-trails', 'show-beams', 'show-lights']) document.getElementById(id).addEventListener('change', applyToggles);
-document.getElementById('play').addEventListener('click', () => send({cmd: state.source && state.source.playing ? 'pause' : 'play'}));
+for (const id of ['show-trails', 'show-beams', 'show-lights']) {
+  document.getElementById(id).addEventListener('change', applyToggles);
+}
+document.getElementById('play').addEventListener('click', () => {
+  send({cmd: state.source && state.source.playing ? 'pause' : 'play'});
+});
 document.getElementById('timeline').addEventListener('input', (e) => send({cmd: 'seek', t: Number(e.target.value)}));
 document.getElementById('speed').addEventListener('change', (e) => send({cmd: 'speed', x: Number(e.target.value)}));
 
