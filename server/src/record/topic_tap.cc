@@ -118,8 +118,8 @@ struct TopicTap::Impl : public fdds::DomainParticipantListener {
 TopicTap::TopicTap(int domain_id, const std::string& participant_name, std::set<std::string> excluded)
     : impl_(std::make_unique<Impl>()) {
   impl_->excluded = std::move(excluded);
-  impl_->participant = dds::create_participant(domain_id, participant_name);
-  impl_->participant->set_listener(impl_.get(), fdds::StatusMask::none());
+  // The listener from the start: hadald may be discovered as the participant is enabled.
+  impl_->participant = dds::create_participant(domain_id, participant_name, impl_.get());
 }
 
 TopicTap::~TopicTap() {

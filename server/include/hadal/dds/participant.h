@@ -17,8 +17,11 @@ namespace hadal::dds {
 bool localhost_only_from_environment();
 
 // Creates an enabled participant on `domain_id` named `name`. Throws std::runtime_error on failure
-// (e.g. a domain id out of range: valid ids are 0..232).
-eprosima::fastdds::dds::DomainParticipant* create_participant(int domain_id, const std::string& name);
+// (e.g. a domain id out of range: valid ids are 0..232). `listener`, when given, is in place before the
+// participant is enabled, so no discovery callback is missed (set later, the participants already on the
+// domain can be discovered before it is).
+eprosima::fastdds::dds::DomainParticipant* create_participant(
+    int domain_id, const std::string& name, eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr);
 
 // Deletes the participant and all entities it contains (so shared-memory segments are released).
 void delete_participant(eprosima::fastdds::dds::DomainParticipant* participant);

@@ -31,7 +31,8 @@ bool localhost_only_from_environment() {
   return range != nullptr && std::strcmp(range, "LOCALHOST") == 0;
 }
 
-fdds::DomainParticipant* create_participant(int domain_id, const std::string& name) {
+fdds::DomainParticipant* create_participant(int domain_id, const std::string& name,
+                                            fdds::DomainParticipantListener* listener) {
   if (domain_id < 0 || domain_id > 232) {
     throw std::runtime_error("DDS domain id must be in 0..232 (got " + std::to_string(domain_id) + ")");
   }
@@ -57,7 +58,8 @@ fdds::DomainParticipant* create_participant(int domain_id, const std::string& na
   qos.transport().user_transports.push_back(udp);
 
   fdds::DomainParticipant* participant =
-      fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+      fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos, listener,
+                                                                         fdds::StatusMask::none());
   if (participant == nullptr) {
     throw std::runtime_error("could not create a DDS participant on domain " + std::to_string(domain_id));
   }
