@@ -26,7 +26,7 @@ VIEWER = os.environ["HADAL_VIEWER"]
 HADALD = os.environ["HADALD"]
 SOURCE_DIR = os.environ["HADAL_SOURCE_DIR"]
 ARTIFACTS = os.environ.get("HADAL_ARTIFACTS", "test-artifacts/viewer")
-CAMERA = "/auv/camera/image_raw"
+CAMERA = "/auv/camera/preview"  # the camera's half-resolution preview (dds/image_preview.h)
 
 
 def start_viewer(*args):
@@ -80,7 +80,7 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
                 # The camera pane: a frame of the run, not black (the AUV's lights on the lander and seabed).
                 camera = wait_until(lambda: browser.evaluate(f"hadalViewer.cameraMean('{CAMERA}')"), 30,
                                     "a camera frame in the page")
-                assert camera["width"] == 640 and camera["height"] == 480
+                assert camera["width"] == 320 and camera["height"] == 240
                 assert camera["mean"] > 10.0, camera
                 browser.screenshot(os.path.join(ARTIFACTS, "live_lockstep_t1.png"))
                 for _ in range(20):

@@ -148,10 +148,19 @@ int main(int argc, char** argv) {
   }
   // The server creates every writer before it runs: wait until its set stops growing.
   tap.discover(20.0);
+  // Camera previews are paced in wall time (dds/image_preview.h): not part of a run's output; unread, they are
+  // not even written.
+  const auto recorded = [](const std::string& topic, const hadal::record::TappedWriter&) {
+    const std::string preview = "/preview";
+    return topic.size() < preview.size() || topic.compare(topic.size() - preview.size(), preview.size(), preview) != 0;
+  };
   std::map<std::string, TopicRecord> records;
-  for (const auto& [topic, writer] : tap.writers()) records[topic].type = writer.type;
+  for (const auto& [topic, writer] : tap.writers()) {
+    if (recorded(topic, writer)) records[topic].type = writer.type;
+  }
   // Kept samples too: rt/hadal/scene is written once, when the server starts, before anyone joins.
-  if (!tap.subscribe([&](const hadal::record::TappedSample& sample) { digest(records, sample); }, 20.0, true)) {
+  if (!tap.subscribe([&](const hadal::record::TappedSample& sample) { digest(records, sample); }, 20.0, true,
+                     recorded)) {
     std::fprintf(stderr, "hadal-record-topics: not every topic matched the server's writer\n");
     return 1;
   }

@@ -155,7 +155,7 @@ bool ViewerState::shows(const std::string& topic, const std::string& type) {
       "hadal_msgs/msg/Scene",        "nav_msgs/msg/Odometry", "hadal_msgs/msg/SimStatus",
       "marine_acoustic_msgs/msg/Dvl", "sensor_msgs/msg/Range", "sensor_msgs/msg/FluidPressure",
       "sensor_msgs/msg/Imu"};
-  const std::string image_suffix = "/image_raw";
+  const std::string image_suffix = "/preview";
   return kTypes.count(type) > 0 ||
          (type == "sensor_msgs/msg/Image" && topic.size() > image_suffix.size() &&
           topic.compare(topic.size() - image_suffix.size(), image_suffix.size(), image_suffix) == 0);

@@ -43,7 +43,8 @@ class ViewerState {
   // counted as such. Thread-safe.
   void add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size);
   // The topics a live viewer reads: the scene, odometry, status, DVL, ranges, pressure, IMU, and camera
-  // images (image_raw; depth images are not shown). add() also takes /clock (a bag's time).
+  // previews (<camera>/preview, half resolution, paced by the server: dds/image_preview.h; image_raw and
+  // depth images are not read). add() also takes /clock (a bag's time) and any 8-bit image.
   static bool shows(const std::string& topic, const std::string& type);
   // Forgets everything but the scene (a bag player seeking backwards).
   void clear();

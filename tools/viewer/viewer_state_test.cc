@@ -164,14 +164,14 @@ std::vector<unsigned char> image(const std::string& encoding, int width, int hei
 TEST(ViewerStateTest, CameraFramesGoAsJpegAtMostOncePerInterval) {
   ViewerState state(0.2);
   const auto rgb = image("rgb8", 8, 4, 3, 200);
-  state.add("/auv/camera/image_raw", "sensor_msgs/msg/Image", rgb.data(), rgb.size());
+  state.add("/auv/camera/preview", "sensor_msgs/msg/Image", rgb.data(), rgb.size());
   const auto depth = image("32FC1", 8, 4, 4, 0);
   state.add("/auv/camera/depth", "sensor_msgs/msg/Image", depth.data(), depth.size());
   PushOutput out = state.poll(10.0);
   ASSERT_EQ(out.image_messages.size(), 1u);  // the depth image is listed, not sent
   const std::string& message = out.image_messages[0];
   EXPECT_EQ(message.substr(0, 4), "JPEG");
-  const std::string name = "/auv/camera/image_raw";
+  const std::string name = "/auv/camera/preview";
   const std::size_t offset = 8 + name.size() + (4 - name.size() % 4) % 4;
   EXPECT_EQ(message.substr(8, name.size()), name);
   const cv::Mat decoded = cv::imdecode(std::vector<unsigned char>(message.begin() + offset, message.end()),
@@ -180,7 +180,7 @@ TEST(ViewerStateTest, CameraFramesGoAsJpegAtMostOncePerInterval) {
   EXPECT_NEAR(decoded.at<cv::Vec3b>(2, 4)[1], 200, 3);  // JPEG: within a few counts of the flat grey
   EXPECT_NE(out.update_json.find("\"/auv/camera/depth\":{\"frames\":1"), std::string::npos) << out.update_json;
 
-  state.add("/auv/camera/image_raw", "sensor_msgs/msg/Image", rgb.data(), rgb.size());
+  state.add("/auv/camera/preview", "sensor_msgs/msg/Image", rgb.data(), rgb.size());
   EXPECT_TRUE(state.poll(10.1).image_messages.empty());  // 0.1 s after the last: not yet
   EXPECT_EQ(state.poll(10.25).image_messages.size(), 1u);
   EXPECT_TRUE(state.poll(10.5).image_messages.empty());  // no new frame
@@ -205,7 +205,7 @@ TEST(ViewerStateTest, ImpossibleImagesAreCountedNotSent) {
   const auto short_data = cdr<sensor_msgs::msg::ImagePubSubType>(msg);
   double now = 0.0;
   for (const auto* bytes : {&empty, &huge, &short_data}) {
-    state.add("/auv/camera/image_raw", "sensor_msgs/msg/Image", bytes->data(), bytes->size());
+    state.add("/auv/camera/preview", "sensor_msgs/msg/Image", bytes->data(), bytes->size());
     EXPECT_TRUE(state.poll(now += 1.0).image_messages.empty());
   }
   EXPECT_EQ(state.undecodable(), 3u);
@@ -229,7 +229,8 @@ TEST(ViewerStateTest, BytesThatDoNotDecodeAreCountedAndWhatIsShownIsKnown) {
   state.add("/auv/magnetometer", "sensor_msgs/msg/MagneticField", garbage.data(), garbage.size());
   EXPECT_EQ(state.samples(), 2u);
   EXPECT_EQ(state.undecodable(), 1u);  // the magnetometer is not drawn, so not decoded
-  EXPECT_TRUE(ViewerState::shows("/auv/camera/image_raw", "sensor_msgs/msg/Image"));
+  EXPECT_TRUE(ViewerState::shows("/auv/camera/preview", "sensor_msgs/msg/Image"));
+  EXPECT_FALSE(ViewerState::shows("/auv/camera/image_raw", "sensor_msgs/msg/Image"));
   EXPECT_FALSE(ViewerState::shows("/auv/camera/depth", "sensor_msgs/msg/Image"));
   EXPECT_FALSE(ViewerState::shows("/auv/magnetometer", "sensor_msgs/msg/MagneticField"));
   EXPECT_TRUE(ViewerState::shows("/hadal/scene", "hadal_msgs/msg/Scene"));

@@ -5,6 +5,7 @@
 #include "hadal/dds/topic_registry.h"
 #include "actuator_topics.h"
 #include "message_conversion.h"
+#include "image_preview.h"
 #include "scene_message.h"
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
@@ -87,6 +88,10 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     fdds::DataWriter* writer = nullptr;
     std::size_t slot = 0;
     std::shared_ptr<void> message;
+    // A topic with a preview (sensors::TopicHasPreview): its writer, its slot, when it was last written.
+    fdds::DataWriter* preview_writer = nullptr;
+    std::size_t preview_slot = 0;
+    std::chrono::steady_clock::time_point preview_at{};
   };
   std::vector<std::vector<std::vector<SensorTopic>>> sensors;  // [vehicle][sensor][topic]
   std::vector<fdds::DataReader*> setpoint_readers;
@@ -105,6 +110,18 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   hadal_msgs::msg::ThrusterState thruster_msg;
   hadal_msgs::msg::SimStatus status_msg;
   hadal_msgs::msg::Scene scene_msg;  // written at start and after every reset
+  sensor_msgs::msg::Image preview_msg;
+
+  // The preview of an image just written (dds/image_preview.h): due in wall time and wanted by a reader.
+  void write_preview(SensorTopic& endpoint, const sensor_msgs::msg::Image& image) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - endpoint.preview_at < kPreviewInterval) return;
+    fdds::PublicationMatchedStatus matched;
+    endpoint.preview_writer->get_publication_matched_status(matched);
+    if (matched.current_count == 0 || !half_resolution(image, &preview_msg)) return;
+    endpoint.preview_at = now;
+    write(endpoint.preview_writer, &preview_msg, endpoint.preview_slot);
+  }
 
   mutable std::mutex mutex;
   std::condition_variable step_ready;
@@ -314,6 +331,11 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
               endpoint.writer = r.writer<typename Topic::PubSubType>(topic, sensors::TopicHistoryDepth<Topic>::value);
               endpoint.message = std::make_shared<typename Topic::Message>();
               endpoint.slot = d.add_count(topic);
+              if constexpr (sensors::TopicHasPreview<Topic>::value) {
+                const std::string preview = sensor_topic(name, sensor.name) + "/preview";
+                endpoint.preview_writer = r.writer<sensor_msgs::msg::ImagePubSubType>(preview, 1);
+                endpoint.preview_slot = d.add_count(preview);
+              }
             });
           },
           sensor.kind);
@@ -411,6 +433,7 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
           auto& msg = *static_cast<typename Topic::Message*>(endpoint.message.get());
           Topic::fill(spec, kind_state, header, msg);
           impl_->write(endpoint.writer, &msg, endpoint.slot);
+          if constexpr (sensors::TopicHasPreview<Topic>::value) impl_->write_preview(endpoint, msg);
         });
       },
       sensor.kind);

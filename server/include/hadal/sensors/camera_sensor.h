@@ -101,6 +101,7 @@ struct CameraSensor {
   struct ImageRawTopic {
     static constexpr std::string_view kSuffix = "image_raw";
     static constexpr int kHistoryDepth = 10;
+    static constexpr bool kPreview = true;  // rt/<vehicle>/<camera>/preview (sensors/sensor_kind.h)
     using Message = sensor_msgs::msg::Image;
     using PubSubType = sensor_msgs::msg::ImagePubSubType;
     static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);

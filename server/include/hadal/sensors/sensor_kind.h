@@ -194,6 +194,15 @@ template <class Topic>
 struct TopicHistoryDepth<Topic, std::void_t<decltype(Topic::kHistoryDepth)>>
     : std::integral_constant<int, Topic::kHistoryDepth> {};
 
+// A topic of 8-bit camera images may declare kPreview = true: the DDS endpoints then also offer
+// rt/<vehicle>/<sensor>/preview, the image at half resolution, written at most 5 times per wall second and
+// only while a reader is matched (dds/image_preview.h), for monitors such as hadal-viewer, so that watching a
+// camera does not cost the server its full-rate stream.
+template <class Topic, class = void>
+struct TopicHasPreview : std::false_type {};
+template <class Topic>
+struct TopicHasPreview<Topic, std::void_t<decltype(Topic::kPreview)>> : std::bool_constant<Topic::kPreview> {};
+
 // Whether a captured kind captures by scene work (defines Capture) rather than by a ray batch.
 template <class Kind, class = void>
 struct CapturesByWork : std::false_type {};
