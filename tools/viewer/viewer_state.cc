@@ -131,6 +131,15 @@ std::pair<std::string, std::string> split_topic(const std::string& topic) {
   return {topic.substr(1, slash - 1), topic.substr(slash + 1)};
 }
 
+// An overlay's opening fields: `{"kind":K,"vehicle":V,"sensor":S` (the object left open).
+std::string overlay_head(const char* kind, const std::string& vehicle, const std::string& sensor) {
+  std::string json = std::string("{\"kind\":\"") + kind + "\",\"vehicle\":";
+  append_string(json, vehicle);
+  json += ",\"sensor\":";
+  append_string(json, sensor);
+  return json;
+}
+
 void append_u32(std::string& out, std::uint32_t value) { out.append(reinterpret_cast<const char*>(&value), 4); }
 
 }  // namespace
@@ -295,11 +304,7 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
     marine_acoustic_msgs::msg::Dvl msg;
     if ((ok = decode<marine_acoustic_msgs::msg::DvlPubSubType>(data, size, &msg))) {
       const double t = stamp_of(msg.header());
-      std::string json = "{\"kind\":\"dvl\",\"vehicle\":";
-      append_string(json, vehicle);
-      json += ",\"sensor\":";
-      append_string(json, sensor);
-      json += ",\"beams\":[";
+      std::string json = overlay_head("dvl", vehicle, sensor) + ",\"beams\":[";
       for (int i = 0; i < 4; ++i) {
         const auto& u = msg.beam_unit_vec()[i];
         const double beam[4] = {u.x(), u.y(), u.z(), msg.range()[i]};
@@ -315,11 +320,8 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
   } else if (type == "sensor_msgs/msg/Range") {
     sensor_msgs::msg::Range msg;
     if ((ok = decode<sensor_msgs::msg::RangePubSubType>(data, size, &msg))) {
-      std::string json = "{\"kind\":\"range\",\"vehicle\":";
-      append_string(json, vehicle);
-      json += ",\"sensor\":";
-      append_string(json, sensor);
-      json += ",\"range\":" + json_number(msg.range()) + ",\"max_range\":" + json_number(msg.max_range()) + '}';
+      std::string json = overlay_head("range", vehicle, sensor) + ",\"range\":" + json_number(msg.range()) +
+                         ",\"max_range\":" + json_number(msg.max_range()) + '}';
       overlays_[topic] = std::move(json);
       add_point(topic, vehicle + " altitude", sensor, "m", stamp_of(msg.header()), msg.range());
     }
