@@ -13,8 +13,10 @@
 #
 # The digests are only comparable between builds on machines with the same signature: glibc picks its
 # libm kernels and Embree its traversal kernels by CPU feature (FMA, AVX2, AVX-512), which can change the
-# last bits of a result. The signature is the x86 feature flags among those that steer such choices;
-# each signature has its own file, e.g. digests/default/x86_64-sse4_2-avx-fma-avx2-avx512f.txt.
+# last bits of a result, and the vendors' approximate reciprocals differ (AMD's and Intel's AVX-512 camera
+# depths differ in the last bits). The signature is the CPU vendor and the x86 feature flags among those
+# that steer such choices; each signature has its own file, e.g.
+# digests/default/x86_64-GenuineIntel-sse4_2-avx-fma-avx2-avx512f.txt.
 # Completeness: every topic's recorded count must equal the count hadald reports having published.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -44,9 +46,11 @@ case "$CASE" in
 esac
 
 signature() {
-  local flags
+  local flags vendor
   flags=$(grep -m1 '^flags' /proc/cpuinfo 2>/dev/null || true)
+  vendor=$(sed -n 's/^vendor_id[[:space:]]*: *//p' /proc/cpuinfo 2>/dev/null | head -1)
   local out="$(uname -m)"
+  [[ -n "$vendor" ]] && out+=" $vendor"
   for f in sse4_2 avx fma avx2 avx512f; do
     [[ " $flags " == *" $f "* ]] && out+=" $f"
   done

@@ -1181,8 +1181,13 @@ void EmbreeScene::occluded(const RayBatch& rays, std::size_t begin, std::size_t 
   }
   Impl::IgnoringContext ignoring{};
   rtcInitIntersectContext(&ignoring.context);
-  ignoring.context.flags = rays.coherence == RayCoherence::kCoherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
-                                                                      : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  // Always incoherent: Debian 12's Embree 3.13.5 traces a coherent occlusion stream with its AVX-512
+  // kernels in a loop that, for some valid rays (finite, unit directions, t_near <= t_far), never ends: seen
+  // on an AMD EPYC (Zen 4) with render/frame_test.cc's FrameTest.ProvablyClearShadowRays... followed by
+  // FrameTest.NegligibleDaylight..., and in hadald's first camera frame. Its AVX2 and SSE4.2 kernels and
+  // the incoherent mode return. Shadow rays (the only coherent occlusion batches) start at scattered hit
+  // points anyway.
+  ignoring.context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   if (!rays.ignore_body.empty()) {
     ignoring.context.filter = &Impl::reject_ignored_body;
     ignoring.view = &s;

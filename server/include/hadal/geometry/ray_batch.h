@@ -51,7 +51,8 @@ inline constexpr float kIgnoredHitStep = 1e-4f;  // a ray continues this far pas
 
 // How the rays of a batch relate to each other; chooses Embree's traversal mode. Coherent: neighbours
 // in the arrays start near each other and point in similar directions (a camera's pixels in row-major
-// or tile order). Incoherent: anything else (DVL beams of many vehicles, scattered rays).
+// or tile order). Incoherent: anything else (DVL beams of many vehicles, scattered rays). Occlusion
+// queries are always traced incoherent (EmbreeScene::occluded says why).
 enum class RayCoherence { kCoherent, kIncoherent };
 
 struct RayBatch {
