@@ -328,6 +328,9 @@ TEST(HadaldTest, FastModeRunsTheDefaultScenarioForItsDurationAndSummarises) {
   EXPECT_NE(out.find("rt/auv/camera/image_raw 48\n"), std::string::npos) << out;
   EXPECT_NE(out.find("rt/auv/camera/depth 48\n"), std::string::npos) << out;
   EXPECT_NE(out.find("rt/auv/camera/camera_info 48\n"), std::string::npos) << out;
+  // Nobody read the wall-paced side channels, so the server never wrote them (dds/monitor.h, image_preview.h).
+  EXPECT_NE(out.find("rt/hadal/monitor 0\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("rt/auv/camera/preview 0\n"), std::string::npos) << out;
 }
 
 TEST(HadaldTest, SummaryAltitudeIsARayCastToTheSeabed) {

@@ -66,6 +66,7 @@ class LockstepServer {
   }
 
   Client& client() { return client_; }
+  int domain() const { return domain_.id(); }
   ServerProcess& server() { return server_; }
 
  private:

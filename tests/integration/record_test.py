@@ -94,6 +94,9 @@ def test_a_lockstep_run_is_recorded_whole_as_a_rosbag2_bag(server, tmp_path):
     assert {topic: n for topic, n in published_counts(server.log_path).items() if topic not in wall_paced} == \
         {topic: n for topic, n in recorded.items() if topic not in wall_paced}
     assert recorded["/hadal/scene"] == 1 and recorded["/hadal/step_reply"] == STEPS // 50
+    # The monitor carries the other topics' samples again: not recorded unless named, so never read, so never
+    # written (absent from the published counts, which list topics with samples).
+    assert "/hadal/monitor" not in recorded and "/hadal/monitor" not in published_counts(server.log_path)
 
 
 def published_counts(log_path):

@@ -148,11 +148,13 @@ int main(int argc, char** argv) {
   }
   // The server creates every writer before it runs: wait until its set stops growing.
   tap.discover(20.0);
-  // Camera previews are paced in wall time (dds/image_preview.h): not part of a run's output; unread, they are
-  // not even written.
+  // Camera previews and the monitor are paced in wall time (dds/image_preview.h, dds/monitor.h): not part of a
+  // run's output; unread, they are not even written.
   const auto recorded = [](const std::string& topic, const hadal::record::TappedWriter&) {
     const std::string preview = "/preview";
-    return topic.size() < preview.size() || topic.compare(topic.size() - preview.size(), preview.size(), preview) != 0;
+    const bool is_preview =
+        topic.size() >= preview.size() && topic.compare(topic.size() - preview.size(), preview.size(), preview) == 0;
+    return topic != "rt/hadal/monitor" && !is_preview;
   };
   std::map<std::string, TopicRecord> records;
   for (const auto& [topic, writer] : tap.writers()) {

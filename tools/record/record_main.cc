@@ -3,8 +3,9 @@
 //
 //   hadal-record BAG_DIR [--domain-id N] [--topics T,...] [--use-sim-time] [--duration S] [--wait S]
 //
-// Records every topic the hadald on the domain writes (--topics: only these, by ROS 2 name as
-// /auv/odometry), each sample as it came over the wire. A message's bag time is its receive time (system
+// Records every topic the hadald on the domain writes but /hadal/monitor, which carries the other topics'
+// samples again (--topics: only these, by ROS 2 name as /auv/odometry, the monitor too if named), each
+// sample as it came over the wire. A message's bag time is its receive time (system
 // clock, as `ros2 bag record`), or with --use-sim-time the sim time of the latest /clock sample (as `ros2
 // bag record --use-sim-time`). The bag is flushed once per wall second, so a killed recorder loses at
 // most the last second; SIGINT/SIGTERM or --duration (wall seconds) close it. Exit status 0, 1 when no

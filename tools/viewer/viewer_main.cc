@@ -9,6 +9,7 @@
 // WebSocket at --rate-hz, camera frames at --image-rate-hz per camera (JPEG). Listens on loopback by
 // default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
 // read the bag, 2 on a usage error.
+#include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_reader.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "hadal/record/topic_tap.h"
@@ -68,11 +69,13 @@ std::string default_web_root() {
   return HADAL_VIEWER_SOURCE_WEB_ROOT;
 }
 
-// Live: the hadald on the domain, only the topics the page shows (ViewerState::shows), with readers that keep
-// the latest sample. Reliable and transient-local (the scene is written once, before anyone joins), but for
-// camera images, the heavy topics: those are read best effort (the server never resends a frame to the
-// viewer), and only once a page is open (want_images()), by a second participant. hadald's topics are
-// learnt once: a server restarted with another scenario needs the viewer restarted.
+// Live: the hadald on the domain, only the scene, the monitor and the camera previews (ViewerState::shows:
+// the monitor brings the latest sample of every drawn stream at most 20 times per wall second, so the server
+// does not deliver each stream to the viewer), with readers that keep the latest sample. Reliable and
+// transient-local (the scene is written once, before anyone joins), but for the previews: those are read best
+// effort (the server never resends a frame to the viewer), and only once a page is open (want_images()), by
+// a second participant. hadald's topics are learnt once: a server restarted with another scenario needs the
+// viewer restarted.
 class LiveSource {
  public:
   LiveSource(int domain, hadal::viewer::ViewerState& state) : domain_(domain), state_(state) {
@@ -83,7 +86,8 @@ class LiveSource {
     stop_ = true;
     thread_.join();
   }
-  // Connected: a sample came within the last 3 s (hadald's status is a 10 Hz wall-clock heartbeat).
+  // Connected: a sample came within the last 3 s (the monitor carries hadald's status, a 10 Hz wall-clock
+  // heartbeat).
   std::string json() const {
     const bool connected = now_s() - last_sample_s_.load() < 3.0;
     return "{\"kind\":\"live\",\"domain\":" + std::to_string(domain_) +
@@ -108,7 +112,7 @@ class LiveSource {
     if (stop_) return;
     for (const auto& [dds_topic, writer] : tap.writers()) {
       std::string topic, type;
-      if (hadal::record::ros_topic_name(dds_topic, &topic) && hadal::record::ros_type_name(writer.type, &type)) {
+      if (hadal::dds::ros_topic_name(dds_topic, &topic) && hadal::dds::ros_type_name(writer.type, &type)) {
         names_[dds_topic] = {topic, type};
       }
     }

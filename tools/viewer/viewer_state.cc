@@ -160,17 +160,17 @@ std::string binary_message(const char (&tag)[5], const std::string& name, const 
 }
 
 bool ViewerState::shows(const std::string& topic, const std::string& type) {
-  static const std::set<std::string> kTypes = {
-      "hadal_msgs/msg/Scene",        "nav_msgs/msg/Odometry", "hadal_msgs/msg/SimStatus",
-      "marine_acoustic_msgs/msg/Dvl", "sensor_msgs/msg/Range", "sensor_msgs/msg/FluidPressure",
-      "sensor_msgs/msg/Imu"};
   const std::string image_suffix = "/preview";
-  return kTypes.count(type) > 0 ||
+  return type == "hadal_msgs/msg/Scene" || type == "hadal_msgs/msg/Monitor" ||
          (type == "sensor_msgs/msg/Image" && topic.size() > image_suffix.size() &&
           topic.compare(topic.size() - image_suffix.size(), image_suffix.size(), image_suffix) == 0);
 }
 
 void ViewerState::add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size) {
+  if (type == "hadal_msgs/msg/Monitor") {
+    add_monitor(topic, data, size);
+    return;
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   ++samples_;
   ++counts_[topic];
@@ -376,8 +376,35 @@ void ViewerState::start_over() {
   ++history_generation_;
 }
 
+// Each sample the monitor carries, once: a topic's sample repeats in the next monitor (same count) until the
+// topic is written again. A count that differs, lower included (a server started again), is a new sample.
+void ViewerState::add_monitor(const std::string& topic, const unsigned char* data, std::size_t size) {
+  hadal_msgs::msg::Monitor msg;
+  const bool ok = decode<hadal_msgs::msg::MonitorPubSubType>(data, size, &msg);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++samples_;
+    ++counts_[topic];
+    if (!ok) {
+      ++undecodable_;
+      return;
+    }
+  }
+  for (const auto& sample : msg.samples()) {
+    if (sample.type() == "hadal_msgs/msg/Monitor") continue;  // a monitor carries no monitors
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto [seen, fresh] = monitor_counts_.emplace(sample.topic(), sample.count());
+      if (!fresh && seen->second == sample.count()) continue;
+      seen->second = sample.count();
+    }
+    add(sample.topic(), sample.type(), sample.cdr().data(), sample.cdr().size());
+  }
+}
+
 void ViewerState::clear() {
   std::lock_guard<std::mutex> lock(mutex_);
+  monitor_counts_.clear();
   vehicles_.clear();
   cameras_.clear();
   status_json_.clear();

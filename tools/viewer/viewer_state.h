@@ -39,12 +39,15 @@ class ViewerState {
   explicit ViewerState(double image_interval_s = 0.2) : image_interval_s_(image_interval_s) {}
 
   // One sample: its ROS 2 topic ("/auv/odometry") and type ("nav_msgs/msg/Odometry") and its CDR bytes.
-  // Types the viewer does not draw are counted and otherwise ignored; a sample that does not decode is
-  // counted as such. Thread-safe.
+  // Draws the scene, odometry, status, DVL, ranges, pressure, IMU, /clock (a bag's time) and any 8-bit
+  // image; a hadal_msgs/Monitor is taken apart into the samples it carries, each once. Types the viewer does
+  // not draw are counted and otherwise ignored; a sample that does not decode is counted as such.
+  // Thread-safe.
   void add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size);
-  // The topics a live viewer reads: the scene, odometry, status, DVL, ranges, pressure, IMU, and camera
-  // previews (<camera>/preview, half resolution, paced by the server: dds/image_preview.h; image_raw and
-  // depth images are not read). add() also takes /clock (a bag's time) and any 8-bit image.
+  // The topics a live viewer reads: the scene, the monitor (rt/hadal/monitor: the latest sample of each light
+  // topic, at most 20 per wall second, written by the server while read: server/src/dds/monitor.h) and camera
+  // previews (<camera>/preview, half resolution, paced by the server: server/src/dds/image_preview.h). So a
+  // viewer costs the server a few samples per wall second, not every stream delivered to one more reader.
   static bool shows(const std::string& topic, const std::string& type);
   // Forgets everything but the scene (a bag player seeking backwards).
   void clear();
@@ -88,6 +91,7 @@ class ViewerState {
                  double t, double value);
   void start_over();  // trails and series (new scene, or time went backwards)
   void note_time(double t);
+  void add_monitor(const std::string& topic, const unsigned char* data, std::size_t size);
   std::string history_json_locked() const;
   // Series points after since_seq; with trail_points, the trail points not yet polled (else none).
   std::string update_json_locked(std::uint64_t since_seq, bool trail_points) const;
@@ -110,6 +114,7 @@ class ViewerState {
   std::string status_json_;                       // the last SimStatus as JSON
   std::map<std::string, std::string> overlays_;   // "/auv/dvl" -> its JSON (beams, ranges)
   std::map<std::string, std::uint64_t> counts_;   // per topic
+  std::map<std::string, std::uint64_t> monitor_counts_;  // per topic carried by a monitor: the count last taken
   double sim_time_ = 0.0;
   std::uint64_t samples_ = 0, undecodable_ = 0;
 };

@@ -234,6 +234,53 @@ TEST(ViewerStateTest, BytesThatDoNotDecodeAreCountedAndWhatIsShownIsKnown) {
   EXPECT_FALSE(ViewerState::shows("/auv/camera/depth", "sensor_msgs/msg/Image"));
   EXPECT_FALSE(ViewerState::shows("/auv/magnetometer", "sensor_msgs/msg/MagneticField"));
   EXPECT_TRUE(ViewerState::shows("/hadal/scene", "hadal_msgs/msg/Scene"));
+  // Live, the drawn streams come in the monitor, not on their own topics.
+  EXPECT_TRUE(ViewerState::shows("/hadal/monitor", "hadal_msgs/msg/Monitor"));
+  EXPECT_FALSE(ViewerState::shows("/auv/odometry", "nav_msgs/msg/Odometry"));
+  EXPECT_FALSE(ViewerState::shows("/hadal/status", "hadal_msgs/msg/SimStatus"));
+}
+
+// A monitor (rt/hadal/monitor) carries each topic's latest sample until the topic is written again: the
+// viewer takes each sample once (by its count), so a repeated odometry adds no trail point and no series
+// point, and a count that went down (a server started again) is a new sample. A monitor that does not
+// decode is counted.
+TEST(ViewerStateTest, AMonitorsSamplesAreTakenOnceEach) {
+  ViewerState state;
+  hadal_msgs::msg::Monitor monitor;
+  const auto carry = [&](double t, double x, std::uint64_t count) {
+    nav_msgs::msg::Odometry odom;
+    odom.header().stamp().sec(static_cast<std::int32_t>(std::floor(t)));
+    odom.header().stamp().nanosec(static_cast<std::uint32_t>(std::llround((t - std::floor(t)) * 1e9)));
+    odom.pose().pose().position().x(x);
+    odom.pose().pose().position().z(-96.0);
+    odom.pose().pose().orientation().w(1.0);
+    hadal_msgs::msg::MonitorSample sample;
+    sample.topic("/auv/odometry");
+    sample.type("nav_msgs/msg/Odometry");
+    sample.count(count);
+    sample.cdr(cdr<nav_msgs::msg::OdometryPubSubType>(odom));
+    monitor.samples().clear();
+    monitor.samples().push_back(sample);
+    const auto bytes = cdr<hadal_msgs::msg::MonitorPubSubType>(monitor);
+    state.add("/hadal/monitor", "hadal_msgs/msg/Monitor", bytes.data(), bytes.size());
+  };
+  carry(0.0, 0.0, 1);
+  carry(0.0, 0.0, 1);  // the same sample again: nothing new
+  carry(0.5, 1.0, 26);
+  PushOutput out = state.poll(0.0);
+  EXPECT_EQ(state.samples(), 5u);  // three monitors and the two odometry samples they brought
+  EXPECT_NE(out.update_json.find("\"auv\":{\"stamp\":0.5,\"p\":[1,0,-96]"), std::string::npos) << out.update_json;
+  const std::string depth = out.history_json.substr(out.history_json.find("\"auv/depth\""));
+  EXPECT_EQ(array_after(depth, "t"), "[0,0.5]");
+  carry(0.5, 1.0, 26);
+  EXPECT_EQ(state.samples(), 6u);
+  carry(0.02, 2.0, 2);  // a server started again: its counts start again
+  EXPECT_EQ(state.samples(), 8u);
+  out = state.poll(0.0);
+  EXPECT_NE(out.update_json.find("\"p\":[2,0,-96]"), std::string::npos) << out.update_json;
+  const std::vector<unsigned char> garbage{0, 1, 0, 0, 7};
+  state.add("/hadal/monitor", "hadal_msgs/msg/Monitor", garbage.data(), garbage.size());
+  EXPECT_EQ(state.undecodable(), 1u);
 }
 
 }  // namespace

@@ -273,6 +273,7 @@ class Runner {
       if (now >= last_status_wall_ + period) last_status_wall_ = now;
       for (const auto& report : dds_.take_reports()) std::fprintf(stderr, "hadald: %s\n", report.c_str());
     }
+    dds_.publish_monitor(sim_.time());
     if (options_.status_line && options_.mode != RunMode::kLockstep &&
         std::chrono::duration<double>(now - last_line_wall_).count() >= 1.0) {
       const double wall = std::chrono::duration<double>(now - last_line_wall_).count();

@@ -4,6 +4,8 @@
 // its size, 4-byte encapsulation header).
 #include <gtest/gtest.h>
 
+#include "hadal/dds/topic_names.h"
+
 #include <fastdds/rtps/common/SerializedPayload.h>
 #include <marine_acoustic_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
@@ -109,6 +111,20 @@ TEST(MessageTypesTest, DvlAndImuRoundTrip) {
   // 4 + header ("auv/imu\0": 4 + 8) 16 -> 24 (8-aligned) + quaternion 32 + 9 doubles 72 + vector 24
   // + 72 + 24 + 72 = 324.
   EXPECT_EQ(size, 324u);
+}
+
+TEST(TopicNames, DdsNamesToRos2s) {
+  std::string name;
+  EXPECT_TRUE(hadal::dds::ros_topic_name("rt/auv/odometry", &name));
+  EXPECT_EQ(name, "/auv/odometry");
+  EXPECT_FALSE(hadal::dds::ros_topic_name("auv/odometry", &name));
+  EXPECT_TRUE(hadal::dds::ros_type_name("nav_msgs::msg::dds_::Odometry_", &name));
+  EXPECT_EQ(name, "nav_msgs/msg/Odometry");
+  EXPECT_TRUE(hadal::dds::ros_type_name("hadal_msgs::msg::dds_::StepReply_", &name));
+  EXPECT_EQ(name, "hadal_msgs/msg/StepReply");
+  for (const char* bad : {"Odometry", "nav_msgs::msg::Odometry", "nav_msgs::msg::dds_::Odometry", "::msg::dds_::A_"}) {
+    EXPECT_FALSE(hadal::dds::ros_type_name(bad, &name)) << bad;
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "actuator_topics.h"
 #include "message_conversion.h"
 #include "image_preview.h"
+#include "monitor.h"
 #include "scene_message.h"
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
@@ -105,12 +106,30 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
-  nav_msgs::msg::Odometry odometry_msg;
+  // One message per topic, kept until the topic's next write: the monitor serializes the last one when due.
+  std::vector<nav_msgs::msg::Odometry> odometry_msgs;
   hadal_msgs::msg::StepReply reply_msg;
-  hadal_msgs::msg::ThrusterState thruster_msg;
+  std::vector<hadal_msgs::msg::ThrusterState> thruster_msgs;
   hadal_msgs::msg::SimStatus status_msg;
   hadal_msgs::msg::Scene scene_msg;  // written at start and after every reset
   sensor_msgs::msg::Image preview_msg;
+
+  // rt/hadal/monitor (dds/monitor.h): the topics it carries, by count slot (-1: not carried).
+  fdds::DataWriter* monitor_writer = nullptr;
+  std::size_t monitor_slot = 0;
+  MonitorContent monitor;
+  std::vector<long> monitor_index;
+  hadal_msgs::msg::Monitor monitor_msg;
+  std::chrono::steady_clock::time_point monitor_at{};
+
+  // Carries the topic of `writer` (counted in `slot`) in the monitor.
+  void carry_in_monitor(fdds::DataWriter* writer, std::size_t slot) {
+    std::string topic, type;
+    if (!ros_topic_name(topic_names[slot], &topic) || !ros_type_name(writer->get_type().get_type_name(), &type)) {
+      return;
+    }
+    monitor_index[slot] = static_cast<long>(monitor.add(topic, type, writer->get_type()));
+  }
 
   // The preview of an image just written (dds/image_preview.h): due in wall time and wanted by a reader.
   void write_preview(SensorTopic& endpoint, const sensor_msgs::msg::Image& image) {
@@ -271,11 +290,14 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::size_t add_count(const std::string& topic) {
     topic_names.push_back(topic);
     counts.push_back(0);
+    monitor_index.push_back(-1);
     return counts.size() - 1;
   }
 
   void write(fdds::DataWriter* writer, void* msg, std::size_t slot) {
-    if (writer->write(msg)) ++counts[slot];
+    if (!writer->write(msg)) return;
+    ++counts[slot];
+    if (monitor_index[slot] >= 0) monitor.note(static_cast<std::size_t>(monitor_index[slot]), msg, counts[slot]);
   }
 };
 
@@ -289,21 +311,28 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
   d.clock_slot = d.add_count(clock_topic());
   d.status_writer = r.writer<hadal_msgs::msg::SimStatusPubSubType>(status_topic(), kStateHistoryDepth);
   d.status_slot = d.add_count(status_topic());
+  d.carry_in_monitor(d.status_writer, d.status_slot);
   d.reply_writer = r.writer<hadal_msgs::msg::StepReplyPubSubType>(step_reply_topic(), kCommandHistoryDepth);
   d.reply_slot = d.add_count(step_reply_topic());
   d.scene_writer = r.writer<hadal_msgs::msg::ScenePubSubType>(scene_topic(), 1);
   d.scene_slot = d.add_count(scene_topic());
   fill_scene(model, 0.0, d.scene_msg);
   d.write(d.scene_writer, &d.scene_msg, d.scene_slot);
+  d.monitor_writer = r.writer<hadal_msgs::msg::MonitorPubSubType>(monitor_topic(), 1);
+  d.monitor_slot = d.add_count(monitor_topic());
+  d.odometry_msgs.resize(model.vehicles.size());
+  d.thruster_msgs.resize(model.vehicles.size());
 
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     const std::string& name = model.vehicles[i].name;
     d.odometry_writers.push_back(
         r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), kStateHistoryDepth));
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
+    d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
     d.thruster_writers.push_back(
         r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
     d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
+    d.carry_in_monitor(d.thruster_writers.back(), d.thruster_slot.back());
     auto& actuator_writers = d.actuator_state_writers.emplace_back();
     physics::ActuatorKinds::for_each([&](auto tag) {
       using K = typename decltype(tag)::type;
@@ -313,6 +342,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         const std::string topic = actuator_state_topic(name, K::kListKey);
         writer->writer = r.writer<typename ActuatorStateTopic<K>::PubSubType>(topic, kStateHistoryDepth);
         writer->slot = d.add_count(topic);
+        d.carry_in_monitor(writer->writer, writer->slot);
         actuator_writers.push_back(std::move(writer));
       }
     });
@@ -331,6 +361,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
               endpoint.writer = r.writer<typename Topic::PubSubType>(topic, sensors::TopicHistoryDepth<Topic>::value);
               endpoint.message = std::make_shared<typename Topic::Message>();
               endpoint.slot = d.add_count(topic);
+              if constexpr (sensors::TopicInMonitor<Topic>::value) d.carry_in_monitor(endpoint.writer, endpoint.slot);
               if constexpr (sensors::TopicHasPreview<Topic>::value) {
                 const std::string preview = sensor_topic(name, sensor.name) + "/preview";
                 endpoint.preview_writer = r.writer<sensor_msgs::msg::ImagePubSubType>(preview, 1);
@@ -399,14 +430,14 @@ void ServerEndpoints::publish_clock(double time_s) {
 void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
   fill_odometry(impl_->model.world.frame_id, impl_->model.vehicles[i].name, state.time,
-                state.vehicles[i].body, impl_->odometry_msg);
-  impl_->write(impl_->odometry_writers[i], &impl_->odometry_msg, impl_->odometry_slot[i]);
+                state.vehicles[i].body, impl_->odometry_msgs[i]);
+  impl_->write(impl_->odometry_writers[i], &impl_->odometry_msgs[i], impl_->odometry_slot[i]);
 }
 
 void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
-  fill_thruster_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->thruster_msg);
-  impl_->write(impl_->thruster_writers[i], &impl_->thruster_msg, impl_->thruster_slot[i]);
+  fill_thruster_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->thruster_msgs[i]);
+  impl_->write(impl_->thruster_writers[i], &impl_->thruster_msgs[i], impl_->thruster_slot[i]);
 }
 
 void ServerEndpoints::publish_actuator_states(int vehicle_index, const SimState& state) {
@@ -470,6 +501,19 @@ void ServerEndpoints::publish_step_reply(std::uint64_t request_id, bool accepted
   msg.step_count(state.step_count);
   fill_reply_states(impl_->model, state, msg);
   impl_->write(impl_->reply_writer, &msg, impl_->reply_slot);
+}
+
+void ServerEndpoints::publish_monitor(double sim_time_s) {
+  Impl& d = *impl_;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - d.monitor_at < kMonitorInterval || !d.monitor.changed()) return;
+  d.monitor_at = now;
+  fdds::PublicationMatchedStatus matched;
+  d.monitor_writer->get_publication_matched_status(matched);
+  if (matched.current_count == 0) return;
+  if (d.monitor.fill(sim_time_s, d.model.world.frame_id, &d.monitor_msg)) {
+    d.write(d.monitor_writer, &d.monitor_msg, d.monitor_slot);
+  }
 }
 
 void ServerEndpoints::clear_kept_samples() {

@@ -1,11 +1,13 @@
 // hadald's DDS side: every topic the server publishes or subscribes (README "Topics").
 //
 // Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/hadal/scene (once, and again after a reset:
-// dds/scene_message.h), rt/<vehicle>/odometry,
-// rt/<vehicle>/thrusters/state and rt/<vehicle>/<sensor> (one topic per sensor, its ROS type); subscribes rt/<vehicle>/thrusters/setpoints and
-// rt/hadal/step_request. Incoming samples are queued by the DDS threads and taken by the step loop
-// at step boundaries, so the loop never waits on DDS. Writers to setpoint topics of vehicles that do
-// not exist are reported (a typo in a vehicle name is otherwise silent in DDS).
+// dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/<vehicle>/odometry,
+// rt/<vehicle>/thrusters/state, the other actuator kinds' states and rt/<vehicle>/<sensor> (per sensor, its
+// topics, of ROS types; camera previews while read: dds/image_preview.h); subscribes
+// rt/<vehicle>/thrusters/setpoints and rt/hadal/step_request. Incoming samples are queued by the DDS
+// threads and taken by the step loop at step boundaries, so the loop never waits on DDS. Writers to
+// setpoint topics of vehicles that do not exist are reported (a typo in a vehicle name is otherwise silent
+// in DDS).
 #pragma once
 
 #include "hadal/core/model.h"
@@ -88,6 +90,10 @@ class ServerEndpoints {
   // The sensor's last sample (state.vehicles[v].sensors[s]).
   void publish_sensor(int vehicle_index, int sensor_index, const SimState& state);
   void publish_status(const StatusReport& report);
+  // rt/hadal/monitor (dds/monitor.h): the latest sample of every light topic, when kMonitorInterval of wall
+  // time has passed since the last, a reader is matched and a topic was written since. Cheap when not due:
+  // call it as often as the loop comes by.
+  void publish_monitor(double sim_time_s);
   // Every vehicle's ground truth rides along (fill_reply_states); unknown_vehicle names the vehicle a
   // request was refused for (else empty).
   void publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,

@@ -1,5 +1,6 @@
 #include "hadal/record/bag_recorder.h"
 
+#include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "hadal/record/topic_tap.h"
 
@@ -94,12 +95,14 @@ std::string BagRecorder::start() {
   std::map<std::string, int> topic_ids;
   for (const auto& [dds_topic, writer] : d.tap->writers()) {
     std::string name, type;
-    if (!ros_topic_name(dds_topic, &name) || !ros_type_name(writer.type, &type)) {
+    if (!dds::ros_topic_name(dds_topic, &name) || !dds::ros_type_name(writer.type, &type)) {
       std::fprintf(stderr, "hadal-record: skipping %s (%s): not a ROS 2 topic name and type\n", dds_topic.c_str(),
                    writer.type.c_str());
       continue;
     }
-    if (!d.options.topics.empty() && d.options.topics.count(name) == 0) continue;
+    // Every topic, but the monitor (rt/hadal/monitor) unless named: it carries the others' samples again, and
+    // reading it would make the server write it.
+    if (d.options.topics.empty() ? dds_topic == dds::monitor_topic() : d.options.topics.count(name) == 0) continue;
     const int id = bag->add_topic({name, type, {writer.reliable, writer.transient_local}});
     if (id < 0) return bag->error();
     topic_ids[dds_topic] = id;
@@ -110,8 +113,11 @@ std::string BagRecorder::start() {
     d.bag = std::move(bag);
     d.topic_ids = std::move(topic_ids);
   }
+  const auto recorded = [&d](const std::string& dds_topic, const TappedWriter&) {
+    return d.topic_ids.count(dds_topic) > 0;  // written before the tap's threads start, read-only after
+  };
   if (!d.tap->subscribe([&d](const TappedSample& sample) { d.on_sample(sample); }, d.options.wait_s,
-                        /*kept_samples=*/true)) {
+                        /*kept_samples=*/true, recorded)) {
     std::fprintf(stderr, "hadal-record: warning: not every topic matched its writer within %g s\n", d.options.wait_s);
   }
   d.flusher = std::thread([&d] { d.flush_every_second(); });

@@ -73,27 +73,6 @@ std::string dump(const YAML::Node& node) {
 
 }  // namespace
 
-bool ros_topic_name(const std::string& dds_topic, std::string* ros_topic) {
-  if (dds_topic.size() < 4 || dds_topic.compare(0, 3, "rt/") != 0) return false;
-  *ros_topic = dds_topic.substr(2);
-  return true;
-}
-
-bool ros_type_name(const std::string& dds_type, std::string* ros_type) {
-  // pkg::msg::dds_::Type_ (also srv, action)
-  const auto first = dds_type.find("::");
-  if (first == std::string::npos || first == 0) return false;
-  const auto second = dds_type.find("::", first + 2);
-  if (second == std::string::npos) return false;
-  const std::string kind = dds_type.substr(first + 2, second - first - 2);
-  const std::string rest = dds_type.substr(second + 2);
-  if (rest.compare(0, 6, "dds_::") != 0 || rest.size() < 8 || rest.back() != '_') return false;
-  const std::string type = rest.substr(6, rest.size() - 7);
-  if (type.find("::") != std::string::npos) return false;
-  *ros_type = dds_type.substr(0, first) + "/" + kind + "/" + type;
-  return true;
-}
-
 struct Rosbag2Writer::Impl {
   sqlite3* db = nullptr;
   sqlite3_stmt* insert_message = nullptr;

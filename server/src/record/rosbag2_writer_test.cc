@@ -58,20 +58,6 @@ std::vector<std::vector<std::string>> columns(const Db& db, const std::string& t
   return result;
 }
 
-TEST(Rosbag2WriterTest, NamesFollowRos2sDdsConventions) {
-  std::string name;
-  EXPECT_TRUE(ros_topic_name("rt/auv/odometry", &name));
-  EXPECT_EQ(name, "/auv/odometry");
-  EXPECT_FALSE(ros_topic_name("auv/odometry", &name));
-  EXPECT_TRUE(ros_type_name("nav_msgs::msg::dds_::Odometry_", &name));
-  EXPECT_EQ(name, "nav_msgs/msg/Odometry");
-  EXPECT_TRUE(ros_type_name("hadal_msgs::msg::dds_::StepReply_", &name));
-  EXPECT_EQ(name, "hadal_msgs/msg/StepReply");
-  for (const char* bad : {"Odometry", "nav_msgs::msg::Odometry", "nav_msgs::msg::dds_::Odometry", "::msg::dds_::A_"}) {
-    EXPECT_FALSE(ros_type_name(bad, &name)) << bad;
-  }
-}
-
 // The tables are rosbag2's (rosbag2_storage_sqlite3, schema version 4): the same columns, types and keys,
 // so its reader's queries run unchanged; the metadata is version 9's layout.
 TEST(Rosbag2WriterTest, WritesRosbag2sSchemaMessagesAndMetadata) {

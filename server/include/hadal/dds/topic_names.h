@@ -12,6 +12,8 @@ inline std::string status_topic() { return "rt/hadal/status"; }
 inline std::string step_request_topic() { return "rt/hadal/step_request"; }
 inline std::string step_reply_topic() { return "rt/hadal/step_reply"; }
 inline std::string scene_topic() { return "rt/hadal/scene"; }
+// The latest sample of each light topic in one message, at most 20 per wall second while read (Monitor).
+inline std::string monitor_topic() { return "rt/hadal/monitor"; }
 inline std::string odometry_topic(const std::string& vehicle) { return "rt/" + vehicle + "/odometry"; }
 // A sensor's samples (sensor_msgs/..., marine_acoustic_msgs/Dvl).
 inline std::string sensor_topic(const std::string& vehicle, const std::string& sensor) {
@@ -30,5 +32,28 @@ inline std::string actuator_state_topic(const std::string& vehicle, std::string_
 }
 // Frame id of a vehicle's body frame B in message headers (REP-105 style).
 inline std::string base_frame_id(const std::string& vehicle) { return vehicle + "/base_link"; }
+
+// DDS names to ROS 2's: "rt/auv/odometry" -> "/auv/odometry", "nav_msgs::msg::dds_::Odometry_" ->
+// "nav_msgs/msg/Odometry". Return false (and leave the outputs alone) for names that do not follow
+// ROS 2's DDS conventions.
+inline bool ros_topic_name(const std::string& dds_topic, std::string* ros_topic) {
+  if (dds_topic.size() < 4 || dds_topic.compare(0, 3, "rt/") != 0) return false;
+  *ros_topic = dds_topic.substr(2);
+  return true;
+}
+inline bool ros_type_name(const std::string& dds_type, std::string* ros_type) {
+  // pkg::msg::dds_::Type_ (also srv, action)
+  const auto first = dds_type.find("::");
+  if (first == std::string::npos || first == 0) return false;
+  const auto second = dds_type.find("::", first + 2);
+  if (second == std::string::npos) return false;
+  const std::string kind = dds_type.substr(first + 2, second - first - 2);
+  const std::string rest = dds_type.substr(second + 2);
+  if (rest.compare(0, 6, "dds_::") != 0 || rest.size() < 8 || rest.back() != '_') return false;
+  const std::string type = rest.substr(6, rest.size() - 7);
+  if (type.find("::") != std::string::npos) return false;
+  *ros_type = dds_type.substr(0, first) + "/" + kind + "/" + type;
+  return true;
+}
 
 }  // namespace hadal::dds

@@ -12,7 +12,7 @@ namespace hadal::record {
 struct BagRecorderOptions {
   int domain_id = 0;
   std::string directory;      // must not exist
-  std::set<std::string> topics;  // ROS 2 names to record; empty: every topic of the hadald
+  std::set<std::string> topics;  // ROS 2 names to record; empty: every topic of the hadald but /hadal/monitor
   bool use_sim_time = false;  // bag time = sim time of the latest /clock sample; else receive time
   double wait_s = 20.0;       // how long to look for the hadald and to match its writers
   std::string participant_name = "hadal_record";

@@ -31,12 +31,6 @@ struct BagTopic {
   OfferedQos qos;
 };
 
-// DDS names to ROS 2's: "rt/auv/odometry" -> "/auv/odometry", "nav_msgs::msg::dds_::Odometry_" ->
-// "nav_msgs/msg/Odometry". Returns false (and leaves the outputs alone) for names that do not follow
-// ROS 2's DDS conventions.
-bool ros_topic_name(const std::string& dds_topic, std::string* ros_topic);
-bool ros_type_name(const std::string& dds_type, std::string* ros_type);
-
 class Rosbag2Writer {
  public:
   // Creates `directory` (it must not exist, as rosbag2 requires) with `directory`_0.db3 in it.

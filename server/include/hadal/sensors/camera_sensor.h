@@ -102,6 +102,7 @@ struct CameraSensor {
     static constexpr std::string_view kSuffix = "image_raw";
     static constexpr int kHistoryDepth = 10;
     static constexpr bool kPreview = true;  // rt/<vehicle>/<camera>/preview (sensors/sensor_kind.h)
+    static constexpr bool kInMonitor = false;
     using Message = sensor_msgs::msg::Image;
     using PubSubType = sensor_msgs::msg::ImagePubSubType;
     static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
@@ -109,6 +110,7 @@ struct CameraSensor {
   struct DepthTopic {
     static constexpr std::string_view kSuffix = "depth";
     static constexpr int kHistoryDepth = 10;
+    static constexpr bool kInMonitor = false;
     using Message = sensor_msgs::msg::Image;
     using PubSubType = sensor_msgs::msg::ImagePubSubType;
     static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);

@@ -203,6 +203,13 @@ struct TopicHasPreview : std::false_type {};
 template <class Topic>
 struct TopicHasPreview<Topic, std::void_t<decltype(Topic::kPreview)>> : std::bool_constant<Topic::kPreview> {};
 
+// rt/hadal/monitor (dds/monitor.h) carries the latest sample of every topic but those that declare
+// kInMonitor = false: topics of large messages (camera images), which a monitor reads as previews if at all.
+template <class Topic, class = void>
+struct TopicInMonitor : std::true_type {};
+template <class Topic>
+struct TopicInMonitor<Topic, std::void_t<decltype(Topic::kInMonitor)>> : std::bool_constant<Topic::kInMonitor> {};
+
 // Whether a captured kind captures by scene work (defines Capture) rather than by a ray batch.
 template <class Kind, class = void>
 struct CapturesByWork : std::false_type {};
