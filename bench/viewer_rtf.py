@@ -6,7 +6,9 @@ camera frames at 5 Hz). The three configurations run in turn, --runs times, so d
 fall on all alike; each twice: sharing the machine's CPUs (hadald's threads on all of them, as it comes), and
 split (hadald on CPU 0 alone, its world.threads then 1; viewer and page on CPU 1), which separates what the
 server pays for one more subscriber from the CPU time the viewer takes from it. The viewer's CPU time per
-wall second is reported. One JSON line per run, then the medians.
+wall second is reported, and hadald's own CPU time (user + system, all its threads) per simulated second,
+which a virtual machine's drifting speed (other guests taking the host's time) moves far less than the RTF.
+One JSON line per run, then the medians.
 
     /usr/bin/python3 bench/viewer_rtf.py [--build build] [--runs 5] [--seconds 30]
 
@@ -17,6 +19,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import signal
 import statistics
 import subprocess
@@ -76,6 +79,7 @@ def run_once(build, config, seconds, split):
         if config == "viewer+page":
             page = Page(url, {1} if split else None)
     viewer_cpu0 = cpu_seconds(viewer.pid) if viewer else 0.0
+    children0 = resource.getrusage(resource.RUSAGE_CHILDREN)  # the viewer is still running: not in it
     hadald = subprocess.run([os.path.join(build, "bin/hadald"), os.path.join(ROOT, "configs/scenarios/default.yaml"),
                              "--mode", "fast", "--duration", str(seconds), "--discovery-wait", "2",
                              "--no-status-line", *(["--cpus", "0"] if split else [])],
@@ -84,7 +88,10 @@ def run_once(build, config, seconds, split):
     match = re.search(r"sim time ([0-9.]+) s in ([0-9.]+) s wall, RTF ([0-9.]+)", summary)
     if hadald.returncode != 0 or not match:
         raise RuntimeError(f"hadald failed:\n{summary[-2000:]}")
-    result = {"config": config, "split": split, "rtf": float(match.group(3)), "wall_s": float(match.group(2))}
+    children1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu_s = (children1.ru_utime - children0.ru_utime) + (children1.ru_stime - children0.ru_stime)
+    result = {"config": config, "split": split, "rtf": float(match.group(3)), "wall_s": float(match.group(2)),
+              "hadald_cpu_ms_per_sim_s": round(1e3 * cpu_s / float(match.group(1)), 2)}
     if viewer:  # over hadald's whole run, discovery wait included (2 s)
         result["viewer_cpu_per_s"] = round((cpu_seconds(viewer.pid) - viewer_cpu0) / (float(match.group(2)) + 2.0), 3)
     if page:
@@ -109,19 +116,25 @@ def main():
         raise SystemExit("needs 2 CPUs (CPU 0 for hadald, CPU 1 for the viewer in the split runs)")
     configs = ["none", "viewer", "viewer+page"]
     rtf = {(config, split): [] for config in configs for split in (False, True)}
+    cpu_ms = {(config, split): [] for config in configs for split in (False, True)}
     for run in range(args.runs):
         for config in configs[run % 3:] + configs[:run % 3]:
             for split in (False, True):
                 result = run_once(args.build, config, args.seconds, split)
                 rtf[(config, split)].append(result["rtf"])
+                cpu_ms[(config, split)].append(result["hadald_cpu_ms_per_sim_s"])
                 print(json.dumps({"run": run, **result}), flush=True)
     for split in (False, True):
         medians = {config: statistics.median(rtf[(config, split)]) for config in configs}
+        cpu = {config: statistics.median(cpu_ms[(config, split)]) for config in configs}
         none = rtf[("none", split)]
         print(json.dumps({"split": split, "median_rtf": medians,
                           "viewer_over_none": round(medians["viewer"] / medians["none"], 3),
                           "viewer_page_over_none": round(medians["viewer+page"] / medians["none"], 3),
-                          "spread_none": [min(none), max(none)]}), flush=True)
+                          "spread_none": [min(none), max(none)],
+                          "median_hadald_cpu_ms_per_sim_s": cpu,
+                          "spread_cpu_none": [min(cpu_ms[("none", split)]), max(cpu_ms[("none", split)])]}),
+              flush=True)
 
 
 if __name__ == "__main__":
