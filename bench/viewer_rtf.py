@@ -8,9 +8,10 @@ split (hadald on CPU 0 alone, its world.threads then 1; viewer and page on CPU 1
 server pays for one more subscriber from the CPU time the viewer takes from it. The viewer's CPU time per
 wall second is reported, and hadald's own CPU time (user + system, all its threads) per simulated second,
 which a virtual machine's drifting speed (other guests taking the host's time) moves far less than the RTF.
-One JSON line per run, then the medians.
+One JSON line per run, then per configuration the ratios to the no-viewer run of the same round (paired), then
+the medians.
 
-    /usr/bin/python3 bench/viewer_rtf.py [--build build] [--runs 5] [--seconds 30]
+    /usr/bin/python3 bench/viewer_rtf.py [--build build] [--runs 5] [--seconds 30] [--nice-page]
 
 Needs ROS_LOCALHOST_ONLY=1 (set here if absent) and python3-websocket.
 """
@@ -30,6 +31,7 @@ import websocket
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOMAIN = 87  # a benchmark runs alone, outside the test suite's 100..199
+NICE_PAGE = False  # --nice-page: the page client runs at the viewer's niceness (10)
 
 
 class Page(threading.Thread):
@@ -47,6 +49,8 @@ class Page(threading.Thread):
     def run(self):
         if self.cpus:
             os.sched_setaffinity(0, self.cpus)  # this thread only
+        if NICE_PAGE:
+            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 10)  # this thread only, as the viewer
         try:
             while self.running:
                 message = self.socket.recv()
@@ -111,7 +115,11 @@ def main():
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--seconds", type=float, default=30.0)
+    parser.add_argument("--nice-page", action="store_true",
+                        help="run the page client at niceness 10, like the viewer (a browser on this machine, niced)")
     args = parser.parse_args()
+    global NICE_PAGE
+    NICE_PAGE = args.nice_page
     if len(os.sched_getaffinity(0)) < 2:
         raise SystemExit("needs 2 CPUs (CPU 0 for hadald, CPU 1 for the viewer in the split runs)")
     configs = ["none", "viewer", "viewer+page"]
@@ -124,6 +132,17 @@ def main():
                 rtf[(config, split)].append(result["rtf"])
                 cpu_ms[(config, split)].append(result["hadald_cpu_ms_per_sim_s"])
                 print(json.dumps({"run": run, **result}), flush=True)
+    def paired(values, config, split):
+        """Per run, config's figure over the no-viewer figure of the same run (minutes apart at most, so a
+        slow drift of the machine's speed falls on both): median, mean and its standard error."""
+        ratios = [a / b for a, b in zip(values[(config, split)], values[("none", split)])]
+        mean = statistics.fmean(ratios)
+        error = statistics.stdev(ratios) / len(ratios) ** 0.5 if len(ratios) > 1 else float("nan")
+        return {"median": round(statistics.median(ratios), 4), "mean": round(mean, 4), "stderr": round(error, 4)}
+
+    for split in (False, True):
+        print(json.dumps({"split": split, "paired_rtf_ratio": {c: paired(rtf, c, split) for c in configs[1:]},
+                          "paired_cpu_ratio": {c: paired(cpu_ms, c, split) for c in configs[1:]}}), flush=True)
     for split in (False, True):
         medians = {config: statistics.median(rtf[(config, split)]) for config in configs}
         cpu = {config: statistics.median(cpu_ms[(config, split)]) for config in configs}

@@ -162,9 +162,14 @@ def test_usage_errors_and_the_token(tmp_path):
     run = subprocess.run([VIEWER], capture_output=True, text=True, timeout=30,
                          env=dict(os.environ, ROS_DOMAIN_ID="300"))
     assert run.returncode == 2 and "ROS_DOMAIN_ID must be an integer in 0..232" in run.stderr, run.stderr
+    run = subprocess.run([VIEWER, "--nice", "20"], capture_output=True, text=True, timeout=30)
+    assert run.returncode == 2 and "--nice takes an integer in 0..19" in run.stderr, run.stderr
     viewer, url = start_viewer("--token", "s3cret", "--domain-id", "231")
     try:
         assert url.endswith("/?token=s3cret")
+        # It runs below the server's priority (--nice 10 by default; field 19 of /proc/PID/stat).
+        with open(f"/proc/{viewer.pid}/stat") as stat:
+            assert int(stat.read().rsplit(")", 1)[1].split()[16]) == 10
         base = url.split("?")[0]
         with pytest.raises(urllib.error.HTTPError) as refused:
             urllib.request.urlopen(base)
