@@ -31,15 +31,15 @@ import websocket
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOMAIN = 87  # a benchmark runs alone, outside the test suite's 100..199
-NICE_PAGE = False  # --nice-page: the page client runs at the viewer's niceness (10)
 
 
 class Page(threading.Thread):
     """A WebSocket client that takes everything the viewer sends."""
 
-    def __init__(self, url, cpus):
+    def __init__(self, url, cpus, nice):
         super().__init__(daemon=True)
         self.cpus = cpus
+        self.nice = nice  # run at the viewer's niceness (10)
         self.socket = websocket.create_connection(url.replace("http", "ws").split("?")[0] + "ws", timeout=60)
         self.bytes = 0
         self.messages = 0
@@ -49,7 +49,7 @@ class Page(threading.Thread):
     def run(self):
         if self.cpus:
             os.sched_setaffinity(0, self.cpus)  # this thread only
-        if NICE_PAGE:
+        if self.nice:
             os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 10)  # this thread only, as the viewer
         try:
             while self.running:
@@ -71,7 +71,7 @@ def cpu_seconds(pid):
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def run_once(build, config, seconds, split):
+def run_once(build, config, seconds, split, nice_page=False):
     env = dict(os.environ, ROS_LOCALHOST_ONLY="1", ROS_DOMAIN_ID=str(DOMAIN))
     viewer = page = None
     if config != "none":
@@ -81,7 +81,7 @@ def run_once(build, config, seconds, split):
                                   preexec_fn=(lambda: os.sched_setaffinity(0, {1})) if split else None)
         url = viewer.stdout.readline().split()[2]
         if config == "viewer+page":
-            page = Page(url, {1} if split else None)
+            page = Page(url, {1} if split else None, nice_page)
     viewer_cpu0 = cpu_seconds(viewer.pid) if viewer else 0.0
     children0 = resource.getrusage(resource.RUSAGE_CHILDREN)  # the viewer is still running: not in it
     hadald = subprocess.run([os.path.join(build, "bin/hadald"), os.path.join(ROOT, "configs/scenarios/default.yaml"),
@@ -118,8 +118,6 @@ def main():
     parser.add_argument("--nice-page", action="store_true",
                         help="run the page client at niceness 10, like the viewer (a browser on this machine, niced)")
     args = parser.parse_args()
-    global NICE_PAGE
-    NICE_PAGE = args.nice_page
     if len(os.sched_getaffinity(0)) < 2:
         raise SystemExit("needs 2 CPUs (CPU 0 for hadald, CPU 1 for the viewer in the split runs)")
     configs = ["none", "viewer", "viewer+page"]
@@ -128,7 +126,7 @@ def main():
     for run in range(args.runs):
         for config in configs[run % 3:] + configs[:run % 3]:
             for split in (False, True):
-                result = run_once(args.build, config, args.seconds, split)
+                result = run_once(args.build, config, args.seconds, split, args.nice_page)
                 rtf[(config, split)].append(result["rtf"])
                 cpu_ms[(config, split)].append(result["hadald_cpu_ms_per_sim_s"])
                 print(json.dumps({"run": run, **result}), flush=True)

@@ -124,20 +124,24 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
 
   // Carries the topic of `writer` (counted in `slot`) in the monitor.
   void carry_in_monitor(fdds::DataWriter* writer, std::size_t slot) {
+    const fdds::TypeSupport type_support = writer->get_type();
     std::string topic, type;
-    if (!ros_topic_name(topic_names[slot], &topic) || !ros_type_name(writer->get_type().get_type_name(), &type)) {
-      return;
-    }
-    monitor_index[slot] = static_cast<long>(monitor.add(topic, type, writer->get_type()));
+    if (!ros_topic_name(topic_names[slot], &topic) || !ros_type_name(type_support.get_type_name(), &type)) return;
+    monitor_index[slot] = static_cast<long>(monitor.add(topic, type, type_support));
+  }
+
+  // Whether a reader is matched to the writer: the side channels (previews, the monitor) are written only then.
+  static bool has_readers(fdds::DataWriter* writer) {
+    fdds::PublicationMatchedStatus matched;
+    writer->get_publication_matched_status(matched);
+    return matched.current_count > 0;
   }
 
   // The preview of an image just written (dds/image_preview.h): due in wall time and wanted by a reader.
   void write_preview(SensorTopic& endpoint, const sensor_msgs::msg::Image& image) {
     const auto now = std::chrono::steady_clock::now();
     if (now - endpoint.preview_at < kPreviewInterval) return;
-    fdds::PublicationMatchedStatus matched;
-    endpoint.preview_writer->get_publication_matched_status(matched);
-    if (matched.current_count == 0 || !half_resolution(image, &preview_msg)) return;
+    if (!has_readers(endpoint.preview_writer) || !half_resolution(image, &preview_msg)) return;
     endpoint.preview_at = now;
     write(endpoint.preview_writer, &preview_msg, endpoint.preview_slot);
   }
@@ -508,9 +512,7 @@ void ServerEndpoints::publish_monitor(double sim_time_s) {
   const auto now = std::chrono::steady_clock::now();
   if (now - d.monitor_at < kMonitorInterval || !d.monitor.changed()) return;
   d.monitor_at = now;
-  fdds::PublicationMatchedStatus matched;
-  d.monitor_writer->get_publication_matched_status(matched);
-  if (matched.current_count == 0) return;
+  if (!Impl::has_readers(d.monitor_writer)) return;
   if (d.monitor.fill(sim_time_s, d.model.world.frame_id, &d.monitor_msg)) {
     d.write(d.monitor_writer, &d.monitor_msg, d.monitor_slot);
   }

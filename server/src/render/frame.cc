@@ -485,8 +485,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   }
 
   // Where each light (then the sky) reaches the point, and the shadow rays that must be cast.
-  geometry::RayBatch& shadows = a.shadows;
-  shadows.coherence = geometry::RayCoherence::kCoherent;
+  geometry::RayBatch& shadows = a.shadows;  // occluded() only: traced incoherent whatever its coherence says
   std::vector<std::uint32_t>& shadow_pixel = a.shadow_pixel;
   std::vector<std::uint16_t>& shadow_source = a.shadow_source;
   // Each light: where it may light the point (in its beam, before the surface), the Lambertian term it
