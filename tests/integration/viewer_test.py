@@ -10,6 +10,8 @@ import re
 import signal
 import subprocess
 import sys
+import threading
+import time
 import urllib.request
 
 import numpy as np
@@ -35,6 +37,21 @@ def start_viewer(*args):
     line = viewer.stdout.readline()
     assert line.startswith("hadal-viewer: serving http://127.0.0.1:"), line + viewer.stderr.read()
     return viewer, line.split()[2]
+
+
+def read_line(process, timeout_s):
+    """The process's next stdout line, or None when none comes within timeout_s."""
+    lines = []
+    reader = threading.Thread(target=lambda: lines.append(process.stdout.readline()), daemon=True)
+    reader.start()
+    reader.join(timeout_s)
+    return lines[0] if lines else None
+
+
+def monitor_written(server):
+    """How many monitor samples the stopped server wrote (its summary's count)."""
+    with open(server.log_path) as log:
+        return int(re.search(r"rt/hadal/monitor ([0-9]+)\n", log.read()).group(1))
 
 
 def stop(process):
@@ -102,6 +119,29 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
         finally:
             err = stop(viewer)
     assert re.search(r", 0 undecodable$", err.strip()), err
+    assert monitor_written(server) > 0  # the page's viewer read the monitor
+
+
+def test_a_viewer_without_a_page_costs_the_server_no_writes():
+    """With no page open, a live viewer reads only the scene, which the server wrote once before anyone joined:
+    the monitor and the camera previews, written only while read, stay unwritten however long the run."""
+    with hadal.Server("default", mode="lockstep") as server:
+        viewer, _ = start_viewer("--domain-id", str(server.domain_id))
+        try:
+            line = read_line(viewer, 60)
+            assert line and line.startswith("hadal-viewer: watching hadald ("), line
+            with server.client("viewer_test") as client:
+                for _ in range(20):
+                    client.step(50)  # 2 s of sim time
+                assert client.wait_odometry("auv", min_stamp=2.0) is not None
+            # The monitor's pace is wall time (at most every 50 ms): let several of its chances pass.
+            time.sleep(1.0)
+        finally:
+            err = stop(viewer)
+    with open(server.log_path) as log:
+        summary = log.read()
+    assert "rt/hadal/monitor 0\n" in summary and "rt/auv/camera/preview 0\n" in summary, summary
+    assert re.search(r"^hadal-viewer: 1 sample\(s\) shown, 0 undecodable$", err.strip(), re.M), err  # the scene
 
 
 def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):

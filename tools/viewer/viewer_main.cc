@@ -6,8 +6,9 @@
 //
 // A separate process: it subscribes to the hadald on the domain over DDS like any client (nothing in the
 // server knows of it) or reads the bag, keeps what the page shows (viewer_state.h) and pushes it over a
-// WebSocket at --rate-hz, camera frames at --image-rate-hz per camera (JPEG). Listens on loopback by
-// default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
+// WebSocket at --rate-hz, camera frames at --image-rate-hz per camera (JPEG). With no page open, a live
+// viewer reads only the scene and waits: the server writes nothing more to it (LiveSource). Listens on
+// loopback by default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
 // read the bag, 2 on a usage error.
 #include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_reader.h"
@@ -72,33 +73,50 @@ std::string default_web_root() {
   return HADAL_VIEWER_SOURCE_WEB_ROOT;
 }
 
-// Live: the hadald on the domain, only the scene, the monitor and the camera previews (ViewerState::shows:
-// the monitor brings the latest sample of every drawn stream at most 20 times per wall second, so the server
-// does not deliver each stream to the viewer), with readers that keep the latest sample. Reliable and
-// transient-local (the scene is written once, before anyone joins), but for the previews: those are read best
-// effort (the server never resends a frame to the viewer), and only once a page is open (want_images()), by
-// a second participant. hadald's topics are learnt once: a server restarted with another scenario needs the
-// viewer restarted.
+// Live: the hadald on the domain. A viewer with no page open reads only the scene (written once, before
+// anyone joins: reliable, transient-local), so the server writes nothing to it as it runs. While a page is
+// open (and for kPageLinger after the last one closed: a page reloaded), a second participant reads the
+// monitor (rt/hadal/monitor: the latest sample of every drawn stream, at most 20 per wall second, written
+// by the server only while read; ViewerState::shows) and the camera previews (best effort: the server never
+// resends a frame to the viewer), each with a reader that keeps the latest sample. The plots and trails
+// thus have a gap where no page was open. hadald's topics are learnt once: a server restarted with another
+// scenario needs the viewer restarted.
 class LiveSource {
  public:
+  static constexpr std::chrono::seconds kPageLinger{10};
+
   LiveSource(int domain, hadal::viewer::ViewerState& state) : domain_(domain), state_(state) {
     thread_ = std::thread([this] { run(); });
   }
-  void want_images() { images_wanted_ = true; }
+  // How many pages are open (the push loop tells, each tick and when one connects).
+  void set_pages(int pages) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (pages == pages_) return;
+      pages_ = pages;
+    }
+    wake_.notify_one();
+  }
   ~LiveSource() {
-    stop_ = true;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
     thread_.join();
   }
-  // Connected: a sample came within the last 3 s (the monitor carries hadald's status, a 10 Hz wall-clock
-  // heartbeat).
+  // Connected: hadald's writers were found and, once the monitor is read, a sample came within the last 3 s
+  // (the monitor carries hadald's status, a 10 Hz wall-clock heartbeat).
   std::string json() const {
-    const bool connected = now_s() - last_sample_s_.load() < 3.0;
+    const bool connected = discovered_ && (!reading_pages_ || now_s() - last_sample_s_.load() < 3.0);
     return "{\"kind\":\"live\",\"domain\":" + std::to_string(domain_) +
            ",\"connected\":" + (connected ? "true" : "false") + "}";
   }
   bool failed() const { return failed_; }
 
  private:
+  enum class Streams { kScene, kMonitor, kPreviews };
+
   void run() {
     try {
       read();
@@ -110,32 +128,59 @@ class LiveSource {
 
   void read() {
     hadal::record::TopicTap tap(domain_, "hadal_viewer");
-    while (!stop_ && !tap.discover(1.0)) {
+    while (!stopping() && !tap.discover(1.0)) {
     }
-    if (stop_) return;
+    if (stopping()) return;
     for (const auto& [dds_topic, writer] : tap.writers()) {
       std::string topic, type;
       if (hadal::dds::ros_topic_name(dds_topic, &topic) && hadal::dds::ros_type_name(writer.type, &type)) {
         names_[dds_topic] = {topic, type};
       }
     }
-    if (!subscribe(tap, false)) std::fprintf(stderr, "hadal-viewer: not every topic of hadald matched within 20 s\n");
-    std::unique_ptr<hadal::record::TopicTap> image_tap;
+    discovered_ = true;
+    if (subscribe(tap, Streams::kScene)) {
+      std::printf("hadal-viewer: watching hadald (%zu topics; its monitor and previews are read while a page is "
+                  "open)\n", names_.size());
+      std::fflush(stdout);
+    } else {
+      std::fprintf(stderr, "hadal-viewer: hadald's scene did not match within 20 s\n");
+    }
+    std::unique_ptr<hadal::record::TopicTap> page_tap;
+    auto last_page = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> lock(mutex_);
     while (!stop_) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      if (images_wanted_ && !image_tap) {
-        image_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_images");
-        if (image_tap->discover(5.0, 0.2)) {
-          subscribe(*image_tap, true);
+      // Idle (no page, no tap to close) until a page opens; else a look each second for the linger's end.
+      wake_.wait_for(lock, std::chrono::seconds(1), [&] { return stop_ || (pages_ > 0 && !page_tap); });
+      if (stop_) break;
+      const auto now = std::chrono::steady_clock::now();
+      if (pages_ > 0) last_page = now;
+      const bool want = pages_ > 0;
+      lock.unlock();
+      if (want && !page_tap) {
+        page_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_page");
+        if (page_tap->discover(5.0, 0.2)) {
+          last_sample_s_ = now_s();  // found again: give the monitor its 3 s
+          reading_pages_ = true;
+          const bool matched = subscribe(*page_tap, Streams::kMonitor) && subscribe(*page_tap, Streams::kPreviews);
+          if (!matched) std::fprintf(stderr, "hadal-viewer: not every shown topic of hadald matched within 20 s\n");
         } else {
-          image_tap.reset();  // hadald gone for now: try again
+          page_tap.reset();  // hadald gone for now: try again
         }
+      } else if (!want && page_tap && now - last_page >= kPageLinger) {
+        page_tap.reset();
+        reading_pages_ = false;
       }
+      lock.lock();
     }
   }
 
-  // The shown topics of the hadald the tap found: its camera images or all the others.
-  bool subscribe(hadal::record::TopicTap& tap, bool images) {
+  bool stopping() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stop_;
+  }
+
+  // Of the topics the tap found, those of `streams` (ViewerState::shows says which a viewer reads at all).
+  bool subscribe(hadal::record::TopicTap& tap, Streams streams) {
     return tap.subscribe(
         [this](const hadal::record::TappedSample& sample) {
           last_sample_s_ = now_s();
@@ -144,12 +189,15 @@ class LiveSource {
             state_.add(name->second.first, name->second.second, sample.bytes.data(), sample.bytes.size());
           }
         },
-        20.0, !images,
-        [this, images](const std::string& dds_topic, const hadal::record::TappedWriter&) {
+        20.0, streams != Streams::kPreviews,
+        [this, streams](const std::string& dds_topic, const hadal::record::TappedWriter&) {
           const auto name = names_.find(dds_topic);
           if (name == names_.end()) return false;
           const auto& [topic, type] = name->second;
-          return hadal::viewer::ViewerState::shows(topic, type) && (type == "sensor_msgs/msg/Image") == images;
+          if (!hadal::viewer::ViewerState::shows(topic, type)) return false;
+          if (type == "hadal_msgs/msg/Scene") return streams == Streams::kScene;
+          if (type == "sensor_msgs/msg/Image") return streams == Streams::kPreviews;
+          return streams == Streams::kMonitor;
         },
         true);
   }
@@ -157,7 +205,11 @@ class LiveSource {
   int domain_;
   hadal::viewer::ViewerState& state_;
   std::map<std::string, std::pair<std::string, std::string>> names_;  // DDS topic -> ROS topic, type
-  std::atomic<bool> stop_{false}, failed_{false}, images_wanted_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;  // guarded by mutex_
+  int pages_ = 0;      // guarded by mutex_
+  std::atomic<bool> failed_{false}, discovered_{false}, reading_pages_{false};
   std::atomic<double> last_sample_s_{-1e9};
   std::thread thread_;
 };
@@ -380,15 +432,16 @@ int main(int argc, char** argv) {
     player = std::make_unique<BagPlayer>(std::move(reader), bag, state);
   }
 
-  if (!player) live = std::make_unique<LiveSource>(domain, state);  // before any page can ask for images
-
   std::mutex clients_mutex;
+  std::condition_variable client_joined;
   std::vector<hadal::viewer::WebServer::ClientId> new_clients;
   hadal::viewer::WebCallbacks callbacks;
   callbacks.on_client = [&](hadal::viewer::WebServer::ClientId client) {
-    std::lock_guard<std::mutex> lock(clients_mutex);
-    new_clients.push_back(client);
-    if (live) live->want_images();
+    {
+      std::lock_guard<std::mutex> lock(clients_mutex);
+      new_clients.push_back(client);
+    }
+    client_joined.notify_one();
   };
   callbacks.on_command = [&](const std::string& text) {
     if (player) player->command(text);
@@ -408,20 +461,32 @@ int main(int argc, char** argv) {
               player ? ("bag " + bag).c_str() : ("live: DDS domain " + std::to_string(domain)).c_str(),
               web.web_root.c_str());
   std::fflush(stdout);
+  if (!player) live = std::make_unique<LiveSource>(domain, state);  // prints its own line once it found hadald
 
-  // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected.
+  // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected. With
+  // no page open it does nothing but wait for one (looking at the stop flag 4 times a second).
   const auto period = std::chrono::duration<double>(1.0 / rate_hz);
   auto wake = std::chrono::steady_clock::now();
   while (!g_stop.load() && !(live && live->failed())) {
-    wake += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
-    std::this_thread::sleep_until(wake);
-    const std::string source = player ? player->json() : live->json();
-    auto with_source = [&](std::string update) { return update.insert(update.size() - 1, ",\"source\":" + source); };
     std::vector<hadal::viewer::WebServer::ClientId> joined;
     {
-      std::lock_guard<std::mutex> lock(clients_mutex);
+      std::unique_lock<std::mutex> lock(clients_mutex);
+      if (server->clients() == 0 && new_clients.empty()) {
+        if (live) live->set_pages(0);
+        client_joined.wait_for(lock, std::chrono::milliseconds(250), [&] { return !new_clients.empty(); });
+        wake = std::chrono::steady_clock::now();
+        if (new_clients.empty()) continue;
+      } else {
+        lock.unlock();
+        wake += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+        std::this_thread::sleep_until(wake);
+        lock.lock();
+      }
       joined.swap(new_clients);
     }
+    if (live) live->set_pages(server->clients());
+    const std::string source = player ? player->json() : live->json();
+    auto with_source = [&](std::string update) { return update.insert(update.size() - 1, ",\"source\":" + source); };
     hadal::viewer::PushOutput out = state.poll(now_s());
     if (!out.scene_json.empty()) {
       server->broadcast(out.scene_json, false);
