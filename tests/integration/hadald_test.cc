@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <dirent.h>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -308,6 +309,32 @@ TEST(HadaldTest, MalformedScenarioExitsBeforeAnythingStarts) {
   EXPECT_NE(err.find("nothing started"), std::string::npos) << err;
   EXPECT_EQ(server.out(), "");
   std::remove(path.c_str());
+}
+
+// A scenario that names a file outside its tree and the asset roots is refused before the file is read,
+// and nothing of the file is printed; --asset-root lets a directory in.
+TEST(HadaldTest, AScenarioReachesOnlyItsTreeAndTheAssetRoots) {
+  const std::string dir = "/tmp/hadald-test-roots-" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir + "/a");
+  {
+    std::ofstream(dir + "/a/s.yaml") << "world: {}\nvehicles:\n  - {name: x, include: /etc/passwd}\n";
+    std::ofstream(dir + "/a/up.yaml") << "world: {}\nvehicles:\n  - {name: x, include: ../text.yaml}\n";
+    std::ofstream(dir + "/text.yaml") << "root:x:0:0:root:/root:/bin/bash\n";
+  }
+  ServerProcess refused({dir + "/a/s.yaml", "--mode", "fast", "--no-status-line"});
+  EXPECT_EQ(refused.wait(kWait), 1);
+  EXPECT_NE(refused.err().find(dir + "/a/s.yaml:3:24: error: vehicles[0].include: '/etc/passwd' lies outside"),
+            std::string::npos)
+      << refused.err();
+  EXPECT_EQ(refused.err().find("root:"), std::string::npos) << refused.err();
+  // Let in by --asset-root: read, found not to be YAML keys and values, and still not quoted.
+  ServerProcess let_in({dir + "/a/up.yaml", "--mode", "fast", "--no-status-line", "--asset-root", dir});
+  EXPECT_EQ(let_in.wait(kWait), 1);
+  EXPECT_NE(let_in.err().find(dir + "/a/../text.yaml:1:1: error: expected a map (got a document that is plain text"),
+            std::string::npos)
+      << let_in.err();
+  EXPECT_EQ(let_in.err().find("root:"), std::string::npos) << let_in.err();
+  std::filesystem::remove_all(dir);
 }
 
 TEST(HadaldTest, FastModeRunsTheDefaultScenarioForItsDurationAndSummarises) {

@@ -49,7 +49,7 @@ std::string usage() {
          "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
          "                            [--discovery-wait SECONDS] [--threads N] [--cpus LIST]\n"
          "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
-         "                            [--no-cameras]\n"
+         "                            [--no-cameras] [--asset-root DIR]...\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -69,6 +69,8 @@ std::string usage() {
          "                   exist), bag time = sim time, flushed once per wall second\n"
          "  --no-status-line no per-second status line on stderr\n"
          "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
+         "  --asset-root DIR another directory the scenario's includes, meshes and maps may lie in\n"
+         "                   (besides its own tree and hadal's configs; also $HADAL_ASSET_ROOTS, a:b)\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
 }
 
@@ -157,6 +159,8 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
         }
       } else if (arg == "--record") {
         o.record_dir = value;
+      } else if (arg == "--asset-root") {
+        o.asset_roots.push_back(value);  // checked by the loader (config::asset_roots)
       } else if (arg == "--domain-id") {
         if (!parse_domain(value, o.domain_id)) {
           parse.error = "--domain-id must be an integer in 0..232 (got '" + value + "')";

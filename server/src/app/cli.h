@@ -30,6 +30,7 @@ struct CliOptions {
   std::vector<int> cpus;       // --cpus LIST: the CPUs all of hadald's threads run on (empty: any); scheduling.h
   bool sched_batch = false;    // --sched batch: SCHED_BATCH, wake-ups do not preempt; scheduling.h
   std::string record_dir;      // --record DIR: a rosbag2 bag of every topic (hadal/record/bag_recorder.h)
+  std::vector<std::string> asset_roots;  // --asset-root DIR...: config::LoadOptions
   // Wall seconds to wait after start-up before the first step, so subscribers that are already
   // running are matched before the first samples (a fast run can be over before DDS discovery is).
   // Default: 2 s in fast mode (Fast DDS <-> Cyclone DDS first contact sometimes takes

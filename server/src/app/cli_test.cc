@@ -31,6 +31,11 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_EQ(parse_cli({"s.yaml", "--threads", "two"}, nullptr).error,
             "--threads must be an integer in 1..256 (got 'two')");
   EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
+  EXPECT_TRUE(p.options.asset_roots.empty());
+  p = parse_cli({"s.yaml", "--asset-root", "/data/meshes", "--asset-root", "../maps"}, nullptr);
+  ASSERT_EQ(p.error, "");
+  EXPECT_EQ(p.options.asset_roots, (std::vector<std::string>{"/data/meshes", "../maps"}));
+  EXPECT_EQ(parse_cli({"s.yaml", "--asset-root"}, nullptr).error, "option --asset-root needs a value");
 }
 
 TEST(CliTest, CpusAndSchedulingPolicy) {

@@ -74,7 +74,9 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  config::LoadResult loaded = config::load_scenario_file(cli.options.scenario_file);
+  config::LoadOptions load_options;
+  load_options.asset_roots = cli.options.asset_roots;
+  config::LoadResult loaded = config::load_scenario_file(cli.options.scenario_file, load_options);
   for (const auto& warning : loaded.warnings) std::fprintf(stderr, "%s\n", warning.format().c_str());
   if (!loaded.ok()) {
     for (const auto& error : loaded.errors) std::fprintf(stderr, "%s\n", error.format().c_str());

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -425,9 +426,7 @@ void read_seabed(const Value& value, std::uint64_t world_seed, SeabedSpec* seabe
   ok &= map.read_number("z", Need::kOptional, Range::finite(), &seabed->z);
   if (is_mesh || is_heightmap) {
     std::string file;
-    if (map.read_string("file", Need::kRequired, &file)) {
-      const auto file_value = map.optional("file");
-      seabed->file = (std::filesystem::path(file_value->file()).parent_path() / file).string();
+    if (map.read_string("file", Need::kRequired, &file) && map.optional("file")->file_path(file, &seabed->file)) {
       seabed->heightmap.file = seabed->file;
     } else {
       ok = false;
@@ -516,9 +515,7 @@ std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkM
   if (!map.ok()) return std::nullopt;
   bool ok = true;
   std::string file;
-  if (map.read_string("file", Need::kRequired, &file)) {
-    link_mesh->file = (std::filesystem::path(map.optional("file")->file()).parent_path() / file).string();
-  } else {
+  if (!map.read_string("file", Need::kRequired, &file) || !map.optional("file")->file_path(file, &link_mesh->file)) {
     ok = false;
   }
   ok &= map.read_number("scale", Need::kOptional, Range::positive(), &link_mesh->import.scale);
@@ -1184,7 +1181,8 @@ void read_soil(const std::optional<Value>& value, SoilSpec* soil) {
   }
   if (!ok || soil->regions.empty()) return;
   const auto file_value = image.optional("file");
-  const std::string path = (std::filesystem::path(file_value->file()).parent_path() / file).string();
+  std::string path;
+  if (!file_value->file_path(file, &path)) return;
   const physics::SoilMapLoad load =
       physics::load_soil_region_map(path, meters_per_pixel, center.head<2>(), soil->regions.size());
   if (!load.map) {
@@ -1198,7 +1196,7 @@ void read_soil(const std::optional<Value>& value, SoilSpec* soil) {
 
 class ScenarioLoader {
  public:
-  LoadResult load(const std::string& path);
+  LoadResult load(const std::string& path, const LoadOptions& options);
 
  private:
   void read_world(const Value& value, WorldSpec* world);
@@ -1216,19 +1214,30 @@ class ScenarioLoader {
     std::optional<VehicleDefinition> definition;  // nullopt when it cannot be opened or parsed
   };
   std::map<std::string, IncludedFile> includes_;      // by resolved path
+  std::shared_ptr<const std::vector<std::filesystem::path>> roots_;  // where the files named may lie
   std::map<std::string, std::string> vehicle_names_;  // name -> path of the entry that used it first
 };
 
-LoadResult ScenarioLoader::load(const std::string& path) {
+LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& options) {
   Model model;
   model.scenario_file = path;
+  std::vector<std::filesystem::path> roots;
+  for (const AssetRoot& root : asset_roots(path, options)) {
+    if (root.error.empty()) {
+      roots.push_back(root.path);
+    } else {
+      sink_.report(path, YAML::Mark::null_mark(), "", "asset root " + quoted(root.path) + " (" + root.origin +
+                                                          ") " + root.error);
+    }
+  }
+  roots_ = std::make_shared<const std::vector<std::filesystem::path>>(std::move(roots));
   std::string open_error;
   const std::optional<YAML::Node> root = parse_yaml_file(path, &sink_, &open_error);
   if (!root && !open_error.empty()) {
     sink_.report(path, YAML::Mark::null_mark(), "", "cannot open scenario file (" + open_error + ")");
   }
   if (root) {
-    const auto source = std::make_shared<const Source>(Source{path, &sink_});
+    const auto source = std::make_shared<const Source>(Source{path, &sink_, roots_});
     const MapReader map(Value::root(*root, source), {"world", "vehicles"});
     if (const auto world = map.required("world")) read_world(*world, &model.world);
     if (const auto vehicles = map.required("vehicles")) {
@@ -1393,20 +1402,22 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
 
 const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(const Value& include,
                                                                             const std::string& path) {
-  const std::string resolved = (std::filesystem::path(include.file()).parent_path() / path).string();
+  static const std::optional<VehicleDefinition> kRefused;
+  std::string resolved;
+  if (!include.file_path(path, &resolved)) return kRefused;
   auto [it, first_use] = includes_.try_emplace(resolved);
   IncludedFile& included = it->second;
   if (first_use) {
     const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
     if (root) {
-      const auto source = std::make_shared<const Source>(Source{resolved, &sink_});
+      const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_});
       const MapReader map(Value::root(*root, source), definition_keys());
       if (map.ok()) included.definition = read_definition(map, physics_rate_hz_);
     }
   }
   // Errors inside the file are reported once; a file that cannot be opened at every include naming it.
   if (!included.open_error.empty()) {
-    include.error("cannot open " + quoted(resolved) + " (" + included.open_error + ")");
+    include.error("cannot open " + config::quoted(resolved) + " (" + included.open_error + ")");
   }
   return included.definition;
 }
@@ -1457,9 +1468,51 @@ void ScenarioLoader::read_schedule(const Value& value, const VehicleDefinition* 
 
 }  // namespace
 
-LoadResult load_scenario_file(const std::string& path) {
+std::vector<AssetRoot> asset_roots(const std::string& scenario_path, const LoadOptions& options) {
+  namespace fs = std::filesystem;
+  std::vector<AssetRoot> roots;
+  // A configured root that is not a directory is an error; a default one that is not is left out.
+  auto add = [&](const fs::path& dir, const std::string& origin, bool configured) {
+    AssetRoot root{dir.string(), origin, ""};
+    std::error_code ec;
+    const fs::path real = fs::canonical(fs::absolute(dir, ec), ec);
+    if (ec || !fs::is_directory(real, ec)) {
+      if (!configured) return;
+      root.error = "is not a directory";
+    } else {
+      root.path = real.string();
+    }
+    roots.push_back(std::move(root));
+  };
+  // The scenario's tree: its directory, or, in the layout of configs/ (scenarios/, vehicles/, meshes/ side by
+  // side), the directory holding scenarios/.
+  std::error_code ec;
+  fs::path tree = fs::weakly_canonical(fs::absolute(scenario_path, ec), ec).parent_path();
+  if (tree.filename() == "scenarios") tree = tree.parent_path();
+  add(tree, "the scenario's tree", false);
+  if (const char* data = std::getenv("HADAL_DATA_DIR"); data != nullptr && *data != '\0') {
+    add(fs::path(data) / "configs", "hadal's configs, $HADAL_DATA_DIR/configs", false);
+  } else {
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "hadal" / "configs";
+    add(!ec && fs::is_directory(installed, ec) ? installed : fs::path(HADAL_SOURCE_CONFIGS_DIR), "hadal's configs",
+        false);
+  }
+  for (const std::string& dir : options.asset_roots) add(dir, "--asset-root", true);
+  if (const char* list = std::getenv("HADAL_ASSET_ROOTS"); list != nullptr) {
+    std::string text = list;
+    for (std::size_t start = 0; start <= text.size();) {
+      const std::size_t end = std::min(text.find(':', start), text.size());
+      if (end > start) add(text.substr(start, end - start), "$HADAL_ASSET_ROOTS", true);
+      start = end + 1;
+    }
+  }
+  return roots;
+}
+
+LoadResult load_scenario_file(const std::string& path, const LoadOptions& options) {
   ScenarioLoader loader;
-  return loader.load(path);
+  return loader.load(path, options);
 }
 
 }  // namespace hadal::config

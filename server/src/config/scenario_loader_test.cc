@@ -11,6 +11,7 @@
 
 #include "hadal/assets/mesh_generators.h"
 #include "hadal/assets/scene_writer.h"
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -2011,6 +2012,94 @@ TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {
   EXPECT_EQ(errors_of(bad)[0], bad + ":2:20: error: world.raycast_threads: must be a whole number (got 1.5)");
   const std::string negative = write("n.yaml", "world:\n  raycast_threads: -1\nvehicles: []\n");
   EXPECT_EQ(errors_of(negative)[0], negative + ":2:20: error: world.raycast_threads: must be in [0, 256] (got -1)");
+}
+
+// Files a scenario may reach (docs/ARCHITECTURE.md): only inside its tree, hadal's configs and the configured
+// asset roots, symlinks resolved; what an error says never repeats a file that is not YAML.
+TEST_F(ScenarioLoaderTest, FilesOutsideTheScenariosTreeAreRefusedByName) {
+  const std::string tree = fs::canonical(dir_ / "").string();
+  write("v.yaml", "type: auv\nlinks:\n  - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}\n");
+  const std::string roots = " lies outside the directories a scenario may name files in (";
+  const std::string configs = fs::canonical(HADAL_SOURCE_DIR "/configs").string();
+  // /etc/passwd: refused before it is read; nothing of it is quoted.
+  const std::string passwd = write("a/p.yaml", "world: {}\nvehicles:\n  - {name: x, include: /etc/passwd}\n");
+  EXPECT_EQ(errors_of(passwd),
+            (Lines{passwd + ":3:24: error: vehicles[0].include: '/etc/passwd'" + roots + tree + "/a, " + configs +
+                   "; symlinks resolved); hadald --asset-root DIR or $HADAL_ASSET_ROOTS adds one"}));
+  // A '..' out of the tree (a/ holds the scenario; its tree is a/).
+  const std::string up = write("a/u.yaml", "world: {}\nvehicles:\n  - {name: x, include: ../v.yaml}\n");
+  const auto up_errors = errors_of(up);
+  ASSERT_EQ(up_errors.size(), 1u);
+  EXPECT_NE(up_errors[0].find(up + ":3:24: error: vehicles[0].include: '../v.yaml'" + roots), std::string::npos)
+      << up_errors[0];
+  // ... which an asset root allows, from the command line or the environment.
+  LoadOptions options;
+  options.asset_roots = {dir_.string()};
+  const LoadResult allowed = load_scenario_file(up, options);
+  for (const Diagnostic& d : allowed.errors) ADD_FAILURE() << d.format();
+  EXPECT_TRUE(allowed.ok());
+  ::setenv("HADAL_ASSET_ROOTS", ("/nonexistent-hadal-root:" + dir_.string()).c_str(), 1);
+  const LoadResult from_env = load_scenario_file(up);
+  ::unsetenv("HADAL_ASSET_ROOTS");
+  EXPECT_EQ(from_env.errors.size(), 1u);
+  ASSERT_FALSE(from_env.errors.empty());
+  EXPECT_EQ(from_env.errors[0].format(),
+            up + ": error: asset root '/nonexistent-hadal-root' ($HADAL_ASSET_ROOTS) is not a directory");
+  // A symlink inside the tree to a file outside it is outside; meshes and maps are held to the same.
+  fs::create_symlink(dir_ / "v.yaml", dir_ / "a" / "link.yaml");
+  const std::string link = write("a/l.yaml", R"(world:
+  seabed: {type: heightmap, file: /etc/hostname, meters_per_pixel: 2, height_range: [-120, -100]}
+  soil: {regions: [{preset: dry_sand}], map: {file: ../../map.png, meters_per_pixel: 1}}
+vehicles:
+  - {name: x, include: link.yaml}
+  - name: y
+    type: rov
+    links: [{name: frame, visual: {file: /usr/share/mesh.glb}, mass: 1.0, inertia: {ixx: 1, iyy: 1, izz: 1}}]
+)");
+  const auto link_errors = errors_of(link);
+  ASSERT_EQ(link_errors.size(), 4u) << ::testing::PrintToString(link_errors);
+  EXPECT_NE(link_errors[0].find(":2:35: error: world.seabed.file: '/etc/hostname'" + roots),
+            std::string::npos)
+      << link_errors[0];
+  EXPECT_NE(link_errors[1].find(":3:53: error: world.soil.map.file: '../../map.png'" + roots),
+            std::string::npos)
+      << link_errors[1];
+  EXPECT_NE(link_errors[2].find(":5:24: error: vehicles[0].include: 'link.yaml'" + roots),
+            std::string::npos)
+      << link_errors[2];
+  EXPECT_NE(link_errors[3].find(":8:42: error: vehicles[1].links[0].visual.file: '/usr/share/mesh.glb'" + roots),
+            std::string::npos) << link_errors[3];
+  // The scenarios/ layout of configs/: the tree is the directory holding scenarios/.
+  const std::string layout = write("scenarios/s.yaml", "world: {}\nvehicles:\n  - {name: x, include: ../v.yaml}\n");
+  EXPECT_EQ(errors_of(layout), Lines{});
+}
+
+TEST_F(ScenarioLoaderTest, WhatIsNotYamlOrNotAFileIsNeverQuotedOrRead) {
+  // Like /etc/passwd: one block of plain text.
+  write("passwd.txt", "root:x:0:0:root:/root:/bin/bash\nlp:x:7:7:lp:/var/spool/lpd:/usr/sbin/nologin\n");
+  const std::string text = write("t.yaml", "world: {}\nvehicles:\n  - {name: x, include: passwd.txt}\n");
+  const std::string plain = ":1:1: error: expected a map (got a document that is plain text, not keys and values)";
+  EXPECT_EQ(errors_of(text), (Lines{(dir_ / "passwd.txt").string() + plain}));
+  EXPECT_EQ(errors_of((dir_ / "passwd.txt").string()), (Lines{(dir_ / "passwd.txt").string() + plain}));
+  // Like /etc/shadow: each line ends in ':', so YAML reads a map whose keys are the lines. Keys that are no
+  // names are reported without their text, in the messages and in the paths.
+  write("shadow.txt", "root:$y$j9T$secret-hash:19000:0:99999:7:::\nline two:\n");
+  const std::string shadow = write("s.yaml", "world: {}\nvehicles:\n  - {name: x, include: shadow.txt}\n");
+  const std::string file = (dir_ / "shadow.txt").string();
+  EXPECT_EQ(errors_of(shadow), (Lines{file + ":1:1: error: unknown key that is not a name (its text is not shown)",
+                                      file + ":1:1: error: missing required key 'type'",
+                                      file + ":1:1: error: missing required key 'links'",
+                                      file + ":2:1: error: unknown key that is not a name (its text is not shown)"}));
+  // A directory and a pipe (which would block a reader forever) are not files.
+  fs::create_directories(dir_ / "sub");
+  ASSERT_EQ(::mkfifo((dir_ / "pipe").c_str(), 0600), 0);
+  const std::string special = write("d.yaml", R"(world: {}
+vehicles:
+  - {name: x, include: sub}
+  - {name: y, include: pipe}
+)");
+  EXPECT_EQ(errors_of(special), (Lines{special + ":3:24: error: vehicles[0].include: 'sub' is not a regular file",
+                                       special + ":4:24: error: vehicles[1].include: 'pipe' is not a regular file"}));
 }
 
 TEST(DiagnosticTest, FormatsPositionAndPath) {

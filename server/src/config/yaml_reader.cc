@@ -233,6 +233,12 @@ std::optional<std::string> closest_match(const std::string& word,
   return best;
 }
 
+bool is_key_name(const std::string& key) {
+  if (key.empty() || key.size() > 64 || std::isdigit(static_cast<unsigned char>(key[0]))) return false;
+  return std::all_of(key.begin(), key.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; });
+}
+
 std::string child_path(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
@@ -259,6 +265,7 @@ void Value::warn(const std::string& message) const {
 std::string Value::describe() const {
   switch (node_.Type()) {
     case YAML::NodeType::Scalar:
+      if (path_.empty()) return "a document that is plain text, not keys and values";
       // yaml-cpp tags plain scalars "?"; quoted ones ("5") are strings even when they look like numbers.
       return node_.Tag() == "?" ? quoted(node_.Scalar()) : "the string \"" + node_.Scalar() + "\"";
     case YAML::NodeType::Sequence:
@@ -270,6 +277,42 @@ std::string Value::describe() const {
       break;
   }
   return path_.empty() ? "an empty document" : "null";
+}
+
+namespace {
+// Whether `path` is `root` or lies below it (both absolute and normal: compared component by component, so
+// that /data/assets2 is not inside /data/assets).
+bool lies_within(const std::filesystem::path& path, const std::filesystem::path& root) {
+  auto p = path.begin();
+  for (auto r = root.begin(); r != root.end(); ++r, ++p) {
+    if (p == path.end() || *p != *r) return false;
+  }
+  return true;
+}
+}  // namespace
+
+bool Value::file_path(const std::string& written, std::string* path) const {
+  namespace fs = std::filesystem;
+  const fs::path joined = fs::path(file()).parent_path() / written;
+  *path = joined.string();
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(fs::absolute(joined, ec), ec);
+  if (source_->roots) {
+    bool inside = false;
+    for (const fs::path& root : *source_->roots) inside |= !ec && lies_within(real, root);
+    if (!inside) {
+      std::string roots;
+      for (const fs::path& root : *source_->roots) roots += (roots.empty() ? "" : ", ") + root.string();
+      error(quoted(written) + " lies outside the directories a scenario may name files in (" + roots +
+            "; symlinks resolved); hadald --asset-root DIR or $HADAL_ASSET_ROOTS adds one");
+      return false;
+    }
+  }
+  if (fs::exists(real, ec) && !fs::is_regular_file(real, ec)) {
+    error(quoted(written) + " is not a regular file");
+    return false;
+  }
+  return true;
 }
 
 Value Value::in_same_file(YAML::Node node, std::string path, YAML::Mark mark) const {
@@ -407,10 +450,17 @@ MapReader::MapReader(Value value, std::vector<std::string> allowed)
     }
     const std::string& key = key_node.Scalar();
     const std::string path = child_path(value_.path(), key);
+    // A key that is no name (a line of a file that is not YAML, such as /etc/shadow's, can read as one) is
+    // neither quoted nor put in the path: an error must not print another file's contents.
+    const bool name = is_key_name(key);
     if (const Entry* first = find(key)) {
-      value_.error_at(key_node.Mark(), path,
-                      "duplicate key " + quoted(key) + " (first defined at line " +
+      value_.error_at(key_node.Mark(), name ? path : value_.path(),
+                      "duplicate key " + (name ? quoted(key) + " " : "") + "(first defined at line " +
                           std::to_string(one_based(first->key_node.Mark().line)) + ")");
+      continue;
+    }
+    if (!name) {
+      value_.error_at(key_node.Mark(), value_.path(), "unknown key that is not a name (its text is not shown)");
       continue;
     }
     if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end()) {

@@ -24,7 +24,26 @@ struct LoadResult {
   bool ok() const { return model.has_value() && errors.empty(); }
 };
 
+struct LoadOptions {
+  // Directories, besides the scenario's tree and hadal's configs, the files a scenario names may lie in
+  // (hadald --asset-root).
+  std::vector<std::string> asset_roots;
+};
+
+// Files a scenario may reach (docs/ARCHITECTURE.md, "Files a scenario may reach"): every file it or a file
+// it includes names (includes, meshes, heightmaps, soil maps) must lie, symlinks resolved, in one of these
+// directories: the scenario's tree (its directory; the parent of that directory when it is called
+// `scenarios`, the layout of configs/), hadal's own configs (installed beside the executable, else the
+// source tree's; $HADAL_DATA_DIR/configs when that is set), options.asset_roots, and those listed in
+// $HADAL_ASSET_ROOTS (colon-separated).
+struct AssetRoot {
+  std::string path;    // absolute, symlinks resolved (as given when error is set)
+  std::string origin;  // where it comes from, for messages
+  std::string error;   // non-empty: unusable ("is not a directory")
+};
+std::vector<AssetRoot> asset_roots(const std::string& scenario_path, const LoadOptions& options = {});
+
 // Loads and validates a scenario file. Never throws for bad input: every problem is a Diagnostic.
-LoadResult load_scenario_file(const std::string& path);
+LoadResult load_scenario_file(const std::string& path, const LoadOptions& options = {});
 
 }  // namespace hadal::config

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -86,10 +87,12 @@ std::string format_approximate(double x);
 // 3)); ties go to the earlier candidate.
 std::optional<std::string> closest_match(const std::string& word, const std::vector<std::string>& candidates);
 
-// A source file being read: where its diagnostics go.
+// A source file being read: where its diagnostics go, and where the files it names may lie.
 struct Source {
   std::string file;
   DiagnosticSink* sink = nullptr;
+  // The directories (absolute, symlinks resolved) a file this one names must lie in; null: anywhere.
+  std::shared_ptr<const std::vector<std::filesystem::path>> roots;
 };
 
 class Value {
@@ -109,8 +112,15 @@ class Value {
   // Reports a warning at this node (the load goes on).
   void warn(const std::string& message) const;
   // What the node holds, for "(got ...)": 'text' for plain scalars, the string "text" for quoted ones,
-  // null, a list of 2, a map, an empty document.
+  // null, a list of 2, a map, an empty document. A document that is one scalar (a file that is not YAML
+  // keys and values) is never quoted: a name gone wrong must not print another file's contents.
   std::string describe() const;
+  // The file `written` (this node's text) names, relative to the directory of the file holding this node,
+  // in *path. False, with an error here, when it lies outside the source's roots once symlinks are
+  // resolved, or names something that is not a regular file (a directory, a device, a pipe)
+  // (docs/ARCHITECTURE.md, "Files a scenario may reach"). A file that does not exist passes: its reader
+  // reports it.
+  bool file_path(const std::string& written, std::string* path) const;
 
   // Element `index` of a list node (path `path[index]`).
   Value element(std::size_t index) const;
@@ -201,6 +211,9 @@ std::string quoted(const std::string& text);
 // "a, b, c".
 std::string join_names(const std::vector<std::string>& names);
 
+// Whether `key` reads as a key name (letters, digits, '_' and '-', not starting with a digit, at most 64
+// characters): only such keys are quoted in messages.
+bool is_key_name(const std::string& key);
 // Path of key `key` inside the map at `path` ("a.b" or "b" at the root).
 std::string child_path(const std::string& path, const std::string& key);
 
