@@ -165,6 +165,7 @@ bool TopicTap::subscribe(std::function<void(const TappedSample&)> on_sample, dou
     qos.history().kind = latest_only ? fdds::KEEP_LAST_HISTORY_QOS : fdds::KEEP_ALL_HISTORY_QOS;
     qos.history().depth = 1;
     qos.endpoint().history_memory_policy = rtps::DYNAMIC_RESERVE_MEMORY_MODE;
+    dds::apply_transport_environment(qos);
     // The listener only once the reader is known, so every sample finds its topic.
     fdds::DataReader* reader = d.subscriber->create_datareader(topic, qos, nullptr, fdds::StatusMask::none());
     {

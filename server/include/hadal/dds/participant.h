@@ -5,16 +5,36 @@
 // with ROS_LOCALHOST_ONLY=1 or ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, UDP is bound to the loopback
 // interface and participants find each other through unicast initial peers on 127.0.0.1, so no
 // discovery traffic leaves the machine (a ROS 2 node started with the same variable matches).
+//
+// Across machines, containers or network namespaces where multicast does not reach (ROS 2's names again):
+// ROS_STATIC_PEERS="10.0.0.2;server" adds unicast discovery peers (IPv4 addresses or names that resolve
+// to one), beside multicast; FASTDDS_BUILTIN_TRANSPORTS=UDPv4 leaves shared memory out, so two
+// participants that share a /dev/shm but not a network (two network namespaces of one machine) talk over
+// UDP (Fast DDS 2.9 does not read that variable itself; DEFAULT or unset: shared memory and UDPv4).
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 
 #include <string>
+#include <vector>
 
 namespace hadal::dds {
 
 // True when the environment asks for localhost-only discovery (see above).
 bool localhost_only_from_environment();
+// ROS_STATIC_PEERS, split at ';' (blanks trimmed, empty entries dropped).
+std::vector<std::string> static_peers_from_environment();
+// False when FASTDDS_BUILTIN_TRANSPORTS=UDPv4; true when unset or DEFAULT; throws std::runtime_error for
+// any other value.
+bool shared_memory_from_environment();
+// Every writer's and reader's QoS goes through this: with FASTDDS_BUILTIN_TRANSPORTS=UDPv4 it also turns
+// off data sharing (Fast DDS's delivery through shared-memory files in /dev/shm, beside the transports,
+// chosen by itself between endpoints it takes to be on one host; two network namespaces of one machine
+// are), so that nothing passes but over UDP.
+template <class EndpointQos>
+void apply_transport_environment(EndpointQos& qos) {
+  if (!shared_memory_from_environment()) qos.data_sharing().off();
+}
 
 // Creates an enabled participant on `domain_id` named `name`. Throws std::runtime_error on failure
 // (e.g. a domain id out of range: valid ids are 0..232). `listener`, when given, is in place before the

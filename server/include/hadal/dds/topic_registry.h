@@ -13,6 +13,8 @@
 // matches it, and whatever is written in between would otherwise never reach it.
 #pragma once
 
+#include "hadal/dds/participant.h"
+
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -115,6 +117,7 @@ class TopicRegistry {
     qos.durability().kind = eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
     qos.history().depth = history_depth;
+    apply_transport_environment(qos);
   }
 
   eprosima::fastdds::dds::DomainParticipant* participant_;

@@ -5,10 +5,17 @@
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <netinet/in.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace hadal::dds {
 
@@ -21,6 +28,20 @@ namespace {
 constexpr int kMaxLocalParticipants = 32;
 std::uint32_t metatraffic_unicast_port(int domain_id, int participant_index) {
   return static_cast<std::uint32_t>(7400 + 250 * domain_id + 10 + 2 * participant_index);
+}
+// A static peer as a dotted IPv4 address: itself, or the first IPv4 address its name resolves to (a
+// container's service name). Throws when it has none.
+std::string ipv4_address(const std::string& peer) {
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(peer.c_str(), nullptr, &hints, &found) != 0 || found == nullptr) {
+    throw std::runtime_error("ROS_STATIC_PEERS: '" + peer + "' is no IPv4 address and no name that resolves to one");
+  }
+  char text[INET_ADDRSTRLEN] = {};
+  inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr, text, sizeof(text));
+  freeaddrinfo(found);
+  return text;
 }
 }  // namespace
 
@@ -40,21 +61,28 @@ fdds::DomainParticipant* create_participant(int domain_id, const std::string& na
   qos.name(name);
   qos.transport().use_builtin_transports = false;
 
-  auto shm = std::make_shared<rtps::SharedMemTransportDescriptor>();
-  shm->segment_size(8 * 1024 * 1024);
-  qos.transport().user_transports.push_back(shm);
+  if (shared_memory_from_environment()) {
+    auto shm = std::make_shared<rtps::SharedMemTransportDescriptor>();
+    shm->segment_size(8 * 1024 * 1024);
+    qos.transport().user_transports.push_back(shm);
+  }
 
-  auto udp = std::make_shared<rtps::UDPv4TransportDescriptor>();
-  if (localhost_only_from_environment()) {
-    udp->interfaceWhiteList.emplace_back("127.0.0.1");
-    auto& peers = qos.wire_protocol().builtin.initialPeersList;
+  // Unicast discovery peers: every participant index's metatraffic port at each address.
+  auto& peers = qos.wire_protocol().builtin.initialPeersList;
+  auto add_peer = [&](const std::string& address) {
     for (int p = 0; p < kMaxLocalParticipants; ++p) {
       eprosima::fastrtps::rtps::Locator_t locator;
-      eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, 127, 0, 0, 1);
+      eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, address);
       locator.port = metatraffic_unicast_port(domain_id, p);
       peers.push_back(locator);
     }
+  };
+  auto udp = std::make_shared<rtps::UDPv4TransportDescriptor>();
+  if (localhost_only_from_environment()) {
+    udp->interfaceWhiteList.emplace_back("127.0.0.1");
+    add_peer("127.0.0.1");
   }
+  for (const std::string& peer : static_peers_from_environment()) add_peer(ipv4_address(peer));
   qos.transport().user_transports.push_back(udp);
 
   fdds::DomainParticipant* participant =
@@ -64,6 +92,30 @@ fdds::DomainParticipant* create_participant(int domain_id, const std::string& na
     throw std::runtime_error("could not create a DDS participant on domain " + std::to_string(domain_id));
   }
   return participant;
+}
+
+std::vector<std::string> static_peers_from_environment() {
+  std::vector<std::string> peers;
+  const char* list = std::getenv("ROS_STATIC_PEERS");
+  if (list == nullptr) return peers;
+  const std::string text = list;
+  for (std::size_t start = 0; start <= text.size();) {
+    const std::size_t end = std::min(text.find(';', start), text.size());
+    std::string peer = text.substr(start, end - start);
+    peer.erase(0, peer.find_first_not_of(" \t"));
+    peer.erase(peer.find_last_not_of(" \t") + 1);
+    if (!peer.empty()) peers.push_back(peer);
+    start = end + 1;
+  }
+  return peers;
+}
+
+bool shared_memory_from_environment() {
+  const char* transports = std::getenv("FASTDDS_BUILTIN_TRANSPORTS");
+  if (transports == nullptr || *transports == '\0' || std::strcmp(transports, "DEFAULT") == 0) return true;
+  if (std::strcmp(transports, "UDPv4") == 0) return false;
+  throw std::runtime_error("FASTDDS_BUILTIN_TRANSPORTS must be DEFAULT or UDPv4 (got '" + std::string(transports) +
+                           "')");
 }
 
 void delete_participant(fdds::DomainParticipant* participant) {
