@@ -11,6 +11,8 @@
 // to one), beside multicast; FASTDDS_BUILTIN_TRANSPORTS=UDPv4 leaves shared memory out, so two
 // participants that share a /dev/shm but not a network (two network namespaces of one machine) talk over
 // UDP (Fast DDS 2.9 does not read that variable itself; DEFAULT or unset: shared memory and UDPv4).
+// A remote (non-loopback) static peer together with localhost-only discovery is an error; a participant made
+// while no interface but loopback is running (it would announce only 127.0.0.1) gets a warning on stderr.
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -24,6 +26,8 @@ namespace hadal::dds {
 bool localhost_only_from_environment();
 // ROS_STATIC_PEERS, split at ';' (blanks trimmed, empty entries dropped).
 std::vector<std::string> static_peers_from_environment();
+// True when an IPv4 interface other than loopback is running (IFF_RUNNING), the addresses Fast DDS announces.
+bool non_loopback_interface_running();
 // False when FASTDDS_BUILTIN_TRANSPORTS=UDPv4; true when unset or DEFAULT; throws std::runtime_error for
 // any other value.
 bool shared_memory_from_environment();

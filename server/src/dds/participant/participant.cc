@@ -6,10 +6,13 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <net/if.h>
 #include <netdb.h>
 #include <netinet/in.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -43,7 +46,20 @@ std::string ipv4_address(const std::string& peer) {
   freeaddrinfo(found);
   return text;
 }
+bool is_loopback(const std::string& address) { return address.rfind("127.", 0) == 0; }
 }  // namespace
+
+bool non_loopback_interface_running() {
+  ifaddrs* interfaces = nullptr;
+  if (getifaddrs(&interfaces) != 0) return true;  // unknown: no warning
+  bool running = false;
+  for (const ifaddrs* i = interfaces; i != nullptr && !running; i = i->ifa_next) {
+    running = i->ifa_addr != nullptr && i->ifa_addr->sa_family == AF_INET && (i->ifa_flags & IFF_RUNNING) != 0 &&
+              (i->ifa_flags & IFF_LOOPBACK) == 0;
+  }
+  freeifaddrs(interfaces);
+  return running;
+}
 
 bool localhost_only_from_environment() {
   const char* only = std::getenv("ROS_LOCALHOST_ONLY");
@@ -78,11 +94,34 @@ fdds::DomainParticipant* create_participant(int domain_id, const std::string& na
     }
   };
   auto udp = std::make_shared<rtps::UDPv4TransportDescriptor>();
-  if (localhost_only_from_environment()) {
+  const bool localhost_only = localhost_only_from_environment();
+  if (localhost_only) {
     udp->interfaceWhiteList.emplace_back("127.0.0.1");
     add_peer("127.0.0.1");
   }
-  for (const std::string& peer : static_peers_from_environment()) add_peer(ipv4_address(peer));
+  bool remote_peers = false;
+  for (const std::string& peer : static_peers_from_environment()) {
+    const std::string address = ipv4_address(peer);
+    if (!is_loopback(address)) {
+      // UDP bound to loopback never reaches another machine: the two settings contradict each other.
+      if (localhost_only) {
+        throw std::runtime_error("ROS_STATIC_PEERS names '" + peer + "' (" + address +
+                                 "), which localhost-only discovery (ROS_LOCALHOST_ONLY=1 or "
+                                 "ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) can never reach; unset one of them");
+      }
+      remote_peers = true;
+    }
+    add_peer(address);
+  }
+  // Fast DDS announces the addresses of the interfaces running now, and only 127.0.0.1 when none is: a
+  // participant made before its network is up stays unreachable for its whole life.
+  if (remote_peers && !non_loopback_interface_running()) {
+    std::fprintf(stderr,
+                 "%s: warning: ROS_STATIC_PEERS names remote peers, but no network interface other than loopback "
+                 "is running: this participant announces only 127.0.0.1 and no remote peer can reach it (start it "
+                 "once the network is up)\n",
+                 name.c_str());
+  }
   qos.transport().user_transports.push_back(udp);
 
   fdds::DomainParticipant* participant =

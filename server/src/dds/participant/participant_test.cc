@@ -26,6 +26,12 @@ class ScopedEnv {
   bool had_ = false;
 };
 
+void fastdds_participant_ok() {
+  eprosima::fastdds::dds::DomainParticipant* participant = create_participant(231, "participant_test");
+  ASSERT_NE(participant, nullptr);
+  delete_participant(participant);
+}
+
 TEST(ParticipantEnvironment, StaticPeersAreSplitAtSemicolonsAndTrimmed) {
   {
     ScopedEnv peers("ROS_STATIC_PEERS", nullptr);
@@ -66,6 +72,25 @@ TEST(ParticipantEnvironment, AnUnresolvablePeerIsAnError) {
     ADD_FAILURE() << "a participant was made";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("ROS_STATIC_PEERS: 'no-such-host.invalid' is no IPv4 address"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Localhost-only discovery binds UDP to loopback: a remote static peer could never be reached, so asking for
+// both is refused by name rather than a participant that silently finds nobody. Loopback peers are fine.
+TEST(ParticipantEnvironment, LocalhostOnlyWithARemotePeerIsAnError) {
+  ScopedEnv localhost("ROS_LOCALHOST_ONLY", "1");
+  {
+    ScopedEnv peers("ROS_STATIC_PEERS", "127.0.0.1");
+    fastdds_participant_ok();
+  }
+  ScopedEnv peers("ROS_STATIC_PEERS", "10.0.0.2");
+  try {
+    create_participant(231, "participant_test");
+    ADD_FAILURE() << "a participant was made";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("ROS_STATIC_PEERS names '10.0.0.2' (10.0.0.2), which localhost-only"),
               std::string::npos)
         << e.what();
   }
