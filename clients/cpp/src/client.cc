@@ -19,11 +19,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <random>
+#include <stdexcept>
 #include <thread>
 #include <unistd.h>
 
@@ -312,6 +315,11 @@ struct Client::Impl {
   mutable std::mutex mutex;
   std::condition_variable changed;
   std::optional<SimStatus> status;
+  // Heartbeat: when the last status arrived, and the interval between the last two (the server's status
+  // period, as it arrives).
+  double server_timeout_s = 3.0;
+  std::chrono::steady_clock::time_point status_arrival{};
+  double status_interval_s = 0.0;
   std::vector<std::function<void(const SimStatus&)>> status_callbacks;
   // This client's requests awaiting their reply (empty until it comes); replies to other clients' requests
   // on the same server are not kept.
@@ -326,6 +334,14 @@ struct Client::Impl {
   std::uint64_t submit(hadal_msgs::msg::StepRequest& request, double timeout_s);
   // Waits for the reply to request `id`: the sim time reached, or the refusal thrown.
   double await(std::uint64_t id, double timeout_s);
+  // Under `mutex`: wall seconds since the last status (+inf before the first), and the silence after which
+  // the server counts as gone.
+  double silence_s() const {
+    if (!status) return std::numeric_limits<double>::infinity();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - status_arrival).count();
+  }
+  double heartbeat_timeout_s() const { return std::max(server_timeout_s, 3.0 * status_interval_s); }
+  bool alive() const { return silence_s() < heartbeat_timeout_s(); }
 
   template <class PubSubType, class Msg, class Handler>
   void subscribe(const std::string& topic, Handler handler) {
@@ -342,6 +358,11 @@ struct Client::Impl {
 
 Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
+  if (!(options.server_timeout_s > 0.0) || !std::isfinite(options.server_timeout_s)) {
+    throw std::invalid_argument("ClientOptions::server_timeout_s must be a positive number of seconds (got " +
+                                std::to_string(options.server_timeout_s) + ")");
+  }
+  d.server_timeout_s = options.server_timeout_s;
   d.participant = dds::create_participant(options.domain_id, options.name);
   d.registry = std::make_unique<dds::TopicRegistry>(d.participant);
   // Request ids unique across clients of one server: a random 32-bit prefix per client.
@@ -355,6 +376,10 @@ Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
         std::vector<std::function<void(const SimStatus&)>> callbacks;
         {
           std::lock_guard<std::mutex> lock(d.mutex);
+          const auto now = std::chrono::steady_clock::now();
+          // A gap of a dead server is no period: only intervals while alive count.
+          if (d.status && d.alive()) d.status_interval_s = std::chrono::duration<double>(now - d.status_arrival).count();
+          d.status_arrival = now;
           d.status = s;
           callbacks = d.status_callbacks;
           d.changed.notify_all();
@@ -377,8 +402,17 @@ Client::~Client() { dds::delete_participant(impl_->participant); }
 
 bool Client::wait_for_server(double timeout_s) {
   std::unique_lock<std::mutex> lock(impl_->mutex);
-  return impl_->changed.wait_for(lock, std::chrono::duration<double>(timeout_s),
-                                 [this] { return impl_->status.has_value(); });
+  return impl_->changed.wait_for(lock, std::chrono::duration<double>(timeout_s), [this] { return impl_->alive(); });
+}
+
+bool Client::server_alive() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->alive();
+}
+
+double Client::seconds_since_status() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->silence_s();
 }
 
 bool Client::wait_for_subscriptions(double timeout_s) {
@@ -592,9 +626,25 @@ double Client::Impl::await(std::uint64_t id, double timeout_s) {
   if (found == d.replies.end()) {
     throw ClientError("no request " + std::to_string(id) + " of this client is waiting for its reply");
   }
-  if (!d.changed.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return found->second.has_value(); })) {
-    d.replies.erase(found);  // a reply that comes later is dropped
-    throw Timeout("no step reply from the server within " + std::to_string(timeout_s) + " s");
+  // In slices, so that a server gone silent (no status heartbeat: killed, crashed, link down) ends the wait
+  // long before timeout_s. A server never heard from is only waited for.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                              std::chrono::duration<double>(std::min(timeout_s, 1e9)));
+  while (!found->second.has_value()) {
+    const bool heard = d.status.has_value();
+    if (heard && !d.alive()) {
+      const double silence = d.silence_s();
+      d.replies.erase(found);
+      throw ServerLost("the server went silent: no status for " + std::to_string(silence) +
+                       " s (heartbeat timeout " + std::to_string(d.heartbeat_timeout_s()) + " s); request " +
+                       std::to_string(id) + " is lost");
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) {
+      d.replies.erase(found);  // a reply that comes later is dropped
+      throw Timeout("no step reply from the server within " + std::to_string(timeout_s) + " s");
+    }
+    d.changed.wait_until(lock, std::min(deadline, now + std::chrono::nanoseconds(std::chrono::milliseconds(100))));
   }
   const hadal_msgs::msg::StepReply reply = *found->second;
   d.replies.erase(found);

@@ -17,7 +17,8 @@
         with hadal.Client(domain_id=server.domain_id) as client:      # left at the end of the block
             client.reset(seed=3, poses={"rov": (0, 0, -50)})          # start over at t = 0, no restart
 
-Errors: hadal.ClientError and its subclasses ServerNotFound, Timeout, UnknownVehicle, CommandRejected.
+Errors: hadal.ClientError and its subclasses ServerNotFound, ServerLost, Timeout, UnknownVehicle,
+CommandRejected.
 
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
@@ -25,10 +26,10 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, ServerMode, SimStatus,
                      ThrusterStates, TrackStates)
-from .errors import ClientError, CommandRejected, ServerNotFound, Timeout, UnknownVehicle
+from .errors import ClientError, CommandRejected, ServerLost, ServerNotFound, Timeout, UnknownVehicle
 from .server import Server
 
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
-           "Odometry", "Range", "Server", "ServerMode", "ServerNotFound", "SimStatus", "ThrusterStates", "Timeout",
+           "Odometry", "Range", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus", "ThrusterStates", "Timeout",
            "TrackStates", "UnknownVehicle"]

@@ -17,6 +17,12 @@ class ServerNotFound(ClientError):
     the client's DDS domain."""
 
 
+class ServerLost(ClientError, ConnectionError):
+    """The server went silent (no status heartbeat within the client's server_timeout_s) while a request
+    waited for its reply: it stopped, crashed, or the link is down; the request is lost. Once a server
+    publishes again (client.wait_for_server()), the same client works again. Also a builtin ConnectionError."""
+
+
 class Timeout(ClientError, TimeoutError):
     """The server did not reply in time (also a builtin TimeoutError)."""
 

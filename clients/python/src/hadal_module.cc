@@ -124,8 +124,8 @@ using ImagePtr = std::shared_ptr<const hadal::Image>;
 
 class PyClient {
  public:
-  PyClient(int domain_id, const std::string& name)
-      : client_(std::make_shared<hadal::Client>(hadal::ClientOptions{domain_id, name})) {}
+  PyClient(int domain_id, const std::string& name, double server_timeout_s)
+      : client_(std::make_shared<hadal::Client>(hadal::ClientOptions{domain_id, name, server_timeout_s})) {}
 
   // Leaves the DDS domain (its participant and shared-memory segments go) once no call on another thread
   // still uses it; later calls raise.
@@ -142,6 +142,8 @@ class PyClient {
   }
 
   bool wait_for_server(double timeout_s) { return client()->wait_for_server(timeout_s); }
+  bool server_alive() const { return client()->server_alive(); }
+  double seconds_since_status() const { return client()->seconds_since_status(); }
   bool wait_for_subscriptions(double timeout_s) { return client()->wait_for_subscriptions(timeout_s); }
   std::optional<hadal::SimStatus> status() const { return client()->latest_status(); }
 
@@ -393,6 +395,8 @@ PYBIND11_MODULE(_hadal, m) {
       raise("CommandRejected", e, "reason", e.reason());
     } catch (const hadal::UnknownVehicle& e) {
       raise("UnknownVehicle", e, "vehicle", e.vehicle());
+    } catch (const hadal::ServerLost& e) {
+      raise("ServerLost", e);
     } catch (const hadal::Timeout& e) {
       raise("Timeout", e);
     } catch (const hadal::ServerNotFound& e) {
@@ -675,10 +679,14 @@ the DDS domain at a known point:
         client.set_thrusters("auv", [0.5, 0.0, 0.0])
         odom = client.wait_odometry("auv", min_stamp=client.step(500))
 
-Errors: hadal.ServerNotFound, hadal.Timeout, hadal.UnknownVehicle, hadal.CommandRejected (all
-hadal.ClientError).)doc")
-      .def(py::init<int, const std::string&>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
-           release())
+A server that goes silent (no status heartbeat for server_timeout_s, or three of its status periods) is
+gone: server_alive() turns False and a step() waiting for its reply raises ServerLost; wait_for_server()
+then waits for it (or a restarted one) to come back, and the same client carries on.
+
+Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehicle, hadal.CommandRejected
+(all hadal.ClientError).)doc")
+      .def(py::init<int, const std::string&, double>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
+           py::arg("server_timeout_s") = 3.0, release())
       .def("close", &PyClient::close, release(), "Leave the DDS domain now; later calls raise ClientError")
       .def_property_readonly("closed", &PyClient::closed)
       .def("__enter__", [](py::object self) { return self; })
@@ -688,7 +696,12 @@ hadal.ClientError).)doc")
         return false;
       })
       .def("wait_for_server", &PyClient::wait_for_server, py::arg("timeout_s") = 10.0, release(),
-           "Wait for the server's status topic; False on timeout")
+           "Wait until the server is alive (its status heartbeat arrives: the first time, or again after it went "
+           "silent); False on timeout")
+      .def("server_alive", &PyClient::server_alive, release(),
+           "True while the server's status keeps arriving (the last within server_timeout_s)")
+      .def("seconds_since_status", &PyClient::seconds_since_status, release(),
+           "Wall seconds since the last status arrived (inf before the first)")
       .def("wait_for_subscriptions", &PyClient::wait_for_subscriptions, py::arg("timeout_s") = 10.0, release())
       .def("status", &PyClient::status, "Latest SimStatus, or None")
       .def("subscribe", &PyClient::subscribe, py::arg("vehicle"), release(),

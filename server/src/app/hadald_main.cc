@@ -1,5 +1,6 @@
 // hadald: the Hadal simulation server. See cli.h for the command line and README.md for the topics.
 #include "cli.h"
+#include "hadal/dds/participant.h"
 #include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/record/rosbag2_writer.h"
@@ -105,6 +106,16 @@ int main(int argc, char** argv) {
                app::format_cpu_list(app::allowed_cpus()).c_str(), cli.options.sched_batch ? ", SCHED_BATCH" : "");
   for (const auto& vehicle : model.vehicles) std::fprintf(stderr, "hadald: %s\n", describe(vehicle).c_str());
   try {
+    // Shared memory that killed DDS processes (a hadald or client ended by kill -9) left behind is RAM
+    // held for nothing; a server start gives it back.
+    if (hadal::dds::shared_memory_from_environment()) {
+      const hadal::dds::StaleSharedMemory stale = hadal::dds::clean_stale_shared_memory();
+      if (stale.segments > 0) {
+        std::fprintf(stderr,
+                     "hadald: removed %d stale shared-memory segment(s) of DDS processes that are gone (%.1f MB)\n",
+                     stale.segments, static_cast<double>(stale.bytes) / 1e6);
+      }
+    }
     const app::RunSummary summary = app::run_server(model, cli.options, g_stop);
     std::fputs(summary.format().c_str(), stdout);
     std::fflush(stdout);

@@ -58,6 +58,7 @@ class Runner {
     }
     for (const auto& v : model.vehicles) published_samples_.emplace_back(v.sensors.size(), 0);
     last_command_stamp_.assign(n, std::numeric_limits<std::int64_t>::min());
+    last_command_source_.assign(n, dds::SourceId{});
     distance_.assign(n, 0.0);
     reported_resets_.assign(n, 0);
     for (const auto& v : sim_.state().vehicles) start_positions_.push_back(v.body.X_WB.translation());
@@ -170,8 +171,16 @@ class Runner {
         restart_streams();
       }
       for (const auto& command : request->commands) apply_command(command);
-      for (std::uint32_t i = 0; i < request->steps && !stop_.load() && !duration_reached(); ++i) {
+      std::uint32_t done = 0;
+      for (; done < request->steps && !stop_.load() && !duration_reached(); ++done) {
         step_once();
+        service_wall_clock();  // the status heartbeat goes on through a long request
+      }
+      if (done < request->steps) {  // cut short: the reply says so, with how far it got
+        const std::string reason = "stopped after " + std::to_string(done) + " of " + std::to_string(request->steps) +
+                                   " steps: the server is shutting down or reached its --duration";
+        dds_.publish_step_reply(request->request_id, false, reason, sim_.state());
+        continue;
       }
       dds_.publish_step_reply(request->request_id, true, "", sim_.state());
     }
@@ -189,6 +198,7 @@ class Runner {
     for (auto& divider : thruster_dividers_) divider.reset();
     for (auto& samples : published_samples_) std::fill(samples.begin(), samples.end(), 0);
     std::fill(last_command_stamp_.begin(), last_command_stamp_.end(), std::numeric_limits<std::int64_t>::min());
+    std::fill(last_command_source_.begin(), last_command_source_.end(), dds::SourceId{});
     const auto& vehicles = sim_.state().vehicles;
     for (std::size_t i = 0; i < vehicles.size(); ++i) {
       previous_positions_[i] = vehicles[i].body.X_WB.translation();
@@ -202,10 +212,16 @@ class Runner {
   std::string apply_command(const dds::InboundCommand& command) {
     if (!command.error.empty()) return command.error;
     const auto v = static_cast<std::size_t>(command.vehicle_index);
-    // DDS does not order samples across topics: a command older than one already applied is stale.
-    if (command.source_stamp_ns < last_command_stamp_[v]) return "";
+    // DDS does not order samples across topics: a command older than one its own sender had applied (the
+    // setpoints a client also attached to a step request, arriving after it) is stale. Stamps of
+    // different senders come from different clocks and are never compared: between senders, the later
+    // arrival wins.
+    if (command.source == last_command_source_[v] && command.source_stamp_ns < last_command_stamp_[v]) return "";
     const std::string reason = sim_.set_controls(command.vehicle_index, command.setpoints);
-    if (reason.empty()) last_command_stamp_[v] = command.source_stamp_ns;
+    if (reason.empty()) {
+      last_command_stamp_[v] = command.source_stamp_ns;
+      last_command_source_[v] = command.source;
+    }
     return reason;
   }
 
@@ -271,7 +287,20 @@ class Runner {
       // resumes from now instead of bursting.
       last_status_wall_ += period;
       if (now >= last_status_wall_ + period) last_status_wall_ = now;
-      for (const auto& report : dds_.take_reports()) std::fprintf(stderr, "hadald: %s\n", report.c_str());
+      // Writers whose samples are never seen (an unknown vehicle, a wrong type, best effort): refusals too.
+      for (const auto& report : dds_.take_reports()) {
+        std::fprintf(stderr, "hadald: %s\n", report.c_str());
+        ++rejected_;
+        last_error_ = report;
+      }
+      if (options_.mode != RunMode::kLockstep) refuse_step_requests();
+      const std::uint64_t superseded = dds_.superseded_commands();
+      if (superseded != reported_superseded_) {
+        std::fprintf(stderr, "hadald: %llu queued command(s) replaced by newer ones before a step took them "
+                     "(more than %zu waiting)\n", static_cast<unsigned long long>(superseded - reported_superseded_),
+                     dds::ServerEndpoints::kMaxQueuedCommands);
+        reported_superseded_ = superseded;
+      }
     }
     dds_.publish_monitor(sim_.time());
     if (options_.status_line && options_.mode != RunMode::kLockstep &&
@@ -286,6 +315,18 @@ class Runner {
       last_line_wall_ = now;
       last_line_sim_ = sim_.time();
       last_line_steps_ = sim_.state().step_count;
+    }
+  }
+
+  // Outside lockstep nothing waits for step requests: each is refused at once with the reason, instead of
+  // leaving its sender waiting for a reply that never comes.
+  void refuse_step_requests() {
+    for (const auto& request : dds_.take_step_requests()) {
+      const std::string reason = request.error.empty() ? std::string("hadald runs in ") + to_string(options_.mode) +
+                                                             " mode; step and reset requests need --mode lockstep"
+                                                       : request.error;
+      reject("step request " + std::to_string(request.request_id) + ": " + reason);
+      dds_.publish_step_reply(request.request_id, false, reason, sim_.state(), request.unknown_vehicle);
     }
   }
 
@@ -364,6 +405,8 @@ class Runner {
   std::vector<RateDivider> odometry_dividers_, thruster_dividers_;
   std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor
   std::vector<std::int64_t> last_command_stamp_;
+  std::vector<dds::SourceId> last_command_source_;  // who sent the command applied last, per vehicle
+  std::uint64_t reported_superseded_ = 0;
   std::vector<double> distance_;
   std::vector<std::uint64_t> reported_resets_;
   std::vector<Eigen::Vector3d> start_positions_, previous_positions_;

@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 namespace hadal::dds {
@@ -37,12 +38,26 @@ std::int64_t source_stamp_ns(const fdds::SampleInfo& info) {
   return info.source_timestamp.to_ns();
 }
 
+SourceId source_of(const fdds::SampleInfo& info) {
+  SourceId id{};
+  const auto& prefix = info.sample_identity.writer_guid().guidPrefix;
+  std::copy(std::begin(prefix.value), std::end(prefix.value), id.begin());
+  return id;
+}
+
+// A name a client sent, for an error message: at most 64 characters, the rest elided.
+std::string echoed(const std::string& name) {
+  constexpr std::size_t kMax = 64;
+  return name.size() <= kMax ? name : name.substr(0, kMax) + "... (" + std::to_string(name.size()) + " characters)";
+}
+
 // Setpoints carried by a std_msgs/Float64MultiArray: data[layout.data_offset:].
 InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float64MultiArray& msg,
-                                  std::int64_t stamp_ns) {
+                                  const fdds::SampleInfo& info) {
   InboundCommand command;
   command.vehicle_index = vehicle_index;
-  command.source_stamp_ns = stamp_ns;
+  command.source = source_of(info);
+  command.source_stamp_ns = source_stamp_ns(info);
   const std::size_t offset = msg.layout().data_offset();
   if (offset > msg.data().size()) {
     command.error = "layout.data_offset " + std::to_string(offset) + " exceeds data length " +
@@ -149,7 +164,10 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   mutable std::mutex mutex;
   std::condition_variable step_ready;
   std::vector<InboundCommand> commands;
+  std::uint64_t superseded = 0;  // commands dropped from a full queue (kMaxQueuedCommands)
   std::deque<InboundStepRequest> step_requests;
+  // The last request id accepted from each writer (its full GUID): ids must increase (no replays).
+  std::map<std::array<std::uint8_t, 16>, std::uint64_t> last_request_ids;
   std::vector<std::string> reports;
   std::set<std::string> reported_topics;
   bool interrupted = false;
@@ -163,8 +181,12 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
-        InboundCommand command = command_from_array(vehicle_index, msg, source_stamp_ns(info));
+        InboundCommand command = command_from_array(vehicle_index, msg, info);
         std::lock_guard<std::mutex> lock(owner->mutex);
+        if (owner->commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
+          owner->commands.erase(owner->commands.begin());
+          ++owner->superseded;
+        }
         owner->commands.push_back(std::move(command));
       }
     }
@@ -178,17 +200,44 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
-        InboundStepRequest request = owner->parse_step_request(msg, source_stamp_ns(info));
+        InboundStepRequest request = owner->parse_step_request(msg, info);
         std::lock_guard<std::mutex> lock(owner->mutex);
+        owner->check_replay(info, request);
+        // A flood of requests waits as refusals without payload: what it holds stays small.
+        if (owner->step_requests.size() >= kMaxPendingRequests && request.error.empty()) {
+          request.error = "more than " + std::to_string(kMaxPendingRequests) + " requests are waiting; refused";
+        }
+        if (!request.error.empty()) request.commands.clear(), request.reset_X_WB.clear();
         owner->step_requests.push_back(std::move(request));
         owner->step_ready.notify_all();
       }
     }
   } step_listener;
 
+  static constexpr std::size_t kMaxPendingRequests = 256;
+
   explicit Impl(const Model& m) : model(m) {}
 
-  InboundStepRequest parse_step_request(const hadal_msgs::msg::StepRequest& msg, std::int64_t stamp) const {
+  // Under `mutex`: a request whose id does not exceed the last one its writer sent is a replay (or a
+  // duplicate), refused; the first request of a writer and every increasing id pass.
+  void check_replay(const fdds::SampleInfo& info, InboundStepRequest& request) {
+    std::array<std::uint8_t, 16> writer{};
+    const auto& guid = info.sample_identity.writer_guid();
+    std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), writer.begin());
+    std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value), writer.begin() + 12);
+    const auto last = last_request_ids.find(writer);
+    if (last != last_request_ids.end() && request.request_id <= last->second) {
+      if (request.error.empty()) {
+        request.error = "request_id " + std::to_string(request.request_id) + " replayed: ids must increase from " +
+                        "one request to the next of a writer (its last was " + std::to_string(last->second) + ")";
+      }
+      return;
+    }
+    last_request_ids[writer] = request.request_id;
+  }
+
+  InboundStepRequest parse_step_request(const hadal_msgs::msg::StepRequest& msg, const fdds::SampleInfo& info) const {
+    const std::int64_t stamp = source_stamp_ns(info);
     InboundStepRequest request;
     request.request_id = msg.request_id();
     request.steps = msg.steps();
@@ -209,12 +258,17 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       return request;
     }
     std::size_t cursor = 0;
+    std::set<int> named;
     for (std::size_t i = 0; i < msg.vehicle_names().size(); ++i) {
       const std::string& name = msg.vehicle_names()[i];
       const int index = model.vehicle_index(name);
       if (index < 0) {
-        request.error = "unknown vehicle '" + name + "'";
-        request.unknown_vehicle = name;
+        request.error = "unknown vehicle '" + echoed(name) + "'";
+        request.unknown_vehicle = echoed(name);
+        return request;
+      }
+      if (!named.insert(index).second) {
+        request.error = "vehicle '" + name + "' has setpoints attached twice";
         return request;
       }
       const std::size_t count = msg.setpoint_counts()[i];
@@ -225,6 +279,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       }
       InboundCommand command;
       command.vehicle_index = index;
+      command.source = source_of(info);
       command.source_stamp_ns = stamp;
       command.setpoints.assign(msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor),
                                msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor + count));
@@ -254,8 +309,11 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     for (std::size_t i = 0; i < names.size(); ++i) {
       const int index = model.vehicle_index(names[i]);
       if (index < 0) {
-        request.unknown_vehicle = names[i];
-        return "reset: unknown vehicle '" + names[i] + "'";
+        request.unknown_vehicle = echoed(names[i]);
+        return "reset: unknown vehicle '" + echoed(names[i]) + "'";
+      }
+      if (request.reset_X_WB[static_cast<std::size_t>(index)]) {
+        return "reset: vehicle '" + names[i] + "' has two poses";
       }
       const double* p = poses.data() + 7 * i;  // a NaN passes here; Simulation::reset refuses the pose
       Eigen::Quaterniond q(p[6], p[3], p[4], p[5]);
@@ -270,25 +328,47 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     return "";
   }
 
-  // A writer on rt/<name>/thrusters/setpoints for a vehicle the scenario does not have.
+  // Writers whose samples hadald would never see, reported by name (DDS itself is silent about them): a
+  // writer on rt/<name>/thrusters/setpoints for a vehicle the scenario does not have, and a writer on a
+  // topic hadald reads (setpoints, step requests) with another type or best-effort reliability (hadald's
+  // readers are reliable: DDS never matches them with a best-effort writer).
   void on_publisher_discovery(fdds::DomainParticipant*,
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
     if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) return;
     const std::string topic = info.info.topicName().to_string();
-    const std::string prefix = "rt/";
-    const std::string suffix = "/thrusters/setpoints";
-    if (topic.size() <= prefix.size() + suffix.size() || topic.compare(0, prefix.size(), prefix) != 0 ||
-        topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) != 0) {
-      return;
+    std::string expected_type;
+    if (topic == step_request_topic()) {
+      expected_type = hadal_msgs::msg::StepRequestPubSubType().getName();
+    } else {
+      const std::string prefix = "rt/";
+      const std::string suffix = "/thrusters/setpoints";
+      if (topic.size() <= prefix.size() + suffix.size() || topic.compare(0, prefix.size(), prefix) != 0 ||
+          topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) != 0) {
+        return;
+      }
+      const std::string vehicle = topic.substr(prefix.size(), topic.size() - prefix.size() - suffix.size());
+      if (model.vehicle_index(vehicle) < 0) {
+        std::string known;
+        for (const auto& v : model.vehicles) known += (known.empty() ? "" : ", ") + v.name;
+        report_once(topic, "commands on " + echoed(topic) + " are ignored: unknown vehicle '" + echoed(vehicle) +
+                               "' (vehicles: " + known + ")");
+        return;
+      }
+      expected_type = std_msgs::msg::Float64MultiArrayPubSubType().getName();
     }
-    const std::string vehicle = topic.substr(prefix.size(), topic.size() - prefix.size() - suffix.size());
-    if (model.vehicle_index(vehicle) >= 0) return;
+    const std::string type = info.info.typeName().to_string();
+    if (type != expected_type) {
+      report_once(topic + "|" + type, "samples on " + topic + " of type " + echoed(type) +
+                                          " are ignored: hadald reads " + expected_type + " there");
+    } else if (info.info.m_qos.m_reliability.kind == eprosima::fastdds::dds::BEST_EFFORT_RELIABILITY_QOS) {
+      report_once(topic + "|best effort", "a best-effort writer on " + topic +
+                                              " reaches nothing: hadald's reader is reliable (publish reliable)");
+    }
+  }
+
+  void report_once(const std::string& key, const std::string& report) {
     std::lock_guard<std::mutex> lock(mutex);
-    if (!reported_topics.insert(topic).second) return;
-    std::string known;
-    for (const auto& v : model.vehicles) known += (known.empty() ? "" : ", ") + v.name;
-    reports.push_back("commands on " + topic + " are ignored: unknown vehicle '" + vehicle +
-                      "' (vehicles: " + known + ")");
+    if (reported_topics.insert(key).second) reports.push_back(report);
   }
 
   std::size_t add_count(const std::string& topic) {
@@ -400,6 +480,19 @@ std::vector<InboundCommand> ServerEndpoints::take_commands() {
   std::vector<InboundCommand> taken;
   std::lock_guard<std::mutex> lock(impl_->mutex);
   taken.swap(impl_->commands);
+  return taken;
+}
+
+std::uint64_t ServerEndpoints::superseded_commands() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->superseded;
+}
+
+std::vector<InboundStepRequest> ServerEndpoints::take_step_requests() {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  std::vector<InboundStepRequest> taken(std::make_move_iterator(impl_->step_requests.begin()),
+                                        std::make_move_iterator(impl_->step_requests.end()));
+  impl_->step_requests.clear();
   return taken;
 }
 

@@ -13,6 +13,7 @@
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
 
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -25,11 +26,16 @@
 
 namespace hadal::dds {
 
+// The participant a sample came from (its GUID prefix): samples of one participant carry stamps of one
+// clock, so only they may be ordered by stamp.
+using SourceId = std::array<std::uint8_t, 12>;
+
 // A thruster command from rt/<vehicle>/thrusters/setpoints, or attached to a step request.
 struct InboundCommand {
   int vehicle_index = -1;
   std::vector<double> setpoints;
-  std::int64_t source_stamp_ns = 0;  // writer's source timestamp: later commands win
+  SourceId source{};                 // the sending participant
+  std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins
   std::string error;                 // non-empty: malformed before it reached the simulation
 };
 
@@ -72,8 +78,13 @@ class ServerEndpoints {
   ServerEndpoints(const ServerEndpoints&) = delete;
   ServerEndpoints& operator=(const ServerEndpoints&) = delete;
 
-  // Commands received since the last call, in arrival order.
+  // Commands received since the last call, in arrival order. At most kMaxQueuedCommands wait: beyond, the
+  // oldest is dropped (a newer one of its vehicle replaces it anyway) and counted in superseded_commands().
+  static constexpr std::size_t kMaxQueuedCommands = 1024;
   std::vector<InboundCommand> take_commands();
+  std::uint64_t superseded_commands() const;
+  // Step requests received and not yet taken (a server not in lockstep refuses them all).
+  std::vector<InboundStepRequest> take_step_requests();
   // The next step request, waiting up to `timeout` for one.
   std::optional<InboundStepRequest> wait_step_request(std::chrono::milliseconds timeout);
   // Wakes a wait_step_request() (used on shutdown).

@@ -283,6 +283,10 @@ struct CameraInfo {
 struct ClientOptions {
   int domain_id = 0;  // 0..232, as hadald --domain-id
   std::string name = "hadal_client";
+  // Heartbeat timeout [s]: the server counts as gone (server_alive() false, ServerLost from a pending
+  // step()) after this long without a status sample, or three of its status periods if those are longer
+  // (hadald publishes rt/hadal/status at world.status_rate_hz, 10 Hz by default, in every mode).
+  double server_timeout_s = 3.0;
 };
 
 // Errors of the client. Every one is a ClientError; the subclasses say what went wrong.
@@ -292,6 +296,13 @@ class ClientError : public std::runtime_error {
 };
 // No server answers on this domain (no lockstep server's reader for step()/reset()).
 class ServerNotFound : public ClientError {
+ public:
+  using ClientError::ClientError;
+};
+// The server went silent (no status heartbeat within the heartbeat timeout, ClientOptions::server_timeout_s)
+// while a request waited for its reply: it stopped, crashed or the link is down. The request is lost; once
+// a server publishes again (wait_for_server()), requests work again with the same client.
+class ServerLost : public ClientError {
  public:
   using ClientError::ClientError;
 };
@@ -340,8 +351,14 @@ class Client {
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;
 
-  // Waits until a status sample from a server arrived (so discovery is done). False on timeout.
+  // Waits until the server is alive (server_alive(): so discovery is done, and after a server restart, the
+  // new one is up). False on timeout.
   bool wait_for_server(double timeout_s);
+  // True while status samples keep coming: the last arrived within the heartbeat timeout
+  // (ClientOptions::server_timeout_s). False before the first and after the server went silent.
+  bool server_alive() const;
+  // Wall seconds since the last status sample arrived; +infinity before the first.
+  double seconds_since_status() const;
   // Waits until every subscription made so far (on_odometry, on_clock, ...) is matched with a server
   // writer, so no sample published from now on is missed. False on timeout.
   bool wait_for_subscriptions(double timeout_s);
@@ -392,7 +409,8 @@ class Client {
   void attach_setpoints(const std::string& vehicle, const std::vector<double>& setpoints);
 
   // Lockstep: advances the server by `steps` physics steps and returns the sim time reached [s].
-  // Throws ServerNotFound without a lockstep server, Timeout without a reply within timeout_s,
+  // Throws ServerNotFound without a lockstep server, Timeout without a reply within timeout_s, ServerLost
+  // when the server's status heartbeat stops while it waits (long before timeout_s),
   // UnknownVehicle for setpoints of a vehicle the server does not have, CommandRejected when the server
   // refuses the request (e.g. a wrong number of setpoints), with its reason.
   double step(std::uint32_t steps, double timeout_s = 30.0);

@@ -17,6 +17,7 @@
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,18 @@ template <class EndpointQos>
 void apply_transport_environment(EndpointQos& qos) {
   if (!shared_memory_from_environment()) qos.data_sharing().off();
 }
+
+// What clean_stale_shared_memory removed.
+struct StaleSharedMemory {
+  int segments = 0;            // Fast DDS shared-memory segments of processes that are gone
+  std::uint64_t bytes = 0;     // their size
+};
+// Removes the shared-memory segments Fast DDS processes killed without a clean exit left in `directory`
+// (/dev/shm: RAM, 8 MB per participant here): each segment fastrtps_<16 hex digits> has a lock file
+// <segment>_el that its owner holds (flock) while it lives, so a lock file nobody holds marks a segment of a
+// dead process (what `fastdds shm clean` does for segments). Lock files younger than `min_age_s` are left
+// (their owner may be between creating and locking them); files of other users are left.
+StaleSharedMemory clean_stale_shared_memory(const std::string& directory = "/dev/shm", double min_age_s = 10.0);
 
 // Creates an enabled participant on `domain_id` named `name`. Throws std::runtime_error on failure
 // (e.g. a domain id out of range: valid ids are 0..232). `listener`, when given, is in place before the

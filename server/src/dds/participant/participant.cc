@@ -6,12 +6,19 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include <arpa/inet.h>
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <ifaddrs.h>
 #include <net/if.h>
 #include <netdb.h>
 #include <netinet/in.h>
 
 #include <algorithm>
+#include <cctype>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -155,6 +162,54 @@ bool shared_memory_from_environment() {
   if (std::strcmp(transports, "UDPv4") == 0) return false;
   throw std::runtime_error("FASTDDS_BUILTIN_TRANSPORTS must be DEFAULT or UDPv4 (got '" + std::string(transports) +
                            "')");
+}
+
+namespace {
+// fastrtps_ followed by 16 lowercase hex digits and `suffix`.
+bool is_segment_name(const std::string& name, const std::string& suffix) {
+  const std::string prefix = "fastrtps_";
+  if (name.size() != prefix.size() + 16 + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+    return false;
+  }
+  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(prefix.size()),
+                     name.begin() + static_cast<std::ptrdiff_t>(prefix.size() + 16),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f'); });
+}
+}  // namespace
+
+StaleSharedMemory clean_stale_shared_memory(const std::string& directory, double min_age_s) {
+  StaleSharedMemory removed;
+  DIR* dir = opendir(directory.c_str());
+  if (dir == nullptr) return removed;
+  std::vector<std::string> lock_files;
+  while (const dirent* entry = readdir(dir)) {
+    if (is_segment_name(entry->d_name, "_el")) lock_files.emplace_back(entry->d_name);
+  }
+  closedir(dir);
+  const std::time_t now = std::time(nullptr);
+  for (const std::string& lock_name : lock_files) {
+    const std::string lock_path = directory + "/" + lock_name;
+    const std::string segment_path = lock_path.substr(0, lock_path.size() - 3);
+    struct stat lock_stat{};
+    if (stat(lock_path.c_str(), &lock_stat) != 0 || lock_stat.st_uid != geteuid() ||
+        std::difftime(now, lock_stat.st_mtime) < min_age_s) {
+      continue;
+    }
+    const int fd = open(lock_path.c_str(), O_RDWR | O_CLOEXEC);
+    if (fd < 0) continue;
+    // Held by a live owner: the lock is refused and the segment is in use.
+    if (flock(fd, LOCK_EX | LOCK_NB) == 0) {
+      struct stat segment_stat{};
+      const bool has_segment = stat(segment_path.c_str(), &segment_stat) == 0;
+      if ((!has_segment || unlink(segment_path.c_str()) == 0) && unlink(lock_path.c_str()) == 0) {
+        ++removed.segments;
+        if (has_segment) removed.bytes += static_cast<std::uint64_t>(segment_stat.st_size);
+      }
+    }
+    close(fd);
+  }
+  return removed;
 }
 
 void delete_participant(fdds::DomainParticipant* participant) {

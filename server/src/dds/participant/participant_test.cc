@@ -2,10 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include <chrono>
 
 namespace hadal::dds {
 namespace {
@@ -94,6 +102,51 @@ TEST(ParticipantEnvironment, LocalhostOnlyWithARemotePeerIsAnError) {
               std::string::npos)
         << e.what();
   }
+}
+
+// Segments of dead owners (lock file held by no one) go with their lock files; a segment whose lock is held
+// (a live participant), a young lock file (an owner between creating and locking it) and other files stay.
+TEST(StaleSharedMemory, OnlySegmentsWhoseLockNobodyHoldsAreRemoved) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hadal_shm_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto make = [&](const std::string& name, std::size_t bytes) {
+    std::ofstream(dir / name) << std::string(bytes, 'x');
+  };
+  const std::string dead = "fastrtps_0123456789abcdef", live = "fastrtps_fedcba9876543210",
+                    young = "fastrtps_00112233445566aa";
+  for (const std::string& segment : {dead, live, young}) {
+    make(segment, 4096);
+    make(segment + "_el", 0);
+  }
+  make("fastrtps_port7411", 100);
+  make("fastrtps_port7411_el", 0);
+  make("fastrtps_xyz_el", 0);
+  // Everything but the young lock file is an hour old.
+  const auto old = fs::file_time_type::clock::now() - std::chrono::hours(1);
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().filename() != young + "_el") fs::last_write_time(entry.path(), old);
+  }
+  const int held = ::open((dir / (live + "_el")).c_str(), O_RDWR);
+  ASSERT_GE(held, 0);
+  ASSERT_EQ(::flock(held, LOCK_EX | LOCK_NB), 0);
+
+  const StaleSharedMemory removed = clean_stale_shared_memory(dir.string(), 10.0);
+  ::close(held);
+  EXPECT_EQ(removed.segments, 1);
+  EXPECT_EQ(removed.bytes, 4096u);
+  EXPECT_FALSE(fs::exists(dir / dead));
+  EXPECT_FALSE(fs::exists(dir / (dead + "_el")));
+  for (const std::string& kept : {live, live + "_el", young, young + "_el", std::string("fastrtps_port7411"),
+                                  std::string("fastrtps_port7411_el"), std::string("fastrtps_xyz_el")}) {
+    EXPECT_TRUE(fs::exists(dir / kept)) << kept;
+  }
+  // Once its owner is gone, the live one is stale too.
+  EXPECT_EQ(clean_stale_shared_memory(dir.string(), 10.0).segments, 1);
+  EXPECT_FALSE(fs::exists(dir / live));
+  EXPECT_EQ(clean_stale_shared_memory("/no/such/directory").segments, 0);
+  fs::remove_all(dir);
 }
 
 }  // namespace
