@@ -46,13 +46,14 @@ for _ in range(10):  # 5 s at full ahead, the command refreshed every 0.5 s (the
     client.set_thrusters("auv", [1.0, 0.0, 0.0])  # main, heave, sway
     t = client.step(250)
 driven = client.wait_odometry("auv", t, 30.0)
-pressure = client.wait_fluid_pressure("auv", "depth", t - 1.0, 30.0)
+pressure = client.wait_fluid_pressure("auv", "depth", t - 0.025, 30.0)  # the 10 Hz sample at t = 10.0 s
 thrusters = client.wait_thruster_state("auv", t - 0.1, 30.0)
 out["p_WB"] = [float(x) for x in driven.p_WB]
 out["dx_adrift_m"] = float(math.hypot(*(adrift.p_WB - start.p_WB)[:2]))
 out["dx_driven_m"] = float(math.hypot(*(driven.p_WB - adrift.p_WB)[:2]))
 out["stamp_s"] = driven.stamp
 out["pressure_pa"] = pressure.pressure if pressure else None
+out["pressure_stamp_s"] = pressure.stamp if pressure else None
 out["main_setpoint"] = float(thrusters.setpoint[0]) if thrusters else None
 print(json.dumps(out), flush=True)
 client.close()
@@ -187,4 +188,5 @@ def test_packet_loss_on_the_link_delays_delivery_but_never_changes_the_simulatio
     # (same scenario, same seed, same steps: the simulation never saw the loss).
     assert lossy["p_WB"] == lossless["p_WB"], (lossy, lossless)
     assert lossy["stamp_s"] == lossless["stamp_s"] and lossy["main_setpoint"] == 1.0
+    assert lossy["pressure_stamp_s"] == lossless["pressure_stamp_s"] == pytest.approx(10.0, abs=1e-9)
     assert lossy["pressure_pa"] == lossless["pressure_pa"]

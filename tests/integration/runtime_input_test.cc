@@ -12,12 +12,15 @@
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/topic/TopicDataType.hpp>
 #include <hadal_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -262,6 +265,61 @@ TEST(RuntimeInputTest, WritersHadaldCannotHearAreReportedOnTheStatus) {
   EXPECT_NEAR(s.client().step(10), 0.02, 1e-12);
   const std::string err = s.server().err();
   EXPECT_NE(err.find("a best-effort writer on rt/auv/thrusters/setpoints reaches nothing"), std::string::npos) << err;
+}
+
+// A type that writes the bytes it is given as the sample, under the DDS type name of a step request: what
+// a broken or hostile peer can put on the wire.
+class RawStepRequestType : public fdds::TopicDataType {
+ public:
+  RawStepRequestType() {
+    setName(hadal_msgs::msg::StepRequestPubSubType().getName());
+    m_typeSize = 65536;
+    m_isGetKeyDefined = false;
+  }
+  bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override {
+    const auto* bytes = static_cast<const std::string*>(data);
+    std::memcpy(payload->data, bytes->data(), bytes->size());
+    payload->length = static_cast<std::uint32_t>(bytes->size());
+    return true;
+  }
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t*, void*) override { return false; }
+  std::function<std::uint32_t()> getSerializedSizeProvider(void* data) override {
+    return [data] { return static_cast<std::uint32_t>(static_cast<const std::string*>(data)->size()); };
+  }
+  void* createData() override { return new std::string(); }
+  void deleteData(void* data) override { delete static_cast<std::string*>(data); }
+  bool getKey(void*, eprosima::fastrtps::rtps::InstanceHandle_t*, bool) override { return false; }
+};
+
+// A sample whose sequence claims 2^31 setpoints in 40 bytes (refused by Fast CDR before it allocates) and
+// one with an encapsulation no final type has (Fast CDR throws what the generated code does not catch,
+// dds/guarded_type.h): both dropped and counted, the server steps on.
+TEST(RuntimeInputTest, UndecodableSamplesAreDroppedAndCountedNotACrash) {
+  LockstepServer s;
+  s.connect();
+  fdds::DomainParticipant* participant = dds::create_participant(s.domain(), "raw_bytes");
+  fdds::TypeSupport type(new RawStepRequestType());
+  type.register_type(participant);
+  fdds::Topic* topic = participant->create_topic(dds::step_request_topic(), type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  fdds::Publisher* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
+  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+  dds::apply_transport_environment(qos);
+  fdds::DataWriter* writer = publisher->create_datawriter(topic, qos);
+  ASSERT_TRUE(RawPeer::matched(writer));
+  // Little-endian CDR: request_id, steps 1, no vehicle names, no counts, 2^31 setpoints and 8 bytes of them.
+  std::string bomb("\x00\x01\x00\x00", 4);
+  bomb += std::string("\x01\0\0\0\0\0\0\0" "\x01\0\0\0" "\0\0\0\0" "\0\0\0\0" "\0\0\0\x80", 28);
+  bomb += std::string(8, '\0');
+  writer->write(&bomb);
+  EXPECT_NE(status_error(s.client(), "undecodable").find("1 undecodable sample(s) dropped"), std::string::npos);
+  std::string bad_encapsulation("\x00\x07\x00\x00" "\x02\0\0\0\0\0\0\0" "\x01\0\0\0", 16);
+  writer->write(&bad_encapsulation);
+  EXPECT_TRUE(wait_until([&] { return s.client().latest_status()->rejected_commands >= 2; }, kWait))
+      << s.client().latest_status()->last_error;
+  EXPECT_TRUE(s.server().running());
+  EXPECT_NEAR(s.client().step(10), 0.02, 1e-12);
+  dds::delete_participant(participant);
 }
 
 TEST(RuntimeInputTest, ARequestCutShortByTheDurationSaysSoInItsReply) {

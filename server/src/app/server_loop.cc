@@ -6,6 +6,7 @@
 #include "hadal/geometry/raycast_service.h"
 #include "hadal/record/bag_recorder.h"
 #include "../dds/server_endpoints.h"
+#include "hadal/dds/guarded_type.h"
 
 #include <hadal_msgs.h>
 
@@ -294,6 +295,16 @@ class Runner {
         last_error_ = report;
       }
       if (options_.mode != RunMode::kLockstep) refuse_step_requests();
+      // Samples no reader could decode (dds/guarded_type.h): dropped by DDS, counted and said here.
+      const std::uint64_t undecodable = dds::undecodable_samples().load();
+      if (undecodable != reported_undecodable_) {
+        const std::string report = std::to_string(undecodable - reported_undecodable_) +
+                                   " undecodable sample(s) dropped (malformed, or sequences longer than the sample)";
+        std::fprintf(stderr, "hadald: %s\n", report.c_str());
+        rejected_ += undecodable - reported_undecodable_;
+        last_error_ = report;
+        reported_undecodable_ = undecodable;
+      }
       const std::uint64_t superseded = dds_.superseded_commands();
       if (superseded != reported_superseded_) {
         std::fprintf(stderr, "hadald: %llu queued command(s) replaced by newer ones before a step took them "
@@ -406,7 +417,7 @@ class Runner {
   std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor
   std::vector<std::int64_t> last_command_stamp_;
   std::vector<dds::SourceId> last_command_source_;  // who sent the command applied last, per vehicle
-  std::uint64_t reported_superseded_ = 0;
+  std::uint64_t reported_superseded_ = 0, reported_undecodable_ = 0;
   std::vector<double> distance_;
   std::vector<std::uint64_t> reported_resets_;
   std::vector<Eigen::Vector3d> start_positions_, previous_positions_;

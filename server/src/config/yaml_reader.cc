@@ -1,5 +1,8 @@
 #include "hadal/config/yaml_reader.h"
 
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -145,6 +148,26 @@ std::vector<Diagnostic> DiagnosticSink::sorted() const {
   return out;
 }
 
+namespace {
+// A YAML event handler that keeps where each document starts and ignores the rest.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  explicit DocumentStarts(std::vector<YAML::Mark>* starts) : starts_(starts) {}
+  void OnDocumentStart(const YAML::Mark& mark) override { starts_->push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+
+ private:
+  std::vector<YAML::Mark>* starts_;
+};
+}  // namespace
+
 std::optional<YAML::Node> parse_yaml_file(const std::string& file, DiagnosticSink* sink,
                                           std::string* open_error) {
   std::error_code ec;
@@ -166,20 +189,29 @@ std::optional<YAML::Node> parse_yaml_file(const std::string& file, DiagnosticSin
   }
 
   sink->add_file(file);
-  std::vector<YAML::Node> documents;
+  // Documents are counted by a parser stopped at the second, and the first is loaded alone: yaml-cpp
+  // 0.7's LoadAll never returns on some malformed input (after a stray flow end such as " ]}", it reports
+  // one more empty document forever, each one allocated: gigabytes in seconds), found by the scenario
+  // fuzzer (tests/fuzz/scenario_fuzz.cc).
+  std::vector<YAML::Mark> document_starts;
+  YAML::Node document;
   try {
-    documents = YAML::LoadAll(text.str());
+    std::istringstream counted(text.str());
+    YAML::Parser parser(counted);
+    DocumentStarts starts(&document_starts);
+    while (document_starts.size() < 2 && parser.HandleNextDocument(starts)) {
+    }
+    if (document_starts.size() == 1) document = YAML::Load(text.str());
   } catch (const YAML::Exception& e) {
     sink->report(file, e.mark, "yaml", e.msg);
     return std::nullopt;
   }
-  if (documents.empty()) return YAML::Node();  // empty, or only comments
-  if (documents.size() > 1) {
-    sink->report(file, documents[1].Mark(), "yaml",
-                 "expected a single document (found " + std::to_string(documents.size()) + ")");
+  if (document_starts.empty()) return YAML::Node();  // empty, or only comments
+  if (document_starts.size() > 1) {
+    sink->report(file, document_starts[1], "yaml", "expected a single document (found more than one)");
     return std::nullopt;
   }
-  return documents.front();
+  return document;
 }
 
 // ---------------------------------------------------------------------------------------------------

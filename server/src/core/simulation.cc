@@ -116,7 +116,12 @@ namespace {
 
 constexpr std::size_t kParallelFluidFaces = 4096;
 
+// Finite, and within Simulation::kWorldBound_m of the world origin: a position of 1e300 m is finite, but
+// a sensor's mount added to it, or the next step, is not.
+bool within_world(const Eigen::Vector3d& p_W) { return (p_W.array().abs() <= Simulation::kWorldBound_m).all(); }
+
 bool is_finite(const VehicleState& vehicle) {
+  if (!within_world(vehicle.body.X_WB.translation())) return false;
   if (!vehicle.body.X_WB.matrix().allFinite() || !vehicle.body.v_WB.allFinite() ||
       !vehicle.body.w_WB.allFinite() || !vehicle.contact_wrench_B.allFinite()) {
     return false;
@@ -192,6 +197,10 @@ const Model& validated(const Model& model) {
                                 format_number(model.world.physics_rate_hz) + ")");
   }
   for (const VehicleSpec& vehicle : model.vehicles) {
+    if (!vehicle.X_WB_initial.matrix().allFinite() || !within_world(vehicle.X_WB_initial.translation())) {
+      throw std::invalid_argument("vehicle '" + vehicle.name + "': initial pose not finite or beyond 1000 km of the "
+                                  "world origin");
+    }
     const auto check_link = [&](int link_index, const std::string& what) {
       if (link_index < 0 || link_index >= static_cast<int>(vehicle.links.size())) {
         throw std::invalid_argument("vehicle '" + vehicle.name + "': " + what + ": link index " +
@@ -353,6 +362,9 @@ std::string Simulation::reset(std::uint64_t seed, const std::vector<std::optiona
   for (std::size_t i = 0; i < X_WB.size(); ++i) {
     if (X_WB[i] && !X_WB[i]->matrix().allFinite()) {
       return "reset: vehicle '" + model_.vehicles[i].name + "': pose is not finite";
+    }
+    if (X_WB[i] && !within_world(X_WB[i]->translation())) {
+      return "reset: vehicle '" + model_.vehicles[i].name + "': position beyond 1000 km of the world origin";
     }
   }
   SimState state = initial_state(seed);

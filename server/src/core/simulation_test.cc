@@ -319,6 +319,29 @@ TEST(SimulationTest, NonFiniteStateFromSetStateIsResetAndFlagged) {
   EXPECT_EQ(sim.state().vehicles[0].fault_resets, 1u);
 }
 
+// Found by the command fuzzer (tests/fuzz/command_fuzz.cc): a reset to a finite but absurd position (1e300 m)
+// was accepted, and the altimeter's ray from there, its mount added, started at -inf: Embree's guard threw
+// out of the step and ended the server. Beyond 1000 km of the origin a reset pose is refused, and a state
+// that gets there is a fault like a non-finite one.
+TEST(SimulationTest, PositionsBeyondTheWorldBoundAreRefusedOrReset) {
+  const Model model = one_auv_model(at(Eigen::Vector3d(0, 0, -20), 0.3));
+  Simulation sim(model);
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() = Eigen::Vector3d(0.0, -1e300, -50.0);
+  EXPECT_EQ(sim.reset(1, {far}), "reset: vehicle 'auv': position beyond 1000 km of the world origin");
+  far.translation().y() = -0.99e6;  // within the bound: fine
+  EXPECT_EQ(sim.reset(1, {far}), "");
+  SimState outside = sim.state();
+  outside.vehicles[0].body.X_WB.translation().x() = 2e6;
+  sim.set_state(outside);
+  EXPECT_NE(sim.state().vehicles[0].faults & kFaultNonFiniteState, 0u);
+  EXPECT_TRUE(sim.state().vehicles[0].body.X_WB.isApprox(model.vehicles[0].X_WB_initial, 0.0));
+  run(sim, 10);
+  Model beyond = model;
+  beyond.vehicles[0].X_WB_initial.translation().x() = 1.5e6;
+  EXPECT_THROW(Simulation{beyond}, std::invalid_argument);
+}
+
 TEST(SimulationTest, NonFiniteStateFromTheStepIsResetAndFlagged) {
   // 1e300 m/s against quadratic damping overflows the force to -inf inside the step; Bullet
   // integrates it to NaN (and disables the body when its bounding box overflows). The check after

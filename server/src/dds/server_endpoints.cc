@@ -8,6 +8,7 @@
 #include "image_preview.h"
 #include "monitor.h"
 #include "scene_message.h"
+#include "inbound.h"
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -43,29 +44,6 @@ SourceId source_of(const fdds::SampleInfo& info) {
   const auto& prefix = info.sample_identity.writer_guid().guidPrefix;
   std::copy(std::begin(prefix.value), std::end(prefix.value), id.begin());
   return id;
-}
-
-// A name a client sent, for an error message: at most 64 characters, the rest elided.
-std::string echoed(const std::string& name) {
-  constexpr std::size_t kMax = 64;
-  return name.size() <= kMax ? name : name.substr(0, kMax) + "... (" + std::to_string(name.size()) + " characters)";
-}
-
-// Setpoints carried by a std_msgs/Float64MultiArray: data[layout.data_offset:].
-InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float64MultiArray& msg,
-                                  const fdds::SampleInfo& info) {
-  InboundCommand command;
-  command.vehicle_index = vehicle_index;
-  command.source = source_of(info);
-  command.source_stamp_ns = source_stamp_ns(info);
-  const std::size_t offset = msg.layout().data_offset();
-  if (offset > msg.data().size()) {
-    command.error = "layout.data_offset " + std::to_string(offset) + " exceeds data length " +
-                    std::to_string(msg.data().size());
-    return command;
-  }
-  command.setpoints.assign(msg.data().begin() + static_cast<std::ptrdiff_t>(offset), msg.data().end());
-  return command;
 }
 
 }  // namespace
@@ -181,7 +159,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
-        InboundCommand command = command_from_array(vehicle_index, msg, info);
+        InboundCommand command = command_from_array(vehicle_index, msg, source_of(info), source_stamp_ns(info));
         std::lock_guard<std::mutex> lock(owner->mutex);
         if (owner->commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
           owner->commands.erase(owner->commands.begin());
@@ -200,7 +178,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
-        InboundStepRequest request = owner->parse_step_request(msg, info);
+        InboundStepRequest request = parse_step_request(owner->model, msg, source_of(info), source_stamp_ns(info));
         std::lock_guard<std::mutex> lock(owner->mutex);
         owner->check_replay(info, request);
         // A flood of requests waits as refusals without payload: what it holds stays small.
@@ -234,98 +212,6 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       return;
     }
     last_request_ids[writer] = request.request_id;
-  }
-
-  InboundStepRequest parse_step_request(const hadal_msgs::msg::StepRequest& msg, const fdds::SampleInfo& info) const {
-    const std::int64_t stamp = source_stamp_ns(info);
-    InboundStepRequest request;
-    request.request_id = msg.request_id();
-    request.steps = msg.steps();
-    request.source_stamp_ns = stamp;
-    if (msg.steps() == 0 && !msg.reset()) {
-      request.error = "steps must be >= 1 (0 only with a reset)";
-      return request;
-    }
-    if (msg.reset()) {
-      request.error = parse_reset(msg, request);
-      if (!request.error.empty()) return request;
-    } else if (msg.reset_seed_given() || !msg.reset_vehicle_names().empty() || !msg.reset_poses().empty()) {
-      request.error = "reset_seed or reset poses without reset = true";
-      return request;
-    }
-    if (msg.vehicle_names().size() != msg.setpoint_counts().size()) {
-      request.error = "vehicle_names and setpoint_counts differ in length";
-      return request;
-    }
-    std::size_t cursor = 0;
-    std::set<int> named;
-    for (std::size_t i = 0; i < msg.vehicle_names().size(); ++i) {
-      const std::string& name = msg.vehicle_names()[i];
-      const int index = model.vehicle_index(name);
-      if (index < 0) {
-        request.error = "unknown vehicle '" + echoed(name) + "'";
-        request.unknown_vehicle = echoed(name);
-        return request;
-      }
-      if (!named.insert(index).second) {
-        request.error = "vehicle '" + name + "' has setpoints attached twice";
-        return request;
-      }
-      const std::size_t count = msg.setpoint_counts()[i];
-      if (cursor + count > msg.setpoints().size()) {
-        request.error = "setpoint_counts add up to more than the " +
-                        std::to_string(msg.setpoints().size()) + " setpoints attached";
-        return request;
-      }
-      InboundCommand command;
-      command.vehicle_index = index;
-      command.source = source_of(info);
-      command.source_stamp_ns = stamp;
-      command.setpoints.assign(msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor),
-                               msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor + count));
-      cursor += count;
-      request.commands.push_back(std::move(command));
-    }
-    if (cursor != msg.setpoints().size()) {
-      request.error = "setpoint_counts add up to " + std::to_string(cursor) + " but " +
-                      std::to_string(msg.setpoints().size()) + " setpoints are attached";
-    }
-    return request;
-  }
-
-  // The reset part of a step request: its seed and its poses (7 numbers per named vehicle: a position
-  // and a unit quaternion, normalised when its norm is within 1e-3 of 1; finiteness is Simulation::reset's
-  // check). Returns the error.
-  std::string parse_reset(const hadal_msgs::msg::StepRequest& msg, InboundStepRequest& request) const {
-    request.reset = true;
-    if (msg.reset_seed_given()) request.reset_seed = msg.reset_seed();
-    const auto& names = msg.reset_vehicle_names();
-    const auto& poses = msg.reset_poses();
-    if (poses.size() != 7 * names.size()) {
-      return "reset_poses has " + std::to_string(poses.size()) + " numbers for " + std::to_string(names.size()) +
-             " reset_vehicle_names (7 each: x y z qx qy qz qw)";
-    }
-    request.reset_X_WB.assign(model.vehicles.size(), std::nullopt);
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      const int index = model.vehicle_index(names[i]);
-      if (index < 0) {
-        request.unknown_vehicle = echoed(names[i]);
-        return "reset: unknown vehicle '" + echoed(names[i]) + "'";
-      }
-      if (request.reset_X_WB[static_cast<std::size_t>(index)]) {
-        return "reset: vehicle '" + names[i] + "' has two poses";
-      }
-      const double* p = poses.data() + 7 * i;  // a NaN passes here; Simulation::reset refuses the pose
-      Eigen::Quaterniond q(p[6], p[3], p[4], p[5]);
-      if (std::abs(q.norm() - 1.0) > 1e-3) {
-        return "reset: vehicle '" + names[i] + "': quaternion norm " + std::to_string(q.norm()) + ", expected 1";
-      }
-      Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
-      X_WB.translate(Eigen::Vector3d(p[0], p[1], p[2]));
-      X_WB.rotate(q.normalized());
-      request.reset_X_WB[static_cast<std::size_t>(index)] = X_WB;
-    }
-    return "";
   }
 
   // Writers whose samples hadald would never see, reported by name (DDS itself is silent about them): a

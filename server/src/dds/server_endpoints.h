@@ -12,6 +12,7 @@
 
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
+#include "inbound.h"
 
 #include <array>
 #include <chrono>
@@ -25,33 +26,6 @@
 #include <vector>
 
 namespace hadal::dds {
-
-// The participant a sample came from (its GUID prefix): samples of one participant carry stamps of one
-// clock, so only they may be ordered by stamp.
-using SourceId = std::array<std::uint8_t, 12>;
-
-// A thruster command from rt/<vehicle>/thrusters/setpoints, or attached to a step request.
-struct InboundCommand {
-  int vehicle_index = -1;
-  std::vector<double> setpoints;
-  SourceId source{};                 // the sending participant
-  std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins
-  std::string error;                 // non-empty: malformed before it reached the simulation
-};
-
-struct InboundStepRequest {
-  std::uint64_t request_id = 0;
-  std::uint32_t steps = 0;
-  std::vector<InboundCommand> commands;  // setpoints attached to the request
-  // A reset request: start over from the initial state first (Simulation::reset), with this seed (the
-  // scenario's when none was given) and these poses (one per vehicle, given or not).
-  bool reset = false;
-  std::optional<std::uint64_t> reset_seed;
-  std::vector<std::optional<Eigen::Isometry3d>> reset_X_WB;
-  std::int64_t source_stamp_ns = 0;
-  std::string error;  // non-empty: the request is malformed and is refused as a whole
-  std::string unknown_vehicle;  // the vehicle the scenario does not have when that is the error
-};
 
 struct StatusReport {
   double sim_time = 0.0;

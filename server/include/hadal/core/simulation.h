@@ -7,7 +7,8 @@
 // Control source per vehicle: the scenario schedule until a client first commands the vehicle, then
 // the client's control vector guarded by the watchdog (no fresh command for command_timeout seconds
 // of sim time -> zero controls, kFaultCommandTimeout set). Non-finite policy: a vehicle whose pose,
-// velocity, actuator state or client controls become NaN/Inf is put back at X_WB_initial at rest,
+// velocity, actuator state or client controls become NaN/Inf, or whose position leaves the world (a
+// coordinate beyond kWorldBound_m), is put back at X_WB_initial at rest,
 // actuators stopped, client controls zeroed; kFaultNonFiniteState stays set (latched) and fault_resets
 // counts the resets. Not thread-safe: the caller serialises access.
 // Fluid per vehicle (VehicleSpec::fluid, physics/fluid_forces.h): surface or lumped model, both in the
@@ -60,6 +61,11 @@ class Simulation {
   // faces).
   explicit Simulation(Model model);
   ~Simulation();
+
+  // The world's extent [m]: a vehicle position coordinate beyond +-1000 km of the origin is a fault (the
+  // non-finite policy), and a reset pose there is refused. Far beyond any local ENU frame's use, and
+  // far enough from double's range that a sensor's mount added to it stays finite.
+  static constexpr double kWorldBound_m = 1e6;
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
@@ -95,7 +101,8 @@ class Simulation {
   SimState initial_state(std::uint64_t seed) const;
   // Starts over from initial_state(seed), with vehicle i placed at X_WB[i] (at rest) where that is given
   // (X_WB may be shorter than the vehicle list). The world itself (seabed, marine snow, textures) keeps
-  // world.seed. Returns "" when done, else the reason (a non-finite pose, more poses than vehicles) with
+  // world.seed. Returns "" when done, else the reason (a non-finite pose, one beyond kWorldBound_m, more poses
+  // than vehicles) with
   // the state untouched.
   std::string reset(std::uint64_t seed, const std::vector<std::optional<Eigen::Isometry3d>>& X_WB = {});
 

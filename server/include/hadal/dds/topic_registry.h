@@ -13,6 +13,7 @@
 // matches it, and whatever is written in between would otherwise never reach it.
 #pragma once
 
+#include "hadal/dds/guarded_type.h"
 #include "hadal/dds/participant.h"
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -47,7 +48,7 @@ class TopicRegistry {
   // type would misinterpret their bytes).
   template <class PubSubType>
   eprosima::fastdds::dds::Topic* topic(const std::string& name) {
-    eprosima::fastdds::dds::TypeSupport type(new PubSubType());
+    eprosima::fastdds::dds::TypeSupport type(new GuardedType<PubSubType>());  // dds/guarded_type.h
     const std::string type_name = type.get_type_name();
     auto found = topics_.find(name);
     if (found != topics_.end()) {

@@ -1,0 +1,128 @@
+#include "inbound.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <set>
+
+namespace hadal::dds {
+
+std::string echoed(const std::string& name) {
+  constexpr std::size_t kMax = 64;
+  return name.size() <= kMax ? name : name.substr(0, kMax) + "... (" + std::to_string(name.size()) + " characters)";
+}
+
+InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float64MultiArray& msg,
+                                  const SourceId& source, std::int64_t stamp_ns) {
+  InboundCommand command;
+  command.vehicle_index = vehicle_index;
+  command.source = source;
+  command.source_stamp_ns = stamp_ns;
+  const std::size_t offset = msg.layout().data_offset();
+  if (offset > msg.data().size()) {
+    command.error = "layout.data_offset " + std::to_string(offset) + " exceeds data length " +
+                    std::to_string(msg.data().size());
+    return command;
+  }
+  command.setpoints.assign(msg.data().begin() + static_cast<std::ptrdiff_t>(offset), msg.data().end());
+  return command;
+}
+
+namespace {
+
+// The reset part of a step request: its seed and its poses (7 numbers per named vehicle: a position
+// and a unit quaternion, normalised when its norm is within 1e-3 of 1; finiteness is Simulation::reset's
+// check). Returns the error.
+std::string parse_reset(const Model& model, const hadal_msgs::msg::StepRequest& msg, InboundStepRequest& request) {
+  request.reset = true;
+  if (msg.reset_seed_given()) request.reset_seed = msg.reset_seed();
+  const auto& names = msg.reset_vehicle_names();
+  const auto& poses = msg.reset_poses();
+  if (poses.size() != 7 * names.size()) {
+    return "reset_poses has " + std::to_string(poses.size()) + " numbers for " + std::to_string(names.size()) +
+           " reset_vehicle_names (7 each: x y z qx qy qz qw)";
+  }
+  request.reset_X_WB.assign(model.vehicles.size(), std::nullopt);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const int index = model.vehicle_index(names[i]);
+    if (index < 0) {
+      request.unknown_vehicle = echoed(names[i]);
+      return "reset: unknown vehicle '" + echoed(names[i]) + "'";
+    }
+    if (request.reset_X_WB[static_cast<std::size_t>(index)]) {
+      return "reset: vehicle '" + names[i] + "' has two poses";
+    }
+    const double* p = poses.data() + 7 * i;  // a NaN passes here; Simulation::reset refuses the pose
+    Eigen::Quaterniond q(p[6], p[3], p[4], p[5]);
+    if (std::abs(q.norm() - 1.0) > 1e-3) {
+      return "reset: vehicle '" + names[i] + "': quaternion norm " + std::to_string(q.norm()) + ", expected 1";
+    }
+    Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+    X_WB.translate(Eigen::Vector3d(p[0], p[1], p[2]));
+    X_WB.rotate(q.normalized());
+    request.reset_X_WB[static_cast<std::size_t>(index)] = X_WB;
+  }
+  return "";
+}
+
+}  // namespace
+
+InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg::StepRequest& msg,
+                                      const SourceId& source,
+                                      std::int64_t stamp) {
+  InboundStepRequest request;
+  request.request_id = msg.request_id();
+  request.steps = msg.steps();
+  request.source_stamp_ns = stamp;
+  if (msg.steps() == 0 && !msg.reset()) {
+    request.error = "steps must be >= 1 (0 only with a reset)";
+    return request;
+  }
+  if (msg.reset()) {
+    request.error = parse_reset(model, msg, request);
+    if (!request.error.empty()) return request;
+  } else if (msg.reset_seed_given() || !msg.reset_vehicle_names().empty() || !msg.reset_poses().empty()) {
+    request.error = "reset_seed or reset poses without reset = true";
+    return request;
+  }
+  if (msg.vehicle_names().size() != msg.setpoint_counts().size()) {
+    request.error = "vehicle_names and setpoint_counts differ in length";
+    return request;
+  }
+  std::size_t cursor = 0;
+  std::set<int> named;
+  for (std::size_t i = 0; i < msg.vehicle_names().size(); ++i) {
+    const std::string& name = msg.vehicle_names()[i];
+    const int index = model.vehicle_index(name);
+    if (index < 0) {
+      request.error = "unknown vehicle '" + echoed(name) + "'";
+      request.unknown_vehicle = echoed(name);
+      return request;
+    }
+    if (!named.insert(index).second) {
+      request.error = "vehicle '" + name + "' has setpoints attached twice";
+      return request;
+    }
+    const std::size_t count = msg.setpoint_counts()[i];
+    if (cursor + count > msg.setpoints().size()) {
+      request.error = "setpoint_counts add up to more than the " +
+                      std::to_string(msg.setpoints().size()) + " setpoints attached";
+      return request;
+    }
+    InboundCommand command;
+    command.vehicle_index = index;
+    command.source = source;
+    command.source_stamp_ns = stamp;
+    command.setpoints.assign(msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor),
+                             msg.setpoints().begin() + static_cast<std::ptrdiff_t>(cursor + count));
+    cursor += count;
+    request.commands.push_back(std::move(command));
+  }
+  if (cursor != msg.setpoints().size()) {
+    request.error = "setpoint_counts add up to " + std::to_string(cursor) + " but " +
+                    std::to_string(msg.setpoints().size()) + " setpoints are attached";
+  }
+  return request;
+}
+
+}  // namespace hadal::dds

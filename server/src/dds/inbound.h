@@ -1,0 +1,60 @@
+// What hadald reads from clients, parsed: thruster commands (rt/<vehicle>/thrusters/setpoints) and step
+// requests (rt/hadal/step_request), checked against the model (vehicle names, lengths, a reset's poses)
+// before anything reaches the simulation. Pure functions of the model and the message, so the DDS
+// listeners (server_endpoints.cc) and the fuzzer (tests/fuzz/command_fuzz.cc) run the same code.
+#pragma once
+
+#include "hadal/core/model.h"
+
+#include <hadal_msgs.h>
+#include <std_msgs.h>
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hadal::dds {
+
+// The participant a sample came from (its GUID prefix): samples of one participant carry stamps of one
+// clock, so only they may be ordered by stamp.
+using SourceId = std::array<std::uint8_t, 12>;
+
+// A thruster command from rt/<vehicle>/thrusters/setpoints, or attached to a step request.
+struct InboundCommand {
+  int vehicle_index = -1;
+  std::vector<double> setpoints;
+  SourceId source{};                 // the sending participant
+  std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins
+  std::string error;                 // non-empty: malformed before it reached the simulation
+};
+
+struct InboundStepRequest {
+  std::uint64_t request_id = 0;
+  std::uint32_t steps = 0;
+  std::vector<InboundCommand> commands;  // setpoints attached to the request
+  // A reset request: start over from the initial state first (Simulation::reset), with this seed (the
+  // scenario's when none was given) and these poses (one per vehicle, given or not).
+  bool reset = false;
+  std::optional<std::uint64_t> reset_seed;
+  std::vector<std::optional<Eigen::Isometry3d>> reset_X_WB;
+  std::int64_t source_stamp_ns = 0;
+  std::string error;  // non-empty: the request is malformed and is refused as a whole
+  std::string unknown_vehicle;  // the vehicle the scenario does not have when that is the error
+};
+
+// A name a client sent, for an error message: at most 64 characters, the rest elided.
+std::string echoed(const std::string& name);
+
+// Setpoints carried by a std_msgs/Float64MultiArray: data[layout.data_offset:].
+InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float64MultiArray& msg,
+                                  const SourceId& source, std::int64_t stamp_ns);
+
+// A step request checked against the model: its commands, its reset, or the error refusing it as a whole.
+InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg::StepRequest& msg,
+                                      const SourceId& source, std::int64_t stamp);
+
+}  // namespace hadal::dds
