@@ -317,7 +317,7 @@ struct Client::Impl {
   std::optional<SimStatus> status;
   // Heartbeat: when the last status arrived, and the interval between the last two (the server's status
   // period, as it arrives).
-  double server_timeout_s = 3.0;
+  double server_timeout_s = 10.0;
   std::chrono::steady_clock::time_point status_arrival{};
   double status_interval_s = 0.0;
   std::vector<std::function<void(const SimStatus&)>> status_callbacks;

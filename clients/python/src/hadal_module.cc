@@ -686,7 +686,7 @@ then waits for it (or a restarted one) to come back, and the same client carries
 Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehicle, hadal.CommandRejected
 (all hadal.ClientError).)doc")
       .def(py::init<int, const std::string&, double>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
-           py::arg("server_timeout_s") = 3.0, release())
+           py::arg("server_timeout_s") = 10.0, release())
       .def("close", &PyClient::close, release(), "Leave the DDS domain now; later calls raise ClientError")
       .def_property_readonly("closed", &PyClient::closed)
       .def("__enter__", [](py::object self) { return self; })

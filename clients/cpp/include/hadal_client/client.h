@@ -285,8 +285,10 @@ struct ClientOptions {
   std::string name = "hadal_client";
   // Heartbeat timeout [s]: the server counts as gone (server_alive() false, ServerLost from a pending
   // step()) after this long without a status sample, or three of its status periods if those are longer
-  // (hadald publishes rt/hadal/status at world.status_rate_hz, 10 Hz by default, in every mode).
-  double server_timeout_s = 3.0;
+  // (hadald publishes rt/hadal/status at world.status_rate_hz, 10 Hz by default, in every mode, between
+  // the steps of a lockstep request too). 10 s: longer than one lockstep step ever takes (it may wait for
+  // a large camera frame's rendering), short beside a training run's patience.
+  double server_timeout_s = 10.0;
 };
 
 // Errors of the client. Every one is a ClientError; the subclasses say what went wrong.
