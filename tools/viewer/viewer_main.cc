@@ -10,6 +10,7 @@
 // viewer reads only the scene and waits: the server writes nothing more to it (LiveSource). Listens on
 // loopback by default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
 // read the bag, 2 on a usage error.
+#include "hadal/core/data_dir.h"
 #include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_reader.h"
 #include "hadal/record/rosbag2_writer.h"
@@ -64,11 +65,9 @@ bool is_loopback(const std::string& address) { return address == "localhost" || 
 // The page's files: beside the executable in an install tree (P/bin -> P/share/hadal/viewer), else the
 // source tree's.
 std::string default_web_root() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path installed = exe.parent_path().parent_path() / "share/hadal/viewer";
-    if (fs::is_regular_file(installed / "index.html")) return installed.string();
+  const std::optional<hadal::DataDir> data = hadal::installed_data_dir();
+  if (data && fs::is_regular_file(data->path / "viewer" / "index.html")) {
+    return (data->path / "viewer").string();
   }
   return HADAL_VIEWER_SOURCE_WEB_ROOT;
 }

@@ -1,4 +1,5 @@
 #include "hadal/config/scenario_loader.h"
+#include "hadal/core/data_dir.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -1490,13 +1491,13 @@ std::vector<AssetRoot> asset_roots(const std::string& scenario_path, const LoadO
   fs::path tree = fs::weakly_canonical(fs::absolute(scenario_path, ec), ec).parent_path();
   if (tree.filename() == "scenarios") tree = tree.parent_path();
   add(tree, "the scenario's tree", false);
-  if (const char* data = std::getenv("HADAL_DATA_DIR"); data != nullptr && *data != '\0') {
-    add(fs::path(data) / "configs", "hadal's configs, $HADAL_DATA_DIR/configs", false);
-  } else {
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    const fs::path installed = exe.parent_path().parent_path() / "share" / "hadal" / "configs";
-    add(!ec && fs::is_directory(installed, ec) ? installed : fs::path(HADAL_SOURCE_CONFIGS_DIR), "hadal's configs",
+  // hadal's own configs: installed (or $HADAL_DATA_DIR's), else the source tree's.
+  const std::optional<DataDir> data = installed_data_dir();
+  if (data && (data->from_environment || fs::is_directory(data->path / "configs", ec))) {
+    add(data->path / "configs", data->from_environment ? "hadal's configs, $HADAL_DATA_DIR/configs" : "hadal's configs",
         false);
+  } else {
+    add(fs::path(HADAL_SOURCE_CONFIGS_DIR), "hadal's configs", false);
   }
   for (const std::string& dir : options.asset_roots) add(dir, "--asset-root", true);
   if (const char* list = std::getenv("HADAL_ASSET_ROOTS"); list != nullptr) {

@@ -1,4 +1,5 @@
 #include "hadal/sensors/geomagnetic.h"
+#include "hadal/core/data_dir.h"
 #include "hadal/core/units.h"
 
 #include <array>
@@ -80,14 +81,11 @@ const LegendreRecurrence& legendre_recurrence() {
 
 std::string GeomagneticModel::default_cof_path() {
   static constexpr const char* kName = "WMM2025.COF";
-  if (const char* dir = std::getenv("HADAL_DATA_DIR"); dir != nullptr && *dir != '\0') {
-    return (std::filesystem::path(dir) / kName).string();
-  }
+  // $HADAL_DATA_DIR's as given; an install tree's when it has one; else the source tree's.
   std::error_code error;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) {
-    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "hadal" / kName;
-    if (std::filesystem::is_regular_file(installed, error)) return installed.string();
+  if (const std::optional<DataDir> data = installed_data_dir();
+      data && (data->from_environment || std::filesystem::is_regular_file(data->path / kName, error))) {
+    return (data->path / kName).string();
   }
   return HADAL_SOURCE_DATA_DIR "/WMM2025.COF";
 }
