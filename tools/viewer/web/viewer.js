@@ -517,6 +517,9 @@ window.hadalViewer = {
     const v = state.vehicles[name];
     if (!v || !v.group.visible) return null;
     const p = v.group.position, q = v.group.quaternion;
+    // The camera may have moved (following the vehicle) since the last frame rendered its matrices: a
+    // test asking between the two would see the vehicle where the old view had it.
+    camera.updateMatrixWorld();
     const ndc = p.clone().project(camera);  // inside the view: normalised device coordinates in [-1, 1]
     const onScreen = Math.abs(ndc.x) <= 1 && Math.abs(ndc.y) <= 1 && ndc.z >= -1 && ndc.z <= 1;
     return {p: [p.x, p.y, p.z], q: [q.x, q.y, q.z, q.w], stamp: v.last.stamp, on_screen: onScreen,
