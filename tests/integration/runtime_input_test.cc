@@ -40,7 +40,11 @@ class RawPeer : public fdds::DataReaderListener {
       : participant_(dds::create_participant(domain_id, "raw_peer")), registry_(participant_) {
     if (!requester) return;
     requests_ = registry_.writer<hadal_msgs::msg::StepRequestPubSubType>(dds::step_request_topic(), 32);
-    registry_.reader<hadal_msgs::msg::StepReplyPubSubType>(dds::step_reply_topic(), 32, this);
+    // The server's kept replies too, as the client library reads them: the two directions of endpoint
+    // discovery are independent, and a reply written before hadald's writer matched this reader would
+    // otherwise never arrive (topic_registry.h; a CI run lost the reply to the first request so).
+    registry_.reader<hadal_msgs::msg::StepReplyPubSubType>(dds::step_reply_topic(), 32, this,
+                                                           dds::TopicRegistry::Durability::kKeptSamples);
   }
   ~RawPeer() override { dds::delete_participant(participant_); }
 
