@@ -13,7 +13,7 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   cyclonedds-dev cyclonedds-tools
   libcivetweb-dev libjs-three
-  libgtest-dev libgmock-dev chromium python3-websocket iproute2 nftables
+  libgtest-dev libgmock-dev chromium python3-websocket iproute2 nftables openssl
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-yaml python3-matplotlib
 )
 

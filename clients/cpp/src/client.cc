@@ -1,5 +1,6 @@
 #include "hadal_client/client.h"
 
+#include "hadal/config/security_block.h"
 #include "hadal/dds/participant.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/dds/topic_names.h"
@@ -363,7 +364,9 @@ Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
                                 std::to_string(options.server_timeout_s) + ")");
   }
   d.server_timeout_s = options.server_timeout_s;
-  d.participant = dds::create_participant(options.domain_id, options.name);
+  const SecurityFiles security =
+      options.security_file.empty() ? SecurityFiles{} : config::load_security_file(options.security_file);
+  d.participant = dds::create_participant(options.domain_id, options.name, nullptr, security);
   d.registry = std::make_unique<dds::TopicRegistry>(d.participant);
   // Request ids unique across clients of one server: a random 32-bit prefix per client.
   std::random_device entropy;

@@ -75,10 +75,15 @@ class Server:
     preempting other threads, such as the client stepping it (hadald --sched batch). ready_timeout_s
     bounds the wait for its first status; a server that exits first (a malformed scenario) raises
     ServerNotFound with its log's end. extra_args go to hadald's command line as they are.
+
+    security_file turns DDS Security on (hadald --security: a YAML file with hadald's `security:` block, as
+    tools/make-security-demo.sh writes it); client_security_file is then the identity of the clients this
+    object makes (its readiness probe, client()), by default the same file.
     """
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
-                 extra_args=(), cameras=True, threads=None, cpus=None, sched=None):
+                 extra_args=(), cameras=True, threads=None, cpus=None, sched=None, security_file=None,
+                 client_security_file=None):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
@@ -101,6 +106,9 @@ class Server:
             args += ["--cpus", ",".join(str(int(cpu)) for cpu in cpus)]
         if sched is not None:
             args += ["--sched", str(sched)]
+        if security_file is not None:
+            args += ["--security", os.fspath(security_file)]
+        self.client_security_file = client_security_file if client_security_file is not None else security_file
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")
         with open(self.log_path, "w") as log:
@@ -121,7 +129,8 @@ class Server:
         return candidate
 
     def _await_ready(self, timeout_s):
-        with Client(domain_id=self.domain_id, name="hadal_server_probe") as client:
+        with Client(domain_id=self.domain_id, name="hadal_server_probe",
+                    security_file=self.client_security_file) as client:
             deadline = time.monotonic() + timeout_s
             while time.monotonic() < deadline:
                 if self.process.poll() is not None:
@@ -133,7 +142,7 @@ class Server:
 
     def client(self, name="hadal_python", timeout_s=10.0):
         """A Client on this server's domain that has seen its status (close it, or use it in a `with`)."""
-        client = Client(domain_id=self.domain_id, name=name)
+        client = Client(domain_id=self.domain_id, name=name, security_file=self.client_security_file)
         if not client.wait_for_server(timeout_s):
             client.close()
             raise ServerNotFound(f"no status from hadald on domain {self.domain_id} within {timeout_s} s")

@@ -8,11 +8,13 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 #include <sched.h>
 
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -124,8 +126,10 @@ using ImagePtr = std::shared_ptr<const hadal::Image>;
 
 class PyClient {
  public:
-  PyClient(int domain_id, const std::string& name, double server_timeout_s)
-      : client_(std::make_shared<hadal::Client>(hadal::ClientOptions{domain_id, name, server_timeout_s})) {}
+  PyClient(int domain_id, const std::string& name, double server_timeout_s,
+           const std::optional<std::filesystem::path>& security_file)
+      : client_(std::make_shared<hadal::Client>(hadal::ClientOptions{
+            domain_id, name, server_timeout_s, security_file ? security_file->string() : std::string()})) {}
 
   // Leaves the DDS domain (its participant and shared-memory segments go) once no call on another thread
   // still uses it; later calls raise.
@@ -683,10 +687,15 @@ A server that goes silent (no status heartbeat for server_timeout_s, or three of
 gone: server_alive() turns False and a step() waiting for its reply raises ServerLost; wait_for_server()
 then waits for it (or a restarted one) to come back, and the same client carries on.
 
+security_file: DDS Security, a YAML file with a `security:` block naming this client's certificate and key
+and the domain's signed documents, as hadald --security takes it (tools/make-security-demo.sh writes one
+per identity). Without it a secure server is invisible.
+
 Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehicle, hadal.CommandRejected
 (all hadal.ClientError).)doc")
-      .def(py::init<int, const std::string&, double>(), py::arg("domain_id") = 0, py::arg("name") = "hadal_python",
-           py::arg("server_timeout_s") = 10.0, release())
+      .def(py::init<int, const std::string&, double, const std::optional<std::filesystem::path>&>(),
+           py::arg("domain_id") = 0, py::arg("name") = "hadal_python", py::arg("server_timeout_s") = 10.0,
+           py::arg("security_file") = py::none(), release())
       .def("close", &PyClient::close, release(), "Leave the DDS domain now; later calls raise ClientError")
       .def_property_readonly("closed", &PyClient::closed)
       .def("__enter__", [](py::object self) { return self; })

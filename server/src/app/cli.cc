@@ -49,7 +49,7 @@ std::string usage() {
          "                            [--rtf FACTOR] [--seed N] [--domain-id N]\n"
          "                            [--discovery-wait SECONDS] [--threads N] [--cpus LIST]\n"
          "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
-         "                            [--no-cameras] [--asset-root DIR]...\n"
+         "                            [--no-cameras] [--asset-root DIR]... [--security FILE]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -71,6 +71,8 @@ std::string usage() {
          "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
          "  --asset-root DIR another directory the scenario's includes, meshes and maps may lie in\n"
          "                   (besides its own tree and hadal's configs; also $HADAL_ASSET_ROOTS, a:b)\n"
+         "  --security FILE  DDS Security (authentication, encryption, access control) with the files of\n"
+         "                   FILE's `security:` block, in place of the scenario's (tools/make-security-demo.sh)\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
 }
 
@@ -159,6 +161,8 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
         }
       } else if (arg == "--record") {
         o.record_dir = value;
+      } else if (arg == "--security") {
+        o.security_file = value;  // read by hadald_main (config::load_security_file)
       } else if (arg == "--asset-root") {
         o.asset_roots.push_back(value);  // checked by the loader (config::asset_roots)
       } else if (arg == "--domain-id") {

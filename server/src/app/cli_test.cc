@@ -36,6 +36,9 @@ TEST(CliTest, DefaultsAndAllOptions) {
   ASSERT_EQ(p.error, "");
   EXPECT_EQ(p.options.asset_roots, (std::vector<std::string>{"/data/meshes", "../maps"}));
   EXPECT_EQ(parse_cli({"s.yaml", "--asset-root"}, nullptr).error, "option --asset-root needs a value");
+  EXPECT_EQ(p.options.security_file, "");
+  EXPECT_EQ(parse_cli({"s.yaml", "--security", "dds/hadald.yaml"}, nullptr).options.security_file, "dds/hadald.yaml");
+  EXPECT_EQ(parse_cli({"s.yaml", "--security"}, nullptr).error, "option --security needs a value");
 }
 
 TEST(CliTest, CpusAndSchedulingPolicy) {

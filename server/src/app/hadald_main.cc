@@ -3,6 +3,7 @@
 #include "hadal/dds/participant.h"
 #include "hadal/core/allocator.h"
 #include "hadal/config/scenario_loader.h"
+#include "hadal/config/security_block.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "hadal/sensors/camera_sensor.h"
 #include "scheduling.h"
@@ -85,6 +86,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   Model model = std::move(*loaded.model);
+  if (!cli.options.security_file.empty()) {
+    try {
+      model.security = config::load_security_file(cli.options.security_file);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\nhadald: error in --security %s; nothing started\n", e.what(),
+                   cli.options.security_file.c_str());
+      return 1;
+    }
+  }
   if (cli.options.seed) model.world.seed = *cli.options.seed;
   if (cli.options.threads) model.world.threads = *cli.options.threads;
   if (!cli.options.cameras) {
@@ -104,6 +114,10 @@ int main(int argc, char** argv) {
                cli.options.scenario_file.c_str(), model.vehicles.size(), model.world.physics_rate_hz,
                app::to_string(cli.options.mode), cli.options.domain_id, model.world.effective_threads(),
                app::format_cpu_list(app::allowed_cpus()).c_str(), cli.options.sched_batch ? ", SCHED_BATCH" : "");
+  if (model.security.enabled()) {
+    std::fprintf(stderr, "hadald: DDS Security on: identity %s, permissions %s\n", model.security.certificate.c_str(),
+                 model.security.permissions.c_str());
+  }
   for (const auto& vehicle : model.vehicles) std::fprintf(stderr, "hadald: %s\n", describe(vehicle).c_str());
   try {
     // Shared memory that killed DDS processes (a hadald or client ended by kill -9) left behind is RAM

@@ -1,4 +1,5 @@
 #include "hadal/config/scenario_loader.h"
+#include "hadal/config/security_block.h"
 #include "hadal/core/data_dir.h"
 
 #include <Eigen/Eigenvalues>
@@ -1239,8 +1240,11 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
   }
   if (root) {
     const auto source = std::make_shared<const Source>(Source{path, &sink_, roots_});
-    const MapReader map(Value::root(*root, source), {"world", "vehicles"});
+    const MapReader map(Value::root(*root, source), {"world", "vehicles", "security"});
     if (const auto world = map.required("world")) read_world(*world, &model.world);
+    if (const auto security = map.optional("security")) {
+      if (auto files = read_security_block(*security)) model.security = std::move(*files);
+    }
     if (const auto vehicles = map.required("vehicles")) {
       if (const auto items = vehicles->list()) {
         if (items->empty()) vehicles->error("must not be empty");

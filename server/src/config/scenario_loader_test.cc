@@ -1,4 +1,5 @@
 #include "hadal/config/scenario_loader.h"
+#include "hadal/config/security_block.h"
 
 #include <gtest/gtest.h>
 
@@ -2119,6 +2120,82 @@ TEST(DiagnosticTest, FormatsPositionAndPath) {
   EXPECT_EQ(diagnostic.format(), "a.yaml:12:14: error: must be > 0 (got -5)");
   diagnostic.line = 0;
   EXPECT_EQ(diagnostic.format(), "a.yaml: error: must be > 0 (got -5)");
+}
+
+}  // namespace
+}  // namespace hadal::config
+
+namespace hadal::config {
+namespace {
+
+// The `security:` block (config/security_block.h): six files relative to the file holding it, each readable;
+// in a scenario, inside the scenario's tree like every file it names; as a file of its own (hadald --security,
+// the clients), anywhere.
+TEST_F(ScenarioLoaderTest, ASecurityBlockNamesSixReadableFiles) {
+  const std::string tree = fs::canonical(dir_).string();
+  for (const char* file : {"ca.pem", "permissions_ca.pem", "governance.p7s", "permissions.p7s", "me/cert.pem",
+                           "me/key.pem"}) {
+    write(std::string("sec/") + file, "not checked here: Fast DDS reads them");
+  }
+  const std::string block = R"(security:
+  identity_ca: ca.pem
+  certificate: me/cert.pem
+  private_key: me/key.pem
+  permissions_ca: permissions_ca.pem
+  governance: governance.p7s
+  permissions: permissions.p7s
+)";
+  const std::string scenario = write("sec/s.yaml", std::string("world: {}\n") + block + "vehicles:" + kInlineVehicle);
+  const LoadResult loaded = load_scenario_file(scenario);
+  for (const Diagnostic& d : loaded.errors) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(loaded.ok());
+  EXPECT_TRUE(loaded.model->security.enabled());
+  EXPECT_EQ(loaded.model->security.private_key, tree + "/sec/me/key.pem");  // absolute: Fast DDS takes file:// URIs
+  EXPECT_EQ(loaded.model->security.governance, tree + "/sec/governance.p7s");
+  // No block: security off.
+  EXPECT_FALSE(load_scenario_file(write("sec/plain.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle))
+                   .model->security.enabled());
+
+  // The same block as a file of its own.
+  const std::string own = write("sec/me.yaml", block);
+  EXPECT_EQ(load_security_file(own).certificate, tree + "/sec/me/cert.pem");
+
+  // Every key is required; a misspelt one is named; a file must be readable; a scenario's stay in its tree.
+  const std::string partial = write("sec/partial.yaml", "security:\n  identity_ca: ca.pem\n  certificat: me/cert.pem\n");
+  try {
+    load_security_file(partial);
+    ADD_FAILURE() << "an incomplete block was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(partial + ":3:3: error: security.certificat: unknown key 'certificat'; did you mean "
+                                  "'certificate'?"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find(partial + ":2:3: error: security: missing required key 'private_key'"), std::string::npos)
+        << what;
+  }
+  std::string missing = block;
+  missing.replace(missing.find("me/key.pem"), 10, "me/nokey.pem");
+  const std::string missing_file = write("sec/missing.yaml", missing);
+  EXPECT_THROW(
+      {
+        try {
+          load_security_file(missing_file);
+        } catch (const std::runtime_error& e) {
+          EXPECT_EQ(std::string(e.what()), missing_file + ":4:16: error: security.private_key: cannot read "
+                                                           "'me/nokey.pem' (No such file or directory)");
+          throw;
+        }
+      },
+      std::runtime_error);
+  std::string outside = block;
+  outside.replace(outside.find("me/key.pem"), 10, "/etc/passwd");
+  const std::string leaking =
+      write("sec/leak.yaml", std::string("world: {}\n") + outside + "vehicles:" + kInlineVehicle);
+  const auto leak_errors = errors_of(leaking);
+  ASSERT_EQ(leak_errors.size(), 1u);
+  EXPECT_EQ(leak_errors[0].rfind(leaking + ":5:16: error: security.private_key: '/etc/passwd' lies outside", 0), 0u)
+      << leak_errors[0];
 }
 
 }  // namespace

@@ -273,7 +273,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
 
 ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std::make_unique<Impl>(model)) {
   Impl& d = *impl_;
-  d.participant = create_participant(domain_id, "hadald");
+  d.participant = create_participant(domain_id, "hadald", nullptr, model.security);
   d.registry = std::make_unique<TopicRegistry>(d.participant);
   TopicRegistry& r = *d.registry;
 

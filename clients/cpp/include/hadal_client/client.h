@@ -289,6 +289,12 @@ struct ClientOptions {
   // the steps of a lockstep request too). 10 s: longer than one lockstep step ever takes (it may wait for
   // a large camera frame's rendering), short beside a training run's patience.
   double server_timeout_s = 10.0;
+  // DDS Security: a YAML file whose `security:` block names this client's certificate, key and the domain's
+  // signed documents (paths relative to the file), the form `hadald --security FILE` takes;
+  // tools/make-security-demo.sh writes one per identity (README, "DDS Security"). Empty: no security, and
+  // then no secure server is visible at all. A file that is wrong throws std::runtime_error from the
+  // constructor, `file:line:col: error: ...`; so do files Fast DDS refuses.
+  std::string security_file{};
 };
 
 // Errors of the client. Every one is a ClientError; the subclasses say what went wrong.

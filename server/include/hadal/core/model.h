@@ -7,6 +7,7 @@
 // converted on load.
 #pragma once
 
+#include "hadal/core/security_files.h"
 #include "hadal/core/units.h"
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/terrain.h"
@@ -377,6 +378,9 @@ struct Model {
   std::string scenario_file;
   WorldSpec world;
   std::vector<VehicleSpec> vehicles;
+  // DDS Security of hadald's participant: the scenario's `security:` block or hadald --security FILE
+  // (config/security_block.h); all empty: off.
+  SecurityFiles security;
 
   // Index of the vehicle with this name, or -1.
   int vehicle_index(const std::string& name) const;

@@ -15,6 +15,8 @@
 // while no interface but loopback is running (it would announce only 127.0.0.1) gets a warning on stderr.
 #pragma once
 
+#include "hadal/core/security_files.h"
+
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 
 #include <cstdint>
@@ -57,8 +59,22 @@ StaleSharedMemory clean_stale_shared_memory(const std::string& directory = "/dev
 // (e.g. a domain id out of range: valid ids are 0..232). `listener`, when given, is in place before the
 // participant is enabled, so no discovery callback is missed (set later, the participants already on the
 // domain can be discovered before it is).
+//
+// With `security` enabled, the participant uses Fast DDS's builtin DDS Security plugins: PKI-DH
+// authentication, Access-Permissions (the signed governance and permissions) and AES-GCM-GMAC
+// cryptography. It then talks only to participants whose certificates identity_ca signed and whose grants
+// permissions_ca signed; one without security discovers it but never matches an endpoint, so it receives
+// nothing and nothing it writes is read. Fast DDS refusing the files (a key not matching its certificate,
+// a document signed by another CA or not with `openssl smime -sign -text`, no grant for the certificate's
+// subject) is a std::runtime_error that names what to check; so is a participant that came out without
+// security (a plugin Fast DDS does not know gives one silently).
 eprosima::fastdds::dds::DomainParticipant* create_participant(
-    int domain_id, const std::string& name, eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr);
+    int domain_id, const std::string& name, eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
+    const SecurityFiles& security = {});
+
+// True when `participant` authenticates (DDS Security on): its GUID prefix then derives from its certificate
+// (first bit set) instead of the vendor id.
+bool is_secure(const eprosima::fastdds::dds::DomainParticipant* participant);
 
 // Deletes the participant and all entities it contains (so shared-memory segments are released).
 void delete_participant(eprosima::fastdds::dds::DomainParticipant* participant);

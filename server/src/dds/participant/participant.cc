@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -54,6 +55,25 @@ std::string ipv4_address(const std::string& peer) {
   return text;
 }
 bool is_loopback(const std::string& address) { return address.rfind("127.", 0) == 0; }
+
+// Fast DDS's builtin security plugins and their files (the property names of the DDS Security
+// specification's builtin plugins). A plugin name Fast DDS does not know would leave the participant
+// insecure without an error: create_participant checks the result (is_secure).
+void add_security_properties(const SecurityFiles& files, fdds::DomainParticipantQos* qos) {
+  auto& properties = qos->properties().properties();
+  const auto uri = [](const std::string& path) {  // file:///absolute/path
+    return "file://" + std::filesystem::absolute(path).lexically_normal().string();
+  };
+  properties.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", uri(files.identity_ca));
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", uri(files.certificate));
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", uri(files.private_key));
+  properties.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca", uri(files.permissions_ca));
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", uri(files.governance));
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions", uri(files.permissions));
+  properties.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+}
 }  // namespace
 
 bool non_loopback_interface_running() {
@@ -76,7 +96,7 @@ bool localhost_only_from_environment() {
 }
 
 fdds::DomainParticipant* create_participant(int domain_id, const std::string& name,
-                                            fdds::DomainParticipantListener* listener) {
+                                            fdds::DomainParticipantListener* listener, const SecurityFiles& security) {
   if (domain_id < 0 || domain_id > 232) {
     throw std::runtime_error("DDS domain id must be in 0..232 (got " + std::to_string(domain_id) + ")");
   }
@@ -130,14 +150,35 @@ fdds::DomainParticipant* create_participant(int domain_id, const std::string& na
                  name.c_str());
   }
   qos.transport().user_transports.push_back(udp);
+  if (security.enabled()) add_security_properties(security, &qos);
 
   fdds::DomainParticipant* participant =
       fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos, listener,
                                                                          fdds::StatusMask::none());
   if (participant == nullptr) {
+    if (security.enabled()) {
+      throw std::runtime_error(
+          "could not create a DDS participant on domain " + std::to_string(domain_id) +
+          " with DDS Security: Fast DDS refused the security files (see its message above). Check that " +
+          security.private_key + " belongs to " + security.certificate + ", that " + security.identity_ca +
+          " signed that certificate, that " + security.permissions_ca + " signed " + security.governance + " and " +
+          security.permissions + " (openssl smime -sign -text), and that the permissions grant the certificate's "
+          "subject (openssl x509 -noout -subject -nameopt RFC2253) on domain " + std::to_string(domain_id));
+    }
     throw std::runtime_error("could not create a DDS participant on domain " + std::to_string(domain_id));
   }
+  if (security.enabled() && !is_secure(participant)) {
+    delete_participant(participant);
+    throw std::runtime_error("DDS Security was asked for, but Fast DDS made participant '" + name +
+                             "' without it (a Fast DDS built without security?)");
+  }
   return participant;
+}
+
+bool is_secure(const fdds::DomainParticipant* participant) {
+  // PKI-DH replaces the GUID prefix by a hash of the certificate's subject, first bit set; otherwise the
+  // prefix starts with the vendor id (0x01 for eProsima).
+  return (participant->guid().guidPrefix.value[0] & 0x80) != 0;
 }
 
 std::vector<std::string> static_peers_from_environment() {
