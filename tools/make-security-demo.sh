@@ -35,22 +35,32 @@ if [[ -e "$dir" ]]; then
   exit 2
 fi
 for name in "${clients[@]}"; do
-  if [[ ! "$name" =~ ^[A-Za-z0-9_.-]+$ || "$name" == hadald || "$name" == ca ]]; then
-    echo "$0: error: client name '$name' must be letters, digits, _ . - and not hadald or ca" >&2
+  if [[ ! "$name" =~ ^[A-Za-z0-9_][A-Za-z0-9_.-]*$ || "$name" == hadald || "$name" == ca ]]; then
+    echo "$0: error: client name '$name' must be letters, digits, _ . - (not first) and not hadald or ca" >&2
     exit 2
   fi
 done
 command -v openssl > /dev/null || { echo "$0: error: openssl not found (apt-get install openssl)" >&2; exit 2; }
 
+mkdir -p "$dir"  # its parents as usual; what is inside for its owner only until the end
 umask 077
-mkdir -p "$dir/ca"
+mkdir "$dir/ca"
 cd "$dir"
 organization="Hadal demo"
+# Runs a command, showing its output only when it fails (openssl is chatty on success).
+quiet() {
+  local out
+  if ! out=$("$@" 2>&1); then
+    echo "$out" >&2
+    echo "$0: error: $1 failed" >&2
+    return 1
+  fi
+}
 # ECDSA P-256 with SHA-256: one of the signature algorithms Fast DDS's PKI-DH accepts.
-new_key() { openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:prime256v1 -out "$1" 2> /dev/null; }
+new_key() { quiet openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:prime256v1 -out "$1"; }
 new_ca() {  # KEY CERT COMMON_NAME
   new_key "$1"
-  openssl req -x509 -new -key "$1" -sha256 -days 3650 -subj "/O=$organization/CN=$3" \
+  quiet openssl req -x509 -new -key "$1" -sha256 -days 3650 -subj "/O=$organization/CN=$3" \
     -set_serial "0x$(openssl rand -hex 8)" -out "$2"
 }
 new_ca ca/identity_ca_key.pem identity_ca.pem "Hadal demo identity CA"
@@ -62,11 +72,12 @@ grants=""
 for name in hadald "${clients[@]}"; do
   mkdir -p "$name"
   new_key "$name/key.pem"
-  openssl req -new -key "$name/key.pem" -subj "/O=$organization/CN=$name" |
-    openssl x509 -req -CA identity_ca.pem -CAkey ca/identity_ca_key.pem -set_serial "0x$(openssl rand -hex 8)" \
-      -sha256 -days 3650 -out "$name/cert.pem" 2> /dev/null \
-      -extfile <(printf 'basicConstraints=critical,CA:FALSE\nkeyUsage=critical,digitalSignature,keyAgreement\n')
-  openssl verify -CAfile identity_ca.pem "$name/cert.pem" > /dev/null
+  quiet openssl req -new -key "$name/key.pem" -subj "/O=$organization/CN=$name" -out "$name/request.csr"
+  quiet openssl x509 -req -in "$name/request.csr" -CA identity_ca.pem -CAkey ca/identity_ca_key.pem \
+    -set_serial "0x$(openssl rand -hex 8)" -sha256 -days 3650 -out "$name/cert.pem" \
+    -extfile <(printf 'basicConstraints=critical,CA:FALSE\nkeyUsage=critical,digitalSignature,keyAgreement\n')
+  rm "$name/request.csr"
+  quiet openssl verify -CAfile identity_ca.pem "$name/cert.pem"
   # The grant names the subject as Fast DDS compares it: RFC 2253 order (the reverse of -subj).
   subject=$(openssl x509 -in "$name/cert.pem" -noout -subject -nameopt RFC2253 | sed 's/^subject=//')
   grants+="    <grant name=\"$name\">
@@ -132,9 +143,9 @@ EOF
 
 # S/MIME with -text: Fast DDS verifies with PKCS7_TEXT and refuses a document signed without it.
 for document in governance permissions; do
-  openssl smime -sign -text -in "$document.xml" -signer permissions_ca.pem -inkey ca/permissions_ca_key.pem \
+  quiet openssl smime -sign -text -in "$document.xml" -signer permissions_ca.pem -inkey ca/permissions_ca_key.pem \
     -out "$document.p7s"
-  openssl smime -verify -text -in "$document.p7s" -CAfile permissions_ca.pem -out /dev/null 2> /dev/null
+  quiet openssl smime -verify -text -in "$document.p7s" -CAfile permissions_ca.pem -out /dev/null
 done
 # The certificates and documents are public; the keys stay private.
 chmod 644 identity_ca.pem permissions_ca.pem ./*.xml ./*.p7s ./*.yaml ./*/cert.pem

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Hadal dependency from Debian 12 packages (idempotent: only missing packages are
 # installed; apt-get as root, sudo otherwise) and builds everything into build/ (hadald lands in
-# build/bin/hadald). Extra arguments are passed to CMake's configure step.
+# build/bin/hadald). Extra arguments are passed to CMake's configure step; with -DHADAL_BUILD_TESTS=OFF among
+# them (the container images) the packages only the tests use are left out.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -9,13 +10,22 @@ PACKAGES=(
   build-essential cmake pkg-config
   libeigen3-dev libyaml-cpp-dev libsqlite3-dev libbullet-dev
   libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev
-  clang libclang-rt-14-dev
-  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
-  cyclonedds-dev cyclonedds-tools
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev openssl
   libcivetweb-dev libjs-three
-  libgtest-dev libgmock-dev chromium python3-websocket iproute2 nftables openssl
-  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-yaml python3-matplotlib
+  python3 python3-dev pybind11-dev python3-numpy python3-yaml python3-matplotlib
 )
+# Used by the tests alone: fuzzing (clang), Cyclone DDS interop, GoogleTest, the browser test, the network
+# namespace test, pytest.
+TEST_PACKAGES=(
+  clang libclang-rt-14-dev
+  cyclonedds-dev cyclonedds-tools
+  libgtest-dev libgmock-dev chromium python3-websocket iproute2 nftables python3-pytest
+)
+tests=1
+for arg in "$@"; do
+  [[ "$arg" == "-DHADAL_BUILD_TESTS=OFF" ]] && tests=0
+done
+((tests)) && PACKAGES+=("${TEST_PACKAGES[@]}")
 
 missing=()
 for package in "${PACKAGES[@]}"; do

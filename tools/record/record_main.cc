@@ -2,6 +2,7 @@
 // info` and `ros2 bag play` read, without ROS 2 installed (docs/ARCHITECTURE.md, "Recording").
 //
 //   hadal-record BAG_DIR [--domain-id N] [--topics T,...] [--use-sim-time] [--duration S] [--wait S]
+//                [--security FILE]
 //
 // Records every topic the hadald on the domain writes but /hadal/monitor, which carries the other topics'
 // samples again (--topics: only these, by ROS 2 name as /auv/odometry, the monitor too if named), each
@@ -9,10 +10,12 @@
 // clock, as `ros2 bag record`), or with --use-sim-time the sim time of the latest /clock sample (as `ros2
 // bag record --use-sim-time`). The bag is flushed once per wall second, so a killed recorder loses at
 // most the last second; SIGINT/SIGTERM or --duration (wall seconds) close it. Exit status 0, 1 when no
-// hadald was found within --wait seconds (default 20) or writing failed, 2 on a usage error.
+// hadald was found within --wait seconds (default 20) or writing failed, 2 on a usage error. --security: DDS
+// Security with the `security:` block of FILE (README, "DDS Security"), to record a secure hadald.
 #include "hadal/record/bag_recorder.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "parse_number.h"
+#include "security_option.h"
 
 #include <atomic>
 #include <chrono>
@@ -29,7 +32,8 @@ std::atomic<bool> g_stop{false};
 extern "C" void handle_stop_signal(int) { g_stop.store(true); }
 
 const char* const kUsage =
-    "usage: hadal-record BAG_DIR [--domain-id N] [--topics T,...] [--use-sim-time] [--duration S] [--wait S]\n";
+    "usage: hadal-record BAG_DIR [--domain-id N] [--topics T,...] [--use-sim-time] [--duration S] [--wait S]\n"
+    "                    [--security FILE]\n";
 
 [[noreturn]] void usage_error(const std::string& message) {
   std::fprintf(stderr, "hadal-record: error: %s\n%s", message.c_str(), kUsage);
@@ -61,6 +65,10 @@ int main(int argc, char** argv) {
     if (arg == "-h" || arg == "--help") {
       std::fputs(kUsage, stdout);
       return 0;
+    } else if (arg == "--security") {
+      if (const std::string error = hadal::tools::read_security_option(next(), &options.security); !error.empty()) {
+        usage_error(error);
+      }
     } else if (arg == "--domain-id") {
       if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
       domain_given = true;
@@ -114,6 +122,10 @@ int main(int argc, char** argv) {
   const std::string error = recorder.stop();
   std::fprintf(stderr, "hadal-record: %llu message(s) on %zu topic(s) in %s\n",
                static_cast<unsigned long long>(recorder.message_count()), recorder.topic_count(), directory.c_str());
+  if (const std::string lost = recorder.lost_samples_text(); !lost.empty()) {
+    std::fprintf(stderr, "hadal-record: warning: samples lost (the recorder fell behind the writers): %s\n",
+                 lost.c_str());
+  }
   if (!error.empty()) {
     std::fprintf(stderr, "hadal-record: error: %s\n", error.c_str());
     return 1;

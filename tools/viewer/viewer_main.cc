@@ -3,13 +3,15 @@
 //
 //   hadal-viewer [--domain-id N] [--port 8080] [--bind 127.0.0.1] [--token T] [--bag DIR]
 //                [--rate-hz 20] [--image-rate-hz 5] [--nice 10] [--web-root DIR] [--three-root DIR]
+//                [--security FILE]
 //
 // A separate process: it subscribes to the hadald on the domain over DDS like any client (nothing in the
 // server knows of it) or reads the bag, keeps what the page shows (viewer_state.h) and pushes it over a
 // WebSocket at --rate-hz, camera frames at --image-rate-hz per camera (JPEG). With no page open, a live
 // viewer reads only the scene and waits: the server writes nothing more to it (LiveSource). Listens on
 // loopback by default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
-// read the bag, 2 on a usage error.
+// read the bag, 2 on a usage error. --security: DDS Security with the `security:` block of FILE (README, "DDS
+// Security"), to watch a secure hadald.
 #include "hadal/core/data_dir.h"
 #include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_reader.h"
@@ -17,6 +19,7 @@
 #include "hadal/record/topic_tap.h"
 #include "json_number.h"
 #include "parse_number.h"
+#include "security_option.h"
 #include "viewer_state.h"
 #include "web_server.h"
 
@@ -49,7 +52,8 @@ extern "C" void handle_stop_signal(int) { g_stop.store(true); }
 
 const char* const kUsage =
     "usage: hadal-viewer [--domain-id N] [--port 8080] [--bind 127.0.0.1] [--token T] [--bag DIR]\n"
-    "                    [--rate-hz 20] [--image-rate-hz 5] [--nice 10] [--web-root DIR] [--three-root DIR]\n";
+    "                    [--rate-hz 20] [--image-rate-hz 5] [--nice 10] [--web-root DIR] [--three-root DIR]\n"
+    "                    [--security FILE]\n";
 
 [[noreturn]] void usage_error(const std::string& message) {
   std::fprintf(stderr, "hadal-viewer: error: %s\n%s", message.c_str(), kUsage);
@@ -84,7 +88,8 @@ class LiveSource {
  public:
   static constexpr std::chrono::seconds kPageLinger{10};
 
-  LiveSource(int domain, hadal::viewer::ViewerState& state) : domain_(domain), state_(state) {
+  LiveSource(int domain, hadal::SecurityFiles security, hadal::viewer::ViewerState& state)
+      : domain_(domain), security_(std::move(security)), state_(state) {
     thread_ = std::thread([this] { run(); });
   }
   // How many pages are open (the push loop tells, each tick and when one connects).
@@ -126,7 +131,7 @@ class LiveSource {
   }
 
   void read() {
-    hadal::record::TopicTap tap(domain_, "hadal_viewer");
+    hadal::record::TopicTap tap(domain_, "hadal_viewer", {}, security_);
     while (!stopping() && !tap.discover(1.0)) {
     }
     if (stopping()) return;
@@ -156,7 +161,8 @@ class LiveSource {
       const bool want = pages_ > 0;
       lock.unlock();
       if (want && !page_tap) {
-        page_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_page");
+        page_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_page",
+                                                             std::set<std::string>{}, security_);
         if (page_tap->discover(5.0, 0.2)) {
           last_sample_s_ = now_s();  // found again: give the monitor its 3 s
           reading_pages_ = true;
@@ -202,6 +208,7 @@ class LiveSource {
   }
 
   int domain_;
+  hadal::SecurityFiles security_;
   hadal::viewer::ViewerState& state_;
   std::map<std::string, std::pair<std::string, std::string>> names_;  // DDS topic -> ROS topic, type
   std::mutex mutex_;
@@ -353,6 +360,7 @@ int main(int argc, char** argv) {
   int domain = 0;
   bool domain_given = false;
   std::string bag;
+  hadal::SecurityFiles security;
   double rate_hz = 20.0, image_rate_hz = 5.0;
   int nice = 10;
   for (int i = 1; i < argc; ++i) {
@@ -370,6 +378,10 @@ int main(int argc, char** argv) {
     if (arg == "-h" || arg == "--help") {
       std::fputs(kUsage, stdout);
       return 0;
+    } else if (arg == "--security") {
+      if (const std::string error = hadal::tools::read_security_option(next(), &security); !error.empty()) {
+        usage_error(error);
+      }
     } else if (arg == "--domain-id") {
       if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
       domain_given = true;
@@ -460,7 +472,7 @@ int main(int argc, char** argv) {
               player ? ("bag " + bag).c_str() : ("live: DDS domain " + std::to_string(domain)).c_str(),
               web.web_root.c_str());
   std::fflush(stdout);
-  if (!player) live = std::make_unique<LiveSource>(domain, state);  // prints its own line once it found hadald
+  if (!player) live = std::make_unique<LiveSource>(domain, security, state);  // prints its own line once it found hadald
 
   // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected. With
   // no page open it does nothing but wait for one (looking at the stop flag 4 times a second).

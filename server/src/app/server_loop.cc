@@ -96,6 +96,9 @@ class Runner {
       const std::string error = recorder_->stop();
       std::fprintf(stderr, "hadald: recorded %llu message(s) into %s\n",
                    static_cast<unsigned long long>(recorder_->message_count()), options_.record_dir.c_str());
+      if (const std::string lost = recorder_->lost_samples_text(); !lost.empty()) {
+        std::fprintf(stderr, "hadald: warning: --record: samples lost (the recorder fell behind): %s\n", lost.c_str());
+      }
       if (!error.empty()) std::fprintf(stderr, "hadald: error: --record: %s\n", error.c_str());
     }
     return result;
@@ -110,6 +113,7 @@ class Runner {
     options.directory = options_.record_dir;
     options.use_sim_time = true;
     options.participant_name = "hadald_record";
+    options.security = model_.security;  // a secure hadald's writers match secure readers only
     recorder_ = std::make_unique<record::BagRecorder>(options);
     if (const std::string error = recorder_->start(); !error.empty()) {
       recorder_.reset();

@@ -3,7 +3,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <stdexcept>
 #include <utility>
 
@@ -40,7 +39,7 @@ std::optional<SecurityFiles> read_security_block(const Value& block) {
       ok = false;
       continue;
     }
-    files.*member = std::filesystem::absolute(path).lexically_normal().string();
+    files.*member = path;
   }
   if (!ok) return std::nullopt;
   return files;

@@ -47,12 +47,21 @@ struct BagRecorder::Impl {
   bool stopping = false;
   bool stopped = false;
   std::uint64_t final_count = 0;
+  std::map<std::string, std::int64_t> last_sequence;  // DDS topic -> the writer's sequence number last read
+  std::map<std::string, std::uint64_t> lost;          // DDS topic -> samples skipped (gaps in the sequence)
 
   void on_sample(const TappedSample& sample) {
     std::lock_guard<std::mutex> lock(mutex);
     if (sample.topic == "rt/clock") clock_sample_ns(sample.bytes, &sim_ns);
     const auto id = topic_ids.find(sample.topic);
     if (id == topic_ids.end() || !bag) return;
+    // A writer keeps its last few samples only: one the recorder had not read before the writer dropped it
+    // is missing from the bag, which must be said rather than left for the reader of the bag to find.
+    auto [last, first] = last_sequence.try_emplace(sample.topic, sample.sequence);
+    if (!first && sample.sequence > last->second + 1) {
+      lost[sample.topic] += static_cast<std::uint64_t>(sample.sequence - last->second - 1);
+    }
+    last->second = sample.sequence;
     const std::int64_t stamp = options.use_sim_time
                                    ? sim_ns
                                    : std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -83,7 +92,12 @@ std::string BagRecorder::start() {
   Impl& d = *impl_;
   // Before the search for a hadald, which may take wait_s.
   if (std::string error = Rosbag2Writer::existing_directory_error(d.options.directory); !error.empty()) return error;
-  d.tap = std::make_unique<TopicTap>(d.options.domain_id, d.options.participant_name);
+  try {
+    d.tap = std::make_unique<TopicTap>(d.options.domain_id, d.options.participant_name, std::set<std::string>{},
+                                       d.options.security);
+  } catch (const std::runtime_error& e) {  // a participant that cannot be made (security files Fast DDS refuses)
+    return e.what();
+  }
   if (!d.tap->discover(d.options.wait_s, 0.5)) {
     char seconds[32];
     std::snprintf(seconds, sizeof(seconds), "%g", d.options.wait_s);
@@ -122,6 +136,19 @@ std::string BagRecorder::start() {
   }
   d.flusher = std::thread([&d] { d.flush_every_second(); });
   return "";
+}
+
+std::map<std::string, std::uint64_t> BagRecorder::lost_samples() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->lost;
+}
+
+std::string BagRecorder::lost_samples_text() const {
+  std::string text;
+  for (const auto& [topic, count] : lost_samples()) {
+    text += (text.empty() ? "" : ", ") + std::to_string(count) + " of " + topic;
+  }
+  return text;
 }
 
 std::size_t BagRecorder::topic_count() const {

@@ -115,11 +115,12 @@ struct TopicTap::Impl : public fdds::DomainParticipantListener {
   }
 };
 
-TopicTap::TopicTap(int domain_id, const std::string& participant_name, std::set<std::string> excluded)
+TopicTap::TopicTap(int domain_id, const std::string& participant_name, std::set<std::string> excluded,
+                   const SecurityFiles& security)
     : impl_(std::make_unique<Impl>()) {
   impl_->excluded = std::move(excluded);
   // The listener from the start: hadald may be discovered as the participant is enabled.
-  impl_->participant = dds::create_participant(domain_id, participant_name, impl_.get());
+  impl_->participant = dds::create_participant(domain_id, participant_name, impl_.get(), security);
 }
 
 TopicTap::~TopicTap() {

@@ -23,7 +23,8 @@
 namespace hadal::config {
 
 // Reads a `security:` block's value; reports every problem at its node and returns nullopt then. The paths
-// returned are absolute (Fast DDS takes file:// URIs).
+// returned are joined to the directory of the file holding the block (dds::create_participant makes them
+// absolute for Fast DDS's file:// URIs).
 std::optional<SecurityFiles> read_security_block(const Value& block);
 
 // Reads a file whose only top-level key is `security` (paths relative to the file's directory, anywhere:

@@ -67,7 +67,7 @@ StaleSharedMemory clean_stale_shared_memory(const std::string& directory = "/dev
 // nothing and nothing it writes is read. Fast DDS refusing the files (a key not matching its certificate,
 // a document signed by another CA or not with `openssl smime -sign -text`, no grant for the certificate's
 // subject) is a std::runtime_error that names what to check; so is a participant that came out without
-// security (a plugin Fast DDS does not know gives one silently).
+// authentication (an authentication plugin name Fast DDS does not know gives one silently).
 eprosima::fastdds::dds::DomainParticipant* create_participant(
     int domain_id, const std::string& name, eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
     const SecurityFiles& security = {});

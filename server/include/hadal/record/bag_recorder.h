@@ -2,7 +2,10 @@
 // on a thread of its own (docs/ARCHITECTURE.md, "Recording"). Used by hadal-record and hadald --record.
 #pragma once
 
+#include "hadal/core/security_files.h"
+
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -16,6 +19,7 @@ struct BagRecorderOptions {
   bool use_sim_time = false;  // bag time = sim time of the latest /clock sample; else receive time
   double wait_s = 20.0;       // how long to look for the hadald and to match its writers
   std::string participant_name = "hadal_record";
+  SecurityFiles security;     // DDS Security of its participant (a secure hadald's domain); empty: off
 };
 
 class BagRecorder {
@@ -33,6 +37,11 @@ class BagRecorder {
   // Idempotent.
   std::string stop();
   std::uint64_t message_count() const;
+  // DDS topic -> samples the recorder never got (gaps in the writer's sequence numbers: a writer keeps its last
+  // few samples only, and a recorder that falls behind loses the older). Empty when the bag is complete.
+  std::map<std::string, std::uint64_t> lost_samples() const;
+  // The same as "12 of rt/clock, 3 of rt/auv/imu"; "" when nothing was lost.
+  std::string lost_samples_text() const;
 
  private:
   struct Impl;

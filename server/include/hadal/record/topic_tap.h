@@ -5,6 +5,8 @@
 // hadald --record) and the regression digests (hadal-record-topics).
 #pragma once
 
+#include "hadal/core/security_files.h"
+
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -30,8 +32,10 @@ struct TappedSample {
 
 class TopicTap {
  public:
-  // Joins `domain_id` as a participant named `participant_name`. Topics in `excluded` are never read.
-  TopicTap(int domain_id, const std::string& participant_name, std::set<std::string> excluded = {});
+  // Joins `domain_id` as a participant named `participant_name`, with DDS Security when `security` names files
+  // (dds::create_participant). Topics in `excluded` are never read.
+  TopicTap(int domain_id, const std::string& participant_name, std::set<std::string> excluded = {},
+           const SecurityFiles& security = {});
   ~TopicTap();
   TopicTap(const TopicTap&) = delete;
   TopicTap& operator=(const TopicTap&) = delete;

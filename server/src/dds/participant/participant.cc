@@ -57,8 +57,8 @@ std::string ipv4_address(const std::string& peer) {
 bool is_loopback(const std::string& address) { return address.rfind("127.", 0) == 0; }
 
 // Fast DDS's builtin security plugins and their files (the property names of the DDS Security
-// specification's builtin plugins). A plugin name Fast DDS does not know would leave the participant
-// insecure without an error: create_participant checks the result (is_secure).
+// specification's builtin plugins). An authentication plugin name Fast DDS does not know would leave the
+// participant unauthenticated without an error: create_participant checks the result (is_secure).
 void add_security_properties(const SecurityFiles& files, fdds::DomainParticipantQos* qos) {
   auto& properties = qos->properties().properties();
   const auto uri = [](const std::string& path) {  // file:///absolute/path
