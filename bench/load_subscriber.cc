@@ -24,11 +24,8 @@
 namespace {
 
 struct TopicCount {
-  std::uint64_t samples = 0;
+  hadal::record::SequenceGaps sequence;  // first 1: nothing missed before matching; lost: skipped after the first
   std::uint64_t bytes = 0;
-  std::int64_t first = 0;  // the first writer sequence number read (1: nothing missed before matching)
-  std::int64_t last = 0;
-  std::uint64_t lost = 0;  // sequence numbers skipped after the first
 };
 
 int usage() {
@@ -64,13 +61,7 @@ int main(int argc, char** argv) {
       [&](const hadal::record::TappedSample& sample) {
         std::lock_guard<std::mutex> lock(mutex);
         TopicCount& c = counts[sample.topic];
-        if (c.samples == 0) {
-          c.first = sample.sequence;
-        } else if (sample.sequence > c.last + 1) {
-          c.lost += static_cast<std::uint64_t>(sample.sequence - c.last - 1);
-        }
-        c.last = sample.sequence;
-        ++c.samples;
+        c.sequence.add(sample.sequence);
         c.bytes += sample.bytes.size();
       },
       120.0);
@@ -87,7 +78,7 @@ int main(int argc, char** argv) {
     bool any = false;
     {
       std::lock_guard<std::mutex> lock(mutex);
-      for (const auto& [topic, c] : counts) any |= c.samples > 0;
+      for (const auto& [topic, c] : counts) any |= c.sequence.samples > 0;
     }
     if (any && tap.seconds_quiet() > quiet_s) break;
   }
@@ -97,9 +88,9 @@ int main(int argc, char** argv) {
   bool first = true;
   for (const auto& [topic, c] : counts) {
     std::printf("%s\"%s\": {\"samples\": %llu, \"bytes\": %llu, \"first\": %lld, \"last\": %lld, \"lost\": %llu}",
-                first ? "" : ", ", topic.c_str(), static_cast<unsigned long long>(c.samples),
-                static_cast<unsigned long long>(c.bytes), static_cast<long long>(c.first),
-                static_cast<long long>(c.last), static_cast<unsigned long long>(c.lost));
+                first ? "" : ", ", topic.c_str(), static_cast<unsigned long long>(c.sequence.samples),
+                static_cast<unsigned long long>(c.bytes), static_cast<long long>(c.sequence.first),
+                static_cast<long long>(c.sequence.last), static_cast<unsigned long long>(c.sequence.lost));
     first = false;
   }
   std::printf("}}\n");

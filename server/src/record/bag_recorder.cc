@@ -47,8 +47,7 @@ struct BagRecorder::Impl {
   bool stopping = false;
   bool stopped = false;
   std::uint64_t final_count = 0;
-  std::map<std::string, std::int64_t> last_sequence;  // DDS topic -> the writer's sequence number last read
-  std::map<std::string, std::uint64_t> lost;          // DDS topic -> samples skipped (gaps in the sequence)
+  std::map<std::string, SequenceGaps> sequences;  // DDS topic -> what was read of its writer
 
   void on_sample(const TappedSample& sample) {
     std::lock_guard<std::mutex> lock(mutex);
@@ -57,11 +56,7 @@ struct BagRecorder::Impl {
     if (id == topic_ids.end() || !bag) return;
     // A writer keeps its last few samples only: one the recorder had not read before the writer dropped it
     // is missing from the bag, which must be said rather than left for the reader of the bag to find.
-    auto [last, first] = last_sequence.try_emplace(sample.topic, sample.sequence);
-    if (!first && sample.sequence > last->second + 1) {
-      lost[sample.topic] += static_cast<std::uint64_t>(sample.sequence - last->second - 1);
-    }
-    last->second = sample.sequence;
+    sequences[sample.topic].add(sample.sequence);
     const std::int64_t stamp = options.use_sim_time
                                    ? sim_ns
                                    : std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -140,7 +135,11 @@ std::string BagRecorder::start() {
 
 std::map<std::string, std::uint64_t> BagRecorder::lost_samples() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->lost;
+  std::map<std::string, std::uint64_t> lost;
+  for (const auto& [topic, gaps] : impl_->sequences) {
+    if (gaps.lost > 0) lost[topic] = gaps.lost;
+  }
+  return lost;
 }
 
 std::string BagRecorder::lost_samples_text() const {

@@ -30,6 +30,27 @@ struct TappedSample {
   std::int64_t sequence;                    // the writer's sequence number (1, 2, ... per topic)
 };
 
+// What one reader got of one writer's samples, from their sequence numbers (1, 2, ... per writer): samples
+// read, the first and last number, and the numbers skipped after the first (samples the writer dropped from its
+// KEEP_LAST history before this reader had them: lost). A first number above 1 is not a loss: those samples
+// were written before the reader matched.
+struct SequenceGaps {
+  std::uint64_t samples = 0;
+  std::int64_t first = 0;
+  std::int64_t last = 0;
+  std::uint64_t lost = 0;
+
+  void add(std::int64_t sequence) {
+    if (samples == 0) {
+      first = sequence;
+    } else if (sequence > last + 1) {
+      lost += static_cast<std::uint64_t>(sequence - last - 1);
+    }
+    last = sequence;
+    ++samples;
+  }
+};
+
 class TopicTap {
  public:
   // Joins `domain_id` as a participant named `participant_name`, with DDS Security when `security` names files
