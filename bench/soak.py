@@ -53,7 +53,7 @@ def plot(samples, path, title):
     rss_axis.axvline(1.0, color="grey", linestyle=":", label="end of the first simulated hour")
     rss_axis.legend(loc="lower right")
     rss_axis.grid(alpha=0.3)
-    rss_axis.set_ylim(bottom=0)
+    rss_axis.set_ylim(0, 1.25 * max(s["rss_mib"] for s in samples))
     rtf_axis.plot(hours, [s["rtf"] for s in samples], color="tab:orange", linewidth=0.6)
     rtf_axis.set_ylabel("real-time factor (per wall second)")
     rtf_axis.set_xlabel("simulated time [h]")
