@@ -133,19 +133,11 @@ std::string BagRecorder::start() {
   return "";
 }
 
-std::map<std::string, std::uint64_t> BagRecorder::lost_samples() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  std::map<std::string, std::uint64_t> lost;
-  for (const auto& [topic, gaps] : impl_->sequences) {
-    if (gaps.lost > 0) lost[topic] = gaps.lost;
-  }
-  return lost;
-}
-
 std::string BagRecorder::lost_samples_text() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
   std::string text;
-  for (const auto& [topic, count] : lost_samples()) {
-    text += (text.empty() ? "" : ", ") + std::to_string(count) + " of " + topic;
+  for (const auto& [topic, gaps] : impl_->sequences) {
+    if (gaps.lost > 0) text += (text.empty() ? "" : ", ") + std::to_string(gaps.lost) + " of " + topic;
   }
   return text;
 }

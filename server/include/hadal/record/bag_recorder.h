@@ -5,7 +5,6 @@
 #include "hadal/core/security_files.h"
 
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -37,10 +36,9 @@ class BagRecorder {
   // Idempotent.
   std::string stop();
   std::uint64_t message_count() const;
-  // DDS topic -> samples the recorder never got (gaps in the writer's sequence numbers: a writer keeps its last
-  // few samples only, and a recorder that falls behind loses the older). Empty when the bag is complete.
-  std::map<std::string, std::uint64_t> lost_samples() const;
-  // The same as "12 of rt/clock, 3 of rt/auv/imu"; "" when nothing was lost.
+  // The samples the recorder never got, per DDS topic, as "12 of rt/clock, 3 of rt/auv/imu" (gaps in the
+  // writers' sequence numbers: a writer keeps its last few samples only, and a recorder that falls behind loses
+  // the older); "" when the bag is complete.
   std::string lost_samples_text() const;
 
  private:
