@@ -53,4 +53,19 @@ double sound_speed_unesco(double s, double t, double sea_pressure_dbar) {
   return cw + s * (a + std::sqrt(s) * b + s * d);
 }
 
+double absorption_francois_garrison_db_per_km(double frequency_hz, double t, double s, double d, double ph) {
+  const double f = frequency_hz / 1000.0;  // [kHz]
+  const double f2 = f * f;
+  const double c = 1412.0 + 3.21 * t + 1.19 * s + 0.0167 * d;
+  const double a1 = 8.86 / c * std::pow(10.0, 0.78 * ph - 5.0);
+  const double f1 = 2.8 * std::sqrt(s / 35.0) * std::pow(10.0, 4.0 - 1245.0 / (t + 273.0));
+  const double a2 = 21.44 * s / c * (1.0 + 0.025 * t);
+  const double p2 = 1.0 - 1.37e-4 * d + 6.2e-9 * d * d;
+  const double f_mg = 8.17 * std::pow(10.0, 8.0 - 1990.0 / (t + 273.0)) / (1.0 + 0.0018 * (s - 35.0));
+  const double p3 = 1.0 - 3.83e-5 * d + 4.9e-10 * d * d;
+  const double a3 = t <= 20.0 ? 4.937e-4 - 2.59e-5 * t + 9.11e-7 * t * t - 1.50e-8 * t * t * t
+                              : 3.964e-4 - 1.146e-5 * t + 1.45e-7 * t * t - 6.5e-10 * t * t * t;
+  return a1 * f1 * f2 / (f1 * f1 + f2) + a2 * p2 * f_mg * f2 / (f_mg * f_mg + f2) + a3 * p3 * f2;
+}
+
 }  // namespace hadal::physics

@@ -1,0 +1,144 @@
+// One ping of a sonar by ray casting (docs/ARCHITECTURE.md, "Sonars"): the acoustic counterpart of
+// render/frame.h, shared by the forward-looking, multibeam and side-scan sonar kinds.
+//
+// Geometry. A sonar has beams fixed in its frame S; beam k has a unit axis a_k, a unit direction u_k
+// across it (the fan's direction for a fan of beams) and v_k = a_k x u_k. Its rays leave S's origin in
+//   d_S(a, e) = cos e (cos a a_k + sin a u_k) + sin e v_k,
+// a the offset along u and e along v [rad], on a stratified grid over the beam's -3 dB widths
+// |a| <= w_u / 2, |e| <= w_v / 2 (rays_u x rays_v cells, one ray per cell at a seeded position within it,
+// or at its centre without jitter); a ray stands for the solid angle dOmega = cos e da de of its cell.
+// Beam pattern: the two-way (transmit x receive) intensity pattern's main lobe as a Gaussian,
+//   W(a, e) = 2^-((2 a / w_u)^2 + (2 e / w_v)^2)      (-3 dB at the half widths)
+// Side lobes are not modelled; neither are multiple reflections or refraction (straight rays).
+//
+// Echo of one ray (the sonar equation per scattering patch), hitting a surface at range r with incidence
+// angle theta (between the ray and the surface normal):
+//   Lambert's law        sigma(theta) = mu cos^2 theta      (backscattering per unit area and steradian;
+//                                                            mu, linear, from the hit's material)
+//   patch area           dA = r^2 dOmega / cos theta
+//   transmission loss    TL(r) = N log10 r + alpha r  [dB] one way (N = 20: spherical spreading; alpha the
+//                        absorption at the sonar's frequency, physics/seawater.h)
+//   echo intensity       I = SL W mu cos theta dOmega r^2 10^(-2 TL(r) / 10)   [uPa^2 at the receiver]
+// with SL = 10^(source_level_db / 10) [uPa^2 at 1 m]. Summed over a point-like target's surface this is its
+// target strength times 10^(-2 TL / 10): a sphere of radius rho returns SL mu (2 pi rho^2 / 3) 10^(-2 TL(R)/10).
+// A ray's first hit is its only echo, so what lies behind a surface stays dark: acoustic shadows.
+// Echoes are summed per (beam, range bin); the loss is interpolated linearly in range between bin edges
+// (relative error below (bin / r)^2).
+//
+// Receiver: each bin's echo as a complex amplitude sqrt(I) s plus noise n: s is Rayleigh speckle (complex
+// Gaussian, unit mean power; 1 without speckle), n complex Gaussian of mean power 10^(noise_level_db / 10)
+// (0 without receiver noise); the received intensity |sqrt(I) s + n|^2 is then multiplied by the time-varied
+// gain TVG(r) = 10^((N_tvg log10 r + 2 alpha r) / 10) at the bin's centre (the 2 alpha r term only with
+// tvg_absorption). With speckle, |.|^2 is exponential with mean I + noise. Streams: keyed by the sonar's
+// key, the ping and the beam, so a ping is bit-identical on any number of threads.
+//
+// Bottom detection (multibeam), on the beam's profile smoothed over kDetectionSmoothingBins bins (which
+// fills speckle's dips and bins between rays): its peak must exceed the TVG-scaled noise by min_snr_db; the
+// bins around it down to window_db below the peak are its echo. Amplitude detection: the echo's intensity-weighted
+// mean range. Phase detection (a split-aperture sonar's zero crossing): where the echo-weighted mean
+// offset a of each bin's rays crosses 0, i.e. where the seabed crosses the beam's axis, interpolated
+// between bin centres; used when the echo spans at least kPhaseMinBins bins (oblique beams, whose long
+// footprints blur the amplitude centroid). The phase is noise-free here (its noise is not modelled).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "hadal/core/parallel_for.h"
+
+namespace hadal::geometry {
+class EmbreeScene;
+struct RayHits;
+}  // namespace hadal::geometry
+
+namespace hadal::render {
+
+struct SonarBeam {
+  Eigen::Vector3d axis_S = Eigen::Vector3d::UnitX();  // unit
+  Eigen::Vector3d u_S = Eigen::Vector3d::UnitY();     // unit, perpendicular to axis_S
+  double width_u_rad = 0.0175;                        // -3 dB full width along u
+  double width_v_rad = 0.35;                          // -3 dB full width along v
+
+  Eigen::Vector3d v_S() const { return axis_S.cross(u_S); }
+  // d_S(a, e) above, unit.
+  Eigen::Vector3d direction_S(double a, double e) const;
+  // W(a, e) above.
+  double pattern(double a, double e) const;
+};
+
+struct SonarPingSpec {
+  std::vector<SonarBeam> beams;
+  double min_range_m = 0.5;  // the receive window [m]
+  double max_range_m = 50.0;
+  int bins = 512;            // range bins of equal size over the window
+  int rays_u = 2;            // rays per beam along u
+  int rays_v = 256;          // and along v
+  bool jitter = true;        // seeded positions within the ray cells (else their centres)
+  double source_level_db = 210.0;           // SL [dB re 1 uPa at 1 m]
+  double noise_level_db = 80.0;             // receiver noise per bin [dB re 1 uPa]
+  bool receiver_noise = true;
+  bool speckle = true;
+  double spreading_db_per_decade = 20.0;     // N in TL(r)
+  double tvg_spreading_db_per_decade = 30.0;  // N_tvg in TVG(r)
+  bool tvg_absorption = true;
+
+  double bin_size_m() const { return (max_range_m - min_range_m) / bins; }
+  double bin_centre_m(int bin) const { return min_range_m + (bin + 0.5) * bin_size_m(); }
+  // The bin of range r, or -1 outside [min_range_m, max_range_m).
+  int bin_of(double r) const;
+  // Throws std::invalid_argument naming the first unusable value.
+  void validate() const;
+};
+
+// The water at the sonar for one ping.
+struct SonarWater {
+  double sound_speed_m_per_s = 1500.0;
+  double absorption_db_per_m = 0.0;  // alpha at the sonar's frequency
+};
+
+// TL(r) [dB] and TVG(r) [dB] above.
+double transmission_loss_db(const SonarPingSpec& spec, const SonarWater& water, double r);
+double tvg_db(const SonarPingSpec& spec, const SonarWater& water, double r);
+
+// mu (linear, Lambert's law above) of each of the first `count` rays of `hits` that hit something.
+using BackscatterOfHits = std::function<void(const geometry::RayHits& hits, std::size_t count, float* mu)>;
+
+// One beam's echo: per bin, the received intensity after TVG [uPa^2] and the echo-weighted mean offset a
+// of the rays that returned in it [rad] (NaN where none did).
+struct BeamEcho {
+  int beam = 0;
+  int bins = 0;
+  const float* intensity = nullptr;
+  const float* mean_offset_u_rad = nullptr;
+};
+
+// Called once per beam, possibly on several threads at once (for different beams).
+using BeamEchoSink = std::function<void(const BeamEcho& echo)>;
+
+// Casts one ping from S at X_WS into `scene` (posed at the ping's snapshot; own_body's hull transparent,
+// geometry::kNoHit for none) and hands each beam's echo to `sink`. noise_key and ping_index key the
+// jitter, speckle and noise streams. Throws std::invalid_argument for an invalid spec.
+void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const Eigen::Isometry3d& X_WS,
+          std::int32_t own_body, const SonarWater& water, const BackscatterOfHits& backscatter,
+          std::uint64_t noise_key, std::uint64_t ping_index, const ParallelFor& parallel, const BeamEchoSink& sink);
+
+struct BottomDetection {
+  bool valid = false;
+  double range_m = std::numeric_limits<double>::quiet_NaN();
+  double intensity = 0.0;  // the peak bin's, after TVG [uPa^2]
+  bool by_phase = false;
+};
+
+inline constexpr int kPhaseMinBins = 4;
+inline constexpr int kDetectionSmoothingBins = 5;
+
+// The bottom in one beam's echo (header).
+BottomDetection detect_bottom(const SonarPingSpec& spec, const SonarWater& water, const BeamEcho& echo,
+                              double min_snr_db = 10.0, double window_db = 10.0);
+
+}  // namespace hadal::render

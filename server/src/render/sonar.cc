@@ -1,0 +1,227 @@
+#include "hadal/render/sonar.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "hadal/core/value_noise.h"
+#include "hadal/geometry/embree_scene.h"
+#include "hadal/geometry/ray_batch.h"
+
+namespace hadal::render {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+// A uniform in (0, 1] from a 64-bit hash: never 0, so that its log is finite.
+double unit_open(std::uint64_t h) { return (static_cast<double>(h >> 11) + 1.0) * 0x1.0p-53; }
+
+double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
+
+// The key of beam `beam` of ping `ping_index`; its jitter uses hashes of (key, 2 ray), (key, 2 ray + 1),
+// its speckle and noise those of (key ^ kBinStream, 4 bin + j).
+std::uint64_t beam_key(std::uint64_t noise_key, std::uint64_t ping_index, int beam) {
+  return splitmix64(splitmix64(noise_key ^ splitmix64(ping_index)) + static_cast<std::uint64_t>(beam));
+}
+constexpr std::uint64_t kBinStream = 0x5bd1e9955bd1e995ull;
+
+void invalid(const std::string& what) { throw std::invalid_argument("sonar: " + what); }
+
+}  // namespace
+
+Eigen::Vector3d SonarBeam::direction_S(double a, double e) const {
+  return std::cos(e) * (std::cos(a) * axis_S + std::sin(a) * u_S) + std::sin(e) * v_S();
+}
+
+double SonarBeam::pattern(double a, double e) const {
+  const double x = 2.0 * a / width_u_rad, y = 2.0 * e / width_v_rad;
+  return std::exp2(-(x * x + y * y));
+}
+
+int SonarPingSpec::bin_of(double r) const {
+  if (!(r >= min_range_m && r < max_range_m)) return -1;
+  const int bin = static_cast<int>((r - min_range_m) / bin_size_m());
+  return std::min(bin, bins - 1);
+}
+
+void SonarPingSpec::validate() const {
+  if (beams.empty()) invalid("no beams");
+  for (std::size_t k = 0; k < beams.size(); ++k) {
+    const SonarBeam& b = beams[k];
+    const std::string name = "beam " + std::to_string(k) + ": ";
+    if (!b.axis_S.allFinite() || std::abs(b.axis_S.norm() - 1.0) > 1e-9) invalid(name + "axis is not a unit vector");
+    if (!b.u_S.allFinite() || std::abs(b.u_S.norm() - 1.0) > 1e-9 || std::abs(b.axis_S.dot(b.u_S)) > 1e-9) {
+      invalid(name + "u is not a unit vector perpendicular to the axis");
+    }
+    if (!(b.width_u_rad > 0.0 && b.width_u_rad < 3.2 && b.width_v_rad > 0.0 && b.width_v_rad < 3.2)) {
+      invalid(name + "widths must be in (0, pi]");
+    }
+  }
+  if (!(min_range_m >= 0.0 && max_range_m > min_range_m && std::isfinite(max_range_m))) {
+    invalid("the range window must satisfy 0 <= min_range < max_range < inf");
+  }
+  if (bins < 1 || rays_u < 1 || rays_v < 1) invalid("bins, rays_u and rays_v must be >= 1");
+  for (double v : {source_level_db, noise_level_db, spreading_db_per_decade, tvg_spreading_db_per_decade}) {
+    if (!std::isfinite(v)) invalid("levels and spreading coefficients must be finite");
+  }
+}
+
+double transmission_loss_db(const SonarPingSpec& spec, const SonarWater& water, double r) {
+  return spec.spreading_db_per_decade * std::log10(r) + water.absorption_db_per_m * r;
+}
+
+double tvg_db(const SonarPingSpec& spec, const SonarWater& water, double r) {
+  return spec.tvg_spreading_db_per_decade * std::log10(r) + (spec.tvg_absorption ? 2.0 * water.absorption_db_per_m * r : 0.0);
+}
+
+void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const Eigen::Isometry3d& X_WS,
+          std::int32_t own_body, const SonarWater& water, const BackscatterOfHits& backscatter,
+          std::uint64_t noise_key, std::uint64_t ping_index, const ParallelFor& parallel, const BeamEchoSink& sink) {
+  spec.validate();
+  if (!(water.absorption_db_per_m >= 0.0 && std::isfinite(water.absorption_db_per_m))) {
+    invalid("the absorption must be finite and >= 0");
+  }
+  const int bins = spec.bins;
+  const double bin_size = spec.bin_size_m();
+  // The loss factor SL r^2 10^(-2 TL(r) / 10) at the bin edges (interpolated per hit), and the TVG and noise
+  // per bin centre.
+  std::vector<double> loss_at_edge(static_cast<std::size_t>(bins) + 1);
+  for (int i = 0; i <= bins; ++i) {
+    const double r = std::max(spec.min_range_m + i * bin_size, 1e-3);
+    loss_at_edge[static_cast<std::size_t>(i)] =
+        db_to_linear(spec.source_level_db - 2.0 * transmission_loss_db(spec, water, r)) * r * r;
+  }
+  std::vector<double> tvg(static_cast<std::size_t>(bins));
+  for (int b = 0; b < bins; ++b) tvg[static_cast<std::size_t>(b)] = db_to_linear(tvg_db(spec, water, spec.bin_centre_m(b)));
+  const double noise_power = spec.receiver_noise ? db_to_linear(spec.noise_level_db) : 0.0;
+  const Eigen::Vector3f p_WS = X_WS.translation().cast<float>();
+  const Eigen::Matrix3d R_WS = X_WS.linear();
+  const float t_far = static_cast<float>(spec.max_range_m);
+  const int rays = spec.rays_u * spec.rays_v;
+
+  parallel(spec.beams.size(), [&](std::size_t k) {
+    const SonarBeam& beam = spec.beams[k];
+    const std::uint64_t key = beam_key(noise_key, ping_index, static_cast<int>(k));
+    const double du = beam.width_u_rad / spec.rays_u, dv = beam.width_v_rad / spec.rays_v;
+    geometry::RayBatch batch;
+    batch.coherence = geometry::RayCoherence::kCoherent;
+    batch.reserve(static_cast<std::size_t>(rays));
+    std::vector<double> offset_a(static_cast<std::size_t>(rays)), weight(static_cast<std::size_t>(rays));
+    // Rays in v-major order: neighbours share an origin and nearly a direction.
+    for (int j = 0; j < spec.rays_v; ++j) {
+      for (int i = 0; i < spec.rays_u; ++i) {
+        const std::size_t n = static_cast<std::size_t>(j * spec.rays_u + i);
+        const double ju = spec.jitter ? unit_open(splitmix64(key + 2 * n)) - 0.5 : 0.0;
+        const double jv = spec.jitter ? unit_open(splitmix64(key + 2 * n + 1)) - 0.5 : 0.0;
+        const double a = -0.5 * beam.width_u_rad + (i + 0.5 + ju) * du;
+        const double e = -0.5 * beam.width_v_rad + (j + 0.5 + jv) * dv;
+        offset_a[n] = a;
+        weight[n] = beam.pattern(a, e) * std::cos(e) * du * dv;
+        const Eigen::Vector3d d_W = R_WS * beam.direction_S(a, e);
+        batch.add_ray(p_WS, d_W.normalized().cast<float>(), 0.0f, t_far, own_body);
+      }
+    }
+    geometry::RayHits hits;
+    hits.resize(batch.size());
+    scene.intersect(batch, 0, batch.size(), geometry::QueryPath::kAuto, hits);
+    std::vector<float> mu(batch.size(), 0.0f);
+    backscatter(hits, batch.size(), mu.data());
+
+    std::vector<double> echo(static_cast<std::size_t>(bins), 0.0), echo_a(static_cast<std::size_t>(bins), 0.0);
+    for (std::size_t n = 0; n < batch.size(); ++n) {
+      if (!hits.hit(n)) continue;
+      const double r = hits.distance[n];
+      const int b = spec.bin_of(r);
+      if (b < 0) continue;
+      const double cos_theta = std::abs(batch.d_W_x[n] * hits.n_W_x[n] + batch.d_W_y[n] * hits.n_W_y[n] +
+                                        batch.d_W_z[n] * hits.n_W_z[n]);
+      const double f = (r - spec.min_range_m) / bin_size - b;
+      const double loss = loss_at_edge[static_cast<std::size_t>(b)] +
+                          f * (loss_at_edge[static_cast<std::size_t>(b) + 1] - loss_at_edge[static_cast<std::size_t>(b)]);
+      const double e = weight[n] * mu[n] * cos_theta * loss;
+      echo[static_cast<std::size_t>(b)] += e;
+      echo_a[static_cast<std::size_t>(b)] += e * offset_a[n];
+    }
+
+    std::vector<float> intensity(static_cast<std::size_t>(bins)), mean_a(static_cast<std::size_t>(bins));
+    const std::uint64_t bin_key = key ^ kBinStream;
+    for (int b = 0; b < bins; ++b) {
+      const auto s = static_cast<std::size_t>(b);
+      const std::uint64_t h = bin_key + 4 * static_cast<std::uint64_t>(b);
+      double received = echo[s];
+      if (spec.speckle) {
+        // |sqrt(I) s + n|^2 with s, n complex Gaussian: exponential with mean I + noise.
+        received = -(echo[s] + noise_power) * std::log(unit_open(splitmix64(h)));
+      } else if (noise_power > 0.0) {
+        // Rician: the echo's amplitude plus complex Gaussian noise (Box-Muller).
+        const double radius = std::sqrt(-std::log(unit_open(splitmix64(h + 1))) * noise_power);
+        const double angle = kTwoPi * unit_open(splitmix64(h + 2));
+        const double re = std::sqrt(echo[s]) + radius * std::cos(angle), im = radius * std::sin(angle);
+        received = re * re + im * im;
+      }
+      intensity[s] = static_cast<float>(received * tvg[s]);
+      mean_a[s] = echo[s] > 0.0 ? static_cast<float>(echo_a[s] / echo[s]) : std::numeric_limits<float>::quiet_NaN();
+    }
+    sink(BeamEcho{static_cast<int>(k), bins, intensity.data(), mean_a.data()});
+  });
+}
+
+BottomDetection detect_bottom(const SonarPingSpec& spec, const SonarWater& water, const BeamEcho& echo,
+                              double min_snr_db, double window_db) {
+  BottomDetection detection;
+  const int bins = echo.bins;
+  if (bins < 1) return detection;
+  // The profile smoothed over kDetectionSmoothingBins (speckle and empty bins between rays fill in).
+  std::vector<double> smooth(static_cast<std::size_t>(bins), 0.0);
+  const int half = kDetectionSmoothingBins / 2;
+  for (int b = 0; b < bins; ++b) {
+    double sum = 0.0;
+    int count = 0;
+    for (int i = std::max(0, b - half); i <= std::min(bins - 1, b + half); ++i, ++count) sum += echo.intensity[i];
+    smooth[static_cast<std::size_t>(b)] = sum / count;
+  }
+  const int peak = static_cast<int>(std::max_element(smooth.begin(), smooth.end()) - smooth.begin());
+  const double peak_level = smooth[static_cast<std::size_t>(peak)];
+  const double noise =
+      spec.receiver_noise ? db_to_linear(spec.noise_level_db + tvg_db(spec, water, spec.bin_centre_m(peak))) : 0.0;
+  if (!(peak_level > 0.0) || !(peak_level > noise * db_to_linear(min_snr_db))) return detection;
+  const double floor = peak_level * db_to_linear(-window_db);
+  int first = peak, last = peak;
+  while (first > 0 && smooth[static_cast<std::size_t>(first) - 1] >= floor) --first;
+  while (last + 1 < bins && smooth[static_cast<std::size_t>(last) + 1] >= floor) ++last;
+  detection.valid = true;
+  detection.intensity = peak_level;
+  if (last - first + 1 >= kPhaseMinBins) {
+    // The zero crossing of the mean offset between consecutive bins that have one, nearest the peak.
+    double best = std::numeric_limits<double>::infinity();
+    int previous = -1;
+    for (int b = first; b <= last; ++b) {
+      if (!std::isfinite(echo.mean_offset_u_rad[b])) continue;
+      if (previous >= 0) {
+        const double a0 = echo.mean_offset_u_rad[previous], a1 = echo.mean_offset_u_rad[b];
+        if ((a0 > 0.0) != (a1 > 0.0) && a0 != a1) {
+          const double r0 = spec.bin_centre_m(previous), r1 = spec.bin_centre_m(b);
+          const double r = r0 + (r1 - r0) * a0 / (a0 - a1);
+          if (std::abs(r - spec.bin_centre_m(peak)) < std::abs(best - spec.bin_centre_m(peak))) best = r;
+        }
+      }
+      previous = b;
+    }
+    if (std::isfinite(best)) {
+      detection.range_m = best;
+      detection.by_phase = true;
+      return detection;
+    }
+  }
+  double sum = 0.0, sum_r = 0.0;
+  for (int b = first; b <= last; ++b) {
+    sum += echo.intensity[b];
+    sum_r += echo.intensity[b] * spec.bin_centre_m(b);
+  }
+  detection.range_m = sum_r / sum;
+  return detection;
+}
+
+}  // namespace hadal::render
