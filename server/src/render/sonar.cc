@@ -20,12 +20,14 @@ double unit_open(std::uint64_t h) { return (static_cast<double>(h >> 11) + 1.0) 
 
 double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
 
-// The key of beam `beam` of ping `ping_index`; its jitter uses hashes of (key, 2 ray), (key, 2 ray + 1),
-// its speckle and noise those of (key ^ kBinStream, 4 bin + j).
+// The key of beam `beam` of ping `ping_index`; its grid lines' jitter uses hashes of key ^ kLineU and
+// key ^ kLineV plus the line, its speckle and noise those of key ^ kBinStream plus 4 bin + j.
 std::uint64_t beam_key(std::uint64_t noise_key, std::uint64_t ping_index, int beam) {
   return splitmix64(splitmix64(noise_key ^ splitmix64(ping_index)) + static_cast<std::uint64_t>(beam));
 }
 constexpr std::uint64_t kBinStream = 0x5bd1e9955bd1e995ull;
+constexpr std::uint64_t kLineU = 0x2545f4914f6cdd1dull;  // the grid lines' jitter
+constexpr std::uint64_t kLineV = 0x9e6c63d0676a9a99ull;
 
 void invalid(const std::string& what) { throw std::invalid_argument("sonar: " + what); }
 
@@ -105,22 +107,35 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
     const SonarBeam& beam = spec.beams[k];
     const std::uint64_t key = beam_key(noise_key, ping_index, static_cast<int>(k));
     const double du = beam.width_u_rad / spec.rays_u, dv = beam.width_v_rad / spec.rays_v;
+    // The grid's lines along u and along v, each at a seeded place within its cell (stratified jitter of
+    // the lines, not of each cell: the trigonometry and the pattern are then per line, rays_u + rays_v
+    // evaluations per beam instead of rays_u x rays_v).
+    const auto nu = static_cast<std::size_t>(spec.rays_u), nv = static_cast<std::size_t>(spec.rays_v);
+    std::vector<double> offset_a(nu), cos_a(nu), sin_a(nu), weight_a(nu), cos_e(nv), sin_e(nv), weight_e(nv);
+    for (std::size_t i = 0; i < nu; ++i) {
+      const double jitter = spec.jitter ? unit_open(splitmix64((key ^ kLineU) + i)) - 0.5 : 0.0;
+      const double a = -0.5 * beam.width_u_rad + (static_cast<double>(i) + 0.5 + jitter) * du;
+      offset_a[i] = a;
+      cos_a[i] = std::cos(a);
+      sin_a[i] = std::sin(a);
+      weight_a[i] = beam.pattern(a, 0.0);
+    }
+    for (std::size_t j = 0; j < nv; ++j) {
+      const double jitter = spec.jitter ? unit_open(splitmix64((key ^ kLineV) + j)) - 0.5 : 0.0;
+      const double e = -0.5 * beam.width_v_rad + (static_cast<double>(j) + 0.5 + jitter) * dv;
+      cos_e[j] = std::cos(e);
+      sin_e[j] = std::sin(e);
+      weight_e[j] = beam.pattern(0.0, e) * std::cos(e) * du * dv;  // with dOmega = cos e da de
+    }
+    const Eigen::Vector3d axis_W = R_WS * beam.axis_S, u_W = R_WS * beam.u_S, v_W = R_WS * beam.v_S();
     geometry::RayBatch batch;
     batch.coherence = geometry::RayCoherence::kCoherent;
     batch.reserve(static_cast<std::size_t>(rays));
-    std::vector<double> offset_a(static_cast<std::size_t>(rays)), weight(static_cast<std::size_t>(rays));
     // Rays in v-major order: neighbours share an origin and nearly a direction.
-    for (int j = 0; j < spec.rays_v; ++j) {
-      for (int i = 0; i < spec.rays_u; ++i) {
-        const std::size_t n = static_cast<std::size_t>(j * spec.rays_u + i);
-        const double ju = spec.jitter ? unit_open(splitmix64(key + 2 * n)) - 0.5 : 0.0;
-        const double jv = spec.jitter ? unit_open(splitmix64(key + 2 * n + 1)) - 0.5 : 0.0;
-        const double a = -0.5 * beam.width_u_rad + (i + 0.5 + ju) * du;
-        const double e = -0.5 * beam.width_v_rad + (j + 0.5 + jv) * dv;
-        offset_a[n] = a;
-        weight[n] = beam.pattern(a, e) * std::cos(e) * du * dv;
-        const Eigen::Vector3d d_W = R_WS * beam.direction_S(a, e);
-        batch.add_ray(p_WS, d_W.normalized().cast<float>(), 0.0f, t_far, own_body);
+    for (std::size_t j = 0; j < nv; ++j) {
+      for (std::size_t i = 0; i < nu; ++i) {
+        const Eigen::Vector3d d_W = cos_e[j] * (cos_a[i] * axis_W + sin_a[i] * u_W) + sin_e[j] * v_W;
+        batch.add_ray(p_WS, d_W.cast<float>(), 0.0f, t_far, own_body);
       }
     }
     geometry::RayHits hits;
@@ -140,9 +155,10 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       const double f = (r - spec.min_range_m) / bin_size - b;
       const double loss = loss_at_edge[static_cast<std::size_t>(b)] +
                           f * (loss_at_edge[static_cast<std::size_t>(b) + 1] - loss_at_edge[static_cast<std::size_t>(b)]);
-      const double e = weight[n] * mu[n] * cos_theta * loss;
+      const std::size_t i = n % nu, j = n / nu;
+      const double e = weight_a[i] * weight_e[j] * mu[n] * cos_theta * loss;
       echo[static_cast<std::size_t>(b)] += e;
-      echo_a[static_cast<std::size_t>(b)] += e * offset_a[n];
+      echo_a[static_cast<std::size_t>(b)] += e * offset_a[i];
     }
 
     std::vector<float> intensity(static_cast<std::size_t>(bins)), mean_a(static_cast<std::size_t>(bins));

@@ -5,8 +5,9 @@
 // across it (the fan's direction for a fan of beams) and v_k = a_k x u_k. Its rays leave S's origin in
 //   d_S(a, e) = cos e (cos a a_k + sin a u_k) + sin e v_k,
 // a the offset along u and e along v [rad], on a stratified grid over the beam's -3 dB widths
-// |a| <= w_u / 2, |e| <= w_v / 2 (rays_u x rays_v cells, one ray per cell at a seeded position within it,
-// or at its centre without jitter); a ray stands for the solid angle dOmega = cos e da de of its cell.
+// |a| <= w_u / 2, |e| <= w_v / 2: rays_u x rays_v cells, one ray per cell where the grid's lines cross, each
+// line at a seeded place within its cell (at the cell's centre without jitter); a ray stands for the solid
+// angle dOmega = cos e da de of its cell.
 // Beam pattern: the two-way (transmit x receive) intensity pattern's main lobe as a Gaussian,
 //   W(a, e) = 2^-((2 a / w_u)^2 + (2 e / w_v)^2)      (-3 dB at the half widths)
 // Side lobes are not modelled; neither are multiple reflections or refraction (straight rays).
@@ -78,7 +79,7 @@ struct SonarPingSpec {
   int bins = 512;            // range bins of equal size over the window
   int rays_u = 2;            // rays per beam along u
   int rays_v = 256;          // and along v
-  bool jitter = true;        // seeded positions within the ray cells (else their centres)
+  bool jitter = true;        // seeded grid lines within the ray cells (else their centres)
   double source_level_db = 210.0;           // SL [dB re 1 uPa at 1 m]
   double noise_level_db = 80.0;             // receiver noise per bin [dB re 1 uPa]
   bool receiver_noise = true;
