@@ -42,6 +42,20 @@ double SonarBeam::pattern(double a, double e) const {
   return std::exp2(-(x * x + y * y));
 }
 
+std::vector<SonarBeam> fan_beams(int count, double fov, double width_u, double width_v) {
+  std::vector<SonarBeam> beams;
+  for (int k = 0; k < count; ++k) {
+    const double phi = -0.5 * fov + (k + 0.5) * fov / count;
+    SonarBeam b;
+    b.axis_S = Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0);
+    b.u_S = Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.0);
+    b.width_u_rad = width_u;
+    b.width_v_rad = width_v;
+    beams.push_back(b);
+  }
+  return beams;
+}
+
 int SonarPingSpec::bin_of(double r) const {
   if (!(r >= min_range_m && r < max_range_m)) return -1;
   const int bin = static_cast<int>((r - min_range_m) / bin_size_m());

@@ -60,16 +60,11 @@ EmbreeScene scene_of(const std::vector<TriangleMesh>& meshes) {
 // A fan of `count` beams over `fov` about z_S from x_S, each w_u wide in the fan and w_v across it,
 // the fan tilted down about y_S by `tilt` [rad].
 std::vector<SonarBeam> fan(int count, double fov, double w_u, double w_v, double tilt = 0.0) {
-  std::vector<SonarBeam> beams;
+  std::vector<SonarBeam> beams = fan_beams(count, fov, w_u, w_v);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  for (int k = 0; k < count; ++k) {
-    const double phi = -0.5 * fov + (k + 0.5) * fov / count;
-    SonarBeam b;
-    b.axis_S = R * Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0);
-    b.u_S = R * Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.0);
-    b.width_u_rad = w_u;
-    b.width_v_rad = w_v;
-    beams.push_back(b);
+  for (SonarBeam& b : beams) {
+    b.axis_S = R * b.axis_S;
+    b.u_S = R * b.u_S;
   }
   return beams;
 }

@@ -72,6 +72,11 @@ struct SonarBeam {
   double pattern(double a, double e) const;
 };
 
+// A fan of `count` beams over `fov` [rad] in S's x-y plane: beam k's axis at phi_k = -fov/2 + (k + 1/2) fov /
+// count about z_S from x_S, u along the fan (towards y_S at phi = 0), v = z_S; each width_u wide in the fan
+// and width_v across it.
+std::vector<SonarBeam> fan_beams(int count, double fov, double width_u, double width_v);
+
 struct SonarPingSpec {
   std::vector<SonarBeam> beams;
   double min_range_m = 0.5;  // the receive window [m]
