@@ -116,6 +116,27 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
   const Eigen::Matrix3d R_WS = X_WS.linear();
   const float t_far = static_cast<float>(spec.max_range_m);
   const int rays = spec.rays_u * spec.rays_v;
+  // Adds echo e (and e a for the phase) to the bins of the ranges [r0, r1], in proportion to their overlap:
+  // a patch's echo arrives over the range its footprint spans, so every bin it covers gets its share, however
+  // sparse the rays are in range (grazing angles, far bins).
+  const auto spread = [&spec, bin_size, bins](double r0, double r1, double e, double a, std::vector<double>& echo,
+                                               std::vector<double>& echo_a) {
+    const double x0 = (r0 - spec.min_range_m) / bin_size, x1 = (r1 - spec.min_range_m) / bin_size;
+    const int b0 = std::max(0, static_cast<int>(std::floor(x0))), b1 = std::min(bins - 1, static_cast<int>(std::floor(x1)));
+    if (b0 == b1 || !(x1 > x0)) {
+      const int b = std::clamp(static_cast<int>(std::floor(0.5 * (x0 + x1))), 0, bins - 1);
+      echo[static_cast<std::size_t>(b)] += e;
+      echo_a[static_cast<std::size_t>(b)] += e * a;
+      return;
+    }
+    const double per_bin = e / (x1 - x0);
+    for (int b = b0; b <= b1; ++b) {
+      const double overlap = std::min<double>(x1, b + 1) - std::max<double>(x0, b);
+      if (overlap <= 0.0) continue;
+      echo[static_cast<std::size_t>(b)] += per_bin * overlap;
+      echo_a[static_cast<std::size_t>(b)] += per_bin * overlap * a;
+    }
+  };
 
   parallel(spec.beams.size(), [&](std::size_t k) {
     const SonarBeam& beam = spec.beams[k];
@@ -125,7 +146,7 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
     // the lines, not of each cell: the trigonometry and the pattern are then per line, rays_u + rays_v
     // evaluations per beam instead of rays_u x rays_v).
     const auto nu = static_cast<std::size_t>(spec.rays_u), nv = static_cast<std::size_t>(spec.rays_v);
-    std::vector<double> offset_a(nu), cos_a(nu), sin_a(nu), weight_a(nu), cos_e(nv), sin_e(nv), weight_e(nv);
+    std::vector<double> offset_a(nu), cos_a(nu), sin_a(nu), weight_a(nu), offset_e(nv), cos_e(nv), sin_e(nv), weight_e(nv);
     for (std::size_t i = 0; i < nu; ++i) {
       const double jitter = spec.jitter ? unit_open(splitmix64((key ^ kLineU) + i)) - 0.5 : 0.0;
       const double a = -0.5 * beam.width_u_rad + (static_cast<double>(i) + 0.5 + jitter) * du;
@@ -137,6 +158,7 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
     for (std::size_t j = 0; j < nv; ++j) {
       const double jitter = spec.jitter ? unit_open(splitmix64((key ^ kLineV) + j)) - 0.5 : 0.0;
       const double e = -0.5 * beam.width_v_rad + (static_cast<double>(j) + 0.5 + jitter) * dv;
+      offset_e[j] = e;
       cos_e[j] = std::cos(e);
       sin_e[j] = std::sin(e);
       weight_e[j] = beam.pattern(0.0, e) * std::cos(e) * du * dv;  // with dOmega = cos e da de
@@ -164,15 +186,43 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       const double r = hits.distance[n];
       const int b = spec.bin_of(r);
       if (b < 0) continue;
-      const double cos_theta = std::abs(batch.d_W_x[n] * hits.n_W_x[n] + batch.d_W_y[n] * hits.n_W_y[n] +
-                                        batch.d_W_z[n] * hits.n_W_z[n]);
+      const Eigen::Vector3d n_W(hits.n_W_x[n], hits.n_W_y[n], hits.n_W_z[n]);
+      const std::size_t i = n % nu, j = n / nu;
+      const double n_axis = n_W.dot(axis_W), n_u = n_W.dot(u_W), n_v = n_W.dot(v_W);
+      const double n_d = cos_e[j] * (cos_a[i] * n_axis + sin_a[i] * n_u) + sin_e[j] * n_v;
+      const double cos_theta = std::abs(n_d);
       const double f = (r - spec.min_range_m) / bin_size - b;
       const double loss = loss_at_edge[static_cast<std::size_t>(b)] +
                           f * (loss_at_edge[static_cast<std::size_t>(b) + 1] - loss_at_edge[static_cast<std::size_t>(b)]);
-      const std::size_t i = n % nu, j = n / nu;
       const double e = weight_a[i] * weight_e[j] * mu[n] * cos_theta * loss;
-      echo[static_cast<std::size_t>(b)] += e;
-      echo_a[static_cast<std::size_t>(b)] += e * offset_a[i];
+      // The ray's patch spans ranges r +- footprint / 2. Along each of the grid's directions: the plane's
+      // r |n . dd| / |n . d| per radian of the cell (dd the direction's derivative along a or e), but no more
+      // than the range to the farther neighbouring ray that hit something (on a curved surface the plane
+      // overestimates near the limb; across an edge the neighbour lies behind a jump and the plane holds).
+      const double n_da = cos_e[j] * (cos_a[i] * n_u - sin_a[i] * n_axis);
+      const double n_de = cos_e[j] * n_v - sin_e[j] * (cos_a[i] * n_axis + sin_a[i] * n_u);
+      const double inv_cos = 1.0 / std::max(cos_theta, 1e-12);
+      // Along one direction: the range to the farther neighbouring ray that hit, its range difference where the
+      // surface runs on (within kFootprintJump times the plane's rate times the angle to that ray's line: the
+      // lines are jittered), else the plane's value (an edge: the neighbour lies beyond a jump); with no
+      // neighbour that hit, the plane over the cell's own angle.
+      const auto extent = [&](double rate, const std::vector<double>& line, std::size_t k, std::size_t count,
+                              std::size_t stride, double cell) {
+        double widest = -1.0;
+        for (const int side : {-1, 1}) {
+          if ((side < 0 && k == 0) || (side > 0 && k + 1 == count)) continue;
+          const std::size_t m = side < 0 ? n - stride : n + stride;
+          if (!hits.hit(m)) continue;
+          const double plane = rate * std::abs(line[side < 0 ? k - 1 : k + 1] - line[k]);
+          const double step = std::abs(static_cast<double>(hits.distance[m]) - r);
+          widest = std::max(widest, step <= kFootprintJump * plane ? step : plane);
+        }
+        return widest < 0.0 ? rate * cell : widest;
+      };
+      const double along_u = extent(r * std::abs(n_da) * inv_cos, offset_a, i, nu, 1, du);
+      const double along_v = extent(r * std::abs(n_de) * inv_cos, offset_e, j, nv, nu, dv);
+      const double footprint = std::min(along_u + along_v, kMaxFootprintBins * bin_size);
+      spread(r - 0.5 * footprint, r + 0.5 * footprint, e, offset_a[i], echo, echo_a);
     }
 
     std::vector<float> intensity(static_cast<std::size_t>(bins)), mean_a(static_cast<std::size_t>(bins));

@@ -23,6 +23,14 @@
 // with SL = 10^(source_level_db / 10) [uPa^2 at 1 m]. Summed over a point-like target's surface this is its
 // target strength times 10^(-2 TL / 10): a sphere of radius rho returns SL mu (2 pi rho^2 / 3) 10^(-2 TL(R)/10).
 // A ray's first hit is its only echo, so what lies behind a surface stays dark: acoustic shadows.
+// The echo arrives over the ranges its patch spans, r +- w / 2, and is shared among the bins of that interval
+// in proportion to their overlap (so bins stay filled where rays are sparse in range: far, grazing seabed).
+// Along each of the grid's directions w reaches the farther neighbouring ray that hit: its range difference
+// where the surface runs on to it (near a curved object's limb that is less than the tangent plane says, on a
+// receding seabed more), but where that difference exceeds kFootprintJump times the tangent plane's (an edge:
+// the neighbour lies beyond a jump) the plane's, the angle to the neighbour's line times r |n . dd| / |n . d|
+// (dd the ray direction's derivative); with no neighbour that hit, the plane over the cell's own angle; at
+// most kMaxFootprintBins bins in all.
 // Echoes are summed per (beam, range bin); the loss is interpolated linearly in range between bin edges
 // (relative error below (bin / r)^2).
 //
@@ -141,6 +149,10 @@ struct BottomDetection {
 };
 
 inline constexpr int kPhaseMinBins = 4;
+// A ray's patch spans at most this many range bins (one grazed by its ray, whose echo is weak anyway: it
+// carries cos(theta)).
+inline constexpr double kMaxFootprintBins = 64.0;
+inline constexpr double kFootprintJump = 3.0;
 inline constexpr int kDetectionSmoothingBins = 5;
 
 // The bottom in one beam's echo (header).
