@@ -468,15 +468,7 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
   const ParallelFor backwards = [](std::size_t count, const std::function<void(std::size_t)>& task) {
     for (std::size_t i = count; i-- > 0;) task(i);
   };
-  const ParallelFor two_threads = [](std::size_t count, const std::function<void(std::size_t)>& task) {
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-      for (std::size_t i = next++; i < count; i = next++) task(i);
-    };
-    std::thread helper(work);
-    work();
-    helper.join();
-  };
+  const ParallelFor two_threads = testing::two_threads;
   for (const ParallelFor& parallel : {backwards, two_threads}) {
     const RadianceFrame frame = render_radiance(scene, lens, X_SC(), 0.1f, 50.0f, geometry::kNoHit, lighting, white, parallel);
     expect_same_frame(frame, serial);

@@ -4,12 +4,27 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include <atomic>
+#include <functional>
+#include <thread>
 #include <vector>
 
 #include "hadal/geometry/triangle_mesh.h"
 #include "hadal/render/lens.h"
 
 namespace hadal::render::testing {
+
+// A parallel loop on two threads (the test's and one more), tasks taken in turn: for checking that a result
+// does not depend on the threads.
+inline void two_threads(std::size_t count, const std::function<void(std::size_t)>& task) {
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t i = next++; i < count; i = next++) task(i);
+  };
+  std::thread helper(work);
+  work();
+  helper.join();
+}
 
 // A square plate perpendicular to x_W at x [m], centred on (y, z), half size h [m], its front face
 // towards -x.

@@ -101,8 +101,8 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
   }
   const int bins = spec.bins;
   const double bin_size = spec.bin_size_m();
-  // The loss factor SL r^2 10^(-2 TL(r) / 10) at the bin edges (interpolated per hit), and the TVG and noise
-  // per bin centre.
+  // The loss factor SL r^2 10^(-2 TL(r) / 10) at the bin edges (interpolated per hit), and the TVG per bin
+  // centre.
   std::vector<double> loss_at_edge(static_cast<std::size_t>(bins) + 1);
   for (int i = 0; i <= bins; ++i) {
     const double r = std::max(spec.min_range_m + i * bin_size, 1e-3);
@@ -147,17 +147,20 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
     // evaluations per beam instead of rays_u x rays_v).
     const auto nu = static_cast<std::size_t>(spec.rays_u), nv = static_cast<std::size_t>(spec.rays_v);
     std::vector<double> offset_a(nu), cos_a(nu), sin_a(nu), weight_a(nu), offset_e(nv), cos_e(nv), sin_e(nv), weight_e(nv);
+    // Line k of `width` in cells of `cell`, its jitter from stream `lines`.
+    const auto line_at = [&](std::size_t k, double width, double cell, std::uint64_t lines) {
+      const double jitter = spec.jitter ? unit_open(splitmix64((key ^ lines) + k)) - 0.5 : 0.0;
+      return -0.5 * width + (static_cast<double>(k) + 0.5 + jitter) * cell;
+    };
     for (std::size_t i = 0; i < nu; ++i) {
-      const double jitter = spec.jitter ? unit_open(splitmix64((key ^ kLineU) + i)) - 0.5 : 0.0;
-      const double a = -0.5 * beam.width_u_rad + (static_cast<double>(i) + 0.5 + jitter) * du;
+      const double a = line_at(i, beam.width_u_rad, du, kLineU);
       offset_a[i] = a;
       cos_a[i] = std::cos(a);
       sin_a[i] = std::sin(a);
       weight_a[i] = beam.pattern(a, 0.0);
     }
     for (std::size_t j = 0; j < nv; ++j) {
-      const double jitter = spec.jitter ? unit_open(splitmix64((key ^ kLineV) + j)) - 0.5 : 0.0;
-      const double e = -0.5 * beam.width_v_rad + (static_cast<double>(j) + 0.5 + jitter) * dv;
+      const double e = line_at(j, beam.width_v_rad, dv, kLineV);
       offset_e[j] = e;
       cos_e[j] = std::cos(e);
       sin_e[j] = std::sin(e);
@@ -195,10 +198,8 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       const double loss = loss_at_edge[static_cast<std::size_t>(b)] +
                           f * (loss_at_edge[static_cast<std::size_t>(b) + 1] - loss_at_edge[static_cast<std::size_t>(b)]);
       const double e = weight_a[i] * weight_e[j] * mu[n] * cos_theta * loss;
-      // The ray's patch spans ranges r +- footprint / 2. Along each of the grid's directions: the plane's
-      // r |n . dd| / |n . d| per radian of the cell (dd the direction's derivative along a or e), but no more
-      // than the range to the farther neighbouring ray that hit something (on a curved surface the plane
-      // overestimates near the limb; across an edge the neighbour lies behind a jump and the plane holds).
+      // The ray's patch spans ranges r +- footprint / 2; the tangent plane's rate r |n . dd| / |n . d| per
+      // radian of the grid (dd the direction's derivative along a or e).
       const double n_da = cos_e[j] * (cos_a[i] * n_u - sin_a[i] * n_axis);
       const double n_de = cos_e[j] * n_v - sin_e[j] * (cos_a[i] * n_axis + sin_a[i] * n_u);
       const double inv_cos = 1.0 / std::max(cos_theta, 1e-12);

@@ -11,6 +11,7 @@
 #include "hadal/geometry/embree_scene.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/ray_batch.h"
+#include "render_test_support.h"
 
 namespace hadal::render {
 namespace {
@@ -190,7 +191,7 @@ TEST(SonarTest, EchoFallsWithRangeAsSpreadingAndAbsorptionAfterTvgRemoval) {
   for (double spreading : {20.0, 10.0}) {
     spec.spreading_db_per_decade = spreading;
     for (double range : {5.0, 10.0, 20.0, 40.0}) {
-      SCOPED_TRACE(testing::Message() << "N " << spreading << ", range " << range);
+      SCOPED_TRACE(::testing::Message() << "N " << spreading << ", range " << range);
       const EmbreeScene scene = scene_of({sphere(Eigen::Vector3d(range, 0.0, 0.0), radius)});
       const Image image = ping_image(scene, quiet(spec), Eigen::Isometry3d::Identity(), water);
       double measured = 0.0;
@@ -314,15 +315,7 @@ TEST(SonarTest, SameSeedSameEchoWhateverTheThreads) {
   spec.bins = 300;
   spec.rays_v = 128;
   const EmbreeScene scene = scene_of({floor_at(-8.0f), sphere(Eigen::Vector3d(15.0, 1.0, -7.5), 0.5)});
-  const ParallelFor two_threads = [](std::size_t count, const std::function<void(std::size_t)>& task) {
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-      for (std::size_t i = next++; i < count; i = next++) task(i);
-    };
-    std::thread helper(work);
-    work();
-    helper.join();
-  };
+  const ParallelFor two_threads = testing::two_threads;
   const Image a = ping_image(scene, spec, Eigen::Isometry3d::Identity(), {}, 3);
   const Image b = ping_image(scene, spec, Eigen::Isometry3d::Identity(), {}, 3, two_threads);
   const Image c = ping_image(scene, spec, Eigen::Isometry3d::Identity(), {}, 4);
