@@ -103,3 +103,7 @@ done
 #    (bench/camera_frame.cc).
 "$build/bin/hadal_bench_render" --repetitions 3
 "$build/bin/hadal_bench_camera_frame" --repetitions 10
+
+# 9. Sonars (bench/sonar.cc): a forward-looking sonar ping (256 beams x 512 bins, 10 rays per cell) and a
+#    multibeam ping (256 beams) over the 1M-triangle seabed on one and two threads.
+"$build/bin/hadal_bench_sonar" --repetitions 10

@@ -21,7 +21,7 @@
  *     payload is then read into the IDL's C struct (dds_stream_read) and checked where it is cheap:
  *     header stamps valid (nanosec < 1e9) and non-decreasing per topic, booleans 0 or 1, Image
  *     data = step * height bytes, CameraInfo's distortion vector as long as its model wants, LaserScan
- *     ranges one per beam, per-actuator arrays of the hadal_msgs states as long as their name list, ...
+ *     ranges one per beam, sonar images as many samples as beams x bins, a multibeam's arrays one per beam, per-actuator arrays of the hadal_msgs states as long as their name list, ...
  *
  * Prints one JSON object on stdout: per topic its type, message count, decoded count, the first and last
  * stamp, the frame_id and a few values of its last message. Exit status 0: all good; 1: a check failed
@@ -268,6 +268,46 @@ static void summarize_laser_scan(const void *s, char *out, size_t n) {
   char lo[32], hi[32];
   snprintf(out, n, "\"beams\": %u, \"angle_min\": %s, \"angle_max\": %s", m->ranges._length, num(m->angle_min, lo),
            num(m->angle_max, hi));
+}
+
+/* The sonars' messages: sample arrays as long as their beams and bins say (1 byte per sample for dtype uint8,
+ * 4 for float32), per-beam arrays as long as each other. */
+static unsigned sonar_sample_bytes(uint32_t dtype) { return dtype == 0 || dtype == 1 ? 1 : dtype == 8 ? 4 : 0; }
+
+static const char *check_projected_sonar_image(const void *s, char *why, size_t n) {
+  const marine_acoustic_msgs_msg_dds__ProjectedSonarImage_ *m = s;
+  const unsigned size = sonar_sample_bytes(m->image.dtype);
+  const uint64_t expected = (uint64_t)m->beam_directions._length * m->ranges._length * size;
+  if (m->image.beam_count != m->beam_directions._length || size == 0 || m->image.data._length != expected) {
+    snprintf(why, n, "%u beam directions, %u ranges, image of %u beams, dtype %u, %u bytes", m->beam_directions._length,
+             m->ranges._length, m->image.beam_count, m->image.dtype, m->image.data._length);
+    return why;
+  }
+  return NULL;
+}
+
+static const char *check_raw_sonar_image(const void *s, char *why, size_t n) {
+  const marine_acoustic_msgs_msg_dds__RawSonarImage_ *m = s;
+  const unsigned size = sonar_sample_bytes(m->image.dtype);
+  const uint64_t expected = (uint64_t)m->image.beam_count * m->samples_per_beam * size;
+  if (size == 0 || m->image.data._length != expected || m->rx_angles._length != m->image.beam_count) {
+    snprintf(why, n, "%u beams x %u samples, dtype %u, %u bytes, %u rx angles", m->image.beam_count,
+             m->samples_per_beam, m->image.dtype, m->image.data._length, m->rx_angles._length);
+    return why;
+  }
+  return NULL;
+}
+
+static const char *check_sonar_detections(const void *s, char *why, size_t n) {
+  const marine_acoustic_msgs_msg_dds__SonarDetections_ *m = s;
+  const uint32_t beams = m->flags._length;
+  if (m->two_way_travel_times._length != beams || m->tx_delays._length != beams || m->intensities._length != beams ||
+      m->tx_angles._length != beams || m->rx_angles._length != beams) {
+    snprintf(why, n, "%u flags but %u travel times, %u intensities, %u rx angles", beams,
+             m->two_way_travel_times._length, m->intensities._length, m->rx_angles._length);
+    return why;
+  }
+  return NULL;
 }
 
 /* Bytes per pixel of the sensor_msgs image encodings Hadal's cameras (and common drivers) use; 0: unknown. */
@@ -531,6 +571,12 @@ static const known_type KNOWN_TYPES[] = {
     {&sensor_msgs_msg_dds__RegionOfInterest__desc, STAMP_NONE, NULL, NULL},
     {&sensor_msgs_msg_dds__CameraInfo__desc, STAMP_HEADER, check_camera_info, summarize_camera_info},
     {&marine_acoustic_msgs_msg_dds__Dvl__desc, STAMP_HEADER, check_dvl, NULL},
+    {&marine_acoustic_msgs_msg_dds__PingInfo__desc, STAMP_NONE, NULL, NULL},
+    {&marine_acoustic_msgs_msg_dds__SonarImageData__desc, STAMP_NONE, NULL, NULL},
+    {&marine_acoustic_msgs_msg_dds__ProjectedSonarImage__desc, STAMP_HEADER, check_projected_sonar_image, NULL},
+    {&marine_acoustic_msgs_msg_dds__RawSonarImage__desc, STAMP_HEADER, check_raw_sonar_image, NULL},
+    {&marine_acoustic_msgs_msg_dds__DetectionFlag__desc, STAMP_NONE, NULL, NULL},
+    {&marine_acoustic_msgs_msg_dds__SonarDetections__desc, STAMP_HEADER, check_sonar_detections, NULL},
     {&hadal_msgs_msg_dds__ThrusterState__desc, STAMP_HEADER, check_thruster_state, summarize_thruster_state},
     {&hadal_msgs_msg_dds__TrackState__desc, STAMP_HEADER, check_track_state, NULL},
     {&hadal_msgs_msg_dds__FinState__desc, STAMP_HEADER, check_fin_state, NULL},

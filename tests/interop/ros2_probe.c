@@ -13,7 +13,13 @@
  *   rt/<vehicle>/gps              sensor_msgs::msg::dds_::NavSatFix_         } BEST_EFFORT depth 5
  *   rt/<vehicle>/dvl              marine_acoustic_msgs::msg::dds_::Dvl_      } (rclcpp SensorDataQoS)
  *   rt/<vehicle>/altimeter        sensor_msgs::msg::dds_::Range_             }
- * (the sensor names of configs/vehicles/torpedo_auv.yaml). Per sensor topic the JSON has sample counts,
+ * (the sensor names of configs/vehicles/torpedo_auv.yaml) and, with --sonars, the sonars of
+ * configs/scenarios/sonar_survey.yaml, each RELIABLE + KEEP_ALL and BEST_EFFORT depth 5 likewise:
+ *   rt/<vehicle>/fls                 marine_acoustic_msgs::msg::dds_::ProjectedSonarImage_
+ *   rt/<vehicle>/multibeam           marine_acoustic_msgs::msg::dds_::SonarDetections_
+ *   rt/<vehicle>/sidescan/port       marine_acoustic_msgs::msg::dds_::RawSonarImage_
+ *   rt/<vehicle>/sidescan/starboard  marine_acoustic_msgs::msg::dds_::RawSonarImage_
+ * Per sensor topic the JSON has sample counts,
  * the first and last header stamps, the frame_id and a summary (min, max, mean, last) of the decoded
  * values a driver can check against physics; the probe itself judges only clock and odometry.
  * Writer (with --publish-setpoints): rt/<vehicle>/thrusters/setpoints std_msgs::msg::dds_::Float64MultiArray_
@@ -79,6 +85,7 @@ typedef struct {
   double setpoints[MAX_SETPOINTS];
   bool publish;
   bool network_discovery;
+  bool sonars; /* also read the sonar topics */
   const char *trace_file;
 } options_t;
 
@@ -86,7 +93,7 @@ static void usage(FILE *out) {
   fprintf(out,
           "usage: hadal-ros2-probe [--domain N] [--vehicle NAME] [--seconds T] [--idle S] [--enough K]\n"
           "                        [--publish-setpoints a,b,c] [--rate-hz R] [--network-discovery]\n"
-          "                        [--cyclone-trace FILE]\n"
+          "                        [--sonars] [--cyclone-trace FILE]\n"
           "  --domain N              DDS domain id (default: $ROS_DOMAIN_ID or 0)\n"
           "  --vehicle NAME          vehicle whose topics are read (default: auv)\n"
           "  --seconds T             stop after T wall-clock seconds (default: 10)\n"
@@ -96,6 +103,7 @@ static void usage(FILE *out) {
           "  --rate-hz R             setpoint rate (default: 10)\n"
           "  --network-discovery     keep Cyclone's default (multicast) discovery unless\n"
           "                          ROS_LOCALHOST_ONLY=1; default is loopback only\n"
+          "  --sonars                also read rt/NAME/fls, multibeam, sidescan/port and sidescan/starboard\n"
           "  --cyclone-trace FILE    write Cyclone's trace (finest) to FILE\n");
 }
 
@@ -146,6 +154,9 @@ static int parse_options(int argc, char **argv, options_t *o) {
       exit(0);
     } else if (strcmp(a, "--network-discovery") == 0) {
       o->network_discovery = true;
+      continue;
+    } else if (strcmp(a, "--sonars") == 0) {
+      o->sonars = true;
       continue;
     }
     static const char *const with_value[] = {"--domain", "--vehicle", "--seconds", "--idle", "--enough",
@@ -279,22 +290,42 @@ static void summary_add(summary_t *m, double v) {
   ++m->n;
 }
 
-/* The default AUV's sensors (configs/vehicles/torpedo_auv.yaml), read on rt/<vehicle>/<name>. */
-enum sensor_kind { S_DEPTH, S_IMU, S_MAGNETOMETER, S_GPS, S_DVL, S_ALTIMETER, S_COUNT };
+/* The default AUV's sensors (configs/vehicles/torpedo_auv.yaml), read on rt/<vehicle>/<name>, and the sonars of
+ * configs/scenarios/sonar_survey.yaml (with --sonars). */
+enum sensor_kind {
+  S_DEPTH,
+  S_IMU,
+  S_MAGNETOMETER,
+  S_GPS,
+  S_DVL,
+  S_ALTIMETER,
+  S_FLS,
+  S_MULTIBEAM,
+  S_SIDESCAN_PORT,
+  S_SIDESCAN_STARBOARD,
+  S_COUNT
+};
 
 typedef struct {
   const char *name;
   const dds_topic_descriptor_t *desc;
+  bool sonar; /* read only with --sonars */
 } sensor_info_t;
 
 static const sensor_info_t k_sensors[S_COUNT] = {
-    [S_DEPTH] = {"depth", &sensor_msgs_msg_dds__FluidPressure__desc},
-    [S_IMU] = {"imu", &sensor_msgs_msg_dds__Imu__desc},
-    [S_MAGNETOMETER] = {"magnetometer", &sensor_msgs_msg_dds__MagneticField__desc},
-    [S_GPS] = {"gps", &sensor_msgs_msg_dds__NavSatFix__desc},
-    [S_DVL] = {"dvl", &marine_acoustic_msgs_msg_dds__Dvl__desc},
-    [S_ALTIMETER] = {"altimeter", &sensor_msgs_msg_dds__Range__desc},
+    [S_DEPTH] = {"depth", &sensor_msgs_msg_dds__FluidPressure__desc, false},
+    [S_IMU] = {"imu", &sensor_msgs_msg_dds__Imu__desc, false},
+    [S_MAGNETOMETER] = {"magnetometer", &sensor_msgs_msg_dds__MagneticField__desc, false},
+    [S_GPS] = {"gps", &sensor_msgs_msg_dds__NavSatFix__desc, false},
+    [S_DVL] = {"dvl", &marine_acoustic_msgs_msg_dds__Dvl__desc, false},
+    [S_ALTIMETER] = {"altimeter", &sensor_msgs_msg_dds__Range__desc, false},
+    [S_FLS] = {"fls", &marine_acoustic_msgs_msg_dds__ProjectedSonarImage__desc, true},
+    [S_MULTIBEAM] = {"multibeam", &marine_acoustic_msgs_msg_dds__SonarDetections__desc, true},
+    [S_SIDESCAN_PORT] = {"sidescan/port", &marine_acoustic_msgs_msg_dds__RawSonarImage__desc, true},
+    [S_SIDESCAN_STARBOARD] = {"sidescan/starboard", &marine_acoustic_msgs_msg_dds__RawSonarImage__desc, true},
 };
+
+static bool sensor_enabled(const options_t *o, int k) { return !k_sensors[k].sonar || o->sonars; }
 
 /* Everything but the endpoint counts comes from the reliable reader, which sees every sample. */
 typedef struct {
@@ -334,6 +365,15 @@ typedef struct {
   unsigned long range_outside_limits; /* finite range outside [min_range, max_range] */
   double min_range, max_range, field_of_view;
   unsigned radiation_type;
+  /* sonars: ping_info, and the image (fls, sidescan) or the detections (multibeam), last sample */
+  double frequency, sonar_sound_speed;
+  unsigned long beams, bins, image_bytes, nonzero_samples;
+  unsigned dtype;
+  unsigned long mismatched_lengths; /* samples whose array lengths disagree with each other */
+  summary_t detected_beams;         /* multibeam: beams flagged DETECT_OK */
+  summary_t detected_range;         /* multibeam: c t / 2 of the good beams [m] */
+  double sample_rate, rx_angle;     /* sidescan */
+  unsigned long sample0;
 } sensor_stats_t;
 
 typedef struct {
@@ -569,6 +609,67 @@ static void on_range(sensor_stats_t *m, const sensor_msgs_msg_dds__Range_ *x) {
   m->radiation_type = x->radiation_type;
 }
 
+static void on_ping_info(sensor_stats_t *m, const marine_acoustic_msgs_msg_dds__PingInfo_ *p) {
+  m->frequency = p->frequency;
+  m->sonar_sound_speed = p->sound_speed;
+  if (!isfinite(p->frequency) || !isfinite(p->sound_speed)) ++m->non_finite;
+}
+
+/* Samples, not bytes: a float32 sample (dtype 8) is four bytes, little-endian. */
+static void on_sonar_image_data(sensor_stats_t *m, const marine_acoustic_msgs_msg_dds__SonarImageData_ *d) {
+  m->dtype = d->dtype;
+  m->image_bytes = d->data._length;
+  m->nonzero_samples = 0;
+  const uint32_t size = d->dtype == 8 ? 4 : 1;
+  for (uint32_t i = 0; i + size <= d->data._length; i += size) {
+    bool nonzero = false;
+    for (uint32_t k = 0; k < size; ++k) nonzero |= d->data._buffer[i + k] != 0;
+    m->nonzero_samples += nonzero;
+  }
+}
+
+static void on_projected_sonar_image(sensor_stats_t *m, const marine_acoustic_msgs_msg_dds__ProjectedSonarImage_ *x) {
+  on_sensor_header(m, &x->header);
+  on_ping_info(m, &x->ping_info);
+  on_sonar_image_data(m, &x->image);
+  m->beams = x->beam_directions._length;
+  m->bins = x->ranges._length;
+  const unsigned long size = x->image.dtype == 8 ? 4 : 1;
+  if (x->image.beam_count != m->beams || m->image_bytes != m->beams * m->bins * size ||
+      x->ping_info.rx_beamwidths._length != m->beams)
+    ++m->mismatched_lengths;
+}
+
+static void on_sonar_detections(sensor_stats_t *m, const marine_acoustic_msgs_msg_dds__SonarDetections_ *x) {
+  on_sensor_header(m, &x->header);
+  on_ping_info(m, &x->ping_info);
+  const uint32_t n = x->flags._length;
+  m->beams = n;
+  if (x->two_way_travel_times._length != n || x->intensities._length != n || x->rx_angles._length != n ||
+      x->tx_angles._length != n || x->tx_delays._length != n)
+    ++m->mismatched_lengths;
+  unsigned long good = 0;
+  for (uint32_t i = 0; i < n && i < x->two_way_travel_times._length; ++i) {
+    if (x->flags._buffer[i].flag != 0) continue;
+    ++good;
+    summary_add(&m->detected_range, 0.5 * x->ping_info.sound_speed * x->two_way_travel_times._buffer[i]);
+  }
+  summary_add(&m->detected_beams, (double)good);
+}
+
+static void on_raw_sonar_image(sensor_stats_t *m, const marine_acoustic_msgs_msg_dds__RawSonarImage_ *x) {
+  on_sensor_header(m, &x->header);
+  on_ping_info(m, &x->ping_info);
+  on_sonar_image_data(m, &x->image);
+  m->beams = x->image.beam_count;
+  m->bins = x->samples_per_beam;
+  m->sample_rate = x->sample_rate;
+  m->sample0 = x->sample0;
+  m->rx_angle = x->rx_angles._length > 0 ? x->rx_angles._buffer[0] : NAN;
+  const unsigned long size = x->image.dtype == 8 ? 4 : 1;
+  if (m->image_bytes != m->beams * m->bins * size) ++m->mismatched_lengths;
+}
+
 static void on_sensor_sample(enum sensor_kind k, sensor_stats_t *m, const void *sample) {
   switch (k) {
     case S_DEPTH: on_fluid_pressure(m, sample); break;
@@ -577,6 +678,10 @@ static void on_sensor_sample(enum sensor_kind k, sensor_stats_t *m, const void *
     case S_GPS: on_nav_sat_fix(m, sample); break;
     case S_DVL: on_dvl(m, sample); break;
     case S_ALTIMETER: on_range(m, sample); break;
+    case S_FLS: on_projected_sonar_image(m, sample); break;
+    case S_MULTIBEAM: on_sonar_detections(m, sample); break;
+    case S_SIDESCAN_PORT:
+    case S_SIDESCAN_STARBOARD: on_raw_sonar_image(m, sample); break;
     default: break;
   }
 }
@@ -716,6 +821,27 @@ static void json_sensor(FILE *f, enum sensor_kind k, const char *topic, const se
       json_named_number(f, "max_range", m->max_range);
       json_named_number(f, "field_of_view", m->field_of_view);
       break;
+    case S_FLS:
+    case S_SIDESCAN_PORT:
+    case S_SIDESCAN_STARBOARD:
+      fprintf(f, ", \"beams\": %lu, \"bins\": %lu, \"dtype\": %u, \"image_bytes\": %lu, \"nonzero_samples\": %lu, "
+              "\"mismatched_lengths\": %lu", m->beams, m->bins, m->dtype, m->image_bytes, m->nonzero_samples,
+              m->mismatched_lengths);
+      json_named_number(f, "frequency", m->frequency);
+      json_named_number(f, "sound_speed", m->sonar_sound_speed);
+      if (k != S_FLS) {
+        json_named_number(f, "sample_rate", m->sample_rate);
+        json_named_number(f, "rx_angle", m->rx_angle);
+        fprintf(f, ", \"sample0\": %lu", m->sample0);
+      }
+      break;
+    case S_MULTIBEAM:
+      fprintf(f, ", \"beams\": %lu, \"mismatched_lengths\": %lu", m->beams, m->mismatched_lengths);
+      json_named_number(f, "frequency", m->frequency);
+      json_named_number(f, "sound_speed", m->sonar_sound_speed);
+      json_summary(f, "detected_beams", &m->detected_beams);
+      json_summary(f, "detected_range", &m->detected_range);
+      break;
     default: break;
   }
   fputc('}', f);
@@ -811,6 +937,7 @@ static void print_report(const options_t *o, const stats_t *s, char sensor_topic
 
   fputs(", \"sensors\": {", f);
   for (int k = 0; k < S_COUNT; ++k) {
+    if (!sensor_enabled(o, k)) continue;
     fputs(k ? ", " : "", f);
     json_sensor(f, (enum sensor_kind)k, sensor_topics[k], &s->sensors[k]);
   }
@@ -1026,7 +1153,9 @@ int main(int argc, char **argv) {
   static char sensor_topics[S_COUNT][256];
   dds_entity_t rd_sensor[S_COUNT][2]; /* [k][0] reliable, [k][1] best effort */
   for (int k = 0; k < S_COUNT; ++k) {
+    rd_sensor[k][0] = rd_sensor[k][1] = 0;
     snprintf(sensor_topics[k], sizeof(sensor_topics[k]), "rt/%s/%s", o.vehicle, k_sensors[k].name);
+    if (!sensor_enabled(&o, k)) continue;
     dds_entity_t topic = make_topic(pp, k_sensors[k].desc, sensor_topics[k]);
     if (topic < 0) return 2;
     rd_sensor[k][0] = make_reader(pp, topic, true, 0);
@@ -1071,7 +1200,7 @@ int main(int argc, char **argv) {
     dds_waitset_attach(ws, cond, (dds_attach_t)i);
   }
   for (int k = 0; k < S_COUNT; ++k)
-    for (int j = 0; j < 2; ++j)
+    for (int j = 0; j < 2 && sensor_enabled(&o, k); ++j)
       dds_waitset_attach(ws, dds_create_readcondition(rd_sensor[k][j], DDS_ANY_STATE),
                          (dds_attach_t)(W_COUNT + 2 * k + j));
 
@@ -1109,6 +1238,7 @@ int main(int argc, char **argv) {
     update_reader_match(&s.thruster_state, rd[W_THRUSTER], t);
     update_reader_match(&s.status, rd[W_STATUS], t);
     for (int k = 0; k < S_COUNT; ++k) {
+      if (!sensor_enabled(&o, k)) continue;
       for (int j = 0; j < 2; ++j)
         if (drain_sensor((enum sensor_kind)k, j == 0, rd_sensor[k][j], &s, t) > 0) s.last_sample_s = t;
       update_reader_match(&s.sensors[k].reliable, rd_sensor[k][0], t);

@@ -289,6 +289,23 @@ TEST_F(ValidationCliTest, CameraFigure) {
   EXPECT_EQ(run(HADAL_VALIDATE_CAMERA, "--frames 3").exit_code, 2);
 }
 
+// The sonar figure over 4 s of the survey scenario: every sonar pings (5 Hz: 20 pings), the multibeam's
+// soundings on the seabed lie on it (median within 5 cm: the 1.25 cm bins, speckle and the 2 m grid of the
+// generated seabed's triangles, whose facets the rays see and the height interpolates alike), and the PNG
+// is written. A bad --seconds is a usage error.
+TEST_F(ValidationCliTest, SonarFigure) {
+  const RunResult r = run(HADAL_VALIDATE_SONAR, "--seconds 4 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  ASSERT_TRUE(std::filesystem::exists(dir_ + "/sonar_figure.png"));
+  EXPECT_EQ(json["fls_pings"].number, 20.0);
+  EXPECT_EQ(json["multibeam_pings"].number, 20.0);
+  EXPECT_EQ(json["sidescan_pings"].number, 20.0);
+  EXPECT_GT(json["soundings_on_seabed"].number, 20.0 * 200.0);
+  EXPECT_LT(json["seabed_residual_median_m"].number, 0.05);
+  EXPECT_EQ(run(HADAL_VALIDATE_SONAR, "--seconds 0").exit_code, 2);
+}
+
 TEST_F(ValidationCliTest, UsageErrors) {
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--depth -5").exit_code, 2);
   EXPECT_EQ(run(HADAL_VALIDATE_LANDER, "--segments 7").exit_code, 2);

@@ -291,6 +291,64 @@ LaserScan from_msg(const sensor_msgs::msg::LaserScan& m) {
   return l;
 }
 
+PingInfo from_msg(const marine_acoustic_msgs::msg::PingInfo& m) {
+  PingInfo p;
+  p.frequency_hz = m.frequency();
+  p.sound_speed_m_per_s = m.sound_speed();
+  p.tx_beamwidths_rad = m.tx_beamwidths();
+  p.rx_beamwidths_rad = m.rx_beamwidths();
+  return p;
+}
+
+SonarImageData from_msg(const marine_acoustic_msgs::msg::SonarImageData& m) {
+  SonarImageData d;
+  d.is_bigendian = m.is_bigendian();
+  d.dtype = m.dtype();
+  d.beam_count = m.beam_count();
+  d.data = m.data();
+  return d;
+}
+
+ProjectedSonarImage from_msg(const marine_acoustic_msgs::msg::ProjectedSonarImage& m) {
+  ProjectedSonarImage s;
+  s.stamp = dds::from_time_msg(m.header().stamp());
+  s.frame_id = m.header().frame_id();
+  s.ping_info = from_msg(m.ping_info());
+  for (const geometry_msgs::msg::Vector3& d : m.beam_directions()) s.beam_directions.push_back({d.x(), d.y(), d.z()});
+  s.ranges = m.ranges();
+  s.image = from_msg(m.image());
+  return s;
+}
+
+RawSonarImage from_msg(const marine_acoustic_msgs::msg::RawSonarImage& m) {
+  RawSonarImage s;
+  s.stamp = dds::from_time_msg(m.header().stamp());
+  s.frame_id = m.header().frame_id();
+  s.ping_info = from_msg(m.ping_info());
+  s.sample_rate_hz = m.sample_rate();
+  s.samples_per_beam = m.samples_per_beam();
+  s.sample0 = m.sample0();
+  s.tx_delays_s = m.tx_delays();
+  s.tx_angles_rad = m.tx_angles();
+  s.rx_angles_rad = m.rx_angles();
+  s.image = from_msg(m.image());
+  return s;
+}
+
+SonarDetections from_msg(const marine_acoustic_msgs::msg::SonarDetections& m) {
+  SonarDetections s;
+  s.stamp = dds::from_time_msg(m.header().stamp());
+  s.frame_id = m.header().frame_id();
+  s.ping_info = from_msg(m.ping_info());
+  for (const marine_acoustic_msgs::msg::DetectionFlag& f : m.flags()) s.flags.push_back(f.flag());
+  s.two_way_travel_times_s = m.two_way_travel_times();
+  s.tx_delays_s = m.tx_delays();
+  s.intensities = m.intensities();
+  s.tx_angles_rad = m.tx_angles();
+  s.rx_angles_rad = m.rx_angles();
+  return s;
+}
+
 bool wait_for_match(fdds::DataWriter* writer, double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   fdds::PublicationMatchedStatus status;
@@ -545,6 +603,59 @@ float Image::depth_m(std::uint32_t u, std::uint32_t v) const {
   float z = 0.0f;
   std::memcpy(&z, data.data() + static_cast<std::size_t>(v) * step + u * sizeof(float), sizeof(float));
   return z;
+}
+
+double SonarImageData::sample(std::size_t i) const {
+  if (is_bigendian) throw std::logic_error("SonarImageData::sample: a big-endian image");
+  if (i >= size()) throw std::out_of_range("SonarImageData::sample: index past the end");
+  if (dtype == kUint8) return data[i];
+  if (dtype != kFloat32) {
+    throw std::logic_error("SonarImageData::sample: dtype " + std::to_string(dtype) + " (only uint8 and float32)");
+  }
+  float v = 0.0f;
+  std::memcpy(&v, data.data() + 4 * i, sizeof v);
+  return v;
+}
+
+double ProjectedSonarImage::beam_azimuth(std::size_t k) const {
+  const std::array<double, 3>& d = beam_directions.at(k);
+  return std::atan2(-d[1], d[2]);
+}
+
+double ProjectedSonarImage::sample(std::size_t bin, std::size_t beam) const {
+  if (beam >= image.beam_count) throw std::out_of_range("ProjectedSonarImage::sample: beam past the last");
+  return image.sample(bin * image.beam_count + beam);
+}
+
+double RawSonarImage::sample_range_m(std::size_t i) const {
+  return (static_cast<double>(sample0) + static_cast<double>(i)) * ping_info.sound_speed_m_per_s / (2.0 * sample_rate_hz);
+}
+
+double SonarDetections::range_m(std::size_t k) const {
+  if (flags.at(k) != kDetectOk) return std::numeric_limits<double>::quiet_NaN();
+  return 0.5 * ping_info.sound_speed_m_per_s * two_way_travel_times_s.at(k);
+}
+
+void Client::on_sonar_image(const std::string& vehicle, const std::string& sensor,
+                            std::function<void(const ProjectedSonarImage&)> callback) {
+  using Msg = marine_acoustic_msgs::msg::ProjectedSonarImage;
+  impl_->subscribe<marine_acoustic_msgs::msg::ProjectedSonarImagePubSubType, Msg>(
+      dds::sensor_topic(vehicle, sensor), [callback = std::move(callback)](const Msg& m) { callback(from_msg(m)); });
+}
+
+void Client::on_sonar_detections(const std::string& vehicle, const std::string& sensor,
+                                 std::function<void(const SonarDetections&)> callback) {
+  using Msg = marine_acoustic_msgs::msg::SonarDetections;
+  impl_->subscribe<marine_acoustic_msgs::msg::SonarDetectionsPubSubType, Msg>(
+      dds::sensor_topic(vehicle, sensor), [callback = std::move(callback)](const Msg& m) { callback(from_msg(m)); });
+}
+
+void Client::on_raw_sonar_image(const std::string& vehicle, const std::string& sensor, const std::string& channel,
+                                std::function<void(const RawSonarImage&)> callback) {
+  using Msg = marine_acoustic_msgs::msg::RawSonarImage;
+  impl_->subscribe<marine_acoustic_msgs::msg::RawSonarImagePubSubType, Msg>(
+      dds::sensor_topic(vehicle, sensor) + "/" + channel,
+      [callback = std::move(callback)](const Msg& m) { callback(from_msg(m)); });
 }
 
 void Client::on_image(const std::string& vehicle, const std::string& camera, std::function<void(const Image&)> callback) {

@@ -24,12 +24,12 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
-                     Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, ServerMode, SimStatus,
-                     ThrusterStates, TrackStates)
+                     Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
+                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates)
 from .errors import ClientError, CommandRejected, ServerLost, ServerNotFound, Timeout, UnknownVehicle
 from .server import Server
 
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
-           "Odometry", "Range", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus", "ThrusterStates", "Timeout",
-           "TrackStates", "UnknownVehicle"]
+           "Odometry", "Range", "RawSonarImage", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
+           "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownVehicle"]

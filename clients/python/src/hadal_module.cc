@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -87,6 +88,21 @@ py::array image_array(const hadal::Image& image, py::handle owner) {
   throw std::invalid_argument("Image.array: unsupported encoding '" + image.encoding + "'");
 }
 
+// A sonar image's samples as an (rows, beam_count) array: uint8 or float32 (little-endian), a copy.
+py::array sonar_array(const hadal::SonarImageData& image) {
+  if (image.beam_count == 0) throw std::invalid_argument("sonar image without beams");
+  const bool f32 = image.dtype == hadal::SonarImageData::kFloat32;
+  if ((!f32 && image.dtype != hadal::SonarImageData::kUint8) || image.is_bigendian) {
+    throw std::invalid_argument("sonar image: dtype " + std::to_string(image.dtype) +
+                                " (only little-endian uint8 and float32)");
+  }
+  const auto cols = static_cast<py::ssize_t>(image.beam_count);
+  const auto rows = static_cast<py::ssize_t>(image.size()) / cols;
+  py::array out = f32 ? py::array(py::dtype::of<float>(), {rows, cols}) : py::array(py::dtype::of<std::uint8_t>(), {rows, cols});
+  std::memcpy(out.mutable_data(), image.data.data(), static_cast<std::size_t>(rows * cols) * (f32 ? 4u : 1u));
+  return out;
+}
+
 // Latest sample per key, with a wait for a sample at or after a sim time.
 template <class Sample>
 class Latest {
@@ -123,6 +139,7 @@ class Latest {
 };
 
 using ImagePtr = std::shared_ptr<const hadal::Image>;
+using SonarImagePtr = std::shared_ptr<const hadal::ProjectedSonarImage>;  // large too: kept, not copied
 
 class PyClient {
  public:
@@ -242,6 +259,31 @@ class PyClient {
     return wait_sensor("camera_info", &hadal::Client::on_camera_info, camera_info_, vehicle, camera, min_stamp,
                        timeout_s);
   }
+  // Sonars.
+  std::optional<SonarImagePtr> wait_sonar_image(const std::string& vehicle, const std::string& sensor, double min_stamp,
+                                                double timeout_s) {
+    return wait_sensor<hadal::ProjectedSonarImage, SonarImagePtr>("sonar_image", &hadal::Client::on_sonar_image,
+                                                                  sonar_image_, vehicle, sensor, min_stamp, timeout_s);
+  }
+  std::optional<hadal::SonarDetections> wait_sonar_detections(const std::string& vehicle, const std::string& sensor,
+                                                              double min_stamp, double timeout_s) {
+    return wait_sensor("sonar_detections", &hadal::Client::on_sonar_detections, sonar_detections_, vehicle, sensor,
+                       min_stamp, timeout_s);
+  }
+  std::optional<hadal::RawSonarImage> wait_raw_sonar_image(const std::string& vehicle, const std::string& sensor,
+                                                           const std::string& channel, double min_stamp,
+                                                           double timeout_s) {
+    if (channel != "port" && channel != "starboard") {
+      throw std::invalid_argument("wait_raw_sonar_image: channel must be 'port' or 'starboard' (got '" + channel + "')");
+    }
+    return wait_subscribed<hadal::RawSonarImage>(
+        "raw_sonar_image",
+        [sensor, channel](hadal::Client& c, std::function<void(const hadal::RawSonarImage&)> callback,
+                          const std::string& v, const std::string& /*key*/) {
+          c.on_raw_sonar_image(v, sensor, channel, std::move(callback));
+        },
+        raw_sonar_image_, vehicle, sensor + "/" + channel, min_stamp, timeout_s);
+  }
   void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints, bool publish) {
     if (publish) {
       client()->set_thrusters(vehicle, setpoints);
@@ -309,6 +351,9 @@ class PyClient {
     image_.clear();
     depth_.clear();
     camera_info_.clear();
+    sonar_image_.clear();
+    sonar_detections_.clear();
+    raw_sonar_image_.clear();
   }
 
   template <class Sample>
@@ -338,17 +383,33 @@ class PyClient {
   std::optional<Stored> wait_sensor(const std::string& kind, Subscription<Sample> subscribe, Latest<Stored>& latest,
                                     const std::string& vehicle, const std::string& sensor, double min_stamp,
                                     double timeout_s) {
+    return wait_subscribed<Sample, Stored>(
+        kind,
+        [subscribe](hadal::Client& c, std::function<void(const Sample&)> callback, const std::string& v,
+                    const std::string& s) { (c.*subscribe)(v, s, std::move(callback)); },
+        latest, vehicle, sensor, min_stamp, timeout_s);
+  }
+
+  // wait_sensor with any subscription: subscribe(client, callback, vehicle, sensor) (a side-scan channel's
+  // sensor is "<sensor>/<channel>").
+  template <class Sample, class Stored = Sample>
+  std::optional<Stored> wait_subscribed(
+      const std::string& kind,
+      const std::function<void(hadal::Client&, std::function<void(const Sample&)>, const std::string&, const std::string&)>&
+          subscribe,
+      Latest<Stored>& latest, const std::string& vehicle, const std::string& sensor, double min_stamp,
+      double timeout_s) {
     const std::string key = vehicle + "/" + sensor;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + key, true).second) {
-        ((*client()).*subscribe)(vehicle, sensor, [&latest, key](const Sample& m) {
+        subscribe(*client(), [&latest, key](const Sample& m) {
           if constexpr (std::is_same_v<Stored, Sample>) {
             latest.put(key, m);
           } else {
             latest.put(key, std::make_shared<const Sample>(m));
           }
-        });
+        }, vehicle, sensor);
       }
     }
     return latest.wait(key, min_stamp, timeout_s);
@@ -374,6 +435,9 @@ class PyClient {
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
   Latest<hadal::CameraInfo> camera_info_;
+  Latest<SonarImagePtr> sonar_image_;
+  Latest<hadal::SonarDetections> sonar_detections_;
+  Latest<hadal::RawSonarImage> raw_sonar_image_;
   mutable std::mutex client_mutex_;  // guards client_ alone (mutex_ is held around calls on it)
   std::shared_ptr<hadal::Client> client_;
 };
@@ -670,6 +734,83 @@ PYBIND11_MODULE(_hadal, m) {
           },
           "(3, 4) projection");
 
+  py::class_<hadal::ProjectedSonarImage, std::shared_ptr<hadal::ProjectedSonarImage>>(
+      m, "SonarImage",
+      "marine_acoustic_msgs/ProjectedSonarImage of a forward-looking sonar: array[bin, beam] the samples (uint8: the "
+      "level over the display window; float32: intensity after TVG [uPa^2]), beam k at azimuth beam_azimuths[k] "
+      "(positive to port), range bin centres `ranges`")
+      .def_readonly("stamp", &hadal::ProjectedSonarImage::stamp, "sim time of the ping [s]")
+      .def_readonly("frame_id", &hadal::ProjectedSonarImage::frame_id)
+      .def_property_readonly("frequency_hz", [](const hadal::ProjectedSonarImage& s) { return s.ping_info.frequency_hz; })
+      .def_property_readonly("sound_speed", [](const hadal::ProjectedSonarImage& s) { return s.ping_info.sound_speed_m_per_s; },
+                             "sound speed at the sonar [m/s]")
+      .def_property_readonly("beam_widths", [](const hadal::ProjectedSonarImage& s) { return to_numpy(s.ping_info.rx_beamwidths_rad); },
+                             "(beams,) -3 dB width in the fan [rad]")
+      .def_property_readonly("vertical_apertures", [](const hadal::ProjectedSonarImage& s) { return to_numpy(s.ping_info.tx_beamwidths_rad); },
+                             "(beams,) -3 dB width across the fan [rad]")
+      .def_property_readonly(
+          "beam_azimuths",
+          [](const hadal::ProjectedSonarImage& s) {
+            std::vector<double> a;
+            for (std::size_t k = 0; k < s.beam_directions.size(); ++k) a.push_back(s.beam_azimuth(k));
+            return to_numpy(a);
+          },
+          "(beams,) atan2(-y, z) of the beam directions [rad]")
+      .def_property_readonly("ranges", [](const hadal::ProjectedSonarImage& s) { return to_numpy(s.ranges); },
+                             "(bins,) range bin centres [m]")
+      .def_property_readonly("array", [](const hadal::ProjectedSonarImage& s) { return sonar_array(s.image); },
+                             "(bins, beams) samples, uint8 or float32");
+  py::class_<hadal::SonarDetections>(
+      m, "SonarDetections",
+      "marine_acoustic_msgs/SonarDetections of a multibeam: per beam its slant range (NaN without a detection), "
+      "two-way travel time, peak intensity and steering angles (rx + to starboard)")
+      .def_readonly("stamp", &hadal::SonarDetections::stamp, "sim time of the ping [s]")
+      .def_readonly("frame_id", &hadal::SonarDetections::frame_id)
+      .def_property_readonly("frequency_hz", [](const hadal::SonarDetections& s) { return s.ping_info.frequency_hz; })
+      .def_property_readonly("sound_speed", [](const hadal::SonarDetections& s) { return s.ping_info.sound_speed_m_per_s; },
+                             "sound speed at the sonar [m/s]")
+      .def_property_readonly(
+          "ranges",
+          [](const hadal::SonarDetections& s) {
+            std::vector<double> r;
+            for (std::size_t k = 0; k < s.flags.size(); ++k) r.push_back(s.range_m(k));
+            return to_numpy(r);
+          },
+          "(beams,) slant range c t / 2 [m], NaN without a detection")
+      .def_property_readonly("flags", [](const hadal::SonarDetections& s) { return to_numpy(s.flags); },
+                             "(beams,) 0 detection, 1 none")
+      .def_property_readonly("two_way_travel_times", [](const hadal::SonarDetections& s) { return to_numpy(s.two_way_travel_times_s); },
+                             "(beams,) [s]")
+      .def_property_readonly("intensities", [](const hadal::SonarDetections& s) { return to_numpy(s.intensities); },
+                             "(beams,) echo peak after TVG [uPa^2]")
+      .def_property_readonly("rx_angles", [](const hadal::SonarDetections& s) { return to_numpy(s.rx_angles_rad); },
+                             "(beams,) across track, + to starboard [rad]")
+      .def_property_readonly("tx_angles", [](const hadal::SonarDetections& s) { return to_numpy(s.tx_angles_rad); },
+                             "(beams,) along track, + forward [rad]");
+  py::class_<hadal::RawSonarImage>(
+      m, "RawSonarImage",
+      "marine_acoustic_msgs/RawSonarImage of one side-scan channel: samples[i] from range ranges[i] on")
+      .def_readonly("stamp", &hadal::RawSonarImage::stamp, "sim time of the ping [s]")
+      .def_readonly("frame_id", &hadal::RawSonarImage::frame_id)
+      .def_property_readonly("frequency_hz", [](const hadal::RawSonarImage& s) { return s.ping_info.frequency_hz; })
+      .def_property_readonly("sound_speed", [](const hadal::RawSonarImage& s) { return s.ping_info.sound_speed_m_per_s; },
+                             "sound speed at the sonar [m/s]")
+      .def_readonly("sample_rate", &hadal::RawSonarImage::sample_rate_hz, "[Hz]")
+      .def_readonly("sample0", &hadal::RawSonarImage::sample0)
+      .def_property_readonly("rx_angle", [](const hadal::RawSonarImage& s) { return s.rx_angles_rad.empty() ? 0.0 : s.rx_angles_rad[0]; },
+                             "across-track steering, + to starboard [rad]")
+      .def_property_readonly(
+          "ranges",
+          [](const hadal::RawSonarImage& s) {
+            std::vector<double> r;
+            for (std::size_t i = 0; i < s.samples_per_beam; ++i) r.push_back(s.sample_range_m(i));
+            return to_numpy(r);
+          },
+          "(samples,) range at which each sample starts, (sample0 + i) c / (2 sample_rate) [m]")
+      .def_property_readonly(
+          "samples", [](const hadal::RawSonarImage& s) { return sonar_array(s.image).attr("reshape")(-1); },
+          "(samples,) uint8 or float32");
+
   using release = py::call_guard<py::gil_scoped_release>;
   py::class_<PyClient>(m, "Client", R"doc(A client of a hadald on a DDS domain.
 
@@ -759,6 +900,16 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
       .def("wait_camera_info", &PyClient::wait_camera_info, py::arg("vehicle"), py::arg("camera"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "CameraInfo of rt/<vehicle>/<camera>/camera_info with stamp >= min_stamp, or None on timeout")
+      .def("wait_sonar_image", &PyClient::wait_sonar_image, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "SonarImage of rt/<vehicle>/<sensor> (a forward-looking sonar) with stamp >= min_stamp, or None on timeout")
+      .def("wait_sonar_detections", &PyClient::wait_sonar_detections, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "SonarDetections of rt/<vehicle>/<sensor> (a multibeam) with stamp >= min_stamp, or None on timeout")
+      .def("wait_raw_sonar_image", &PyClient::wait_raw_sonar_image, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("channel") = "port", py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "RawSonarImage of rt/<vehicle>/<sensor>/<channel> (a side-scan's 'port' or 'starboard') with stamp >= "
+           "min_stamp, or None on timeout")
       .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"),
            py::arg("publish") = true, release(),
            "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop "

@@ -64,6 +64,12 @@ def camera_server(domain_id):
 
 
 @pytest.fixture
+def sonar_server(domain_id):
+    """hadald in lockstep mode on the sonar test scenario (tests/integration/scenarios/sonar.yaml)."""
+    yield from _lockstep("tests/integration/scenarios/sonar.yaml", domain_id)
+
+
+@pytest.fixture
 def crawler_server(domain_id):
     """hadald in lockstep mode on the crawler zoo scenario (configs/scenarios/crawler.yaml)."""
     yield from _lockstep("configs/scenarios/crawler.yaml", domain_id)

@@ -1,8 +1,9 @@
 """The Python sensor accessors (wait_magnetic_field, wait_nav_sat_fix, wait_dvl, wait_range,
-wait_laser_scan, wait_image, wait_depth_image, wait_camera_info) against a real hadald over real DDS: the
-lockstep test scenario's AUV (configs/vehicles/torpedo_auv.yaml) at 50 m depth, at rest, yawed 30 deg,
-world origin 43 N 5 E; the profiler scenario (tests/integration/scenarios/profiler.yaml) and the camera
-scenario (tests/integration/scenarios/camera.yaml)."""
+wait_laser_scan, wait_image, wait_depth_image, wait_camera_info, wait_sonar_image, wait_sonar_detections,
+wait_raw_sonar_image) against a real hadald over real DDS: the lockstep test scenario's AUV
+(configs/vehicles/torpedo_auv.yaml) at 50 m depth, at rest, yawed 30 deg, world origin 43 N 5 E; the
+profiler scenario (tests/integration/scenarios/profiler.yaml), the camera scenario
+(tests/integration/scenarios/camera.yaml) and the sonar scenario (tests/integration/scenarios/sonar.yaml)."""
 
 import math
 
@@ -175,3 +176,48 @@ def test_camera_images_are_numpy_views(camera_server):
     assert abs(info.k[0, 0] - 80.0 / math.tan(math.radians(30.0))) < 1e-9
     assert info.k[0, 2] == 79.5 and info.k[1, 2] == 59.5
     np.testing.assert_array_equal(info.d, np.zeros(5))
+
+
+def test_sonars_over_a_plane(sonar_server):
+    """The three sonars 20 m above a plane seabed, noise off (tests/integration/scenarios/sonar.yaml): the
+    pings of 0.2 s arrive 0.05 s later as numpy arrays whose echoes lie where the geometry puts them, each
+    within one range bin: the forward-looking sonar's centre beams (fan 30 deg down, 20 deg aperture) from
+    20 / sin 40 deg to 20 / sin 20 deg, every multibeam beam at 20 / cos(its angle), and each side-scan
+    channel from its steepest ray, 20 / sin 45 deg, on."""
+    _, domain_id = sonar_server
+    client = subscribed_client(domain_id, lambda c: c.wait_sonar_image("auv", "fls", timeout_s=0.1),
+                               lambda c: c.wait_sonar_detections("auv", "multibeam", timeout_s=0.1),
+                               lambda c: c.wait_raw_sonar_image("auv", "sidescan", "port", timeout_s=0.1),
+                               lambda c: c.wait_raw_sonar_image("auv", "sidescan", "starboard", timeout_s=0.1))
+    client.step(125)  # 0.25 s
+    fls = client.wait_sonar_image("auv", "fls", min_stamp=0.2, timeout_s=WAIT_S)
+    assert fls is not None and isinstance(fls, hadal.SonarImage)
+    assert abs(fls.stamp - 0.2) < 1e-9 and fls.frame_id == "auv/fls"
+    assert fls.frequency_hz == 400e3 and 1400.0 < fls.sound_speed < 1600.0
+    image = fls.array
+    assert image.dtype == np.float32 and image.shape == (200, 64)
+    bin_m = (60.0 - 0.5) / 200
+    np.testing.assert_allclose(fls.ranges, 0.5 + (np.arange(200) + 0.5) * bin_m, rtol=0, atol=1e-4)
+    np.testing.assert_allclose(fls.beam_azimuths, math.radians(-30.0) + (np.arange(64) + 0.5) * math.radians(60.0) / 64,
+                               rtol=0, atol=1e-6)
+    np.testing.assert_allclose(fls.vertical_apertures, math.radians(20.0), rtol=1e-6)
+    for beam in (31, 32):
+        lit = np.nonzero(image[:, beam] > 0)[0]
+        assert abs(fls.ranges[lit[0]] - 20.0 / math.sin(math.radians(40.0))) <= bin_m
+        assert abs(fls.ranges[lit[-1]] - 20.0 / math.sin(math.radians(20.0))) <= bin_m
+    detections = client.wait_sonar_detections("auv", "multibeam", min_stamp=0.2, timeout_s=WAIT_S)
+    assert detections is not None and isinstance(detections, hadal.SonarDetections)
+    assert detections.ranges.shape == (64,) and (detections.flags == 0).all()
+    np.testing.assert_allclose(detections.ranges, 20.0 / np.cos(detections.rx_angles), rtol=0,
+                               atol=(60.0 - 0.5) / 2380 + 1e-4)
+    for channel, sign in (("port", -1.0), ("starboard", 1.0)):
+        side = client.wait_raw_sonar_image("auv", "sidescan", channel, min_stamp=0.2, timeout_s=WAIT_S)
+        assert side is not None and isinstance(side, hadal.RawSonarImage)
+        assert side.samples.dtype == np.float32 and side.samples.shape == (500,)
+        assert abs(side.rx_angle - sign * math.radians(70.0)) < 1e-6
+        side_bin = 60.0 / 500  # the side-scan's window starts at 0 m
+        assert side.sample0 == 0 and abs(side.sample_rate - side.sound_speed / (2.0 * side_bin)) < 1e-2
+        first = np.nonzero(side.samples > 0)[0][0]
+        # ranges: where each sample starts, (sample0 + i) bin.
+        np.testing.assert_allclose(side.ranges[:3], [0.0, side_bin, 2.0 * side_bin], rtol=0, atol=1e-5)
+        assert abs(side.ranges[first] + 0.5 * side_bin - 20.0 / math.sin(math.radians(45.0))) <= side_bin

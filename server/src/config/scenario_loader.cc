@@ -308,11 +308,12 @@ void read_current(const Value& value, CurrentSpec* current) {
 void read_water(const Value& value, WaterSpec* water) {
   const MapReader map(value, {"surface_z", "density", "density_model", "rho0", "pycnocline_depth",
                               "pycnocline_density_increase", "ctd", "temperature_degc", "salinity",
-                              "atmospheric_pressure", "bulk_modulus", "current"});
+                              "atmospheric_pressure", "bulk_modulus", "ph", "current"});
   if (!map.ok()) return;
   map.read_number("surface_z", Need::kOptional, Range::finite(), &water->surface_z);
   map.read_number("atmospheric_pressure", Need::kOptional, Range::closed(0.0, 1e7), &water->atmospheric_pressure);
   map.read_number("bulk_modulus", Need::kOptional, Range::positive(), &water->bulk_modulus);
+  map.read_number("ph", Need::kOptional, Range::closed(6.0, 9.0), &water->ph);
   if (const auto current = map.optional("current")) read_current(*current, &water->current);
 
   static const std::vector<std::pair<std::string, DensityModel>> kModels = {
@@ -547,11 +548,16 @@ std::optional<geometry::MeshProperties> read_link_mesh(const Value& value, LinkM
   return properties;
 }
 
-// A link's `appearance` (AppearanceSpec): albedo, and a checkerboard {squares: [columns, rows],
-// square_size, dark_albedo, pose}.
+// A link's `appearance` (AppearanceSpec): albedo, a checkerboard {squares: [columns, rows],
+// square_size, dark_albedo, pose}, and the sonars' backscatter_db.
 void read_appearance(const Value& value, AppearanceSpec* appearance) {
-  const MapReader map(value, {"albedo", "checkerboard"});
+  const MapReader map(value, {"albedo", "checkerboard", "backscatter_db"});
   if (!map.ok()) return;
+  double backscatter_db = 0.0;
+  if (map.has("backscatter_db") &&
+      map.read_number("backscatter_db", Need::kOptional, Range::closed(-80.0, 0.0), &backscatter_db)) {
+    appearance->backscatter_db = backscatter_db;
+  }
   Eigen::Vector3d albedo;
   if (map.has("albedo") && map.read_vector3("albedo", Need::kOptional, Range::closed(0.0, 1.0), &albedo)) {
     appearance->albedo = albedo.array();
@@ -1033,6 +1039,14 @@ VehicleDefinition read_definition(const MapReader& map, std::optional<double> ph
   return definition;
 }
 
+// world.acoustics (AcousticsSpec): Lambert's backscatter parameter of the seabed and of hulls [dB].
+void read_acoustics(const Value& value, AcousticsSpec* acoustics) {
+  const MapReader map(value, {"seabed_backscatter_db", "vehicle_backscatter_db"});
+  if (!map.ok()) return;
+  map.read_number("seabed_backscatter_db", Need::kOptional, Range::closed(-80.0, 0.0), &acoustics->seabed_backscatter_db);
+  map.read_number("vehicle_backscatter_db", Need::kOptional, Range::closed(-80.0, 0.0), &acoustics->vehicle_backscatter_db);
+}
+
 // world.optics (OpticsSpec), its defaults filled whether or not the block is given: water absorption
 // = pure water (Pope & Fry 1997, render/water_presets.h) unless given, scattering 0.037 /m per channel
 // (Petzold's clear ocean at 530 nm, b = 0.037 /m: Mobley, Light and Water (1994), Table 3.10), the
@@ -1268,7 +1282,7 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
 void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
   const MapReader map(value, {"physics_rate_hz", "gravity", "seed", "frame_id", "clock_rate_hz",
                               "status_rate_hz", "water", "seabed", "origin", "raycast_threads", "threads", "dynamics",
-                              "date", "magnetic_dipoles", "optics", "soil"});
+                              "date", "magnetic_dipoles", "optics", "acoustics", "soil"});
   if (!map.ok()) return;
   if (map.read_number("physics_rate_hz", Need::kOptional, Range::closed(50.0, 100000.0),
                       &world->physics_rate_hz)) {
@@ -1288,6 +1302,7 @@ void ScenarioLoader::read_world(const Value& value, WorldSpec* world) {
 
   if (const auto water_value = map.optional("water")) read_water(*water_value, &world->water);
   read_optics(map.optional("optics"), world->water.surface_z, &world->optics);
+  if (const auto acoustics = map.optional("acoustics")) read_acoustics(*acoustics, &world->acoustics);
   world->optics.marine_snow.seed = world->seed;
   world->optics.seabed_pattern.seed = world->seed;
   if (const auto seabed_value = map.optional("seabed")) read_seabed(*seabed_value, world->seed, &world->seabed);

@@ -538,7 +538,8 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
-                          "'magnetometer', 'gps', 'dvl', 'altimeter', 'profiler', 'camera' (got 'barometer')",
+                          "'magnetometer', 'gps', 'dvl', 'altimeter', 'profiler', 'camera', 'fls', 'multibeam', "
+                          "'sidescan' (got 'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "
@@ -789,6 +790,79 @@ vehicles:
                          "'square_size'",
                    bad + ":12:35: error: vehicles[0].links[0].appearance.checkerboard.squares: must be two whole "
                          "numbers [columns, rows] (got [8.5, 6])"}));
+}
+
+// The three sonars from presets and keys, world.acoustics, a link's backscatter_db and the water's pH; then
+// their errors: an unknown preset, a window, a ping rate beyond the two-way travel limit, a display window.
+TEST_F(ScenarioLoaderTest, SonarsFromPresetsAndKeys) {
+  const std::string path = write("s.yaml", R"(world:
+  physics_rate_hz: 500
+  water: {ph: 7.8}
+  acoustics: {seabed_backscatter_db: -30, vehicle_backscatter_db: -12}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}, appearance: {backscatter_db: -5}}
+    sensors:
+      - {name: fls, type: fls, preset: oculus_m750d, beams: 256, latency_s: 0.05}
+      - {name: mbes, type: multibeam, preset: r2sonic_2024, rate_hz: 5, speckle: false}
+      - {name: sss, type: sidescan, depression_deg: 15, max_range: 100, bins: 1000, image_dtype: float32, rate_hz: 4}
+      - {name: plain, type: fls}
+)");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
+  const WorldSpec& world = result.model->world;
+  EXPECT_EQ(world.water.ph, 7.8);
+  EXPECT_EQ(world.acoustics.seabed_backscatter_db, -30.0);
+  EXPECT_EQ(world.acoustics.vehicle_backscatter_db, -12.0);
+  EXPECT_EQ(*result.model->vehicles[0].links[0].appearance.backscatter_db, -5.0);
+  const auto& sensors = result.model->vehicles[0].sensors;
+  const sensors::FlsSensor::Spec& fls = spec_of<sensors::FlsSensor>(sensors[0]);
+  EXPECT_EQ(fls.beams, 256);  // the file's, over the preset's 512
+  EXPECT_EQ(fls.acoustics.frequency_hz, 750e3);
+  EXPECT_NEAR(fls.fov, 130.0 * kDegToRad, kTol);
+  EXPECT_NEAR(fls.vertical_aperture, 20.0 * kDegToRad, kTol);
+  EXPECT_EQ(fls.acoustics.max_range, 40.0);
+  EXPECT_EQ(sensors[0].rate_hz, 10.0);  // the preset's
+  EXPECT_EQ(sensors[0].latency_s, 0.05);
+  ASSERT_TRUE(fls.ping);
+  EXPECT_EQ(fls.ping->beams.size(), 256u);
+  EXPECT_EQ(fls.ping->rays_u * fls.ping->rays_v, 4 * 512);  // rays_per_cell x bins
+  const sensors::MultibeamSensor::Spec& mbes = spec_of<sensors::MultibeamSensor>(sensors[1]);
+  EXPECT_EQ(mbes.beams, 256);
+  EXPECT_NEAR(mbes.across_beam_width, 0.5 * kDegToRad, kTol);
+  EXPECT_EQ(sensors[1].rate_hz, 5.0);  // the file's
+  EXPECT_FALSE(mbes.acoustics.speckle);
+  const sensors::SidescanSensor::Spec& sss = spec_of<sensors::SidescanSensor>(sensors[2]);
+  EXPECT_NEAR(sss.depression, 15.0 * kDegToRad, kTol);
+  EXPECT_EQ(sss.acoustics.bins, 1000);
+  EXPECT_TRUE(sss.encoding.float32);
+  EXPECT_EQ(sss.ping->beams.size(), 2u);
+  EXPECT_EQ(spec_of<sensors::FlsSensor>(sensors[3]).beams, sensors::FlsSensor::Spec{}.beams);
+
+  const std::string bad = write("bad.yaml", R"(world: {physics_rate_hz: 500, acoustics: {seabed_backscatter_db: 3}}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: a, type: fls, preset: blueview}
+      - {name: b, type: multibeam, rate_hz: 20, max_range: 100}
+      - {name: c, type: sidescan, min_range: 30, max_range: 20, display_min_db: 150, display_max_db: 120}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":1:66: error: world.acoustics.seabed_backscatter_db: must be in [-80, 0] (got 3)",
+                   bad + ":8:30: error: vehicles[0].sensors[0].preset: unknown forward-looking sonar preset 'blueview' "
+                         "(presets: 'oculus_m750d', 'oculus_m750d_1200khz', 'gemini_720is', 'aris_explorer_3000')",
+                   bad + ":9:36: error: vehicles[0].sensors[1].rate_hz: a ping every 0.05 s (rate_hz 20) is shorter "
+                         "than the echoes' two-way travel time over max_range 100 m: rate_hz must be <= 8 "
+                         "(1600 m/s / (2 max_range))",
+                   bad + ":10:50: error: vehicles[0].sensors[2].max_range: max_range (20 m) must exceed min_range "
+                         "(30 m)",
+                   bad + ":10:86: error: vehicles[0].sensors[2].display_max_db: display_max_db (120) must exceed "
+                         "display_min_db (150)"}));
 }
 
 TEST_F(ScenarioLoaderTest, DvlAndAltimeterFromPresetAndKeys) {

@@ -601,8 +601,8 @@ template <class Kind>
 void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const typename Kind::Spec& spec,
                                 const PendingCapture& capture) {
   VehicleRuntime::Sensor& mount = runtime_[vehicle]->sensors[sensor];
-  const sensors::CaptureContext context{capture.time, capture.step_count, capture.X_WB, static_cast<int>(vehicle),
-                                        mount.X_BS, &model_};
+  const sensors::CaptureContext context{capture.time,  capture.step_count, capture.X_WB, static_cast<int>(vehicle),
+                                        mount.X_BS,    &model_,            ocean_.get()};
   VehicleRuntime::InFlight flight;
   if constexpr (sensors::CapturesByWork<Kind>::value) {
     auto output = std::make_shared<typename Kind::Capture>();

@@ -106,7 +106,11 @@ std::pair<double, double> sensor_reach(const SensorSpec& sensor) {
         } else if constexpr (std::is_same_v<Kind, sensors::CameraSensor>) {
           const render::LensSpec& lens = spec.lens->spec();
           return {spec.far_m, std::atan2(0.5 * lens.width_px, lens.fx)};
-        } else {
+        } else if constexpr (std::is_same_v<Kind, sensors::FlsSensor>) {
+          return {spec.acoustics.max_range, 0.5 * spec.fov};
+        } else if constexpr (std::is_same_v<Kind, sensors::MultibeamSensor>) {
+          return {spec.acoustics.max_range, 0.5 * spec.swath};
+        } else {  // a side-scan looks to both sides of x_S: no cone along it
           return {0.0, 0.0};
         }
       },

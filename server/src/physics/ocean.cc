@@ -244,6 +244,11 @@ double Ocean::sound_speed(double depth) const {
   return sound_speed_unesco(salinity(depth), its90_to_ipts68(temperature(depth)), sea_pressure_dbar);
 }
 
+double Ocean::sound_absorption_db_per_m(double depth, double frequency_hz) const {
+  const double d = std::max(depth, 0.0);
+  return absorption_francois_garrison_db_per_km(frequency_hz, temperature(d), salinity(d), d, water_.ph) / 1000.0;
+}
+
 double Ocean::kappa(double depth) const { return 1.0 - pressure(depth) / water_.bulk_modulus; }
 
 Eigen::Vector3d Ocean::gauss_markov_current_W(double t) const {

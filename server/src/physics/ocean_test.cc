@@ -119,6 +119,20 @@ TEST(OceanTest, NonCtdTemperatureSalinityAndSoundSpeed) {
                    sound_speed_unesco(35.0, its90_to_ipts68(20.0), (ocean.pressure(2000.0) - kPatm) / 1e4));
 }
 
+// A sonar's absorption: Francois & Garrison at the water's temperature, salinity, depth and pH, per metre;
+// above the surface the surface's.
+TEST(OceanTest, SoundAbsorptionIsFrancoisGarrisonAtTheWatersProperties) {
+  WaterSpec water;
+  water.temperature = 4.0;
+  water.salinity = 34.7;
+  water.ph = 7.9;
+  const Ocean ocean(water, kG, 0);
+  EXPECT_DOUBLE_EQ(ocean.sound_absorption_db_per_m(1500.0, 400e3),
+                   absorption_francois_garrison_db_per_km(400e3, 4.0, 34.7, 1500.0, 7.9) / 1000.0);
+  EXPECT_DOUBLE_EQ(ocean.sound_absorption_db_per_m(-5.0, 400e3), ocean.sound_absorption_db_per_m(0.0, 400e3));
+  EXPECT_GT(ocean.sound_absorption_db_per_m(100.0, 900e3), ocean.sound_absorption_db_per_m(100.0, 400e3));
+}
+
 TEST(OceanTest, KappaIsOneMinusPressureOverBulkModulus) {
   WaterSpec water = ramp_water();
   water.bulk_modulus = 2.2e9;

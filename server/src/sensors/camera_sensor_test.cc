@@ -63,14 +63,7 @@ CameraSensor::Spec camera_spec(bool noise) {
 // One frame of the vehicle's camera at the world's state, rendered on a 2-worker ray-cast service.
 CameraSensor::Capture capture(SensorTestWorld& world, const CameraSensor::Spec& spec, const CameraSensor::State& state,
                               std::uint64_t step = 0) {
-  std::vector<Eigen::Isometry3d> X_WB;
-  for (const VehicleState& vehicle : world.state.vehicles) X_WB.push_back(vehicle.body.X_WB);
-  const CaptureContext context{0.002 * static_cast<double>(step), step, X_WB, 0, kX_BS, &world.model};
-  CameraSensor::Capture out;
-  const CaptureWork work = CameraSensor::capture(context, spec, state, out);
-  geometry::RaycastService service(world.rays->scene().view(), {2});
-  service.submit(X_WB, work).get();
-  return out;
+  return testing::capture<CameraSensor>(world, spec, state, kX_BS, step);
 }
 
 // Looking straight down on the plane: depth = altitude at every pixel (float rays: 1e-4 m); the centre

@@ -5,11 +5,16 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
+#include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
+#include "hadal/geometry/raycast_service.h"
 #include "hadal/geometry/scene_rays.h"
 #include "hadal/geometry/world_scene.h"
 #include "hadal/physics/ocean.h"
@@ -67,6 +72,31 @@ class SensorTestWorld {
   Eigen::Vector3d v_WBcm_step_start = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_WB_step_start = Eigen::Vector3d::Zero();
 };
+
+// One capture of kind K (one that captures by scene work: a camera, a sonar) of the sensor mounted at X_BS on
+// `vehicle`, at the world's state, as the simulation makes it: the kind's work on a 2-worker ray-cast service.
+// The capture's time is step x world.step_size.
+template <class K>
+typename K::Capture capture(SensorTestWorld& world, const typename K::Spec& spec, const typename K::State& state,
+                            const Eigen::Isometry3d& X_BS, std::uint64_t step = 0, int vehicle = 0) {
+  std::vector<Eigen::Isometry3d> X_WB;
+  for (const VehicleState& v : world.state.vehicles) X_WB.push_back(v.body.X_WB);
+  const CaptureContext context{world.step_size * static_cast<double>(step), step, X_WB, vehicle, X_BS, &world.model,
+                               &world.ocean};
+  typename K::Capture out;
+  const CaptureWork work = K::capture(context, spec, state, out);
+  geometry::RaycastService service(world.rays->scene().view(), {2});
+  service.submit(X_WB, work).get();
+  return out;
+}
+
+// Sample i of little-endian float32 samples (a sonar image's bytes).
+inline float float32_sample(const std::vector<std::uint8_t>& bytes, std::size_t i) {
+  if (4 * i + 4 > bytes.size()) throw std::out_of_range("float32_sample: past the end");
+  float v = 0.0f;
+  std::memcpy(&v, bytes.data() + 4 * i, sizeof v);
+  return v;
+}
 
 // A world with the water surface at z = 0, a plane seabed at `seabed_z`, one vehicle "auv" without
 // geometry at p_W (rays pass through it unless it has links with collisions).

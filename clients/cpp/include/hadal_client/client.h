@@ -244,6 +244,83 @@ struct LaserScan {
   std::vector<float> intensities;  // device-specific; may be empty
 };
 
+// marine_acoustic_msgs/PingInfo of a sonar ping: centre frequency, the sound speed at the sonar, and per beam
+// its -3 dB widths (tx: across the fan, rx: in the fan).
+struct PingInfo {
+  double frequency_hz = 0.0;
+  double sound_speed_m_per_s = 0.0;
+  std::vector<float> tx_beamwidths_rad;
+  std::vector<float> rx_beamwidths_rad;
+};
+
+// marine_acoustic_msgs/SonarImageData: beam_count beams of samples, little-endian, dtype kUint8 (the level
+// mapped onto a display window) or kFloat32 (intensity after TVG [uPa^2]).
+struct SonarImageData {
+  static constexpr std::uint32_t kUint8 = 0;
+  static constexpr std::uint32_t kFloat32 = 8;
+  bool is_bigendian = false;
+  std::uint32_t dtype = kUint8;
+  std::uint32_t beam_count = 0;
+  std::vector<std::uint8_t> data;
+
+  std::size_t size() const { return dtype == kFloat32 ? data.size() / 4 : data.size(); }
+  // Sample i as a number; throws std::logic_error for another dtype or a big-endian image, std::out_of_range
+  // past the end.
+  double sample(std::size_t i) const;
+};
+
+// marine_acoustic_msgs/ProjectedSonarImage of a forward-looking sonar, rt/<vehicle>/<sensor>: beam k's
+// direction (0, -sin a, cos a) in the sonar frame (z forward, x up: a > 0 to port), range bin centres, samples
+// range-major (sample(bin, beam) = image.sample(bin * beams + beam)).
+struct ProjectedSonarImage {
+  double stamp = 0.0;  // sim time of the ping [s]
+  std::string frame_id;
+  PingInfo ping_info;
+  std::vector<std::array<double, 3>> beam_directions;
+  std::vector<float> ranges;  // [m]
+  SonarImageData image;
+
+  // Beam k's azimuth atan2(-y, z) [rad], positive to port.
+  double beam_azimuth(std::size_t k) const;
+  double sample(std::size_t bin, std::size_t beam) const;
+};
+
+// marine_acoustic_msgs/RawSonarImage of one side-scan channel, rt/<vehicle>/<sensor>/port or .../starboard:
+// samples_per_beam samples, sample i from range (sample0 + i) c / (2 sample_rate) [m].
+struct RawSonarImage {
+  double stamp = 0.0;  // [s]
+  std::string frame_id;
+  PingInfo ping_info;
+  double sample_rate_hz = 0.0;
+  std::uint32_t samples_per_beam = 0;
+  std::uint32_t sample0 = 0;
+  std::vector<float> tx_delays_s;
+  std::vector<float> tx_angles_rad;
+  std::vector<float> rx_angles_rad;  // + to starboard
+  SonarImageData image;
+
+  // The range at which sample i starts [m].
+  double sample_range_m(std::size_t i) const;
+};
+
+// marine_acoustic_msgs/SonarDetections of a multibeam, rt/<vehicle>/<sensor>: per beam a flag (0 good, 1 no
+// detection), the two-way travel time, intensity and steering angles.
+struct SonarDetections {
+  static constexpr std::uint8_t kDetectOk = 0;
+  double stamp = 0.0;  // [s]
+  std::string frame_id;
+  PingInfo ping_info;
+  std::vector<std::uint8_t> flags;
+  std::vector<float> two_way_travel_times_s;
+  std::vector<float> tx_delays_s;
+  std::vector<float> intensities;
+  std::vector<float> tx_angles_rad;  // along track, + forward
+  std::vector<float> rx_angles_rad;  // across track, + to starboard
+
+  // Beam k's slant range c t / 2 [m] (straight rays, c the ping's sound speed); NaN without a detection.
+  double range_m(std::size_t k) const;
+};
+
 // sensor_msgs/Image of a camera: rt/<vehicle>/<camera>/image_raw (encoding "rgb8": 3 bytes per pixel
 // R, G, B, or "mono8") or rt/<vehicle>/<camera>/depth ("32FC1": one little-endian float per pixel,
 // metres along the optical axis, NaN where nothing is hit). Row-major, `step` bytes per row. frame_id
@@ -403,6 +480,14 @@ class Client {
                       std::function<void(const Image&)> callback);
   void on_camera_info(const std::string& vehicle, const std::string& camera,
                       std::function<void(const CameraInfo&)> callback);
+  // Sonars: a forward-looking sonar's images, a multibeam's detections, and one side-scan channel
+  // (`channel` "port" or "starboard": rt/<vehicle>/<sensor>/<channel>).
+  void on_sonar_image(const std::string& vehicle, const std::string& sensor,
+                      std::function<void(const ProjectedSonarImage&)> callback);
+  void on_sonar_detections(const std::string& vehicle, const std::string& sensor,
+                           std::function<void(const SonarDetections&)> callback);
+  void on_raw_sonar_image(const std::string& vehicle, const std::string& sensor, const std::string& channel,
+                          std::function<void(const RawSonarImage&)> callback);
 
   // Publishes the vehicle's control vector (one entry per actuator: thrusters, tracks, fins, buoyancy
   // engines, drop weights, each kind in scenario order; normalised [-1, 1], a drop weight 0 or 1) on

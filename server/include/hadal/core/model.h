@@ -84,6 +84,8 @@ struct CheckerboardSpec {
 };
 struct AppearanceSpec {
   std::optional<Eigen::Array3d> albedo;  // per channel (R, G, B); none: world.optics.vehicle_albedo
+  // Lambert's backscatter parameter mu [dB] for sonars (render/sonar.h); none: world.acoustics.vehicle_backscatter_db
+  std::optional<double> backscatter_db;
   std::optional<CheckerboardSpec> checkerboard;
 };
 
@@ -316,6 +318,7 @@ struct WaterSpec {
   double salinity = 35.0;                        // non-CTD water (practical salinity)
   double atmospheric_pressure = 101325.0;        // at the surface [Pa]
   double bulk_modulus = 2.2e9;                   // K in kappa(d) = 1 - p(d)/K [Pa]
+  double ph = 8.0;                               // sound absorption's boric acid term (physics/seawater.h)
   CurrentSpec current;
 };
 
@@ -329,6 +332,15 @@ struct DynamicsSpec {
   bool gyroscopic = true;        // Bullet's rigid-body gyroscopic moment
   bool earth_rotation = false;   // Earth-rotation Coriolis force
   double earth_rotation_rate = 7.2921150e-5;  // Omega_E [rad/s] (WGS84)
+};
+
+// What sonars hear (render/sonar.h, docs/ARCHITECTURE.md "Sonars"): Lambert's backscatter parameter mu
+// [dB] of the world's surfaces, sigma = mu cos^2(incidence) per unit area and steradian. YAML
+// world.acoustics. The seabed's default is Mackenzie's (1961) deep-sea value, -27 dB; hulls (metal, GRP) are
+// strong scatterers, -10 dB; a link's appearance.backscatter_db overrides the hulls' value.
+struct AcousticsSpec {
+  double seabed_backscatter_db = -27.0;
+  double vehicle_backscatter_db = -10.0;
 };
 
 // What cameras see (render/optics.h, docs/ARCHITECTURE.md "Cameras"): the water's absorption and
@@ -358,6 +370,7 @@ struct WorldSpec {
   sensors::GeodeticPosition origin;  // of W's origin, WGS84 (YAML: latitude_deg, longitude_deg, altitude)
   DynamicsSpec dynamics;
   OpticsSpec optics;
+  AcousticsSpec acoustics;
   std::string frame_id = "world";  // header.frame_id of world-frame messages
   double clock_rate_hz = 100.0;    // rt/clock
   double status_rate_hz = 10.0;    // rt/hadal/status

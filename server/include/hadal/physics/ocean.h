@@ -79,6 +79,9 @@ class Ocean {
   double temperature(double depth) const;  // ITS-90 [degC]
   double salinity(double depth) const;     // practical salinity
   double sound_speed(double depth) const;  // [m/s]
+  // Sound absorption at frequency f [Hz] [dB/m]: Francois & Garrison (1982) at the water's temperature,
+  // salinity, depth and pH (physics/seawater.h).
+  double sound_absorption_db_per_m(double depth, double frequency_hz) const;
   double kappa(double depth) const;        // 1 - p(d) / K
 
   // Current [m/s] in W at p_W and sim time t [s].

@@ -68,6 +68,9 @@ class MapReader;
 namespace hadal::geometry {
 class EmbreeScene;
 }
+namespace hadal::physics {
+class Ocean;
+}
 namespace hadal::sensors {
 
 class GeomagneticModel;
@@ -122,7 +125,8 @@ struct SensorSetup {
   SensorEnvironment& environment;
 };
 
-// What capture_rays() / capture() get: the snapshot of the capture, and the model (lights, optics).
+// What capture_rays() / capture() get: the snapshot of the capture, the model (lights, optics) and the
+// ocean (a sonar's sound speed and absorption).
 struct CaptureContext {
   double time = 0.0;  // sim time of the snapshot [s]
   std::uint64_t step_count = 0;
@@ -130,6 +134,7 @@ struct CaptureContext {
   int vehicle_index = 0;                       // the sensor's vehicle
   const Eigen::Isometry3d& X_BS;               // mounting pose of S in B
   const Model* model = nullptr;               // the simulation's model (a camera's lights and optics)
+  const physics::Ocean* ocean = nullptr;       // the simulation's water column
 
   Eigen::Isometry3d X_WS() const { return X_WB[static_cast<std::size_t>(vehicle_index)] * X_BS; }
 };

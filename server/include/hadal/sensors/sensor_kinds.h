@@ -7,17 +7,20 @@
 #include "hadal/sensors/altimeter_sensor.h"
 #include "hadal/sensors/camera_sensor.h"
 #include "hadal/sensors/dvl_sensor.h"
+#include "hadal/sensors/fls_sensor.h"
 #include "hadal/sensors/gps_sensor.h"
 #include "hadal/sensors/imu_sensor.h"
 #include "hadal/sensors/magnetometer_sensor.h"
+#include "hadal/sensors/multibeam_sensor.h"
 #include "hadal/sensors/pressure_sensor.h"
 #include "hadal/sensors/profiler_sensor.h"
+#include "hadal/sensors/sidescan_sensor.h"
 
 namespace hadal::sensors {
 
 using SensorKinds =
     KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
-             CameraSensor>;
+             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor>;
 
 using SensorKindSpec = SensorKinds::Specs;    // one alternative per kind: its Spec
 using SensorKindState = SensorKinds::States;  // the matching State, same index

@@ -1,0 +1,104 @@
+// Forward-looking imaging sonar (YAML `type: fls`, marine_acoustic_msgs/ProjectedSonarImage on
+// rt/<vehicle>/<sensor>): a fan of `beams` beams over fov in S's x-y plane, beam k at azimuth
+//   phi_k = -fov/2 + (k + 1/2) fov / beams   about z_S from x_S (positive to port, y_S),
+// each beam_width wide in the fan and vertical_aperture across it (its axis (cos phi, sin phi, 0), u along
+// the fan, v = z_S up); tilt it down with the mounting pose. Each ping (render/sonar.h) casts
+// rays_per_cell x bins rays per beam (azimuth_rays across the beam, the rest across the vertical aperture),
+// so that a range bin of a beam gets rays_per_cell rays on average; echoes are Lambert backscatter through
+// spreading and Francois-Garrison absorption, with speckle, receiver noise and TVG (sensors/sonar.h).
+// Message (the UW-APL Oculus driver's convention, which sonar_image_proc reads): beam_directions in the
+// sonar frame of marine_acoustic_msgs (z forward = x_S, x up = z_S, y = -y_S), beam k = (0, -sin phi_k,
+// cos phi_k); ranges the bin centres [m]; image range-major (sample of beam k in bin b at index
+// b * beams + k), uint8 or float32 (sensors/sonar.h); ping_info the frequency, the sound speed at the sonar,
+// rx_beamwidths the beam width and tx_beamwidths the vertical aperture per beam [rad]. header.frame_id
+// is the sensor's frame_id, stamped with the ping's time.
+// Captured like a camera (sensors/sensor_kind.h): rendered on the ray-cast workers from the snapshot,
+// published latency_s later; streams keyed by world.seed, vehicle, sensor and the ping's step.
+// YAML keys (configs/REFERENCE.md): preset (a product: sets the keys below that the file does not give, and
+// rate_hz unless given), beams (256), fov_deg (130), beam_width_deg (1), vertical_aperture_deg (20),
+// azimuth_rays (2), rays_per_cell (4), the common sonar keys (sensors/sonar.h) and image_dtype,
+// display_min_db, display_max_db; latency_s (common to captured sensors).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hadal/core/units.h"
+#include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/sonar.h"
+
+namespace marine_acoustic_msgs::msg {
+class ProjectedSonarImage;
+class ProjectedSonarImagePubSubType;
+}  // namespace marine_acoustic_msgs::msg
+
+namespace hadal::sensors {
+
+struct FlsSensor {
+  static constexpr std::string_view kType = "fls";
+  static constexpr bool kCastsRays = false;  // pinged on the workers
+  static constexpr bool kCaptures = true;
+
+  struct Spec {
+    using Kind = FlsSensor;
+    int beams = 256;
+    double fov = 130.0 * kDegToRad;              // [rad]
+    double beam_width = 1.0 * kDegToRad;         // in the fan [rad]
+    double vertical_aperture = 20.0 * kDegToRad;  // across it [rad]
+    int azimuth_rays = 2;
+    int rays_per_cell = 4;
+    SonarAcoustics acoustics;
+    SonarImageEncoding encoding;
+    std::shared_ptr<const render::SonarPingSpec> ping;  // made by read() / make_ping() from the above
+  };
+  struct State {
+    std::uint64_t noise_key = 0;
+    double sound_speed_m_per_s = 0.0;  // of the last ping
+    std::vector<std::uint8_t> image;   // the last ping's samples (range-major)
+  };
+  struct Capture {
+    render::SonarWater water;
+    std::vector<std::uint8_t> image;
+  };
+
+  // A ping's image is large (256 x 512 samples: 128 KB in uint8, 512 KB in float32): writers keep 10, and
+  // the monitor leaves it out (sensors/sensor_kind.h).
+  struct ImageTopic {
+    static constexpr std::string_view kSuffix = "";
+    static constexpr int kHistoryDepth = 10;
+    static constexpr bool kInMonitor = false;
+    using Message = marine_acoustic_msgs::msg::ProjectedSonarImage;
+    using PubSubType = marine_acoustic_msgs::msg::ProjectedSonarImagePubSubType;
+    static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  };
+  using Topics = TopicList<ImageTopic>;
+
+  // Azimuth of beam k about z_S [rad].
+  static double beam_azimuth(const Spec& spec, int k);
+  // Fills spec.ping from the spec's geometry and acoustics; throws std::invalid_argument as
+  // render::SonarPingSpec::validate does.
+  static void make_ping(Spec& spec);
+
+  static const std::vector<std::string>& keys();
+  static Spec read(const SensorReader& reader);
+  static State initial_state(const Spec& spec, const SensorSetup& setup);
+  static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
+  static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);
+};
+
+// A forward-looking sonar product (a preset).
+struct FlsPreset {
+  std::string_view name;
+  double frequency_hz;
+  int beams;
+  double fov_deg, beam_width_deg, vertical_aperture_deg;
+  double max_range_m;  // the preset's receive window (at most the product's maximum)
+  int bins;
+  double rate_hz;
+};
+const std::vector<FlsPreset>& fls_presets();
+
+}  // namespace hadal::sensors

@@ -1,0 +1,106 @@
+// Side-scan sonar (YAML `type: sidescan`, marine_acoustic_msgs/RawSonarImage on rt/<vehicle>/<sensor>/port
+// and .../starboard): two beams looking to either side of S's x axis (mount S like the vehicle: x forward,
+// y to port, z up), each depressed by `depression` below S's x-y plane:
+//   port axis (0, cos d, -sin d), starboard axis (0, -cos d, -sin d), u = x_S (along track),
+// horizontal_beam_width wide along track and vertical_beam_width across (in the plane of y_S and z_S).
+// Each ping (render/sonar.h) casts rays_per_cell x bins rays per side (along_rays along track, the rest
+// across the vertical beam), so each range bin of a side gets rays_per_cell rays on average; one ping is one
+// line of the waterfall a survey builds as the vehicle moves.
+// Message per side: sample_rate c / (2 bin) [Hz] with c the sound speed at the sonar, samples_per_beam the
+// bins, sample0 = round(min_range / bin) (sample i spans ranges (sample0 + i) bin to (sample0 + i + 1) bin:
+// exact when min_range is a whole number of bins, as the default 0),
+// tx_delays [0], tx_angles [0], rx_angles [-(pi/2 - d)] port, [+(pi/2 - d)] starboard (+ to starboard),
+// image one beam of uint8 or float32 samples (sensors/sonar.h); ping_info per side.
+// YAML keys (configs/REFERENCE.md): preset (a product; sets what the file does not give, and rate_hz unless
+// given), horizontal_beam_width_deg (0.5), vertical_beam_width_deg (50), depression_deg (20), along_rays (2),
+// rays_per_cell (4), the common sonar keys (sensors/sonar.h; here min_range 0, max_range 75 m and bins 2000 by
+// default)
+// and image_dtype, display_min_db, display_max_db; latency_s (common to captured sensors).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hadal/core/units.h"
+#include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/sonar.h"
+
+namespace marine_acoustic_msgs::msg {
+class RawSonarImage;
+class RawSonarImagePubSubType;
+}  // namespace marine_acoustic_msgs::msg
+
+namespace hadal::sensors {
+
+struct SidescanSensor {
+  static constexpr std::string_view kType = "sidescan";
+  static constexpr bool kCastsRays = false;
+  static constexpr bool kCaptures = true;
+
+  static constexpr int kPort = 0;  // beam index of each side
+  static constexpr int kStarboard = 1;
+
+  struct Spec {
+    using Kind = SidescanSensor;
+    double horizontal_beam_width = 0.5 * kDegToRad;  // along track [rad]
+    double vertical_beam_width = 50.0 * kDegToRad;   // [rad]
+    double depression = 20.0 * kDegToRad;            // of the beams' axes below S's x-y plane [rad]
+    int along_rays = 2;
+    int rays_per_cell = 4;
+    SonarAcoustics acoustics = default_acoustics();
+    SonarImageEncoding encoding;
+    std::shared_ptr<const render::SonarPingSpec> ping;
+  };
+  struct State {
+    std::uint64_t noise_key = 0;
+    double sound_speed_m_per_s = 0.0;
+    std::vector<std::uint8_t> port, starboard;  // the last ping's samples per side
+  };
+  struct Capture {
+    render::SonarWater water;
+    std::vector<std::uint8_t> port, starboard;
+  };
+
+  struct PortTopic {
+    static constexpr std::string_view kSuffix = "port";
+    static constexpr bool kInMonitor = false;
+    using Message = marine_acoustic_msgs::msg::RawSonarImage;
+    using PubSubType = marine_acoustic_msgs::msg::RawSonarImagePubSubType;
+    static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  };
+  struct StarboardTopic {
+    static constexpr std::string_view kSuffix = "starboard";
+    static constexpr bool kInMonitor = false;
+    using Message = marine_acoustic_msgs::msg::RawSonarImage;
+    using PubSubType = marine_acoustic_msgs::msg::RawSonarImagePubSubType;
+    static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  };
+  using Topics = TopicList<PortTopic, StarboardTopic>;
+
+  static SonarAcoustics default_acoustics();
+  static void make_ping(Spec& spec);
+  // One side's message (side kPort or kStarboard).
+  static void fill_side(const Spec& spec, const State& state, const MessageHeader& header, int side,
+                        marine_acoustic_msgs::msg::RawSonarImage& msg);
+
+  static const std::vector<std::string>& keys();
+  static Spec read(const SensorReader& reader);
+  static State initial_state(const Spec& spec, const SensorSetup& setup);
+  static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
+  static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);
+};
+
+struct SidescanPreset {
+  std::string_view name;
+  double frequency_hz;
+  double horizontal_beam_width_deg, vertical_beam_width_deg, depression_deg;
+  double max_range_m;
+  int bins;
+  double rate_hz;
+};
+const std::vector<SidescanPreset>& sidescan_presets();
+
+}  // namespace hadal::sensors

@@ -1,0 +1,132 @@
+#include "hadal/sensors/fls_sensor.h"
+
+#include <marine_acoustic_msgs.h>
+#include <marine_acoustic_msgsPubSubTypes.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+
+namespace hadal::sensors {
+
+using config::MapReader;
+using config::Need;
+using config::Range;
+
+const std::vector<FlsPreset>& fls_presets() {
+  // Figures from the makers' documents as cited; the window (max_range, bins) and rate are a working setting
+  // within the product's limits (a ping's two-way travel time bounds the rate: sensors/sonar.h).
+  static const std::vector<FlsPreset> presets = {
+      // Blueprint Subsea Oculus M750d, 750 kHz mode: 512 beams over 130 deg, 1.0 deg x 20 deg beams, 120 m
+      // maximum range (Oculus M-series user manual; liboculus Constants.h, Oculus_M750d). Window 40 m.
+      {"oculus_m750d", 750e3, 512, 130.0, 1.0, 20.0, 40.0, 512, 10.0},
+      // The same sonar's 1.2 MHz mode: 0.6 deg x 12 deg beams, 40 m maximum (liboculus); its 70 deg field
+      // of view is the maker's data sheet figure (not re-checked here). Window 20 m.
+      {"oculus_m750d_1200khz", 1.2e6, 512, 70.0, 0.6, 12.0, 20.0, 512, 15.0},
+      // Tritech Gemini 720is: 720 kHz, 120 deg x 20 deg, 1.0 deg acoustic beam width, up to 30 Hz (product
+      // manual 0703-SOM-00002, sections 1.1 and 2.1); 256 beams. Window 50 m.
+      {"gemini_720is", 720e3, 256, 120.0, 1.0, 20.0, 50.0, 512, 10.0},
+      // Sound Metrics ARIS Explorer 3000, 3 MHz mode: 128 beams over 28 deg x 14 deg (Ocean Networks Canada,
+      // ARIS sonar data); beam width 0.25 deg. Window 5 m.
+      {"aris_explorer_3000", 3.0e6, 128, 28.0, 0.25, 14.0, 5.0, 512, 15.0},
+  };
+  return presets;
+}
+
+double FlsSensor::beam_azimuth(const Spec& spec, int k) { return -0.5 * spec.fov + (k + 0.5) * spec.fov / spec.beams; }
+
+void FlsSensor::make_ping(Spec& spec) {
+  auto ping = std::make_shared<render::SonarPingSpec>();
+  set_acoustics(spec.acoustics, *ping);
+  ping->beams = render::fan_beams(spec.beams, spec.fov, spec.beam_width, spec.vertical_aperture);
+  ping->rays_u = spec.azimuth_rays;
+  ping->rays_v = (spec.rays_per_cell * spec.acoustics.bins + spec.azimuth_rays - 1) / spec.azimuth_rays;
+  ping->validate();
+  spec.ping = std::move(ping);
+}
+
+const std::vector<std::string>& FlsSensor::keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = {"preset", "beams", "fov_deg", "beam_width_deg", "vertical_aperture_deg", "azimuth_rays",
+                                  "rays_per_cell"};
+    for (const auto* list : {&sonar_acoustic_keys(), &sonar_image_keys()}) k.insert(k.end(), list->begin(), list->end());
+    return k;
+  }();
+  return keys;
+}
+
+FlsSensor::Spec FlsSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  std::vector<std::string_view> names;
+  for (const FlsPreset& p : fls_presets()) names.push_back(p.name);
+  const int index = read_preset_index(map, names, "forward-looking sonar");
+  if (index >= 0) {
+    const FlsPreset& preset = fls_presets()[static_cast<std::size_t>(index)];
+    spec.acoustics.frequency_hz = preset.frequency_hz;
+    spec.beams = preset.beams;
+    spec.fov = preset.fov_deg * kDegToRad;
+    spec.beam_width = preset.beam_width_deg * kDegToRad;
+    spec.vertical_aperture = preset.vertical_aperture_deg * kDegToRad;
+    spec.acoustics.max_range = preset.max_range_m;
+    spec.acoustics.bins = preset.bins;
+    if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
+  }
+  map.read_whole_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &spec.beams);
+  double fov_deg = spec.fov / kDegToRad, width_deg = spec.beam_width / kDegToRad,
+         aperture_deg = spec.vertical_aperture / kDegToRad;
+  if (map.read_number("fov_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) spec.fov = fov_deg * kDegToRad;
+  if (map.read_number("beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &width_deg)) {
+    spec.beam_width = width_deg * kDegToRad;
+  }
+  if (map.read_number("vertical_aperture_deg", Need::kOptional, Range::left_open(0.0, 90.0), &aperture_deg)) {
+    spec.vertical_aperture = aperture_deg * kDegToRad;
+  }
+  map.read_whole_number("azimuth_rays", Need::kOptional, Range::closed(1.0, 64.0), &spec.azimuth_rays);
+  map.read_whole_number("rays_per_cell", Need::kOptional, Range::closed(1.0, 64.0), &spec.rays_per_cell);
+  read_sonar_common(reader, spec.acoustics, &spec.encoding, [&spec] { make_ping(spec); });
+  return spec;
+}
+
+FlsSensor::State FlsSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {
+  State state;
+  state.noise_key = sonar_noise_key(setup);
+  return state;
+}
+
+CaptureWork FlsSensor::capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out) {
+  const std::size_t beams = static_cast<std::size_t>(spec.beams), size = spec.encoding.bytes_per_sample();
+  out.image.assign(beams * static_cast<std::size_t>(spec.acoustics.bins) * size, 0);
+  render::BeamEchoSink sink = [&out, beams, size, encoding = spec.encoding](const render::BeamEcho& echo) {
+    for (int b = 0; b < echo.bins; ++b) {
+      encoding.encode(echo.intensity[b], &out.image[(static_cast<std::size_t>(b) * beams + static_cast<std::size_t>(echo.beam)) * size]);
+    }
+  };
+  return sonar_ping_work(context, spec.ping, spec.acoustics.frequency_hz, state.noise_key, std::move(sink), &out.water);
+}
+
+void FlsSensor::deliver(const SampleContext& /*context*/, const Spec& /*spec*/, State& state, Capture&& capture) {
+  state.image = std::move(capture.image);
+  state.sound_speed_m_per_s = capture.water.sound_speed_m_per_s;
+}
+
+void FlsSensor::ImageTopic::fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  fill_ping_info(spec.acoustics, state.sound_speed_m_per_s, *spec.ping, msg.ping_info());
+  msg.beam_directions().resize(static_cast<std::size_t>(spec.beams));
+  for (int k = 0; k < spec.beams; ++k) {
+    const double phi = beam_azimuth(spec, k);
+    geometry_msgs::msg::Vector3& d = msg.beam_directions()[static_cast<std::size_t>(k)];
+    d.x(0.0);
+    d.y(-std::sin(phi));
+    d.z(std::cos(phi));
+  }
+  msg.ranges().resize(static_cast<std::size_t>(spec.acoustics.bins));
+  for (int b = 0; b < spec.acoustics.bins; ++b) msg.ranges()[static_cast<std::size_t>(b)] = static_cast<float>(spec.ping->bin_centre_m(b));
+  fill_sonar_image_data(spec.encoding, static_cast<std::uint32_t>(spec.beams), state.image, msg.image());
+}
+
+}  // namespace hadal::sensors

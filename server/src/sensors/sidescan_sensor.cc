@@ -1,0 +1,152 @@
+#include "hadal/sensors/sidescan_sensor.h"
+
+#include <marine_acoustic_msgs.h>
+#include <marine_acoustic_msgsPubSubTypes.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "hadal/config/yaml_reader.h"
+#include "hadal/dds/time_msg.h"
+
+namespace hadal::sensors {
+
+using config::MapReader;
+using config::Need;
+using config::Range;
+
+const std::vector<SidescanPreset>& sidescan_presets() {
+  // EdgeTech 2205 AUV side-scan: tri-frequency sets of 120/410/850 kHz, arrays at a nominal 24-27 deg look-down
+  // (2205 technical and user's guide 0022175 rev A, sections 9 and 11.4). Its beam widths and ranges per
+  // side are not in that guide: the values here are typical of side-scans at these frequencies (horizontal
+  // 0.5 / 0.25 deg, vertical 50 deg; 150 / 75 m per side), not the maker's figures.
+  static const std::vector<SidescanPreset> presets = {
+      {"edgetech_2205_410khz", 410e3, 0.5, 50.0, 25.0, 150.0, 3000, 5.0},
+      {"edgetech_2205_850khz", 850e3, 0.25, 50.0, 25.0, 75.0, 3000, 10.0},
+  };
+  return presets;
+}
+
+SonarAcoustics SidescanSensor::default_acoustics() {
+  SonarAcoustics a;
+  a.min_range = 0.0;  // a side-scan records from its transmission on: sample0 = 0, exact sample ranges
+  a.max_range = 75.0;
+  a.bins = 2000;
+  return a;
+}
+
+void SidescanSensor::make_ping(Spec& spec) {
+  auto ping = std::make_shared<render::SonarPingSpec>();
+  set_acoustics(spec.acoustics, *ping);
+  const double c = std::cos(spec.depression), s = std::sin(spec.depression);
+  for (const double side : {1.0, -1.0}) {  // port (+y_S), then starboard
+    render::SonarBeam beam;
+    beam.axis_S = Eigen::Vector3d(0.0, side * c, -s);
+    beam.u_S = Eigen::Vector3d::UnitX();
+    beam.width_u_rad = spec.horizontal_beam_width;
+    beam.width_v_rad = spec.vertical_beam_width;
+    ping->beams.push_back(beam);
+  }
+  ping->rays_u = spec.along_rays;
+  ping->rays_v = (spec.rays_per_cell * spec.acoustics.bins + spec.along_rays - 1) / spec.along_rays;
+  ping->validate();
+  spec.ping = std::move(ping);
+}
+
+const std::vector<std::string>& SidescanSensor::keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = {"preset",     "horizontal_beam_width_deg", "vertical_beam_width_deg", "depression_deg",
+                                  "along_rays", "rays_per_cell"};
+    for (const auto* list : {&sonar_acoustic_keys(), &sonar_image_keys()}) k.insert(k.end(), list->begin(), list->end());
+    return k;
+  }();
+  return keys;
+}
+
+SidescanSensor::Spec SidescanSensor::read(const SensorReader& reader) {
+  const MapReader& map = reader.map;
+  Spec spec;
+  std::vector<std::string_view> names;
+  for (const SidescanPreset& p : sidescan_presets()) names.push_back(p.name);
+  const int index = read_preset_index(map, names, "side-scan sonar");
+  if (index >= 0) {
+    const SidescanPreset& preset = sidescan_presets()[static_cast<std::size_t>(index)];
+    spec.acoustics.frequency_hz = preset.frequency_hz;
+    spec.horizontal_beam_width = preset.horizontal_beam_width_deg * kDegToRad;
+    spec.vertical_beam_width = preset.vertical_beam_width_deg * kDegToRad;
+    spec.depression = preset.depression_deg * kDegToRad;
+    spec.acoustics.max_range = preset.max_range_m;
+    spec.acoustics.bins = preset.bins;
+    if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
+  }
+  double horizontal_deg = spec.horizontal_beam_width / kDegToRad, vertical_deg = spec.vertical_beam_width / kDegToRad,
+         depression_deg = spec.depression / kDegToRad;
+  if (map.read_number("horizontal_beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &horizontal_deg)) {
+    spec.horizontal_beam_width = horizontal_deg * kDegToRad;
+  }
+  if (map.read_number("vertical_beam_width_deg", Need::kOptional, Range::left_open(0.0, 120.0), &vertical_deg)) {
+    spec.vertical_beam_width = vertical_deg * kDegToRad;
+  }
+  if (map.read_number("depression_deg", Need::kOptional, Range::closed(-30.0, 90.0), &depression_deg)) {
+    spec.depression = depression_deg * kDegToRad;
+  }
+  map.read_whole_number("along_rays", Need::kOptional, Range::closed(1.0, 64.0), &spec.along_rays);
+  map.read_whole_number("rays_per_cell", Need::kOptional, Range::closed(1.0, 64.0), &spec.rays_per_cell);
+  read_sonar_common(reader, spec.acoustics, &spec.encoding, [&spec] { make_ping(spec); });
+  return spec;
+}
+
+SidescanSensor::State SidescanSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {
+  State state;
+  state.noise_key = sonar_noise_key(setup);
+  return state;
+}
+
+CaptureWork SidescanSensor::capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out) {
+  const std::size_t size = spec.encoding.bytes_per_sample(), bins = static_cast<std::size_t>(spec.acoustics.bins);
+  out.port.assign(bins * size, 0);
+  out.starboard.assign(bins * size, 0);
+  render::BeamEchoSink sink = [&out, size, encoding = spec.encoding](const render::BeamEcho& echo) {
+    std::vector<std::uint8_t>& side = echo.beam == kPort ? out.port : out.starboard;
+    for (int b = 0; b < echo.bins; ++b) encoding.encode(echo.intensity[b], &side[static_cast<std::size_t>(b) * size]);
+  };
+  return sonar_ping_work(context, spec.ping, spec.acoustics.frequency_hz, state.noise_key, std::move(sink), &out.water);
+}
+
+void SidescanSensor::deliver(const SampleContext& /*context*/, const Spec& /*spec*/, State& state, Capture&& capture) {
+  state.port = std::move(capture.port);
+  state.starboard = std::move(capture.starboard);
+  state.sound_speed_m_per_s = capture.water.sound_speed_m_per_s;
+}
+
+void SidescanSensor::fill_side(const Spec& spec, const State& state, const MessageHeader& header, int side,
+                               marine_acoustic_msgs::msg::RawSonarImage& msg) {
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  const SonarAcoustics& a = spec.acoustics;
+  fill_ping_info(a, state.sound_speed_m_per_s, *spec.ping, msg.ping_info());
+  // This side's widths only.
+  const auto k = static_cast<std::size_t>(side);
+  msg.ping_info().tx_beamwidths() = {msg.ping_info().tx_beamwidths()[k]};
+  msg.ping_info().rx_beamwidths() = {msg.ping_info().rx_beamwidths()[k]};
+  const double bin = spec.ping->bin_size_m();
+  msg.sample_rate(static_cast<float>(state.sound_speed_m_per_s / (2.0 * bin)));
+  msg.samples_per_beam(static_cast<std::uint32_t>(a.bins));
+  msg.sample0(static_cast<std::uint32_t>(std::lround(a.min_range / bin)));
+  msg.tx_delays() = {0.0f};
+  msg.tx_angles() = {0.0f};
+  const double across = 0.5 * kPi - spec.depression;
+  msg.rx_angles() = {static_cast<float>(side == kPort ? -across : across)};
+  fill_sonar_image_data(spec.encoding, 1, side == kPort ? state.port : state.starboard, msg.image());
+}
+
+void SidescanSensor::PortTopic::fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg) {
+  fill_side(spec, state, header, kPort, msg);
+}
+
+void SidescanSensor::StarboardTopic::fill(const Spec& spec, const State& state, const MessageHeader& header,
+                                          Message& msg) {
+  fill_side(spec, state, header, kStarboard, msg);
+}
+
+}  // namespace hadal::sensors
