@@ -1,27 +1,34 @@
 // Sonar pings over the benchmarks' ~1M-triangle seabed (bench/seabed.h) on the ray-cast service's workers,
-// exactly as the sonar kinds ping (render/sonar.h through sensors/sonar.h's scene work): the ping rate a
-// 2-core machine sustains, against the products' real ping rates (BENCHMARKS.md, "Sonars").
-//   fls        256 beams x 512 bins over 130 deg x 20 deg, 10 rays per beam-bin cell (2 across each 1 deg
-//              beam, 2560 across its vertical aperture: 1.31 M rays), 50 m window, 20 m above the seabed,
-//              pitched 20 deg down; the image encoded as uint8
-//   multibeam  256 beams over 130 deg, 1 deg x 1 deg, 32 x 4 rays per beam, 4000 bins over 100 m, 30 m above
-//              the seabed looking down, bottom detection per beam
+// with the ping specs the sonar kinds make from their presets (FlsSensor::make_ping, MultibeamSensor::make_ping)
+// and the kinds' per-beam work (uint8 encoding, bottom detection): the ping rate a 2-core machine sustains,
+// against the products' real ping rates (BENCHMARKS.md, "Sonars").
+//   fls        preset oculus_m750d (750 kHz, 130 deg x 20 deg, 1 deg beams, 40 m window in 512 bins) with
+//              256 beams and 10 rays per beam-bin cell (2 across each beam, 2560 over its vertical aperture:
+//              1.31 M rays); 10 m above the seabed, pitched 20 deg down: the centre beam's lower edge meets the
+//              seabed at 20 m and its rays more than 14.5 deg below the horizontal (78 %) within the window
+//   multibeam  preset r2sonic_2024 (400 kHz, 256 beams over 130 deg, 0.5 deg x 1 deg, 50 m window in 4000
+//              bins, 32 x 4 rays per beam), 20 m above the seabed looking down (outer beams at ~47 m)
+// Water: 4 degC, S 35 at 100 m (sound speed UNESCO, Francois-Garrison absorption at each frequency).
 // Each on 1 and 2 worker threads; speckle and receiver noise on. Prints one JSON object per (sonar,
-// threads): the median wall time of N pings and its rate.
+// threads): the median wall time of N pings, its rate, and (multibeam) how many beams found the bottom.
 //   build/bin/hadal_bench_sonar [--repetitions N]      (default 10)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hadal/core/units.h"
 #include "hadal/geometry/embree_scene.h"
 #include "hadal/geometry/raycast_service.h"
+#include "hadal/physics/seawater.h"
 #include "hadal/render/sonar.h"
-#include "hadal/sensors/sonar.h"
+#include "hadal/sensors/fls_sensor.h"
+#include "hadal/sensors/multibeam_sensor.h"
 #include "seabed.h"
 #include "timing.h"
 
@@ -52,33 +59,51 @@ int main(int argc, char** argv) {
   scene.build();
   const double floor_z = bench::seabed_height(bumps, 0.0f, 0.0f);
 
-  render::SonarPingSpec fls;
-  fls.beams = render::fan_beams(256, 130.0 * kDegToRad, 1.0 * kDegToRad, 20.0 * kDegToRad);
-  fls.min_range_m = 0.5;
-  fls.max_range_m = 50.0;
-  fls.bins = 512;
-  fls.rays_u = 2;
-  fls.rays_v = 10 * 512 / 2;
+  // The kinds' specs from their presets, as `preset:` in a scenario sets them (sensors/fls_sensor.h,
+  // sensors/multibeam_sensor.h).
+  const auto preset = [](const auto& presets, std::string_view name) {
+    for (const auto& p : presets) {
+      if (p.name == name) return p;
+    }
+    std::fprintf(stderr, "hadal_bench_sonar: no preset %.*s\n", static_cast<int>(name.size()), name.data());
+    std::exit(1);
+  };
+  sensors::FlsSensor::Spec fls_spec;
+  const sensors::FlsPreset oculus = preset(sensors::fls_presets(), "oculus_m750d");
+  fls_spec.acoustics.frequency_hz = oculus.frequency_hz;
+  fls_spec.beams = 256;
+  fls_spec.fov = oculus.fov_deg * kDegToRad;
+  fls_spec.beam_width = oculus.beam_width_deg * kDegToRad;
+  fls_spec.vertical_aperture = oculus.vertical_aperture_deg * kDegToRad;
+  fls_spec.acoustics.max_range = oculus.max_range_m;
+  fls_spec.acoustics.bins = oculus.bins;
+  fls_spec.rays_per_cell = 10;
+  sensors::FlsSensor::make_ping(fls_spec);
   Eigen::Isometry3d X_WS_fls = Eigen::Isometry3d::Identity();
   X_WS_fls.linear() = Eigen::AngleAxisd(20.0 * kDegToRad, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  X_WS_fls.translation() = Eigen::Vector3d(0.0, 0.0, floor_z + 20.0);
+  X_WS_fls.translation() = Eigen::Vector3d(0.0, 0.0, floor_z + 10.0);
 
-  render::SonarPingSpec multibeam;
-  multibeam.beams = render::fan_beams(256, 130.0 * kDegToRad, 1.0 * kDegToRad, 1.0 * kDegToRad);
-  multibeam.min_range_m = 0.5;
-  multibeam.max_range_m = 100.5;
-  multibeam.bins = 4000;
-  multibeam.rays_u = 32;
-  multibeam.rays_v = 4;
-  multibeam.source_level_db = 215.0;
+  sensors::MultibeamSensor::Spec mb_spec;
+  const sensors::MultibeamPreset r2sonic = preset(sensors::multibeam_presets(), "r2sonic_2024");
+  mb_spec.acoustics.frequency_hz = r2sonic.frequency_hz;
+  mb_spec.beams = r2sonic.beams;
+  mb_spec.swath = r2sonic.swath_deg * kDegToRad;
+  mb_spec.across_beam_width = r2sonic.across_beam_width_deg * kDegToRad;
+  mb_spec.along_beam_width = r2sonic.along_beam_width_deg * kDegToRad;
+  mb_spec.acoustics.max_range = r2sonic.max_range_m;
+  mb_spec.acoustics.bins = r2sonic.bins;
+  sensors::MultibeamSensor::make_ping(mb_spec);
   Eigen::Isometry3d X_WS_mb = Eigen::Isometry3d::Identity();
   X_WS_mb.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();  // x_S down
-  X_WS_mb.translation() = Eigen::Vector3d(0.0, 0.0, floor_z + 30.0);
+  X_WS_mb.translation() = Eigen::Vector3d(0.0, 0.0, floor_z + 20.0);
 
-  render::SonarWater water;
-  water.sound_speed_m_per_s = 1500.0;
-  water.absorption_db_per_m = 0.1;
-  sensors::SonarImageEncoding encoding;
+  const auto water_at = [](double frequency_hz) {
+    render::SonarWater water;
+    water.sound_speed_m_per_s = physics::sound_speed_unesco(35.0, physics::its90_to_ipts68(4.0), 100.0);
+    water.absorption_db_per_m = 1e-3 * physics::absorption_francois_garrison_db_per_km(frequency_hz, 4.0, 35.0, 100.0);
+    return water;
+  };
+  const sensors::SonarImageEncoding& encoding = fls_spec.encoding;
 
   std::printf("[\n");
   bool first = true;
@@ -88,23 +113,27 @@ int main(int argc, char** argv) {
       const char* name;
       const render::SonarPingSpec* spec;
       Eigen::Isometry3d X_WS;
-      bool detect;
+      render::SonarWater water;
+      double min_snr_db;  // < 0: an image (encoded), else bottom detection
     };
-    for (const Case& c : {Case{"fls", &fls, X_WS_fls, false}, Case{"multibeam", &multibeam, X_WS_mb, true}}) {
+    for (const Case& c : {Case{"fls", fls_spec.ping.get(), X_WS_fls, water_at(fls_spec.acoustics.frequency_hz), -1.0},
+                          Case{"multibeam", mb_spec.ping.get(), X_WS_mb, water_at(mb_spec.acoustics.frequency_hz),
+                               mb_spec.min_snr_db}}) {
+      const bool detect = c.min_snr_db >= 0.0;
       const std::size_t beams = c.spec->beams.size(), bins = static_cast<std::size_t>(c.spec->bins);
       std::vector<std::uint8_t> image(beams * bins);
-      std::vector<double> ranges(beams);
+      std::vector<double> ranges(beams, std::numeric_limits<double>::quiet_NaN());
       std::vector<double> wall_s;
       std::size_t detections = 0;
       for (int r = 0; r < repetitions; ++r) {
         const auto start = bench::Clock::now();
         service
             .submit({}, [&](const geometry::EmbreeScene& posed, const ParallelFor& parallel) {
-              render::ping(posed, *c.spec, c.X_WS, geometry::kNoHit, water, kSediment, 7, static_cast<std::uint64_t>(r),
+              render::ping(posed, *c.spec, c.X_WS, geometry::kNoHit, c.water, kSediment, 7, static_cast<std::uint64_t>(r),
                            parallel, [&](const render::BeamEcho& echo) {
-                             if (c.detect) {
+                             if (detect) {
                                ranges[static_cast<std::size_t>(echo.beam)] =
-                                   render::detect_bottom(*c.spec, water, echo).range_m;
+                                   render::detect_bottom(*c.spec, c.water, echo, c.min_snr_db).range_m;
                              } else {
                                for (int b = 0; b < echo.bins; ++b) {
                                  encoding.encode(echo.intensity[b], &image[static_cast<std::size_t>(b) * beams + static_cast<std::size_t>(echo.beam)]);
@@ -119,9 +148,9 @@ int main(int argc, char** argv) {
       const double ping_s = bench::median(wall_s);
       const std::size_t rays = beams * static_cast<std::size_t>(c.spec->rays_u * c.spec->rays_v);
       std::printf("%s  {\"sonar\": \"%s\", \"threads\": %d, \"beams\": %zu, \"bins\": %zu, \"rays\": %zu, "
-                  "\"ping_ms\": %.2f, \"pings_per_s\": %.2f, \"mrays_per_s\": %.2f, \"detections\": %zu}",
+                  "\"ping_ms\": %.2f, \"pings_per_s\": %.2f, \"mrays_per_s\": %.2f%s}",
                   first ? "" : ",\n", c.name, threads, beams, bins, rays, 1e3 * ping_s, 1.0 / ping_s,
-                  rays / ping_s / 1e6, c.detect ? detections : 0);
+                  rays / ping_s / 1e6, detect ? (", \"detections\": " + std::to_string(detections)).c_str() : "");
       first = false;
     }
   }
