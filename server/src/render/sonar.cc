@@ -74,6 +74,7 @@ void SonarPingSpec::validate() const {
     if (!(b.width_u_rad > 0.0 && b.width_u_rad < 3.2 && b.width_v_rad > 0.0 && b.width_v_rad < 3.2)) {
       invalid(name + "widths must be in (0, pi]");
     }
+    if (!(b.sampled_v_rad >= 0.0 && b.sampled_v_rad < 3.2)) invalid(name + "the sampled extent must be in [0, pi]");
   }
   if (!(min_range_m >= 0.0 && max_range_m > min_range_m && std::isfinite(max_range_m))) {
     invalid("the range window must satisfy 0 <= min_range < max_range < inf");
@@ -141,7 +142,7 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
   parallel(spec.beams.size(), [&](std::size_t k) {
     const SonarBeam& beam = spec.beams[k];
     const std::uint64_t key = beam_key(noise_key, ping_index, static_cast<int>(k));
-    const double du = beam.width_u_rad / spec.rays_u, dv = beam.width_v_rad / spec.rays_v;
+    const double du = beam.width_u_rad / spec.rays_u, dv = beam.extent_v() / spec.rays_v;
     // The grid's lines along u and along v, each at a seeded place within its cell (stratified jitter of
     // the lines, not of each cell: the trigonometry and the pattern are then per line, rays_u + rays_v
     // evaluations per beam instead of rays_u x rays_v).
@@ -160,7 +161,7 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       weight_a[i] = beam.pattern(a, 0.0);
     }
     for (std::size_t j = 0; j < nv; ++j) {
-      const double e = line_at(j, beam.width_v_rad, dv, kLineV);
+      const double e = line_at(j, beam.extent_v(), dv, kLineV);
       offset_e[j] = e;
       cos_e[j] = std::cos(e);
       sin_e[j] = std::sin(e);

@@ -3,6 +3,7 @@
 #include <marine_acoustic_msgs.h>
 #include <marine_acoustic_msgsPubSubTypes.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -45,6 +46,9 @@ void SidescanSensor::make_ping(Spec& spec) {
     beam.u_S = Eigen::Vector3d::UnitX();
     beam.width_u_rad = spec.horizontal_beam_width;
     beam.width_v_rad = spec.vertical_beam_width;
+    // The rays reach from the axis down to nadir (and as far up): the first bottom return, weak under the
+    // pattern, comes from straight below, as in a real record.
+    beam.sampled_v_rad = std::max(spec.vertical_beam_width, std::min(2.0 * (kPi / 2.0 - spec.depression), kPi));
     ping->beams.push_back(beam);
   }
   ping->rays_u = spec.along_rays;

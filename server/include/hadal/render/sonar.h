@@ -4,10 +4,11 @@
 // Geometry. A sonar has beams fixed in its frame S; beam k has a unit axis a_k, a unit direction u_k
 // across it (the fan's direction for a fan of beams) and v_k = a_k x u_k. Its rays leave S's origin in
 //   d_S(a, e) = cos e (cos a a_k + sin a u_k) + sin e v_k,
-// a the offset along u and e along v [rad], on a stratified grid over the beam's -3 dB widths
-// |a| <= w_u / 2, |e| <= w_v / 2: rays_u x rays_v cells, one ray per cell where the grid's lines cross, each
-// line at a seeded place within its cell (at the cell's centre without jitter); a ray stands for the solid
-// angle dOmega = cos e da de of its cell.
+// a the offset along u and e along v [rad], on a stratified grid over |a| <= w_u / 2 (the -3 dB width) and
+// |e| <= s_v / 2 (the sampled extent: by default w_v; wider where the pattern's tail matters, as a
+// side-scan's reaching down to nadir, where the pattern W weights the rays): rays_u x rays_v cells, one ray
+// per cell where the grid's lines cross, each line at a seeded place within its cell (at the cell's centre
+// without jitter); a ray stands for the solid angle dOmega = cos e da de of its cell.
 // Beam pattern: the two-way (transmit x receive) intensity pattern's main lobe as a Gaussian,
 //   W(a, e) = 2^-((2 a / w_u)^2 + (2 e / w_v)^2)      (-3 dB at the half widths)
 // Side lobes are not modelled; neither are multiple reflections or refraction (straight rays).
@@ -72,6 +73,9 @@ struct SonarBeam {
   Eigen::Vector3d u_S = Eigen::Vector3d::UnitY();     // unit, perpendicular to axis_S
   double width_u_rad = 0.0175;                        // -3 dB full width along u
   double width_v_rad = 0.35;                          // -3 dB full width along v
+  double sampled_v_rad = 0.0;                         // the rays' full extent along v; 0: width_v_rad
+
+  double extent_v() const { return sampled_v_rad > 0.0 ? sampled_v_rad : width_v_rad; }
 
   Eigen::Vector3d v_S() const { return axis_S.cross(u_S); }
   // d_S(a, e) above, unit.

@@ -4,8 +4,10 @@
 //   port axis (0, cos d, -sin d), starboard axis (0, -cos d, -sin d), u = x_S (along track),
 // horizontal_beam_width wide along track and vertical_beam_width across (in the plane of y_S and z_S).
 // Each ping (render/sonar.h) casts rays_per_cell x bins rays per side (along_rays along track, the rest
-// across the vertical beam), so each range bin of a side gets rays_per_cell rays on average; one ping is one
-// line of the waterfall a survey builds as the vehicle moves.
+// across: from the axis down to nadir and as far up, 2 (90 deg - d), or the vertical beam if wider, weighted
+// by the beam pattern), so each range bin of a side gets rays_per_cell rays on average and the first bottom
+// return, weak under the pattern, comes from straight below (the altitude), as in a real record; one ping is
+// one line of the waterfall a survey builds as the vehicle moves.
 // Message per side: sample_rate c / (2 bin) [Hz] with c the sound speed at the sonar, samples_per_beam the
 // bins, sample0 = round(min_range / bin) (sample i spans ranges (sample0 + i) bin to (sample0 + i + 1) bin:
 // exact when min_range is a whole number of bins, as the default 0),
