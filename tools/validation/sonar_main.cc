@@ -1,16 +1,20 @@
 // hadal-validate-sonar: the sonar figure (docs/ARCHITECTURE.md, "Sonars"): a survey line run through
 // hadal::Simulation, the three sonars of its first vehicle that has them in one PNG:
-//   left    the forward-looking sonar's last ping as a fan (beams at their azimuths, ranges outwards)
+//   left    a forward-looking sonar ping as a fan (beams at their azimuths, ranges outwards, rings every
+//           10 m): the first ping at or after --fls-at (default 20 s: the survey's pipeline ~30 m ahead)
 //   middle  the multibeam's swath: every ping's soundings (p_WS + r R_WS axis_k, the beam's axis at the
-//           detected range) gridded in x_W, y_W at 0.25 m and coloured by depth
-//   right   the side-scan waterfall: one row per ping, port reversed on the left, starboard on the right
+//           detected range) gridded in x_W, y_W at 0.25 m (an empty cell takes a neighbour's sounding) and
+//           coloured by height above the median sounding (the plain) from -0.5 m to +1.5 m
+//   right   the side-scan waterfall: one row per ping, newest at the top, port reversed on the left,
+//           starboard on the right
 // The soundings are checked against the seabed they sounded (the scenario's seabed mesh under each
 // sounding; soundings on a vehicle, the targets, are counted apart): the JSON summary gives the pings of
-// each sonar, the soundings and the median and 95th percentile of |z_sounding - h(x, y)| over the seabed.
+// each sonar, the soundings and the median and 95th percentile of |z_sounding - h(x, y)| over the seabed, the
+// time of the FLS ping shown and the plain's z (the median sounding).
 // Captures are delivered without latency here (latency_s 0 on the model's copy), so that each ping's
 // pose is the state's when it is read.
-//   hadal-validate-sonar [--seconds 60] [--scenario PATH] [--out DIR]   (default configs/scenarios/
-//   sonar_survey.yaml, validation_out/sonar)
+//   hadal-validate-sonar [--seconds 70] [--fls-at 20] [--scenario PATH] [--out DIR]   (default
+//   configs/scenarios/sonar_survey.yaml, validation_out/sonar)
 // Writes DIR/sonar_figure.png; prints one JSON object. Exit 0, 1 when the scenario does not load, has no
 // sonars, or DIR cannot be written, 2 on a usage error.
 #include <opencv2/core.hpp>
@@ -40,8 +44,10 @@ using validation::json_rounded;
 
 constexpr const char* kTool = "hadal-validate-sonar";
 constexpr const char* kUsage =
-    "usage: hadal-validate-sonar [--seconds S] [--scenario PATH] [--out DIR]\n"
-    "  --seconds S      simulated time to run (default 60)\n"
+    "usage: hadal-validate-sonar [--seconds S] [--fls-at T] [--scenario PATH] [--out DIR]\n"
+    "  --seconds S      simulated time to run (default 70: the survey line)\n"
+    "  --fls-at T       show the forward-looking sonar's first ping at or after T seconds (default 20;\n"
+    "                   its last ping if the run ends before)\n"
     "  --scenario PATH  a scenario whose vehicle carries an fls, a multibeam and a sidescan\n"
     "                   (default configs/scenarios/sonar_survey.yaml)\n"
     "  --out DIR        output directory (default validation_out/sonar)\n"
@@ -49,6 +55,8 @@ constexpr const char* kUsage =
     "a JSON summary.\n";
 
 constexpr int kPanelHeight = 600;
+// The swath's colours: height above the median sounding [m].
+constexpr double kSwathLowM = -0.5, kSwathHighM = 1.5;
 
 // Where each sonar kind sits: (vehicle, sensor) or -1.
 struct Mounts {
@@ -82,16 +90,20 @@ double grey(const sensors::SonarImageEncoding& encoding, const std::vector<std::
   return std::clamp(255.0 * (level - encoding.display_min_db) / (encoding.display_max_db - encoding.display_min_db), 0.0, 255.0);
 }
 
-// The forward-looking sonar's ping as a fan: pixel (u, v) at x = across [m], y = ahead [m]; each pixel takes
-// the sample of the beam and bin it falls in (nearest), black outside the fan.
-cv::Mat fan_panel(const sensors::FlsSensor::Spec& spec, const sensors::FlsSensor::State& state) {
+// The forward-looking sonar's ping as a fan (BGR): pixel (u, v) at x = across [m], y = ahead [m]; each pixel
+// takes the sample of the beam and bin it falls in (nearest), black outside the fan; range rings every 10 m.
+cv::Mat fan_panel(const sensors::FlsSensor::Spec& spec, const std::vector<std::uint8_t>& image) {
   const double max_range = spec.acoustics.max_range, half = 0.5 * spec.fov;
   const double width_m = 2.0 * max_range * std::sin(std::min(half, kPi / 2.0));
   const double scale = (kPanelHeight - 20) / max_range;  // px per m
   const int width = std::max(200, static_cast<int>(width_m * scale) + 20);
   cv::Mat panel(kPanelHeight, width, CV_8UC1, cv::Scalar(0));
   const std::size_t beams = static_cast<std::size_t>(spec.beams), size = spec.encoding.bytes_per_sample();
-  if (state.image.size() != beams * static_cast<std::size_t>(spec.acoustics.bins) * size) return panel;
+  if (image.size() != beams * static_cast<std::size_t>(spec.acoustics.bins) * size) {
+    cv::Mat bgr;
+    cv::cvtColor(panel, bgr, cv::COLOR_GRAY2BGR);
+    return bgr;
+  }
   for (int v = 0; v < kPanelHeight; ++v) {
     for (int u = 0; u < width; ++u) {
       const double x = (u - 0.5 * width) / scale, y = (kPanelHeight - 10 - v) / scale;
@@ -101,10 +113,21 @@ cv::Mat fan_panel(const sensors::FlsSensor::Spec& spec, const sensors::FlsSensor
       if (bin < 0) continue;
       const int beam = std::clamp(static_cast<int>(std::floor((azimuth + half) / spec.fov * spec.beams)), 0, spec.beams - 1);
       // Beam 0 is the most starboard (negative azimuth): on the right of the image.
-      panel.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(grey(spec.encoding, state.image, (static_cast<std::size_t>(bin) * beams + beam)));
+      panel.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(grey(spec.encoding, image, (static_cast<std::size_t>(bin) * beams + beam)));
     }
   }
-  return panel;
+  cv::Mat bgr;
+  cv::cvtColor(panel, bgr, cv::COLOR_GRAY2BGR);
+  // Range rings every 10 m, labelled just right of the centre line.
+  const cv::Point apex(width / 2, kPanelHeight - 10);
+  for (double ring = 10.0; ring <= max_range + 1e-9; ring += 10.0) {
+    const int radius = static_cast<int>(std::lround(ring * scale));
+    cv::ellipse(bgr, apex, cv::Size(radius, radius), 0.0, -90.0 - half / kPi * 180.0, -90.0 + half / kPi * 180.0,
+                cv::Scalar(0, 160, 255), 1, cv::LINE_AA);
+    cv::putText(bgr, std::to_string(static_cast<int>(ring)) + " m", {apex.x + 4, apex.y - radius + 14},
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 160, 255), 1, cv::LINE_AA);
+  }
+  return bgr;
 }
 
 struct Sounding {
@@ -117,9 +140,9 @@ struct Sounding {
 int main(int argc, char** argv) {
   std::string out_dir = "validation_out/sonar";
   std::string scenario = std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/sonar_survey.yaml";
-  double seconds = 60.0;
+  double seconds = 70.0, fls_at = 20.0;
   if (const auto status = validation::parse_command_line(
-          argc, argv, kTool, kUsage, {"--out", "--scenario", "--seconds"}, {},
+          argc, argv, kTool, kUsage, {"--out", "--scenario", "--seconds", "--fls-at"}, {},
           [&](const std::string& option, const std::string& value) -> std::string {
             if (option == "--out") out_dir = value;
             if (option == "--scenario") scenario = value;
@@ -129,6 +152,13 @@ int main(int argc, char** argv) {
                 return "--seconds must be in (0, 3600]";
               }
               seconds = parsed;
+            }
+            if (option == "--fls-at") {
+              double parsed = 0.0;
+              if (!validation::parse_number(value, &parsed) || !(parsed >= 0.0 && parsed <= 3600.0)) {
+                return "--fls-at must be in [0, 3600]";
+              }
+              fls_at = parsed;
             }
             return std::string();
           })) {
@@ -164,6 +194,8 @@ int main(int argc, char** argv) {
   std::vector<Sounding> soundings;
   std::vector<std::vector<double>> waterfall;  // rows of port (reversed) + starboard grey levels
   int fls_pings = 0, multibeam_pings = 0, sidescan_pings = 0;
+  std::vector<std::uint8_t> fls_image;
+  double fls_time = -1.0;  // when fls_image was read
   const auto steps = static_cast<std::uint64_t>(std::llround(seconds * model.world.physics_rate_hz));
   for (std::uint64_t n = 0; n < steps; ++n) {
     sim.step();
@@ -175,7 +207,14 @@ int main(int argc, char** argv) {
       seen[static_cast<std::size_t>(s)] = samples;
       return is_new;
     };
-    if (fresh(mounts.fls)) ++fls_pings;
+    if (fresh(mounts.fls)) {
+      ++fls_pings;
+      // Keep the first ping at or after --fls-at (else, until then, the latest).
+      if (fls_time < fls_at) {
+        fls_image = state_of<sensors::FlsSensor>(state.sensors[static_cast<std::size_t>(mounts.fls)]).image;
+        fls_time = sim.time();
+      }
+    }
     if (fresh(mounts.multibeam)) {
       ++multibeam_pings;
       const auto& spec = spec_of<sensors::MultibeamSensor>(carrier.sensors[static_cast<std::size_t>(mounts.multibeam)]);
@@ -208,42 +247,57 @@ int main(int argc, char** argv) {
   }
 
   // Left: the fan.
-  cv::Mat left(kPanelHeight, 200, CV_8UC1, cv::Scalar(0));
+  cv::Mat left_bgr(kPanelHeight, 200, CV_8UC3, cv::Scalar(0, 0, 0));
   if (mounts.fls >= 0) {
-    left = fan_panel(spec_of<sensors::FlsSensor>(carrier.sensors[static_cast<std::size_t>(mounts.fls)]),
-                     state_of<sensors::FlsSensor>(sim.state().vehicles[v].sensors[static_cast<std::size_t>(mounts.fls)]));
+    left_bgr = fan_panel(spec_of<sensors::FlsSensor>(carrier.sensors[static_cast<std::size_t>(mounts.fls)]), fls_image);
   }
-  cv::Mat left_bgr;
-  cv::cvtColor(left, left_bgr, cv::COLOR_GRAY2BGR);
-  // Middle: the soundings' depths on a 0.25 m grid, x_W upwards, y_W to the left (looking down, north up).
+  // Middle: the soundings' heights above the plain (their median) on a 0.25 m grid, x_W upwards, y_W to the
+  // left (looking down, north up).
   std::vector<double> residuals;
-  double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300, z_min = 1e300, z_max = -1e300;
+  double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
+  std::vector<double> depths;
   for (const Sounding& s : soundings) {
     x_min = std::min(x_min, s.p_W.x());
     x_max = std::max(x_max, s.p_W.x());
     y_min = std::min(y_min, s.p_W.y());
     y_max = std::max(y_max, s.p_W.y());
-    z_min = std::min(z_min, s.p_W.z());
-    z_max = std::max(z_max, s.p_W.z());
+    depths.push_back(s.p_W.z());
     geometry::SeabedHeight::Sample h;
     if (s.on_seabed && seabed.sample(s.p_W.x(), s.p_W.y(), &h)) residuals.push_back(std::abs(s.p_W.z() - h.height));
   }
+  double plain_z = std::numeric_limits<double>::quiet_NaN();
   cv::Mat middle_bgr(kPanelHeight, 300, CV_8UC3, cv::Scalar(0, 0, 0));
   if (!soundings.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2), depths.end());
+    plain_z = depths[depths.size() / 2];
     const double cell = 0.25;
     const int rows = std::max(1, static_cast<int>((x_max - x_min) / cell) + 1), cols = std::max(1, static_cast<int>((y_max - y_min) / cell) + 1);
-    cv::Mat depth(rows, cols, CV_8UC1, cv::Scalar(0)), mask(rows, cols, CV_8UC1, cv::Scalar(0));
-    const double span = std::max(z_max - z_min, 1e-3);
+    cv::Mat level(rows, cols, CV_8UC1, cv::Scalar(0));  // 0: no sounding; 1..255 over [low, high]
     for (const Sounding& s : soundings) {
       const int row = rows - 1 - static_cast<int>((s.p_W.x() - x_min) / cell), col = cols - 1 - static_cast<int>((s.p_W.y() - y_min) / cell);
-      depth.at<std::uint8_t>(row, col) = static_cast<std::uint8_t>(1 + 254.0 * (s.p_W.z() - z_min) / span);
-      mask.at<std::uint8_t>(row, col) = 255;
+      const double t = std::clamp((s.p_W.z() - plain_z - kSwathLowM) / (kSwathHighM - kSwathLowM), 0.0, 1.0);
+      level.at<std::uint8_t>(row, col) = std::max(level.at<std::uint8_t>(row, col), static_cast<std::uint8_t>(1 + std::lround(254.0 * t)));
     }
+    // The outer beams' soundings lie up to ~0.5 m apart across the track: an empty cell takes its highest
+    // neighbour's (one pass: gaps of one cell, not the swath's edges).
+    cv::Mat grown;
+    cv::dilate(level, grown, cv::Mat::ones(3, 3, CV_8UC1));
+    grown.copyTo(level, level == 0);
     cv::Mat coloured;
-    cv::applyColorMap(depth, coloured, cv::COLORMAP_JET);
-    coloured.setTo(cv::Scalar(0, 0, 0), mask == 0);
+    cv::applyColorMap(level, coloured, cv::COLORMAP_JET);
+    coloured.setTo(cv::Scalar(0, 0, 0), level == 0);
     const double fit = std::min(static_cast<double>(kPanelHeight) / rows, 600.0 / cols);
     cv::resize(coloured, middle_bgr, cv::Size(std::max(1, static_cast<int>(cols * fit)), kPanelHeight), 0, 0, cv::INTER_NEAREST);
+    // The colour scale, bottom left: low to high.
+    const int bar_x = 10, bar_y = kPanelHeight - 30, bar_w = std::min(160, middle_bgr.cols - 20);
+    for (int i = 0; i < bar_w; ++i) {
+      cv::Mat one(1, 1, CV_8UC1, cv::Scalar(1 + 254 * i / std::max(1, bar_w - 1))), c;
+      cv::applyColorMap(one, c, cv::COLORMAP_JET);
+      cv::line(middle_bgr, {bar_x + i, bar_y}, {bar_x + i, bar_y + 10}, c.at<cv::Vec3b>(0, 0));
+    }
+    char scale_text[64];
+    std::snprintf(scale_text, sizeof scale_text, "%+.1f .. %+.1f m over z %.1f m", kSwathLowM, kSwathHighM, plain_z);
+    cv::putText(middle_bgr, scale_text, {bar_x, bar_y + 24}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
   }
   // Right: the waterfall, newest ping at the top, fitted into the panel.
   cv::Mat right_bgr(kPanelHeight, 300, CV_8UC3, cv::Scalar(0, 0, 0));
@@ -257,12 +311,18 @@ int main(int argc, char** argv) {
     cv::resize(grey_image, resized, cv::Size(600, kPanelHeight), 0, 0, cv::INTER_AREA);
     cv::cvtColor(resized, right_bgr, cv::COLOR_GRAY2BGR);
   }
+  // Labels in white on a black box (the waterfall can be bright under them).
   const auto label = [](cv::Mat& image, const std::string& text) {
-    cv::putText(image, text, cv::Point(8, 20), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, 0.55, 1, &baseline);
+    cv::rectangle(image, cv::Rect(4, 4, size.width + 8, size.height + baseline + 8), cv::Scalar(0, 0, 0), cv::FILLED);
+    cv::putText(image, text, cv::Point(8, 8 + size.height), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
   };
-  label(left_bgr, "forward-looking sonar (last ping)");
-  label(middle_bgr, "multibeam swath, depth");
-  label(right_bgr, "side-scan waterfall: port | starboard");
+  char fls_text[96];
+  std::snprintf(fls_text, sizeof fls_text, "forward-looking sonar, ping at t = %.1f s", fls_time);
+  label(left_bgr, fls_text);
+  label(middle_bgr, "multibeam: height");
+  label(right_bgr, "side-scan waterfall (newest at top): port | starboard");
   cv::Mat figure;
   cv::hconcat(std::vector<cv::Mat>{left_bgr, middle_bgr, right_bgr}, figure);
   const std::string file = validation::join_path(out_dir, "sonar_figure.png");
@@ -278,8 +338,9 @@ int main(int argc, char** argv) {
   std::printf(
       "{\"figure\": %s, \"seconds\": %s, \"fls_pings\": %d, \"multibeam_pings\": %d, \"sidescan_pings\": %d, "
       "\"soundings\": %zu, \"soundings_on_seabed\": %zu, \"seabed_residual_median_m\": %s, "
-      "\"seabed_residual_p95_m\": %s}\n",
+      "\"seabed_residual_p95_m\": %s, \"fls_ping_time_s\": %s, \"plain_z_m\": %s}\n",
       validation::json_string(file).c_str(), json_rounded(seconds).c_str(), fls_pings, multibeam_pings, sidescan_pings,
-      soundings.size(), residuals.size(), json_rounded(percentile(0.5)).c_str(), json_rounded(percentile(0.95)).c_str());
+      soundings.size(), residuals.size(), json_rounded(percentile(0.5)).c_str(), json_rounded(percentile(0.95)).c_str(),
+      json_rounded(fls_pings > 0 ? fls_time : std::numeric_limits<double>::quiet_NaN()).c_str(), json_rounded(plain_z).c_str());
   return 0;
 }
