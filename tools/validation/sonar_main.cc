@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -80,50 +79,18 @@ Mounts find_sonars(const Model& model) {
   return {};
 }
 
-// A sample of an image (uint8 as is; float32 as its level over the display window) as a grey level 0..255.
-double grey(const sensors::SonarImageEncoding& encoding, const std::vector<std::uint8_t>& data, std::size_t i) {
-  if (!encoding.float32) return data[i];
-  float v = 0.0f;
-  std::memcpy(&v, &data[4 * i], sizeof v);
-  if (!(v > 0.0f)) return 0.0;
-  const double level = 10.0 * std::log10(static_cast<double>(v));
-  return std::clamp(255.0 * (level - encoding.display_min_db) / (encoding.display_max_db - encoding.display_min_db), 0.0, 255.0);
-}
-
-// The forward-looking sonar's ping as a fan (BGR): pixel (u, v) at x = across [m], y = ahead [m]; each pixel
-// takes the sample of the beam and bin it falls in (nearest), black outside the fan; range rings every 10 m.
+// The forward-looking sonar's ping as a fan (BGR; FlsSensor::fan_image) with range rings every 10 m.
 cv::Mat fan_panel(const sensors::FlsSensor::Spec& spec, const std::vector<std::uint8_t>& image) {
-  const double max_range = spec.acoustics.max_range, half = 0.5 * spec.fov;
-  const double width_m = 2.0 * max_range * std::sin(std::min(half, kPi / 2.0));
-  const double scale = (kPanelHeight - 20) / max_range;  // px per m
-  const int width = std::max(200, static_cast<int>(width_m * scale) + 20);
-  cv::Mat panel(kPanelHeight, width, CV_8UC1, cv::Scalar(0));
-  const std::size_t beams = static_cast<std::size_t>(spec.beams), size = spec.encoding.bytes_per_sample();
-  if (image.size() != beams * static_cast<std::size_t>(spec.acoustics.bins) * size) {
-    cv::Mat bgr;
-    cv::cvtColor(panel, bgr, cv::COLOR_GRAY2BGR);
-    return bgr;
-  }
-  for (int v = 0; v < kPanelHeight; ++v) {
-    for (int u = 0; u < width; ++u) {
-      const double x = (u - 0.5 * width) / scale, y = (kPanelHeight - 10 - v) / scale;
-      const double r = std::hypot(x, y), azimuth = std::atan2(-x, y);  // positive to port (left)
-      if (std::abs(azimuth) > half) continue;
-      const int bin = spec.ping->bin_of(r);
-      if (bin < 0) continue;
-      const int beam = std::clamp(static_cast<int>(std::floor((azimuth + half) / spec.fov * spec.beams)), 0, spec.beams - 1);
-      // Beam 0 is the most starboard (negative azimuth): on the right of the image.
-      panel.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(grey(spec.encoding, image, (static_cast<std::size_t>(bin) * beams + beam)));
-    }
-  }
+  sensors::FlsSensor::FanImage fan = sensors::FlsSensor::fan_image(spec, image, kPanelHeight);
+  const cv::Mat grey(fan.height, fan.width, CV_8UC1, fan.grey.data());
   cv::Mat bgr;
-  cv::cvtColor(panel, bgr, cv::COLOR_GRAY2BGR);
-  // Range rings every 10 m, labelled just right of the centre line.
-  const cv::Point apex(width / 2, kPanelHeight - 10);
-  for (double ring = 10.0; ring <= max_range + 1e-9; ring += 10.0) {
-    const int radius = static_cast<int>(std::lround(ring * scale));
-    cv::ellipse(bgr, apex, cv::Size(radius, radius), 0.0, -90.0 - half / kPi * 180.0, -90.0 + half / kPi * 180.0,
-                cv::Scalar(0, 160, 255), 1, cv::LINE_AA);
+  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  const double half_deg = 0.5 * spec.fov / kPi * 180.0;
+  const cv::Point apex(fan.apex_u, fan.apex_v);
+  for (double ring = 10.0; ring <= spec.acoustics.max_range + 1e-9; ring += 10.0) {
+    const int radius = static_cast<int>(std::lround(ring * fan.px_per_m));
+    cv::ellipse(bgr, apex, cv::Size(radius, radius), 0.0, -90.0 - half_deg, -90.0 + half_deg, cv::Scalar(0, 160, 255), 1,
+                cv::LINE_AA);
     cv::putText(bgr, std::to_string(static_cast<int>(ring)) + " m", {apex.x + 4, apex.y - radius + 14},
                 cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 160, 255), 1, cv::LINE_AA);
   }
@@ -238,8 +205,9 @@ int main(int argc, char** argv) {
       std::vector<double> row(2 * bins, 0.0);
       if (ss.port.size() == bins * spec.encoding.bytes_per_sample()) {
         for (std::size_t i = 0; i < bins; ++i) {
-          row[bins - 1 - i] = grey(spec.encoding, ss.port, i);
-          row[bins + i] = grey(spec.encoding, ss.starboard, i);
+          const std::size_t at = i * spec.encoding.bytes_per_sample();
+          row[bins - 1 - i] = spec.encoding.grey(&ss.port[at]);
+          row[bins + i] = spec.encoding.grey(&ss.starboard[at]);
         }
       }
       waterfall.push_back(std::move(row));

@@ -1,7 +1,8 @@
-// Camera previews (sensors/sensor_kind.h, TopicHasPreview): rt/<vehicle>/<camera>/preview carries the
-// camera's image at half resolution (each output pixel the mean of a 2 x 2 block, rounded; an odd last row
-// or column dropped), same header and encoding, written at most every kPreviewInterval of wall time and only
-// while a reader is matched. A side channel for monitors: paced in wall time, so not part of a lockstep
+// Previews (sensors/sensor_kind.h, TopicHasPreview): rt/<vehicle>/<camera>/preview carries the camera's
+// image at half resolution (each output pixel the mean of a 2 x 2 block, rounded; an odd last row or column
+// dropped), same header and encoding; a topic that draws its own (TopicDrawsPreview: the forward-looking
+// sonar's fan) fills it instead. Written at most every kPreviewInterval of wall time and only while a reader
+// is matched. A side channel for monitors: paced in wall time, so not part of a lockstep
 // run's deterministic output.
 #pragma once
 

@@ -130,11 +130,13 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     return matched.current_count > 0;
   }
 
-  // The preview of an image just written (dds/image_preview.h): due in wall time and wanted by a reader.
-  void write_preview(SensorTopic& endpoint, const sensor_msgs::msg::Image& image) {
+  // The preview of a sample just written (dds/image_preview.h): due in wall time and wanted by a reader; `draw`
+  // fills the preview image (false: none).
+  template <class Draw>
+  void write_preview(SensorTopic& endpoint, Draw&& draw) {
     const auto now = std::chrono::steady_clock::now();
     if (now - endpoint.preview_at < kPreviewInterval) return;
-    if (!has_readers(endpoint.preview_writer) || !half_resolution(image, &preview_msg)) return;
+    if (!has_readers(endpoint.preview_writer) || !draw(&preview_msg)) return;
     endpoint.preview_at = now;
     write(endpoint.preview_writer, &preview_msg, endpoint.preview_slot);
   }
@@ -447,7 +449,16 @@ void ServerEndpoints::publish_sensor(int vehicle_index, int sensor_index, const 
           auto& msg = *static_cast<typename Topic::Message*>(endpoint.message.get());
           Topic::fill(spec, kind_state, header, msg);
           impl_->write(endpoint.writer, &msg, endpoint.slot);
-          if constexpr (sensors::TopicHasPreview<Topic>::value) impl_->write_preview(endpoint, msg);
+          if constexpr (sensors::TopicHasPreview<Topic>::value) {
+            if constexpr (sensors::TopicDrawsPreview<Topic>::value) {
+              impl_->write_preview(endpoint, [&](sensor_msgs::msg::Image* preview) {
+                Topic::fill_preview(spec, kind_state, header, *preview);
+                return true;
+              });
+            } else {
+              impl_->write_preview(endpoint, [&](sensor_msgs::msg::Image* preview) { return half_resolution(msg, preview); });
+            }
+          }
         });
       },
       sensor.kind);

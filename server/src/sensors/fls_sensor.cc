@@ -2,7 +2,9 @@
 
 #include <marine_acoustic_msgs.h>
 #include <marine_acoustic_msgsPubSubTypes.h>
+#include <sensor_msgs.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -127,6 +129,49 @@ void FlsSensor::ImageTopic::fill(const Spec& spec, const State& state, const Mes
   msg.ranges().resize(static_cast<std::size_t>(spec.acoustics.bins));
   for (int b = 0; b < spec.acoustics.bins; ++b) msg.ranges()[static_cast<std::size_t>(b)] = static_cast<float>(spec.ping->bin_centre_m(b));
   fill_sonar_image_data(spec.encoding, static_cast<std::uint32_t>(spec.beams), state.image, msg.image());
+}
+
+FlsSensor::FanImage FlsSensor::fan_image(const Spec& spec, const std::vector<std::uint8_t>& samples, int height) {
+  constexpr int kMargin = 10;
+  FanImage fan;
+  fan.height = std::max(height, 2 * kMargin + 1);
+  const double max_range = spec.acoustics.max_range, half = 0.5 * spec.fov;
+  fan.px_per_m = (fan.height - 2 * kMargin) / max_range;
+  fan.width = static_cast<int>(std::ceil(2.0 * max_range * std::sin(std::min(half, kPi / 2.0)) * fan.px_per_m)) + 2 * kMargin;
+  fan.apex_u = fan.width / 2;
+  fan.apex_v = fan.height - kMargin;
+  fan.grey.assign(static_cast<std::size_t>(fan.width) * static_cast<std::size_t>(fan.height), 0);
+  const auto beams = static_cast<std::size_t>(spec.beams);
+  const std::size_t size = spec.encoding.bytes_per_sample();
+  if (samples.size() != beams * static_cast<std::size_t>(spec.acoustics.bins) * size) return fan;
+  for (int v = 0; v < fan.height; ++v) {
+    for (int u = 0; u < fan.width; ++u) {
+      // The pixel's centre: across (to starboard) and ahead [m].
+      const double x = (u + 0.5 - fan.apex_u) / fan.px_per_m, y = (fan.apex_v - v - 0.5) / fan.px_per_m;
+      const double azimuth = std::atan2(-x, y);  // about z_S from x_S: positive to port (the image's left)
+      if (!(y > 0.0) || std::abs(azimuth) > half) continue;
+      const int bin = spec.ping->bin_of(std::hypot(x, y));
+      if (bin < 0) continue;
+      const auto beam = static_cast<std::size_t>(
+          std::clamp(static_cast<int>(std::floor((azimuth + half) / spec.fov * spec.beams)), 0, spec.beams - 1));
+      fan.grey[static_cast<std::size_t>(v) * static_cast<std::size_t>(fan.width) + static_cast<std::size_t>(u)] =
+          spec.encoding.grey(&samples[(static_cast<std::size_t>(bin) * beams + beam) * size]);
+    }
+  }
+  return fan;
+}
+
+void FlsSensor::ImageTopic::fill_preview(const Spec& spec, const State& state, const MessageHeader& header,
+                                         sensor_msgs::msg::Image& msg) {
+  FanImage fan = fan_image(spec, state.image, kPreviewHeight);
+  msg.header().stamp(dds::to_time_msg(header.stamp));
+  msg.header().frame_id(header.frame_id);
+  msg.height(static_cast<std::uint32_t>(fan.height));
+  msg.width(static_cast<std::uint32_t>(fan.width));
+  msg.encoding("mono8");
+  msg.is_bigendian(0);
+  msg.step(static_cast<std::uint32_t>(fan.width));
+  msg.data() = std::move(fan.grey);
 }
 
 }  // namespace hadal::sensors

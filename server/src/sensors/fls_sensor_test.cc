@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 #include <marine_acoustic_msgs.h>
+#include <sensor_msgs.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -128,6 +130,60 @@ TEST(FlsSensorTest, MessageFollowsTheOculusDriversConvention) {
   EXPECT_EQ(msg.image().dtype(), marine_acoustic_msgs::msg::SonarImageData_Constants::DTYPE_UINT8);
   EXPECT_EQ(msg.image().beam_count(), 64u);
   EXPECT_EQ(msg.image().data(), image);
+}
+
+// The fan seen from above (the preview, hadal-validate-sonar): 4 beams over 60 deg, 10 bins of 1 m from 0 m,
+// 20 px per m (220 rows, 10 px margins); sample (bin b, beam k) = 10 k + b + 1. A pixel's centre at azimuth
+// +20 deg (port, the image's left) and 7.5 m lies in beam floor((20 + 30) / 60 x 4) = 3 and bin 7; outside
+// the fan and beyond the window the fan is black; a float32 sample is its level over the display window;
+// the preview message carries the fan as mono8.
+TEST(FlsSensorTest, FanImagePutsEachSampleAtItsBearingAndRange) {
+  FlsSensor::Spec spec;
+  spec.beams = 4;
+  spec.fov = 60.0 * kDegToRad;
+  spec.acoustics.min_range = 0.0;
+  spec.acoustics.max_range = 10.0;
+  spec.acoustics.bins = 10;
+  FlsSensor::make_ping(spec);
+  std::vector<std::uint8_t> samples(40);
+  for (int b = 0; b < 10; ++b) {
+    for (int k = 0; k < 4; ++k) samples[static_cast<std::size_t>(b * 4 + k)] = static_cast<std::uint8_t>(10 * k + b + 1);
+  }
+  const FlsSensor::FanImage fan = FlsSensor::fan_image(spec, samples, 220);
+  ASSERT_EQ(fan.height, 220);
+  EXPECT_DOUBLE_EQ(fan.px_per_m, 20.0);
+  EXPECT_EQ(fan.width, 2 * 10 + static_cast<int>(std::ceil(2.0 * 10.0 * std::sin(30.0 * kDegToRad) * 20.0)));
+  ASSERT_EQ(fan.grey.size(), static_cast<std::size_t>(fan.width * fan.height));
+  const auto at = [&](double azimuth_deg, double range_m) {
+    const double x = -range_m * std::sin(azimuth_deg * kDegToRad), y = range_m * std::cos(azimuth_deg * kDegToRad);
+    const int u = static_cast<int>(std::floor(fan.apex_u + x * fan.px_per_m));
+    const int v = static_cast<int>(std::floor(fan.apex_v - y * fan.px_per_m));
+    return fan.grey[static_cast<std::size_t>(v * fan.width + u)];
+  };
+  EXPECT_EQ(at(20.0, 7.5), 10 * 3 + 7 + 1);
+  EXPECT_EQ(at(-20.0, 2.5), 10 * 0 + 2 + 1);
+  EXPECT_EQ(at(-5.0, 9.5), 10 * 1 + 9 + 1);
+  EXPECT_EQ(at(40.0, 5.0), 0);   // outside the fan
+  EXPECT_EQ(at(0.0, 10.3), 0);   // beyond the window
+  // float32: 10^13.5 uPa^2 is 135 dB, half-way up the 100-170 dB window.
+  spec.encoding.float32 = true;
+  std::vector<std::uint8_t> levels(40 * 4);
+  const float intensity = std::pow(10.0f, 13.5f);
+  for (std::size_t i = 0; i < 40; ++i) std::memcpy(&levels[4 * i], &intensity, 4);
+  EXPECT_EQ(FlsSensor::fan_image(spec, levels, 220).grey[static_cast<std::size_t>(fan.apex_v - 100) * fan.width + fan.apex_u], 128);
+  // Samples of the wrong size: black.
+  const FlsSensor::FanImage black = FlsSensor::fan_image(spec, samples, 220);
+  EXPECT_TRUE(std::all_of(black.grey.begin(), black.grey.end(), [](std::uint8_t g) { return g == 0; }));
+  FlsSensor::State state;
+  state.image = levels;
+  sensor_msgs::msg::Image preview;
+  FlsSensor::ImageTopic::fill_preview(spec, state, MessageHeader{1.5, "auv/fls", 5.0}, preview);
+  EXPECT_EQ(preview.encoding(), "mono8");
+  EXPECT_EQ(static_cast<int>(preview.height()), FlsSensor::kPreviewHeight);
+  EXPECT_EQ(preview.step(), preview.width());
+  EXPECT_EQ(preview.data().size(), static_cast<std::size_t>(preview.width() * preview.height()));
+  EXPECT_EQ(preview.header().frame_id(), "auv/fls");
+  EXPECT_EQ(preview.header().stamp().sec(), 1);
 }
 
 }  // namespace

@@ -115,18 +115,31 @@ void set_acoustics(const SonarAcoustics& a, render::SonarPingSpec& ping) {
   ping.tvg_absorption = a.tvg_absorption;
 }
 
+namespace {
+
+// Intensity I [uPa^2] over the display window [dB], 0..255.
+std::uint8_t display_level(float intensity, double display_min_db, double display_max_db) {
+  if (!(intensity > 0.0f)) return 0;
+  const double level = 10.0 * std::log10(static_cast<double>(intensity));
+  const double x = 255.0 * (level - display_min_db) / (display_max_db - display_min_db);
+  return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 255.0)));
+}
+
+}  // namespace
+
 void SonarImageEncoding::encode(float intensity, std::uint8_t* out) const {
   if (float32) {
     std::memcpy(out, &intensity, sizeof(float));  // x86-64 and ARM64 hosts: little-endian
     return;
   }
-  if (!(intensity > 0.0f)) {
-    *out = 0;
-    return;
-  }
-  const double level = 10.0 * std::log10(static_cast<double>(intensity));
-  const double x = 255.0 * (level - display_min_db) / (display_max_db - display_min_db);
-  *out = static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 255.0)));
+  *out = display_level(intensity, display_min_db, display_max_db);
+}
+
+std::uint8_t SonarImageEncoding::grey(const std::uint8_t* sample) const {
+  if (!float32) return *sample;
+  float intensity = 0.0f;
+  std::memcpy(&intensity, sample, sizeof(float));
+  return display_level(intensity, display_min_db, display_max_db);
 }
 
 const std::vector<std::string>& sonar_image_keys() {

@@ -34,6 +34,9 @@ namespace marine_acoustic_msgs::msg {
 class ProjectedSonarImage;
 class ProjectedSonarImagePubSubType;
 }  // namespace marine_acoustic_msgs::msg
+namespace sensor_msgs::msg {
+class Image;
+}
 
 namespace hadal::sensors {
 
@@ -65,15 +68,33 @@ struct FlsSensor {
   };
 
   // A ping's image is large (256 x 512 samples: 128 KB in uint8, 512 KB in float32): writers keep 10, and
-  // the monitor leaves it out (sensors/sensor_kind.h).
+  // the monitor leaves it out (sensors/sensor_kind.h); monitors read rt/<vehicle>/<sensor>/preview, the ping
+  // drawn as a fan (fan_image, kPreviewHeight rows, mono8), instead.
   struct ImageTopic {
     static constexpr std::string_view kSuffix = "";
     static constexpr int kHistoryDepth = 10;
     static constexpr bool kInMonitor = false;
+    static constexpr bool kPreview = true;
     using Message = marine_acoustic_msgs::msg::ProjectedSonarImage;
     using PubSubType = marine_acoustic_msgs::msg::ProjectedSonarImagePubSubType;
     static void fill(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+    static void fill_preview(const Spec& spec, const State& state, const MessageHeader& header,
+                             sensor_msgs::msg::Image& msg);
   };
+  static constexpr int kPreviewHeight = 300;
+
+  // A ping's samples (range-major, the spec's encoding) as a fan seen from above, for people (the preview,
+  // hadal-validate-sonar): `height` rows of grey levels (SonarImageEncoding::grey), the sonar at
+  // (apex_u, apex_v), ahead (x_S) up the image and port (y_S) to its left, px_per_m = (height - 2 margin) /
+  // max_range with a margin of 10 px; each pixel takes the sample of the beam and bin its centre falls in,
+  // 0 outside the fan or the window. Samples of the wrong size give a black fan.
+  struct FanImage {
+    int width = 0, height = 0;
+    int apex_u = 0, apex_v = 0;
+    double px_per_m = 0.0;
+    std::vector<std::uint8_t> grey;  // row-major, width x height
+  };
+  static FanImage fan_image(const Spec& spec, const std::vector<std::uint8_t>& samples, int height);
   using Topics = TopicList<ImageTopic>;
 
   // Azimuth of beam k about z_S [rad].

@@ -199,14 +199,21 @@ template <class Topic>
 struct TopicHistoryDepth<Topic, std::void_t<decltype(Topic::kHistoryDepth)>>
     : std::integral_constant<int, Topic::kHistoryDepth> {};
 
-// A topic of 8-bit camera images may declare kPreview = true: the DDS endpoints then also offer
-// rt/<vehicle>/<sensor>/preview, the image at half resolution, written at most 5 times per wall second and
-// only while a reader is matched (dds/image_preview.h), for monitors such as hadal-viewer, so that watching a
-// camera does not cost the server its full-rate stream.
+// A topic may declare kPreview = true: the DDS endpoints then also offer rt/<vehicle>/<sensor>/preview, a
+// sensor_msgs/Image written at most 5 times per wall second and only while a reader is matched
+// (dds/image_preview.h), for monitors such as hadal-viewer, so that watching a sensor does not cost the server
+// its full-rate stream. The preview is the topic's 8-bit image at half resolution, or what the topic draws
+// when it defines
+//   static void fill_preview(const Spec&, const State&, const MessageHeader&, sensor_msgs::msg::Image&)
+// (the forward-looking sonar's fan).
 template <class Topic, class = void>
 struct TopicHasPreview : std::false_type {};
 template <class Topic>
 struct TopicHasPreview<Topic, std::void_t<decltype(Topic::kPreview)>> : std::bool_constant<Topic::kPreview> {};
+template <class Topic, class = void>
+struct TopicDrawsPreview : std::false_type {};
+template <class Topic>
+struct TopicDrawsPreview<Topic, std::void_t<decltype(&Topic::fill_preview)>> : std::true_type {};
 
 // rt/hadal/monitor (dds/monitor.h) carries the latest sample of every topic but those that declare
 // kInMonitor = false: topics of large messages (camera images), which a monitor reads as previews if at all.

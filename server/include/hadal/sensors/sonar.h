@@ -85,6 +85,9 @@ struct SonarImageEncoding {
   std::size_t bytes_per_sample() const { return float32 ? 4 : 1; }
   // Writes one sample of intensity I [uPa^2] (above) at `out` (bytes_per_sample() bytes, little-endian).
   void encode(float intensity, std::uint8_t* out) const;
+  // The grey level 0..255 of the sample at `sample`: a uint8 sample as it is, a float32 one over the display
+  // window as uint8 encodes it (for people: previews, figures).
+  std::uint8_t grey(const std::uint8_t* sample) const;
 };
 const std::vector<std::string>& sonar_image_keys();  // image_dtype, display_min_db, display_max_db
 void read_sonar_image_encoding(const config::MapReader& map, SonarImageEncoding& encoding);
