@@ -49,13 +49,14 @@ int main(int argc, char** argv) {
   if (domain < 0 || argc % 2 == 0) return usage();
 
   const auto start = std::chrono::steady_clock::now();
+  // Declared before the tap, whose callback uses them: destroyed after it (record/topic_tap.h).
+  std::mutex mutex;
+  std::map<std::string, TopicCount> counts;
   hadal::record::TopicTap tap(domain, "hadal_load_subscriber");
   if (!tap.discover(120.0)) {
     std::fprintf(stderr, "hadal_bench_load_subscriber: no hadald on domain %d\n", domain);
     return 1;
   }
-  std::mutex mutex;
-  std::map<std::string, TopicCount> counts;
   for (const auto& [topic, writer] : tap.writers()) counts[topic];
   const bool matched = tap.subscribe(
       [&](const hadal::record::TappedSample& sample) {

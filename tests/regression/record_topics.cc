@@ -140,6 +140,9 @@ int main(int argc, char** argv) {
   }
   if (domain < 0 || steps == 0 || chunk == 0) usage_error("--domain and --steps are required");
 
+  // What the tap's callback writes into, declared before the tap: destroyed after it, so that no sample still
+  // arriving can reach it destroyed (record/topic_tap.h).
+  std::map<std::string, TopicRecord> records;
   hadal::record::TopicTap tap(domain, "hadal_record_topics", excluded);
   hadal::Client client(hadal::ClientOptions{domain, "hadal_record_topics_client"});
   if (!client.wait_for_server(20.0)) {
@@ -156,7 +159,6 @@ int main(int argc, char** argv) {
         topic.size() >= preview.size() && topic.compare(topic.size() - preview.size(), preview.size(), preview) == 0;
     return topic != "rt/hadal/monitor" && !is_preview;
   };
-  std::map<std::string, TopicRecord> records;
   for (const auto& [topic, writer] : tap.writers()) {
     if (recorded(topic, writer)) records[topic].type = writer.type;
   }

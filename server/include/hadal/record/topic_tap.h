@@ -68,7 +68,7 @@ class TopicTap {
   std::map<std::string, TappedWriter> writers() const;
 
   // A reliable, keep-all reader on each discovered topic; `on_sample` gets every sample, one call at a time
-  // (from DDS's threads). Waits (up to timeout_s) until every reader has matched its writer; false if not.
+  // (from DDS's threads) until the tap is destroyed: what it uses must outlive the tap (declare it before). Waits (up to timeout_s) until every reader has matched its writer; false if not.
   // kept_samples: transient-local readers where the writer offers it, so that the samples the writer kept
   // for late joiners (a lockstep server's t = 0 samples, published before anyone stepped it) come too.
   // wanted: the topics to read (all when empty). latest_only: a viewer's readers, which show the latest sample
