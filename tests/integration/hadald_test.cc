@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -24,6 +26,51 @@ namespace {
 
 
 double dot_xy(const std::array<double, 3>& a, double x, double y) { return a[0] * x + a[1] * y; }
+
+// Whether process `pid` is running: it exists and is not a zombie (a killed orphan stays one until reaped,
+// and a container's first process may never reap it).
+bool process_alive(int pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return false;
+  const auto close = line.rfind(") ");
+  return close != std::string::npos && close + 2 < line.size() && line[close + 2] != 'Z' && line[close + 2] != 'X';
+}
+
+// A test that dies leaves no server behind (ServerProcess, PR_SET_PDEATHSIG): a child process starts a lockstep
+// hadald and ends without its destructors, as a crashed test does; the server is gone within seconds, not
+// left running on a domain whose lease died with the test.
+TEST(HadaldTest, AServerDiesWithTheTestThatStartedIt) {
+  DomainLease domain;
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(fds[0]);
+    auto* server = new ServerProcess({source_path(kClientScenario), "--mode", "lockstep", "--domain-id",
+                                      std::to_string(domain.id()), "--no-status-line"});
+    const int pid = server->pid();
+    const bool written = ::write(fds[1], &pid, sizeof pid) == static_cast<ssize_t>(sizeof pid);
+    ::sleep(1);  // hadald is up and running by now
+    ::_exit(written ? 0 : 1);  // no destructors: as a crash
+  }
+  ::close(fds[1]);
+  int server_pid = -1;
+  const bool got = ::read(fds[0], &server_pid, sizeof server_pid) == static_cast<ssize_t>(sizeof server_pid);
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(got && server_pid > 0);
+  const bool gone = wait_until([&] { return !process_alive(server_pid); }, 20.0);
+  if (!gone) ::kill(server_pid, SIGKILL);
+  // The output files the child's ServerProcess would have removed.
+  const std::string prefix = "hadald-test-" + std::to_string(child) + "-";
+  for (const auto& entry : std::filesystem::directory_iterator("/tmp")) {
+    if (entry.path().filename().string().rfind(prefix, 0) == 0) std::filesystem::remove(entry.path());
+  }
+  EXPECT_TRUE(gone) << "hadald " << server_pid << " outlived the process that started it";
+}
 
 TEST(HadaldTest, ForwardThrustMovesAlongBodyX) {
   LockstepServer s;

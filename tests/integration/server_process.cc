@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -49,9 +50,15 @@ ServerProcess::ServerProcess(const std::vector<std::string>& args) {
   const std::string stem = "/tmp/hadald-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   out_path_ = stem + ".out";
   err_path_ = stem + ".err";
+  const pid_t parent = ::getpid();
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
+    // hadald dies with the test: a test that crashes must not leave a server running on a domain whose lease
+    // died with it (the next test to take the domain would talk to both). Checked again after the call, in
+    // case the parent died before it.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);
     const int out = ::open(out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int err = ::open(err_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(out, 1);

@@ -31,7 +31,8 @@ std::string source_path(const std::string& relative);
 
 class ServerProcess {
  public:
-  // Starts `hadald args...` with ROS_LOCALHOST_ONLY=1; stdout/stderr go to files.
+  // Starts `hadald args...` with ROS_LOCALHOST_ONLY=1; stdout/stderr go to files. The server is killed when the
+  // thread that started it ends (PR_SET_PDEATHSIG), so a crashed test leaves no server behind.
   explicit ServerProcess(const std::vector<std::string>& args);
   ~ServerProcess();  // SIGKILLs the child if still running
   ServerProcess(const ServerProcess&) = delete;
