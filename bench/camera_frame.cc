@@ -1,7 +1,7 @@
 // A scenario's camera frame exactly as the simulation captures it (sensors/camera_sensor.h: radiance
 // and depth on the simulation's ray-cast workers over its one world scene, marine snow, exposure and
 // noise), at a sim time, repeated: the per-frame cost that bounds hadald --mode fast with a camera
-// (BENCHMARKS.md, "The default scenario with its camera"). Prints one JSON object per camera (median
+// (docs/benchmarks.md, "The default scenario with its camera"). Prints one JSON object per camera (median
 // of N repetitions).
 //   build/bin/hadal_bench_camera_frame [SCENARIO.yaml] [--time T] [--repetitions N] [--threads N]
 // Defaults: configs/scenarios/default.yaml, T = 0, N = 20, the scenario's world.raycast_threads.

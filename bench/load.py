@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Load (BENCHMARKS.md, "Soak and load"): sixteen subscriber processes read every topic of a realtime hadald on
+"""Load (docs/benchmarks.md, "Soak and load"): sixteen subscriber processes read every topic of a realtime hadald on
 the default scenario (cameras included) with reliable keep-all readers, while the server must hold real time.
 
 Each subscriber is bench/load_subscriber.cc (hadal::record::TopicTap: raw samples of every topic the server

@@ -1,4 +1,4 @@
-// One subscriber of the load benchmark (bench/load.py, BENCHMARKS.md "Load"): joins a DDS domain, finds the
+// One subscriber of the load benchmark (bench/load.py, docs/benchmarks.md "Soak and load"): joins a DDS domain, finds the
 // hadald on it, reads every topic it writes with a reliable keep-all reader (hadal::record::TopicTap: raw
 // samples, any type) and counts, per topic, the samples, the bytes and the gaps in the writer's sequence
 // numbers (a sample the writer dropped from its history before this reader had it: lost). It stops once

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Python client throughput (BENCHMARKS.md, "Python: lockstep, environments, camera frames"): one JSON line
-per measurement.
+"""Python client throughput (docs/benchmarks.md, "Lockstep round trip and the Python client"): one JSON
+line per measurement.
 
   lockstep_calls     client.step(k) calls per second against a lockstep hadald on the default scenario
                      without its camera (hadald --no-cameras), k = 1 and 10 physics steps per call,

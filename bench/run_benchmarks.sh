@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs Hadal's benchmarks and prints one JSON object per measurement (results go to BENCHMARKS.md).
+# Runs Hadal's benchmarks and prints one JSON object per measurement (results go to docs/benchmarks.md).
 #   bench/run_benchmarks.sh [BUILD_DIR]     (default build/)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Soak (BENCHMARKS.md, "Soak and load"): hadald runs a scenario (the default one, cameras included) for 24
+"""Soak (docs/benchmarks.md, "Soak and load"): hadald runs a scenario (the default one, cameras included) for 24
 simulated hours in fast mode while this driver records, once per wall second, its sim time and real-time factor
 (its status line), its resident memory (RSS, /proc/<pid>/status), and counts NaN events (hadald's "non-finite
 state" lines and, from a client subscribed to rt/hadal/status all along, the vehicles' fault counts). A client

@@ -1,7 +1,7 @@
 // Sonar pings over the benchmarks' ~1M-triangle seabed (bench/seabed.h) on the ray-cast service's workers,
 // with the ping specs the sonar kinds make from their presets (FlsSensor::make_ping, MultibeamSensor::make_ping)
 // and the kinds' per-beam work (uint8 encoding, bottom detection): the ping rate a 2-core machine sustains,
-// against the products' real ping rates (BENCHMARKS.md, "Sonars").
+// against the products' real ping rates (docs/benchmarks.md, "Sonars").
 //   fls        preset oculus_m750d (750 kHz, 130 deg x 20 deg, 1 deg beams, 40 m window in 512 bins) with
 //              256 beams and 10 rays per beam-bin cell (2 across each beam, 2560 over its vertical aperture:
 //              1.31 M rays); 10 m above the seabed, pitched 20 deg down: the centre beam's lower edge meets the

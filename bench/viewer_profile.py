@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Where a viewer's cost to the server lies (BENCHMARKS.md, "Viewer"): hadald --mode fast on the default scenario
+"""Where a viewer's cost to the server lies (docs/benchmarks.md, "Viewer"): hadald --mode fast on the default scenario
 (camera included), alone on CPU 0, profiled with `perf record -e cpu-clock` (a sample every 250 us of its CPU
 time), without a viewer and with hadal-viewer and a page (viewer_rtf.Page) on CPU 1, in turn, --runs times. Per
 run it counts hadald's samples in all, in the code that only a reader of the monitor or a preview runs

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""What a viewer costs the server (BENCHMARKS.md, "Viewer"): the real-time factor of `hadald --mode fast` on the
+"""What a viewer costs the server (docs/benchmarks.md, "Viewer"): the real-time factor of `hadald --mode fast` on the
 default scenario (camera included) without a viewer, with hadal-viewer attached (it finds hadald and reads its
 scene; with no page open it reads nothing more), and with hadal-viewer and a page (a WebSocket client taking everything it pushes: updates at 20 Hz,
 camera frames at 5 Hz). The three configurations run in turn, --runs times, so drifts of the machine's speed

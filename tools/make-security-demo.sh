@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Makes a demo DDS Security set-up for hadal with openssl (README, "DDS Security"): an identity CA, a
+# Makes a demo DDS Security set-up for hadal with openssl (docs/dds.md, "DDS Security"): an identity CA, a
 # permissions CA, a certificate and key for hadald and for each client, the governance and permissions
 # documents signed by the permissions CA, and one YAML file per identity holding its `security:` block, for
 # `hadald --security`, ClientOptions::security_file (C++) and hadal.Client(security_file=...) (Python).

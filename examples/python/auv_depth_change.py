@@ -84,7 +84,7 @@ def main():
     parser.add_argument("--depth", type=float, default=30.0, help="target depth [m]")
     parser.add_argument("--until", type=float, default=90.0, help="sim time to stop at [s]")
     parser.add_argument("--security-file", default=None,
-                        help="DDS Security: a YAML file with this client's security: block (README, 'DDS Security')")
+                        help="DDS Security: a YAML file with this client's security: block (docs/dds.md, 'DDS Security')")
     args = parser.parse_args()
     client = hadal.Client(domain_id=args.domain_id, security_file=args.security_file)
     client.wait_for_server()

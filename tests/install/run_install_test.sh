@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The install tree on its own (README "Installing"): `cmake --install BUILD --prefix P` into a temporary P,
+# The install tree on its own (docs/server.md, "Installing"): `cmake --install BUILD --prefix P` into a temporary P,
 # then, from a directory outside the source tree and with nothing pointing back into it (no HADALD,
 # HADAL_SOURCE_DIR or HADAL_DATA_DIR): the Python package imports from P alone, hadal.Server("default")
 # starts P/bin/hadald on P/share/hadal/configs, the magnetometer's World Magnetic Model is P's copy,

@@ -12,7 +12,7 @@
 
 Packet loss on a link is in hil_netns_test.py. Real-time figures here compare the server's sim time with the
 wall clock over seconds: hadald runs the default scenario at 6-9 times real time on this 2-core machine
-(BENCHMARKS.md), so holding 1.0 needs a fraction of one core; the bounds (sim time within 10 % of wall time
+(docs/benchmarks.md), so holding 1.0 needs a fraction of one core; the bounds (sim time within 10 % of wall time
 over 3 s) are what an overloaded CI machine still meets while any stall of a second fails them.
 """
 

@@ -2,7 +2,7 @@
  * ros2_types.idl, through Cyclone DDS's CDR deserialiser, independently of Hadal's own IDL and of Fast DDS.
  *
  * Why: hadald and hadal-record write each sample's CDR bytes as they came off the wire into the bag
- * (README.md, "Recording a run as a rosbag2 bag"), with the ROS 2 topic and type names `ros2 bag play`
+ * (docs/recording.md), with the ROS 2 topic and type names `ros2 bag play`
  * will use to pick a deserialiser. A bag is only useful to ROS 2 if every blob really is an instance of
  * the type its topic names, in ROS 2's layout (final extensibility, plain XCDR1). The Cyclone probes
  * (ros2_probe.c, ros2_lockstep_probe.c) check live topics; this checks what ended up in the file,

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # A recorded bag of the default scenario, checked with the independent Cyclone types: hadald runs
-# configs/scenarios/default.yaml for 2 s of sim time in fast mode with --record (README.md, "Recording a run
-# as a rosbag2 bag"), then hadal-bag-check (bag_check.c) decodes every message of the bag with the ROS 2
-# types of ros2_types.idl through Cyclone DDS, and this script checks its JSON against the per-topic
+# configs/scenarios/default.yaml for 2 s of sim time in fast mode with --record (docs/recording.md,
+# "Recording inside the server"), then hadal-bag-check (bag_check.c) decodes every message of the bag with
+# the ROS 2 types of ros2_types.idl through Cyclone DDS, and this script checks its JSON against the per-topic
 # "samples published" counts hadald prints at exit (README.md, the summary under "Install, build, run"):
 #   - every topic hadald published is in the bag under its ROS 2 name (rt/clock -> /clock), and the bag
 #     has no other topic;

@@ -1,5 +1,5 @@
 // Shared by Hadal's command-line tools that join a hadald's domain: --security FILE, the `security:` block of
-// FILE (config/security_block.h; README, "DDS Security"). Header-only; the tool links hadal_security_block.
+// FILE (config/security_block.h; docs/dds.md, "DDS Security"). Header-only; the tool links hadal_security_block.
 #pragma once
 
 #include "hadal/config/security_block.h"

@@ -11,7 +11,7 @@
 // bag record --use-sim-time`). The bag is flushed once per wall second, so a killed recorder loses at
 // most the last second; SIGINT/SIGTERM or --duration (wall seconds) close it. Exit status 0, 1 when no
 // hadald was found within --wait seconds (default 20) or writing failed, 2 on a usage error. --security: DDS
-// Security with the `security:` block of FILE (README, "DDS Security"), to record a secure hadald.
+// Security with the `security:` block of FILE (docs/dds.md, "DDS Security"), to record a secure hadald.
 #include "hadal/record/bag_recorder.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "parse_number.h"

@@ -1,5 +1,5 @@
 """Headless Chromium driven over its DevTools protocol (a WebSocket of JSON calls; python3-websocket), for
-hadal-viewer's browser test (tests/integration/viewer_test.py) and its README screenshot (screenshot.py)."""
+hadal-viewer's browser test (tests/integration/viewer_test.py) and its screenshot in docs/viewer.md (screenshot.py)."""
 
 import base64
 import itertools

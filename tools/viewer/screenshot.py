@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The README's picture of hadal-viewer (docs/images/viewer.png): the default scenario in lockstep, stepped to
+"""The picture of hadal-viewer in docs/viewer.md (docs/images/viewer.png): the default scenario in lockstep, stepped to
 --seconds of sim time (12: the AUV about to pass over the lander), with the page open in headless Chromium.
 
     PYTHONPATH=build/python ROS_LOCALHOST_ONLY=1 /usr/bin/python3 tools/viewer/screenshot.py \\

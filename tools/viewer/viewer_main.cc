@@ -1,5 +1,5 @@
 // hadal-viewer: a web page that shows a running hadald, or replays a rosbag2 bag of one
-// (docs/ARCHITECTURE.md, "Viewer"; README, "Watching a run in the browser").
+// (docs/ARCHITECTURE.md, "Viewer"; docs/viewer.md).
 //
 //   hadal-viewer [--domain-id N] [--port 8080] [--bind 127.0.0.1] [--token T] [--bag DIR]
 //                [--rate-hz 20] [--image-rate-hz 5] [--nice 10] [--web-root DIR] [--three-root DIR]
@@ -10,8 +10,8 @@
 // WebSocket at --rate-hz, camera frames at --image-rate-hz per camera (JPEG). With no page open, a live
 // viewer reads only the scene and waits: the server writes nothing more to it (LiveSource). Listens on
 // loopback by default; any other address needs --token. Exit status 0 on SIGINT/SIGTERM, 1 when it cannot serve or
-// read the bag, 2 on a usage error. --security: DDS Security with the `security:` block of FILE (README, "DDS
-// Security"), to watch a secure hadald.
+// read the bag, 2 on a usage error. --security: DDS Security with the `security:` block of FILE (docs/dds.md,
+// "DDS Security"), to watch a secure hadald.
 #include "hadal/core/data_dir.h"
 #include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_reader.h"

@@ -424,8 +424,8 @@ class HadalEnv(_Closing, _EnvBase):
 class VectorEnv(_Closing):
     """n HadalEnvs, each with its own lockstep hadald on its own DDS domain, stepped concurrently from this
     process: every call sends all n requests before it waits for any reply, so the servers step in parallel
-    while this thread observes the envs whose replies have come (BENCHMARKS.md, "Python: lockstep calls,
-    environments, camera frames").
+    while this thread observes the envs whose replies have come (docs/benchmarks.md, "Lockstep round
+    trip and the Python client").
 
     reset(seed=None) -> (observations (n, ...), infos: list of n dicts); seed: an int (env i gets seed + i) or
     a list of n seeds (None entries leave that env's stream alone).
@@ -441,7 +441,7 @@ class VectorEnv(_Closing):
     and its wake-ups do not preempt this thread (hadald --sched batch). Both keep the servers stepping in
     parallel on a small machine: unpinned, the kernel moves their threads between cores (cold caches) and
     the first server's wake-up can take the core from this thread before it has sent the second request
-    (BENCHMARKS.md); the servers on the CPU this thread runs on get their requests last, for the same
+    (docs/benchmarks.md); the servers on the CPU this thread runs on get their requests last, for the same
     reason. pin_cpus=False leaves placement to the kernel, each server on max(1, CPUs // n) threads; so
     should several VectorEnvs stepping at once on one machine, as they would share CPU 0 first.
     """
@@ -484,7 +484,7 @@ class VectorEnv(_Closing):
 
         Pinned, the envs whose servers run on this thread's CPU get their requests last: such a server's
         threads wake on this CPU and can run their whole step there before this thread has sent the other
-        servers their requests (BENCHMARKS.md, "Python")."""
+        servers their requests (docs/benchmarks.md, "Lockstep round trip and the Python client")."""
         order = list(range(len(calls)))
         if self.pin_cpus and len(calls) > 1:
             cpu = current_cpu()

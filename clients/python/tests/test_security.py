@@ -1,4 +1,4 @@
-"""DDS Security (README, "DDS Security"): a hadald started with --security talks to authenticated clients
+"""DDS Security (docs/dds.md, "DDS Security"): a hadald started with --security talks to authenticated clients
 only. A client without security, and one whose certificates another CA signed, see no server, receive
 nothing and command nothing, while the authenticated client steps it, reads its sensors (a camera frame
 too) and drives the AUV. The demo set-up comes from tools/make-security-demo.sh (openssl)."""

@@ -1,4 +1,4 @@
-// hadald: the Hadal simulation server. See cli.h for the command line and README.md for the topics.
+// hadald: the Hadal simulation server. See cli.h for the command line and docs/topics.md for the topics.
 #include "cli.h"
 #include "hadal/dds/participant.h"
 #include "hadal/core/allocator.h"

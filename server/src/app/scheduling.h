@@ -1,12 +1,13 @@
 // Where the kernel runs hadald and how eagerly: hadald --cpus LIST and --sched batch|other.
 //
 // A lockstep server and the client that steps it take turns on the same cores. On a small machine with
-// several servers (hadal.env.VectorEnv) two things cost throughput (BENCHMARKS.md, "Python"): the kernel
-// migrating a server's threads between cores (cold caches on every step), and a server's wake-up
-// preempting the client thread that was about to send the next server its request, leaving that server
-// idle for a whole step. `--cpus` keeps all of a server's threads on the given CPUs; `--sched batch`
-// (SCHED_BATCH, sched(7)) tells the kernel not to let its wake-ups preempt a running thread. Both are
-// set on the main thread before any other thread exists, so every thread hadald starts inherits them.
+// several servers (hadal.env.VectorEnv) two things cost throughput (docs/benchmarks.md, "Lockstep round
+// trip and the Python client"): the kernel migrating a server's threads between cores (cold caches on
+// every step), and a server's wake-up preempting the client thread that was about to send the next server
+// its request, leaving that server idle for a whole step. `--cpus` keeps all of a server's threads on the
+// given CPUs; `--sched batch` (SCHED_BATCH, sched(7)) tells the kernel not to let its wake-ups preempt a
+// running thread. Both are set on the main thread before any other thread exists, so every thread hadald
+// starts inherits them.
 #pragma once
 
 #include <string>

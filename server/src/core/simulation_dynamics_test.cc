@@ -239,7 +239,7 @@ TEST(SimulationDynamicsTest, BodyOnTheSeabedPressesWithItsSubmergedWeight) {
 // straight course under thrust: its fins overcome the Munk moment. The default scenario's first
 // schedule leg (main 0.6 for 25 s) ends near the steady speed; heading, roll and sideslip stay small
 // (propeller torque heels it slightly; the slow rise from ~1 N of buoyancy is the only other
-// disturbance). Printed figures are for the README/BENCHMARKS tables.
+// disturbance). Printed figures are for the README/docs/benchmarks.md tables.
 TEST(SimulationDynamicsTest, DefaultAuvHoldsItsCourseUnderThrust) {
   const config::LoadResult loaded =
       config::load_scenario_file(std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/default.yaml");

@@ -1,4 +1,4 @@
-// hadald's DDS side: every topic the server publishes or subscribes (README "Topics").
+// hadald's DDS side: every topic the server publishes or subscribes (docs/topics.md).
 //
 // Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/hadal/scene (once, and again after a reset:
 // dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/<vehicle>/odometry,

@@ -2,8 +2,8 @@
 //
 // Subscribe to odometry, clock, status, thruster state and sensors (pressure, IMU, magnetometer, GNSS,
 // DVL, range finder, profiler scans) with callbacks; command thrusters; step a lockstep server. The public API has no
-// DDS types in it: samples arrive as the plain structs below (SI units, frames as in the README's topic
-// table). Callbacks run on DDS threads: keep them short and synchronise what they touch.
+// DDS types in it: samples arrive as the plain structs below (SI units, frames as in the topic table of
+// docs/topics.md). Callbacks run on DDS threads: keep them short and synchronise what they touch.
 //
 //   hadal::Client client(hadal::ClientOptions{0, "my_controller"});  // domain 0
 //   if (!client.wait_for_server(10.0)) ...;
@@ -368,7 +368,7 @@ struct ClientOptions {
   double server_timeout_s = 10.0;
   // DDS Security: a YAML file whose `security:` block names this client's certificate, key and the domain's
   // signed documents (paths relative to the file), the form `hadald --security FILE` takes;
-  // tools/make-security-demo.sh writes one per identity (README, "DDS Security"). Empty: no security, and
+  // tools/make-security-demo.sh writes one per identity (docs/dds.md, "DDS Security"). Empty: no security, and
   // then no secure server is visible at all. A file that is wrong throws std::runtime_error from the
   // constructor, `file:line:col: error: ...`; so do files Fast DDS refuses.
   std::string security_file{};

@@ -1,4 +1,4 @@
-// The `security:` block (README, "DDS Security"): six files, each a path relative to the YAML file holding the
+// The `security:` block (docs/dds.md, "DDS Security"): six files, each a path relative to the YAML file holding the
 // block. A scenario may hold one (then its files obey the scenario's file rules, docs/ARCHITECTURE.md, "Files a
 // scenario may reach"); `hadald --security FILE` and the clients read a file holding only this block, as
 // tools/make-security-demo.sh writes them:

@@ -1,5 +1,5 @@
 // The files of DDS Security (authentication, encryption, access control), as a scenario's `security:` block,
-// `hadald --security FILE` and the clients name them (README, "DDS Security"; docs/ARCHITECTURE.md). The
+// `hadald --security FILE` and the clients name them (docs/dds.md, "DDS Security"; docs/ARCHITECTURE.md). The
 // dds layer turns them into a participant's security properties (dds/participant.h); the config layer reads
 // them from YAML (config/security_block.h). All empty: security off.
 #pragma once

@@ -166,7 +166,7 @@ AlbedoOfPoints per_point(AlbedoAt albedo_of);
 
 // Image rows per rendering task: a band's per-pixel arrays (~50 values a pixel: ~0.5 MB at 640 px) stay
 // well within a server core's L2 cache (1 MB here) with room for the other data a band touches, and
-// 120 tasks for a 480-row frame keep two workers evenly busy to the end (BENCHMARKS.md, camera frame:
+// 120 tasks for a 480-row frame keep two workers evenly busy to the end (docs/benchmarks.md, cameras:
 // 16 rows were ~8 % slower than 8 on 2 workers, and 8 rows ~10 % slower than 4 in alternating runs;
 // 2 rows gained nothing more).
 constexpr int kBandRows = 4;

@@ -109,7 +109,7 @@ class GeomagneticModel {
   static GeomagneticModel load_cof(const std::string& path);
   // The WMM2025 coefficient file hadald uses: $HADAL_DATA_DIR/WMM2025.COF when that variable is set, else
   // the installed copy beside the running executable (<prefix>/share/hadal/WMM2025.COF for
-  // <prefix>/bin/hadald, README "Installing"), else the source tree's server/data/WMM2025.COF.
+  // <prefix>/bin/hadald, docs/server.md "Installing"), else the source tree's server/data/WMM2025.COF.
   static std::string default_cof_path();
   // Same, from a stream; `source_name` stands for the path in messages.
   static GeomagneticModel parse_cof(std::istream& in, const std::string& source_name);
