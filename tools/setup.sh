@@ -8,18 +8,18 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libeigen3-dev libyaml-cpp-dev libsqlite3-dev libbullet-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev libbullet-dev
   libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev openssl
   libcivetweb-dev libjs-three
   python3 python3-dev pybind11-dev python3-numpy python3-yaml python3-matplotlib
 )
 # Used by the tests alone: fuzzing (clang), Cyclone DDS interop, GoogleTest, the browser test, the network
-# namespace test, pytest.
+# namespace test, pytest, an independent JSON Schema validator.
 TEST_PACKAGES=(
   clang libclang-rt-14-dev
   cyclonedds-dev cyclonedds-tools
-  libgtest-dev libgmock-dev chromium python3-websocket iproute2 nftables python3-pytest
+  libgtest-dev libgmock-dev chromium python3-websocket iproute2 nftables python3-pytest python3-jsonschema
 )
 tests=1
 for arg in "$@"; do

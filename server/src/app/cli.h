@@ -2,6 +2,7 @@
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
 //          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--cpus LIST]
 //          [--sched batch|other] [--record DIR] [--no-status-line] [--no-cameras]
+//   hadald --schema [scenario|vehicle]
 // --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
 // leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
 #pragma once
@@ -42,6 +43,8 @@ struct CliOptions {
     return discovery_wait ? *discovery_wait : (mode == RunMode::kFast ? 2.0 : 0.0);
   }
   bool help = false;
+  // --schema [scenario|vehicle]: print the JSON Schema of scenario (or vehicle) files and exit.
+  std::string schema;
 };
 
 struct CliParse {

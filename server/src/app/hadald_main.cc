@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "hadal/dds/participant.h"
 #include "hadal/core/allocator.h"
+#include "hadal/config/json_schema.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/config/security_block.h"
 #include "hadal/record/rosbag2_writer.h"
@@ -65,6 +66,10 @@ int main(int argc, char** argv) {
   if (!cli.error.empty()) {
     std::fprintf(stderr, "hadald: error: %s\n%s", cli.error.c_str(), app::usage().c_str());
     return 2;
+  }
+  if (!cli.options.schema.empty()) {
+    std::fputs(config::scenario_json_schema(cli.options.schema)->c_str(), stdout);
+    return 0;
   }
   if (const std::string why = record::Rosbag2Writer::existing_directory_error(cli.options.record_dir); !why.empty()) {
     std::fprintf(stderr, "hadald: error: --record: %s\n", why.c_str());

@@ -472,6 +472,8 @@ vehicles:
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":2:26: error: world.dynamics.gyroscopic: expected true or false (got 'yes')",
                    path + ":2:31: error: world.dynamics.coriolis: unknown key 'coriolis'",
+                   path + ":9:38: error: vehicles[0].fluid.added_mass.pose: key 'pose' needs 'semi_axes' (without them "
+                          "the ellipsoid is fitted to the hull, centre and axes included)",
                    path + ":9:67: error: vehicles[0].fluid.added_mass.matrix: key 'matrix' is not used by "
                           "added_mass model 'ellipsoid'",
                    path + ":15:35: error: vehicles[1].fluid.added_mass.semi_axes[1]: must be > 0 (got 0)",
@@ -733,7 +735,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(bad),
             (Lines{bad + ":8:33: error: vehicles[0].sensors[0].preset: unknown camera preset 'gopro' (presets: "
-                         "svin2_stereo_rig_v2_left, subpipe_gopro_hero10)",
+                         "'svin2_stereo_rig_v2_left', 'subpipe_gopro_hero10')",
                    bad + ":9:63: error: vehicles[0].sensors[1].fx: the preset sets the calibration; give either 'fx' "
                          "or 'preset' (use 'downscale' for a smaller image)",
                    bad + ":10:63: error: vehicles[0].sensors[2].downscale: downscale 3 does not divide the "
@@ -953,7 +955,7 @@ vehicles:
       - {name: f, type: pressure, max_altitude: 3}
 )");
   EXPECT_EQ(errors_of(path),
-            (Lines{path + ":8:38: error: vehicles[0].sensors[0].preset: unknown DVL preset 'rdi_600' (presets: "
+            (Lines{path + ":8:30: error: vehicles[0].sensors[0].preset: unknown DVL preset 'rdi_600' (presets: "
                           "'teledyne_workhorse_navigator_600', 'teledyne_explorer_1000', 'nortek_dvl1000_4000m', "
                           "'nortek_dvl500_300m', 'sonardyne_syrinx_600', 'water_linked_a50')",
                    path + ":9:30: error: vehicles[0].sensors[1].min_altitude: max_altitude (90 m) must exceed "
@@ -1029,7 +1031,7 @@ vehicles:
 )");
   const std::vector<std::string> errors = errors_of(path);
   ASSERT_EQ(errors.size(), 5u);
-  EXPECT_NE(errors[0].find(":8:38: error: vehicles[0].sensors[0].preset: unknown IMU preset 'stim999' (presets: "),
+  EXPECT_NE(errors[0].find(":8:30: error: vehicles[0].sensors[0].preset: unknown IMU preset 'stim999' (presets: "),
             std::string::npos) << errors[0];
   EXPECT_NE(errors[1].find(":8:47: error: vehicles[0].sensors[0].noise_stddev: key 'noise_stddev' is not used by "
                            "sensor type 'imu'"), std::string::npos) << errors[1];
@@ -1872,7 +1874,7 @@ world:
              path + ":9:24: error: vehicles[0].command_timeout_s: must be > 0 (got 0)",
              path + ":11:9: error: world.seed: expected a non-negative integer (got '-1')",
              path + ":12:13: error: world.frame_id: must not be empty",
-             path + ":13:11: error: world.seabed: missing required key 'file'"}));
+             path + ":13:11: error: world.seabed: missing required key 'file' (needed by seabed type 'mesh')"}));
 }
 
 TEST_F(ScenarioLoaderTest, SeabedTypesBuildTheirSurface) {

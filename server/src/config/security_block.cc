@@ -1,5 +1,7 @@
 #include "hadal/config/security_block.h"
 
+#include "hadal/config/key_table.h"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -8,40 +10,51 @@
 
 namespace hadal::config {
 
+const KeyTable<SecurityFiles>& security_keys() {
+  static const KeyTable<SecurityFiles> table = [] {
+    KeyTable<SecurityFiles> t("security",
+                              "DDS Security of hadald's participant (docs/dds.md): PKI-DH authentication, AES-GCM-GMAC "
+                              "encryption, access control; each file relative to the file holding the block");
+    const std::pair<const char*, std::string SecurityFiles::*> files[] = {
+        {"identity_ca", &SecurityFiles::identity_ca},    {"certificate", &SecurityFiles::certificate},
+        {"private_key", &SecurityFiles::private_key},    {"permissions_ca", &SecurityFiles::permissions_ca},
+        {"governance", &SecurityFiles::governance},      {"permissions", &SecurityFiles::permissions}};
+    const char* docs[] = {
+        "PEM certificate of the CA that signed every participant's identity certificate",
+        "PEM identity certificate of this participant (ECDSA P-256 or RSA, signed with SHA-256)",
+        "its PEM private key, unencrypted",
+        "PEM certificate of the CA that signed the governance and permissions documents",
+        "S/MIME-signed governance document (openssl smime -sign -text): what the domain protects",
+        "S/MIME-signed permissions document with a grant for this certificate's subject"};
+    for (std::size_t i = 0; i < 6; ++i) {
+      t.file(files[i].first, files[i].second)
+          .required()
+          .doc(docs[i]);
+    }
+    // Fast DDS reads the files itself, later, and says only that security could not be set up: name an
+    // unreadable one here.
+    t.check([files](const KeyReads& reads, SecurityFiles& out, NoContext&) {
+      bool ok = true;
+      for (const auto& [key, member] : files) {
+        if (!reads.has(key) || !reads.ok(key)) continue;
+        if (std::FILE* file = std::fopen((out.*member).c_str(), "rb")) {
+          std::fclose(file);
+        } else {
+          reads.map().optional(key)->error("cannot read " + quoted(reads.map().optional(key)->node().Scalar()) +
+                                           " (" + std::strerror(errno) + ")");
+          ok = false;
+        }
+      }
+      return ok;
+    });
+    return t;
+  }();
+  return table;
+}
+
 std::optional<SecurityFiles> read_security_block(const Value& block) {
-  const std::pair<const char*, std::string SecurityFiles::*> keys[] = {
-      {"identity_ca", &SecurityFiles::identity_ca},       {"certificate", &SecurityFiles::certificate},
-      {"private_key", &SecurityFiles::private_key},       {"permissions_ca", &SecurityFiles::permissions_ca},
-      {"governance", &SecurityFiles::governance},         {"permissions", &SecurityFiles::permissions}};
-  std::vector<std::string> allowed;
-  for (const auto& [key, member] : keys) allowed.emplace_back(key);
-  const MapReader map(block, allowed);
-  if (!map.ok()) return std::nullopt;
   SecurityFiles files;
-  bool ok = true;
-  for (const auto& [key, member] : keys) {
-    std::string written;
-    if (!map.read_string(key, Need::kRequired, &written)) {
-      ok = false;
-      continue;
-    }
-    const Value value = *map.optional(key);
-    std::string path;
-    if (!value.file_path(written, &path)) {
-      ok = false;
-      continue;
-    }
-    // Fast DDS reads these itself, later, and says only that security could not be set up: name the file here.
-    if (std::FILE* file = std::fopen(path.c_str(), "rb")) {
-      std::fclose(file);
-    } else {
-      value.error("cannot read " + config::quoted(written) + " (" + std::strerror(errno) + ")");
-      ok = false;
-      continue;
-    }
-    files.*member = path;
-  }
-  if (!ok) return std::nullopt;
+  if (!security_keys().read(block, &files)) return std::nullopt;
   return files;
 }
 

@@ -223,15 +223,16 @@ bool Range::contains(double x) const {
   return above && below;
 }
 
-std::string Range::describe() const {
+std::string Range::describe(bool compact) const {
+  const auto number = compact ? format_compact : format_number;
   const bool has_min = std::isfinite(min);
   const bool has_max = std::isfinite(max);
   if (has_min && has_max) {
-    return std::string("in ") + (min_inclusive ? "[" : "(") + format_number(min) + ", " + format_number(max) +
+    return std::string("in ") + (min_inclusive ? "[" : "(") + number(min) + ", " + number(max) +
            (max_inclusive ? "]" : ")");
   }
-  if (has_min) return (min_inclusive ? ">= " : "> ") + format_number(min);
-  if (has_max) return (max_inclusive ? "<= " : "< ") + format_number(max);
+  if (has_min) return (min_inclusive ? ">= " : "> ") + number(min);
+  if (has_max) return (max_inclusive ? "<= " : "< ") + number(max);
   return "finite";
 }
 
@@ -241,6 +242,13 @@ std::string format_number(double x) {
   const bool integral = std::isfinite(x) && x == std::trunc(x) && std::abs(x) < 1e15;
   const auto result = integral ? std::to_chars(buffer, buffer + sizeof(buffer), static_cast<long long>(x))
                                : std::to_chars(buffer, buffer + sizeof(buffer), x);
+  return std::string(buffer, result.ptr);
+}
+
+std::string format_compact(double x) {
+  if (std::abs(x) < 1e6) return format_number(x);
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), x);
   return std::string(buffer, result.ptr);
 }
 
@@ -524,6 +532,10 @@ void MapReader::check_allowed(const std::string& key) const {
   if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end()) {
     throw std::logic_error("MapReader: key '" + key + "' read but not declared at " + value_.path());
   }
+}
+
+bool MapReader::allows(const std::string& key) const {
+  return std::find(allowed_.begin(), allowed_.end(), key) != allowed_.end();
 }
 
 bool MapReader::has(const std::string& key) const {

@@ -3,30 +3,27 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/physics/ocean.h"
 
 namespace hadal::physics {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
-const std::vector<std::string>& BuoyancyEngineActuator::keys() {
-  static const std::vector<std::string> keys = {"position", "max_volume_change", "pump_rate", "efficiency"};
-  return keys;
+const config::KeyTable<BuoyancyEngineActuator::Spec>& BuoyancyEngineActuator::keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("buoyancy_engine", "oil pumped between a reservoir and an external bladder: the "
+                                                    "displaced volume changes by dV about neutral");
+    t.vector("position", &Spec::p_LE).required().unit("m").doc("p_LE, the bladder's centre in L");
+    t.number("max_volume_change", &Spec::max_volume_change).required().unit("m³").range(Range::left_open(0.0, 100.0))
+        .doc("dV ranges over +- this");
+    t.number("pump_rate", &Spec::pump_rate).required().unit("m³/s").range(Range::left_open(0.0, 100.0)).doc("q");
+    t.number("efficiency", &Spec::efficiency).range(Range::left_open(0.0, 1.0))
+        .doc("hydraulic over electrical power");
+    return t;
+  }();
+  return table;
 }
-
-BuoyancyEngineActuator::Spec BuoyancyEngineActuator::read(const ActuatorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  map.read_vector3("position", Need::kRequired, Range::finite(), &spec.p_LE);
-  map.read_number("max_volume_change", Need::kRequired, Range::left_open(0.0, 100.0), &spec.max_volume_change);
-  map.read_number("pump_rate", Need::kRequired, Range::left_open(0.0, 100.0), &spec.pump_rate);
-  map.read_number("efficiency", Need::kOptional, Range::left_open(0.0, 1.0), &spec.efficiency);
-  return spec;
-}
-
 BuoyancyEngineActuator::Runtime BuoyancyEngineActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   Runtime runtime;
   runtime.p_BE = setup.X_BL * spec.p_LE;

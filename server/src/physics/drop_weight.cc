@@ -2,32 +2,32 @@
 
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/physics/ocean.h"
 
 namespace hadal::physics {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
-const std::vector<std::string>& DropWeightActuator::keys() {
-  static const std::vector<std::string> keys = {"position", "mass", "volume", "release_altitude", "release_time_s"};
-  return keys;
+const config::KeyTable<DropWeightActuator::Spec>& DropWeightActuator::keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("drop_weight", "ballast let go on command, at an altitude or at a time, for good");
+    t.vector("position", &Spec::p_LW).required().unit("m").doc("p_LW, the weight's centre in L");
+    t.number("mass", &Spec::mass).required().unit("kg").range(Range::left_open(0.0, 1e6)).doc("its mass");
+    t.number("volume", &Spec::volume).unit("m³").range(Range::closed(0.0, 1e3)).default_text("mass / 7850 (steel)")
+        .doc("displaced");
+    t.number("release_altitude", &Spec::release_altitude).unit("m").range(Range::closed(0.0, 1e4)).default_text("none")
+        .doc("let go when B's origin is this high or less above the seabed under it");
+    t.number("release_time_s", &Spec::release_time_s).unit("s").range(Range::non_negative()).default_text("none")
+        .doc("let go at this sim time");
+    t.check([](const config::KeyReads& reads, Spec& spec, config::NoContext&) {
+      if (!reads.has("volume")) spec.volume = spec.mass / kSteelDensity;
+      return true;
+    });
+    return t;
+  }();
+  return table;
 }
-
-DropWeightActuator::Spec DropWeightActuator::read(const ActuatorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  map.read_vector3("position", Need::kRequired, Range::finite(), &spec.p_LW);
-  map.read_number("mass", Need::kRequired, Range::left_open(0.0, 1e6), &spec.mass);
-  spec.volume = spec.mass / kSteelDensity;
-  map.read_number("volume", Need::kOptional, Range::closed(0.0, 1e3), &spec.volume);
-  map.read_number("release_altitude", Need::kOptional, Range::closed(0.0, 1e4), &spec.release_altitude);
-  map.read_number("release_time_s", Need::kOptional, Range::non_negative(), &spec.release_time_s);
-  return spec;
-}
-
 DropWeightActuator::Runtime DropWeightActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   Runtime runtime;
   runtime.p_BW = setup.X_BL * spec.p_LW;

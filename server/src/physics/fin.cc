@@ -3,60 +3,58 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/core/units.h"
 #include "hadal/physics/ocean.h"
 
 namespace hadal::physics {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
-const std::vector<std::string>& FinActuator::keys() {
-  static const std::vector<std::string> keys = {"position",         "hinge_axis",        "chord_direction",
-                                                "area",             "aspect_ratio",      "max_angle_deg",
-                                                "max_rate_deg_per_s", "lift_slope",      "stall_angle_deg",
-                                                "drag_coefficient", "oswald_efficiency"};
-  return keys;
+const config::KeyTable<FinActuator::Spec>& FinActuator::keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("fin", "a servo-driven lifting surface (rudder, elevator) and its hydrodynamics");
+    t.vector("position", &Spec::p_LF).required().unit("m").doc("p_LF, the fin's centre of pressure in L");
+    t.direction("hinge_axis", &Spec::hinge_axis_L).required()
+        .doc("the servo's axis (the span) in L; a positive deflection turns the chord about it by the right-hand rule");
+    t.direction("chord_direction", &Spec::chord_L)
+        .doc("perpendicular to hinge_axis; trailing to leading edge at zero deflection, in L");
+    t.number("area", &Spec::area).required().unit("m²").range(Range::left_open(0.0, 1e3)).doc("S");
+    t.number("aspect_ratio", &Spec::aspect_ratio).required().range(Range::left_open(0.0, 100.0))
+        .doc("effective AR (a fin on a hull: twice its span over its chord)");
+    t.number("max_angle_deg", &Spec::max_angle).degrees().range(Range::left_open(0.0, 90.0))
+        .doc("setpoint +-1 commands +- this");
+    t.number("max_rate_deg_per_s", &Spec::max_rate)
+        .convert([](double deg_s) { return deg_s * kDegToRad; }, [](double rad_s) { return rad_s / kDegToRad; }, "deg/s")
+        .range(Range::left_open(0.0, 1e4)).doc("the servo's slew rate");
+    t.number("lift_slope", &Spec::lift_slope).unit("1/rad").range(Range::left_open(0.0, 20.0))
+        .default_text("Helmbold's 2 pi AR / (2 + sqrt(AR² + 4))").doc("C_L_alpha");
+    t.number("stall_angle_deg", &Spec::stall_angle).degrees().range(Range::left_open(0.0, 60.0))
+        .doc("alpha_s (low-aspect-ratio fins stall late: ~30° below AR 2); a max_angle_deg beyond it is a warning");
+    t.number("drag_coefficient", &Spec::drag_coefficient).range(Range::closed(0.0, 10.0)).doc("C_D0");
+    t.number("oswald_efficiency", &Spec::oswald_efficiency).range(Range::left_open(0.0, 1.0)).doc("e");
+    t.check([](const config::KeyReads& reads, Spec& spec, config::NoContext&) {
+      bool ok = true;
+      if (reads.ok("hinge_axis") && reads.ok("chord_direction") && std::abs(spec.hinge_axis_L.dot(spec.chord_L)) > 1e-6) {
+        reads.error_at_key(reads.has("chord_direction") ? "chord_direction" : "hinge_axis",
+                           "the chord direction must be perpendicular to the hinge axis (their angle is " +
+                               config::format_approximate(
+                                   std::acos(std::clamp(spec.hinge_axis_L.dot(spec.chord_L), -1.0, 1.0)) / kDegToRad) +
+                               " deg)");
+        ok = false;
+      }
+      if (!reads.has("lift_slope")) spec.lift_slope = helmbold_lift_slope(spec.aspect_ratio);
+      if (spec.max_angle > spec.stall_angle + 1e-12) {
+        reads.map().value().warn("max_angle_deg " + config::format_approximate(spec.max_angle / kDegToRad) +
+                                 " is beyond stall_angle_deg " + config::format_approximate(spec.stall_angle / kDegToRad) +
+                                 ": full deflection stalls the fin and gives less lift than a smaller one");
+      }
+      return ok;
+    });
+    return t;
+  }();
+  return table;
 }
-
-FinActuator::Spec FinActuator::read(const ActuatorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  map.read_vector3("position", Need::kRequired, Range::finite(), &spec.p_LF);
-  const bool axis_ok = map.read_direction("hinge_axis", Need::kRequired, &spec.hinge_axis_L);
-  const bool chord_ok = map.read_direction("chord_direction", Need::kOptional, &spec.chord_L);
-  if (axis_ok && chord_ok && std::abs(spec.hinge_axis_L.dot(spec.chord_L)) > 1e-6) {
-    map.error_at_key(map.has("chord_direction") ? "chord_direction" : "hinge_axis",
-                     "the chord direction must be perpendicular to the hinge axis (their angle is " +
-                         config::format_approximate(std::acos(std::clamp(spec.hinge_axis_L.dot(spec.chord_L), -1.0, 1.0)) /
-                                                    kDegToRad) +
-                         " deg)");
-  }
-  map.read_number("area", Need::kRequired, Range::left_open(0.0, 1e3), &spec.area);
-  map.read_number("aspect_ratio", Need::kRequired, Range::left_open(0.0, 100.0), &spec.aspect_ratio);
-  double deg = 25.0;
-  map.read_number("max_angle_deg", Need::kOptional, Range::left_open(0.0, 90.0), &deg);
-  spec.max_angle = deg * kDegToRad;
-  deg = 60.0;
-  map.read_number("max_rate_deg_per_s", Need::kOptional, Range::left_open(0.0, 1e4), &deg);
-  spec.max_rate = deg * kDegToRad;
-  spec.lift_slope = helmbold_lift_slope(spec.aspect_ratio);
-  map.read_number("lift_slope", Need::kOptional, Range::left_open(0.0, 20.0), &spec.lift_slope);
-  deg = 30.0;
-  map.read_number("stall_angle_deg", Need::kOptional, Range::left_open(0.0, 60.0), &deg);
-  spec.stall_angle = deg * kDegToRad;
-  if (spec.max_angle > spec.stall_angle + 1e-12) {
-    map.value().warn("max_angle_deg " + config::format_approximate(spec.max_angle / kDegToRad) +
-                     " is beyond stall_angle_deg " + config::format_approximate(spec.stall_angle / kDegToRad) +
-                     ": full deflection stalls the fin and gives less lift than a smaller one");
-  }
-  map.read_number("drag_coefficient", Need::kOptional, Range::closed(0.0, 10.0), &spec.drag_coefficient);
-  map.read_number("oswald_efficiency", Need::kOptional, Range::left_open(0.0, 1.0), &spec.oswald_efficiency);
-  return spec;
-}
-
 FinActuator::Runtime FinActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   Runtime r;
   r.p_BF = setup.X_BL * spec.p_LF;

@@ -4,38 +4,31 @@
 #include <charconv>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 
 namespace hadal::physics {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
-const std::vector<std::string>& ThrusterActuator::keys() {
-  static const std::vector<std::string> keys = {"position",   "direction", "propeller_diameter", "thrust_coefficient",
-                                                "torque_coefficient", "rotor_time_constant_s", "max_rpm",
-                                                "handedness"};
-  return keys;
+const config::KeyTable<ThrusterActuator::Spec>& ThrusterActuator::keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("thruster", "a propeller thruster: T = K_T rho D^4 n|n| along direction, Q = "
+                                            "-handedness K_Q rho D^5 n|n| about it");
+    t.vector("position", &Spec::p_LT).required().unit("m").doc("p_LT, the propeller's position in L");
+    t.direction("direction", &Spec::axis_L).required().doc("thrust direction for n > 0, in L; normalised on load");
+    t.number("propeller_diameter", &Spec::propeller_diameter).required().unit("m").range(Range::positive()).doc("D");
+    t.number("thrust_coefficient", &Spec::thrust_coefficient).required().range(Range::positive()).doc("K_T");
+    t.number("torque_coefficient", &Spec::torque_coefficient).range(Range::non_negative()).doc("K_Q");
+    t.number("rotor_time_constant_s", &Spec::rotor_time_constant_s).unit("s").range(Range::non_negative())
+        .doc("tau of the rotor's first-order lag; 0: the rotor follows the command at once");
+    t.number("max_rpm", &Spec::max_rotor_speed_rev_s).required()
+        .convert([](double rpm) { return rpm / 60.0; }, [](double rev_s) { return rev_s * 60.0; }, "rev/min")
+        .range(Range::positive()).doc("setpoint +-1 commands +-max_rpm");
+    t.choice("handedness", &Spec::handedness, {{"right", 1}, {"left", -1}}).doc("of the propeller");
+    return t;
+  }();
+  return table;
 }
-
-ThrusterActuator::Spec ThrusterActuator::read(const ActuatorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  map.read_vector3("position", Need::kRequired, Range::finite(), &spec.p_LT);
-  map.read_direction("direction", Need::kRequired, &spec.axis_L);
-  map.read_number("propeller_diameter", Need::kRequired, Range::positive(), &spec.propeller_diameter);
-  map.read_number("thrust_coefficient", Need::kRequired, Range::positive(), &spec.thrust_coefficient);
-  map.read_number("torque_coefficient", Need::kOptional, Range::non_negative(), &spec.torque_coefficient);
-  map.read_number("rotor_time_constant_s", Need::kOptional, Range::non_negative(), &spec.rotor_time_constant_s);
-  double max_rpm = 0.0;
-  if (map.read_number("max_rpm", Need::kRequired, Range::positive(), &max_rpm)) {
-    spec.max_rotor_speed_rev_s = max_rpm / 60.0;
-  }
-  map.read_choice<int>("handedness", Need::kOptional, {{"right", 1}, {"left", -1}}, &spec.handedness);
-  return spec;
-}
-
 Thruster ThrusterActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   return Thruster(spec, setup.X_BL, setup.water_density, setup.step_size);
 }

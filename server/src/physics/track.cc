@@ -3,39 +3,36 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/core/units.h"
 
 namespace hadal::physics {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
-const std::vector<std::string>& TrackActuator::keys() {
-  static const std::vector<std::string> keys = {"direction",       "sprocket_radius", "max_rpm",
-                                                "stall_torque",    "torque_constant", "drive_inertia",
-                                                "speed_time_constant_s"};
-  return keys;
+const config::KeyTable<TrackActuator::Spec>& TrackActuator::keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("track", "a driven track or wheel: it moves its link's surface over the soil");
+    t.direction("direction", &Spec::direction_L)
+        .doc("forward in L (the belt's ground run moves along -direction when driving forward); normalised on load");
+    t.number("sprocket_radius", &Spec::sprocket_radius).required().unit("m").range(Range::left_open(0.0, 10.0))
+        .doc("r; a wheel's radius");
+    t.number("max_rpm", &Spec::max_speed_rad_s).required()
+        .convert([](double rpm) { return rpm * 2.0 * kPi / 60.0; }, [](double rad_s) { return rad_s * 60.0 / (2.0 * kPi); },
+                 "rev/min")
+        .range(Range::left_open(0.0, 1e5)).doc("the sprocket's no-load speed omega_0");
+    t.number("stall_torque", &Spec::stall_torque).required().unit("N m").range(Range::left_open(0.0, 1e7))
+        .doc("at the sprocket");
+    t.number("torque_constant", &Spec::torque_constant).unit("N m/A").range(Range::left_open(0.0, 1e6))
+        .doc("at the sprocket, gearing included: current = torque / this");
+    t.number("drive_inertia", &Spec::drive_inertia).unit("kg m²").range(Range::left_open(0.0, 1e6))
+        .doc("motor, gears, sprocket and belt at the sprocket");
+    t.number("speed_time_constant_s", &Spec::speed_time_constant_s).unit("s").range(Range::left_open(0.0, 100.0))
+        .doc("of the speed loop");
+    return t;
+  }();
+  return table;
 }
-
-TrackActuator::Spec TrackActuator::read(const ActuatorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  map.read_direction("direction", Need::kOptional, &spec.direction_L);
-  map.read_number("sprocket_radius", Need::kRequired, Range::left_open(0.0, 10.0), &spec.sprocket_radius);
-  double max_rpm = 0.0;
-  if (map.read_number("max_rpm", Need::kRequired, Range::left_open(0.0, 1e5), &max_rpm)) {
-    spec.max_speed_rad_s = max_rpm * 2.0 * kPi / 60.0;
-  }
-  map.read_number("stall_torque", Need::kRequired, Range::left_open(0.0, 1e7), &spec.stall_torque);
-  map.read_number("torque_constant", Need::kOptional, Range::left_open(0.0, 1e6), &spec.torque_constant);
-  map.read_number("drive_inertia", Need::kOptional, Range::left_open(0.0, 1e6), &spec.drive_inertia);
-  map.read_number("speed_time_constant_s", Need::kOptional, Range::left_open(0.0, 100.0),
-                  &spec.speed_time_constant_s);
-  return spec;
-}
-
 TrackDrive TrackActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   TrackDrive drive;
   drive.link = setup.link_index;

@@ -6,37 +6,29 @@
 #include <cmath>
 #include <limits>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
+#include "hadal/sensors/range_keys.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/geometry/scene_rays.h"
 #include "hadal/sensors/sample_context.h"
 
 namespace hadal::sensors {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
 NoiseChannelParams AltimeterSensor::channel(const Spec& spec, double period) {
   return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, spec.min_range, spec.max_range);
 }
 
-const std::vector<std::string>& AltimeterSensor::keys() {
-  static const std::vector<std::string> keys = {"min_range", "max_range", "noise_stddev", "resolution",
-                                                "field_of_view_deg"};
-  return keys;
-}
-
-// Range window, noise per sample, resolution, beam width.
-AltimeterSensor::Spec AltimeterSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  read_range_figures(map, spec.min_range, spec.max_range, spec.noise_stddev, spec.resolution);
-  double fov_deg = spec.field_of_view / kDegToRad;
-  if (map.read_number("field_of_view_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) {
-    spec.field_of_view = fov_deg * kDegToRad;
-  }
-  return spec;
+const config::KeyTable<AltimeterSensor::Spec, SensorReader>& AltimeterSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].altimeter", "one beam along x of S: the range to the first hit");
+    declare_range_keys(t);
+    t.number("field_of_view_deg", &Spec::field_of_view).degrees().range(Range::left_open(0.0, 180.0))
+        .doc("full beam width, reported only");
+    return t;
+  }();
+  return table;
 }
 
 AltimeterSensor::State AltimeterSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

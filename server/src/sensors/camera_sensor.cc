@@ -9,7 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/core/model.h"
 #include "hadal/core/units.h"
 #include "hadal/dds/time_msg.h"
@@ -19,6 +19,7 @@
 #include "hadal/render/camera_presets.h"
 #include "hadal/render/camera_rays.h"
 #include "hadal/render/frame.h"
+#include "hadal/render/sediment_pattern.h"
 #include "hadal/render/texture.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sample_context.h"
@@ -141,134 +142,165 @@ void surface_albedos(const Model& model, const std::vector<Eigen::Isometry3d>& X
   }
 }
 
-const std::vector<std::string>& CameraSensor::keys() {
-  static const std::vector<std::string> keys = {
-      "width",       "height",        "hfov_deg",    "fx",           "fy",         "cx",
-      "cy",          "lens_model",    "distortion",  "near_clip",    "far_clip",   "encoding",
-      "exposure_s",  "gain_dn_per_e", "full_well_e", "read_noise_e", "shot_noise", "vignetting",
-      "sensitivity", "preset",        "downscale"};
-  return keys;
-}
-
 namespace {
 
-// The calibration keys (a field of view, or fx, fy, cx, cy, a lens model and its distortion).
-void read_calibration(const MapReader& map, render::LensSpec& lens) {
-  map.read_whole_number("width", Need::kOptional, Range::closed(1.0, 8192.0), &lens.width_px);
-  map.read_whole_number("height", Need::kOptional, Range::closed(1.0, 8192.0), &lens.height_px);
-  const bool calibrated = map.has("fx") || map.has("fy");
-  double hfov_deg = 90.0;
-  if (map.has("hfov_deg") && calibrated) {
-    map.error_at_key("hfov_deg", "give either hfov_deg or the calibration fx, fy, not both");
-  }
-  map.read_number("hfov_deg", Need::kOptional, Range::closed(1.0, 179.0), &hfov_deg);
-  const render::LensSpec fov = render::lens_from_horizontal_fov(lens.width_px, lens.height_px, hfov_deg * kDegToRad);
-  lens.fx = fov.fx;
-  lens.fy = fov.fy;
-  lens.cx = fov.cx;
-  lens.cy = fov.cy;
-  if (calibrated) {
-    map.read_number("fx", Need::kRequired, Range::positive(), &lens.fx);
-    map.read_number("fy", Need::kRequired, Range::positive(), &lens.fy);
-  }
-  map.read_number("cx", Need::kOptional, Range::finite(), &lens.cx);
-  map.read_number("cy", Need::kOptional, Range::finite(), &lens.cy);
-  map.read_choice("lens_model", Need::kOptional,
-                  {{"pinhole", render::LensModel::kPinhole},
-                   {"plumb_bob", render::LensModel::kRadialTangential},
-                   {"radial_tangential", render::LensModel::kRadialTangential},
-                   {"equidistant", render::LensModel::kEquidistant}},
-                  &lens.model);
-  if (const auto distortion = map.optional("distortion")) {
-    if (lens.model == render::LensModel::kPinhole) {
-      map.error_at_key("distortion", "a pinhole lens has no distortion (set lens_model: plumb_bob or equidistant)");
-    } else {
-      const std::size_t count = lens.model == render::LensModel::kEquidistant ? 4 : 5;
-      if (const auto d = distortion->numbers(count)) std::copy(d->begin(), d->end(), lens.distortion.begin());
-    }
-  }
-}
+// The calibration keys a preset sets: given with `preset`, they are errors.
+constexpr const char* kCalibrationKeys[] = {"width", "height", "hfov_deg", "fx", "fy", "cx", "cy", "lens_model", "distortion"};
 
-// A preset's calibration (render/camera_presets.h); nullopt after reporting an unknown name or a
-// calibration key given with it.
-std::optional<render::LensSpec> read_preset(const MapReader& map) {
-  std::string name;
-  map.read_string("preset", Need::kRequired, &name);
-  std::optional<render::LensSpec> preset = render::camera_preset(name);
-  if (!preset) {
-    std::string names;
-    for (const auto& p : render::camera_presets()) names += (names.empty() ? "" : ", ") + std::string(p.name);
-    map.error_at_key("preset", "unknown camera preset '" + name + "' (presets: " + names + ")");
-  }
-  for (const char* key : {"width", "height", "hfov_deg", "fx", "fy", "cx", "cy", "lens_model", "distortion"}) {
-    if (map.has(key)) {
-      map.error_at_key(key, std::string("the preset sets the calibration; give either '") + key +
-                                "' or 'preset' (use 'downscale' for a smaller image)");
-      preset.reset();
-    }
-  }
-  return preset;
-}
-
-}  // namespace
-
-CameraSensor::Spec CameraSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
+// The lens of the calibration keys (a preset's, or a field of view or fx, fy with cx, cy, the model and its
+// distortion), downscaled; nullopt after reporting. Errors at the keys.
+std::optional<render::LensSpec> make_lens_spec(const config::KeyReads& reads, const CameraSensor::Calibration& c) {
+  const config::MapReader& map = reads.map();
   render::LensSpec lens;
-  bool lens_read = true;  // false after an error in the calibration's own keys: no lens is made
-  if (map.has("preset")) {
-    const std::optional<render::LensSpec> preset = read_preset(map);
+  bool lens_read = true;  // false after a preset's error: no lens is made
+  if (reads.has("preset")) {
+    std::optional<render::LensSpec> preset = render::camera_preset(c.preset);
+    if (!preset && reads.ok("preset")) {
+      std::vector<std::string> names;
+      for (const auto& p : render::camera_presets()) names.push_back(config::quoted(std::string(p.name)));
+      map.error_at_key("preset", "unknown camera preset " + config::quoted(c.preset) + " (presets: " +
+                                     config::join_names(names) + ")");
+    }
+    for (const char* key : kCalibrationKeys) {
+      if (map.has(key)) {
+        map.error_at_key(key, std::string("the preset sets the calibration; give either '") + key +
+                                  "' or 'preset' (use 'downscale' for a smaller image)");
+        preset.reset();
+      }
+    }
     lens_read = preset.has_value();
     if (preset) lens = *preset;
   } else {
-    read_calibration(map, lens);
+    const bool calibrated = map.has("fx") || map.has("fy");
+    if (map.has("hfov_deg") && calibrated) {
+      map.error_at_key("hfov_deg", "give either hfov_deg or the calibration fx, fy, not both");
+    }
+    lens = render::lens_from_horizontal_fov(c.width_px, c.height_px, c.hfov);
+    if (calibrated) {
+      for (const char* key : {"fx", "fy"}) {
+        if (!map.has(key)) map.required(key);
+      }
+      if (c.fx) lens.fx = *c.fx;
+      if (c.fy) lens.fy = *c.fy;
+    }
+    if (c.cx) lens.cx = *c.cx;
+    if (c.cy) lens.cy = *c.cy;
+    lens.model = c.model;
+    if (map.has("distortion") && c.model == render::LensModel::kPinhole) {
+      map.error_at_key("distortion", "a pinhole lens has no distortion (set lens_model: plumb_bob or equidistant)");
+    }
+    lens.distortion = c.distortion;
   }
-  double downscale = 1.0;
-  if (map.read_number("downscale", Need::kOptional, Range::closed(1.0, 64.0), &downscale) && lens_read) {
+  if (reads.ok("downscale") && lens_read) {
     try {
-      lens = render::downscaled(lens, downscale);
+      lens = render::downscaled(lens, c.downscale);
     } catch (const std::invalid_argument& e) {
       map.error_at_key("downscale", e.what());
       lens_read = false;
     }
   }
-  map.read_number("near_clip", Need::kOptional, Range::non_negative(), &spec.near_m);
-  map.read_number("far_clip", Need::kOptional, Range::positive(), &spec.far_m);
-  if (!(spec.far_m > spec.near_m)) {
-    map.error_at_key(map.has("far_clip") ? "far_clip" : "near_clip",
-                     "far_clip (" + format_number(spec.far_m) + " m) must exceed near_clip (" +
-                         format_number(spec.near_m) + " m)");
-  }
-  map.read_choice("encoding", Need::kOptional, {{"rgb8", false}, {"mono8", true}}, &spec.mono);
-  ImageSensorSpec& sensor = spec.sensor;
-  map.read_number("exposure_s", Need::kOptional, Range::left_open(0.0, 10.0), &sensor.exposure_s);
-  map.read_number("gain_dn_per_e", Need::kOptional, Range::left_open(0.0, 1e3), &sensor.gain_dn_per_e);
-  map.read_number("full_well_e", Need::kOptional, Range::left_open(0.0, 1e8), &sensor.full_well_e);
-  map.read_number("read_noise_e", Need::kOptional, Range::closed(0.0, 1e4), &sensor.read_noise_e);
-  map.read_bool("shot_noise", Need::kOptional, &sensor.shot_noise);
-  map.read_bool("vignetting", Need::kOptional, &sensor.vignetting);
-  Eigen::Vector3d sensitivity = sensor.sensitivity.matrix();
-  if (map.read_vector3("sensitivity", Need::kOptional, Range::left_open(0.0, 1e12), &sensitivity)) {
-    sensor.sensitivity = sensitivity.array();
-  }
-  // The lens: its own checks (a distortion without an inverse inside the image, say) at the lens keys.
-  if (!lens_read) return spec;
-  try {
-    set_lens(spec, lens);
-  } catch (const std::invalid_argument& e) {
-    const char* key = map.has("preset")       ? "preset"
-                      : map.has("distortion") ? "distortion"
-                      : map.has("fx")         ? "fx"
-                      : map.has("hfov_deg")   ? "hfov_deg"
-                                              : nullptr;
-    if (key != nullptr) {
-      map.error_at_key(key, std::string("unusable lens: ") + e.what());
-    } else {
-      map.value().error(std::string("unusable lens: ") + e.what());
-    }
-  }
-  return spec;
+  if (!lens_read) return std::nullopt;
+  return lens;
+}
+
+}  // namespace
+
+const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].camera",
+                                           "a ray-traced camera: lens, deep-sea optics, lights, the image sensor");
+    const auto calibration = [](auto field) {
+      return [field](Spec& s) -> auto& { return s.calibration.*field; };
+    };
+    std::vector<std::string> names;
+    for (const auto& p : render::camera_presets()) names.emplace_back(p.name);
+    t.string("preset", calibration(&Calibration::preset))
+        .doc("a real camera's published calibration instead of the calibration keys (sources in "
+             "`server/src/render/camera_presets.cc`): " + config::join_names(names));
+    t.number("width", calibration(&Calibration::width_px)).unit("px").range(Range::closed(1.0, 8192.0))
+        .doc("image width");
+    t.number("height", calibration(&Calibration::height_px)).unit("px").range(Range::closed(1.0, 8192.0))
+        .doc("image height");
+    t.number("hfov_deg", calibration(&Calibration::hfov)).degrees().range(Range::closed(1.0, 179.0))
+        .doc("horizontal field of view of a centred pinhole with square pixels; or give fx, fy");
+    t.number("fx", calibration(&Calibration::fx)).unit("px").range(Range::positive()).doc("focal length (with fy)");
+    t.number("fy", calibration(&Calibration::fy)).unit("px").range(Range::positive()).doc("focal length (with fx)");
+    t.number("cx", calibration(&Calibration::cx)).unit("px").default_text("the image centre")
+        .doc("principal point; the centre of pixel (i, j) is (i, j)");
+    t.number("cy", calibration(&Calibration::cy)).unit("px").default_text("the image centre").doc("principal point");
+    t.choice("lens_model", calibration(&Calibration::model),
+             {{"pinhole", render::LensModel::kPinhole},
+              {"plumb_bob", render::LensModel::kRadialTangential},
+              {"radial_tangential", render::LensModel::kRadialTangential, "= plumb_bob"},
+              {"equidistant", render::LensModel::kEquidistant, "OpenCV fisheye"}})
+        .doc("the lens model");
+    t.custom(
+         "distortion",
+         [](const config::Value& value, Spec& spec, SensorReader&) {
+           if (spec.calibration.model == render::LensModel::kPinhole) return true;  // an error at the key (check)
+           const std::size_t count = spec.calibration.model == render::LensModel::kEquidistant ? 4 : 5;
+           const auto d = value.numbers(count);
+           if (d) std::copy(d->begin(), d->end(), spec.calibration.distortion.begin());
+           return d.has_value();
+         },
+         R"({"type": "array", "items": {"type": "number"}, "minItems": 4, "maxItems": 5})", "4 or 5 numbers")
+        .default_text("zeros")
+        .doc("`plumb_bob`: [k1, k2, p1, p2, k3]; `equidistant`: [k1, k2, k3, k4]; a lens that folds over inside "
+             "the image is an error");
+    t.number("downscale", calibration(&Calibration::downscale)).range(Range::closed(1.0, 64.0))
+        .doc("the calibration of the image resized by 1/s (binned): fx/s, fy/s, c' = (c + 0.5)/s - 0.5; width and "
+             "height must divide by s");
+    t.number("near_clip", &Spec::near_m).unit("m").range(Range::non_negative()).doc("along each ray");
+    t.number("far_clip", &Spec::far_m).unit("m").range(Range::positive()).rule("> near_clip").doc("along each ray");
+    t.choice("encoding", &Spec::mono, {{"rgb8", false}, {"mono8", true, "Rec. 601 luma of the counts"}})
+        .doc("the image's encoding");
+    const auto sensor = [](auto field) {
+      return [field](Spec& s) -> auto& { return s.sensor.*field; };
+    };
+    t.number("exposure_s", sensor(&ImageSensorSpec::exposure_s)).unit("s").range(Range::left_open(0.0, 10.0))
+        .doc("exposure time");
+    t.number("gain_dn_per_e", sensor(&ImageSensorSpec::gain_dn_per_e)).unit("counts/e⁻")
+        .range(Range::left_open(0.0, 1e3)).doc("analog gain");
+    t.number("full_well_e", sensor(&ImageSensorSpec::full_well_e)).unit("e⁻").range(Range::left_open(0.0, 1e8))
+        .doc("full-well capacity");
+    t.number("read_noise_e", sensor(&ImageSensorSpec::read_noise_e)).unit("e⁻").range(Range::closed(0.0, 1e4))
+        .doc("rms read noise");
+    t.boolean("shot_noise", sensor(&ImageSensorSpec::shot_noise)).doc("Poisson shot noise");
+    t.boolean("vignetting", sensor(&ImageSensorSpec::vignetting)).doc("the cos^4 fall-off");
+    t.vector("sensitivity", sensor(&ImageSensorSpec::sensitivity)).unit("e⁻/s per W/(m² sr)")
+        .range(Range::left_open(0.0, 1e12)).doc("lens, pixel and quantum efficiency lumped per channel");
+    t.check([](const config::KeyReads& reads, Spec& spec, SensorReader&) {
+      const config::MapReader& map = reads.map();
+      bool ok = true;
+      if (!(spec.far_m > spec.near_m)) {
+        map.error_at_key(map.has("far_clip") ? "far_clip" : "near_clip",
+                         "far_clip (" + format_number(spec.far_m) + " m) must exceed near_clip (" +
+                             format_number(spec.near_m) + " m)");
+        ok = false;
+      }
+      const std::optional<render::LensSpec> lens = make_lens_spec(reads, spec.calibration);
+      if (!lens) return false;
+      // The lens: its own checks (a distortion without an inverse inside the image, say) at the lens keys.
+      try {
+        set_lens(spec, *lens);
+      } catch (const std::invalid_argument& e) {
+        const char* key = map.has("preset")       ? "preset"
+                          : map.has("distortion") ? "distortion"
+                          : map.has("fx")         ? "fx"
+                          : map.has("hfov_deg")   ? "hfov_deg"
+                                                  : nullptr;
+        if (key != nullptr) {
+          map.error_at_key(key, std::string("unusable lens: ") + e.what());
+        } else {
+          map.value().error(std::string("unusable lens: ") + e.what());
+        }
+        ok = false;
+      }
+      return ok;
+    });
+    return t;
+  }();
+  return table;
 }
 
 void CameraSensor::set_lens(Spec& spec, const render::LensSpec& lens) {

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/geometry/scene_rays.h"
 #include "hadal/physics/ocean.h"
@@ -26,99 +26,120 @@ double DvlSensor::ray_length(const Spec& spec) {
   return 1.01 * std::max(params.max_altitude, params.water_track_layer_far) / std::cos(params.beam_tilt);
 }
 
-const std::vector<std::string>& DvlSensor::keys() {
-  static const std::vector<std::string> keys = {
-      "preset", "beam_tilt_deg", "first_beam_azimuth_deg", "min_altitude", "max_altitude", "dropout_probability",
-      "assumed_sound_speed", "water_track", "water_track_layer_near", "water_track_layer_far",
-      "water_track_layer_samples", "beam_velocity_noise_stddev", "water_track_noise_stddev", "range_noise_stddev",
-      "velocity_resolution", "bias"};
-  return keys;
-}
+namespace {
 
-// A data-sheet preset (it also sets rate_hz unless given) and/or geometry, bottom-lock window, noise per
-// ping, the paper's bias drift, water track and sound-speed error. Per-ping sigmas become white-noise
-// densities at the sensor's sample period (dvl_params).
-DvlSensor::Spec DvlSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
+// The generic DVL: the DvlParams defaults with 5 mm/s per beam per ping.
+DvlDatasheet generic_dvl() {
   const DvlParams defaults;
-  DvlDatasheet sheet;  // generic: the DvlParams defaults with 5 mm/s per beam
+  DvlDatasheet sheet;
   sheet.id = "generic";
   sheet.beam_tilt_deg = defaults.beam_tilt / kDegToRad;
   sheet.min_altitude_m = defaults.min_altitude;
   sheet.max_altitude_m = defaults.max_altitude;
   sheet.beam_velocity_sigma = 0.005;
-  if (const auto preset = map.optional("preset")) {
-    if (const auto id = preset->string()) {
-      if (const DvlDatasheet* found = find_dvl_preset(*id)) {
-        sheet = *found;
-        if (!reader.rate_given) reader.rate_hz = sheet.update_hz;
-      } else {
-        std::vector<std::string> ids;
-        for (const auto& p : dvl_presets()) ids.push_back(quoted(std::string(p.id)));
-        preset->error("unknown DVL preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
-      }
-    }
-  }
-  const double period = 1.0 / reader.rate_hz;
-  DvlParams& p = spec.params;
-  p = dvl_params(sheet, period);
-  double tilt_deg = p.beam_tilt / kDegToRad, azimuth_deg = p.first_beam_azimuth / kDegToRad;
-  if (map.read_number("beam_tilt_deg", Need::kOptional, Range::closed(1.0, 60.0), &tilt_deg)) {
-    p.beam_tilt = tilt_deg * kDegToRad;
-  }
-  if (map.read_number("first_beam_azimuth_deg", Need::kOptional, Range::closed(-360.0, 360.0), &azimuth_deg)) {
-    p.first_beam_azimuth = azimuth_deg * kDegToRad;
-  }
-  if (map.read_number("min_altitude", Need::kOptional, Range::non_negative(), &p.min_altitude) &
-          map.read_number("max_altitude", Need::kOptional, Range::positive(), &p.max_altitude) &&
-      !(p.max_altitude > p.min_altitude)) {
-    map.error_at_key(map.has("max_altitude") ? "max_altitude" : "min_altitude",
-                     "max_altitude (" + format_number(p.max_altitude) + " m) must exceed min_altitude (" +
-                         format_number(p.min_altitude) + " m)");
-  }
-  map.read_number("dropout_probability", Need::kOptional, Range::closed(0.0, 1.0), &p.dropout_probability);
-  map.read_number("assumed_sound_speed", Need::kOptional, Range::non_negative(), &p.assumed_sound_speed);
-  if (p.assumed_sound_speed > 0.0 && !(p.assumed_sound_speed >= 1300.0 && p.assumed_sound_speed <= 1700.0)) {
-    map.error_at_key("assumed_sound_speed", "assumed_sound_speed must be 0 (measured) or in [1300, 1700] m/s, got " +
-                                                format_number(p.assumed_sound_speed));
-  }
-  map.read_bool("water_track", Need::kOptional, &p.water_track);
-  if (map.read_number("water_track_layer_near", Need::kOptional, Range::non_negative(), &p.water_track_layer_near) &
-          map.read_number("water_track_layer_far", Need::kOptional, Range::positive(), &p.water_track_layer_far) &&
-      !(p.water_track_layer_far > p.water_track_layer_near)) {
-    map.error_at_key(map.has("water_track_layer_far") ? "water_track_layer_far" : "water_track_layer_near",
-                     "the water-track layer must have near < far (got " + format_number(p.water_track_layer_near) +
-                         " m to " + format_number(p.water_track_layer_far) + " m)");
-  }
-  const auto per_ping = [&](const char* key, NoiseChannelParams* channel) {
-    double sigma = 0.0;
-    if (map.read_number(key, Need::kOptional, Range::non_negative(), &sigma) && map.has(key)) {
-      channel->noise.white_noise_density = sigma * std::sqrt(period);
-    }
+  return sheet;
+}
+
+const config::KeyTable<DvlBiasParams>& dvl_bias_keys() {
+  static const config::KeyTable<DvlBiasParams> table = [] {
+    config::KeyTable<DvlBiasParams> t("sensors[].dvl.bias", "the paper's slowly varying bias b(t + dt) = b(t) + xi dt");
+    t.vector("initial", &DvlBiasParams::initial).unit("m/s").doc("b(0), S axes");
+    t.number("initial_stddev", &DvlBiasParams::initial_sigma).unit("m/s").range(Range::non_negative())
+        .doc("plus a draw per axis at turn-on");
+    t.vector("drift_rate", &DvlBiasParams::drift_rate).unit("m/s²").doc("xi");
+    t.number("drift_rate_stddev", &DvlBiasParams::drift_rate_sigma).unit("m/s²").range(Range::non_negative())
+        .doc("plus a draw per axis at turn-on");
+    t.number("random_walk", &DvlBiasParams::random_walk_density).unit("m/s/√s").range(Range::non_negative())
+        .doc("K of the bias's random walk");
+    return t;
+  }();
+  return table;
+}
+
+// A per-ping sigma [m/s or m] as a white-noise density at the sensor's sample period (dvl_params).
+std::function<void(DvlSensor::Spec&, double, SensorReader&)> per_ping(NoiseChannelParams DvlParams::*channel) {
+  return [channel](DvlSensor::Spec& spec, double sigma, SensorReader& reader) {
+    (spec.params.*channel).noise.white_noise_density = sigma * std::sqrt(1.0 / reader.rate_hz);
   };
-  per_ping("beam_velocity_noise_stddev", &p.beam_velocity_noise);
-  per_ping("water_track_noise_stddev", &p.water_track_velocity_noise);
-  per_ping("range_noise_stddev", &p.range_noise);
-  double lsb = 0.0;
-  if (map.read_number("velocity_resolution", Need::kOptional, Range::non_negative(), &lsb)) {
-    p.beam_velocity_noise.lsb = p.water_track_velocity_noise.lsb = lsb;
-  }
-  if (const auto bias_value = map.optional("bias")) {
-    const MapReader bias(*bias_value, {"initial", "initial_stddev", "drift_rate", "drift_rate_stddev", "random_walk"});
-    if (bias.ok()) {
-      bias.read_vector3("initial", Need::kOptional, Range::finite(), &p.bias.initial);
-      bias.read_number("initial_stddev", Need::kOptional, Range::non_negative(), &p.bias.initial_sigma);
-      bias.read_vector3("drift_rate", Need::kOptional, Range::finite(), &p.bias.drift_rate);
-      bias.read_number("drift_rate_stddev", Need::kOptional, Range::non_negative(), &p.bias.drift_rate_sigma);
-      bias.read_number("random_walk", Need::kOptional, Range::non_negative(), &p.bias.random_walk_density);
-    }
-  }
-  double samples = spec.water_track_layer_samples;
-  if (map.read_number("water_track_layer_samples", Need::kOptional, Range::closed(1.0, 64.0), &samples)) {
-    spec.water_track_layer_samples = static_cast<int>(samples);
-  }
-  return spec;
+}
+
+}  // namespace
+
+// A data-sheet preset (it also sets rate_hz unless given) and/or geometry, bottom-lock window, noise per
+// ping, the paper's bias drift, water track and sound-speed error. Per-ping sigmas become white-noise
+// densities at the sensor's sample period (dvl_params).
+const config::KeyTable<DvlSensor::Spec, SensorReader>& DvlSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].dvl", "four Janus beams: bottom and water track");
+    t.before([](Spec& spec, SensorReader& reader) { spec.params = dvl_params(generic_dvl(), 1.0 / reader.rate_hz); });
+    std::vector<std::string> names;
+    for (const DvlDatasheet& p : dvl_presets()) names.emplace_back(p.id);
+    t.preset("DVL", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
+       const DvlDatasheet& sheet = dvl_presets()[index];
+       if (!reader.rate_given) reader.rate_hz = sheet.update_hz;
+       spec.params = dvl_params(sheet, 1.0 / reader.rate_hz);
+     }).doc("a data sheet (`docs/reference/sensors/dvl_datasheet_figures.csv`); sets rate_hz unless given");
+    t.number("beam_tilt_deg", [](Spec& s) -> double& { return s.params.beam_tilt; }).degrees()
+        .range(Range::closed(1.0, 60.0)).doc("theta, the beams' angle from the axis");
+    t.number("first_beam_azimuth_deg", [](Spec& s) -> double& { return s.params.first_beam_azimuth; }).degrees()
+        .range(Range::closed(-360.0, 360.0)).doc("phi_1 about z_S; beam i at phi_1 + (i - 1) 90°");
+    t.number("min_altitude", [](Spec& s) -> double& { return s.params.min_altitude; }).unit("m")
+        .range(Range::non_negative()).doc("bottom-lock window along the axis");
+    t.number("max_altitude", [](Spec& s) -> double& { return s.params.max_altitude; }).unit("m")
+        .range(Range::positive()).rule("> min_altitude").doc("bottom-lock window along the axis");
+    t.number("dropout_probability", [](Spec& s) -> double& { return s.params.dropout_probability; })
+        .range(Range::closed(0.0, 1.0)).doc("per beam per ping");
+    t.number("assumed_sound_speed", [](Spec& s) -> double& { return s.params.assumed_sound_speed; }).unit("m/s")
+        .range(Range::non_negative()).rule("0 (measured) or in [1300, 1700]")
+        .doc("the sound speed the DVL assumes; velocities scale by it over the true one");
+    t.boolean("water_track", [](Spec& s) -> bool& { return s.params.water_track; })
+        .doc("water-track mode without bottom lock");
+    t.number("water_track_layer_near", [](Spec& s) -> double& { return s.params.water_track_layer_near; }).unit("m")
+        .range(Range::non_negative()).doc("the water-track layer along the axis");
+    t.number("water_track_layer_far", [](Spec& s) -> double& { return s.params.water_track_layer_far; }).unit("m")
+        .range(Range::positive()).rule("> water_track_layer_near").doc("the water-track layer along the axis");
+    t.number("water_track_layer_samples", &Spec::water_track_layer_samples).range(Range::closed(1.0, 64.0))
+        .doc("current samples per beam across the layer");
+    t.number_into("beam_velocity_noise_stddev", per_ping(&DvlParams::beam_velocity_noise), nullptr).unit("m/s")
+        .range(Range::non_negative()).default_text("the preset's, else 0.005").doc("per beam per ping, bottom track");
+    t.number_into("water_track_noise_stddev", per_ping(&DvlParams::water_track_velocity_noise), nullptr).unit("m/s")
+        .range(Range::non_negative()).default_text("the preset's").doc("per beam per ping, water track");
+    t.number_into("range_noise_stddev", per_ping(&DvlParams::range_noise), nullptr).unit("m")
+        .range(Range::non_negative()).default_text("0").doc("per beam per ping, slant range");
+    t.number_into(
+         "velocity_resolution",
+         [](Spec& s, double lsb, SensorReader&) {
+           s.params.beam_velocity_noise.lsb = s.params.water_track_velocity_noise.lsb = lsb;
+         },
+         [](Spec&) { return 0.0; })
+        .unit("m/s").range(Range::non_negative()).doc("quantisation of beam velocities; 0: none");
+    t.map("bias", [](Spec& s) -> DvlBiasParams& { return s.params.bias; }, dvl_bias_keys()).doc("the bias drift");
+    t.check([](const config::KeyReads& reads, Spec& spec, SensorReader&) {
+      const DvlParams& p = spec.params;
+      bool ok = true;
+      if (reads.ok("min_altitude") && reads.ok("max_altitude") && !(p.max_altitude > p.min_altitude)) {
+        reads.error_at_key(reads.has("max_altitude") ? "max_altitude" : "min_altitude",
+                           "max_altitude (" + format_number(p.max_altitude) + " m) must exceed min_altitude (" +
+                               format_number(p.min_altitude) + " m)");
+        ok = false;
+      }
+      if (p.assumed_sound_speed > 0.0 && !(p.assumed_sound_speed >= 1300.0 && p.assumed_sound_speed <= 1700.0)) {
+        reads.error_at_key("assumed_sound_speed", "assumed_sound_speed must be 0 (measured) or in [1300, 1700] m/s, got " +
+                                                      format_number(p.assumed_sound_speed));
+        ok = false;
+      }
+      if (reads.ok("water_track_layer_near") && reads.ok("water_track_layer_far") &&
+          !(p.water_track_layer_far > p.water_track_layer_near)) {
+        reads.error_at_key(reads.has("water_track_layer_far") ? "water_track_layer_far" : "water_track_layer_near",
+                           "the water-track layer must have near < far (got " + format_number(p.water_track_layer_near) +
+                               " m to " + format_number(p.water_track_layer_far) + " m)");
+        ok = false;
+      }
+      return ok;
+    });
+    return t;
+  }();
+  return table;
 }
 
 DvlSensor::State DvlSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

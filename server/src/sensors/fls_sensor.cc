@@ -8,7 +8,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
+#include "hadal/sensors/sonar_keys.h"
 #include "hadal/dds/time_msg.h"
 
 namespace hadal::sensors {
@@ -49,47 +50,37 @@ void FlsSensor::make_ping(Spec& spec) {
   spec.ping = std::move(ping);
 }
 
-const std::vector<std::string>& FlsSensor::keys() {
-  static const std::vector<std::string> keys = [] {
-    std::vector<std::string> k = {"preset", "beams", "fov_deg", "beam_width_deg", "vertical_aperture_deg", "azimuth_rays",
-                                  "rays_per_cell"};
-    for (const auto* list : {&sonar_acoustic_keys(), &sonar_image_keys()}) k.insert(k.end(), list->begin(), list->end());
-    return k;
+const config::KeyTable<FlsSensor::Spec, SensorReader>& FlsSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].fls", "a forward-looking imaging sonar: a fan of beams in S's x-y plane",
+                                           Spec{});
+    std::vector<std::string> names;
+    for (const FlsPreset& p : fls_presets()) names.emplace_back(p.name);
+    t.preset("forward-looking sonar", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
+       const FlsPreset& preset = fls_presets()[index];
+       spec.acoustics.frequency_hz = preset.frequency_hz;
+       spec.beams = preset.beams;
+       spec.fov = preset.fov_deg * kDegToRad;
+       spec.beam_width = preset.beam_width_deg * kDegToRad;
+       spec.vertical_aperture = preset.vertical_aperture_deg * kDegToRad;
+       spec.acoustics.max_range = preset.max_range_m;
+       spec.acoustics.bins = preset.bins;
+       if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
+     }).doc("a product (`server/src/sensors/fls_sensor.cc`, sources there): sets the keys the file does not give, "
+            "and rate_hz unless given");
+    t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams over the fan");
+    t.number("fov_deg", &Spec::fov).degrees().range(Range::left_open(0.0, 180.0)).doc("the fan's width");
+    t.number("beam_width_deg", &Spec::beam_width).degrees().range(Range::left_open(0.0, 30.0)).doc("a beam's width in the fan");
+    t.number("vertical_aperture_deg", &Spec::vertical_aperture).degrees().range(Range::left_open(0.0, 90.0))
+        .doc("a beam's height across the fan");
+    t.number("azimuth_rays", &Spec::azimuth_rays).range(Range::closed(1.0, 64.0)).doc("rays across a beam");
+    t.number("rays_per_cell", &Spec::rays_per_cell).range(Range::closed(1.0, 64.0)).doc("rays per beam and range bin");
+    declare_sonar_acoustic_keys(t);
+    declare_sonar_image_keys(t);
+    declare_sonar_check(t, &FlsSensor::make_ping);
+    return t;
   }();
-  return keys;
-}
-
-FlsSensor::Spec FlsSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  std::vector<std::string_view> names;
-  for (const FlsPreset& p : fls_presets()) names.push_back(p.name);
-  const int index = read_preset_index(map, names, "forward-looking sonar");
-  if (index >= 0) {
-    const FlsPreset& preset = fls_presets()[static_cast<std::size_t>(index)];
-    spec.acoustics.frequency_hz = preset.frequency_hz;
-    spec.beams = preset.beams;
-    spec.fov = preset.fov_deg * kDegToRad;
-    spec.beam_width = preset.beam_width_deg * kDegToRad;
-    spec.vertical_aperture = preset.vertical_aperture_deg * kDegToRad;
-    spec.acoustics.max_range = preset.max_range_m;
-    spec.acoustics.bins = preset.bins;
-    if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
-  }
-  map.read_whole_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &spec.beams);
-  double fov_deg = spec.fov / kDegToRad, width_deg = spec.beam_width / kDegToRad,
-         aperture_deg = spec.vertical_aperture / kDegToRad;
-  if (map.read_number("fov_deg", Need::kOptional, Range::left_open(0.0, 180.0), &fov_deg)) spec.fov = fov_deg * kDegToRad;
-  if (map.read_number("beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &width_deg)) {
-    spec.beam_width = width_deg * kDegToRad;
-  }
-  if (map.read_number("vertical_aperture_deg", Need::kOptional, Range::left_open(0.0, 90.0), &aperture_deg)) {
-    spec.vertical_aperture = aperture_deg * kDegToRad;
-  }
-  map.read_whole_number("azimuth_rays", Need::kOptional, Range::closed(1.0, 64.0), &spec.azimuth_rays);
-  map.read_whole_number("rays_per_cell", Need::kOptional, Range::closed(1.0, 64.0), &spec.rays_per_cell);
-  read_sonar_common(reader, spec.acoustics, &spec.encoding, [&spec] { make_ping(spec); });
-  return spec;
+  return table;
 }
 
 FlsSensor::State FlsSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "hadal/config/key_table.h"
 #include "hadal/core/units.h"
 
 namespace hadal::sensors {
@@ -96,6 +97,19 @@ Eigen::Matrix3d LocalEnuFrame::R_WN(const GeodeticPosition& at) const {
 double LocalEnuFrame::meridian_convergence_rad(const GeodeticPosition& at) const {
   const Eigen::Vector3d north_W = R_WN(at).col(1);
   return std::atan2(-north_W.x(), north_W.y());
+}
+
+const config::KeyTable<GeodeticPosition>& origin_keys() {
+  static const config::KeyTable<GeodeticPosition> table = [] {
+    config::KeyTable<GeodeticPosition> t("world.origin", "geodetic position (WGS84) of W's origin");
+    t.number("latitude_deg", &GeodeticPosition::latitude_rad).degrees().range(config::Range::closed(-90.0, 90.0))
+        .doc("geodetic latitude");
+    t.number("longitude_deg", &GeodeticPosition::longitude_rad).degrees()
+        .range(config::Range::closed(-180.0, 180.0)).doc("longitude");
+    t.number("altitude", &GeodeticPosition::height_m).unit("m").doc("height above the ellipsoid");
+    return t;
+  }();
+  return table;
 }
 
 }  // namespace hadal::sensors

@@ -5,14 +5,13 @@
 
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/sample_context.h"
 
 namespace hadal::sensors {
 
-using config::Need;
 using config::Range;
 
 NoiseTriadParams GpsSensor::position_noise(const Spec& spec, double period) {
@@ -23,16 +22,15 @@ NoiseTriadParams GpsSensor::position_noise(const Spec& spec, double period) {
   return triad;
 }
 
-const std::vector<std::string>& GpsSensor::keys() {
-  static const std::vector<std::string> keys = {"horizontal_stddev", "vertical_stddev"};
-  return keys;
-}
-
-GpsSensor::Spec GpsSensor::read(const SensorReader& reader) {
-  Spec spec;
-  reader.map.read_number("horizontal_stddev", Need::kOptional, Range::non_negative(), &spec.horizontal_stddev);
-  reader.map.read_number("vertical_stddev", Need::kOptional, Range::non_negative(), &spec.vertical_stddev);
-  return spec;
+const config::KeyTable<GpsSensor::Spec, SensorReader>& GpsSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].gps", "a fix while the antenna is above the water surface");
+    t.number("horizontal_stddev", &Spec::horizontal_stddev).unit("m").range(Range::non_negative())
+        .doc("white noise per fix on each horizontal axis");
+    t.number("vertical_stddev", &Spec::vertical_stddev).unit("m").range(Range::non_negative()).doc("on the vertical");
+    return t;
+  }();
+  return table;
 }
 
 GpsSensor::State GpsSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

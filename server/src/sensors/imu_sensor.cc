@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/sensors/sample_context.h"
@@ -20,131 +20,151 @@ using config::Need;
 using config::quoted;
 using config::Range;
 
-const std::vector<std::string>& ImuSensor::keys() {
-  static const std::vector<std::string> keys = {"preset", "gyro", "accel", "white_noise_only", "temperature",
-                                                "vibration"};
-  return keys;
+namespace {
+
+using Spec = ImuSensor::Spec;
+
+const config::KeyTable<Spec>& gyro_keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("sensors[].imu.gyro", "the gyroscopes' figures; each overrides the preset's");
+    const auto sheet = [](double ImuDatasheet::*field) {
+      return [field](Spec& s) -> double& { return s.figures.sheet.*field; };
+    };
+    t.number("arw_deg_per_sqrt_h", sheet(&ImuDatasheet::gyro_arw_deg_per_sqrt_h)).unit("deg/√h")
+        .range(Range::non_negative()).doc("angle random walk");
+    t.number("bias_instability_deg_per_h", sheet(&ImuDatasheet::gyro_bias_instability_deg_per_h)).unit("deg/h")
+        .range(Range::non_negative()).doc("bias instability B (the Allan floor is 0.664 B)");
+    t.number("rrw_deg_per_h_per_sqrt_h", sheet(&ImuDatasheet::gyro_rrw_deg_per_h_per_sqrt_h)).unit("deg/h/√h")
+        .range(Range::non_negative()).doc("rate random walk");
+    t.number("scale_factor_ppm", sheet(&ImuDatasheet::gyro_scale_factor_ppm)).unit("ppm").range(Range::non_negative())
+        .doc("1 sigma, drawn per run");
+    t.number("misalignment_deg", sheet(&ImuDatasheet::gyro_misalignment_rad)).degrees()
+        .range(Range::closed(0.0, 10.0)).doc("1 sigma, drawn per run");
+    t.number("range_deg_per_s", [](Spec& s) -> double& { return s.figures.gyro_range_deg_per_s; }).unit("deg/s")
+        .range(Range::positive()).default_text("none").doc("readings clip to +-range");
+    t.number("resolution_deg_per_s", [](Spec& s) -> double& { return s.figures.gyro_resolution_deg_per_s; })
+        .unit("deg/s").range(Range::non_negative()).doc("quantisation step; 0: none");
+    return t;
+  }();
+  return table;
 }
+
+const config::KeyTable<Spec>& accel_keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("sensors[].imu.accel", "the accelerometers' figures; each overrides the preset's");
+    t.number("vrw_m_per_s_per_sqrt_h", [](Spec& s) -> double& { return s.figures.sheet.accel_noise_density; })
+        .convert(vrw_to_noise_density, [](double density) { return density * 60.0; }, "m/s/√h")
+        .range(Range::non_negative()).doc("velocity random walk");
+    t.number("bias_instability_mg", [](Spec& s) -> double& { return s.figures.sheet.accel_bias_instability_mps2; })
+        .convert(milli_g_to_mps2, [](double mps2) { return mps2 / milli_g_to_mps2(1.0); }, "mg")
+        .range(Range::non_negative()).doc("bias instability");
+    t.number("scale_factor_ppm", [](Spec& s) -> double& { return s.figures.sheet.accel_scale_factor_ppm; }).unit("ppm")
+        .range(Range::non_negative()).doc("1 sigma, drawn per run");
+    t.number("misalignment_deg", [](Spec& s) -> double& { return s.figures.accel_misalignment_deg; }).unit("deg")
+        .range(Range::closed(0.0, 10.0)).doc("1 sigma, drawn per run");
+    t.number("range_g", [](Spec& s) -> double& { return s.figures.accel_range_g; }).unit("g")
+        .range(Range::positive()).default_text("none").doc("readings clip to +-range");
+    t.number("resolution_mg", [](Spec& s) -> double& { return s.figures.accel_resolution_mg; }).unit("mg")
+        .range(Range::non_negative()).doc("quantisation step; 0: none");
+    return t;
+  }();
+  return table;
+}
+
+const config::KeyTable<Spec>& temperature_keys() {
+  static const config::KeyTable<Spec> table = [] {
+    config::KeyTable<Spec> t("sensors[].imu.temperature",
+                             "drift (T - T_ref) k_T with the water's temperature at the sensor");
+    t.number("reference_degc", &Spec::temperature_reference).unit("°C").range(Range::closed(-5.0, 60.0)).doc("T_ref");
+    t.number("gyro_deg_per_h_per_degc", &Spec::gyro_temperature_coefficient)
+        .convert(deg_per_h_to_rad_per_s, [](double rad_s) { return rad_s / deg_per_h_to_rad_per_s(1.0); }, "deg/h/°C")
+        .doc("k_T of the gyroscopes, every axis");
+    t.number("accel_mg_per_degc", &Spec::accel_temperature_coefficient)
+        .convert(milli_g_to_mps2, [](double mps2) { return mps2 / milli_g_to_mps2(1.0); }, "mg/°C")
+        .doc("k_T of the accelerometers, every axis");
+    return t;
+  }();
+  return table;
+}
+
+// The thruster whose blade passes shake the IMU: its index among the vehicle's actuators.
+bool read_vibration_thruster(const config::Value& value, Spec& spec, SensorReader& reader) {
+  const std::optional<std::string> name = value.string();
+  if (!name) return false;
+  std::vector<std::string> thruster_names;
+  for (std::size_t i = 0; i < reader.actuator_names.size(); ++i) {
+    if (reader.actuator_types[i] != "thruster") continue;
+    thruster_names.push_back(reader.actuator_names[i]);
+    if (reader.actuator_names[i] == *name) spec.vibration_thruster = static_cast<int>(i);
+  }
+  if (spec.vibration_thruster >= 0) return true;
+  value.error("no thruster named " + config::quoted(*name) + " in this vehicle (" +
+              (thruster_names.empty() ? std::string("it has none") : "thrusters: " + config::join_names(thruster_names)) +
+              ")");
+  return false;
+}
+
+const config::KeyTable<Spec, SensorReader>& vibration_keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].imu.vibration",
+                                           "A sin(2 pi f t) on every axis, f the thruster's rotor speed x blades");
+    t.custom("thruster", read_vibration_thruster, R"({"type": "string", "minLength": 1})", "string").required()
+        .doc("a thruster of this vehicle");
+    t.number("blades", &Spec::vibration_blades).range(Range::closed(1.0, 12.0)).doc("blade-pass frequency = blades x rotor speed");
+    t.number("gyro_deg_per_s", &Spec::gyro_vibration_amplitude).convert(
+         [](double deg_s) { return deg_s * kDegToRad; }, [](double rad_s) { return rad_s / kDegToRad; }, "deg/s")
+        .range(Range::non_negative()).doc("amplitude A of the gyroscopes");
+    t.number("accel_mg", &Spec::accel_vibration_amplitude)
+        .convert(milli_g_to_mps2, [](double mps2) { return mps2 / milli_g_to_mps2(1.0); }, "mg")
+        .range(Range::non_negative()).doc("amplitude A of the accelerometers");
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
 
 // A data-sheet preset and/or figures in data-sheet units, converted by sensors/noise.h; temperature
 // drift and thruster vibration.
-ImuSensor::Spec ImuSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  ImuDatasheet sheet;
-  if (const auto preset = map.optional("preset")) {
-    if (const auto id = preset->string()) {
-      if (const ImuDatasheet* found = find_imu_preset(*id)) {
-        sheet = *found;
-      } else {
-        std::vector<std::string> ids;
-        for (const auto& p : imu_presets()) ids.push_back(quoted(std::string(p.id)));
-        preset->error("unknown IMU preset " + quoted(*id) + " (presets: " + join_names(ids) + ")");
+const config::KeyTable<ImuSensor::Spec, SensorReader>& ImuSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].imu", "gyroscopes and accelerometers: the paper's error chain");
+    std::vector<std::string> names;
+    for (const ImuDatasheet& p : imu_presets()) names.emplace_back(p.id);
+    t.preset("IMU", names, [](Spec& spec, std::size_t index, SensorReader&) { spec.figures.sheet = imu_presets()[index]; })
+        .doc("a data sheet (`docs/reference/sensors/imu_datasheet_figures.csv`); without one, no noise");
+    t.map("gyro", [](Spec& s) -> Spec& { return s; }, gyro_keys()).doc("gyroscope figures");
+    t.map("accel", [](Spec& s) -> Spec& { return s; }, accel_keys()).doc("accelerometer figures");
+    t.boolean("white_noise_only", [](Spec& s) -> bool& { return s.figures.white_noise_only; })
+        .doc("keep only white noise (validation: the paper's white-noise-only model)");
+    t.map("temperature", [](Spec& s) -> Spec& { return s; }, temperature_keys()).doc("temperature drift");
+    t.map("vibration", [](Spec& s) -> Spec& { return s; }, vibration_keys()).doc("a thruster's vibration");
+    // The triads from the figures.
+    t.check([](const config::KeyReads&, Spec& spec, SensorReader&) {
+      Figures f = spec.figures;
+      ImuDatasheet& sheet = f.sheet;
+      if (f.white_noise_only) {
+        sheet.gyro_bias_instability_deg_per_h = 0.0;
+        sheet.gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
+        sheet.gyro_scale_factor_ppm = 0.0;
+        sheet.gyro_misalignment_rad = 0.0;
+        sheet.accel_bias_instability_mps2 = 0.0;
+        sheet.accel_scale_factor_ppm = 0.0;
+        f.accel_misalignment_deg = 0.0;
       }
-    }
-  }
-  double gyro_range = 0.0, gyro_lsb = 0.0, accel_range = 0.0, accel_lsb = 0.0, accel_misalignment = 0.0;
-  if (const auto gyro_value = map.optional("gyro")) {
-    const MapReader gyro(*gyro_value, {"arw_deg_per_sqrt_h", "bias_instability_deg_per_h", "rrw_deg_per_h_per_sqrt_h",
-                                       "scale_factor_ppm", "misalignment_deg", "range_deg_per_s",
-                                       "resolution_deg_per_s"});
-    if (gyro.ok()) {
-      gyro.read_number("arw_deg_per_sqrt_h", Need::kOptional, Range::non_negative(), &sheet.gyro_arw_deg_per_sqrt_h);
-      gyro.read_number("bias_instability_deg_per_h", Need::kOptional, Range::non_negative(),
-                       &sheet.gyro_bias_instability_deg_per_h);
-      gyro.read_number("rrw_deg_per_h_per_sqrt_h", Need::kOptional, Range::non_negative(),
-                       &sheet.gyro_rrw_deg_per_h_per_sqrt_h);
-      gyro.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.gyro_scale_factor_ppm);
-      double misalignment_deg = sheet.gyro_misalignment_rad / kDegToRad;
-      if (gyro.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &misalignment_deg)) {
-        sheet.gyro_misalignment_rad = misalignment_deg * kDegToRad;
-      }
-      gyro.read_number("range_deg_per_s", Need::kOptional, Range::positive(), &gyro_range);
-      gyro.read_number("resolution_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_lsb);
-    }
-  }
-  if (const auto accel_value = map.optional("accel")) {
-    const MapReader accel(*accel_value, {"vrw_m_per_s_per_sqrt_h", "bias_instability_mg", "scale_factor_ppm",
-                                         "misalignment_deg", "range_g", "resolution_mg"});
-    if (accel.ok()) {
-      double vrw = sheet.accel_noise_density * 60.0;
-      if (accel.read_number("vrw_m_per_s_per_sqrt_h", Need::kOptional, Range::non_negative(), &vrw)) {
-        sheet.accel_noise_density = vrw_to_noise_density(vrw);
-      }
-      double bias_mg = sheet.accel_bias_instability_mps2 / milli_g_to_mps2(1.0);
-      if (accel.read_number("bias_instability_mg", Need::kOptional, Range::non_negative(), &bias_mg)) {
-        sheet.accel_bias_instability_mps2 = milli_g_to_mps2(bias_mg);
-      }
-      accel.read_number("scale_factor_ppm", Need::kOptional, Range::non_negative(), &sheet.accel_scale_factor_ppm);
-      accel.read_number("misalignment_deg", Need::kOptional, Range::closed(0.0, 10.0), &accel_misalignment);
-      accel.read_number("range_g", Need::kOptional, Range::positive(), &accel_range);
-      accel.read_number("resolution_mg", Need::kOptional, Range::non_negative(), &accel_lsb);
-    }
-  }
-  bool white_noise_only = false;
-  map.read_bool("white_noise_only", Need::kOptional, &white_noise_only);
-  if (white_noise_only) {
-    sheet.gyro_bias_instability_deg_per_h = 0.0;
-    sheet.gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
-    sheet.gyro_scale_factor_ppm = 0.0;
-    sheet.gyro_misalignment_rad = 0.0;
-    sheet.accel_bias_instability_mps2 = 0.0;
-    sheet.accel_scale_factor_ppm = 0.0;
-    accel_misalignment = 0.0;
-  }
-  const ImuNoiseParams params = imu_noise_params(sheet);
-  spec.gyro = params.gyro;
-  spec.accel = params.accel;
-  spec.accel.misalignment_sigma = accel_misalignment * kDegToRad;
-  if (gyro_range > 0.0) spec.gyro.min = -(spec.gyro.max = gyro_range * kDegToRad);
-  if (accel_range > 0.0) spec.accel.min = -(spec.accel.max = accel_range * kStandardGravity);
-  spec.gyro.lsb = gyro_lsb * kDegToRad;
-  spec.accel.lsb = milli_g_to_mps2(accel_lsb);
-
-  if (const auto temperature_value = map.optional("temperature")) {
-    const MapReader temperature(*temperature_value, {"reference_degc", "gyro_deg_per_h_per_degc", "accel_mg_per_degc"});
-    if (temperature.ok()) {
-      temperature.read_number("reference_degc", Need::kOptional, Range::closed(-5.0, 60.0), &spec.temperature_reference);
-      double gyro_k = 0.0, accel_k = 0.0;
-      if (temperature.read_number("gyro_deg_per_h_per_degc", Need::kOptional, Range::finite(), &gyro_k)) {
-        spec.gyro_temperature_coefficient = deg_per_h_to_rad_per_s(gyro_k);
-      }
-      if (temperature.read_number("accel_mg_per_degc", Need::kOptional, Range::finite(), &accel_k)) {
-        spec.accel_temperature_coefficient = milli_g_to_mps2(accel_k);
-      }
-    }
-  }
-  if (const auto vibration_value = map.optional("vibration")) {
-    const MapReader vibration(*vibration_value, {"thruster", "blades", "gyro_deg_per_s", "accel_mg"});
-    if (vibration.ok()) {
-      if (const auto thruster = vibration.required("thruster")) {
-        if (const auto name = thruster->string()) {
-          std::vector<std::string> thruster_names;
-          for (std::size_t i = 0; i < reader.actuator_names.size(); ++i) {
-            if (reader.actuator_types[i] != "thruster") continue;
-            thruster_names.push_back(reader.actuator_names[i]);
-            if (reader.actuator_names[i] == *name) spec.vibration_thruster = static_cast<int>(i);
-          }
-          if (spec.vibration_thruster < 0) {
-            thruster->error("no thruster named " + quoted(*name) + " in this vehicle (" +
-                            (thruster_names.empty() ? std::string("it has none")
-                                                    : "thrusters: " + join_names(thruster_names)) + ")");
-          }
-        }
-      }
-      double blades = 3.0, gyro_a = 0.0, accel_a = 0.0;
-      if (vibration.read_number("blades", Need::kOptional, Range::closed(1.0, 12.0), &blades)) {
-        spec.vibration_blades = static_cast<int>(blades);
-      }
-      if (vibration.read_number("gyro_deg_per_s", Need::kOptional, Range::non_negative(), &gyro_a)) {
-        spec.gyro_vibration_amplitude = gyro_a * kDegToRad;
-      }
-      if (vibration.read_number("accel_mg", Need::kOptional, Range::non_negative(), &accel_a)) {
-        spec.accel_vibration_amplitude = milli_g_to_mps2(accel_a);
-      }
-    }
-  }
-  return spec;
+      const ImuNoiseParams params = imu_noise_params(sheet);
+      spec.gyro = params.gyro;
+      spec.accel = params.accel;
+      spec.accel.misalignment_sigma = f.accel_misalignment_deg * kDegToRad;
+      if (f.gyro_range_deg_per_s > 0.0) spec.gyro.min = -(spec.gyro.max = f.gyro_range_deg_per_s * kDegToRad);
+      if (f.accel_range_g > 0.0) spec.accel.min = -(spec.accel.max = f.accel_range_g * kStandardGravity);
+      spec.gyro.lsb = f.gyro_resolution_deg_per_s * kDegToRad;
+      spec.accel.lsb = milli_g_to_mps2(f.accel_resolution_mg);
+      return true;
+    });
+    return t;
+  }();
+  return table;
 }
 
 ImuSensor::State ImuSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

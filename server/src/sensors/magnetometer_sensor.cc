@@ -5,68 +5,45 @@
 
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/sensors/sample_context.h"
 
 namespace hadal::sensors {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
-using config::Value;
 
-namespace {
-
-// A magnetic dipole {position [m], moment [A m^2], radius [m] (0: point dipole; > 0: a uniformly
-// magnetised sphere, finite inside)}.
-bool read_dipole(const Value& value, MagneticDipole* dipole) {
-  const MapReader map(value, {"position", "moment", "radius"});
-  if (!map.ok()) return false;
-  return map.read_vector3("position", Need::kRequired, Range::finite(), &dipole->p_FD) &
-         map.read_vector3("moment", Need::kRequired, Range::finite(), &dipole->m_F) &
-         map.read_number("radius", Need::kOptional, Range::non_negative(), &dipole->radius_m);
-}
-
-}  // namespace
-
-std::vector<MagneticDipole> read_dipoles(const Value& value) {
-  std::vector<MagneticDipole> dipoles;
-  if (const auto items = value.list()) {
-    for (const Value& item : *items) {
-      MagneticDipole dipole;
-      if (read_dipole(item, &dipole)) dipoles.push_back(dipole);
-    }
-  }
-  return dipoles;
-}
-
-const std::vector<std::string>& MagnetometerSensor::keys() {
-  static const std::vector<std::string> keys = {"noise_stddev_nt", "resolution_nt", "range_ut", "hard_iron",
-                                                "soft_iron"};
-  return keys;
-}
-
-// White noise per sample, resolution and range in nT / uT, hard-iron dipoles in B, the soft-iron matrix
-// in sensor axes.
-MagnetometerSensor::Spec MagnetometerSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  MagnetometerParams& p = spec.params;
-  double noise_nt = 0.0, resolution_nt = 0.0, range_ut = 0.0;
-  map.read_number("noise_stddev_nt", Need::kOptional, Range::non_negative(), &noise_nt);
-  map.read_number("resolution_nt", Need::kOptional, Range::non_negative(), &resolution_nt);
-  map.read_number("range_ut", Need::kOptional, Range::positive(), &range_ut);
-  for (auto& axis : p.noise.axes) axis.white_noise_density = noise_nt * 1e-9 / std::sqrt(reader.rate_hz);
-  p.noise.lsb = resolution_nt * 1e-9;
-  if (range_ut > 0.0) p.noise.min = -(p.noise.max = range_ut * 1e-6);
-  if (const auto hard_iron = map.optional("hard_iron")) p.dipoles_B = read_dipoles(*hard_iron);
-  if (const auto soft_iron = map.optional("soft_iron")) {
-    if (const auto values = soft_iron->numbers(9)) {
-      p.soft_iron_S = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(values->data());
-    }
-  }
-  return spec;
+const config::KeyTable<MagnetometerSensor::Spec, SensorReader>& MagnetometerSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].magnetometer",
+                                           "WMM2025 at the sensor, the world's and the vehicle's dipoles, soft iron, noise");
+    t.number_into(
+         "noise_stddev_nt",
+         [](Spec& spec, double nt, SensorReader& reader) {
+           for (auto& axis : spec.params.noise.axes) axis.white_noise_density = nt * 1e-9 / std::sqrt(reader.rate_hz);
+         },
+         [](Spec&) { return 0.0; })
+        .unit("nT").range(Range::non_negative()).doc("white noise per sample");
+    t.number("resolution_nt", [](Spec& spec) -> double& { return spec.params.noise.lsb; })
+        .convert([](double nt) { return nt * 1e-9; }, [](double t) { return t / 1e-9; }, "nT")
+        .range(Range::non_negative()).doc("quantisation step; 0: none");
+    t.number_into(
+         "range_ut", [](Spec& spec, double ut, SensorReader&) { spec.params.noise.min = -(spec.params.noise.max = ut * 1e-6); },
+         nullptr)
+        .unit("µT").range(Range::positive()).doc("readings clip to +-range");
+    t.list("hard_iron", [](Spec& spec) -> std::vector<MagneticDipole>& { return spec.params.dipoles_B; }, dipole_keys())
+        .drop_invalid()
+        .doc("the vehicle's hard-iron dipoles, in B");
+    t.numbers(
+         "soft_iron", 9,
+         [](Spec& spec, const std::vector<double>& v) {
+           spec.params.soft_iron_S = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data());
+         },
+         [](Spec&) { return std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 1}; })
+        .doc("row-major 3x3 S in sensor axes: B = S (B_earth + B_dipoles)");
+    return t;
+  }();
+  return table;
 }
 
 MagnetometerSensor::State MagnetometerSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -7,7 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
+#include "hadal/sensors/sonar_keys.h"
 #include "hadal/dds/time_msg.h"
 
 namespace hadal::sensors {
@@ -49,48 +50,40 @@ void MultibeamSensor::make_ping(Spec& spec) {
   spec.ping = std::move(ping);
 }
 
-const std::vector<std::string>& MultibeamSensor::keys() {
-  static const std::vector<std::string> keys = [] {
-    std::vector<std::string> k = {"preset",      "beams",      "swath_deg", "across_beam_width_deg", "along_beam_width_deg",
-                                  "rays_across", "rays_along", "min_snr_db"};
-    k.insert(k.end(), sonar_acoustic_keys().begin(), sonar_acoustic_keys().end());
-    return k;
+const config::KeyTable<MultibeamSensor::Spec, SensorReader>& MultibeamSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].multibeam", "a multibeam echosounder: bottom detection per beam",
+                                           Spec{});
+    std::vector<std::string> names;
+    for (const MultibeamPreset& p : multibeam_presets()) names.emplace_back(p.name);
+    t.preset("multibeam", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
+       const MultibeamPreset& preset = multibeam_presets()[index];
+       spec.acoustics.frequency_hz = preset.frequency_hz;
+       spec.beams = preset.beams;
+       spec.swath = preset.swath_deg * kDegToRad;
+       spec.across_beam_width = preset.across_beam_width_deg * kDegToRad;
+       spec.along_beam_width = preset.along_beam_width_deg * kDegToRad;
+       spec.acoustics.max_range = preset.max_range_m;
+       spec.acoustics.bins = preset.bins;
+       if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
+     }).doc("a product (`server/src/sensors/multibeam_sensor.cc`): sets the keys the file does not give, and "
+            "rate_hz unless given");
+    t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams over the swath");
+    t.number("swath_deg", &Spec::swath).degrees().range(Range::left_open(0.0, 180.0)).doc("the swath's width");
+    t.number("across_beam_width_deg", &Spec::across_beam_width).degrees().range(Range::left_open(0.0, 30.0))
+        .doc("a beam's width in the swath");
+    t.number("along_beam_width_deg", &Spec::along_beam_width).degrees().range(Range::left_open(0.0, 30.0))
+        .doc("a beam's width across it");
+    t.number("rays_across", &Spec::rays_across).range(Range::closed(1.0, 1024.0))
+        .doc("rays across a beam: enough that an oblique beam's footprint fills its bins");
+    t.number("rays_along", &Spec::rays_along).range(Range::closed(1.0, 256.0)).doc("rays along a beam");
+    t.number("min_snr_db", &Spec::min_snr_db).unit("dB").range(Range::closed(0.0, 100.0))
+        .doc("a beam's profile smoothed over 5 bins must peak this far over the noise");
+    declare_sonar_acoustic_keys(t);
+    declare_sonar_check(t, &MultibeamSensor::make_ping);
+    return t;
   }();
-  return keys;
-}
-
-MultibeamSensor::Spec MultibeamSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  std::vector<std::string_view> names;
-  for (const MultibeamPreset& p : multibeam_presets()) names.push_back(p.name);
-  const int index = read_preset_index(map, names, "multibeam");
-  if (index >= 0) {
-    const MultibeamPreset& preset = multibeam_presets()[static_cast<std::size_t>(index)];
-    spec.acoustics.frequency_hz = preset.frequency_hz;
-    spec.beams = preset.beams;
-    spec.swath = preset.swath_deg * kDegToRad;
-    spec.across_beam_width = preset.across_beam_width_deg * kDegToRad;
-    spec.along_beam_width = preset.along_beam_width_deg * kDegToRad;
-    spec.acoustics.max_range = preset.max_range_m;
-    spec.acoustics.bins = preset.bins;
-    if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
-  }
-  map.read_whole_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &spec.beams);
-  double swath_deg = spec.swath / kDegToRad, across_deg = spec.across_beam_width / kDegToRad,
-         along_deg = spec.along_beam_width / kDegToRad;
-  if (map.read_number("swath_deg", Need::kOptional, Range::left_open(0.0, 180.0), &swath_deg)) spec.swath = swath_deg * kDegToRad;
-  if (map.read_number("across_beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &across_deg)) {
-    spec.across_beam_width = across_deg * kDegToRad;
-  }
-  if (map.read_number("along_beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &along_deg)) {
-    spec.along_beam_width = along_deg * kDegToRad;
-  }
-  map.read_whole_number("rays_across", Need::kOptional, Range::closed(1.0, 1024.0), &spec.rays_across);
-  map.read_whole_number("rays_along", Need::kOptional, Range::closed(1.0, 256.0), &spec.rays_along);
-  map.read_number("min_snr_db", Need::kOptional, Range::closed(0.0, 100.0), &spec.min_snr_db);
-  read_sonar_common(reader, spec.acoustics, nullptr, [&spec] { make_ping(spec); });
-  return spec;
+  return table;
 }
 
 MultibeamSensor::State MultibeamSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -6,31 +6,29 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/sensors/sample_context.h"
 
 namespace hadal::sensors {
 
-using config::Need;
 using config::Range;
 
 NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
   return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_max);
 }
 
-const std::vector<std::string>& PressureSensor::keys() {
-  static const std::vector<std::string> keys = {"noise_stddev", "resolution", "range_max"};
-  return keys;
-}
-
-PressureSensor::Spec PressureSensor::read(const SensorReader& reader) {
-  Spec spec;
-  reader.map.read_number("noise_stddev", Need::kOptional, Range::non_negative(), &spec.noise_stddev);
-  reader.map.read_number("resolution", Need::kOptional, Range::non_negative(), &spec.resolution);
-  reader.map.read_number("range_max", Need::kOptional, Range::positive(), &spec.range_max);
-  return spec;
+const config::KeyTable<PressureSensor::Spec, SensorReader>& PressureSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].pressure", "absolute pressure at the sensor's origin");
+    t.number("noise_stddev", &Spec::noise_stddev).unit("Pa").range(Range::non_negative()).doc("white noise per sample");
+    t.number("resolution", &Spec::resolution).unit("Pa").range(Range::non_negative()).doc("quantisation step; 0: none");
+    t.number("range_max", &Spec::range_max).unit("Pa").range(Range::positive())
+        .doc("full scale (absolute); readings clip to [0, range_max]");
+    return t;
+  }();
+  return table;
 }
 
 PressureSensor::State PressureSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -7,15 +7,14 @@
 #include <cmath>
 #include <limits>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
+#include "hadal/sensors/range_keys.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/geometry/ray_batch.h"
 #include "hadal/sensors/sample_context.h"
 
 namespace hadal::sensors {
 
-using config::MapReader;
-using config::Need;
 using config::Range;
 
 double ProfilerSensor::beam_angle(const Spec& spec, int k) {
@@ -26,24 +25,17 @@ NoiseChannelParams ProfilerSensor::channel(const Spec& spec, double period) {
   return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, spec.min_range, spec.max_range);
 }
 
-const std::vector<std::string>& ProfilerSensor::keys() {
-  static const std::vector<std::string> keys = {"beams",     "fov_deg",   "beam_width_deg", "rays_per_beam",
-                                                "min_range", "max_range", "noise_stddev",   "resolution"};
-  return keys;
-}
-
-ProfilerSensor::Spec ProfilerSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  map.read_whole_number("beams", Need::kOptional, Range::closed(1.0, 4096.0), &spec.beams);
-  map.read_whole_number("rays_per_beam", Need::kOptional, Range::closed(1.0, 64.0), &spec.rays_per_beam);
-  double fov_deg = spec.fov / kDegToRad, width_deg = spec.beam_width / kDegToRad;
-  if (map.read_number("fov_deg", Need::kOptional, Range::left_open(0.0, 360.0), &fov_deg)) spec.fov = fov_deg * kDegToRad;
-  if (map.read_number("beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &width_deg)) {
-    spec.beam_width = width_deg * kDegToRad;
-  }
-  read_range_figures(map, spec.min_range, spec.max_range, spec.noise_stddev, spec.resolution);
-  return spec;
+const config::KeyTable<ProfilerSensor::Spec, SensorReader>& ProfilerSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].profiler", "a fan of beams in S's x-y plane, one range each");
+    t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams across the fan");
+    t.number("rays_per_beam", &Spec::rays_per_beam).range(Range::closed(1.0, 64.0)).doc("rays across each beam");
+    t.number("fov_deg", &Spec::fov).degrees().range(Range::left_open(0.0, 360.0)).doc("the whole fan");
+    t.number("beam_width_deg", &Spec::beam_width).degrees().range(Range::left_open(0.0, 30.0)).doc("in the fan's plane");
+    declare_range_keys(t);
+    return t;
+  }();
+  return table;
 }
 
 ProfilerSensor::State ProfilerSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -7,7 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table.h"
+#include "hadal/sensors/sonar_keys.h"
 #include "hadal/dds/time_msg.h"
 
 namespace hadal::sensors {
@@ -57,47 +58,37 @@ void SidescanSensor::make_ping(Spec& spec) {
   spec.ping = std::move(ping);
 }
 
-const std::vector<std::string>& SidescanSensor::keys() {
-  static const std::vector<std::string> keys = [] {
-    std::vector<std::string> k = {"preset",     "horizontal_beam_width_deg", "vertical_beam_width_deg", "depression_deg",
-                                  "along_rays", "rays_per_cell"};
-    for (const auto* list : {&sonar_acoustic_keys(), &sonar_image_keys()}) k.insert(k.end(), list->begin(), list->end());
-    return k;
+const config::KeyTable<SidescanSensor::Spec, SensorReader>& SidescanSensor::keys() {
+  static const config::KeyTable<Spec, SensorReader> table = [] {
+    config::KeyTable<Spec, SensorReader> t("sensors[].sidescan", "a side-scan sonar: a beam to either side of x_S",
+                                           Spec{});
+    std::vector<std::string> names;
+    for (const SidescanPreset& p : sidescan_presets()) names.emplace_back(p.name);
+    t.preset("side-scan sonar", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
+       const SidescanPreset& preset = sidescan_presets()[index];
+       spec.acoustics.frequency_hz = preset.frequency_hz;
+       spec.horizontal_beam_width = preset.horizontal_beam_width_deg * kDegToRad;
+       spec.vertical_beam_width = preset.vertical_beam_width_deg * kDegToRad;
+       spec.depression = preset.depression_deg * kDegToRad;
+       spec.acoustics.max_range = preset.max_range_m;
+       spec.acoustics.bins = preset.bins;
+       if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
+     }).doc("a product (`server/src/sensors/sidescan_sensor.cc`): sets the keys the file does not give, and "
+            "rate_hz unless given");
+    t.number("horizontal_beam_width_deg", &Spec::horizontal_beam_width).degrees().range(Range::left_open(0.0, 30.0))
+        .doc("along track");
+    t.number("vertical_beam_width_deg", &Spec::vertical_beam_width).degrees().range(Range::left_open(0.0, 120.0))
+        .doc("across track");
+    t.number("depression_deg", &Spec::depression).degrees().range(Range::closed(-30.0, 90.0))
+        .doc("the beams' axes below S's x-y plane");
+    t.number("along_rays", &Spec::along_rays).range(Range::closed(1.0, 64.0)).doc("rays along track");
+    t.number("rays_per_cell", &Spec::rays_per_cell).range(Range::closed(1.0, 64.0)).doc("rays per range bin");
+    declare_sonar_acoustic_keys(t);
+    declare_sonar_image_keys(t);
+    declare_sonar_check(t, &SidescanSensor::make_ping);
+    return t;
   }();
-  return keys;
-}
-
-SidescanSensor::Spec SidescanSensor::read(const SensorReader& reader) {
-  const MapReader& map = reader.map;
-  Spec spec;
-  std::vector<std::string_view> names;
-  for (const SidescanPreset& p : sidescan_presets()) names.push_back(p.name);
-  const int index = read_preset_index(map, names, "side-scan sonar");
-  if (index >= 0) {
-    const SidescanPreset& preset = sidescan_presets()[static_cast<std::size_t>(index)];
-    spec.acoustics.frequency_hz = preset.frequency_hz;
-    spec.horizontal_beam_width = preset.horizontal_beam_width_deg * kDegToRad;
-    spec.vertical_beam_width = preset.vertical_beam_width_deg * kDegToRad;
-    spec.depression = preset.depression_deg * kDegToRad;
-    spec.acoustics.max_range = preset.max_range_m;
-    spec.acoustics.bins = preset.bins;
-    if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
-  }
-  double horizontal_deg = spec.horizontal_beam_width / kDegToRad, vertical_deg = spec.vertical_beam_width / kDegToRad,
-         depression_deg = spec.depression / kDegToRad;
-  if (map.read_number("horizontal_beam_width_deg", Need::kOptional, Range::left_open(0.0, 30.0), &horizontal_deg)) {
-    spec.horizontal_beam_width = horizontal_deg * kDegToRad;
-  }
-  if (map.read_number("vertical_beam_width_deg", Need::kOptional, Range::left_open(0.0, 120.0), &vertical_deg)) {
-    spec.vertical_beam_width = vertical_deg * kDegToRad;
-  }
-  if (map.read_number("depression_deg", Need::kOptional, Range::closed(-30.0, 90.0), &depression_deg)) {
-    spec.depression = depression_deg * kDegToRad;
-  }
-  map.read_whole_number("along_rays", Need::kOptional, Range::closed(1.0, 64.0), &spec.along_rays);
-  map.read_whole_number("rays_per_cell", Need::kOptional, Range::closed(1.0, 64.0), &spec.rays_per_cell);
-  read_sonar_common(reader, spec.acoustics, &spec.encoding, [&spec] { make_ping(spec); });
-  return spec;
+  return table;
 }
 
 SidescanSensor::State SidescanSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {

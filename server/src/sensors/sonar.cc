@@ -22,82 +22,6 @@ using config::MapReader;
 using config::Need;
 using config::Range;
 
-namespace {
-
-// The sound speed bounding seawater's from above, for the ping-rate check [m/s].
-constexpr double kMaxSoundSpeed = 1600.0;
-
-}  // namespace
-
-const std::vector<std::string>& sonar_acoustic_keys() {
-  static const std::vector<std::string> keys = {
-      "frequency_hz",  "min_range", "max_range",      "bins",         "source_level_db",        "noise_level_db",
-      "speckle",       "receiver_noise", "spreading_db_per_decade", "tvg_db_per_decade", "tvg_absorption"};
-  return keys;
-}
-
-bool read_sonar_acoustics(const SensorReader& reader, SonarAcoustics& a) {
-  const MapReader& map = reader.map;
-  map.read_number("frequency_hz", Need::kOptional, Range::closed(1e3, 5e6), &a.frequency_hz);
-  bool window = map.read_number("min_range", Need::kOptional, Range::non_negative(), &a.min_range) &
-                map.read_number("max_range", Need::kOptional, Range::closed(0.1, 10000.0), &a.max_range);
-  if (window && !(a.max_range > a.min_range)) {
-    window = false;
-    map.error_at_key(map.has("max_range") ? "max_range" : "min_range",
-                     "max_range (" + format_number(a.max_range) + " m) must exceed min_range (" +
-                         format_number(a.min_range) + " m)");
-  }
-  map.read_whole_number("bins", Need::kOptional, Range::closed(1.0, 65536.0), &a.bins);
-  map.read_number("source_level_db", Need::kOptional, Range::closed(100.0, 260.0), &a.source_level_db);
-  map.read_number("noise_level_db", Need::kOptional, Range::closed(-50.0, 200.0), &a.noise_level_db);
-  map.read_bool("speckle", Need::kOptional, &a.speckle);
-  map.read_bool("receiver_noise", Need::kOptional, &a.receiver_noise);
-  map.read_number("spreading_db_per_decade", Need::kOptional, Range::closed(0.0, 40.0), &a.spreading_db_per_decade);
-  map.read_number("tvg_db_per_decade", Need::kOptional, Range::closed(0.0, 60.0), &a.tvg_db_per_decade);
-  map.read_bool("tvg_absorption", Need::kOptional, &a.tvg_absorption);
-  const double limit_hz = kMaxSoundSpeed / (2.0 * a.max_range);
-  if (window && reader.rate_hz > limit_hz) {
-    const std::string message = "a ping every " + format_number(1.0 / reader.rate_hz) + " s (rate_hz " +
-                                format_number(reader.rate_hz) + ") is shorter than the echoes' two-way travel time over " +
-                                "max_range " + format_number(a.max_range) + " m: rate_hz must be <= " +
-                                format_number(limit_hz) + " (1600 m/s / (2 max_range))";
-    if (map.has("rate_hz")) {
-      map.error_at_key("rate_hz", message);
-    } else if (map.has("max_range")) {
-      map.error_at_key("max_range", message);
-    } else {
-      map.value().error(message);
-    }
-  }
-  return window;
-}
-
-int read_preset_index(const MapReader& map, const std::vector<std::string_view>& names, const std::string& what) {
-  if (!map.has("preset")) return -1;
-  std::string name;
-  if (!map.read_string("preset", Need::kRequired, &name)) return -1;
-  std::vector<std::string> listed;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == name) return static_cast<int>(i);
-    listed.push_back(config::quoted(std::string(names[i])));
-  }
-  map.error_at_key("preset", "unknown " + what + " preset " + config::quoted(name) + " (presets: " +
-                                 config::join_names(listed) + ")");
-  return -1;
-}
-
-void read_sonar_common(const SensorReader& reader, SonarAcoustics& acoustics, SonarImageEncoding* encoding,
-                       const std::function<void()>& make_ping) {
-  const bool window = read_sonar_acoustics(reader, acoustics);
-  if (encoding != nullptr) read_sonar_image_encoding(reader.map, *encoding);
-  if (!window) return;
-  try {
-    make_ping();
-  } catch (const std::invalid_argument& e) {
-    reader.map.value().error(std::string("unusable sonar: ") + e.what());
-  }
-}
-
 std::uint64_t sonar_noise_key(const SensorSetup& setup) {
   return channel_key(setup.seed, setup.vehicle, setup.sensor, "echo");
 }
@@ -140,22 +64,6 @@ std::uint8_t SonarImageEncoding::grey(const std::uint8_t* sample) const {
   float intensity = 0.0f;
   std::memcpy(&intensity, sample, sizeof(float));
   return display_level(intensity, display_min_db, display_max_db);
-}
-
-const std::vector<std::string>& sonar_image_keys() {
-  static const std::vector<std::string> keys = {"image_dtype", "display_min_db", "display_max_db"};
-  return keys;
-}
-
-void read_sonar_image_encoding(const MapReader& map, SonarImageEncoding& encoding) {
-  map.read_choice("image_dtype", Need::kOptional, {{"uint8", false}, {"float32", true}}, &encoding.float32);
-  if (map.read_number("display_min_db", Need::kOptional, Range::closed(-100.0, 300.0), &encoding.display_min_db) &
-          map.read_number("display_max_db", Need::kOptional, Range::closed(-100.0, 300.0), &encoding.display_max_db) &&
-      !(encoding.display_max_db > encoding.display_min_db)) {
-    map.error_at_key(map.has("display_max_db") ? "display_max_db" : "display_min_db",
-                     "display_max_db (" + format_number(encoding.display_max_db) + ") must exceed display_min_db (" +
-                         format_number(encoding.display_min_db) + ")");
-  }
 }
 
 void fill_sonar_image_data(const SonarImageEncoding& encoding, std::uint32_t beam_count,

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "hadal/config/diagnostic.h"
+#include "hadal/config/key_table_fwd.h"
 #include "hadal/core/model.h"
 
 #include <optional>
@@ -15,6 +16,8 @@
 #include <vector>
 
 namespace hadal::config {
+
+struct LoadContext;
 
 struct LoadResult {
   std::optional<Model> model;  // set only when errors is empty
@@ -42,6 +45,11 @@ struct AssetRoot {
   std::string error;   // non-empty: unusable ("is not a directory")
 };
 std::vector<AssetRoot> asset_roots(const std::string& scenario_path, const LoadOptions& options = {});
+
+// The keys of a scenario file's root (world, vehicles, security), and through them every key of the
+// format (docs/ARCHITECTURE.md, "Keys: one declaration each"). A vehicle file's root is
+// definition_keys() (config/vehicle_keys.h).
+const KeyTable<Model, LoadContext>& scenario_keys();
 
 // Loads and validates a scenario file. Never throws for bad input: every problem is a Diagnostic.
 LoadResult load_scenario_file(const std::string& path, const LoadOptions& options = {});

@@ -15,12 +15,16 @@
 #pragma once
 
 #include "hadal/config/yaml_reader.h"
+#include "hadal/config/key_table_fwd.h"
 #include "hadal/core/security_files.h"
 
 #include <optional>
 #include <string>
 
 namespace hadal::config {
+
+// The keys of a `security:` block.
+const KeyTable<SecurityFiles>& security_keys();
 
 // Reads a `security:` block's value; reports every problem at its node and returns nullopt then. The paths
 // returned are joined to the directory of the file holding the block (dds::create_participant makes them

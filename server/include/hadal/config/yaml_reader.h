@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "hadal/config/diagnostic.h"
+#include "hadal/config/key_doc.h"  // Range, format_number
 
 namespace hadal::config {
 
@@ -55,32 +56,6 @@ class DiagnosticSink {
 // yields a null node.
 std::optional<YAML::Node> parse_yaml_file(const std::string& file, DiagnosticSink* sink,
                                           std::string* open_error);
-
-// An interval of accepted numbers. Every Range also requires the number to be finite.
-struct Range {
-  double min = -std::numeric_limits<double>::infinity();
-  double max = std::numeric_limits<double>::infinity();
-  bool min_inclusive = true;
-  bool max_inclusive = true;
-
-  static Range finite() { return {}; }
-  static Range positive() { return {0.0, kInfinity, false, true}; }               // > 0
-  static Range non_negative() { return {0.0, kInfinity, true, true}; }            // >= 0
-  static Range closed(double lo, double hi) { return {lo, hi, true, true}; }      // [lo, hi]
-  static Range left_open(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
-  static Range right_open(double lo, double hi) { return {lo, hi, true, false}; }  // [lo, hi)
-
-  bool contains(double x) const;
-  // "> 0", ">= 0", "<= 5", "in [50, 100000]", "in (0, 2000]", or "finite".
-  std::string describe() const;
-
-  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
-};
-
-// Shortest text that reads back as `x` ("500", "100000", "0.1", "1e-07"): for values from the file.
-std::string format_number(double x);
-// Six significant digits ("-1", "6.445"): for computed values, whose last bits are rounding noise.
-std::string format_approximate(double x);
 
 // The closest candidate to `word` by case-insensitive edit distance (insertions, deletions, substitutions,
 // adjacent transpositions), if close enough to be a plausible typo (distance <= max(1, candidate length /
@@ -167,6 +142,8 @@ class MapReader {
   const Value& value() const { return value_; }
 
   bool has(const std::string& key) const;
+  // Whether `key` is one of the allowed keys.
+  bool allows(const std::string& key) const;
   // The value of `key`, or nullopt when absent. `key` must be one of the allowed keys.
   std::optional<Value> optional(const std::string& key) const;
   // Like optional(), but reports "missing required key 'key'" at the map when absent; `why` is appended

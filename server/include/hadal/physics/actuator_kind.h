@@ -13,8 +13,8 @@
 //   struct Spec { using Kind = K; ... };          immutable, from YAML (the model holds it)
 //   struct State { using Kind = K; ... };         what evolves (reported on its state topic)
 //   using Runtime = ...;                          constants derived once from the spec and the world
-//   static const std::vector<std::string>& keys();   its YAML keys besides name and link
-//   static Spec read(const ActuatorReader&);
+//   static const config::KeyTable<Spec>& keys();    its YAML keys besides name and link, each declared
+//                                                   once (config/key_table.h): they read the Spec
 //   static Runtime prepare(const Spec&, const ActuatorSetup&);
 //   static std::string check(const Spec&, const double* controls, std::size_t first);   "" or why not
 //   static void command(State&, const double* controls);   the controls held over the next step
@@ -37,10 +37,6 @@
 #include <string>
 #include <string_view>
 
-namespace hadal::config {
-class MapReader;
-}
-
 namespace hadal::physics {
 
 class Ocean;
@@ -60,11 +56,6 @@ struct StepWrench {
 std::string check_normalised_setpoint(double value, std::size_t first);
 // The setpoint held over a step: a last-line guard clamps it to [-1, 1], NaN to 0.
 double held_setpoint(double value);
-
-// What an actuator's YAML reader gets: its entry (name and link already read and checked).
-struct ActuatorReader {
-  const config::MapReader& map;
-};
 
 // What prepare() gets: the pose in B of the link the actuator is mounted on, and the world's constants.
 struct ActuatorSetup {

@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
 
 namespace hadal::physics {
@@ -53,8 +54,8 @@ struct BuoyancyEngineActuator {
     double max_volume_change = 0.0, pump_rate = 0.0, efficiency = 0.5, dt = 0.002;
   };
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const ActuatorReader& reader);
+  // Its YAML keys besides name and link, declared once (configs/REFERENCE.md shows them).
+  static const config::KeyTable<Spec>& keys();
   static Runtime prepare(const Spec& spec, const ActuatorSetup& setup);
   static std::string check(const Spec& spec, const double* controls, std::size_t first);
   static void command(State& state, const double* controls);

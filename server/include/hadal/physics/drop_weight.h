@@ -30,6 +30,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
 
 namespace hadal::physics {
@@ -68,8 +69,8 @@ struct DropWeightActuator {
     double release_time_s = std::numeric_limits<double>::infinity();
   };
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const ActuatorReader& reader);
+  // Its YAML keys besides name and link, declared once (configs/REFERENCE.md shows them).
+  static const config::KeyTable<Spec>& keys();
   static Runtime prepare(const Spec& spec, const ActuatorSetup& setup);
   // "" when controls[0] is 0 or 1, else why not ("setpoint[2] = 0.5 is not 0 (hold) or 1 (release)").
   static std::string check(const Spec& spec, const double* controls, std::size_t first);

@@ -39,6 +39,8 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/key_table_fwd.h"
+#include "hadal/core/units.h"
 #include "hadal/physics/actuator_kind.h"
 
 namespace hadal::physics {
@@ -56,10 +58,10 @@ struct FinActuator {
     Eigen::Vector3d chord_L = Eigen::Vector3d::UnitX();    // c0, unit
     double area = 0.0;                                     // S [m^2]
     double aspect_ratio = 0.0;                             // AR (effective)
-    double max_angle = 0.0;                                // delta_max [rad] (YAML: max_angle_deg, 25)
-    double max_rate = 0.0;                                 // omega_s [rad/s] (YAML: max_rate_deg_per_s, 60)
+    double max_angle = 25.0 * kDegToRad;                   // delta_max [rad] (YAML: max_angle_deg)
+    double max_rate = 60.0 * kDegToRad;                    // omega_s [rad/s] (YAML: max_rate_deg_per_s)
     double lift_slope = 0.0;                               // C_La [1/rad]; Helmbold's from AR by default
-    double stall_angle = 0.0;                              // alpha_s [rad] (YAML: stall_angle_deg, 30)
+    double stall_angle = 30.0 * kDegToRad;                 // alpha_s [rad] (YAML: stall_angle_deg)
     double drag_coefficient = 0.01;                        // C_D0
     double oswald_efficiency = 0.9;                        // e_O
   };
@@ -86,8 +88,8 @@ struct FinActuator {
   // C_L and C_D at angle of attack alpha [rad].
   static void coefficients(const Runtime& runtime, double alpha, double* C_L, double* C_D);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const ActuatorReader& reader);
+  // Its YAML keys besides name and link, declared once (configs/REFERENCE.md shows them).
+  static const config::KeyTable<Spec>& keys();
   static Runtime prepare(const Spec& spec, const ActuatorSetup& setup);
   static std::string check(const Spec& spec, const double* controls, std::size_t first);
   static void command(State& state, const double* controls);

@@ -83,6 +83,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "hadal/physics/fluid_spec.h"
+
 namespace hadal::geometry {
 struct TriangleMesh;
 }
@@ -131,21 +133,6 @@ class UniformWater final : public FluidSampler {
   double absolute_pressure(double z_W) const { return atmospheric_pressure + gauge_pressure(z_W); }
   void sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
               const float* dz, const FluidSamples& out) const override;
-};
-
-// Per-body coefficients (scenario keys: the vehicle definition's fluid.hydrodynamics.{drag, skin_friction,
-// lift, magnus}). Defaults:
-//   drag 1.0: per-face Newtonian drag; a sphere then has C_D = 0.5 on its frontal area (the cos^3
-//     integral over the front hemisphere is pi R^2 / 2), the subcritical sphere value (~0.47).
-//   skin_friction 0.004: turbulent flat plate, 0.074 Re^-1/5 for Re ~ 1e6 .. 1e7.
-//   lift 1.0: plate lift slope 2 C_L = 2 per radian, slender low-aspect-ratio wing (pi/2 AR, AR ~ 1.3).
-//   magnus 0 [s]: to be calibrated (see above).
-struct HydrodynamicCoefficients {
-  double drag = 1.0;            // C_D [-]
-  double skin_friction = 0.004; // C_f [-]
-  double lift = 1.0;            // C_L [-]
-  double magnus = 0.0;          // C_M [s]
-  bool buoyancy = true;
 };
 
 // Kinematics of body B at one step.

@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
 
 namespace hadal::physics {
@@ -53,8 +54,8 @@ struct ThrusterActuator {
   };
   using Runtime = Thruster;
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const ActuatorReader& reader);
+  // Its YAML keys besides name and link, declared once (configs/REFERENCE.md shows them).
+  static const config::KeyTable<Spec>& keys();
   static Runtime prepare(const Spec& spec, const ActuatorSetup& setup);
   // "" when controls[0] is finite and in [-1, 1], else why not ("setpoint[first] is NaN", ...).
   static std::string check(const Spec& spec, const double* controls, std::size_t first);

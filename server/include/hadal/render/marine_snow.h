@@ -20,16 +20,9 @@
 #include "hadal/core/parallel_for.h"
 #include "hadal/render/lens.h"
 #include "hadal/render/optics.h"
+#include "hadal/render/optics_spec.h"
 
 namespace hadal::render {
-
-struct MarineSnow {
-  double density_per_m3 = 0.0;  // particles per cubic metre; 0: none
-  double radius_m = 0.0015;     // mean particle radius (radii uniform in [0.5, 1.5] x this) [m]
-  double max_range_m = 4.0;     // particles drawn up to this distance from the camera [m]
-  double albedo = 0.7;
-  std::uint64_t seed = 0;
-};
 
 // Throws std::invalid_argument naming the field: density >= 0 (at most 1e5 /m^3), radius > 0, range > 0,
 // albedo in [0, 1].

@@ -28,20 +28,9 @@
 #include <vector>
 
 #include "hadal/render/fast_math.h"
+#include "hadal/render/optics_spec.h"
 
 namespace hadal::render {
-
-using Rgb = Eigen::Array3d;
-
-struct WaterOptics {
-  Rgb absorption_per_m = Rgb::Zero();  // a
-  Rgb scattering_per_m = Rgb::Zero();  // b
-  double phase_g = 0.924;              // Henyey–Greenstein asymmetry, -1 < g < 1
-  // Light scattered within this angle of forward still reaches the camera, blurred
-  // (render/forward_scatter.h); 0: none (the unscattered beam only). At most 30 deg.
-  double forward_scatter_max_angle_rad = 0.0;
-  Rgb attenuation_per_m() const { return absorption_per_m + scattering_per_m; }  // c
-};
 
 // A spot light: full radiant intensity inside inner_half_angle of its axis, none beyond
 // outer_half_angle, a smoothstep in the angle between (a soft beam edge).
@@ -72,17 +61,6 @@ struct LightBeam {
 void validate(const WaterOptics& water);
 void validate(const SpotLight& light);
 
-// Daylight: downwelling irradiance E0 [W/m^2] per channel just below the sea surface (z_W =
-// surface_z_m), decaying with depth by the diffuse attenuation Kd: E_d(z) = E0 exp(-Kd (surface_z - z)),
-// E0 above the surface. Its path radiance in the water is scattered from light travelling straight
-// down; surfaces receive it as from a uniformly bright upper hemisphere (below). Below a few hundred metres it is negligible (Kd >= 0.02 /m in every Jerlov
-// water type: exp(-0.02 * 1000) = 2e-9).
-struct Daylight {
-  Rgb surface_irradiance_W_per_m2 = Rgb::Zero();  // E0
-  Rgb Kd_per_m = Rgb::Zero();
-  double surface_z_m = 0.0;  // z_W of the sea surface [m]
-  Rgb irradiance_at(double z_W) const;
-};
 void validate(const Daylight& daylight);
 
 // Radiance reaching the camera from a Lambertian point lit by daylight: albedo / pi E_d(z) (1 + n_z) / 2

@@ -25,14 +25,9 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace hadal::render {
+#include "hadal/render/optics_spec.h"
 
-struct SedimentPattern {
-  double amplitude = 0.0;  // 0: uniform seabed; up to 1 (albedo from 0 to twice the mean)
-  double scale_m = 1.0;    // size of the largest patches [m]
-  int octaves = 4;         // 1..8
-  std::uint64_t seed = 0;
-};
+namespace hadal::render {
 
 // Throws std::invalid_argument naming the field: amplitude in [0, 1], scale > 0 and finite, octaves 1..8.
 void validate(const SedimentPattern& pattern);

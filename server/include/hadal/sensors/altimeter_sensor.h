@@ -36,7 +36,7 @@ struct AltimeterSensor {
     double max_range = 100.0;                  // [m]
     double noise_stddev = 0.01;                // white noise per sample [m]
     double resolution = 0.001;                 // quantisation step [m]; 0: none
-    double field_of_view = 6.0 * kPi / 180.0;  // full beam width, reported only [rad]
+    double field_of_view = 6.0 * kDegToRad;     // full beam width, reported only [rad]
   };
   struct State {
     NoiseChannelState noise;
@@ -46,8 +46,7 @@ struct AltimeterSensor {
   // The range channel at sample period `period` [s].
   static NoiseChannelParams channel(const Spec& spec, double period);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);

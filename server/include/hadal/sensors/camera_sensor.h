@@ -32,11 +32,14 @@
 #pragma once
 
 #include <cstdint>
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "hadal/core/units.h"
 #include "hadal/render/lens.h"
 #include "hadal/sensors/image_sensor.h"
 #include "hadal/sensors/sensor_kind.h"
@@ -74,12 +77,25 @@ struct CameraSensor {
   static constexpr bool kCastsRays = false;  // rendered on the workers
   static constexpr bool kCaptures = true;
 
+  // The calibration as the file gives it: a preset's name, or a field of view or fx, fy, cx, cy, a lens
+  // model and its distortion; then a downscale. The lens is made of it when the keys are read.
+  struct Calibration {
+    std::string preset;  // "": none
+    int width_px = 640;
+    int height_px = 480;
+    double hfov = 90.0 * kDegToRad;  // [rad]; used without fx, fy
+    std::optional<double> fx, fy, cx, cy;  // [px]
+    render::LensModel model = render::LensModel::kPinhole;
+    std::array<double, 5> distortion{};  // plumb_bob: k1, k2, p1, p2, k3; equidistant: k1, k2, k3, k4
+    double downscale = 1.0;
+  };
   struct Spec {
     using Kind = CameraSensor;
+    Calibration calibration;
     std::shared_ptr<const render::Lens> lens;  // the calibration and its ray table (shared, immutable)
     std::shared_ptr<const std::vector<float>> cos_theta;  // z_C of each pixel's ray (vignetting)
     // The backscatter table of the lights on the camera's own vehicle, kept from frame to frame
-    // (render/frame.h); shared by copies of the spec, rebuilt if its inputs change. Made by read() and
+    // (render/frame.h); shared by copies of the spec, rebuilt if its inputs change. Made with the lens by
     // set_lens(); without one, every frame makes its table.
     std::shared_ptr<render::BackscatterTableCache> backscatter_cache;
     double near_m = 0.1;
@@ -123,8 +139,7 @@ struct CameraSensor {
   };
   using Topics = TopicList<ImageRawTopic, DepthTopic, CameraInfoTopic>;
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);

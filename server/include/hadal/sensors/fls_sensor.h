@@ -103,8 +103,7 @@ struct FlsSensor {
   // render::SonarPingSpec::validate does.
   static void make_ping(Spec& spec);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);

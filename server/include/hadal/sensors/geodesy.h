@@ -15,17 +15,13 @@
 
 #include <memory>
 
+#include "hadal/sensors/geodetic_position.h"
+
 namespace GeographicLib {
 class LocalCartesian;
 }
 
 namespace hadal::sensors {
-
-struct GeodeticPosition {
-  double latitude_rad = 0.0;   // geodetic, [-pi/2, pi/2]
-  double longitude_rad = 0.0;  // (-pi, pi] from conversions
-  double height_m = 0.0;       // above the WGS84 ellipsoid
-};
 
 // ECEF (Earth-centred, Earth-fixed, WGS84) position of a geodetic one, and back.
 Eigen::Vector3d geodetic_to_ecef(const GeodeticPosition& position);

@@ -47,8 +47,7 @@ struct GpsSensor {
   // is a density sigma sqrt(period)).
   static NoiseTriadParams position_noise(const Spec& spec, double period);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);

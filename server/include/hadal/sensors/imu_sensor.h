@@ -8,12 +8,8 @@
 // the named thruster's rotor speed times its blade count, quantisation and range. Random streams:
 // channels "gyro" and "accel". No orientation estimate (orientation_covariance[0] = -1); covariances
 // N^2 rate_hz per axis from the white noise.
-// YAML keys (configs/REFERENCE.md): preset, gyro {arw_deg_per_sqrt_h, bias_instability_deg_per_h,
-// rrw_deg_per_h_per_sqrt_h, scale_factor_ppm, misalignment_deg, range_deg_per_s, resolution_deg_per_s},
-// accel {vrw_m_per_s_per_sqrt_h, bias_instability_mg, scale_factor_ppm, misalignment_deg, range_g,
-// resolution_mg}, white_noise_only, temperature {reference_degc, gyro_deg_per_h_per_degc,
-// accel_mg_per_degc}, vibration {thruster, blades, gyro_deg_per_s, accel_mg}. Data-sheet units are
-// converted on load with the IEEE 952 conversions of sensors/noise.h.
+// YAML keys: ImuSensor::keys() (server/src/sensors/imu_sensor.cc). Data-sheet units are converted on load
+// with the IEEE 952 conversions of sensors/noise.h.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,6 +29,23 @@ class ImuPubSubType;
 
 namespace hadal::sensors {
 
+// Figures as the data sheet gives them (0 = not listed). The accelerometer bias figure is used as its
+// bias instability.
+struct ImuDatasheet {
+  std::string_view id;      // preset key, e.g. "honeywell_hg1700"
+  std::string_view name;    // product
+  std::string_view source;  // where the figures come from
+  double gyro_arw_deg_per_sqrt_h = 0.0;
+  double gyro_bias_instability_deg_per_h = 0.0;
+  double gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
+  double gyro_scale_factor_ppm = 0.0;        // 1-sigma, drawn per run
+  double gyro_misalignment_rad = 0.0;        // 1-sigma, drawn per run
+  double accel_noise_density = 0.0;          // [m/s^2/sqrt(Hz)], from VRW or ug/sqrt(Hz)
+  double accel_bias_instability_mps2 = 0.0;  // [m/s^2]
+  double accel_scale_factor_ppm = 0.0;       // 1-sigma, drawn per run
+  double accel_range_mps2 = std::numeric_limits<double>::infinity();
+};
+
 struct ImuSensor {
   static constexpr std::string_view kType = "imu";
   static constexpr bool kCastsRays = false;
@@ -40,8 +53,20 @@ struct ImuSensor {
   using Message = sensor_msgs::msg::Imu;
   using PubSubType = sensor_msgs::msg::ImuPubSubType;
 
+  // The figures as the file gives them, in data-sheet units (a preset's, overridden key by key); the
+  // triads below are made of them when the keys are read.
+  struct Figures {
+    ImuDatasheet sheet;
+    double gyro_range_deg_per_s = 0.0;       // 0: unlimited
+    double gyro_resolution_deg_per_s = 0.0;  // 0: none
+    double accel_range_g = 0.0;              // 0: unlimited
+    double accel_resolution_mg = 0.0;        // 0: none
+    double accel_misalignment_deg = 0.0;     // 1-sigma, drawn per run
+    bool white_noise_only = false;           // keep only the white noise
+  };
   struct Spec {
     using Kind = ImuSensor;
+    Figures figures;
     NoiseTriadParams gyro;   // [rad/s]
     NoiseTriadParams accel;  // [m/s^2]
     double temperature_reference = 20.0;         // T_ref [degC]
@@ -59,8 +84,7 @@ struct ImuSensor {
     Eigen::Vector3d specific_force_S = Eigen::Vector3d::Zero();    // last sample [m/s^2]
   };
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
@@ -70,23 +94,6 @@ struct ImuSensor {
 // IMU data-sheet presets (docs/reference/sensors/imu_datasheet_figures.csv, rows not marked unverified;
 // each preset names its source)
 // ---------------------------------------------------------------------------------------------------
-
-// Figures as the data sheet gives them (0 = not listed). The accelerometer bias figure is used as its
-// bias instability.
-struct ImuDatasheet {
-  std::string_view id;      // preset key, e.g. "honeywell_hg1700"
-  std::string_view name;    // product
-  std::string_view source;  // where the figures come from
-  double gyro_arw_deg_per_sqrt_h = 0.0;
-  double gyro_bias_instability_deg_per_h = 0.0;
-  double gyro_rrw_deg_per_h_per_sqrt_h = 0.0;
-  double gyro_scale_factor_ppm = 0.0;        // 1-sigma, drawn per run
-  double gyro_misalignment_rad = 0.0;        // 1-sigma, drawn per run
-  double accel_noise_density = 0.0;          // [m/s^2/sqrt(Hz)], from VRW or ug/sqrt(Hz)
-  double accel_bias_instability_mps2 = 0.0;  // [m/s^2]
-  double accel_scale_factor_ppm = 0.0;       // 1-sigma, drawn per run
-  double accel_range_mps2 = std::numeric_limits<double>::infinity();
-};
 
 // HG1700, HG9900, Primus 200, STIM300 (10 g) and the Xsens MTi-300 noise densities (its bias figures
 // are unverified and left out); the KVH 1750 and iXblue rows are unverified and not presets.

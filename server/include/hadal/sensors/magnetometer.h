@@ -77,6 +77,7 @@
 #include <vector>
 
 #include "hadal/sensors/geodesy.h"
+#include "hadal/sensors/magnetic_dipole.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 
@@ -94,13 +95,7 @@ inline constexpr double kMu0Over4Pi = kVacuumPermeability / (4.0 * kPi);
 // is in that frame). Non-finite at r = 0.
 Eigen::Vector3d dipole_field_T(const Eigen::Vector3d& m_Am2, const Eigen::Vector3d& r_m);
 
-// A dipole D fixed in a frame F (F = B for hard iron in the vehicle, F = W for a wreck or pipeline).
-struct MagneticDipole {
-  Eigen::Vector3d p_FD = Eigen::Vector3d::Zero();  // position of D in F [m]
-  Eigen::Vector3d m_F = Eigen::Vector3d::Zero();   // moment expressed in F [A m^2]
-  double radius_m = 0.0;  // 0: point dipole; > 0: uniformly magnetised sphere (uniform field inside)
-};
-
+// A dipole D fixed in a frame F (sensors/magnetic_dipole.h).
 // Field [T] of one dipole at the point Q (p_FQ in F), expressed in F.
 Eigen::Vector3d dipole_field_T(const MagneticDipole& dipole_F, const Eigen::Vector3d& p_FQ);
 // Sum over dipoles, expressed in F.

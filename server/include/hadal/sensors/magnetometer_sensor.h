@@ -24,10 +24,6 @@ class MagneticField;
 class MagneticFieldPubSubType;
 }  // namespace sensor_msgs::msg
 
-namespace hadal::config {
-class Value;
-}
-
 namespace hadal::sensors {
 
 struct MagnetometerSensor {
@@ -48,15 +44,10 @@ struct MagnetometerSensor {
     Eigen::Vector3d B_S = Eigen::Vector3d::Zero();  // last sample [T]
   };
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
 };
-
-// A list of dipoles {position [m], moment [A m^2], radius [m]} in the frame the caller says (YAML:
-// world.magnetic_dipoles in W, a magnetometer's hard_iron in B); bad entries are reported and skipped.
-std::vector<MagneticDipole> read_dipoles(const config::Value& value);
 
 }  // namespace hadal::sensors

@@ -73,8 +73,7 @@ struct MultibeamSensor {
   static double beam_angle(const Spec& spec, int k);
   static void make_ping(Spec& spec);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);

@@ -46,8 +46,8 @@ struct ProfilerSensor {
   struct Spec {
     using Kind = ProfilerSensor;
     int beams = 256;
-    double fov = 120.0 * kPi / 180.0;        // whole fan [rad]
-    double beam_width = 0.5 * kPi / 180.0;   // in the fan's plane [rad]
+    double fov = 120.0 * kDegToRad;        // whole fan [rad]
+    double beam_width = 0.5 * kDegToRad;   // in the fan's plane [rad]
     int rays_per_beam = 10;
     double min_range = 0.5;     // [m]
     double max_range = 50.0;    // [m]
@@ -65,8 +65,7 @@ struct ProfilerSensor {
   // The range channel at scan period `period` [s].
   static NoiseChannelParams channel(const Spec& spec, double period);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static geometry::RayBatch capture_rays(const CaptureContext& context, const Spec& spec);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, const geometry::RayHits& hits);

@@ -9,8 +9,9 @@
 //   using Message, PubSubType;                 its ROS 2 message: the fastddsgen class and its type support
 //   struct Spec { using Kind = K; ... };       immutable, from YAML, SI (the model holds it)
 //   struct State { ... };                      what evolves: noise streams, biases, the last sample
-//   static const std::vector<std::string>& keys();              its YAML keys besides the common ones
-//   static Spec read(const SensorReader&);                      strict YAML, errors at file:line:col
+//   static const config::KeyTable<Spec, SensorReader>& keys();  its YAML keys besides the common ones,
+//                                                   each declared once (config/key_table.h): they read
+//                                                   the Spec, strictly, errors at file:line:col
 //   static State initial_state(const Spec&, const SensorSetup&);  turn-on draws of its noise
 //   static void sample(const SampleContext&, const Spec&, State&);  the ideal value, then the noise
 //   static void fill_message(const Spec&, const State&, const MessageHeader&, Message&);
@@ -62,9 +63,7 @@
 namespace hadal {
 struct Model;
 }
-namespace hadal::config {
-class MapReader;
-}
+#include "hadal/config/key_table_fwd.h"
 namespace hadal::geometry {
 class EmbreeScene;
 }
@@ -78,23 +77,16 @@ class LocalEnuFrame;
 struct GeodeticPosition;
 struct SampleContext;  // sensors/sample_context.h
 
-// What a kind's YAML reader gets besides its own map: the sensor entry (common keys already read and
-// checked), the vehicle's actuators' names and kinds in VehicleSpec::actuators order (a sensor may refer
-// to one; empty when the actuator list is unusable) and the sample rate, which a data-sheet preset may
-// set when the file does not.
+// What a kind's keys read with besides their map (the sensor entry, whose common keys are already read):
+// the vehicle's actuators' names and kinds in VehicleSpec::actuators order (a sensor may refer to one;
+// empty when the actuator list is unusable) and the sample rate, which a data-sheet preset may set when
+// the file does not.
 struct SensorReader {
-  const config::MapReader& map;
   const std::vector<std::string>& actuator_names;
   const std::vector<std::string>& actuator_types;  // e.g. "thruster"
   bool rate_given = false;  // rate_hz appears in the file
   double& rate_hz;          // [Hz]; a kind may set it when !rate_given
 };
-
-// The range window and per-sample figures of a range-finding kind (the altimeter, say), each read
-// where the map gives it and kept otherwise: min_range [m] >= 0, max_range [m] > 0 and > min_range,
-// noise_stddev [m] >= 0 (per sample), resolution [m] >= 0 (0: none). Errors at the offending key.
-void read_range_figures(const config::MapReader& map, double& min_range, double& max_range,
-                        double& noise_stddev, double& resolution);
 
 // Data shared by every sensor of a simulation that needs it, made on first use: the World Magnetic
 // Model and W as a local East-North-Up frame on WGS84 (world.origin; sensors/geodesy.h).

@@ -88,8 +88,7 @@ struct SidescanSensor {
   static void fill_side(const Spec& spec, const State& state, const MessageHeader& header, int side,
                         marine_acoustic_msgs::msg::RawSonarImage& msg);
 
-  static const std::vector<std::string>& keys();
-  static Spec read(const SensorReader& reader);
+  static const config::KeyTable<Spec, SensorReader>& keys();
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);

@@ -4,20 +4,7 @@
 // their common YAML keys, finds the water at the sonar, the backscatter of what a ray hit, runs a ping as a
 // capture's scene work and encodes intensities as image samples.
 //
-// Common YAML keys (configs/REFERENCE.md), defaults in brackets:
-//   frequency_hz (400e3)                 centre frequency: absorption (physics/seawater.h), PingInfo
-//   min_range, max_range [m] (0.5, 50)   the receive window; range bins of equal size over it
-//   bins (512)
-//   source_level_db (210)                dB re 1 uPa at 1 m
-//   noise_level_db (70)                  receiver noise per bin, dB re 1 uPa
-//   speckle (true), receiver_noise (true)
-//   spreading_db_per_decade (20)         one-way spreading N in TL = N log10 r + alpha r (20: spherical)
-//   tvg_db_per_decade (30), tvg_absorption (true)   the time-varied gain N_tvg log10 r + 2 alpha r
-// rate_hz may not exceed the two-way travel limit 1600 / (2 max_range) (a ping's echoes must be in before the
-// next ping; 1600 m/s bounds the sound speed in seawater).
-// Image kinds (fls, sidescan) also read image_dtype: uint8 | float32 (uint8): float32 samples are the received
-// intensity after TVG [uPa^2, linear]; uint8 samples map its level 10 log10(I) linearly from
-// display_min_db (0) to display_max_db (255), clipped (defaults 100 and 170 dB re 1 uPa).
+// Their common keys are declared once in sensors/sonar_keys.h.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -58,20 +45,6 @@ struct SonarAcoustics {
   bool tvg_absorption = true;
 };
 
-// The common keys above (without image_dtype and the display window).
-const std::vector<std::string>& sonar_acoustic_keys();
-// Reads them where given into `acoustics` (a preset's values otherwise), and checks the window and the ping
-// rate; errors at their keys. False when the window is unusable (no ping can be made of it).
-bool read_sonar_acoustics(const SensorReader& reader, SonarAcoustics& acoustics);
-// The index of the preset the map's `preset` key names among `names`, or -1 (absent, or reported as unknown with
-// the list of presets, "unknown <what> preset 'x' (presets: ...)").
-int read_preset_index(const config::MapReader& map, const std::vector<std::string_view>& names, const std::string& what);
-// The end of a sonar kind's read(), after its own keys: the common keys (read_sonar_acoustics), the image
-// encoding's when `encoding` is given, then `make_ping` (the kind's, filling its spec's ping) unless the window
-// is unusable (already reported); a ping spec it cannot make (std::invalid_argument) is an error at the
-// sensor's map.
-void read_sonar_common(const SensorReader& reader, SonarAcoustics& acoustics, SonarImageEncoding* encoding,
-                       const std::function<void()>& make_ping);
 // The key of a sonar's echo streams (jitter, speckle, noise): channel "echo" of the sensor.
 std::uint64_t sonar_noise_key(const SensorSetup& setup);
 // The ping spec's range window, bins, levels, noise switches, spreading and TVG from `acoustics`.
@@ -89,8 +62,6 @@ struct SonarImageEncoding {
   // window as uint8 encodes it (for people: previews, figures).
   std::uint8_t grey(const std::uint8_t* sample) const;
 };
-const std::vector<std::string>& sonar_image_keys();  // image_dtype, display_min_db, display_max_db
-void read_sonar_image_encoding(const config::MapReader& map, SonarImageEncoding& encoding);
 // SonarImageData: little-endian, dtype UINT8 or FLOAT32, beam_count, data.
 void fill_sonar_image_data(const SonarImageEncoding& encoding, std::uint32_t beam_count,
                            const std::vector<std::uint8_t>& data, marine_acoustic_msgs::msg::SonarImageData& out);

@@ -1,0 +1,110 @@
+// A vehicle's link as a scenario describes it (YAML: a vehicle definition's `links`): mass properties,
+// collision shapes, buoyancy, the surface from a mesh file, how it looks and sounds. Links are rigidly
+// attached to the vehicle's body frame B. The keys are declared once in geometry::link_keys()
+// (server/src/geometry/link_spec.cc); configs/REFERENCE.md shows them.
+//
+// Frames: B vehicle body, L link, G collision geometry, M a mesh file's frame, P a checkerboard's.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hadal/config/key_table_fwd.h"
+#include "hadal/geometry/mesh_import.h"
+#include "hadal/geometry/triangle_mesh.h"
+
+namespace hadal {
+
+namespace config {
+struct VehicleContext;
+}
+
+enum class CollisionShapeType { kBox, kSphere, kCylinder, kCapsule };
+
+// A collision primitive attached to a link. Cylinders and capsules have their axis along G's z axis
+// (as SDF/URDF); `length` is the length of the cylindrical part (a capsule's total length is
+// length + 2 radius).
+struct CollisionShape {
+  CollisionShapeType type = CollisionShapeType::kBox;
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  // full extents along G's x, y, z [m]
+  double radius = 0.0;                                 // sphere, cylinder, capsule [m]
+  double length = 0.0;                                 // cylinder, capsule [m]
+  Eigen::Isometry3d X_LG = Eigen::Isometry3d::Identity();
+};
+
+// Lumped buoyancy of a link: the displaced volume of the fully submerged link and the centre of
+// buoyancy (centroid of that volume).
+struct BuoyancySpec {
+  double volume = 0.0;                          // [m^3]
+  Eigen::Vector3d p_LCb = Eigen::Vector3d::Zero();  // centre of buoyancy in L [m]
+};
+
+// The surface of a link from a mesh file (YAML link.mesh), with its vertices in L. Used for mass
+// properties (with link.density), default buoyancy (closed meshes) and, later, ray casts and
+// surface hydrodynamics.
+struct LinkMesh {
+  std::string file;  // resolved path
+  geometry::ImportOptions import;
+  Eigen::Isometry3d X_LM = Eigen::Isometry3d::Identity();  // pose of the file's frame in L
+  std::shared_ptr<const geometry::TriangleMesh> mesh;      // vertices in L [m]
+  bool closed = false;                                     // watertight and consistently oriented
+  double volume = 0.0;                                     // enclosed volume (closed meshes) [m^3]
+  Eigen::Vector3d p_LMc = Eigen::Vector3d::Zero();         // centroid of that volume in L [m]
+  Eigen::Matrix3d I_unit_density = Eigen::Matrix3d::Zero();  // of that volume about p_LMc, density 1 [m^5]
+  std::size_t boundary_edges = 0;                            // edges of one triangle only (0: closed)
+};
+
+// How cameras see a link's surface (render/frame.h): a uniform albedo, optionally painted with a
+// checkerboard (a calibration target) in the x-y plane of a pattern frame P: squares of square_size
+// along x_P (columns) and y_P (rows) from P's origin, square (0, 0) dark, then alternating; points
+// outside the pattern keep `albedo` (the target's white border). The pattern is painted by (x_P, y_P)
+// through the link's whole depth (a thin board shows it on both faces).
+struct CheckerboardSpec {
+  int columns = 0;           // squares along x_P
+  int rows = 0;              // squares along y_P
+  double square_size = 0.0;  // [m]
+  Eigen::Isometry3d X_LP = Eigen::Isometry3d::Identity();
+  Eigen::Array3d dark_albedo = Eigen::Array3d::Constant(0.03);
+};
+struct AppearanceSpec {
+  std::optional<Eigen::Array3d> albedo;  // per channel (R, G, B); none: world.optics.vehicle_albedo
+  // Lambert's backscatter parameter mu [dB] for sonars (render/sonar.h); none: world.acoustics.vehicle_backscatter_db
+  std::optional<double> backscatter_db;
+  std::optional<CheckerboardSpec> checkerboard;
+};
+
+struct LinkSpec {
+  std::string name;
+  double mass = 0.0;                                      // [kg], > 0
+  double density = 0.0;  // [kg/m^3] the mass properties are the closed mesh's at this density; 0: given
+  Eigen::Matrix3d I_LLcm_L = Eigen::Matrix3d::Identity();  // L about its centre of mass Lcm, L axes [kg m^2]
+  Eigen::Vector3d p_LLcm = Eigen::Vector3d::Zero();       // centre of mass in L [m]
+  Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();  // link frame in the vehicle body frame
+  std::vector<CollisionShape> collisions;
+  BuoyancySpec buoyancy;
+  std::optional<LinkMesh> mesh;
+  // How the link looks to ray casts (cameras, DVL and altimeter beams, geometry/world_scene.h), in place
+  // of its surface there (YAML link.visual): a detailed model over simple physics. The physics --
+  // fluid forces, soil, Bullet -- keeps `mesh` or `collisions`.
+  std::optional<LinkMesh> visual;
+  AppearanceSpec appearance;
+
+  // The mesh ray casts see: `visual`, else `mesh` (null: the collision shapes, or nothing).
+  const LinkMesh* seen_mesh() const {
+    if (visual && visual->mesh) return &*visual;
+    return mesh && mesh->mesh ? &*mesh : nullptr;
+  }
+};
+
+namespace geometry {
+// The keys of one entry of `links`. Reading imports the link's meshes and computes what they give (mass
+// properties with `density`, buoyancy of a closed mesh).
+const config::KeyTable<LinkSpec, config::VehicleContext>& link_keys();
+}  // namespace geometry
+
+}  // namespace hadal

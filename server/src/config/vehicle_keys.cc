@@ -1,0 +1,314 @@
+#include "hadal/config/vehicle_keys.h"
+
+#include <utility>
+
+#include "hadal/geometry/primitive_mesh.h"
+#include "hadal/physics/control_vector.h"
+
+namespace hadal::config {
+namespace {
+
+// The path of the map holding `value` (the entry a name belongs to).
+std::string owner_path(const Value& value) { return value.path().substr(0, value.path().rfind('.')); }
+
+bool read_name(const Value& value, const std::string& what, VehicleContext& context, std::string* name) {
+  return read_unique_name(value, what, owner_path(value), context, name);
+}
+
+constexpr const char* kNameSchema = R"({"type": "string", "minLength": 1})";
+
+// --- sensors -------------------------------------------------------------------------------------------
+
+struct SensorEntry {
+  SensorSpec spec;
+  std::size_t kind = 0;  // index into sensors::SensorKinds
+};
+
+const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
+  static const KeyTable<SensorEntry, VehicleContext> table = [] {
+    KeyTable<SensorEntry, VehicleContext> t("sensors[]",
+                                            "a sensor on a link, published on rt/<vehicle>/<name> at rate_hz in sim "
+                                            "time: the common keys, then those of its type");
+    t.custom("name", [](const Value& v, SensorEntry& e, VehicleContext& c) { return read_name(v, "sensor", c, &e.spec.name); },
+             kNameSchema, "string")
+        .required()
+        .doc("unique in the vehicle; the topic's last part");
+    std::vector<KeyTable<SensorEntry, VehicleContext>::Named<std::size_t>> types;
+    std::vector<std::string> captured;
+    sensors::SensorKinds::for_each([&](auto tag) {
+      using Kind = typename decltype(tag)::type;
+      types.push_back({std::string(Kind::kType), types.size()});
+      if (Kind::kCaptures) captured.emplace_back(Kind::kType);
+    });
+    t.choice("type", &SensorEntry::kind, types).required().selects("sensor type").doc("the sensor's kind");
+    t.custom(
+         "link",
+         [](const Value& v, SensorEntry& e, VehicleContext& c) {
+           const auto index = read_link_reference(v, c.link_names);
+           if (index) e.spec.link_index = *index;
+           return index.has_value() || !c.link_names;
+         },
+         kNameSchema, "string")
+        .default_text("the base link")
+        .doc("a link of this vehicle");
+    t.pose("pose", [](SensorEntry& e) -> Eigen::Isometry3d& { return e.spec.X_LS; }).doc("mounting pose X_LS in the link frame");
+    t.rate_hz("rate_hz", [](SensorEntry& e) -> double& { return e.spec.rate_hz; })
+        .doc("samples per second of sim time (a preset may set it when not given)");
+    t.string("frame_id", [](SensorEntry& e) -> std::string& { return e.spec.frame_id; }).default_text("`<vehicle>/<name>`")
+        .doc("header.frame_id of the samples");
+    t.number("latency_s", [](SensorEntry& e) -> double& { return e.spec.latency_s; }).only_for(captured).unit("s")
+        .range(Range::closed(0.0, 10.0))
+        .doc("from a capture to its publication, rounded up to whole physics steps");
+    t.unused_note([](const MapReader&, const SensorEntry&) -> std::string {
+      return " (it samples on the stepping thread, without latency)";
+    });
+    sensors::SensorKinds::for_each([&](auto tag) {
+      using Kind = typename decltype(tag)::type;
+      using Spec = typename Kind::Spec;
+      t.variant(std::string(Kind::kType), Kind::keys(),
+                [](const MapReader& map, const KeyTable<Spec, sensors::SensorReader>& kind, SensorEntry& e,
+                   VehicleContext& c) {
+                  Spec spec = kind.defaults();
+                  sensors::SensorReader reader{c.actuator_names, c.actuator_types, map.has("rate_hz"), e.spec.rate_hz};
+                  const bool ok = kind.read_map(map, &spec, reader);
+                  e.spec.kind = std::move(spec);
+                  return ok;
+                });
+    });
+    return t;
+  }();
+  return table;
+}
+
+// --- actuators -----------------------------------------------------------------------------------------
+
+template <class Kind>
+const KeyTable<ActuatorSpec, VehicleContext>& actuator_entry_keys() {
+  static const KeyTable<ActuatorSpec, VehicleContext> table = [] {
+    KeyTable<ActuatorSpec, VehicleContext> t(std::string(Kind::kListKey) + "[]", Kind::keys().doc().title);
+    t.custom("name",
+             [](const Value& v, ActuatorSpec& a, VehicleContext& c) { return read_name(v, std::string(Kind::kType), c, &a.name); },
+             kNameSchema, "string")
+        .required()
+        .doc("unique among the vehicle's actuators");
+    t.custom(
+         "link",
+         [](const Value& v, ActuatorSpec& a, VehicleContext& c) {
+           const auto index = read_link_reference(v, c.link_names);
+           if (index) a.link_index = *index;
+           return index.has_value() || !c.link_names;
+         },
+         kNameSchema, "string")
+        .required()
+        .doc("the link it is mounted on");
+    using Spec = typename Kind::Spec;
+    t.part(Kind::keys(), [](const MapReader& map, const KeyTable<Spec>& kind, ActuatorSpec& a, VehicleContext&) {
+      Spec spec = kind.defaults();
+      NoContext none;
+      const bool ok = kind.read_map(map, &spec, none);
+      a.kind = std::move(spec);
+      return ok;
+    });
+    return t;
+  }();
+  return table;
+}
+
+// One actuator kind's list: appended to the definition's actuators, its controls to the control vector.
+template <class Kind>
+bool read_actuator_list(const Value& value, VehicleDefinition& d, VehicleContext& c) {
+  const auto items = value.list();
+  if (!items) {
+    d.control_count.reset();
+    d.control_names.reset();
+    return false;
+  }
+  if (d.control_count) *d.control_count += items->size() * Kind::kControls;
+  std::swap(c.names_taken, c.actuator_names_taken);  // unique across every actuator list
+  bool ok = true;
+  for (const Value& item : *items) {
+    ActuatorSpec actuator;
+    ok &= actuator_entry_keys<Kind>().read(item, &actuator, c);
+    if (!actuator.name.empty() && d.control_names) {
+      for (std::size_t k = 0; k < Kind::kControls; ++k) {
+        d.control_names->push_back(Kind::kControls == 1 ? actuator.name : actuator.name + "[" + std::to_string(k) + "]");
+      }
+      d.actuator_names.push_back(actuator.name);
+      d.actuator_types.emplace_back(Kind::kType);
+    } else {
+      d.control_names.reset();
+    }
+    d.actuators.push_back(std::move(actuator));
+  }
+  std::swap(c.names_taken, c.actuator_names_taken);
+  return ok;
+}
+
+// What the sensors and lights of a definition refer to: its links and actuators.
+void refer_to(const VehicleDefinition& d, VehicleContext& c) {
+  c.link_names = d.link_names;
+  c.actuator_names = d.control_names ? d.actuator_names : std::vector<std::string>();
+  c.actuator_types = d.control_names ? d.actuator_types : std::vector<std::string>();
+}
+
+}  // namespace
+
+const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
+  static const KeyTable<VehicleDefinition, VehicleContext> table = [] {
+    KeyTable<VehicleDefinition, VehicleContext> t("vehicle",
+                                                  "a vehicle definition: a vehicle file, or inline in a vehicle entry");
+    t.choice("type", &VehicleDefinition::type,
+             {{"auv", VehicleType::kAuv},
+              {"rov", VehicleType::kRov},
+              {"lander", VehicleType::kLander},
+              {"surface_vessel", VehicleType::kSurfaceVessel},
+              {"glider", VehicleType::kGlider},
+              {"crawler", VehicleType::kCrawler}})
+        .required()
+        .unless("include")
+        .doc("the vehicle's class, a label for tools and logs; what it does comes from its links, actuators and sensors");
+    t.choice("seabed_contact", &VehicleDefinition::seabed_contact,
+             {{"rigid", SeabedContact::kRigid, "Bullet's rigid contact of the collision shapes (friction 0.4, no bounce)"},
+              {"soil", SeabedContact::kSoil,
+               "world.soil presses and shears every face of the surface that sinks into the seabed, instead of Bullet"}})
+        .unless("include")
+        .doc("how the vehicle meets the seabed; soil needs a link with a mesh or collision shapes");
+    t.list("links", &VehicleDefinition::links, geometry::link_keys())
+        .required()
+        .unless("include")
+        .min_items(1)
+        .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+          const auto items = value.list();
+          if (!items) return false;
+          bool ok = true;
+          if (items->empty()) {
+            value.error("must not be empty (links[0] is the base link)");
+            ok = false;
+          }
+          d.link_names.emplace();
+          c.names_taken.clear();
+          for (const Value& item : *items) {
+            LinkSpec link = geometry::link_keys().defaults();
+            ok &= geometry::link_keys().read(item, &link, c);
+            if (!link.name.empty() && d.link_names) {
+              d.link_names->push_back(link.name);
+            } else {
+              d.link_names.reset();
+            }
+            d.links.push_back(std::move(link));
+          }
+          c.link_names = d.link_names;
+          return ok;
+        })
+        .doc("rigid bodies; links[0] is the base link, all are rigidly attached to B");
+    physics::ActuatorKinds::for_each([&](auto tag) {
+      using Kind = typename decltype(tag)::type;
+      t.custom(std::string(Kind::kListKey), read_actuator_list<Kind>, "", "list of maps")
+          .items_of(actuator_entry_keys<Kind>())
+          .unless("include")
+          .doc(std::string("the vehicle's ") + std::string(Kind::kType) + " actuators; their controls follow in the " +
+               "control vector, kinds in this order, each in list order");
+    });
+    t.custom(
+         "sensors",
+         [](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+           const auto items = value.list();
+           if (!items) return false;
+           refer_to(d, c);
+           c.names_taken.clear();
+           for (const SensorSpec& sensor : d.sensors) c.names_taken.emplace(sensor.name, d.source_file);
+           bool ok = true;
+           for (const Value& item : *items) {
+             SensorEntry entry;
+             ok &= sensor_entry_keys().read(item, &entry, c);
+             d.sensors.push_back(std::move(entry.spec));
+           }
+           return ok;
+         },
+         "", "list of maps")
+        .items_of(sensor_entry_keys())
+        .doc("sensors, each published on rt/<vehicle>/<name>");
+    t.list("lights", &VehicleDefinition::lights, render::light_keys())
+        .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+          const auto items = value.list();
+          if (!items) return false;
+          refer_to(d, c);
+          c.names_taken.clear();
+          for (const LightSpec& light : d.lights) c.names_taken.emplace(light.name, d.source_file);
+          bool ok = true;
+          for (const Value& item : *items) {
+            LightSpec light = render::light_keys().defaults();
+            ok &= render::light_keys().read(item, &light, c);
+            d.lights.push_back(std::move(light));
+          }
+          return ok;
+        })
+        .doc("spot lights that cameras see by");
+    t.map("fluid", &VehicleDefinition::fluid, physics::fluid_keys())
+        .unless("include")
+        .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+          d.fluid = physics::default_fluid(d.links);
+          c.links = &d.links;
+          return physics::fluid_keys().read(value, &d.fluid, c);
+        })
+        .default_text("`surface` with added mass fitted to the hull, or `lumped` without link geometry")
+        .doc("the fluid model");
+    t.check([](const KeyReads& reads, VehicleDefinition& d, VehicleContext&) {
+      if (!reads.has("fluid")) d.fluid = physics::default_fluid(d.links);
+      if (d.seabed_contact == SeabedContact::kSoil && !d.links.empty() && !geometry::has_surface_geometry(d.links)) {
+        reads.error_at_key("seabed_contact",
+                           "soil contact presses on the vehicle's surface, and no link has a mesh or collision shapes");
+        return false;
+      }
+      return true;
+    });
+    return t;
+  }();
+  return table;
+}
+
+const KeyTable<SetpointKeyframe>& keyframe_keys() {
+  static const KeyTable<SetpointKeyframe> table = [] {
+    KeyTable<SetpointKeyframe> t("schedule[]",
+                                 "from time_s on (zero-order hold), the vehicle's actuators take `setpoints`");
+    t.number("time_s", &SetpointKeyframe::time).required().unit("s").range(Range::non_negative())
+        .rule("strictly increasing along the list").doc("sim time");
+    t.numbers(
+         "setpoints", 0, [](SetpointKeyframe& k, const std::vector<double>& v) { k.setpoints = v; }, nullptr)
+        .required()
+        .range(Range::closed(-1.0, 1.0))
+        .rule("one per control, passing its actuator's own check")
+        .doc("the vehicle's control vector, in control-vector order");
+    return t;
+  }();
+  return table;
+}
+
+const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
+  static const KeyTable<VehicleSpec, LoadContext> table = [] {
+    KeyTable<VehicleSpec, LoadContext> t("vehicles[]",
+                                         "a vehicle: its definition either from `include` (which the entry may extend "
+                                         "with sensors and lights) or inline, where it starts, its rates and schedule");
+    t.string("name", &VehicleSpec::name).required().read_elsewhere()
+        .rule("[A-Za-z][A-Za-z0-9_]*, unique").doc("a topic segment: rt/<name>/...");
+    t.string("include", &VehicleSpec::source_file).read_elsewhere()
+        .doc("a vehicle file, relative to this file; not with the inline definition keys but sensors and lights");
+    t.pose("initial_pose", &VehicleSpec::X_WB_initial).doc("X_WB at t = 0");
+    t.vector("initial_velocity", &VehicleSpec::v_WB_initial).unit("m/s").doc("v_WB in W");
+    t.vector("initial_angular_velocity", &VehicleSpec::w_WB_initial).unit("rad/s").range(Range::closed(-100.0, 100.0))
+        .doc("w_WB in W (a tumbling calibration target, say)");
+    t.number("command_timeout_s", &VehicleSpec::command_timeout).unit("s").range(Range::positive())
+        .doc("the actuators stop when no command arrives for this long (sim time)");
+    t.rate_hz("odometry_rate_hz", &VehicleSpec::odometry_rate_hz).doc("rate of rt/<vehicle>/odometry");
+    t.rate_hz("thruster_state_rate_hz", &VehicleSpec::thruster_state_rate_hz)
+        .doc("rate of every actuator kind's state topic");
+    t.list("schedule", &VehicleSpec::schedule, keyframe_keys()).read_elsewhere()
+        .doc("an open-loop schedule that drives the vehicle until a client first commands it; before its first "
+             "keyframe the setpoints are zero");
+    t.part(definition_keys());  // read by the scenario loader, which resolves `include`
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace hadal::config

@@ -1,0 +1,299 @@
+#include "hadal/geometry/link_spec.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "hadal/config/key_table.h"
+#include "hadal/config/vehicle_context.h"
+#include "hadal/geometry/mesh_properties.h"
+#include "hadal/geometry/mesh_transform.h"
+
+namespace hadal::geometry {
+namespace {
+
+using config::KeyReads;
+using config::KeyTable;
+using config::NoContext;
+using config::Range;
+using config::Value;
+using config::VehicleContext;
+
+// Inertia tensors typed by hand are rounded to 3-4 digits; a 0.1 % tolerance on the triangle inequality
+// still admits the limiting cases (thin rod, flat plate) written that way.
+constexpr double kTriangleRelativeTolerance = 1e-3;
+
+struct Inertia {
+  double ixx = 0.0, iyy = 0.0, izz = 0.0, ixy = 0.0, ixz = 0.0, iyz = 0.0;
+};
+
+const KeyTable<Inertia>& inertia_keys() {
+  static const KeyTable<Inertia> table = [] {
+    KeyTable<Inertia> t("links[].inertia",
+                        "I_LLcm_L about the centre of mass in L's axes, tensor entries as URDF/SDF; positive definite, "
+                        "principal moments obeying A + B >= C");
+    using Field = std::pair<const char*, double Inertia::*>;
+    for (const Field& f : {Field{"ixx", &Inertia::ixx}, Field{"iyy", &Inertia::iyy}, Field{"izz", &Inertia::izz}}) {
+      t.number(f.first, f.second).required().unit("kg m²").range(Range::positive()).doc("moment");
+    }
+    for (const Field& f : {Field{"ixy", &Inertia::ixy}, Field{"ixz", &Inertia::ixz}, Field{"iyz", &Inertia::iyz}}) {
+      t.number(f.first, f.second).unit("kg m²").doc("product");
+    }
+    return t;
+  }();
+  return table;
+}
+
+// A physical body has a positive-definite I whose principal moments satisfy the triangle inequalities
+// A + B >= C (because A + B - C = 2 * integral of z^2 dm).
+bool read_inertia(const Value& value, LinkSpec& link, VehicleContext&) {
+  Inertia in;
+  if (!inertia_keys().read(value, &in)) return false;
+  Eigen::Matrix3d I;
+  I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
+  if (!(moments.minCoeff() > 0.0)) {
+    value.error("must be positive definite (principal moments " + config::format_approximate(moments[0]) + ", " +
+                config::format_approximate(moments[1]) + ", " + config::format_approximate(moments[2]) + ")");
+    return false;
+  }
+  const double tolerance = kTriangleRelativeTolerance * moments.maxCoeff();
+  // Diagonal entries obey the inequalities in any axes, so check them first for a readable message.
+  const struct {
+    double a, b, c;
+    const char* text;
+  } diagonal_checks[] = {{in.ixx, in.iyy, in.izz, "ixx + iyy >= izz"},
+                         {in.iyy, in.izz, in.ixx, "iyy + izz >= ixx"},
+                         {in.izz, in.ixx, in.iyy, "izz + ixx >= iyy"}};
+  for (const auto& check : diagonal_checks) {
+    if (check.a + check.b < check.c - tolerance) {
+      value.error(std::string("violates the triangle inequality ") + check.text + " (" + config::format_number(check.a) +
+                  " + " + config::format_number(check.b) + " < " + config::format_number(check.c) + ")");
+      return false;
+    }
+  }
+  // Eigenvalues are sorted ascending: the binding inequality is m0 + m1 >= m2.
+  if (moments[0] + moments[1] < moments[2] - tolerance) {
+    value.error("violates the triangle inequality for principal moments (" + config::format_approximate(moments[0]) +
+                " + " + config::format_approximate(moments[1]) + " < " + config::format_approximate(moments[2]) + ")");
+    return false;
+  }
+  link.I_LLcm_L = I;
+  return true;
+}
+
+const KeyTable<CollisionShape>& collision_keys() {
+  static const KeyTable<CollisionShape> table = [] {
+    KeyTable<CollisionShape> t("links[].collisions[]",
+                               "a collision primitive; cylinders and capsules have their axis along G's z");
+    t.choice("shape", &CollisionShape::type,
+             {{"box", CollisionShapeType::kBox},
+              {"sphere", CollisionShapeType::kSphere},
+              {"cylinder", CollisionShapeType::kCylinder},
+              {"capsule", CollisionShapeType::kCapsule}})
+        .required()
+        .selects("shape")
+        .doc("the primitive");
+    t.vector("size", &CollisionShape::box_size).only_for({"box"}).required_for({"box"}).unit("m")
+        .range(Range::positive()).doc("full extents along G's x, y, z");
+    t.number("radius", &CollisionShape::radius).only_for({"sphere", "cylinder", "capsule"})
+        .required_for({"sphere", "cylinder", "capsule"}).unit("m").range(Range::positive()).doc("radius");
+    t.number("length", &CollisionShape::length).only_for({"cylinder", "capsule"})
+        .required_for({"cylinder", "capsule"}).unit("m").range(Range::positive())
+        .doc("length of the cylindrical part (a capsule's total length is length + 2 radius)");
+    t.pose("pose", &CollisionShape::X_LG).doc("X_LG, the shape's frame G in L");
+    return t;
+  }();
+  return table;
+}
+
+const KeyTable<LinkMesh>& link_mesh_keys() {
+  static const KeyTable<LinkMesh> table = [] {
+    KeyTable<LinkMesh> t("links[].mesh", "a mesh file: GLB, glTF (+ .bin), OBJ, STL");
+    t.file("file", &LinkMesh::file).required().doc("the mesh file");
+    t.number("scale", [](LinkMesh& m) -> double& { return m.import.scale; }).range(Range::positive())
+        .doc("file units to metres");
+    t.choice("up_axis", [](LinkMesh& m) -> UpAxis& { return m.import.up_axis; },
+             {{"z", UpAxis::kZ}, {"y", UpAxis::kY, "glTF's convention, rotated +90° about x into z up"}})
+        .doc("the file's up axis");
+    t.pose("pose", &LinkMesh::X_LM).doc("pose of the file's frame in L");
+    return t;
+  }();
+  return table;
+}
+
+// A link's mesh: the file imported into L, with its volume properties. `volume_matters`: a hull's (a
+// closed mesh oriented inward is an error), not a visual's (open meshes welcome).
+bool read_link_mesh(const Value& value, std::optional<LinkMesh>& out, bool volume_matters) {
+  LinkMesh link_mesh;
+  if (!link_mesh_keys().read(value, &link_mesh)) return false;
+  ImportResult imported = import_mesh(link_mesh.file, link_mesh.import);
+  if (!imported.mesh) {
+    const YAML::Node file = value.node()["file"];
+    value.in_same_file(file, config::child_path(value.path(), "file"), file.Mark()).error(imported.error);
+    return false;
+  }
+  TriangleMesh& mesh = *imported.mesh;
+  transform_mesh(link_mesh.X_LM, &mesh);
+  const MeshProperties properties = compute_mesh_properties(mesh);
+  link_mesh.closed = properties.closed;
+  link_mesh.volume = properties.volume;
+  link_mesh.p_LMc = properties.centroid;
+  link_mesh.I_unit_density = properties.inertia_unit_density;
+  link_mesh.boundary_edges = properties.boundary_edges;
+  link_mesh.mesh = std::make_shared<const TriangleMesh>(std::move(mesh));
+  if (volume_matters && properties.closed && !(properties.volume > 0.0)) {
+    value.error("mesh " + config::quoted(value.node()["file"].Scalar()) + " encloses a volume of " +
+                config::format_approximate(properties.volume) + " m^3 (faces oriented inward?)");
+    return false;
+  }
+  out = std::move(link_mesh);
+  return true;
+}
+
+const KeyTable<BuoyancySpec>& buoyancy_keys() {
+  static const KeyTable<BuoyancySpec> table = [] {
+    KeyTable<BuoyancySpec> t("links[].buoyancy", "lumped buoyancy: the displaced volume of the submerged link");
+    t.number("volume", &BuoyancySpec::volume).required().unit("m³").range(Range::non_negative()).doc("displaced volume");
+    t.vector("center", &BuoyancySpec::p_LCb).unit("m").doc("centre of buoyancy in L");
+    return t;
+  }();
+  return table;
+}
+
+const KeyTable<CheckerboardSpec>& checkerboard_keys() {
+  static const KeyTable<CheckerboardSpec> table = [] {
+    KeyTable<CheckerboardSpec> t("links[].appearance.checkerboard",
+                                 "a calibration target: squares along x_P and y_P from P's origin, square (0, 0) "
+                                 "dark, painted through the link's depth");
+    t.custom(
+         "squares",
+         [](const Value& value, CheckerboardSpec& board, NoContext&) {
+           const auto counts = value.numbers(2, Range::closed(2.0, 1000.0));
+           if (!counts) return false;
+           if ((*counts)[0] != std::floor((*counts)[0]) || (*counts)[1] != std::floor((*counts)[1])) {
+             value.error("must be two whole numbers [columns, rows] (got [" + config::format_number((*counts)[0]) +
+                         ", " + config::format_number((*counts)[1]) + "])");
+             return false;
+           }
+           board.columns = static_cast<int>((*counts)[0]);
+           board.rows = static_cast<int>((*counts)[1]);
+           return true;
+         },
+         R"({"type": "array", "items": {"type": "integer", "minimum": 2, "maximum": 1000}, "minItems": 2, "maxItems": 2})",
+         "2 integers")
+        .required()
+        .rule("whole numbers in [2, 1000]")
+        .doc("[columns, rows]");
+    t.number("square_size", &CheckerboardSpec::square_size).required().unit("m").range(Range::positive())
+        .doc("side of a square");
+    t.vector("dark_albedo", &CheckerboardSpec::dark_albedo).range(Range::closed(0.0, 1.0)).doc("of the dark squares");
+    t.pose("pose", &CheckerboardSpec::X_LP).doc("the pattern frame P in L");
+    return t;
+  }();
+  return table;
+}
+
+const KeyTable<AppearanceSpec>& appearance_keys() {
+  static const KeyTable<AppearanceSpec> table = [] {
+    KeyTable<AppearanceSpec> t("links[].appearance", "how cameras see the link and sonars hear it");
+    t.vector("albedo", &AppearanceSpec::albedo).range(Range::closed(0.0, 1.0))
+        .default_text("a mesh's glTF base colours, else `world.optics.vehicle_albedo`")
+        .doc("per channel; replaces the mesh's colours");
+    t.map("checkerboard", &AppearanceSpec::checkerboard, checkerboard_keys())
+        .doc("a checkerboard painted on the link; outside it the link keeps `albedo`");
+    t.number("backscatter_db", &AppearanceSpec::backscatter_db).unit("dB").range(Range::closed(-80.0, 0.0))
+        .default_text("`world.acoustics.vehicle_backscatter_db`").doc("Lambert's mu for sonars");
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+const KeyTable<LinkSpec, VehicleContext>& link_keys() {
+  static const KeyTable<LinkSpec, VehicleContext> table = [] {
+    KeyTable<LinkSpec, VehicleContext> t("links[]", "a rigid body of the vehicle, rigidly attached to B");
+    t.custom(
+         "name",
+         [](const Value& value, LinkSpec& link, VehicleContext& context) {
+           const std::string owner = value.path().substr(0, value.path().rfind('.'));
+           return config::read_unique_name(value, "link", owner, context, &link.name);
+         },
+         R"({"type": "string", "minLength": 1})", "string")
+        .required()
+        .doc("unique within the vehicle");
+    t.pose("pose", &LinkSpec::X_BL).doc("X_BL, the link frame L in B");
+    t.custom(
+         "mesh", [](const Value& value, LinkSpec& link, VehicleContext&) { return read_link_mesh(value, link.mesh, true); },
+         "", "map")
+        .keys_of(link_mesh_keys())
+        .doc("the link's surface from a mesh file (fluid forces, soil, ray casts; mass and buoyancy of a closed one)");
+    t.number("density", &LinkSpec::density).unit("kg/m³").range(Range::positive())
+        .default_text("none")
+        .doc("needs a closed `mesh`: mass = density x volume, centre of mass its centroid, inertia of the homogeneous "
+             "solid; not with `mass`, `center_of_mass`, `inertia`");
+    t.number("mass", &LinkSpec::mass).required().unless("density").unit("kg").range(Range::positive())
+        .default_text("required (unless `density`)").doc("the link's mass");
+    t.vector("center_of_mass", &LinkSpec::p_LLcm).unless("density").unit("m").doc("p_LLcm, in L");
+    t.custom("inertia", read_inertia, "", "map").keys_of(inertia_keys()).required().unless("density")
+        .default_text("required (unless `density`)").unit("kg m²").doc("about the centre of mass, in L's axes");
+    t.list("collisions", &LinkSpec::collisions, collision_keys()).doc("collision shapes");
+    t.map("buoyancy", &LinkSpec::buoyancy, buoyancy_keys())
+        .default_text("volume 0, or the closed `mesh`'s volume")
+        .doc("lumped buoyancy (the lumped fluid model; the surface model integrates pressure instead)");
+    t.custom(
+         "visual",
+         [](const Value& value, LinkSpec& link, VehicleContext&) { return read_link_mesh(value, link.visual, false); },
+         "", "map")
+        .keys_of(link_mesh_keys())
+        .doc("how the link looks to ray casts in place of its surface (open meshes are fine); the physics keeps "
+             "`mesh` or `collisions`, mass and buoyancy ignore it");
+    t.map("appearance", &LinkSpec::appearance, appearance_keys()).doc("how cameras and sonars see the link");
+    t.check([](const KeyReads& reads, LinkSpec& link, VehicleContext&) {
+      bool ok = true;
+      if (reads.has("density") && reads.ok("density")) {
+        const double density = link.density;
+        if (!reads.has("mesh")) {
+          reads.error_at_key("density", "key 'density' needs 'mesh' (mass properties from the mesh's volume)");
+          ok = false;
+        } else if (link.mesh && !link.mesh->closed) {
+          reads.map().optional("mesh")->error("mesh is open (" + std::to_string(link.mesh->boundary_edges) +
+                                              " boundary edges): mass from 'density' needs a closed mesh");
+          ok = false;
+        } else if (link.mesh) {
+          // Mass properties of the homogeneous solid the mesh encloses, already in L.
+          link.mass = density * link.mesh->volume;
+          link.p_LLcm = link.mesh->p_LMc;
+          link.I_LLcm_L = density * link.mesh->I_unit_density;
+        }
+        for (const char* key : {"mass", "center_of_mass", "inertia"}) {
+          if (reads.has(key)) {
+            reads.error_at_key(key, std::string("key '") + key +
+                                        "' cannot be combined with 'density' (the mesh and density give it)");
+            ok = false;
+          }
+        }
+      }
+      if (!reads.has("buoyancy") && link.mesh) {
+        // A hull mesh displaces the volume it encloses, centred on its centroid.
+        if (link.mesh->closed) {
+          link.buoyancy.volume = link.mesh->volume;
+          link.buoyancy.p_LCb = link.mesh->p_LMc;
+        } else {
+          reads.map().optional("mesh")->warn(
+              "mesh is open (" + std::to_string(link.mesh->boundary_edges) +
+              " boundary edges): its volume is undefined, so the link gets no buoyancy; give buoyancy: {volume, "
+              "center} or close the mesh");
+        }
+      }
+      return ok;
+    });
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace hadal::geometry

@@ -1,0 +1,59 @@
+#include "hadal/render/light_spec.h"
+
+#include "hadal/config/key_table.h"
+#include "hadal/config/vehicle_context.h"
+
+namespace hadal::render {
+
+using config::KeyReads;
+using config::KeyTable;
+using config::Range;
+using config::Value;
+using config::VehicleContext;
+
+const KeyTable<LightSpec, VehicleContext>& light_keys() {
+  static const KeyTable<LightSpec, VehicleContext> table = [] {
+    KeyTable<LightSpec, VehicleContext> t("lights[]",
+                                          "a spot light on a link: full intensity inside the inner half angle of its "
+                                          "axis (x of its frame), none beyond the outer, a smooth edge between");
+    t.custom(
+         "name",
+         [](const Value& value, LightSpec& light, VehicleContext& context) {
+           const std::string owner = value.path().substr(0, value.path().rfind('.'));
+           return config::read_unique_name(value, "light", owner, context, &light.name);
+         },
+         R"({"type": "string", "minLength": 1})", "string")
+        .required()
+        .doc("unique among the vehicle's lights");
+    t.custom(
+         "link",
+         [](const Value& value, LightSpec& light, VehicleContext& context) {
+           const auto index = config::read_link_reference(value, context.link_names);
+           if (index) light.link_index = *index;
+           return index.has_value();
+         },
+         R"({"type": "string", "minLength": 1})", "string")
+        .required()
+        .doc("a link of this vehicle");
+    t.pose("pose", &LightSpec::X_LF).doc("the light's frame in the link frame; the beam points along its x");
+    t.number("inner_half_angle_deg", &LightSpec::inner_half_angle).degrees().range(Range::right_open(0.0, 180.0))
+        .doc("full intensity inside");
+    t.number("outer_half_angle_deg", &LightSpec::outer_half_angle).degrees().range(Range::left_open(0.0, 180.0))
+        .rule("> inner_half_angle_deg").doc("no light beyond");
+    t.vector("intensity_w_per_sr", &LightSpec::intensity_W_per_sr).unit("W/sr").range(Range::closed(0.0, 1e7))
+        .doc("radiant intensity on the axis, per channel");
+    t.check([](const KeyReads& reads, LightSpec& light, VehicleContext&) {
+      if (!reads.ok("inner_half_angle_deg") || !reads.ok("outer_half_angle_deg")) return true;
+      if (light.inner_half_angle < light.outer_half_angle) return true;
+      reads.error_at_key(reads.has("outer_half_angle_deg") ? "outer_half_angle_deg" : "inner_half_angle_deg",
+                         "the beam's outer half angle (" + config::format_approximate(light.outer_half_angle / kDegToRad) +
+                             " deg) must exceed its inner half angle (" +
+                             config::format_approximate(light.inner_half_angle / kDegToRad) + " deg)");
+      return false;
+    });
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace hadal::render
