@@ -15,11 +15,10 @@
 # Discovery stays on loopback (ROS_LOCALHOST_ONLY=1); the run takes its own DDS domain 100..199 by holding
 # /tmp/hadal-dds-domain-<N>.lock (../reserve_domain.sh), so concurrent tests never see each other.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/interop_lib.sh"
+INTEROP_NAME="bag check"
 
-if [[ $# -ne 3 ]]; then
-  echo "usage: $0 HADALD BAG_CHECK REPO_ROOT" >&2
-  exit 2
-fi
+(( $# == 3 )) || usage "HADALD BAG_CHECK REPO_ROOT"
 HADALD=$1
 BAG_CHECK=$2
 REPO_ROOT=$3
@@ -27,42 +26,18 @@ SCENARIO=configs/scenarios/default.yaml
 DURATION=2
 PYTHON=/usr/bin/python3
 
-fail() {
-  echo "FAIL: bag check: $*" >&2
-  exit 1
-}
+require_executable "$HADALD" hadald
+require_executable "$BAG_CHECK" hadal-bag-check
+require_scenario "$REPO_ROOT/$SCENARIO"
 
-[[ -x "$HADALD" ]] || fail "hadald not found or not executable: $HADALD"
-[[ -x "$BAG_CHECK" ]] || fail "hadal-bag-check not found or not executable: $BAG_CHECK"
-[[ -f "$REPO_ROOT/$SCENARIO" ]] || fail "scenario not found: $REPO_ROOT/$SCENARIO"
-
-# A DDS domain of our own, held (fd 9) for the life of this script.
-source "$(dirname "${BASH_SOURCE[0]}")/../reserve_domain.sh"
-reserve_domain 100 199 || true
-[[ -n "$DOMAIN" ]] || fail "no free DDS domain in 100..199 (all /tmp/hadal-dds-domain-*.lock held)"
-
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/hadal-bag-check.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-export ROS_LOCALHOST_ONLY=1
+reserve_interop_domain
+make_work_dir hadal-bag-check
+isolate_discovery
 export ROS_DOMAIN_ID=$DOMAIN
-unset CYCLONEDDS_URI ROS_AUTOMATIC_DISCOVERY_RANGE
-
-show_logs() {
-  echo "--- hadald stdout ---" >&2; cat "$WORK/hadald.out" >&2
-  echo "--- hadald stderr ---" >&2; cat "$WORK/hadald.err" >&2
-}
 
 echo "bag check: domain $DOMAIN, hadald $HADALD, hadal-bag-check $BAG_CHECK"
-set +e
-(cd "$REPO_ROOT" && "$HADALD" "$SCENARIO" --mode fast --duration "$DURATION" --record "$WORK/bag" \
-  --no-status-line) >"$WORK/hadald.out" 2>"$WORK/hadald.err" 9>&-
-HADALD_RC=$?
-set -e
-if [[ $HADALD_RC -ne 0 ]]; then
-  show_logs
-  fail "hadald exited with $HADALD_RC"
-fi
+run_hadald "$SCENARIO" --mode fast --duration "$DURATION" --record "$WORK/bag" --no-status-line
+fail_unless_hadald_succeeded
 [[ -f "$WORK/bag/metadata.yaml" ]] || { show_logs; fail "hadald wrote no bag (no $WORK/bag/metadata.yaml)"; }
 
 set +e

@@ -13,11 +13,9 @@
 # Discovery stays on loopback (ROS_LOCALHOST_ONLY=1 for both processes). Each run takes its own DDS
 # domain 100..199 by holding /tmp/hadal-dds-domain-<N>.lock, so concurrent tests never see each other.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/interop_lib.sh"
 
-if [[ $# -lt 3 ]]; then
-  echo "usage: $0 HADALD PROBE REPO_ROOT [fast|realtime] [DURATION_S]" >&2
-  exit 2
-fi
+(( $# >= 3 )) || usage "HADALD PROBE REPO_ROOT [fast|realtime] [DURATION_S]"
 HADALD=$1
 PROBE=$2
 REPO_ROOT=$3
@@ -27,55 +25,23 @@ SCENARIO="$REPO_ROOT/configs/scenarios/default.yaml"
 VEHICLE=auv
 SETPOINTS=0.5,0,0
 PYTHON=/usr/bin/python3
+INTEROP_NAME="interop ($MODE)"
 
-fail() {
-  echo "FAIL: interop ($MODE): $*" >&2
-  exit 1
-}
-
-[[ -x "$HADALD" ]] || fail "hadald not found or not executable: $HADALD"
-[[ -x "$PROBE" ]] || fail "probe not found or not executable: $PROBE"
-[[ -f "$SCENARIO" ]] || fail "scenario not found: $SCENARIO"
+require_executable "$HADALD" hadald
+require_executable "$PROBE" probe
+require_scenario "$SCENARIO"
 case "$MODE" in fast | realtime) ;; *) fail "mode must be fast or realtime (got $MODE)" ;; esac
 
-# A DDS domain of our own, held (fd 9) for the life of this script.
-source "$(dirname "${BASH_SOURCE[0]}")/../reserve_domain.sh"
-reserve_domain 100 199 || true
-[[ -n "$DOMAIN" ]] || fail "no free DDS domain in 100..199 (all /tmp/hadal-dds-domain-*.lock held)"
-
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/hadal-interop.XXXXXX")
-PROBE_PID=""
-cleanup() {
-  if [[ -n "$PROBE_PID" ]] && kill -0 "$PROBE_PID" 2>/dev/null; then
-    kill "$PROBE_PID" 2>/dev/null || true
-    wait "$PROBE_PID" 2>/dev/null || true
-  fi
-  rm -rf "$WORK"
-}
-trap cleanup EXIT
-
-export ROS_LOCALHOST_ONLY=1
-unset CYCLONEDDS_URI ROS_AUTOMATIC_DISCOVERY_RANGE
+reserve_interop_domain
+make_work_dir hadal-interop
+isolate_discovery
 
 echo "interop ($MODE): domain $DOMAIN, hadald $HADALD, probe $PROBE"
 
-# The probe first, so hadald's discovery wait finds it. It stops by itself once the samples stop
+# The probe first, so hadald's discovery wait finds it: in fast mode hadald waits ~1 s for discovery and
+# then runs the whole scenario in a fraction of a second. The probe stops by itself once the samples stop
 # (--idle), or after --seconds at the latest.
-"$PROBE" --domain "$DOMAIN" --vehicle "$VEHICLE" --seconds 60 --idle 2 \
-  --publish-setpoints "$SETPOINTS" >"$WORK/probe.json" 2>"$WORK/probe.err" 9>&- &
-PROBE_PID=$!
-
-# Start hadald only once the probe's readers and writer exist (it says "ready" on stderr): in fast
-# mode hadald waits ~1 s for discovery and then runs the whole scenario in a fraction of a second.
-for _ in $(seq 1 200); do
-  grep -q "ready" "$WORK/probe.err" 2>/dev/null && break
-  kill -0 "$PROBE_PID" 2>/dev/null || break
-  sleep 0.05
-done
-if ! grep -q "ready" "$WORK/probe.err" 2>/dev/null; then
-  cat "$WORK/probe.err" >&2
-  fail "the probe did not get ready within 10 s"
-fi
+start_probe --domain "$DOMAIN" --vehicle "$VEHICLE" --seconds 60 --idle 2 --publish-setpoints "$SETPOINTS"
 
 # Discovery between the two vendors takes ~50-100 ms, but in roughly one start in four it takes ~1.05 s:
 # Cyclone answers hadald's first SPDP announcement within ~0.2 ms, Fast DDS 2.9.1 apparently ignores
@@ -87,26 +53,10 @@ fi
 EXTRA_ARGS=()
 HADALD_START=$(date +%s.%N)
 
-set +e
-(cd "$REPO_ROOT" && "$HADALD" "$SCENARIO" --duration "$DURATION" --mode "$MODE" --domain-id "$DOMAIN" \
-  --no-status-line "${EXTRA_ARGS[@]}") >"$WORK/hadald.out" 2>"$WORK/hadald.err" 9>&-
-HADALD_RC=$?
-wait "$PROBE_PID"
-PROBE_RC=$?
-PROBE_PID=""
-set -e
-
-show_logs() {
-  echo "--- hadald stdout ---" >&2; cat "$WORK/hadald.out" >&2
-  echo "--- hadald stderr ---" >&2; cat "$WORK/hadald.err" >&2
-  echo "--- probe stdout (JSON) ---" >&2; cat "$WORK/probe.json" >&2
-  echo "--- probe stderr ---" >&2; cat "$WORK/probe.err" >&2
-}
-
-if [[ $HADALD_RC -ne 0 ]]; then
-  show_logs
-  fail "hadald exited with $HADALD_RC"
-fi
+run_hadald "$SCENARIO" --duration "$DURATION" --mode "$MODE" --domain-id "$DOMAIN" --no-status-line \
+  "${EXTRA_ARGS[@]}"
+wait_for_probe
+fail_unless_hadald_succeeded
 
 echo "probe exit code: $PROBE_RC"
 cat "$WORK/probe.json"

@@ -7,11 +7,10 @@
 #
 # usage: run_sonar_interop.sh HADALD PROBE REPO_ROOT [DURATION_S]   (default 3 sim seconds)
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/interop_lib.sh"
+INTEROP_NAME="sonar interop"
 
-if [[ $# -lt 3 ]]; then
-  echo "usage: $0 HADALD PROBE REPO_ROOT [DURATION_S]" >&2
-  exit 2
-fi
+(( $# >= 3 )) || usage "HADALD PROBE REPO_ROOT [DURATION_S]"
 HADALD=$1
 PROBE=$2
 REPO_ROOT=$3
@@ -19,55 +18,21 @@ DURATION=${4:-3}
 SCENARIO="$REPO_ROOT/configs/scenarios/sonar_survey.yaml"
 PYTHON=/usr/bin/python3
 
-fail() {
-  echo "FAIL: sonar interop: $*" >&2
-  exit 1
-}
+require_executable "$HADALD" hadald
+require_executable "$PROBE" probe
+require_scenario "$SCENARIO"
 
-[[ -x "$HADALD" ]] || fail "hadald not found or not executable: $HADALD"
-[[ -x "$PROBE" ]] || fail "probe not found or not executable: $PROBE"
-[[ -f "$SCENARIO" ]] || fail "scenario not found: $SCENARIO"
-
-source "$(dirname "${BASH_SOURCE[0]}")/../reserve_domain.sh"
-reserve_domain 100 199 || true
-[[ -n "$DOMAIN" ]] || fail "no free DDS domain in 100..199 (all /tmp/hadal-dds-domain-*.lock held)"
-
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/hadal-sonar-interop.XXXXXX")
-PROBE_PID=""
-cleanup() {
-  if [[ -n "$PROBE_PID" ]] && kill -0 "$PROBE_PID" 2>/dev/null; then
-    kill "$PROBE_PID" 2>/dev/null || true
-    wait "$PROBE_PID" 2>/dev/null || true
-  fi
-  rm -rf "$WORK"
-}
-trap cleanup EXIT
-
-export ROS_LOCALHOST_ONLY=1
-unset CYCLONEDDS_URI ROS_AUTOMATIC_DISCOVERY_RANGE
+reserve_interop_domain
+make_work_dir hadal-sonar-interop
+isolate_discovery
 echo "sonar interop: domain $DOMAIN, hadald $HADALD, probe $PROBE"
 
-"$PROBE" --domain "$DOMAIN" --vehicle auv --sonars --seconds 90 --idle 3 >"$WORK/probe.json" 2>"$WORK/probe.err" 9>&- &
-PROBE_PID=$!
-for _ in $(seq 1 200); do
-  grep -q "ready" "$WORK/probe.err" 2>/dev/null && break
-  kill -0 "$PROBE_PID" 2>/dev/null || break
-  sleep 0.05
-done
-grep -q "ready" "$WORK/probe.err" 2>/dev/null || { cat "$WORK/probe.err" >&2; fail "the probe did not get ready within 10 s"; }
+start_probe --domain "$DOMAIN" --vehicle auv --sonars --seconds 90 --idle 3
 
 # Fast mode: hadald waits for discovery (2 s by default) before t = 0 and waits for every ping.
-set +e
-(cd "$REPO_ROOT" && "$HADALD" "$SCENARIO" --duration "$DURATION" --mode fast --domain-id "$DOMAIN" \
-  --no-status-line) >"$WORK/hadald.out" 2>"$WORK/hadald.err" 9>&-
-HADALD_RC=$?
-wait "$PROBE_PID"
-PROBE_PID=""
-set -e
-if [[ $HADALD_RC -ne 0 ]]; then
-  cat "$WORK/hadald.err" >&2
-  fail "hadald exited with $HADALD_RC"
-fi
+run_hadald "$SCENARIO" --duration "$DURATION" --mode fast --domain-id "$DOMAIN" --no-status-line
+wait_for_probe
+fail_unless_hadald_succeeded
 cat "$WORK/probe.json"
 
 "$PYTHON" - "$WORK/probe.json" "$DURATION" <<'EOF' || fail "see above"
