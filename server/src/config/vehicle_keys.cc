@@ -3,6 +3,8 @@
 #include <utility>
 
 #include "hadal/geometry/primitive_mesh.h"
+#include "hadal/physics/actuator_kinds.h"
+#include "hadal/sensors/sensor_kinds.h"
 #include "hadal/physics/control_vector.h"
 
 namespace hadal::config {

@@ -1,5 +1,8 @@
 #include "hadal/core/model.h"
 
+#include "hadal/physics/actuator_kinds.h"
+#include "hadal/sensors/sensor_kinds.h"
+
 #include <sched.h>
 
 #include <algorithm>

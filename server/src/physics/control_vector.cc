@@ -1,4 +1,5 @@
 #include "hadal/physics/control_vector.h"
+#include "hadal/physics/actuator_kinds.h"
 
 #include <type_traits>
 #include <variant>

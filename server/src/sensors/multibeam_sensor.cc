@@ -31,7 +31,7 @@ const std::vector<MultibeamPreset>& multibeam_presets() {
   return presets;
 }
 
-SonarAcoustics MultibeamSensor::default_acoustics() {
+SonarAcoustics multibeam_default_acoustics() {
   SonarAcoustics a;
   a.bins = 4000;
   a.source_level_db = 215.0;

@@ -29,7 +29,7 @@ const std::vector<SidescanPreset>& sidescan_presets() {
   return presets;
 }
 
-SonarAcoustics SidescanSensor::default_acoustics() {
+SonarAcoustics sidescan_default_acoustics() {
   SonarAcoustics a;
   a.min_range = 0.0;  // a side-scan records from its transmission on: sample0 = 0, exact sample ranges
   a.max_range = 75.0;

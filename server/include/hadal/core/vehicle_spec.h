@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "hadal/geometry/link_spec.h"
-#include "hadal/physics/actuator_kinds.h"
+#include "hadal/physics/actuator_specs.h"
 #include "hadal/physics/fluid_spec.h"
 #include "hadal/render/light_spec.h"
-#include "hadal/sensors/sensor_kinds.h"
+#include "hadal/sensors/sensor_specs.h"
 
 namespace hadal {
 

@@ -8,13 +8,17 @@
 #include "hadal/physics/drop_weight.h"
 #include "hadal/physics/fin.h"
 #include "hadal/physics/thruster.h"
+#include "hadal/physics/actuator_specs.h"
 #include "hadal/physics/track.h"
+
+#include <type_traits>
 
 namespace hadal::physics {
 
 using ActuatorKinds = KindList<ThrusterActuator, TrackActuator, FinActuator, BuoyancyEngineActuator, DropWeightActuator>;
 
-using ActuatorKindSpec = ActuatorKinds::Specs;
+// The model's variant of specs (physics/actuator_specs.h) is this list's.
+static_assert(std::is_same_v<ActuatorKindSpec, ActuatorKinds::Specs>, "physics/actuator_specs.h lists the kinds in this order");
 using ActuatorKindState = ActuatorKinds::States;
 
 }  // namespace hadal::physics

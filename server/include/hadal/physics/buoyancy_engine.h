@@ -12,8 +12,8 @@
 // Delta V is displacement beyond the vehicle's own surface (its neutral state is setpoint 0): the
 // vehicle's geometry is not changed, only its buoyancy.
 //
-// YAML keys (configs/REFERENCE.md): position [m] (p_LE), max_volume_change [m^3] (Delta V_max),
-// pump_rate [m^3/s] (q), efficiency (eta, default 0.5).
+// YAML keys: BuoyancyEngineActuator::keys() (server/src/physics/buoyancy_engine.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -25,6 +25,7 @@
 
 #include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
+#include "hadal/physics/buoyancy_engine_spec.h"
 
 namespace hadal::physics {
 
@@ -33,13 +34,7 @@ struct BuoyancyEngineActuator {
   static constexpr std::string_view kListKey = "buoyancy_engines";
   static constexpr std::size_t kControls = 1;  // the normalised volume setpoint
 
-  struct Spec {
-    using Kind = BuoyancyEngineActuator;
-    Eigen::Vector3d p_LE = Eigen::Vector3d::Zero();  // the bladder's centre in L [m]
-    double max_volume_change = 0.0;                  // Delta V_max [m^3]
-    double pump_rate = 0.0;                          // q [m^3/s]
-    double efficiency = 0.5;                         // eta, in (0, 1]
-  };
+  using Spec = BuoyancyEngineSpec;
   struct State {
     using Kind = BuoyancyEngineActuator;
     double setpoint = 0.0;       // normalised command in [-1, 1] currently applied

@@ -17,9 +17,8 @@
 // load -- is exact; the transients are faster by at most m / (M + M_A + m) (2 x 25 kg on the zoo's
 // 420 kg lander with ~250 kg of added mass in heave: 7 %).
 //
-// YAML keys (configs/REFERENCE.md): position [m] (p_LW, its centre of mass and buoyancy), mass [kg],
-// volume [m^3] (default: steel, mass / 7850 kg/m^3), release_altitude [m] (optional), release_time_s
-// (optional).
+// YAML keys: DropWeightActuator::keys() (server/src/physics/drop_weight.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -32,6 +31,7 @@
 
 #include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
+#include "hadal/physics/drop_weight_spec.h"
 
 namespace hadal::physics {
 
@@ -44,16 +44,7 @@ struct DropWeightActuator {
   // Why a weight was released (DropWeightState.reason on the wire).
   enum class Release : std::uint8_t { kAttached = 0, kCommand = 1, kAltitude = 2, kTime = 3 };
 
-  struct Spec {
-    using Kind = DropWeightActuator;
-    Eigen::Vector3d p_LW = Eigen::Vector3d::Zero();  // the weight's centre in L [m]
-    double mass = 0.0;                               // [kg]
-    double volume = 0.0;                             // displaced [m^3]
-    // Triggers: release_altitude [m] above the seabed (-infinity: none), release_time_s sim time [s]
-    // (+infinity: none).
-    double release_altitude = -std::numeric_limits<double>::infinity();
-    double release_time_s = std::numeric_limits<double>::infinity();
-  };
+  using Spec = DropWeightSpec;
   struct State {
     using Kind = DropWeightActuator;
     bool release_commanded = false;  // the held command is 1

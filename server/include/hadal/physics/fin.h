@@ -25,11 +25,8 @@
 // Nothing above the water surface. A fin standing on a hull has the hull as a reflection plane: its
 // effective aspect ratio is twice its span over its chord.
 //
-// YAML keys (configs/REFERENCE.md): position [m] (p_LF, the centre of pressure), hinge_axis (a in L),
-// chord_direction (c0 in L, default [1, 0, 0]), area [m^2] (S), aspect_ratio (AR, effective),
-// max_angle_deg (delta_max, default 25), max_rate_deg_per_s (omega_s, default 60), lift_slope (C_La per
-// radian, default Helmbold's), stall_angle_deg (alpha_s, default 30, at most 60), drag_coefficient (C_D0,
-// default 0.01), oswald_efficiency (e_O, default 0.9).
+// YAML keys: FinActuator::keys() (server/src/physics/fin.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -42,6 +39,7 @@
 #include "hadal/config/key_table_fwd.h"
 #include "hadal/core/units.h"
 #include "hadal/physics/actuator_kind.h"
+#include "hadal/physics/fin_spec.h"
 
 namespace hadal::physics {
 
@@ -51,20 +49,7 @@ struct FinActuator {
   static constexpr std::size_t kControls = 1;  // the normalised deflection setpoint
   static constexpr double kBroadsideNormalForce = 1.2;  // C_N90 of a flat plate
 
-  struct Spec {
-    using Kind = FinActuator;
-    Eigen::Vector3d p_LF = Eigen::Vector3d::Zero();        // centre of pressure in L [m]
-    Eigen::Vector3d hinge_axis_L = Eigen::Vector3d::UnitY();  // a, unit
-    Eigen::Vector3d chord_L = Eigen::Vector3d::UnitX();    // c0, unit
-    double area = 0.0;                                     // S [m^2]
-    double aspect_ratio = 0.0;                             // AR (effective)
-    double max_angle = 25.0 * kDegToRad;                   // delta_max [rad] (YAML: max_angle_deg)
-    double max_rate = 60.0 * kDegToRad;                    // omega_s [rad/s] (YAML: max_rate_deg_per_s)
-    double lift_slope = 0.0;                               // C_La [1/rad]; Helmbold's from AR by default
-    double stall_angle = 30.0 * kDegToRad;                 // alpha_s [rad] (YAML: stall_angle_deg)
-    double drag_coefficient = 0.01;                        // C_D0
-    double oswald_efficiency = 0.9;                        // e_O
-  };
+  using Spec = FinSpec;
   struct State {
     using Kind = FinActuator;
     double setpoint = 0.0;        // normalised command in [-1, 1] currently applied

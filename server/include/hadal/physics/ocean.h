@@ -35,12 +35,8 @@
 //   asked first. Memory: 24 bytes per grid step, i.e. 24 * 64 / tau bytes per simulated second. t < 0
 //   reads g(0).
 //
-// YAML (world.water; full table with ranges in configs/REFERENCE.md): surface_z [m] 0,
-// density_model constant|ramp|ctd (constant), density [kg/m^3] 1025, rho0 [kg/m^3] 1025,
-// pycnocline_depth [m] 1000, pycnocline_density_increase [kg/m^3] 3.075, ctd [{depth [m],
-// temperature_degc, salinity}, ...], temperature_degc 4, salinity 35, atmospheric_pressure [Pa] 101325,
-// bulk_modulus [Pa] 2.2e9, current {uniform [m/s], shear {surface [m/s], decay_depth [m]},
-// gauss_markov {sigma [m/s], time_constant_s}}.
+// YAML keys: physics::water_keys() (server/src/physics/water_spec.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Core>

@@ -9,6 +9,7 @@
 
 #include "hadal/core/model.h"
 #include "hadal/physics/mass_properties.h"
+#include "hadal/physics/thruster.h"
 
 namespace hadal::physics::testing {
 

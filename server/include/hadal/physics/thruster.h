@@ -10,9 +10,8 @@
 //
 // with axis_W = R_WB R_BL axis_L and p_WT = X_WB X_BL p_LT. A propeller above the water surface
 // (p_WT.z > surface_z) is in air: T = Q = 0 while the rotor keeps spinning.
-// YAML keys (configs/REFERENCE.md): position [m] (p_LT), direction (axis_L, normalised),
-// propeller_diameter [m], thrust_coefficient, torque_coefficient (0.05), rotor_time_constant_s (0.1),
-// max_rpm [rev/min], handedness (right / left).
+// YAML keys: ThrusterActuator::keys() (server/src/physics/thruster.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -24,6 +23,7 @@
 
 #include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
+#include "hadal/physics/thruster_spec.h"
 
 namespace hadal::physics {
 
@@ -34,17 +34,7 @@ struct ThrusterActuator {
   static constexpr std::string_view kListKey = "thrusters";
   static constexpr std::size_t kControls = 1;  // the normalised setpoint
 
-  struct Spec {
-    using Kind = ThrusterActuator;
-    Eigen::Vector3d p_LT = Eigen::Vector3d::Zero();     // propeller position in L [m]
-    Eigen::Vector3d axis_L = Eigen::Vector3d::UnitX();  // unit thrust direction for n > 0, in L
-    double propeller_diameter = 0.0;                    // D [m]
-    double thrust_coefficient = 0.0;                    // K_T [-]
-    double torque_coefficient = 0.05;                   // K_Q [-]
-    double rotor_time_constant_s = 0.1;                 // tau [s], >= 0 (0: rotor follows at once)
-    double max_rotor_speed_rev_s = 0.0;                 // n_max [rev/s] (YAML: max_rpm)
-    int handedness = 1;                                 // +1 right-handed, -1 left-handed propeller
-  };
+  using Spec = ThrusterSpec;
   struct State {
     using Kind = ThrusterActuator;
     double setpoint = 0.0;           // normalised command in [-1, 1] currently applied

@@ -18,10 +18,8 @@
 // that speed) slows down and slips less; a track in the air (F = 0) runs at V_cmd after ~3 tau_s.
 // A wheel is the same with r its radius: its tread is the belt.
 //
-// YAML keys (configs/REFERENCE.md): direction ([1, 0, 0]: d in L), sprocket_radius [m], max_rpm (omega_0,
-// the sprocket's no-load speed), stall_torque [N m] (at the sprocket), torque_constant [N m/A] (at the
-// sprocket, gearing included; default 1), drive_inertia [kg m^2] (default 0.5), speed_time_constant_s
-// (tau_s, default 0.2).
+// YAML keys: TrackActuator::keys() (server/src/physics/track.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -33,6 +31,7 @@
 
 #include "hadal/config/key_table_fwd.h"
 #include "hadal/physics/actuator_kind.h"
+#include "hadal/physics/track_spec.h"
 
 namespace hadal::physics {
 
@@ -57,16 +56,7 @@ struct TrackActuator {
   static constexpr std::size_t kControls = 1;  // the normalised belt-speed setpoint
   static constexpr bool kDrivesSurface = true;  // hands a belt velocity to the soil (physics/actuators.h)
 
-  struct Spec {
-    using Kind = TrackActuator;
-    Eigen::Vector3d direction_L = Eigen::Vector3d::UnitX();
-    double sprocket_radius = 0.0;        // r [m]
-    double max_speed_rad_s = 0.0;        // omega_0 (YAML: max_rpm)
-    double stall_torque = 0.0;           // [N m]
-    double torque_constant = 1.0;        // [N m/A]
-    double drive_inertia = 0.5;          // [kg m^2]
-    double speed_time_constant_s = 0.2;  // [s]
-  };
+  using Spec = TrackSpec;
   struct State {
     using Kind = TrackActuator;
     double setpoint = 0.0;          // normalised command in [-1, 1] currently applied

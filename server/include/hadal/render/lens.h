@@ -32,9 +32,11 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/render/lens_model.h"
+
 namespace hadal::render {
 
-enum class LensModel { kPinhole, kRadialTangential, kEquidistant };
+
 
 // "pinhole", "radial_tangential", "equidistant"; and back (false for an unknown name).
 std::string_view to_string(LensModel model);

@@ -4,8 +4,8 @@
 // the true range lies in [min_range, max_range]; -inf when closer, +inf when nothing is within
 // max_range (REP 117). The noise stream advances every sample, in the window or not. Defaults are a
 // generic 200 kHz echo-sounder altimeter (no data sheet behind them).
-// YAML keys (configs/REFERENCE.md): min_range [m] (0.3), max_range [m] (100), noise_stddev [m] (0.01,
-// per sample), resolution [m] (0.001; 0: none), field_of_view_deg (6, reported only).
+// YAML keys: AltimeterSensor::keys() (server/src/sensors/altimeter_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <string>
@@ -15,6 +15,7 @@
 #include "hadal/core/units.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/altimeter_spec.h"
 
 namespace sensor_msgs::msg {
 class Range;
@@ -30,14 +31,7 @@ struct AltimeterSensor {
   using Message = sensor_msgs::msg::Range;
   using PubSubType = sensor_msgs::msg::RangePubSubType;
 
-  struct Spec {
-    using Kind = AltimeterSensor;
-    double min_range = 0.3;                    // [m]
-    double max_range = 100.0;                  // [m]
-    double noise_stddev = 0.01;                // white noise per sample [m]
-    double resolution = 0.001;                 // quantisation step [m]; 0: none
-    double field_of_view = 6.0 * kDegToRad;     // full beam width, reported only [rad]
-  };
+  using Spec = AltimeterSpec;
   struct State {
     NoiseChannelState noise;
     double range = 0.0;  // last sample [m]; -inf / +inf outside the window

@@ -18,17 +18,8 @@
 // transparent to its rays and to its shadow rays. Surfaces: world.optics.seabed_albedo for the seabed,
 // vehicle_albedo for hulls.
 //
-// YAML keys (configs/REFERENCE.md), defaults in brackets:
-//   width, height [px] (640, 480)
-//   hfov_deg (90): square pixels, principal point at the centre; or the calibration fx, fy [px] and
-//     cx, cy [px] (default the centre, (width - 1) / 2, (height - 1) / 2); not both
-//   lens_model: pinhole | plumb_bob (= radial_tangential) | equidistant (pinhole)
-//   distortion: plumb_bob [k1, k2, p1, p2, k3]; equidistant [k1, k2, k3, k4]
-//   near_clip, far_clip [m] (0.1, 50)
-//   encoding: rgb8 | mono8 (rgb8)
-//   exposure_s (0.01), gain_dn_per_e (0.05), full_well_e (10000), read_noise_e (3), shot_noise (true),
-//   vignetting (true), sensitivity [e-/s per W/(m^2 sr)] per channel ([2e5, 2e5, 2e5])
-//   latency_s (common to captured sensors, default 0)
+// YAML keys: CameraSensor::keys() (server/src/sensors/camera_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <cstdint>
@@ -43,6 +34,7 @@
 #include "hadal/render/lens.h"
 #include "hadal/sensors/image_sensor.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/camera_spec.h"
 
 namespace sensor_msgs::msg {
 class Image;
@@ -77,32 +69,8 @@ struct CameraSensor {
   static constexpr bool kCastsRays = false;  // rendered on the workers
   static constexpr bool kCaptures = true;
 
-  // The calibration as the file gives it: a preset's name, or a field of view or fx, fy, cx, cy, a lens
-  // model and its distortion; then a downscale. The lens is made of it when the keys are read.
-  struct Calibration {
-    std::string preset;  // "": none
-    int width_px = 640;
-    int height_px = 480;
-    double hfov = 90.0 * kDegToRad;  // [rad]; used without fx, fy
-    std::optional<double> fx, fy, cx, cy;  // [px]
-    render::LensModel model = render::LensModel::kPinhole;
-    std::array<double, 5> distortion{};  // plumb_bob: k1, k2, p1, p2, k3; equidistant: k1, k2, k3, k4
-    double downscale = 1.0;
-  };
-  struct Spec {
-    using Kind = CameraSensor;
-    Calibration calibration;
-    std::shared_ptr<const render::Lens> lens;  // the calibration and its ray table (shared, immutable)
-    std::shared_ptr<const std::vector<float>> cos_theta;  // z_C of each pixel's ray (vignetting)
-    // The backscatter table of the lights on the camera's own vehicle, kept from frame to frame
-    // (render/frame.h); shared by copies of the spec, rebuilt if its inputs change. Made with the lens by
-    // set_lens(); without one, every frame makes its table.
-    std::shared_ptr<render::BackscatterTableCache> backscatter_cache;
-    double near_m = 0.1;
-    double far_m = 50.0;
-    bool mono = false;  // mono8 instead of rgb8
-    ImageSensorSpec sensor;
-  };
+  using Calibration = CameraCalibration;
+  using Spec = CameraSpec;
   struct State {
     std::uint64_t noise_key = 0;
     std::vector<std::uint8_t> image;  // rgb8 (3 bytes per pixel) or mono8, row-major

@@ -69,13 +69,7 @@
 // NaN otherwise; altitude along the DVL axis = mean over returning beams of range_i cos(theta) (NaN when
 // none return; reported also with 1 or 2 beams, without lock).
 //
-// Suggested YAML keys (sensor type dvl; the scenario loader owns them): preset (id below, fills the rest),
-// beam_tilt_deg (30), first_beam_azimuth_deg (45), min_altitude (m), max_altitude (m),
-// dropout_probability (0), assumed_sound_speed (m/s, 0 = measured), water_track (true),
-// water_track_layer_near / _far (m along the axis, 2 / 6), beam_velocity_noise_stddev (m/s per ping),
-// water_track_noise_stddev (m/s per ping), range_noise_stddev (m per ping), bias_initial (m/s, 3),
-// bias_initial_stddev (m/s), bias_drift_rate (m/s^2, 3), bias_drift_rate_stddev (m/s^2),
-// bias_random_walk (m/s/sqrt(s)).
+// YAML keys: DvlSensor::keys() (server/src/sensors/dvl_sensor.cc).
 #pragma once
 
 #include <Eigen/Core>
@@ -86,6 +80,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/sensors/dvl_spec.h"
 #include "hadal/sensors/noise.h"
 
 namespace hadal::sensors {
@@ -95,35 +90,7 @@ inline constexpr double kDvlNaN = std::numeric_limits<double>::quiet_NaN();
 
 // marine_acoustic_msgs/Dvl constants (velocity_mode 0: no velocity this ping).
 enum class DvlMode : std::uint8_t { kNone = 0, kBottomTrack = 1, kWaterTrack = 2 };
-enum class DvlType : std::uint8_t { kPiston = 0, kPhasedArray = 1 };
 
-// The paper's slowly varying velocity bias (header text), S axes.
-struct DvlBiasParams {
-  Eigen::Vector3d initial = Eigen::Vector3d::Zero();     // b_0 [m/s]
-  double initial_sigma = 0.0;                            // sigma_b0, drawn per axis per run [m/s]
-  Eigen::Vector3d drift_rate = Eigen::Vector3d::Zero();  // xi_fixed [m/s^2]
-  double drift_rate_sigma = 0.0;                         // sigma_xi, drawn per axis per run [m/s^2]
-  double random_walk_density = 0.0;                      // K [m/s/sqrt(s)] = [m s^-3/2]
-};
-
-struct DvlParams {
-  DvlType type = DvlType::kPiston;                 // reported only
-  double beam_tilt = 30.0 * kPi / 180.0;           // theta [rad], in (0, pi/2)
-  double first_beam_azimuth = 45.0 * kPi / 180.0;  // phi_1 [rad]
-  double min_altitude = 0.7;                       // bottom-lock window along the axis [m]
-  double max_altitude = 90.0;
-  double dropout_probability = 0.0;     // p per beam per ping, [0, 1]
-  double assumed_sound_speed = 0.0;     // c_assumed [m/s]; 0 = the true one (k = 1)
-  bool water_track = true;              // water-track mode without bottom lock
-  double water_track_layer_near = 2.0;  // layer along the axis [m], near < far
-  double water_track_layer_far = 6.0;
-  // Per-beam channels (noise.h). Their white noise is a density N: a ping's std is N / sqrt(dt), so a
-  // per-ping sigma at sample period T is N = sigma sqrt(T) (what dvl_params does).
-  NoiseChannelParams beam_velocity_noise;         // eta_i, bottom track [m/s]
-  NoiseChannelParams water_track_velocity_noise;  // eta_i, water track [m/s]
-  NoiseChannelParams range_noise;                 // slant-range error [m]
-  DvlBiasParams bias;
-};
 
 struct DvlState {
   Eigen::Vector3d bias = Eigen::Vector3d::Zero();        // b(t), S axes [m/s]

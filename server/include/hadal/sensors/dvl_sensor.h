@@ -5,11 +5,8 @@
 // least squares, the paper's bias drift, water track over the current averaged in a layer along each
 // beam, sound-speed scale error. The velocity is that of the sensor's origin over the ground (lever arm
 // included), in S.
-// YAML keys (configs/REFERENCE.md): preset (a data sheet; sets rate_hz unless given), beam_tilt_deg,
-// first_beam_azimuth_deg, min_altitude, max_altitude, dropout_probability, assumed_sound_speed,
-// water_track, water_track_layer_near, water_track_layer_far, water_track_layer_samples,
-// beam_velocity_noise_stddev, water_track_noise_stddev, range_noise_stddev, velocity_resolution,
-// bias {initial, initial_stddev, drift_rate, drift_rate_stddev, random_walk}.
+// YAML keys: DvlSensor::keys() (server/src/sensors/dvl_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <array>
@@ -19,6 +16,7 @@
 
 #include "hadal/sensors/dvl.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/dvl_spec.h"
 
 namespace marine_acoustic_msgs::msg {
 class Dvl;
@@ -34,11 +32,7 @@ struct DvlSensor {
   using Message = marine_acoustic_msgs::msg::Dvl;
   using PubSubType = marine_acoustic_msgs::msg::DvlPubSubType;
 
-  struct Spec {
-    using Kind = DvlSensor;
-    DvlParams params;
-    int water_track_layer_samples = 4;  // current samples per beam across the water-track layer
-  };
+  using Spec = DvlSpec;
   struct State {
     DvlState dvl;  // bias, dropout and per-beam noise
     DvlPing ping;  // the last ping

@@ -14,10 +14,8 @@
 // is the sensor's frame_id, stamped with the ping's time.
 // Captured like a camera (sensors/sensor_kind.h): rendered on the ray-cast workers from the snapshot,
 // published latency_s later; streams keyed by world.seed, vehicle, sensor and the ping's step.
-// YAML keys (configs/REFERENCE.md): preset (a product: sets the keys below that the file does not give, and
-// rate_hz unless given), beams (256), fov_deg (130), beam_width_deg (1), vertical_aperture_deg (20),
-// azimuth_rays (2), rays_per_cell (4), the common sonar keys (sensors/sonar.h) and image_dtype,
-// display_min_db, display_max_db; latency_s (common to captured sensors).
+// YAML keys: FlsSensor::keys() (server/src/sensors/fls_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +27,7 @@
 #include "hadal/core/units.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/sonar.h"
+#include "hadal/sensors/fls_spec.h"
 
 namespace marine_acoustic_msgs::msg {
 class ProjectedSonarImage;
@@ -45,18 +44,7 @@ struct FlsSensor {
   static constexpr bool kCastsRays = false;  // pinged on the workers
   static constexpr bool kCaptures = true;
 
-  struct Spec {
-    using Kind = FlsSensor;
-    int beams = 256;
-    double fov = 130.0 * kDegToRad;              // [rad]
-    double beam_width = 1.0 * kDegToRad;         // in the fan [rad]
-    double vertical_aperture = 20.0 * kDegToRad;  // across it [rad]
-    int azimuth_rays = 2;
-    int rays_per_cell = 4;
-    SonarAcoustics acoustics;
-    SonarImageEncoding encoding;
-    std::shared_ptr<const render::SonarPingSpec> ping;  // made by read() / make_ping() from the above
-  };
+  using Spec = FlsSpec;
   struct State {
     std::uint64_t noise_key = 0;
     double sound_speed_m_per_s = 0.0;  // of the last ping

@@ -4,8 +4,8 @@
 // fix, so a dive does not shift later fixes), converted to WGS84 latitude, longitude [deg] and
 // ellipsoidal height [m] with W as the local ENU frame at world.origin. Covariance diagonal in ENU,
 // COVARIANCE_TYPE_DIAGONAL_KNOWN.
-// YAML keys (configs/REFERENCE.md): horizontal_stddev [m] (1.5, per horizontal axis per fix),
-// vertical_stddev [m] (3.0).
+// YAML keys: GpsSensor::keys() (server/src/sensors/gps_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <limits>
@@ -15,6 +15,7 @@
 
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/gps_spec.h"
 
 namespace sensor_msgs::msg {
 class NavSatFix;
@@ -30,11 +31,7 @@ struct GpsSensor {
   using Message = sensor_msgs::msg::NavSatFix;
   using PubSubType = sensor_msgs::msg::NavSatFixPubSubType;
 
-  struct Spec {
-    using Kind = GpsSensor;
-    double horizontal_stddev = 1.5;  // per horizontal axis, per fix [m]
-    double vertical_stddev = 3.0;    // [m]
-  };
+  using Spec = GpsSpec;
   struct State {
     NoiseTriadState noise;  // east, north, up [m]
     bool fix = false;       // last sample

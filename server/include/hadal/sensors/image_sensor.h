@@ -37,18 +37,11 @@
 #include <vector>
 
 #include "hadal/core/parallel_for.h"
+#include "hadal/sensors/camera_spec.h"
 
 namespace hadal::sensors {
 
-struct ImageSensorSpec {
-  Eigen::Array3d sensitivity = Eigen::Array3d::Constant(2.0e5);  // [e- / s / (W/(m^2 sr))] per channel
-  double exposure_s = 0.01;
-  double gain_dn_per_e = 0.05;  // counts per electron (analog gain)
-  double full_well_e = 10000.0;
-  double read_noise_e = 3.0;  // rms [electrons]
-  bool shot_noise = true;
-  bool vignetting = true;  // the cos^4 law
-};
+
 
 // Radiance [W/(m^2 sr)] per channel below which a change of the scene's radiance moves the mean count
 // of any pixel by less than `counts`: counts / (gain_dn_per_e sensitivity exposure_s) (vignetting and

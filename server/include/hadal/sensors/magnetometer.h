@@ -78,6 +78,7 @@
 
 #include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/magnetic_dipole.h"
+#include "hadal/sensors/magnetometer_spec.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "hadal/sensors/noise.h"
 
@@ -109,13 +110,6 @@ Eigen::Vector3d earth_field_W_T(const GeomagneticModel& model, const LocalEnuFra
 // ---------------------------------------------------------------------------------------------------
 // The magnetometer
 // ---------------------------------------------------------------------------------------------------
-
-struct MagnetometerParams {
-  std::vector<MagneticDipole> dipoles_B;  // hard iron fixed in the vehicle: p_BD [m], m_B [A m^2]
-  std::vector<MagneticDipole> dipoles_W;  // static dipoles in the world: p_WD [m], m_W [A m^2]
-  Eigen::Matrix3d soft_iron_S = Eigen::Matrix3d::Identity();  // S_S, in sensor axes [-]
-  NoiseTriadParams noise;                                     // [T]
-};
 
 struct MagnetometerState {
   NoiseTriadState noise;

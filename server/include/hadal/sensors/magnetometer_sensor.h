@@ -6,8 +6,8 @@
 // then the noise triad (channel "magnetic_field"): noise, quantisation, range per sensor axis.
 // The decimal year of sim time t is world.date + t / (365.25 d) (a Julian year: within 1e-5 of the
 // calendar's). Covariance: N^2 rate_hz + lsb^2 / 12 per axis.
-// YAML keys (configs/REFERENCE.md): noise_stddev_nt (0), resolution_nt (0), range_ut (none),
-// hard_iron [{position [m] in B, moment [A m^2] in B, radius [m]}], soft_iron (9 numbers, row-major).
+// YAML keys: MagnetometerSensor::keys() (server/src/sensors/magnetometer_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +18,7 @@
 
 #include "hadal/sensors/magnetometer.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/magnetometer_spec.h"
 
 namespace sensor_msgs::msg {
 class MagneticField;
@@ -33,12 +34,7 @@ struct MagnetometerSensor {
   using Message = sensor_msgs::msg::MagneticField;
   using PubSubType = sensor_msgs::msg::MagneticFieldPubSubType;
 
-  struct Spec {
-    using Kind = MagnetometerSensor;
-    // Hard iron (dipoles_B), soft iron and noise. params.dipoles_W stays empty: the world's dipoles
-    // are the world's (WorldSpec::magnetic_dipoles_W) and enter with the Earth's field.
-    MagnetometerParams params;
-  };
+  using Spec = MagnetometerSpec;
   struct State {
     MagnetometerState noise;
     Eigen::Vector3d B_S = Eigen::Vector3d::Zero();  // last sample [T]

@@ -12,10 +12,8 @@
 // (0 without a detection), tx_delays 0, intensities the echo's peak after TVG [uPa^2], tx_angles 0 and
 // rx_angles -phi_k (+ to starboard for the mounting above) [rad]; ping_info the frequency, sound speed at
 // the sonar, tx_beamwidths the along-track and rx_beamwidths the across-track width per beam.
-// YAML keys (configs/REFERENCE.md): preset (a product; sets what the file does not give, and rate_hz unless
-// given), beams (256), swath_deg (130), across_beam_width_deg (1), along_beam_width_deg (1), rays_across (32),
-// rays_along (4), min_snr_db (10) and the common sonar keys (sensors/sonar.h; bins default 4000 here:
-// 1.25 cm over the default 50 m window); latency_s (common to captured sensors).
+// YAML keys: MultibeamSensor::keys() (server/src/sensors/multibeam_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <cstdint>
@@ -27,6 +25,7 @@
 #include "hadal/core/units.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/sonar.h"
+#include "hadal/sensors/multibeam_spec.h"
 
 namespace marine_acoustic_msgs::msg {
 class SonarDetections;
@@ -42,18 +41,7 @@ struct MultibeamSensor {
   using Message = marine_acoustic_msgs::msg::SonarDetections;
   using PubSubType = marine_acoustic_msgs::msg::SonarDetectionsPubSubType;
 
-  struct Spec {
-    using Kind = MultibeamSensor;
-    int beams = 256;
-    double swath = 130.0 * kDegToRad;            // [rad]
-    double across_beam_width = 1.0 * kDegToRad;  // in the swath [rad]
-    double along_beam_width = 1.0 * kDegToRad;   // across it [rad]
-    int rays_across = 32;
-    int rays_along = 4;
-    double min_snr_db = 10.0;
-    SonarAcoustics acoustics = default_acoustics();
-    std::shared_ptr<const render::SonarPingSpec> ping;  // made by read() / make_ping()
-  };
+  using Spec = MultibeamSpec;
   // Per beam: the detected range [m] (NaN: none) and the echo's peak intensity.
   struct Detections {
     std::vector<double> range_m;
@@ -69,7 +57,6 @@ struct MultibeamSensor {
     Detections detections;
   };
 
-  static SonarAcoustics default_acoustics();
   static double beam_angle(const Spec& spec, int k);
   static void make_ping(Spec& spec);
 

@@ -4,8 +4,8 @@
 // then white noise of `noise_stddev` per sample, quantisation to `resolution` and clipping to
 // [0, range_max] (sensors/noise.h, one scalar channel "pressure"). The message's variance is
 // noise_stddev^2 + resolution^2 / 12.
-// YAML keys (configs/REFERENCE.md): noise_stddev [Pa] (0), resolution [Pa] (0: none),
-// range_max [Pa] (1.2e8, 12 000 dbar absolute).
+// YAML keys: PressureSensor::keys() (server/src/sensors/pressure_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <string>
@@ -14,6 +14,7 @@
 
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/pressure_spec.h"
 
 namespace sensor_msgs::msg {
 class FluidPressure;
@@ -29,12 +30,7 @@ struct PressureSensor {
   using Message = sensor_msgs::msg::FluidPressure;
   using PubSubType = sensor_msgs::msg::FluidPressurePubSubType;
 
-  struct Spec {
-    using Kind = PressureSensor;
-    double noise_stddev = 0.0;  // white noise per sample [Pa]
-    double resolution = 0.0;    // quantisation step [Pa]; 0: none
-    double range_max = 1.2e8;   // full scale, absolute [Pa]
-  };
+  using Spec = PressureSpec;
   struct State {
     NoiseChannelState noise;
     double pressure = 0.0;  // last sample, absolute [Pa]

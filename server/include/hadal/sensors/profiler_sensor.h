@@ -11,9 +11,8 @@
 // Asynchronous capture (sensors/sensor_kind.h): the rays are cast on the ray-cast workers from the
 // snapshot at the scan's time, the scan is published latency_s later, stamped with the scan's time.
 // The defaults describe a generic 120-degree, 256-beam profiler, not a data sheet.
-// YAML keys (configs/REFERENCE.md): beams (256), fov_deg (120), beam_width_deg (0.5), rays_per_beam
-// (10), min_range [m] (0.5), max_range [m] (50), noise_stddev [m] (0.01, per beam per scan),
-// resolution [m] (0.005; 0: none); latency_s (common to captured sensors, default 0).
+// YAML keys: ProfilerSensor::keys() (server/src/sensors/profiler_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <string>
@@ -23,6 +22,7 @@
 #include "hadal/core/units.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kind.h"
+#include "hadal/sensors/profiler_spec.h"
 
 namespace sensor_msgs::msg {
 class LaserScan;
@@ -43,17 +43,7 @@ struct ProfilerSensor {
   using Message = sensor_msgs::msg::LaserScan;
   using PubSubType = sensor_msgs::msg::LaserScanPubSubType;
 
-  struct Spec {
-    using Kind = ProfilerSensor;
-    int beams = 256;
-    double fov = 120.0 * kDegToRad;        // whole fan [rad]
-    double beam_width = 0.5 * kDegToRad;   // in the fan's plane [rad]
-    int rays_per_beam = 10;
-    double min_range = 0.5;     // [m]
-    double max_range = 50.0;    // [m]
-    double noise_stddev = 0.01;  // per beam per scan [m]
-    double resolution = 0.005;   // quantisation step [m]; 0: none
-  };
+  using Spec = ProfilerSpec;
   struct State {
     NoiseChannelState noise;
     std::vector<double> ranges;  // the last scan, one per beam [m]

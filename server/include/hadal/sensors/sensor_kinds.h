@@ -14,7 +14,10 @@
 #include "hadal/sensors/multibeam_sensor.h"
 #include "hadal/sensors/pressure_sensor.h"
 #include "hadal/sensors/profiler_sensor.h"
+#include "hadal/sensors/sensor_specs.h"
 #include "hadal/sensors/sidescan_sensor.h"
+
+#include <type_traits>
 
 namespace hadal::sensors {
 
@@ -22,7 +25,8 @@ using SensorKinds =
     KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
              CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor>;
 
-using SensorKindSpec = SensorKinds::Specs;    // one alternative per kind: its Spec
+// The model's variant of specs (sensors/sensor_specs.h) is this list's.
+static_assert(std::is_same_v<SensorKindSpec, SensorKinds::Specs>, "sensors/sensor_specs.h lists the kinds in this order");
 using SensorKindState = SensorKinds::States;  // the matching State, same index
 
 }  // namespace hadal::sensors

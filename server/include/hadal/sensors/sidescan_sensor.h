@@ -13,11 +13,8 @@
 // exact when min_range is a whole number of bins, as the default 0),
 // tx_delays [0], tx_angles [0], rx_angles [-(pi/2 - d)] port, [+(pi/2 - d)] starboard (+ to starboard),
 // image one beam of uint8 or float32 samples (sensors/sonar.h); ping_info per side.
-// YAML keys (configs/REFERENCE.md): preset (a product; sets what the file does not give, and rate_hz unless
-// given), horizontal_beam_width_deg (0.5), vertical_beam_width_deg (50), depression_deg (20), along_rays (2),
-// rays_per_cell (4), the common sonar keys (sensors/sonar.h; here min_range 0, max_range 75 m and bins 2000 by
-// default)
-// and image_dtype, display_min_db, display_max_db; latency_s (common to captured sensors).
+// YAML keys: SidescanSensor::keys() (server/src/sensors/sidescan_sensor.cc), shown in
+// configs/REFERENCE.md.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +26,7 @@
 #include "hadal/core/units.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/sonar.h"
+#include "hadal/sensors/sidescan_spec.h"
 
 namespace marine_acoustic_msgs::msg {
 class RawSonarImage;
@@ -45,17 +43,7 @@ struct SidescanSensor {
   static constexpr int kPort = 0;  // beam index of each side
   static constexpr int kStarboard = 1;
 
-  struct Spec {
-    using Kind = SidescanSensor;
-    double horizontal_beam_width = 0.5 * kDegToRad;  // along track [rad]
-    double vertical_beam_width = 50.0 * kDegToRad;   // [rad]
-    double depression = 20.0 * kDegToRad;            // of the beams' axes below S's x-y plane [rad]
-    int along_rays = 2;
-    int rays_per_cell = 4;
-    SonarAcoustics acoustics = default_acoustics();
-    SonarImageEncoding encoding;
-    std::shared_ptr<const render::SonarPingSpec> ping;
-  };
+  using Spec = SidescanSpec;
   struct State {
     std::uint64_t noise_key = 0;
     double sound_speed_m_per_s = 0.0;
@@ -82,7 +70,6 @@ struct SidescanSensor {
   };
   using Topics = TopicList<PortTopic, StarboardTopic>;
 
-  static SonarAcoustics default_acoustics();
   static void make_ping(Spec& spec);
   // One side's message (side kPort or kStarboard).
   static void fill_side(const Spec& spec, const State& state, const MessageHeader& header, int side,

@@ -1,0 +1,24 @@
+// The sensor kinds' specs, without their implementations (core/vehicle_spec.h holds them in SensorSpec):
+// one alternative per kind, in sensors/sensor_kinds.h's order (which checks that they are the same).
+#pragma once
+
+#include <variant>
+
+#include "hadal/sensors/altimeter_spec.h"
+#include "hadal/sensors/camera_spec.h"
+#include "hadal/sensors/dvl_spec.h"
+#include "hadal/sensors/fls_spec.h"
+#include "hadal/sensors/gps_spec.h"
+#include "hadal/sensors/imu_spec.h"
+#include "hadal/sensors/magnetometer_spec.h"
+#include "hadal/sensors/multibeam_spec.h"
+#include "hadal/sensors/pressure_spec.h"
+#include "hadal/sensors/profiler_spec.h"
+#include "hadal/sensors/sidescan_spec.h"
+
+namespace hadal::sensors {
+
+using SensorKindSpec = std::variant<PressureSpec, ImuSpec, MagnetometerSpec, GpsSpec, DvlSpec, AltimeterSpec,
+                                    ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec>;
+
+}  // namespace hadal::sensors
