@@ -544,7 +544,7 @@ void Client::on_drop_weight_state(const std::string& vehicle, std::function<void
 
 void Client::on_thruster_state(const std::string& vehicle, std::function<void(const ThrusterStates&)> callback) {
   impl_->subscribe<hadal_msgs::msg::ThrusterStatePubSubType, hadal_msgs::msg::ThrusterState>(
-      dds::thruster_state_topic(vehicle),
+      dds::actuator_state_topic(vehicle, "thrusters"),
       [callback = std::move(callback)](const hadal_msgs::msg::ThrusterState& m) { callback(from_msg(m)); });
 }
 

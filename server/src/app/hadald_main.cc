@@ -6,7 +6,7 @@
 #include "hadal/config/scenario_loader.h"
 #include "hadal/config/security_block.h"
 #include "hadal/record/rosbag2_writer.h"
-#include "hadal/sensors/camera_sensor.h"
+#include "hadal/sensors/sensor_kinds.h"
 #include "scheduling.h"
 #include "server_loop.h"
 
@@ -107,7 +107,12 @@ int main(int argc, char** argv) {
       auto& sensors = vehicle.sensors;
       sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
                                    [](const SensorSpec& s) {
-                                     return std::holds_alternative<sensors::CameraSensor::Spec>(s.kind);
+                                     return std::visit(
+                                         [](const auto& spec) {
+                                           using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
+                                           return sensors::RendersImages<Kind>::value;
+                                         },
+                                         s.kind);
                                    }),
                     sensors.end());
     }

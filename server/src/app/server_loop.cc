@@ -256,7 +256,6 @@ class Runner {
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) dds_.publish_odometry(static_cast<int>(i), state);
       if (thruster_dividers_[i].due(state.time)) {
-        dds_.publish_thruster_state(static_cast<int>(i), state);
         dds_.publish_actuator_states(static_cast<int>(i), state);
       }
       // Sensors sample inside the simulation at their own rates; publish each new sample once.

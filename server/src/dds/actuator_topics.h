@@ -1,16 +1,18 @@
-// The state topics of the actuator kinds besides the thrusters' (every vehicle publishes
-// rt/<vehicle>/thrusters/state, fill_thruster_state): a kind with an ActuatorStateTopic below publishes
-// rt/<vehicle>/<kListKey>/state (tracks/state, fins/state, ...) for each vehicle that has one of it, one
-// entry per actuator of the kind in actuator order, at the vehicle's thruster-state rate. The message
-// has a header, `name` and `command_source` like ThrusterState, plus per-actuator sequences that
-// clear() and append() fill. Adding a kind's topic: its message in idl/hadal_msgs.idl (and the ROS 2
-// mirror under idl/ros2/), a specialisation here, its client accessors.
+// The state topics of the actuator kinds: a kind with an ActuatorStateTopic below publishes
+// rt/<vehicle>/<kListKey>/state (thrusters/state, tracks/state, fins/state, ...) for each vehicle that has
+// one of it -- or, with kEveryVehicle, for every vehicle (the thrusters': its command_source says whether
+// a client or the schedule commands the vehicle, also one without thrusters) -- one entry per actuator of
+// the kind in actuator order, at the vehicle's actuator_state_rate_hz. The message has a header, `name`
+// and `command_source`, plus per-actuator sequences that clear() and append() fill. Adding a kind's
+// topic: its message in idl/hadal_msgs.idl (and the ROS 2 mirror under idl/ros2/), a specialisation here,
+// its client accessors.
 #pragma once
 
 #include <hadal_msgs.h>
 #include <hadal_msgsPubSubTypes.h>
 
 #include <string>
+#include <type_traits>
 #include <variant>
 
 #include "hadal/core/model.h"
@@ -25,6 +27,23 @@ namespace hadal::dds {
 template <class K>
 struct ActuatorStateTopic {
   static constexpr bool kPublished = false;
+};
+
+template <>
+struct ActuatorStateTopic<physics::ThrusterActuator> {
+  static constexpr bool kPublished = true;
+  static constexpr bool kEveryVehicle = true;
+  using Message = hadal_msgs::msg::ThrusterState;
+  using PubSubType = hadal_msgs::msg::ThrusterStatePubSubType;
+  static void clear(Message& m) {
+    for (auto* f : {&m.setpoint(), &m.rotor_speed(), &m.thrust(), &m.torque()}) f->clear();
+  }
+  static void append(const physics::ThrusterActuator::State& s, Message& m) {
+    m.setpoint().push_back(s.setpoint);
+    m.rotor_speed().push_back(s.rotor_speed_rev_s);
+    m.thrust().push_back(s.thrust_N);
+    m.torque().push_back(s.torque_Nm);
+  }
 };
 
 template <>
@@ -105,9 +124,18 @@ struct ActuatorStateTopic<physics::DropWeightActuator> {
   }
 };
 
-// Whether `vehicle` has an actuator of kind K.
+// Whether kind K's state topic is published for every vehicle (kEveryVehicle), not only those with one.
+template <class K, class = void>
+struct PublishedForEveryVehicle : std::false_type {};
 template <class K>
-bool has_actuator_of_kind(const VehicleSpec& vehicle) {
+struct PublishedForEveryVehicle<K, std::void_t<decltype(ActuatorStateTopic<K>::kEveryVehicle)>>
+    : std::bool_constant<ActuatorStateTopic<K>::kEveryVehicle> {};
+
+// Whether `vehicle` publishes kind K's state topic: it has an actuator of kind K, or K's is published for
+// every vehicle.
+template <class K>
+bool publishes_state_of_kind(const VehicleSpec& vehicle) {
+  if (PublishedForEveryVehicle<K>::value) return true;
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     if (std::holds_alternative<typename K::Spec>(actuator.kind)) return true;
   }

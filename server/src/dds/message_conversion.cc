@@ -50,31 +50,4 @@ void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::ms
   }
 }
 
-void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
-                         hadal_msgs::msg::ThrusterState& msg) {
-  msg.header().stamp(to_time_msg(time_s));
-  msg.header().frame_id(base_frame_id(spec.name));
-  std::size_t n = 0;
-  for (const physics::ActuatorKindState& actuator : state.actuators) {
-    n += std::holds_alternative<physics::ThrusterActuator::State>(actuator) ? 1 : 0;
-  }
-  msg.name().resize(n);
-  msg.setpoint().resize(n);
-  msg.rotor_speed().resize(n);
-  msg.thrust().resize(n);
-  msg.torque().resize(n);
-  std::size_t i = 0;
-  for (std::size_t k = 0; k < state.actuators.size(); ++k) {
-    const auto* thruster = std::get_if<physics::ThrusterActuator::State>(&state.actuators[k]);
-    if (thruster == nullptr) continue;
-    msg.name()[i] = spec.actuators[k].name;
-    msg.setpoint()[i] = thruster->setpoint;
-    msg.rotor_speed()[i] = thruster->rotor_speed_rev_s;
-    msg.thrust()[i] = thruster->thrust_N;
-    msg.torque()[i] = thruster->torque_Nm;
-    ++i;
-  }
-  msg.command_source(static_cast<std::uint8_t>(state.command_source));
-}
-
 }  // namespace hadal::dds

@@ -30,9 +30,4 @@ void fill_odometry(const std::string& world_frame_id, const std::string& vehicle
 // A step reply's ground truth: every vehicle's name, pose (7 numbers) and twist (6), as odometry_values.
 void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::msg::StepReply& msg);
 
-// The vehicle's thrusters (its actuators of kind thruster, in actuator order): setpoint, rotor speed
-// [rev/s], thrust [N], reaction torque [N m], and the command source.
-void fill_thruster_state(const VehicleSpec& spec, const VehicleState& state, double time_s,
-                         hadal_msgs::msg::ThrusterState& msg);
-
 }  // namespace hadal::dds

@@ -92,29 +92,10 @@ void resampled_mesh(const geometry::TriangleMesh& mesh, hadal_msgs::msg::SceneMe
   out.indices(indices);
 }
 
-// How far a sensor's beams reach [m] and its cone half angle [rad], 0 where a viewer draws none.
-std::pair<double, double> sensor_reach(const SensorSpec& sensor) {
-  return std::visit(
-      [](const auto& spec) -> std::pair<double, double> {
-        using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
-        if constexpr (std::is_same_v<Kind, sensors::DvlSensor>) {
-          return {spec.params.max_altitude / std::cos(spec.params.beam_tilt), spec.params.beam_tilt};
-        } else if constexpr (std::is_same_v<Kind, sensors::AltimeterSensor>) {
-          return {spec.max_range, 0.5 * spec.field_of_view};
-        } else if constexpr (std::is_same_v<Kind, sensors::ProfilerSensor>) {
-          return {spec.max_range, 0.5 * spec.fov};
-        } else if constexpr (std::is_same_v<Kind, sensors::CameraSensor>) {
-          const render::LensSpec& lens = spec.lens->spec();
-          return {spec.far_m, std::atan2(0.5 * lens.width_px, lens.fx)};
-        } else if constexpr (std::is_same_v<Kind, sensors::FlsSensor>) {
-          return {spec.acoustics.max_range, 0.5 * spec.fov};
-        } else if constexpr (std::is_same_v<Kind, sensors::MultibeamSensor>) {
-          return {spec.acoustics.max_range, 0.5 * spec.swath};
-        } else {  // a side-scan looks to both sides of x_S: no cone along it
-          return {0.0, 0.0};
-        }
-      },
-      sensor.kind);
+// How far a sensor's beams reach and its cone's half angle: its kind's reach().
+sensors::SensorReach sensor_reach(const SensorSpec& sensor) {
+  return std::visit([](const auto& spec) { return sensors::KindOf<std::decay_t<decltype(spec)>>::reach(spec); },
+                    sensor.kind);
 }
 
 Eigen::Array3d vehicle_albedo(const Model& model, const VehicleSpec& vehicle) {
@@ -167,9 +148,9 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
       frame.kind(std::string(sensor.type()));
       frame.frame_id(sensor.frame_id);
       set_pose(vehicle.links[sensor.link_index].X_BL * sensor.X_LS, frame.pose());
-      const auto [range, half_angle] = sensor_reach(sensor);
-      frame.range(range);
-      frame.half_angle(half_angle);
+      const sensors::SensorReach reach = sensor_reach(sensor);
+      frame.range(reach.range_m);
+      frame.half_angle(reach.half_angle_rad);
     }
     for (const LightSpec& light : vehicle.lights) {
       hadal_msgs::msg::SceneFrame& frame = msg.frames().emplace_back();

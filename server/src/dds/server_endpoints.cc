@@ -58,7 +58,6 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   fdds::DataWriter* scene_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
-  std::vector<fdds::DataWriter*> thruster_writers;
   // Per vehicle, a writer per actuator kind with a state topic that the vehicle has (actuator_topics.h).
   struct ActuatorStateWriter {
     virtual ~ActuatorStateWriter() = default;
@@ -95,14 +94,13 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<std::string> topic_names;
   std::vector<std::uint64_t> counts;
   std::size_t clock_slot = 0, status_slot = 0, reply_slot = 0, scene_slot = 0;
-  std::vector<std::size_t> odometry_slot, thruster_slot;
+  std::vector<std::size_t> odometry_slot;
 
   // Reused messages: the publish path does not allocate once strings and sequences have their size.
   rosgraph_msgs::msg::Clock clock_msg;
   // One message per topic, kept until the topic's next write: the monitor serializes the last one when due.
   std::vector<nav_msgs::msg::Odometry> odometry_msgs;
   hadal_msgs::msg::StepReply reply_msg;
-  std::vector<hadal_msgs::msg::ThrusterState> thruster_msgs;
   hadal_msgs::msg::SimStatus status_msg;
   hadal_msgs::msg::Scene scene_msg;  // written at start and after every reset
   sensor_msgs::msg::Image preview_msg;
@@ -293,7 +291,6 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
   d.monitor_writer = r.writer<hadal_msgs::msg::MonitorPubSubType>(monitor_topic(), 1);
   d.monitor_slot = d.add_count(monitor_topic());
   d.odometry_msgs.resize(model.vehicles.size());
-  d.thruster_msgs.resize(model.vehicles.size());
 
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     const std::string& name = model.vehicles[i].name;
@@ -301,15 +298,11 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
         r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), kStateHistoryDepth));
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
     d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
-    d.thruster_writers.push_back(
-        r.writer<hadal_msgs::msg::ThrusterStatePubSubType>(thruster_state_topic(name), kStateHistoryDepth));
-    d.thruster_slot.push_back(d.add_count(thruster_state_topic(name)));
-    d.carry_in_monitor(d.thruster_writers.back(), d.thruster_slot.back());
     auto& actuator_writers = d.actuator_state_writers.emplace_back();
     physics::ActuatorKinds::for_each([&](auto tag) {
       using K = typename decltype(tag)::type;
       if constexpr (ActuatorStateTopic<K>::kPublished) {
-        if (!has_actuator_of_kind<K>(model.vehicles[i])) return;
+        if (!publishes_state_of_kind<K>(model.vehicles[i])) return;
         auto writer = std::make_unique<Impl::KindStateWriter<K>>();
         const std::string topic = actuator_state_topic(name, K::kListKey);
         writer->writer = r.writer<typename ActuatorStateTopic<K>::PubSubType>(topic, kStateHistoryDepth);
@@ -419,12 +412,6 @@ void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state)
   impl_->write(impl_->odometry_writers[i], &impl_->odometry_msgs[i], impl_->odometry_slot[i]);
 }
 
-void ServerEndpoints::publish_thruster_state(int vehicle_index, const SimState& state) {
-  const auto i = static_cast<std::size_t>(vehicle_index);
-  fill_thruster_state(impl_->model.vehicles[i], state.vehicles[i], state.time, impl_->thruster_msgs[i]);
-  impl_->write(impl_->thruster_writers[i], &impl_->thruster_msgs[i], impl_->thruster_slot[i]);
-}
-
 void ServerEndpoints::publish_actuator_states(int vehicle_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
   for (const auto& writer : impl_->actuator_state_writers[i]) {
@@ -518,7 +505,6 @@ void ServerEndpoints::flush(double timeout_s) {
   std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer,
                                             impl_->scene_writer};
   writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
-  writers.insert(writers.end(), impl_->thruster_writers.begin(), impl_->thruster_writers.end());
   for (const auto& vehicle_writers : impl_->actuator_state_writers) {
     for (const auto& writer : vehicle_writers) writers.push_back(writer->writer);
   }

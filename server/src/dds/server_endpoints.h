@@ -2,7 +2,7 @@
 //
 // Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/hadal/scene (once, and again after a reset:
 // dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/<vehicle>/odometry,
-// rt/<vehicle>/thrusters/state, the other actuator kinds' states and rt/<vehicle>/<sensor> (per sensor, its
+// rt/<vehicle>/<kind>/state of the actuator kinds and rt/<vehicle>/<sensor> (per sensor, its
 // topics, of ROS types; camera previews while read: dds/image_preview.h); subscribes
 // rt/<vehicle>/thrusters/setpoints and rt/hadal/step_request. Incoming samples are queued by the DDS
 // threads and taken by the step loop at step boundaries, so the loop never waits on DDS. Writers to
@@ -68,9 +68,8 @@ class ServerEndpoints {
 
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);
-  void publish_thruster_state(int vehicle_index, const SimState& state);
-  // rt/<vehicle>/<kind>/state of each actuator kind the vehicle has besides thrusters (tracks, fins,
-  // buoyancy engines, drop weights: dds/actuator_topics.h).
+  // rt/<vehicle>/<kind>/state of each actuator kind the vehicle publishes (thrusters: every vehicle; tracks,
+  // fins, buoyancy engines, drop weights: those that have one; dds/actuator_topics.h).
   void publish_actuator_states(int vehicle_index, const SimState& state);
   // The sensor's last sample (state.vehicles[v].sensors[s]).
   void publish_sensor(int vehicle_index, int sensor_index, const SimState& state);

@@ -20,6 +20,8 @@ NoiseChannelParams AltimeterSensor::channel(const Spec& spec, double period) {
   return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, spec.min_range, spec.max_range);
 }
 
+SensorReach AltimeterSensor::reach(const Spec& spec) { return {spec.max_range, 0.5 * spec.field_of_view}; }
+
 const config::KeyTable<AltimeterSensor::Spec, SensorReader>& AltimeterSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].altimeter", "one beam along x of S: the range to the first hit");

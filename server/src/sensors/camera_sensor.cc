@@ -205,6 +205,11 @@ std::optional<render::LensSpec> make_lens_spec(const config::KeyReads& reads, co
 
 }  // namespace
 
+SensorReach CameraSensor::reach(const Spec& spec) {
+  const render::LensSpec& lens = spec.lens->spec();
+  return {spec.far_m, std::atan2(0.5 * lens.width_px, lens.fx)};
+}
+
 const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].camera",

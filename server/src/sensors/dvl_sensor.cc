@@ -68,6 +68,8 @@ std::function<void(DvlSensor::Spec&, double, SensorReader&)> per_ping(NoiseChann
 // A data-sheet preset (it also sets rate_hz unless given) and/or geometry, bottom-lock window, noise per
 // ping, the paper's bias drift, water track and sound-speed error. Per-ping sigmas become white-noise
 // densities at the sensor's sample period (dvl_params).
+SensorReach DvlSensor::reach(const Spec& spec) { return {spec.params.max_altitude / std::cos(spec.params.beam_tilt), spec.params.beam_tilt}; }
+
 const config::KeyTable<DvlSensor::Spec, SensorReader>& DvlSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].dvl", "four Janus beams: bottom and water track");

@@ -50,6 +50,8 @@ void FlsSensor::make_ping(Spec& spec) {
   spec.ping = std::move(ping);
 }
 
+SensorReach FlsSensor::reach(const Spec& spec) { return {spec.acoustics.max_range, 0.5 * spec.fov}; }
+
 const config::KeyTable<FlsSensor::Spec, SensorReader>& FlsSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].fls", "a forward-looking imaging sonar: a fan of beams in S's x-y plane",

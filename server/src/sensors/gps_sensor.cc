@@ -22,6 +22,8 @@ NoiseTriadParams GpsSensor::position_noise(const Spec& spec, double period) {
   return triad;
 }
 
+SensorReach GpsSensor::reach(const Spec& /*spec*/) { return {}; }
+
 const config::KeyTable<GpsSensor::Spec, SensorReader>& GpsSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].gps", "a fix while the antenna is above the water surface");

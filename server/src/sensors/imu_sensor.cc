@@ -126,6 +126,8 @@ const config::KeyTable<Spec, SensorReader>& vibration_keys() {
 
 // A data-sheet preset and/or figures in data-sheet units, converted by sensors/noise.h; temperature
 // drift and thruster vibration.
+SensorReach ImuSensor::reach(const Spec& /*spec*/) { return {}; }
+
 const config::KeyTable<ImuSensor::Spec, SensorReader>& ImuSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].imu", "gyroscopes and accelerometers: the paper's error chain");

@@ -13,6 +13,8 @@ namespace hadal::sensors {
 
 using config::Range;
 
+SensorReach MagnetometerSensor::reach(const Spec& /*spec*/) { return {}; }
+
 const config::KeyTable<MagnetometerSensor::Spec, SensorReader>& MagnetometerSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].magnetometer",

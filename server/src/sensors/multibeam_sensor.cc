@@ -50,6 +50,8 @@ void MultibeamSensor::make_ping(Spec& spec) {
   spec.ping = std::move(ping);
 }
 
+SensorReach MultibeamSensor::reach(const Spec& spec) { return {spec.acoustics.max_range, 0.5 * spec.swath}; }
+
 const config::KeyTable<MultibeamSensor::Spec, SensorReader>& MultibeamSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].multibeam", "a multibeam echosounder: bottom detection per beam",

@@ -19,6 +19,8 @@ NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
   return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_max);
 }
 
+SensorReach PressureSensor::reach(const Spec& /*spec*/) { return {}; }
+
 const config::KeyTable<PressureSensor::Spec, SensorReader>& PressureSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].pressure", "absolute pressure at the sensor's origin");

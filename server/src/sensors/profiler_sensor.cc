@@ -25,6 +25,8 @@ NoiseChannelParams ProfilerSensor::channel(const Spec& spec, double period) {
   return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, spec.min_range, spec.max_range);
 }
 
+SensorReach ProfilerSensor::reach(const Spec& spec) { return {spec.max_range, 0.5 * spec.fov}; }
+
 const config::KeyTable<ProfilerSensor::Spec, SensorReader>& ProfilerSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].profiler", "a fan of beams in S's x-y plane, one range each");

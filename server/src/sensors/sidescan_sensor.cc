@@ -58,6 +58,8 @@ void SidescanSensor::make_ping(Spec& spec) {
   spec.ping = std::move(ping);
 }
 
+SensorReach SidescanSensor::reach(const Spec& /*spec*/) { return {}; }
+
 const config::KeyTable<SidescanSensor::Spec, SensorReader>& SidescanSensor::keys() {
   static const config::KeyTable<Spec, SensorReader> table = [] {
     config::KeyTable<Spec, SensorReader> t("sensors[].sidescan", "a side-scan sonar: a beam to either side of x_S",

@@ -22,11 +22,8 @@ inline std::string sensor_topic(const std::string& vehicle, const std::string& s
 inline std::string thruster_setpoints_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/thrusters/setpoints";
 }
-inline std::string thruster_state_topic(const std::string& vehicle) {
-  return "rt/" + vehicle + "/thrusters/state";
-}
-// The state of a vehicle's actuators of one kind besides thrusters, by the kind's YAML list key:
-// rt/<vehicle>/tracks/state, fins/state, buoyancy_engines/state, drop_weights/state.
+// The state of a vehicle's actuators of one kind, by the kind's YAML list key: rt/<vehicle>/thrusters/state,
+// tracks/state, fins/state, buoyancy_engines/state, drop_weights/state.
 inline std::string actuator_state_topic(const std::string& vehicle, std::string_view list_key) {
   return "rt/" + vehicle + "/" + std::string(list_key) + "/state";
 }

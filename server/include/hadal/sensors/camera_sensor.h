@@ -68,6 +68,7 @@ struct CameraSensor {
   static constexpr std::string_view kType = "camera";
   static constexpr bool kCastsRays = false;  // rendered on the workers
   static constexpr bool kCaptures = true;
+  static constexpr bool kRendersImages = true;  // hadald --no-cameras leaves it out
 
   using Calibration = CameraCalibration;
   using Spec = CameraSpec;
@@ -108,6 +109,7 @@ struct CameraSensor {
   using Topics = TopicList<ImageRawTopic, DepthTopic, CameraInfoTopic>;
 
   static const config::KeyTable<Spec, SensorReader>& keys();
+  static SensorReach reach(const Spec& spec);
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);

@@ -43,6 +43,7 @@ struct DvlSensor {
   static double ray_length(const Spec& spec);
 
   static const config::KeyTable<Spec, SensorReader>& keys();
+  static SensorReach reach(const Spec& spec);
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);

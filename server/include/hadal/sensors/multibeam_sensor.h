@@ -61,6 +61,7 @@ struct MultibeamSensor {
   static void make_ping(Spec& spec);
 
   static const config::KeyTable<Spec, SensorReader>& keys();
+  static SensorReach reach(const Spec& spec);
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);

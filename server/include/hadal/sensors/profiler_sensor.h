@@ -56,6 +56,7 @@ struct ProfilerSensor {
   static NoiseChannelParams channel(const Spec& spec, double period);
 
   static const config::KeyTable<Spec, SensorReader>& keys();
+  static SensorReach reach(const Spec& spec);
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static geometry::RayBatch capture_rays(const CaptureContext& context, const Spec& spec);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, const geometry::RayHits& hits);

@@ -15,6 +15,7 @@
 //   static State initial_state(const Spec&, const SensorSetup&);  turn-on draws of its noise
 //   static void sample(const SampleContext&, const Spec&, State&);  the ideal value, then the noise
 //   static void fill_message(const Spec&, const State&, const MessageHeader&, Message&);
+//   static SensorReach reach(const Spec&);                       what a monitor draws of it
 //
 // and one line in sensors/sensor_kinds.h. Every layer dispatches once over that list with std::visit
 // (the loader by `type:`, the simulation per sample, the DDS endpoints per topic), so nothing else
@@ -131,6 +132,13 @@ struct CaptureContext {
   Eigen::Isometry3d X_WS() const { return X_WB[static_cast<std::size_t>(vehicle_index)] * X_BS; }
 };
 
+// How far a sensor looks along x_S and the half angle of its cone, for monitors that draw it
+// (rt/hadal/scene); zeros: nothing to draw (a pressure sensor; a side-scan, which looks to both sides).
+struct SensorReach {
+  double range_m = 0.0;
+  double half_angle_rad = 0.0;
+};
+
 // The header fields of a sensor's message.
 struct MessageHeader {
   double stamp = 0.0;  // sim time of the sample [s]
@@ -213,6 +221,13 @@ template <class Topic, class = void>
 struct TopicInMonitor : std::true_type {};
 template <class Topic>
 struct TopicInMonitor<Topic, std::void_t<decltype(Topic::kInMonitor)>> : std::bool_constant<Topic::kInMonitor> {};
+
+// A kind that renders images declares kRendersImages = true (the camera): hadald --no-cameras leaves such
+// sensors out.
+template <class Kind, class = void>
+struct RendersImages : std::false_type {};
+template <class Kind>
+struct RendersImages<Kind, std::void_t<decltype(Kind::kRendersImages)>> : std::bool_constant<Kind::kRendersImages> {};
 
 // Whether a captured kind captures by scene work (defines Capture) rather than by a ray batch.
 template <class Kind, class = void>

@@ -76,6 +76,8 @@ struct SidescanSensor {
                         marine_acoustic_msgs::msg::RawSonarImage& msg);
 
   static const config::KeyTable<Spec, SensorReader>& keys();
+  // Nothing along x_S: it looks to both sides.
+  static SensorReach reach(const Spec& spec);
   static State initial_state(const Spec& spec, const SensorSetup& setup);
   static CaptureWork capture(const CaptureContext& context, const Spec& spec, const State& state, Capture& out);
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);
