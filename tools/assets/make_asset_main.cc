@@ -10,6 +10,7 @@
 #include "hadal/assets/mesh_generators.h"
 #include "hadal/assets/scene_writer.h"
 #include "hadal/assets/zoo_meshes.h"
+#include "cli_args.h"
 
 namespace {
 
@@ -37,11 +38,6 @@ constexpr const char* kUsage =
     "options: --stl-ascii (ASCII STL instead of binary)\n"
     "All lengths in metres; Hadal's frame (z up, x forward).\n";
 
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-make-asset: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
-
 bool parse_double(const char* text, double& out) {
   char* end = nullptr;
   out = std::strtod(text, &end);
@@ -52,11 +48,13 @@ bool parse_double(const char* text, double& out) {
 
 int main(int argc, char** argv) {
   using namespace hadal::assets;
+  // Its usage errors only: SHAPE and OUTPUT come first, options take one to three numbers, --help stands alone.
+  const hadal::tools::CommandLine command_line("hadal-make-asset", kUsage);
   if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
     std::fputs(kUsage, stdout);
     return 0;
   }
-  if (argc < 3) return usage_error("need SHAPE and OUTPUT");
+  if (argc < 3) return command_line.usage_error("need SHAPE and OUTPUT");
   const std::string shape = argv[1], output = argv[2];
   std::vector<double> size, center{0, 0, 0}, texture_size{16, 8};
   double radius = -1, length = -1, bar = -1, leg_length = 0.6, triangles = 10000, extent = 100,
@@ -103,8 +101,8 @@ int main(int argc, char** argv) {
     else if (arg == "--stl-ascii")
       stl_ascii = true;
     else
-      return usage_error("unknown option '" + arg + "'");
-    if (!ok) return usage_error("bad or missing value for " + arg);
+      return command_line.usage_error("unknown option '" + arg + "'");
+    if (!ok) return command_line.usage_error("bad or missing value for " + arg);
   }
 
   if (shape == "zoo") {
@@ -145,7 +143,7 @@ int main(int argc, char** argv) {
           lander_solid(size[0], size[1], size[2], bar > 0 ? bar : 0.08, leg_length), "lander"));
     } else if (shape == "seabed") {
       if (!(triangles >= 2 && triangles <= 2.0e7))
-        return usage_error("--triangles must be in [2, 2e7]");
+        return command_line.usage_error("--triangles must be in [2, 2e7]");
       spec = single_mesh_scene(make_seabed(seabed_for_triangles(
           static_cast<std::int64_t>(triangles), extent, static_cast<std::uint64_t>(seed))));
     } else if (shape == "two-node") {
@@ -153,7 +151,7 @@ int main(int argc, char** argv) {
     } else if (shape == "textured-quad") {
       spec = textured_quad_scene(int(texture_size[0]), int(texture_size[1]), external_texture);
     } else {
-      return usage_error("unknown shape '" + shape + "'");
+      return command_line.usage_error("unknown shape '" + shape + "'");
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hadal-make-asset: %s\n", e.what());

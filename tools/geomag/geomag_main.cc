@@ -10,21 +10,24 @@
 // ellipsoid (negative below it), DECIMAL_YEAR within the model's five-year span (2025.0 - 2030.0).
 // Exit status: 0 success; 1 the coefficient file does not load (file:line error on stderr); 2 usage error
 // (nothing on stdout).
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cli_args.h"
 #include "hadal/sensors/geomagnetic.h"
 #include "json_number.h"
+#include "parse_number.h"
 #include "hadal/core/units.h"
 
 namespace {
 
 using hadal::tools::json_number;
+using hadal::tools::parse_number;
 
 constexpr const char* kUsage =
     "usage: hadal-geomag LAT_DEG LON_DEG HEIGHT_KM DECIMAL_YEAR [--cof PATH]\n"
@@ -34,26 +37,6 @@ constexpr const char* kUsage =
     "  DECIMAL_YEAR  e.g. 2027.5, within the model's validity (WMM2025: 2025.0..2030.0)\n"
     "  --cof PATH    coefficient file (default: hadald's WMM2025.COF; $HADAL_DATA_DIR overrides its folder)\n"
     "Prints X, Y, Z, H, F [nT], I, D [deg] and their yearly rates as one JSON object.\n";
-
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-geomag: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
-
-// A whole-string finite number, or false.
-bool parse_number(const std::string& text, double* out) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  const double x = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
-  *out = x;
-  return true;
-}
-
-// "-12.5" is a negative number, "-x" or "--x" an option.
-bool is_option(const std::string& arg) {
-  return arg.size() >= 2 && arg[0] == '-' && !(std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.');
-}
 
 // JSON string body: the model name comes from the file's header.
 std::string json_escape(const std::string& text) {
@@ -70,34 +53,30 @@ std::string json_escape(const std::string& text) {
 int main(int argc, char** argv) {
   std::string cof_path = hadal::sensors::GeomagneticModel::default_cof_path();
   std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      std::printf("Default coefficient file here: %s\n", cof_path.c_str());
-      return 0;
-    }
-    if (arg == "--cof") {
-      if (i + 1 >= argc) return usage_error("--cof needs a value");
-      cof_path = argv[++i];
-      continue;
-    }
-    if (is_option(arg)) return usage_error("unknown option '" + arg + "'");
-    positional.push_back(arg);
-  }
+  hadal::tools::CommandLine command_line("hadal-geomag", kUsage);
+  command_line.option_syntax(hadal::tools::OptionSyntax::kDashNotNumber)
+      .text("--cof", &cof_path)
+      .positional([&](const std::string& arg) {
+        positional.push_back(arg);
+        return std::string();
+      })
+      .after_help([&] { std::printf("Default coefficient file here: %s\n", cof_path.c_str()); });
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   if (positional.size() != 4) {
-    return usage_error("expected 4 arguments LAT_DEG LON_DEG HEIGHT_KM DECIMAL_YEAR (got " +
-                       std::to_string(positional.size()) + ")");
+    return command_line.usage_error("expected 4 arguments LAT_DEG LON_DEG HEIGHT_KM DECIMAL_YEAR (got " +
+                                    std::to_string(positional.size()) + ")");
   }
   const char* names[4] = {"LAT_DEG", "LON_DEG", "HEIGHT_KM", "DECIMAL_YEAR"};
   double values[4];
   for (int k = 0; k < 4; ++k) {
     if (!parse_number(positional[k], &values[k])) {
-      return usage_error(std::string(names[k]) + " is not a number: '" + positional[k] + "'");
+      return command_line.usage_error(std::string(names[k]) + " is not a number: '" + positional[k] + "'");
     }
   }
   const double lat_deg = values[0], lon_deg = values[1], height_km = values[2], year = values[3];
-  if (std::abs(lat_deg) > 90.0) return usage_error("LAT_DEG must be in [-90, 90] (got " + positional[0] + ")");
+  if (std::abs(lat_deg) > 90.0) {
+    return command_line.usage_error("LAT_DEG must be in [-90, 90] (got " + positional[0] + ")");
+  }
 
   hadal::sensors::GeomagneticModel model;
   try {
@@ -107,8 +86,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (year < model.valid_from_year() || year > model.valid_until_year()) {
-    return usage_error("DECIMAL_YEAR " + positional[3] + " is outside " + model.name() + "'s validity " +
-                       json_number(model.valid_from_year()) + ".." + json_number(model.valid_until_year()));
+    return command_line.usage_error("DECIMAL_YEAR " + positional[3] + " is outside " + model.name() +
+                                    "'s validity " + json_number(model.valid_from_year()) + ".." +
+                                    json_number(model.valid_until_year()));
   }
 
   constexpr double kDeg = hadal::kDegToRad;

@@ -10,8 +10,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 
+#include "cli_args.h"
 #include "json_number.h"
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
@@ -29,9 +31,24 @@ constexpr const char* kUsage =
     "Prints one JSON object (SI units, Hadal's frame); inertia is about the centroid for unit "
     "density.\n";
 
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-mesh-info: %s\n%s", message.c_str(), kUsage);
-  return 2;
+// --scale S: "" when S is a finite number > 0 (into *scale), else the usage error.
+std::string read_scale(const std::string& text, double* scale) {
+  char* end = nullptr;
+  *scale = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0') return "--scale: not a number: " + text;
+  if (!(*scale > 0.0) || !std::isfinite(*scale)) return "--scale must be > 0 and finite (got " + text + ")";
+  return "";
+}
+
+std::string read_up_axis(const std::string& text, hadal::geometry::UpAxis* up_axis) {
+  if (text == "y" || text == "Y") {
+    *up_axis = hadal::geometry::UpAxis::kY;
+  } else if (text == "z" || text == "Z") {
+    *up_axis = hadal::geometry::UpAxis::kZ;
+  } else {
+    return "--up-axis must be y or z (got " + text + ")";
+  }
+  return "";
 }
 
 std::string json_string(const std::string& text) {
@@ -63,37 +80,15 @@ int main(int argc, char** argv) {
   using namespace hadal::geometry;
   std::string file;
   ImportOptions options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--scale") {
-      if (i + 1 >= argc) return usage_error("--scale needs a value");
-      char* end = nullptr;
-      options.scale = std::strtod(argv[++i], &end);
-      if (end == argv[i] || *end != '\0')
-        return usage_error(std::string("--scale: not a number: ") + argv[i]);
-      if (!(options.scale > 0.0) || !std::isfinite(options.scale))
-        return usage_error(std::string("--scale must be > 0 and finite (got ") + argv[i] + ")");
-    } else if (arg == "--up-axis") {
-      if (i + 1 >= argc) return usage_error("--up-axis needs y or z");
-      const std::string axis = argv[++i];
-      if (axis == "y" || axis == "Y")
-        options.up_axis = UpAxis::kY;
-      else if (axis == "z" || axis == "Z")
-        options.up_axis = UpAxis::kZ;
-      else
-        return usage_error("--up-axis must be y or z (got " + axis + ")");
-    } else if (arg.rfind("--", 0) == 0) {
-      return usage_error("unknown option " + arg);
-    } else if (file.empty()) {
-      file = arg;
-    } else {
-      return usage_error("more than one FILE");
-    }
-  }
-  if (file.empty()) return usage_error("missing FILE");
+  hadal::tools::CommandLine command_line("hadal-mesh-info", kUsage);
+  command_line.unknown_words("unknown option %s")
+      .option_syntax(hadal::tools::OptionSyntax::kDoubleDash)
+      .option("--scale", [&](const std::string& value) { return read_scale(value, &options.scale); })
+      .option("--up-axis", [&](const std::string& value) { return read_up_axis(value, &options.up_axis); },
+              "--up-axis needs y or z")
+      .one_positional(&file, "more than one FILE");
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
+  if (file.empty()) return command_line.usage_error("missing FILE");
 
   const ImportResult result = import_mesh(file, options);
   for (const std::string& warning : result.warnings)

@@ -9,9 +9,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cli_args.h"
 #include "json_number.h"
 #include "parse_number.h"
 #include "hadal/config/scenario_loader.h"
@@ -29,52 +31,34 @@ constexpr const char* kUsage =
     "  --time T  simulation time [s] at which the current is sampled (default 0)\n"
     "Prints one JSON object per depth (SI units; current in the world frame at (0, 0, z)).\n";
 
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-ocean: %s\n%s", message.c_str(), kUsage);
-  return 2;
+// "D1,D2,..." into *depths: "" when every item is a number, else the usage error.
+std::string read_depths(const std::string& value, std::vector<double>* depths) {
+  depths->clear();
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = value.find(',', start);
+    const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    double depth = 0.0;
+    if (!parse_number(item, &depth)) return "--depths: not a number: '" + item + "'";
+    depths->push_back(depth);
+    if (comma == std::string::npos) return "";
+    start = comma + 1;
+  }
 }
-
-
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  using hadal::tools::NumberRange;
   std::string scenario;
   std::vector<double> depths = {0, 10, 100, 500, 1000, 2000, 4000, 6000, 11000};
   double time = 0.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg == "--depths" || arg == "--time") {
-      if (i + 1 >= argc) return usage_error(arg + " needs a value");
-      const std::string value = argv[++i];
-      if (arg == "--time") {
-        if (!parse_number(value, &time) || time < 0.0) {
-          return usage_error("--time must be a number >= 0 (got '" + value + "')");
-        }
-        continue;
-      }
-      depths.clear();
-      std::size_t start = 0;
-      for (;;) {
-        const std::size_t comma = value.find(',', start);
-        const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        double depth = 0.0;
-        if (!parse_number(item, &depth)) return usage_error("--depths: not a number: '" + item + "'");
-        depths.push_back(depth);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-      }
-      continue;
-    }
-    if (!arg.empty() && arg[0] == '-') return usage_error("unknown option '" + arg + "'");
-    if (!scenario.empty()) return usage_error("more than one scenario file");
-    scenario = arg;
-  }
-  if (scenario.empty()) return usage_error("missing SCENARIO.yaml");
+  hadal::tools::CommandLine command_line("hadal-ocean", kUsage);
+  command_line.option("--depths", [&](const std::string& value) { return read_depths(value, &depths); })
+      .number("--time", &time, NumberRange::at_least(0.0))
+      .one_positional(&scenario, "more than one scenario file");
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
+  if (scenario.empty()) return command_line.usage_error("missing SCENARIO.yaml");
 
   const hadal::config::LoadResult loaded = hadal::config::load_scenario_file(scenario);
   for (const auto& warning : loaded.warnings) std::fprintf(stderr, "%s\n", warning.format().c_str());

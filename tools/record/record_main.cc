@@ -14,6 +14,7 @@
 // Security with the `security:` block of FILE (docs/dds.md, "DDS Security"), to record a secure hadald.
 #include "hadal/record/bag_recorder.h"
 #include "hadal/record/rosbag2_writer.h"
+#include "cli_args.h"
 #include "parse_number.h"
 #include "security_option.h"
 
@@ -22,6 +23,8 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -35,17 +38,27 @@ const char* const kUsage =
     "usage: hadal-record BAG_DIR [--domain-id N] [--topics T,...] [--use-sim-time] [--duration S] [--wait S]\n"
     "                    [--security FILE]\n";
 
-[[noreturn]] void usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-record: error: %s\n%s", message.c_str(), kUsage);
-  std::exit(2);
+// "" when `text` is a number of seconds in (0, 1e9] (into *out), else the usage error.
+std::string read_seconds(const std::string& option, const std::string& text, double* out) {
+  const hadal::tools::NumberRange range = hadal::tools::NumberRange::left_open(0.0, 1e9);
+  double value = 0.0;
+  if (!hadal::tools::parse_number(text, &value) || !range.contains(value)) {
+    return option + " must be a number of seconds > 0 (got '" + text + "')";
+  }
+  *out = value;
+  return "";
 }
 
-double parse_seconds(const std::string& option, const std::string& text) {
-  double value = 0.0;
-  if (!hadal::tools::parse_number(text, &value) || !(value > 0.0) || value > 1e9) {
-    usage_error(option + " must be a number of seconds > 0 (got '" + text + "')");
+// --topics T,...: ROS 2 names into *topics; "" when every one is such a name, else the usage error.
+std::string read_topics(const std::string& text, std::set<std::string>* topics) {
+  std::stringstream list(text);
+  for (std::string topic; std::getline(list, topic, ',');) {
+    if (topic.empty() || topic[0] != '/') {
+      return "--topics takes ROS 2 names such as /auv/odometry (got '" + topic + "')";
+    }
+    topics->insert(topic);
   }
-  return value;
+  return "";
 }
 
 }  // namespace
@@ -56,50 +69,32 @@ int main(int argc, char** argv) {
   int& domain = options.domain_id;
   bool domain_given = false;
   double duration_s = 0.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) usage_error("option " + arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--security") {
-      if (const std::string error = hadal::tools::read_security_option(next(), &options.security); !error.empty()) {
-        usage_error(error);
-      }
-    } else if (arg == "--domain-id") {
-      if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
-      domain_given = true;
-    } else if (arg == "--topics") {
-      std::stringstream list(next());
-      for (std::string topic; std::getline(list, topic, ',');) {
-        if (topic.empty() || topic[0] != '/') {
-          usage_error("--topics takes ROS 2 names such as /auv/odometry (got '" + topic + "')");
-        }
-        options.topics.insert(topic);
-      }
-    } else if (arg == "--use-sim-time") {
-      options.use_sim_time = true;
-    } else if (arg == "--duration") {
-      duration_s = parse_seconds(arg, next());
-    } else if (arg == "--wait") {
-      options.wait_s = parse_seconds(arg, next());
-    } else if (arg.rfind("--", 0) == 0) {
-      usage_error("unknown option " + arg);
-    } else if (!directory.empty()) {
-      usage_error("more than one bag directory given ('" + directory + "' and '" + arg + "')");
-    } else {
-      directory = arg;
+  hadal::tools::CommandLine command_line("hadal-record", kUsage);
+  command_line.error_prefix("error: ")
+      .missing_value_words("option %s needs a value")
+      .unknown_words("unknown option %s")
+      .option_syntax(hadal::tools::OptionSyntax::kDoubleDash)
+      .option("--security",
+              [&](const std::string& value) { return hadal::tools::read_security_option(value, &options.security); })
+      .option("--domain-id",
+              [&](const std::string& value) {
+                domain_given = true;
+                return hadal::tools::parse_domain_id(value, &domain);
+              })
+      .option("--topics", [&](const std::string& value) { return read_topics(value, &options.topics); })
+      .flag("--use-sim-time", [&] { options.use_sim_time = true; })
+      .option("--duration", [&](const std::string& value) { return read_seconds("--duration", value, &duration_s); })
+      .option("--wait", [&](const std::string& value) { return read_seconds("--wait", value, &options.wait_s); })
+      .one_positional(&directory, "more than one bag directory given ('%s' and '%s')");
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
+  if (!domain_given) {
+    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) {
+      return command_line.usage_error(error);
     }
   }
-  if (!domain_given) {
-    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) usage_error(error);
-  }
-  if (directory.empty()) usage_error("no bag directory given");
+  if (directory.empty()) return command_line.usage_error("no bag directory given");
   if (const std::string error = hadal::record::Rosbag2Writer::existing_directory_error(directory); !error.empty()) {
-    usage_error(error);
+    return command_line.usage_error(error);
   }
   std::signal(SIGINT, handle_stop_signal);
   std::signal(SIGTERM, handle_stop_signal);

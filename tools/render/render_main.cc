@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@
 #include "hadal/core/simulation.h"
 #include "hadal/geometry/raycast_service.h"
 #include "hadal/sensors/camera_sensor.h"
+#include "cli_args.h"
 #include "json_number.h"
 #include "parse_number.h"
 
@@ -47,12 +49,6 @@ constexpr const char* kUsage =
     "Writes <vehicle>_<camera>.png and <vehicle>_<camera>_depth.png (16-bit mm) per camera and\n"
     "prints one JSON object per camera.\n";
 
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-render: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
-
-
 struct CameraRef {
   std::size_t vehicle = 0;
   std::size_t sensor = 0;
@@ -66,32 +62,23 @@ int main(int argc, char** argv) {
   std::string scenario, only, out_dir = ".";
   double time = 0.0, threads = 0.0;
   bool threads_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg == "--time" || arg == "--camera" || arg == "--out" || arg == "--threads") {
-      if (i + 1 >= argc) return usage_error(arg + " needs a value");
-      const std::string value = argv[++i];
-      if (arg == "--time" && (!parse_number(value, &time) || time < 0.0)) {
-        return usage_error("--time must be a number >= 0 (got '" + value + "')");
-      }
-      if (arg == "--threads" && (!parse_number(value, &threads) || threads < 0.0 || threads > 256.0 ||
-                                 threads != std::floor(threads))) {
-        return usage_error("--threads must be a whole number in [0, 256] (got '" + value + "')");
-      }
-      threads_given = threads_given || arg == "--threads";
-      if (arg == "--camera") only = value;
-      if (arg == "--out") out_dir = value;
-      continue;
-    }
-    if (!arg.empty() && arg[0] == '-') return usage_error("unknown option " + arg);
-    if (!scenario.empty()) return usage_error("one scenario only (got '" + scenario + "' and '" + arg + "')");
-    scenario = arg;
-  }
-  if (scenario.empty()) return usage_error("no scenario given");
+  tools::CommandLine command_line("hadal-render", kUsage);
+  command_line.unknown_words("unknown option %s")
+      .number("--time", &time, tools::NumberRange::at_least(0.0))
+      .text("--camera", &only)
+      .text("--out", &out_dir)
+      .option("--threads",
+              [&](const std::string& value) -> std::string {
+                if (!parse_number(value, &threads) || threads < 0.0 || threads > 256.0 ||
+                    threads != std::floor(threads)) {
+                  return "--threads must be a whole number in [0, 256] (got '" + value + "')";
+                }
+                threads_given = true;
+                return "";
+              })
+      .one_positional(&scenario, "one scenario only (got '%s' and '%s')");
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
+  if (scenario.empty()) return command_line.usage_error("no scenario given");
 
   config::LoadResult loaded = config::load_scenario_file(scenario);
   if (!loaded.model) {

@@ -99,8 +99,6 @@ constexpr double kRrwVisibleSlope = 0.25;       // closed-form last-decade slope
 constexpr double kRrwTolerance = 0.30;          // fitted K vs configured (as the floor)
 constexpr double kWhiteSlopeTolerance = 0.10;   // white-only slope vs -1/2 (4 sigma at 3 h, README)
 
-int usage_error(const std::string& message) { return validation::usage_error(kTool, kUsage, message); }
-
 // --- configured figures ------------------------------------------------------------------------------
 
 // Bias instability B of an axis's Gauss-Markov bank (noise.h, bias_instability_to_gauss_markov_bank:
@@ -527,37 +525,23 @@ int main(int argc, char** argv) {
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/imu_static.yaml";
   std::string preset_id;
-  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
-    if (arg == "--hours") {
-      if (!parse_number(value, &hours) || !(hours > 0.0) || hours > 100.0) {
-        return "--hours must be a number in (0, 100] (got '" + value + "')";
-      }
-    } else if (arg == "--rate") {
-      if (!parse_number(value, &rate) || !(rate > 0.0) || rate > 10000.0) {
-        return "--rate must be a number in (0, 10000] (got '" + value + "')";
-      }
-    } else if (arg == "--out") {
-      out_dir = value;
-    } else if (arg == "--scenario") {
-      scenario = value;
-    } else {
-      preset_id = value;
-    }
-    return "";
-  };
-  if (const auto status =
-          parse_command_line(argc, argv, kTool, kUsage, {"--hours", "--rate", "--out", "--scenario", "--preset"},
-                             {"--no-record"}, on_option, [&](const std::string&) { write_record = false; })) {
-    return *status;
-  }
+  CommandLine command_line = make_command_line(kTool, kUsage);
+  command_line.number("--hours", &hours, NumberRange::left_open(0.0, 100.0))
+      .number("--rate", &rate, NumberRange::left_open(0.0, 10000.0))
+      .text("--out", &out_dir)
+      .text("--scenario", &scenario)
+      .text("--preset", &preset_id)
+      .flag("--no-record", [&] { write_record = false; });
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   const ns::ImuDatasheet* preset = nullptr;
   if (!preset_id.empty()) {
     preset = ns::find_imu_preset(preset_id);
-    if (!preset) return usage_error("unknown --preset '" + preset_id + "'");
+    if (!preset) return command_line.usage_error("unknown --preset '" + preset_id + "'");
   }
   const auto sample_count = static_cast<std::size_t>(std::llround(hours * 3600.0 * rate));
   if (sample_count < 100) {
-    return usage_error("--hours x --rate gives " + std::to_string(sample_count) + " samples; at least 100 are needed");
+    return command_line.usage_error("--hours x --rate gives " + std::to_string(sample_count) +
+                                    " samples; at least 100 are needed");
   }
 
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);

@@ -133,13 +133,9 @@ Model panel_model(const Panel& panel) {
 
 int main(int argc, char** argv) {
   std::string out_dir = "validation_out/camera";
-  if (const auto status = validation::parse_command_line(argc, argv, kTool, kUsage, {"--out"}, {},
-                                                         [&](const std::string&, const std::string& value) {
-                                                           out_dir = value;
-                                                           return std::string();
-                                                         })) {
-    return *status;
-  }
+  validation::CommandLine command_line = validation::make_command_line(kTool, kUsage);
+  command_line.text("--out", &out_dir);
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   if (const std::string error = validation::ensure_directory(out_dir); !error.empty()) {
     std::fprintf(stderr, "%s: %s\n", kTool, error.c_str());
     return 1;

@@ -263,22 +263,12 @@ int main(int argc, char** argv) {
   bool hold = true;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/coriolis_auv.yaml";
-  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
-    if (arg == "--distance") {
-      if (!parse_number(value, &distance) || !(distance > 0.0) || distance > 1e6) {
-        return "--distance must be a number in (0, 1e6] (got '" + value + "')";
-      }
-    } else if (arg == "--out") {
-      out_dir = value;
-    } else {
-      scenario = value;
-    }
-    return "";
-  };
-  if (const auto status = parse_command_line(argc, argv, kTool, kUsage, {"--distance", "--out", "--scenario"},
-                                             {"--no-hold"}, on_option, [&](const std::string&) { hold = false; })) {
-    return *status;
-  }
+  CommandLine command_line = make_command_line(kTool, kUsage);
+  command_line.number("--distance", &distance, NumberRange::left_open(0.0, 1e6))
+      .text("--out", &out_dir)
+      .text("--scenario", &scenario)
+      .flag("--no-hold", [&] { hold = false; });
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;
   Model model_on = std::move(*loaded);

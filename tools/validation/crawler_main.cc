@@ -68,26 +68,12 @@ int main(int argc, char** argv) {
   double duration = 20.0, setpoint = 0.6;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/configs/scenarios/crawler.yaml";
-  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
-    if (arg == "--duration") {
-      if (!parse_number(value, &duration) || !(duration > 0.0) || duration > 3600.0) {
-        return "--duration must be a number in (0, 3600] (got '" + value + "')";
-      }
-    } else if (arg == "--setpoint") {
-      if (!parse_number(value, &setpoint) || !(setpoint > 0.0) || setpoint > 1.0) {
-        return "--setpoint must be a number in (0, 1] (got '" + value + "')";
-      }
-    } else if (arg == "--out") {
-      out_dir = value;
-    } else {
-      scenario = value;
-    }
-    return "";
-  };
-  if (const auto status = parse_command_line(argc, argv, kTool, kUsage,
-                                             {"--duration", "--setpoint", "--out", "--scenario"}, {}, on_option)) {
-    return *status;
-  }
+  CommandLine command_line = make_command_line(kTool, kUsage);
+  command_line.number("--duration", &duration, NumberRange::left_open(0.0, 3600.0))
+      .number("--setpoint", &setpoint, NumberRange::left_open(0.0, 1.0))
+      .text("--out", &out_dir)
+      .text("--scenario", &scenario);
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;
   Model model = std::move(*loaded);

@@ -109,8 +109,6 @@ constexpr double kSigmas = 4.0;                   // drift checks: two-sided 4 s
 constexpr double kDecompositionTolerance = 1e-8;  // [m] rounding of the position sums (header text)
 constexpr double kMeanWindows = 36.0;             // the figure's window means per record (5 min at 3 h)
 
-int usage_error(const std::string& message) { return validation::usage_error(kTool, kUsage, message); }
-
 // --- the record ----------------------------------------------------------------------------------------
 
 struct Record {
@@ -541,36 +539,25 @@ int main(int argc, char** argv) {
   bool write_record = true;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/dvl_static.yaml";
-  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
-    if (arg == "--hours") {
-      if (!parse_number(value, &hours) || !(hours > 0.0) || hours > 100.0) {
-        return "--hours must be a number in (0, 100] (got '" + value + "')";
-      }
-    } else if (arg == "--interval") {
-      if (!parse_number(value, &interval_min) || !(interval_min > 0.0)) {
-        return "--interval must be a number > 0 (got '" + value + "')";
-      }
-    } else if (arg == "--seed") {
-      double x = 0.0;
-      if (!parse_number(value, &x) || x < 0.0 || x != std::floor(x) || x > 9007199254740992.0) {
-        return "--seed must be a non-negative integer (got '" + value + "')";
-      }
-      seed = static_cast<std::uint64_t>(x);
-    } else if (arg == "--out") {
-      out_dir = value;
-    } else {
-      scenario = value;
-    }
-    return "";
-  };
-  if (const auto status =
-          parse_command_line(argc, argv, kTool, kUsage, {"--hours", "--interval", "--seed", "--out", "--scenario"},
-                             {"--no-record"}, on_option, [&](const std::string&) { write_record = false; })) {
-    return *status;
-  }
+  CommandLine command_line = make_command_line(kTool, kUsage);
+  command_line.number("--hours", &hours, NumberRange::left_open(0.0, 100.0))
+      .number("--interval", &interval_min, NumberRange::greater_than(0.0))
+      .option("--seed",
+              [&](const std::string& value) -> std::string {
+                double x = 0.0;
+                if (!parse_number(value, &x) || x < 0.0 || x != std::floor(x) || x > 9007199254740992.0) {
+                  return "--seed must be a non-negative integer (got '" + value + "')";
+                }
+                seed = static_cast<std::uint64_t>(x);
+                return "";
+              })
+      .text("--out", &out_dir)
+      .text("--scenario", &scenario)
+      .flag("--no-record", [&] { write_record = false; });
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   if (interval_min > 60.0 * hours) {
-    return usage_error("--interval (" + json_rounded(interval_min) + " min) must not exceed the record (" +
-                       json_rounded(60.0 * hours) + " min)");
+    return command_line.usage_error("--interval (" + json_rounded(interval_min) +
+                                    " min) must not exceed the record (" + json_rounded(60.0 * hours) + " min)");
   }
 
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
@@ -589,8 +576,8 @@ int main(int argc, char** argv) {
   const double period = 1.0 / rate;
   const auto ping_count = static_cast<std::size_t>(std::llround(hours * 3600.0 * rate));
   if (ping_count < 100) {
-    return usage_error("--hours gives " + std::to_string(ping_count) + " pings at " + json_rounded(rate) +
-                       " Hz; at least 100 are needed");
+    return command_line.usage_error("--hours gives " + std::to_string(ping_count) + " pings at " +
+                                    json_rounded(rate) + " Hz; at least 100 are needed");
   }
   // What remains without the bias: the same per-beam channels (white noise, quantization, any per-beam
   // processes the scenario gives them), the same everything else.

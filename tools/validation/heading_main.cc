@@ -187,24 +187,11 @@ int main(int argc, char** argv) {
   double seconds = 600.0;
   double rate = 10.0;
   std::string out_dir = ".";
-  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
-    if (arg == "--seconds") {
-      if (!parse_number(value, &seconds) || !(seconds >= 1.0) || seconds > 86400.0) {
-        return "--seconds must be a number in [1, 86400] (got '" + value + "')";
-      }
-    } else if (arg == "--rate") {
-      if (!parse_number(value, &rate) || !(rate >= 0.1) || rate > 1000.0) {
-        return "--rate must be a number in [0.1, 1000] (got '" + value + "')";
-      }
-    } else {
-      out_dir = value;
-    }
-    return "";
-  };
-  if (const auto status = parse_command_line(argc, argv, kTool, kUsage, {"--seconds", "--rate", "--out"},
-                                             {}, on_option)) {
-    return *status;
-  }
+  CommandLine command_line = make_command_line(kTool, kUsage);
+  command_line.number("--seconds", &seconds, NumberRange::closed(1.0, 86400.0))
+      .number("--rate", &rate, NumberRange::closed(0.1, 1000.0))
+      .text("--out", &out_dir);
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   if (const std::string error = ensure_directory(out_dir); !error.empty()) {
     std::fprintf(stderr, "%s: %s\n", kTool, error.c_str());
     return 1;

@@ -327,32 +327,25 @@ int main(int argc, char** argv) {
   std::optional<double> magnus;
   std::string out_dir = ".";
   std::string scenario = HADAL_SOURCE_DIR "/tools/validation/scenarios/lander_descent.yaml";
-  const auto on_option = [&](const std::string& arg, const std::string& value) -> std::string {
-    if (arg == "--depth") {
-      if (!parse_number(value, &depth) || !(depth > 0.0) || depth > 10900.0) {
-        return "--depth must be a number in (0, 10900] (got '" + value + "')";
-      }
-    } else if (arg == "--segments") {
-      if (!parse_number(value, &segments) || segments != std::floor(segments) || segments < 8 ||
-          segments > 64 || std::fmod(segments, 2.0) != 0.0) {
-        return "--segments must be an even integer in [8, 64] (got '" + value + "')";
-      }
-    } else if (arg == "--magnus") {
-      double value_s = 0.0;
-      if (!parse_number(value, &value_s)) return "--magnus must be a number (got '" + value + "')";
-      magnus = value_s;
-    } else if (arg == "--out") {
-      out_dir = value;
-    } else {
-      scenario = value;
-    }
-    return "";
-  };
-  if (const auto status =
-          parse_command_line(argc, argv, kTool, kUsage, {"--depth", "--out", "--scenario", "--segments", "--magnus"},
-                             {}, on_option)) {
-    return *status;
-  }
+  CommandLine command_line = make_command_line(kTool, kUsage);
+  command_line.number("--depth", &depth, NumberRange::left_open(0.0, 10900.0))
+      .text("--out", &out_dir)
+      .text("--scenario", &scenario)
+      .option("--segments",
+              [&](const std::string& value) -> std::string {
+                if (!parse_number(value, &segments) || segments != std::floor(segments) || segments < 8 ||
+                    segments > 64 || std::fmod(segments, 2.0) != 0.0) {
+                  return "--segments must be an even integer in [8, 64] (got '" + value + "')";
+                }
+                return "";
+              })
+      .option("--magnus", [&](const std::string& value) {
+        double magnus_value = 0.0;
+        const std::string error = tools::read_number("--magnus", value, NumberRange::any(), &magnus_value);
+        if (error.empty()) magnus = magnus_value;
+        return error;
+      });
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   std::optional<Model> loaded = prepare_run(out_dir, scenario, kTool);
   if (!loaded) return 1;
   Model model = std::move(*loaded);

@@ -102,35 +102,32 @@ struct Sounding {
   bool on_seabed = true;
 };
 
+// A sim time option: "" when `text` is a number in `range` (into *out), else "OPTION must be in RANGE".
+std::string read_seconds(const std::string& option, const std::string& text, const validation::NumberRange& range,
+                         double* out) {
+  double parsed = 0.0;
+  if (!validation::parse_number(text, &parsed) || !range.contains(parsed)) return option + " must be " + range.text();
+  *out = parsed;
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string out_dir = "validation_out/sonar";
   std::string scenario = std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/sonar_survey.yaml";
   double seconds = 70.0, fls_at = 20.0;
-  if (const auto status = validation::parse_command_line(
-          argc, argv, kTool, kUsage, {"--out", "--scenario", "--seconds", "--fls-at"}, {},
-          [&](const std::string& option, const std::string& value) -> std::string {
-            if (option == "--out") out_dir = value;
-            if (option == "--scenario") scenario = value;
-            if (option == "--seconds") {
-              double parsed = 0.0;
-              if (!validation::parse_number(value, &parsed) || !(parsed > 0.0 && parsed <= 3600.0)) {
-                return "--seconds must be in (0, 3600]";
-              }
-              seconds = parsed;
-            }
-            if (option == "--fls-at") {
-              double parsed = 0.0;
-              if (!validation::parse_number(value, &parsed) || !(parsed >= 0.0 && parsed <= 3600.0)) {
-                return "--fls-at must be in [0, 3600]";
-              }
-              fls_at = parsed;
-            }
-            return std::string();
-          })) {
-    return *status;
-  }
+  validation::CommandLine command_line = validation::make_command_line(kTool, kUsage);
+  command_line.text("--out", &out_dir)
+      .text("--scenario", &scenario)
+      .option("--seconds",
+              [&](const std::string& value) {
+                return read_seconds("--seconds", value, validation::NumberRange::left_open(0.0, 3600.0), &seconds);
+              })
+      .option("--fls-at", [&](const std::string& value) {
+        return read_seconds("--fls-at", value, validation::NumberRange::closed(0.0, 3600.0), &fls_at);
+      });
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   std::optional<Model> loaded = validation::load_model(scenario, kTool);
   if (!loaded) return 1;
   Model model = std::move(*loaded);

@@ -1,4 +1,4 @@
-// Shared by the validation commands (tools/validation/*_main.cc): command-line numbers, JSON numbers,
+// Shared by the validation commands (tools/validation/*_main.cc): their command line, JSON numbers,
 // output directory, scenario loading with the loader's diagnostics, yaw unwrapping and a small JSON
 // object writer. Header-only.
 #pragma once
@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -21,6 +20,7 @@
 
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/units.h"
+#include "cli_args.h"
 #include "json_number.h"
 #include "parse_number.h"
 #include "hadal/core/model.h"
@@ -32,6 +32,8 @@ namespace hadal::validation {
 constexpr double kDegPerRad = 180.0 / kPi;
 
 using tools::json_number;
+using tools::CommandLine;
+using tools::NumberRange;
 using tools::parse_number;
 
 // A number rounded to `digits` significant digits (summary values, not round-trip data).
@@ -77,12 +79,6 @@ inline std::optional<Model> load_model(const std::string& path, const char* tool
   return std::move(result.model);
 }
 
-// Prints "tool: message" and the usage text to stderr; returns the usage exit status 2.
-inline int usage_error(const char* tool, const char* usage, const std::string& message) {
-  std::fprintf(stderr, "%s: %s\n%s", tool, message.c_str(), usage);
-  return 2;
-}
-
 // The first sensor of kind Kind (e.g. sensors::ImuSensor) in the model (vehicle index, sensor index), or
 // nothing.
 struct SensorRef {
@@ -122,34 +118,12 @@ class HourlyProgress {
   double next_hour_ = 1.0;  // [h]
 };
 
-// The tools' command lines: options "--name value" (names in `options`), switches "--name" (names in
-// `switches`) and -h / --help. Calls on_option(name, value) for each option in order, which returns ""
-// or a usage error, and on_switch(name) for each switch. Returns nullopt to go on, or the exit status
-// to return from main: 0 after printing `usage` to stdout for --help, 2 after printing a usage error
-// ("unknown argument 'x'", "--name needs a value", or on_option's message) and `usage` to stderr.
-inline std::optional<int> parse_command_line(
-    int argc, char** argv, const char* tool, const char* usage, const std::vector<std::string>& options,
-    const std::vector<std::string>& switches,
-    const std::function<std::string(const std::string& name, const std::string& value)>& on_option,
-    const std::function<void(const std::string& name)>& on_switch = {}) {
-  const auto listed = [](const std::vector<std::string>& names, const std::string& arg) {
-    return std::find(names.begin(), names.end(), arg) != names.end();
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(usage, stdout);
-      return 0;
-    }
-    if (listed(switches, arg)) {
-      if (on_switch) on_switch(arg);
-      continue;
-    }
-    if (!listed(options, arg)) return usage_error(tool, usage, "unknown argument '" + arg + "'");
-    if (i + 1 >= argc) return usage_error(tool, usage, arg + " needs a value");
-    if (const std::string error = on_option(arg, argv[++i]); !error.empty()) return usage_error(tool, usage, error);
-  }
-  return std::nullopt;
+// The tools' command lines (tools/common/cli_args.h): options "--name value", flags "--name" and -h / --help,
+// no positional arguments ("unknown argument 'x'").
+inline tools::CommandLine make_command_line(const char* tool, const char* usage) {
+  tools::CommandLine command_line(tool, usage);
+  command_line.unknown_words("unknown argument '%s'");
+  return command_line;
 }
 
 // The start of every run: creates the output directory and loads the scenario, reporting problems on

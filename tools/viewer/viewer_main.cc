@@ -17,6 +17,7 @@
 #include "hadal/record/rosbag2_reader.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "hadal/record/topic_tap.h"
+#include "cli_args.h"
 #include "json_number.h"
 #include "parse_number.h"
 #include "security_option.h"
@@ -37,6 +38,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <regex>
 #include <string>
 #include <thread>
@@ -55,9 +57,13 @@ const char* const kUsage =
     "                    [--rate-hz 20] [--image-rate-hz 5] [--nice 10] [--web-root DIR] [--three-root DIR]\n"
     "                    [--security FILE]\n";
 
-[[noreturn]] void usage_error(const std::string& message) {
-  std::fprintf(stderr, "hadal-viewer: error: %s\n%s", message.c_str(), kUsage);
-  std::exit(2);
+// --rate-hz, --image-rate-hz: "" when `text` is a rate in (0, 100] Hz (into *out), else the usage error.
+std::string read_rate_hz(const std::string& option, const std::string& text, double* out) {
+  const hadal::tools::NumberRange range = hadal::tools::NumberRange::left_open(0.0, 100.0);
+  if (!hadal::tools::parse_number(text, out) || !range.contains(*out)) {
+    return option + " must be a rate " + range.text() + " Hz (got '" + text + "')";
+  }
+  return "";
 }
 
 double now_s() {
@@ -363,64 +369,56 @@ int main(int argc, char** argv) {
   hadal::SecurityFiles security;
   double rate_hz = 20.0, image_rate_hz = 5.0;
   int nice = 10;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) usage_error("option " + arg + " needs a value");
-      return argv[++i];
-    };
-    auto rate = [&](double* out) {
-      const std::string value = next();
-      if (!hadal::tools::parse_number(value, out) || !(*out > 0.0) || *out > 100.0) {
-        usage_error(arg + " must be a rate in (0, 100] Hz (got '" + value + "')");
-      }
-    };
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--security") {
-      if (const std::string error = hadal::tools::read_security_option(next(), &security); !error.empty()) {
-        usage_error(error);
-      }
-    } else if (arg == "--domain-id") {
-      if (const std::string error = hadal::tools::parse_domain_id(next(), &domain); !error.empty()) usage_error(error);
-      domain_given = true;
-    } else if (arg == "--port") {
-      const std::string value = next();
-      if (!hadal::tools::parse_int(value, 0, 65535, &web.port)) {
-        usage_error("--port must be an integer in 0..65535 (got '" + value + "'; 0: any free port)");
-      }
-    } else if (arg == "--bind") {
-      web.bind = next();
-    } else if (arg == "--token") {
-      web.token = next();
-      const char* const kTokenCharacters = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_.~";
-      if (web.token.empty() || web.token.size() > 128 ||
-          web.token.find_first_not_of(kTokenCharacters) != std::string::npos) {
-        usage_error("--token takes 1 to 128 letters, digits and -_.~ (it goes into a URL)");
-      }
-    } else if (arg == "--bag") {
-      bag = next();
-    } else if (arg == "--rate-hz") {
-      rate(&rate_hz);
-    } else if (arg == "--image-rate-hz") {
-      rate(&image_rate_hz);
-    } else if (arg == "--nice") {
-      if (!hadal::tools::parse_int(next(), 0, 19, &nice)) usage_error("--nice takes an integer in 0..19");
-    } else if (arg == "--web-root") {
-      web.web_root = next();
-    } else if (arg == "--three-root") {
-      web.three_root = next();
-    } else {
-      usage_error("unknown argument " + arg);
+  hadal::tools::CommandLine command_line("hadal-viewer", kUsage);
+  command_line.error_prefix("error: ")
+      .missing_value_words("option %s needs a value")
+      .unknown_words("unknown argument %s")
+      .option("--security",
+              [&](const std::string& value) { return hadal::tools::read_security_option(value, &security); })
+      .option("--domain-id",
+              [&](const std::string& value) {
+                domain_given = true;
+                return hadal::tools::parse_domain_id(value, &domain);
+              })
+      .option("--port",
+              [&](const std::string& value) -> std::string {
+                if (!hadal::tools::parse_int(value, 0, 65535, &web.port)) {
+                  return "--port must be an integer in 0..65535 (got '" + value + "'; 0: any free port)";
+                }
+                return "";
+              })
+      .text("--bind", &web.bind)
+      .option("--token",
+              [&](const std::string& value) -> std::string {
+                web.token = value;
+                const char* const kTokenCharacters =
+                    "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_.~";
+                if (web.token.empty() || web.token.size() > 128 ||
+                    web.token.find_first_not_of(kTokenCharacters) != std::string::npos) {
+                  return "--token takes 1 to 128 letters, digits and -_.~ (it goes into a URL)";
+                }
+                return "";
+              })
+      .text("--bag", &bag)
+      .option("--rate-hz", [&](const std::string& value) { return read_rate_hz("--rate-hz", value, &rate_hz); })
+      .option("--image-rate-hz",
+              [&](const std::string& value) { return read_rate_hz("--image-rate-hz", value, &image_rate_hz); })
+      .option("--nice",
+              [&](const std::string& value) -> std::string {
+                return hadal::tools::parse_int(value, 0, 19, &nice) ? "" : "--nice takes an integer in 0..19";
+              })
+      .text("--web-root", &web.web_root)
+      .text("--three-root", &web.three_root);
+  if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
+  if (!domain_given) {
+    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) {
+      return command_line.usage_error(error);
     }
   }
-  if (!domain_given) {
-    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) usage_error(error);
-  }
   if (!is_loopback(web.bind) && web.token.empty()) {
-    usage_error("--bind " + web.bind + " lets other machines in: give --token T (the page is then opened as "
-                "http://HOST:PORT/?token=T), or keep the default 127.0.0.1 and use an SSH tunnel");
+    return command_line.usage_error("--bind " + web.bind + " lets other machines in: give --token T (the page is "
+                                    "then opened as http://HOST:PORT/?token=T), or keep the default 127.0.0.1 and "
+                                    "use an SSH tunnel");
   }
 
   // A monitor must not slow what it watches: on a machine whose CPUs a fast-mode hadald fills, the viewer's
