@@ -16,7 +16,9 @@ namespace hadal::sensors {
 using config::Range;
 
 NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
-  return per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_max);
+  NoiseChannelParams params = per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_max);
+  params.noise.turn_on_bias = spec.offset;
+  return params;
 }
 
 SensorReach PressureSensor::reach(const Spec& /*spec*/) { return {}; }
@@ -28,6 +30,7 @@ const config::KeyTable<PressureSensor::Spec, SensorReader>& PressureSensor::keys
     t.number("resolution", &Spec::resolution).unit("Pa").range(Range::non_negative()).doc("quantisation step; 0: none");
     t.number("range_max", &Spec::range_max).unit("Pa").range(Range::positive())
         .doc("full scale (absolute); readings clip to [0, range_max]");
+    t.number("offset", &Spec::offset).unit("Pa").doc("a zero offset added to every reading (a transducer zeroed in air)");
     return t;
   }();
   return table;

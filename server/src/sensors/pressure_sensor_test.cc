@@ -84,6 +84,22 @@ TEST(PressureSensorTest, ResolutionRangeAndAir) {
   EXPECT_EQ(air.pressure, dry.ocean.atmospheric_pressure());
 }
 
+// A zero offset is added to every reading, before clipping: exactly, without noise; in air a negative
+// offset larger than the atmosphere reads 0.
+TEST(PressureSensorTest, OffsetIsAddedBeforeClipping) {
+  SensorTestWorld world = world_at(300.0);
+  PressureSensor::Spec spec;
+  spec.offset = 250.0;
+  PressureSensor::State state = world.initial_state<PressureSensor>(spec, 10.0);
+  world.sample<PressureSensor>(spec, state, kX_BS, 10.0);
+  EXPECT_EQ(state.pressure, world.ocean.pressure(300.0 - 0.5) + 250.0);
+  SensorTestWorld dry = world_at(-10.0);
+  spec.offset = -2.0e5;
+  PressureSensor::State air = dry.initial_state<PressureSensor>(spec, 10.0);
+  dry.sample<PressureSensor>(spec, air, kX_BS, 10.0);
+  EXPECT_EQ(air.pressure, 0.0);
+}
+
 // Same seed and names: the same stream; another sensor name: another stream.
 TEST(PressureSensorTest, StreamsAreKeyedBySeedVehicleAndSensor) {
   SensorTestWorld world = world_at(200.0);

@@ -11,6 +11,7 @@ struct PressureSpec {
   double noise_stddev = 0.0;  // white noise per sample [Pa]
   double resolution = 0.0;    // quantisation step [Pa]; 0: none
   double range_max = 1.2e8;   // full scale, absolute [Pa]
+  double offset = 0.0;        // added to every reading before quantisation and clipping [Pa]
 };
 
 }  // namespace hadal::sensors
