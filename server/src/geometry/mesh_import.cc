@@ -1,5 +1,5 @@
 #include "hadal/geometry/mesh_import.h"
-#include "parallel_for.h"
+#include "hadal/core/parallel_for.h"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/material.h>
@@ -612,7 +612,7 @@ std::string import_scene(const std::string& path, const std::string& user_path,
   const unsigned workers = (vertices + triangles) > 2 * kChunk ? worker_threads() : 1;
   // The arrays are zero-filled by resize; for large meshes the fill (and its page faults) is
   // spread over the workers.
-  parallel_for(5, workers, [&](std::size_t k) {
+  spawned_threads(workers)(5, [&](std::size_t k) {
     if (k == 0) mesh.indices.resize(3 * triangles);
     if (k == 1) mesh.positions.resize(3 * vertices);
     if (k == 2) mesh.normals.resize(3 * vertices);
@@ -626,7 +626,7 @@ std::string import_scene(const std::string& path, const std::string& user_path,
     for (std::size_t b = 0; b < kept[i].mesh->mNumVertices; b += kChunk)
       items.push_back({i, b, std::min<std::size_t>(b + kChunk, kept[i].mesh->mNumVertices)});
   std::vector<ChunkResult> chunk_results(items.size());
-  parallel_for(items.size(), workers, [&](std::size_t w) {
+  spawned_threads(workers)(items.size(), [&](std::size_t w) {
     const WorkItem& item = items[w];
     const Instance& inst = kept[item.instance];
     const aiMesh* m = inst.mesh;
@@ -692,7 +692,7 @@ std::string import_scene(const std::string& path, const std::string& user_path,
     }
   }
   chunk_results.assign(items.size(), {});
-  parallel_for(items.size(), workers, [&](std::size_t w) {
+  spawned_threads(workers)(items.size(), [&](std::size_t w) {
     const WorkItem& item = items[w];
     const Instance& inst = kept[item.instance];
     const aiMesh* m = inst.mesh;
@@ -760,7 +760,7 @@ std::string import_scene(const std::string& path, const std::string& user_path,
     std::vector<std::size_t> need;
     for (std::size_t i = 0; i < kept.size(); ++i)
       if (!kept[i].mesh->mNormals) need.push_back(i);
-    parallel_for(need.size(), workers, [&](std::size_t k) {
+    spawned_threads(workers)(need.size(), [&](std::size_t k) {
       const Instance& inst = kept[need[k]];
       const float* p = mesh.positions.data();
       std::vector<double> acc(3 * inst.mesh->mNumVertices, 0.0);

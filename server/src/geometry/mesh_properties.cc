@@ -1,5 +1,5 @@
 #include "hadal/geometry/mesh_properties.h"
-#include "parallel_for.h"
+#include "hadal/core/parallel_for.h"
 
 #include <algorithm>
 #include <array>
@@ -136,7 +136,7 @@ MeshProperties compute_mesh_properties(const TriangleMesh& mesh) {
   props.centroid_z.resize(nt);
   const std::size_t chunks = (nt + kChunk - 1) / kChunk;
   std::vector<Sums> partial(chunks);
-  parallel_for(chunks, workers, [&](std::size_t c) {
+  spawned_threads(workers)(chunks, [&](std::size_t c) {
     Sums s;
     const std::size_t end = std::min(nt, (c + 1) * kChunk);
     for (std::size_t t = c * kChunk; t < end; ++t) {
