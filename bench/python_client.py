@@ -39,7 +39,7 @@ def lockstep_calls(seconds):
         for steps in (1, 10):
             calls, start = 0, time.perf_counter()
             while time.perf_counter() - start < seconds:
-                client.set_thrusters("auv", [0.5, 0.0, 0.0])
+                client.set_commands("auv", [0.5, 0.0, 0.0])
                 client.step(steps)
                 calls += 1
             wall = time.perf_counter() - start

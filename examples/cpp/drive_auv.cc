@@ -53,9 +53,9 @@ int main(int argc, char** argv) {
   while (std::chrono::steady_clock::now() < end) {
     std::vector<double> setpoints(thrusters.load(), 0.0);
     setpoints[0] = thrust;
-    client.set_thrusters(vehicle, setpoints);  // refreshed at 10 Hz: the server's watchdog wants fresh commands
+    client.set_commands(vehicle, setpoints);  // refreshed at 10 Hz: the server's watchdog wants fresh commands
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  client.set_thrusters(vehicle, std::vector<double>(thrusters.load(), 0.0));
+  client.set_commands(vehicle, std::vector<double>(thrusters.load(), 0.0));
   return 0;
 }

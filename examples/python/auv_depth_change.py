@@ -68,7 +68,7 @@ def fly(client, depth_m, until_s, vehicle="auv", report=print):
     track = []
     while t < until_s:
         odometry = client.wait_odometry(vehicle, min_stamp=t - 1e-9)
-        client.set_thrusters(vehicle, pilot.setpoints(odometry))
+        client.set_commands(vehicle, pilot.setpoints(odometry))
         t = client.step(steps)
         pitch, _ = attitude(odometry.q_WB)
         track.append((odometry.stamp, odometry.p_WB[2], pitch))

@@ -165,7 +165,7 @@ def navigate(client, duration_s, constants, mounts, report=print):
             lost += 1
             nav.p[:2] += nav.v_W[:2] * per_ping * imu_dt
         nav.depth(need(client.wait_fluid_pressure(VEHICLE, "depth", min_stamp=t - 1e-9), "pressure").pressure)
-        client.set_thrusters(VEHICLE, autopilot(t - t0, nav, start_yaw, start_z))
+        client.set_commands(VEHICLE, autopilot(t - t0, nav, start_yaw, start_z))
         truth = need(client.wait_odometry(VEHICLE, min_stamp=t - 1e-9), "odometry")
         log.append((t - t0, truth.p_WB, nav.p.copy()))
         if report and count % round(60.0 / imu_dt) == 0:

@@ -96,7 +96,7 @@ def survey(client, args):
     while leg < args.legs and t < max_time:
         direction = 1 if leg % 2 == 0 else -1
         leg_end_x = x0 + (args.leg_length if direction > 0 else 0.0)
-        client.set_thrusters(VEHICLE, autopilot(odom, y0 + leg * args.spacing, direction, depth))
+        client.set_commands(VEHICLE, autopilot(odom, y0 + leg * args.spacing, direction, depth))
         t = client.step(steps)
         odom = client.wait_odometry(VEHICLE, min_stamp=t - 1e-9)
         if odom is None:

@@ -106,7 +106,7 @@ def hold_station(client, vehicle="rov", until_s=120.0, period_s=0.1, report=prin
     keeper = StationKeeper(odometry.p_WB.copy(), dt=steps * status.step_size)
     track = []
     while t < until_s:
-        client.set_thrusters(vehicle, keeper.setpoints(odometry).tolist())
+        client.set_commands(vehicle, keeper.setpoints(odometry).tolist())
         t = client.step(steps)
         odometry = client.wait_odometry(vehicle, min_stamp=t - 1e-9)
         distance = float(np.linalg.norm(odometry.p_WB - keeper.station_W))

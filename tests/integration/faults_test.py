@@ -47,7 +47,7 @@ print("ready", flush=True)
 if sys.argv[2] == "stall":
     os.kill(os.getpid(), signal.SIGSTOP)
 while True:
-    client.set_thrusters("auv", [0.5, 0.0, 0.0])
+    client.set_commands("auv", [0.5, 0.0, 0.0])
     time.sleep(0.1)
 """
 
@@ -160,7 +160,7 @@ def test_a_killed_server_is_seen_lost_and_its_restart_serves_the_same_client():
         assert client.wait_for_server(WAIT_S)
         assert client.server_alive()
         assert client.step(10) == pytest.approx(0.02, abs=1e-12)  # the new run, from t = 0
-        client.set_thrusters("auv", [1.0, 0.0, 0.0])
+        client.set_commands("auv", [1.0, 0.0, 0.0])
         t = client.step(50)
         assert client.wait_thruster_state("auv", min_stamp=t - 0.1, timeout_s=WAIT_S).setpoint[0] == 1.0
     finally:

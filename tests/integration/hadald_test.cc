@@ -82,7 +82,7 @@ TEST(HadaldTest, ForwardThrustMovesAlongBodyX) {
   ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
   const Odometry start = odometry.at(t);
   for (int i = 0; i < 10; ++i) {  // 5 s, commands refreshed every 0.5 s (watchdog: 1 s)
-    s.client().set_thrusters("auv", {0.8, 0.0, 0.0});
+    s.client().set_commands("auv", {0.8, 0.0, 0.0});
     t = s.client().step(250);
   }
   ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
@@ -126,7 +126,7 @@ TEST(HadaldTest, WatchdogStopsThrustersAfterCommandTimeout) {
   s.client().on_thruster_state("auv", [&](const ThrusterStates& x) { thrusters.add(x); });
   s.connect();
 
-  s.client().set_thrusters("auv", {1.0, 0.0, 0.0});
+  s.client().set_commands("auv", {1.0, 0.0, 0.0});
   double t = s.client().step(250);  // 0.5 s after the command: still fresh
   ASSERT_TRUE(wait_until([&] { return thrusters.has(t); }, kWait));
   const ThrusterStates fresh = thrusters.at(t);
@@ -152,7 +152,7 @@ TEST(HadaldTest, WatchdogStopsThrustersAfterCommandTimeout) {
   EXPECT_LT(std::abs(thrusters.at(t).rotor_speed[0]), 0.01);
   EXPECT_EQ(thrusters.at(t).thrust[0], thrusters.at(t).thrust[0]);  // finite (not NaN)
 
-  s.client().set_thrusters("auv", {0.5, 0.0, 0.0});  // a fresh command clears the fault
+  s.client().set_commands("auv", {0.5, 0.0, 0.0});  // a fresh command clears the fault
   t = s.client().step(10);
   ASSERT_TRUE(wait_until([&] { return thrusters.has(t); }, kWait));
   EXPECT_EQ(thrusters.at(t).setpoint[0], 0.5);
@@ -174,7 +174,7 @@ std::map<double, Odometry> lockstep_run(std::uint64_t seed) {
       {{0.3, -0.1, 0.0}, 500}};
   double t = 0.0;
   for (const auto& [setpoints, steps] : plan) {
-    s.client().set_thrusters("auv", setpoints);
+    s.client().set_commands("auv", setpoints);
     t = s.client().step(steps);
   }
   // 1000 steps at 500 Hz; odometry at 50 Hz: samples at 0.02 ... 2.00 s.
@@ -214,7 +214,7 @@ TEST(HadaldTest, SplitRequestsAndTheGroundTruthTheRepliesCarry) {
   client.on_odometry("auv", [&](const Odometry& o) { odometry.add(o); });
   s.connect();
   EXPECT_THROW(client.reply_odometry("auv"), ClientError);  // no reply yet
-  client.attach_setpoints("auv", {0.8, 0.3, -0.2});
+  client.attach_commands("auv", {0.8, 0.3, -0.2});
   const std::uint64_t first = client.send_step(50);
   const std::uint64_t second = client.send_step(50);
   EXPECT_NEAR(client.wait_reply(first), 0.1, 1e-12);
@@ -305,7 +305,7 @@ TEST(HadaldTest, MalformedCommandsAreRejectedAndTheServerKeepsRunning) {
   s.connect();
   auto expect_refused = [&](const std::string& vehicle, const std::vector<double>& setpoints,
                             const std::string& reason) {
-    s.client().set_thrusters(vehicle, setpoints);
+    s.client().set_commands(vehicle, setpoints);
     try {
       s.client().step(10);
       ADD_FAILURE() << "step with bad setpoints was accepted: " << reason;
@@ -318,17 +318,17 @@ TEST(HadaldTest, MalformedCommandsAreRejectedAndTheServerKeepsRunning) {
   expect_refused("auv", {0.0, 1.5, 0.0}, "outside [-1, 1]");
   expect_refused("ghost", {0.1}, "unknown vehicle 'ghost'");
   // Each refusal is the error it is, with the server's reason.
-  s.client().set_thrusters("auv", {0.5, 0.0});
+  s.client().set_commands("auv", {0.5, 0.0});
   try {
     s.client().step(10);
     ADD_FAILURE() << "a wrong setpoint count was accepted";
   } catch (const CommandRejected& e) {
     EXPECT_EQ(e.reason(), "auv: expected 3 setpoints (main, heave, sway), got 2");
   }
-  s.client().set_thrusters("ghost", {0.1});
+  s.client().set_commands("ghost", {0.1});
   EXPECT_THROW(s.client().step(10), UnknownVehicle);
 
-  s.client().set_thrusters("auv", {0.5, 0.0, 0.0});
+  s.client().set_commands("auv", {0.5, 0.0, 0.0});
   EXPECT_NEAR(s.client().step(10), 0.02, 1e-12);  // nothing was stepped by the refused requests
   EXPECT_TRUE(s.server().running());
   ASSERT_TRUE(wait_until(

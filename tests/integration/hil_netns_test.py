@@ -43,7 +43,7 @@ start = client.wait_odometry("auv", t, 30.0)
 t = client.step(2500)  # 5 s adrift (500 Hz physics)
 adrift = client.wait_odometry("auv", t, 30.0)
 for _ in range(10):  # 5 s at full ahead, the command refreshed every 0.5 s (the watchdog's 1 s)
-    client.set_thrusters("auv", [1.0, 0.0, 0.0])  # main, heave, sway
+    client.set_commands("auv", [1.0, 0.0, 0.0])  # main, heave, sway
     t = client.step(250)
 driven = client.wait_odometry("auv", t, 30.0)
 pressure = client.wait_fluid_pressure("auv", "depth", t - 0.025, 30.0)  # the 10 Hz sample at t = 10.0 s

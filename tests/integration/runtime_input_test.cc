@@ -216,8 +216,8 @@ TEST(RuntimeInputTest, CommandsOfSendersWithDifferentClocksAreNeverDroppedByThei
   s.connect();
   RawPeer fast_clock(s.domain(), false), slow_clock(s.domain(), false);
   using Setpoints = std_msgs::msg::Float64MultiArrayPubSubType;
-  fdds::DataWriter* ahead = fast_clock.writer<Setpoints>(dds::thruster_setpoints_topic("auv"));
-  fdds::DataWriter* behind = slow_clock.writer<Setpoints>(dds::thruster_setpoints_topic("auv"));
+  fdds::DataWriter* ahead = fast_clock.writer<Setpoints>(dds::actuator_commands_topic("auv"));
+  fdds::DataWriter* behind = slow_clock.writer<Setpoints>(dds::actuator_commands_topic("auv"));
   ASSERT_TRUE(RawPeer::matched(ahead) && RawPeer::matched(behind));
   const auto write_at = [](fdds::DataWriter* writer, double value, std::int64_t stamp_s) {
     std_msgs::msg::Float64MultiArray msg;
@@ -255,20 +255,20 @@ TEST(RuntimeInputTest, WritersHadaldCannotHearAreReportedOnTheStatus) {
   s.connect();
   RawPeer peer(s.domain(), false);
   // Best effort on a reliable reader: DDS never matches them.
-  peer.writer<std_msgs::msg::Float64MultiArrayPubSubType>(dds::thruster_setpoints_topic("auv"), true);
-  EXPECT_NE(status_error(s.client(), "best-effort writer").find("rt/auv/thrusters/setpoints"), std::string::npos);
+  peer.writer<std_msgs::msg::Float64MultiArrayPubSubType>(dds::actuator_commands_topic("auv"), true);
+  EXPECT_NE(status_error(s.client(), "best-effort writer").find("rt/auv/actuators/commands"), std::string::npos);
   // Another type on the step request topic.
   peer.writer<rosgraph_msgs::msg::ClockPubSubType>(dds::step_request_topic());
   EXPECT_NE(status_error(s.client(), "rosgraph_msgs::msg::dds_::Clock_").find("are ignored: hadald reads"),
             std::string::npos);
   // A vehicle the scenario does not have.
-  peer.writer<std_msgs::msg::Float64MultiArrayPubSubType>(dds::thruster_setpoints_topic("ghost"));
-  EXPECT_NE(status_error(s.client(), "unknown vehicle 'ghost'").find("rt/ghost/thrusters/setpoints"),
+  peer.writer<std_msgs::msg::Float64MultiArrayPubSubType>(dds::actuator_commands_topic("ghost"));
+  EXPECT_NE(status_error(s.client(), "unknown vehicle 'ghost'").find("rt/ghost/actuators/commands"),
             std::string::npos);
   EXPECT_GE(s.client().latest_status()->rejected_commands, 3u);
   EXPECT_NEAR(s.client().step(10), 0.02, 1e-12);
   const std::string err = s.server().err();
-  EXPECT_NE(err.find("a best-effort writer on rt/auv/thrusters/setpoints reaches nothing"), std::string::npos) << err;
+  EXPECT_NE(err.find("a best-effort writer on rt/auv/actuators/commands reaches nothing"), std::string::npos) << err;
 }
 
 // A type that writes the bytes it is given as the sample, under the DDS type name of a step request: what

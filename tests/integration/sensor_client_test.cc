@@ -459,7 +459,7 @@ std::map<std::string, std::map<double, std::vector<std::uint64_t>>> all_sensor_s
   s.connect();
   double t = 0.0;
   for (int k = 0; k < 4; ++k) {  // 2 s: forward and sway thrust, refreshed before the 1 s watchdog
-    c.set_thrusters("auv", {0.8, 0.0, 0.3});
+    c.set_commands("auv", {0.8, 0.0, 0.3});
     t = c.step(250);
   }
   EXPECT_TRUE(wait_until(

@@ -46,7 +46,7 @@ TEST(ZooTest, CrawlerDrivesItsCommandedDistanceWithThePredictedSinkage) {
 
   // 10 s at setpoint 0.6, commands refreshed every 0.5 s (watchdog 1 s): belts at 0.6 x 32 rpm x 0.15 m.
   for (int i = 0; i < 20; ++i) {
-    s.client().set_thrusters("crawler", {0.6, 0.6});
+    s.client().set_commands("crawler", {0.6, 0.6});
     t = s.client().step(100);
   }
   ASSERT_TRUE(wait_until([&] { return odometry.has(t); }, kWait));
@@ -89,7 +89,7 @@ TEST(ZooTest, LanderDescendsDropsItsWeightsAndAscends) {
            {{0.0, 0.5}, "setpoint[1] = 0.5 is not 0 (hold) or 1 (release)"},
            {{std::nan(""), 0.0}, "setpoint[0] is NaN, not 0 (hold) or 1 (release)"},
            {{1.0}, "expected 2 setpoints (descent_weight, ascent_weight), got 1"}}) {
-    s.client().set_thrusters("lander", bad);
+    s.client().set_commands("lander", bad);
     try {
       s.client().step(100);
       ADD_FAILURE() << "accepted: " << reason;
@@ -126,7 +126,7 @@ TEST(ZooTest, LanderDescendsDropsItsWeightsAndAscends) {
   EXPECT_LT(std::abs(resting.v_WB_B[2]), 0.01);
 
   // The acoustic release: the client drops the ascent weight (commands [descent, ascent]).
-  s.client().set_thrusters("lander", {0.0, 1.0});
+  s.client().set_commands("lander", {0.0, 1.0});
   for (int i = 0; i < 60; ++i) t = s.client().step(100);
   ASSERT_TRUE(wait_until([&] { return odometry.has(t) && weights.has(t); }, kWait));
   const DropWeightStates released = weights.at(t);
@@ -234,7 +234,7 @@ TEST(ZooTest, AuvFollowsADepthChangeWithItsFins) {
     const double theta_cmd = std::clamp(0.08 * (target_z - z) - 0.4 * w_z, -0.35, 0.35);
     const double elevator = std::clamp(2.0 * (theta_cmd - theta) - 1.0 * q, -1.0, 1.0);
     const double rudder = std::clamp(2.0 * yaw(o) + 1.0 * o.w_WB_B[2], -1.0, 1.0);
-    s.client().set_thrusters("auv", {0.6, rudder, rudder, elevator, elevator});
+    s.client().set_commands("auv", {0.6, rudder, rudder, elevator, elevator});
     t = s.client().step(10);
     deepest = std::min(deepest, z);
     max_pitch = std::max(max_pitch, std::abs(theta));
@@ -294,7 +294,7 @@ TEST(ZooTest, VesselFloatsAtItsDraftAndReportsGpsFixes) {
 
   // 30 s east at 0.6 on both thrusters (commands refreshed every 0.5 s): fixes at 5 Hz, every one a fix.
   for (int i = 0; i < 60; ++i) {
-    s.client().set_thrusters("vessel", {0.6, 0.6});
+    s.client().set_commands("vessel", {0.6, 0.6});
     t = s.client().step(50);
   }
   ASSERT_TRUE(wait_until([&] { return odometry.has(t) && fixes.has(t); }, kWait));

@@ -1,6 +1,6 @@
 /* hadal-ros2-lockstep-probe: a ROS 2 node's view of a lockstep hadald, written with Cyclone DDS (as under
  * rmw_cyclonedds_cpp) against the independently written ROS 2 types in ros2_types.idl. It commands the AUV
- * with std_msgs/Float64MultiArray on rt/<vehicle>/thrusters/setpoints (as `ros2 topic pub` would) and steps
+ * with std_msgs/Float64MultiArray on rt/<vehicle>/actuators/commands (as `ros2 topic pub` would) and steps
  * the server with hadal_msgs/StepRequest on rt/hadal/step_request, reading rt/hadal/step_reply and
  * rt/<vehicle>/odometry. Checks, each printed as "ok: ..." or "FAIL: ...":
  *   1. every step request is answered (same request_id), accepted, and sim time advances by steps x dt;
@@ -152,7 +152,7 @@ int main(int argc, char **argv) {
   dds_entity_t pp = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (pp < 0) return 2;
   char setpoints_topic[256], odometry_topic[256];
-  snprintf(setpoints_topic, sizeof(setpoints_topic), "rt/%s/thrusters/setpoints", vehicle);
+  snprintf(setpoints_topic, sizeof(setpoints_topic), "rt/%s/actuators/commands", vehicle);
   snprintf(odometry_topic, sizeof(odometry_topic), "rt/%s/odometry", vehicle);
   dds_entity_t wr_request = endpoint(pp, &hadal_msgs_msg_dds__StepRequest__desc, "rt/hadal/step_request", true);
   dds_entity_t wr_setpoints = endpoint(pp, &std_msgs_msg_dds__Float64MultiArray__desc, setpoints_topic, true);

@@ -22,7 +22,7 @@
  * Per sensor topic the JSON has sample counts,
  * the first and last header stamps, the frame_id and a summary (min, max, mean, last) of the decoded
  * values a driver can check against physics; the probe itself judges only clock and odometry.
- * Writer (with --publish-setpoints): rt/<vehicle>/thrusters/setpoints std_msgs::msg::dds_::Float64MultiArray_
+ * Writer (with --publish-setpoints): rt/<vehicle>/actuators/commands std_msgs::msg::dds_::Float64MultiArray_
  * at --rate-hz (10 Hz), RELIABLE, VOLATILE.
  *
  * Prints one JSON object on stdout; exits 0 when at least one clock and one odometry sample arrived,
@@ -99,7 +99,7 @@ static void usage(FILE *out) {
           "  --seconds T             stop after T wall-clock seconds (default: 10)\n"
           "  --idle S                stop when both topics were seen and nothing arrived for S seconds\n"
           "  --enough K              stop when K clock and K odometry samples arrived\n"
-          "  --publish-setpoints L   write setpoints L (comma-separated) to rt/NAME/thrusters/setpoints\n"
+          "  --publish-setpoints L   write setpoints L (comma-separated) to rt/NAME/actuators/commands\n"
           "  --rate-hz R             setpoint rate (default: 10)\n"
           "  --network-discovery     keep Cyclone's default (multicast) discovery unless\n"
           "                          ROS_LOCALHOST_ONLY=1; default is loopback only\n"
@@ -1130,7 +1130,7 @@ int main(int argc, char **argv) {
   char odom_name[256], thruster_state_name[256], setpoints_name[256];
   snprintf(odom_name, sizeof(odom_name), "rt/%s/odometry", o.vehicle);
   snprintf(thruster_state_name, sizeof(thruster_state_name), "rt/%s/thrusters/state", o.vehicle);
-  snprintf(setpoints_name, sizeof(setpoints_name), "rt/%s/thrusters/setpoints", o.vehicle);
+  snprintf(setpoints_name, sizeof(setpoints_name), "rt/%s/actuators/commands", o.vehicle);
 
   dds_entity_t t_clock = make_topic(pp, &rosgraph_msgs_msg_dds__Clock__desc, "rt/clock");
   dds_entity_t t_odom = make_topic(pp, &nav_msgs_msg_dds__Odometry__desc, odom_name);

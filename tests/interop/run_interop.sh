@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ROS 2 wire-compatibility check: Cyclone DDS (hadal-ros2-probe) reads hadald's rt/clock,
 # rt/<vehicle>/odometry and the default AUV's sensor topics (depth, imu, magnetometer, gps, dvl, altimeter)
-# by their ROS 2 type names and commands rt/<vehicle>/thrusters/setpoints. Decoded sensor values are
+# by their ROS 2 type names and commands rt/<vehicle>/actuators/commands. Decoded sensor values are
 # checked against physics (the AUV starts level at 96 m depth, ~4 m above the sediment plain at
 # z = -100 m, heading east, at 43 N 5 E), which also catches layout mistakes that a type-name match
 # alone would not.
@@ -98,7 +98,7 @@ check(last.get("child_frame_id") == "auv/base_link",
       f"odometry child_frame_id is {last.get('child_frame_id')!r}, expected 'auv/base_link'")
 sp = r.get("setpoints", {})
 check(sp.get("first_match_s") is not None,
-      "hadald's reader on rt/auv/thrusters/setpoints (std_msgs::msg::dds_::Float64MultiArray_) never "
+      "hadald's reader on rt/auv/actuators/commands (std_msgs::msg::dds_::Float64MultiArray_) never "
       "matched Cyclone's writer")
 ts = r.get("thruster_state", {})
 check(ts.get("client_commanded", 0) > 0 and ts.get("setpoints_echoed") is True,

@@ -14,7 +14,7 @@
 //
 // Steps the server in requests of K steps (default 5: at 500 Hz no topic publishes more than once per
 // request, so the writers' KEEP_LAST histories never overflow). A --command is attached to the request
-// that starts at STEP (hadal::Client::set_thrusters). rt/hadal/status (wall clock) and
+// that starts at STEP (hadal::Client::set_commands). rt/hadal/status (wall clock) and
 // rt/hadal/step_reply (the client's random request ids) are always excluded.
 // Output, one line per topic, sorted: `topic type count hash`. Exit status 0 on success, 1 on a gap, a
 // refused step or a timeout, 2 on a usage error.
@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
   try {
     for (std::uint64_t step = 0; step < steps;) {
       for (const Command& command : commands) {
-        if (command.step == step) client.set_thrusters(command.vehicle, command.setpoints);
+        if (command.step == step) client.set_commands(command.vehicle, command.setpoints);
       }
       std::uint64_t n = std::min(chunk, steps - step);
       for (const Command& command : commands) {  // a request ends where the next command starts

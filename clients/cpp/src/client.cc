@@ -386,7 +386,7 @@ struct Client::Impl {
   // The ground truth of the last reply waited for (reply_odometry), by vehicle name.
   std::map<std::string, Odometry> reply_states;
   bool replied = false;
-  std::map<std::string, std::vector<double>> pending_setpoints;  // attached to the next step()
+  std::map<std::string, std::vector<double>> pending_commands;  // attached to the next step()
   std::uint64_t next_request_id = 0;
 
   // Attaches the pending setpoints and sends a step or reset request: its id, for await().
@@ -685,29 +685,29 @@ void Client::on_laser_scan(const std::string& vehicle, const std::string& sensor
       [callback = std::move(callback)](const sensor_msgs::msg::LaserScan& m) { callback(from_msg(m)); });
 }
 
-void Client::attach_setpoints(const std::string& vehicle, const std::vector<double>& setpoints) {
+void Client::attach_commands(const std::string& vehicle, const std::vector<double>& commands) {
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->pending_setpoints[vehicle] = setpoints;
+  impl_->pending_commands[vehicle] = commands;
 }
 
-void Client::set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints) {
+void Client::set_commands(const std::string& vehicle, const std::vector<double>& commands) {
   Impl& d = *impl_;
   fdds::DataWriter* writer = nullptr;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
-    d.pending_setpoints[vehicle] = setpoints;
+    d.pending_commands[vehicle] = commands;
     auto found = d.setpoint_writers.find(vehicle);
     if (found != d.setpoint_writers.end()) writer = found->second;
   }
   if (writer == nullptr) {
     writer = d.registry->writer<std_msgs::msg::Float64MultiArrayPubSubType>(
-        dds::thruster_setpoints_topic(vehicle), kHistoryDepth);
+        dds::actuator_commands_topic(vehicle), kHistoryDepth);
     wait_for_match(writer, 2.0);
     std::lock_guard<std::mutex> lock(d.mutex);
     d.setpoint_writers[vehicle] = writer;
   }
   std_msgs::msg::Float64MultiArray msg;
-  msg.data(setpoints);
+  msg.data(commands);
   writer->write(&msg);
 }
 
@@ -721,12 +721,12 @@ std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double
     std::lock_guard<std::mutex> lock(d.mutex);
     id = ++d.next_request_id;
     request.request_id(id);
-    for (const auto& [vehicle, setpoints] : d.pending_setpoints) {
+    for (const auto& [vehicle, setpoints] : d.pending_commands) {
       request.vehicle_names().push_back(vehicle);
       request.setpoint_counts().push_back(static_cast<std::uint32_t>(setpoints.size()));
       request.setpoints().insert(request.setpoints().end(), setpoints.begin(), setpoints.end());
     }
-    d.pending_setpoints.clear();
+    d.pending_commands.clear();
     d.replies.emplace(id, std::nullopt);
   }
   d.step_writer->write(&request);

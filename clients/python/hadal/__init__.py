@@ -3,7 +3,7 @@
     import hadal
     client = hadal.Client(domain_id=0)
     client.wait_for_server()
-    client.set_thrusters("auv", [0.6, 0.0, 0.0])
+    client.set_commands("auv", [0.6, 0.0, 0.0])
     odom = client.wait_odometry("auv", min_stamp=client.step(500))   # lockstep servers
     print(odom.p_WB, odom.v_WB_B)
     client.wait_magnetic_field("auv", "magnetometer", timeout_s=0)   # sensors: subscribed on first use

@@ -373,7 +373,7 @@ class HadalEnv(_Closing, _EnvBase):
         if options and "pose" in options:
             poses = {self.task.vehicle: tuple(options["pose"])}
         noise_seed = int(self.np_random.integers(0, 2**63))
-        self.client.set_thrusters(self.task.vehicle, [0.0] * self.task.num_actions, publish=False)
+        self.client.set_commands(self.task.vehicle, [0.0] * self.task.num_actions, publish=False)
         request = self.client.send_reset(seed=noise_seed, poses=poses, steps=self.frame_skip,
                                          timeout_s=self.timeout_s)
 
@@ -393,7 +393,7 @@ class HadalEnv(_Closing, _EnvBase):
         if not np.isfinite(action).all():
             raise ValueError(f"action has non-finite entries: {action}")
         action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its per-call checks
-        self.client.set_thrusters(self.task.vehicle, action.tolist(), publish=False)
+        self.client.set_commands(self.task.vehicle, action.tolist(), publish=False)
         request = self.client.send_step(self.frame_skip, timeout_s=self.timeout_s)
 
         def finish():

@@ -284,11 +284,11 @@ class PyClient {
         },
         raw_sonar_image_, vehicle, sensor + "/" + channel, min_stamp, timeout_s);
   }
-  void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints, bool publish) {
+  void set_commands(const std::string& vehicle, const std::vector<double>& commands, bool publish) {
     if (publish) {
-      client()->set_thrusters(vehicle, setpoints);
+      client()->set_commands(vehicle, commands);
     } else {
-      client()->attach_setpoints(vehicle, setpoints);
+      client()->attach_commands(vehicle, commands);
     }
   }
   double step(std::uint32_t steps, double timeout_s) { return client()->step(steps, timeout_s); }
@@ -815,13 +815,13 @@ PYBIND11_MODULE(_hadal, m) {
   py::class_<PyClient>(m, "Client", R"doc(A client of a hadald on a DDS domain.
 
 Subscribes on first use and keeps the latest sample of each topic: wait_odometry, wait_imu, ... return the
-first sample at or after min_stamp (sim time [s]), or None on timeout. Commands with set_thrusters; steps
+first sample at or after min_stamp (sim time [s]), or None on timeout. Commands with set_commands; steps
 and resets a lockstep server with step and reset. Use it as a context manager (or call close()) to leave
 the DDS domain at a known point:
 
     with hadal.Server("default") as server, hadal.Client(server.domain_id) as client:
         client.wait_for_server()
-        client.set_thrusters("auv", [0.5, 0.0, 0.0])
+        client.set_commands("auv", [0.5, 0.0, 0.0])
         odom = client.wait_odometry("auv", min_stamp=client.step(500))
 
 A server that goes silent (no status heartbeat for server_timeout_s, or three of its status periods) is
@@ -910,14 +910,21 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            py::arg("channel") = "port", py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "RawSonarImage of rt/<vehicle>/<sensor>/<channel> (a side-scan's 'port' or 'starboard') with stamp >= "
            "min_stamp, or None on timeout")
-      .def("set_thrusters", &PyClient::set_thrusters, py::arg("vehicle"), py::arg("setpoints"),
+      .def("set_commands", &PyClient::set_commands, py::arg("vehicle"), py::arg("commands"),
            py::arg("publish") = true, release(),
            "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop "
            "weights, each kind in scenario order), normalised [-1, 1] (a drop weight: 0 or 1). Published on "
-           "rt/<vehicle>/thrusters/setpoints and attached to the next step()/reset(); publish=False: only attached "
+           "rt/<vehicle>/actuators/commands and attached to the next step()/reset(); publish=False: only attached "
            "(lockstep; one DDS sample less per control period)")
+      // The name before the control vector drove every actuator kind: refused, naming the new one.
+      .def("set_thrusters",
+           [](PyClient&, py::args, py::kwargs) -> void {
+             throw py::attribute_error(
+                 "Client.set_thrusters was renamed set_commands (the control vector commands every actuator: "
+                 "thrusters, tracks, fins, buoyancy engines, drop weights)");
+           })
       .def("step", &PyClient::step, py::arg("steps") = 1, py::arg("timeout_s") = 30.0, release(),
-           "Lockstep: advance the server by `steps` physics steps (setpoints set since the last request are "
+           "Lockstep: advance the server by `steps` physics steps (commands set since the last request are "
            "applied first); returns the sim time reached [s]. Raises ServerNotFound, Timeout, UnknownVehicle or "
            "CommandRejected (with the server's reason)")
       .def("reset", &PyClient::reset, py::arg("seed") = py::none(),

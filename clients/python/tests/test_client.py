@@ -30,7 +30,7 @@ def test_drive_forward_in_lockstep(lockstep_server):
     start = client.wait_odometry("auv", min_stamp=t, timeout_s=WAIT_S)
     assert start is not None
     for _ in range(6):  # 3 s, commands refreshed every 0.5 s (watchdog 1 s)
-        client.set_thrusters("auv", [0.8, 0.0, 0.0])
+        client.set_commands("auv", [0.8, 0.0, 0.0])
         t = client.step(250)
     end = client.wait_odometry("auv", min_stamp=t, timeout_s=WAIT_S)
     assert end is not None and abs(end.stamp - t) < 1e-9
@@ -54,15 +54,25 @@ def test_drive_forward_in_lockstep(lockstep_server):
 def test_bad_commands_raise_and_the_server_keeps_running(lockstep_server):
     process, domain_id = lockstep_server
     client = connect(domain_id)
-    client.set_thrusters("auv", [float("nan"), 0.0, 0.0])
+    client.set_commands("auv", [float("nan"), 0.0, 0.0])
     with pytest.raises(hadal.ClientError, match=r"setpoint\[0\] is NaN"):
         client.step(10)
-    client.set_thrusters("auv", [0.1, 0.2])
+    client.set_commands("auv", [0.1, 0.2])
     with pytest.raises(hadal.ClientError, match="expected 3 setpoints"):
         client.step(10)
-    client.set_thrusters("auv", [0.1, 0.0, 0.0])
+    client.set_commands("auv", [0.1, 0.0, 0.0])
     assert client.step(10) == pytest.approx(0.02, abs=1e-12)
     assert process.poll() is None
+
+
+def test_the_old_command_name_is_refused_naming_the_new_one(lockstep_server):
+    _, domain_id = lockstep_server
+    client = connect(domain_id)
+    with pytest.raises(AttributeError, match="set_thrusters was renamed set_commands"):
+        client.set_thrusters("auv", [0.5, 0.0, 0.0])
+    # Nothing was sent: the thrusters stay at rest.
+    t = client.step(50)
+    assert client.wait_thruster_state("auv", min_stamp=t, timeout_s=WAIT_S).setpoint.tolist() == [0.0, 0.0, 0.0]
 
 
 def test_server_stops_cleanly_on_sigterm(lockstep_server):
@@ -98,7 +108,7 @@ def test_crawler_tracks_drive_and_report_their_state(crawler_server):
     t = client.step(400)  # 2 s at 200 Hz: settled into the sediment
     start = client.wait_odometry("crawler", min_stamp=t, timeout_s=WAIT_S)
     for _ in range(8):  # 4 s at 0.6 of full belt speed, commands refreshed every 0.5 s
-        client.set_thrusters("crawler", [0.6, 0.6])
+        client.set_commands("crawler", [0.6, 0.6])
         t = client.step(100)
     end = client.wait_odometry("crawler", min_stamp=t, timeout_s=WAIT_S)
     belt = 0.6 * 32.0 * 2.0 * math.pi / 60.0 * 0.15  # setpoint x max_rpm x sprocket radius [m/s]
@@ -116,7 +126,7 @@ def test_drop_weight_state(zoo_server):
     client = connect(zoo_server("lander"), "lander")
     client.wait_drop_weight_state("lander", timeout_s=0)  # subscribe, then step
     assert client.wait_for_subscriptions(WAIT_S)
-    client.set_thrusters("lander", [0.0, 1.0])  # release the ascent weight at once
+    client.set_commands("lander", [0.0, 1.0])  # release the ascent weight at once
     t = client.step(100)
     weights = client.wait_drop_weight_state("lander", min_stamp=t, timeout_s=WAIT_S)
     assert weights.names == ["descent_weight", "ascent_weight"]
@@ -146,7 +156,7 @@ def test_fin_state(zoo_server):
     client = connect(zoo_server("auv"), "auv")
     client.wait_fin_state("auv", timeout_s=0)
     assert client.wait_for_subscriptions(WAIT_S)
-    client.set_thrusters("auv", [0.6, 0.0, 0.0, 0.4, 0.4])  # elevators to 10 deg
+    client.set_commands("auv", [0.6, 0.0, 0.0, 0.4, 0.4])  # elevators to 10 deg
     t = client.step(10)  # 0.1 s at 100 Hz: 6 deg
     fins = client.wait_fin_state("auv", min_stamp=t, timeout_s=WAIT_S)
     assert fins.names == ["rudder_top", "rudder_bottom", "elevator_port", "elevator_starboard"]

@@ -51,14 +51,14 @@ def segments_of(domain_id):
 
 def test_typed_errors_carry_the_servers_reason():
     with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
-        client.set_thrusters("auv", [0.5, 0.0])  # the AUV has 3 thrusters
+        client.set_commands("auv", [0.5, 0.0])  # the AUV has 3 thrusters
         with pytest.raises(hadal.CommandRejected) as rejected:
             client.step(1)
         assert rejected.value.reason == "auv: expected 3 setpoints (main, heave, sway), got 2"
-        client.set_thrusters("auv", [math.nan, 0.0, 0.0])
+        client.set_commands("auv", [math.nan, 0.0, 0.0])
         with pytest.raises(hadal.CommandRejected, match=r"setpoint\[0\] is NaN"):
             client.step(1)
-        client.set_thrusters("ghost", [0.1])
+        client.set_commands("ghost", [0.1])
         with pytest.raises(hadal.UnknownVehicle) as unknown:
             client.step(1)
         assert unknown.value.vehicle == "ghost"
@@ -138,7 +138,7 @@ def episode(client, seed, steps=40):
     client.reset(seed=seed)
     trace = []
     for _ in range(steps):
-        client.set_thrusters("auv", [0.6, 0.1, -0.1])
+        client.set_commands("auv", [0.6, 0.1, -0.1])
         t = client.step(10)  # 20 ms: one odometry sample (50 Hz), the second of two IMU samples (100 Hz)
         imu = client.wait_imu("auv", "imu", min_stamp=t, timeout_s=WAIT_S)
         odom = client.wait_odometry("auv", min_stamp=t, timeout_s=WAIT_S)
@@ -165,7 +165,7 @@ def test_reset_repeats_an_episode_without_a_restart():
 
 def test_reset_places_a_vehicle_at_rest():
     with hadal.Server("default", mode="lockstep") as server, server.client("pytest") as client:
-        client.set_thrusters("auv", [0.8, 0.0, 0.0])
+        client.set_commands("auv", [0.8, 0.0, 0.0])
         client.step(200)
         half = math.sqrt(0.5)
         assert client.reset(seed=1, poses={"auv": (10.0, -5.0, -80.0, 0.0, 0.0, half, half)}) == 0.0
@@ -191,7 +191,7 @@ def test_replies_carry_every_vehicles_odometry():
         client.wait_odometry("auv", timeout_s=0)
         client.wait_odometry("lander", timeout_s=0)
         client.wait_for_subscriptions(WAIT_S)
-        client.set_thrusters("auv", [0.7, 0.2, -0.1])
+        client.set_commands("auv", [0.7, 0.2, -0.1])
         for _ in range(3):
             t = client.step(50)  # 0.1 s: both odometry streams (the AUV's 50 Hz, the lander's 10 Hz) have a sample at t
             for vehicle in ("auv", "lander"):
@@ -223,7 +223,7 @@ def test_requests_sent_without_waiting_are_answered_in_any_order():
             assert first.wait_reply(r1) == pytest.approx(0.03)
             with pytest.raises(hadal.ClientError, match="is waiting"):
                 first.wait_reply(r1)  # each reply is waited for once
-            first.set_thrusters("auv", [0.5, 0.0], publish=False)
+            first.set_commands("auv", [0.5, 0.0], publish=False)
             refused = first.send_step(1)
             with pytest.raises(hadal.CommandRejected, match="expected 3 setpoints"):
                 first.wait_reply(refused)

@@ -75,7 +75,7 @@ def test_only_the_authenticated_client_reads_and_commands_a_secure_server(demo, 
         stamp = 0.0
         for _ in range(int(OUTSIDER_S / 0.2)):
             for outsider in (plain, impostor):
-                outsider.set_thrusters("auv", [1.0, 1.0, 1.0])
+                outsider.set_commands("auv", [1.0, 1.0, 1.0])
             stamp = alice.step(100)  # 0.2 s at 500 Hz
         # The scenario's schedule (0.6 ahead) still drives the AUV: no client command ever arrived.
         state = alice.wait_thruster_state("auv", min_stamp=stamp, timeout_s=WAIT_S)
@@ -88,7 +88,7 @@ def test_only_the_authenticated_client_reads_and_commands_a_secure_server(demo, 
 
         # The authenticated client's own command reaches the AUV: the outsiders' did not for want of access.
         for _ in range(10):
-            alice.set_thrusters("auv", [1.0, 0.0, 0.0])
+            alice.set_commands("auv", [1.0, 0.0, 0.0])
             stamp = alice.step(100)
         state = alice.wait_thruster_state("auv", min_stamp=stamp, timeout_s=WAIT_S)
         assert list(state.setpoint) == [1.0, 0.0, 0.0] and state.command_source == 2

@@ -55,7 +55,7 @@ class Runner {
     odometry_dividers_.reserve(n);
     for (const auto& v : model.vehicles) {
       odometry_dividers_.emplace_back(v.odometry_rate_hz);
-      thruster_dividers_.emplace_back(v.thruster_state_rate_hz);
+      actuator_state_dividers_.emplace_back(v.actuator_state_rate_hz);
     }
     for (const auto& v : model.vehicles) published_samples_.emplace_back(v.sensors.size(), 0);
     last_command_stamp_.assign(n, std::numeric_limits<std::int64_t>::min());
@@ -200,7 +200,7 @@ class Runner {
     dds_.clear_kept_samples();
     clock_divider_.reset();
     for (auto& divider : odometry_dividers_) divider.reset();
-    for (auto& divider : thruster_dividers_) divider.reset();
+    for (auto& divider : actuator_state_dividers_) divider.reset();
     for (auto& samples : published_samples_) std::fill(samples.begin(), samples.end(), 0);
     std::fill(last_command_stamp_.begin(), last_command_stamp_.end(), std::numeric_limits<std::int64_t>::min());
     std::fill(last_command_source_.begin(), last_command_source_.end(), dds::SourceId{});
@@ -255,7 +255,7 @@ class Runner {
     if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) dds_.publish_odometry(static_cast<int>(i), state);
-      if (thruster_dividers_[i].due(state.time)) {
+      if (actuator_state_dividers_[i].due(state.time)) {
         dds_.publish_actuator_states(static_cast<int>(i), state);
       }
       // Sensors sample inside the simulation at their own rates; publish each new sample once.
@@ -416,7 +416,7 @@ class Runner {
   Simulation sim_;
   dds::ServerEndpoints dds_;
   RateDivider clock_divider_;
-  std::vector<RateDivider> odometry_dividers_, thruster_dividers_;
+  std::vector<RateDivider> odometry_dividers_, actuator_state_dividers_;
   std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor
   std::vector<std::int64_t> last_command_stamp_;
   std::vector<dds::SourceId> last_command_source_;  // who sent the command applied last, per vehicle

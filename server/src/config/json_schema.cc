@@ -58,6 +58,7 @@ std::string description(const KeyDoc& key) {
 
 Json key_schema(const KeyDoc& key) {
   Json schema = Json::object();
+  if (!key.renamed_to.empty()) return Json{{"not", Json::object()}, {"description", key.doc}};
   switch (key.type) {
     case KeyType::kNumber:
       schema["type"] = key.whole ? "integer" : "number";

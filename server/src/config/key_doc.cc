@@ -148,8 +148,12 @@ std::string range_only(const KeyDoc& key) {
 std::string reference_table(const TableDoc& table) {
   std::string out = "| Key | Type | Unit | Default | Range | Description |\n|---|---|---|---|---|---|\n";
   const KeyDoc* selector = table.selector();
-  std::vector<std::string> described_in;
+  std::vector<std::string> described_in, renamed;
   for (const KeyDoc& key : table.keys) {
+    if (!key.renamed_to.empty()) {
+      renamed.push_back("`" + key.name + "` (now `" + key.renamed_to + "`)");
+      continue;
+    }
     if (!key.described_in.empty()) {
       if (std::find(described_in.begin(), described_in.end(), key.described_in) == described_in.end()) {
         described_in.push_back(key.described_in);
@@ -167,6 +171,11 @@ std::string reference_table(const TableDoc& table) {
            " | " + cell(range_text(key)) + " | " + cell(description) + " |\n";
   }
   for (const std::string& id : described_in) out += "\nBesides these, the keys of `" + id + "`.\n";
+  if (!renamed.empty()) {
+    std::string names;
+    for (std::size_t i = 0; i < renamed.size(); ++i) names += (i > 0 ? ", " : "") + renamed[i];
+    out += "\nRenamed, and refused under the old name: " + names + ".\n";
+  }
   return out;
 }
 

@@ -302,8 +302,9 @@ const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
     t.number("command_timeout_s", &VehicleSpec::command_timeout).unit("s").range(Range::positive())
         .doc("the actuators stop when no command arrives for this long (sim time)");
     t.rate_hz("odometry_rate_hz", &VehicleSpec::odometry_rate_hz).doc("rate of rt/<vehicle>/odometry");
-    t.rate_hz("thruster_state_rate_hz", &VehicleSpec::thruster_state_rate_hz)
-        .doc("rate of every actuator kind's state topic");
+    t.rate_hz("actuator_state_rate_hz", &VehicleSpec::actuator_state_rate_hz)
+        .doc("rate of every actuator kind's state topic (rt/<vehicle>/<kind>/state)");
+    t.renamed("thruster_state_rate_hz", "actuator_state_rate_hz", "it sets every actuator kind's state rate");
     t.list("schedule", &VehicleSpec::schedule, keyframe_keys()).read_elsewhere()
         .doc("an open-loop schedule that drives the vehicle until a client first commands it; before its first "
              "keyframe the setpoints are zero");

@@ -1,4 +1,4 @@
-// What hadald reads from clients, parsed: thruster commands (rt/<vehicle>/thrusters/setpoints) and step
+// What hadald reads from clients, parsed: thruster commands (rt/<vehicle>/actuators/commands) and step
 // requests (rt/hadal/step_request), checked against the model (vehicle names, lengths, a reset's poses)
 // before anything reaches the simulation. Pure functions of the model and the message, so the DDS
 // listeners (server_endpoints.cc) and the fuzzer (tests/fuzz/command_fuzz.cc) run the same code.
@@ -23,7 +23,7 @@ namespace hadal::dds {
 // clock, so only they may be ordered by stamp.
 using SourceId = std::array<std::uint8_t, 12>;
 
-// A thruster command from rt/<vehicle>/thrusters/setpoints, or attached to a step request.
+// A thruster command from rt/<vehicle>/actuators/commands, or attached to a step request.
 struct InboundCommand {
   int vehicle_index = -1;
   std::vector<double> setpoints;

@@ -215,7 +215,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   }
 
   // Writers whose samples hadald would never see, reported by name (DDS itself is silent about them): a
-  // writer on rt/<name>/thrusters/setpoints for a vehicle the scenario does not have, and a writer on a
+  // writer on rt/<name>/actuators/commands for a vehicle the scenario does not have, and a writer on a
   // topic hadald reads (setpoints, step requests) with another type or best-effort reliability (hadald's
   // readers are reliable: DDS never matches them with a best-effort writer).
   void on_publisher_discovery(fdds::DomainParticipant*,
@@ -227,7 +227,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       expected_type = hadal_msgs::msg::StepRequestPubSubType().getName();
     } else {
       const std::string prefix = "rt/";
-      const std::string suffix = "/thrusters/setpoints";
+      const std::string suffix = "/actuators/commands";
       if (topic.size() <= prefix.size() + suffix.size() || topic.compare(0, prefix.size(), prefix) != 0 ||
           topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) != 0) {
         return;
@@ -341,7 +341,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
     listener->owner = &d;
     listener->vehicle_index = static_cast<int>(i);
     d.setpoint_readers.push_back(r.reader<std_msgs::msg::Float64MultiArrayPubSubType>(
-        thruster_setpoints_topic(name), kCommandHistoryDepth, listener.get()));
+        actuator_commands_topic(name), kCommandHistoryDepth, listener.get()));
     d.setpoint_listeners.push_back(std::move(listener));
   }
   d.step_listener.owner = &d;

@@ -4,7 +4,7 @@
 // dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/<vehicle>/odometry,
 // rt/<vehicle>/<kind>/state of the actuator kinds and rt/<vehicle>/<sensor> (per sensor, its
 // topics, of ROS types; camera previews while read: dds/image_preview.h); subscribes
-// rt/<vehicle>/thrusters/setpoints and rt/hadal/step_request. Incoming samples are queued by the DDS
+// rt/<vehicle>/actuators/commands and rt/hadal/step_request. Incoming samples are queued by the DDS
 // threads and taken by the step loop at step boundaries, so the loop never waits on DDS. Writers to
 // setpoint topics of vehicles that do not exist are reported (a typo in a vehicle name is otherwise silent
 // in DDS).

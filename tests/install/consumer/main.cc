@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       stamp = o.stamp;
     });
     client.wait_for_subscriptions(20.0);
-    client.set_thrusters("auv", {0.8, 0.0, 0.0});
+    client.set_commands("auv", {0.8, 0.0, 0.0});
     const double t = client.step(500);  // 1 s
     for (int i = 0; i < 2000 && stamp.load() < t - 1e-9; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     std::printf("sim_time=%.3f x=%.6f\n", stamp.load(), x.load());

@@ -8,7 +8,7 @@
 //   hadal::Client client(hadal::ClientOptions{0, "my_controller"});  // domain 0
 //   if (!client.wait_for_server(10.0)) ...;
 //   client.on_odometry("auv", [](const hadal::Odometry& o) { ... });
-//   client.set_thrusters("auv", {0.5, 0.0, 0.0});
+//   client.set_commands("auv", {0.5, 0.0, 0.0});
 //   double t = client.step(100);  // lockstep servers only
 #pragma once
 
@@ -491,31 +491,41 @@ class Client {
 
   // Publishes the vehicle's control vector (one entry per actuator: thrusters, tracks, fins, buoyancy
   // engines, drop weights, each kind in scenario order; normalised [-1, 1], a drop weight 0 or 1) on
-  // rt/<vehicle>/thrusters/setpoints, waiting up to 2 s for the server's reader on first use. The
-  // setpoints are also attached to the next step() request, so in lockstep they take effect exactly
-  // before that request's first step. The server validates them: a rejected command shows up in
-  // SimStatus::rejected_commands / last_error.
-  void set_thrusters(const std::string& vehicle, const std::vector<double>& setpoints);
+  // rt/<vehicle>/actuators/commands (std_msgs/Float64MultiArray, as a ros2_control forward command
+  // controller's), waiting up to 2 s for the server's reader on first use. The commands are also attached
+  // to the next step() request, so in lockstep they take effect exactly before that request's first step.
+  // The server validates them: a rejected command shows up in SimStatus::rejected_commands / last_error.
+  void set_commands(const std::string& vehicle, const std::vector<double>& commands);
   // Lockstep only: the control vector for the next step() or reset() request, attached to it and not
-  // published on the setpoints topic (one DDS sample less per control period; what the Python
+  // published on the commands topic (one DDS sample less per control period; what the Python
   // environments use). Validated by the server with the request (CommandRejected, UnknownVehicle).
-  void attach_setpoints(const std::string& vehicle, const std::vector<double>& setpoints);
+  void attach_commands(const std::string& vehicle, const std::vector<double>& commands);
+  // The names before the control vector drove every actuator kind: refused at compile time, naming the
+  // new ones.
+  template <class... Args>
+  void set_thrusters(Args&&...) {
+    static_assert(sizeof...(Args) < 0, "Client::set_thrusters was renamed set_commands (it commands every actuator)");
+  }
+  template <class... Args>
+  void attach_setpoints(Args&&...) {
+    static_assert(sizeof...(Args) < 0, "Client::attach_setpoints was renamed attach_commands");
+  }
 
   // Lockstep: advances the server by `steps` physics steps and returns the sim time reached [s].
   // Throws ServerNotFound without a lockstep server, Timeout without a reply within timeout_s, ServerLost
   // when the server's status heartbeat stops while it waits (long before timeout_s),
-  // UnknownVehicle for setpoints of a vehicle the server does not have, CommandRejected when the server
-  // refuses the request (e.g. a wrong number of setpoints), with its reason.
+  // UnknownVehicle for commands of a vehicle the server does not have, CommandRejected when the server
+  // refuses the request (e.g. a wrong number of commands), with its reason.
   double step(std::uint32_t steps, double timeout_s = 30.0);
   // Lockstep: starts the run over from the scenario's initial state at sim time 0 (every vehicle at its
   // scenario pose or the given one, at rest; actuators at rest; no client command; sensor noise seeded
-  // from options.seed), then applies setpoints set since the last request, then runs `steps` steps.
+  // from options.seed), then applies commands set since the last request, then runs `steps` steps.
   // Returns the sim time reached [s]. The server publishes the initial state (odometry at t = 0) before
   // it replies. Throws as step().
   double reset(const ResetOptions& options = {}, std::uint32_t steps = 0, double timeout_s = 30.0);
 
   // Lockstep without waiting: send_step() and send_reset() send the request step() and reset() would send
-  // (with the setpoints attached so far) and return its id at once; wait_reply(id) then returns what
+  // (with the commands attached so far) and return its id at once; wait_reply(id) then returns what
   // step() or reset() would have, and throws as they do. One thread can so keep several servers (one
   // client each) stepping at the same time: send to each, then wait for each (hadal.env.VectorEnv).
   // The send throws ServerNotFound as step(); each id can be waited for once (else ClientError).

@@ -88,6 +88,7 @@ struct KeyDoc {
   // The table this key comes from when another table's keys sit in this map but are read by the map's
   // owner (a vehicle entry's inline definition): the reference points there instead of repeating them.
   std::string described_in;
+  std::string renamed_to;  // a former name: refused, naming this key
   bool selector = false;  // the kChoice key whose value decides which keys apply
 };
 

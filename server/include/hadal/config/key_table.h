@@ -623,6 +623,22 @@ class KeyTable {
     return key;
   }
 
+  // A key's former name: given, it is an error naming the key that replaced it (and why).
+  Key renamed(std::string old_name, std::string new_name, std::string why = "") {
+    const std::string message = "key " + config::quoted(old_name) + " was renamed " + config::quoted(new_name) +
+                                (why.empty() ? "" : " (" + why + ")");
+    Key key = add(std::move(old_name), KeyType::kCustom,
+                  [message](const MapReader& map, const Entry& e, T&, Ctx&) {
+                    if (!map.has(e.doc.name)) return true;
+                    map.error_at_key(e.doc.name, message);
+                    return false;
+                  },
+                  [](const Entry&, T&) -> std::string { return ""; });
+    entries_.back().doc.renamed_to = std::move(new_name);
+    entries_.back().doc.doc = message;
+    return key;
+  }
+
   // A key with its own reader (called when the key is present), its JSON Schema and its reference type.
   Key custom(std::string name, ReadValue read, std::string json_schema, std::string type) {
     Key key = add(std::move(name), KeyType::kCustom,

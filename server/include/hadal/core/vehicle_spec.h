@@ -97,7 +97,7 @@ struct VehicleSpec {
   std::vector<SetpointKeyframe> schedule;   // used until a client first commands the vehicle
   double command_timeout = 1.0;             // watchdog [s of sim time]
   double odometry_rate_hz = 50.0;
-  double thruster_state_rate_hz = 20.0;
+  double actuator_state_rate_hz = 20.0;
 
   int link_index(const std::string& link_name) const;
   // Length of the control vector: the actuators' controls summed.

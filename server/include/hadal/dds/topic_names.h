@@ -19,8 +19,8 @@ inline std::string odometry_topic(const std::string& vehicle) { return "rt/" + v
 inline std::string sensor_topic(const std::string& vehicle, const std::string& sensor) {
   return "rt/" + vehicle + "/" + sensor;
 }
-inline std::string thruster_setpoints_topic(const std::string& vehicle) {
-  return "rt/" + vehicle + "/thrusters/setpoints";
+inline std::string actuator_commands_topic(const std::string& vehicle) {
+  return "rt/" + vehicle + "/actuators/commands";
 }
 // The state of a vehicle's actuators of one kind, by the kind's YAML list key: rt/<vehicle>/thrusters/state,
 // tracks/state, fins/state, buoyancy_engines/state, drop_weights/state.
