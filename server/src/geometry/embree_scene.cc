@@ -43,61 +43,6 @@ std::string format_mesh(const std::string& kind, const std::string& name) {
   return "EmbreeScene: " + kind + " '" + name + "': ";
 }
 
-void validate_mesh(const TriangleMesh& mesh, const std::string& prefix) {
-  if (mesh.positions.size() % 3 != 0) {
-    throw std::invalid_argument(prefix + "positions has " + std::to_string(mesh.positions.size()) +
-                                " floats, not a multiple of 3");
-  }
-  if (mesh.indices.size() % 3 != 0) {
-    throw std::invalid_argument(prefix + "indices has " + std::to_string(mesh.indices.size()) +
-                                " entries, not a multiple of 3");
-  }
-  const std::size_t num_vertices = mesh.num_vertices();
-  const std::size_t num_triangles = mesh.num_triangles();
-  if (num_triangles == 0 || num_vertices == 0) {
-    throw std::invalid_argument(prefix + "empty mesh (" + std::to_string(num_vertices) +
-                                " vertices, " + std::to_string(num_triangles) + " triangles)");
-  }
-  if (num_vertices > std::numeric_limits<std::uint32_t>::max() ||
-      num_triangles > std::numeric_limits<std::uint32_t>::max()) {
-    throw std::invalid_argument(prefix + "more than 2^32 - 1 vertices or triangles");
-  }
-  for (std::size_t v = 0; v < num_vertices; ++v) {
-    const float* p = &mesh.positions[3 * v];
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      throw std::invalid_argument(prefix + "vertex " + std::to_string(v) + " is not finite");
-    }
-  }
-  for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
-    if (mesh.indices[i] >= num_vertices) {
-      throw std::invalid_argument(prefix + "triangle " + std::to_string(i / 3) + " has vertex index " +
-                                  std::to_string(mesh.indices[i]) + ", out of range (the mesh has " +
-                                  std::to_string(num_vertices) + " vertices)");
-    }
-  }
-  if (!mesh.uvs.empty() && mesh.uvs.size() != 2 * num_vertices) {
-    throw std::invalid_argument(prefix + "uvs has " + std::to_string(mesh.uvs.size()) + " values for " +
-                                std::to_string(num_vertices) + " vertices (2 each)");
-  }
-  if (!mesh.triangle_materials.empty()) {
-    if (mesh.triangle_materials.size() != num_triangles) {
-      throw std::invalid_argument(prefix + "triangle_materials has " +
-                                  std::to_string(mesh.triangle_materials.size()) + " entries for " +
-                                  std::to_string(num_triangles) + " triangles");
-    }
-    if (!mesh.materials.empty()) {
-      for (std::size_t t = 0; t < num_triangles; ++t) {
-        if (mesh.triangle_materials[t] >= mesh.materials.size()) {
-          throw std::invalid_argument(prefix + "triangle " + std::to_string(t) + " has material " +
-                                      std::to_string(mesh.triangle_materials[t]) +
-                                      ", out of range (the mesh has " +
-                                      std::to_string(mesh.materials.size()) + " materials)");
-        }
-      }
-    }
-  }
-}
-
 std::string vec3(float x, float y, float z) {
   std::ostringstream s;
   s << "(" << x << ", " << y << ", " << z << ")";
@@ -988,7 +933,7 @@ int EmbreeScene::add_static_mesh(const TriangleMesh& mesh_W, std::uint32_t mater
   EmbreeWorld& w = *impl_->world;
   const std::string prefix = format_mesh("static mesh", name);
   if (w.built) throw std::logic_error(prefix + "added after build()");
-  validate_mesh(mesh_W, prefix);
+  validate(mesh_W, prefix);
   if (shape == StaticShape::kHeightField) {
     // Every triangle's plane must face up (|grad h| = |n_xy| / n_z, the slope SlopeGrid keeps by region).
     for (std::size_t t = 0; t < mesh_W.num_triangles(); ++t) {
@@ -1041,7 +986,7 @@ int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::
   const std::string prefix = format_mesh("mesh of body " + std::to_string(body_index), name);
   if (w.built) throw std::logic_error(prefix + "added after build()");
   if (body_index < 0) throw std::invalid_argument(prefix + "body index must be >= 0");
-  validate_mesh(mesh_B, prefix);
+  validate(mesh_B, prefix);
   EmbreeWorld::BodyScene& body = w.body_scenes[body_index];
   if (body.scene == nullptr) {
     body.scene = rtcNewScene(w.device);

@@ -45,4 +45,9 @@ struct TriangleMesh {
   std::size_t num_triangles() const { return indices.size() / 3; }
 };
 
+// Throws std::invalid_argument, its message starting with `prefix`, unless the mesh is whole: triples of
+// positions and indices, at least one triangle, at most 2^32 - 1 vertices and triangles, finite vertices,
+// indices in range, two uvs per vertex if any, a material per triangle (in range) if any.
+void validate(const TriangleMesh& mesh, const std::string& prefix);
+
 }  // namespace hadal::geometry

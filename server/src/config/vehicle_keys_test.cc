@@ -1,0 +1,352 @@
+// Loading a vehicle entry's and definition's keys, includes and schedules (config/vehicle_keys.cc) through
+// the scenario loader: values, defaults, conversions and the errors at file:line:col
+// (config/scenario_test_support.h).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "config/scenario_test_support.h"
+#include "hadal/config/scenario_loader.h"
+
+namespace hadal::config {
+namespace {
+
+using testing::kInlineVehicle;
+using testing::kTol;
+using testing::Lines;
+using testing::ScenarioLoaderTest;
+namespace fs = std::filesystem;
+
+TEST_F(ScenarioLoaderTest, InlineVehicleGetsDefaultsAndConversions) {
+  const std::string path = write("s.yaml", std::string(R"(world: {}
+vehicles:
+  - name: rov_1
+    initial_pose: {position: [1, 2, -3], rpy_deg: [0, 0, 90]}
+    type: rov
+    links:
+      - name: frame
+        mass: 100
+        inertia: {ixx: 10, iyy: 10, izz: 10, ixy: 1}
+        collisions:
+          - {shape: box, size: [1, 0.5, 0.4]}
+          - {shape: capsule, radius: 0.1, length: 0.3, pose: {position: [0, 0, 1]}}
+      - name: arm
+        pose: {position: [0.5, 0, 0], rpy_deg: [90, 0, 0]}
+        mass: 5
+        inertia: {ixx: 0.1, iyy: 0.1, izz: 0.1}
+        buoyancy: {volume: 0.004}
+    thrusters:
+      - {name: t, link: arm, position: [0, 0, 0], direction: [0, 3, 4], propeller_diameter: 0.2,
+         thrust_coefficient: 0.5, max_rpm: 600, handedness: left, torque_coefficient: 0, rotor_time_constant_s: 0}
+    schedule:
+      - {time_s: 1.5, setpoints: [-1]}
+      - {time_s: 2, setpoints: [1]}
+)"));
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& diagnostic : result.errors) ADD_FAILURE() << diagnostic.format();
+  ASSERT_TRUE(result.ok());
+  const Model& model = *result.model;
+  EXPECT_EQ(model.world.physics_rate_hz, 500.0);
+  EXPECT_EQ(model.world.seed, 0u);
+  EXPECT_EQ(model.world.seabed.z, -100.0);
+  EXPECT_EQ(model.world.clock_rate_hz, 100.0);
+  ASSERT_EQ(model.vehicles.size(), 1u);
+  const VehicleSpec& rov = model.vehicles[0];
+  EXPECT_EQ(rov.type, VehicleType::kRov);
+  EXPECT_EQ(rov.source_file, path);
+  EXPECT_EQ(rov.odometry_rate_hz, 50.0);
+  EXPECT_EQ(rov.command_timeout, 1.0);
+  // Yaw 90 deg: body x points along world y.
+  EXPECT_TRUE(rov.X_WB_initial.translation().isApprox(Eigen::Vector3d(1, 2, -3), kTol));
+  EXPECT_TRUE(
+      (rov.X_WB_initial.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), kTol));
+  ASSERT_EQ(rov.links.size(), 2u);
+  EXPECT_EQ(rov.links[0].I_LLcm_L(0, 1), 1.0);
+  EXPECT_EQ(rov.links[0].I_LLcm_L(1, 0), 1.0);
+  EXPECT_EQ(rov.links[0].buoyancy.volume, 0.0);
+  ASSERT_EQ(rov.links[0].collisions.size(), 2u);
+  EXPECT_EQ(rov.links[0].collisions[0].box_size, Eigen::Vector3d(1, 0.5, 0.4));
+  EXPECT_EQ(rov.links[0].collisions[1].type, CollisionShapeType::kCapsule);
+  EXPECT_EQ(rov.links[0].collisions[1].X_LG.translation(), Eigen::Vector3d(0, 0, 1));
+  // Roll 90 deg: link y points along body z.
+  EXPECT_TRUE(
+      (rov.links[1].X_BL.linear() * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ(), kTol));
+  EXPECT_EQ(rov.links[1].buoyancy.volume, 0.004);
+  ASSERT_EQ(rov.actuators.size(), 1u);
+  EXPECT_EQ(rov.actuators[0].link_index, 1);
+  const physics::ThrusterActuator::Spec& t = spec_of<physics::ThrusterActuator>(rov.actuators[0]);
+  EXPECT_TRUE(t.axis_L.isApprox(Eigen::Vector3d(0, 0.6, 0.8), kTol));
+  EXPECT_EQ(t.max_rotor_speed_rev_s, 10.0);
+  EXPECT_EQ(t.handedness, -1);
+  EXPECT_EQ(t.torque_coefficient, 0.0);
+  EXPECT_EQ(t.rotor_time_constant_s, 0.0);
+  EXPECT_EQ(rov.fluid.linear_damping, Vector6d::Zero());
+  ASSERT_EQ(rov.schedule.size(), 2u);
+  EXPECT_EQ(rov.schedule[0].time, 1.5);
+  EXPECT_EQ(rov.schedule[0].setpoints, std::vector<double>{-1.0});
+}
+
+TEST_F(ScenarioLoaderTest, ThrusterOnMissingLink) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
+      - {name: fin, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    thrusters:
+      - name: main
+        link: nope
+        position: [0, 0, 0]
+        direction: [0, 0, 0]
+        propeller_diameter: 0.1
+        thrust_coefficient: 0.4
+        max_rpm: 100
+        handedness: clockwise
+)");
+  EXPECT_EQ(
+      errors_of(path),
+      (Lines{path + ":10:15: error: vehicles[0].thrusters[0].link: no link named 'nope' in this vehicle "
+                    "(links: hull, fin)",
+             path + ":12:20: error: vehicles[0].thrusters[0].direction: must be non-zero (got [0, 0, 0])",
+             path + ":16:21: error: vehicles[0].thrusters[0].handedness: must be one of 'right', 'left' (got "
+                    "'clockwise')"}));
+}
+
+TEST_F(ScenarioLoaderTest, DuplicateLinkAndThrusterNames) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
+      - {name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    thrusters:
+      - {name: t, link: hull, position: [0, 0, 0], direction: [1, 0, 0], propeller_diameter: 0.1,
+         thrust_coefficient: 0.4, max_rpm: 100}
+      - {name: t, link: hull, position: [0, 0, 0], direction: [1, 0, 0], propeller_diameter: 0.1,
+         thrust_coefficient: 0.4, max_rpm: 100}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":7:16: error: vehicles[0].links[1].name: duplicate link name 'hull' (first "
+                          "used by vehicles[0].links[0])",
+                   path + ":11:16: error: vehicles[0].thrusters[1].name: duplicate thruster name 't' "
+                          "(first used by vehicles[0].thrusters[0])"}));
+}
+
+TEST_F(ScenarioLoaderTest, DuplicateAndInvalidVehicleNames) {
+  const std::string path = write(
+      "s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + kInlineVehicle + R"(  - name: 2nd-auv
+    include: x.yaml
+)");
+  write("x.yaml", "type: auv\nlinks: [{name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]\n");
+  EXPECT_EQ(
+      errors_of(path),
+      (Lines{path + ":18:11: error: vehicles[1].name: duplicate vehicle name 'auv' (first used by "
+                    "vehicles[0])",
+             path + ":32:11: error: vehicles[2].name: must match [A-Za-z][A-Za-z0-9_]* (got '2nd-auv')"}));
+}
+
+// world.soil.regions placed by world.soil.map: an 8-bit image of region numbers next to the scenario.
+// A schedule keyframe is a control vector: each actuator's own check applies at load (a drop weight's
+// command is 0 or 1), as for a client's command at run time; a fin turned beyond its stall is a warning.
+TEST_F(ScenarioLoaderTest, ScheduleKeyframesPassEachActuatorsCheck) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: lander
+    type: lander
+    links:
+      - name: frame
+        mass: 100.0
+        inertia: {ixx: 10, iyy: 10, izz: 10}
+        collisions: [{shape: box, size: [1, 1, 1]}]
+    fins:
+      - {name: tail, link: frame, position: [-0.5, 0, 0], hinge_axis: [0, 1, 0], area: 0.02, aspect_ratio: 2,
+         max_angle_deg: 35}
+    drop_weights:
+      - {name: weight, link: frame, position: [0, 0, -0.5], mass: 20}
+    schedule:
+      - {time_s: 0.0, setpoints: [0.5, 0.0]}
+      - {time_s: 5.0, setpoints: [0.0, 0.5]}
+      - {time_s: 6.0, setpoints: [0.0]}
+)");
+  const LoadResult result = load_scenario_file(path);
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":17:34: error: vehicles[0].schedule[1].setpoints: setpoint[1] = 0.5 is not 0 (hold) or "
+                          "1 (release) (weight)",
+                   path + ":18:34: error: vehicles[0].schedule[2].setpoints: expected 2 setpoints, one per actuator "
+                          "(tail, weight) (got 1)"}));
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].format(),
+            path + ":11:9: warning: vehicles[0].fins[0]: max_angle_deg 35 is beyond stall_angle_deg 30: full "
+                   "deflection stalls the fin and gives less lift than a smaller one");
+}
+
+// An entry with `include` may add sensors and lights to the included definition; their names must not
+// repeat the included ones, and their links are the included vehicle's.
+TEST_F(ScenarioLoaderTest, IncludedVehicleExtendedWithSensorsAndLights) {
+  write("v.yaml", R"(type: auv
+links:
+  - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+sensors:
+  - {name: depth, type: pressure}
+)");
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: a
+    include: v.yaml
+    sensors:
+      - {name: cam, type: camera, link: hull}
+    lights:
+      - {name: lamp, link: hull}
+  - name: b
+    include: v.yaml
+    sensors:
+      - {name: depth, type: pressure, link: mast}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":12:16: error: vehicles[1].sensors[0].name: duplicate sensor name 'depth' (first used by " +
+                       dir_.string() + "/v.yaml)",
+                   path + ":12:45: error: vehicles[1].sensors[0].link: no link named 'mast' in this vehicle (links: "
+                          "hull)"}));
+  const std::string good = write("good.yaml", R"(world: {}
+vehicles:
+  - name: a
+    include: v.yaml
+    sensors:
+      - {name: cam, type: camera, link: hull}
+    lights:
+      - {name: lamp, link: hull}
+  - name: b
+    include: v.yaml
+)");
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  ASSERT_EQ(loaded.model->vehicles[0].sensors.size(), 2u);
+  EXPECT_EQ(loaded.model->vehicles[0].sensors[1].name, "cam");
+  EXPECT_EQ(loaded.model->vehicles[0].lights.size(), 1u);
+  EXPECT_EQ(loaded.model->vehicles[1].sensors.size(), 1u);  // the include itself is unchanged
+  EXPECT_TRUE(loaded.model->vehicles[1].lights.empty());
+}
+
+TEST_F(ScenarioLoaderTest, IncludeAndInlineDefinitionBothOrNeither) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: a
+    include: v.yaml
+    type: auv
+    fluid: {}
+  - name: b
+    odometry_rate_hz: 10
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":4:5: error: vehicles[0].include: cannot be combined with an inline definition "
+                          "(found 'type', 'fluid'; an entry with 'include' may only add 'sensors' and 'lights')",
+                   path + ":7:5: error: vehicles[1]: needs either 'include' or an inline definition ('type', "
+                          "'links', ...)"}));
+}
+
+TEST_F(ScenarioLoaderTest, ScheduleSetpointCountUsesTheIncludedVehicle) {
+  write("vehicles/v.yaml", R"(type: auv
+links: [{name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]
+thrusters:
+  - {name: left, link: hull, position: [0, 1, 0], direction: [1, 0, 0], propeller_diameter: 0.1,
+     thrust_coefficient: 0.4, max_rpm: 100}
+  - {name: right, link: hull, position: [0, -1, 0], direction: [1, 0, 0], propeller_diameter: 0.1,
+     thrust_coefficient: 0.4, max_rpm: 100}
+)");
+  const std::string path = write("scenarios/s.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    include: ../vehicles/v.yaml
+    schedule:
+      - {time_s: 0, setpoints: [0.5, 0.5]}
+      - {time_s: 10, setpoints: [0.5]}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":7:33: error: vehicles[0].schedule[1].setpoints: expected 2 setpoints, one "
+                          "per actuator (left, right) (got 1)"}));
+}
+
+TEST_F(ScenarioLoaderTest, ScheduleTimesMustIncreaseAndSetpointsStayInRange) {
+  const std::string path =
+      write("s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + R"(    schedule:
+      - {time_s: 0, setpoints: [0.5]}
+      - {time_s: 10, setpoints: [1.5]}
+      - {time_s: 10, setpoints: [-1]}
+      - {time_s: -1, setpoints: [0]}
+      - {setpoints: [0]}
+)");
+  EXPECT_EQ(
+      errors_of(path),
+      (Lines{path + ":19:34: error: vehicles[0].schedule[1].setpoints[0]: must be in [-1, 1] (got 1.5)",
+             path + ":20:18: error: vehicles[0].schedule[2].time_s: must be greater than the previous time_s "
+                    "(10) (got 10)",
+             path + ":21:18: error: vehicles[0].schedule[3].time_s: must be >= 0 (got -1)",
+             path + ":22:9: error: vehicles[0].schedule[4]: missing required key 'time_s'"}));
+}
+
+// A key's former name is refused at the key, naming the new one (not "unknown key").
+TEST_F(ScenarioLoaderTest, ARenamedKeyIsRefusedNamingItsNewName) {
+  const std::string path =
+      write("s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + "    thruster_state_rate_hz: 10\n");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":17:5: error: vehicles[0].thruster_state_rate_hz: key 'thruster_state_rate_hz' was renamed "
+                          "'actuator_state_rate_hz' (it sets every actuator kind's state rate)"}));
+}
+
+TEST_F(ScenarioLoaderTest, IncludeFileMissing) {
+  const std::string path = write("scenarios/s.yaml", R"(world: {}
+vehicles:
+  - name: auv
+    include: ../vehicles/nope.yaml
+    schedule:
+      - {time_s: 0, setpoints: [1, 1]}
+)");
+  // The setpoint count cannot be checked without the vehicle: no further error.
+  EXPECT_EQ(errors_of(path), (Lines{path + ":4:14: error: vehicles[0].include: cannot open '" +
+                                    dir_.string() + "/scenarios/../vehicles/nope.yaml' (file not found)"}));
+}
+
+TEST_F(ScenarioLoaderTest, ErrorsInsideAnIncludedFileNameThatFile) {
+  const std::string vehicle = write("vehicles/v.yaml", R"(type: auv
+links:
+  - name: hull
+    mass: 1
+    inertia: {ixx: 1, iyy: 1, izz: 1}
+thrusters:
+  - name: main
+    link: hull
+    position: [0, 0, 0]
+    direction: [1, 0, 0]
+    propeller_diameter: 0.1
+    thrust_coefficient: 0.4
+    max_rpm: -5
+    colour: red
+)");
+  // Two vehicles include the same file: its errors are reported once.
+  const std::string path = write("scenarios/s.yaml", R"(world: {}
+vehicles:
+  - {name: a, include: ../vehicles/v.yaml}
+  - {name: b, include: ../vehicles/v.yaml, odometry_rate_hz: 0}
+)");
+  const std::string included = dir_.string() + "/scenarios/../vehicles/v.yaml";
+  EXPECT_EQ(errors_of(path), (Lines{path + ":4:62: error: vehicles[1].odometry_rate_hz: must be > 0 (got 0)",
+                                    included + ":13:14: error: thrusters[0].max_rpm: must be > 0 (got -5)",
+                                    included + ":14:5: error: thrusters[0].colour: unknown key 'colour'"}));
+}
+
+TEST_F(ScenarioLoaderTest, SyntaxErrorInsideAnIncludedFile) {
+  write("v.yaml", "type: auv\nlinks: [\n");
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - {name: a, include: v.yaml, schedule: [{time_s: 0, setpoints: [1]}]}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{dir_.string() + "/v.yaml:3:1: error: yaml: end of sequence flow not found"}));
+}
+
+}  // namespace
+}  // namespace hadal::config

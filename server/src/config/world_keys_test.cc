@@ -1,0 +1,73 @@
+// Loading the world's own keys (config/world_keys.cc) through the scenario loader: values, defaults,
+// conversions and the errors at file:line:col (config/scenario_test_support.h).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "config/scenario_test_support.h"
+#include "hadal/config/scenario_loader.h"
+
+namespace hadal::config {
+namespace {
+
+using testing::kInlineVehicle;
+using testing::kTol;
+using testing::Lines;
+using testing::ScenarioLoaderTest;
+namespace fs = std::filesystem;
+
+TEST_F(ScenarioLoaderTest, ClockRateDefaultFollowsASlowPhysicsRate) {
+  const std::string path =
+      write("s.yaml", std::string("world: {physics_rate_hz: 60}\nvehicles:") + kInlineVehicle);
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.ok());
+  EXPECT_EQ(result.model->world.clock_rate_hz, 60.0);
+}
+
+TEST_F(ScenarioLoaderTest, WorldDateErrors) {
+  const std::string bad_form = write("a.yaml", "world: {date: 2026-13-01}\nvehicles: []\n");
+  const std::string out_of_model = write("b.yaml", "world: {date: \"2031-01-01\"}\nvehicles: []\n");
+  const std::vector<std::string> a = errors_of(bad_form), b = errors_of(out_of_model);
+  ASSERT_FALSE(a.empty());
+  EXPECT_NE(a[0].find(":1:15: error: world.date: expected a date YYYY-MM-DD (got '2026-13-01')"), std::string::npos)
+      << a[0];
+  ASSERT_FALSE(b.empty());
+  EXPECT_NE(b[0].find(":1:15: error: world.date: must be within 2025-01-01 .. 2029-12-31, the World Magnetic "
+                      "Model 2025's validity (got 2031-01-01)"),
+            std::string::npos) << b[0];
+}
+
+TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {
+  const std::string good = write("g.yaml", std::string("world: {raycast_threads: 3}\nvehicles:") + kInlineVehicle);
+  const LoadResult g = load_scenario_file(good);
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(g.model->world.raycast_threads, 3);
+  EXPECT_EQ(g.model->world.threads, 0);  // default: one per hardware thread
+  EXPECT_GE(g.model->world.effective_threads(), 1);
+  const std::string one = write("one.yaml", std::string("world: {threads: 1}\nvehicles:") + kInlineVehicle);
+  EXPECT_EQ(load_scenario_file(one).model->world.threads, 1);
+  EXPECT_EQ(load_scenario_file(one).model->world.effective_threads(), 1);
+  const std::string many = write("many.yaml", "world:\n  threads: 300\nvehicles: []\n");
+  EXPECT_EQ(errors_of(many)[0], many + ":2:12: error: world.threads: must be in [0, 256] (got 300)");
+  const std::string bad = write("b.yaml", "world:\n  raycast_threads: 1.5\nvehicles: []\n");
+  EXPECT_EQ(errors_of(bad)[0], bad + ":2:20: error: world.raycast_threads: must be a whole number (got 1.5)");
+  const std::string negative = write("n.yaml", "world:\n  raycast_threads: -1\nvehicles: []\n");
+  EXPECT_EQ(errors_of(negative)[0], negative + ":2:20: error: world.raycast_threads: must be in [0, 256] (got -1)");
+}
+
+TEST_F(ScenarioLoaderTest, RatesAboveThePhysicsRate) {
+  const std::string path = write("s.yaml", std::string(R"(world:
+  physics_rate_hz: 100
+  clock_rate_hz: 200
+vehicles:)") + kInlineVehicle + "    actuator_state_rate_hz: 1000\n");
+  EXPECT_EQ(
+      errors_of(path),
+      (Lines{path + ":3:18: error: world.clock_rate_hz: must be <= world.physics_rate_hz (100) (got 200)",
+             path + ":19:29: error: vehicles[0].actuator_state_rate_hz: must be <= world.physics_rate_hz "
+                    "(100) (got 1000)"}));
+}
+
+}  // namespace
+}  // namespace hadal::config
