@@ -70,13 +70,8 @@ int main(int argc, char** argv) {
   };
   sensors::FlsSensor::Spec fls_spec;
   const sensors::FlsPreset oculus = preset(sensors::fls_presets(), "oculus_m750d");
-  fls_spec.acoustics.frequency_hz = oculus.frequency_hz;
+  oculus.apply(fls_spec);
   fls_spec.beams = 256;
-  fls_spec.fov = oculus.fov_deg * kDegToRad;
-  fls_spec.beam_width = oculus.beam_width_deg * kDegToRad;
-  fls_spec.vertical_aperture = oculus.vertical_aperture_deg * kDegToRad;
-  fls_spec.acoustics.max_range = oculus.max_range_m;
-  fls_spec.acoustics.bins = oculus.bins;
   fls_spec.rays_per_cell = 10;
   sensors::FlsSensor::make_ping(fls_spec);
   Eigen::Isometry3d X_WS_fls = Eigen::Isometry3d::Identity();
@@ -85,13 +80,7 @@ int main(int argc, char** argv) {
 
   sensors::MultibeamSensor::Spec mb_spec;
   const sensors::MultibeamPreset r2sonic = preset(sensors::multibeam_presets(), "r2sonic_2024");
-  mb_spec.acoustics.frequency_hz = r2sonic.frequency_hz;
-  mb_spec.beams = r2sonic.beams;
-  mb_spec.swath = r2sonic.swath_deg * kDegToRad;
-  mb_spec.across_beam_width = r2sonic.across_beam_width_deg * kDegToRad;
-  mb_spec.along_beam_width = r2sonic.along_beam_width_deg * kDegToRad;
-  mb_spec.acoustics.max_range = r2sonic.max_range_m;
-  mb_spec.acoustics.bins = r2sonic.bins;
+  r2sonic.apply(mb_spec);
   sensors::MultibeamSensor::make_ping(mb_spec);
   Eigen::Isometry3d X_WS_mb = Eigen::Isometry3d::Identity();
   X_WS_mb.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();  // x_S down

@@ -26,8 +26,8 @@ struct Probe {
 };
 
 const KeyTable<Probe>& probe_keys() {
-  static const KeyTable<Probe> table = [] {
-    KeyTable<Probe> t("probe", "a test probe");
+  return declare_keys<Probe>([](KeyTable<Probe>& t) {
+    t.describe("probe", "a test probe");
     t.choice("shape", &Probe::shape, {{"ball", Shape::kBall}, {"rod", Shape::kRod, "a thin cylinder"}})
         .selects("probe shape").doc("its shape");
     t.number("radius", &Probe::radius).unit("m").range(Range::positive()).doc("its radius");
@@ -44,9 +44,7 @@ const KeyTable<Probe>& probe_keys() {
       reads.error_at_key("length", "a rod is longer than its radius");
       return false;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 struct Read {

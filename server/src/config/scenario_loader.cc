@@ -18,10 +18,10 @@
 namespace hadal::config {
 
 const KeyTable<Model, LoadContext>& scenario_keys() {
-  static const KeyTable<Model, LoadContext> table = [] {
-    Model defaults;
-    defaults.world = world_keys().defaults();
-    KeyTable<Model, LoadContext> t("scenario", "a Hadal scenario: the world and the vehicles in it", std::move(defaults));
+  Model defaults;
+  defaults.world = world_keys().defaults();
+  return declare_keys<Model, LoadContext>(std::move(defaults), [](KeyTable<Model, LoadContext>& t) {
+    t.describe("scenario", "a Hadal scenario: the world and the vehicles in it");
     t.map("world", &Model::world, world_keys()).required().doc("the world");
     t.list("vehicles", &Model::vehicles, vehicle_entry_keys()).required().min_items(1).read_elsewhere()
         .doc("the vehicles, each defined inline or by `include`");
@@ -35,9 +35,7 @@ const KeyTable<Model, LoadContext>& scenario_keys() {
          "", "map")
         .keys_of(security_keys())
         .doc("DDS Security of hadald's participant (docs/dds.md); hadald --security FILE replaces it");
-    return t;
-  }();
-  return table;
+  });
 }
 
 namespace {

@@ -14,9 +14,8 @@
 #include "hadal/physics/actuator_kinds.h"  // spec_of<Kind>
 #include "hadal/sensors/sensor_kinds.h"
 
-namespace hadal::config::testing {
+namespace hadal::config {
 
-namespace fs = std::filesystem;
 using Lines = std::vector<std::string>;
 
 // Tolerance for values that went through a few floating-point operations (deg -> rad, normalisation).
@@ -28,16 +27,16 @@ class ScenarioLoaderTest : public ::testing::Test {
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     dir_ =
-        fs::temp_directory_path() / ("hadal_config_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+        std::filesystem::temp_directory_path() / ("hadal_config_test_" + std::to_string(::getpid()) + "_" + info->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
 
   // Writes `text` to dir/relative and returns that path.
   std::string write(const std::string& relative, const std::string& text) {
-    const fs::path path = dir_ / relative;
-    fs::create_directories(path.parent_path());
+    const std::filesystem::path path = dir_ / relative;
+    std::filesystem::create_directories(path.parent_path());
     std::ofstream(path) << text;
     return path.string();
   }
@@ -51,7 +50,7 @@ class ScenarioLoaderTest : public ::testing::Test {
     return lines;
   }
 
-  fs::path dir_;
+  std::filesystem::path dir_;
 };
 
 // A valid vehicle entry with an inline definition and one thruster. It starts with a newline, so after
@@ -74,4 +73,13 @@ constexpr const char* kInlineVehicle = R"(
         max_rpm: 1500
 )";
 
-}  // namespace hadal::config::testing
+// A vehicle entry with one link and a `sensors:` key, for the sensors' entries to follow.
+constexpr const char* kSensorVehicle = R"(vehicles:
+  - name: auv
+    type: auv
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+)";
+
+}  // namespace hadal::config

@@ -11,10 +11,10 @@
 namespace hadal::config {
 
 const KeyTable<SecurityFiles>& security_keys() {
-  static const KeyTable<SecurityFiles> table = [] {
-    KeyTable<SecurityFiles> t("security",
-                              "DDS Security of hadald's participant (docs/dds.md): PKI-DH authentication, AES-GCM-GMAC "
-                              "encryption, access control; each file relative to the file holding the block");
+  return declare_keys<SecurityFiles>([](KeyTable<SecurityFiles>& t) {
+    t.describe("security",
+               "DDS Security of hadald's participant (docs/dds.md): PKI-DH authentication, AES-GCM-GMAC "
+               "encryption, access control; each file relative to the file holding the block");
     const std::pair<const char*, std::string SecurityFiles::*> files[] = {
         {"identity_ca", &SecurityFiles::identity_ca},    {"certificate", &SecurityFiles::certificate},
         {"private_key", &SecurityFiles::private_key},    {"permissions_ca", &SecurityFiles::permissions_ca},
@@ -47,9 +47,7 @@ const KeyTable<SecurityFiles>& security_keys() {
       }
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 std::optional<SecurityFiles> read_security_block(const Value& block) {

@@ -2,22 +2,14 @@
 
 #include <utility>
 
+#include "hadal/config/entry_keys.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/actuator_kinds.h"
-#include "hadal/sensors/sensor_kinds.h"
 #include "hadal/physics/control_vector.h"
+#include "hadal/sensors/sensor_kinds.h"
 
 namespace hadal::config {
 namespace {
-
-// The path of the map holding `value` (the entry a name belongs to).
-std::string owner_path(const Value& value) { return value.path().substr(0, value.path().rfind('.')); }
-
-bool read_name(const Value& value, const std::string& what, VehicleContext& context, std::string* name) {
-  return read_unique_name(value, what, owner_path(value), context, name);
-}
-
-constexpr const char* kNameSchema = R"({"type": "string", "minLength": 1})";
 
 // --- sensors -------------------------------------------------------------------------------------------
 
@@ -27,13 +19,11 @@ struct SensorEntry {
 };
 
 const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
-  static const KeyTable<SensorEntry, VehicleContext> table = [] {
-    KeyTable<SensorEntry, VehicleContext> t("sensors[]",
-                                            "a sensor on a link, published on rt/<vehicle>/<name> at rate_hz in sim "
-                                            "time: the common keys, then those of its type");
-    t.custom("name", [](const Value& v, SensorEntry& e, VehicleContext& c) { return read_name(v, "sensor", c, &e.spec.name); },
-             kNameSchema, "string")
-        .required()
+  return declare_keys<SensorEntry, VehicleContext>([](KeyTable<SensorEntry, VehicleContext>& t) {
+    t.describe("sensors[]",
+               "a sensor on a link, published on rt/<vehicle>/<name> at rate_hz in sim "
+               "time: the common keys, then those of its type");
+    declare_name_key(t, "sensor", [](SensorEntry& e) -> std::string& { return e.spec.name; })
         .doc("unique in the vehicle; the topic's last part");
     std::vector<KeyTable<SensorEntry, VehicleContext>::Named<std::size_t>> types;
     std::vector<std::string> captured;
@@ -43,14 +33,7 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
       if (Kind::kCaptures) captured.emplace_back(Kind::kType);
     });
     t.choice("type", &SensorEntry::kind, types).required().selects("sensor type").doc("the sensor's kind");
-    t.custom(
-         "link",
-         [](const Value& v, SensorEntry& e, VehicleContext& c) {
-           const auto index = read_link_reference(v, c.link_names);
-           if (index) e.spec.link_index = *index;
-           return index.has_value() || !c.link_names;
-         },
-         kNameSchema, "string")
+    declare_link_key(t, [](SensorEntry& e) -> int& { return e.spec.link_index; })
         .default_text("the base link")
         .doc("a link of this vehicle");
     t.pose("pose", [](SensorEntry& e) -> Eigen::Isometry3d& { return e.spec.X_LS; }).doc("mounting pose X_LS in the link frame");
@@ -77,32 +60,17 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
                   return ok;
                 });
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 // --- actuators -----------------------------------------------------------------------------------------
 
 template <class Kind>
 const KeyTable<ActuatorSpec, VehicleContext>& actuator_entry_keys() {
-  static const KeyTable<ActuatorSpec, VehicleContext> table = [] {
-    KeyTable<ActuatorSpec, VehicleContext> t(std::string(Kind::kListKey) + "[]", Kind::keys().doc().title);
-    t.custom("name",
-             [](const Value& v, ActuatorSpec& a, VehicleContext& c) { return read_name(v, std::string(Kind::kType), c, &a.name); },
-             kNameSchema, "string")
-        .required()
-        .doc("unique among the vehicle's actuators");
-    t.custom(
-         "link",
-         [](const Value& v, ActuatorSpec& a, VehicleContext& c) {
-           const auto index = read_link_reference(v, c.link_names);
-           if (index) a.link_index = *index;
-           return index.has_value() || !c.link_names;
-         },
-         kNameSchema, "string")
-        .required()
-        .doc("the link it is mounted on");
+  return declare_keys<ActuatorSpec, VehicleContext>([](KeyTable<ActuatorSpec, VehicleContext>& t) {
+    t.describe(std::string(Kind::kListKey) + "[]", Kind::keys().doc().title);
+    declare_name_key(t, std::string(Kind::kType), &ActuatorSpec::name).doc("unique among the vehicle's actuators");
+    declare_link_key(t, &ActuatorSpec::link_index).required().doc("the link it is mounted on");
     using Spec = typename Kind::Spec;
     t.part(Kind::keys(), [](const MapReader& map, const KeyTable<Spec>& kind, ActuatorSpec& a, VehicleContext&) {
       Spec spec = kind.defaults();
@@ -111,9 +79,7 @@ const KeyTable<ActuatorSpec, VehicleContext>& actuator_entry_keys() {
       a.kind = std::move(spec);
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 // One actuator kind's list: appended to the definition's actuators, its controls to the control vector.
@@ -156,9 +122,8 @@ void refer_to(const VehicleDefinition& d, VehicleContext& c) {
 }  // namespace
 
 const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
-  static const KeyTable<VehicleDefinition, VehicleContext> table = [] {
-    KeyTable<VehicleDefinition, VehicleContext> t("vehicle",
-                                                  "a vehicle definition: a vehicle file, or inline in a vehicle entry");
+  return declare_keys<VehicleDefinition, VehicleContext>([](KeyTable<VehicleDefinition, VehicleContext>& t) {
+    t.describe("vehicle", "a vehicle definition: a vehicle file, or inline in a vehicle entry");
     t.choice("type", &VehicleDefinition::type,
              {{"auv", VehicleType::kAuv},
               {"rov", VehicleType::kRov},
@@ -264,15 +229,12 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
       }
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<SetpointKeyframe>& keyframe_keys() {
-  static const KeyTable<SetpointKeyframe> table = [] {
-    KeyTable<SetpointKeyframe> t("schedule[]",
-                                 "from time_s on (zero-order hold), the vehicle's actuators take `setpoints`");
+  return declare_keys<SetpointKeyframe>([](KeyTable<SetpointKeyframe>& t) {
+    t.describe("schedule[]", "from time_s on (zero-order hold), the vehicle's actuators take `setpoints`");
     t.number("time_s", &SetpointKeyframe::time).required().unit("s").range(Range::non_negative())
         .rule("strictly increasing along the list").doc("sim time");
     t.numbers(
@@ -281,16 +243,14 @@ const KeyTable<SetpointKeyframe>& keyframe_keys() {
         .range(Range::closed(-1.0, 1.0))
         .rule("one per control, passing its actuator's own check")
         .doc("the vehicle's control vector, in control-vector order");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
-  static const KeyTable<VehicleSpec, LoadContext> table = [] {
-    KeyTable<VehicleSpec, LoadContext> t("vehicles[]",
-                                         "a vehicle: its definition either from `include` (which the entry may extend "
-                                         "with sensors and lights) or inline, where it starts, its rates and schedule");
+  return declare_keys<VehicleSpec, LoadContext>([](KeyTable<VehicleSpec, LoadContext>& t) {
+    t.describe("vehicles[]",
+               "a vehicle: its definition either from `include` (which the entry may extend "
+               "with sensors and lights) or inline, where it starts, its rates and schedule");
     t.string("name", &VehicleSpec::name).required().read_elsewhere()
         .rule("[A-Za-z][A-Za-z0-9_]*, unique").doc("a topic segment: rt/<name>/...");
     t.string("include", &VehicleSpec::source_file).read_elsewhere()
@@ -309,9 +269,7 @@ const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
         .doc("an open-loop schedule that drives the vehicle until a client first commands it; before its first "
              "keyframe the setpoints are zero");
     t.part(definition_keys());  // read by the scenario loader, which resolves `include`
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::config

@@ -13,12 +13,6 @@
 namespace hadal::config {
 namespace {
 
-using testing::kInlineVehicle;
-using testing::kTol;
-using testing::Lines;
-using testing::ScenarioLoaderTest;
-namespace fs = std::filesystem;
-
 TEST_F(ScenarioLoaderTest, InlineVehicleGetsDefaultsAndConversions) {
   const std::string path = write("s.yaml", std::string(R"(world: {}
 vehicles:

@@ -10,19 +10,17 @@ namespace hadal::config {
 namespace {
 
 const KeyTable<DynamicsSpec>& dynamics_keys() {
-  static const KeyTable<DynamicsSpec> table = [] {
-    KeyTable<DynamicsSpec> t("world.dynamics",
-                             "rigid-body inertial effects; Bullet integrates in W, so -m (w x v) and -(I w) x w are "
-                             "already in its equations");
+  return declare_keys<DynamicsSpec>([](KeyTable<DynamicsSpec>& t) {
+    t.describe("world.dynamics",
+               "rigid-body inertial effects; Bullet integrates in W, so -m (w x v) and -(I w) x w are "
+               "already in its equations");
     t.boolean("gyroscopic", &DynamicsSpec::gyroscopic)
         .doc("Bullet's rigid-body gyroscopic moment -(I w) x w (off: a torque-free body keeps w instead of its "
              "angular momentum)");
     t.boolean("earth_rotation", &DynamicsSpec::earth_rotation)
         .doc("Earth-rotation Coriolis force F = -2 m Omega x v at each centre of mass, Omega = 7.292115e-5 rad/s x "
              "(0, cos phi, sin phi) in ENU at origin.latitude_deg phi (hadal-validate-coriolis)");
-    return t;
-  }();
-  return table;
+  });
 }
 
 // "YYYY-MM-DD" within the geomagnetic model's validity (WMM2025: 2025-01-01 .. 2029-12-31).
@@ -57,9 +55,8 @@ WorldSpec default_world() {
 }  // namespace
 
 const KeyTable<WorldSpec, LoadContext>& world_keys() {
-  static const KeyTable<WorldSpec, LoadContext> table = [] {
-    KeyTable<WorldSpec, LoadContext> t("world", "the world: physics rate, gravity, seed, water, seabed, soil, optics",
-                                       default_world());
+  return declare_keys<WorldSpec, LoadContext>(default_world(), [](KeyTable<WorldSpec, LoadContext>& t) {
+    t.describe("world", "the world: physics rate, gravity, seed, water, seabed, soil, optics");
     // The rates below are bounded by the physics rate; an invalid one bounds nothing.
     t.before([](WorldSpec& world, LoadContext& context) {
       context.physics_rate_hz = world.physics_rate_hz;
@@ -110,9 +107,7 @@ const KeyTable<WorldSpec, LoadContext>& world_keys() {
       world.optics.seabed_pattern.seed = world.seed;
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::config

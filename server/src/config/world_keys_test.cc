@@ -12,12 +12,6 @@
 namespace hadal::config {
 namespace {
 
-using testing::kInlineVehicle;
-using testing::kTol;
-using testing::Lines;
-using testing::ScenarioLoaderTest;
-namespace fs = std::filesystem;
-
 TEST_F(ScenarioLoaderTest, ClockRateDefaultFollowsASlowPhysicsRate) {
   const std::string path =
       write("s.yaml", std::string("world: {physics_rate_hz: 60}\nvehicles:") + kInlineVehicle);

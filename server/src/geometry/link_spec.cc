@@ -6,19 +6,14 @@
 #include <string>
 #include <utility>
 
-#include "hadal/config/key_table.h"
-#include "hadal/config/vehicle_context.h"
+#include "hadal/config/entry_keys.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/mesh_transform.h"
 
 namespace hadal::geometry {
 namespace {
 
-using config::KeyReads;
-using config::KeyTable;
-using config::NoContext;
-using config::Range;
-using config::Value;
+using namespace config::keys;
 using config::VehicleContext;
 
 // Inertia tensors typed by hand are rounded to 3-4 digits; a 0.1 % tolerance on the triangle inequality
@@ -30,10 +25,10 @@ struct Inertia {
 };
 
 const KeyTable<Inertia>& inertia_keys() {
-  static const KeyTable<Inertia> table = [] {
-    KeyTable<Inertia> t("links[].inertia",
-                        "I_LLcm_L about the centre of mass in L's axes, tensor entries as URDF/SDF; positive definite, "
-                        "principal moments obeying A + B >= C");
+  return declare_keys<Inertia>([](KeyTable<Inertia>& t) {
+    t.describe("links[].inertia",
+               "I_LLcm_L about the centre of mass in L's axes, tensor entries as URDF/SDF; positive definite, "
+               "principal moments obeying A + B >= C");
     using Field = std::pair<const char*, double Inertia::*>;
     for (const Field& f : {Field{"ixx", &Inertia::ixx}, Field{"iyy", &Inertia::iyy}, Field{"izz", &Inertia::izz}}) {
       t.number(f.first, f.second).required().unit("kg m²").range(Range::positive()).doc("moment");
@@ -41,9 +36,7 @@ const KeyTable<Inertia>& inertia_keys() {
     for (const Field& f : {Field{"ixy", &Inertia::ixy}, Field{"ixz", &Inertia::ixz}, Field{"iyz", &Inertia::iyz}}) {
       t.number(f.first, f.second).unit("kg m²").doc("product");
     }
-    return t;
-  }();
-  return table;
+  });
 }
 
 // A physical body has a positive-definite I whose principal moments satisfy the triangle inequalities
@@ -85,9 +78,8 @@ bool read_inertia(const Value& value, LinkSpec& link, VehicleContext&) {
 }
 
 const KeyTable<CollisionShape>& collision_keys() {
-  static const KeyTable<CollisionShape> table = [] {
-    KeyTable<CollisionShape> t("links[].collisions[]",
-                               "a collision primitive; cylinders and capsules have their axis along G's z");
+  return declare_keys<CollisionShape>([](KeyTable<CollisionShape>& t) {
+    t.describe("links[].collisions[]", "a collision primitive; cylinders and capsules have their axis along G's z");
     t.choice("shape", &CollisionShape::type,
              {{"box", CollisionShapeType::kBox},
               {"sphere", CollisionShapeType::kSphere},
@@ -104,14 +96,12 @@ const KeyTable<CollisionShape>& collision_keys() {
         .required_for({"cylinder", "capsule"}).unit("m").range(Range::positive())
         .doc("length of the cylindrical part (a capsule's total length is length + 2 radius)");
     t.pose("pose", &CollisionShape::X_LG).doc("X_LG, the shape's frame G in L");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<LinkMesh>& link_mesh_keys() {
-  static const KeyTable<LinkMesh> table = [] {
-    KeyTable<LinkMesh> t("links[].mesh", "a mesh file: GLB, glTF (+ .bin), OBJ, STL");
+  return declare_keys<LinkMesh>([](KeyTable<LinkMesh>& t) {
+    t.describe("links[].mesh", "a mesh file: GLB, glTF (+ .bin), OBJ, STL");
     t.file("file", &LinkMesh::file).required().doc("the mesh file");
     t.number("scale", [](LinkMesh& m) -> double& { return m.import.scale; }).range(Range::positive())
         .doc("file units to metres");
@@ -119,9 +109,7 @@ const KeyTable<LinkMesh>& link_mesh_keys() {
              {{"z", UpAxis::kZ}, {"y", UpAxis::kY, "glTF's convention, rotated +90° about x into z up"}})
         .doc("the file's up axis");
     t.pose("pose", &LinkMesh::X_LM).doc("pose of the file's frame in L");
-    return t;
-  }();
-  return table;
+  });
 }
 
 // A link's mesh: the file imported into L, with its volume properties. `volume_matters`: a hull's (a
@@ -154,20 +142,18 @@ bool read_link_mesh(const Value& value, std::optional<LinkMesh>& out, bool volum
 }
 
 const KeyTable<BuoyancySpec>& buoyancy_keys() {
-  static const KeyTable<BuoyancySpec> table = [] {
-    KeyTable<BuoyancySpec> t("links[].buoyancy", "lumped buoyancy: the displaced volume of the submerged link");
+  return declare_keys<BuoyancySpec>([](KeyTable<BuoyancySpec>& t) {
+    t.describe("links[].buoyancy", "lumped buoyancy: the displaced volume of the submerged link");
     t.number("volume", &BuoyancySpec::volume).required().unit("m³").range(Range::non_negative()).doc("displaced volume");
     t.vector("center", &BuoyancySpec::p_LCb).unit("m").doc("centre of buoyancy in L");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<CheckerboardSpec>& checkerboard_keys() {
-  static const KeyTable<CheckerboardSpec> table = [] {
-    KeyTable<CheckerboardSpec> t("links[].appearance.checkerboard",
-                                 "a calibration target: squares along x_P and y_P from P's origin, square (0, 0) "
-                                 "dark, painted through the link's depth");
+  return declare_keys<CheckerboardSpec>([](KeyTable<CheckerboardSpec>& t) {
+    t.describe("links[].appearance.checkerboard",
+               "a calibration target: squares along x_P and y_P from P's origin, square (0, 0) "
+               "dark, painted through the link's depth");
     t.custom(
          "squares",
          [](const Value& value, CheckerboardSpec& board, NoContext&) {
@@ -191,14 +177,12 @@ const KeyTable<CheckerboardSpec>& checkerboard_keys() {
         .doc("side of a square");
     t.vector("dark_albedo", &CheckerboardSpec::dark_albedo).range(Range::closed(0.0, 1.0)).doc("of the dark squares");
     t.pose("pose", &CheckerboardSpec::X_LP).doc("the pattern frame P in L");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<AppearanceSpec>& appearance_keys() {
-  static const KeyTable<AppearanceSpec> table = [] {
-    KeyTable<AppearanceSpec> t("links[].appearance", "how cameras see the link and sonars hear it");
+  return declare_keys<AppearanceSpec>([](KeyTable<AppearanceSpec>& t) {
+    t.describe("links[].appearance", "how cameras see the link and sonars hear it");
     t.vector("albedo", &AppearanceSpec::albedo).range(Range::closed(0.0, 1.0))
         .default_text("a mesh's glTF base colours, else `world.optics.vehicle_albedo`")
         .doc("per channel; replaces the mesh's colours");
@@ -206,25 +190,15 @@ const KeyTable<AppearanceSpec>& appearance_keys() {
         .doc("a checkerboard painted on the link; outside it the link keeps `albedo`");
     t.number("backscatter_db", &AppearanceSpec::backscatter_db).unit("dB").range(Range::closed(-80.0, 0.0))
         .default_text("`world.acoustics.vehicle_backscatter_db`").doc("Lambert's mu for sonars");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
 
 const KeyTable<LinkSpec, VehicleContext>& link_keys() {
-  static const KeyTable<LinkSpec, VehicleContext> table = [] {
-    KeyTable<LinkSpec, VehicleContext> t("links[]", "a rigid body of the vehicle, rigidly attached to B");
-    t.custom(
-         "name",
-         [](const Value& value, LinkSpec& link, VehicleContext& context) {
-           const std::string owner = value.path().substr(0, value.path().rfind('.'));
-           return config::read_unique_name(value, "link", owner, context, &link.name);
-         },
-         R"({"type": "string", "minLength": 1})", "string")
-        .required()
-        .doc("unique within the vehicle");
+  return declare_keys<LinkSpec, VehicleContext>([](KeyTable<LinkSpec, VehicleContext>& t) {
+    t.describe("links[]", "a rigid body of the vehicle, rigidly attached to B");
+    config::declare_name_key(t, "link", &LinkSpec::name).doc("unique within the vehicle");
     t.pose("pose", &LinkSpec::X_BL).doc("X_BL, the link frame L in B");
     t.custom(
          "mesh", [](const Value& value, LinkSpec& link, VehicleContext&) { return read_link_mesh(value, link.mesh, true); },
@@ -291,9 +265,7 @@ const KeyTable<LinkSpec, VehicleContext>& link_keys() {
       }
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::geometry

@@ -15,12 +15,6 @@
 namespace hadal::config {
 namespace {
 
-using testing::kInlineVehicle;
-using testing::kTol;
-using testing::Lines;
-using testing::ScenarioLoaderTest;
-namespace fs = std::filesystem;
-
 TEST_F(ScenarioLoaderTest, ShapeSpecificKeys) {
   const std::string path = write("s.yaml", R"(world: {}
 vehicles:

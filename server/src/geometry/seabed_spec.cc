@@ -9,10 +9,7 @@
 namespace hadal::geometry {
 namespace {
 
-using config::KeyReads;
-using config::KeyTable;
-using config::LoadContext;
-using config::Range;
+using namespace config::keys;
 
 // Samples a procedural or heightmap seabed may have (16 M: 64 MB of float heights, ~32 M triangles).
 constexpr double kMaxSeabedSamples = 16777216.0;
@@ -59,8 +56,8 @@ void build_seabed_mesh(const config::MapReader& map, SeabedSpec* seabed) {
 }  // namespace
 
 const KeyTable<SeabedSpec, LoadContext>& seabed_keys() {
-  static const KeyTable<SeabedSpec, LoadContext> table = [] {
-    KeyTable<SeabedSpec, LoadContext> t("world.seabed", "the seabed: a plane, a mesh file, a heightmap or procedural");
+  return declare_keys<SeabedSpec, LoadContext>([](KeyTable<SeabedSpec, LoadContext>& t) {
+    t.describe("world.seabed", "the seabed: a plane, a mesh file, a heightmap or procedural");
     t.choice("type", &SeabedSpec::type,
              {{"plane", SeabedType::kPlane, "an infinite horizontal plane"},
               {"mesh", SeabedType::kMesh, "a mesh file"},
@@ -126,9 +123,7 @@ const KeyTable<SeabedSpec, LoadContext>& seabed_keys() {
       if (ok && reads.all_ok()) build_seabed_mesh(reads.map(), &seabed);
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::geometry

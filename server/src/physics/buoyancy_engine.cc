@@ -11,18 +11,17 @@ namespace hadal::physics {
 using config::Range;
 
 const config::KeyTable<BuoyancyEngineActuator::Spec>& BuoyancyEngineActuator::keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("buoyancy_engine", "oil pumped between a reservoir and an external bladder: the "
-                                                    "displaced volume changes by dV about neutral");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("buoyancy_engine",
+               "oil pumped between a reservoir and an external bladder: the "
+               "displaced volume changes by dV about neutral");
     t.vector("position", &Spec::p_LE).required().unit("m").doc("p_LE, the bladder's centre in L");
     t.number("max_volume_change", &Spec::max_volume_change).required().unit("m³").range(Range::left_open(0.0, 100.0))
         .doc("dV ranges over +- this");
     t.number("pump_rate", &Spec::pump_rate).required().unit("m³/s").range(Range::left_open(0.0, 100.0)).doc("q");
     t.number("efficiency", &Spec::efficiency).range(Range::left_open(0.0, 1.0))
         .doc("hydraulic over electrical power");
-    return t;
-  }();
-  return table;
+  });
 }
 BuoyancyEngineActuator::Runtime BuoyancyEngineActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   Runtime runtime;

@@ -10,8 +10,8 @@ namespace hadal::physics {
 using config::Range;
 
 const config::KeyTable<DropWeightActuator::Spec>& DropWeightActuator::keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("drop_weight", "ballast let go on command, at an altitude or at a time, for good");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("drop_weight", "ballast let go on command, at an altitude or at a time, for good");
     t.vector("position", &Spec::p_LW).required().unit("m").doc("p_LW, the weight's centre in L");
     t.number("mass", &Spec::mass).required().unit("kg").range(Range::left_open(0.0, 1e6)).doc("its mass");
     t.number("volume", &Spec::volume).unit("m³").range(Range::closed(0.0, 1e3)).default_text("mass / 7850 (steel)")
@@ -24,9 +24,7 @@ const config::KeyTable<DropWeightActuator::Spec>& DropWeightActuator::keys() {
       if (!reads.has("volume")) spec.volume = spec.mass / kSteelDensity;
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 DropWeightActuator::Runtime DropWeightActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   Runtime runtime;

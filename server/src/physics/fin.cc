@@ -12,8 +12,8 @@ namespace hadal::physics {
 using config::Range;
 
 const config::KeyTable<FinActuator::Spec>& FinActuator::keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("fin", "a servo-driven lifting surface (rudder, elevator) and its hydrodynamics");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("fin", "a servo-driven lifting surface (rudder, elevator) and its hydrodynamics");
     t.vector("position", &Spec::p_LF).required().unit("m").doc("p_LF, the fin's centre of pressure in L");
     t.direction("hinge_axis", &Spec::hinge_axis_L).required()
         .doc("the servo's axis (the span) in L; a positive deflection turns the chord about it by the right-hand rule");
@@ -51,9 +51,7 @@ const config::KeyTable<FinActuator::Spec>& FinActuator::keys() {
       }
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 FinActuator::Runtime FinActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   Runtime r;

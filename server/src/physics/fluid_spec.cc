@@ -12,16 +12,12 @@
 namespace hadal::physics {
 namespace {
 
-using config::KeyReads;
-using config::KeyTable;
-using config::NoContext;
-using config::Range;
-using config::Value;
+using namespace config::keys;
 using config::VehicleContext;
 
 const KeyTable<HydrodynamicCoefficients>& hydrodynamics_keys() {
-  static const KeyTable<HydrodynamicCoefficients> table = [] {
-    KeyTable<HydrodynamicCoefficients> t("fluid.hydrodynamics", "the surface model's per-face coefficients");
+  return declare_keys<HydrodynamicCoefficients>([](KeyTable<HydrodynamicCoefficients>& t) {
+    t.describe("fluid.hydrodynamics", "the surface model's per-face coefficients");
     t.number("drag", &HydrodynamicCoefficients::drag).range(Range::non_negative())
         .doc("C_D of the per-face Newtonian drag (a sphere then has C_D = 0.5 on its frontal area)");
     t.number("skin_friction", &HydrodynamicCoefficients::skin_friction).range(Range::non_negative())
@@ -30,9 +26,7 @@ const KeyTable<HydrodynamicCoefficients>& hydrodynamics_keys() {
         .doc("C_L (plate lift slope 2 C_L per radian)");
     t.number("magnus", &HydrodynamicCoefficients::magnus).unit("s").range(Range::non_negative())
         .doc("C_M of F = C_M rho A |v| (w x v); to be calibrated, 0 leaves it off");
-    return t;
-  }();
-  return table;
+  });
 }
 
 // A 6x6 added-mass matrix: symmetric (to rounding) and positive semidefinite.
@@ -55,10 +49,10 @@ bool read_added_mass_matrix(const Value& matrix, AddedMassSpec& added, NoContext
 }
 
 const KeyTable<AddedMassSpec>& added_mass_keys() {
-  static const KeyTable<AddedMassSpec> table = [] {
-    KeyTable<AddedMassSpec> t("fluid.added_mass",
-                              "the fluid accelerated with the vehicle: M_A0 at the surface scaled by kappa(d) and the "
-                              "submerged fraction, with its Coriolis-centripetal terms");
+  return declare_keys<AddedMassSpec>([](KeyTable<AddedMassSpec>& t) {
+    t.describe("fluid.added_mass",
+               "the fluid accelerated with the vehicle: M_A0 at the surface scaled by kappa(d) and the "
+               "submerged fraction, with its Coriolis-centripetal terms");
     t.choice("model", &AddedMassSpec::model,
              {{"none", AddedMassModel::kNone},
               {"ellipsoid", AddedMassModel::kEllipsoid, "Lamb's coefficients of an ellipsoid"},
@@ -89,9 +83,7 @@ const KeyTable<AddedMassSpec>& added_mass_keys() {
       }
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
@@ -106,8 +98,8 @@ FluidSpec default_fluid(const std::vector<LinkSpec>& links) {
 }
 
 const KeyTable<FluidSpec, VehicleContext>& fluid_keys() {
-  static const KeyTable<FluidSpec, VehicleContext> table = [] {
-    KeyTable<FluidSpec, VehicleContext> t("fluid", "the vehicle's fluid model: surface or lumped; added mass");
+  return declare_keys<FluidSpec, VehicleContext>([](KeyTable<FluidSpec, VehicleContext>& t) {
+    t.describe("fluid", "the vehicle's fluid model: surface or lumped; added mass");
     t.choice("model", &FluidSpec::model,
              {{"lumped", FluidModelType::kLumped,
                "Fossen-style damping in the body frame and buoyancy at each link's buoyancy centre"},
@@ -138,9 +130,7 @@ const KeyTable<FluidSpec, VehicleContext>& fluid_keys() {
           "fluid model 'surface' needs a hydrodynamic mesh: no link has a 'mesh' or 'collisions'");
       return false;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::physics

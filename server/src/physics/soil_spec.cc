@@ -10,11 +10,7 @@
 namespace hadal::physics {
 namespace {
 
-using config::KeyReads;
-using config::KeyTable;
-using config::NoContext;
-using config::Range;
-using config::Value;
+using namespace config::keys;
 
 constexpr const char* kDefaultPreset = "deep_sea_ooze";
 
@@ -81,13 +77,10 @@ void declare_soil_keys(KeyTable<S>& t) {
 SoilParameters ooze() { return find_soil_preset(kDefaultPreset)->soil; }
 
 const KeyTable<SoilSpec::Region>& region_keys() {
-  static const KeyTable<SoilSpec::Region> table = [] {
-    KeyTable<SoilSpec::Region> t("world.soil.regions[]", "a soil by region: the keys of world.soil but regions and map",
-                                 SoilSpec::Region{kDefaultPreset, ooze()});
+  return declare_keys<SoilSpec::Region>(SoilSpec::Region{kDefaultPreset, ooze()}, [](KeyTable<SoilSpec::Region>& t) {
+    t.describe("world.soil.regions[]", "a soil by region: the keys of world.soil but regions and map");
     declare_soil_keys(t);
-    return t;
-  }();
-  return table;
+  });
 }
 
 struct SoilMapSpec {
@@ -97,26 +90,21 @@ struct SoilMapSpec {
 };
 
 const KeyTable<SoilMapSpec>& map_keys() {
-  static const KeyTable<SoilMapSpec> table = [] {
-    KeyTable<SoilMapSpec> t("world.soil.map", "where each region is: an image of region numbers");
+  return declare_keys<SoilMapSpec>([](KeyTable<SoilMapSpec>& t) {
+    t.describe("world.soil.map", "where each region is: an image of region numbers");
     t.file("file", &SoilMapSpec::file).required()
         .doc("an 8-bit single-channel PNG or TIFF whose pixel value k names regions[k-1], 0 the world's soil");
     t.number("meters_per_pixel", &SoilMapSpec::meters_per_pixel).required().unit("m")
         .range(Range::left_open(0.0, 1e6)).doc("pixel spacing; image row 0 is the north (+y) edge");
     t.vector("center", &SoilMapSpec::center_W).unit("m").doc("[x, y] in W of the image's centre");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
 
 const KeyTable<SoilSpec>& soil_keys() {
-  static const KeyTable<SoilSpec> table = [] {
-    SoilSpec defaults;
-    defaults.preset = kDefaultPreset;
-    defaults.parameters = ooze();
-    KeyTable<SoilSpec> t("world.soil", "the seabed's soil under vehicles with seabed_contact: soil", defaults);
+  return declare_keys<SoilSpec>(SoilSpec{kDefaultPreset, ooze(), {}, nullptr}, [](KeyTable<SoilSpec>& t) {
+    t.describe("world.soil", "the seabed's soil under vehicles with seabed_contact: soil");
     declare_soil_keys(t);
     t.list("regions", &SoilSpec::regions, region_keys())
         .read_with([](const Value& value, SoilSpec& soil, NoContext& none) {
@@ -170,9 +158,7 @@ const KeyTable<SoilSpec>& soil_keys() {
       }
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::physics

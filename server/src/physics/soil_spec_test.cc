@@ -14,10 +14,6 @@
 namespace hadal::config {
 namespace {
 
-using testing::kInlineVehicle;
-using testing::kTol;
-using testing::Lines;
-using testing::ScenarioLoaderTest;
 namespace fs = std::filesystem;
 
 TEST_F(ScenarioLoaderTest, SoilPresetOverridesAndSeabedContact) {

@@ -11,9 +11,10 @@ namespace hadal::physics {
 using config::Range;
 
 const config::KeyTable<ThrusterActuator::Spec>& ThrusterActuator::keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("thruster", "a propeller thruster: T = K_T rho D^4 n|n| along direction, Q = "
-                                            "-handedness K_Q rho D^5 n|n| about it");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("thruster",
+               "a propeller thruster: T = K_T rho D^4 n|n| along direction, Q = "
+               "-handedness K_Q rho D^5 n|n| about it");
     t.vector("position", &Spec::p_LT).required().unit("m").doc("p_LT, the propeller's position in L");
     t.direction("direction", &Spec::axis_L).required().doc("thrust direction for n > 0, in L; normalised on load");
     t.number("propeller_diameter", &Spec::propeller_diameter).required().unit("m").range(Range::positive()).doc("D");
@@ -25,9 +26,7 @@ const config::KeyTable<ThrusterActuator::Spec>& ThrusterActuator::keys() {
         .convert([](double rpm) { return rpm / 60.0; }, [](double rev_s) { return rev_s * 60.0; }, "rev/min")
         .range(Range::positive()).doc("setpoint +-1 commands +-max_rpm");
     t.choice("handedness", &Spec::handedness, {{"right", 1}, {"left", -1}}).doc("of the propeller");
-    return t;
-  }();
-  return table;
+  });
 }
 Thruster ThrusterActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   return Thruster(spec, setup.X_BL, setup.water_density, setup.step_size);

@@ -11,8 +11,8 @@ namespace hadal::physics {
 using config::Range;
 
 const config::KeyTable<TrackActuator::Spec>& TrackActuator::keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("track", "a driven track or wheel: it moves its link's surface over the soil");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("track", "a driven track or wheel: it moves its link's surface over the soil");
     t.direction("direction", &Spec::direction_L)
         .doc("forward in L (the belt's ground run moves along -direction when driving forward); normalised on load");
     t.number("sprocket_radius", &Spec::sprocket_radius).required().unit("m").range(Range::left_open(0.0, 10.0))
@@ -29,9 +29,7 @@ const config::KeyTable<TrackActuator::Spec>& TrackActuator::keys() {
         .doc("motor, gears, sprocket and belt at the sprocket");
     t.number("speed_time_constant_s", &Spec::speed_time_constant_s).unit("s").range(Range::left_open(0.0, 100.0))
         .doc("of the speed loop");
-    return t;
-  }();
-  return table;
+  });
 }
 TrackDrive TrackActuator::prepare(const Spec& spec, const ActuatorSetup& setup) {
   TrackDrive drive;

@@ -8,65 +8,52 @@
 namespace hadal::physics {
 namespace {
 
-using config::KeyTable;
-using config::MapReader;
-using config::NoContext;
-using config::Range;
-using config::Value;
+using namespace config::keys;
 
 const Range kTemperatureDegC = Range::closed(-2.5, 40.0);
 const Range kSalinity = Range::closed(0.0, 42.0);
 
 const KeyTable<CurrentSpec>& shear_keys() {
-  static const KeyTable<CurrentSpec> table = [] {
-    KeyTable<CurrentSpec> t("world.water.current.shear", "exponentially decaying shear");
+  return declare_keys<CurrentSpec>([](KeyTable<CurrentSpec>& t) {
+    t.describe("world.water.current.shear", "exponentially decaying shear");
     t.vector("surface", &CurrentSpec::shear_surface_W).required().unit("m/s").doc("the shear at the surface, in W");
     t.number("decay_depth", &CurrentSpec::shear_decay_depth).required().unit("m").range(Range::positive())
         .doc("its e-folding depth");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<CurrentSpec>& gauss_markov_keys() {
-  static const KeyTable<CurrentSpec> table = [] {
-    KeyTable<CurrentSpec> t("world.water.current.gauss_markov", "first-order Gauss-Markov current, seeded by world.seed");
+  return declare_keys<CurrentSpec>([](KeyTable<CurrentSpec>& t) {
+    t.describe("world.water.current.gauss_markov", "first-order Gauss-Markov current, seeded by world.seed");
     t.vector("sigma", &CurrentSpec::gauss_markov_sigma_W).required().unit("m/s").range(Range::non_negative())
         .doc("stationary standard deviation per W axis");
     // A slowly varying current: below 1 s it would be turbulence, and the lazily generated record (64
     // samples per time constant) would grow large.
     t.number("time_constant_s", &CurrentSpec::gauss_markov_time_constant).required().unit("s")
         .range(Range::closed(1.0, 1e7)).doc("correlation time");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<CurrentSpec>& current_keys() {
-  static const KeyTable<CurrentSpec> table = [] {
-    KeyTable<CurrentSpec> t("world.water.current",
-                            "v(p_W, t) = uniform + shear.surface exp(-d / shear.decay_depth) + g(t), in W");
+  return declare_keys<CurrentSpec>([](KeyTable<CurrentSpec>& t) {
+    t.describe("world.water.current", "v(p_W, t) = uniform + shear.surface exp(-d / shear.decay_depth) + g(t), in W");
     t.vector("uniform", &CurrentSpec::uniform_W).unit("m/s").doc("uniform current in W");
     t.map("shear", [](CurrentSpec& c) -> CurrentSpec& { return c; }, shear_keys())
         .doc("a shear decaying exponentially with depth");
     t.map("gauss_markov", [](CurrentSpec& c) -> CurrentSpec& { return c; }, gauss_markov_keys())
         .doc("a first-order Gauss-Markov term g(t) per axis, the same everywhere, seeded by `world.seed`");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<CtdSample>& ctd_row_keys() {
-  static const KeyTable<CtdSample> table = [] {
-    KeyTable<CtdSample> t("world.water.ctd[]", "one row of a CTD cast");
+  return declare_keys<CtdSample>([](KeyTable<CtdSample>& t) {
+    t.describe("world.water.ctd[]", "one row of a CTD cast");
     t.number("depth", &CtdSample::depth).required().unit("m").range(Range::closed(0.0, 11000.0))
         .rule("greater than the previous row's").doc("below the surface");
     t.number("temperature_degc", &CtdSample::temperature).required().unit("°C").range(kTemperatureDegC)
         .doc("in-situ temperature, ITS-90");
     t.number("salinity", &CtdSample::salinity).required().unit("PSS-78").range(kSalinity).doc("practical salinity");
-    return t;
-  }();
-  return table;
+  });
 }
 
 // The cast: rows of ctd_row_keys(), depths strictly increasing. A bad cast leaves none (reported).
@@ -106,8 +93,8 @@ bool read_ctd(const Value& value, WaterSpec& water) {
 }  // namespace
 
 const KeyTable<WaterSpec>& water_keys() {
-  static const KeyTable<WaterSpec> table = [] {
-    KeyTable<WaterSpec> t("world.water", "the water column: density, temperature, salinity, pressure, current");
+  return declare_keys<WaterSpec>([](KeyTable<WaterSpec>& t) {
+    t.describe("world.water", "the water column: density, temperature, salinity, pressure, current");
     t.number("surface_z", &WaterSpec::surface_z).unit("m").doc("height of the water surface in W");
     t.choice("density_model", &WaterSpec::density_model,
              {{"constant", DensityModel::kConstant, "rho = density"},
@@ -146,9 +133,7 @@ const KeyTable<WaterSpec>& water_keys() {
       }
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::physics

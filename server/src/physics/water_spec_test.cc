@@ -12,12 +12,6 @@
 namespace hadal::config {
 namespace {
 
-using testing::kInlineVehicle;
-using testing::kTol;
-using testing::Lines;
-using testing::ScenarioLoaderTest;
-namespace fs = std::filesystem;
-
 TEST_F(ScenarioLoaderTest, WaterDefaults) {
   const std::string path = write("s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle);
   const LoadResult result = load_scenario_file(path);

@@ -5,8 +5,8 @@
 namespace hadal::render {
 
 const config::KeyTable<AcousticsSpec>& acoustics_keys() {
-  static const config::KeyTable<AcousticsSpec> table = [] {
-    config::KeyTable<AcousticsSpec> t("world.acoustics", "what sonars hear: Lambert's backscatter parameter mu");
+  return config::declare_keys<AcousticsSpec>([](config::KeyTable<AcousticsSpec>& t) {
+    t.describe("world.acoustics", "what sonars hear: Lambert's backscatter parameter mu");
     t.number("seabed_backscatter_db", &AcousticsSpec::seabed_backscatter_db).unit("dB")
         .range(config::Range::closed(-80.0, 0.0))
         .doc("the seabed's (Mackenzie 1961, deep-sea bottom); mud is about -40 to -35, sand -30 to -25, rock -15 to "
@@ -14,9 +14,7 @@ const config::KeyTable<AcousticsSpec>& acoustics_keys() {
     t.number("vehicle_backscatter_db", &AcousticsSpec::vehicle_backscatter_db).unit("dB")
         .range(config::Range::closed(-80.0, 0.0))
         .doc("hulls (metal, composite); a link's appearance.backscatter_db overrides it");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::render

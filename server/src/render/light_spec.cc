@@ -1,40 +1,19 @@
 #include "hadal/render/light_spec.h"
 
-#include "hadal/config/key_table.h"
-#include "hadal/config/vehicle_context.h"
+#include "hadal/config/entry_keys.h"
 
 namespace hadal::render {
 
-using config::KeyReads;
-using config::KeyTable;
-using config::Range;
-using config::Value;
+using namespace config::keys;
 using config::VehicleContext;
 
 const KeyTable<LightSpec, VehicleContext>& light_keys() {
-  static const KeyTable<LightSpec, VehicleContext> table = [] {
-    KeyTable<LightSpec, VehicleContext> t("lights[]",
-                                          "a spot light on a link: full intensity inside the inner half angle of its "
-                                          "axis (x of its frame), none beyond the outer, a smooth edge between");
-    t.custom(
-         "name",
-         [](const Value& value, LightSpec& light, VehicleContext& context) {
-           const std::string owner = value.path().substr(0, value.path().rfind('.'));
-           return config::read_unique_name(value, "light", owner, context, &light.name);
-         },
-         R"({"type": "string", "minLength": 1})", "string")
-        .required()
-        .doc("unique among the vehicle's lights");
-    t.custom(
-         "link",
-         [](const Value& value, LightSpec& light, VehicleContext& context) {
-           const auto index = config::read_link_reference(value, context.link_names);
-           if (index) light.link_index = *index;
-           return index.has_value();
-         },
-         R"({"type": "string", "minLength": 1})", "string")
-        .required()
-        .doc("a link of this vehicle");
+  return declare_keys<LightSpec, VehicleContext>([](KeyTable<LightSpec, VehicleContext>& t) {
+    t.describe("lights[]",
+               "a spot light on a link: full intensity inside the inner half angle of its "
+               "axis (x of its frame), none beyond the outer, a smooth edge between");
+    config::declare_name_key(t, "light", &LightSpec::name).doc("unique among the vehicle's lights");
+    config::declare_link_key(t, &LightSpec::link_index).required().doc("a link of this vehicle");
     t.pose("pose", &LightSpec::X_LF).doc("the light's frame in the link frame; the beam points along its x");
     t.number("inner_half_angle_deg", &LightSpec::inner_half_angle).degrees().range(Range::right_open(0.0, 180.0))
         .doc("full intensity inside");
@@ -51,9 +30,7 @@ const KeyTable<LightSpec, VehicleContext>& light_keys() {
                              config::format_approximate(light.inner_half_angle / kDegToRad) + " deg)");
       return false;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::render

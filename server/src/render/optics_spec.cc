@@ -8,10 +8,7 @@
 namespace hadal::render {
 namespace {
 
-using config::KeyTable;
-using config::NoContext;
-using config::Range;
-using config::Value;
+using namespace config::keys;
 
 // Pure water plus a little scattering: b = 0.037 /m per channel (Petzold's clear ocean at 530 nm: Mobley,
 // Light and Water (1994), Table 3.10), Henyey-Greenstein g 0.924, forward scatter within 10 deg
@@ -27,8 +24,8 @@ OpticsSpec default_optics() {
 }
 
 const KeyTable<OpticsSpec>& daylight_keys() {
-  static const KeyTable<OpticsSpec> table = [] {
-    KeyTable<OpticsSpec> t("world.optics.daylight", "daylight from the surface", default_optics());
+  return declare_keys<OpticsSpec>(default_optics(), [](KeyTable<OpticsSpec>& t) {
+    t.describe("world.optics.daylight", "daylight from the surface");
     t.vector("surface_irradiance", [](OpticsSpec& o) -> Rgb& { return o.daylight.surface_irradiance_W_per_m2; })
         .unit("W/m²").range(Range::closed(0.0, 1e5))
         .doc("downwelling irradiance just below the surface, per band; decays with depth by Kd");
@@ -55,31 +52,27 @@ const KeyTable<OpticsSpec>& daylight_keys() {
         .default_text("`I`")
         .doc("Kd per band by Jerlov water type (`docs/reference/optics/`): I, IA, IB, II, III, 1C, 3C, 5C, 7C, 9C; "
              "below a few hundred metres daylight is black");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<SedimentPattern>& seabed_pattern_keys() {
-  static const KeyTable<SedimentPattern> table = [] {
-    KeyTable<SedimentPattern> t("world.optics.seabed_pattern",
-                                "patches of lighter and darker sediment (render/sediment_pattern.h), seeded by world.seed");
+  return declare_keys<SedimentPattern>([](KeyTable<SedimentPattern>& t) {
+    t.describe("world.optics.seabed_pattern",
+               "patches of lighter and darker sediment (render/sediment_pattern.h), seeded by world.seed");
     t.number("amplitude", &SedimentPattern::amplitude).required().range(Range::closed(0.0, 1.0))
         .doc("the albedo varies by up to +- this fraction");
     t.number("scale", &SedimentPattern::scale_m).unit("m").range(Range::left_open(0.0, 1e4))
         .doc("size of the largest patches");
     t.number("octaves", &SedimentPattern::octaves).range(Range::closed(1.0, 8.0))
         .doc("each adds detail half the size of the one before");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const KeyTable<MarineSnow>& marine_snow_keys() {
-  static const KeyTable<MarineSnow> table = [] {
-    KeyTable<MarineSnow> t("world.optics.marine_snow",
-                           "particles fixed in the water that glitter in the lights (render/marine_snow.h), seeded by "
-                           "world.seed");
+  return declare_keys<MarineSnow>([](KeyTable<MarineSnow>& t) {
+    t.describe("world.optics.marine_snow",
+               "particles fixed in the water that glitter in the lights (render/marine_snow.h), seeded by "
+               "world.seed");
     t.number("density", &MarineSnow::density_per_m3).required().unit("1/m³").range(Range::closed(0.0, 1e5))
         .doc("particles per cubic metre");
     t.number("radius", &MarineSnow::radius_m).unit("m").range(Range::left_open(0.0, 0.1))
@@ -87,16 +80,14 @@ const KeyTable<MarineSnow>& marine_snow_keys() {
     t.number("max_range", &MarineSnow::max_range_m).unit("m").range(Range::left_open(0.0, 50.0))
         .doc("drawn within this distance of the camera");
     t.number("albedo", &MarineSnow::albedo).range(Range::closed(0.0, 1.0)).doc("of a particle");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
 
 const KeyTable<OpticsSpec>& optics_keys() {
-  static const KeyTable<OpticsSpec> table = [] {
-    KeyTable<OpticsSpec> t("world.optics", "what cameras see: the water's optics, daylight, albedos", default_optics());
+  return declare_keys<OpticsSpec>(default_optics(), [](KeyTable<OpticsSpec>& t) {
+    t.describe("world.optics", "what cameras see: the water's optics, daylight, albedos");
     t.vector("absorption", [](OpticsSpec& o) -> Rgb& { return o.water.absorption_per_m; }).unit("1/m")
         .range(Range::closed(0.0, 100.0))
         .doc("absorption a per band; default pure water (Pope & Fry 1997, band means)");
@@ -118,9 +109,7 @@ const KeyTable<OpticsSpec>& optics_keys() {
     t.vector("vehicle_albedo", &OpticsSpec::vehicle_albedo).range(Range::closed(0.0, 1.0))
         .doc("every hull (survey yellow)");
     t.map("marine_snow", &OpticsSpec::marine_snow, marine_snow_keys()).doc("marine snow; none by default");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::render

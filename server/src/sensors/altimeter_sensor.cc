@@ -23,14 +23,12 @@ NoiseChannelParams AltimeterSensor::channel(const Spec& spec, double period) {
 SensorReach AltimeterSensor::reach(const Spec& spec) { return {spec.max_range, 0.5 * spec.field_of_view}; }
 
 const config::KeyTable<AltimeterSensor::Spec, SensorReader>& AltimeterSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].altimeter", "one beam along x of S: the range to the first hit");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].altimeter", "one beam along x of S: the range to the first hit");
     declare_range_keys(t);
     t.number("field_of_view_deg", &Spec::field_of_view).degrees().range(Range::left_open(0.0, 180.0))
         .doc("full beam width, reported only");
-    return t;
-  }();
-  return table;
+  });
 }
 
 AltimeterSensor::State AltimeterSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -211,9 +211,8 @@ SensorReach CameraSensor::reach(const Spec& spec) {
 }
 
 const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].camera",
-                                           "a ray-traced camera: lens, deep-sea optics, lights, the image sensor");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].camera", "a ray-traced camera: lens, deep-sea optics, lights, the image sensor");
     const auto calibration = [](auto field) {
       return [field](Spec& s) -> auto& { return s.calibration.*field; };
     };
@@ -303,9 +302,7 @@ const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
       }
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 void CameraSensor::set_lens(Spec& spec, const render::LensSpec& lens) {

@@ -16,10 +16,9 @@ namespace hadal::sensors {
 
 using config::format_number;
 using config::join_names;
-using config::MapReader;
+using namespace config::keys;
 using config::Need;
 using config::quoted;
-using config::Range;
 
 double DvlSensor::ray_length(const Spec& spec) {
   const DvlParams& params = spec.params;
@@ -41,8 +40,8 @@ DvlDatasheet generic_dvl() {
 }
 
 const config::KeyTable<DvlBiasParams>& dvl_bias_keys() {
-  static const config::KeyTable<DvlBiasParams> table = [] {
-    config::KeyTable<DvlBiasParams> t("sensors[].dvl.bias", "the paper's slowly varying bias b(t + dt) = b(t) + xi dt");
+  return config::declare_keys<DvlBiasParams>([](config::KeyTable<DvlBiasParams>& t) {
+    t.describe("sensors[].dvl.bias", "the paper's slowly varying bias b(t + dt) = b(t) + xi dt");
     t.vector("initial", &DvlBiasParams::initial).unit("m/s").doc("b(0), S axes");
     t.number("initial_stddev", &DvlBiasParams::initial_sigma).unit("m/s").range(Range::non_negative())
         .doc("plus a draw per axis at turn-on");
@@ -51,9 +50,7 @@ const config::KeyTable<DvlBiasParams>& dvl_bias_keys() {
         .doc("plus a draw per axis at turn-on");
     t.number("random_walk", &DvlBiasParams::random_walk_density).unit("m/s/√s").range(Range::non_negative())
         .doc("K of the bias's random walk");
-    return t;
-  }();
-  return table;
+  });
 }
 
 // A per-ping sigma [m/s or m] as a white-noise density at the sensor's sample period (dvl_params).
@@ -71,8 +68,8 @@ std::function<void(DvlSensor::Spec&, double, SensorReader&)> per_ping(NoiseChann
 SensorReach DvlSensor::reach(const Spec& spec) { return {spec.params.max_altitude / std::cos(spec.params.beam_tilt), spec.params.beam_tilt}; }
 
 const config::KeyTable<DvlSensor::Spec, SensorReader>& DvlSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].dvl", "four Janus beams: bottom and water track");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].dvl", "four Janus beams: bottom and water track");
     t.before([](Spec& spec, SensorReader& reader) { spec.params = dvl_params(generic_dvl(), 1.0 / reader.rate_hz); });
     std::vector<std::string> names;
     for (const DvlDatasheet& p : dvl_presets()) names.emplace_back(p.id);
@@ -139,9 +136,7 @@ const config::KeyTable<DvlSensor::Spec, SensorReader>& DvlSensor::keys() {
       }
       return ok;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 DvlSensor::State DvlSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -38,6 +38,16 @@ const std::vector<FlsPreset>& fls_presets() {
   return presets;
 }
 
+void FlsPreset::apply(FlsSpec& spec) const {
+  spec.acoustics.frequency_hz = frequency_hz;
+  spec.beams = beams;
+  spec.fov = fov_deg * kDegToRad;
+  spec.beam_width = beam_width_deg * kDegToRad;
+  spec.vertical_aperture = vertical_aperture_deg * kDegToRad;
+  spec.acoustics.max_range = max_range_m;
+  spec.acoustics.bins = bins;
+}
+
 double FlsSensor::beam_azimuth(const Spec& spec, int k) { return -0.5 * spec.fov + (k + 0.5) * spec.fov / spec.beams; }
 
 void FlsSensor::make_ping(Spec& spec) {
@@ -53,20 +63,13 @@ void FlsSensor::make_ping(Spec& spec) {
 SensorReach FlsSensor::reach(const Spec& spec) { return {spec.acoustics.max_range, 0.5 * spec.fov}; }
 
 const config::KeyTable<FlsSensor::Spec, SensorReader>& FlsSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].fls", "a forward-looking imaging sonar: a fan of beams in S's x-y plane",
-                                           Spec{});
+  return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].fls", "a forward-looking imaging sonar: a fan of beams in S's x-y plane");
     std::vector<std::string> names;
     for (const FlsPreset& p : fls_presets()) names.emplace_back(p.name);
     t.preset("forward-looking sonar", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
        const FlsPreset& preset = fls_presets()[index];
-       spec.acoustics.frequency_hz = preset.frequency_hz;
-       spec.beams = preset.beams;
-       spec.fov = preset.fov_deg * kDegToRad;
-       spec.beam_width = preset.beam_width_deg * kDegToRad;
-       spec.vertical_aperture = preset.vertical_aperture_deg * kDegToRad;
-       spec.acoustics.max_range = preset.max_range_m;
-       spec.acoustics.bins = preset.bins;
+       preset.apply(spec);
        if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
      }).doc("a product (`server/src/sensors/fls_sensor.cc`, sources there): sets the keys the file does not give, "
             "and rate_hz unless given");
@@ -80,9 +83,7 @@ const config::KeyTable<FlsSensor::Spec, SensorReader>& FlsSensor::keys() {
     declare_sonar_acoustic_keys(t);
     declare_sonar_image_keys(t);
     declare_sonar_check(t, &FlsSensor::make_ping);
-    return t;
-  }();
-  return table;
+  });
 }
 
 FlsSensor::State FlsSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {

@@ -100,16 +100,14 @@ double LocalEnuFrame::meridian_convergence_rad(const GeodeticPosition& at) const
 }
 
 const config::KeyTable<GeodeticPosition>& origin_keys() {
-  static const config::KeyTable<GeodeticPosition> table = [] {
-    config::KeyTable<GeodeticPosition> t("world.origin", "geodetic position (WGS84) of W's origin");
+  return config::declare_keys<GeodeticPosition>([](config::KeyTable<GeodeticPosition>& t) {
+    t.describe("world.origin", "geodetic position (WGS84) of W's origin");
     t.number("latitude_deg", &GeodeticPosition::latitude_rad).degrees().range(config::Range::closed(-90.0, 90.0))
         .doc("geodetic latitude");
     t.number("longitude_deg", &GeodeticPosition::longitude_rad).degrees()
         .range(config::Range::closed(-180.0, 180.0)).doc("longitude");
     t.number("altitude", &GeodeticPosition::height_m).unit("m").doc("height above the ellipsoid");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::sensors

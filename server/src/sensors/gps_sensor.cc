@@ -25,14 +25,12 @@ NoiseTriadParams GpsSensor::position_noise(const Spec& spec, double period) {
 SensorReach GpsSensor::reach(const Spec& /*spec*/) { return {}; }
 
 const config::KeyTable<GpsSensor::Spec, SensorReader>& GpsSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].gps", "a fix while the antenna is above the water surface");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].gps", "a fix while the antenna is above the water surface");
     t.number("horizontal_stddev", &Spec::horizontal_stddev).unit("m").range(Range::non_negative())
         .doc("white noise per fix on each horizontal axis");
     t.number("vertical_stddev", &Spec::vertical_stddev).unit("m").range(Range::non_negative()).doc("on the vertical");
-    return t;
-  }();
-  return table;
+  });
 }
 
 GpsSensor::State GpsSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

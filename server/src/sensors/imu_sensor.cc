@@ -15,18 +15,17 @@
 namespace hadal::sensors {
 
 using config::join_names;
-using config::MapReader;
+using namespace config::keys;
 using config::Need;
 using config::quoted;
-using config::Range;
 
 namespace {
 
 using Spec = ImuSensor::Spec;
 
 const config::KeyTable<Spec>& gyro_keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("sensors[].imu.gyro", "the gyroscopes' figures; each overrides the preset's");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("sensors[].imu.gyro", "the gyroscopes' figures; each overrides the preset's");
     const auto sheet = [](double ImuDatasheet::*field) {
       return [field](Spec& s) -> double& { return s.figures.sheet.*field; };
     };
@@ -44,14 +43,12 @@ const config::KeyTable<Spec>& gyro_keys() {
         .range(Range::positive()).default_text("none").doc("readings clip to +-range");
     t.number("resolution_deg_per_s", [](Spec& s) -> double& { return s.figures.gyro_resolution_deg_per_s; })
         .unit("deg/s").range(Range::non_negative()).doc("quantisation step; 0: none");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const config::KeyTable<Spec>& accel_keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("sensors[].imu.accel", "the accelerometers' figures; each overrides the preset's");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("sensors[].imu.accel", "the accelerometers' figures; each overrides the preset's");
     t.number("vrw_m_per_s_per_sqrt_h", [](Spec& s) -> double& { return s.figures.sheet.accel_noise_density; })
         .convert(vrw_to_noise_density, [](double density) { return density * 60.0; }, "m/s/√h")
         .range(Range::non_negative()).doc("velocity random walk");
@@ -66,15 +63,12 @@ const config::KeyTable<Spec>& accel_keys() {
         .range(Range::positive()).default_text("none").doc("readings clip to +-range");
     t.number("resolution_mg", [](Spec& s) -> double& { return s.figures.accel_resolution_mg; }).unit("mg")
         .range(Range::non_negative()).doc("quantisation step; 0: none");
-    return t;
-  }();
-  return table;
+  });
 }
 
 const config::KeyTable<Spec>& temperature_keys() {
-  static const config::KeyTable<Spec> table = [] {
-    config::KeyTable<Spec> t("sensors[].imu.temperature",
-                             "drift (T - T_ref) k_T with the water's temperature at the sensor");
+  return config::declare_keys<Spec>([](config::KeyTable<Spec>& t) {
+    t.describe("sensors[].imu.temperature", "drift (T - T_ref) k_T with the water's temperature at the sensor");
     t.number("reference_degc", &Spec::temperature_reference).unit("°C").range(Range::closed(-5.0, 60.0)).doc("T_ref");
     t.number("gyro_deg_per_h_per_degc", &Spec::gyro_temperature_coefficient)
         .convert(deg_per_h_to_rad_per_s, [](double rad_s) { return rad_s / deg_per_h_to_rad_per_s(1.0); }, "deg/h/°C")
@@ -82,9 +76,7 @@ const config::KeyTable<Spec>& temperature_keys() {
     t.number("accel_mg_per_degc", &Spec::accel_temperature_coefficient)
         .convert(milli_g_to_mps2, [](double mps2) { return mps2 / milli_g_to_mps2(1.0); }, "mg/°C")
         .doc("k_T of the accelerometers, every axis");
-    return t;
-  }();
-  return table;
+  });
 }
 
 // The thruster whose blade passes shake the IMU: its index among the vehicle's actuators.
@@ -105,9 +97,8 @@ bool read_vibration_thruster(const config::Value& value, Spec& spec, SensorReade
 }
 
 const config::KeyTable<Spec, SensorReader>& vibration_keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].imu.vibration",
-                                           "A sin(2 pi f t) on every axis, f the thruster's rotor speed x blades");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].imu.vibration", "A sin(2 pi f t) on every axis, f the thruster's rotor speed x blades");
     t.custom("thruster", read_vibration_thruster, R"({"type": "string", "minLength": 1})", "string").required()
         .doc("a thruster of this vehicle");
     t.number("blades", &Spec::vibration_blades).range(Range::closed(1.0, 12.0)).doc("blade-pass frequency = blades x rotor speed");
@@ -117,9 +108,7 @@ const config::KeyTable<Spec, SensorReader>& vibration_keys() {
     t.number("accel_mg", &Spec::accel_vibration_amplitude)
         .convert(milli_g_to_mps2, [](double mps2) { return mps2 / milli_g_to_mps2(1.0); }, "mg")
         .range(Range::non_negative()).doc("amplitude A of the accelerometers");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
@@ -129,8 +118,8 @@ const config::KeyTable<Spec, SensorReader>& vibration_keys() {
 SensorReach ImuSensor::reach(const Spec& /*spec*/) { return {}; }
 
 const config::KeyTable<ImuSensor::Spec, SensorReader>& ImuSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].imu", "gyroscopes and accelerometers: the paper's error chain");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].imu", "gyroscopes and accelerometers: the paper's error chain");
     std::vector<std::string> names;
     for (const ImuDatasheet& p : imu_presets()) names.emplace_back(p.id);
     t.preset("IMU", names, [](Spec& spec, std::size_t index, SensorReader&) { spec.figures.sheet = imu_presets()[index]; })
@@ -164,9 +153,7 @@ const config::KeyTable<ImuSensor::Spec, SensorReader>& ImuSensor::keys() {
       spec.accel.lsb = milli_g_to_mps2(f.accel_resolution_mg);
       return true;
     });
-    return t;
-  }();
-  return table;
+  });
 }
 
 ImuSensor::State ImuSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -5,15 +5,13 @@
 namespace hadal::sensors {
 
 const config::KeyTable<MagneticDipole>& dipole_keys() {
-  static const config::KeyTable<MagneticDipole> table = [] {
-    config::KeyTable<MagneticDipole> t("magnetic_dipole", "a magnetic dipole, in the frame of its list");
+  return config::declare_keys<MagneticDipole>([](config::KeyTable<MagneticDipole>& t) {
+    t.describe("magnetic_dipole", "a magnetic dipole, in the frame of its list");
     t.vector("position", &MagneticDipole::p_FD).required().unit("m").doc("its position");
     t.vector("moment", &MagneticDipole::m_F).required().unit("A m²").doc("its moment");
     t.number("radius", &MagneticDipole::radius_m).unit("m").range(config::Range::non_negative())
         .doc("0: a point dipole; > 0: a uniformly magnetised sphere, finite inside");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace hadal::sensors

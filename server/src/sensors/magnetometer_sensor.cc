@@ -16,9 +16,9 @@ using config::Range;
 SensorReach MagnetometerSensor::reach(const Spec& /*spec*/) { return {}; }
 
 const config::KeyTable<MagnetometerSensor::Spec, SensorReader>& MagnetometerSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].magnetometer",
-                                           "WMM2025 at the sensor, the world's and the vehicle's dipoles, soft iron, noise");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].magnetometer",
+               "WMM2025 at the sensor, the world's and the vehicle's dipoles, soft iron, noise");
     t.number_into(
          "noise_stddev_nt",
          [](Spec& spec, double nt, SensorReader& reader) {
@@ -43,9 +43,7 @@ const config::KeyTable<MagnetometerSensor::Spec, SensorReader>& MagnetometerSens
          },
          [](Spec&) { return std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 1}; })
         .doc("row-major 3x3 S in sensor axes: B = S (B_earth + B_dipoles)");
-    return t;
-  }();
-  return table;
+  });
 }
 
 MagnetometerSensor::State MagnetometerSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

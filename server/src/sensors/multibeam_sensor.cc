@@ -31,6 +31,16 @@ const std::vector<MultibeamPreset>& multibeam_presets() {
   return presets;
 }
 
+void MultibeamPreset::apply(MultibeamSpec& spec) const {
+  spec.acoustics.frequency_hz = frequency_hz;
+  spec.beams = beams;
+  spec.swath = swath_deg * kDegToRad;
+  spec.across_beam_width = across_beam_width_deg * kDegToRad;
+  spec.along_beam_width = along_beam_width_deg * kDegToRad;
+  spec.acoustics.max_range = max_range_m;
+  spec.acoustics.bins = bins;
+}
+
 SonarAcoustics multibeam_default_acoustics() {
   SonarAcoustics a;
   a.bins = 4000;
@@ -53,20 +63,13 @@ void MultibeamSensor::make_ping(Spec& spec) {
 SensorReach MultibeamSensor::reach(const Spec& spec) { return {spec.acoustics.max_range, 0.5 * spec.swath}; }
 
 const config::KeyTable<MultibeamSensor::Spec, SensorReader>& MultibeamSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].multibeam", "a multibeam echosounder: bottom detection per beam",
-                                           Spec{});
+  return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].multibeam", "a multibeam echosounder: bottom detection per beam");
     std::vector<std::string> names;
     for (const MultibeamPreset& p : multibeam_presets()) names.emplace_back(p.name);
     t.preset("multibeam", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
        const MultibeamPreset& preset = multibeam_presets()[index];
-       spec.acoustics.frequency_hz = preset.frequency_hz;
-       spec.beams = preset.beams;
-       spec.swath = preset.swath_deg * kDegToRad;
-       spec.across_beam_width = preset.across_beam_width_deg * kDegToRad;
-       spec.along_beam_width = preset.along_beam_width_deg * kDegToRad;
-       spec.acoustics.max_range = preset.max_range_m;
-       spec.acoustics.bins = preset.bins;
+       preset.apply(spec);
        if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
      }).doc("a product (`server/src/sensors/multibeam_sensor.cc`): sets the keys the file does not give, and "
             "rate_hz unless given");
@@ -83,9 +86,7 @@ const config::KeyTable<MultibeamSensor::Spec, SensorReader>& MultibeamSensor::ke
         .doc("a beam's profile smoothed over 5 bins must peak this far over the noise");
     declare_sonar_acoustic_keys(t);
     declare_sonar_check(t, &MultibeamSensor::make_ping);
-    return t;
-  }();
-  return table;
+  });
 }
 
 MultibeamSensor::State MultibeamSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

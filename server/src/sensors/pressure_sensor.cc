@@ -24,16 +24,14 @@ NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
 SensorReach PressureSensor::reach(const Spec& /*spec*/) { return {}; }
 
 const config::KeyTable<PressureSensor::Spec, SensorReader>& PressureSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].pressure", "absolute pressure at the sensor's origin");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].pressure", "absolute pressure at the sensor's origin");
     t.number("noise_stddev", &Spec::noise_stddev).unit("Pa").range(Range::non_negative()).doc("white noise per sample");
     t.number("resolution", &Spec::resolution).unit("Pa").range(Range::non_negative()).doc("quantisation step; 0: none");
     t.number("range_max", &Spec::range_max).unit("Pa").range(Range::positive())
         .doc("full scale (absolute); readings clip to [0, range_max]");
     t.number("offset", &Spec::offset).unit("Pa").doc("a zero offset added to every reading (a transducer zeroed in air)");
-    return t;
-  }();
-  return table;
+  });
 }
 
 PressureSensor::State PressureSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

@@ -28,16 +28,14 @@ NoiseChannelParams ProfilerSensor::channel(const Spec& spec, double period) {
 SensorReach ProfilerSensor::reach(const Spec& spec) { return {spec.max_range, 0.5 * spec.fov}; }
 
 const config::KeyTable<ProfilerSensor::Spec, SensorReader>& ProfilerSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].profiler", "a fan of beams in S's x-y plane, one range each");
+  return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].profiler", "a fan of beams in S's x-y plane, one range each");
     t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams across the fan");
     t.number("rays_per_beam", &Spec::rays_per_beam).range(Range::closed(1.0, 64.0)).doc("rays across each beam");
     t.number("fov_deg", &Spec::fov).degrees().range(Range::left_open(0.0, 360.0)).doc("the whole fan");
     t.number("beam_width_deg", &Spec::beam_width).degrees().range(Range::left_open(0.0, 30.0)).doc("in the fan's plane");
     declare_range_keys(t);
-    return t;
-  }();
-  return table;
+  });
 }
 
 ProfilerSensor::State ProfilerSensor::initial_state(const Spec& spec, const SensorSetup& setup) {

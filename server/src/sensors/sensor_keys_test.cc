@@ -16,12 +16,6 @@
 namespace hadal::config {
 namespace {
 
-using testing::kInlineVehicle;
-using testing::kTol;
-using testing::Lines;
-using testing::ScenarioLoaderTest;
-namespace fs = std::filesystem;
-
 TEST_F(ScenarioLoaderTest, SensorsLoadWithDefaults) {
   const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 1000}
 vehicles:
@@ -62,14 +56,8 @@ vehicles:
 }
 
 TEST_F(ScenarioLoaderTest, SensorErrors) {
-  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: depth, type: barometer}
+  const std::string path = write("s.yaml", std::string(R"(world: {physics_rate_hz: 500}
+)") + kSensorVehicle + R"(      - {name: depth, type: barometer}
       - {name: depth, type: pressure, link: fin}
       - {name: fast, type: pressure, rate_hz: 1000, noise_stddev: -1}
       - {type: pressure, colour: red}
@@ -91,14 +79,8 @@ vehicles:
 
 // The profiler (a captured kind): its keys and the common latency_s, which only captured kinds take.
 TEST_F(ScenarioLoaderTest, ProfilerKeysAndLatency) {
-  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: scan, type: profiler, rate_hz: 5, latency_s: 0.08, beams: 128, fov_deg: 60, beam_width_deg: 2,
+  const std::string path = write("s.yaml", std::string(R"(world: {physics_rate_hz: 500}
+)") + kSensorVehicle + R"(      - {name: scan, type: profiler, rate_hz: 5, latency_s: 0.08, beams: 128, fov_deg: 60, beam_width_deg: 2,
          rays_per_beam: 4, min_range: 1, max_range: 30, noise_stddev: 0.02, resolution: 0.01}
       - {name: plain, type: profiler}
 )");
@@ -119,14 +101,8 @@ vehicles:
   EXPECT_EQ(sensors[1].latency_s, 0.0);
   EXPECT_EQ(spec_of<sensors::ProfilerSensor>(sensors[1]).beams, sensors::ProfilerSensor::Spec{}.beams);
 
-  const std::string bad = write("bad.yaml", R"(world: {physics_rate_hz: 500}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: scan, type: profiler, beams: 12.5, rays_per_beam: 0, latency_s: -1, max_range: 0.2}
+  const std::string bad = write("bad.yaml", std::string(R"(world: {physics_rate_hz: 500}
+)") + kSensorVehicle + R"(      - {name: scan, type: profiler, beams: 12.5, rays_per_beam: 0, latency_s: -1, max_range: 0.2}
       - {name: depth, type: pressure, latency_s: 0.1}
 )");
   EXPECT_EQ(errors_of(bad),
@@ -142,18 +118,12 @@ vehicles:
 // A camera (calibration, lens model, clip, sensor figures), a vehicle's lights and world.optics; then
 // their errors.
 TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
-  const std::string path = write("s.yaml", R"(world:
+  const std::string path = write("s.yaml", std::string(R"(world:
   physics_rate_hz: 500
   optics: {absorption: [0.4, 0.07, 0.03], scattering: [0.1, 0.1, 0.1], phase_g: 0.9, forward_scatter_max_angle_deg: 5,
            daylight: {surface_irradiance: [100, 120, 110], jerlov_type: II}, seabed_albedo: [0.2, 0.2, 0.1],
            marine_snow: {density: 50, radius: 0.002}, seabed_pattern: {amplitude: 0.3, scale: 0.5, octaves: 3}}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: cam, type: camera, rate_hz: 5, latency_s: 0.05, width: 320, height: 240, fx: 300, fy: 301,
+)") + kSensorVehicle + R"(      - {name: cam, type: camera, rate_hz: 5, latency_s: 0.05, width: 320, height: 240, fx: 300, fy: 301,
          cx: 160.5, cy: 119, lens_model: plumb_bob, distortion: [-0.1, 0.02, 0.001, 0, 0], near_clip: 0.2,
          far_clip: 30, encoding: mono8, exposure_s: 0.02, read_noise_e: 2, shot_noise: false}
       - {name: wide, type: camera}
@@ -199,16 +169,10 @@ vehicles:
   EXPECT_EQ(optics.seabed_pattern.seed, result.model->world.seed);
   EXPECT_EQ(optics.marine_snow.max_range_m, render::MarineSnow{}.max_range_m);
 
-  const std::string bad = write("bad.yaml", R"(world:
+  const std::string bad = write("bad.yaml", std::string(R"(world:
   optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}, seabed_pattern: {amplitude: 2, octaves: 0},
            forward_scatter_max_angle_deg: 40}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: a, type: camera, hfov_deg: 60, fx: 300, fy: 300}
+)") + kSensorVehicle + R"(      - {name: a, type: camera, hfov_deg: 60, fx: 300, fy: 300}
       - {name: b, type: camera, distortion: [0.1, 0, 0, 0, 0], near_clip: 3, far_clip: 2}
       - {name: c, type: camera, lens_model: fisheye, width: 0}
       - {name: d, type: camera, lens_model: plumb_bob, distortion: [-0.9, 0, 0, 0, 0]}
@@ -240,14 +204,8 @@ vehicles:
 
 // A camera from a preset (render/camera_presets.h), downscaled; then the preset's errors.
 TEST_F(ScenarioLoaderTest, CameraPresetAndDownscale) {
-  const std::string path = write("s.yaml", R"(world: {}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: cam, type: camera, preset: svin2_stereo_rig_v2_left, downscale: 2.5}
+  const std::string path = write("s.yaml", std::string(R"(world: {}
+)") + kSensorVehicle + R"(      - {name: cam, type: camera, preset: svin2_stereo_rig_v2_left, downscale: 2.5}
 )");
   const LoadResult result = load_scenario_file(path);
   ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
@@ -258,14 +216,8 @@ vehicles:
   EXPECT_DOUBLE_EQ(lens.spec().cy, (617.2779853849335 + 0.5) / 2.5 - 0.5);
   EXPECT_EQ(lens.D()[0], -0.17473019446863114);
 
-  const std::string bad = write("bad.yaml", R"(world: {}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: a, type: camera, preset: gopro}
+  const std::string bad = write("bad.yaml", std::string(R"(world: {}
+)") + kSensorVehicle + R"(      - {name: a, type: camera, preset: gopro}
       - {name: b, type: camera, preset: subpipe_gopro_hero10, fx: 300}
       - {name: c, type: camera, preset: subpipe_gopro_hero10, downscale: 3}
 )");
@@ -327,14 +279,8 @@ vehicles:
   EXPECT_EQ(sss.ping->beams.size(), 2u);
   EXPECT_EQ(spec_of<sensors::FlsSensor>(sensors[3]).beams, sensors::FlsSensor::Spec{}.beams);
 
-  const std::string bad = write("bad.yaml", R"(world: {physics_rate_hz: 500, acoustics: {seabed_backscatter_db: 3}}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: a, type: fls, preset: blueview}
+  const std::string bad = write("bad.yaml", std::string(R"(world: {physics_rate_hz: 500, acoustics: {seabed_backscatter_db: 3}}
+)") + kSensorVehicle + R"(      - {name: a, type: fls, preset: blueview}
       - {name: b, type: multibeam, rate_hz: 20, max_range: 100}
       - {name: c, type: sidescan, min_range: 30, max_range: 20, display_min_db: 150, display_max_db: 120}
 )");
@@ -352,14 +298,8 @@ vehicles:
 }
 
 TEST_F(ScenarioLoaderTest, DvlAndAltimeterFromPresetAndKeys) {
-  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: dvl, type: dvl, preset: nortek_dvl1000_4000m}
+  const std::string path = write("s.yaml", std::string(R"(world: {physics_rate_hz: 500}
+)") + kSensorVehicle + R"(      - {name: dvl, type: dvl, preset: nortek_dvl1000_4000m}
       - name: dvl2
         type: dvl
         rate_hz: 4
@@ -424,14 +364,8 @@ vehicles:
 }
 
 TEST_F(ScenarioLoaderTest, DvlAndAltimeterErrors) {
-  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: a, type: dvl, preset: rdi_600}
+  const std::string path = write("s.yaml", std::string(R"(world: {physics_rate_hz: 500}
+)") + kSensorVehicle + R"(      - {name: a, type: dvl, preset: rdi_600}
       - {name: b, type: dvl, min_altitude: 100, beam_tilt_deg: 75}
       - {name: c, type: dvl, assumed_sound_speed: 340, water_track_layer_near: 8, water_track_layer_far: 4}
       - {name: d, type: dvl, bias: {drift: 1}, dropout_probability: 1.5}
@@ -502,14 +436,8 @@ vehicles:
 }
 
 TEST_F(ScenarioLoaderTest, ImuErrors) {
-  const std::string path = write("s.yaml", R"(world: {physics_rate_hz: 500}
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - {name: a, type: imu, preset: stim999, noise_stddev: 3}
+  const std::string path = write("s.yaml", std::string(R"(world: {physics_rate_hz: 500}
+)") + kSensorVehicle + R"(      - {name: a, type: imu, preset: stim999, noise_stddev: 3}
       - {name: b, type: imu, gyro: {arw: 1}, vibration: {thruster: main}}
       - {name: c, type: pressure, preset: honeywell_hg1700}
 )");
@@ -529,16 +457,10 @@ vehicles:
 }
 
 TEST_F(ScenarioLoaderTest, MagnetometerDateAndDipoles) {
-  const std::string path = write("s.yaml", R"(world:
+  const std::string path = write("s.yaml", std::string(R"(world:
   date: "2027-07-02"
   magnetic_dipoles: [{position: [100, 0, -90], moment: [0, 5000, 0], radius: 5}]
-vehicles:
-  - name: auv
-    type: auv
-    links:
-      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
-    sensors:
-      - name: mag
+)") + kSensorVehicle + R"(      - name: mag
         type: magnetometer
         rate_hz: 20
         noise_stddev_nt: 40

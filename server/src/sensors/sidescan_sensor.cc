@@ -29,6 +29,15 @@ const std::vector<SidescanPreset>& sidescan_presets() {
   return presets;
 }
 
+void SidescanPreset::apply(SidescanSpec& spec) const {
+  spec.acoustics.frequency_hz = frequency_hz;
+  spec.horizontal_beam_width = horizontal_beam_width_deg * kDegToRad;
+  spec.vertical_beam_width = vertical_beam_width_deg * kDegToRad;
+  spec.depression = depression_deg * kDegToRad;
+  spec.acoustics.max_range = max_range_m;
+  spec.acoustics.bins = bins;
+}
+
 SonarAcoustics sidescan_default_acoustics() {
   SonarAcoustics a;
   a.min_range = 0.0;  // a side-scan records from its transmission on: sample0 = 0, exact sample ranges
@@ -61,19 +70,13 @@ void SidescanSensor::make_ping(Spec& spec) {
 SensorReach SidescanSensor::reach(const Spec& /*spec*/) { return {}; }
 
 const config::KeyTable<SidescanSensor::Spec, SensorReader>& SidescanSensor::keys() {
-  static const config::KeyTable<Spec, SensorReader> table = [] {
-    config::KeyTable<Spec, SensorReader> t("sensors[].sidescan", "a side-scan sonar: a beam to either side of x_S",
-                                           Spec{});
+  return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
+    t.describe("sensors[].sidescan", "a side-scan sonar: a beam to either side of x_S");
     std::vector<std::string> names;
     for (const SidescanPreset& p : sidescan_presets()) names.emplace_back(p.name);
     t.preset("side-scan sonar", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
        const SidescanPreset& preset = sidescan_presets()[index];
-       spec.acoustics.frequency_hz = preset.frequency_hz;
-       spec.horizontal_beam_width = preset.horizontal_beam_width_deg * kDegToRad;
-       spec.vertical_beam_width = preset.vertical_beam_width_deg * kDegToRad;
-       spec.depression = preset.depression_deg * kDegToRad;
-       spec.acoustics.max_range = preset.max_range_m;
-       spec.acoustics.bins = preset.bins;
+       preset.apply(spec);
        if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
      }).doc("a product (`server/src/sensors/sidescan_sensor.cc`): sets the keys the file does not give, and "
             "rate_hz unless given");
@@ -88,9 +91,7 @@ const config::KeyTable<SidescanSensor::Spec, SensorReader>& SidescanSensor::keys
     declare_sonar_acoustic_keys(t);
     declare_sonar_image_keys(t);
     declare_sonar_check(t, &SidescanSensor::make_ping);
-    return t;
-  }();
-  return table;
+  });
 }
 
 SidescanSensor::State SidescanSensor::initial_state(const Spec& /*spec*/, const SensorSetup& setup) {

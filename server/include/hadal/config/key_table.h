@@ -247,6 +247,12 @@ class KeyTable {
 
   // --- declarations ----------------------------------------------------------------------------------
 
+  // The table's id (its reference marker and JSON Schema definition: "world.water") and a one-line title.
+  void describe(std::string id, std::string title = "") {
+    doc_.id = std::move(id);
+    doc_.title = std::move(title);
+  }
+
   // A number (double or int field; an int field takes whole numbers only).
   template <class A>
   Key number(std::string name, A access) {
@@ -918,5 +924,40 @@ class KeyTable {
   TableDoc doc_;
   std::unique_ptr<DocOnce> doc_once_ = std::make_unique<DocOnce>();
 };
+
+// A table declared once, on first use: a table's owner writes
+//   const KeyTable<AcousticsSpec>& acoustics_keys() {
+//     return declare_keys<AcousticsSpec>([](KeyTable<AcousticsSpec>& t) {
+//       t.describe("world.acoustics", "what sonars hear");
+//       t.number(...)...;
+//     });
+//   }
+// (with the defaults first when they are not a default-constructed T). Each call site's lambda has a type of
+// its own, so each table is a function-local static of its own.
+template <class T, class Ctx = NoContext, class Declare>
+const KeyTable<T, Ctx>& declare_keys(T defaults, Declare declare) {
+  static const KeyTable<T, Ctx> table = [&] {
+    KeyTable<T, Ctx> t("", "", std::move(defaults));
+    declare(t);
+    return t;
+  }();
+  return table;
+}
+template <class T, class Ctx = NoContext, class Declare>
+const KeyTable<T, Ctx>& declare_keys(Declare declare) {
+  return declare_keys<T, Ctx>(T{}, std::move(declare));
+}
+
+// The vocabulary of a key declaration, for the .cc that declares a table: `using namespace config::keys;`.
+namespace keys {
+using config::declare_keys;
+using config::KeyReads;
+using config::KeyTable;
+using config::LoadContext;
+using config::MapReader;
+using config::NoContext;
+using config::Range;
+using config::Value;
+}  // namespace keys
 
 }  // namespace hadal::config

@@ -107,6 +107,9 @@ struct FlsPreset {
   double max_range_m;  // the preset's receive window (at most the product's maximum)
   int bins;
   double rate_hz;
+
+  // Its figures into a spec (the keys the file gives override them).
+  void apply(FlsSpec& spec) const;
 };
 const std::vector<FlsPreset>& fls_presets();
 

@@ -76,6 +76,9 @@ struct MultibeamPreset {
   double max_range_m;
   int bins;
   double rate_hz;
+
+  // Its figures into a spec (the keys the file gives override them).
+  void apply(MultibeamSpec& spec) const;
 };
 const std::vector<MultibeamPreset>& multibeam_presets();
 

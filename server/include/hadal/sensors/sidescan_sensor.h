@@ -90,6 +90,9 @@ struct SidescanPreset {
   double max_range_m;
   int bins;
   double rate_hz;
+
+  // Its figures into a spec (the keys the file gives override them).
+  void apply(SidescanSpec& spec) const;
 };
 const std::vector<SidescanPreset>& sidescan_presets();
 
