@@ -88,7 +88,7 @@ Model panel_model(const Panel& panel) {
     lens.distortion = {panel.k1, 0.0, 0.0, 0.0, 0.0};
   }
   sensors::CameraSensor::set_lens(spec, lens);
-  spec.far_m = 40.0;
+  spec.far_clip = 40.0;
   spec.sensor.exposure_s = 0.02;
   spec.sensor.gain_dn_per_e = 0.02;
   camera.kind = spec;

@@ -222,7 +222,7 @@ int main(int argc, char** argv) {
     sensors::MagneticDipole hard;
     hard.p_FD = Eigen::Vector3d(-0.05, 0.10, -0.05);
     hard.m_F = Eigen::Vector3d(0.30, -0.20, -0.35);
-    hard.radius_m = 0.05;
+    hard.radius = 0.05;
     full.dipoles_B.push_back(hard);
     full.soft_iron_S << 1.04, 0.03, 0.01,  //
         0.03, 0.97, -0.02,                  //

@@ -18,20 +18,20 @@ Eigen::Isometry3d X_SC() {
   return X;
 }
 
-void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_clip, float far_clip,
                      std::int32_t ignore_body, geometry::RayBatch& batch) {
-  add_camera_rays(lens, X_WC, near_m, far_m, ignore_body, 0, lens.height_px(), batch);
+  add_camera_rays(lens, X_WC, near_clip, far_clip, ignore_body, 0, lens.height_px(), batch);
 }
 
-void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_clip, float far_clip,
                      std::int32_t ignore_body, int row_begin, int row_end, geometry::RayBatch& batch) {
   if (!(0 <= row_begin && row_begin <= row_end && row_end <= lens.height_px())) {
     throw std::invalid_argument("camera rays: rows [" + std::to_string(row_begin) + ", " + std::to_string(row_end) +
                                 ") outside the image's " + std::to_string(lens.height_px()));
   }
-  if (!(near_m >= 0.0f) || !(far_m > near_m)) {
-    throw std::invalid_argument("camera clip: need 0 <= near < far (got near " + std::to_string(near_m) +
-                                " m, far " + std::to_string(far_m) + " m)");
+  if (!(near_clip >= 0.0f) || !(far_clip > near_clip)) {
+    throw std::invalid_argument("camera clip: need 0 <= near < far (got near " + std::to_string(near_clip) +
+                                " m, far " + std::to_string(far_clip) + " m)");
   }
   if (!X_WC.matrix().allFinite()) throw std::invalid_argument("camera pose X_WC is not finite");
   const Eigen::Matrix3f R_WC = X_WC.linear().cast<float>();
@@ -39,7 +39,7 @@ void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near
   batch.coherence = geometry::RayCoherence::kCoherent;
   const std::size_t width = static_cast<std::size_t>(lens.width_px());
   for (std::size_t i = static_cast<std::size_t>(row_begin) * width; i < static_cast<std::size_t>(row_end) * width; ++i) {
-    batch.add_ray(p_WC, (R_WC * lens.rays_C()[i]).normalized(), near_m, far_m, ignore_body);
+    batch.add_ray(p_WC, (R_WC * lens.rays_C()[i]).normalized(), near_clip, far_clip, ignore_body);
   }
 }
 

@@ -14,18 +14,18 @@
 namespace hadal::render {
 namespace {
 
-double backscatter_start_m(float near_m) { return std::max(static_cast<double>(near_m), 1e-3); }
+double backscatter_start_m(float near_clip) { return std::max(static_cast<double>(near_clip), 1e-3); }
 
-double backscatter_end_m(const FrameLighting& lighting, float far_m) {
-  return std::isfinite(far_m) ? static_cast<double>(far_m) : lighting.max_backscatter_range_m;
+double backscatter_end_m(const FrameLighting& lighting, float far_clip) {
+  return std::isfinite(far_clip) ? static_cast<double>(far_clip) : lighting.max_backscatter_range_m;
 }
 
 }  // namespace
 
 std::shared_ptr<const BackscatterTable> make_backscatter_table(const FrameLighting& lighting,
                                                                const std::vector<SpotLight>& lights_C, const Lens& lens,
-                                                               float near_m, float far_m, const ParallelFor& parallel) {
-  const double s0 = backscatter_start_m(near_m), s_max = backscatter_end_m(lighting, far_m);
+                                                               float near_clip, float far_clip, const ParallelFor& parallel) {
+  const double s0 = backscatter_start_m(near_clip), s_max = backscatter_end_m(lighting, far_clip);
   if (lights_C.empty() || !(lighting.water.scattering_per_m > 0.0).any() || !(s_max > s0)) return nullptr;
   return std::make_shared<const BackscatterTable>(lighting.water, lights_C, lens, Eigen::Isometry3d::Identity(), s0,
                                                   s_max, lighting.backscatter_samples, lighting.backscatter_grid_px,
@@ -54,26 +54,26 @@ bool same_light(const SpotLight& a, const SpotLight& b) {
 std::shared_ptr<const BackscatterTable> BackscatterTableCache::get(const FrameLighting& lighting,
                                                                    const std::vector<SpotLight>& lights_C,
                                                                    const std::shared_ptr<const Lens>& lens,
-                                                                   float near_m, float far_m,
+                                                                   float near_clip, float far_clip,
                                                                    const ParallelFor& parallel) {
   std::lock_guard<std::mutex> lock(mutex_);
   const WaterOptics& water = lighting.water;
   const bool same = valid_ && (water_.absorption_per_m == water.absorption_per_m).all() &&
                     (water_.scattering_per_m == water.scattering_per_m).all() && water_.phase_g == water.phase_g &&
                     samples_ == lighting.backscatter_samples && grid_px_ == lighting.backscatter_grid_px &&
-                    max_range_m_ == lighting.max_backscatter_range_m && lens_ == lens && near_m_ == near_m &&
-                    far_m_ == far_m && lights_C_.size() == lights_C.size() &&
+                    max_range_ == lighting.max_backscatter_range_m && lens_ == lens && near_m_ == near_clip &&
+                    far_m_ == far_clip && lights_C_.size() == lights_C.size() &&
                     std::equal(lights_C.begin(), lights_C.end(), lights_C_.begin(), same_light);
   if (same) return table_;
-  table_ = make_backscatter_table(lighting, lights_C, *lens, near_m, far_m, parallel);
+  table_ = make_backscatter_table(lighting, lights_C, *lens, near_clip, far_clip, parallel);
   valid_ = true;
   water_ = water;
   samples_ = lighting.backscatter_samples;
   grid_px_ = lighting.backscatter_grid_px;
-  max_range_m_ = lighting.max_backscatter_range_m;
+  max_range_ = lighting.max_backscatter_range_m;
   lens_ = lens;
-  near_m_ = near_m;
-  far_m_ = far_m;
+  near_m_ = near_clip;
+  far_m_ = far_clip;
   lights_C_ = lights_C;
   ++made_;
   return table_;
@@ -151,7 +151,7 @@ struct FrameSetup {
   const BackscatterTable* backscatter = nullptr;
   Eigen::Vector3d p_WC = Eigen::Vector3d::Zero();
   Eigen::Matrix3f R_WC = Eigen::Matrix3f::Identity();
-  float near_m = 0, far_m = 0;
+  float near_clip = 0, far_clip = 0;
   std::int32_t ignore_body = geometry::kNoHit;
   float bias_m = 1e-3f;
   float c[3] = {0, 0, 0};  // attenuation [1/m]
@@ -376,7 +376,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   const std::size_t first = static_cast<std::size_t>(row_begin) * width;
   const std::size_t n = static_cast<std::size_t>(row_end - row_begin) * width;
   const float* ray_C = lens.rays_C()[first].data();  // x, y, z per pixel (Eigen::Vector3f is 3 floats)
-  const float far_m = f.far_m, bias = f.bias_m;
+  const float far_clip = f.far_clip, bias = f.bias_m;
   const float c0 = f.c[0], c1 = f.c[1], c2 = f.c[2];
 
   const std::size_t sources = f.lights.size() + (f.sky ? 1 : 0);
@@ -388,8 +388,8 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
   primary.p_WO_x.assign(n, static_cast<float>(f.p_WC.x()));
   primary.p_WO_y.assign(n, static_cast<float>(f.p_WC.y()));
   primary.p_WO_z.assign(n, static_cast<float>(f.p_WC.z()));
-  primary.t_near.assign(n, f.near_m);
-  primary.t_far.assign(n, far_m);
+  primary.t_near.assign(n, f.near_clip);
+  primary.t_far.assign(n, far_clip);
   if (f.ignore_body != geometry::kNoHit) primary.ignore_body.assign(n, f.ignore_body);
   primary.d_W_x.resize(n);
   primary.d_W_y.resize(n);
@@ -433,7 +433,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
     a.nz[i] = sign * nz;
     const float along_axis = d * ray_z;
     depth[i] = hit & (along_axis > 0.0f) ? along_axis : nan;
-    a.s_end[i] = hit ? ti : far_m;
+    a.s_end[i] = hit ? ti : far_clip;
   }
   const SurfacePoints points{n,
                              f.p_WC,
@@ -666,13 +666,13 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
 }  // namespace
 
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
-                              float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
+                              float near_clip, float far_clip, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoAt& albedo_of, const ParallelFor& parallel) {
-  return render_radiance(scene, lens, X_WC, near_m, far_m, ignore_body, lighting, per_point(albedo_of), parallel);
+  return render_radiance(scene, lens, X_WC, near_clip, far_clip, ignore_body, lighting, per_point(albedo_of), parallel);
 }
 
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
-                              float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
+                              float near_clip, float far_clip, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoOfPoints& albedo_of, const ParallelFor& parallel) {
   validate(lighting.water);
   validate(lighting.daylight);
@@ -682,7 +682,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   }
   {
     geometry::RayBatch none;  // checks the clip and the pose before any work
-    add_camera_rays(lens, X_WC, near_m, far_m, ignore_body, 0, 0, none);
+    add_camera_rays(lens, X_WC, near_clip, far_clip, ignore_body, 0, 0, none);
   }
   if (lighting.lights.size() >= 0xffff) throw std::invalid_argument("lights: at most 65534 per frame");
   const std::size_t n = static_cast<std::size_t>(lens.width_px()) * static_cast<std::size_t>(lens.height_px());
@@ -698,8 +698,8 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   f.albedo_of = &albedo_of;
   f.p_WC = X_WC.translation();
   f.R_WC = X_WC.linear().cast<float>();
-  f.near_m = near_m;
-  f.far_m = far_m;
+  f.near_clip = near_clip;
+  f.far_clip = far_clip;
   f.ignore_body = ignore_body;
   f.bias_m = lighting.shadow_bias_m;
   const Rgb c = lighting.water.attenuation_per_m();
@@ -741,7 +741,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
 
   // Scattered light along the rays: the lights' backscatter (from the table, up to s_max at most) and
   // daylight's path radiance (closed form).
-  const double s0 = backscatter_start_m(near_m);
+  const double s0 = backscatter_start_m(near_clip);
   f.s0 = static_cast<float>(s0);
   const bool scattering = (lighting.water.scattering_per_m > 0.0).any();
   f.daylit_water = scattering && (daylight.surface_irradiance_W_per_m2 > 0.0).any();
@@ -761,7 +761,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   }
   std::shared_ptr<const BackscatterTable> backscatter = lighting.backscatter;
   if (!backscatter) {
-    backscatter = make_backscatter_table(lighting, lights_in_camera_frame(lighting.lights, X_WC), lens, near_m, far_m,
+    backscatter = make_backscatter_table(lighting, lights_in_camera_frame(lighting.lights, X_WC), lens, near_clip, far_clip,
                                          parallel);
   }
   f.backscatter = backscatter.get();

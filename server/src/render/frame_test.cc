@@ -278,15 +278,15 @@ TEST(FrameTest, MatchesThePerPixelPhysicsInDoublePrecision) {
   };
   const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 1.3));
   const Eigen::Isometry3d X_WC = seabed_camera();
-  const float near_m = 0.1f, far_m = 60.0f;
-  const RadianceFrame frame = render_radiance(scene, lens, X_WC, near_m, far_m, geometry::kNoHit, lighting, albedo);
+  const float near_clip = 0.1f, far_clip = 60.0f;
+  const RadianceFrame frame = render_radiance(scene, lens, X_WC, near_clip, far_clip, geometry::kNoHit, lighting, albedo);
 
   std::vector<SpotLight> lights_C = lighting.lights;
   for (SpotLight& light : lights_C) {
     light.p_WL = X_WC.inverse() * light.p_WL;
     light.axis_W = X_WC.linear().transpose() * light.axis_W;
   }
-  const auto table = make_backscatter_table(lighting, lights_C, lens, near_m, far_m, serial_for);
+  const auto table = make_backscatter_table(lighting, lights_C, lens, near_clip, far_clip, serial_for);
   ASSERT_TRUE(table);
   const Rgb c = lighting.water.attenuation_per_m();
   const Daylight& sun = lighting.daylight;
@@ -306,13 +306,13 @@ TEST(FrameTest, MatchesThePerPixelPhysicsInDoublePrecision) {
       const std::size_t i = static_cast<std::size_t>(v) * lens.width_px() + u;
       geometry::RayBatch ray;
       const Eigen::Vector3f d_f = (X_WC.linear().cast<float>() * lens.ray_C(u, v)).normalized();
-      ray.add_ray(X_WC.translation().cast<float>(), d_f, near_m, far_m);
+      ray.add_ray(X_WC.translation().cast<float>(), d_f, near_clip, far_clip);
       geometry::RayHits hit;
       hit.resize(1);
       scene.intersect(ray, 0, 1, geometry::QueryPath::kSingle, hit);
       const Eigen::Vector3d o = X_WC.translation().cast<float>().cast<double>(), d = d_f.cast<double>();
       Rgb expected = Rgb::Zero();
-      double s_end = far_m;
+      double s_end = far_clip;
       if (hit.hit(0)) {
         s_end = hit.distance[0];
         const Eigen::Vector3d p = o + s_end * d;
@@ -335,7 +335,7 @@ TEST(FrameTest, MatchesThePerPixelPhysicsInDoublePrecision) {
         }
       }
       expected += table->at(u, v, s_end);
-      expected += daylight_path_radiance(lighting.water, sun, E_camera, o, d, static_cast<double>(near_m), s_end);  // s0: the near clip
+      expected += daylight_path_radiance(lighting.water, sun, E_camera, o, d, static_cast<double>(near_clip), s_end);  // s0: the near clip
       const Rgb got = frame.radiance[i].cast<double>();
       ++checked;
       if (((got - expected).abs() > 1e-4 * expected.abs() + 1e-6 * brightest).any()) ++outliers;
@@ -458,7 +458,7 @@ TEST(FrameTest, SameFrameWhateverTheThreads) {
   lighting.water.scattering_per_m = Rgb::Constant(0.08);
   lighting.water.forward_scatter_max_angle_rad = 0.15;  // the spread's row tasks too
   lighting.marine_snow.density_per_m3 = 300.0;         // and marine snow's slabs
-  lighting.marine_snow.max_range_m = 5.0;
+  lighting.marine_snow.max_range = 5.0;
   lighting.marine_snow.seed = 3;
   SpotLight left, right;
   left.p_WL = Eigen::Vector3d(0.0, 0.4, 0.0);

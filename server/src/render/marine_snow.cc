@@ -35,8 +35,8 @@ void validate(const MarineSnow& snow) {
   if (!(snow.density_per_m3 >= 0.0 && snow.density_per_m3 <= 1e5)) {
     throw std::invalid_argument("marine snow density: must be in [0, 1e5] per m^3");
   }
-  if (!(snow.radius_m > 0.0) || !std::isfinite(snow.radius_m)) throw std::invalid_argument("marine snow radius: must be > 0 [m]");
-  if (!(snow.max_range_m > 0.0) || !std::isfinite(snow.max_range_m)) {
+  if (!(snow.radius > 0.0) || !std::isfinite(snow.radius)) throw std::invalid_argument("marine snow radius: must be > 0 [m]");
+  if (!(snow.max_range > 0.0) || !std::isfinite(snow.max_range)) {
     throw std::invalid_argument("marine snow range: must be > 0 [m]");
   }
   if (!(snow.albedo >= 0.0 && snow.albedo <= 1.0)) throw std::invalid_argument("marine snow albedo: must be in [0, 1]");
@@ -55,13 +55,13 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
   const Rgb c = water.attenuation_per_m();
   const std::vector<LightBeam> beams(lights.begin(), lights.end());
   // Cells of the cube of side 2 max_range around the camera (particles beyond the range are skipped).
-  const auto lo = [&](int axis) { return static_cast<std::int64_t>(std::floor((p_WC[axis] - snow.max_range_m) / cell)); };
-  const auto hi = [&](int axis) { return static_cast<std::int64_t>(std::floor((p_WC[axis] + snow.max_range_m) / cell)); };
+  const auto lo = [&](int axis) { return static_cast<std::int64_t>(std::floor((p_WC[axis] - snow.max_range) / cell)); };
+  const auto hi = [&](int axis) { return static_cast<std::int64_t>(std::floor((p_WC[axis] + snow.max_range) / cell)); };
   // A cell's particle lies within half a cell diagonal of its centre: cells whose centre is further
   // than the range plus that, or that far behind the camera's image plane, hold none to draw (most of
   // the cube: skipped before hashing).
   const double half_diagonal = 0.5 * std::sqrt(3.0) * cell;
-  const double reach2 = (snow.max_range_m + half_diagonal) * (snow.max_range_m + half_diagonal);
+  const double reach2 = (snow.max_range + half_diagonal) * (snow.max_range + half_diagonal);
   const Eigen::Vector3d z_C_in_W = X_WC.linear().col(2);  // the optical axis in W
   // Slabs of cells (one x index each) are tasks; each lists what it adds where, and the lists are
   // added in slab order afterwards: the same sums whatever the threads.
@@ -94,7 +94,7 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
                                   (static_cast<double>(j) + unit(mix(h + 2))) * cell,
                                   (static_cast<double>(k) + unit(mix(h + 3))) * cell);
         const double d = (p_W - p_WC).norm();
-        if (!(d <= snow.max_range_m)) continue;
+        if (!(d <= snow.max_range)) continue;
         const Eigen::Vector3d p_C = X_CW * p_W;
         Eigen::Vector2d uv;
         if (!(p_C.z() > 0.0) || !project(lens.spec(), p_C, &uv)) continue;
@@ -110,7 +110,7 @@ std::size_t add_marine_snow(const MarineSnow& snow, const Lens& lens, const Eige
           irradiance += beam.intensity_towards(from_light / r) / (r * r) * transmittance(c, r);
         }
         if ((irradiance == 0.0).all()) continue;
-        const double radius = snow.radius_m * (0.5 + unit(mix(h + 4)));
+        const double radius = snow.radius * (0.5 + unit(mix(h + 4)));
         const double radius_px = radius * lens.spec().fx / p_C.z();
         const Rgb L = snow.albedo / kPi * irradiance * transmittance(c, d);
         if (radius_px <= 0.5) {

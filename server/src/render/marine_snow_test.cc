@@ -33,7 +33,7 @@ RadianceFrame frame_with_snow(double density, std::uint64_t seed, float wall_m) 
   lighting.lights = {light};
   lighting.marine_snow.density_per_m3 = density;
   lighting.marine_snow.seed = seed;
-  lighting.marine_snow.max_range_m = 4.0;
+  lighting.marine_snow.max_range = 4.0;
   return render_radiance(scene, lens, X_SC(), 0.05f, 100.0f, geometry::kNoHit, lighting, white);
 }
 
@@ -71,7 +71,7 @@ TEST(MarineSnowTest, InvalidParametersAreRejected) {
   snow.density_per_m3 = -1.0;
   EXPECT_THROW(validate(snow), std::invalid_argument);
   snow = MarineSnow{};
-  snow.radius_m = 0.0;
+  snow.radius = 0.0;
   EXPECT_THROW(validate(snow), std::invalid_argument);
   snow = MarineSnow{};
   snow.albedo = 1.5;

@@ -75,9 +75,9 @@ const KeyTable<MarineSnow>& marine_snow_keys() {
                "world.seed");
     t.number("density", &MarineSnow::density_per_m3).required().unit("1/m³").range(Range::closed(0.0, 1e5))
         .doc("particles per cubic metre");
-    t.number("radius", &MarineSnow::radius_m).unit("m").range(Range::left_open(0.0, 0.1))
+    t.number("radius", &MarineSnow::radius).unit("m").range(Range::left_open(0.0, 0.1))
         .doc("mean radius (uniform in 0.5-1.5 x it)");
-    t.number("max_range", &MarineSnow::max_range_m).unit("m").range(Range::left_open(0.0, 50.0))
+    t.number("max_range", &MarineSnow::max_range).unit("m").range(Range::left_open(0.0, 50.0))
         .doc("drawn within this distance of the camera");
     t.number("albedo", &MarineSnow::albedo).range(Range::closed(0.0, 1.0)).doc("of a particle");
   });

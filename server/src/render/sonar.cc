@@ -57,8 +57,8 @@ std::vector<SonarBeam> fan_beams(int count, double fov, double width_u, double w
 }
 
 int SonarPingSpec::bin_of(double r) const {
-  if (!(r >= min_range_m && r < max_range_m)) return -1;
-  const int bin = static_cast<int>((r - min_range_m) / bin_size_m());
+  if (!(r >= min_range && r < max_range)) return -1;
+  const int bin = static_cast<int>((r - min_range) / bin_size_m());
   return std::min(bin, bins - 1);
 }
 
@@ -76,7 +76,7 @@ void SonarPingSpec::validate() const {
     }
     if (!(b.sampled_v_rad >= 0.0 && b.sampled_v_rad < 3.2)) invalid(name + "the sampled extent must be in [0, pi]");
   }
-  if (!(min_range_m >= 0.0 && max_range_m > min_range_m && std::isfinite(max_range_m))) {
+  if (!(min_range >= 0.0 && max_range > min_range && std::isfinite(max_range))) {
     invalid("the range window must satisfy 0 <= min_range < max_range < inf");
   }
   if (bins < 1 || rays_u < 1 || rays_v < 1) invalid("bins, rays_u and rays_v must be >= 1");
@@ -106,7 +106,7 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
   // centre.
   std::vector<double> loss_at_edge(static_cast<std::size_t>(bins) + 1);
   for (int i = 0; i <= bins; ++i) {
-    const double r = std::max(spec.min_range_m + i * bin_size, 1e-3);
+    const double r = std::max(spec.min_range + i * bin_size, 1e-3);
     loss_at_edge[static_cast<std::size_t>(i)] =
         db_to_linear(spec.source_level_db - 2.0 * transmission_loss_db(spec, water, r)) * r * r;
   }
@@ -115,14 +115,14 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
   const double noise_power = spec.receiver_noise ? db_to_linear(spec.noise_level_db) : 0.0;
   const Eigen::Vector3f p_WS = X_WS.translation().cast<float>();
   const Eigen::Matrix3d R_WS = X_WS.linear();
-  const float t_far = static_cast<float>(spec.max_range_m);
+  const float t_far = static_cast<float>(spec.max_range);
   const int rays = spec.rays_u * spec.rays_v;
   // Adds echo e (and e a for the phase) to the bins of the ranges [r0, r1], in proportion to their overlap:
   // a patch's echo arrives over the range its footprint spans, so every bin it covers gets its share, however
   // sparse the rays are in range (grazing angles, far bins).
   const auto spread = [&spec, bin_size, bins](double r0, double r1, double e, double a, std::vector<double>& echo,
                                                std::vector<double>& echo_a) {
-    const double x0 = (r0 - spec.min_range_m) / bin_size, x1 = (r1 - spec.min_range_m) / bin_size;
+    const double x0 = (r0 - spec.min_range) / bin_size, x1 = (r1 - spec.min_range) / bin_size;
     const int b0 = std::max(0, static_cast<int>(std::floor(x0))), b1 = std::min(bins - 1, static_cast<int>(std::floor(x1)));
     if (b0 == b1 || !(x1 > x0)) {
       const int b = std::clamp(static_cast<int>(std::floor(0.5 * (x0 + x1))), 0, bins - 1);
@@ -195,7 +195,7 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       const double n_axis = n_W.dot(axis_W), n_u = n_W.dot(u_W), n_v = n_W.dot(v_W);
       const double n_d = cos_e[j] * (cos_a[i] * n_axis + sin_a[i] * n_u) + sin_e[j] * n_v;
       const double cos_theta = std::abs(n_d);
-      const double f = (r - spec.min_range_m) / bin_size - b;
+      const double f = (r - spec.min_range) / bin_size - b;
       const double loss = loss_at_edge[static_cast<std::size_t>(b)] +
                           f * (loss_at_edge[static_cast<std::size_t>(b) + 1] - loss_at_edge[static_cast<std::size_t>(b)]);
       const double e = weight_a[i] * weight_e[j] * mu[n] * cos_theta * loss;

@@ -123,7 +123,7 @@ TEST(SonarTest, InvalidSpecsAreRefusedWithTheReason) {
     EXPECT_NE(std::string(e.what()).find("beam 2"), std::string::npos) << e.what();
   }
   spec.beams = fan(4, 1.0, 0.01, 0.2);
-  spec.max_range_m = spec.min_range_m;
+  spec.max_range = spec.min_range;
   EXPECT_THROW(spec.validate(), std::invalid_argument);
 }
 
@@ -132,8 +132,8 @@ TEST(SonarTest, InvalidSpecsAreRefusedWithTheReason) {
 TEST(SonarTest, SphereAppearsAtItsRangeAndBearingBin) {
   SonarPingSpec spec;
   spec.beams = fan(128, 90.0 * kDegToRad, 90.0 / 128.0 * kDegToRad, 20.0 * kDegToRad);
-  spec.min_range_m = 1.0;
-  spec.max_range_m = 30.0;
+  spec.min_range = 1.0;
+  spec.max_range = 30.0;
   spec.bins = 580;  // 5 cm
   spec.rays_u = 4;
   spec.rays_v = 64;
@@ -180,8 +180,8 @@ TEST(SonarTest, EchoFallsWithRangeAsSpreadingAndAbsorptionAfterTvgRemoval) {
   const double width = 10.0 * kDegToRad, radius = 0.25;
   SonarPingSpec spec;
   spec.beams = fan(1, 0.0, width, width);
-  spec.min_range_m = 1.0;
-  spec.max_range_m = 61.0;
+  spec.min_range = 1.0;
+  spec.max_range = 61.0;
   spec.bins = 3000;
   spec.rays_u = 256;
   spec.rays_v = 256;
@@ -221,8 +221,8 @@ TEST(SonarTest, EchoFallsWithRangeAsSpreadingAndAbsorptionAfterTvgRemoval) {
 TEST(SonarTest, ShadowBehindABoxIsEmptyOfReturns) {
   SonarPingSpec spec;
   spec.beams = fan(33, 40.0 * kDegToRad, 40.0 / 33.0 * kDegToRad, 30.0 * kDegToRad, 30.0 * kDegToRad);
-  spec.min_range_m = 1.0;
-  spec.max_range_m = 41.0;
+  spec.min_range = 1.0;
+  spec.max_range = 41.0;
   spec.bins = 800;  // 5 cm
   spec.rays_u = 4;
   spec.rays_v = 400;
@@ -250,8 +250,8 @@ TEST(SonarTest, ShadowBehindABoxIsEmptyOfReturns) {
 TEST(SonarTest, SparseRaysStillFillTheBinsTheirPatchesSpan) {
   SonarPingSpec spec;
   spec.beams = fan(9, 9.0 * kDegToRad, 1.0 * kDegToRad, 10.0 * kDegToRad, 7.0 * kDegToRad);
-  spec.min_range_m = 1.0;
-  spec.max_range_m = 101.0;
+  spec.min_range = 1.0;
+  spec.max_range = 101.0;
   spec.bins = 2000;
   spec.rays_u = 2;
   spec.rays_v = 64;
@@ -273,8 +273,8 @@ TEST(SonarTest, SparseRaysStillFillTheBinsTheirPatchesSpan) {
 TEST(SonarTest, MultibeamRangesOverAFlatSeabedMatchTheGeometry) {
   SonarPingSpec spec;
   spec.beams = fan(128, 120.0 * kDegToRad, 1.0 * kDegToRad, 2.0 * kDegToRad);
-  spec.min_range_m = 0.5;
-  spec.max_range_m = 100.5;
+  spec.min_range = 0.5;
+  spec.max_range = 100.5;
   spec.bins = 4000;  // 2.5 cm
   // Enough rays across each beam that its footprint's bins all get some: 1 deg at 60 deg off nadir and 40 m
   // spans ~1.2 m of range, 48 bins.
@@ -296,7 +296,7 @@ TEST(SonarTest, MultibeamRangesOverAFlatSeabedMatchTheGeometry) {
     ping(scene, quiet(spec), X_WS, geometry::kNoHit, SonarWater{}, kUniformMu, 1, 0, serial_for, [&](const BeamEcho& echo) {
       const double down = -(X_WS.linear() * spec.beams[static_cast<std::size_t>(echo.beam)].axis_S).z();
       const double expected = h / down;
-      if (!(expected < spec.max_range_m - 2.0)) return;
+      if (!(expected < spec.max_range - 2.0)) return;
       const BottomDetection detection = detect_bottom(spec, SonarWater{}, echo);
       ASSERT_TRUE(detection.valid) << "beam " << echo.beam;
       EXPECT_NEAR(detection.range_m, expected, spec.bin_size_m()) << "beam " << echo.beam << (detection.by_phase ? " phase" : " amplitude");

@@ -207,7 +207,7 @@ std::optional<render::LensSpec> make_lens_spec(const config::KeyReads& reads, co
 
 SensorReach CameraSensor::reach(const Spec& spec) {
   const render::LensSpec& lens = spec.lens->spec();
-  return {spec.far_m, std::atan2(0.5 * lens.width_px, lens.fx)};
+  return {spec.far_clip, std::atan2(0.5 * lens.width_px, lens.fx)};
 }
 
 const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
@@ -254,8 +254,8 @@ const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
     t.number("downscale", calibration(&Calibration::downscale)).range(Range::closed(1.0, 64.0))
         .doc("the calibration of the image resized by 1/s (binned): fx/s, fy/s, c' = (c + 0.5)/s - 0.5; width and "
              "height must divide by s");
-    t.number("near_clip", &Spec::near_m).unit("m").range(Range::non_negative()).doc("along each ray");
-    t.number("far_clip", &Spec::far_m).unit("m").range(Range::positive()).rule("> near_clip").doc("along each ray");
+    t.number("near_clip", &Spec::near_clip).unit("m").range(Range::non_negative()).doc("along each ray");
+    t.number("far_clip", &Spec::far_clip).unit("m").range(Range::positive()).rule("> near_clip").doc("along each ray");
     t.choice("encoding", &Spec::mono, {{"rgb8", false}, {"mono8", true, "Rec. 601 luma of the counts"}})
         .doc("the image's encoding");
     const auto sensor = [](auto field) {
@@ -276,10 +276,10 @@ const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
     t.check([](const config::KeyReads& reads, Spec& spec, SensorReader&) {
       const config::MapReader& map = reads.map();
       bool ok = true;
-      if (!(spec.far_m > spec.near_m)) {
+      if (!(spec.far_clip > spec.near_clip)) {
         map.error_at_key(map.has("far_clip") ? "far_clip" : "near_clip",
-                         "far_clip (" + format_number(spec.far_m) + " m) must exceed near_clip (" +
-                             format_number(spec.near_m) + " m)");
+                         "far_clip (" + format_number(spec.far_clip) + " m) must exceed near_clip (" +
+                             format_number(spec.near_clip) + " m)");
         ok = false;
       }
       const std::optional<render::LensSpec> lens = make_lens_spec(reads, spec.calibration);
@@ -336,11 +336,11 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
       surface_albedos(*model, X_WB, points, r, g, b);
     };
     if (lights_C && spec.backscatter_cache) {
-      lighting.backscatter = spec.backscatter_cache->get(lighting, *lights_C, spec.lens, static_cast<float>(spec.near_m),
-                                                         static_cast<float>(spec.far_m), parallel);
+      lighting.backscatter = spec.backscatter_cache->get(lighting, *lights_C, spec.lens, static_cast<float>(spec.near_clip),
+                                                         static_cast<float>(spec.far_clip), parallel);
     }
     render::RadianceFrame frame_radiance =
-        render::render_radiance(scene, *spec.lens, X_WC, static_cast<float>(spec.near_m), static_cast<float>(spec.far_m),
+        render::render_radiance(scene, *spec.lens, X_WC, static_cast<float>(spec.near_clip), static_cast<float>(spec.far_clip),
                                 own_body, lighting, albedo, parallel);
     std::vector<std::uint8_t> rgb = expose_rgb8(spec.sensor, frame_radiance.radiance, *spec.cos_theta, key, frame, parallel);
     if (spec.mono) {

@@ -101,7 +101,7 @@ TEST(CameraSensorTest, NoiseIsSeededPerFrameAndOpenWaterShowsBackscatter) {
   EXPECT_NE(a.image, capture(world, spec, state, 6).image);
 
   CameraSensor::Spec short_sighted = camera_spec(false);
-  short_sighted.far_m = 5.0;
+  short_sighted.far_clip = 5.0;
   const std::size_t centre = 60u * 161u + 80u;
   const CameraSensor::Capture clear_water = capture(world, short_sighted, state);
   EXPECT_TRUE(std::isnan(clear_water.depth_m[centre]));
@@ -117,7 +117,7 @@ TEST(CameraSensorTest, NoiseIsSeededPerFrameAndOpenWaterShowsBackscatter) {
 TEST(CameraSensorTest, BackscatterTableOfOwnLightsIsMadeOnce) {
   SensorTestWorld world(lit_world(0.2), true);
   CameraSensor::Spec spec = camera_spec(false);
-  spec.far_m = 5.0;
+  spec.far_clip = 5.0;
   const CameraSensor::State state = world.initial_state<CameraSensor>(spec, 10.0, "cam");
   const CameraSensor::Capture first = capture(world, spec, state, 1);
   ASSERT_NE(spec.backscatter_cache, nullptr);

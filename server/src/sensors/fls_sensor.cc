@@ -44,7 +44,7 @@ void FlsPreset::apply(FlsSpec& spec) const {
   spec.fov = fov_deg * kDegToRad;
   spec.beam_width = beam_width_deg * kDegToRad;
   spec.vertical_aperture = vertical_aperture_deg * kDegToRad;
-  spec.acoustics.max_range = max_range_m;
+  spec.acoustics.max_range = max_range;
   spec.acoustics.bins = bins;
 }
 

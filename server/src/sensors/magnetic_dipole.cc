@@ -9,7 +9,7 @@ const config::KeyTable<MagneticDipole>& dipole_keys() {
     t.describe("magnetic_dipole", "a magnetic dipole, in the frame of its list");
     t.vector("position", &MagneticDipole::p_FD).required().unit("m").doc("its position");
     t.vector("moment", &MagneticDipole::m_F).required().unit("A m²").doc("its moment");
-    t.number("radius", &MagneticDipole::radius_m).unit("m").range(config::Range::non_negative())
+    t.number("radius", &MagneticDipole::radius).unit("m").range(config::Range::non_negative())
         .doc("0: a point dipole; > 0: a uniformly magnetised sphere, finite inside");
   });
 }

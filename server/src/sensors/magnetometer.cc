@@ -19,8 +19,8 @@ void validate_dipoles(const std::vector<MagneticDipole>& dipoles, const std::str
       if (!std::isfinite(d.p_FD[k])) invalid(prefix + "position", "must be finite", d.p_FD[k]);
       if (!std::isfinite(d.m_F[k])) invalid(prefix + "moment", "must be finite", d.m_F[k]);
     }
-    if (!(d.radius_m >= 0.0) || std::isinf(d.radius_m))
-      invalid(prefix + "radius_m", "must be >= 0", d.radius_m);
+    if (!(d.radius >= 0.0) || std::isinf(d.radius))
+      invalid(prefix + "radius", "must be >= 0", d.radius);
   }
 }
 
@@ -37,7 +37,7 @@ Eigen::Vector3d dipole_field_T(const Eigen::Vector3d& m_Am2, const Eigen::Vector
 
 Eigen::Vector3d dipole_field_T(const MagneticDipole& dipole_F, const Eigen::Vector3d& p_FQ) {
   const Eigen::Vector3d r = p_FQ - dipole_F.p_FD;
-  const double a = dipole_F.radius_m;
+  const double a = dipole_F.radius;
   if (a > 0.0 && r.squaredNorm() < a * a) return kMu0Over4Pi * 2.0 * dipole_F.m_F / (a * a * a);
   return dipole_field_T(dipole_F.m_F, r);
 }

@@ -94,7 +94,7 @@ TEST(MagneticDipoleTest, SphereRadiusGivesUniformInteriorFieldContinuousAlongThe
   MagneticDipole d;
   d.p_FD = Eigen::Vector3d(10.0, -5.0, 2.0);
   d.m_F = Eigen::Vector3d(0.0, 0.0, 1e4);  // a wreck-sized moment [A m^2]
-  d.radius_m = 2.0;
+  d.radius = 2.0;
   const Eigen::Vector3d inside = kMu0Over4Pi * 2.0 * d.m_F / 8.0;  // (2/3) mu0 M
   for (const Eigen::Vector3d& q : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 0.5, -1.2)}) {
     EXPECT_EQ(dipole_field_T(d, d.p_FD + q), inside);
@@ -106,7 +106,7 @@ TEST(MagneticDipoleTest, SphereRadiusGivesUniformInteriorFieldContinuousAlongThe
   const Eigen::Vector3d on_axis = dipole_field_T(d.m_F, Eigen::Vector3d(0.0, 0.0, 2.0));
   EXPECT_NEAR((on_axis - inside).norm(), 0.0, 16 * kEps * inside.norm());
   // A point dipole at its own position is singular.
-  d.radius_m = 0.0;
+  d.radius = 0.0;
   EXPECT_FALSE(dipole_field_T(d, d.p_FD).allFinite());
 }
 
@@ -343,12 +343,12 @@ TEST(MagnetometerTest, NoiseQuantisationAndClippingActInSensorAxes) {
 TEST(MagnetometerTest, ValidationNamesTheField) {
   MagnetometerParams params;
   params.dipoles_B = {MagneticDipole{}, MagneticDipole{}};
-  params.dipoles_B[1].radius_m = -1.0;
+  params.dipoles_B[1].radius = -1.0;
   try {
     validate(params);
     FAIL() << "no throw";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "dipoles_B[1].radius_m: must be >= 0 (got -1)");
+    EXPECT_EQ(std::string(e.what()), "dipoles_B[1].radius: must be >= 0 (got -1)");
   }
   params.dipoles_B.clear();
   params.dipoles_W = {MagneticDipole{}};

@@ -37,7 +37,7 @@ void MultibeamPreset::apply(MultibeamSpec& spec) const {
   spec.swath = swath_deg * kDegToRad;
   spec.across_beam_width = across_beam_width_deg * kDegToRad;
   spec.along_beam_width = along_beam_width_deg * kDegToRad;
-  spec.acoustics.max_range = max_range_m;
+  spec.acoustics.max_range = max_range;
   spec.acoustics.bins = bins;
 }
 

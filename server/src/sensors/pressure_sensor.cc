@@ -16,7 +16,7 @@ namespace hadal::sensors {
 using config::Range;
 
 NoiseChannelParams PressureSensor::channel(const Spec& spec, double period) {
-  NoiseChannelParams params = per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_max);
+  NoiseChannelParams params = per_sample_white_noise(spec.noise_stddev, period, spec.resolution, 0.0, spec.range_pa);
   params.noise.turn_on_bias = spec.offset;
   return params;
 }
@@ -28,8 +28,9 @@ const config::KeyTable<PressureSensor::Spec, SensorReader>& PressureSensor::keys
     t.describe("sensors[].pressure", "absolute pressure at the sensor's origin");
     t.number("noise_stddev", &Spec::noise_stddev).unit("Pa").range(Range::non_negative()).doc("white noise per sample");
     t.number("resolution", &Spec::resolution).unit("Pa").range(Range::non_negative()).doc("quantisation step; 0: none");
-    t.number("range_max", &Spec::range_max).unit("Pa").range(Range::positive())
-        .doc("full scale (absolute); readings clip to [0, range_max]");
+    t.number("range_pa", &Spec::range_pa).unit("Pa").range(Range::positive())
+        .doc("full scale (absolute); readings clip to [0, range_pa]");
+    t.renamed("range_max", "range_pa", "a channel's full scale is range_<unit>, as range_g and range_ut");
     t.number("offset", &Spec::offset).unit("Pa").doc("a zero offset added to every reading (a transducer zeroed in air)");
   });
 }

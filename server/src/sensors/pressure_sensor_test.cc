@@ -60,7 +60,7 @@ TEST(PressureSensorTest, NoiseHasTheConfiguredSpread) {
   EXPECT_NEAR(stddev, 100.0, 4.0 * 100.0 / std::sqrt(2.0 * n));
 }
 
-// Quantisation to the resolution and clipping to [0, range_max]; above the water the sensor reads the
+// Quantisation to the resolution and clipping to [0, range_pa]; above the water the sensor reads the
 // atmosphere.
 TEST(PressureSensorTest, ResolutionRangeAndAir) {
   SensorTestWorld world = world_at(50.0);
@@ -74,7 +74,7 @@ TEST(PressureSensorTest, ResolutionRangeAndAir) {
   }
   SensorTestWorld deep = world_at(1000.0);
   PressureSensor::Spec small_range;
-  small_range.range_max = 2.0e5;
+  small_range.range_pa = 2.0e5;
   PressureSensor::State clipped = deep.initial_state<PressureSensor>(small_range, 100.0);
   deep.sample<PressureSensor>(small_range, clipped, kX_BS, 100.0);
   EXPECT_EQ(clipped.pressure, 2.0e5);

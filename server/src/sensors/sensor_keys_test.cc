@@ -34,7 +34,7 @@ vehicles:
         frame_id: auv/aft_pressure
         noise_stddev: 50
         resolution: 10
-        range_max: 7.0e7
+        range_pa: 7.0e7
 )");
   const LoadResult result = load_scenario_file(path);
   ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
@@ -52,7 +52,7 @@ vehicles:
   EXPECT_EQ(sensors[1].frame_id, "auv/aft_pressure");
   EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).noise_stddev, 50.0);
   EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).resolution, 10.0);
-  EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).range_max, 7.0e7);
+  EXPECT_EQ(spec_of<sensors::PressureSensor>(sensors[1]).range_pa, 7.0e7);
 }
 
 TEST_F(ScenarioLoaderTest, SensorErrors) {
@@ -61,6 +61,7 @@ TEST_F(ScenarioLoaderTest, SensorErrors) {
       - {name: depth, type: pressure, link: fin}
       - {name: fast, type: pressure, rate_hz: 1000, noise_stddev: -1}
       - {type: pressure, colour: red}
+      - {name: old, type: pressure, range_max: 7.0e7}
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
@@ -74,7 +75,9 @@ TEST_F(ScenarioLoaderTest, SensorErrors) {
                           "(500) (got 1000)",
                    path + ":10:67: error: vehicles[0].sensors[2].noise_stddev: must be >= 0 (got -1)",
                    path + ":11:9: error: vehicles[0].sensors[3]: missing required key 'name'",
-                   path + ":11:26: error: vehicles[0].sensors[3].colour: unknown key 'colour'"}));
+                   path + ":11:26: error: vehicles[0].sensors[3].colour: unknown key 'colour'",
+                   path + ":12:37: error: vehicles[0].sensors[4].range_max: key 'range_max' was renamed 'range_pa' "
+                          "(a channel's full scale is range_<unit>, as range_g and range_ut)"}));
 }
 
 // The profiler (a captured kind): its keys and the common latency_s, which only captured kinds take.
@@ -141,8 +144,8 @@ TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
   EXPECT_EQ(cam.lens->spec().cx, 160.5);
   EXPECT_EQ(cam.lens->distortion_model(), "plumb_bob");
   EXPECT_EQ(cam.lens->D(), (std::vector<double>{-0.1, 0.02, 0.001, 0.0, 0.0}));
-  EXPECT_EQ(cam.near_m, 0.2);
-  EXPECT_EQ(cam.far_m, 30.0);
+  EXPECT_EQ(cam.near_clip, 0.2);
+  EXPECT_EQ(cam.far_clip, 30.0);
   EXPECT_TRUE(cam.mono);
   EXPECT_EQ(cam.sensor.exposure_s, 0.02);
   EXPECT_FALSE(cam.sensor.shot_noise);
@@ -162,12 +165,12 @@ TEST_F(ScenarioLoaderTest, CameraLightsAndOptics) {
   EXPECT_EQ(optics.daylight.Kd_per_m[2], render::jerlov_Kd_per_m(render::JerlovType::kII)[2]);
   EXPECT_EQ(optics.seabed_albedo[2], 0.1);
   EXPECT_EQ(optics.marine_snow.density_per_m3, 50.0);
-  EXPECT_EQ(optics.marine_snow.radius_m, 0.002);
+  EXPECT_EQ(optics.marine_snow.radius, 0.002);
   EXPECT_EQ(optics.seabed_pattern.amplitude, 0.3);
   EXPECT_EQ(optics.seabed_pattern.scale_m, 0.5);
   EXPECT_EQ(optics.seabed_pattern.octaves, 3);
   EXPECT_EQ(optics.seabed_pattern.seed, result.model->world.seed);
-  EXPECT_EQ(optics.marine_snow.max_range_m, render::MarineSnow{}.max_range_m);
+  EXPECT_EQ(optics.marine_snow.max_range, render::MarineSnow{}.max_range);
 
   const std::string bad = write("bad.yaml", std::string(R"(world:
   optics: {scattering: [0.1, -1, 0], daylight: {jerlov_type: XI}, seabed_pattern: {amplitude: 2, octaves: 0},
@@ -473,7 +476,7 @@ TEST_F(ScenarioLoaderTest, MagnetometerDateAndDipoles) {
   ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors.front().format());
   EXPECT_DOUBLE_EQ(result.model->world.start_decimal_year, sensors::decimal_year_from_date(2027, 7, 2));
   ASSERT_EQ(result.model->world.magnetic_dipoles_W.size(), 1u);
-  EXPECT_EQ(result.model->world.magnetic_dipoles_W[0].radius_m, 5.0);
+  EXPECT_EQ(result.model->world.magnetic_dipoles_W[0].radius, 5.0);
   const sensors::MagnetometerParams& p = spec_of<sensors::MagnetometerSensor>(result.model->vehicles[0].sensors[0]).params;
   EXPECT_TRUE(p.dipoles_W.empty());  // the world's dipoles stay the world's
   ASSERT_EQ(p.dipoles_B.size(), 1u);

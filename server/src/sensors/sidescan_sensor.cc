@@ -34,7 +34,7 @@ void SidescanPreset::apply(SidescanSpec& spec) const {
   spec.horizontal_beam_width = horizontal_beam_width_deg * kDegToRad;
   spec.vertical_beam_width = vertical_beam_width_deg * kDegToRad;
   spec.depression = depression_deg * kDegToRad;
-  spec.acoustics.max_range = max_range_m;
+  spec.acoustics.max_range = max_range;
   spec.acoustics.bins = bins;
 }
 

@@ -27,8 +27,8 @@ std::uint64_t sonar_noise_key(const SensorSetup& setup) {
 }
 
 void set_acoustics(const SonarAcoustics& a, render::SonarPingSpec& ping) {
-  ping.min_range_m = a.min_range;
-  ping.max_range_m = a.max_range;
+  ping.min_range = a.min_range;
+  ping.max_range = a.max_range;
   ping.bins = a.bins;
   ping.source_level_db = a.source_level_db;
   ping.noise_level_db = a.noise_level_db;

@@ -7,7 +7,7 @@
 // The pose of the optical frame in the world is X_WC = X_WB X_BS X_SC.
 //
 // Rays: one per pixel, row-major (index v * width + u), from the optical centre along the lens's ray
-// table rotated into W, clipped to [near_m, far_m] measured along each ray (a range clip, which also
+// table rotated into W, clipped to [near_clip, far_clip] measured along each ray (a range clip, which also
 // holds for a fisheye's rays beyond 90 deg).
 // Depth: metres along the optical axis (the z_C of the hit point, sensor_msgs/Image 32FC1 as ROS depth
 // cameras publish it), NaN where the ray hits nothing within the clip or the hit is not in front of
@@ -31,11 +31,11 @@ Eigen::Isometry3d X_SC();
 
 // Appends the lens's width x height rays from the optical frame's pose X_WC to `batch` (coherent), each
 // ignoring `ignore_body` (the camera's own vehicle, or geometry::kNoHit). Throws std::invalid_argument
-// unless 0 <= near_m < far_m (far_m may be +inf) and X_WC is finite.
-void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+// unless 0 <= near_clip < far_clip (far_clip may be +inf) and X_WC is finite.
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_clip, float far_clip,
                      std::int32_t ignore_body, geometry::RayBatch& batch);
 // The same for the image rows [row_begin, row_end) only (0 <= row_begin <= row_end <= height).
-void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_m, float far_m,
+void add_camera_rays(const Lens& lens, const Eigen::Isometry3d& X_WC, float near_clip, float far_clip,
                      std::int32_t ignore_body, int row_begin, int row_end, geometry::RayBatch& batch);
 
 // Depth [m] of one ray: distance along the ray times the z of its unit direction in C, NaN for a miss

@@ -8,8 +8,8 @@
 //             when the light sees the hit point (shadow ray from 'shadow_bias_m' off the surface to the
 //             light; not cast when it provably reaches it: see below), daylight's Lambertian term when nothing is above the hit point (a shadow ray
 //             straight up to the surface; none where daylight is below e^-87.3 of the surface's in
-//             every channel), plus backscatter of the lights from near_m to the hit
-//             distance (to far_m on a miss, or, with an infinite far clip, to
+//             every channel), plus backscatter of the lights from near_clip to the hit
+//             distance (to far_clip on a miss, or, with an infinite far clip, to
 //             'max_backscatter_range_m'), looked up in the frame's BackscatterTable
 //             (render/backscatter_table.h), and daylight's path radiance over the same range (closed
 //             form, to infinity on a miss with an infinite far clip), plus, when the water's
@@ -98,7 +98,7 @@ struct RadianceFrame {
 // between the near clip and the far clip or max_backscatter_range_m). Throws as BackscatterTable does.
 std::shared_ptr<const BackscatterTable> make_backscatter_table(const FrameLighting& lighting,
                                                                const std::vector<SpotLight>& lights_C, const Lens& lens,
-                                                               float near_m, float far_m, const ParallelFor& parallel);
+                                                               float near_clip, float far_clip, const ParallelFor& parallel);
 
 // Lights given in W (SpotLight's p_WL, axis_W) moved into the optical frame C of a camera posed at X_WC,
 // as make_backscatter_table takes them (render_radiance does this when its lighting brings no table).
@@ -111,7 +111,7 @@ std::vector<SpotLight> lights_in_camera_frame(const std::vector<SpotLight>& ligh
 class BackscatterTableCache {
  public:
   std::shared_ptr<const BackscatterTable> get(const FrameLighting& lighting, const std::vector<SpotLight>& lights_C,
-                                              const std::shared_ptr<const Lens>& lens, float near_m, float far_m,
+                                              const std::shared_ptr<const Lens>& lens, float near_clip, float far_clip,
                                               const ParallelFor& parallel);
   std::size_t tables_made() const;  // how many get() has made (tests)
 
@@ -120,7 +120,7 @@ class BackscatterTableCache {
   bool valid_ = false;
   WaterOptics water_;
   int samples_ = 0, grid_px_ = 0;
-  double max_range_m_ = 0.0;
+  double max_range_ = 0.0;
   std::shared_ptr<const Lens> lens_;
   float near_m_ = 0.0f, far_m_ = 0.0f;
   std::vector<SpotLight> lights_C_;
@@ -176,11 +176,11 @@ constexpr int kBandRows = 4;
 // std::invalid_argument for invalid water, lights or clip (validate(), add_camera_rays()) and
 // backscatter_samples or backscatter_grid_px below 1.
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
-                              float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
+                              float near_clip, float far_clip, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoOfPoints& albedo_of, const ParallelFor& parallel = serial_for);
 // The same with a per-point albedo function (per_point()).
 RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& lens, const Eigen::Isometry3d& X_WC,
-                              float near_m, float far_m, std::int32_t ignore_body, const FrameLighting& lighting,
+                              float near_clip, float far_clip, std::int32_t ignore_body, const FrameLighting& lighting,
                               const AlbedoAt& albedo_of, const ParallelFor& parallel = serial_for);
 
 }  // namespace hadal::render

@@ -4,7 +4,7 @@
 // the same seed gives the same particles in every frame and they stream past with parallax as the
 // camera moves.
 //
-// Per frame, every particle within max_range_m of the camera and in front of what the pixel sees (its
+// Per frame, every particle within max_range of the camera and in front of what the pixel sees (its
 // depth) adds the light it scatters back: a Lambertian sphere of albedo `albedo` lit by each light,
 // seen through the water, as a disc of its projected size (sub-pixel discs add their area's share to
 // one pixel). Particles are not shadowed and cast no shadows; they do not occlude the backscatter.

@@ -40,8 +40,8 @@ struct Daylight {
 // Marine snow (render/marine_snow.h): a seeded field of particles fixed in the water.
 struct MarineSnow {
   double density_per_m3 = 0.0;  // particles per cubic metre; 0: none
-  double radius_m = 0.0015;     // mean particle radius (radii uniform in [0.5, 1.5] x this) [m]
-  double max_range_m = 4.0;     // particles drawn up to this distance from the camera [m]
+  double radius = 0.0015;     // mean particle radius (radii uniform in [0.5, 1.5] x this) [m]
+  double max_range = 4.0;     // particles drawn up to this distance from the camera [m]
   double albedo = 0.7;
   std::uint64_t seed = 0;
 };

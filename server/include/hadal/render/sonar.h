@@ -91,8 +91,8 @@ std::vector<SonarBeam> fan_beams(int count, double fov, double width_u, double w
 
 struct SonarPingSpec {
   std::vector<SonarBeam> beams;
-  double min_range_m = 0.5;  // the receive window [m]
-  double max_range_m = 50.0;
+  double min_range = 0.5;  // the receive window [m]
+  double max_range = 50.0;
   int bins = 512;            // range bins of equal size over the window
   int rays_u = 2;            // rays per beam along u
   int rays_v = 256;          // and along v
@@ -105,9 +105,9 @@ struct SonarPingSpec {
   double tvg_spreading_db_per_decade = 30.0;  // N_tvg in TVG(r)
   bool tvg_absorption = true;
 
-  double bin_size_m() const { return (max_range_m - min_range_m) / bins; }
-  double bin_centre_m(int bin) const { return min_range_m + (bin + 0.5) * bin_size_m(); }
-  // The bin of range r, or -1 outside [min_range_m, max_range_m).
+  double bin_size_m() const { return (max_range - min_range) / bins; }
+  double bin_centre_m(int bin) const { return min_range + (bin + 0.5) * bin_size_m(); }
+  // The bin of range r, or -1 outside [min_range, max_range).
   int bin_of(double r) const;
   // Throws std::invalid_argument naming the first unusable value.
   void validate() const;

@@ -56,8 +56,8 @@ struct CameraSpec {
   // (render/frame.h); shared by copies of the spec, rebuilt if its inputs change. Made with the lens by
   // set_lens(); without one, every frame makes its table.
   std::shared_ptr<render::BackscatterTableCache> backscatter_cache;
-  double near_m = 0.1;
-  double far_m = 50.0;
+  double near_clip = 0.1;
+  double far_clip = 50.0;
   bool mono = false;  // mono8 instead of rgb8
   ImageSensorSpec sensor;
 };

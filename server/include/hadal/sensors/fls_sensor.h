@@ -104,7 +104,7 @@ struct FlsPreset {
   double frequency_hz;
   int beams;
   double fov_deg, beam_width_deg, vertical_aperture_deg;
-  double max_range_m;  // the preset's receive window (at most the product's maximum)
+  double max_range;  // the preset's receive window (at most the product's maximum)
   int bins;
   double rate_hz;
 

@@ -12,7 +12,7 @@ namespace hadal::sensors {
 struct MagneticDipole {
   Eigen::Vector3d p_FD = Eigen::Vector3d::Zero();  // position of D in F [m]
   Eigen::Vector3d m_F = Eigen::Vector3d::Zero();   // moment expressed in F [A m^2]
-  double radius_m = 0.0;  // 0: point dipole; > 0: uniformly magnetised sphere (uniform field inside)
+  double radius = 0.0;  // 0: point dipole; > 0: uniformly magnetised sphere (uniform field inside)
 };
 
 // {position [m], moment [A m^2], radius [m]}, in the frame of the list that holds it.

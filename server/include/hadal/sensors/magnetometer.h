@@ -121,7 +121,7 @@ struct MagnetometerState {
 };
 
 // Finite dipole positions and moments, radius >= 0 and finite, finite S, valid noise (noise.h);
-// throws std::invalid_argument naming the field, e.g. "dipoles_B[1].radius_m: must be >= 0 (got -1)".
+// throws std::invalid_argument naming the field, e.g. "dipoles_B[1].radius: must be >= 0 (got -1)".
 void validate(const MagnetometerParams& params);
 // Validates, then draws the noise triad's turn-on errors for the channel key (noise.h channel_key).
 MagnetometerState make_magnetometer_state(const MagnetometerParams& params, std::uint64_t key);

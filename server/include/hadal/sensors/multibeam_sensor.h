@@ -73,7 +73,7 @@ struct MultibeamPreset {
   double frequency_hz;
   int beams;
   double swath_deg, across_beam_width_deg, along_beam_width_deg;
-  double max_range_m;
+  double max_range;
   int bins;
   double rate_hz;
 

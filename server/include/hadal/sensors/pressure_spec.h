@@ -10,7 +10,7 @@ struct PressureSpec {
   using Kind = PressureSensor;
   double noise_stddev = 0.0;  // white noise per sample [Pa]
   double resolution = 0.0;    // quantisation step [Pa]; 0: none
-  double range_max = 1.2e8;   // full scale, absolute [Pa]
+  double range_pa = 1.2e8;   // full scale, absolute [Pa]
   double offset = 0.0;        // added to every reading before quantisation and clipping [Pa]
 };
 

@@ -87,7 +87,7 @@ struct SidescanPreset {
   std::string_view name;
   double frequency_hz;
   double horizontal_beam_width_deg, vertical_beam_width_deg, depression_deg;
-  double max_range_m;
+  double max_range;
   int bins;
   double rate_hz;
 
