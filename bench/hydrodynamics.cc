@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
     const hadal::geometry::SeabedHeight* seabed;
   } soils[] = {{"plane", &plane}, {"height_field_2m", &grid}};
   for (const auto& soil_case : soils) {
-    hadal::physics::SoilContact contact(track_mesh, hadal::physics::find_soil_preset("deep_sea_ooze")->soil, 700.0,
+    hadal::physics::SoilContact contact(track_mesh, hadal::config::find_preset(hadal::physics::soil_presets(), "deep_sea_ooze")->figures, 700.0,
                                         0.005);
     hadal::physics::SoilShearState shear;
     BodyMotion m;

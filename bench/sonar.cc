@@ -61,15 +61,13 @@ int main(int argc, char** argv) {
 
   // The kinds' specs from their presets, as `preset:` in a scenario sets them (sensors/fls_sensor.h,
   // sensors/multibeam_sensor.h).
-  const auto preset = [](const auto& presets, std::string_view name) {
-    for (const auto& p : presets) {
-      if (p.name == name) return p;
-    }
-    std::fprintf(stderr, "hadal_bench_sonar: no preset %.*s\n", static_cast<int>(name.size()), name.data());
+  const auto preset = [](const auto& presets, std::string_view id) {
+    if (const auto* p = config::find_preset(presets, id)) return p->figures;
+    std::fprintf(stderr, "hadal_bench_sonar: no preset %.*s\n", static_cast<int>(id.size()), id.data());
     std::exit(1);
   };
   sensors::FlsSensor::Spec fls_spec;
-  const sensors::FlsPreset oculus = preset(sensors::fls_presets(), "oculus_m750d");
+  const sensors::FlsFigures oculus = preset(sensors::fls_presets(), "oculus_m750d");
   oculus.apply(fls_spec);
   fls_spec.beams = 256;
   fls_spec.rays_per_cell = 10;
@@ -79,7 +77,7 @@ int main(int argc, char** argv) {
   X_WS_fls.translation() = Eigen::Vector3d(0.0, 0.0, floor_z + 10.0);
 
   sensors::MultibeamSensor::Spec mb_spec;
-  const sensors::MultibeamPreset r2sonic = preset(sensors::multibeam_presets(), "r2sonic_2024");
+  const sensors::MultibeamFigures r2sonic = preset(sensors::multibeam_presets(), "r2sonic_2024");
   r2sonic.apply(mb_spec);
   sensors::MultibeamSensor::make_ping(mb_spec);
   Eigen::Isometry3d X_WS_mb = Eigen::Isometry3d::Identity();

@@ -141,10 +141,10 @@ bool same_noise(const ns::NoiseTriadParams& a, const ns::NoiseTriadParams& b) {
   return a.scale_factor_sigma == b.scale_factor_sigma && a.misalignment_sigma == b.misalignment_sigma;
 }
 // The preset whose figures the IMU's noise parameters are exactly (as the loader builds them), or null.
-const ns::ImuDatasheet* identify_preset(const ns::ImuSensor::Spec& imu) {
-  for (const ns::ImuDatasheet& sheet : ns::imu_presets()) {
-    const ns::ImuNoiseParams p = ns::imu_noise_params(sheet);
-    if (same_noise(p.gyro, imu.gyro) && same_noise(p.accel, imu.accel)) return &sheet;
+const hadal::config::Preset<ns::ImuDatasheet>* identify_preset(const ns::ImuSensor::Spec& imu) {
+  for (const hadal::config::Preset<ns::ImuDatasheet>& preset : ns::imu_presets()) {
+    const ns::ImuNoiseParams p = ns::imu_noise_params(preset.figures);
+    if (same_noise(p.gyro, imu.gyro) && same_noise(p.accel, imu.accel)) return &preset;
   }
   return nullptr;
 }
@@ -533,9 +533,9 @@ int main(int argc, char** argv) {
       .text("--preset", &preset_id)
       .flag("--no-record", [&] { write_record = false; });
   if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
-  const ns::ImuDatasheet* preset = nullptr;
+  const hadal::config::Preset<ns::ImuDatasheet>* preset = nullptr;
   if (!preset_id.empty()) {
-    preset = ns::find_imu_preset(preset_id);
+    preset = hadal::config::find_preset(ns::imu_presets(), preset_id);
     if (!preset) return command_line.usage_error("unknown --preset '" + preset_id + "'");
   }
   const auto sample_count = static_cast<std::size_t>(std::llround(hours * 3600.0 * rate));
@@ -558,7 +558,7 @@ int main(int argc, char** argv) {
   model.world.physics_rate_hz = rate;
   ns::ImuSensor::Spec& imu = std::get<ns::ImuSensor::Spec>(imu_sensor.kind);
   if (preset) {
-    const ns::ImuNoiseParams p = ns::imu_noise_params(*preset);
+    const ns::ImuNoiseParams p = ns::imu_noise_params(preset->figures);
     ns::NoiseTriadParams gyro = p.gyro, accel = p.accel;
     gyro.min = imu.gyro.min;
     gyro.max = imu.gyro.max;
@@ -602,7 +602,7 @@ int main(int argc, char** argv) {
   plot::Figure figure;
   char title[200];
   std::snprintf(title, sizeof(title), "Overlapping Allan deviation of a static IMU: %s, %.3g h at %.4g Hz",
-                preset ? std::string(preset->name).c_str() : "custom figures", hours, rate);
+                preset ? std::string(preset->product).c_str() : "custom figures", hours, rate);
   figure.title = title;
   figure.panel_width = 720;
   figure.panel_height = 580;
@@ -622,7 +622,7 @@ int main(int argc, char** argv) {
       .text("vehicle", vehicle_name)
       .text("sensor", imu_name)
       .text("preset", preset_text);
-  if (preset) params.text("preset_name", std::string(preset->name)).text("preset_source", std::string(preset->source));
+  if (preset) params.text("preset_name", std::string(preset->product)).text("preset_source", std::string(preset->source));
   params.raw("seed", std::to_string(model.world.seed))
       .raw("sample_rate_hz", json_number(rate))
       .raw("physics_rate_hz", json_number(model.world.physics_rate_hz))

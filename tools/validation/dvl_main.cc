@@ -604,9 +604,9 @@ int main(int argc, char** argv) {
   }
   const std::string vehicle_name = model.vehicles[vehicle].name;
   const std::string sensor_name = dvl_sensor.name;
-  const ns::DvlDatasheet* preset = nullptr;
-  for (const ns::DvlDatasheet& sheet : ns::dvl_presets()) {
-    const ns::DvlParams p = ns::dvl_params(sheet, period);
+  const hadal::config::Preset<ns::DvlDatasheet>* preset = nullptr;
+  for (const hadal::config::Preset<ns::DvlDatasheet>& sheet : ns::dvl_presets()) {
+    const ns::DvlParams p = ns::dvl_params(sheet.figures, period);
     if (p.type == params.type && p.beam_tilt == params.beam_tilt && p.min_altitude == params.min_altitude &&
         p.max_altitude == params.max_altitude &&
         p.beam_velocity_noise.noise.white_noise_density == params.beam_velocity_noise.noise.white_noise_density) {
@@ -620,7 +620,7 @@ int main(int argc, char** argv) {
   char title[240];
   std::snprintf(title, sizeof(title),
                 "Stationary DVL in bottom lock, %.3g h at %.3g Hz: %s, full bias model vs white noise only", hours, rate,
-                preset ? std::string(preset->name).c_str() : "custom figures");
+                preset ? std::string(preset->product).c_str() : "custom figures");
   figure.title = title;
   figure.panel_width = 640;
   figure.panel_height = 540;
@@ -651,7 +651,7 @@ int main(int argc, char** argv) {
       .text("sensor", sensor_name)
       .text("preset", preset_text);
   if (preset) {
-    params_json.text("preset_name", std::string(preset->name)).text("preset_source", std::string(preset->source));
+    params_json.text("preset_name", std::string(preset->product)).text("preset_source", std::string(preset->source));
   }
   params_json.raw("seed", std::to_string(model.world.seed))
       .raw("rate_hz", json_number(rate))

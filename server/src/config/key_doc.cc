@@ -125,7 +125,8 @@ std::string range_only(const KeyDoc& key) {
       std::string out;
       for (std::size_t i = 0; i < key.choices.size(); ++i) {
         out += (i > 0 ? ", `" : "`") + key.choices[i].name + "`";
-        if (!key.choices[i].doc.empty()) out += " (" + key.choices[i].doc + ")";
+        // A preset's product and source go in the table of presets below the keys.
+        if (!key.choices[i].doc.empty() && key.choices[i].source.empty()) out += " (" + key.choices[i].doc + ")";
       }
       return out;
     }
@@ -169,6 +170,13 @@ std::string reference_table(const TableDoc& table) {
     if (!key.unless.empty()) description += "; not with `" + key.unless + "`";
     out += "| `" + key.name + "` | " + cell(type_text(key)) + " | " + cell(key.unit) + " | " + cell(key.default_text) +
            " | " + cell(range_text(key)) + " | " + cell(description) + " |\n";
+  }
+  for (const KeyDoc& key : table.keys) {
+    if (key.type != KeyType::kChoice || key.choices.empty() || key.choices.front().source.empty()) continue;
+    out += "\n| `" + key.name + ":` | Product | Source |\n|---|---|---|\n";
+    for (const KeyChoice& choice : key.choices) {
+      out += "| `" + choice.name + "` | " + cell(choice.doc) + " | " + cell(choice.source) + " |\n";
+    }
   }
   for (const std::string& id : described_in) out += "\nBesides these, the keys of `" + id + "`.\n";
   if (!renamed.empty()) {

@@ -7,11 +7,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "config/scenario_test_support.h"
+#include "hadal/config/key_doc.h"
 #include "hadal/config/scenario_loader.h"
+#include "hadal/config/vehicle_keys.h"
 #include "hadal/config/security_block.h"
 #include "hadal/render/water_presets.h"
 
@@ -414,6 +417,32 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(special), (Lines{special + ":3:24: error: vehicles[0].include: 'sub' is not a regular file",
                                        special + ":4:24: error: vehicles[1].include: 'pipe' is not a regular file"}));
+}
+
+// Presets are data with their sources (config/preset.h): every `preset` key of every table names, for
+// each of its choices, the product and where its figures come from, and the reference shows both.
+TEST(PresetTest, EveryPresetNamesItsProductAndSource) {
+  std::vector<const TableDoc*> tables = all_tables(scenario_keys().doc());
+  for (const TableDoc* table : all_tables(definition_keys().doc())) tables.push_back(table);
+  std::vector<std::string> with_presets;
+  std::set<const TableDoc*> seen;  // a sensor table is reached from both roots
+  for (const TableDoc* table : tables) {
+    const KeyDoc* preset = table->find("preset");
+    if (preset == nullptr || !seen.insert(table).second) continue;
+    with_presets.push_back(table->id);
+    ASSERT_EQ(preset->type, KeyType::kChoice) << table->id;
+    ASSERT_FALSE(preset->choices.empty()) << table->id;
+    const std::string reference = reference_table(*table);
+    for (const KeyChoice& choice : preset->choices) {
+      EXPECT_FALSE(choice.doc.empty()) << table->id << " preset " << choice.name << " names no product";
+      EXPECT_FALSE(choice.source.empty()) << table->id << " preset " << choice.name << " gives no source";
+      EXPECT_NE(reference.find("| `" + choice.name + "` | " + choice.doc + " | " + choice.source + " |"),
+                std::string::npos)
+          << table->id << " preset " << choice.name << " is not in the reference's preset table";
+    }
+  }
+  // Soil (the world's and each region's), IMU, DVL, camera and the three sonars.
+  EXPECT_EQ(with_presets.size(), 8u) << ::testing::PrintToString(with_presets);
 }
 
 TEST(DiagnosticTest, FormatsPositionAndPath) {

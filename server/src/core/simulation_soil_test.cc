@@ -47,9 +47,9 @@ double bottom_z(const Simulation& sim, const Eigen::Vector3d& size) {
 TEST(SimulationSoil, StaticSinkageOfAPlateMatchesBekkerOnEveryPreset) {
   const Eigen::Vector3d size(0.5, 0.5, 0.05);
   const double A = size.x() * size.y(), b = size.x(), target = 0.03;
-  for (const physics::SoilPreset& preset : physics::soil_presets()) {
-    SCOPED_TRACE(preset.name);
-    physics::SoilParameters soil = preset.soil;
+  for (const config::Preset<physics::SoilParameters>& preset : physics::soil_presets()) {
+    SCOPED_TRACE(std::string(preset.id));
+    physics::SoilParameters soil = preset.figures;
     const double W = soil.pressure(target, b) * A;
     const double mass = W / kG;
     const double k = soil.sinkage_exponent * W / target;
@@ -73,8 +73,8 @@ TEST(SimulationSoil, StaticSinkageOfAPlateMatchesBekkerOnEveryPreset) {
 TEST(SimulationSoil, EachPlateSinksIntoTheSoilOfItsRegion) {
   const Eigen::Vector3d size(0.5, 0.5, 0.05);
   const double A = size.x() * size.y(), b = size.x(), mass = 60.0, W = mass * kG;
-  physics::SoilParameters clay = physics::find_soil_preset("clayey_soil")->soil;
-  physics::SoilParameters sand = physics::find_soil_preset("dry_sand")->soil;
+  physics::SoilParameters clay = config::find_preset(physics::soil_presets(), "clayey_soil")->figures;
+  physics::SoilParameters sand = config::find_preset(physics::soil_presets(), "dry_sand")->figures;
   for (physics::SoilParameters* soil : {&clay, &sand}) {  // critical normal damping at each one's sinkage
     const double z = soil->static_sinkage(W, A, b);
     soil->damping = 2.0 * std::sqrt(soil->sinkage_exponent * W / z * mass) / A;
@@ -110,7 +110,7 @@ TEST(SimulationSoil, EachPlateSinksIntoTheSoilOfItsRegion) {
 TEST(SimulationSoil, ABlockPushedSidewaysHoldsBelowTheSoilsStrengthAndSlidesAbove) {
   const Eigen::Vector3d size(0.3, 0.3, 0.05);
   const double mass = 100.0, A = size.x() * size.y();
-  const physics::SoilParameters soil = physics::find_soil_preset("clayey_soil")->soil;
+  const physics::SoilParameters soil = config::find_preset(physics::soil_presets(), "clayey_soil")->figures;
   const double W = mass * kG;
   const double limit = A * soil.cohesion + W * std::tan(soil.friction_angle);
   // testing::simple_thruster: T = K_T rho D^4 n^2 = 0.3 * 1000 * 0.2^4 n^2, n = setpoint * 50 rev/s.

@@ -18,29 +18,10 @@ constexpr const char* kDefaultPreset = "deep_sea_ooze";
 // soil or one of its regions: both have `preset` and `parameters`.
 template <class S>
 void declare_soil_keys(KeyTable<S>& t) {
-  t.custom(
-       "preset",
-       [](const Value& value, S& soil, NoContext&) {
-         const std::optional<std::string> name = value.string();
-         if (!name) return false;
-         const SoilPreset* found = find_soil_preset(*name);
-         if (found == nullptr) {
-           value.error("unknown soil preset " + config::quoted(*name) + " (one of " + soil_preset_names() + ")");
-           return false;
-         }
-         soil.preset = *name;
-         soil.parameters = found->soil;
-         return true;
-       },
-       R"({"type": "string", "enum": [)" + [] {
-         std::string names;
-         for (const SoilPreset& p : soil_presets()) names += (names.empty() ? "\"" : ", \"") + p.name + "\"";
-         return names;
-       }() + "]}",
-       "string")
-      .default_text("`deep_sea_ooze`")
-      .doc("a published soil (`server/src/physics/soil_presets.cc`: each row's source and what it assumes): " +
-           soil_preset_names() + "; the keys below override its parameters");
+  t.preset("soil", soil_presets(), [](S& soil, const config::Preset<SoilParameters>& p, NoContext&) {
+     soil.preset = p.id;
+     soil.parameters = p.figures;
+   }).default_choice(kDefaultPreset).doc("a published soil (table below); the other keys override its parameters");
   const auto parameter = [](double SoilParameters::*field) {
     return [field](S& soil) -> double& { return soil.parameters.*field; };
   };
@@ -74,7 +55,7 @@ void declare_soil_keys(KeyTable<S>& t) {
   });
 }
 
-SoilParameters ooze() { return find_soil_preset(kDefaultPreset)->soil; }
+SoilParameters ooze() { return config::find_preset(soil_presets(), kDefaultPreset)->figures; }
 
 const KeyTable<SoilSpec::Region>& region_keys() {
   return declare_keys<SoilSpec::Region>(SoilSpec::Region{kDefaultPreset, ooze()}, [](KeyTable<SoilSpec::Region>& t) {

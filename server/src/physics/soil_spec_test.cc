@@ -16,12 +16,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The soil presets as an unknown one's error lists them (physics/soil_presets.cc).
+const std::string kSoilPresets =
+    "'deep_sea_ooze', 'dry_sand', 'sandy_loam', 'clayey_soil', 'lete_sand', 'lunar_soil', 'hit_lss1', "
+    "'heavy_clay_25', 'heavy_clay_40', 'lean_clay_22', 'lean_clay_32', 'clayey_soil_55'";
+
 TEST_F(ScenarioLoaderTest, SoilPresetOverridesAndSeabedContact) {
   // No soil block: the deep-sea ooze preset; a vehicle meets the seabed rigidly unless it says soil.
   const auto plain = load_scenario_file(write("plain.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle));
   ASSERT_TRUE(plain.model) << plain.errors.front().format();
   EXPECT_EQ(plain.model->world.soil.preset, "deep_sea_ooze");
-  EXPECT_EQ(plain.model->world.soil.parameters.k_phi, physics::find_soil_preset("deep_sea_ooze")->soil.k_phi);
+  EXPECT_EQ(plain.model->world.soil.parameters.k_phi, config::find_preset(physics::soil_presets(), "deep_sea_ooze")->figures.k_phi);
   EXPECT_EQ(plain.model->vehicles[0].seabed_contact, SeabedContact::kRigid);
 
   const std::string path = write("s.yaml", R"(world:
@@ -43,7 +48,7 @@ vehicles:
   const auto result = load_scenario_file(path);
   ASSERT_TRUE(result.model) << result.errors.front().format();
   const SoilSpec& soil = result.model->world.soil;
-  const physics::SoilParameters& sand = physics::find_soil_preset("dry_sand")->soil;
+  const physics::SoilParameters& sand = config::find_preset(physics::soil_presets(), "dry_sand")->figures;
   EXPECT_EQ(soil.preset, "dry_sand");
   EXPECT_EQ(soil.parameters.sinkage_exponent, sand.sinkage_exponent);
   EXPECT_EQ(soil.parameters.k_c, sand.k_c);
@@ -82,8 +87,8 @@ vehicles:
         inertia: {ixx: 50, iyy: 80, izz: 100}
 )");
   EXPECT_EQ(errors_of(path),
-            (Lines{path + ":3:13: error: world.soil.preset: unknown soil preset 'quicksand' (one of " +
-                       physics::soil_preset_names() + ")",
+            (Lines{path + ":3:13: error: world.soil.preset: unknown soil preset 'quicksand' (presets: " +
+                       kSoilPresets + ")",
                    path + ":4:23: error: world.soil.sinkage_exponent: must be in (0, 3] (got 0)",
                    path + ":6:5: error: world.soil.k_phi: k_c and k_phi are both 0: the soil would bear nothing",
                    path + ":7:25: error: world.soil.friction_angle_deg: must be in [0, 60] (got 75)",
@@ -118,7 +123,7 @@ vehicles:)") + kInlineVehicle);
   ASSERT_EQ(soil.regions.size(), 2u);
   EXPECT_EQ(soil.regions[0].preset, "dry_sand");
   EXPECT_EQ(soil.regions[1].parameters.cohesion, 5000.0);
-  EXPECT_EQ(soil.regions[1].parameters.k_phi, physics::find_soil_preset("clayey_soil")->soil.k_phi);
+  EXPECT_EQ(soil.regions[1].parameters.k_phi, config::find_preset(physics::soil_presets(), "clayey_soil")->figures.k_phi);
   ASSERT_NE(soil.map, nullptr);
   const physics::SoilLayout layout = soil.layout();
   ASSERT_EQ(layout.soils.size(), 3u);
@@ -168,8 +173,8 @@ vehicles:)") + kInlineVehicle);
   EXPECT_EQ(errors_of(unplaced),
             (Lines{unplaced + ":3:5: error: world.soil.regions: regions need a `map` that says where each one is",
                    unplaced + ":3:34: error: world.soil.regions[0].porosity: unknown key 'porosity'",
-                   unplaced + ":3:57: error: world.soil.regions[1].preset: unknown soil preset 'basalt' (one of " +
-                       physics::soil_preset_names() + ")"}));
+                   unplaced + ":3:57: error: world.soil.regions[1].preset: unknown soil preset 'basalt' (presets: " +
+                       kSoilPresets + ")"}));
   const std::string no_regions = write("e.yaml", std::string(R"(world:
   soil:
     map: {file: three.png, meters_per_pixel: 1}

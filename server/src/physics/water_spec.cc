@@ -1,5 +1,7 @@
 #include "hadal/physics/water_spec.h"
 
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include "hadal/config/key_table.h"
@@ -65,25 +67,27 @@ bool read_ctd(const Value& value, WaterSpec& water) {
     return false;
   }
   bool ok = true;
-  std::optional<double> previous_depth;  // the previous row's depth, when it was valid
+  // The previous row's depth, NaN when it was invalid (a NaN, not an optional: GCC 12 at -O2 misreads the
+  // optional's storage as uninitialised in C++20).
+  double previous_depth = std::numeric_limits<double>::quiet_NaN();
   NoContext none;
   for (const Value& row_value : *rows) {
     const MapReader row(row_value, ctd_row_keys().names());
     if (!row.ok()) {
       ok = false;
-      previous_depth.reset();
+      previous_depth = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
     CtdSample sample;
     std::vector<std::string> failed;
     ok &= ctd_row_keys().read_map(row, &sample, none, &failed);
     const bool depth_ok = std::find(failed.begin(), failed.end(), "depth") == failed.end();
-    if (depth_ok && previous_depth && !(sample.depth > *previous_depth)) {
+    if (depth_ok && !std::isnan(previous_depth) && !(sample.depth > previous_depth)) {
       row.optional("depth")->error("must be greater than the previous row's depth (" +
-                                   config::format_number(*previous_depth) + ")");
+                                   config::format_number(previous_depth) + ")");
       ok = false;
     }
-    previous_depth = depth_ok ? std::optional<double>(sample.depth) : std::nullopt;
+    previous_depth = depth_ok ? sample.depth : std::numeric_limits<double>::quiet_NaN();
     water.ctd.push_back(sample);
   }
   if (!ok) water.ctd.clear();

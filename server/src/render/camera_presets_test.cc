@@ -13,25 +13,26 @@
 namespace hadal::render {
 namespace {
 
+LensSpec calibration(std::string_view id) { return config::find_preset(camera_presets(), id)->figures; }
+
 TEST(CameraPresetsTest, EveryPresetMakesALensWithItsPublishedCalibration) {
-  std::set<std::string> names;
-  for (const CameraPreset& preset : camera_presets()) {
-    SCOPED_TRACE(std::string(preset.name));
-    names.insert(std::string(preset.name));
-    ASSERT_EQ(camera_preset(preset.name)->fx, preset.lens.fx);
-    const Lens lens = make_lens(preset.lens);
+  std::set<std::string> ids;
+  for (const config::Preset<LensSpec>& preset : camera_presets()) {
+    SCOPED_TRACE(std::string(preset.id));
+    ids.insert(std::string(preset.id));
+    const Lens lens = make_lens(preset.figures);
     EXPECT_LT(lens.max_reprojection_error_px(), 1e-3);
-    EXPECT_EQ(lens.K()[0], preset.lens.fx);
-    EXPECT_EQ(lens.K()[2], preset.lens.cx);
-    EXPECT_EQ(lens.K()[4], preset.lens.fy);
-    EXPECT_EQ(lens.K()[5], preset.lens.cy);
-    EXPECT_EQ(lens.D()[0], preset.lens.distortion[0]);
+    EXPECT_EQ(lens.K()[0], preset.figures.fx);
+    EXPECT_EQ(lens.K()[2], preset.figures.cx);
+    EXPECT_EQ(lens.K()[4], preset.figures.fy);
+    EXPECT_EQ(lens.K()[5], preset.figures.cy);
+    EXPECT_EQ(lens.D()[0], preset.figures.distortion[0]);
   }
-  EXPECT_EQ(names.size(), camera_presets().size());  // unique names
+  EXPECT_EQ(ids.size(), camera_presets().size());  // unique ids
   // Spot checks against the sources (camera_presets.cc).
-  EXPECT_EQ(camera_preset("svin2_stereo_rig_v2_left")->distortion[0], -0.17473019446863114);
-  EXPECT_EQ(camera_preset("subpipe_gopro_hero10")->width_px, 2704);
-  EXPECT_FALSE(camera_preset("no_such_camera"));
+  EXPECT_EQ(calibration("svin2_stereo_rig_v2_left").distortion[0], -0.17473019446863114);
+  EXPECT_EQ(calibration("subpipe_gopro_hero10").width_px, 2704);
+  EXPECT_EQ(config::find_preset(camera_presets(), "no_such_camera"), nullptr);
 }
 
 // Downscaling by s: a point seen at pixel p by the full-size calibration (cv::projectPoints) is seen
@@ -39,7 +40,7 @@ TEST(CameraPresetsTest, EveryPresetMakesALensWithItsPublishedCalibration) {
 TEST(CameraPresetsTest, DownscaledCalibrationProjectsAsTheScaledImage) {
   for (const char* name : {"svin2_stereo_rig_v2_left", "subpipe_gopro_hero10"}) {
     SCOPED_TRACE(name);
-    const LensSpec full = *camera_preset(name);
+    const LensSpec full = calibration(name);
     const double s = std::string(name) == "svin2_stereo_rig_v2_left" ? 2.5 : 2.0;
     const LensSpec small = downscaled(full, s);
     EXPECT_EQ(small.width_px * s, full.width_px);
@@ -55,8 +56,8 @@ TEST(CameraPresetsTest, DownscaledCalibrationProjectsAsTheScaledImage) {
       EXPECT_NEAR(b[i].y, (a[i].y + 0.5) / s - 0.5, 1e-9);
     }
   }
-  EXPECT_THROW(downscaled(*camera_preset("subpipe_gopro_hero10"), 3.0), std::invalid_argument);  // 2704 / 3
-  EXPECT_THROW(downscaled(*camera_preset("subpipe_gopro_hero10"), 0.5), std::invalid_argument);
+  EXPECT_THROW(downscaled(calibration("subpipe_gopro_hero10"), 3.0), std::invalid_argument);  // 2704 / 3
+  EXPECT_THROW(downscaled(calibration("subpipe_gopro_hero10"), 0.5), std::invalid_argument);
 }
 
 }  // namespace

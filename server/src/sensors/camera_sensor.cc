@@ -154,13 +154,8 @@ std::optional<render::LensSpec> make_lens_spec(const config::KeyReads& reads, co
   render::LensSpec lens;
   bool lens_read = true;  // false after a preset's error: no lens is made
   if (reads.has("preset")) {
-    std::optional<render::LensSpec> preset = render::camera_preset(c.preset);
-    if (!preset && reads.ok("preset")) {
-      std::vector<std::string> names;
-      for (const auto& p : render::camera_presets()) names.push_back(config::quoted(std::string(p.name)));
-      map.error_at_key("preset", "unknown camera preset " + config::quoted(c.preset) + " (presets: " +
-                                     config::join_names(names) + ")");
-    }
+    std::optional<render::LensSpec> preset;  // none after an unknown preset (reported at its key)
+    if (c.preset != nullptr) preset = *c.preset;
     for (const char* key : kCalibrationKeys) {
       if (map.has(key)) {
         map.error_at_key(key, std::string("the preset sets the calibration; give either '") + key +
@@ -216,11 +211,9 @@ const config::KeyTable<CameraSensor::Spec, SensorReader>& CameraSensor::keys() {
     const auto calibration = [](auto field) {
       return [field](Spec& s) -> auto& { return s.calibration.*field; };
     };
-    std::vector<std::string> names;
-    for (const auto& p : render::camera_presets()) names.emplace_back(p.name);
-    t.string("preset", calibration(&Calibration::preset))
-        .doc("a real camera's published calibration instead of the calibration keys (sources in "
-             "`server/src/render/camera_presets.cc`): " + config::join_names(names));
+    t.preset("camera", render::camera_presets(),
+             [](Spec& spec, const config::Preset<render::LensSpec>& p, SensorReader&) { spec.calibration.preset = &p.figures; })
+        .doc("a real camera's published calibration (table below) instead of the calibration keys");
     t.number("width", calibration(&Calibration::width_px)).unit("px").range(Range::closed(1.0, 8192.0))
         .doc("image width");
     t.number("height", calibration(&Calibration::height_px)).unit("px").range(Range::closed(1.0, 8192.0))

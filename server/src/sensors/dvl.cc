@@ -287,111 +287,72 @@ DvlPing dvl_ping(const DvlParams& params, DvlState& state, const DvlPingInput& i
 
 // --- presets --------------------------------------------------------------------------------------------
 
-const std::vector<DvlDatasheet>& dvl_presets() {
-  static const std::vector<DvlDatasheet> presets = [] {
-    std::vector<DvlDatasheet> list;
-    {
-      // CSV row "Teledyne RDI Workhorse Navigator 600": 600 kHz, 30 deg, 0.7-90 m, 7 Hz, 0.005 m/s per beam;
-      // no water-track figure. The row's 1200/300 kHz variants are unverified and not presets.
-      DvlDatasheet s;
-      s.id = "teledyne_workhorse_navigator_600";
-      s.name = "Teledyne RDI Workhorse Navigator 600";
-      s.source = "dvl_specs.csv row 'Teledyne RDI Workhorse Navigator 600' (Janus piston 4-beam)";
-      s.frequency_khz = 600.0;
-      s.beam_tilt_deg = 30.0;
-      s.min_altitude_m = 0.7;
-      s.max_altitude_m = 90.0;
-      s.update_hz = 7.0;
-      s.beam_velocity_sigma = 0.005;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Teledyne RDI Explorer 1000 (phased array)": ~614 kHz, 30 deg, 0.5-81 m, 12 Hz (the row's
-      // note: the vendor publishes "up to 25 Hz"), 0.018 m/s per beam; no water-track figure.
-      DvlDatasheet s;
-      s.id = "teledyne_explorer_1000";
-      s.name = "Teledyne RDI Explorer 1000 (phased array)";
-      s.source = "dvl_specs.csv row 'Teledyne RDI Explorer 1000 (phased array)'";
-      s.type = DvlType::kPhasedArray;
-      s.frequency_khz = 614.0;
-      s.beam_tilt_deg = 30.0;
-      s.min_altitude_m = 0.5;
-      s.max_altitude_m = 81.0;
-      s.update_hz = 12.0;
-      s.beam_velocity_sigma = 0.018;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Nortek DVL1000-4000m": 1000 kHz, 25 deg, 0.2-75 m, 8 Hz, 0.005 / 0.015 m/s.
-      DvlDatasheet s;
-      s.id = "nortek_dvl1000_4000m";
-      s.name = "Nortek DVL1000-4000m";
-      s.source = "dvl_specs.csv row 'Nortek DVL1000-4000m'";
-      s.frequency_khz = 1000.0;
-      s.beam_tilt_deg = 25.0;
-      s.min_altitude_m = 0.2;
-      s.max_altitude_m = 75.0;
-      s.update_hz = 8.0;
-      s.beam_velocity_sigma = 0.005;
-      s.water_track_velocity_sigma = 0.015;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Nortek DVL500-300m": 500 kHz, 25 deg, 0.3-200 m, 8 Hz, 0.005 / 0.015 m/s.
-      DvlDatasheet s;
-      s.id = "nortek_dvl500_300m";
-      s.name = "Nortek DVL500-300m";
-      s.source = "dvl_specs.csv row 'Nortek DVL500-300m'";
-      s.frequency_khz = 500.0;
-      s.beam_tilt_deg = 25.0;
-      s.min_altitude_m = 0.3;
-      s.max_altitude_m = 200.0;
-      s.update_hz = 8.0;
-      s.beam_velocity_sigma = 0.005;
-      s.water_track_velocity_sigma = 0.015;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Sonardyne Syrinx 600": 600 kHz, 30 deg, 0.4-175 m, 10 Hz (published ping rate up to
-      // 25 Hz), 0.0022 / 0.0044 m/s.
-      DvlDatasheet s;
-      s.id = "sonardyne_syrinx_600";
-      s.name = "Sonardyne Syrinx 600";
-      s.source = "dvl_specs.csv row 'Sonardyne Syrinx 600'";
-      s.frequency_khz = 600.0;
-      s.beam_tilt_deg = 30.0;
-      s.min_altitude_m = 0.4;
-      s.max_altitude_m = 175.0;
-      s.update_hz = 10.0;
-      s.beam_velocity_sigma = 0.0022;
-      s.water_track_velocity_sigma = 0.0044;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Water Linked A50 (ROV-class reference)": 1000 kHz, 22.5 deg, 0.05-50 m, 5 Hz, 0.01 m/s
-      // (from maximilian-nitsch/DVL-Simulator config/waterlinked_a50.yaml @5a6035ae, not a vendor sheet).
-      DvlDatasheet s;
-      s.id = "water_linked_a50";
-      s.name = "Water Linked A50 (ROV-class reference)";
-      s.source = "dvl_specs.csv row 'Water Linked A50 (ROV-class reference)'";
-      s.frequency_khz = 1000.0;
-      s.beam_tilt_deg = 22.5;
-      s.min_altitude_m = 0.05;
-      s.max_altitude_m = 50.0;
-      s.update_hz = 5.0;
-      s.beam_velocity_sigma = 0.01;
-      list.push_back(s);
-    }
-    return list;
-  }();
+const config::Presets<DvlDatasheet>& dvl_presets() {
+  // The rows' figures as written; dvl_test.cc recomputes every preset from the CSV.
+  static const config::Presets<DvlDatasheet> presets = {
+      {.id = "teledyne_workhorse_navigator_600",
+       .product = "Teledyne RDI Workhorse Navigator 600",
+       .source = "dvl_specs.csv (Janus piston 4-beam); no water-track figure. The row's 1200/300 kHz variants are "
+                 "unverified and not presets",
+       .figures = {.frequency_khz = 600.0,
+                   .beam_tilt_deg = 30.0,
+                   .min_altitude_m = 0.7,
+                   .max_altitude_m = 90.0,
+                   .update_hz = 7.0,
+                   .beam_velocity_sigma = 0.005}},
+      {.id = "teledyne_explorer_1000",
+       .product = "Teledyne RDI Explorer 1000 (phased array)",
+       .source = "dvl_specs.csv; ~614 kHz; 12 Hz (the row's note: the vendor publishes \"up to 25 Hz\"); no "
+                 "water-track figure",
+       .figures = {.type = DvlType::kPhasedArray,
+                   .frequency_khz = 614.0,
+                   .beam_tilt_deg = 30.0,
+                   .min_altitude_m = 0.5,
+                   .max_altitude_m = 81.0,
+                   .update_hz = 12.0,
+                   .beam_velocity_sigma = 0.018}},
+      {.id = "nortek_dvl1000_4000m",
+       .product = "Nortek DVL1000-4000m",
+       .source = "dvl_specs.csv",
+       .figures = {.frequency_khz = 1000.0,
+                   .beam_tilt_deg = 25.0,
+                   .min_altitude_m = 0.2,
+                   .max_altitude_m = 75.0,
+                   .update_hz = 8.0,
+                   .beam_velocity_sigma = 0.005,
+                   .water_track_velocity_sigma = 0.015}},
+      {.id = "nortek_dvl500_300m",
+       .product = "Nortek DVL500-300m",
+       .source = "dvl_specs.csv",
+       .figures = {.frequency_khz = 500.0,
+                   .beam_tilt_deg = 25.0,
+                   .min_altitude_m = 0.3,
+                   .max_altitude_m = 200.0,
+                   .update_hz = 8.0,
+                   .beam_velocity_sigma = 0.005,
+                   .water_track_velocity_sigma = 0.015}},
+      {.id = "sonardyne_syrinx_600",
+       .product = "Sonardyne Syrinx 600",
+       .source = "dvl_specs.csv; 10 Hz (published ping rate up to 25 Hz)",
+       .figures = {.frequency_khz = 600.0,
+                   .beam_tilt_deg = 30.0,
+                   .min_altitude_m = 0.4,
+                   .max_altitude_m = 175.0,
+                   .update_hz = 10.0,
+                   .beam_velocity_sigma = 0.0022,
+                   .water_track_velocity_sigma = 0.0044}},
+      {.id = "water_linked_a50",
+       .product = "Water Linked A50 (ROV-class reference)",
+       .source = "dvl_specs.csv, from maximilian-nitsch/DVL-Simulator config/waterlinked_a50.yaml @5a6035ae (not a "
+                 "vendor sheet)",
+       .figures = {.frequency_khz = 1000.0,
+                   .beam_tilt_deg = 22.5,
+                   .min_altitude_m = 0.05,
+                   .max_altitude_m = 50.0,
+                   .update_hz = 5.0,
+                   .beam_velocity_sigma = 0.01}},
+  };
   return presets;
-}
-
-const DvlDatasheet* find_dvl_preset(std::string_view id) {
-  for (const DvlDatasheet& sheet : dvl_presets()) {
-    if (sheet.id == id) return &sheet;
-  }
-  return nullptr;
 }
 
 DvlParams dvl_params(const DvlDatasheet& sheet, double sample_period_s) {

@@ -31,7 +31,6 @@ namespace {
 DvlDatasheet generic_dvl() {
   const DvlParams defaults;
   DvlDatasheet sheet;
-  sheet.id = "generic";
   sheet.beam_tilt_deg = defaults.beam_tilt / kDegToRad;
   sheet.min_altitude_m = defaults.min_altitude;
   sheet.max_altitude_m = defaults.max_altitude;
@@ -71,13 +70,10 @@ const config::KeyTable<DvlSensor::Spec, SensorReader>& DvlSensor::keys() {
   return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].dvl", "four Janus beams: bottom and water track");
     t.before([](Spec& spec, SensorReader& reader) { spec.params = dvl_params(generic_dvl(), 1.0 / reader.rate_hz); });
-    std::vector<std::string> names;
-    for (const DvlDatasheet& p : dvl_presets()) names.emplace_back(p.id);
-    t.preset("DVL", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
-       const DvlDatasheet& sheet = dvl_presets()[index];
-       if (!reader.rate_given) reader.rate_hz = sheet.update_hz;
-       spec.params = dvl_params(sheet, 1.0 / reader.rate_hz);
-     }).doc("a data sheet (`docs/reference/sensors/dvl_datasheet_figures.csv`); sets rate_hz unless given");
+    t.preset("DVL", dvl_presets(), [](Spec& spec, const config::Preset<DvlDatasheet>& p, SensorReader& reader) {
+       if (!reader.rate_given) reader.rate_hz = p.figures.update_hz;
+       spec.params = dvl_params(p.figures, 1.0 / reader.rate_hz);
+     }).doc("a product (table below); sets rate_hz unless given");
     t.number("beam_tilt_deg", [](Spec& s) -> double& { return s.params.beam_tilt; }).degrees()
         .range(Range::closed(1.0, 60.0)).doc("theta, the beams' angle from the axis");
     t.number("first_beam_azimuth_deg", [](Spec& s) -> double& { return s.params.first_beam_azimuth; }).degrees()

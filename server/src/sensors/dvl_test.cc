@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "config/reference_csv_test_support.h"
+
 namespace hadal::sensors {
 namespace {
 
@@ -259,9 +261,9 @@ TEST(DvlSolutionTest, CovarianceFormulaMatchesMonteCarlo) {
 // (water track takes over: the layer is clear of the seabed) and regained on the way down; below 0.7 m
 // the bottom is inside the blanking and the water-track layer, so there is no velocity at all.
 TEST(DvlLockTest, LostAboveMaxAltitudeAndRegainedBelow) {
-  const DvlDatasheet* sheet = find_dvl_preset("teledyne_workhorse_navigator_600");
-  ASSERT_NE(sheet, nullptr);
-  const DvlParams params = dvl_params(*sheet, 1.0 / 7.0);
+  const auto* preset = config::find_preset(dvl_presets(), "teledyne_workhorse_navigator_600");
+  ASSERT_NE(preset, nullptr);
+  const DvlParams params = dvl_params(preset->figures, 1.0 / 7.0);
   DvlState state = make_dvl_state(params, kSeed, "auv", "dvl");
   const Eigen::Vector3d v(1.0, 0.1, 0.0);
   struct Step {
@@ -558,38 +560,50 @@ TEST(DvlDeterminismTest, SameSeedGivesIdenticalPings) {
 
 // ----- presets and validation --------------------------------------------------------------------------
 
-// Workhorse Navigator 600 row: 30 deg, 0.7-90 m, 0.005 m/s per beam per ping at its 7 Hz; every preset
-// gives valid parameters whose per-ping beam sigma at the sheet's rate is the sheet's figure.
+// Every preset is its row of docs/reference/sensors/dvl_specs.csv (read from the file); its parameters at
+// the sheet's rate are valid and give the sheet's per-ping beam sigma. Workhorse Navigator 600 row: 30 deg,
+// 0.7-90 m, 0.005 m/s per beam per ping at its 7 Hz.
 TEST(DvlPresetTest, PresetsFollowTheReferenceRows) {
-  const DvlDatasheet* whn = find_dvl_preset("teledyne_workhorse_navigator_600");
-  ASSERT_NE(whn, nullptr);
-  const DvlParams p = dvl_params(*whn, 1.0 / 7.0);
+  const auto rows = reference_tables::csv_rows(std::string(HADAL_SENSOR_REFERENCE_DIR) + "/dvl_specs.csv",
+                                               "model,freq_kHz,beam_angle_deg,beam_width_deg,min_alt_m,max_alt_m", 11);
+  ASSERT_EQ(dvl_presets().size(), 6u);
+  for (const config::Preset<DvlDatasheet>& preset : dvl_presets()) {
+    SCOPED_TRACE(std::string(preset.id));
+    const auto row = rows.find(std::string(preset.product));
+    ASSERT_NE(row, rows.end()) << "no row '" << preset.product << "'";
+    const auto cell = [&](std::size_t column) {
+      const std::vector<double> figures = reference_tables::cell_figures(row->second[column]);
+      return figures.empty() ? 0.0 : figures[0];  // an empty cell: not listed
+    };
+    const DvlDatasheet& sheet = preset.figures;
+    EXPECT_EQ(sheet.frequency_khz, cell(0));
+    EXPECT_EQ(sheet.beam_tilt_deg, cell(1));
+    EXPECT_EQ(sheet.min_altitude_m, cell(3));
+    EXPECT_EQ(sheet.max_altitude_m, cell(4));
+    EXPECT_EQ(sheet.update_hz, cell(5));
+    EXPECT_EQ(sheet.beam_velocity_sigma, cell(6));
+    EXPECT_EQ(sheet.water_track_velocity_sigma, cell(7));
+    EXPECT_EQ(sheet.type == DvlType::kPhasedArray, preset.product.find("phased array") != std::string_view::npos);
+    const DvlParams params = dvl_params(sheet, 1.0 / sheet.update_hz);
+    EXPECT_NO_THROW(validate(params));
+    EXPECT_NEAR(white_noise_sigma(params.beam_velocity_noise.noise.white_noise_density, 1.0 / sheet.update_hz),
+                sheet.beam_velocity_sigma, 4 * kEps * sheet.beam_velocity_sigma);
+  }
+
+  const DvlDatasheet& whn = config::find_preset(dvl_presets(), "teledyne_workhorse_navigator_600")->figures;
+  const DvlParams p = dvl_params(whn, 1.0 / 7.0);
   EXPECT_DOUBLE_EQ(p.beam_tilt, 30.0 * kDeg);
   EXPECT_EQ(p.min_altitude, 0.7);
   EXPECT_EQ(p.max_altitude, 90.0);
   EXPECT_EQ(p.type, DvlType::kPiston);
-  EXPECT_NEAR(white_noise_sigma(p.beam_velocity_noise.noise.white_noise_density, 1.0 / 7.0), 0.005, 4 * kEps * 0.005);
   // No water-track figure on the row: the bottom-track one.
   EXPECT_EQ(p.water_track_velocity_noise.noise.white_noise_density, p.beam_velocity_noise.noise.white_noise_density);
-
-  const DvlDatasheet* nortek = find_dvl_preset("nortek_dvl1000_4000m");
-  ASSERT_NE(nortek, nullptr);
-  const DvlParams pn = dvl_params(*nortek, 1.0 / 8.0);
+  const DvlParams pn = dvl_params(config::find_preset(dvl_presets(), "nortek_dvl1000_4000m")->figures, 1.0 / 8.0);
   EXPECT_DOUBLE_EQ(pn.beam_tilt, 25.0 * kDeg);
   EXPECT_NEAR(white_noise_sigma(pn.water_track_velocity_noise.noise.white_noise_density, 1.0 / 8.0), 0.015,
               4 * kEps * 0.015);
-  EXPECT_EQ(find_dvl_preset("teledyne_explorer_1000")->type, DvlType::kPhasedArray);
-  EXPECT_EQ(find_dvl_preset("no_such_dvl"), nullptr);
-
-  EXPECT_EQ(dvl_presets().size(), 6u);
-  for (const DvlDatasheet& sheet : dvl_presets()) {
-    const DvlParams params = dvl_params(sheet, 1.0 / sheet.update_hz);
-    EXPECT_NO_THROW(validate(params)) << sheet.id;
-    EXPECT_NEAR(white_noise_sigma(params.beam_velocity_noise.noise.white_noise_density, 1.0 / sheet.update_hz),
-                sheet.beam_velocity_sigma, 4 * kEps * sheet.beam_velocity_sigma)
-        << sheet.id;
-  }
-  EXPECT_THROW(dvl_params(*whn, 0.0), std::invalid_argument);
+  EXPECT_EQ(config::find_preset(dvl_presets(), "no_such_dvl"), nullptr);
+  EXPECT_THROW(dvl_params(whn, 0.0), std::invalid_argument);
 }
 
 TEST(DvlValidationTest, RejectsBadParametersAndInputs) {

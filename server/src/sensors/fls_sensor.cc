@@ -18,27 +18,39 @@ using config::MapReader;
 using config::Need;
 using config::Range;
 
-const std::vector<FlsPreset>& fls_presets() {
-  // Figures from the makers' documents as cited; the window (max_range, bins) and rate are a working setting
-  // within the product's limits (a ping's two-way travel time bounds the rate: sensors/sonar.h).
-  static const std::vector<FlsPreset> presets = {
-      // Blueprint Subsea Oculus M750d, 750 kHz mode: 512 beams over 130 deg, 1.0 deg x 20 deg beams, 120 m
-      // maximum range (Oculus M-series user manual; liboculus Constants.h, Oculus_M750d). Window 40 m.
-      {"oculus_m750d", 750e3, 512, 130.0, 1.0, 20.0, 40.0, 512, 10.0},
-      // The same sonar's 1.2 MHz mode: 0.6 deg x 12 deg beams, 40 m maximum (liboculus); its 70 deg field
-      // of view is the maker's data sheet figure (not re-checked here). Window 20 m.
-      {"oculus_m750d_1200khz", 1.2e6, 512, 70.0, 0.6, 12.0, 20.0, 512, 15.0},
-      // Tritech Gemini 720is: 720 kHz, 120 deg x 20 deg, 1.0 deg acoustic beam width, up to 30 Hz (product
-      // manual 0703-SOM-00002, sections 1.1 and 2.1); 256 beams. Window 50 m.
-      {"gemini_720is", 720e3, 256, 120.0, 1.0, 20.0, 50.0, 512, 10.0},
-      // Sound Metrics ARIS Explorer 3000, 3 MHz mode: 128 beams over 28 deg x 14 deg (Ocean Networks Canada,
-      // ARIS sonar data); beam width 0.25 deg. Window 5 m.
-      {"aris_explorer_3000", 3.0e6, 128, 28.0, 0.25, 14.0, 5.0, 512, 15.0},
+const config::Presets<FlsFigures>& fls_presets() {
+  // The makers' figures as cited; the window (max_range, bins) and rate are a working setting within the
+  // product's limits (a ping's two-way travel time bounds the rate: sensors/sonar.h).
+  static const config::Presets<FlsFigures> presets = {
+      {.id = "oculus_m750d",
+       .product = "Blueprint Subsea Oculus M750d, 750 kHz mode",
+       .source = "Oculus M-series user manual; liboculus Constants.h (Oculus_M750d): 512 beams over 130 deg, "
+                 "1.0 deg x 20 deg beams, 120 m maximum range. Window 40 m",
+       .figures = {.frequency_hz = 750e3, .beams = 512, .fov_deg = 130.0, .beam_width_deg = 1.0,
+                   .vertical_aperture_deg = 20.0, .max_range = 40.0, .bins = 512, .rate_hz = 10.0}},
+      {.id = "oculus_m750d_1200khz",
+       .product = "Blueprint Subsea Oculus M750d, 1.2 MHz mode",
+       .source = "liboculus: 0.6 deg x 12 deg beams, 40 m maximum; the 70 deg field of view is the maker's data "
+                 "sheet figure (not re-checked here). Window 20 m",
+       .figures = {.frequency_hz = 1.2e6, .beams = 512, .fov_deg = 70.0, .beam_width_deg = 0.6,
+                   .vertical_aperture_deg = 12.0, .max_range = 20.0, .bins = 512, .rate_hz = 15.0}},
+      {.id = "gemini_720is",
+       .product = "Tritech Gemini 720is",
+       .source = "product manual 0703-SOM-00002, sections 1.1 and 2.1: 720 kHz, 120 deg x 20 deg, 1.0 deg "
+                 "acoustic beam width, up to 30 Hz; 256 beams. Window 50 m",
+       .figures = {.frequency_hz = 720e3, .beams = 256, .fov_deg = 120.0, .beam_width_deg = 1.0,
+                   .vertical_aperture_deg = 20.0, .max_range = 50.0, .bins = 512, .rate_hz = 10.0}},
+      {.id = "aris_explorer_3000",
+       .product = "Sound Metrics ARIS Explorer 3000, 3 MHz mode",
+       .source = "Ocean Networks Canada, ARIS sonar data: 128 beams over 28 deg x 14 deg; beam width 0.25 deg. "
+                 "Window 5 m",
+       .figures = {.frequency_hz = 3.0e6, .beams = 128, .fov_deg = 28.0, .beam_width_deg = 0.25,
+                   .vertical_aperture_deg = 14.0, .max_range = 5.0, .bins = 512, .rate_hz = 15.0}},
   };
   return presets;
 }
 
-void FlsPreset::apply(FlsSpec& spec) const {
+void FlsFigures::apply(FlsSpec& spec) const {
   spec.acoustics.frequency_hz = frequency_hz;
   spec.beams = beams;
   spec.fov = fov_deg * kDegToRad;
@@ -65,14 +77,10 @@ SensorReach FlsSensor::reach(const Spec& spec) { return {spec.acoustics.max_rang
 const config::KeyTable<FlsSensor::Spec, SensorReader>& FlsSensor::keys() {
   return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].fls", "a forward-looking imaging sonar: a fan of beams in S's x-y plane");
-    std::vector<std::string> names;
-    for (const FlsPreset& p : fls_presets()) names.emplace_back(p.name);
-    t.preset("forward-looking sonar", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
-       const FlsPreset& preset = fls_presets()[index];
-       preset.apply(spec);
-       if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
-     }).doc("a product (`server/src/sensors/fls_sensor.cc`, sources there): sets the keys the file does not give, "
-            "and rate_hz unless given");
+    t.preset("forward-looking sonar", fls_presets(), [](Spec& spec, const config::Preset<FlsFigures>& p, SensorReader& reader) {
+       p.figures.apply(spec);
+       if (!reader.rate_given) reader.rate_hz = p.figures.rate_hz;
+     }).doc("a product (table below): sets the keys the file does not give, and rate_hz unless given");
     t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams over the fan");
     t.number("fov_deg", &Spec::fov).degrees().range(Range::left_open(0.0, 180.0)).doc("the fan's width");
     t.number("beam_width_deg", &Spec::beam_width).degrees().range(Range::left_open(0.0, 30.0)).doc("a beam's width in the fan");

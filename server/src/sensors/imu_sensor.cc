@@ -120,10 +120,8 @@ SensorReach ImuSensor::reach(const Spec& /*spec*/) { return {}; }
 const config::KeyTable<ImuSensor::Spec, SensorReader>& ImuSensor::keys() {
   return config::declare_keys<Spec, SensorReader>([](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].imu", "gyroscopes and accelerometers: the paper's error chain");
-    std::vector<std::string> names;
-    for (const ImuDatasheet& p : imu_presets()) names.emplace_back(p.id);
-    t.preset("IMU", names, [](Spec& spec, std::size_t index, SensorReader&) { spec.figures.sheet = imu_presets()[index]; })
-        .doc("a data sheet (`docs/reference/sensors/imu_datasheet_figures.csv`); without one, no noise");
+    t.preset("IMU", imu_presets(), [](Spec& spec, const config::Preset<ImuDatasheet>& p, SensorReader&) { spec.figures.sheet = p.figures; })
+        .doc("a product (table below); without one, no noise");
     t.map("gyro", [](Spec& s) -> Spec& { return s; }, gyro_keys()).doc("gyroscope figures");
     t.map("accel", [](Spec& s) -> Spec& { return s; }, accel_keys()).doc("accelerometer figures");
     t.boolean("white_noise_only", [](Spec& s) -> bool& { return s.figures.white_noise_only; })
@@ -223,93 +221,58 @@ void ImuSensor::fill_message(const Spec& spec, const State& state, const Message
 
 // --- presets -------------------------------------------------------------------------------------------
 
-const std::vector<ImuDatasheet>& imu_presets() {
-  static const std::vector<ImuDatasheet> presets = [] {
-    std::vector<ImuDatasheet> list;
-    {
-      // CSV row "Honeywell HG1700 (higher-end AG variants)": ARW 0.125 deg/sqrt(h) max, bias instability
-      // 1.0 deg/h (1 sigma), VRW 0.065 ft/s/sqrt(h) max, accel bias 1 mg (1 sigma); scale factors 150 ppm
-      // gyro / 300 ppm accel from the same row's source note.
-      ImuDatasheet s;
-      s.id = "honeywell_hg1700";
-      s.name = "Honeywell HG1700 (higher-end AG variants)";
-      s.source =
-          "Honeywell brochure N61-1619-000-001; also quoted in a REMUS-100 design note: scale factor 150 ppm "
-          "gyro / 300 ppm accel";
-      s.gyro_arw_deg_per_sqrt_h = 0.125;
-      s.gyro_bias_instability_deg_per_h = 1.0;
-      s.gyro_scale_factor_ppm = 150.0;
-      s.accel_noise_density = vrw_to_noise_density(0.065 * kFootInMeters);
-      s.accel_bias_instability_mps2 = milli_g_to_mps2(1.0);
-      s.accel_scale_factor_ppm = 300.0;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Honeywell HG9900": ARW 0.002 max, bias instability 0.0035 deg/h, VRW none listed,
-      // accel bias 25 ug; accel SF 100 ppm, gyro SF 5 ppm.
-      ImuDatasheet s;
-      s.id = "honeywell_hg9900";
-      s.name = "Honeywell HG9900";
-      s.source = "Honeywell brochure N61-1638-000-000; accel SF 100 ppm, gyro SF 5 ppm";
-      s.gyro_arw_deg_per_sqrt_h = 0.002;
-      s.gyro_bias_instability_deg_per_h = 0.0035;
-      s.gyro_scale_factor_ppm = 5.0;
-      s.accel_bias_instability_mps2 = micro_g_to_mps2(25.0);
-      s.accel_scale_factor_ppm = 100.0;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Safran/Sagem Primus 200": ARW 0.004, bias instability 0.05 deg/h, accel noise
-      // 60 ug/sqrt(Hz), accel bias 2 mg rms. The row's parenthesis "(=5.886e-5 m/s^1.5)" is a factor 10
-      // off: 60 ug/sqrt(Hz) = 5.884e-4 m/s^2/sqrt(Hz); the ug figure is used.
-      ImuDatasheet s;
-      s.id = "safran_primus_200";
-      s.name = "Safran/Sagem Primus 200";
-      s.source = "vendor spec sheet";
-      s.gyro_arw_deg_per_sqrt_h = 0.004;
-      s.gyro_bias_instability_deg_per_h = 0.05;
-      s.accel_noise_density = micro_g_per_sqrt_hz_to_noise_density(60.0);
-      s.accel_bias_instability_mps2 = milli_g_to_mps2(2.0);
-      list.push_back(s);
-    }
-    {
-      // CSV row "Sensonor STIM300 (10 g accel)": ARW 0.15, bias instability 0.5 deg/h, VRW 0.06 m/s/sqrt(h),
-      // accel bias 0.05 mg, gyro misalignment 1 mrad, accelerometer range 10 g.
-      ImuDatasheet s;
-      s.id = "sensonor_stim300";
-      s.name = "Sensonor STIM300 (10 g accel)";
-      s.source = "Sensonor TS1524 r9 datasheet; bias over temp 5-10 deg/h; gyro misalignment 1 mrad";
-      s.gyro_arw_deg_per_sqrt_h = 0.15;
-      s.gyro_bias_instability_deg_per_h = 0.5;
-      s.gyro_misalignment_rad = 1e-3;
-      s.accel_noise_density = vrw_to_noise_density(0.06);
-      s.accel_bias_instability_mps2 = milli_g_to_mps2(0.05);
-      s.accel_range_mps2 = 10.0 * kStandardGravity;
-      list.push_back(s);
-    }
-    {
-      // CSV row "Xsens MTi-300 (MTi-100 series)": noise densities only, ARW 0.6 deg/sqrt(h)
-      // (= 0.01 deg/s/sqrt(Hz)) and 60 ug/sqrt(Hz); its in-run bias figures are marked unverified.
-      ImuDatasheet s;
-      s.id = "xsens_mti_300";
-      s.name = "Xsens MTi-300 (MTi-100 series)";
-      s.source =
-          "noise densities as used in a public EKF citing 'Xsens MTi-300 datasheet', accel 5.886e-4 "
-          "m/s^2/sqrt(Hz)); in-run bias figures unverified";
-      s.gyro_arw_deg_per_sqrt_h = 0.6;
-      s.accel_noise_density = micro_g_per_sqrt_hz_to_noise_density(60.0);
-      list.push_back(s);
-    }
-    return list;
-  }();
+const config::Presets<ImuDatasheet>& imu_presets() {
+  // Figures as the CSV's rows give them, converted where its unit is not the field's; imu_sensor_test.cc
+  // recomputes the gyroscope figures from the CSV.
+  static const config::Presets<ImuDatasheet> presets = {
+      {.id = "honeywell_hg1700",
+       .product = "Honeywell HG1700 (higher-end AG variants)",
+       .source = "imu_datasheet_figures.csv: Honeywell brochure N61-1619-000-001 (ARW 0.125 deg/sqrt(h) max, bias "
+                 "instability 1.0 deg/h 1 sigma, VRW 0.065 ft/s/sqrt(h) max, accel bias 1 mg 1 sigma); scale factors "
+                 "150 ppm gyro / 300 ppm accel from a REMUS-100 design note",
+       .figures = {.gyro_arw_deg_per_sqrt_h = 0.125,
+                   .gyro_bias_instability_deg_per_h = 1.0,
+                   .gyro_scale_factor_ppm = 150.0,
+                   .accel_noise_density = vrw_to_noise_density(0.065 * kFootInMeters),
+                   .accel_bias_instability_mps2 = milli_g_to_mps2(1.0),
+                   .accel_scale_factor_ppm = 300.0}},
+      {.id = "honeywell_hg9900",
+       .product = "Honeywell HG9900",
+       .source = "imu_datasheet_figures.csv: Honeywell brochure N61-1638-000-000 (ARW 0.002 max, bias instability "
+                 "0.0035 deg/h, no VRW listed, accel bias 25 ug; accel SF 100 ppm, gyro SF 5 ppm)",
+       .figures = {.gyro_arw_deg_per_sqrt_h = 0.002,
+                   .gyro_bias_instability_deg_per_h = 0.0035,
+                   .gyro_scale_factor_ppm = 5.0,
+                   .accel_bias_instability_mps2 = micro_g_to_mps2(25.0),
+                   .accel_scale_factor_ppm = 100.0}},
+      {.id = "safran_primus_200",
+       .product = "Safran/Sagem Primus 200",
+       .source = "imu_datasheet_figures.csv: vendor spec sheet (ARW 0.004, bias instability 0.05 deg/h, accel "
+                 "noise 60 ug/sqrt(Hz), accel bias 2 mg rms); the row's \"=5.886e-5 m/s^1.5\" is a factor 10 "
+                 "off (60 ug/sqrt(Hz) = 5.884e-4 m/s^2/sqrt(Hz)): the ug figure is used",
+       .figures = {.gyro_arw_deg_per_sqrt_h = 0.004,
+                   .gyro_bias_instability_deg_per_h = 0.05,
+                   .accel_noise_density = micro_g_per_sqrt_hz_to_noise_density(60.0),
+                   .accel_bias_instability_mps2 = milli_g_to_mps2(2.0)}},
+      {.id = "sensonor_stim300",
+       .product = "Sensonor STIM300 (10 g accel)",
+       .source = "imu_datasheet_figures.csv: Sensonor TS1524 r9 datasheet (ARW 0.15, bias instability 0.5 deg/h, "
+                 "VRW 0.06 m/s/sqrt(h), accel bias 0.05 mg, gyro misalignment 1 mrad, accelerometer range 10 g)",
+       .figures = {.gyro_arw_deg_per_sqrt_h = 0.15,
+                   .gyro_bias_instability_deg_per_h = 0.5,
+                   .gyro_misalignment_rad = 1e-3,
+                   .accel_noise_density = vrw_to_noise_density(0.06),
+                   .accel_bias_instability_mps2 = milli_g_to_mps2(0.05),
+                   .accel_range_mps2 = 10.0 * kStandardGravity}},
+      {.id = "xsens_mti_300",
+       .product = "Xsens MTi-300 (MTi-100 series)",
+       .source = "imu_datasheet_figures.csv: noise densities as used in a public EKF citing the Xsens MTi-300 "
+                 "datasheet (ARW 0.6 deg/sqrt(h) = 0.01 deg/s/sqrt(Hz), accel 60 ug/sqrt(Hz)); its in-run bias "
+                 "figures are unverified and left out",
+       .figures = {.gyro_arw_deg_per_sqrt_h = 0.6,
+                   .accel_noise_density = micro_g_per_sqrt_hz_to_noise_density(60.0)}},
+  };
   return presets;
-}
-
-const ImuDatasheet* find_imu_preset(std::string_view id) {
-  for (const ImuDatasheet& sheet : imu_presets()) {
-    if (sheet.id == id) return &sheet;
-  }
-  return nullptr;
 }
 
 ImuNoiseParams imu_noise_params(const ImuDatasheet& sheet, double bank_tau_min_s, double bank_tau_max_s) {

@@ -8,6 +8,7 @@
 #include <cfloat>
 #include <cmath>
 
+#include "config/reference_csv_test_support.h"
 #include "sensor_test_support.h"
 #include "hadal/core/units.h"
 
@@ -141,45 +142,39 @@ TEST(ImuSensorTest, Message) {
   EXPECT_EQ(msg.header().frame_id(), "auv/imu");
 }
 
-// The presets carry the figures of docs/reference/sensors/imu_datasheet_figures.csv unchanged.
+// The presets carry the figures of docs/reference/sensors/imu_datasheet_figures.csv: the gyroscopes' as
+// the CSV's rows give them (read from the file), the accelerometers' converted to SI (checked by hand).
 TEST(ImuSensorTest, PresetsCarryTheDataSheetFigures) {
   ASSERT_EQ(imu_presets().size(), 5u);
-  const ImuDatasheet* hg1700 = find_imu_preset("honeywell_hg1700");
-  ASSERT_NE(hg1700, nullptr);
-  EXPECT_EQ(hg1700->gyro_arw_deg_per_sqrt_h, 0.125);
-  EXPECT_EQ(hg1700->gyro_bias_instability_deg_per_h, 1.0);
-  EXPECT_NEAR(hg1700->accel_noise_density, 3.302e-4, 1e-18);
-  EXPECT_NEAR(hg1700->accel_bias_instability_mps2, 9.80665e-3, 1e-18);
-  const ImuDatasheet* hg9900 = find_imu_preset("honeywell_hg9900");
-  ASSERT_NE(hg9900, nullptr);
-  EXPECT_EQ(hg9900->gyro_arw_deg_per_sqrt_h, 0.002);
-  EXPECT_EQ(hg9900->gyro_bias_instability_deg_per_h, 0.0035);
-  EXPECT_EQ(hg9900->accel_noise_density, 0.0);  // "none listed"
-  EXPECT_NEAR(hg9900->accel_bias_instability_mps2, 2.4516625e-4, 1e-19);
-  const ImuDatasheet* primus = find_imu_preset("safran_primus_200");
-  ASSERT_NE(primus, nullptr);
-  EXPECT_EQ(primus->gyro_arw_deg_per_sqrt_h, 0.004);
-  EXPECT_EQ(primus->gyro_bias_instability_deg_per_h, 0.05);
-  EXPECT_NEAR(primus->accel_noise_density, 5.88399e-4, 1e-18);
-  const ImuDatasheet* stim = find_imu_preset("sensonor_stim300");
-  ASSERT_NE(stim, nullptr);
-  EXPECT_EQ(stim->gyro_arw_deg_per_sqrt_h, 0.15);
-  EXPECT_EQ(stim->gyro_bias_instability_deg_per_h, 0.5);
-  EXPECT_NEAR(stim->accel_noise_density, 1e-3, 1e-18);
-  EXPECT_NEAR(stim->accel_bias_instability_mps2, 4.903325e-4, 1e-18);
-  EXPECT_EQ(stim->gyro_misalignment_rad, 1e-3);
-  const ImuDatasheet* xsens = find_imu_preset("xsens_mti_300");
-  ASSERT_NE(xsens, nullptr);
-  EXPECT_EQ(xsens->gyro_arw_deg_per_sqrt_h, 0.6);
-  EXPECT_EQ(xsens->gyro_bias_instability_deg_per_h, 0.0);  // unverified in the CSV
+  const auto rows = reference_tables::csv_rows(std::string(HADAL_SENSOR_REFERENCE_DIR) + "/imu_datasheet_figures.csv",
+                                      "imu,class,gyro_ARW_deg_per_sqrt_h,gyro_bias_instability_deg_per_h", 7);
+  for (const config::Preset<ImuDatasheet>& preset : imu_presets()) {
+    SCOPED_TRACE(std::string(preset.id));
+    const auto row = rows.find(std::string(preset.product));
+    ASSERT_NE(row, rows.end()) << "no row '" << preset.product << "'";
+    EXPECT_EQ(row->second[1].find("unverified"), std::string::npos);  // the ARW is verified
+    EXPECT_EQ(preset.figures.gyro_arw_deg_per_sqrt_h, reference_tables::cell_figures(row->second[1]).at(0));
+    const bool bias_verified = row->second[2].find("unverified") == std::string::npos;
+    EXPECT_EQ(preset.figures.gyro_bias_instability_deg_per_h,
+              bias_verified ? reference_tables::cell_figures(row->second[2]).at(0) : 0.0);
+    EXPECT_NE(preset.source.find("imu_datasheet_figures.csv"), std::string::npos);
+  }
+  const auto figures = [](std::string_view id) { return config::find_preset(imu_presets(), id)->figures; };
+  EXPECT_NEAR(figures("honeywell_hg1700").accel_noise_density, 3.302e-4, 1e-18);  // 0.065 ft/s/sqrt(h)
+  EXPECT_NEAR(figures("honeywell_hg1700").accel_bias_instability_mps2, 9.80665e-3, 1e-18);
+  EXPECT_EQ(figures("honeywell_hg9900").accel_noise_density, 0.0);  // "none listed"
+  EXPECT_NEAR(figures("honeywell_hg9900").accel_bias_instability_mps2, 2.4516625e-4, 1e-19);
+  EXPECT_NEAR(figures("safran_primus_200").accel_noise_density, 5.88399e-4, 1e-18);
+  EXPECT_NEAR(figures("sensonor_stim300").accel_noise_density, 1e-3, 1e-18);
+  EXPECT_NEAR(figures("sensonor_stim300").accel_bias_instability_mps2, 4.903325e-4, 1e-18);
+  EXPECT_EQ(figures("sensonor_stim300").gyro_misalignment_rad, 1e-3);
   // Rows marked unverified are not presets.
-  EXPECT_EQ(find_imu_preset("kvh_1750"), nullptr);
-  EXPECT_EQ(find_imu_preset("ixblue_phins"), nullptr);
-  for (const ImuDatasheet& sheet : imu_presets()) EXPECT_FALSE(sheet.source.empty()) << sheet.id;
+  EXPECT_EQ(config::find_preset(imu_presets(), "kvh_1750"), nullptr);
+  EXPECT_EQ(config::find_preset(imu_presets(), "ixblue_phins"), nullptr);
 }
 
 TEST(ImuSensorTest, PresetAsTriadParams) {
-  const ImuNoiseParams p = imu_noise_params(*find_imu_preset("sensonor_stim300"));
+  const ImuNoiseParams p = imu_noise_params(config::find_preset(imu_presets(), "sensonor_stim300")->figures);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(p.gyro.axes[i].white_noise_density, arw_to_noise_density(0.15));
     EXPECT_EQ(p.gyro.axes[i].gauss_markov, bias_instability_to_gauss_markov_bank(deg_per_h_to_rad_per_s(0.5), 1.0, 1e5));
@@ -189,14 +184,14 @@ TEST(ImuSensorTest, PresetAsTriadParams) {
   EXPECT_EQ(p.gyro.misalignment_sigma, 1e-3);
   EXPECT_EQ(p.accel.max, 10.0 * kStandardGravity);
   EXPECT_EQ(p.accel.min, -10.0 * kStandardGravity);
-  const ImuNoiseParams hg = imu_noise_params(*find_imu_preset("honeywell_hg1700"));
+  const ImuNoiseParams hg = imu_noise_params(config::find_preset(imu_presets(), "honeywell_hg1700")->figures);
   EXPECT_DOUBLE_EQ(hg.gyro.scale_factor_sigma, 150e-6);
   EXPECT_DOUBLE_EQ(hg.accel.scale_factor_sigma, 300e-6);
   EXPECT_TRUE(std::isinf(hg.accel.max));
-  for (const ImuDatasheet& sheet : imu_presets()) {
-    const ImuNoiseParams q = imu_noise_params(sheet);
-    EXPECT_NO_THROW(make_noise_state(q.gyro, 1)) << sheet.id;
-    EXPECT_NO_THROW(make_noise_state(q.accel, 1)) << sheet.id;
+  for (const config::Preset<ImuDatasheet>& preset : imu_presets()) {
+    const ImuNoiseParams q = imu_noise_params(preset.figures);
+    EXPECT_NO_THROW(make_noise_state(q.gyro, 1)) << preset.id;
+    EXPECT_NO_THROW(make_noise_state(q.accel, 1)) << preset.id;
   }
 }
 

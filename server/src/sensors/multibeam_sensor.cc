@@ -17,21 +17,26 @@ using config::MapReader;
 using config::Need;
 using config::Range;
 
-const std::vector<MultibeamPreset>& multibeam_presets() {
-  // Figures from the makers' documents as cited; window and rate a working setting within them.
-  static const std::vector<MultibeamPreset> presets = {
-      // Teledyne RESON SeaBat 7125 at 400 kHz: 512 beams over 128 deg, 0.54 deg across x 1.1 deg along, up to
-      // 50 pings/s, ~200 m typical range (CSUMB Seafloor Mapping Lab's 7125 description). Window 75 m, 2.5 cm.
-      {"reson_seabat_7125_400khz", 400e3, 512, 128.0, 0.54, 1.1, 75.0, 3000, 10.0},
-      // R2Sonic Sonic 2024 at 400 kHz: 256 beams, swath selectable 10-160 deg (here 130), ping rate up to 60 Hz
-      // (operation manual V3.0, head commands); 0.5 deg across x 1 deg along at 400 kHz (maker's data sheet).
-      // Window 50 m, 1.25 cm.
-      {"r2sonic_2024", 400e3, 256, 130.0, 0.5, 1.0, 50.0, 4000, 15.0},
+const config::Presets<MultibeamFigures>& multibeam_presets() {
+  // The makers' figures as cited; window and rate a working setting within them.
+  static const config::Presets<MultibeamFigures> presets = {
+      {.id = "reson_seabat_7125_400khz",
+       .product = "Teledyne RESON SeaBat 7125 at 400 kHz",
+       .source = "CSUMB Seafloor Mapping Lab's 7125 description: 512 beams over 128 deg, 0.54 deg across x 1.1 deg "
+                 "along, up to 50 pings/s, ~200 m typical range. Window 75 m, 2.5 cm",
+       .figures = {.frequency_hz = 400e3, .beams = 512, .swath_deg = 128.0, .across_beam_width_deg = 0.54,
+                   .along_beam_width_deg = 1.1, .max_range = 75.0, .bins = 3000, .rate_hz = 10.0}},
+      {.id = "r2sonic_2024",
+       .product = "R2Sonic Sonic 2024 at 400 kHz",
+       .source = "operation manual V3.0, head commands: 256 beams, swath selectable 10-160 deg (here 130), ping "
+                 "rate up to 60 Hz; 0.5 deg across x 1 deg along at 400 kHz (maker's data sheet). Window 50 m, 1.25 cm",
+       .figures = {.frequency_hz = 400e3, .beams = 256, .swath_deg = 130.0, .across_beam_width_deg = 0.5,
+                   .along_beam_width_deg = 1.0, .max_range = 50.0, .bins = 4000, .rate_hz = 15.0}},
   };
   return presets;
 }
 
-void MultibeamPreset::apply(MultibeamSpec& spec) const {
+void MultibeamFigures::apply(MultibeamSpec& spec) const {
   spec.acoustics.frequency_hz = frequency_hz;
   spec.beams = beams;
   spec.swath = swath_deg * kDegToRad;
@@ -65,14 +70,10 @@ SensorReach MultibeamSensor::reach(const Spec& spec) { return {spec.acoustics.ma
 const config::KeyTable<MultibeamSensor::Spec, SensorReader>& MultibeamSensor::keys() {
   return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].multibeam", "a multibeam echosounder: bottom detection per beam");
-    std::vector<std::string> names;
-    for (const MultibeamPreset& p : multibeam_presets()) names.emplace_back(p.name);
-    t.preset("multibeam", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
-       const MultibeamPreset& preset = multibeam_presets()[index];
-       preset.apply(spec);
-       if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
-     }).doc("a product (`server/src/sensors/multibeam_sensor.cc`): sets the keys the file does not give, and "
-            "rate_hz unless given");
+    t.preset("multibeam", multibeam_presets(), [](Spec& spec, const config::Preset<MultibeamFigures>& p, SensorReader& reader) {
+       p.figures.apply(spec);
+       if (!reader.rate_given) reader.rate_hz = p.figures.rate_hz;
+     }).doc("a product (table below): sets the keys the file does not give, and rate_hz unless given");
     t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams over the swath");
     t.number("swath_deg", &Spec::swath).degrees().range(Range::left_open(0.0, 180.0)).doc("the swath's width");
     t.number("across_beam_width_deg", &Spec::across_beam_width).degrees().range(Range::left_open(0.0, 30.0))

@@ -225,7 +225,7 @@ TEST_F(ScenarioLoaderTest, CameraPresetAndDownscale) {
       - {name: c, type: camera, preset: subpipe_gopro_hero10, downscale: 3}
 )");
   EXPECT_EQ(errors_of(bad),
-            (Lines{bad + ":8:33: error: vehicles[0].sensors[0].preset: unknown camera preset 'gopro' (presets: "
+            (Lines{bad + ":8:41: error: vehicles[0].sensors[0].preset: unknown camera preset 'gopro' (presets: "
                          "'svin2_stereo_rig_v2_left', 'subpipe_gopro_hero10')",
                    bad + ":9:63: error: vehicles[0].sensors[1].fx: the preset sets the calibration; give either 'fx' "
                          "or 'preset' (use 'downscale' for a smaller image)",
@@ -289,7 +289,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(bad),
             (Lines{bad + ":1:66: error: world.acoustics.seabed_backscatter_db: must be in [-80, 0] (got 3)",
-                   bad + ":8:30: error: vehicles[0].sensors[0].preset: unknown forward-looking sonar preset 'blueview' "
+                   bad + ":8:38: error: vehicles[0].sensors[0].preset: unknown forward-looking sonar preset 'blueview' "
                          "(presets: 'oculus_m750d', 'oculus_m750d_1200khz', 'gemini_720is', 'aris_explorer_3000')",
                    bad + ":9:36: error: vehicles[0].sensors[1].rate_hz: a ping every 0.05 s (rate_hz 20) is shorter "
                          "than the echoes' two-way travel time over max_range 100 m: rate_hz must be <= 8 "
@@ -376,7 +376,7 @@ TEST_F(ScenarioLoaderTest, DvlAndAltimeterErrors) {
       - {name: f, type: pressure, max_altitude: 3}
 )");
   EXPECT_EQ(errors_of(path),
-            (Lines{path + ":8:30: error: vehicles[0].sensors[0].preset: unknown DVL preset 'rdi_600' (presets: "
+            (Lines{path + ":8:38: error: vehicles[0].sensors[0].preset: unknown DVL preset 'rdi_600' (presets: "
                           "'teledyne_workhorse_navigator_600', 'teledyne_explorer_1000', 'nortek_dvl1000_4000m', "
                           "'nortek_dvl500_300m', 'sonardyne_syrinx_600', 'water_linked_a50')",
                    path + ":9:30: error: vehicles[0].sensors[1].min_altitude: max_altitude (90 m) must exceed "
@@ -446,7 +446,7 @@ TEST_F(ScenarioLoaderTest, ImuErrors) {
 )");
   const std::vector<std::string> errors = errors_of(path);
   ASSERT_EQ(errors.size(), 5u);
-  EXPECT_NE(errors[0].find(":8:30: error: vehicles[0].sensors[0].preset: unknown IMU preset 'stim999' (presets: "),
+  EXPECT_NE(errors[0].find(":8:38: error: vehicles[0].sensors[0].preset: unknown IMU preset 'stim999' (presets: "),
             std::string::npos) << errors[0];
   EXPECT_NE(errors[1].find(":8:47: error: vehicles[0].sensors[0].noise_stddev: key 'noise_stddev' is not used by "
                            "sensor type 'imu'"), std::string::npos) << errors[1];

@@ -17,19 +17,26 @@ using config::MapReader;
 using config::Need;
 using config::Range;
 
-const std::vector<SidescanPreset>& sidescan_presets() {
-  // EdgeTech 2205 AUV side-scan: tri-frequency sets of 120/410/850 kHz, arrays at a nominal 24-27 deg look-down
-  // (2205 technical and user's guide 0022175 rev A, sections 9 and 11.4). Its beam widths and ranges per
-  // side are not in that guide: the values here are typical of side-scans at these frequencies (horizontal
-  // 0.5 / 0.25 deg, vertical 50 deg; 150 / 75 m per side), not the maker's figures.
-  static const std::vector<SidescanPreset> presets = {
-      {"edgetech_2205_410khz", 410e3, 0.5, 50.0, 25.0, 150.0, 3000, 5.0},
-      {"edgetech_2205_850khz", 850e3, 0.25, 50.0, 25.0, 75.0, 3000, 10.0},
+const config::Presets<SidescanFigures>& sidescan_presets() {
+  static const config::Presets<SidescanFigures> presets = {
+      {.id = "edgetech_2205_410khz",
+       .product = "EdgeTech 2205 AUV side-scan, 410 kHz",
+       .source = "2205 technical and user's guide 0022175 rev A, sections 9 and 11.4: tri-frequency 120/410/850 kHz, "
+                 "arrays at a nominal 24-27 deg look-down. Beam widths (0.5 deg x 50 deg) and 150 m per side are "
+                 "typical of side-scans at this frequency, not the maker's figures",
+       .figures = {.frequency_hz = 410e3, .horizontal_beam_width_deg = 0.5, .vertical_beam_width_deg = 50.0,
+                   .depression_deg = 25.0, .max_range = 150.0, .bins = 3000, .rate_hz = 5.0}},
+      {.id = "edgetech_2205_850khz",
+       .product = "EdgeTech 2205 AUV side-scan, 850 kHz",
+       .source = "as edgetech_2205_410khz; beam widths (0.25 deg x 50 deg) and 75 m per side typical of side-scans "
+                 "at this frequency, not the maker's figures",
+       .figures = {.frequency_hz = 850e3, .horizontal_beam_width_deg = 0.25, .vertical_beam_width_deg = 50.0,
+                   .depression_deg = 25.0, .max_range = 75.0, .bins = 3000, .rate_hz = 10.0}},
   };
   return presets;
 }
 
-void SidescanPreset::apply(SidescanSpec& spec) const {
+void SidescanFigures::apply(SidescanSpec& spec) const {
   spec.acoustics.frequency_hz = frequency_hz;
   spec.horizontal_beam_width = horizontal_beam_width_deg * kDegToRad;
   spec.vertical_beam_width = vertical_beam_width_deg * kDegToRad;
@@ -72,14 +79,10 @@ SensorReach SidescanSensor::reach(const Spec& /*spec*/) { return {}; }
 const config::KeyTable<SidescanSensor::Spec, SensorReader>& SidescanSensor::keys() {
   return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].sidescan", "a side-scan sonar: a beam to either side of x_S");
-    std::vector<std::string> names;
-    for (const SidescanPreset& p : sidescan_presets()) names.emplace_back(p.name);
-    t.preset("side-scan sonar", names, [](Spec& spec, std::size_t index, SensorReader& reader) {
-       const SidescanPreset& preset = sidescan_presets()[index];
-       preset.apply(spec);
-       if (!reader.rate_given) reader.rate_hz = preset.rate_hz;
-     }).doc("a product (`server/src/sensors/sidescan_sensor.cc`): sets the keys the file does not give, and "
-            "rate_hz unless given");
+    t.preset("side-scan sonar", sidescan_presets(), [](Spec& spec, const config::Preset<SidescanFigures>& p, SensorReader& reader) {
+       p.figures.apply(spec);
+       if (!reader.rate_given) reader.rate_hz = p.figures.rate_hz;
+     }).doc("a product (table below): sets the keys the file does not give, and rate_hz unless given");
     t.number("horizontal_beam_width_deg", &Spec::horizontal_beam_width).degrees().range(Range::left_open(0.0, 30.0))
         .doc("along track");
     t.number("vertical_beam_width_deg", &Spec::vertical_beam_width).degrees().range(Range::left_open(0.0, 120.0))

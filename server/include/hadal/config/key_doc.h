@@ -57,7 +57,8 @@ enum class KeyType {
 
 struct KeyChoice {
   std::string name;
-  std::string doc;  // what it means, for the reference; may be empty
+  std::string doc;     // what it means, for the reference; may be empty
+  std::string source;  // a preset's: where its figures come from (config/preset.h); empty otherwise
 };
 
 struct TableDoc;

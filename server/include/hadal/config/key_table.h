@@ -5,13 +5,11 @@
 // the key table of configs/REFERENCE.md and the JSON Schema (config/key_doc.h, config/scenario_schema.h).
 //
 //   const KeyTable<AcousticsSpec>& acoustics_keys() {
-//     static const KeyTable<AcousticsSpec> table = [] {
-//       KeyTable<AcousticsSpec> t("world.acoustics", "what sonars hear");
+//     return declare_keys<AcousticsSpec>([](KeyTable<AcousticsSpec>& t) {
+//       t.describe("world.acoustics", "what sonars hear");
 //       t.number("seabed_backscatter_db", &AcousticsSpec::seabed_backscatter_db)
 //           .unit("dB").range(Range::closed(-80.0, 0.0)).doc("Lambert's mu of the seabed");
-//       return t;
-//     }();
-//     return table;
+//     });
 //   }
 //
 // Where a key goes: a member pointer (&Spec::field) or a function Spec& -> field& (a lambda), so a key
@@ -37,6 +35,7 @@
 
 #include "hadal/config/key_doc.h"
 #include "hadal/config/key_table_fwd.h"
+#include "hadal/config/preset.h"
 #include "hadal/config/yaml_reader.h"
 #include "hadal/core/units.h"
 
@@ -141,6 +140,15 @@ class KeyTable {
         e.doc.default_text = std::move(text);
         e.default_of = nullptr;
         e.doc.default_choice.clear();
+        e.default_is_contextual = true;
+      });
+    }
+    // A choice whose default the defaults' field does not hold (a preset applied unless another is given).
+    Key& default_choice(std::string name) {
+      return set([&](Entry& e) {
+        e.doc.default_text = "`" + name + "`";
+        e.default_of = nullptr;
+        e.doc.default_choice = std::move(name);
         e.default_is_contextual = true;
       });
     }
@@ -327,29 +335,32 @@ class KeyTable {
                });
   }
 
-  // A `preset` key: one of `names` ("unknown <what> preset 'x' (presets: 'a', 'b')"); `apply` copies the
-  // preset's figures into the spec, before the keys declared after it override them.
-  Key preset(std::string what, std::vector<std::string> names, std::function<void(T&, std::size_t, Ctx&)> apply) {
+  // A `preset` key: the id of one of `presets` ("unknown <what> preset 'x' (presets: 'a', 'b')"); `apply`
+  // copies its figures into the spec, before the keys declared after it override them. The reference
+  // lists every preset's product and source under the table.
+  template <class Figures>
+  Key preset(std::string what, const Presets<Figures>& presets,
+             std::type_identity_t<std::function<void(T&, const Preset<Figures>&, Ctx&)>> apply) {
     Key key = add("preset", KeyType::kChoice,
-                  [what, names, apply](const MapReader& map, const Entry& e, T& out, Ctx& ctx) {
+                  [what, &presets, apply](const MapReader& map, const Entry& e, T& out, Ctx& ctx) {
                     const std::optional<Value> value = e.get(map);
                     if (!value) return !e.doc.required;
-                    const std::optional<std::string> name = value->string();
-                    if (!name) return false;
-                    std::vector<std::string> listed;
-                    for (std::size_t i = 0; i < names.size(); ++i) {
-                      if (names[i] == *name) {
-                        apply(out, i, ctx);
-                        return true;
-                      }
-                      listed.push_back(config::quoted(names[i]));
+                    const std::optional<std::string> id = value->string();
+                    if (!id) return false;
+                    if (const Preset<Figures>* preset = find_preset(presets, *id)) {
+                      apply(out, *preset, ctx);
+                      return true;
                     }
-                    map.error_at_key(e.doc.name, "unknown " + what + " preset " + config::quoted(*name) + " (presets: " +
-                                                     join_names(listed) + ")");
+                    std::vector<std::string> listed;
+                    for (const Preset<Figures>& p : presets) listed.push_back(config::quoted(std::string(p.id)));
+                    value->error("unknown " + what + " preset " + config::quoted(*id) + " (presets: " +
+                                 join_names(listed) + ")");
                     return false;
                   },
                   [](const Entry&, T&) -> std::string { return "none"; });
-    for (const std::string& name : names) entries_.back().doc.choices.push_back({name, ""});
+    for (const Preset<Figures>& p : presets) {
+      entries_.back().doc.choices.push_back({std::string(p.id), std::string(p.product), std::string(p.source)});
+    }
     return key;
   }
 
@@ -440,7 +451,7 @@ class KeyTable {
     std::vector<KeyChoice> docs;
     for (auto& c : choices) {
       list->emplace_back(c.name, c.value);
-      docs.push_back({c.name, c.doc});
+      docs.push_back({c.name, c.doc, ""});
     }
     Key key = add(std::move(name), KeyType::kChoice,
                   [access, list](const MapReader& map, const Entry& e, T& out, Ctx&) {

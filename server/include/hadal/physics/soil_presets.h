@@ -5,25 +5,13 @@
 // those files. Where the table leaves K blank the preset says what it assumes.
 #pragma once
 
-#include <string>
-#include <string_view>
-#include <vector>
-
+#include "hadal/config/preset.h"
 #include "hadal/physics/terramechanics.h"
 
 namespace hadal::physics {
 
-struct SoilPreset {
-  std::string name;        // YAML name, e.g. "dry_sand"
-  std::string table_row;   // the `soil` column of its row in the reference table
-  SoilParameters soil;     // SI; damping and shear_damping_time at their defaults
-  std::string note;        // what the preset assumes beyond its row ("" if nothing)
-};
-
-const std::vector<SoilPreset>& soil_presets();
-// The preset of that name, or null.
-const SoilPreset* find_soil_preset(std::string_view name);
-// The presets' names, comma-separated (for error messages).
-std::string soil_preset_names();
+// Each preset's figures are its parameters in SI; its product is the `soil` column of its row in the
+// reference table, its source the table and what the preset assumes beyond the row.
+const config::Presets<SoilParameters>& soil_presets();
 
 }  // namespace hadal::physics

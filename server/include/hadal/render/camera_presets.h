@@ -1,6 +1,6 @@
 // Calibrations of real underwater cameras, published with their datasets, as lens presets for the
 // camera sensor (`preset:` in YAML, configs/REFERENCE.md). Each entry is copied digit for digit from
-// its source, named in camera_presets.cc next to the numbers. None of the sources says whether the
+// its source, named with the numbers (camera_presets.cc). None of the sources says whether the
 // calibration was made in water through the housing's port or in air; these are the calibrations the
 // datasets' images come with. (A published deep-sea ROV fisheye calibration, UWHandles', is not here:
 // its polynomial folds over before the image corners, which lie outside the fisheye's image circle,
@@ -12,23 +12,13 @@
 // coordinates and is unchanged.
 #pragma once
 
-#include <optional>
-#include <string>
-#include <string_view>
-#include <vector>
-
+#include "hadal/config/preset.h"
 #include "hadal/render/lens.h"
 
 namespace hadal::render {
 
-struct CameraPreset {
-  std::string_view name;
-  std::string_view camera;  // what it is, in a few words
-  LensSpec lens;
-};
-
-const std::vector<CameraPreset>& camera_presets();
-std::optional<LensSpec> camera_preset(std::string_view name);
+// Each preset's figures are its lens (config/preset.h).
+const config::Presets<LensSpec>& camera_presets();
 
 // Throws std::invalid_argument unless s >= 1 and both image sides divide by s into whole numbers.
 LensSpec downscaled(const LensSpec& lens, double s);

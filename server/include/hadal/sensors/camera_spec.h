@@ -20,6 +20,7 @@ struct CameraSensor;
 
 namespace hadal::render {
 class Lens;
+struct LensSpec;
 class BackscatterTableCache;
 }  // namespace hadal::render
 
@@ -35,10 +36,10 @@ struct ImageSensorSpec {
   bool vignetting = true;  // the cos^4 law
 };
 
-// The calibration as the file gives it: a preset's name, or a field of view or fx, fy, cx, cy, a lens
+// The calibration as the file gives it: a preset's lens, or a field of view or fx, fy, cx, cy, a lens
 // model and its distortion; then a downscale. The lens is made of it when the keys are read.
 struct CameraCalibration {
-  std::string preset;  // "": none
+  const render::LensSpec* preset = nullptr;  // one of render::camera_presets(); null: none
   int width_px = 640;
   int height_px = 480;
   double hfov = 90.0 * kDegToRad;  // [rad]; used without fx, fy

@@ -80,6 +80,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/preset.h"
 #include "hadal/sensors/dvl_spec.h"
 #include "hadal/sensors/noise.h"
 
@@ -197,10 +198,8 @@ DvlPing dvl_ping(const DvlParams& params, DvlState& state, const DvlPingInput& i
 // unverified long-term accuracy (a scale-factor figure) is not used.
 // ---------------------------------------------------------------------------------------------------
 
+// A data sheet's figures (a preset's, config/preset.h), in the sheet's units.
 struct DvlDatasheet {
-  std::string_view id;      // preset key, e.g. "teledyne_workhorse_navigator_600"
-  std::string_view name;    // CSV column model
-  std::string_view source;  // the CSV row and its notes
   DvlType type = DvlType::kPiston;
   double frequency_khz = 0.0;
   double beam_tilt_deg = 30.0;
@@ -213,9 +212,7 @@ struct DvlDatasheet {
 
 // Workhorse Navigator 600, Explorer 1000 (phased array), Nortek DVL1000-4000m, Nortek DVL500-300m,
 // Sonardyne Syrinx 600, Water Linked A50.
-const std::vector<DvlDatasheet>& dvl_presets();
-// The preset with this id, or nullptr.
-const DvlDatasheet* find_dvl_preset(std::string_view id);
+const config::Presets<DvlDatasheet>& dvl_presets();
 
 // A datasheet as parameters for a DVL sampled every sample_period_s (> 0; 1 / rate_hz of the sensor):
 // per-ping sigma -> white-noise density N = sigma sqrt(T) (so each ping has std sigma at period T, as the

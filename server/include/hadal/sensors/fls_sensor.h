@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "hadal/core/units.h"
+#include "hadal/config/preset.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/sonar.h"
 #include "hadal/sensors/fls_spec.h"
@@ -98,19 +99,20 @@ struct FlsSensor {
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);
 };
 
-// A forward-looking sonar product (a preset).
-struct FlsPreset {
-  std::string_view name;
-  double frequency_hz;
-  int beams;
-  double fov_deg, beam_width_deg, vertical_aperture_deg;
-  double max_range;  // the preset's receive window (at most the product's maximum)
-  int bins;
-  double rate_hz;
+// A product's figures (a preset's, config/preset.h).
+struct FlsFigures {
+  double frequency_hz = 0.0;
+  int beams = 0;
+  double fov_deg = 0.0;                // the fan's width
+  double beam_width_deg = 0.0;         // a beam's width in the fan
+  double vertical_aperture_deg = 0.0;  // a beam's height across the fan
+  double max_range = 0.0;  // the preset's receive window [m] (at most the product's maximum)
+  int bins = 0;            // samples over the window
+  double rate_hz = 0.0;    // pings per second, a working setting within the product's limit
 
   // Its figures into a spec (the keys the file gives override them).
   void apply(FlsSpec& spec) const;
 };
-const std::vector<FlsPreset>& fls_presets();
+const config::Presets<FlsFigures>& fls_presets();
 
 }  // namespace hadal::sensors

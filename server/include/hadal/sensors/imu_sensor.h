@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/preset.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/imu_spec.h"
@@ -60,9 +61,7 @@ struct ImuSensor {
 
 // HG1700, HG9900, Primus 200, STIM300 (10 g) and the Xsens MTi-300 noise densities (its bias figures
 // are unverified and left out); the KVH 1750 and iXblue rows are unverified and not presets.
-const std::vector<ImuDatasheet>& imu_presets();
-// The preset with this id, or nullptr.
-const ImuDatasheet* find_imu_preset(std::string_view id);
+const config::Presets<ImuDatasheet>& imu_presets();
 
 struct ImuNoiseParams {
   NoiseTriadParams gyro;   // [rad/s]

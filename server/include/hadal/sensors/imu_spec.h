@@ -2,7 +2,6 @@
 #pragma once
 
 #include <limits>
-#include <string_view>
 
 #include "hadal/sensors/noise_params.h"
 
@@ -10,12 +9,9 @@ namespace hadal::sensors {
 
 struct ImuSensor;
 
-// Figures as the data sheet gives them (0 = not listed). The accelerometer bias figure is used as its
-// bias instability.
+// Figures as the data sheet gives them (0 = not listed); a preset's figures (config/preset.h). The
+// accelerometer bias figure is used as its bias instability.
 struct ImuDatasheet {
-  std::string_view id;      // preset key, e.g. "honeywell_hg1700"
-  std::string_view name;    // product
-  std::string_view source;  // where the figures come from
   double gyro_arw_deg_per_sqrt_h = 0.0;
   double gyro_bias_instability_deg_per_h = 0.0;
   double gyro_rrw_deg_per_h_per_sqrt_h = 0.0;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "hadal/core/units.h"
+#include "hadal/config/preset.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/sonar.h"
 #include "hadal/sensors/multibeam_spec.h"
@@ -68,18 +69,20 @@ struct MultibeamSensor {
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
 };
 
-struct MultibeamPreset {
-  std::string_view name;
-  double frequency_hz;
-  int beams;
-  double swath_deg, across_beam_width_deg, along_beam_width_deg;
-  double max_range;
-  int bins;
-  double rate_hz;
+// A product's figures (a preset's, config/preset.h).
+struct MultibeamFigures {
+  double frequency_hz = 0.0;
+  int beams = 0;
+  double swath_deg = 0.0;
+  double across_beam_width_deg = 0.0;  // a beam's width in the swath
+  double along_beam_width_deg = 0.0;   // a beam's width across it
+  double max_range = 0.0;  // the preset's receive window [m] (at most the product's maximum)
+  int bins = 0;            // samples over the window
+  double rate_hz = 0.0;    // pings per second, a working setting within the product's limit
 
   // Its figures into a spec (the keys the file gives override them).
   void apply(MultibeamSpec& spec) const;
 };
-const std::vector<MultibeamPreset>& multibeam_presets();
+const config::Presets<MultibeamFigures>& multibeam_presets();
 
 }  // namespace hadal::sensors

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "hadal/core/units.h"
+#include "hadal/config/preset.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/sonar.h"
 #include "hadal/sensors/sidescan_spec.h"
@@ -83,17 +84,19 @@ struct SidescanSensor {
   static void deliver(const SampleContext& context, const Spec& spec, State& state, Capture&& capture);
 };
 
-struct SidescanPreset {
-  std::string_view name;
-  double frequency_hz;
-  double horizontal_beam_width_deg, vertical_beam_width_deg, depression_deg;
-  double max_range;
-  int bins;
-  double rate_hz;
+// A product's figures (a preset's, config/preset.h).
+struct SidescanFigures {
+  double frequency_hz = 0.0;
+  double horizontal_beam_width_deg = 0.0;
+  double vertical_beam_width_deg = 0.0;
+  double depression_deg = 0.0;  // the arrays' look-down below horizontal
+  double max_range = 0.0;  // the preset's receive window [m] (at most the product's maximum)
+  int bins = 0;            // samples over the window
+  double rate_hz = 0.0;    // pings per second, a working setting within the product's limit
 
   // Its figures into a spec (the keys the file gives override them).
   void apply(SidescanSpec& spec) const;
 };
-const std::vector<SidescanPreset>& sidescan_presets();
+const config::Presets<SidescanFigures>& sidescan_presets();
 
 }  // namespace hadal::sensors
