@@ -16,6 +16,7 @@
 #include "hadal/config/scenario_loader.h"
 #include "hadal/config/vehicle_keys.h"
 #include "hadal/config/security_block.h"
+#include "hadal/geometry/triangle_mesh.h"
 #include "hadal/render/water_presets.h"
 
 namespace hadal::config {

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "hadal/config/entry_keys.h"
+#include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/mesh_transform.h"
 

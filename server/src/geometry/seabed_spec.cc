@@ -4,7 +4,9 @@
 #include <utility>
 
 #include "hadal/config/key_table.h"
+#include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_transform.h"
+#include "hadal/geometry/terrain.h"
 
 namespace hadal::geometry {
 namespace {

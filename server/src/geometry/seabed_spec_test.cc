@@ -9,6 +9,7 @@
 
 #include "config/scenario_test_support.h"
 #include "hadal/config/scenario_loader.h"
+#include "hadal/geometry/triangle_mesh.h"
 
 namespace hadal::config {
 namespace {

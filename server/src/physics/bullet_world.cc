@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "hadal/geometry/triangle_mesh.h"
+
 namespace hadal::physics {
 
 namespace {

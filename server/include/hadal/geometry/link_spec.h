@@ -15,10 +15,13 @@
 #include <vector>
 
 #include "hadal/config/key_table_fwd.h"
-#include "hadal/geometry/mesh_import.h"
-#include "hadal/geometry/triangle_mesh.h"
+#include "hadal/geometry/mesh_import_options.h"
 
 namespace hadal {
+
+namespace geometry {
+struct TriangleMesh;  // geometry/triangle_mesh.h: only held by shared_ptr here
+}  // namespace geometry
 
 namespace config {
 struct VehicleContext;

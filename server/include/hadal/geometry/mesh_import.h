@@ -27,6 +27,7 @@
 // (its default NullLogger) and nothing is printed to stdout.
 #pragma once
 
+#include "hadal/geometry/mesh_import_options.h"
 #include "hadal/geometry/triangle_mesh.h"
 
 #include <optional>
@@ -34,18 +35,6 @@
 #include <vector>
 
 namespace hadal::geometry {
-
-enum class UpAxis { kZ, kY };  // the file's up axis; kY (glTF's convention) is rotated +90 deg about x
-
-struct ImportOptions {
-  double scale = 1.0;  // file units -> metres, > 0
-  UpAxis up_axis = UpAxis::kZ;
-  bool load_textures = true;
-  // Free assimp's scene on a background thread once its data has been copied out (assimp allocates
-  // every face separately: ~20 ms per million triangles the caller need not wait for; only scenes
-  // of 64k faces or more are handed over). false: freed before import_mesh returns.
-  bool background_cleanup = true;
-};
 
 struct ImportResult {
   std::optional<TriangleMesh> mesh;  // set on success

@@ -10,10 +10,14 @@
 #include <string>
 
 #include "hadal/config/key_table_fwd.h"
-#include "hadal/geometry/mesh_import.h"
-#include "hadal/geometry/terrain.h"
+#include "hadal/geometry/mesh_import_options.h"
+#include "hadal/geometry/terrain_spec.h"
 
 namespace hadal {
+
+namespace geometry {
+struct TriangleMesh;  // geometry/triangle_mesh.h: only held by shared_ptr here
+}  // namespace geometry
 
 namespace config {
 struct LoadContext;

@@ -12,6 +12,7 @@
 // a flat sediment plain of radius plain_radius around the origin, rising into ridged, rougher terrain.
 #pragma once
 
+#include "hadal/geometry/terrain_spec.h"
 #include "hadal/geometry/triangle_mesh.h"
 
 #include <cstdint>
@@ -33,30 +34,12 @@ struct HeightField {
 // Two triangles per cell; single material "seabed".
 TriangleMesh heightfield_to_mesh(const HeightField& field);
 
-struct HeightmapSpec {
-  std::string file;               // 16-bit (or 8-bit) single-channel PNG or TIFF
-  double meters_per_pixel = 1.0;  // > 0
-  double height_min = -100.0;     // z of pixel value 0 [m]
-  double height_max = -90.0;      // z of the largest pixel value (65535 or 255) [m]
-};
-
 struct HeightmapLoad {
   std::optional<HeightField> field;  // centred on the origin of W
   std::string error;                 // "<file>: <problem>"
 };
 
 HeightmapLoad load_heightmap(const HeightmapSpec& spec);
-
-struct ProceduralSeabedSpec {
-  double size_x = 400.0, size_y = 400.0;  // extent, centred on the origin [m]
-  double resolution = 2.0;                // sample spacing [m]
-  double z_datum = -100.0;                // height of the sediment plain [m]
-  double relief = 6.0;                    // fbm amplitude [m]
-  double ridge_height = 4.0;              // [m]
-  double slope = 0.0;                     // regional slope [rad]
-  double plain_radius = 60.0;             // [m]
-  std::uint64_t seed = 0;
-};
 
 HeightField procedural_seabed(const ProceduralSeabedSpec& spec);
 
