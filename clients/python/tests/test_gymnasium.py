@@ -1,5 +1,5 @@
 """Gymnasium's own checks on hadal.env, where Gymnasium is importable (it is not a Debian 12 package, so the
-default test run skips this; docs/benchmarks.md and the issue notes record a run against Gymnasium's source)."""
+default test run skips this; the issue notes record a run against Gymnasium's source)."""
 
 import pytest
 

@@ -2,7 +2,7 @@
 // origin S from the ocean model (atmospheric above the surface),
 //   p_ideal = p(max(d(p_WS), 0)),   d = water.surface_z - z,
 // then a constant `offset` (the channel's turn-on bias) and white noise of `noise_stddev` per sample,
-// quantisation to `resolution` and clipping to [0, range_max] (sensors/noise.h, one scalar channel
+// quantisation to `resolution` and clipping to [0, range_pa] (sensors/noise.h, one scalar channel
 // "pressure"). The message's variance is
 // noise_stddev^2 + resolution^2 / 12.
 // YAML keys: PressureSensor::keys() (server/src/sensors/pressure_sensor.cc), shown in
