@@ -25,7 +25,7 @@ const config::KeyTable<FinActuator::Spec>& FinActuator::keys() {
     t.number("max_angle_deg", &Spec::max_angle).degrees().range(Range::left_open(0.0, 90.0))
         .doc("setpoint +-1 commands +- this");
     t.number("max_rate_deg_per_s", &Spec::max_rate)
-        .convert([](double deg_s) { return deg_s * kDegToRad; }, [](double rad_s) { return rad_s / kDegToRad; }, "deg/s")
+        .convert([](double deg_s) { return deg_s * kDegToRad; }, [](double rad_s) { return to_degrees(rad_s); }, "deg/s")
         .range(Range::left_open(0.0, 1e4)).doc("the servo's slew rate");
     t.number("lift_slope", &Spec::lift_slope).unit("1/rad").range(Range::left_open(0.0, 20.0))
         .default_text("Helmbold's 2 pi AR / (2 + sqrt(AR² + 4))").doc("C_L_alpha");
@@ -39,14 +39,14 @@ const config::KeyTable<FinActuator::Spec>& FinActuator::keys() {
         reads.error_at_key(reads.has("chord_direction") ? "chord_direction" : "hinge_axis",
                            "the chord direction must be perpendicular to the hinge axis (their angle is " +
                                config::format_approximate(
-                                   std::acos(std::clamp(spec.hinge_axis_L.dot(spec.chord_L), -1.0, 1.0)) / kDegToRad) +
+                                   to_degrees(std::acos(std::clamp(spec.hinge_axis_L.dot(spec.chord_L), -1.0, 1.0)))) +
                                " deg)");
         ok = false;
       }
       if (!reads.has("lift_slope")) spec.lift_slope = helmbold_lift_slope(spec.aspect_ratio);
       if (spec.max_angle > spec.stall_angle + 1e-12) {
-        reads.map().value().warn("max_angle_deg " + config::format_approximate(spec.max_angle / kDegToRad) +
-                                 " is beyond stall_angle_deg " + config::format_approximate(spec.stall_angle / kDegToRad) +
+        reads.map().value().warn("max_angle_deg " + config::format_approximate(to_degrees(spec.max_angle)) +
+                                 " is beyond stall_angle_deg " + config::format_approximate(to_degrees(spec.stall_angle)) +
                                  ": full deflection stalls the fin and gives less lift than a smaller one");
       }
       return ok;

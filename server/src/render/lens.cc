@@ -205,7 +205,7 @@ bool lens_model_from_string(std::string_view name, LensModel* model) {
 }
 
 LensSpec lens_from_horizontal_fov(int width_px, int height_px, double hfov_rad) {
-  if (!(hfov_rad > 0.0 && hfov_rad < kPi)) invalid("hfov", "must be in (0, 180) deg (got " + number(hfov_rad / kDegToRad) + " deg)");
+  if (!(hfov_rad > 0.0 && hfov_rad < kPi)) invalid("hfov", "must be in (0, 180) deg (got " + number(to_degrees(hfov_rad)) + " deg)");
   LensSpec lens;
   lens.width_px = width_px;
   lens.height_px = height_px;
@@ -283,7 +283,7 @@ Lens make_lens(const LensSpec& spec) {
         invalid("distortion", "the " + std::string(to_string(spec.model)) + " distortion has no inverse at pixel (" +
                                   std::to_string(u) + ", " + std::to_string(v) +
                                   "): the lens folds over inside the image (monotone up to " +
-                                  (spec.model == LensModel::kEquidistant ? "theta = " + number(limit / kDegToRad) + " deg"
+                                  (spec.model == LensModel::kEquidistant ? "theta = " + number(to_degrees(limit)) + " deg"
                                                                          : "r = " + number(limit)) +
                                   "); check the coefficients' signs and the image size");
       }

@@ -25,9 +25,9 @@ const KeyTable<LightSpec, VehicleContext>& light_keys() {
       if (!reads.ok("inner_half_angle_deg") || !reads.ok("outer_half_angle_deg")) return true;
       if (light.inner_half_angle < light.outer_half_angle) return true;
       reads.error_at_key(reads.has("outer_half_angle_deg") ? "outer_half_angle_deg" : "inner_half_angle_deg",
-                         "the beam's outer half angle (" + config::format_approximate(light.outer_half_angle / kDegToRad) +
+                         "the beam's outer half angle (" + config::format_approximate(to_degrees(light.outer_half_angle)) +
                              " deg) must exceed its inner half angle (" +
-                             config::format_approximate(light.inner_half_angle / kDegToRad) + " deg)");
+                             config::format_approximate(to_degrees(light.inner_half_angle)) + " deg)");
       return false;
     });
   });

@@ -31,7 +31,7 @@ namespace {
 DvlDatasheet generic_dvl() {
   const DvlParams defaults;
   DvlDatasheet sheet;
-  sheet.beam_tilt_deg = defaults.beam_tilt / kDegToRad;
+  sheet.beam_tilt_deg = to_degrees(defaults.beam_tilt);
   sheet.min_altitude_m = defaults.min_altitude;
   sheet.max_altitude_m = defaults.max_altitude;
   sheet.beam_velocity_sigma = 0.005;

@@ -22,8 +22,7 @@ const GeodeticPosition& checked_origin(const GeodeticPosition& g) {
   return g;
 }
 
-// GeographicLib works in degrees.
-double to_degrees(double rad) { return rad / kDegToRad; }
+// GeographicLib works in degrees (to_degrees: core/units.h).
 GeodeticPosition from_degrees(double lat, double lon, double h) { return {lat * kDegToRad, lon * kDegToRad, h}; }
 
 Eigen::Matrix3d row_major(const std::vector<double>& M) {

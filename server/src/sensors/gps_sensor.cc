@@ -47,8 +47,8 @@ void GpsSensor::sample(const SampleContext& context, const Spec& spec, State& st
   state.fix = p_WS.z() > context.world.water.surface_z;
   if (state.fix) {
     const GeodeticPosition fix = context.environment.frame_W().to_geodetic(p_meas);
-    state.latitude_deg = fix.latitude_rad / kDegToRad;
-    state.longitude_deg = fix.longitude_rad / kDegToRad;
+    state.latitude_deg = to_degrees(fix.latitude_rad);
+    state.longitude_deg = to_degrees(fix.longitude_rad);
     state.height_m = fix.height_m;
   } else {
     state.latitude_deg = state.longitude_deg = state.height_m = std::numeric_limits<double>::quiet_NaN();

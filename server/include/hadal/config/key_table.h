@@ -157,7 +157,7 @@ class KeyTable {
       return set([&](Entry& e) {
         e.doc.unit = "deg";
         e.to_si = [](double deg) { return deg * kDegToRad; };
-        e.from_si = [](double rad) { return rad / kDegToRad; };
+        e.from_si = [](double rad) { return to_degrees(rad); };
       });
     }
     // The YAML value in `yaml_unit` becomes the field's SI value by to_si (and back by from_si for the
