@@ -1,8 +1,11 @@
 // How a mesh file is read (geometry/mesh_import.h reads it): its units and up axis. A spec holding a
-// mesh file's options (a link's, the seabed's) includes this, not the importer.
+// mesh file's options (a link's, the seabed's) includes this, not the importer, and holds what the
+// importer made by shared_ptr to the TriangleMesh declared here (defined in geometry/triangle_mesh.h).
 #pragma once
 
 namespace hadal::geometry {
+
+struct TriangleMesh;
 
 enum class UpAxis { kZ, kY };  // the file's up axis; kY (glTF's convention) is rotated +90 deg about x
 

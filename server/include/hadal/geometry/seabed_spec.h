@@ -15,10 +15,6 @@
 
 namespace hadal {
 
-namespace geometry {
-struct TriangleMesh;  // geometry/triangle_mesh.h: only held by shared_ptr here
-}  // namespace geometry
-
 namespace config {
 struct LoadContext;
 }
