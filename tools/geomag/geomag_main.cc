@@ -102,11 +102,11 @@ int main(int argc, char** argv) {
       json_escape(model.name()).c_str(), json_number(lat_deg).c_str(), json_number(lon_deg).c_str(),
       json_number(height_km).c_str(), json_number(year).c_str(), json_number(e.x_north_nT).c_str(),
       json_number(e.y_east_nT).c_str(), json_number(e.z_down_nT).c_str(), json_number(e.h_horizontal_nT).c_str(),
-      json_number(e.f_total_nT).c_str(), json_number(e.inclination_rad / kDeg).c_str(),
-      json_number(e.declination_rad / kDeg).c_str(), json_number(e.x_north_rate_nT_per_yr).c_str(),
+      json_number(e.f_total_nT).c_str(), json_number(hadal::to_degrees(e.inclination_rad)).c_str(),
+      json_number(hadal::to_degrees(e.declination_rad)).c_str(), json_number(e.x_north_rate_nT_per_yr).c_str(),
       json_number(e.y_east_rate_nT_per_yr).c_str(), json_number(e.z_down_rate_nT_per_yr).c_str(),
       json_number(e.h_horizontal_rate_nT_per_yr).c_str(), json_number(e.f_total_rate_nT_per_yr).c_str(),
-      json_number(e.inclination_rate_rad_per_yr / kDeg).c_str(),
-      json_number(e.declination_rate_rad_per_yr / kDeg).c_str());
+      json_number(hadal::to_degrees(e.inclination_rate_rad_per_yr)).c_str(),
+      json_number(hadal::to_degrees(e.declination_rate_rad_per_yr)).c_str());
   return 0;
 }
