@@ -428,6 +428,37 @@ TEST(HadaldTest, SummaryAltitudeIsARayCastToTheSeabed) {
   EXPECT_NEAR(altitude, 50.0 + net, 0.002);
 }
 
+// The summary counts from the last lockstep reset, as its sim time and steps do: the AUV (start
+// (0, 0, -50)) is driven for 1 s, then reset 30 m north of where it got to with no step after it, so
+// from the reset it has moved exactly nothing. Counted from the scenario's start the net displacement
+// would be ~30 m and the distance the 1 s run's path.
+TEST(HadaldTest, SummaryAfterAResetCountsFromTheResetPose) {
+  LockstepServer s;
+  Client& client = s.client();
+  s.connect();
+  client.attach_commands("auv", {0.8, 0.3, -0.2});
+  client.wait_reply(client.send_step(500));
+  const Odometry driven = client.reply_odometry("auv");
+  ASSERT_GT(std::hypot(driven.p_WB[0], driven.p_WB[1], driven.p_WB[2] + 50.0), 0.01);  // it did move
+  ResetOptions reset;
+  Pose pose;
+  pose.p_WB = {driven.p_WB[0], driven.p_WB[1] + 30.0, driven.p_WB[2]};
+  reset.poses = {{"auv", pose}};
+  EXPECT_EQ(client.wait_reply(client.send_reset(reset, 0)), 0.0);
+  ASSERT_EQ(s.server().stop(SIGINT), 0) << s.server().err();
+  const std::string out = s.server().out();
+  double travelled = -1.0, net = -1.0;
+  const auto at = out.find("auv: distance travelled");
+  ASSERT_NE(at, std::string::npos) << out;
+  ASSERT_EQ(std::sscanf(out.c_str() + at, "auv: distance travelled %lf m (net displacement %lf m)", &travelled,
+                        &net),
+            2)
+      << out;
+  EXPECT_EQ(travelled, 0.0) << out;  // printed to 1 mm: exactly "0.000"
+  EXPECT_EQ(net, 0.0) << out;
+  EXPECT_NE(out.find("resets: 1 (sim time, steps and distances since the last)"), std::string::npos) << out;
+}
+
 // A crawler's tracks sink into the soil: its origin (on the tracks' ground line) ends below the seabed's
 // surface, which the summary reports as a negative altitude (the ray straight up meets the seabed): the
 // scenario's 3.9 cm of sinkage, to the 1 mm printed and 3 % of the closed form.

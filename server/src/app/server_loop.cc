@@ -206,7 +206,9 @@ class Runner {
     std::fill(last_command_source_.begin(), last_command_source_.end(), dds::SourceId{});
     const auto& vehicles = sim_.state().vehicles;
     for (std::size_t i = 0; i < vehicles.size(); ++i) {
-      previous_positions_[i] = vehicles[i].body.X_WB.translation();
+      // The summary's distances, like its sim time and steps, count from the reset (the pose it set).
+      start_positions_[i] = previous_positions_[i] = vehicles[i].body.X_WB.translation();
+      distance_[i] = 0.0;
       reported_resets_[i] = vehicles[i].fault_resets;
     }
     ++resets_;
@@ -452,7 +454,7 @@ std::string RunSummary::format() const {
   }
   out << "  samples published:\n";
   for (const auto& [topic, count] : samples_published) out << "    " << topic << " " << count << "\n";
-  if (resets > 0) out << "  resets: " << resets << " (sim time and steps since the last)\n";
+  if (resets > 0) out << "  resets: " << resets << " (sim time, steps and distances since the last)\n";
   out << "  rejected commands: " << rejected_commands << "\n";
   out << "  late captures dropped: " << dropped_captures << " (" << skipped_captures
       << " before a worker started them)\n";

@@ -22,6 +22,7 @@ namespace hadal::app {
 
 struct VehicleSummary {
   std::string name;
+  // Since the start, or since the last lockstep reset (from the pose it set).
   double distance_travelled = 0.0;  // path length of B's origin [m]
   double net_displacement = 0.0;    // |p_end - p_start| [m]
   // Range straight down (-z) to the seabed at the end, ray-cast; negative: B's origin is that far below the
