@@ -10,6 +10,9 @@ The server gets a DDS domain id no other hadal.Server on this machine holds (a l
 /tmp/hadal-dds-domain-<id>.lock, as the test suite's), is awaited until it publishes its status, keeps its log
 (server.log_path), and is stopped on leaving the `with` block -- also when the block raises -- or by
 stop(), at the latest when the interpreter exits.
+
+Logs go to one folder, LOG_ROOT (<tmp>/hadal-server-logs-<uid>/hadald-*/hadald.log), which keeps the LOGS_KEPT
+newest: each new Server deletes the older logs of servers that have stopped, never a running one's.
 """
 
 import atexit
@@ -22,6 +25,38 @@ import time
 
 from ._hadal import Client
 from .errors import ServerNotFound
+
+LOG_ROOT = os.path.join(tempfile.gettempdir(), f"hadal-server-logs-{os.getuid()}")
+LOGS_KEPT = 20
+
+
+def _open_log_dir(root, keep):
+    """A new log folder under root, held (an flock on its `running` file) until release; then deletes the
+    folders beyond the `keep` newest whose servers have stopped (nobody holds their lock)."""
+    os.makedirs(root, mode=0o700, exist_ok=True)
+    log_dir = tempfile.mkdtemp(prefix="hadald-", dir=root)
+    held = open(os.path.join(log_dir, "running"), "w")
+    fcntl.flock(held, fcntl.LOCK_EX)
+    folders = []
+    for name in os.listdir(root):
+        path = os.path.join(root, name)
+        if name.startswith("hadald-") and path != log_dir:
+            try:
+                folders.append((os.stat(path).st_mtime, path))
+            except FileNotFoundError:  # another process pruned it meanwhile
+                pass
+    folders.sort(reverse=True)
+    for _, path in folders[max(keep - 1, 0):]:
+        try:
+            with open(os.path.join(path, "running")) as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)  # raises while its server runs
+        except BlockingIOError:
+            continue
+        except FileNotFoundError:
+            pass
+        shutil.rmtree(path, ignore_errors=True)
+    return log_dir, held
+
 
 try:  # written by the build (clients/python/CMakeLists.txt): where hadald and the configs are
     from . import _build_paths
@@ -91,8 +126,9 @@ class Server:
         self.threads = threads  # --threads, or None (the scenario's world.threads)
         self.cpus = None if cpus is None else [int(cpu) for cpu in cpus]  # --cpus, or None (any CPU)
         self._lock = None
+        self._log_held = None
         self.domain_id = self._reserve(domain_id)
-        self._log_dir = tempfile.mkdtemp(prefix="hadald-")
+        self._log_dir, self._log_held = _open_log_dir(LOG_ROOT, LOGS_KEPT)
         self.log_path = os.path.join(self._log_dir, "hadald.log")
         args = [find_hadald(hadald), self.scenario, "--mode", mode, "--domain-id", str(self.domain_id),
                 "--no-status-line", *extra_args]
@@ -169,6 +205,9 @@ class Server:
         if self._lock is not None:
             self._lock.close()
             self._lock = None
+        if self._log_held is not None:  # the log stays until LOGS_KEPT newer servers have started
+            self._log_held.close()
+            self._log_held = None
         atexit.unregister(self.stop)
         return None if self.process is None else self.process.returncode
 

@@ -27,6 +27,25 @@ def test_server_lifecycle():
     assert server.stop() == 0  # idempotent
 
 
+def test_logs_are_kept_in_one_folder_that_keeps_the_newest(tmp_path, monkeypatch):
+    """Logs go under hadal.server.LOG_ROOT, which keeps the LOGS_KEPT newest of stopped servers and never
+    deletes a running server's: one running server, then three started and stopped in turn with two kept."""
+    monkeypatch.setattr(hadal.server, "LOG_ROOT", str(tmp_path / "logs"))
+    monkeypatch.setattr(hadal.server, "LOGS_KEPT", 2)
+    with hadal.Server("lander", mode="lockstep") as running:
+        logs = []
+        for _ in range(3):
+            with hadal.Server("lander", mode="lockstep") as server:
+                logs.append(server.log_path)
+            assert "hadald summary" in open(server.log_path).read()  # readable after stop
+        assert os.path.dirname(os.path.dirname(running.log_path)) == str(tmp_path / "logs")
+        assert os.path.exists(running.log_path)  # running: never pruned
+        assert not os.path.exists(logs[0])  # beyond the two newest
+        assert os.path.exists(logs[1]) and os.path.exists(logs[2])
+        assert sorted(os.listdir(tmp_path / "logs")) == sorted(
+            os.path.basename(os.path.dirname(p)) for p in (running.log_path, logs[1], logs[2]))
+
+
 def test_server_is_stopped_when_the_block_raises():
     with pytest.raises(KeyError):
         with hadal.Server("lander", mode="lockstep") as server:
