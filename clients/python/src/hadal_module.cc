@@ -168,7 +168,27 @@ class PyClient {
   bool wait_for_subscriptions(double timeout_s) { return client()->wait_for_subscriptions(timeout_s); }
   std::optional<hadal::SimStatus> status() const { return client()->latest_status(); }
 
+  // A vehicle the server does not have raises UnknownVehicle at once, naming those it has (from its
+  // status; before the first status nothing is known, and a wait that ends empty checks again).
+  void check_vehicle(const std::string& vehicle) const {
+    const std::optional<hadal::SimStatus> status = client()->latest_status();
+    if (!status) return;
+    const std::vector<std::string>& names = status->vehicle_names;
+    if (std::find(names.begin(), names.end(), vehicle) != names.end()) return;
+    std::string known;
+    for (const std::string& name : names) known += (known.empty() ? "'" : ", '") + name + "'";
+    throw hadal::UnknownVehicle(vehicle, "no vehicle '" + vehicle + "' on this server (vehicles: " +
+                                             (known.empty() ? std::string("none") : known) + ")");
+  }
+  // Returns `sample`; when it is empty, first checks the vehicle (the status may have come meanwhile).
+  template <class Sample>
+  std::optional<Sample> checked(std::optional<Sample> sample, const std::string& vehicle) const {
+    if (!sample) check_vehicle(vehicle);
+    return sample;
+  }
+
   void subscribe(const std::string& vehicle) {
+    check_vehicle(vehicle);
     std::lock_guard<std::mutex> lock(mutex_);
     if (!subscribed_.emplace(vehicle, true).second) return;
     client()->on_odometry(vehicle, [this, vehicle](const hadal::Odometry& o) { odometry_.put(vehicle, o); });
@@ -181,7 +201,7 @@ class PyClient {
   }
   std::optional<hadal::Odometry> wait_odometry(const std::string& vehicle, double min_stamp, double timeout_s) {
     subscribe(vehicle);
-    return odometry_.wait(vehicle, min_stamp, timeout_s);
+    return checked(odometry_.wait(vehicle, min_stamp, timeout_s), vehicle);
   }
   std::optional<hadal::ThrusterStates> thruster_state(const std::string& vehicle) {
     subscribe(vehicle);
@@ -190,7 +210,7 @@ class PyClient {
   std::optional<hadal::ThrusterStates> wait_thruster_state(const std::string& vehicle, double min_stamp,
                                                            double timeout_s) {
     subscribe(vehicle);
-    return thrusters_.wait(vehicle, min_stamp, timeout_s);
+    return checked(thrusters_.wait(vehicle, min_stamp, timeout_s), vehicle);
   }
   // rt/<vehicle>/<kind>/state of the actuator kinds besides thrusters, subscribed on first use (only
   // vehicles with such actuators publish them).
@@ -368,13 +388,14 @@ class PyClient {
   std::optional<State> wait_actuator_state(const std::string& kind, VehicleSubscription<State> subscribe,
                                            Latest<State>& latest, const std::string& vehicle, double min_stamp,
                                            double timeout_s) {
+    check_vehicle(vehicle);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (subscribed_.emplace(kind + ":" + vehicle, true).second) {
         ((*client()).*subscribe)(vehicle, [&latest, vehicle](const State& m) { latest.put(vehicle, m); });
       }
     }
-    return latest.wait(vehicle, min_stamp, timeout_s);
+    return checked(latest.wait(vehicle, min_stamp, timeout_s), vehicle);
   }
 
   // Subscribes `latest` to rt/<vehicle>/<sensor> on first use, then waits for a sample. Samples are kept
@@ -399,6 +420,7 @@ class PyClient {
           subscribe,
       Latest<Stored>& latest, const std::string& vehicle, const std::string& sensor, double min_stamp,
       double timeout_s) {
+    check_vehicle(vehicle);
     const std::string key = vehicle + "/" + sensor;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -412,7 +434,7 @@ class PyClient {
         }, vehicle, sensor);
       }
     }
-    return latest.wait(key, min_stamp, timeout_s);
+    return checked(latest.wait(key, min_stamp, timeout_s), vehicle);
   }
 
   // The client is declared last so that it is destroyed first: its DDS callbacks write into the members
@@ -815,7 +837,8 @@ PYBIND11_MODULE(_hadal, m) {
   py::class_<PyClient>(m, "Client", R"doc(A client of a hadald on a DDS domain.
 
 Subscribes on first use and keeps the latest sample of each topic: wait_odometry, wait_imu, ... return the
-first sample at or after min_stamp (sim time [s]), or None on timeout. Commands with set_commands; steps
+first sample at or after min_stamp (sim time [s]), or None on timeout; a vehicle the server's status does
+not list raises UnknownVehicle at once, naming those it has. Commands with set_commands; steps
 and resets a lockstep server with step and reset. Use it as a context manager (or call close()) to leave
 the DDS domain at a known point:
 

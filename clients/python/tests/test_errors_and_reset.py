@@ -209,6 +209,23 @@ def test_replies_carry_every_vehicles_odometry():
         np.testing.assert_allclose(client.reply_odometry("auv").v_WB_B, 0.0, atol=1e-12)
 
 
+def test_a_vehicle_the_server_does_not_have_raises_at_once():
+    """subscribe, wait_odometry, a sensor's or an actuator's wait on a misspelt vehicle raise UnknownVehicle
+    naming the vehicles there are, instead of returning None after the timeout (600 s here: without the
+    check the test would wait that long and then fail)."""
+    with hadal.Server("rov", mode="lockstep") as server, server.client("pytest") as client:
+        for call in (lambda: client.subscribe("rvo"),
+                     lambda: client.wait_odometry("rvo", timeout_s=600),
+                     lambda: client.wait_thruster_state("rvo", timeout_s=600),
+                     lambda: client.wait_imu("rvo", "imu", timeout_s=600),
+                     lambda: client.wait_fin_state("rvo", timeout_s=600)):
+            with pytest.raises(hadal.UnknownVehicle, match=r"no vehicle 'rvo' on this server \(vehicles: 'rov'\)") \
+                    as unknown:
+                call()
+            assert unknown.value.vehicle == "rvo"
+        assert client.wait_odometry("rov", min_stamp=client.step(10), timeout_s=WAIT_S) is not None  # still works
+
+
 def test_requests_sent_without_waiting_are_answered_in_any_order():
     with hadal.Server("default", mode="lockstep") as first_server, \
             hadal.Server("default", mode="lockstep") as second_server:
