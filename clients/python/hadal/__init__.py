@@ -17,8 +17,8 @@
         with hadal.Client(domain_id=server.domain_id) as client:      # left at the end of the block
             client.reset(seed=3, poses={"rov": (0, 0, -50)})          # start over at t = 0, no restart
 
-Errors: hadal.ClientError and its subclasses ServerNotFound, ServerLost, Timeout, UnknownVehicle,
-CommandRejected.
+Errors: hadal.ClientError and its subclasses ServerNotFound, ScenarioError, ServerLost, Timeout,
+UnknownVehicle, CommandRejected.
 
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
@@ -26,10 +26,11 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
                      SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates)
-from .errors import ClientError, CommandRejected, ServerLost, ServerNotFound, Timeout, UnknownVehicle
+from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
+                     UnknownVehicle)
 from .server import Server
 
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
-           "Odometry", "Range", "RawSonarImage", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
+           "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownVehicle"]

@@ -17,6 +17,16 @@ class ServerNotFound(ClientError):
     the client's DDS domain."""
 
 
+class ScenarioError(ClientError, ValueError):
+    """hadald refused the scenario before anything started; `errors` are its lines
+    ("file:line:col: error: <path>: <what is wrong>"), `scenario` the file given. Also a builtin ValueError."""
+
+    def __init__(self, scenario, errors):
+        super().__init__(f"{scenario}: {len(errors)} error(s) in the scenario:\n" + "\n".join(errors))
+        self.scenario = scenario
+        self.errors = list(errors)
+
+
 class ServerLost(ClientError, ConnectionError):
     """The server went silent (no status heartbeat within the client's server_timeout_s) while a request
     waited for its reply: it stopped, crashed, or the link is down; the request is lost. Once a server

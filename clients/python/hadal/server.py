@@ -18,13 +18,14 @@ newest: each new Server deletes the older logs of servers that have stopped, nev
 import atexit
 import fcntl
 import os
+import re
 import shutil
 import subprocess
 import tempfile
 import time
 
 from ._hadal import Client
-from .errors import ServerNotFound
+from .errors import ScenarioError, ServerNotFound
 
 LOG_ROOT = os.path.join(tempfile.gettempdir(), f"hadal-server-logs-{os.getuid()}")
 LOGS_KEPT = 20
@@ -108,8 +109,9 @@ class Server:
     --threads; None: the scenario's world.threads, by default one per CPU it may run on); cpus (a list of CPU
     numbers) keeps all its threads on those CPUs (hadald --cpus); sched="batch" keeps its wake-ups from
     preempting other threads, such as the client stepping it (hadald --sched batch). ready_timeout_s
-    bounds the wait for its first status; a server that exits first (a malformed scenario) raises
-    ServerNotFound with its log's end. extra_args go to hadald's command line as they are.
+    bounds the wait for its first status; a malformed scenario raises ScenarioError with hadald's
+    `file:line:col: error:` lines, a server that exits first for another reason ServerNotFound with its
+    log's end. extra_args go to hadald's command line as they are.
 
     security_file turns DDS Security on (hadald --security: a YAML file with hadald's `security:` block, as
     tools/make-security-demo.sh writes it); client_security_file is then the identity of the clients this
@@ -170,11 +172,23 @@ class Server:
             deadline = time.monotonic() + timeout_s
             while time.monotonic() < deadline:
                 if self.process.poll() is not None:
+                    self._raise_scenario_error()
                     raise ServerNotFound(f"hadald exited with status {self.process.returncode} before it was "
                                          "ready:\n" + self.log_tail(60))
                 if client.wait_for_server(0.2):
                     return
         raise ServerNotFound(f"hadald published no status within {timeout_s} s:\n" + self.log_tail())
+
+    def _raise_scenario_error(self):
+        """ScenarioError when hadald refused the scenario (its `file:line:col: error:` lines and "nothing
+        started"); otherwise returns."""
+        with open(self.log_path, errors="replace") as log:
+            lines = log.read().splitlines()
+        if self.process.returncode != 1 or not any(line.endswith("in the scenario; nothing started") for line in lines):
+            return
+        errors = [line for line in lines if re.match(r".*:\d+:\d+: error: ", line)]
+        if errors:
+            raise ScenarioError(self.scenario, errors)
 
     def client(self, name="hadal_python", timeout_s=10.0):
         """A Client on this server's domain that has seen its status (close it, or use it in a `with`)."""

@@ -62,9 +62,13 @@ def test_two_servers_get_two_domains():
 def test_a_malformed_scenario_is_a_clear_error(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("world:\n  physics_rate_hz: -5\nvehicles: []\n")
-    with pytest.raises(hadal.ServerNotFound) as error:
+    with pytest.raises(hadal.ScenarioError) as error:
         hadal.Server(str(bad))
-    assert f"{bad}:2:20: error: world.physics_rate_hz" in str(error.value)
+    assert error.value.errors == [f"{bad}:2:20: error: world.physics_rate_hz: must be in [50, 100000] (got -5)",
+                                  f"{bad}:3:11: error: vehicles: must not be empty"]
+    assert error.value.scenario == str(bad)
+    assert str(error.value) == f"{bad}: 2 error(s) in the scenario:\n" + "\n".join(error.value.errors)
+    assert isinstance(error.value, ValueError) and isinstance(error.value, hadal.ClientError)
     with pytest.raises(FileNotFoundError):
         hadal.Server("no_such_scenario")
     with pytest.raises(ValueError):
