@@ -5,6 +5,11 @@
 // volume, centroid and inertia are null when the mesh is not closed (the integrals are
 // meaningless).
 //   hadal-mesh-info FILE [--scale S] [--up-axis y|z]
+// With --mass M it prints instead a link's mass block, YAML to paste under a link whose mesh sits at the
+// link's origin: the homogeneous solid of mass M (density M / volume), centre of mass its centroid,
+// inertia about it in the mesh's axes (after --scale and --up-axis), as configs/REFERENCE.md's
+// links[].inertia; an open or inward-oriented mesh has none (exit 1).
+//   hadal-mesh-info FILE [--scale S] [--up-axis y|z] [--mass M]
 // Exit status: 0 success; 1 the file cannot be imported (message on stderr, nothing on stdout);
 // 2 usage error. Warnings (e.g. an OBJ's missing .mtl) go to stderr.
 #include <cmath>
@@ -23,20 +28,24 @@ namespace {
 using hadal::tools::json_number;
 
 constexpr const char* kUsage =
-    "usage: hadal-mesh-info FILE [--scale S] [--up-axis y|z]\n"
+    "usage: hadal-mesh-info FILE [--scale S] [--up-axis y|z] [--mass M]\n"
     "  FILE         .glb, .gltf, .obj or .stl\n"
     "  --scale S    file units -> metres (> 0, default 1)\n"
     "  --up-axis A  the file's up axis: z (default, no rotation) or y (glTF convention; rotated\n"
     "               +90 deg about x into Hadal's z-up frame)\n"
+    "  --mass M     print instead a link's mass, center_of_mass and inertia (YAML) for the closed\n"
+    "               mesh as a homogeneous solid of M kg (> 0)\n"
     "Prints one JSON object (SI units, Hadal's frame); inertia is about the centroid for unit "
     "density.\n";
 
-// --scale S: "" when S is a finite number > 0 (into *scale), else the usage error.
-std::string read_scale(const std::string& text, double* scale) {
+// --scale S, --mass M: "" when the text is a finite number > 0 (into *value), else the usage error.
+std::string read_positive(const char* option, const std::string& text, double* value) {
   char* end = nullptr;
-  *scale = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0') return "--scale: not a number: " + text;
-  if (!(*scale > 0.0) || !std::isfinite(*scale)) return "--scale must be > 0 and finite (got " + text + ")";
+  *value = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0') return std::string(option) + ": not a number: " + text;
+  if (!(*value > 0.0) || !std::isfinite(*value)) {
+    return std::string(option) + " must be > 0 and finite (got " + text + ")";
+  }
   return "";
 }
 
@@ -74,16 +83,39 @@ std::string json_vector(const Vector& v) {
   return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
 }
 
+// The --mass block (header comment). I = inertia_unit_density * density; an inward-oriented mesh has a
+// negative volume, and is refused as hadald refuses it for a link.
+int print_mass_block(const std::string& file, const hadal::geometry::MeshProperties& props, double mass) {
+  if (!props.closed || !(props.volume > 0.0)) {
+    std::fprintf(stderr, "hadal-mesh-info: %s: %s, so it has no volume to spread %s kg over\n", file.c_str(),
+                 props.closed ? "the mesh is oriented inward" : "the mesh is not closed", json_number(mass).c_str());
+    return 1;
+  }
+  const double density = mass / props.volume;
+  const Eigen::Matrix3d I = props.inertia_unit_density * density;
+  std::printf("# %s as a homogeneous solid: volume %s m^3, density %s kg/m^3; for a link whose `mesh` has\n"
+              "# this scale and up_axis and no pose (configs/REFERENCE.md, links[])\n",
+              file.c_str(), json_number(props.volume).c_str(), json_number(density).c_str());
+  std::printf("mass: %s\n", json_number(mass).c_str());
+  std::printf("center_of_mass: %s\n", json_vector(props.centroid).c_str());
+  std::printf("inertia: {ixx: %s, iyy: %s, izz: %s, ixy: %s, ixz: %s, iyz: %s}\n", json_number(I(0, 0)).c_str(),
+              json_number(I(1, 1)).c_str(), json_number(I(2, 2)).c_str(), json_number(I(0, 1)).c_str(),
+              json_number(I(0, 2)).c_str(), json_number(I(1, 2)).c_str());
+  return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace hadal::geometry;
   std::string file;
   ImportOptions options;
+  double mass = 0.0;  // [kg]; 0: the JSON report
   hadal::tools::CommandLine command_line("hadal-mesh-info", kUsage);
   command_line.unknown_words("unknown option %s")
       .option_syntax(hadal::tools::OptionSyntax::kDoubleDash)
-      .option("--scale", [&](const std::string& value) { return read_scale(value, &options.scale); })
+      .option("--scale", [&](const std::string& value) { return read_positive("--scale", value, &options.scale); })
+      .option("--mass", [&](const std::string& value) { return read_positive("--mass", value, &mass); })
       .option("--up-axis", [&](const std::string& value) { return read_up_axis(value, &options.up_axis); },
               "--up-axis needs y or z")
       .one_positional(&file, "more than one FILE");
@@ -99,6 +131,7 @@ int main(int argc, char** argv) {
   }
   const TriangleMesh& mesh = *result.mesh;
   const MeshProperties props = compute_mesh_properties(mesh);
+  if (mass > 0.0) return print_mass_block(file, props, mass);
 
   std::string json = "{";
   json += "\"file\": " + json_string(file);

@@ -82,6 +82,46 @@ TEST_F(MeshInfoCliTest, ScaleAndUpAxisOptions) {
   for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(j["bounds"]["max"][k].number, hi[k], 1e-12);
 }
 
+// --mass M: the link block of a homogeneous solid, ready to paste. The 1 x 2 x 3 box centred at (4, 0, -2)
+// with 12 kg (density 2 kg/m^3): moments m/12 (b^2 + c^2) = 13, 10, 5 kg m^2 (distinct on each axis), no
+// products, the centre of mass at the box's centre; to double round-off (exact corners). An open mesh has
+// no volume to spread the mass over: exit 1, nothing on stdout; a mass <= 0 is a usage error.
+TEST_F(MeshInfoCliTest, MassPrintsTheLinkBlockOfAHomogeneousSolid) {
+  const std::string file = dir_ + "/box.glb";
+  ASSERT_EQ(make_asset("box " + file + " --size 1 2 3 --center 4 0 -2").exit_code, 0);
+  const RunResult info = mesh_info(file + " --mass 12");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  std::istringstream lines(info.out);
+  std::string line;
+  std::vector<std::string> yaml;
+  while (std::getline(lines, line)) {
+    if (line.rfind("#", 0) != 0) yaml.push_back(line);
+  }
+  ASSERT_EQ(yaml.size(), 3u) << info.out;
+  EXPECT_EQ(yaml[0], "mass: 12");
+  double c[3] = {};
+  ASSERT_EQ(std::sscanf(yaml[1].c_str(), "center_of_mass: [%lf, %lf, %lf]", &c[0], &c[1], &c[2]), 3) << yaml[1];
+  double I[6] = {};
+  ASSERT_EQ(std::sscanf(yaml[2].c_str(), "inertia: {ixx: %lf, iyy: %lf, izz: %lf, ixy: %lf, ixz: %lf, iyz: %lf}",
+                        &I[0], &I[1], &I[2], &I[3], &I[4], &I[5]),
+            6)
+      << yaml[2];
+  const double expected_c[3] = {4, 0, -2}, expected_I[6] = {13, 10, 5, 0, 0, 0};
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], expected_c[k], 1e-12);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(I[k], expected_I[k], 1e-12) << k;
+  EXPECT_NE(info.out.find("density 2 kg/m^3"), std::string::npos) << info.out;
+
+  const std::string open = dir_ + "/seabed.obj";
+  ASSERT_EQ(make_asset("seabed " + open + " --triangles 200 --extent 10").exit_code, 0);
+  const RunResult refused = mesh_info(open + " --mass 12");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_EQ(refused.out, "");
+  EXPECT_NE(refused.err.find("the mesh is not closed, so it has no volume to spread 12 kg over"), std::string::npos)
+      << refused.err;
+  EXPECT_EQ(mesh_info(file + " --mass 0").exit_code, 2);
+  EXPECT_EQ(mesh_info(file + " --mass heavy").exit_code, 2);
+}
+
 TEST_F(MeshInfoCliTest, OpenSeabedHasNullVolume) {
   const std::string file = dir_ + "/seabed.obj";
   ASSERT_EQ(make_asset("seabed " + file + " --triangles 2000 --extent 50").exit_code, 0);
