@@ -50,7 +50,7 @@ def run(build, subscribers, seconds, scenario):
     readers = []
     for i in range(subscribers):
         ready = os.path.join(work, f"ready-{i}")
-        process = subprocess.Popen([os.path.join(build, "bin/hadal_bench_load_subscriber"), "--domain", str(DOMAIN),
+        process = subprocess.Popen([os.path.join(build, "bin/hadal_bench_load_subscriber"), "--domain-id", str(DOMAIN),
                                     "--quiet", "3", "--ready-file", ready],
                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
         readers.append((process, ready))

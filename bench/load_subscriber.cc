@@ -7,7 +7,7 @@
 //   {"topics": {"rt/auv/imu": {"samples": N, "bytes": B, "first": 1, "last": N, "lost": 0}, ...},
 //    "ready_s": wall seconds until every reader matched}
 //
-//   hadal_bench_load_subscriber --domain D [--quiet S] [--ready-file PATH]
+//   hadal_bench_load_subscriber --domain-id D [--quiet S] [--ready-file PATH]
 //
 // --ready-file: written once every reader has matched its writer (the driver starts the run then).
 #include "hadal/record/topic_tap.h"
@@ -29,7 +29,7 @@ struct TopicCount {
 };
 
 int usage() {
-  std::fprintf(stderr, "usage: hadal_bench_load_subscriber --domain D [--quiet SECONDS] [--ready-file PATH]\n");
+  std::fprintf(stderr, "usage: hadal_bench_load_subscriber --domain-id D [--quiet SECONDS] [--ready-file PATH]\n");
   return 2;
 }
 
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   std::string ready_file;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string arg = argv[i];
-    if (arg == "--domain") domain = std::atoi(argv[i + 1]);
+    if (arg == "--domain-id") domain = std::atoi(argv[i + 1]);
     else if (arg == "--quiet") quiet_s = std::atof(argv[i + 1]);
     else if (arg == "--ready-file") ready_file = argv[i + 1];
     else return usage();

@@ -8,7 +8,7 @@
  *      ground truth (vehicle_names, poses) has the x its odometry has at the reply's sim time;
  *   3. a request with a wrong number of attached setpoints is refused with the server's reason;
  *   4. a reset request (reset = true, steps = 0) brings sim time back to 0 and the vehicle to its start.
- * usage: hadal-ros2-lockstep-probe --domain N [--vehicle auv] [--setpoints 0.8,0,0] [--requests 20]
+ * usage: hadal-ros2-lockstep-probe [--domain-id N] [--vehicle auv] [--setpoints 0.8,0,0] [--requests 20]
  *                                  [--steps 50] [--step-size 0.002] [--min-advance 0.3]
  * Exit 0 when every check passed, 1 otherwise, 2 on a usage or DDS error. Discovery: loopback only, as
  * hadal-ros2-probe (set CYCLONEDDS_URI to override). */
@@ -117,15 +117,24 @@ static bool odometry_at(dds_entity_t reader, double t, double *x, double *stamp)
 }
 
 int main(int argc, char **argv) {
-  int domain = -1;
+  const char *env_domain = getenv("ROS_DOMAIN_ID");  /* default, as every Hadal tool: $ROS_DOMAIN_ID or 0 */
+  int domain = (env_domain != NULL && *env_domain != '\0') ? atoi(env_domain) : 0;
   const char *vehicle = "auv";
   double setpoints[MAX_SETPOINTS] = {0.8, 0.0, 0.0};
   uint32_t n_setpoints = 3, steps = 50;
   int requests = 20;
   double dt = 0.002, min_advance = 0.3;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const char *a = argv[i], *v = argv[i + 1];
-    if (strcmp(a, "--domain") == 0) domain = atoi(v);
+  for (int i = 1; i < argc; i += 2) {
+    const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+    if (strcmp(a, "--domain") == 0) {
+      fprintf(stderr, "hadal-ros2-lockstep-probe: --domain is now --domain-id\n");
+      return 2;
+    }
+    if (v == NULL) {
+      fprintf(stderr, "hadal-ros2-lockstep-probe: %s needs a value\n", a);
+      return 2;
+    }
+    if (strcmp(a, "--domain-id") == 0) domain = atoi(v);
     else if (strcmp(a, "--vehicle") == 0) vehicle = g_vehicle = v;
     else if (strcmp(a, "--requests") == 0) requests = atoi(v);
     else if (strcmp(a, "--steps") == 0) steps = (uint32_t)atoi(v);
@@ -144,7 +153,7 @@ int main(int argc, char **argv) {
     }
   }
   if (domain < 0 || domain > 232 || requests < 1 || steps < 1) {
-    fprintf(stderr, "usage: hadal-ros2-lockstep-probe --domain N [--vehicle V] [--setpoints a,b,c] [--requests K] "
+    fprintf(stderr, "usage: hadal-ros2-lockstep-probe [--domain-id N] [--vehicle V] [--setpoints a,b,c] [--requests K] "
                     "[--steps S] [--step-size DT] [--min-advance M]\n");
     return 2;
   }

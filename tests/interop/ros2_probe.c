@@ -91,10 +91,10 @@ typedef struct {
 
 static void usage(FILE *out) {
   fprintf(out,
-          "usage: hadal-ros2-probe [--domain N] [--vehicle NAME] [--seconds T] [--idle S] [--enough K]\n"
+          "usage: hadal-ros2-probe [--domain-id N] [--vehicle NAME] [--seconds T] [--idle S] [--enough K]\n"
           "                        [--publish-setpoints a,b,c] [--rate-hz R] [--network-discovery]\n"
           "                        [--sonars] [--cyclone-trace FILE]\n"
-          "  --domain N              DDS domain id (default: $ROS_DOMAIN_ID or 0)\n"
+          "  --domain-id N           DDS domain id (default: $ROS_DOMAIN_ID or 0)\n"
           "  --vehicle NAME          vehicle whose topics are read (default: auv)\n"
           "  --seconds T             stop after T wall-clock seconds (default: 10)\n"
           "  --idle S                stop when both topics were seen and nothing arrived for S seconds\n"
@@ -159,7 +159,11 @@ static int parse_options(int argc, char **argv, options_t *o) {
       o->sonars = true;
       continue;
     }
-    static const char *const with_value[] = {"--domain", "--vehicle", "--seconds", "--idle", "--enough",
+    if (strcmp(a, "--domain") == 0) {  /* the one flag name of Hadal's tools */
+      fprintf(stderr, "hadal-ros2-probe: --domain is now --domain-id\n");
+      return -1;
+    }
+    static const char *const with_value[] = {"--domain-id", "--vehicle", "--seconds", "--idle", "--enough",
                                              "--rate-hz", "--publish-setpoints", "--cyclone-trace"};
     bool known = false;
     for (size_t k = 0; k < sizeof(with_value) / sizeof(with_value[0]); ++k) known |= strcmp(a, with_value[k]) == 0;
@@ -172,9 +176,9 @@ static int parse_options(int argc, char **argv, options_t *o) {
       return -1;
     }
     ++i;
-    if (strcmp(a, "--domain") == 0) {
+    if (strcmp(a, "--domain-id") == 0) {
       if (!parse_double(v, &d) || d < 0 || d > 232 || d != floor(d)) {
-        fprintf(stderr, "hadal-ros2-probe: --domain must be an integer in 0..232 (got %s)\n", v);
+        fprintf(stderr, "hadal-ros2-probe: --domain-id must be an integer in 0..232 (got %s)\n", v);
         return -1;
       }
       o->domain = (int)d;

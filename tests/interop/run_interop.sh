@@ -41,7 +41,7 @@ echo "interop ($MODE): domain $DOMAIN, hadald $HADALD, probe $PROBE"
 # The probe first, so hadald's discovery wait finds it: in fast mode hadald waits ~1 s for discovery and
 # then runs the whole scenario in a fraction of a second. The probe stops by itself once the samples stop
 # (--idle), or after --seconds at the latest.
-start_probe --domain "$DOMAIN" --vehicle "$VEHICLE" --seconds 60 --idle 2 --publish-setpoints "$SETPOINTS"
+start_probe --domain-id "$DOMAIN" --vehicle "$VEHICLE" --seconds 60 --idle 2 --publish-setpoints "$SETPOINTS"
 
 # Discovery between the two vendors takes ~50-100 ms, but in roughly one start in four it takes ~1.05 s:
 # Cyclone answers hadald's first SPDP announcement within ~0.2 ms, Fast DDS 2.9.1 apparently ignores

@@ -23,7 +23,7 @@ BACKGROUND_PID=$!
 # The default AUV (configs/vehicles/torpedo_auv.yaml): 3 thrusters, 500 Hz physics. 20 requests of 50
 # steps at 0.8 main thrust: 2 s from rest, ~0.8 m (hadal's own clients see the same); 0.3 m is a floor.
 RC=0
-"$PROBE" --domain "$DOMAIN" --vehicle auv --setpoints 0.8,0,0 --requests 20 --steps 50 --step-size 0.002 \
+"$PROBE" --domain-id "$DOMAIN" --vehicle auv --setpoints 0.8,0,0 --requests 20 --steps 50 --step-size 0.002 \
   --min-advance 0.3 9>&- || RC=$?
 if [[ $RC -ne 0 ]]; then
   echo "--- hadald ---" >&2; cat "$WORK/hadald.log" >&2

@@ -27,7 +27,7 @@ make_work_dir hadal-sonar-interop
 isolate_discovery
 echo "sonar interop: domain $DOMAIN, hadald $HADALD, probe $PROBE"
 
-start_probe --domain "$DOMAIN" --vehicle auv --sonars --seconds 90 --idle 3
+start_probe --domain-id "$DOMAIN" --vehicle auv --sonars --seconds 90 --idle 3
 
 # Fast mode: hadald waits for discovery (2 s by default) before t = 0 and waits for every ping.
 run_hadald "$SCENARIO" --duration "$DURATION" --mode fast --domain-id "$DOMAIN" --no-status-line

@@ -90,7 +90,7 @@ record_once() {
   "$BUILD/bin/hadald" "$SCENARIO" --mode lockstep --domain-id "$DOMAIN" --no-status-line --discovery-wait 5 \
     >"$WORK/summary.txt" 2>"$WORK/server.err" &
   SERVER_PID=$!
-  if ! "$BUILD/bin/hadal-record-topics" --domain "$DOMAIN" --out "$WORK/digest.txt" "${ARGS[@]}" 2>"$WORK/recorder.err"; then
+  if ! "$BUILD/bin/hadal-record-topics" --domain-id "$DOMAIN" --out "$WORK/digest.txt" "${ARGS[@]}" 2>"$WORK/recorder.err"; then
     cat "$WORK/recorder.err" >&2
     kill -9 "$SERVER_PID" 2>/dev/null || true
     wait "$SERVER_PID" 2>/dev/null || true

@@ -9,7 +9,7 @@
 // silently different digest. Nothing here depends on the server's code, so a digest recorded before a
 // refactoring is comparable with one recorded after it.
 //
-//   hadal-record-topics --domain D --steps N [--chunk K] [--command VEHICLE@STEP=v1,v2,...]...
+//   hadal-record-topics --domain-id D --steps N [--chunk K] [--command VEHICLE@STEP=v1,v2,...]...
 //                       [--exclude TOPIC]... [--out FILE]
 //
 // Steps the server in requests of K steps (default 5: at 500 Hz no topic publishes more than once per
@@ -78,7 +78,7 @@ struct Command {
 
 [[noreturn]] void usage_error(const std::string& message) {
   std::fprintf(stderr,
-               "hadal-record-topics: %s\nusage: hadal-record-topics --domain D --steps N [--chunk K] "
+               "hadal-record-topics: %s\nusage: hadal-record-topics --domain-id D --steps N [--chunk K] "
                "[--command VEHICLE@STEP=v1,v2,...]... [--exclude TOPIC]... [--out FILE]\n",
                message.c_str());
   std::exit(2);
@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (arg == "--domain") {
+      usage_error("--domain is now --domain-id");
+    } else if (arg == "--domain-id") {
       domain = std::stoi(next());
     } else if (arg == "--steps") {
       steps = std::stoull(next());
@@ -138,7 +140,7 @@ int main(int argc, char** argv) {
       usage_error("unknown argument " + arg);
     }
   }
-  if (domain < 0 || steps == 0 || chunk == 0) usage_error("--domain and --steps are required");
+  if (domain < 0 || steps == 0 || chunk == 0) usage_error("--domain-id and --steps are required");
 
   // What the tap's callback writes into, declared before the tap: destroyed after it, so that no sample still
   // arriving can reach it destroyed (record/topic_tap.h).
