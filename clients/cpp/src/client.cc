@@ -27,6 +27,7 @@
 #include <map>
 #include <mutex>
 #include <random>
+#include <cstdlib>
 #include <stdexcept>
 #include <thread>
 #include <unistd.h>
@@ -415,6 +416,30 @@ struct Client::Impl {
   }
 };
 
+namespace {
+
+// ClientOptions::domain_id, or $ROS_DOMAIN_ID, or 0; std::invalid_argument outside 0..232.
+int domain_of(const ClientOptions& options) {
+  const auto in_range = [](long id) { return id >= 0 && id <= 232; };
+  if (options.domain_id) {
+    if (!in_range(*options.domain_id)) {
+      throw std::invalid_argument("ClientOptions::domain_id must be in 0..232 (got " +
+                                  std::to_string(*options.domain_id) + ")");
+    }
+    return *options.domain_id;
+  }
+  const char* env = std::getenv("ROS_DOMAIN_ID");
+  if (env == nullptr || *env == '\0') return 0;
+  char* end = nullptr;
+  const long id = std::strtol(env, &end, 10);
+  if (*end != '\0' || !in_range(id)) {
+    throw std::invalid_argument("ROS_DOMAIN_ID must be an integer in 0..232 (got '" + std::string(env) + "')");
+  }
+  return static_cast<int>(id);
+}
+
+}  // namespace
+
 Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   if (!(options.server_timeout_s > 0.0) || !std::isfinite(options.server_timeout_s)) {
@@ -424,7 +449,7 @@ Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
   d.server_timeout_s = options.server_timeout_s;
   const SecurityFiles security =
       options.security_file.empty() ? SecurityFiles{} : config::load_security_file(options.security_file);
-  d.participant = dds::create_participant(options.domain_id, options.name, nullptr, security);
+  d.participant = dds::create_participant(domain_of(options), options.name, nullptr, security);
   d.registry = std::make_unique<dds::TopicRegistry>(d.participant);
   // Request ids unique across clients of one server: a random 32-bit prefix per client.
   std::random_device entropy;

@@ -143,7 +143,7 @@ using SonarImagePtr = std::shared_ptr<const hadal::ProjectedSonarImage>;  // lar
 
 class PyClient {
  public:
-  PyClient(int domain_id, const std::string& name, double server_timeout_s,
+  PyClient(std::optional<int> domain_id, const std::string& name, double server_timeout_s,
            const std::optional<std::filesystem::path>& security_file)
       : client_(std::make_shared<hadal::Client>(hadal::ClientOptions{
             domain_id, name, server_timeout_s, security_file ? security_file->string() : std::string()})) {}
@@ -834,7 +834,7 @@ PYBIND11_MODULE(_hadal, m) {
           "(samples,) uint8 or float32");
 
   using release = py::call_guard<py::gil_scoped_release>;
-  py::class_<PyClient>(m, "Client", R"doc(A client of a hadald on a DDS domain.
+  py::class_<PyClient>(m, "Client", R"doc(A client of a hadald on a DDS domain (domain_id; None: $ROS_DOMAIN_ID, else 0).
 
 Subscribes on first use and keeps the latest sample of each topic: wait_odometry, wait_imu, ... return the
 first sample at or after min_stamp (sim time [s]), or None on timeout; a vehicle the server's status does
@@ -857,8 +857,8 @@ per identity). Without it a secure server is invisible.
 
 Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehicle, hadal.CommandRejected
 (all hadal.ClientError).)doc")
-      .def(py::init<int, const std::string&, double, const std::optional<std::filesystem::path>&>(),
-           py::arg("domain_id") = 0, py::arg("name") = "hadal_python", py::arg("server_timeout_s") = 10.0,
+      .def(py::init<std::optional<int>, const std::string&, double, const std::optional<std::filesystem::path>&>(),
+           py::arg("domain_id") = py::none(), py::arg("name") = "hadal_python", py::arg("server_timeout_s") = 10.0,
            py::arg("security_file") = py::none(), release())
       .def("close", &PyClient::close, release(), "Leave the DDS domain now; later calls raise ClientError")
       .def_property_readonly("closed", &PyClient::closed)

@@ -226,6 +226,21 @@ def test_a_vehicle_the_server_does_not_have_raises_at_once():
         assert client.wait_odometry("rov", min_stamp=client.step(10), timeout_s=WAIT_S) is not None  # still works
 
 
+def test_the_client_takes_its_domain_from_ros_domain_id(monkeypatch):
+    """As hadald and every Hadal tool: domain_id, else $ROS_DOMAIN_ID, else 0; out of 0..232 a ValueError."""
+    with hadal.Server("rov", mode="lockstep") as server:
+        monkeypatch.setenv("ROS_DOMAIN_ID", str(server.domain_id))  # 100..199: not the old default 0
+        with hadal.Client(name="pytest") as client:
+            assert client.wait_for_server(WAIT_S)
+        monkeypatch.setenv("ROS_DOMAIN_ID", "233")
+        with pytest.raises(ValueError, match=r"ROS_DOMAIN_ID must be an integer in 0..232 \(got '233'\)"):
+            hadal.Client()
+        with pytest.raises(ValueError, match=r"domain_id must be in 0..232 \(got -1\)"):
+            hadal.Client(domain_id=-1)
+        with hadal.Client(domain_id=server.domain_id, name="pytest") as client:  # given: the variable is not read
+            assert client.wait_for_server(WAIT_S)
+
+
 def test_requests_sent_without_waiting_are_answered_in_any_order():
     with hadal.Server("default", mode="lockstep") as first_server, \
             hadal.Server("default", mode="lockstep") as second_server:

@@ -5,7 +5,7 @@
 // DDS types in it: samples arrive as the plain structs below (SI units, frames as in the topic table of
 // docs/topics.md). Callbacks run on DDS threads: keep them short and synchronise what they touch.
 //
-//   hadal::Client client(hadal::ClientOptions{0, "my_controller"});  // domain 0
+//   hadal::Client client(hadal::ClientOptions{0, "my_controller"});  // domain 0 ({}: $ROS_DOMAIN_ID, else 0)
 //   if (!client.wait_for_server(10.0)) ...;
 //   client.on_odometry("auv", [](const hadal::Odometry& o) { ... });
 //   client.set_commands("auv", {0.5, 0.0, 0.0});
@@ -358,7 +358,8 @@ struct CameraInfo {
 };
 
 struct ClientOptions {
-  int domain_id = 0;  // 0..232, as hadald --domain-id
+  // 0..232, as hadald --domain-id; unset: $ROS_DOMAIN_ID, else 0 (the rule of every Hadal tool and of ROS 2).
+  std::optional<int> domain_id;
   std::string name = "hadal_client";
   // Heartbeat timeout [s]: the server counts as gone (server_alive() false, ServerLost from a pending
   // step()) after this long without a status sample, or three of its status periods if those are longer
