@@ -12,6 +12,7 @@
 // most the last second; SIGINT/SIGTERM or --duration (wall seconds) close it. Exit status 0, 1 when no
 // hadald was found within --wait seconds (default 20) or writing failed, 2 on a usage error. --security: DDS
 // Security with the `security:` block of FILE (docs/dds.md, "DDS Security"), to record a secure hadald.
+#include "hadal/dds/domain_id.h"
 #include "hadal/record/bag_recorder.h"
 #include "hadal/record/rosbag2_writer.h"
 #include "cli_args.h"
@@ -79,7 +80,7 @@ int main(int argc, char** argv) {
       .option("--domain-id",
               [&](const std::string& value) {
                 domain_given = true;
-                return hadal::tools::parse_domain_id(value, &domain);
+                return hadal::dds::read_domain_id_option(value, &domain);
               })
       .option("--topics", [&](const std::string& value) { return read_topics(value, &options.topics); })
       .flag("--use-sim-time", [&] { options.use_sim_time = true; })
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
       .one_positional(&directory, "more than one bag directory given ('%s' and '%s')");
   if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   if (!domain_given) {
-    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) {
+    if (const std::string error = hadal::dds::domain_id_from_environment(std::getenv("ROS_DOMAIN_ID"), &domain); !error.empty()) {
       return command_line.usage_error(error);
     }
   }

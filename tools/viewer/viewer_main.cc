@@ -13,6 +13,7 @@
 // read the bag, 2 on a usage error. --security: DDS Security with the `security:` block of FILE (docs/dds.md,
 // "DDS Security"), to watch a secure hadald.
 #include "hadal/core/data_dir.h"
+#include "hadal/dds/domain_id.h"
 #include "hadal/dds/topic_names.h"
 #include "hadal/record/rosbag2_reader.h"
 #include "hadal/record/rosbag2_writer.h"
@@ -378,7 +379,7 @@ int main(int argc, char** argv) {
       .option("--domain-id",
               [&](const std::string& value) {
                 domain_given = true;
-                return hadal::tools::parse_domain_id(value, &domain);
+                return hadal::dds::read_domain_id_option(value, &domain);
               })
       .option("--port",
               [&](const std::string& value) -> std::string {
@@ -411,7 +412,7 @@ int main(int argc, char** argv) {
       .text("--three-root", &web.three_root);
   if (const std::optional<int> status = command_line.parse(argc, argv)) return *status;
   if (!domain_given) {
-    if (const std::string error = hadal::tools::default_domain_id(&domain); !error.empty()) {
+    if (const std::string error = hadal::dds::domain_id_from_environment(std::getenv("ROS_DOMAIN_ID"), &domain); !error.empty()) {
       return command_line.usage_error(error);
     }
   }

@@ -1,6 +1,7 @@
 #include "hadal_client/client.h"
 
 #include "hadal/config/security_block.h"
+#include "hadal/dds/domain_id.h"
 #include "hadal/dds/participant.h"
 #include "hadal/dds/time_msg.h"
 #include "hadal/dds/topic_names.h"
@@ -418,24 +419,21 @@ struct Client::Impl {
 
 namespace {
 
-// ClientOptions::domain_id, or $ROS_DOMAIN_ID, or 0; std::invalid_argument outside 0..232.
+// ClientOptions::domain_id, or $ROS_DOMAIN_ID, or 0 (dds/domain_id.h); std::invalid_argument outside 0..232.
 int domain_of(const ClientOptions& options) {
-  const auto in_range = [](long id) { return id >= 0 && id <= 232; };
   if (options.domain_id) {
-    if (!in_range(*options.domain_id)) {
+    if (*options.domain_id < 0 || *options.domain_id > 232) {
       throw std::invalid_argument("ClientOptions::domain_id must be in 0..232 (got " +
                                   std::to_string(*options.domain_id) + ")");
     }
     return *options.domain_id;
   }
-  const char* env = std::getenv("ROS_DOMAIN_ID");
-  if (env == nullptr || *env == '\0') return 0;
-  char* end = nullptr;
-  const long id = std::strtol(env, &end, 10);
-  if (*end != '\0' || !in_range(id)) {
-    throw std::invalid_argument("ROS_DOMAIN_ID must be an integer in 0..232 (got '" + std::string(env) + "')");
+  int domain = 0;
+  if (const std::string error = dds::domain_id_from_environment(std::getenv("ROS_DOMAIN_ID"), &domain);
+      !error.empty()) {
+    throw std::invalid_argument(error);
   }
-  return static_cast<int>(id);
+  return domain;
 }
 
 }  // namespace

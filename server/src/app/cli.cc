@@ -2,6 +2,8 @@
 
 #include "scheduling.h"
 
+#include "hadal/dds/domain_id.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -24,13 +26,6 @@ bool parse_uint64(const std::string& text, std::uint64_t& out) {
   errno = 0;
   out = std::strtoull(text.c_str(), &end, 10);
   return errno == 0 && end == text.c_str() + text.size();
-}
-
-bool parse_domain(const std::string& text, int& out) {
-  std::uint64_t value = 0;
-  if (!parse_uint64(text, value) || value > 232) return false;
-  out = static_cast<int>(value);
-  return true;
 }
 
 }  // namespace
@@ -82,9 +77,8 @@ std::string usage() {
 CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_id_env) {
   CliParse parse;
   CliOptions& o = parse.options;
-  if (ros_domain_id_env != nullptr && *ros_domain_id_env != '\0' &&
-      !parse_domain(ros_domain_id_env, o.domain_id)) {
-    parse.error = "ROS_DOMAIN_ID must be an integer in 0..232 (got '" + std::string(ros_domain_id_env) + "')";
+  if (std::string error = dds::domain_id_from_environment(ros_domain_id_env, &o.domain_id); !error.empty()) {
+    parse.error = std::move(error);
     return parse;
   }
   for (std::size_t i = 0; i < args.size(); ++i) {
@@ -174,8 +168,8 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
       } else if (arg == "--asset-root") {
         o.asset_roots.push_back(value);  // checked by the loader (config::asset_roots)
       } else if (arg == "--domain-id") {
-        if (!parse_domain(value, o.domain_id)) {
-          parse.error = "--domain-id must be an integer in 0..232 (got '" + value + "')";
+        if (std::string error = dds::read_domain_id_option(value, &o.domain_id); !error.empty()) {
+          parse.error = std::move(error);
           return parse;
         }
       } else {
