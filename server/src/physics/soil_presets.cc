@@ -33,7 +33,7 @@ SoilParameters si(const TableRow& row) {
 constexpr double kClayK = 0.006;
 constexpr double kLoamK = 0.025;
 
-constexpr const char* kWesAssumingK = "bekker_parameters.csv; row unverified in the table; K assumed 6 mm";
+constexpr const char* kUnverifiedRowClayK = "bekker_parameters.csv; row unverified in the table; K assumed 6 mm";
 
 }  // namespace
 
@@ -71,23 +71,23 @@ const config::Presets<SoilParameters>& soil_presets() {
        .figures = si({.n = 1.1, .k_c_kN = 15.6, .k_phi_kN = 2407.4, .c_kPa = 0.25, .phi_deg = 31.9, .K_m = 0.010})},
       {.id = "heavy_clay_25",
        .product = "Heavy clay (WES) 25% moisture",
-       .source = kWesAssumingK,
+       .source = kUnverifiedRowClayK,
        .figures = si({.n = 0.13, .k_c_kN = 12.70, .k_phi_kN = 1555.95, .c_kPa = 68.95, .phi_deg = 34.0, .K_m = kClayK})},
       {.id = "heavy_clay_40",
        .product = "Heavy clay (WES) 40% moisture",
-       .source = kWesAssumingK,
+       .source = kUnverifiedRowClayK,
        .figures = si({.n = 0.11, .k_c_kN = 1.84, .k_phi_kN = 103.27, .c_kPa = 20.69, .phi_deg = 6.0, .K_m = kClayK})},
       {.id = "lean_clay_22",
        .product = "Lean clay (WES) 22% moisture",
-       .source = kWesAssumingK,
+       .source = kUnverifiedRowClayK,
        .figures = si({.n = 0.2, .k_c_kN = 16.43, .k_phi_kN = 1724.69, .c_kPa = 68.95, .phi_deg = 20.0, .K_m = kClayK})},
       {.id = "lean_clay_32",
        .product = "Lean clay (WES) 32% moisture",
-       .source = kWesAssumingK,
+       .source = kUnverifiedRowClayK,
        .figures = si({.n = 0.15, .k_c_kN = 1.52, .k_phi_kN = 119.61, .c_kPa = 13.79, .phi_deg = 11.0, .K_m = kClayK})},
       {.id = "clayey_soil_55",
        .product = "Clayey soil (Thailand) 55% moisture",
-       .source = kWesAssumingK,
+       .source = kUnverifiedRowClayK,
        .figures = si({.n = 0.7, .k_c_kN = 16.03, .k_phi_kN = 1262.53, .c_kPa = 2.07, .phi_deg = 10.0, .K_m = kClayK})},
   };
   return presets;

@@ -77,10 +77,7 @@ SensorReach FlsSensor::reach(const Spec& spec) { return {spec.acoustics.max_rang
 const config::KeyTable<FlsSensor::Spec, SensorReader>& FlsSensor::keys() {
   return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].fls", "a forward-looking imaging sonar: a fan of beams in S's x-y plane");
-    t.preset("forward-looking sonar", fls_presets(), [](Spec& spec, const config::Preset<FlsFigures>& p, SensorReader& reader) {
-       p.figures.apply(spec);
-       if (!reader.rate_given) reader.rate_hz = p.figures.rate_hz;
-     }).doc("a product (table below): sets the keys the file does not give, and rate_hz unless given");
+    t.preset("forward-looking sonar", fls_presets(), apply_rated_preset<Spec, FlsFigures>).doc(kRatedPresetDoc);
     t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams over the fan");
     t.number("fov_deg", &Spec::fov).degrees().range(Range::left_open(0.0, 180.0)).doc("the fan's width");
     t.number("beam_width_deg", &Spec::beam_width).degrees().range(Range::left_open(0.0, 30.0)).doc("a beam's width in the fan");

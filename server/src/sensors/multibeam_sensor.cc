@@ -70,10 +70,7 @@ SensorReach MultibeamSensor::reach(const Spec& spec) { return {spec.acoustics.ma
 const config::KeyTable<MultibeamSensor::Spec, SensorReader>& MultibeamSensor::keys() {
   return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].multibeam", "a multibeam echosounder: bottom detection per beam");
-    t.preset("multibeam", multibeam_presets(), [](Spec& spec, const config::Preset<MultibeamFigures>& p, SensorReader& reader) {
-       p.figures.apply(spec);
-       if (!reader.rate_given) reader.rate_hz = p.figures.rate_hz;
-     }).doc("a product (table below): sets the keys the file does not give, and rate_hz unless given");
+    t.preset("multibeam", multibeam_presets(), apply_rated_preset<Spec, MultibeamFigures>).doc(kRatedPresetDoc);
     t.number("beams", &Spec::beams).range(Range::closed(1.0, 4096.0)).doc("beams over the swath");
     t.number("swath_deg", &Spec::swath).degrees().range(Range::left_open(0.0, 180.0)).doc("the swath's width");
     t.number("across_beam_width_deg", &Spec::across_beam_width).degrees().range(Range::left_open(0.0, 30.0))

@@ -79,10 +79,7 @@ SensorReach SidescanSensor::reach(const Spec& /*spec*/) { return {}; }
 const config::KeyTable<SidescanSensor::Spec, SensorReader>& SidescanSensor::keys() {
   return config::declare_keys<Spec, SensorReader>(Spec{}, [](config::KeyTable<Spec, SensorReader>& t) {
     t.describe("sensors[].sidescan", "a side-scan sonar: a beam to either side of x_S");
-    t.preset("side-scan sonar", sidescan_presets(), [](Spec& spec, const config::Preset<SidescanFigures>& p, SensorReader& reader) {
-       p.figures.apply(spec);
-       if (!reader.rate_given) reader.rate_hz = p.figures.rate_hz;
-     }).doc("a product (table below): sets the keys the file does not give, and rate_hz unless given");
+    t.preset("side-scan sonar", sidescan_presets(), apply_rated_preset<Spec, SidescanFigures>).doc(kRatedPresetDoc);
     t.number("horizontal_beam_width_deg", &Spec::horizontal_beam_width).degrees().range(Range::left_open(0.0, 30.0))
         .doc("along track");
     t.number("vertical_beam_width_deg", &Spec::vertical_beam_width).degrees().range(Range::left_open(0.0, 120.0))

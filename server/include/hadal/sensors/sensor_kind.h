@@ -58,6 +58,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/config/preset.h"
 #include "hadal/core/kind_list.h"
 #include "hadal/core/parallel_for.h"
 
@@ -88,6 +89,17 @@ struct SensorReader {
   bool rate_given = false;  // rate_hz appears in the file
   double& rate_hz;          // [Hz]; a kind may set it when !rate_given
 };
+
+// A `preset:` whose figures set the spec themselves (Figures::apply(Spec&)) and carry a sample rate
+// (Figures::rate_hz), which they set unless the file gives rate_hz: the sonars'. Declared as
+//   t.preset("multibeam", multibeam_presets(), apply_rated_preset<Spec, MultibeamFigures>).doc(kRatedPresetDoc);
+template <class Spec, class Figures>
+void apply_rated_preset(Spec& spec, const config::Preset<Figures>& preset, SensorReader& reader) {
+  preset.figures.apply(spec);
+  if (!reader.rate_given) reader.rate_hz = preset.figures.rate_hz;
+}
+inline constexpr const char* kRatedPresetDoc =
+    "a product (table below): sets the keys the file does not give, and rate_hz unless given";
 
 // Data shared by every sensor of a simulation that needs it, made on first use: the World Magnetic
 // Model and W as a local East-North-Up frame on WGS84 (world.origin; sensors/geodesy.h).
