@@ -12,9 +12,7 @@
 //   hadal-mesh-info FILE [--scale S] [--up-axis y|z] [--mass M]
 // Exit status: 0 success; 1 the file cannot be imported (message on stderr, nothing on stdout);
 // 2 usage error. Warnings (e.g. an OBJ's missing .mtl) go to stderr.
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -37,17 +35,6 @@ constexpr const char* kUsage =
     "               mesh as a homogeneous solid of M kg (> 0)\n"
     "Prints one JSON object (SI units, Hadal's frame); inertia is about the centroid for unit "
     "density.\n";
-
-// --scale S, --mass M: "" when the text is a finite number > 0 (into *value), else the usage error.
-std::string read_positive(const char* option, const std::string& text, double* value) {
-  char* end = nullptr;
-  *value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0') return std::string(option) + ": not a number: " + text;
-  if (!(*value > 0.0) || !std::isfinite(*value)) {
-    return std::string(option) + " must be > 0 and finite (got " + text + ")";
-  }
-  return "";
-}
 
 std::string read_up_axis(const std::string& text, hadal::geometry::UpAxis* up_axis) {
   if (text == "y" || text == "Y") {
@@ -114,8 +101,8 @@ int main(int argc, char** argv) {
   hadal::tools::CommandLine command_line("hadal-mesh-info", kUsage);
   command_line.unknown_words("unknown option %s")
       .option_syntax(hadal::tools::OptionSyntax::kDoubleDash)
-      .option("--scale", [&](const std::string& value) { return read_positive("--scale", value, &options.scale); })
-      .option("--mass", [&](const std::string& value) { return read_positive("--mass", value, &mass); })
+      .number("--scale", &options.scale, hadal::tools::NumberRange::greater_than(0.0))
+      .number("--mass", &mass, hadal::tools::NumberRange::greater_than(0.0))
       .option("--up-axis", [&](const std::string& value) { return read_up_axis(value, &options.up_axis); },
               "--up-axis needs y or z")
       .one_positional(&file, "more than one FILE");
