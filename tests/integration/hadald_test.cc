@@ -1,5 +1,6 @@
 // End-to-end tests: a real hadald process, real Fast DDS, driven through libhadal_client.
 // Each test reserves its own DDS domain (DomainLease), so ctest -j runs them side by side.
+#include "hadal/record/topic_tap.h"
 #include "hadal_client/client.h"
 #include "lockstep_server.h"
 #include "server_process.h"
@@ -10,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -524,6 +526,30 @@ TEST(HadaldTest, LateCameraFramesAreDroppedAndCountedInTheStatus) {
   ASSERT_NE(at, std::string::npos) << out;
   EXPECT_GE(std::atoi(out.c_str() + at + 23), 3) << out;
   std::remove(path.c_str());
+}
+
+// Two hadald on one DDS domain: each says so on stderr, naming the other process (its pid and scenario), and
+// both keep running (DDS allows it; a client there would get both servers' topics).
+TEST(HadaldTest, ASecondServerOnTheDomainIsNamedLoudly) {
+  DomainLease domain;
+  ServerProcess first({source_path(kClientScenario), "--mode", "lockstep", "--domain-id", std::to_string(domain.id()),
+                       "--no-status-line"});
+  Client client(ClientOptions{domain.id(), "hadald_test"});
+  ASSERT_TRUE(client.wait_for_server(kWait)) << first.err();
+  ServerProcess second({source_path("tests/integration/scenarios/sonar.yaml"), "--mode", "lockstep", "--domain-id",
+                        std::to_string(domain.id()), "--no-status-line"});
+  const std::string about_first = "hadald: warning: another hadald is on DDS domain " + std::to_string(domain.id()) +
+                                  " (pid " + std::to_string(first.pid()) + " on ";
+  const std::string about_second = "(pid " + std::to_string(second.pid()) + " on ";
+  ASSERT_TRUE(wait_until([&] { return second.err().find(about_first) != std::string::npos; }, kWait))
+      << second.err();
+  EXPECT_NE(second.err().find("scenarios/auv_client.yaml, mode lockstep): clients there see both servers' topics"),
+            std::string::npos)
+      << second.err();
+  ASSERT_TRUE(wait_until([&] { return first.err().find(about_second) != std::string::npos; }, kWait)) << first.err();
+  EXPECT_NE(first.err().find("scenarios/sonar.yaml"), std::string::npos) << first.err();
+  EXPECT_TRUE(first.running());
+  EXPECT_TRUE(second.running());
 }
 
 TEST(HadaldTest, SigtermStopsARealtimeServerCleanly) {

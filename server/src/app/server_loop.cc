@@ -11,6 +11,7 @@
 #include <hadal_msgs.h>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -40,6 +41,14 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Which hadald this is, for another on the same domain to name (dds::ServerEndpoints).
+std::string describe_process(const CliOptions& options) {
+  char host[256] = {};
+  if (gethostname(host, sizeof(host) - 1) != 0) host[0] = '\0';
+  return "pid " + std::to_string(getpid()) + " on " + (host[0] != '\0' ? std::string(host) : "this host") +
+         ", scenario " + options.scenario_file + ", mode " + to_string(options.mode);
+}
+
 class Runner {
  public:
   Runner(const Model& model, const CliOptions& options, const std::atomic<bool>& stop)
@@ -47,7 +56,7 @@ class Runner {
         options_(options),
         stop_(stop),
         sim_(model),
-        dds_(model, options.domain_id) {
+        dds_(model, options.domain_id, describe_process(options)) {
     // In real time a capture whose rays are late is dropped: the step loop never waits on the workers.
     sim_.set_wait_for_captures(options.mode != RunMode::kRealtime);
     clock_divider_ = RateDivider(model.world.clock_rate_hz);
@@ -293,6 +302,7 @@ class Runner {
       // resumes from now instead of bursting.
       last_status_wall_ += period;
       if (now >= last_status_wall_ + period) last_status_wall_ = now;
+      for (const auto& warning : dds_.take_warnings()) std::fprintf(stderr, "hadald: warning: %s\n", warning.c_str());
       // Writers whose samples are never seen (an unknown vehicle, a wrong type, best effort): refusals too.
       for (const auto& report : dds_.take_reports()) {
         std::fprintf(stderr, "hadald: %s\n", report.c_str());

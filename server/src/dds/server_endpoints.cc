@@ -147,6 +147,8 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   // The last request id accepted from each writer (its full GUID): ids must increase (no replays).
   std::map<std::array<std::uint8_t, 16>, std::uint64_t> last_request_ids;
   std::vector<std::string> reports;
+  std::vector<std::string> warnings;
+  int domain_id = 0;
   std::set<std::string> reported_topics;
   bool interrupted = false;
 
@@ -252,6 +254,21 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     }
   }
 
+  // Another hadald on this domain: clients would see both servers' topics, and steps and commands would reach
+  // both. DDS allows it, so it is said loudly (the other hadald says it too), naming the other process.
+  void on_participant_discovery(fdds::DomainParticipant* participant,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) return;
+    if (info.info.m_participantName.to_string() != "hadald") return;
+    if (info.info.m_guid.guidPrefix == participant->guid().guidPrefix) return;
+    const std::string other = user_data_text(info.info.m_userData.data_vec());
+    std::lock_guard<std::mutex> lock(mutex);
+    warnings.push_back("another hadald is on DDS domain " + std::to_string(domain_id) + " (" +
+                       (other.empty() ? std::string("it does not say which process it is") : other) +
+                       "): clients there see both servers' topics, and their commands and step requests reach "
+                       "both; stop one, or give each its own --domain-id");
+  }
+
   void report_once(const std::string& key, const std::string& report) {
     std::lock_guard<std::mutex> lock(mutex);
     if (reported_topics.insert(key).second) reports.push_back(report);
@@ -271,9 +288,13 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   }
 };
 
-ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std::make_unique<Impl>(model)) {
+ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::string& description)
+    : impl_(std::make_unique<Impl>(model)) {
   Impl& d = *impl_;
-  d.participant = create_participant(domain_id, "hadald", nullptr, model.security);
+  d.domain_id = domain_id;
+  // The listener from the start, so that a hadald already on the domain is seen: what its callbacks touch
+  // (the model, the mutex and the reports) exists with Impl.
+  d.participant = create_participant(domain_id, "hadald", &d, model.security, description);
   d.registry = std::make_unique<TopicRegistry>(d.participant);
   TopicRegistry& r = *d.registry;
 
@@ -347,8 +368,6 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id) : impl_(std:
   d.step_listener.owner = &d;
   d.step_reader = r.reader<hadal_msgs::msg::StepRequestPubSubType>(step_request_topic(), kCommandHistoryDepth,
                                                                    &d.step_listener);
-  // Discovery callbacks only after everything they touch exists.
-  d.participant->set_listener(&d, fdds::StatusMask::none());
 }
 
 ServerEndpoints::~ServerEndpoints() {
@@ -391,6 +410,13 @@ void ServerEndpoints::interrupt() {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   impl_->interrupted = true;
   impl_->step_ready.notify_all();
+}
+
+std::vector<std::string> ServerEndpoints::take_warnings() {
+  std::vector<std::string> taken;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  taken.swap(impl_->warnings);
+  return taken;
 }
 
 std::vector<std::string> ServerEndpoints::take_reports() {

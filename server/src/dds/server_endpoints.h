@@ -47,7 +47,8 @@ struct TopicCount {
 
 class ServerEndpoints {
  public:
-  ServerEndpoints(const Model& model, int domain_id);
+  // `description` (which process this is: pid, host, scenario) goes with the participant for other hadald to name.
+  ServerEndpoints(const Model& model, int domain_id, const std::string& description = {});
   ~ServerEndpoints();
   ServerEndpoints(const ServerEndpoints&) = delete;
   ServerEndpoints& operator=(const ServerEndpoints&) = delete;
@@ -65,6 +66,8 @@ class ServerEndpoints {
   void interrupt();
   // Human-readable reports from the DDS threads (e.g. a writer for an unknown vehicle).
   std::vector<std::string> take_reports();
+  // Warnings from the DDS threads: another hadald on the same domain, named by its description.
+  std::vector<std::string> take_warnings();
 
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);

@@ -68,13 +68,27 @@ StaleSharedMemory clean_stale_shared_memory(const std::string& directory = "/dev
 // a document signed by another CA or not with `openssl smime -sign -text`, no grant for the certificate's
 // subject) is a std::runtime_error that names what to check; so is a participant that came out without
 // authentication (an authentication plugin name Fast DDS does not know gives one silently).
+//
+// `user_data` is announced with the participant (its USER_DATA QoS) for others to show: hadald's says which
+// process it is (user_data_text reads it back).
 eprosima::fastdds::dds::DomainParticipant* create_participant(
     int domain_id, const std::string& name, eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
-    const SecurityFiles& security = {});
+    const SecurityFiles& security = {}, const std::string& user_data = {});
+// A discovered participant's USER_DATA as text.
+std::string user_data_text(const std::vector<unsigned char>& user_data);
 
 // True when `participant` authenticates (DDS Security on): its GUID prefix then derives from its certificate
 // (first bit set) instead of the vendor id.
 bool is_secure(const eprosima::fastdds::dds::DomainParticipant* participant);
+
+// Two participants in one process (a client and a TopicTap in a test or a tool, hadald and its --record tap)
+// talk through the transports, never Fast DDS's intraprocess shortcut: with it, Fast DDS 2.9 keeps a pointer
+// to the other participant's discovery reader after that participant is deleted, and deleting an endpoint
+// of the survivor then crashes in StatefulWriter::intraprocess_gap (seen as a rare SIGSEGV in ~Client after
+// a test's TopicTap was deleted; docs/dds.md "Participants in one process"). create_participant calls this
+// before each participant; the setting is process-wide.
+void disable_intraprocess_delivery();
+bool intraprocess_delivery_disabled();
 
 // Deletes the participant and all entities it contains (so shared-memory segments are released).
 void delete_participant(eprosima::fastdds::dds::DomainParticipant* participant);

@@ -3,7 +3,9 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/attributes/LibrarySettingsAttributes.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 
 #include <arpa/inet.h>
 #include <dirent.h>
@@ -76,6 +78,18 @@ void add_security_properties(const SecurityFiles& files, fdds::DomainParticipant
 }
 }  // namespace
 
+void disable_intraprocess_delivery() {
+  eprosima::fastrtps::LibrarySettingsAttributes settings =
+      eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings();
+  settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
+}
+
+bool intraprocess_delivery_disabled() {
+  return eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings().intraprocess_delivery ==
+         eprosima::fastrtps::INTRAPROCESS_OFF;
+}
+
 bool non_loopback_interface_running() {
   ifaddrs* interfaces = nullptr;
   if (getifaddrs(&interfaces) != 0) return true;  // unknown: no warning
@@ -95,13 +109,22 @@ bool localhost_only_from_environment() {
   return range != nullptr && std::strcmp(range, "LOCALHOST") == 0;
 }
 
+std::string user_data_text(const std::vector<unsigned char>& user_data) {
+  return std::string(user_data.begin(), user_data.end());
+}
+
 fdds::DomainParticipant* create_participant(int domain_id, const std::string& name,
-                                            fdds::DomainParticipantListener* listener, const SecurityFiles& security) {
+                                            fdds::DomainParticipantListener* listener, const SecurityFiles& security,
+                                            const std::string& user_data) {
   if (domain_id < 0 || domain_id > 232) {
     throw std::runtime_error("DDS domain id must be in 0..232 (got " + std::to_string(domain_id) + ")");
   }
+  // Loads the XML profiles (once) before the library setting below, which a profile could set otherwise.
+  fdds::DomainParticipantFactory::get_instance()->load_profiles();
+  disable_intraprocess_delivery();
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
+  if (!user_data.empty()) qos.user_data().setValue(std::vector<unsigned char>(user_data.begin(), user_data.end()));
   qos.transport().use_builtin_transports = false;
 
   if (shared_memory_from_environment()) {

@@ -1,5 +1,7 @@
 #include "hadal/dds/participant.h"
 
+#include <fastrtps/attributes/LibrarySettingsAttributes.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -50,6 +52,17 @@ std::string creation_error() {
     return e.what();
   }
   return "";
+}
+
+// Participants of one process talk through the transports (participant.h): after making one, Fast DDS's
+// intraprocess delivery is off, even when it was on before (as an XML profile could set it).
+TEST(ParticipantEnvironment, ParticipantsOfOneProcessDoNotUseIntraprocessDelivery) {
+  eprosima::fastrtps::LibrarySettingsAttributes on;
+  on.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_FULL;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(on);
+  ASSERT_FALSE(intraprocess_delivery_disabled());
+  fastdds_participant_ok();
+  EXPECT_TRUE(intraprocess_delivery_disabled());
 }
 
 TEST(ParticipantEnvironment, StaticPeersAreSplitAtSemicolonsAndTrimmed) {
