@@ -129,6 +129,9 @@ int main(int argc, char** argv) {
                  model.security.permissions.c_str());
   }
   for (const auto& vehicle : model.vehicles) std::fprintf(stderr, "hadald: %s\n", describe(vehicle).c_str());
+  for (const std::string& warning : app::mode_warnings(model, cli.options.mode)) {
+    std::fprintf(stderr, "hadald: warning: %s\n", warning.c_str());
+  }
   try {
     // Shared memory that killed DDS processes (a hadald or client ended by kill -9) left behind is RAM
     // held for nothing; a server start gives it back.

@@ -472,6 +472,23 @@ std::string RunSummary::format() const {
   return out.str();
 }
 
+std::vector<std::string> mode_warnings(const Model& model, RunMode mode) {
+  std::vector<std::string> warnings;
+  if (mode != RunMode::kRealtime) return warnings;
+  for (const VehicleSpec& vehicle : model.vehicles) {
+    for (const SensorSpec& sensor : vehicle.sensors) {
+      if (!sensor.captured() || sensor.latency_steps(model.world.physics_rate_hz) > 0) continue;
+      std::ostringstream line;
+      line << vehicle.name << "/" << sensor.name << ": latency_s " << sensor.latency_s
+           << " s is less than one physics step: in real time its captures are due before a ray-cast worker can "
+              "make them and none is published (leave latency_s out for one sample period, "
+           << 1.0 / sensor.rate_hz << " s)";
+      warnings.push_back(line.str());
+    }
+  }
+  return warnings;
+}
+
 RunSummary run_server(const Model& model, const CliOptions& options, const std::atomic<bool>& stop) {
   Runner runner(model, options, stop);
   return runner.run();

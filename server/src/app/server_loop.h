@@ -45,6 +45,11 @@ struct RunSummary {
   std::string format() const;
 };
 
+// What a run in `mode` will not do as the scenario expects, one line each ("<vehicle>/<sensor>: ..."): in real
+// time, a captured sensor whose latency_s rounds to 0 physics steps publishes nothing (every capture is due
+// in its own step, before a worker can have made it; configs/REFERENCE.md, "Captured sensors").
+std::vector<std::string> mode_warnings(const Model& model, RunMode mode);
+
 // Runs until `stop` is set or the duration is reached. Throws std::runtime_error if DDS cannot start.
 RunSummary run_server(const Model& model, const CliOptions& options, const std::atomic<bool>& stop);
 

@@ -43,7 +43,15 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
         .doc("header.frame_id of the samples");
     t.number("latency_s", [](SensorEntry& e) -> double& { return e.spec.latency_s; }).only_for(captured).unit("s")
         .range(Range::closed(0.0, 10.0))
-        .doc("from a capture to its publication, rounded up to whole physics steps");
+        .default_text("one sample period, 1 / rate_hz")
+        .doc("from a capture to its publication, rounded up to whole physics steps; in real time a capture not "
+             "ready by then is dropped, so 0 publishes nothing there");
+    // A captured kind's default latency: one sample period, which the ray-cast workers have to make the capture
+    // before the next one is taken (0 would drop every capture in real time: configs/REFERENCE.md, "Captured sensors").
+    t.check([](const KeyReads& reads, SensorEntry& e, VehicleContext&) {
+      if (e.spec.captured() && !reads.has("latency_s") && e.spec.rate_hz > 0.0) e.spec.latency_s = 1.0 / e.spec.rate_hz;
+      return true;
+    });
     t.unused_note([](const MapReader&, const SensorEntry&) -> std::string {
       return " (it samples on the stepping thread, without latency)";
     });

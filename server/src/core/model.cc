@@ -6,6 +6,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <cmath>
 #include <thread>
 
 namespace hadal {
@@ -27,6 +28,14 @@ int VehicleSpec::link_index(const std::string& link_name) const {
 
 std::string_view SensorSpec::type() const {
   return std::visit([](const auto& spec) { return sensors::KindOf<std::decay_t<decltype(spec)>>::kType; }, kind);
+}
+
+bool SensorSpec::captured() const {
+  return std::visit([](const auto& spec) { return sensors::KindOf<std::decay_t<decltype(spec)>>::kCaptures; }, kind);
+}
+
+std::uint64_t SensorSpec::latency_steps(double physics_rate_hz) const {
+  return static_cast<std::uint64_t>(std::ceil(latency_s * physics_rate_hz - 1e-6));
 }
 
 std::string_view ActuatorSpec::type() const {

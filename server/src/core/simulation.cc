@@ -63,10 +63,7 @@ struct Simulation::VehicleRuntime {
       Sensor& mount = sensors.emplace_back();
       mount.X_BS = spec.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
       mount.period = 1.0 / sensor.rate_hz;
-      // Delivered at the end of the first step at or after capture + latency (1e-6 step of slack for
-      // latencies that are whole steps up to rounding).
-      mount.latency_steps =
-          static_cast<std::uint64_t>(std::ceil(sensor.latency_s * world.physics_rate_hz - 1e-6));
+      mount.latency_steps = sensor.latency_steps(world.physics_rate_hz);
     }
   }
 

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -59,6 +60,11 @@ struct SensorSpec {
 
   // The kind's YAML type name ("pressure", "imu", ...).
   std::string_view type() const;
+  // A captured kind (sensors/sensor_kind.h): its samples are made on the ray-cast workers.
+  bool captured() const;
+  // A capture's latency in physics steps: delivered at the end of the first step at or after capture +
+  // latency_s (1e-6 step of slack for latencies that are whole steps up to rounding).
+  std::uint64_t latency_steps(double physics_rate_hz) const;
 };
 
 // The kind spec of a sensor as kind K's Spec (K must be the sensor's kind; std::bad_variant_access
