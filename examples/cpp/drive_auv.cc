@@ -8,13 +8,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
 int main(int argc, char** argv) {
   std::string vehicle = "auv";
   double seconds = 10.0, thrust = 0.6;
-  int domain_id = std::getenv("ROS_DOMAIN_ID") ? std::atoi(std::getenv("ROS_DOMAIN_ID")) : 0;
+  std::optional<int> domain_id;  // unset: $ROS_DOMAIN_ID, else 0 (hadal::resolve_domain_id), as every Hadal tool
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     if (key == "--vehicle") vehicle = argv[i + 1];
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
   }
   hadal::Client client({domain_id, "drive_auv"});
   if (!client.wait_for_server(10.0)) {
-    std::fprintf(stderr, "drive_auv: no hadald on DDS domain %d\n", domain_id);
+    std::fprintf(stderr, "drive_auv: no hadald on DDS domain %d\n", hadal::resolve_domain_id(domain_id));
     return 1;
   }
   std::mutex print_mutex;

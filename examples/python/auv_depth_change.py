@@ -80,7 +80,7 @@ def fly(client, depth_m, until_s, vehicle="auv", report=print):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "0")))
+    parser.add_argument("--domain-id", type=int, help="DDS domain (default: $ROS_DOMAIN_ID, else 0)")
     parser.add_argument("--depth", type=float, default=30.0, help="target depth [m]")
     parser.add_argument("--until", type=float, default=90.0, help="sim time to stop at [s]")
     parser.add_argument("--security-file", default=None,

@@ -13,8 +13,9 @@ the sensors alone, never ground truth after t = 0:
 Each ping is compared with ground-truth odometry; the run ends with key=value lines (final and largest
 horizontal error, distance travelled, drift as a percentage of it, heading error) and a PNG: the
 trajectory, truth vs dead reckoning, and the horizontal error against time. It starts its own lockstep
-hadald on --scenario (default: configs/scenarios/default.yaml; any with the torpedo AUV as `auv`), or with
---domain-id steps a freshly started lockstep one running that scenario:
+hadald on --scenario (default: configs/scenarios/default.yaml; any with the torpedo AUV as `auv`) on
+--domain-id ($ROS_DOMAIN_ID, else 0, as every Hadal tool), or with --attach steps the freshly started lockstep
+one already running that scenario there:
 
     /usr/bin/python3 examples/python/dead_reckoning.py --duration 300 --plot dead_reckoning.png
 
@@ -201,14 +202,18 @@ def main():
     parser.add_argument("--duration", type=float, default=300.0, help="sim time to fly [s]")
     parser.add_argument("--plot", default="dead_reckoning.png", help="PNG to write")
     parser.add_argument("--scenario", default="default", help="name in configs/scenarios, or a file")
-    parser.add_argument("--domain-id", type=int, help="step this running lockstep hadald instead of starting one")
+    parser.add_argument("--domain-id", type=int, help="DDS domain (default: $ROS_DOMAIN_ID, else 0)")
+    parser.add_argument("--attach", action="store_true",
+                        help="step the lockstep hadald running on the domain instead of starting one")
     args = parser.parse_args()
     scenario = scenario_path(args.scenario)
     constants, mounts = load_setup(scenario)
-    with (hadal.Server(scenario, cameras=False) if args.domain_id is None else contextlib.nullcontext()) as server:
-        with hadal.Client(domain_id=args.domain_id if server is None else server.domain_id) as client:
+    domain_id = hadal.default_domain_id() if args.domain_id is None else args.domain_id
+    with (contextlib.nullcontext() if args.attach else
+          hadal.Server(scenario, cameras=False, domain_id=domain_id)) as server:
+        with hadal.Client(domain_id=domain_id) as client:
             if not client.wait_for_server():
-                raise hadal.ServerNotFound(f"no hadald on DDS domain {args.domain_id}")
+                raise hadal.ServerNotFound(f"no hadald on DDS domain {domain_id}")
             times, truth, estimate, heading_error = navigate(client, args.duration, constants, mounts)
     error = np.linalg.norm(truth[:, :2] - estimate[:, :2], axis=1)
     distance = float(np.sum(np.linalg.norm(np.diff(truth[:, :2], axis=0), axis=1)))

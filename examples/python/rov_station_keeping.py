@@ -118,7 +118,7 @@ def hold_station(client, vehicle="rov", until_s=120.0, period_s=0.1, report=prin
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "0")))
+    parser.add_argument("--domain-id", type=int, help="DDS domain (default: $ROS_DOMAIN_ID, else 0)")
     parser.add_argument("--vehicle", default="rov")
     parser.add_argument("--until", type=float, default=120.0, help="sim time to stop at [s]")
     args = parser.parse_args()

@@ -417,16 +417,14 @@ struct Client::Impl {
   }
 };
 
-namespace {
-
 // ClientOptions::domain_id, or $ROS_DOMAIN_ID, or 0 (dds/domain_id.h); std::invalid_argument outside 0..232.
-int domain_of(const ClientOptions& options) {
-  if (options.domain_id) {
-    if (*options.domain_id < 0 || *options.domain_id > 232) {
-      throw std::invalid_argument("ClientOptions::domain_id must be in 0..232 (got " +
-                                  std::to_string(*options.domain_id) + ")");
+int resolve_domain_id(std::optional<int> domain_id) {
+  if (domain_id) {
+    if (*domain_id < 0 || *domain_id > 232) {
+      throw std::invalid_argument("ClientOptions::domain_id must be in 0..232 (got " + std::to_string(*domain_id) +
+                                  ")");
     }
-    return *options.domain_id;
+    return *domain_id;
   }
   int domain = 0;
   if (const std::string error = dds::domain_id_from_environment(std::getenv("ROS_DOMAIN_ID"), &domain);
@@ -435,8 +433,6 @@ int domain_of(const ClientOptions& options) {
   }
   return domain;
 }
-
-}  // namespace
 
 Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
@@ -447,7 +443,7 @@ Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
   d.server_timeout_s = options.server_timeout_s;
   const SecurityFiles security =
       options.security_file.empty() ? SecurityFiles{} : config::load_security_file(options.security_file);
-  d.participant = dds::create_participant(domain_of(options), options.name, nullptr, security);
+  d.participant = dds::create_participant(resolve_domain_id(options.domain_id), options.name, nullptr, security);
   d.registry = std::make_unique<dds::TopicRegistry>(d.participant);
   // Request ids unique across clients of one server: a random 32-bit prefix per client.
   std::random_device entropy;

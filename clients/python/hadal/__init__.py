@@ -1,7 +1,7 @@
 """Python client of the Hadal deep-sea simulator.
 
     import hadal
-    client = hadal.Client(domain_id=0)
+    client = hadal.Client()                  # DDS domain $ROS_DOMAIN_ID, else 0 (hadal.default_domain_id())
     client.wait_for_server()
     client.set_commands("auv", [0.6, 0.0, 0.0])
     odom = client.wait_odometry("auv", min_stamp=client.step(500))   # lockstep servers
@@ -13,7 +13,7 @@
 
     frame = client.wait_image("auv", "camera", min_stamp=t)          # cameras: frame.array is (H, W, 3) uint8
 
-    with hadal.Server("rov", mode="lockstep") as server:            # launch hadald on a free domain
+    with hadal.Server("rov", mode="lockstep") as server:            # launch hadald ($ROS_DOMAIN_ID, else 0)
         with hadal.Client(domain_id=server.domain_id) as client:      # left at the end of the block
             client.reset(seed=3, poses={"rov": (0, 0, -50)})          # start over at t = 0, no restart
 
@@ -25,7 +25,7 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
-                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates)
+                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
                      UnknownVehicle)
 from .server import Server
@@ -33,4 +33,5 @@ from .server import Server
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
-           "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownVehicle"]
+           "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownVehicle",
+           "default_domain_id"]

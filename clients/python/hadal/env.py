@@ -1,7 +1,8 @@
 """hadal.env: Gymnasium-shaped environments over lockstep hadald servers, numpy only.
 
     import hadal.env
-    env = hadal.env.HadalEnv(task="waypoint", seed=1)       # starts its own lockstep hadald
+    env = hadal.env.HadalEnv(task="waypoint", seed=1)       # starts its own lockstep hadald (a free domain)
+    # or HadalEnv(task="waypoint", attach=True)              # the lockstep hadald on $ROS_DOMAIN_ID (else 0)
     obs, info = env.reset()
     for _ in range(100):
         obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
@@ -36,7 +37,7 @@ import os
 
 import numpy as np
 
-from ._hadal import Client, current_cpu
+from ._hadal import Client, current_cpu, default_domain_id
 from .errors import Timeout, UnknownVehicle
 from .server import Server
 
@@ -274,13 +275,17 @@ class _Closing:
 class HadalEnv(_Closing, _EnvBase):
     """One environment: a task on a lockstep hadald (its own, or the one on domain_id).
 
-    HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, domain_id=None,
-             max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None)
+    HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, attach=False,
+             domain_id=None, max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None,
+             sched=None)
 
-    scenario overrides the task's (a name in configs/scenarios or a path); threads, cpus and sched go to its
-    server (hadal.Server: the CPU threads it computes on, the CPUs it runs on, its scheduling policy). With
-    domain_id the env uses the lockstep server already there (it must run the task's scenario) and does not
-    stop it. Each step applies the action (the vehicle's control vector, clipped to [-1, 1]) for the task's
+    attach=False (the default) starts the env's own lockstep server (hadal.Server) on domain_id, by default
+    "free" (an id in 100..199 no other hadal.Server holds, so several envs run side by side), and stops it on
+    close(). attach=True uses the lockstep hadald already running on domain_id (None: $ROS_DOMAIN_ID, else 0,
+    as every Hadal tool), which must run the task's scenario, and leaves it running; scenario, hadald, threads,
+    cpus and sched are then refused (they describe a server to start). scenario overrides the task's (a name
+    in configs/scenarios or a path); threads, cpus and sched go to its server (hadal.Server: the CPU threads
+    it computes on, the CPUs it runs on, its scheduling policy). Each step applies the action (the vehicle's control vector, clipped to [-1, 1]) for the task's
     control period, then observes. info: sim_time [s], episode_step, and the task's figures.
     """
 
@@ -288,8 +293,17 @@ class HadalEnv(_Closing, _EnvBase):
     render_mode = None
     spec = None
 
-    def __init__(self, task="waypoint", seed=None, scenario=None, domain_id=None, max_episode_steps=None,
-                 timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None):
+    def __init__(self, task="waypoint", seed=None, scenario=None, attach=False, domain_id=None,
+                 max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None):
+        if not isinstance(attach, bool):
+            raise TypeError(f"attach must be True or False (got {attach!r})")
+        if attach:
+            starts = {name: value for name, value in (("scenario", scenario), ("hadald", hadald),
+                                                      ("threads", threads), ("cpus", cpus), ("sched", sched))
+                      if value is not None}
+            if starts:
+                raise ValueError(f"attach=True uses a running server: {', '.join(starts)} would describe one to "
+                                 "start (leave them out, or attach=False)")
         self.task = TASKS[task]() if isinstance(task, str) else task
         self.timeout_s = timeout_s
         self.max_episode_steps = max_episode_steps or self.task.max_episode_steps
@@ -300,9 +314,12 @@ class HadalEnv(_Closing, _EnvBase):
         self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7]).integers(2**31)))
         self._seeded = seed is not None
         self.server = None
-        if domain_id is None:
+        if attach:
+            domain_id = default_domain_id() if domain_id is None else domain_id
+        else:
             self.server = Server(scenario or self.task.scenario, mode="lockstep", hadald=hadald,
-                                 cameras=self.task.cameras, threads=threads, cpus=cpus, sched=sched)
+                                 domain_id="free" if domain_id is None else domain_id, cameras=self.task.cameras,
+                                 threads=threads, cpus=cpus, sched=sched)
             domain_id = self.server.domain_id
         try:
             self.client = self._connect(domain_id)
@@ -449,6 +466,10 @@ class VectorEnv(_Closing):
     def __init__(self, num_envs, task="waypoint", seed=None, autoreset=True, pin_cpus=True, **kwargs):
         if num_envs < 1:
             raise ValueError(f"num_envs must be >= 1 (got {num_envs})")
+        for shared in ("attach", "domain_id"):
+            if shared in kwargs:
+                raise ValueError(f"VectorEnv starts one server per env, each on a free domain: {shared} is not "
+                                 "taken (use HadalEnv to attach to a running server)")
         cpus = sorted(os.sched_getaffinity(0))
         share = max(1, len(cpus) // num_envs)
         self.pin_cpus = pin_cpus and "cpus" not in kwargs

@@ -6,8 +6,9 @@
         client.wait_for_server()
         t = client.step(100)
 
-The server gets a DDS domain id no other hadal.Server on this machine holds (a lock file per id,
-/tmp/hadal-dds-domain-<id>.lock, as the test suite's), is awaited until it publishes its status, keeps its log
+The server runs on $ROS_DOMAIN_ID (else 0), as hadald does, or on the domain_id given ("free": one no other
+hadal.Server holds); each hadal.Server holds its domain (a lock file per id, /tmp/hadal-dds-domain-<id>.lock,
+as the test suite's) so two never share one. It is awaited until it publishes its status, keeps its log
 (server.log_path), and is stopped on leaving the `with` block -- also when the block raises -- or by
 stop(), at the latest when the interpreter exits.
 
@@ -24,7 +25,7 @@ import subprocess
 import tempfile
 import time
 
-from ._hadal import Client
+from ._hadal import Client, default_domain_id
 from .errors import ScenarioError, ServerNotFound
 
 LOG_ROOT = os.path.join(tempfile.gettempdir(), f"hadal-server-logs-{os.getuid()}")
@@ -87,24 +88,47 @@ def scenario_path(scenario):
     raise FileNotFoundError(f"no scenario {scenario!r} (neither a file nor a name in configs/scenarios)")
 
 
+FREE_DOMAINS = range(100, 200)  # where domain_id="free" looks for an unused domain
+
+
+def _lock_path(domain_id):
+    return f"/tmp/hadal-dds-domain-{domain_id}.lock"
+
+
 def reserve_domain(candidates):
     """The first DDS domain id of `candidates` no other process holds, as (id, lock file handle; close it to
-    release), or None. The same lock files as the test suite and tools: /tmp/hadal-dds-domain-<id>.lock."""
+    release), or None. The same lock files as the test suite and tools: /tmp/hadal-dds-domain-<id>.lock, which
+    holds the holder's pid."""
     for candidate in candidates:
-        handle = open(f"/tmp/hadal-dds-domain-{candidate}.lock", "a")
+        handle = open(_lock_path(candidate), "a")
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             handle.close()
             continue
+        handle.truncate(0)
+        handle.write(f"{os.getpid()}\n")
+        handle.flush()
         return candidate, handle
     return None
+
+
+def _holder(domain_id):
+    """' (pid N)' of the process holding the domain's lock file, or ''."""
+    try:
+        with open(_lock_path(domain_id)) as lock:
+            pid = lock.read().strip()
+    except OSError:
+        return ""
+    return f" (pid {pid})" if pid.isdigit() else ""
 
 
 class Server:
     """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
 
-    domain_id None picks a free id in 100..199; seed overrides the scenario's world.seed; cameras=False leaves
+    domain_id None takes the domain every Hadal tool and ROS 2 take ($ROS_DOMAIN_ID, else 0), so `ros2 topic list`
+    sees the server; "free" picks an id in 100..199 that no other hadal.Server holds (several servers at once,
+    as hadal.env does); a domain held by another hadal.Server raises ServerNotFound naming its pid. seed overrides the scenario's world.seed; cameras=False leaves
     the scenario's cameras out (hadald --no-cameras); threads caps the CPU threads it computes on (hadald
     --threads; None: the scenario's world.threads, by default one per CPU it may run on); cpus (a list of CPU
     numbers) keeps all its threads on those CPUs (hadald --cpus); sched="batch" keeps its wake-ups from
@@ -159,10 +183,20 @@ class Server:
             raise
 
     def _reserve(self, domain_id):
-        reserved = reserve_domain([domain_id] if domain_id is not None else range(100, 200))
-        if reserved is None:
-            raise ServerNotFound(f"DDS domain {domain_id} is held by another hadal.Server" if domain_id is not None
-                                 else "no free DDS domain id in 100..199")
+        if isinstance(domain_id, str) and domain_id == "free":
+            reserved = reserve_domain(FREE_DOMAINS)
+            if reserved is None:
+                raise ServerNotFound(f"no free DDS domain id in {FREE_DOMAINS.start}..{FREE_DOMAINS.stop - 1}")
+        else:
+            if domain_id is None:
+                domain_id = default_domain_id()
+            elif isinstance(domain_id, bool) or not isinstance(domain_id, int) or not 0 <= domain_id <= 232:
+                raise ValueError("domain_id must be an integer in 0..232, None ($ROS_DOMAIN_ID, else 0) or 'free' "
+                                 f"(an unused one in {FREE_DOMAINS.start}..{FREE_DOMAINS.stop - 1}); got {domain_id!r}")
+            reserved = reserve_domain([domain_id])
+            if reserved is None:
+                raise ServerNotFound(f"DDS domain {domain_id} is held by another hadal.Server{_holder(domain_id)}: "
+                                     "stop it, or pass another domain_id, or domain_id='free' for an unused one")
         candidate, self._lock = reserved
         return candidate
 

@@ -471,6 +471,9 @@ PYBIND11_MODULE(_hadal, m) {
   m.def("current_cpu", [] { return sched_getcpu(); },
         "The CPU the calling thread runs on now (sched_getcpu(3)), -1 if unknown; hadal.env.VectorEnv sends the "
         "server pinned there its request last");
+  m.def("default_domain_id", [] { return hadal::resolve_domain_id(std::nullopt); },
+        "The DDS domain when none is given, the rule of hadald, its tools, hadal.Client and ROS 2: $ROS_DOMAIN_ID, "
+        "else 0 (ValueError for a ROS_DOMAIN_ID that is no id in 0..232)");
   // The client's errors as hadal.errors' classes (Python classes, so that Timeout is also a TimeoutError).
   py::register_exception_translator([](std::exception_ptr error) {
     const auto raise = [](const char* name, const hadal::ClientError& e, const char* attribute = nullptr,

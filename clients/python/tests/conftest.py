@@ -13,6 +13,20 @@ SOURCE_DIR = os.environ.get("HADAL_SOURCE_DIR", os.path.join(os.path.dirname(__f
 os.environ.setdefault("ROS_LOCALHOST_ONLY", "1")
 
 
+def _session_domain():
+    """A domain in 230..232 no one holds now: the session's ROS_DOMAIN_ID, where hadal.Server and hadal.Client
+    go when given no domain_id (never a user's domain 0, nor the ids the tests reserve)."""
+    reserved = reserve_domain(range(230, 233))
+    if reserved is None:
+        return "232"
+    candidate, handle = reserved
+    handle.close()  # a hadal.Server of the session takes the lock
+    return str(candidate)
+
+
+os.environ["ROS_DOMAIN_ID"] = _session_domain()
+
+
 def scenario(relative):
     return os.path.join(SOURCE_DIR, relative)
 

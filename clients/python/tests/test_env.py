@@ -9,6 +9,7 @@ import pytest
 
 import hadal
 import hadal.env
+from hadal.server import reserve_domain
 
 
 def rollout(env, seed, steps):
@@ -47,6 +48,26 @@ def test_the_gymnasium_api_shape():
             env.step([math.nan, 0.0, 0.0])
         pid = env.server.process.pid
     assert not env.server.running and pid > 0
+
+
+def test_attaching_to_a_running_server_is_asked_for_and_leaves_it_running():
+    """attach=True uses the lockstep server on $ROS_DOMAIN_ID (or domain_id) and never stops it; a domain_id
+    alone starts the env's own server there (it no longer means attach); VectorEnv takes neither."""
+    with hadal.Server("default", mode="lockstep") as server:  # on the session's $ROS_DOMAIN_ID
+        with hadal.env.HadalEnv(task="waypoint", seed=1, attach=True) as env:
+            assert env.server is None and env.domain_id == server.domain_id
+            env.reset(seed=1)
+            env.step(np.zeros(env.action_space.shape))
+        assert server.running
+        with pytest.raises(ValueError, match="attach=True uses a running server: scenario would describe one"):
+            hadal.env.HadalEnv(task="waypoint", attach=True, scenario="rov")
+    domain_id, handle = reserve_domain(range(200, 230))  # unused now; the env's server takes it
+    handle.close()
+    with hadal.env.HadalEnv(task="waypoint", seed=1, domain_id=domain_id) as own:
+        assert own.server is not None and own.server.domain_id == domain_id
+    assert not own.server.running
+    with pytest.raises(ValueError, match="VectorEnv starts one server per env, each on a free domain: attach"):
+        hadal.env.VectorEnv(2, attach=True)
 
 
 def test_the_same_seed_gives_the_same_observations():

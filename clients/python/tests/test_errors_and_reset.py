@@ -228,8 +228,8 @@ def test_a_vehicle_the_server_does_not_have_raises_at_once():
 
 def test_the_client_takes_its_domain_from_ros_domain_id(monkeypatch):
     """As hadald and every Hadal tool: domain_id, else $ROS_DOMAIN_ID, else 0; out of 0..232 a ValueError."""
-    with hadal.Server("rov", mode="lockstep") as server:
-        monkeypatch.setenv("ROS_DOMAIN_ID", str(server.domain_id))  # 100..199: not the old default 0
+    with hadal.Server("rov", mode="lockstep", domain_id="free") as server:
+        monkeypatch.setenv("ROS_DOMAIN_ID", str(server.domain_id))  # 100..199: not the default 0
         with hadal.Client(name="pytest") as client:
             assert client.wait_for_server(WAIT_S)
         monkeypatch.setenv("ROS_DOMAIN_ID", "233")
@@ -242,8 +242,8 @@ def test_the_client_takes_its_domain_from_ros_domain_id(monkeypatch):
 
 
 def test_requests_sent_without_waiting_are_answered_in_any_order():
-    with hadal.Server("default", mode="lockstep") as first_server, \
-            hadal.Server("default", mode="lockstep") as second_server:
+    with hadal.Server("default", mode="lockstep", domain_id="free") as first_server, \
+            hadal.Server("default", mode="lockstep", domain_id="free") as second_server:
         with first_server.client("pytest") as first, second_server.client("pytest") as second:
             # Two servers stepping at once, waited for in the other order; then one server, two requests.
             a, b = first.send_step(10), second.send_step(20)

@@ -6,13 +6,14 @@ import pytest
 
 import hadal
 from conftest import SOURCE_DIR
+from hadal.server import reserve_domain
 
 WAIT_S = 20.0
 
 
 def test_server_lifecycle():
     """By name, on a free domain, ready when it returns; stopped on leaving the block, its log kept."""
-    with hadal.Server("rov", mode="lockstep", seed=3) as server:
+    with hadal.Server("rov", mode="lockstep", seed=3, domain_id="free") as server:
         assert server.running
         assert 100 <= server.domain_id < 200
         assert os.path.samefile(server.scenario, os.path.join(SOURCE_DIR, "configs/scenarios/rov.yaml"))
@@ -32,10 +33,10 @@ def test_logs_are_kept_in_one_folder_that_keeps_the_newest(tmp_path, monkeypatch
     deletes a running server's: one running server, then three started and stopped in turn with two kept."""
     monkeypatch.setattr(hadal.server, "LOG_ROOT", str(tmp_path / "logs"))
     monkeypatch.setattr(hadal.server, "LOGS_KEPT", 2)
-    with hadal.Server("lander", mode="lockstep") as running:
+    with hadal.Server("lander", mode="lockstep", domain_id="free") as running:
         logs = []
         for _ in range(3):
-            with hadal.Server("lander", mode="lockstep") as server:
+            with hadal.Server("lander", mode="lockstep", domain_id="free") as server:
                 logs.append(server.log_path)
             assert "hadald summary" in open(server.log_path).read()  # readable after stop
         assert os.path.dirname(os.path.dirname(running.log_path)) == str(tmp_path / "logs")
@@ -53,10 +54,32 @@ def test_server_is_stopped_when_the_block_raises():
     assert not server.running
 
 
-def test_two_servers_get_two_domains():
-    with hadal.Server("rov") as a, hadal.Server("rov") as b:
-        assert a.domain_id != b.domain_id
-        assert a.running and b.running
+def test_the_domain_is_ros_domain_id_as_for_every_tool_and_free_picks_an_unused_one(monkeypatch):
+    """domain_id None: $ROS_DOMAIN_ID (else 0), where hadal.Client() and ros2 look too; a domain another
+    hadal.Server holds is refused naming its pid; "free" gives each server its own; a bad id is a ValueError."""
+    candidate, handle = reserve_domain(range(200, 230))  # a domain no test holds now
+    handle.close()
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(candidate))
+    assert hadal.default_domain_id() == candidate
+    with hadal.Server("rov") as a:
+        assert a.domain_id == candidate
+        with hadal.Client(name="pytest") as client:  # the same rule: the same domain
+            assert client.wait_for_server(WAIT_S)
+        with pytest.raises(hadal.ServerNotFound, match=rf"DDS domain {candidate} is held by another hadal.Server "
+                                                        rf"\(pid {os.getpid()}\): .*domain_id='free'"):
+            hadal.Server("rov")
+        with hadal.Server("rov", domain_id="free") as b, hadal.Server("rov", domain_id="free") as c:
+            assert len({a.domain_id, b.domain_id, c.domain_id}) == 3
+            assert 100 <= b.domain_id < 200 and 100 <= c.domain_id < 200
+            assert a.running and b.running and c.running
+    monkeypatch.delenv("ROS_DOMAIN_ID")
+    assert hadal.default_domain_id() == 0
+    monkeypatch.setenv("ROS_DOMAIN_ID", "300")
+    with pytest.raises(ValueError, match=r"ROS_DOMAIN_ID must be an integer in 0..232 \(got '300'\)"):
+        hadal.Server("rov")
+    for bad in (233, -1, "any", 1.5, True):
+        with pytest.raises(ValueError, match="domain_id must be an integer in 0..232, None"):
+            hadal.Server("rov", domain_id=bad)
 
 
 def test_a_malformed_scenario_is_a_clear_error(tmp_path):

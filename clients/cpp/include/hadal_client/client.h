@@ -375,6 +375,10 @@ struct ClientOptions {
   std::string security_file{};
 };
 
+// The DDS domain a client with ClientOptions::domain_id = `domain_id` joins: it, or $ROS_DOMAIN_ID, or 0.
+// std::invalid_argument outside 0..232 (or for a ROS_DOMAIN_ID that is no domain id).
+int resolve_domain_id(std::optional<int> domain_id);
+
 // Errors of the client. Every one is a ClientError; the subclasses say what went wrong.
 class ClientError : public std::runtime_error {
  public:
