@@ -376,6 +376,7 @@ struct Client::Impl {
   mutable std::mutex mutex;
   std::condition_variable changed;
   std::optional<SimStatus> status;
+  std::optional<std::vector<SceneSensor>> scene_sensors;  // from rt/hadal/scene
   // Heartbeat: when the last status arrived, and the interval between the last two (the server's status
   // period, as it arrives).
   double server_timeout_s = 10.0;
@@ -466,6 +467,15 @@ Client::Client(const ClientOptions& options) : impl_(std::make_unique<Impl>()) {
         }
         for (const auto& callback : callbacks) callback(s);
       });
+  d.subscribe<hadal_msgs::msg::ScenePubSubType, hadal_msgs::msg::Scene>(
+      dds::scene_topic(), [&d](const hadal_msgs::msg::Scene& m) {
+        std::vector<SceneSensor> sensors;
+        for (const auto& frame : m.frames()) {
+          if (frame.kind() != "light") sensors.push_back(SceneSensor{frame.vehicle(), frame.name(), frame.kind()});
+        }
+        std::lock_guard<std::mutex> lock(d.mutex);
+        d.scene_sensors = std::move(sensors);
+      });
   d.subscribe<hadal_msgs::msg::StepReplyPubSubType, hadal_msgs::msg::StepReply>(
       dds::step_reply_topic(), [&d](const hadal_msgs::msg::StepReply& m) {
         std::lock_guard<std::mutex> lock(d.mutex);
@@ -517,6 +527,11 @@ bool Client::wait_for_subscriptions(double timeout_s) {
 std::optional<SimStatus> Client::latest_status() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->status;
+}
+
+std::optional<std::vector<SceneSensor>> Client::scene_sensors() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->scene_sensors;
 }
 
 void Client::on_clock(std::function<void(double)> callback) {

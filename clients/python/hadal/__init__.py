@@ -18,7 +18,7 @@
             client.reset(seed=3, poses={"rov": (0, 0, -50)})          # start over at t = 0, no restart
 
 Errors: hadal.ClientError and its subclasses ServerNotFound, ScenarioError, ServerLost, Timeout,
-UnknownVehicle, CommandRejected.
+UnknownVehicle, UnknownSensor, CommandRejected.
 
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
@@ -27,11 +27,11 @@ from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
                      SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
-                     UnknownVehicle)
+                     UnknownSensor, UnknownVehicle)
 from .server import Server
 
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
-           "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownVehicle",
+           "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",
            "default_domain_id"]

@@ -48,6 +48,19 @@ class UnknownVehicle(ClientError, KeyError):
         return RuntimeError.__str__(self)
 
 
+class UnknownSensor(ClientError, KeyError):
+    """A sensor the vehicle does not have, or has as another type than the call reads (wait_imu on a DVL);
+    `vehicle` and `sensor` name it, the message lists the vehicle's sensors and their types."""
+
+    def __init__(self, message, vehicle=None, sensor=None):
+        super().__init__(message)
+        self.vehicle = vehicle
+        self.sensor = sensor
+
+    def __str__(self):  # KeyError would quote the message
+        return RuntimeError.__str__(self)
+
+
 class CommandRejected(ClientError):
     """The server refused a request (a wrong number of setpoints, NaN, a value out of range, a malformed
     reset); `reason` is the server's own words."""

@@ -180,6 +180,41 @@ class PyClient {
     throw hadal::UnknownVehicle(vehicle, "no vehicle '" + vehicle + "' on this server (vehicles: " +
                                              (known.empty() ? std::string("none") : known) + ")");
   }
+  // A sensor the vehicle does not have, or has as another type than the wait's `kind` ("imu", "image", ...)
+  // reads, raises UnknownSensor at once naming the vehicle's sensors and their types (from the server's scene;
+  // before the scene has come nothing is known). `sensor` may be "<sensor>/<channel>" (a side-scan's).
+  void check_sensor(const std::string& vehicle, const std::string& sensor, const std::string& kind) const {
+    check_vehicle(vehicle);
+    const std::optional<std::vector<hadal::SceneSensor>> sensors = client()->scene_sensors();
+    if (!sensors) return;
+    const std::string name = sensor.substr(0, sensor.find('/'));
+    const std::string type = sensor_type_of(kind);
+    const hadal::SceneSensor* found = nullptr;
+    std::string known;
+    for (const hadal::SceneSensor& s : *sensors) {
+      if (s.vehicle != vehicle) continue;
+      known += (known.empty() ? "'" : ", '") + s.name + "' (" + s.type + ")";
+      if (s.name == name) found = &s;
+    }
+    if (found != nullptr && (type.empty() || found->type == type)) return;
+    const std::string listed = " (its sensors: " + (known.empty() ? std::string("none") : known) + ")";
+    if (found == nullptr) {
+      throw hadal::UnknownSensor(vehicle, name, "no sensor '" + name + "' on vehicle '" + vehicle + "'" + listed);
+    }
+    throw hadal::UnknownSensor(vehicle, name, "sensor '" + name + "' of vehicle '" + vehicle + "' is of type " +
+                                                  found->type + ", not " + type + listed);
+  }
+  // The sensor type (YAML `type:`) whose samples a wait of `kind` reads ("" when any may).
+  static std::string sensor_type_of(const std::string& kind) {
+    static const std::map<std::string, std::string> types = {
+        {"imu", "imu"},           {"pressure", "pressure"},        {"magnetic_field", "magnetometer"},
+        {"nav_sat_fix", "gps"},   {"dvl", "dvl"},                  {"range", "altimeter"},
+        {"laser_scan", "profiler"}, {"image", "camera"},           {"depth", "camera"},
+        {"camera_info", "camera"}, {"sonar_image", "fls"},         {"sonar_detections", "multibeam"},
+        {"raw_sonar_image", "sidescan"}};
+    const auto it = types.find(kind);
+    return it == types.end() ? std::string() : it->second;
+  }
   // Returns `sample`; when it is empty, first checks the vehicle (the status may have come meanwhile).
   template <class Sample>
   std::optional<Sample> checked(std::optional<Sample> sample, const std::string& vehicle) const {
@@ -420,7 +455,7 @@ class PyClient {
           subscribe,
       Latest<Stored>& latest, const std::string& vehicle, const std::string& sensor, double min_stamp,
       double timeout_s) {
-    check_vehicle(vehicle);
+    check_sensor(vehicle, sensor, kind);
     const std::string key = vehicle + "/" + sensor;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -434,7 +469,9 @@ class PyClient {
         }, vehicle, sensor);
       }
     }
-    return checked(latest.wait(key, min_stamp, timeout_s), vehicle);
+    std::optional<Stored> sample = latest.wait(key, min_stamp, timeout_s);
+    if (!sample) check_sensor(vehicle, sensor, kind);  // the scene may have come meanwhile
+    return sample;
   }
 
   // The client is declared last so that it is destroyed first: its DDS callbacks write into the members
@@ -488,6 +525,10 @@ PYBIND11_MODULE(_hadal, m) {
       raise("CommandRejected", e, "reason", e.reason());
     } catch (const hadal::UnknownVehicle& e) {
       raise("UnknownVehicle", e, "vehicle", e.vehicle());
+    } catch (const hadal::UnknownSensor& e) {
+      py::object type = py::module_::import("hadal.errors").attr("UnknownSensor");
+      py::object exception = type(e.what(), e.vehicle(), e.sensor());
+      PyErr_SetObject(type.ptr(), exception.ptr());
     } catch (const hadal::ServerLost& e) {
       raise("ServerLost", e);
     } catch (const hadal::Timeout& e) {
@@ -841,7 +882,8 @@ PYBIND11_MODULE(_hadal, m) {
 
 Subscribes on first use and keeps the latest sample of each topic: wait_odometry, wait_imu, ... return the
 first sample at or after min_stamp (sim time [s]), or None on timeout; a vehicle the server's status does
-not list raises UnknownVehicle at once, naming those it has. Commands with set_commands; steps
+not list raises UnknownVehicle at once, naming those it has, and a sensor the vehicle does not have (or has as
+another type: wait_imu on a DVL) UnknownSensor, naming its sensors and their types (from the server's scene). Commands with set_commands; steps
 and resets a lockstep server with step and reset. Use it as a context manager (or call close()) to leave
 the DDS domain at a known point:
 

@@ -209,6 +209,29 @@ def test_replies_carry_every_vehicles_odometry():
         np.testing.assert_allclose(client.reply_odometry("auv").v_WB_B, 0.0, atol=1e-12)
 
 
+def test_a_sensor_the_vehicle_does_not_have_raises_at_once():
+    """A misspelt sensor, or a sensor read as another type (wait_imu on the DVL), raises UnknownSensor at once
+    naming the vehicle's sensors and their types (from the server's scene), instead of returning None after
+    the timeout (600 s: without the check the test would wait that long and then fail)."""
+    sensors = r"\(its sensors: 'depth' \(pressure\), 'imu' \(imu\), 'magnetometer' \(magnetometer\), 'dvl' \(dvl\)\)"
+    with hadal.Server("rov", mode="lockstep") as server, server.client("pytest") as client:
+        assert client.wait_imu("rov", "imu", min_stamp=client.step(10), timeout_s=WAIT_S) is not None
+        for call, name, message in (
+                (lambda: client.wait_imu("rov", "imuu", timeout_s=600), "imuu", "no sensor 'imuu' on vehicle 'rov' "),
+                (lambda: client.wait_dvl("rov", "dvll", timeout_s=600), "dvll", "no sensor 'dvll' on vehicle 'rov' "),
+                (lambda: client.wait_image("rov", "camera", timeout_s=600), "camera",
+                 "no sensor 'camera' on vehicle 'rov' "),
+                (lambda: client.wait_imu("rov", "dvl", timeout_s=600), "dvl",
+                 "sensor 'dvl' of vehicle 'rov' is of type dvl, not imu "),
+                (lambda: client.wait_fluid_pressure("rov", "imu", timeout_s=600), "imu",
+                 "sensor 'imu' of vehicle 'rov' is of type imu, not pressure ")):
+            with pytest.raises(hadal.UnknownSensor, match=message + sensors) as unknown:
+                call()
+            assert (unknown.value.vehicle, unknown.value.sensor) == ("rov", name)
+            assert isinstance(unknown.value, KeyError) and isinstance(unknown.value, hadal.ClientError)
+        assert client.wait_dvl("rov", "dvl", min_stamp=client.step(10), timeout_s=WAIT_S) is not None  # still works
+
+
 def test_a_vehicle_the_server_does_not_have_raises_at_once():
     """subscribe, wait_odometry, a sensor's or an actuator's wait on a misspelt vehicle raise UnknownVehicle
     naming the vehicles there are, instead of returning None after the timeout (600 s here: without the

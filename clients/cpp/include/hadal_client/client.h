@@ -357,6 +357,13 @@ struct CameraInfo {
   std::array<double, 12> p{};
 };
 
+// A sensor of the server's scenario: its vehicle, its name and its YAML type ("imu", "camera", "fls", ...).
+struct SceneSensor {
+  std::string vehicle;
+  std::string name;
+  std::string type;
+};
+
 struct ClientOptions {
   // 0..232, as hadald --domain-id; unset: $ROS_DOMAIN_ID, else 0 (the rule of every Hadal tool and of ROS 2).
   std::optional<int> domain_id;
@@ -410,6 +417,18 @@ class UnknownVehicle : public ClientError {
  private:
   std::string vehicle_;
 };
+// A sensor a vehicle does not have, or has as another type (Python's wait_imu on a DVL): raised by the
+// Python client from the server's scene (Client::scene_sensors).
+class UnknownSensor : public ClientError {
+ public:
+  UnknownSensor(const std::string& vehicle, const std::string& sensor, const std::string& what)
+      : ClientError(what), vehicle_(vehicle), sensor_(sensor) {}
+  const std::string& vehicle() const { return vehicle_; }
+  const std::string& sensor() const { return sensor_; }
+
+ private:
+  std::string vehicle_, sensor_;
+};
 // The server refused a request (a wrong setpoint count, a NaN, a value out of range, ...); reason() is
 // the server's own words.
 class CommandRejected : public ClientError {
@@ -454,6 +473,9 @@ class Client {
   bool wait_for_subscriptions(double timeout_s);
   // The most recent status, if any arrived.
   std::optional<SimStatus> latest_status() const;
+  // The server's sensors as its scene lists them (rt/hadal/scene, which each client is sent as it joins):
+  // nullopt until the scene has come.
+  std::optional<std::vector<SceneSensor>> scene_sensors() const;
 
   // Subscriptions: the callback runs on a DDS thread for every sample. Subscribing to a sensor's topic
   // with the wrong message type (e.g. on_imu on a magnetometer already subscribed with
