@@ -40,6 +40,9 @@ bool read_pose(const Value& value, Eigen::Isometry3d* X) {
   const bool ok = map.read_vector3("position", Need::kOptional, Range::finite(), &position) &
                   map.read_vector3("rpy_deg", Need::kOptional, Range::finite(), &rpy_deg);
   if (!ok) return false;
+  if (const std::optional<Value> angles = map.optional("rpy_deg")) {
+    key_detail::warn_if_radians(*angles, rpy_deg.data(), 3);
+  }
   X->setIdentity();
   X->linear() = rotation_from_rpy(rpy_deg * kDegToRad);
   X->translation() = position;
@@ -47,6 +50,26 @@ bool read_pose(const Value& value, Eigen::Isometry3d* X) {
 }
 
 namespace key_detail {
+
+void warn_if_radians(const Value& value, const double* degrees, std::size_t count) {
+  constexpr double kTwoPi = 2.0 * kPi;
+  const double* radian_like = nullptr;
+  long twelfths = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double x = degrees[i];
+    if (x == 0.0) continue;
+    if (!(std::abs(x) <= kTwoPi + 1e-9)) return;  // a degree-sized angle: degrees it is
+    const long k = std::lround(x / (kPi / 12.0));
+    if (radian_like == nullptr && k != 0 && std::abs(x - k * kPi / 12.0) <= 0.002 && x != std::floor(x)) {
+      radian_like = &degrees[i];
+      twelfths = k;
+    }
+  }
+  if (radian_like == nullptr) return;
+  value.warn(format_number(*radian_like) + " is " + format_number(15.0 * static_cast<double>(twelfths)) +
+             " deg in radians, but this key is in degrees: did you mean " +
+             format_number(15.0 * static_cast<double>(twelfths)) + "?");
+}
 
 std::string format_default(double si, double (*from_si)(double), bool approximate) {
   const double x = from_si ? from_si(si) : si;

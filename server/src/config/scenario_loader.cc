@@ -53,6 +53,7 @@ class ScenarioLoader {
 
  private:
   void read_vehicle(const Value& value, VehicleSpec* vehicle);
+  void warn_if_above_surface(const MapReader& map, const VehicleSpec& vehicle);
   // The definition in `include` (a path relative to the including file), loaded once per resolved path.
   // nullopt when the file cannot be opened (reported at `include`) or does not parse.
   const std::optional<VehicleDefinition>& included_definition(const Value& include, const std::string& path);
@@ -183,8 +184,25 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     }
   }
 
-  vehicle_entry_keys().read_map(map, vehicle, context_);
+  std::vector<std::string> failed;
+  vehicle_entry_keys().read_map(map, vehicle, context_, &failed);
+  if (std::find(failed.begin(), failed.end(), "initial_pose") == failed.end()) warn_if_above_surface(map, *vehicle);
   if (const auto schedule = map.optional("schedule")) read_schedule(*schedule, definition, &vehicle->schedule);
+}
+
+// A vehicle that works under water (all but a surface vessel) starting more than kAboveSurface_m above the
+// surface is most likely a depth written as a height (z is up in W): a warning at its initial_pose, since an
+// air drop is possible. The margin leaves a surfaced AUV or glider, whose origin may ride above the surface.
+void ScenarioLoader::warn_if_above_surface(const MapReader& map, const VehicleSpec& vehicle) {
+  constexpr double kAboveSurface_m = 1.0;
+  if (vehicle.type == VehicleType::kSurfaceVessel) return;
+  const double height = vehicle.X_WB_initial.translation().z() - context_.water_surface_z;
+  const std::optional<Value> pose = map.optional("initial_pose");
+  if (!pose || !(height > kAboveSurface_m)) return;
+  pose->warn(std::string("a vehicle of type ") + to_string(vehicle.type) + " starting " + format_number(height) +
+             " m above the water surface (world.water.surface_z = " + format_number(context_.water_surface_z) +
+             " m): z is up in W, so " + format_number(height) + " m down is z: " +
+             format_number(context_.water_surface_z - height));
 }
 
 const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(const Value& include,

@@ -240,7 +240,7 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":2:20: error: world.physics_rate_hz: must be in [50, 100000] (got 20)",
-                   path + ":3:20: error: world.water.density: must be in (0, 2000] (got 0)",
+                   path + ":3:20: error: world.water.density: must be in [900, 1300] (got 0)",
                    path + ":4:26: error: world.origin.latitude_deg: must be in [-90, 90] (got 91)",
                    path + ":9:28: error: vehicles[0].links[0].mass: must be > 0 (got 0)",
                    path + ":12:44: error: vehicles[0].thrusters[0].max_rpm: must be > 0 (got -5)"}));

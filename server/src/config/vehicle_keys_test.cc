@@ -344,3 +344,49 @@ vehicles:
 
 }  // namespace
 }  // namespace hadal::config
+
+namespace hadal::config {
+namespace {
+
+// A depth written as a height: an AUV starting 90 m above the surface loads, with a warning at its initial_pose
+// naming the fix; a surface vessel there, or an AUV surfaced (its origin less than 1 m up), gives none.
+TEST_F(ScenarioLoaderTest, AVehicleThatWorksUnderWaterStartingInTheAirIsAWarning) {
+  const std::string path = write("s.yaml", std::string("world: {water: {surface_z: 5}}\nvehicles:") + kInlineVehicle +
+                                               "    initial_pose: {position: [0, 0, 95]}\n");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.ok());
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].format(),
+            path + ":17:19: warning: vehicles[0].initial_pose: a vehicle of type auv starting 90 m above the water "
+                   "surface (world.water.surface_z = 5 m): z is up in W, so 90 m down is z: -85");
+  const std::string surfaced = write("t.yaml", std::string("vehicles:") + kInlineVehicle +
+                                                   "    initial_pose: {position: [0, 0, 0.8]}\n");
+  EXPECT_TRUE(load_scenario_file(surfaced).warnings.empty());
+}
+
+// Radians in a degree key: rpy_deg: [0, 0, 1.5708] (π/2) and fov_deg: 1.0472 (π/3) are warned about, naming
+// the degrees meant; a 5° pitch, a 1° beam or a 0.5° value are degrees and pass.
+TEST_F(ScenarioLoaderTest, RadiansInADegreeKeyAreAWarning) {
+  const std::string path = write("s.yaml", std::string("world: {}\n") + kSensorVehicle +
+                                               "      - {name: scan, type: profiler, fov_deg: 1.0472, beam_width_deg: 1}\n"
+                                               "    initial_pose: {rpy_deg: [0, 0, 1.5708]}\n");
+  const LoadResult result = load_scenario_file(path);
+  ASSERT_TRUE(result.ok());
+  std::vector<std::string> warnings;
+  for (const auto& w : result.warnings) warnings.push_back(w.format());
+  EXPECT_EQ(warnings,
+            std::vector<std::string>(
+                {path + ":8:47: warning: vehicles[0].sensors[0].fov_deg: 1.0472 is 60 deg in radians, but this key is "
+                        "in degrees: did you mean 60?",
+                 path + ":9:29: warning: vehicles[0].initial_pose.rpy_deg: 1.5708 is 90 deg in radians, but this key "
+                        "is in degrees: did you mean 90?"}));
+  const std::string degrees = write("d.yaml", std::string("world: {}\n") + kSensorVehicle +
+                                                  "      - {name: scan, type: profiler, fov_deg: 90, beam_width_deg: 0.5}\n"
+                                                  "    initial_pose: {rpy_deg: [0, 5, 0]}\n");
+  const LoadResult fine = load_scenario_file(degrees);
+  ASSERT_TRUE(fine.ok());
+  EXPECT_TRUE(fine.warnings.empty()) << fine.warnings[0].format();
+}
+
+}  // namespace
+}  // namespace hadal::config

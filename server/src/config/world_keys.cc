@@ -1,13 +1,18 @@
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "hadal/config/key_table.h"
 #include "hadal/core/world_spec.h"
+#include "hadal/config/yaml_reader.h"
 #include "hadal/sensors/geomagnetic.h"
 
 namespace hadal::config {
 namespace {
+
+// No ocean is deeper: the Challenger Deep, the deepest sounding, is about 10,935 m.
+constexpr double kDeepestOcean_m = 11000.0;
 
 const KeyTable<DynamicsSpec>& dynamics_keys() {
   return declare_keys<DynamicsSpec>([](KeyTable<DynamicsSpec>& t) {
@@ -50,6 +55,35 @@ WorldSpec default_world() {
   world.soil = physics::soil_keys().defaults();
   world.optics = render::optics_keys().defaults();
   return world;
+}
+
+// A plane seabed (or a procedural seabed's plain) deeper than any ocean is an error, one at or above the water
+// surface a warning (the vehicles are on dry land): both are what z = +100 for "100 m down" gives (z is up in
+// W). Said at world.seabed.z when given, else at world.water.surface_z, else at world.seabed.
+void check_seabed_depth(const KeyReads& reads, const WorldSpec& world) {
+  if (world.seabed.type != SeabedType::kPlane && world.seabed.type != SeabedType::kProcedural) return;
+  const double depth = world.water.surface_z - world.seabed.z;
+  if (depth > 0.0 && depth <= kDeepestOcean_m) return;
+  std::optional<Value> at;
+  if (const auto seabed = reads.map().optional("seabed"); seabed && seabed->is_map() && seabed->node()["z"]) {
+    const YAML::Node z = seabed->node()["z"];
+    at = seabed->in_same_file(z, seabed->path() + ".z", z.Mark());
+  } else if (const auto water = reads.map().optional("water"); water && water->is_map() && water->node()["surface_z"]) {
+    const YAML::Node surface = water->node()["surface_z"];
+    at = water->in_same_file(surface, water->path() + ".surface_z", surface.Mark());
+  } else {
+    at = reads.map().optional("seabed");
+  }
+  if (!at) return;
+  const std::string where = "the seabed at z = " + format_number(world.seabed.z) + " m and the water surface at z = " +
+                            format_number(world.water.surface_z) + " m (world.water.surface_z; z is up in W)";
+  if (depth > kDeepestOcean_m) {
+    at->error(where + " put the seabed " + format_number(depth) + " m deep, deeper than any ocean (" +
+              format_number(kDeepestOcean_m) + " m)");
+  } else {
+    at->warn(where + " put the seabed at or above the surface: the vehicles are on dry land (a seabed 100 m below "
+             "the surface is z: " + format_number(world.water.surface_z - 100.0) + ")");
+  }
 }
 
 }  // namespace
@@ -101,7 +135,9 @@ const KeyTable<WorldSpec, LoadContext>& world_keys() {
         .doc("static magnetic anomalies in W (wrecks, pipelines) that magnetometers see");
     t.map("dynamics", &WorldSpec::dynamics, dynamics_keys()).doc("rigid-body inertial effects");
     t.map("origin", &WorldSpec::origin, sensors::origin_keys()).doc("geodetic position of W's origin");
-    t.check([](const KeyReads&, WorldSpec& world, LoadContext&) {
+    t.check([](const KeyReads& reads, WorldSpec& world, LoadContext& context) {
+      context.water_surface_z = world.water.surface_z;
+      if (reads.ok("seabed") && reads.ok("water")) check_seabed_depth(reads, world);
       world.optics.daylight.surface_z_m = world.water.surface_z;
       world.optics.marine_snow.seed = world.seed;
       world.optics.seabed_pattern.seed = world.seed;

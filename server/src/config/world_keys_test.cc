@@ -33,6 +33,45 @@ TEST_F(ScenarioLoaderTest, WorldDateErrors) {
             std::string::npos) << b[0];
 }
 
+// Plausible units (configs/REFERENCE.md): a water density in g/cm³ is out of range; a seabed deeper than any
+// ocean is an error and one above the surface a warning, at world.seabed.z, each with file:line:col.
+TEST_F(ScenarioLoaderTest, ImplausibleWaterAndSeabedAreSaidWithTheirKey) {
+  const std::string grams = write("g.yaml", "world:\n  water: {density: 1.025}\nvehicles: []\n");
+  EXPECT_EQ(errors_of(grams)[0], grams + ":2:20: error: world.water.density: must be in [900, 1300] (got 1.025)");
+  const std::string ramp = write("r.yaml", "world:\n  water: {density_model: ramp, rho0: 1.02, pycnocline_depth: 20000}\n"
+                                           "vehicles: []\n");
+  const std::vector<std::string> r = errors_of(ramp);
+  ASSERT_EQ(r.size(), 3u);  // the two keys, and the empty vehicle list
+  EXPECT_EQ(r[0], ramp + ":2:38: error: world.water.rho0: must be in [900, 1300] (got 1.02)");
+  EXPECT_EQ(r[1], ramp + ":2:62: error: world.water.pycnocline_depth: must be in (0, 11000] (got 20000)");
+  const std::string deep = write("d.yaml", "world:\n  water: {surface_z: 10}\n  seabed: {type: plane, z: -11500}\n"
+                                           "vehicles:" + std::string(kInlineVehicle));
+  EXPECT_EQ(errors_of(deep),
+            std::vector<std::string>({deep + ":3:28: error: world.seabed.z: the seabed at z = -11500 m and the water "
+                                             "surface at z = 10 m (world.water.surface_z; z is up in W) put the seabed "
+                                             "11510 m deep, deeper than any ocean (11000 m)"}));
+  const std::string up = write("u.yaml", "world:\n  seabed: {type: plane, z: 100}\nvehicles:" + std::string(kInlineVehicle));
+  const LoadResult dry = load_scenario_file(up);
+  ASSERT_TRUE(dry.ok());
+  ASSERT_EQ(dry.warnings.size(), 1u);
+  EXPECT_EQ(dry.warnings[0].format(),
+            up + ":2:28: warning: world.seabed.z: the seabed at z = 100 m and the water surface at z = 0 m "
+                 "(world.water.surface_z; z is up in W) put the seabed at or above the surface: the vehicles are on "
+                 "dry land (a seabed 100 m below the surface is z: -100)");
+  // At the surface's key when the seabed keeps its default plane (z = -100).
+  const std::string low = write("l.yaml", "world:\n  water: {surface_z: -150}\nvehicles:" + std::string(kInlineVehicle));
+  const LoadResult below = load_scenario_file(low);
+  ASSERT_EQ(below.warnings.size(), 1u);
+  EXPECT_NE(below.warnings[0].format().find(low + ":2:22: warning: world.water.surface_z: the seabed at z = -100 m"),
+            std::string::npos)
+      << below.warnings[0].format();
+  const std::string fine = write("f.yaml", "world:\n  water: {density: 1000}\n  seabed: {type: plane, z: -10900}\n"
+                                           "vehicles:" + std::string(kInlineVehicle));
+  const LoadResult ok = load_scenario_file(fine);
+  EXPECT_TRUE(ok.ok());
+  EXPECT_TRUE(ok.warnings.empty());
+}
+
 TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {
   const std::string good = write("g.yaml", std::string("world: {raycast_threads: 3}\nvehicles:") + kInlineVehicle);
   const LoadResult g = load_scenario_file(good);

@@ -13,6 +13,9 @@ namespace {
 using namespace config::keys;
 
 const Range kTemperatureDegC = Range::closed(-2.5, 40.0);
+// Liquid water of any salinity Hadal models: fresh water at 40 °C (992) to brine pools (~1200). A value in g/cm³
+// or t/m³ (1.025) is out of it.
+const Range kWaterDensity = Range::closed(900.0, 1300.0);
 const Range kSalinity = Range::closed(0.0, 42.0);
 
 const KeyTable<CurrentSpec>& shear_keys() {
@@ -106,12 +109,12 @@ const KeyTable<WaterSpec>& water_keys() {
               {"ctd", DensityModel::kCtd, "a temperature/salinity cast and EOS-80"}})
         .selects("density_model")
         .doc("how density varies with depth");
-    t.number("density", &WaterSpec::density).only_for({"constant"}).unit("kg/m³").range(Range::left_open(0.0, 2000.0))
-        .doc("the water's density");
-    t.number("rho0", &WaterSpec::rho0).only_for({"ramp"}).unit("kg/m³").range(Range::left_open(0.0, 2000.0))
+    t.number("density", &WaterSpec::density).only_for({"constant"}).unit("kg/m³").range(kWaterDensity)
+        .doc("the water's density (fresh ~1000, sea 1020–1050; 1.025 would be g/cm³)");
+    t.number("rho0", &WaterSpec::rho0).only_for({"ramp"}).unit("kg/m³").range(kWaterDensity)
         .doc("density at the surface");
-    t.number("pycnocline_depth", &WaterSpec::pycnocline_depth).only_for({"ramp"}).unit("m").range(Range::positive())
-        .doc("depth at which the ramp ends");
+    t.number("pycnocline_depth", &WaterSpec::pycnocline_depth).only_for({"ramp"}).unit("m")
+        .range(Range::left_open(0.0, 11000.0)).doc("depth at which the ramp ends");
     t.number("pycnocline_density_increase", &WaterSpec::pycnocline_density_increase).only_for({"ramp"})
         .unit("kg/m³").range(Range::closed(0.0, 100.0)).doc("density gained down to pycnocline_depth (+0.3 % by default)");
     t.list("ctd", &WaterSpec::ctd, ctd_row_keys()).only_for({"ctd"}).required_for({"ctd"}).min_items(2, "rows")

@@ -102,7 +102,7 @@ vehicles:)") + kInlineVehicle);
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":4:5: error: world.water.density: key 'density' is not used by density_model 'ramp'",
                    path + ":5:5: error: world.water.ctd: key 'ctd' is not used by density_model 'ramp'",
-                   path + ":6:11: error: world.water.rho0: must be in (0, 2000] (got 0)",
+                   path + ":6:11: error: world.water.rho0: must be in [900, 1300] (got 0)",
                    path + ":8:14: error: world.water.current.shear: missing required key 'decay_depth'",
                    path + ":9:35: error: world.water.current.gauss_markov.sigma[1]: must be >= 0 (got -0.1)",
                    path + ":9:62: error: world.water.current.gauss_markov.time_constant_s: must be in [1, "

@@ -44,10 +44,11 @@ namespace hadal::config {
 struct NoContext {};
 
 // What scenario-level readers know besides their map: the physics rate (a rate key may not exceed it;
-// nullopt when world.physics_rate_hz is invalid) and the world's seed.
+// nullopt when world.physics_rate_hz is invalid), the world's seed and its water surface.
 struct LoadContext {
   std::optional<double> physics_rate_hz = 500.0;
   std::uint64_t world_seed = 0;
+  double water_surface_z = 0.0;  // world.water.surface_z, once the world is read [m]
 };
 
 // R = Rz(yaw) Ry(pitch) Rx(roll), angles in radians.
@@ -99,6 +100,11 @@ template <class C>
 struct HasPhysicsRate<C, std::void_t<decltype(std::declval<C&>().physics_rate_hz)>> : std::true_type {};
 
 std::string format_default(double si, double (*from_si)(double), bool approximate);
+// A degree key (`*_deg`) given radians is accepted and wrong by a factor 57: warns at `value` when every
+// non-zero angle lies within ±2π and one of them is a common angle in radians (a multiple of π/12 = 15°
+// within 0.002, not itself a whole number of degrees: 1.5708, 0.7854, 3.1416), e.g. rpy_deg: [0, 0, 1.5708].
+// A plain small angle in degrees (a 5° pitch, a 1° beam) is not one.
+void warn_if_radians(const Value& value, const double* degrees, std::size_t count);
 std::string format_numbers(const double* values, std::size_t count);
 }  // namespace key_detail
 
@@ -276,6 +282,7 @@ class KeyTable {
                       value->error("must be a whole number (got " + format_number(*x) + ")");
                       return false;
                     }
+                    if (e.doc.unit == "deg") key_detail::warn_if_radians(*value, &*x, 1);
                     std::invoke(access, out) = static_cast<V>(e.to_si ? e.to_si(*x) : *x);
                     return true;
                   },
@@ -492,6 +499,7 @@ class KeyTable {
                     if (!value) return !e.doc.required;
                     const std::optional<std::vector<double>> values = value->numbers(kSize, e.doc.range);
                     if (!values) return false;
+                    if (e.doc.unit == "deg") key_detail::warn_if_radians(*value, values->data(), values->size());
                     V v;
                     for (int i = 0; i < kSize; ++i) v[i] = e.to_si ? e.to_si((*values)[i]) : (*values)[i];
                     std::invoke(access, out) = v;
@@ -525,6 +533,7 @@ class KeyTable {
                     const std::optional<std::vector<double>> values =
                         value->numbers(count > 0 ? std::optional<std::size_t>(count) : std::nullopt, e.doc.range);
                     if (!values) return false;
+                    if (e.doc.unit == "deg") key_detail::warn_if_radians(*value, values->data(), values->size());
                     std::vector<double> si = *values;
                     if (e.to_si) {
                       for (double& x : si) x = e.to_si(x);
