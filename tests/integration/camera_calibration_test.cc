@@ -23,7 +23,9 @@ TEST(CameraCalibrationTest, OpenCvRecoversTheConfiguredCalibrationFromPublishedF
   s.client().on_image("rig", "camera", [&](const Image& m) { images.add(m); });
   ASSERT_NO_FATAL_FAILURE(s.connect());
   const double t = s.client().step(4000);  // 20 s at 200 Hz: 40 frames at 2 Hz
-  ASSERT_TRUE(wait_until([&] { return images.has(t); }, kWait));
+  // Each frame is published one frame period (0.5 s, the default latency_s) after its snapshot: the last one
+  // out by t is the snapshot of t - 0.5 s.
+  ASSERT_TRUE(wait_until([&] { return images.has(t - 0.5); }, kWait));
 
   // The target: 10 x 7 squares of 0.12 m, so 9 x 6 inner corners (the scenario's comment).
   const cv::Size pattern(9, 6);

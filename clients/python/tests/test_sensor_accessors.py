@@ -72,10 +72,13 @@ def test_waits_time_out_with_none(lockstep_server):
     _, domain_id = lockstep_server
     client = subscribed_client(domain_id)
     t = client.step(10)
-    # A stamp the server has not reached (it only steps on request), and sensors it does not have.
+    # A stamp the server has not reached (it only steps on request): None after the timeout.
     assert client.wait_magnetic_field("auv", "magnetometer", min_stamp=t + 1.0, timeout_s=0.2) is None
-    assert client.wait_dvl("auv", "no_such_dvl", timeout_s=0.2) is None
-    assert client.wait_range("auv", "no_such_altimeter", timeout_s=0.2) is None
+    assert client.wait_range("auv", "altimeter", min_stamp=t + 1.0, timeout_s=0.2) is None
+    # Sensors it does not have raise at once (test_errors_and_reset.py).
+    for wait in (client.wait_dvl, client.wait_range):
+        with pytest.raises(hadal.UnknownSensor):
+            wait("auv", "no_such_sensor", timeout_s=0.2)
 
 
 def test_constants_are_the_messages():
