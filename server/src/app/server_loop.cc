@@ -413,7 +413,8 @@ class Runner {
     if (getrusage(RUSAGE_SELF, &usage) == 0) s.peak_memory_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       const Eigen::Vector3d p = sim_.state().vehicles[i].body.X_WB.translation();
-      s.vehicles.push_back({model_.vehicles[i].name, distance_[i], (p - start_positions_[i]).norm(), altitude[i]});
+      s.vehicles.push_back({model_.vehicles[i].name, distance_[i], (p - start_positions_[i]).norm(), altitude[i],
+                            model_.vehicles[i].is_static});
     }
     for (const auto& count : dds_.published_counts()) s.samples_published.emplace_back(count.topic, count.samples);
     return s;
@@ -452,8 +453,12 @@ std::string RunSummary::format() const {
   out << "  sim time " << sim_time << " s in " << wall_time << " s wall, RTF "
       << (wall_time > 0.0 ? sim_time / wall_time : 0.0) << ", " << steps << " steps\n";
   for (const auto& v : vehicles) {
-    out << "  " << v.name << ": distance travelled " << v.distance_travelled << " m (net displacement "
-        << v.net_displacement << " m), ";
+    if (v.is_static) {
+      out << "  " << v.name << ": static, ";  // it never moves: no distance to report
+    } else {
+      out << "  " << v.name << ": distance travelled " << v.distance_travelled << " m (net displacement "
+          << v.net_displacement << " m), ";
+    }
     if (std::isfinite(v.altitude) && v.altitude < 0.0) {
       out << "altitude " << v.altitude << " m (its origin below the seabed's surface)\n";
     } else if (std::isfinite(v.altitude)) {

@@ -28,6 +28,7 @@ struct VehicleSummary {
   // Range straight down (-z) to the seabed at the end, ray-cast; negative: B's origin is that far below the
   // seabed's surface (a crawler's tracks sunk into soil; the ray straight up finds it); inf: no seabed.
   double altitude = 0.0;
+  bool is_static = false;  // VehicleSpec::is_static: it never moves, so no distances are said
 };
 
 struct RunSummary {

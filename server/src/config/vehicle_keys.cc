@@ -264,6 +264,9 @@ const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
     t.string("include", &VehicleSpec::source_file).read_elsewhere()
         .doc("a vehicle file, relative to this file; not with the inline definition keys but sensors and lights");
     t.pose("initial_pose", &VehicleSpec::X_WB_initial).doc("X_WB at t = 0");
+    t.boolean("static", &VehicleSpec::is_static)
+        .doc("fixed at its initial pose (a prop, a fixed instrument): no forces, never moves, others collide with "
+             "it; its sensors still sample");
     t.vector("initial_velocity", &VehicleSpec::v_WB_initial).unit("m/s").doc("v_WB in W");
     t.vector("initial_angular_velocity", &VehicleSpec::w_WB_initial).unit("rad/s").range(Range::closed(-100.0, 100.0))
         .doc("w_WB in W (a tumbling calibration target, say)");
@@ -277,6 +280,19 @@ const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
         .doc("an open-loop schedule that drives the vehicle until a client first commands it; before its first "
              "keyframe the setpoints are zero");
     t.part(definition_keys());  // read by the scenario loader, which resolves `include`
+    t.check([](const KeyReads& reads, VehicleSpec& v, LoadContext&) {
+      if (!v.is_static) return true;
+      bool ok = true;
+      for (const char* key : {"initial_velocity", "initial_angular_velocity"}) {
+        const bool moving = std::string(key) == "initial_velocity" ? !v.v_WB_initial.isZero(0.0)
+                                                                   : !v.w_WB_initial.isZero(0.0);
+        if (reads.has(key) && reads.ok(key) && moving) {
+          reads.error_at_key(key, "a static vehicle never moves (static: true): leave it out");
+          ok = false;
+        }
+      }
+      return ok;
+    });
   });
 }
 

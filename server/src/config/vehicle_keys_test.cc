@@ -390,3 +390,21 @@ TEST_F(ScenarioLoaderTest, RadiansInADegreeKeyAreAWarning) {
 
 }  // namespace
 }  // namespace hadal::config
+
+namespace hadal::config {
+namespace {
+
+// static: true fixes a vehicle at its initial pose; an initial velocity with it is an error at that key.
+TEST_F(ScenarioLoaderTest, AStaticVehicleTakesNoInitialVelocity) {
+  const std::string path = write("s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle +
+                                               "    static: true\n    initial_velocity: [0, 0, 1]\n");
+  EXPECT_EQ(errors_of(path), std::vector<std::string>({path + ":18:5: error: vehicles[0].initial_velocity: a static "
+                                                               "vehicle never moves (static: true): leave it out"}));
+  const std::string fine = write("f.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + "    static: true\n");
+  const LoadResult result = load_scenario_file(fine);
+  ASSERT_TRUE(result.ok());
+  EXPECT_TRUE(result.model->vehicles[0].is_static);
+}
+
+}  // namespace
+}  // namespace hadal::config

@@ -432,6 +432,7 @@ void Simulation::apply_forces(double t) {
     VehicleRuntime& runtime = *runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
     runtime.wrench = physics::StepWrench{};
+    if (model_.vehicles[i].is_static) return;  // nothing moves it
     const bool belts = runtime.soil && runtime.actuators.drives_surfaces();
     if (belts) runtime.actuators.belt_velocities(vehicle.actuators, runtime.belts);
     double seabed_z_below = -std::numeric_limits<double>::infinity();
@@ -455,6 +456,7 @@ void Simulation::apply_forces(double t) {
     for (std::size_t i = 0; i < runtime_.size(); ++i) add_forces(i);
   }
   for (std::size_t i = 0; i < runtime_.size(); ++i) {
+    if (model_.vehicles[i].is_static) continue;
     VehicleRuntime& runtime = *runtime_[i];
     Eigen::Vector3d f_W = runtime.wrench.f_W;
     Eigen::Vector3d tau_W = runtime.wrench.tau_W;
@@ -496,7 +498,7 @@ void Simulation::take_snapshot(double dt) {
     VehicleState& vehicle = state_.vehicles[i];
     vehicle.body = world_->body_state(static_cast<int>(i));
     const VehicleRuntime& runtime = *runtime_[i];
-    if (!runtime.added_mass) continue;
+    if (!runtime.added_mass || model_.vehicles[i].is_static) continue;
     if (world_->num_contact_points(static_cast<int>(i)) == 0) {
       vehicle.contact_wrench_B.setZero();
       continue;

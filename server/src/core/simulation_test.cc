@@ -124,6 +124,28 @@ TEST(SimulationTest, PositivelyBuoyantVehicleRises) {
   EXPECT_EQ(sim.state().vehicles[0].command_source, CommandSource::kNone);
 }
 
+// A static vehicle (VehicleSpec::is_static) never moves, even a heavy one that would sink, and a dynamic body
+// falling on it comes to rest on top of it: the static box (0.4 m high) has its top at z = -19.8 m, so the
+// falling box's centre rests 0.2 m higher, at -19.6 m, within Bullet's contact margin (0.04 m, its default).
+TEST(SimulationTest, AStaticVehicleStaysPutAndADynamicOneRestsOnIt) {
+  VehicleSpec prop = box_auv(at(Eigen::Vector3d(0.0, 0.0, -20.0)), 0.5);  // half buoyant: it would sink
+  prop.name = "prop";
+  prop.is_static = true;
+  VehicleSpec falling = box_auv(at(Eigen::Vector3d(0.1, 0.0, -18.5)), 0.5);
+  falling.name = "falling";
+  Simulation sim(testing::water_model({prop, falling}));
+  run(sim, 2500);  // 5 s at 500 Hz
+  const RigidBodyState& fixed = sim.state().vehicles[0].body;
+  EXPECT_TRUE(fixed.X_WB.isApprox(prop.X_WB_initial, 0.0)) << fixed.X_WB.matrix();
+  EXPECT_EQ(fixed.v_WB, Eigen::Vector3d::Zero());
+  EXPECT_EQ(fixed.w_WB, Eigen::Vector3d::Zero());
+  const RigidBodyState& resting = sim.state().vehicles[1].body;
+  EXPECT_EQ(sim.state().vehicles[0].faults, 0u);
+  EXPECT_EQ(sim.state().vehicles[1].faults, 0u);
+  EXPECT_NEAR(resting.X_WB.translation().z(), -19.6, 0.04);
+  EXPECT_LT(resting.v_WB.norm(), 0.01);
+}
+
 TEST(SimulationTest, TimeIsStepCountTimesStepSize) {
   Simulation sim(one_auv_model());
   run(sim, 777);

@@ -78,7 +78,10 @@ struct BulletWorld::Impl {
     std::unique_ptr<btCompoundShape> compound;
     std::unique_ptr<btRigidBody> body;
     bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
+    bool is_static = false;     // VehicleSpec::is_static
   };
+  // The collision group of static vehicles (Bullet's first free custom group after its own five).
+  static constexpr int kStaticVehicleFilter = btBroadphaseProxy::CharacterFilter << 1;
 
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
@@ -99,7 +102,12 @@ struct BulletWorld::Impl {
     // The seabed is static (StaticFilter, colliding with everything else); a vehicle on soil contact
     // leaves static bodies out of its mask, so Bullet never pairs it with the seabed.
     for (Vehicle& v : vehicles) {
-      if (v.soil_contact) {
+      if (v.is_static) {
+        // Its own group, so that a vehicle on soil contact (which leaves StaticFilter out) still meets it;
+        // never paired with the seabed (or another static body).
+        world.addRigidBody(v.body.get(), kStaticVehicleFilter,
+                           btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kStaticVehicleFilter);
+      } else if (v.soil_contact) {
         world.addRigidBody(v.body.get(), btBroadphaseProxy::DefaultFilter,
                            btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
       } else {
@@ -157,8 +165,10 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
         v.compound->addChildShape(to_bt(v.X_PB * link.X_BL * shape.X_LG), v.children.back().get());
       }
     }
-    btRigidBody::btRigidBodyConstructionInfo info(v.mass.mass, nullptr, v.compound.get(),
-                                                  to_bt(v.mass.I_principal));
+    // A static vehicle (VehicleSpec::is_static) is a static Bullet body: mass 0, never integrated.
+    v.is_static = spec.is_static;
+    btRigidBody::btRigidBodyConstructionInfo info(spec.is_static ? 0.0 : v.mass.mass, nullptr, v.compound.get(),
+                                                  spec.is_static ? btVector3(0, 0, 0) : to_bt(v.mass.I_principal));
     info.m_friction = kVehicleFriction;
     info.m_restitution = kRestitution;
     v.body = std::make_unique<btRigidBody>(info);

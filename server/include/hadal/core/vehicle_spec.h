@@ -99,6 +99,9 @@ struct VehicleSpec {
   FluidSpec fluid;
   Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_WB_initial = Eigen::Vector3d::Zero();  // initial linear velocity in W [m/s]
+  // YAML `static: true`: fixed at X_WB_initial (a prop, a fixed instrument): no forces act on it and it never
+  // moves (a static Bullet body others collide with); its sensors still sample.
+  bool is_static = false;
   Eigen::Vector3d w_WB_initial = Eigen::Vector3d::Zero();  // initial angular velocity in W [rad/s]
   std::vector<SetpointKeyframe> schedule;   // used until a client first commands the vehicle
   double command_timeout = 1.0;             // watchdog [s of sim time]
