@@ -11,6 +11,8 @@
 //                                 depths beyond 65.535 m are written as 65535)
 // and one JSON object per camera on stdout: {"vehicle", "camera", "time" [s], "image", "depth",
 // "width", "height", "encoding", "mean_counts" (per channel), "hit_fraction"}.
+// Sonars are not rendered here: hadal-validate-sonar draws them; hadal-render names it on stderr when the
+// scenario has any.
 // Exit status: 0 success; 1 the scenario does not load (file:line:col errors on stderr), has no camera
 // (or none named NAME), or a file cannot be written; 2 usage error.
 #include <opencv2/core.hpp>
@@ -47,7 +49,8 @@ constexpr const char* kUsage =
     "  --out DIR    directory for the PNG files (default .; created if missing)\n"
     "  --threads N  ray-cast worker threads (default world.raycast_threads; 0: one per hardware thread)\n"
     "Writes <vehicle>_<camera>.png and <vehicle>_<camera>_depth.png (16-bit mm) per camera and\n"
-    "prints one JSON object per camera.\n";
+    "prints one JSON object per camera. Sonars: hadal-validate-sonar --scenario SCENARIO.yaml --out DIR\n"
+    "draws a forward-looking fan, a multibeam swath and a side-scan waterfall.\n";
 
 struct CameraRef {
   std::size_t vehicle = 0;
@@ -88,16 +91,27 @@ int main(int argc, char** argv) {
   Model model = std::move(*loaded.model);
   if (threads_given) model.world.raycast_threads = static_cast<int>(threads);
   std::vector<CameraRef> cameras;
+  std::string sonars;  // "auv/fls (fls), ..."
   std::vector<std::string> names;
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     for (std::size_t k = 0; k < model.vehicles[i].sensors.size(); ++k) {
       const SensorSpec& sensor = model.vehicles[i].sensors[k];
-      if (sensor.type() != sensors::CameraSensor::kType) continue;
       const std::string full = model.vehicles[i].name + "/" + sensor.name;
+      if (sensor.type() == "fls" || sensor.type() == "multibeam" || sensor.type() == "sidescan") {
+        sonars += (sonars.empty() ? "" : ", ") + full + " (" + std::string(sensor.type()) + ")";
+      }
+      if (sensor.type() != sensors::CameraSensor::kType) continue;
       names.push_back(full);
       if (only.empty() || only == sensor.name || only == full) cameras.push_back({i, k});
     }
   }
+  // Sonar images are drawn by another tool: said whenever the scenario has sonars, so that "look at what my
+  // sensors see" finds its command for every imaging sensor.
+  const std::string sonar_hint = sonars.empty() ? std::string()
+                                                : "sonars " + sonars + " are drawn by hadal-validate-sonar --scenario " +
+                                                      scenario + " --out DIR (forward-looking fan, multibeam swath, "
+                                                      "side-scan waterfall)";
+  if (!sonar_hint.empty()) std::fprintf(stderr, "hadal-render: %s\n", sonar_hint.c_str());
   if (cameras.empty()) {
     std::string list;
     for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;

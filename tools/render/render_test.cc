@@ -64,6 +64,15 @@ TEST_F(RenderCliTest, ErrorsHaveTheDocumentedExitCodes) {
   r = render(bad);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find(bad + ":1:26: error: world.physics_rate_hz: expected a number (got 'fast')"), std::string::npos) << r.err;
+  // Sonars only: 1, and the command that draws them (hadal-validate-sonar), naming them.
+  const std::string sonars = std::string(HADAL_SOURCE_DIR) + "/tests/integration/scenarios/sonar.yaml";
+  r = render(sonars + " --out " + dir_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("hadal-render: sonars auv/fls (fls), auv/multibeam (multibeam), auv/sidescan (sidescan) are "
+                       "drawn by hadal-validate-sonar --scenario " + sonars + " --out DIR"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("the scenario has no camera"), std::string::npos) << r.err;
   // Usage: 2.
   EXPECT_EQ(render("").exit_code, 2);
   EXPECT_EQ(render(scenario() + " --time -1").exit_code, 2);
