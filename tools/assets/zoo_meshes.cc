@@ -154,12 +154,21 @@ SceneSpec tracked_crawler_track() {
   return b.done();
 }
 
+// The hull of configs/vehicles/mesh_hull_auv.yaml (docs/own_vehicle.md), whose physics is this mesh: one
+// closed torpedo, 1.8 m by 0.2 m, the geometry of `hadal-make-asset torpedo OUT --radius 0.1 --length 1.8
+// --segments 48`, painted orange.
+SceneSpec mesh_hull_auv() {
+  Builder b;
+  b.add(make_torpedo(1.8, 0.1, 48, 12), b.material("hull_orange", 0.9f, 0.45f, 0.1f));
+  return b.done();
+}
+
 }  // namespace
 
 const std::vector<std::string>& zoo_parts() {
   static const std::vector<std::string> parts = {"finned_auv",       "underwater_glider",    "freefall_lander",
                                                  "vectored_rov",     "catamaran_vessel",     "tracked_crawler_hull",
-                                                 "tracked_crawler_track"};
+                                                 "tracked_crawler_track", "mesh_hull_auv"};
   return parts;
 }
 
@@ -171,6 +180,7 @@ SceneSpec zoo_part_scene(const std::string& part) {
   if (part == "catamaran_vessel") return catamaran_vessel();
   if (part == "tracked_crawler_hull") return tracked_crawler_hull();
   if (part == "tracked_crawler_track") return tracked_crawler_track();
+  if (part == "mesh_hull_auv") return mesh_hull_auv();
   throw std::invalid_argument("no zoo part '" + part + "'");
 }
 

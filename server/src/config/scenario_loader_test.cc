@@ -63,8 +63,10 @@ TEST_F(ScenarioLoaderTest, DefaultScenarioLoadsWithTypedValues) {
   EXPECT_TRUE(
       fs::equivalent(auv.source_file, std::string(HADAL_SOURCE_DIR) + "/configs/vehicles/torpedo_auv.yaml"));
   EXPECT_TRUE(auv.X_WB_initial.isApprox(Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, -96.0)), kTol));
-  // The entry adds a camera to the included sensors, and two lights.
-  ASSERT_EQ(auv.sensors.size(), 7u);
+  // The entry adds a camera and a forward-looking sonar to the included sensors, and two lights.
+  ASSERT_EQ(auv.sensors.size(), 8u);
+  EXPECT_EQ(auv.sensors[7].name, "fls");
+  EXPECT_EQ(auv.sensors[7].type(), "fls");
   EXPECT_EQ(auv.sensors[6].name, "camera");
   EXPECT_EQ(auv.sensors[6].type(), "camera");
   EXPECT_EQ(auv.sensors[6].frame_id, "auv/camera");
