@@ -2,9 +2,16 @@
 # Installs every Hadal dependency from Debian 12 packages (idempotent: only missing packages are
 # installed; apt-get as root, sudo otherwise) and builds everything into build/ (hadald lands in
 # build/bin/hadald). Extra arguments are passed to CMake's configure step; with -DHADAL_BUILD_TESTS=OFF among
-# them (the container images) the packages only the tests use are left out.
+# them (the container images, the demo) the packages only the tests use are left out. A first argument
+# `--only TARGET` builds that target alone (the demo: hadald).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+target=()
+if [[ "${1:-}" == "--only" ]]; then
+  target=(--target "${2:?setup: --only needs a target}")
+  shift 2
+fi
 
 PACKAGES=(
   build-essential cmake pkg-config
@@ -43,4 +50,4 @@ fi
 jobs=$(nproc 2>/dev/null || echo 2)
 # Debian's interpreter for the Python client, whatever python3 comes first on PATH.
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 "$@"
-cmake --build build -j"$jobs"
+cmake --build build -j"$jobs" "${target[@]}"

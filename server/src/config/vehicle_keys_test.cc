@@ -359,9 +359,16 @@ TEST_F(ScenarioLoaderTest, AVehicleThatWorksUnderWaterStartingInTheAirIsAWarning
   EXPECT_EQ(result.warnings[0].format(),
             path + ":17:19: warning: vehicles[0].initial_pose: a vehicle of type auv starting 90 m above the water "
                    "surface (world.water.surface_z = 5 m): z is up in W, so 90 m down is z: -85");
-  const std::string surfaced = write("t.yaml", std::string("vehicles:") + kInlineVehicle +
+  const std::string surfaced = write("t.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle +
                                                    "    initial_pose: {position: [0, 0, 0.8]}\n");
-  EXPECT_TRUE(load_scenario_file(surfaced).warnings.empty());
+  const LoadResult at_surface = load_scenario_file(surfaced);
+  ASSERT_TRUE(at_surface.ok());
+  EXPECT_TRUE(at_surface.warnings.empty());
+  std::string vessel_yaml = std::string("world: {}\nvehicles:") + kInlineVehicle + "    initial_pose: {position: [0, 0, 3]}\n";
+  vessel_yaml.replace(vessel_yaml.find("type: auv"), 9, "type: surface_vessel");
+  const LoadResult vessel = load_scenario_file(write("v.yaml", vessel_yaml));
+  ASSERT_TRUE(vessel.ok());
+  EXPECT_TRUE(vessel.warnings.empty());
 }
 
 // Radians in a degree key: rpy_deg: [0, 0, 1.5708] (π/2) and fov_deg: 1.0472 (π/3) are warned about, naming
