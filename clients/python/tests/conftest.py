@@ -13,12 +13,18 @@ SOURCE_DIR = os.environ.get("HADAL_SOURCE_DIR", os.path.join(os.path.dirname(__f
 os.environ.setdefault("ROS_LOCALHOST_ONLY", "1")
 
 
+# Domains only this (serial) test session uses: other tests reserve 20..99 (C++), 100..199 (interop,
+# hadal.Server's "free"), 200..231 (pytest fixtures, the regression recorder). A test that picks one of these,
+# releases it and lets a hadal.Server take it again cannot meet another test's server there.
+SESSION_DOMAINS = range(10, 20)
+
+
 def _session_domain():
-    """A domain in 230..232 no one holds now: the session's ROS_DOMAIN_ID, where hadal.Server and hadal.Client
-    go when given no domain_id (never a user's domain 0, nor the ids the tests reserve)."""
-    reserved = reserve_domain(range(230, 233))
+    """A domain of SESSION_DOMAINS no one holds now: the session's ROS_DOMAIN_ID, where hadal.Server and
+    hadal.Client go when given no domain_id (never a user's domain 0, nor the ids other tests reserve)."""
+    reserved = reserve_domain(SESSION_DOMAINS)
     if reserved is None:
-        return "232"
+        return str(SESSION_DOMAINS[-1])
     candidate, handle = reserved
     handle.close()  # a hadal.Server of the session takes the lock
     return str(candidate)

@@ -11,6 +11,8 @@ import hadal
 import hadal.env
 from hadal.server import reserve_domain
 
+from conftest import SESSION_DOMAINS
+
 
 def rollout(env, seed, steps):
     """Observations and rewards of one episode under a seeded random policy."""
@@ -61,7 +63,7 @@ def test_attaching_to_a_running_server_is_asked_for_and_leaves_it_running():
         assert server.running
         with pytest.raises(ValueError, match="attach=True uses a running server: scenario would describe one"):
             hadal.env.HadalEnv(task="waypoint", attach=True, scenario="rov")
-    domain_id, handle = reserve_domain(range(200, 230))  # unused now; the env's server takes it
+    domain_id, handle = reserve_domain(SESSION_DOMAINS)  # no other test uses it; the env's server takes it
     handle.close()
     with hadal.env.HadalEnv(task="waypoint", seed=1, domain_id=domain_id) as own:
         assert own.server is not None and own.server.domain_id == domain_id

@@ -10,7 +10,7 @@ import subprocess
 
 import pytest
 
-from conftest import HADALD, SOURCE_DIR
+from conftest import HADALD, SESSION_DOMAINS, SOURCE_DIR
 from hadal.server import reserve_domain
 
 BUILD_DIR = os.path.dirname(os.path.dirname(os.path.abspath(HADALD)))
@@ -34,11 +34,15 @@ def line_with(text):
 
 
 @pytest.fixture
-def readme_env():
-    """The environment a reader has after `export ROS_LOCALHOST_ONLY=1` and a non-zero ROS_DOMAIN_ID (one no
-    test holds, taken by the snippets' own servers)."""
-    domain_id, handle = reserve_domain(range(200, 230))
+def readme_domain():
+    """A non-zero domain no other test uses (conftest.SESSION_DOMAINS), its lock held: (id, lock handle)."""
+    domain_id, handle = reserve_domain(SESSION_DOMAINS)
+    yield domain_id, handle
     handle.close()
+
+
+def reader_env(domain_id):
+    """The environment a reader has after `export ROS_LOCALHOST_ONLY=1` and `export ROS_DOMAIN_ID=N`."""
     return dict(os.environ, ROS_LOCALHOST_ONLY="1", ROS_DOMAIN_ID=str(domain_id))
 
 
@@ -47,14 +51,17 @@ def run(command, env, timeout_s=120):
                           timeout=timeout_s)
 
 
-def test_the_python_snippet_runs_as_written(readme_env):
-    done = run(block_with("import hadal"), readme_env)
+def test_the_python_snippet_runs_as_written(readme_domain):
+    domain_id, handle = readme_domain
+    handle.close()  # the snippet's hadal.Server takes the domain's lock itself
+    done = run(block_with("import hadal"), reader_env(domain_id))
     assert done.returncode == 0, done.stderr
     position = [float(x) for x in re.findall(r"-?\d+\.\d*(?:e[-+]?\d+)?", done.stdout)]
     assert len(position) == 3, done.stdout  # the ROV's p_WB, drifting in the current
 
 
-def test_the_probe_and_cpp_lines_read_and_drive_a_server_started_as_written(readme_env):
+def test_the_probe_and_cpp_lines_read_and_drive_a_server_started_as_written(readme_domain):
+    readme_env = reader_env(readme_domain[0])  # the lock stays held: this hadald is started by hand
     start = line_with("configs/scenarios/default.yaml  ").split("#")[0].strip()  # the real-time line
     server = subprocess.Popen(["bash", "-c", "exec " + start + " --no-status-line"], cwd=SOURCE_DIR, env=readme_env,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

@@ -5,7 +5,7 @@ import os
 import pytest
 
 import hadal
-from conftest import SOURCE_DIR
+from conftest import SESSION_DOMAINS, SOURCE_DIR
 from hadal.server import reserve_domain
 
 WAIT_S = 20.0
@@ -57,7 +57,7 @@ def test_server_is_stopped_when_the_block_raises():
 def test_the_domain_is_ros_domain_id_as_for_every_tool_and_free_picks_an_unused_one(monkeypatch):
     """domain_id None: $ROS_DOMAIN_ID (else 0), where hadal.Client() and ros2 look too; a domain another
     hadal.Server holds is refused naming its pid; "free" gives each server its own; a bad id is a ValueError."""
-    candidate, handle = reserve_domain(range(200, 230))  # a domain no test holds now
+    candidate, handle = reserve_domain(SESSION_DOMAINS)  # a domain no other test uses, free now
     handle.close()
     monkeypatch.setenv("ROS_DOMAIN_ID", str(candidate))
     assert hadal.default_domain_id() == candidate
