@@ -206,6 +206,7 @@ class Runner {
   // the initial state is published (the samples a fresh server would publish at t = 0) before the reply.
   void restart_streams() {
     dds_.take_commands();
+    rtf_.clear();  // sim time starts over
     dds_.clear_kept_samples();
     clock_divider_.reset();
     for (auto& divider : odometry_dividers_) divider.reset();
@@ -335,8 +336,9 @@ class Runner {
       const double sim_dt = sim_.time() - last_line_sim_;
       const double steps = static_cast<double>(sim_.state().step_count - last_line_steps_);
       if (last_line_wall_ != Clock::time_point{}) {
-        std::fprintf(stderr, "hadald: sim %.3f s  RTF %.2f  %.0f steps/s\n", sim_.time(), sim_dt / wall,
-                     steps / wall);
+        // The status's figure (RtfWindow), so that the line and rt/hadal/status (the viewer) agree.
+        std::fprintf(stderr, "hadald: sim %.3f s  RTF %.2f  %.0f steps/s\n", sim_.time(),
+                     rtf_.rtf() > 0.0 ? rtf_.rtf() : sim_dt / wall, steps / wall);
       }
       last_line_wall_ = now;
       last_line_sim_ = sim_.time();
@@ -360,7 +362,9 @@ class Runner {
     dds::StatusReport report;
     report.sim_time = sim_.time();
     report.wall_time = seconds_since(start_wall_);
-    report.real_time_factor = wall_period > 0.0 ? (sim_.time() - last_status_sim_) / wall_period : 0.0;
+    rtf_.add(seconds_since(start_wall_), sim_.time());
+    report.real_time_factor = rtf_.rtf() > 0.0 || wall_period <= 0.0 ? rtf_.rtf()
+                                                                       : (sim_.time() - last_status_sim_) / wall_period;
     last_status_sim_ = sim_.time();
     report.step_count = sim_.state().step_count;
     report.step_size = model_.world.step_size();
@@ -439,6 +443,7 @@ class Runner {
   std::vector<Eigen::Vector3d> start_positions_, previous_positions_;
   Clock::time_point start_wall_, last_status_wall_, last_status_publish_wall_, last_line_wall_{};
   double last_line_sim_ = 0.0, last_status_sim_ = 0.0, last_reject_print_ = 0.0;
+  RtfWindow rtf_;  // the reported real-time factor
   std::uint64_t last_line_steps_ = 0, rejected_ = 0, resets_ = 0;
   std::string last_error_;
 };
@@ -475,6 +480,18 @@ std::string RunSummary::format() const {
       << " before a worker started them)\n";
   out << "  peak memory: " << peak_memory_mb << " MiB\n";
   return out.str();
+}
+
+void RtfWindow::add(double wall_s, double sim_s) {
+  samples_.emplace_back(wall_s, sim_s);
+  // Keep the newest sample at least kWindow_s older than the newest, and none older.
+  while (samples_.size() > 2 && wall_s - samples_[1].first >= kWindow_s) samples_.pop_front();
+}
+
+double RtfWindow::rtf() const {
+  if (samples_.size() < 2) return 0.0;
+  const double wall = samples_.back().first - samples_.front().first;
+  return wall > 0.0 ? (samples_.back().second - samples_.front().second) / wall : 0.0;
 }
 
 std::vector<std::string> mode_warnings(const Model& model, RunMode mode) {

@@ -15,6 +15,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,23 @@ struct RunSummary {
   std::vector<std::pair<std::string, std::uint64_t>> samples_published;  // per topic
 
   std::string format() const;
+};
+
+// The real-time factor a run reports, on rt/hadal/status (so in hadal-viewer) and on its status line alike:
+// sim seconds per wall second over the last kWindow_s of wall time. Over one 0.1 s status period alone, a
+// real-time run catching up after a late step reads ~2 although its schedule keeps 1.00.
+class RtfWindow {
+ public:
+  static constexpr double kWindow_s = 1.0;
+  // A sample: wall and sim time [s] (wall times increasing).
+  void add(double wall_s, double sim_s);
+  // Sim seconds per wall second from the oldest kept sample to the newest; 0 before two samples.
+  double rtf() const;
+  // Forgets the samples (a lockstep reset starts sim time over).
+  void clear() { samples_.clear(); }
+
+ private:
+  std::deque<std::pair<double, double>> samples_;  // (wall, sim), oldest first
 };
 
 // What a run in `mode` will not do as the scenario expects, one line each ("<vehicle>/<sensor>: ..."): in real

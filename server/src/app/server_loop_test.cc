@@ -51,5 +51,31 @@ TEST(ModeWarningsTest, AZeroLatencyCapturedSensorIsWarnedAboutInRealTimeOnly) {
   EXPECT_TRUE(mode_warnings(model, RunMode::kRealtime).empty());
 }
 
+// A real-time run at 10 status periods per second that stalls for one period and catches up in the next:
+// that period alone reads RTF 2, the reported window of 1 s reads the schedule's 1.00 (hadal-viewer showed
+// 1.93 while hadald's line said 1.00). A fast run at 3x reads 3; a reset forgets the samples.
+TEST(RtfWindowTest, TheReportedRealTimeFactorIsOverTheLastSecond) {
+  RtfWindow window;
+  EXPECT_EQ(window.rtf(), 0.0);
+  double sim = 0.0;
+  for (int k = 0; k <= 20; ++k) {
+    if (k == 15) {
+      // stalled: sim time did not advance in this period
+    } else if (k == 16) {
+      sim += 0.2;  // caught up
+    } else if (k > 0) {
+      sim += 0.1;
+    }
+    window.add(0.1 * k, sim);
+    if (k == 16) {
+      EXPECT_NEAR(window.rtf(), 1.0, 1e-12);  // (1.6 - 0.6) / (1.6 - 0.6): the last second
+    }
+  }
+  EXPECT_NEAR(window.rtf(), 1.0, 1e-12);
+  window.clear();
+  for (int k = 0; k <= 30; ++k) window.add(0.1 * k, 0.3 * k);
+  EXPECT_NEAR(window.rtf(), 3.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace hadal::app
