@@ -78,8 +78,7 @@ class Runner {
   RunSummary run() {
     start_wall_ = Clock::now();
     last_status_wall_ = start_wall_;
-    last_status_publish_wall_ = start_wall_;
-    publish_status(0.0);
+    publish_status();
     if (!options_.record_dir.empty()) start_recording();
     const double discovery_wait = options_.effective_discovery_wait();
     const Clock::time_point wait_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -90,7 +89,6 @@ class Runner {
     }
     start_wall_ = Clock::now();
     last_status_wall_ = start_wall_;
-    last_status_publish_wall_ = start_wall_;
     last_line_wall_ = start_wall_;
     publish_due();
     switch (options_.mode) {
@@ -98,7 +96,7 @@ class Runner {
       case RunMode::kFast: run_free(); break;
       case RunMode::kLockstep: run_lockstep(); break;
     }
-    publish_status(seconds_since(start_wall_));
+    publish_status();
     RunSummary result = summary();  // before the flush, so the wall time is the run's alone
     dds_.flush(1.0);
     if (recorder_) {
@@ -297,8 +295,7 @@ class Runner {
     const double status_period = 1.0 / model_.world.status_rate_hz;
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(status_period));
     if (now >= last_status_wall_ + period) {
-      publish_status(std::chrono::duration<double>(now - last_status_publish_wall_).count());
-      last_status_publish_wall_ = now;
+      publish_status();
       // Absolute schedule (k periods after start), so the heartbeat keeps its rate; after a stall it
       // resumes from now instead of bursting.
       last_status_wall_ += period;
@@ -333,15 +330,12 @@ class Runner {
     if (options_.status_line && options_.mode != RunMode::kLockstep &&
         std::chrono::duration<double>(now - last_line_wall_).count() >= 1.0) {
       const double wall = std::chrono::duration<double>(now - last_line_wall_).count();
-      const double sim_dt = sim_.time() - last_line_sim_;
       const double steps = static_cast<double>(sim_.state().step_count - last_line_steps_);
       if (last_line_wall_ != Clock::time_point{}) {
         // The status's figure (RtfWindow), so that the line and rt/hadal/status (the viewer) agree.
-        std::fprintf(stderr, "hadald: sim %.3f s  RTF %.2f  %.0f steps/s\n", sim_.time(),
-                     rtf_.rtf() > 0.0 ? rtf_.rtf() : sim_dt / wall, steps / wall);
+        std::fprintf(stderr, "hadald: sim %.3f s  RTF %.2f  %.0f steps/s\n", sim_.time(), rtf_.rtf(), steps / wall);
       }
       last_line_wall_ = now;
-      last_line_sim_ = sim_.time();
       last_line_steps_ = sim_.state().step_count;
     }
   }
@@ -358,14 +352,13 @@ class Runner {
     }
   }
 
-  void publish_status(double wall_period) {
+  void publish_status() {
     dds::StatusReport report;
     report.sim_time = sim_.time();
     report.wall_time = seconds_since(start_wall_);
-    rtf_.add(seconds_since(start_wall_), sim_.time());
-    report.real_time_factor = rtf_.rtf() > 0.0 || wall_period <= 0.0 ? rtf_.rtf()
-                                                                       : (sim_.time() - last_status_sim_) / wall_period;
-    last_status_sim_ = sim_.time();
+    // On the steady clock itself, not since start_wall_: that restarts after the discovery wait.
+    rtf_.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(), sim_.time());
+    report.real_time_factor = rtf_.rtf();
     report.step_count = sim_.state().step_count;
     report.step_size = model_.world.step_size();
     report.mode = mode_code(options_.mode);
@@ -441,8 +434,8 @@ class Runner {
   std::vector<double> distance_;
   std::vector<std::uint64_t> reported_resets_;
   std::vector<Eigen::Vector3d> start_positions_, previous_positions_;
-  Clock::time_point start_wall_, last_status_wall_, last_status_publish_wall_, last_line_wall_{};
-  double last_line_sim_ = 0.0, last_status_sim_ = 0.0, last_reject_print_ = 0.0;
+  Clock::time_point start_wall_, last_status_wall_, last_line_wall_{};
+  double last_reject_print_ = 0.0;
   RtfWindow rtf_;  // the reported real-time factor
   std::uint64_t last_line_steps_ = 0, rejected_ = 0, resets_ = 0;
   std::string last_error_;
