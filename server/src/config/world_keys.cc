@@ -11,8 +11,6 @@
 namespace hadal::config {
 namespace {
 
-// No ocean is deeper: the Challenger Deep, the deepest sounding, is about 10,935 m.
-constexpr double kDeepestOcean_m = 11000.0;
 
 const KeyTable<DynamicsSpec>& dynamics_keys() {
   return declare_keys<DynamicsSpec>([](KeyTable<DynamicsSpec>& t) {
@@ -64,16 +62,16 @@ void check_seabed_depth(const KeyReads& reads, const WorldSpec& world) {
   if (world.seabed.type != SeabedType::kPlane && world.seabed.type != SeabedType::kProcedural) return;
   const double depth = world.water.surface_z - world.seabed.z;
   if (depth > 0.0 && depth <= kDeepestOcean_m) return;
-  std::optional<Value> at;
-  if (const auto seabed = reads.map().optional("seabed"); seabed && seabed->is_map() && seabed->node()["z"]) {
-    const YAML::Node z = seabed->node()["z"];
-    at = seabed->in_same_file(z, seabed->path() + ".z", z.Mark());
-  } else if (const auto water = reads.map().optional("water"); water && water->is_map() && water->node()["surface_z"]) {
-    const YAML::Node surface = water->node()["surface_z"];
-    at = water->in_same_file(surface, water->path() + ".surface_z", surface.Mark());
-  } else {
-    at = reads.map().optional("seabed");
-  }
+  // The value of world.<map>.<key> when the file gives it.
+  const auto given = [&reads](const char* map, const char* key) -> std::optional<Value> {
+    const std::optional<Value> parent = reads.map().optional(map);
+    if (!parent || !parent->is_map() || !parent->node()[key]) return std::nullopt;
+    const YAML::Node node = parent->node()[key];
+    return parent->in_same_file(node, parent->path() + "." + key, node.Mark());
+  };
+  std::optional<Value> at = given("seabed", "z");
+  if (!at) at = given("water", "surface_z");
+  if (!at) at = reads.map().optional("seabed");
   if (!at) return;
   const std::string where = "the seabed at z = " + format_number(world.seabed.z) + " m and the water surface at z = " +
                             format_number(world.water.surface_z) + " m (world.water.surface_z; z is up in W)";

@@ -53,7 +53,7 @@ const KeyTable<CurrentSpec>& current_keys() {
 const KeyTable<CtdSample>& ctd_row_keys() {
   return declare_keys<CtdSample>([](KeyTable<CtdSample>& t) {
     t.describe("world.water.ctd[]", "one row of a CTD cast");
-    t.number("depth", &CtdSample::depth).required().unit("m").range(Range::closed(0.0, 11000.0))
+    t.number("depth", &CtdSample::depth).required().unit("m").range(Range::closed(0.0, kDeepestOcean_m))
         .rule("greater than the previous row's").doc("below the surface");
     t.number("temperature_degc", &CtdSample::temperature).required().unit("°C").range(kTemperatureDegC)
         .doc("in-situ temperature, ITS-90");
@@ -114,7 +114,7 @@ const KeyTable<WaterSpec>& water_keys() {
     t.number("rho0", &WaterSpec::rho0).only_for({"ramp"}).unit("kg/m³").range(kWaterDensity)
         .doc("density at the surface");
     t.number("pycnocline_depth", &WaterSpec::pycnocline_depth).only_for({"ramp"}).unit("m")
-        .range(Range::left_open(0.0, 11000.0)).doc("depth at which the ramp ends");
+        .range(Range::left_open(0.0, kDeepestOcean_m)).doc("depth at which the ramp ends");
     t.number("pycnocline_density_increase", &WaterSpec::pycnocline_density_increase).only_for({"ramp"})
         .unit("kg/m³").range(Range::closed(0.0, 100.0)).doc("density gained down to pycnocline_depth (+0.3 % by default)");
     t.list("ctd", &WaterSpec::ctd, ctd_row_keys()).only_for({"ctd"}).required_for({"ctd"}).min_items(2, "rows")

@@ -30,6 +30,10 @@ struct CurrentSpec {
   double gauss_markov_time_constant = 600.0;                       // [s]
 };
 
+// No ocean is deeper (the Challenger Deep, the deepest sounding, is about 10,935 m): the bound of every depth
+// a scenario gives (a cast's rows, the pycnocline, a plane seabed below the surface) [m].
+inline constexpr double kDeepestOcean_m = 11000.0;
+
 struct WaterSpec {
   double surface_z = 0.0;  // water surface height in W [m]
   // Constant-model density [kg/m^3]. The lumped fluid model uses this one value whatever density_model
