@@ -122,6 +122,39 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
     assert monitor_written(server) > 0  # the page's viewer read the monitor
 
 
+def test_ten_loads_in_a_row_each_show_the_run_at_their_load_event(browser):
+    """What a one-shot screenshot (chromium --headless --screenshot) shows: the page at its load event. Each of ten
+    loads of a real-time run shows, then, the seabed drawn, both vehicles posed, the camera and sonar panes with a
+    frame and the status line (hadal-viewer serves the page's first state, /first.js, once it has them); the
+    WebSocket then carries the run on without sending the scene again."""
+    with hadal.Server("default", mode="realtime") as server:
+        viewer, url = start_viewer("--domain-id", str(server.domain_id))
+        try:
+            for load in range(10):
+                browser.load(url)
+                at_load = browser.evaluate("hadalViewer.atLoad")
+                shown = {k: v for k, v in at_load.items() if k != "poses"}
+                assert at_load["seabed_triangles"] == 80000, (load, shown)
+                # The 3-D view is drawn: the seabed fills most of it (0.85 of the pixels here; the background
+                # only above the horizon).
+                assert at_load["drawn"] > 0.5, (load, shown)
+                for vehicle in ("auv", "lander"):
+                    assert at_load["poses"][vehicle] and at_load["poses"][vehicle]["stamp"] > 0, (load, at_load)
+                assert at_load["poses"]["auv"]["on_screen"], (load, at_load)
+                for topic in (CAMERA, "/auv/fls/preview"):
+                    pane = at_load["cameras"].get(topic)
+                    assert pane and pane["mean"] > 10.0, (load, topic, shown)
+                assert at_load["status"].startswith("sim ") and " realtime " in at_load["status"], (load, shown)
+            # After the load the WebSocket carries the run on, and its join did not send the scene again.
+            stamp = at_load["poses"]["auv"]["stamp"]
+            wait_until(lambda: page_pose(browser, "auv")["stamp"] > stamp + 0.5, 30, "the page following the run")
+            assert browser.evaluate("hadalViewer.state.scenes") == 1
+            browser.screenshot(os.path.join(ARTIFACTS, "live_realtime_tenth_load.png"))
+        finally:
+            err = stop(viewer)
+    assert re.search(r", 0 undecodable$", err.strip()), err
+
+
 def test_a_viewer_without_a_page_costs_the_server_no_writes():
     """With no page open, a live viewer reads only the scene, which the server wrote once before anyone joined:
     the monitor and the camera previews, written only while read, stay unwritten however long the run."""
@@ -157,8 +190,11 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
     assert run.returncode == 0, run.stderr
     viewer, url = start_viewer("--bag", bag)
     try:
-        browser.open(url)
-        wait_until(lambda: browser.evaluate("hadalViewer.seabedTriangles()") == 80000, 60, "the seabed")
+        # At its load event the page shows the bag: the seabed and the camera's first frame.
+        browser.load(url)
+        at_load = browser.evaluate("hadalViewer.atLoad")
+        assert at_load["seabed_triangles"] == 80000 and at_load["drawn"] > 0.5, at_load
+        assert at_load["cameras"].get(CAMERA) and at_load["cameras"][CAMERA]["mean"] > 10.0, at_load
         source = wait_until(lambda: browser.evaluate("hadalViewer.state.source"), 30, "the bag's controls")
         assert source["kind"] == "bag" and source["duration"] == pytest.approx(4.0, abs=0.011)
         assert browser.evaluate("document.getElementById('bagbar').hidden") is False

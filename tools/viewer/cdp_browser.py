@@ -45,6 +45,7 @@ class Browser:
         self.socket = websocket.create_connection(page["webSocketDebuggerUrl"], timeout=60)
         self.ids = itertools.count(1)
         self.console = []
+        self.load_events = 0  # the page's load events so far (Page.loadEventFired)
         self.call("Runtime.enable")
         self.call("Page.enable")
 
@@ -52,14 +53,21 @@ class Browser:
         call_id = next(self.ids)
         self.socket.send(json.dumps({"id": call_id, "method": method, "params": params}))
         while True:
-            message = json.loads(self.socket.recv())
-            if message.get("method") == "Runtime.exceptionThrown":
-                self.console.append(message["params"]["exceptionDetails"].get("exception", {}).get("description"))
-            elif message.get("method") == "Runtime.consoleAPICalled":
-                self.console.append(" ".join(str(a.get("value")) for a in message["params"]["args"]))
+            message = self._next()
             if message.get("id") == call_id:
                 assert "error" not in message, message["error"]
                 return message["result"]
+
+    def _next(self):
+        """The next message from Chromium, its events noted (console lines, exceptions, load events)."""
+        message = json.loads(self.socket.recv())
+        if message.get("method") == "Runtime.exceptionThrown":
+            self.console.append(message["params"]["exceptionDetails"].get("exception", {}).get("description"))
+        elif message.get("method") == "Runtime.consoleAPICalled":
+            self.console.append(" ".join(str(a.get("value")) for a in message["params"]["args"]))
+        elif message.get("method") == "Page.loadEventFired":
+            self.load_events += 1
+        return message
 
     def evaluate(self, expression):
         result = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
@@ -69,6 +77,17 @@ class Browser:
     def open(self, url):
         self.call("Page.navigate", url=url)
         wait_until(lambda: self.evaluate("typeof window.hadalViewer === 'object'"), 30, "the page's script")
+
+    def load(self, url, timeout_s=60.0):
+        """Navigates to url and returns when the page's load event has fired (what a one-shot screenshot shows)."""
+        before = self.load_events
+        self.call("Page.navigate", url=url)
+        self.socket.settimeout(timeout_s)
+        try:
+            while self.load_events == before:
+                self._next()
+        finally:
+            self.socket.settimeout(60)
 
     def screenshot(self, path):
         os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)

@@ -28,6 +28,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -41,6 +42,7 @@
 #include <mutex>
 #include <optional>
 #include <regex>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -84,8 +86,9 @@ std::string default_web_root() {
 }
 
 // Live: the hadald on the domain. A viewer with no page open reads only the scene (written once, before
-// anyone joins: reliable, transient-local), so the server writes nothing to it as it runs. While a page is
-// open (and for kPageLinger after the last one closed: a page reloaded), a second participant reads the
+// anyone joins: reliable, transient-local), so the server writes nothing to it as it runs. From the moment
+// a page is requested, while one is open and for kPageLinger after the last one closed (a page reloaded),
+// a second participant reads the
 // monitor (rt/hadal/monitor: the latest sample of every drawn stream, at most 20 per wall second, written
 // by the server only while read; ViewerState::shows) and the camera previews (best effort: the server never
 // resends a frame to the viewer), each with a reader that keeps the latest sample. The plots and trails
@@ -96,8 +99,23 @@ class LiveSource {
   static constexpr std::chrono::seconds kPageLinger{10};
 
   LiveSource(int domain, hadal::SecurityFiles security, hadal::viewer::ViewerState& state)
-      : domain_(domain), security_(std::move(security)), state_(state) {
-    thread_ = std::thread([this] { run(); });
+      : domain_(domain), security_(std::move(security)), state_(state) {}
+  // Starts reading (and prints its line once it found hadald).
+  void start() { thread_ = std::thread([this] { run(); }); }
+  // A page was requested: start reading what it shows now, so that its first state (/first.js) has it.
+  void page_loading() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      loading_until_ = std::chrono::steady_clock::now() + kPageLinger;
+    }
+    wake_.notify_one();
+  }
+  // Whether a page's first paint can show the run: the scene, the monitor's status and a frame of every
+  // camera preview hadald writes.
+  bool first_paint_ready(const hadal::viewer::ViewerState::Contents& contents) {
+    if (!discovered_ || !page_streams_ || !contents.scene || !contents.status) return false;
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::includes(contents.cameras.begin(), contents.cameras.end(), previews_.begin(), previews_.end());
   }
   // How many pages are open (the push loop tells, each tick and when one connects).
   void set_pages(int pages) {
@@ -114,7 +132,7 @@ class LiveSource {
       stop_ = true;
     }
     wake_.notify_one();
-    thread_.join();
+    if (thread_.joinable()) thread_.join();
   }
   // Connected: hadald's writers were found and, once the monitor is read, a sample came within the last 3 s
   // (the monitor carries hadald's status, a 10 Hz wall-clock heartbeat).
@@ -161,11 +179,13 @@ class LiveSource {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stop_) {
       // Idle (no page, no tap to close) until a page opens; else a look each second for the linger's end.
-      wake_.wait_for(lock, std::chrono::seconds(1), [&] { return stop_ || (pages_ > 0 && !page_tap); });
+      wake_.wait_for(lock, std::chrono::seconds(1), [&] {
+        return stop_ || ((pages_ > 0 || std::chrono::steady_clock::now() < loading_until_) && !page_tap);
+      });
       if (stop_) break;
       const auto now = std::chrono::steady_clock::now();
       if (pages_ > 0) last_page = now;
-      const bool want = pages_ > 0;
+      const bool want = pages_ > 0 || now < loading_until_;
       lock.unlock();
       if (want && !page_tap) {
         page_tap = std::make_unique<hadal::record::TopicTap>(domain_, "hadal_viewer_page",
@@ -175,12 +195,14 @@ class LiveSource {
           reading_pages_ = true;
           const bool matched = subscribe(*page_tap, Streams::kMonitor) && subscribe(*page_tap, Streams::kPreviews);
           if (!matched) std::fprintf(stderr, "hadal-viewer: not every shown topic of hadald matched within 20 s\n");
+          page_streams_ = true;
         } else {
           page_tap.reset();  // hadald gone for now: try again
         }
       } else if (!want && page_tap && now - last_page >= kPageLinger) {
         page_tap.reset();
         reading_pages_ = false;
+        page_streams_ = false;
       }
       lock.lock();
     }
@@ -208,7 +230,12 @@ class LiveSource {
           const auto& [topic, type] = name->second;
           if (!hadal::viewer::ViewerState::shows(topic, type)) return false;
           if (type == "hadal_msgs/msg/Scene") return streams == Streams::kScene;
-          if (type == "sensor_msgs/msg/Image") return streams == Streams::kPreviews;
+          if (type == "sensor_msgs/msg/Image") {
+            if (streams != Streams::kPreviews) return false;
+            std::lock_guard<std::mutex> lock(mutex_);
+            previews_.insert(topic);
+            return true;
+          }
           return streams == Streams::kMonitor;
         },
         true);
@@ -222,7 +249,10 @@ class LiveSource {
   std::condition_variable wake_;
   bool stop_ = false;  // guarded by mutex_
   int pages_ = 0;      // guarded by mutex_
-  std::atomic<bool> failed_{false}, discovered_{false}, reading_pages_{false};
+  std::chrono::steady_clock::time_point loading_until_{};  // guarded by mutex_
+  std::set<std::string> previews_;                         // the preview topics read; guarded by mutex_
+  // page_streams_: the monitor and previews are subscribed (so previews_ is complete).
+  std::atomic<bool> failed_{false}, discovered_{false}, reading_pages_{false}, page_streams_{false};
   std::atomic<double> last_sample_s_{-1e9};
   std::thread thread_;
 };
@@ -238,6 +268,12 @@ class BagPlayer {
     if (!index.empty()) start_ns_ = index.front().timestamp_ns, end_ns_ = index.back().timestamp_ns;
     t_ns_ = start_ns_;
     for (const auto& topic : reader_->topics()) is_image_.push_back(topic.type == "sensor_msgs/msg/Image");
+    // A first paint shows every camera's first frame: it waits until the player has fed them.
+    std::set<int> seen;
+    first_frames_ns_ = start_ns_;
+    for (const auto& entry : index) {
+      if (is_image_[entry.topic] && seen.insert(entry.topic).second) first_frames_ns_ = entry.timestamp_ns;
+    }
     thread_ = std::thread([this] { run(); });
   }
   ~BagPlayer() {
@@ -264,6 +300,10 @@ class BagPlayer {
     } else if (cmd == "speed" && std::regex_search(text, m, x_re) && hadal::tools::parse_number(m[1], &value)) {
       speed_ = std::clamp(value, 0.05, 100.0);
     }
+  }
+  // Whether a page's first paint can show the bag: its scene, and the frames up to every camera's first.
+  bool first_paint_ready(const hadal::viewer::ViewerState::Contents& contents) const {
+    return contents.scene && fed_ns_.load() >= first_frames_ns_;
   }
   std::string json() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -315,6 +355,7 @@ class BagPlayer {
       }
     }
     feed_until(start_ns_, true);
+    fed_ns_ = start_ns_;
     double last = now_s();
     while (!stop_) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -341,6 +382,7 @@ class BagPlayer {
       }
       last = now;
       feed_until(target, seek);
+      fed_ns_ = target;
     }
   }
 
@@ -348,7 +390,8 @@ class BagPlayer {
   std::string path_;
   hadal::viewer::ViewerState& state_;
   std::vector<bool> is_image_;
-  std::int64_t start_ns_ = 0, end_ns_ = 0;
+  std::int64_t start_ns_ = 0, end_ns_ = 0, first_frames_ns_ = 0;
+  std::atomic<std::int64_t> fed_ns_{-1};  // the time up to which the state has the bag's messages
   mutable std::mutex mutex_;
   std::int64_t t_ns_ = 0, seek_ns_ = -1;
   bool playing_ = true;
@@ -440,16 +483,57 @@ int main(int argc, char** argv) {
       return 1;
     }
     player = std::make_unique<BagPlayer>(std::move(reader), bag, state);
+  } else {
+    live = std::make_unique<LiveSource>(domain, security, state);
   }
+
+  // The scene a page has, named across viewer processes (a page reconnects to a restarted viewer).
+  const std::string instance = std::to_string(getpid()) + "." +
+                               std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+  auto scene_id = [&](std::uint64_t generation) { return instance + "." + std::to_string(generation); };
+  auto with_source = [&](std::string update) {
+    const std::string source = player ? player->json() : live->json();
+    return update.insert(update.size() - 1, ",\"source\":" + source);
+  };
 
   std::mutex clients_mutex;
   std::condition_variable client_joined;
-  std::vector<hadal::viewer::WebServer::ClientId> new_clients;
+  struct Joined {
+    hadal::viewer::WebServer::ClientId client;
+    std::string query;  // "scene=ID": the page has that scene (from /first.js)
+  };
+  std::vector<Joined> new_clients;
   hadal::viewer::WebCallbacks callbacks;
-  callbacks.on_client = [&](hadal::viewer::WebServer::ClientId client) {
+  callbacks.on_page = [&] {
+    if (live) live->page_loading();
+  };
+  // The page's first state, part of its load: a page (or a one-shot screenshot) shows the run at its load
+  // event, not a "waiting" line. Served once the source has what a first paint shows (the scene, the status,
+  // a frame of every camera), or the run has not advanced for kIdle (lockstep between steps, a paused bag:
+  // no frame will come), or after kFirstPaintWait (no hadald yet), whichever is first.
+  callbacks.first_state = [&] {
+    constexpr double kFirstPaintWait_s = 10.0, kIdle_s = 1.0, kLook_s = 0.05;
+    if (live) live->page_loading();
+    const double start = now_s();
+    double last_sim_time = -1.0, moved_at = start;
+    while (!g_stop.load() && now_s() - start < kFirstPaintWait_s) {
+      const hadal::viewer::ViewerState::Contents contents = state.contents();
+      if (player ? player->first_paint_ready(contents) : live->first_paint_ready(contents)) break;
+      if (contents.sim_time != last_sim_time) {
+        last_sim_time = contents.sim_time;
+        moved_at = now_s();
+      } else if (contents.scene && contents.status && now_s() - moved_at >= kIdle_s) {
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::duration<double>(kLook_s));
+    }
+    const hadal::viewer::PushOutput all = state.everything();
+    return hadal::viewer::first_state_script(all, scene_id(all.scene_generation), with_source(all.update_json));
+  };
+  callbacks.on_client = [&](hadal::viewer::WebServer::ClientId client, const std::string& query) {
     {
       std::lock_guard<std::mutex> lock(clients_mutex);
-      new_clients.push_back(client);
+      new_clients.push_back({client, query});
     }
     client_joined.notify_one();
   };
@@ -471,14 +555,14 @@ int main(int argc, char** argv) {
               player ? ("bag " + bag).c_str() : ("live: DDS domain " + std::to_string(domain)).c_str(),
               web.web_root.c_str());
   std::fflush(stdout);
-  if (!player) live = std::make_unique<LiveSource>(domain, security, state);  // prints its own line once it found hadald
+  if (live) live->start();  // prints its own line once it found hadald
 
   // The push loop: what changed, at rate_hz, to every page; everything to a page that just connected. With
   // no page open it does nothing but wait for one (looking at the stop flag 4 times a second).
   const auto period = std::chrono::duration<double>(1.0 / rate_hz);
   auto wake = std::chrono::steady_clock::now();
   while (!g_stop.load() && !(live && live->failed())) {
-    std::vector<hadal::viewer::WebServer::ClientId> joined;
+    std::vector<Joined> joined;
     {
       std::unique_lock<std::mutex> lock(clients_mutex);
       if (server->clients() == 0 && new_clients.empty()) {
@@ -495,8 +579,6 @@ int main(int argc, char** argv) {
       joined.swap(new_clients);
     }
     if (live) live->set_pages(server->clients());
-    const std::string source = player ? player->json() : live->json();
-    auto with_source = [&](std::string update) { return update.insert(update.size() - 1, ",\"source\":" + source); };
     hadal::viewer::PushOutput out = state.poll(now_s());
     if (!out.scene_json.empty()) {
       server->broadcast(out.scene_json, false);
@@ -505,9 +587,9 @@ int main(int argc, char** argv) {
     if (!out.history_json.empty()) server->broadcast(out.history_json, false);
     for (const std::string& image : out.image_messages) server->broadcast(image, true);
     server->broadcast(with_source(out.update_json), false);
-    for (const auto client : joined) {
+    for (const auto& [client, query] : joined) {
       const hadal::viewer::PushOutput all = state.everything();
-      if (!all.scene_json.empty()) {
+      if (!all.scene_json.empty() && query != "scene=" + scene_id(all.scene_generation)) {
         server->send(client, all.scene_json, false);
         for (const std::string& mesh : all.mesh_messages) server->send(client, mesh, true);
       }

@@ -159,6 +159,35 @@ std::string binary_message(const char (&tag)[5], const std::string& name, const 
   return out;
 }
 
+std::string base64(const std::string& bytes) {
+  static const char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t group = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      group = (group << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    }
+    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(group >> (18 - 6 * k)) & 0x3f] : '=';
+  }
+  return out;
+}
+
+std::string first_state_script(const PushOutput& all, const std::string& scene_id, const std::string& update_json) {
+  const bool scene = !all.scene_json.empty();
+  auto blobs = [](const std::vector<std::string>& messages) {
+    std::string json = "[";
+    for (const std::string& message : messages) json += (json.size() > 1 ? ",\"" : "\"") + base64(message) + '"';
+    return json + ']';
+  };
+  return "window.hadalFirst = {\"scene_id\":" + (scene ? json_string(scene_id) : std::string("null")) +
+         ",\"scene\":" + (scene ? all.scene_json : std::string("null")) +
+         ",\"meshes\":" + blobs(scene ? all.mesh_messages : std::vector<std::string>{}) +
+         ",\"history\":" + all.history_json + ",\"images\":" + blobs(all.image_messages) +
+         ",\"update\":" + update_json + "};\n";
+}
+
 bool ViewerState::shows(const std::string& topic, const std::string& type) {
   const std::string image_suffix = "/preview";
   return type == "hadal_msgs/msg/Scene" || type == "hadal_msgs/msg/Monitor" ||
@@ -572,12 +601,14 @@ std::string ViewerState::image_message_locked(const std::string& topic, Camera& 
     return "";
   }
   camera.last_jpeg.assign(jpeg.begin(), jpeg.end());
+  camera.jpeg_frame = camera.frames;
   return binary_message("JPEG", topic, camera.last_jpeg);
 }
 
 PushOutput ViewerState::poll(double now_s) {
   std::lock_guard<std::mutex> lock(mutex_);
   PushOutput out;
+  out.scene_generation = scene_generation_;
   if (polled_scene_ != scene_generation_) {
     polled_scene_ = scene_generation_;
     out.scene_json = scene_json_;
@@ -604,14 +635,28 @@ PushOutput ViewerState::poll(double now_s) {
 PushOutput ViewerState::everything() {
   std::lock_guard<std::mutex> lock(mutex_);
   PushOutput out;
+  out.scene_generation = scene_generation_;
   out.scene_json = scene_json_;
   out.mesh_messages = mesh_messages_;
   out.history_json = history_json_locked();
-  for (const auto& [topic, camera] : cameras_) {
+  for (auto& [topic, camera] : cameras_) {
+    if (camera.frames != camera.jpeg_frame) image_message_locked(topic, camera);
     if (!camera.last_jpeg.empty()) out.image_messages.push_back(binary_message("JPEG", topic, camera.last_jpeg));
   }
   out.update_json = update_json_locked(next_seq_ - 1, false);  // the trails are in the history
   return out;
+}
+
+ViewerState::Contents ViewerState::contents() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Contents contents;
+  contents.scene = !scene_json_.empty();
+  contents.status = !status_json_.empty();
+  contents.sim_time = sim_time_;
+  for (const auto& [topic, camera] : cameras_) {
+    if (camera.frames > 0) contents.cameras.insert(topic);
+  }
+  return contents;
 }
 
 std::uint64_t ViewerState::samples() const {

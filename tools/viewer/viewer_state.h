@@ -13,6 +13,7 @@
 #include <deque>
 #include <map>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,21 @@ std::string binary_message(const char (&tag)[5], const std::string& name, const 
 // `text` as a JSON string: quoted, escaped, and valid UTF-8 (U+FFFD for bytes that are not).
 std::string json_string(const std::string& text);
 
+// `bytes` in base64 (RFC 4648, with padding).
+std::string base64(const std::string& bytes);
+
+struct PushOutput;
+// /first.js: the page's first state as one script, so that it is part of the page's load (a browser's load
+// event, and a one-shot screenshot, waits for it):
+//   window.hadalFirst = {"scene_id": ID or null, "scene": {...} or null, "meshes": [base64, ...],
+//                        "history": {...}, "images": [base64, ...], "update": {...}};
+// the same messages, in the same order, as a WebSocket join sends (binary ones in base64). update_json: the
+// update message to send (`all.update_json` with the source added). scene_id names the scene for the join
+// that follows (ws?scene=ID skips it).
+std::string first_state_script(const PushOutput& all, const std::string& scene_id, const std::string& update_json);
+
 struct PushOutput {
+  std::uint64_t scene_generation = 0;                      // which scene the state holds (0: none yet)
   std::string scene_json;                                  // set when the scene changed
   std::vector<std::string> mesh_messages;                  // with it, one binary message per mesh
   std::string history_json;                                // set when trails and series started over
@@ -54,8 +69,18 @@ class ViewerState {
 
   // What changed since the last poll (wall time now_s for the image rate). Thread-safe.
   PushOutput poll(double now_s);
-  // Everything a newly connected page needs: the scene, the history and the latest camera frames.
+  // Everything a newly connected page needs: the scene, the history and each camera's latest frame (encoded
+  // now when no page has been sent it yet).
   PushOutput everything();
+
+  // What the state holds so far (whether a page's first paint can show the run). Thread-safe.
+  struct Contents {
+    bool scene = false;           // a scene came
+    bool status = false;          // a SimStatus came
+    double sim_time = 0.0;        // the latest sim time seen [s]
+    std::set<std::string> cameras;  // image topics with a frame
+  };
+  Contents contents() const;
 
   // Samples taken and samples that did not decode (for the status line and tests).
   std::uint64_t samples() const;
@@ -83,6 +108,7 @@ class ViewerState {
     std::uint64_t sent_frame = 0;
     double sent_at = -1e9;
     std::string last_jpeg;
+    std::uint64_t jpeg_frame = 0;  // the frame last_jpeg is
     int width = 0, height = 0;
     std::string encoding;
   };

@@ -11,6 +11,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -185,6 +186,61 @@ TEST(ViewerStateTest, CameraFramesGoAsJpegAtMostOncePerInterval) {
   EXPECT_EQ(state.poll(10.25).image_messages.size(), 1u);
   EXPECT_TRUE(state.poll(10.5).image_messages.empty());  // no new frame
   EXPECT_EQ(state.everything().image_messages.size(), 1u);  // the last frame, for a page that joins
+}
+
+// A page's first state (/first.js) has a frame no poll has sent yet: everything() encodes each camera's
+// latest frame when no page was sent it (a live viewer's first page, whose previews just started), and
+// contents() says which cameras have one.
+TEST(ViewerStateTest, TheFirstStateHasEachCamerasLatestFrameUnpolled) {
+  ViewerState state(0.2);
+  ViewerState::Contents contents = state.contents();
+  EXPECT_FALSE(contents.scene || contents.status);
+  EXPECT_TRUE(contents.cameras.empty());
+  const auto dark = image("rgb8", 8, 4, 3, 20), bright = image("rgb8", 8, 4, 3, 200);
+  state.add("/auv/camera/preview", "sensor_msgs/msg/Image", dark.data(), dark.size());
+  state.add("/auv/camera/preview", "sensor_msgs/msg/Image", bright.data(), bright.size());
+  add_odometry(state, 1.5, 2.0, -96.0);
+  contents = state.contents();
+  EXPECT_EQ(contents.cameras, std::set<std::string>{"/auv/camera/preview"});
+  EXPECT_DOUBLE_EQ(contents.sim_time, 1.5);
+  const PushOutput all = state.everything();
+  ASSERT_EQ(all.image_messages.size(), 1u);
+  const std::string name = "/auv/camera/preview";
+  const std::size_t offset = 8 + name.size() + (4 - name.size() % 4) % 4;
+  const cv::Mat decoded = cv::imdecode(
+      std::vector<unsigned char>(all.image_messages[0].begin() + offset, all.image_messages[0].end()), cv::IMREAD_COLOR);
+  ASSERT_EQ(decoded.cols, 8);
+  EXPECT_NEAR(decoded.at<cv::Vec3b>(2, 4)[1], 200, 3);  // the latest frame, not the first
+  EXPECT_NE(all.update_json.find("\"width\":8,\"height\":4,\"encoding\":\"rgb8\""), std::string::npos)
+      << all.update_json;
+  // Encoded for the first state, the frame still goes to the pages already open at their next poll.
+  EXPECT_EQ(state.poll(10.0).image_messages.size(), 1u);
+}
+
+// base64 as RFC 4648 section 10 has it, and the first state's script: the join's messages in order, binary
+// ones in base64, the scene named for the join that follows.
+TEST(ViewerStateTest, TheFirstStateScriptCarriesTheJoinsMessages) {
+  EXPECT_EQ(base64(""), "");
+  EXPECT_EQ(base64("f"), "Zg==");
+  EXPECT_EQ(base64("fo"), "Zm8=");
+  EXPECT_EQ(base64("foo"), "Zm9v");
+  EXPECT_EQ(base64("foob"), "Zm9vYg==");
+  EXPECT_EQ(base64("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
+  EXPECT_EQ(base64(std::string("\xff\x00\xfe", 3)), "/wD+");
+
+  PushOutput all;
+  all.history_json = "{\"type\":\"history\"}";
+  all.image_messages = {"ab"};
+  const std::string no_scene = first_state_script(all, "7.1", "{\"type\":\"update\"}");
+  EXPECT_EQ(no_scene, "window.hadalFirst = {\"scene_id\":null,\"scene\":null,\"meshes\":[],"
+                      "\"history\":{\"type\":\"history\"},\"images\":[\"YWI=\"],\"update\":{\"type\":\"update\"}};\n");
+  all.scene_json = "{\"type\":\"scene\"}";
+  all.mesh_messages = {"m1", "m2"};
+  const std::string with_scene = first_state_script(all, "7.1", "{}");
+  EXPECT_NE(with_scene.find("\"scene_id\":\"7.1\",\"scene\":{\"type\":\"scene\"},\"meshes\":[\"bTE=\",\"bTI=\"]"),
+            std::string::npos)
+      << with_scene;
 }
 
 // Images as any writer may send them: empty, absurdly large, rows longer than the data. None is sent, each

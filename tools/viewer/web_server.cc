@@ -65,15 +65,23 @@ struct WebServer::Impl {
       mg_send_http_error(conn, 403, "hadal-viewer: this viewer needs its token (?token=...)");
       return 403;
     }
-    const auto file = d.files.find(info->local_uri);
-    if (file == d.files.end()) {
-      mg_send_http_error(conn, 404, "hadal-viewer: no %s here", info->local_uri);
-      return 404;
+    const std::string uri = info->local_uri;
+    std::string text, mime = "text/javascript; charset=utf-8";
+    if (uri == "/first.js" && d.callbacks.first_state) {
+      text = d.callbacks.first_state();
+    } else {
+      const auto file = d.files.find(uri);
+      if (file == d.files.end()) {
+        mg_send_http_error(conn, 404, "hadal-viewer: no %s here", info->local_uri);
+        return 404;
+      }
+      if ((uri == "/" || uri == "/index.html") && d.callbacks.on_page) d.callbacks.on_page();
+      std::ifstream in(file->second.first, std::ios::binary);
+      std::ostringstream body;
+      body << in.rdbuf();
+      text = body.str();
+      mime = file->second.second;
     }
-    std::ifstream in(file->second.first, std::ios::binary);
-    std::ostringstream body;
-    body << in.rdbuf();
-    const std::string text = body.str();
     std::string cookie;
     if (!d.options.token.empty()) {
       cookie = "Set-Cookie: hadal_token=" + d.options.token + "; HttpOnly; SameSite=Strict\r\n";
@@ -81,7 +89,7 @@ struct WebServer::Impl {
     mg_printf(conn,
               "HTTP/1.1 200 OK\r\nContent-Type: %s\r\nContent-Length: %zu\r\nCache-Control: no-store\r\n%s"
               "Connection: close\r\n\r\n",
-              file->second.second.c_str(), text.size(), cookie.c_str());
+              mime.c_str(), text.size(), cookie.c_str());
     mg_write(conn, text.data(), text.size());
     return 200;
   }
@@ -95,7 +103,8 @@ struct WebServer::Impl {
       std::lock_guard<std::mutex> lock(d.mutex);
       d.clients.insert(conn);
     }
-    if (d.callbacks.on_client) d.callbacks.on_client(conn);
+    const char* query = mg_get_request_info(conn)->query_string;
+    if (d.callbacks.on_client) d.callbacks.on_client(conn, query ? query : "");
   }
   static int ws_data(mg_connection* conn, int bits, char* text, size_t size, void* data) {
     Impl& d = *static_cast<Impl*>(data);
@@ -160,6 +169,7 @@ std::unique_ptr<WebServer> WebServer::start(const WebOptions& options, const Web
   }
   Impl* d = impl.get();
   for (const auto& [uri, file] : impl->files) mg_set_request_handler(d->context, (uri + "$").c_str(), &Impl::serve, d);
+  mg_set_request_handler(d->context, "/first.js$", &Impl::serve, d);
   mg_set_websocket_handler(d->context, "/ws$", &Impl::ws_connect, &Impl::ws_ready, &Impl::ws_data, &Impl::ws_close, d);
   return std::unique_ptr<WebServer>(new WebServer(std::move(impl)));
 }

@@ -1,7 +1,8 @@
 // hadal-viewer's HTTP and WebSocket side (civetweb): serves the page (tools/viewer/web), three.js from
-// Debian's libjs-three, and one WebSocket endpoint (/ws) over which the push loop sends the state and the
-// page sends its few commands (bag replay: play, pause, seek). Nothing else is served: no directory
-// listing, no file outside the two roots.
+// Debian's libjs-three, the page's first state (/first.js, made by a callback: what the page shows at its
+// load event), and one WebSocket endpoint (/ws) over which the push loop sends the state and the page sends
+// its few commands (bag replay: play, pause, seek). Nothing else is served: no directory listing, no file
+// outside the two roots.
 //
 // Access: with a token, every request must carry it, as ?token=T (the page's first request; it is then kept
 // in a cookie, HttpOnly, SameSite=Strict) or that cookie. Without one (loopback only), a request must name
@@ -24,9 +25,14 @@ struct WebOptions {
   std::string three_root;   // libjs-three's /usr/share/javascript/three
 };
 
-// Called from civetweb's threads: when a page's WebSocket is open, and with each text message a page sends.
+// Called from civetweb's threads: when the page itself is requested (before its scripts), for the body of
+// /first.js (the page's first state, part of its load: may block, briefly), when a page's WebSocket is open
+// (with the query of its URL: "scene=ID" when the page has that scene already), and with each text message a
+// page sends.
 struct WebCallbacks {
-  std::function<void(const void* client)> on_client;
+  std::function<void()> on_page;
+  std::function<std::string()> first_state;
+  std::function<void(const void* client, const std::string& query)> on_client;
   std::function<void(const std::string& text)> on_command;
 };
 

@@ -21,6 +21,7 @@ const state = {
   cameras: {},            // topic -> {img, caption, frames, url}
   followed: null,
   updates: 0,
+  scenes: 0,              // scene messages taken (first.js and the WebSocket's)
   lastUpdate: null,
   connected: false,
   source: null,
@@ -105,6 +106,7 @@ function frameMarker(frame) {
 }
 
 function onScene(msg) {
+  state.scenes++;
   clearWorld();
   state.scene = msg;
   document.getElementById('scenario').textContent = msg.scenario;
@@ -438,7 +440,14 @@ function renderSource(source) {
 
 // --- connection -------------------------------------------------------------------------------------------
 let socket = null;
+let sceneIdHeld = null;  // the scene first.js brought: the first WebSocket join need not send it again
 function send(command) { if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(command)); }
+
+function onText(msg) {
+  if (msg.type === 'scene') onScene(msg);
+  else if (msg.type === 'history') onHistory(msg);
+  else if (msg.type === 'update') onUpdate(msg);
+}
 
 function onBinary(buffer) {
   const view = new DataView(buffer);
@@ -455,8 +464,27 @@ function onBinary(buffer) {
   }
 }
 
+// The page's first state (first.js, loaded before this script: hadal-viewer serves it once it has what a first
+// paint shows): the messages a WebSocket join sends, binary ones in base64. Drawn at once, so the page shows
+// the run at its load event (and a one-shot screenshot does too).
+function applyFirst(first) {
+  const bytes = (b64) => Uint8Array.from(atob(b64), (c) => c.charCodeAt(0)).buffer;
+  if (first.scene) {
+    onScene(first.scene);
+    for (const mesh of first.meshes) onBinary(bytes(mesh));
+    sceneIdHeld = first.scene_id;
+  }
+  onHistory(first.history);
+  for (const image of first.images) onBinary(bytes(image));
+  onUpdate(first.update);
+  controls.update();
+  renderer.render(scene3, camera);
+}
+
 function connect() {
-  const url = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws';
+  const url = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws' +
+      (sceneIdHeld ? '?scene=' + encodeURIComponent(sceneIdHeld) : '');
+  sceneIdHeld = null;  // a reconnect (to a viewer perhaps restarted) is sent everything
   socket = new WebSocket(url);
   socket.binaryType = 'arraybuffer';
   socket.onopen = () => { state.connected = true; };
@@ -467,10 +495,7 @@ function connect() {
   };
   socket.onmessage = (event) => {
     if (typeof event.data !== 'string') { onBinary(event.data); return; }
-    const msg = JSON.parse(event.data);
-    if (msg.type === 'scene') onScene(msg);
-    else if (msg.type === 'history') onHistory(msg);
-    else if (msg.type === 'update') onUpdate(msg);
+    onText(JSON.parse(event.data));
   };
 }
 
@@ -539,7 +564,40 @@ window.hadalViewer = {
     return {mean: sum / (3 * data.length / 4), width: canvas.width, height: canvas.height, shown: pane.shown};
   },
   seabedTriangles() { return state.meshes[0] ? state.meshes[0].geometry.index.count / 3 : 0; },
+  // The share of the 3-D view's pixels that are not the background: > 0 once something is drawn.
+  drawnFraction() {
+    const source = renderer.domElement;
+    const canvas = document.createElement('canvas');
+    canvas.width = source.width;
+    canvas.height = source.height;
+    const ctx = canvas.getContext('2d');
+    ctx.drawImage(source, 0, 0);
+    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const bg = scene3.background;
+    const background = [bg.r * 255, bg.g * 255, bg.b * 255];
+    let drawn = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      if (Math.abs(data[i] - background[0]) + Math.abs(data[i + 1] - background[1]) +
+          Math.abs(data[i + 2] - background[2]) > 12) drawn++;
+    }
+    return drawn / (data.length / 4);
+  },
+  atLoad: null,  // what the page showed at its load event (set then)
 };
 
+// What the page showed at its load event, when a one-shot screenshot is taken: for tests.
+window.addEventListener('load', () => {
+  const cameras = {};
+  for (const topic of Object.keys(state.cameras)) cameras[topic] = window.hadalViewer.cameraMean(topic);
+  const poses = {};
+  for (const name of Object.keys(state.vehicles)) poses[name] = window.hadalViewer.vehiclePose(name);
+  window.hadalViewer.atLoad = {
+    seabed_triangles: window.hadalViewer.seabedTriangles(), poses, cameras,
+    status: document.getElementById('status').textContent, drawn: window.hadalViewer.drawnFraction(),
+    websocket_messages: state.updates - (window.hadalFirst ? 1 : 0),
+  };
+});
+
+if (window.hadalFirst) applyFirst(window.hadalFirst);
 connect();
 requestAnimationFrame(animate);
