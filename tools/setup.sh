@@ -18,7 +18,7 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev libbullet-dev
   libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev openssl
-  libcivetweb-dev libjs-three
+  libcivetweb-dev libjs-three libjpeg62-turbo-dev
   python3 python3-dev pybind11-dev python3-numpy python3-yaml python3-matplotlib
 )
 # Used by the tests alone: fuzzing (clang), Cyclone DDS interop, GoogleTest, the browser test, the network

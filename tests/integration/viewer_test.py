@@ -4,10 +4,14 @@ vehicle, the vehicle's pose in the 3-D view is the odometry's after steps, the c
 that is not black, and a bag replays with seeking. Screenshots go to HADAL_ARTIFACTS (build/test-artifacts/
 viewer) for a person to look at."""
 
+import contextlib
+import glob
 import json
 import os
 import re
 import signal
+import sqlite3
+import struct
 import subprocess
 import sys
 import threading
@@ -67,6 +71,31 @@ def browser(tmp_path):
     yield browser
     assert not [c for c in browser.console if c and "Error" in c], browser.console
     browser.close()
+
+
+def bag_odometry(bag, topic):
+    """{stamp: (p_WB, q_WB)} of every nav_msgs/Odometry on `topic` in the bag, decoded from its CDR (XCDR1,
+    little endian: a 4-byte encapsulation header, then each field aligned to its size from there): the
+    header's stamp (int32 sec, uint32 nanosec), two strings (uint32 length with the NUL, the bytes), then the
+    pose's position and orientation as doubles."""
+    (db_path,) = glob.glob(os.path.join(bag, "*.db3"))
+    with contextlib.closing(sqlite3.connect(f"file:{db_path}?mode=ro", uri=True)) as db:
+        rows = db.execute("SELECT data FROM messages JOIN topics ON topic_id = topics.id WHERE name = ?",
+                          (topic,)).fetchall()
+    poses = {}
+    for (data,) in rows:
+        assert data[:2] == b"\x00\x01", "not little-endian CDR"
+        body = data[4:]
+        sec, nanosec = struct.unpack_from("<iI", body, 0)
+        at = 8
+        for _ in range(2):  # frame_id, child_frame_id
+            at = (at + 3) // 4 * 4
+            (length,) = struct.unpack_from("<I", body, at)
+            at += 4 + length
+        at = (at + 7) // 8 * 8
+        values = struct.unpack_from("<7d", body, at)
+        poses[sec + 1e-9 * nanosec] = (list(values[:3]), list(values[3:]))
+    return poses
 
 
 def page_pose(browser, vehicle):
@@ -198,13 +227,18 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
         source = wait_until(lambda: browser.evaluate("hadalViewer.state.source"), 30, "the bag's controls")
         assert source["kind"] == "bag" and source["duration"] == pytest.approx(4.0, abs=0.011)
         assert browser.evaluate("document.getElementById('bagbar').hidden") is False
-        # Seek to 2 s: the vehicle is where the bag's odometry had it at 2 s (stamps in sim time).
+        # Seek to 2 s: the vehicle is where the bag's odometry had it at 2 s (stamps in sim time), to the last bit.
         browser.evaluate("send({cmd: 'pause'})")  # the page's own command (the play button toggles)
         wait_until(lambda: not browser.evaluate("hadalViewer.state.source.playing"), 10, "pause")
         browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 2;"
                          " t.dispatchEvent(new Event('input')); })()")
         pose2 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - 2.0) < 1e-9 and p, 30,
                            "the pose at 2 s")
+        recorded = bag_odometry(bag, "/auv/odometry")
+        at_2s = min(recorded, key=lambda t: abs(t - 2.0))
+        assert abs(at_2s - 2.0) < 1e-9, sorted(recorded)[-3:]
+        np.testing.assert_array_equal(pose2["p"], recorded[at_2s][0])
+        np.testing.assert_array_equal(pose2["q"], recorded[at_2s][1])
         browser.screenshot(os.path.join(ARTIFACTS, "bag_seek_2s.png"))
         trail2 = browser.evaluate("hadalViewer.state.vehicles.auv.trailCount")
         # Back to 1 s: the state starts over from the bag's beginning and lands on the 1 s pose; the trail
@@ -213,6 +247,8 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
                          " t.dispatchEvent(new Event('input')); })()")
         pose1 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - 1.0) < 1e-9 and p, 30,
                            "the pose at 1 s")
+        at_1s = min(recorded, key=lambda t: abs(t - 1.0))
+        np.testing.assert_array_equal(pose1["p"], recorded[at_1s][0])
         assert pose1["p"] != pose2["p"]
         assert 0 < wait_until(lambda: browser.evaluate("hadalViewer.state.vehicles.auv.trailCount") < trail2, 10,
                               "a shorter trail")
@@ -226,6 +262,28 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
     finally:
         err = stop(viewer)
     assert re.search(r", 0 undecodable$", err.strip()), err
+
+
+def test_the_viewer_loads_no_blas_and_little_static_tls():
+    """civetweb (Debian's build) runs each request on a worker thread with a 100 KiB stack, and glibc places every
+    loaded library's static TLS at the top of each thread's stack. OpenCV's core loads libblas.so.3, which on a
+    machine whose BLAS alternative is OpenBLAS (a fresh Debian 12 with the project's packages: seen in a
+    container) brings 60 KiB of it: the viewer then died (SIGSEGV, stack overflow in its first page request's
+    printf). So: no OpenCV and no BLAS in what it loads, and the static TLS of everything it loads well below
+    the stack (16 KiB; ~4 KiB here)."""
+    run = subprocess.run(["ldd", VIEWER], capture_output=True, text=True, check=True)
+    libraries = [line.split("=>")[1].split("(")[0].strip() for line in run.stdout.splitlines()
+                 if "=>" in line and "/" in line.split("=>")[1]]
+    assert libraries, run.stdout
+    assert not [lib for lib in libraries if re.search(r"libopencv|libblas|libopenblas|liblapack", lib)], run.stdout
+    tls = 0
+    for library in libraries:
+        headers = subprocess.run(["readelf", "-lW", library], capture_output=True, text=True, check=True).stdout
+        for line in headers.splitlines():
+            fields = line.split()
+            if fields and fields[0] == "TLS":
+                tls += int(fields[5], 16)  # MemSiz
+    assert tls < 16 * 1024, tls
 
 
 def test_usage_errors_and_the_token(tmp_path):
@@ -252,6 +310,15 @@ def test_usage_errors_and_the_token(tmp_path):
         assert refused.value.code == 403
         with urllib.request.urlopen(url) as page:
             assert page.status == 200 and "hadal_token=s3cret" in page.headers["Set-Cookie"]
+        # The page's first state, with no hadald on the domain: served all the same (without a scene; the
+        # WebSocket brings one when a hadald comes), and only with the token.
+        with urllib.request.urlopen(base + "first.js?token=s3cret") as first:
+            text = first.read().decode()
+        assert text.startswith('window.hadalFirst = {"scene_id":null,"scene":null,"meshes":[],'), text[:200]
+        assert '"source":{"kind":"live","domain":231,"connected":false}' in text, text[-300:]
+        with pytest.raises(urllib.error.HTTPError) as refused:
+            urllib.request.urlopen(base + "first.js")
+        assert refused.value.code == 403
         with pytest.raises((websocket.WebSocketBadStatusException, websocket.WebSocketConnectionClosedException)):
             websocket.create_connection(base.replace("http", "ws") + "ws", timeout=10)
         socket = websocket.create_connection(base.replace("http", "ws") + "ws", timeout=10,

@@ -9,13 +9,17 @@
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+// libjpeg-turbo, not OpenCV: OpenCV's core needs libblas.so.3, which on a machine whose BLAS is OpenBLAS
+// brings 60 KiB of static TLS into every thread's stack, and civetweb's worker threads have 100 KiB
+// (docs/viewer.md, "How it is tested").
+#include <jpeglib.h>
 
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstdlib>
 #include <algorithm>
 #include <cstring>
 #include <set>
@@ -24,6 +28,53 @@ namespace hadal::viewer {
 namespace {
 
 using tools::json_number;
+
+// libjpeg reports errors through error_exit, which must not return (its default exits the process): it
+// jumps back to encode_jpeg's setjmp.
+struct JpegError {
+  jpeg_error_mgr manager;
+  std::jmp_buf jump;
+};
+extern "C" void jpeg_error_jump(j_common_ptr info) {
+  std::longjmp(reinterpret_cast<JpegError*>(info->err)->jump, 1);
+}
+extern "C" void jpeg_no_message(j_common_ptr) {}
+
+// height rows of width pixels, `step` bytes apart, as JPEG at `quality` (0..100) into *out; in_color:
+// JCS_RGB, JCS_EXT_BGR (libjpeg-turbo) or JCS_GRAYSCALE. False when libjpeg reports an error.
+bool encode_jpeg(const unsigned char* data, int width, int height, std::size_t step, int channels,
+                 J_COLOR_SPACE in_color, int quality, std::string* out) {
+  jpeg_compress_struct info;
+  JpegError error;
+  unsigned char* buffer = nullptr;  // libjpeg's (malloc), through jpeg_mem_dest
+  unsigned long size = 0;
+  info.err = jpeg_std_error(&error.manager);
+  error.manager.error_exit = jpeg_error_jump;
+  error.manager.output_message = jpeg_no_message;
+  if (setjmp(error.jump)) {
+    jpeg_destroy_compress(&info);
+    std::free(buffer);
+    return false;
+  }
+  jpeg_create_compress(&info);
+  jpeg_mem_dest(&info, &buffer, &size);
+  info.image_width = static_cast<JDIMENSION>(width);
+  info.image_height = static_cast<JDIMENSION>(height);
+  info.input_components = channels;
+  info.in_color_space = in_color;
+  jpeg_set_defaults(&info);
+  jpeg_set_quality(&info, quality, TRUE);
+  jpeg_start_compress(&info, TRUE);
+  while (info.next_scanline < info.image_height) {
+    JSAMPROW row = const_cast<JSAMPROW>(data + static_cast<std::size_t>(info.next_scanline) * step);
+    jpeg_write_scanlines(&info, &row, 1);
+  }
+  jpeg_finish_compress(&info);
+  jpeg_destroy_compress(&info);
+  out->assign(reinterpret_cast<const char*>(buffer), size);
+  std::free(buffer);
+  return true;
+}
 
 constexpr double kSeriesInterval = 0.1;         // sim seconds between two points of a series
 constexpr std::size_t kSeriesPoints = 3000;     // per series (5 min at 10 Hz)
@@ -586,21 +637,13 @@ std::string ViewerState::image_message_locked(const std::string& topic, Camera& 
     ++undecodable_;
     return "";
   }
-  std::vector<unsigned char> jpeg;
-  try {
-    const cv::Mat image(camera.height, camera.width, channels == 3 ? CV_8UC3 : CV_8UC1, msg.data().data(), step);
-    cv::Mat bgr;
-    if (msg.encoding() == "rgb8") {
-      cv::cvtColor(image, bgr, cv::COLOR_RGB2BGR);
-    } else {
-      bgr = image;
-    }
-    cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
-  } catch (const cv::Exception&) {
+  const J_COLOR_SPACE in_color = channels == 1 ? JCS_GRAYSCALE : msg.encoding() == "rgb8" ? JCS_RGB : JCS_EXT_BGR;
+  std::string jpeg;
+  if (!encode_jpeg(msg.data().data(), camera.width, camera.height, step, channels, in_color, 85, &jpeg)) {
     ++undecodable_;
     return "";
   }
-  camera.last_jpeg.assign(jpeg.begin(), jpeg.end());
+  camera.last_jpeg = std::move(jpeg);
   camera.jpeg_frame = camera.frames;
   return binary_message("JPEG", topic, camera.last_jpeg);
 }

@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   // Before any thread exists, so that all of hadald's threads inherit the CPUs and the policy.
-  if (const std::string why = app::apply_scheduling(cli.options.cpus, cli.options.sched_batch); !why.empty()) {
+  if (const std::string why = app::apply_scheduling(cli.options.cpus, cli.options.sched_batch, true); !why.empty()) {
     std::fprintf(stderr, "hadald: error: %s\n", why.c_str());
     return 2;
   }

@@ -1,15 +1,30 @@
 #include "scheduling.h"
 
 #include <sched.h>
+#include <sys/types.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 
 namespace hadal::app {
 
 namespace {
+
+// The ids of this process's other threads now running (/proc/self/task), the caller's left out.
+std::vector<pid_t> other_threads() {
+  std::vector<pid_t> tids;
+  const pid_t self = gettid();
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task", error)) {
+    const pid_t tid = static_cast<pid_t>(std::atoi(entry.path().filename().c_str()));
+    if (tid > 0 && tid != self) tids.push_back(tid);
+  }
+  return tids;
+}
 
 bool parse_cpu(const std::string& text, int& out) {
   if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 5) return false;
@@ -72,7 +87,8 @@ std::vector<int> allowed_cpus() {
   return cpus;
 }
 
-std::string apply_scheduling(const std::vector<int>& cpus, bool batch) {
+std::string apply_scheduling(const std::vector<int>& cpus, bool batch, bool whole_process) {
+  const std::vector<pid_t> others = whole_process ? other_threads() : std::vector<pid_t>{};
   if (!cpus.empty()) {
     const std::vector<int> allowed = allowed_cpus();
     cpu_set_t set;
@@ -87,12 +103,24 @@ std::string apply_scheduling(const std::vector<int>& cpus, bool batch) {
     if (sched_setaffinity(0, sizeof(set), &set) != 0) {
       return "--cpus " + format_cpu_list(cpus) + ": sched_setaffinity failed: " + std::strerror(errno);
     }
+    for (const pid_t tid : others) {
+      if (sched_setaffinity(tid, sizeof(set), &set) != 0 && errno != ESRCH) {
+        return "--cpus " + format_cpu_list(cpus) + ": sched_setaffinity of thread " + std::to_string(tid) +
+               " failed: " + std::strerror(errno);
+      }
+    }
   }
   if (batch) {
     sched_param param{};
     param.sched_priority = 0;
     if (sched_setscheduler(0, SCHED_BATCH, &param) != 0) {
       return std::string("--sched batch: sched_setscheduler failed: ") + std::strerror(errno);
+    }
+    for (const pid_t tid : others) {
+      if (sched_setscheduler(tid, SCHED_BATCH, &param) != 0 && errno != ESRCH) {
+        return "--sched batch: sched_setscheduler of thread " + std::to_string(tid) + " failed: " +
+               std::strerror(errno);
+      }
     }
   }
   return "";

@@ -6,8 +6,9 @@
 // every step), and a server's wake-up preempting the client thread that was about to send the next server
 // its request, leaving that server idle for a whole step. `--cpus` keeps all of a server's threads on the
 // given CPUs; `--sched batch` (SCHED_BATCH, sched(7)) tells the kernel not to let its wake-ups preempt a
-// running thread. Both are set on the main thread before any other thread exists, so every thread hadald
-// starts inherits them.
+// running thread. Both are set on the main thread before hadald starts a thread, so every thread it starts
+// inherits them, and on every thread already running: libraries may start threads before main (Debian's
+// OpenBLAS, when it is the machine's libblas.so.3, starts its pool as it is loaded).
 #pragma once
 
 #include <string>
@@ -26,8 +27,9 @@ std::string format_cpu_list(const std::vector<int>& cpus);
 std::vector<int> allowed_cpus();
 
 // Restricts the calling thread (and the threads it starts later) to `cpus` when non-empty, and switches
-// it to SCHED_BATCH when `batch`. Every CPU must be one the process may run on now. Returns "" or the
-// reason it could not.
-std::string apply_scheduling(const std::vector<int>& cpus, bool batch);
+// it to SCHED_BATCH when `batch`; with `whole_process`, every other thread of the process now running too
+// (those that end meanwhile are skipped). Every CPU must be one the process may run on now. Returns "" or
+// the reason it could not.
+std::string apply_scheduling(const std::vector<int>& cpus, bool batch, bool whole_process = false);
 
 }  // namespace hadal::app

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 #include <sched.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <thread>
 
 namespace hadal::app {
@@ -42,6 +45,44 @@ TEST(SchedulingTest, PinsAndBatchesTheCallingThreadAndTheThreadsItStarts) {
   }).join();
   EXPECT_EQ(allowed_cpus(), allowed);
   EXPECT_EQ(sched_getscheduler(0), SCHED_OTHER);
+}
+
+// With whole_process, a thread already running when hadald applies its scheduling (as OpenBLAS's pool,
+// started when the library is loaded) is pinned and batched too. In a child process, so that the test
+// process keeps its CPUs and policy; the child reports by its exit status (0: as expected; 1..4: which check
+// failed). Without whole_process the running thread keeps its CPUs (status 1 then: the check can fail).
+int child_status(bool whole_process, int cpu) {
+  const pid_t child = fork();
+  if (child == 0) {
+    std::atomic<pid_t> tid{0};
+    std::atomic<bool> done{false};
+    std::thread running([&] {
+      tid = gettid();
+      while (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+    while (tid == 0) std::this_thread::yield();
+    int status = apply_scheduling({cpu}, true, whole_process) == "" ? 0 : 4;
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (status == 0 && sched_getaffinity(tid, sizeof(set), &set) != 0) status = 3;
+    if (status == 0 && (CPU_COUNT(&set) != 1 || !CPU_ISSET(cpu, &set))) status = 1;
+    if (status == 0 && sched_getscheduler(tid) != SCHED_BATCH) status = 2;
+    done = true;
+    running.join();
+    _exit(status);
+  }
+  int status = -1;
+  waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(SchedulingTest, WholeProcessAlsoPinsAndBatchesThreadsAlreadyRunning) {
+  const std::vector<int> allowed = allowed_cpus();
+  ASSERT_FALSE(allowed.empty());
+  EXPECT_EQ(child_status(true, allowed.back()), 0);
+  if (allowed.size() > 1) {
+    EXPECT_EQ(child_status(false, allowed.back()), 1);  // the check can tell
+  }
 }
 
 }  // namespace

@@ -23,7 +23,8 @@ const state = {
   updates: 0,
   scenes: 0,              // scene messages taken (first.js and the WebSocket's)
   lastUpdate: null,
-  connected: false,
+  connected: false,       // the WebSocket is open
+  firstState: false,      // showing first.js's state, the WebSocket not yet closed once
   source: null,
 };
 
@@ -418,15 +419,16 @@ function renderSource(source) {
   el.innerHTML = '';
   const dot = document.createElement('span');
   if (!source) return;
+  const linked = state.connected || state.firstState;
   if (source.kind === 'live') {
-    const up = state.connected && source.connected;
+    const up = linked && source.connected;
     dot.className = up ? 'up' : 'down';
     dot.textContent = up ? '● live' : '○ waiting for hadald';
     el.append(dot, ' · domain ' + source.domain);
     return;
   }
-  dot.className = state.connected ? 'up' : 'down';
-  dot.textContent = state.connected ? '● bag' : '○ bag';
+  dot.className = linked ? 'up' : 'down';
+  dot.textContent = linked ? '● bag' : '○ bag';
   el.append(dot, ' ' + source.path.replace(/\/+$/, '').split('/').pop());
   el.title = source.path;
   const bar = document.getElementById('bagbar');
@@ -469,6 +471,7 @@ function onBinary(buffer) {
 // the run at its load event (and a one-shot screenshot does too).
 function applyFirst(first) {
   const bytes = (b64) => Uint8Array.from(atob(b64), (c) => c.charCodeAt(0)).buffer;
+  state.firstState = true;
   if (first.scene) {
     onScene(first.scene);
     for (const mesh of first.meshes) onBinary(bytes(mesh));
@@ -490,6 +493,7 @@ function connect() {
   socket.onopen = () => { state.connected = true; };
   socket.onclose = () => {
     state.connected = false;
+    state.firstState = false;
     renderSource(state.source);
     setTimeout(connect, 1000);
   };
