@@ -35,7 +35,7 @@ constexpr double kStepSize = 0.002;  // physics_rate_hz 500 in both scenarios [s
 // world origin 43 N 5 E on the WGS84 ellipsoid, date 2026-06-01 (as the default scenario).
 class StillScenario {
  public:
-  StillScenario(double z, double v_x = 0.0, double g_z = -9.80665)
+  StillScenario(double z, double v_x = 0.0, double g_z = -9.80665, double v_y = 0.0)
       : path_("/tmp/hadal-sensor-client-test-" + std::to_string(::getpid()) + "-" + std::to_string(++count_) +
               ".yaml") {
     std::ofstream f(path_);
@@ -58,7 +58,7 @@ class StillScenario {
       << z
       << "], rpy_deg: [0.0, 0.0, 0.0]}\n"
          "    initial_velocity: ["
-      << v_x << ", 0.0, 0.0]\n";
+      << v_x << ", " << v_y << ", 0.0]\n";
   }
   ~StillScenario() { std::remove(path_.c_str()); }
   StillScenario(const StillScenario&) = delete;
@@ -191,15 +191,17 @@ TEST(SensorClientTest, GpsAboveTheWaterFixesAtTheOrigin) {
 
 // ---- DVL (marine_acoustic_msgs/Dvl): enable once the server's `dvl` sensor is on main --------------
 
-// AUV 20 m above the plane seabed (z = -80), coasting east from 0.5 m/s and slowed only by drag,
-// 2 s of lockstep. The 5 Hz pings in frame auv/dvl bottom-track on all 4 beams; the altitude is 20 m
-// within 0.5 m (transducer mounted within the hull radius, 0.08 m, of the centre; range noise of a
-// DVL at 20 m is ~1 % per beam, averaged over 4); each beam's slant range times the cosine of its angle
-// to the (vertical) DVL axis gives the same altitude; the velocity matches the ground truth at the same
-// sim time within 0.05 m/s (single-ping noise of a few mm/s to ~1 cm/s; the vehicle barely rotates, so
-// the lever arm adds < 1 mm/s; its ~1 cm/s rise shows in z).
+// AUV 20 m above the plane seabed (z = -80), coasting from 0.5 m/s east and 0.4 m/s north (so forward and sideways
+// along B's x and y, told apart; the hull's side drag damps the sideways part to ~0.16 m/s at the first ping and to
+// millimetres per second within 2 s) and slowed only by drag, 2 s of lockstep. The 5 Hz pings in frame auv/dvl
+// bottom-track on all 4 beams; the altitude is 20 m within 0.5 m (transducer mounted within the hull radius, 0.08
+// m, of the centre; range noise of a DVL at 20 m is ~1 % per beam, averaged over 4); each beam's slant range times
+// the cosine of its angle to the (vertical) DVL axis gives the same altitude; the velocity matches the ground truth
+// at the same sim time within 0.05 m/s (single-ping noise of a few mm/s to ~1 cm/s; the vehicle barely rotates, so
+// the lever arm adds < 1 mm/s; its ~1 cm/s rise shows in z), in the DVL's frame: mounted rolled 180 deg
+// (torpedo_auv.yaml): its x along B's x, its y and z against B's, so a sideways drift to B's +y reads negative.
 TEST(SensorClientTest, DvlBottomTracksACoastingVehicleOverAPlaneSeabed) {
-  StillScenario scenario(-80.0, 0.5);
+  StillScenario scenario(-80.0, 0.5, -9.80665, 0.4);
   LockstepServer s(scenario.path());
   SampleLog<Dvl> dvl;
   SampleLog<Odometry> odometry;
@@ -210,6 +212,9 @@ TEST(SensorClientTest, DvlBottomTracksACoastingVehicleOverAPlaneSeabed) {
   ASSERT_TRUE(wait_until([&] { return dvl.has(t) && odometry.has(t); }, kWait));
   const std::map<double, Dvl> samples = dvl.all();
   ASSERT_GE(samples.size(), 10u);  // 0.2 .. 2.0 s
+  ASSERT_TRUE(odometry.has(samples.begin()->first));
+  // At the first ping the drift sideways is well above the tolerance: a y read with the wrong sign misses.
+  EXPECT_GT(odometry.at(samples.begin()->first).v_WB_B[1], 0.12);
   for (const auto& [stamp, m] : samples) {
     SCOPED_TRACE("t = " + std::to_string(stamp));
     EXPECT_TRUE(on_schedule(stamp, 5.0));
@@ -233,9 +238,9 @@ TEST(SensorClientTest, DvlBottomTracksACoastingVehicleOverAPlaneSeabed) {
     ASSERT_TRUE(odometry.has(stamp));
     const Odometry truth = odometry.at(stamp);
     EXPECT_GT(truth.v_WB_B[0], 0.3);  // still coasting: the comparison is not between zeros
-    EXPECT_NEAR(std::abs(m.velocity[0]), truth.v_WB_B[0], 0.05);
-    EXPECT_NEAR(m.velocity[1], 0.0, 0.05);
-    EXPECT_NEAR(m.velocity[2], 0.0, 0.05);
+    EXPECT_NEAR(m.velocity[0], truth.v_WB_B[0], 0.05);
+    EXPECT_NEAR(m.velocity[1], -truth.v_WB_B[1], 0.05);
+    EXPECT_NEAR(m.velocity[2], -truth.v_WB_B[2], 0.05);
   }
 }
 

@@ -35,9 +35,9 @@ struct Wrench {
   StepWrench out;
 };
 
-// The fin's wrench with B at the origin (identity pose) moving at v_WB, at 50 m depth.
+// The fin's wrench with B at the origin (identity pose) moving at v_WB and turning at w_WB, at 50 m depth.
 Wrench fin_wrench(const FinActuator::Spec& spec, double angle, const Eigen::Vector3d& v_WB, const Ocean& ocean,
-                  double z = -50.0) {
+                  double z = -50.0, const Eigen::Vector3d& w_WB = Eigen::Vector3d::Zero()) {
   const Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
   const FinActuator::Runtime runtime = FinActuator::prepare(spec, ActuatorSetup{X_BL, 1025.0, kDt, 0});
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
@@ -47,6 +47,7 @@ Wrench fin_wrench(const FinActuator::Spec& spec, double angle, const Eigen::Vect
   w.state.angle = angle;
   ActuatorForceInput in{X_WB, p_WBcm, 0.0};
   in.v_WB = v_WB;
+  in.w_WB = w_WB;
   in.ocean = &ocean;
   FinActuator::add_wrench(runtime, w.state, in, w.out);
   return w;
@@ -99,6 +100,30 @@ TEST(Fin, LiftAndDragOfAFiniteWing) {
   EXPECT_TRUE(w.out.tau_W.isApprox(Eigen::Vector3d(-0.6, 0.1, 0.0).cross(w.out.f_W), 1e-12));
   // The tail pushed down pitches the nose up: with y to the left, a negative moment about y.
   EXPECT_LT(w.out.tau_W.y(), 0.0);
+}
+
+// A pitch rate moves the tail through the water: with the fin at 0 deg, moving forward at 1.5 m/s and pitching
+// nose down at q = 0.25 rad/s, the fin (0.6 m aft) rises at q x 0.6 = 0.15 m/s, so the water meets it from
+// above at alpha = atan(0.15 / 1.5) = atan(0.1): lift q S C_La alpha perpendicular to the flow, down (and a
+// little forward), drag along it, with q = rho (1.5^2 + 0.15^2) / 2. The moment opposes the pitch rate
+// (tau_y < 0 for q > 0): the fin damps pitch.
+TEST(Fin, PitchRateGivesTheFinAnAngleOfAttackThatDampsIt) {
+  const WorldSpec world;
+  const Ocean ocean(world);
+  const FinActuator::Spec spec = elevator();
+  const double U = 1.5, q = 0.25, w_up = q * 0.6;
+  const Wrench w = fin_wrench(spec, 0.0, Eigen::Vector3d(U, 0, 0), ocean, -50.0, Eigen::Vector3d(0.0, q, 0.0));
+  const double alpha = std::atan(w_up / U);
+  const double speed2 = U * U + w_up * w_up, n = std::sqrt(speed2);
+  const double qS = 0.5 * ocean.density(50.0) * speed2 * spec.area;
+  const double C_L = spec.lift_slope * alpha, C_D = 0.01 + C_L * C_L / (kPi * 0.9 * 2.0);
+  EXPECT_NEAR(w.state.attack_angle, alpha, 1e-12);
+  EXPECT_NEAR(w.state.lift_N, qS * C_L, 1e-9);
+  const Eigen::Vector3d lift_dir(w_up / n, 0.0, -U / n), drag_dir(-U / n, 0.0, -w_up / n);
+  const Eigen::Vector3d f = qS * C_L * lift_dir + qS * C_D * drag_dir;
+  EXPECT_NEAR((w.out.f_W - f).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((w.out.tau_W - Eigen::Vector3d(-0.6, 0.1, 0.0).cross(f)).norm(), 0.0, 1e-9);
+  EXPECT_LT(w.out.tau_W.y(), -0.5 * 0.6 * qS * C_L);
 }
 
 // Past the stall angle: the lift falls off as sin 2 alpha from its value at the stall (zero broadside),

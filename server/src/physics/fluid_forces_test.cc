@@ -82,21 +82,33 @@ TEST(FluidForcesTest, CurrentIsReportedAndDampingActsThroughTheWater) {
   EXPECT_NEAR(held.f_W.y(), 50.0 * -0.2, 1e-12);
 }
 
-// F = -2 m Omega x v with Omega = Omega_E (0, cos lat, sin lat) in ENU: at 45 N a 100 kg vehicle moving
-// east at 1 m/s is pushed south (to its right) and up by 2 m Omega_E cos/sin 45 deg.
+// F = -2 m Omega x v with Omega = Omega_E (0, cos lat, sin lat) in ENU. At 30 N (where cos and sin differ,
+// so swapping them shows; at 45 N they are the same number) a 100 kg vehicle moving east at 1 m/s is pushed
+// south (to its right) by 2 m Omega_E sin 30 and up by 2 m Omega_E cos 30; moving north at 1 m/s, east (to
+// its right) by 2 m Omega_E sin 30. In the southern hemisphere (30 S) the sideways push turns left. 1e-15
+// relative: a few roundings.
 TEST(FluidForcesTest, EarthRotationCoriolisClosedForm) {
-  WorldSpec world;
-  world.origin.latitude_rad = 45.0 * kDegToRad;
-  RigidBodyState body;
-  StepWrench out;
-  std::vector<ActuatorKindState> none;
-  EarthRotationForce element(world, 100.0);
-  element.add(ForceInput{0.0, body, Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.0, 0.0), none}, out);
-  const double a = 2.0 * 100.0 * world.dynamics.earth_rotation_rate * std::sqrt(0.5);
-  EXPECT_NEAR(out.f_W.x(), 0.0, 1e-18);
-  EXPECT_NEAR(out.f_W.y(), -a, 1e-15 * a);
-  EXPECT_NEAR(out.f_W.z(), a, 1e-15 * a);
-  EXPECT_EQ(out.tau_W, Eigen::Vector3d::Zero());
+  for (const double latitude_deg : {30.0, -30.0}) {
+    SCOPED_TRACE(latitude_deg);
+    WorldSpec world;
+    world.origin.latitude_rad = latitude_deg * kDegToRad;
+    RigidBodyState body;
+    std::vector<ActuatorKindState> none;
+    EarthRotationForce element(world, 100.0);
+    const double twice_m_omega = 2.0 * 100.0 * world.dynamics.earth_rotation_rate;
+    const double sin_lat = latitude_deg > 0.0 ? 0.5 : -0.5, cos_lat = std::sqrt(3.0) / 2.0;
+    StepWrench east;
+    element.add(ForceInput{0.0, body, Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.0, 0.0), none}, east);
+    EXPECT_NEAR(east.f_W.x(), 0.0, 1e-18);
+    EXPECT_NEAR(east.f_W.y(), -twice_m_omega * sin_lat, 1e-15 * twice_m_omega);
+    EXPECT_NEAR(east.f_W.z(), twice_m_omega * cos_lat, 1e-15 * twice_m_omega);
+    EXPECT_EQ(east.tau_W, Eigen::Vector3d::Zero());
+    StepWrench north;
+    element.add(ForceInput{0.0, body, Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 1.0, 0.0), none}, north);
+    EXPECT_NEAR(north.f_W.x(), twice_m_omega * sin_lat, 1e-15 * twice_m_omega);
+    EXPECT_NEAR(north.f_W.y(), 0.0, 1e-18);
+    EXPECT_NEAR(north.f_W.z(), 0.0, 1e-18);
+  }
 }
 
 // A surface model needs faces; an ellipsoid fitted to the hull needs a hull.

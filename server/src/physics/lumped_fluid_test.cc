@@ -73,6 +73,33 @@ TEST(LumpedFluidTest, TiltedBoxUsesItsWorldVerticalExtent) {
   const double h = 1.5 / std::sqrt(2.0);
   EXPECT_NEAR(fluid.link_submerged_fraction(0, at(Eigen::Vector3d(0, 0, 0.1), roll45)),
               (h / 2 - 0.1) / h, kTol);
+  // Rolled -45 deg: the same extent (a box's extent takes the absolute value of each axis's height).
+  const Eigen::Matrix3d roll_minus45 =
+      Eigen::AngleAxisd(-EIGEN_PI / 4, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_NEAR(fluid.link_submerged_fraction(0, at(Eigen::Vector3d(0, 0, 0.1), roll_minus45)),
+              (h / 2 - 0.1) / h, kTol);
+}
+
+// The centre of buoyancy's height is taken in W: a box pitched 90 deg (x_B pointing down) with Cb 0.4 m
+// along x_L has Cb 0.4 m below B's origin, its 2 m side vertical, so at z = 0 the draught is 1.4 m of 2:
+// s = 0.7 (Cb's offset taken unrotated would give 0.5). Its buoyancy is s rho V g = 0.7 x 1000 x 9.80665 N
+// up, acting at Cb.
+TEST(LumpedFluidTest, PartlySubmergedBuoyancyIsTheFractionOfRhoGVAtTheRotatedCentre) {
+  VehicleSpec vehicle = box_vehicle(1.0);
+  vehicle.links[0].buoyancy.p_LCb = Eigen::Vector3d(0.4, 0.0, 0.0);
+  const WorldSpec world = water_world();
+  const LumpedFluid fluid(vehicle, world);
+  RigidBodyState body;
+  body.X_WB = at(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix());
+  EXPECT_NEAR(fluid.link_submerged_fraction(0, body.X_WB), 0.7, kTol);
+  const LumpedFluidWrench w = fluid.wrench(body, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(w.submerged_fraction, 0.7, kTol);
+  const Eigen::Vector3d f_expected = -0.7 * 1000.0 * 1.0 * world.gravity_W;
+  EXPECT_TRUE(w.f_buoyancy_W.isApprox(f_expected, kTol)) << w.f_buoyancy_W.transpose();
+  // Upright at z = 0: half in, half the full buoyancy (4903.325 N).
+  body.X_WB = at(Eigen::Vector3d(0.0, 0.0, 0.0));
+  const LumpedFluidWrench half = fluid.wrench(body, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(half.f_buoyancy_W.z(), 0.5 * 1000.0 * 9.80665, kTol * 1e4);
 }
 
 TEST(LumpedFluidTest, RoundShapesAndShapelessLinks) {

@@ -62,6 +62,15 @@ TEST(MassPropertiesTest, LinkInertiaIsRotatedIntoB) {
   EXPECT_LT((props.p_BBcm - Eigen::Vector3d(0.0, 1.0, 5.0)).norm(), kAlgebraTol);
   EXPECT_LT((props.I_BBcm_B - Eigen::Matrix3d(Eigen::Vector3d(2.0, 1.0, 3.0).asDiagonal())).norm(),
             kAlgebraTol);
+  // Yawed by 30 deg (c = sqrt(3)/2, s = 1/2), the rotation's direction shows: I_B = R I_L R^T has
+  // I_xx = c^2 + 2 s^2 = 1.25, I_yy = s^2 + 2 c^2 = 1.75 and I_xy = c s (1 - 2) = -sqrt(3)/4 (R^T I_L R
+  // would give +sqrt(3)/4; a 90 deg yaw gives the same matrix either way).
+  link.X_BL.linear() = Eigen::AngleAxisd(EIGEN_PI / 6, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  link.p_LLcm.setZero();
+  const MassProperties yawed = composite_mass_properties({link});
+  Eigen::Matrix3d expected;
+  expected << 1.25, -std::sqrt(3.0) / 4.0, 0.0, -std::sqrt(3.0) / 4.0, 1.75, 0.0, 0.0, 0.0, 3.0;
+  EXPECT_LT((yawed.I_BBcm_B - expected).norm(), kAlgebraTol) << yawed.I_BBcm_B;
 }
 
 TEST(MassPropertiesTest, PrincipalFrameDiagonalisesAndIsRightHanded) {

@@ -67,7 +67,15 @@ TEST(SeawaterTest, AbsorptionAt100kHz) {
   EXPECT_LT(absorption_francois_garrison_db_per_km(400e3, 4.0, 35.0, 3000.0), absorption_francois_garrison_db_per_km(400e3, 4.0, 35.0, 0.0));
 }
 
-TEST(SeawaterTest, Its90ToIpts68) { EXPECT_DOUBLE_EQ(its90_to_ipts68(10.0), 10.0024); }
+// Saunders (1990): T68 = 1.00024 T90, a scale factor, not an offset, over the oceanographic range: 0 stays
+// 0, a negative temperature moves down, 30 degC up by 0.0072 K. Values from the relation by hand; exact to
+// the last bits of a double (4 ulp).
+TEST(SeawaterTest, Its90ToIpts68) {
+  EXPECT_EQ(its90_to_ipts68(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(its90_to_ipts68(-2.0), -2.00048);
+  EXPECT_DOUBLE_EQ(its90_to_ipts68(10.0), 10.0024);
+  EXPECT_DOUBLE_EQ(its90_to_ipts68(30.0), 30.0072);
+}
 
 }  // namespace
 }  // namespace hadal::physics

@@ -92,6 +92,35 @@ TEST(SoilContact, NormalForceIsBekkerPressureOverThePatchWhateverTheTessellation
   }
 }
 
+// The soil's moment is about the centre of mass, not the body origin. The plate (centred on B's origin)
+// pressed in uniformly and sliding along +x: every face carries the same pressure and shear, so the
+// resultant F acts at the plate's centre c, and tau = (c - p_cm) x F. With the centre of mass off the
+// origin along x, y and z by different amounts (r = c - p_cm = (-0.1, 0.05, -0.1)), the normal force's
+// moment is (r_y F_z, -r_x F_z, 0) and the shear's (0, r_z F_x, -r_y F_x): each component has its own
+// lever arm and sign. Float vertices: 1e-6 relative.
+TEST(SoilContact, MomentIsAboutTheCentreOfMassOffTheOrigin) {
+  const auto seabed = geometry::SeabedHeight::plane(0.0);
+  SoilParameters s = clay();
+  s.shear_damping_time = 0.0;
+  const double sinkage = 0.03, v = 0.01;
+  SoilContact contact(plate(0.5, 0.3, 3, 3), s, 1e6, 0.002);
+  SoilShearState shear;
+  BodyMotion m = pressed(sinkage);
+  m.p_WBcm = m.X_WB.translation() + Eigen::Vector3d(0.1, -0.05, 0.1);
+  m.v_WBcm = Eigen::Vector3d(v, 0.0, 0.0);
+  SoilWrench w;
+  for (int k = 0; k < 200; ++k) w = contact.compute(m, seabed, shear);  // j = 4 mm: half the soil's strength
+  const Eigen::Vector3d r = m.X_WB.translation() - m.p_WBcm;  // (-0.1, 0.05, -0.1)
+  const double Fz = w.f_W.z(), Fx = w.f_W.x();
+  ASSERT_GT(Fz, 0.0);
+  ASSERT_LT(Fx, -0.1 * Fz * std::tan(s.friction_angle));  // sliding +x: the shear pulls back
+  const Eigen::Vector3d expected(r.y() * Fz, -r.x() * Fz + r.z() * Fx, -r.y() * Fx);
+  EXPECT_NEAR(w.tau_W.x(), expected.x(), 1e-6 * std::abs(expected.x()));
+  EXPECT_NEAR(w.tau_W.y(), expected.y(), 1e-6 * std::abs(expected.y()));
+  EXPECT_NEAR(w.tau_W.z(), expected.z(), 1e-6 * std::abs(expected.z()));
+  EXPECT_NEAR((w.tau_W - r.cross(w.f_W)).norm(), 0.0, 1e-6 * w.tau_W.norm());
+}
+
 TEST(SoilContact, AboveTheSeabedOrFacingAwayNothingTouches) {
   const auto seabed = geometry::SeabedHeight::plane(0.0);
   SoilContact contact(plate(0.5, 0.3, 4, 4), clay(), 100.0, 0.002);

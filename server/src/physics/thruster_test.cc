@@ -106,7 +106,8 @@ TEST(ThrusterTest, NoThrustInAir) {
 
 // The actuator kind: its control is checked with the reason a client gets, held as the setpoint (a
 // last-line guard clamps it), actuated through the rotor lag, and its wrench added about the centre of
-// mass: f = T axis, tau = Q axis + (p_WT - p_WBcm) x f (closed form with the vehicle yawed).
+// mass: f = T axis, tau = Q axis + (p_WT - p_WBcm) x f (closed form with the vehicle yawed, and the
+// centre of mass off B's origin across the thrust axis, so that a moment about the origin would differ).
 TEST(ThrusterTest, ActuatorKindChecksHoldsActuatesAndAddsItsWrench) {
   const ThrusterActuator::Spec spec = make_spec(0.0);
   const double good = 0.5, nan = std::nan(""), big = 1.5, neg_inf = -INFINITY;
@@ -128,7 +129,7 @@ TEST(ThrusterTest, ActuatorKindChecksHoldsActuatesAndAddsItsWrench) {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   X_WB.translation() = Eigen::Vector3d(1.0, 2.0, -30.0);
-  const Eigen::Vector3d p_WBcm = X_WB * Eigen::Vector3d(0.1, 0.0, 0.0);
+  const Eigen::Vector3d p_WBcm = X_WB * Eigen::Vector3d(0.1, 0.05, -0.2);
   StepWrench out;
   ThrusterActuator::add_wrench(runtime, state, ActuatorForceInput{X_WB, p_WBcm, 0.0}, out);
   const double T = spec.thrust_coefficient * kRho * std::pow(spec.propeller_diameter, 4) * 625.0;
@@ -136,10 +137,10 @@ TEST(ThrusterTest, ActuatorKindChecksHoldsActuatesAndAddsItsWrench) {
   EXPECT_NEAR(state.thrust_N, T, 1e-12 * T);
   EXPECT_NEAR(state.torque_Nm, Q, 1e-12 * std::abs(Q));
   const Eigen::Vector3d axis_W(0.0, 1.0, 0.0);  // body x yawed 90 deg
-  // p_WT - p_WBcm = R_WB ((-0.5, 0, 0.1) - (0.1, 0, 0)) = (0, -0.6, 0.1).
-  const Eigen::Vector3d r(0.0, -0.6, 0.1);
+  // p_WT - p_WBcm = R_WB ((-0.5, 0, 0.1) - (0.1, 0.05, -0.2)) = R_WB (-0.6, -0.05, 0.3) = (0.05, -0.6, 0.3),
+  // so tau = Q y + r x T y = (-0.3 T, Q, 0.05 T) (about B's origin it would be (-0.1 T, Q, 0)).
   EXPECT_NEAR((out.f_W - T * axis_W).norm(), 0.0, 1e-12 * T);
-  EXPECT_NEAR((out.tau_W - (Q * axis_W + r.cross(T * axis_W))).norm(), 0.0, 1e-12 * T);
+  EXPECT_NEAR((out.tau_W - Eigen::Vector3d(-0.3 * T, Q, 0.05 * T)).norm(), 0.0, 1e-12 * T);
 
   ThrusterActuator::stop(state);
   EXPECT_EQ(state.rotor_speed_rev_s, 0.0);

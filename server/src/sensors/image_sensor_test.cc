@@ -39,14 +39,22 @@ Moments moments(const std::vector<std::uint8_t>& dn) {
   return m;
 }
 
+// Counts that need rounding: L = 1.2371 W/(m^2 sr) gives 1237.1, 2474.2, 3711.3 electrons in 10 ms, 61.855,
+// 123.71, 185.565 DN at 0.05 DN/e: rounded 62, 124, 186 (truncated they would be 61, 123, 185); all three
+// below the 8-bit clip, each channel its own sensitivity. Then L = 2.0: 100, 200 and 300 DN, the last
+// clipped at 255 (the spec's gain and exposure checked first: the figures depend on them).
 TEST(ImageSensorTest, NoiselessResponseIsLinearThenRounded) {
   ImageSensorSpec spec = noiseless();
+  ASSERT_EQ(spec.gain_dn_per_e, 0.05);
+  ASSERT_EQ(spec.exposure_s, 0.01);
   spec.sensitivity = Eigen::Array3d(1.0e5, 2.0e5, 3.0e5);
-  const double L = 1.7;  // W/(m^2 sr): 1700, 3400, 5100 electrons in 10 ms
-  const auto rgb = expose_rgb8(spec, uniform(4, L), on_axis(4), 1, 0);
-  for (int ch = 0; ch < 3; ++ch) {
-    EXPECT_EQ(rgb[ch], std::lround(spec.gain_dn_per_e * spec.sensitivity[ch] * L * spec.exposure_s)) << ch;
-  }
+  const auto rgb = expose_rgb8(spec, uniform(4, 1.2371), on_axis(4), 1, 0);
+  const std::uint8_t rounded[3] = {62, 124, 186};
+  for (std::size_t i = 0; i < rgb.size(); ++i) EXPECT_EQ(rgb[i], rounded[i % 3]) << i;
+  const auto bright = expose_rgb8(spec, uniform(1, 2.0), on_axis(1), 1, 0);
+  EXPECT_EQ(bright[0], 100);
+  EXPECT_EQ(bright[1], 200);
+  EXPECT_EQ(bright[2], 255);
 }
 
 // negligible_radiance(spec, counts) is the radiance worth `counts` on the axis: noise off, raising a
