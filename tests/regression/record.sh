@@ -2,11 +2,13 @@
 # Regression recording (tests/regression/README.md): runs a lockstep hadald on a scenario, steps it with
 # hadal-record-topics and writes one digest line per published topic, or compares them with a file.
 #
-# usage: record.sh BUILD_DIR CASE [--write | --check]
+# usage: record.sh BUILD_DIR CASE [--check | --write REASON]
 #   CASE     default            configs/scenarios/default.yaml, 60 s (30 000 steps), its schedule only
 #            two_vehicles       tests/regression/scenarios/two_vehicles_all_sensors.yaml, 20 s, with
 #                               client commands and a watchdog timeout
-#   --write  (re)writes tests/regression/digests/CASE/SIGNATURE.txt, this machine's file
+#   --write  (re)writes tests/regression/digests/CASE/SIGNATURE.txt, this machine's file, and adds a line
+#            to tests/regression/RECORDS.md: the date, case, signature, the topics whose digests changed
+#            (or "new file") and REASON, why they changed (required; the same words go in the commit)
 #   --check  (default) records and compares with tests/regression/digests/CASE/SIGNATURE.txt topic by
 #            topic; skips (exit 77) when no digests were recorded on a machine of this floating-point
 #            signature
@@ -20,9 +22,16 @@
 # Completeness: every topic's recorded count must equal the count hadald reports having published.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
-BUILD=${1:?usage: record.sh BUILD_DIR CASE [--write|--check]}
-CASE=${2:?usage: record.sh BUILD_DIR CASE [--write|--check]}
+USAGE="usage: record.sh BUILD_DIR CASE [--check | --write REASON]"
+BUILD=${1:?$USAGE}
+CASE=${2:?$USAGE}
 MODE=${3:---check}
+REASON=${4:-}
+case "$MODE" in
+  --check) ;;
+  --write) [[ -n "$REASON" ]] || { echo "record.sh: --write needs a REASON: why the digests change ($USAGE)" >&2; exit 2; } ;;
+  *) echo "record.sh: $MODE? $USAGE" >&2; exit 2 ;;
+esac
 PYTHON=/usr/bin/python3
 export ROS_LOCALHOST_ONLY=1
 
@@ -118,9 +127,11 @@ fi
 [[ $status -eq 0 ]] || { echo "record.sh: recording failed" >&2; exit 1; }
 
 "$PYTHON" - "$WORK/summary.txt" "$WORK/digest.txt" "$DIGESTS" "$MODE" "$CASE" "$SCENARIO" "$SIGNATURE" \
-  "${ARGS[*]}" <<'PY'
+  "${ARGS[*]}" "$REASON" <<'PY'
+import datetime
+import os
 import sys
-summary, digest, digests, mode, case, scenario, signature, args = sys.argv[1:]
+summary, digest, digests, mode, case, scenario, signature, args, reason = sys.argv[1:]
 published = {}
 for line in open(summary):
     parts = line.split()
@@ -137,6 +148,19 @@ if problems:
     sys.exit("record.sh: incomplete recording:\n  " + "\n  ".join(problems))
 body = "".join(" ".join(r) + "\n" for r in rows)
 if mode == "--write":
+    before = {}
+    if os.path.exists(digests):
+        before = {l.split()[0]: l.split() for l in open(digests) if l.strip() and not l.startswith("#")}
+    after = {r[0]: r for r in rows}
+    changed = sorted(t for t in set(before) | set(after) if before.get(t) != after.get(t))
+    if before and not changed:
+        print(f"record.sh: {digests} unchanged ({len(rows)} topics): nothing written")
+        sys.exit(0)
+    what = ", ".join(changed) if before else "new file"
+    log = "tests/regression/RECORDS.md"
+    with open(log, "a") as f:
+        f.write(f"| {datetime.date.today().isoformat()} | {case} | {signature} | {what} | {reason} |\n")
+    print(f"record.sh: topics changed: {what}; logged in {log}")
     with open(digests, "w") as f:
         f.write(f"# Regression digests of case '{case}': {scenario}, hadal-record-topics {args}\n")
         f.write("# topic, DDS type, samples, FNV-1a 64 of the serialized samples (tests/regression/README.md)\n")
