@@ -76,7 +76,8 @@ def main():
         return 2
     occurrences = original.count(args.old)
     if occurrences != 1:
-        print(f"mutate: error: --from occurs {occurrences} times in {args.file} (must be exactly once)", file=sys.stderr)
+        print(f"mutate: error: --from occurs {occurrences} times in {args.file} (must be exactly once)",
+              file=sys.stderr)
         return 2
     if args.old == args.new:
         print("mutate: error: --from and --to are the same", file=sys.stderr)

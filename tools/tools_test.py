@@ -75,7 +75,8 @@ def test_mutate_tells_caught_from_survived_and_restores_the_file():
         original = f.read()
     # GoogleTest's reason is the line after "Skipped": take the line itself instead, and the test above fails.
     caught = mutate("--from", "return lines[i + 1]", "--to", "return lines[i]")
-    assert caught.returncode == 0 and "mutate: CAUGHT tools/test_report.py:" in caught.stdout, caught.stdout + caught.stderr
+    assert caught.returncode == 0 and "mutate: CAUGHT tools/test_report.py:" in caught.stdout, \
+        caught.stdout + caught.stderr
     # A change of wording in the usage text: no test can catch it.
     survived = mutate("--from", "Exit status 0, or 2", "--to", "Exit status 0 or 2")
     assert survived.returncode == 1 and "mutate: SURVIVED" in survived.stdout, survived.stdout + survived.stderr

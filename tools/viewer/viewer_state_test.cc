@@ -207,8 +207,9 @@ TEST(ViewerStateTest, TheFirstStateHasEachCamerasLatestFrameUnpolled) {
   ASSERT_EQ(all.image_messages.size(), 1u);
   const std::string name = "/auv/camera/preview";
   const std::size_t offset = 8 + name.size() + (4 - name.size() % 4) % 4;
-  const cv::Mat decoded = cv::imdecode(
-      std::vector<unsigned char>(all.image_messages[0].begin() + offset, all.image_messages[0].end()), cv::IMREAD_COLOR);
+  const std::string& jpeg = all.image_messages[0];
+  const cv::Mat decoded =
+      cv::imdecode(std::vector<unsigned char>(jpeg.begin() + offset, jpeg.end()), cv::IMREAD_COLOR);
   ASSERT_EQ(decoded.cols, 8);
   EXPECT_NEAR(decoded.at<cv::Vec3b>(2, 4)[1], 200, 3);  // the latest frame, not the first
   EXPECT_NE(all.update_json.find("\"width\":8,\"height\":4,\"encoding\":\"rgb8\""), std::string::npos)

@@ -90,7 +90,8 @@ TEST(LumpedFluidTest, PartlySubmergedBuoyancyIsTheFractionOfRhoGVAtTheRotatedCen
   const WorldSpec world = water_world();
   const LumpedFluid fluid(vehicle, world);
   RigidBodyState body;
-  body.X_WB = at(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix());
+  body.X_WB = at(Eigen::Vector3d(0.0, 0.0, 0.0),
+                 Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix());
   EXPECT_NEAR(fluid.link_submerged_fraction(0, body.X_WB), 0.7, kTol);
   const LumpedFluidWrench w = fluid.wrench(body, Eigen::Vector3d::Zero());
   EXPECT_NEAR(w.submerged_fraction, 0.7, kTol);
