@@ -149,6 +149,12 @@ TEST(Fin, StalledFinFallsOffContinuously) {
   const Wrench broadside = fin_wrench(spec, 0.5 * kPi, Eigen::Vector3d(U, 0, 0), ocean);
   EXPECT_NEAR(broadside.state.lift_N, 0.0, 1e-9);
   EXPECT_NEAR(broadside.state.drag_N / qS, C_D_s + 1.2 * std::pow(std::cos(a_s), 2), 1e-9);
+  // Turned the other way (-35 deg), stalled too: the same drag, the opposite lift (a stall test on alpha
+  // rather than |alpha| would take -35 deg for attached flow: |C_L| = C_La 35 deg, not the fall-off above).
+  const Wrench negative = fin_wrench(spec, -delta, Eigen::Vector3d(U, 0, 0), ocean);
+  EXPECT_NEAR(negative.state.attack_angle, -delta, 1e-12);
+  EXPECT_NEAR(negative.state.lift_N, -w.state.lift_N, 1e-9);
+  EXPECT_NEAR(negative.state.drag_N, w.state.drag_N, 1e-9);
 }
 
 // Only the water's velocity relative to the fin counts: moving at v through still water equals resting

@@ -257,6 +257,28 @@ TEST(SurfaceHydrodynamicsTest, PlateLiftVanishesAt0And90AndIsPerpendicularToFlow
   }
 }
 
+// Skin friction drags a surface along the flow: on the two-sided plate (1 m^2, 4 triangles) in a current U
+// at angle alpha in the x-z plane, each face feels rho (C_f / 2) A |v_t| v_t with v_t the flow's part along
+// it, U cos(alpha) x, so the plate feels rho C_f A U^2 cos^2(alpha) along +x (16.4 N at alpha = 0 for
+// C_f = 0.004, U = 2 m/s), in the flow's direction, never against it.
+TEST(SurfaceHydrodynamicsTest, SkinFrictionPullsThePlateAlongTheFlow) {
+  geometry::TriangleMesh plate;
+  plate.positions = {-0.5f, -0.5f, 0.0f, 0.5f, -0.5f, 0.0f, 0.5f, 0.5f, 0.0f, -0.5f, 0.5f, 0.0f};
+  plate.indices = {0, 1, 2, 0, 2, 3, 0, 2, 1, 0, 3, 2};
+  const double A = 1.0, U = 2.0, C_f = 0.004;
+  SurfaceHydrodynamics hydro(plate, only(0.0, C_f, 0.0, 0.0, false));
+  for (double alpha_deg : {0.0, 30.0}) {
+    const double alpha = alpha_deg * kPi / 180.0;
+    UniformWater water = still_water();
+    water.current_W = U * Eigen::Vector3d(std::cos(alpha), 0.0, std::sin(alpha));
+    const HydrodynamicWrench w = hydro.compute(at({0.0, 0.0, -10.0}), water);
+    const double expected = kRho * C_f * A * U * U * std::cos(alpha) * std::cos(alpha);
+    EXPECT_NEAR(w.f_W.x(), expected, kFloat * expected) << alpha_deg;
+    EXPECT_NEAR(w.f_W.y(), 0.0, kFloat * expected) << alpha_deg;
+    EXPECT_NEAR(w.f_W.z(), 0.0, kFloat * expected) << alpha_deg;
+  }
+}
+
 // Cylinder (axis z) spinning at w = omega z in a cross-flow U x: the cylinder moves through the water
 // at v_r = -U x, and the Magnus force points along w x v_r = -omega U y (Kutta-Joukowski: the -y
 // side's surface moves with the flow). For omega R << U the face velocities are ~U and the sum is
