@@ -35,12 +35,15 @@ struct Wrench {
   StepWrench out;
 };
 
-// The fin's wrench with B at the origin (identity pose) moving at v_WB and turning at w_WB, at 50 m depth.
+// The fin's wrench with B at the origin (attitude R_WB, identity by default) moving at v_WB and turning at
+// w_WB, at 50 m depth.
 Wrench fin_wrench(const FinActuator::Spec& spec, double angle, const Eigen::Vector3d& v_WB, const Ocean& ocean,
-                  double z = -50.0, const Eigen::Vector3d& w_WB = Eigen::Vector3d::Zero()) {
+                  double z = -50.0, const Eigen::Vector3d& w_WB = Eigen::Vector3d::Zero(),
+                  const Eigen::Matrix3d& R_WB = Eigen::Matrix3d::Identity()) {
   const Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
   const FinActuator::Runtime runtime = FinActuator::prepare(spec, ActuatorSetup{X_BL, 1025.0, kDt, 0});
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.linear() = R_WB;
   X_WB.translation() = Eigen::Vector3d(0.0, 0.0, z);
   const Eigen::Vector3d p_WBcm = X_WB.translation();
   Wrench w;
@@ -124,6 +127,25 @@ TEST(Fin, PitchRateGivesTheFinAnAngleOfAttackThatDampsIt) {
   EXPECT_NEAR((w.out.f_W - f).norm(), 0.0, 1e-9);
   EXPECT_NEAR((w.out.tau_W - Eigen::Vector3d(-0.6, 0.1, 0.0).cross(f)).norm(), 0.0, 1e-9);
   EXPECT_LT(w.out.tau_W.y(), -0.5 * 0.6 * qS * C_L);
+}
+
+// The same fin on a vehicle yawed 90 deg (nose to W's +y) moving along W's +y: the wrench of
+// LiftAndDragOfAFiniteWing turned by the yaw, force and moment, the same lift and drag (the fin's axes are
+// taken into W with R_WB, not its transpose: with that, hinge and chord point the other way).
+TEST(Fin, AYawedVehicleGetsTheSameWrenchTurned) {
+  const WorldSpec world;
+  const Ocean ocean(world);
+  const FinActuator::Spec spec = elevator();
+  const double delta = 6.0 * kDegToRad, U = 1.5;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5 * kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Wrench ahead = fin_wrench(spec, delta, Eigen::Vector3d(U, 0, 0), ocean);
+  const Wrench yawed = fin_wrench(spec, delta, R * Eigen::Vector3d(U, 0, 0), ocean, -50.0, Eigen::Vector3d::Zero(), R);
+  EXPECT_NEAR(yawed.state.attack_angle, delta, 1e-12);
+  EXPECT_NEAR(yawed.state.lift_N, ahead.state.lift_N, 1e-9);
+  EXPECT_NEAR(yawed.state.drag_N, ahead.state.drag_N, 1e-9);
+  EXPECT_NEAR((yawed.out.f_W - R * ahead.out.f_W).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((yawed.out.tau_W - R * ahead.out.tau_W).norm(), 0.0, 1e-9);
+  EXPECT_GT(ahead.out.f_W.norm(), 1.0);  // not a comparison of zeros
 }
 
 // Past the stall angle: the lift falls off as sin 2 alpha from its value at the stall (zero broadside),
