@@ -39,8 +39,8 @@ struct Wrench {
 // w_WB, at 50 m depth.
 Wrench fin_wrench(const FinActuator::Spec& spec, double angle, const Eigen::Vector3d& v_WB, const Ocean& ocean,
                   double z = -50.0, const Eigen::Vector3d& w_WB = Eigen::Vector3d::Zero(),
-                  const Eigen::Matrix3d& R_WB = Eigen::Matrix3d::Identity()) {
-  const Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+                  const Eigen::Matrix3d& R_WB = Eigen::Matrix3d::Identity(),
+                  const Eigen::Isometry3d& X_BL = Eigen::Isometry3d::Identity()) {
   const FinActuator::Runtime runtime = FinActuator::prepare(spec, ActuatorSetup{X_BL, 1025.0, kDt, 0});
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.linear() = R_WB;
@@ -146,6 +146,29 @@ TEST(Fin, AYawedVehicleGetsTheSameWrenchTurned) {
   EXPECT_NEAR((yawed.out.f_W - R * ahead.out.f_W).norm(), 0.0, 1e-9);
   EXPECT_NEAR((yawed.out.tau_W - R * ahead.out.tau_W).norm(), 0.0, 1e-9);
   EXPECT_GT(ahead.out.f_W.norm(), 1.0);  // not a comparison of zeros
+}
+
+// A fin on a link: its spec in L, the link at X_BL (turned 90 deg about x_B and offset), acts as the same fin
+// given in B (position X_BL p_LF, hinge and chord R_BL times theirs) on the body itself.
+TEST(Fin, AFinOnALinkActsAsItsSpecTakenIntoB) {
+  const WorldSpec world;
+  const Ocean ocean(world);
+  Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+  X_BL.linear() = Eigen::AngleAxisd(0.5 * kPi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  X_BL.translation() = Eigen::Vector3d(-0.2, 0.05, 0.1);
+  const FinActuator::Spec on_link = elevator();  // hinge along y_L: a rudder once the link is turned
+  FinActuator::Spec in_B = on_link;
+  in_B.p_LF = X_BL * on_link.p_LF;
+  in_B.hinge_axis_L = X_BL.linear() * on_link.hinge_axis_L;
+  in_B.chord_L = X_BL.linear() * on_link.chord_L;
+  const double delta = 6.0 * kDegToRad;
+  const Eigen::Vector3d v(1.5, 0.0, 0.0), w(0.0, 0.0, 0.3);  // a yaw rate: the fin's lever arm counts
+  const Wrench linked = fin_wrench(on_link, delta, v, ocean, -50.0, w, Eigen::Matrix3d::Identity(), X_BL);
+  const Wrench direct = fin_wrench(in_B, delta, v, ocean, -50.0, w);
+  EXPECT_GT(direct.out.f_W.norm(), 1.0);
+  EXPECT_GT(std::abs(direct.out.f_W.y()), 0.5 * direct.state.lift_N);  // a rudder: its lift is sideways
+  EXPECT_NEAR((linked.out.f_W - direct.out.f_W).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((linked.out.tau_W - direct.out.tau_W).norm(), 0.0, 1e-9);
 }
 
 // Past the stall angle: the lift falls off as sin 2 alpha from its value at the stall (zero broadside),
