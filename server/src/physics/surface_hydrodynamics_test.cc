@@ -171,9 +171,9 @@ TEST(SurfaceHydrodynamicsTest, SphereDragEqualsFaceSum) {
 // A box (three different sides) turning about a generic axis while it moves, at a generic attitude: each face
 // meets the flow v_c = -(v + w x r) at its centroid r, so the drag sum and its moment about the centre of
 // mass, F = -sum_{n.v_c<0} 1/2 rho C_D A (n.v_c)^2 n and tau = sum r x f, evaluated here in double, test
-// every component of w x r (a sphere's faces would not: there w x r is along the surface). kFloat of the
-// faces' summed magnitudes: the kernel's single precision.
-TEST(SurfaceHydrodynamicsTest, TurningBoxDragEqualsFaceSum) {
+// every component of w x r (a sphere's faces would not: there w x r is along the surface); then the Magnus
+// term the same way. kFloat of the faces' summed magnitudes: the kernel's single precision.
+TEST(SurfaceHydrodynamicsTest, TurningBoxDragAndMagnusEqualFaceSums) {
   const double C_D = 1.0;
   const geometry::TriangleMesh mesh = to_mesh(assets::make_box(1.2, 0.6, 0.3));
   SurfaceHydrodynamics hydro(mesh, only(C_D, 0.0, 0.0, 0.0, false));
@@ -200,6 +200,26 @@ TEST(SurfaceHydrodynamicsTest, TurningBoxDragEqualsFaceSum) {
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(w.f_W[k], F[k], kFloat * scale) << k;
     EXPECT_NEAR(w.tau_W[k], tau[k], kFloat * scale) << k;
+  }
+  // The Magnus term of the same motion, on every wet face: f = -C_M rho A |v_c| (w x v_c), every component
+  // of w at work (the spinning-cylinder test has w along z only).
+  const double C_M = 0.2;
+  SurfaceHydrodynamics magnus(mesh, only(0.0, 0.0, 0.0, C_M, false));
+  const HydrodynamicWrench wm = magnus.compute(m, still_water());
+  Eigen::Vector3d F_m = Eigen::Vector3d::Zero(), tau_m = Eigen::Vector3d::Zero();
+  double scale_m = 0.0;
+  for (std::size_t i = 0; i < props.face_area.size(); ++i) {
+    const Eigen::Vector3d r = R * Eigen::Vector3d(props.centroid_x[i], props.centroid_y[i], props.centroid_z[i]);
+    const Eigen::Vector3d v_c = -(m.v_WBcm + m.w_WB.cross(r));
+    const Eigen::Vector3d f = -C_M * kRho * props.face_area[i] * v_c.norm() * m.w_WB.cross(v_c);
+    F_m += f;
+    tau_m += r.cross(f);
+    scale_m += f.norm();
+  }
+  ASSERT_GT(F_m.norm(), 0.01 * scale_m);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(wm.f_W[k], F_m[k], kFloat * scale_m) << k;
+    EXPECT_NEAR(wm.tau_W[k], tau_m[k], kFloat * scale_m) << k;
   }
 }
 
