@@ -66,9 +66,10 @@ struct WebServer::Impl {
       return 403;
     }
     const std::string uri = info->local_uri;
-    std::string text, mime = "text/javascript; charset=utf-8";
+    std::string text, mime;
     if (uri == "/first.js" && d.callbacks.first_state) {
       text = d.callbacks.first_state();
+      mime = "text/javascript; charset=utf-8";
     } else {
       const auto file = d.files.find(uri);
       if (file == d.files.end()) {

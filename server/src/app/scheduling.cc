@@ -14,9 +14,11 @@ namespace hadal::app {
 
 namespace {
 
-// The ids of this process's other threads now running (/proc/self/task), the caller's left out.
-std::vector<pid_t> other_threads() {
-  std::vector<pid_t> tids;
+// 0 (the calling thread) and, with whole_process, the ids of this process's other threads now running
+// (/proc/self/task).
+std::vector<pid_t> threads_to_schedule(bool whole_process) {
+  std::vector<pid_t> tids{0};
+  if (!whole_process) return tids;
   const pid_t self = gettid();
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task", error)) {
@@ -88,7 +90,9 @@ std::vector<int> allowed_cpus() {
 }
 
 std::string apply_scheduling(const std::vector<int>& cpus, bool batch, bool whole_process) {
-  const std::vector<pid_t> others = whole_process ? other_threads() : std::vector<pid_t>{};
+  const std::vector<pid_t> tids = threads_to_schedule(whole_process);
+  // Of a thread other than the caller, ESRCH means it ended meanwhile: nothing to do.
+  auto which = [](pid_t tid) { return tid == 0 ? std::string() : " of thread " + std::to_string(tid); };
   if (!cpus.empty()) {
     const std::vector<int> allowed = allowed_cpus();
     cpu_set_t set;
@@ -100,26 +104,19 @@ std::string apply_scheduling(const std::vector<int>& cpus, bool batch, bool whol
       }
       CPU_SET(cpu, &set);
     }
-    if (sched_setaffinity(0, sizeof(set), &set) != 0) {
-      return "--cpus " + format_cpu_list(cpus) + ": sched_setaffinity failed: " + std::strerror(errno);
-    }
-    for (const pid_t tid : others) {
-      if (sched_setaffinity(tid, sizeof(set), &set) != 0 && errno != ESRCH) {
-        return "--cpus " + format_cpu_list(cpus) + ": sched_setaffinity of thread " + std::to_string(tid) +
-               " failed: " + std::strerror(errno);
+    for (const pid_t tid : tids) {
+      if (sched_setaffinity(tid, sizeof(set), &set) != 0 && (tid == 0 || errno != ESRCH)) {
+        return "--cpus " + format_cpu_list(cpus) + ": sched_setaffinity" + which(tid) + " failed: " +
+               std::strerror(errno);
       }
     }
   }
   if (batch) {
     sched_param param{};
     param.sched_priority = 0;
-    if (sched_setscheduler(0, SCHED_BATCH, &param) != 0) {
-      return std::string("--sched batch: sched_setscheduler failed: ") + std::strerror(errno);
-    }
-    for (const pid_t tid : others) {
-      if (sched_setscheduler(tid, SCHED_BATCH, &param) != 0 && errno != ESRCH) {
-        return "--sched batch: sched_setscheduler of thread " + std::to_string(tid) + " failed: " +
-               std::strerror(errno);
+    for (const pid_t tid : tids) {
+      if (sched_setscheduler(tid, SCHED_BATCH, &param) != 0 && (tid == 0 || errno != ESRCH)) {
+        return "--sched batch: sched_setscheduler" + which(tid) + " failed: " + std::strerror(errno);
       }
     }
   }

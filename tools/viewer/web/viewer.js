@@ -539,6 +539,16 @@ function animate(time) {
   if (time - lastPlot > 200) { drawPlots(); lastPlot = time; }
 }
 
+// The RGBA bytes of an image or a canvas (width x height), drawn into a 2-D canvas to read them.
+function pixelsOf(source, width, height) {
+  const canvas = document.createElement('canvas');
+  canvas.width = width;
+  canvas.height = height;
+  const ctx = canvas.getContext('2d');
+  ctx.drawImage(source, 0, 0);
+  return ctx.getImageData(0, 0, width, height).data;
+}
+
 // What is drawn, for tests: a vehicle's pose as the 3-D view has it, and a camera pane's mean pixel value.
 window.hadalViewer = {
   state,
@@ -557,26 +567,17 @@ window.hadalViewer = {
   cameraMean(topic) {
     const pane = state.cameras[topic];
     if (!pane || !pane.shown || !pane.img.naturalWidth) return null;
-    const canvas = document.createElement('canvas');
-    canvas.width = pane.img.naturalWidth;
-    canvas.height = pane.img.naturalHeight;
-    const ctx = canvas.getContext('2d');
-    ctx.drawImage(pane.img, 0, 0);
-    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const width = pane.img.naturalWidth, height = pane.img.naturalHeight;
+    const data = pixelsOf(pane.img, width, height);
     let sum = 0;
     for (let i = 0; i < data.length; i += 4) sum += data[i] + data[i + 1] + data[i + 2];
-    return {mean: sum / (3 * data.length / 4), width: canvas.width, height: canvas.height, shown: pane.shown};
+    return {mean: sum / (3 * data.length / 4), width, height, shown: pane.shown};
   },
   seabedTriangles() { return state.meshes[0] ? state.meshes[0].geometry.index.count / 3 : 0; },
   // The share of the 3-D view's pixels that are not the background: > 0 once something is drawn.
   drawnFraction() {
     const source = renderer.domElement;
-    const canvas = document.createElement('canvas');
-    canvas.width = source.width;
-    canvas.height = source.height;
-    const ctx = canvas.getContext('2d');
-    ctx.drawImage(source, 0, 0);
-    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const data = pixelsOf(source, source.width, source.height);
     const bg = scene3.background;
     const background = [bg.r * 255, bg.g * 255, bg.b * 255];
     let drawn = 0;
@@ -598,7 +599,6 @@ window.addEventListener('load', () => {
   window.hadalViewer.atLoad = {
     seabed_triangles: window.hadalViewer.seabedTriangles(), poses, cameras,
     status: document.getElementById('status').textContent, drawn: window.hadalViewer.drawnFraction(),
-    websocket_messages: state.updates - (window.hadalFirst ? 1 : 0),
   };
 });
 
