@@ -4,7 +4,9 @@
 // (docs/benchmarks.md, "The default scenario with its camera"). Prints one JSON object per camera (median
 // of N repetitions).
 //   build/bin/hadal_bench_camera_frame [SCENARIO.yaml] [--time T] [--repetitions N] [--threads N]
-// Defaults: configs/scenarios/default.yaml, T = 0, N = 20, the scenario's world.raycast_threads.
+//                                      [--ray-kernels native|portable]
+// Defaults: configs/scenarios/default.yaml, T = 0, N = 20, the scenario's world.raycast_threads and
+// world.ray_kernels.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -25,18 +27,23 @@ int main(int argc, char** argv) {
   std::string scenario = HADAL_SOURCE_DIR "/configs/scenarios/default.yaml";
   double time = 0.0;
   int repetitions = 20, threads = -1;
+  std::string kernels;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--repetitions" && i + 1 < argc) {
       repetitions = std::max(1, std::atoi(argv[++i]));
     } else if (arg == "--time" && i + 1 < argc) {
       time = std::max(0.0, std::atof(argv[++i]));
+    } else if (arg == "--ray-kernels" && i + 1 < argc && (std::string(argv[i + 1]) == "native" ||
+                                                          std::string(argv[i + 1]) == "portable")) {
+      kernels = argv[++i];
     } else if (arg == "--threads" && i + 1 < argc) {
       threads = std::max(0, std::atoi(argv[++i]));
     } else if (!arg.empty() && arg[0] != '-') {
       scenario = arg;
     } else {
-      std::fprintf(stderr, "usage: hadal_bench_camera_frame [SCENARIO.yaml] [--time T] [--repetitions N] [--threads N]\n");
+      std::fprintf(stderr, "usage: hadal_bench_camera_frame [SCENARIO.yaml] [--time T] [--repetitions N] [--threads N]"
+                           " [--ray-kernels native|portable]\n");
       return 2;
     }
   }
@@ -47,6 +54,9 @@ int main(int argc, char** argv) {
   }
   Model model = std::move(*loaded.model);
   if (threads >= 0) model.world.raycast_threads = threads;
+  if (!kernels.empty()) {
+    model.world.ray_kernels = kernels == "portable" ? geometry::RayKernels::kPortable : geometry::RayKernels::kNative;
+  }
   Simulation sim(model);
   const auto steps = static_cast<std::uint64_t>(std::llround(time * model.world.physics_rate_hz));
   while (sim.state().step_count < steps) sim.step();
@@ -80,9 +90,11 @@ int main(int argc, char** argv) {
       const double fastest_s = *std::min_element(wall_s.begin(), wall_s.end());
       std::printf("{\"benchmark\": \"camera_frame\", \"scenario\": \"%s\", \"vehicle\": \"%s\", \"camera\": \"%s\", "
                   "\"time\": %.3f, \"threads\": %d, \"width\": %d, \"height\": %d, \"repetitions\": %d, "
-                  "\"frame_s\": %.4f, \"fps\": %.2f, \"fastest_frame_s\": %.4f}\n",
+                  "\"ray_kernels\": \"%s\", \"frame_s\": %.4f, \"fps\": %.2f, \"fastest_frame_s\": %.4f}\n",
                   scenario.c_str(), vehicle.name.c_str(), sensor.name.c_str(), sim.time(), model.world.raycast_threads,
-                  spec.lens->width_px(), spec.lens->height_px(), repetitions, frame_s, 1.0 / frame_s, fastest_s);
+                  spec.lens->width_px(), spec.lens->height_px(), repetitions,
+                  model.world.ray_kernels == geometry::RayKernels::kPortable ? "portable" : "native", frame_s,
+                  1.0 / frame_s, fastest_s);
     }
   }
   if (cameras == 0) {

@@ -5,7 +5,7 @@
     tools/test_report.py build/test-results.xml
 
 Lists the tests ctest reports as skipped (a GoogleTest GTEST_SKIP, a SKIP_RETURN_CODE such as a regression
-case without digests for this CPU) with the reason their output gives, and the pytest tests skipped inside a
+case without digests for this machine) with the reason their output gives, and the pytest tests skipped inside a
 ctest test that passed (pytest.ini has pytest print "SKIPPED [n] file:line: reason"). Exit status 0, or 2
 when the report cannot be read.
 """

@@ -2,23 +2,26 @@
 # Regression recording (tests/regression/README.md): runs a lockstep hadald on a scenario, steps it with
 # hadal-record-topics and writes one digest line per published topic, or compares them with a file.
 #
-# usage: record.sh BUILD_DIR CASE [--check | --write REASON]
+# usage: record.sh BUILD_DIR CASE [--check | --write REASON | --verify]
 #   CASE     default            configs/scenarios/default.yaml, 60 s (30 000 steps), its schedule only
 #            two_vehicles       tests/regression/scenarios/two_vehicles_all_sensors.yaml, 20 s, with
 #                               client commands and a watchdog timeout
-#   --write  (re)writes tests/regression/digests/CASE/SIGNATURE.txt, this machine's file, and adds a line
-#            to tests/regression/RECORDS.md: the date, case, signature, the topics whose digests changed
-#            (or "new file") and REASON, why they changed (required; the same words go in the commit)
-#   --check  (default) records and compares with tests/regression/digests/CASE/SIGNATURE.txt topic by
-#            topic; skips (exit 77) when no digests were recorded on a machine of this floating-point
-#            signature
+#   --write  (re)writes tests/regression/digests/CASE/LIBM.txt, the file of this machine's libm kind,
+#            verified on this CPU only, and adds a line to tests/regression/RECORDS.md: the date, case,
+#            CPU, the topics whose digests changed (or "new file") and REASON, why they changed (required;
+#            the same words go in the commit)
+#   --check  (default) records and compares with tests/regression/digests/CASE/LIBM.txt topic by topic;
+#            skips (exit 77) when there is no file for this libm kind, or when the digests differ on a CPU
+#            the file was not yet verified on (naming the topics); fails when they differ on a CPU it was
+#   --verify records, compares, and when every digest matches adds this CPU to the file's verified list
+#            (and a line to RECORDS.md)
 #
-# The digests are only comparable between builds on machines with the same signature: glibc picks its
-# libm kernels and Embree its traversal kernels by CPU feature (FMA, AVX2, AVX-512), which can change the
-# last bits of a result, and the vendors' approximate reciprocals differ (AMD's and Intel's AVX-512 camera
-# depths differ in the last bits). The signature is the CPU vendor and the x86 feature flags among those
-# that steer such choices; each signature has its own file, e.g.
-# digests/default/x86_64-GenuineIntel-sse4_2-avx-fma-avx2-avx512f.txt.
+# hadald runs with --ray-kernels portable (Embree's SSE4.2 kernels on every x86-64 CPU, hits recomputed in
+# double precision: geometry/ray_kernels.h), which takes Embree's CPU-dependent arithmetic out of the
+# results. What remains is glibc's libm, whose kernels for exp, log, pow, sin, cos... are chosen by CPU
+# feature (FMA with AVX2, or not): LIBM is that kind (x86_64-fma-avx2 or x86_64), one file per kind. A
+# file lists the CPUs (vendor and feature flags) it was verified on; a CPU not yet on the list that
+# matches passes (and says how to add it), one that differs is reported as skipped, not failed.
 # Completeness: every topic's recorded count must equal the count hadald reports having published.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -28,7 +31,7 @@ CASE=${2:?$USAGE}
 MODE=${3:---check}
 REASON=${4:-}
 case "$MODE" in
-  --check) ;;
+  --check|--verify) ;;
   --write) [[ -n "$REASON" ]] || { echo "record.sh: --write needs a REASON: why the digests change ($USAGE)" >&2; exit 2; } ;;
   *) echo "record.sh: $MODE? $USAGE" >&2; exit 2 ;;
 esac
@@ -54,7 +57,8 @@ case "$CASE" in
   *) echo "record.sh: unknown case $CASE (default, two_vehicles)" >&2; exit 2 ;;
 esac
 
-signature() {
+# This CPU: architecture, vendor and the x86 flags that steer glibc's and Embree's kernel choices.
+cpu() {
   local flags vendor
   flags=$(grep -m1 '^flags' /proc/cpuinfo 2>/dev/null || true)
   vendor=$(sed -n 's/^vendor_id[[:space:]]*: *//p' /proc/cpuinfo 2>/dev/null | head -1)
@@ -65,17 +69,23 @@ signature() {
   done
   echo "$out"
 }
-SIGNATURE=$(signature)
-DIGESTS=tests/regression/digests/$CASE/${SIGNATURE// /-}.txt
-
-if [[ "$MODE" == --check ]]; then
-  if [[ ! -f "$DIGESTS" ]]; then
-    echo "record.sh: SKIP: no digests of case $CASE recorded on a machine like this one ('$SIGNATURE');" \
-         "recorded: $(cd "tests/regression/digests/$CASE" && ls -- *.txt | tr '\n' ' ')" >&2
-    exit 77
+# The libm kind: glibc's x86_64 libm takes its FMA kernels where the CPU has FMA and AVX2.
+libm_kind() {
+  local flags
+  flags=$(grep -m1 '^flags' /proc/cpuinfo 2>/dev/null || true)
+  if [[ "$(uname -m)" == x86_64 && " $flags " == *" fma "* && " $flags " == *" avx2 "* ]]; then
+    echo "x86_64-fma-avx2"
+  else
+    uname -m
   fi
-  recorded=$(sed -n 's/^# signature: //p' "$DIGESTS")
-  [[ "$recorded" == "$SIGNATURE" ]] || { echo "record.sh: $DIGESTS says signature '$recorded'" >&2; exit 1; }
+}
+CPU=$(cpu)
+DIGESTS=tests/regression/digests/$CASE/$(libm_kind).txt
+
+if [[ "$MODE" != --write && ! -f "$DIGESTS" ]]; then
+  echo "record.sh: SKIP: no digests of case $CASE for this machine's libm kind ($DIGESTS);" \
+       "recorded: $(cd "tests/regression/digests/$CASE" && ls -- *.txt | tr '\n' ' ')" >&2
+  exit 77
 fi
 
 # A DDS domain of our own (the lock files the integration tests and interop script use), held on fd 9.
@@ -97,6 +107,7 @@ trap cleanup EXIT
 # computed).
 record_once() {
   "$BUILD/bin/hadald" "$SCENARIO" --mode lockstep --domain-id "$DOMAIN" --no-status-line --discovery-wait 5 \
+    --ray-kernels portable \
     >"$WORK/summary.txt" 2>"$WORK/server.err" &
   SERVER_PID=$!
   if ! "$BUILD/bin/hadal-record-topics" --domain-id "$DOMAIN" --out "$WORK/digest.txt" "${ARGS[@]}" 2>"$WORK/recorder.err"; then
@@ -126,12 +137,12 @@ if [[ $status -eq 3 ]]; then
 fi
 [[ $status -eq 0 ]] || { echo "record.sh: recording failed" >&2; exit 1; }
 
-"$PYTHON" - "$WORK/summary.txt" "$WORK/digest.txt" "$DIGESTS" "$MODE" "$CASE" "$SCENARIO" "$SIGNATURE" \
+"$PYTHON" - "$WORK/summary.txt" "$WORK/digest.txt" "$DIGESTS" "$MODE" "$CASE" "$SCENARIO" "$CPU" \
   "${ARGS[*]}" "$REASON" <<'PY'
 import datetime
 import os
 import sys
-summary, digest, digests, mode, case, scenario, signature, args, reason = sys.argv[1:]
+summary, digest, digests, mode, case, scenario, cpu, args, reason = sys.argv[1:]
 published = {}
 for line in open(summary):
     parts = line.split()
@@ -146,36 +157,69 @@ if not rows:
     problems.append("nothing recorded")
 if problems:
     sys.exit("record.sh: incomplete recording:\n  " + "\n  ".join(problems))
-body = "".join(" ".join(r) + "\n" for r in rows)
+LOG = "tests/regression/RECORDS.md"
+
+
+def read(path):
+    """The digest rows by topic and the CPUs the file was verified on."""
+    rows, verified = {}, []
+    for line in open(path):
+        if line.startswith("# verified on: "):
+            verified.append(line[len("# verified on: "):].strip())
+        elif line.strip() and not line.startswith("#"):
+            rows[line.split()[0]] = line.split()
+    return rows, verified
+
+
+def write(path, rows, verified):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(f"# Regression digests of case '{case}': {scenario}, hadal-record-topics {args}, "
+                "hadald --ray-kernels portable\n")
+        f.write("# topic, DDS type, samples, FNV-1a 64 of the serialized samples (tests/regression/README.md)\n")
+        for v in verified:
+            f.write(f"# verified on: {v}\n")
+        f.write("".join(" ".join(r) + "\n" for r in rows))
+
+
+def log(what, why):
+    with open(LOG, "a") as f:
+        f.write(f"| {datetime.date.today().isoformat()} | {case} | {cpu} | {what} | {why} |\n")
+
+
 if mode == "--write":
-    before = {}
-    if os.path.exists(digests):
-        before = {l.split()[0]: l.split() for l in open(digests) if l.strip() and not l.startswith("#")}
+    before = read(digests)[0] if os.path.exists(digests) else {}
     after = {r[0]: r for r in rows}
     changed = sorted(t for t in set(before) | set(after) if before.get(t) != after.get(t))
     if before and not changed:
         print(f"record.sh: {digests} unchanged ({len(rows)} topics): nothing written")
         sys.exit(0)
     what = ", ".join(changed) if before else "new file"
-    log = "tests/regression/RECORDS.md"
-    with open(log, "a") as f:
-        f.write(f"| {datetime.date.today().isoformat()} | {case} | {signature} | {what} | {reason} |\n")
-    print(f"record.sh: topics changed: {what}; logged in {log}")
-    with open(digests, "w") as f:
-        f.write(f"# Regression digests of case '{case}': {scenario}, hadal-record-topics {args}\n")
-        f.write("# topic, DDS type, samples, FNV-1a 64 of the serialized samples (tests/regression/README.md)\n")
-        f.write(f"# signature: {signature}\n")
-        f.write(body)
-    print(f"record.sh: wrote {digests} ({len(rows)} topics)")
+    write(digests, rows, [cpu])
+    log(what, reason)
+    print(f"record.sh: topics changed: {what}; logged in {LOG}")
+    print(f"record.sh: wrote {digests} ({len(rows)} topics), verified on {cpu} only")
     sys.exit(0)
-expected = {l.split()[0]: l.split() for l in open(digests) if l.strip() and not l.startswith("#")}
+expected, verified = read(digests)
 got = {r[0]: r for r in rows}
 diffs = []
 for topic in sorted(set(expected) | set(got)):
     e, g = expected.get(topic), got.get(topic)
     if e != g:
         diffs.append(f"{topic}: expected {' '.join(e[1:]) if e else 'no topic'}, got {' '.join(g[1:]) if g else 'no topic'}")
+if diffs and cpu not in verified:
+    print(f"record.sh: SKIP: case {case} differs from {digests} on this CPU ({cpu}), which it was not verified on "
+          f"(verified on: {'; '.join(verified)}):\n  " + "\n  ".join(diffs), file=sys.stderr)
+    sys.exit(77)
 if diffs:
     sys.exit(f"record.sh: case {case} differs from {digests}:\n  " + "\n  ".join(diffs))
-print(f"record.sh: case {case}: {len(rows)} topics bit-identical to {digests}")
+if cpu in verified:
+    print(f"record.sh: case {case}: {len(rows)} topics bit-identical to {digests}")
+elif mode == "--verify":
+    write(digests, [expected[t] for t in expected], verified + [cpu])
+    log("none (verified)", "the digests match on this CPU too")
+    print(f"record.sh: case {case}: {len(rows)} topics bit-identical to {digests}; added {cpu} to its verified list")
+else:
+    print(f"record.sh: case {case}: {len(rows)} topics bit-identical to {digests}, on a CPU it was not yet verified "
+          f"on ({cpu}): `tests/regression/record.sh BUILD {case} --verify` adds it")
 PY

@@ -45,6 +45,7 @@ std::string usage() {
          "                            [--discovery-wait SECONDS] [--threads N] [--cpus LIST]\n"
          "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
          "                            [--no-cameras] [--asset-root DIR]... [--security FILE]\n"
+         "                            [--ray-kernels native|portable]\n"
          "       hadald --schema [scenario|vehicle]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
@@ -65,6 +66,8 @@ std::string usage() {
          "                   exist), bag time = sim time, flushed once per wall second\n"
          "  --no-status-line no per-second status line on stderr\n"
          "  --no-cameras     leave the scenario's cameras out (no rendering)\n"
+         "  --ray-kernels K  override the scenario's world.ray_kernels: native (Embree's fastest for this\n"
+         "                   CPU) or portable (the same ray-cast bits on every x86-64 machine, slower)\n"
          "  --asset-root DIR another directory the scenario's includes, meshes and maps may lie in\n"
          "                   (besides its own tree and hadal's configs; also $HADAL_ASSET_ROOTS, a:b)\n"
          "  --security FILE  DDS Security (authentication, encryption, access control) with the files of\n"
@@ -126,6 +129,13 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
         else if (value == "lockstep") o.mode = RunMode::kLockstep;
         else {
           parse.error = "--mode must be realtime, fast or lockstep (got '" + value + "')";
+          return parse;
+        }
+      } else if (arg == "--ray-kernels") {
+        if (value == "native") o.ray_kernels = geometry::RayKernels::kNative;
+        else if (value == "portable") o.ray_kernels = geometry::RayKernels::kPortable;
+        else {
+          parse.error = "--ray-kernels must be native or portable (got '" + value + "')";
           return parse;
         }
       } else if (arg == "--rtf") {

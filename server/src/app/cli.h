@@ -2,15 +2,19 @@
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
 //          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--cpus LIST]
 //          [--sched batch|other] [--record DIR] [--no-status-line] [--no-cameras]
+//          [--ray-kernels native|portable]
 //   hadald --schema [scenario|vehicle]
 // --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
 // leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
+// --ray-kernels overrides world.ray_kernels (geometry/ray_kernels.h).
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "hadal/geometry/ray_kernels.h"
 
 namespace hadal::app {
 
@@ -24,6 +28,7 @@ struct CliOptions {
   RunMode mode = RunMode::kRealtime;
   double real_time_factor = 1.0;   // realtime mode: sim seconds per wall second
   std::optional<std::uint64_t> seed;
+  std::optional<geometry::RayKernels> ray_kernels;  // --ray-kernels: overrides world.ray_kernels
   int domain_id = 0;
   bool status_line = true;
   bool cameras = true;  // false: --no-cameras

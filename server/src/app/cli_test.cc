@@ -30,6 +30,13 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_EQ(parse_cli({"s.yaml", "--threads", "0"}, nullptr).error, "--threads must be an integer in 1..256 (got '0')");
   EXPECT_EQ(parse_cli({"s.yaml", "--threads", "two"}, nullptr).error,
             "--threads must be an integer in 1..256 (got 'two')");
+  EXPECT_FALSE(p.options.ray_kernels.has_value());
+  EXPECT_EQ(parse_cli({"s.yaml", "--ray-kernels", "portable"}, nullptr).options.ray_kernels,
+            geometry::RayKernels::kPortable);
+  EXPECT_EQ(parse_cli({"s.yaml", "--ray-kernels", "native"}, nullptr).options.ray_kernels,
+            geometry::RayKernels::kNative);
+  EXPECT_EQ(parse_cli({"s.yaml", "--ray-kernels", "avx2"}, nullptr).error,
+            "--ray-kernels must be native or portable (got 'avx2')");
   EXPECT_DOUBLE_EQ(p.options.effective_discovery_wait(), 0.0);
   EXPECT_TRUE(p.options.asset_roots.empty());
   p = parse_cli({"s.yaml", "--asset-root", "/data/meshes", "--asset-root", "../maps"}, nullptr);

@@ -102,6 +102,7 @@ int main(int argc, char** argv) {
   }
   if (cli.options.seed) model.world.seed = *cli.options.seed;
   if (cli.options.threads) model.world.threads = *cli.options.threads;
+  if (cli.options.ray_kernels) model.world.ray_kernels = *cli.options.ray_kernels;
   if (!cli.options.cameras) {
     for (VehicleSpec& vehicle : model.vehicles) {
       auto& sensors = vehicle.sensors;
@@ -120,10 +121,11 @@ int main(int argc, char** argv) {
 
   install_signal_handlers();
   std::fprintf(stderr,
-               "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d, %d thread(s) on CPU(s) %s%s\n",
+               "hadald: %s, %zu vehicle(s), %.0f Hz physics, mode %s, DDS domain %d, %d thread(s) on CPU(s) %s%s%s\n",
                cli.options.scenario_file.c_str(), model.vehicles.size(), model.world.physics_rate_hz,
                app::to_string(cli.options.mode), cli.options.domain_id, model.world.effective_threads(),
-               app::format_cpu_list(app::allowed_cpus()).c_str(), cli.options.sched_batch ? ", SCHED_BATCH" : "");
+               app::format_cpu_list(app::allowed_cpus()).c_str(), cli.options.sched_batch ? ", SCHED_BATCH" : "",
+               model.world.ray_kernels == geometry::RayKernels::kPortable ? ", portable ray kernels" : "");
   if (model.security.enabled()) {
     std::fprintf(stderr, "hadald: DDS Security on: identity %s, permissions %s\n", model.security.certificate.c_str(),
                  model.security.permissions.c_str());

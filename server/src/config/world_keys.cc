@@ -116,6 +116,15 @@ const KeyTable<WorldSpec, LoadContext>& world_keys() {
         .doc("rate of rt/hadal/status, in wall-clock time (a heartbeat, also while a lockstep server idles)");
     t.number("raycast_threads", &WorldSpec::raycast_threads).range(Range::closed(0.0, 256.0))
         .doc("worker threads that trace captured sensors and ray probes; 0: `threads`");
+    t.choice("ray_kernels", &WorldSpec::ray_kernels,
+             {{"native", geometry::RayKernels::kNative, "Embree's fastest kernels for this CPU"},
+              {"portable", geometry::RayKernels::kPortable,
+               "Embree's SSE4.2 kernels and every hit recomputed in double precision: the same bits on every "
+               "x86-64 CPU of one libm kind, a camera frame ~40 % slower"}})
+        .doc("which kernels trace rays (cameras, sonars, DVL, altimeters, probes). Ray-cast sensors give the same "
+             "bits run after run either way; `native` ones can differ in their last bits between CPUs, `portable` "
+             "ones do not (docs/ARCHITECTURE.md, \"One ray-cast world\"; tests/regression/README.md says on which "
+             "CPUs that was checked)");
     t.number("threads", &WorldSpec::threads).range(Range::closed(0.0, 256.0))
         .doc("CPU threads the server computes on (stepping thread, fluid-force helpers, BVH builders, ray-cast "
              "workers); 0: one per CPU the process may run on; hadald --threads overrides it. Results do not "

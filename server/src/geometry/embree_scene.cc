@@ -1,6 +1,7 @@
 #include "hadal/geometry/embree_scene.h"
 
 #include "hadal/core/vector_kernel.h"
+#include "hadal/geometry/hit_refinement.h"
 #include "hadal/geometry/segment_slab.h"
 #include "hadal/geometry/slope_grid.h"
 
@@ -179,6 +180,12 @@ struct EmbreeWorld {
     // texture coordinates (RayHits::tex_u, tex_v); empty otherwise.
     std::vector<float> uvs;
     std::vector<std::uint32_t> indices;
+    // The mesh as Embree holds it (its geometry's buffers, alive as long as the world's scenes): the
+    // vertices (x, y, z floats in the mesh's frame: W for the static scene, B for a body) and each
+    // triangle's three vertex indices, with each vertex's triangles, for refine_hits().
+    const float* vertices = nullptr;
+    const std::uint32_t* triangles = nullptr;
+    VertexTriangles adjacency;
   };
 
   RTCDevice device = nullptr;
@@ -194,6 +201,7 @@ struct EmbreeWorld {
   int num_bodies = 0;
   int packet_width = 4;
   bool built = false;
+  bool refine = false;  // RayKernels::kPortable: refine_hits() recomputes every hit
 
   std::mutex error_mutex;
   std::string last_error;
@@ -223,7 +231,8 @@ struct EmbreeWorld {
     if (device != nullptr) rtcReleaseDevice(device);
   }
 
-  RTCGeometry make_geometry(const TriangleMesh& mesh) {
+  RTCGeometry make_geometry(const TriangleMesh& mesh, const float** vertices_out,
+                            const std::uint32_t** triangles_out) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree allocates new buffers padded so that the last vertex can be read with a 16-byte load.
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -239,12 +248,16 @@ struct EmbreeWorld {
     std::copy(mesh.positions.begin(), mesh.positions.end(), vertices);
     std::copy(mesh.indices.begin(), mesh.indices.end(), indices);
     rtcCommitGeometry(geometry);
+    *vertices_out = vertices;
+    *triangles_out = indices;
     return geometry;
   }
 
   int add_mesh(RTCScene scene, std::vector<int>& mesh_of_geometry, const TriangleMesh& mesh,
                SceneMeshInfo info) {
-    RTCGeometry geometry = make_geometry(mesh);
+    const float* vertices = nullptr;
+    const std::uint32_t* triangles = nullptr;
+    RTCGeometry geometry = make_geometry(mesh, &vertices, &triangles);
     const unsigned geom_id = rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
     check("attaching a mesh");
@@ -252,7 +265,8 @@ struct EmbreeWorld {
     if (mesh_of_geometry.size() <= geom_id) mesh_of_geometry.resize(geom_id + 1, -1);
     mesh_of_geometry[geom_id] = mesh_id;
     info.num_triangles = mesh.num_triangles();
-    Mesh kept{std::move(info), mesh.triangle_materials, {}, {}};
+    Mesh kept{std::move(info), mesh.triangle_materials, {}, {}, vertices, triangles, {}};
+    if (refine) kept.adjacency = vertex_triangles(vertices, mesh.num_vertices(), triangles, mesh.num_triangles());
     if (!mesh.uvs.empty()) {
       kept.uvs = mesh.uvs;
       kept.indices = mesh.indices;
@@ -445,13 +459,80 @@ struct EmbreeScene::Impl {
     };
     if (!w.static_mesh_of_geometry.empty()) add_instance(w.static_scene, kStaticBody, w.static_mesh_of_geometry);
     for (const auto& [body, scene] : w.body_scenes) add_instance(scene.scene, body, scene.mesh_of_geometry);
-    rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    // Robust: see the constructor.
+    rtcSetSceneFlags(top, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION | RTC_SCENE_FLAG_ROBUST);
     rtcCommitScene(top);
     w.check("building the top-level scene");
     trace = top;
     split = masks && !w.static_mesh_of_geometry.empty();
     unique_body_masks = split && w.body_scenes.rbegin()->first < 31;
     poses_set = false;
+  }
+
+  // With RayKernels::kPortable (else nothing), Embree's hit fields of rays [begin, end) recomputed by
+  // refine_hit() (geometry/hit_refinement.h), so that they do not depend on Embree's arithmetic: the
+  // distance (hits.distance), the triangle (hits.triangle), the unit geometric normal in the mesh's frame
+  // (hits.n_W_*, which finish() turns into W) and the barycentric u, v (hits.tex_u, tex_v); geom and inst
+  // are indexed from begin. A body's ray is taken into B through the exact inverse of the single-precision
+  // transform Embree traced it with, so the distance is the exact one of the geometry Embree traced,
+  // rounded once (to ~1e-15 relative). A hit the refinement cannot trust (a ray in the triangle's plane,
+  // or a distance far from Embree's) keeps Embree's values; a refined distance is kept within the ray's
+  // [t_near, t_far].
+  void refine_hits(const RayBatch& rays, std::size_t begin, std::size_t end, const unsigned* geom,
+                   const unsigned* inst, RayHits& hits) const {
+    unsigned cached_geom = kInvalidId, cached_inst = kInvalidId;
+    const EmbreeWorld::Mesh* mesh = nullptr;
+    RefinementMesh view;
+    // A body's ray into B through the exact inverse of the single-precision transform Embree was given
+    // (x_B = A^-1 (x_W - p)); none for the static scene.
+    bool body = false;
+    Eigen::Matrix3d A_inverse;
+    Eigen::Vector3d p_W;
+    if (!world->refine) return;
+    for (std::size_t i = begin; i < end; ++i) {
+      const unsigned g = geom[i - begin], in = inst[i - begin];
+      if (g == kInvalidId) continue;
+      if (mesh == nullptr || g != cached_geom || in != cached_inst) {
+        cached_geom = g;
+        cached_inst = in;
+        body = false;
+        int mesh_id;
+        if (in == kInvalidId) {  // the static scene traced directly
+          mesh_id = world->static_mesh_of_geometry[g];
+        } else {
+          const Instance& instance = instances[in];
+          mesh_id = instance.mesh_of_geometry[g];
+          if (instance.body != kStaticBody) {
+            const Transform12& m = instance.transform;  // column-major 3x4
+            Eigen::Matrix3d A;
+            for (int c = 0; c < 3; ++c) {
+              for (int r = 0; r < 3; ++r) A(r, c) = m[3 * c + r];
+            }
+            A_inverse = A.inverse();
+            p_W = Eigen::Vector3d(m[9], m[10], m[11]);
+            body = true;
+          }
+        }
+        mesh = &world->meshes[static_cast<std::size_t>(mesh_id)];
+        view = RefinementMesh{mesh->vertices, mesh->triangles, &mesh->adjacency};
+      }
+      Eigen::Vector3d o(rays.p_WO_x[i], rays.p_WO_y[i], rays.p_WO_z[i]);
+      Eigen::Vector3d d(rays.d_W_x[i], rays.d_W_y[i], rays.d_W_z[i]);
+      if (body) {
+        o = A_inverse * (o - p_W);
+        d = A_inverse * d;
+      }
+      const RefinedHit hit = refine_hit(view, hits.triangle[i], o.data(), d.data());
+      const double embree_t = hits.distance[i];
+      if (!hit.ok || std::abs(hit.t - embree_t) > 1e-3 * (1.0 + std::abs(embree_t))) continue;
+      hits.distance[i] = std::clamp(static_cast<float>(hit.t), rays.t_near[i], rays.t_far[i]);
+      hits.triangle[i] = hit.triangle;
+      hits.n_W_x[i] = static_cast<float>(hit.n[0]);
+      hits.n_W_y[i] = static_cast<float>(hit.n[1]);
+      hits.n_W_z[i] = static_cast<float>(hit.n[2]);
+      hits.tex_u[i] = static_cast<float>(hit.u);
+      hits.tex_v[i] = static_cast<float>(hit.v);
+    }
   }
 
   // Fills hit fields of rays [begin, end) from Embree's raw output: hits.distance holds tfar,
@@ -618,6 +699,7 @@ struct EmbreeScene::Impl {
     for (std::size_t i = begin; i < end; ++i) {
       trace_ray(rays, i, rays.t_near[i], context, hits, &geom[i - begin], &inst[i - begin]);
     }
+    refine_hits(rays, begin, end, geom, inst, hits);
     finish(begin, end, geom, inst, hits);
   }
 
@@ -671,6 +753,7 @@ struct EmbreeScene::Impl {
         const float t_next = hits.distance[i] + kIgnoredHitStep;
         unsigned geom = kInvalidId, inst = kInvalidId;
         if (pass < kMaxIgnoredHits && t_next <= rays.t_far[i]) trace_ray(rays, i, t_next, context, hits, &geom, &inst);
+        refine_hits(rays, i, i + 1, &geom, &inst, hits);
         finish(i, i + 1, &geom, &inst, hits);
       }
     }
@@ -718,6 +801,7 @@ struct EmbreeScene::Impl {
         inst[i - begin] = rh.hit.instID[0][k];
       }
     }
+    refine_hits(rays, begin, end, geom, inst, hits);
     finish(begin, end, geom, inst, hits);
   }
 
@@ -792,6 +876,7 @@ struct EmbreeScene::Impl {
         inst[k] = body_inst[k];
       }
     }
+    refine_hits(rays, begin, end, geom, inst, hits);
     finish(begin, end, geom, inst, hits);
   }
 
@@ -902,12 +987,17 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(const std::string& device_config) : impl_(std::make_unique<Impl>()) {
+EmbreeScene::EmbreeScene(const std::string& device_config, RayKernels kernels) : impl_(std::make_unique<Impl>()) {
   impl_->world = std::make_shared<EmbreeWorld>();
   EmbreeWorld& w = *impl_->world;
-  w.device = rtcNewDevice(device_config.empty() ? nullptr : device_config.c_str());
+  w.refine = kernels == RayKernels::kPortable;
+  std::string config = device_config;
+  if (w.refine && config.find("isa=") == std::string::npos) {
+    config += (config.empty() ? "" : ",") + std::string("isa=sse4.2");
+  }
+  w.device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (w.device == nullptr) {
-    throw std::runtime_error("EmbreeScene: rtcNewDevice(\"" + device_config + "\") failed (Embree error " +
+    throw std::runtime_error("EmbreeScene: rtcNewDevice(\"" + config + "\") failed (Embree error " +
                              std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   }
   rtcSetDeviceErrorFunction(w.device, &EmbreeWorld::on_error, &w);
@@ -918,7 +1008,11 @@ EmbreeScene::EmbreeScene(const std::string& device_config) : impl_(std::make_uni
   }
   // No context filter on the static scene: the flag costs ~7 % of a camera frame's traversal of the
   // seabed (bench/render.cc), and occluded()'s filter only ever rejects body hits (see occluded()).
+  // Robust mode everywhere: Embree's watertight triangle test, so no ray slips between two triangles
+  // sharing an edge (seen without it: a camera ray through the seabed mesh, a hit with one kernel and a
+  // miss with another); it cost nothing measurable on a camera frame (docs/benchmarks.md).
   w.static_scene = rtcNewScene(w.device);
+  rtcSetSceneFlags(w.static_scene, RTC_SCENE_FLAG_ROBUST);
   w.check("creating the static scene");
 }
 
@@ -990,7 +1084,8 @@ int EmbreeScene::add_body_mesh(int body_index, const TriangleMesh& mesh_B, std::
   EmbreeWorld::BodyScene& body = w.body_scenes[body_index];
   if (body.scene == nullptr) {
     body.scene = rtcNewScene(w.device);
-    rtcSetSceneFlags(body.scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // occluded()'s ignore filter
+    // occluded()'s ignore filter; robust: see the constructor.
+    rtcSetSceneFlags(body.scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION | RTC_SCENE_FLAG_ROBUST);
     w.check("creating a body scene");
   }
   for (std::size_t v = 0; v < mesh_B.num_vertices(); ++v) {

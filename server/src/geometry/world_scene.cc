@@ -19,7 +19,7 @@ TriangleMesh plane_square(double z) {
 }  // namespace
 
 EmbreeScene build_world_scene(const Model& model, const std::string& device_config) {
-  EmbreeScene scene(device_config);
+  EmbreeScene scene(device_config, model.world.ray_kernels);
   const SeabedSpec& seabed = model.world.seabed;
   // Heightmaps and procedural seabeds are grids of heights (a height field); a mesh file may be anything.
   if (seabed.mesh) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "hadal/config/key_table_fwd.h"
+#include "hadal/geometry/ray_kernels.h"
 #include "hadal/geometry/seabed_spec.h"
 #include "hadal/physics/soil_spec.h"
 #include "hadal/physics/water_spec.h"
@@ -52,6 +53,7 @@ struct WorldSpec {
   double clock_rate_hz = 100.0;    // rt/clock
   double status_rate_hz = 10.0;    // rt/hadal/status
   int raycast_threads = 0;         // ray-cast worker threads; 0: `threads`
+  geometry::RayKernels ray_kernels = geometry::RayKernels::kNative;  // which Embree kernels trace rays
   // CPU threads the server computes on: the stepping thread and the fluid-force helpers (threads - 1),
   // Embree's BVH builders, and the ray-cast workers unless raycast_threads says otherwise; 0: one per CPU
   // the process may run on. 1 suits several servers sharing a machine (hadal.env.VectorEnv).

@@ -33,6 +33,7 @@
 #pragma once
 
 #include "hadal/geometry/ray_batch.h"
+#include "hadal/geometry/ray_kernels.h"
 #include "hadal/geometry/triangle_mesh.h"
 
 #include <Eigen/Geometry>
@@ -94,8 +95,10 @@ struct BodyBounds {
 class EmbreeScene {
  public:
   // device_config: Embree's rtcNewDevice configuration string ("" for defaults, e.g. "threads=1"
-  // to build BVHs on one thread). Throws std::runtime_error when Embree cannot create the device.
-  explicit EmbreeScene(const std::string& device_config = "");
+  // to build BVHs on one thread). kernels (geometry/ray_kernels.h): kPortable adds "isa=sse4.2" unless
+  // device_config names an ISA itself, and recomputes every hit (refine_hit, geometry/hit_refinement.h).
+  // Throws std::runtime_error when Embree cannot create the device.
+  explicit EmbreeScene(const std::string& device_config = "", RayKernels kernels = RayKernels::kNative);
   ~EmbreeScene();
   // A moved-from scene may only be destroyed or assigned to.
   EmbreeScene(EmbreeScene&&) noexcept;
