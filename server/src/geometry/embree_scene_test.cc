@@ -530,6 +530,31 @@ TEST(EmbreeScene, AllQueryPathsGiveIdenticalHits) {
   }
 }
 
+// The portable tests' world: a bumpy 80 m grid as the seabed and a smaller bumpy sheet as a body (its
+// triangles at angles in B, unlike a box's faces), rotated off every axis and moved.
+struct BumpyWorld {
+  TriangleMesh seabed =
+      grid(16, 40.0f, [](float x, float y) { return -100.0f + 2.0f * std::sin(0.3f * x) * std::cos(0.2f * y + 0.4f); });
+  TriangleMesh hull = grid(6, 1.5f, [](float x, float y) { return 0.3f * std::cos(1.1f * x - 0.4f * y); });
+  Eigen::Isometry3d X_WB = pose();
+
+  static Eigen::Isometry3d pose() {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translate(Eigen::Vector3d(3.0, -4.0, -96.0));
+    X.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, -2.0, 3.0).normalized()));
+    return X;
+  }
+  // The world built and posed in a scene of the given kernels.
+  EmbreeScene scene(const std::string& device_config, RayKernels kernels) const {
+    EmbreeScene s(device_config, kernels);
+    s.add_static_mesh(seabed);
+    s.add_body_mesh(0, hull);
+    s.build();
+    s.set_body_poses({X_WB});
+    return s;
+  }
+};
+
 // RayKernels::kPortable recomputes each hit from the triangle found and decides edges and vertices by
 // its own rule, so the hits do not depend on how Embree's kernel computed them: Embree's SSE4.2 kernels
 // (4-wide BVH, what kPortable uses) and its AVX kernels (8-wide BVH, another traversal order) give the
@@ -539,13 +564,9 @@ TEST(EmbreeScene, AllQueryPathsGiveIdenticalHits) {
 // a box as the body they missed 28 more of these rays, at the grid's vertices and the box's silhouette;
 // kPortable never uses them.)
 TEST(EmbreeScene, PortableHitsAreTheSameWhicheverKernelTraces) {
-  const TriangleMesh seabed =
-      grid(16, 40.0f, [](float x, float y) { return -100.0f + 2.0f * std::sin(0.3f * x) * std::cos(0.2f * y + 0.4f); });
-  // The body: a smaller bumpy sheet (its triangles at angles in B, unlike a box's faces).
-  const TriangleMesh hull = grid(6, 1.5f, [](float x, float y) { return 0.3f * std::cos(1.1f * x - 0.4f * y); });
-  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
-  X_WB.translate(Eigen::Vector3d(3.0, -4.0, -96.0));
-  X_WB.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, -2.0, 3.0).normalized()));
+  const BumpyWorld world;
+  const TriangleMesh &seabed = world.seabed, &hull = world.hull;
+  const Eigen::Isometry3d& X_WB = world.X_WB;
   const Eigen::Vector3f origin(-7.3f, 5.9f, -60.0f);
   RayBatch batch;
   const auto aim = [&](const Eigen::Vector3f& target) { batch.add_ray(origin, (target - origin).normalized()); };
@@ -567,11 +588,7 @@ TEST(EmbreeScene, PortableHitsAreTheSameWhicheverKernelTraces) {
   const std::vector<std::string> isas = {"sse4.2", "avx"};
   std::optional<RayHits> reference;
   for (const std::string& isa : isas) {
-    EmbreeScene scene("isa=" + isa, RayKernels::kPortable);
-    scene.add_static_mesh(seabed);
-    scene.add_body_mesh(0, hull);
-    scene.build();
-    scene.set_body_poses({X_WB});
+    const EmbreeScene scene = world.scene("isa=" + isa, RayKernels::kPortable);
     for (QueryPath path : {QueryPath::kSingle, QueryPath::kPacket, QueryPath::kStream}) {
       const RayHits hits = trace(scene, batch, path);
       if (!reference) {
@@ -604,12 +621,9 @@ TEST(EmbreeScene, PortableHitsAreTheSameWhicheverKernelTraces) {
 // grid and of a rotated, translated body; Embree's own distances (RayKernels::kNative) are off by more
 // for some of them.
 TEST(EmbreeScene, PortableDistancesAreTheExactHitRoundedOnce) {
-  const TriangleMesh seabed =
-      grid(16, 40.0f, [](float x, float y) { return -100.0f + 2.0f * std::sin(0.3f * x) * std::cos(0.2f * y + 0.4f); });
-  const TriangleMesh hull = grid(6, 1.5f, [](float x, float y) { return 0.3f * std::cos(1.1f * x - 0.4f * y); });
-  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
-  X_WB.translate(Eigen::Vector3d(3.0, -4.0, -96.0));
-  X_WB.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, -2.0, 3.0).normalized()));
+  const BumpyWorld world;
+  const TriangleMesh &seabed = world.seabed, &hull = world.hull;
+  const Eigen::Isometry3d& X_WB = world.X_WB;
   // The transform as Embree holds it (each element rounded to float), and its exact inverse. Rounded
   // through a volatile float: GCC 12 -O3 left one element of this loop unrounded otherwise (seen: A(2, 2)
   // kept its double value, with a plain static_cast and with Eigen's cast<float>()).
@@ -660,11 +674,7 @@ TEST(EmbreeScene, PortableDistancesAreTheExactHitRoundedOnce) {
   }
   std::size_t native_off = 0;
   for (RayKernels kernels : {RayKernels::kPortable, RayKernels::kNative}) {
-    EmbreeScene scene("", kernels);
-    scene.add_static_mesh(seabed);
-    scene.add_body_mesh(0, hull);
-    scene.build();
-    scene.set_body_poses({X_WB});
+    const EmbreeScene scene = world.scene("", kernels);
     const RayHits hits = trace(scene, batch);
     std::size_t aimed_hits = 0;
     for (std::size_t i = 0; i < hits.size(); ++i) {

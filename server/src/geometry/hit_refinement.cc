@@ -74,6 +74,18 @@ PlaneHit intersect(const RefinementMesh& mesh, std::uint32_t triangle, const dou
 }
 
 
+// The answer from the plane hit of the triangle chosen.
+RefinedHit refined(const PlaneHit& hit, std::uint32_t triangle) {
+  RefinedHit out;
+  out.ok = true;
+  out.triangle = triangle;
+  out.t = hit.t;
+  out.u = hit.b[1];
+  out.v = hit.b[2];
+  std::copy(hit.n, hit.n + 3, out.n);
+  return out;
+}
+
 }  // namespace
 
 VertexTriangles vertex_triangles(const float* vertices, std::size_t num_vertices, const std::uint32_t* indices,
@@ -124,14 +136,7 @@ RefinedHit refine_hit(const RefinementMesh& mesh, std::uint32_t triangle, const 
   const std::uint32_t* tri = &mesh.triangles[3 * static_cast<std::size_t>(triangle)];
   bool uncertain = cosine < kGrazingCosine;
   for (int j = 0; j < 3 && !uncertain; ++j) uncertain = first.edge_distance[j] < zone;
-  if (!uncertain || mesh.adjacency == nullptr) {
-    out.ok = true;
-    out.t = first.t;
-    out.u = first.b[1];
-    out.v = first.b[2];
-    std::copy(first.n, first.n + 3, out.n);
-    return out;
-  }
+  if (!uncertain || mesh.adjacency == nullptr) return refined(first, triangle);
   // The triangles around Embree's triangle's vertices (its 1-ring), nearest hit first among those the ray
   // meets inside (within the zone) near Embree's distance; ties by the deeper inside, then the lower index.
   const VertexTriangles& around = *mesh.adjacency;
@@ -156,13 +161,7 @@ RefinedHit refine_hit(const RefinementMesh& mesh, std::uint32_t triangle, const 
       any = true;
     }
   }
-  out.ok = true;
-  out.triangle = chosen;
-  out.t = best.t;
-  out.u = best.b[1];
-  out.v = best.b[2];
-  std::copy(best.n, best.n + 3, out.n);
-  return out;
+  return refined(best, chosen);
 }
 
 }  // namespace hadal::geometry
