@@ -1,0 +1,143 @@
+#include "hadal/physics/articulation.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hadal::physics {
+
+const char* to_string(JointType type) {
+  switch (type) {
+    case JointType::kFixed: return "fixed";
+    case JointType::kRevolute: return "revolute";
+    case JointType::kContinuous: return "continuous";
+    case JointType::kPrismatic: return "prismatic";
+  }
+  return "?";
+}
+
+namespace {
+
+bool moves(JointType type) { return type != JointType::kFixed; }
+
+}  // namespace
+
+Articulation::Articulation(const std::vector<LinkSpec>& links, const std::vector<LinkJoint>& joints) {
+  if (links.empty()) throw std::invalid_argument("articulation: no links");
+  if (joints.size() != links.size()) {
+    throw std::invalid_argument("articulation: " + std::to_string(joints.size()) + " joints for " +
+                                std::to_string(links.size()) + " links");
+  }
+  const auto fail = [&](std::size_t i, const std::string& what) {
+    throw std::invalid_argument("articulation: link '" + links[i].name + "': " + what);
+  };
+  if (joints[0].parent != -1 || moves(joints[0].joint.type)) {
+    fail(0, "the base link (the first) cannot have a parent or a moving joint");
+  }
+  body_of_link_.assign(links.size(), -1);
+  bodies_.push_back(Body{});  // the base body, frame B
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const LinkJoint& j = joints[i];
+    if (j.parent < -1 || j.parent >= static_cast<int>(i)) {
+      fail(i, "its parent must be an earlier link (got index " + std::to_string(j.parent) + ")");
+    }
+    const JointSpec& joint = j.joint;
+    if (moves(joint.type)) {
+      const double n = joint.axis_L.norm();
+      if (!std::isfinite(n) || !(n > 0.0)) fail(i, "the joint axis must be finite and not zero");
+      if (std::isnan(joint.lower) || std::isnan(joint.upper) || joint.lower > joint.upper) {
+        fail(i, "the joint's lower limit must be <= its upper limit");
+      }
+      if (!(joint.damping >= 0.0) || !(joint.friction >= 0.0)) fail(i, "joint damping and friction must be >= 0");
+    }
+    const int parent_body = j.parent < 0 ? 0 : body_of_link_[static_cast<std::size_t>(j.parent)];
+    if (!moves(joint.type)) {
+      body_of_link_[i] = parent_body;  // rigidly on its parent's body
+    } else {
+      Body body;
+      body.parent = parent_body;
+      body.joint_link = static_cast<int>(i);
+      body.joint = joint;
+      body.axis_K = joint.axis_L.normalized();  // K is the joint link's frame
+      body.X_BK0 = links[i].X_BL;
+      body.X_PK0 = bodies_[static_cast<std::size_t>(parent_body)].X_BK0.inverse() * links[i].X_BL;
+      body_of_link_[i] = static_cast<int>(bodies_.size());
+      bodies_.push_back(body);
+    }
+    bodies_[static_cast<std::size_t>(body_of_link_[i])].links.push_back(static_cast<int>(i));
+  }
+  X_KL_.resize(links.size());
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    X_KL_[i] = bodies_[static_cast<std::size_t>(body_of_link_[i])].X_BK0.inverse() * links[i].X_BL;
+  }
+  for (std::size_t k = 0; k < bodies_.size(); ++k) {
+    Body& body = bodies_[k];
+    std::vector<LinkSpec> in_K;
+    for (int l : body.links) {
+      LinkSpec link = links[static_cast<std::size_t>(l)];
+      link.X_BL = X_KL_[static_cast<std::size_t>(l)];
+      in_K.push_back(std::move(link));
+    }
+    try {
+      body.mass_K = composite_mass_properties(in_K);
+    } catch (const std::invalid_argument& e) {
+      fail(static_cast<std::size_t>(body.links.front()), std::string("the body it starts: ") + e.what());
+    }
+  }
+}
+
+Eigen::Isometry3d Articulation::joint_motion(const Body& body, double q) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  switch (body.joint.type) {
+    case JointType::kRevolute:
+    case JointType::kContinuous: X.linear() = Eigen::AngleAxisd(q, body.axis_K).toRotationMatrix(); break;
+    case JointType::kPrismatic: X.translation() = q * body.axis_K; break;
+    case JointType::kFixed: break;
+  }
+  return X;
+}
+
+std::vector<Eigen::Isometry3d> Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::VectorXd& q) const {
+  if (q.size() != num_dofs()) {
+    throw std::invalid_argument("articulation: " + std::to_string(q.size()) + " joint coordinates for " +
+                                std::to_string(num_dofs()) + " joints");
+  }
+  std::vector<Eigen::Isometry3d> X_WK(bodies_.size());
+  X_WK[0] = X_WB;
+  for (std::size_t k = 1; k < bodies_.size(); ++k) {
+    const Body& body = bodies_[k];
+    X_WK[k] = X_WK[static_cast<std::size_t>(body.parent)] * body.X_PK0 *
+              joint_motion(body, q[static_cast<Eigen::Index>(k - 1)]);
+  }
+  return X_WK;
+}
+
+std::vector<Articulation::BodyVelocity> Articulation::velocities_W(const std::vector<Eigen::Isometry3d>& X_WK,
+                                                                   const Eigen::Vector3d& v_WB,
+                                                                   const Eigen::Vector3d& w_WB,
+                                                                   const Eigen::VectorXd& qd) const {
+  if (qd.size() != num_dofs() || X_WK.size() != bodies_.size()) {
+    throw std::invalid_argument("articulation: " + std::to_string(qd.size()) + " joint rates and " +
+                                std::to_string(X_WK.size()) + " poses for " + std::to_string(num_dofs()) +
+                                " joints");
+  }
+  std::vector<BodyVelocity> out(bodies_.size());
+  out[0] = BodyVelocity{v_WB, w_WB};
+  for (std::size_t k = 1; k < bodies_.size(); ++k) {
+    const Body& body = bodies_[k];
+    const auto p = static_cast<std::size_t>(body.parent);
+    const Eigen::Vector3d axis_W = X_WK[k].linear() * body.axis_K;
+    const double rate = qd[static_cast<Eigen::Index>(k - 1)];
+    // K's origin moves with the parent body (a point of it), plus the joint's own motion.
+    out[k].w_WK = out[p].w_WK;
+    out[k].v_WK = out[p].v_WK + out[p].w_WK.cross(X_WK[k].translation() - X_WK[p].translation());
+    if (body.joint.type == JointType::kPrismatic) {
+      out[k].v_WK += rate * axis_W;
+    } else {
+      out[k].w_WK += rate * axis_W;
+    }
+  }
+  return out;
+}
+
+}  // namespace hadal::physics
