@@ -86,7 +86,8 @@ TEST(ArticulationTest, PlanarArmForwardKinematicsIsTheClosedForm) {
 
 // A prismatic joint along a tilted axis of a rotated link: the link slides along R_BL axis by q.
 TEST(ArticulationTest, PrismaticJointSlidesAlongItsAxisInTheLinkFrame) {
-  std::vector<LinkSpec> links = {link("base", 10.0, {0, 0, 0}, {0, 0, 0}), link("slider", 1.0, {0.1, 0.2, 0.3}, {0, 0, 0})};
+  std::vector<LinkSpec> links = {link("base", 10.0, {0, 0, 0}, {0, 0, 0}),
+                                 link("slider", 1.0, {0.1, 0.2, 0.3}, {0, 0, 0})};
   links[1].X_BL.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d(0.3, -1.0, 0.4).normalized()));
   JointSpec slide;
   slide.type = JointType::kPrismatic;
@@ -152,7 +153,8 @@ TEST(ArticulationTest, BadTreesAreClearErrors) {
   };
   std::vector<LinkJoint> joints = arm.joints;
   joints[1].parent = 2;  // a later link: also how a cycle would show
-  EXPECT_EQ(error_of(arm.links, joints), "articulation: link 'upper': its parent must be an earlier link (got index 2)");
+  EXPECT_EQ(error_of(arm.links, joints),
+            "articulation: link 'upper': its parent must be an earlier link (got index 2)");
   joints = arm.joints;
   joints[2].joint.axis_L = Eigen::Vector3d::Zero();
   EXPECT_EQ(error_of(arm.links, joints), "articulation: link 'fore': the joint axis must be finite and not zero");
@@ -163,7 +165,8 @@ TEST(ArticulationTest, BadTreesAreClearErrors) {
   joints = arm.joints;
   joints[1].joint.lower = 1.0;
   joints[1].joint.upper = -1.0;
-  EXPECT_EQ(error_of(arm.links, joints), "articulation: link 'upper': the joint's lower limit must be <= its upper limit");
+  EXPECT_EQ(error_of(arm.links, joints),
+            "articulation: link 'upper': the joint's lower limit must be <= its upper limit");
   std::vector<LinkSpec> links = arm.links;
   links[1].mass = 0.0;
   EXPECT_EQ(error_of(links, arm.joints).rfind("articulation: link 'upper': the body it starts: composite mass", 0), 0u)

@@ -1,0 +1,47 @@
+// An Articulation (physics/articulation.h) as Bullet's reduced-coordinate multibody (btMultiBody,
+// Featherstone's algorithm): issue 40's dynamics, built here and tested against the articulation's own
+// kinematics and closed forms before the simulation steps vehicles with it (docs/ARCHITECTURE.md,
+// "Articulated vehicles").
+//
+// Bullet's base is body 0 and its link i is body i + 1. Bullet holds every body in its principal frame P
+// (origin at the centre of mass, principal axes: MassProperties::X_BP of the body's mass_K, K the body's
+// frame), so a body's frame is X_WK = X_WP X_KP^-1 at the boundary, as BulletWorld does for rigid bodies.
+// Bullet's silent defaults are switched off: no linear or angular damping (0.04 each by default),
+// coordinate velocities and applied impulses unclamped (100 rad/s and 1000 N s), the gyroscopic term on.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <vector>
+
+#include "hadal/physics/articulation.h"
+
+class btMultiBody;
+
+namespace hadal::physics {
+
+struct MultiBodyDeleter {
+  void operator()(btMultiBody* body) const;
+};
+using MultiBodyPtr = std::unique_ptr<btMultiBody, MultiBodyDeleter>;
+
+// The articulation's bodies as a btMultiBody (the base fixed in W when fixed_base), at rest with every
+// joint at zero and B at the identity.
+MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base);
+
+// Writes B's pose and velocity (of B's origin, in W) and the joint coordinates and rates into Bullet and
+// updates its cached link transforms.
+void set_multibody_state(btMultiBody& body, const Articulation& articulation, const Eigen::Isometry3d& X_WB,
+                         const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB, const Eigen::VectorXd& q,
+                         const Eigen::VectorXd& qd);
+
+// Each body's frame K in W as Bullet holds it (after set_multibody_state or a step; refreshes Bullet's
+// cached link transforms from its state).
+std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
+
+// The joint coordinates and rates Bullet holds.
+Eigen::VectorXd multibody_joint_positions(const btMultiBody& body);
+Eigen::VectorXd multibody_joint_velocities(const btMultiBody& body);
+
+}  // namespace hadal::physics

@@ -1,0 +1,129 @@
+#include "hadal/physics/multibody.h"
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLink.h>
+
+#include <stdexcept>
+
+namespace hadal::physics {
+namespace {
+
+// Bullet's clamps set out of reach: no joint rate or impulse of a real vehicle comes near them.
+constexpr double kUnclamped = 1e30;
+
+btVector3 bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+
+btQuaternion bt_rotation(const Eigen::Matrix3d& R) {
+  const Eigen::Quaterniond q(R);
+  return btQuaternion(q.x(), q.y(), q.z(), q.w());
+}
+
+btTransform bt(const Eigen::Isometry3d& X) { return btTransform(bt_rotation(X.linear()), bt(X.translation())); }
+
+Eigen::Isometry3d eigen(const btTransform& t) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  const btQuaternion q = t.getRotation();
+  X.linear() = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).toRotationMatrix();
+  X.translation() = Eigen::Vector3d(t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z());
+  return X;
+}
+
+// The principal frame P of a body in its frame K.
+const Eigen::Isometry3d& X_KP(const Articulation::Body& body) { return body.mass_K.X_BP; }
+
+}  // namespace
+
+void MultiBodyDeleter::operator()(btMultiBody* body) const { delete body; }
+
+MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base) {
+  const Articulation::Body& base = articulation.body(0);
+  MultiBodyPtr mb(new btMultiBody(articulation.num_dofs(), base.mass_K.mass, bt(base.mass_K.I_principal),
+                                  fixed_base, /*canSleep=*/false));
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    const Articulation::Body& body = articulation.body(k);
+    const Articulation::Body& parent = articulation.body(body.parent);
+    // At q = 0: K in the parent's principal frame, and this body's principal frame there.
+    const Eigen::Isometry3d X_PpK = X_KP(parent).inverse() * body.X_PK0;
+    const Eigen::Isometry3d X_PpP = X_PpK * X_KP(body);
+    const btQuaternion parent_to_this = bt_rotation(X_PpP.linear().transpose());
+    const Eigen::Matrix3d R_PK = X_KP(body).linear().transpose();
+    const btVector3 axis_P = bt(R_PK * body.axis_K);
+    // The pivot is K's origin: from the parent's centre of mass, in the parent's principal frame; to this
+    // body's centre of mass, in its principal frame.
+    const btVector3 parent_com_to_pivot = bt(X_PpK.translation());
+    const btVector3 pivot_to_com = bt(R_PK * X_KP(body).translation());
+    const btVector3 inertia = bt(body.mass_K.I_principal);
+    switch (body.joint.type) {
+      case JointType::kRevolute:
+      case JointType::kContinuous:
+        mb->setupRevolute(k - 1, body.mass_K.mass, inertia, body.parent - 1, parent_to_this, axis_P,
+                          parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
+        break;
+      case JointType::kPrismatic:
+        mb->setupPrismatic(k - 1, body.mass_K.mass, inertia, body.parent - 1, parent_to_this, axis_P,
+                           parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
+        break;
+      case JointType::kFixed:
+        throw std::logic_error("make_multibody: body " + std::to_string(k) + " has a fixed joint");
+    }
+  }
+  mb->finalizeMultiDof();
+  mb->setLinearDamping(0.0);
+  mb->setAngularDamping(0.0);
+  mb->setMaxCoordinateVelocity(kUnclamped);
+  mb->setMaxAppliedImpulse(kUnclamped);
+  mb->setUseGyroTerm(true);
+  mb->setHasSelfCollision(false);
+  set_multibody_state(*mb, articulation, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(),
+                      Eigen::Vector3d::Zero(), Eigen::VectorXd::Zero(articulation.num_dofs()),
+                      Eigen::VectorXd::Zero(articulation.num_dofs()));
+  return mb;
+}
+
+void set_multibody_state(btMultiBody& mb, const Articulation& articulation, const Eigen::Isometry3d& X_WB,
+                         const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB, const Eigen::VectorXd& q,
+                         const Eigen::VectorXd& qd) {
+  if (q.size() != articulation.num_dofs() || qd.size() != articulation.num_dofs()) {
+    throw std::invalid_argument("set_multibody_state: " + std::to_string(q.size()) + " coordinates and " +
+                                std::to_string(qd.size()) + " rates for " + std::to_string(articulation.num_dofs()) +
+                                " joints");
+  }
+  const Eigen::Isometry3d X_WP = X_WB * X_KP(articulation.body(0));
+  mb.setBaseWorldTransform(bt(X_WP));
+  mb.setBaseVel(bt(v_WB + w_WB.cross(X_WP.translation() - X_WB.translation())));
+  mb.setBaseOmega(bt(w_WB));
+  for (int i = 0; i < articulation.num_dofs(); ++i) {
+    mb.setJointPos(i, q[i]);
+    mb.setJointVel(i, qd[i]);
+  }
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  mb.forwardKinematics(world_to_local, local_origin);
+}
+
+std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articulation& articulation) {
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  mb.forwardKinematics(world_to_local, local_origin);
+  std::vector<Eigen::Isometry3d> X_WK(static_cast<std::size_t>(articulation.num_bodies()));
+  X_WK[0] = eigen(mb.getBaseWorldTransform()) * X_KP(articulation.body(0)).inverse();
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    X_WK[static_cast<std::size_t>(k)] =
+        eigen(mb.getLink(k - 1).m_cachedWorldTransform) * X_KP(articulation.body(k)).inverse();
+  }
+  return X_WK;
+}
+
+Eigen::VectorXd multibody_joint_positions(const btMultiBody& mb) {
+  Eigen::VectorXd q(mb.getNumLinks());
+  for (int i = 0; i < mb.getNumLinks(); ++i) q[i] = mb.getJointPos(i);
+  return q;
+}
+
+Eigen::VectorXd multibody_joint_velocities(const btMultiBody& mb) {
+  Eigen::VectorXd qd(mb.getNumLinks());
+  for (int i = 0; i < mb.getNumLinks(); ++i) qd[i] = mb.getJointVel(i);
+  return qd;
+}
+
+}  // namespace hadal::physics
