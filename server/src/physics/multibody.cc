@@ -1,8 +1,11 @@
 #include "hadal/physics/multibody.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace hadal::physics {
@@ -34,6 +37,7 @@ const Eigen::Isometry3d& X_KP(const Articulation::Body& body) { return body.mass
 }  // namespace
 
 void MultiBodyDeleter::operator()(btMultiBody* body) const { delete body; }
+void MultiBodyConstraintDeleter::operator()(btMultiBodyConstraint* constraint) const { delete constraint; }
 
 MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base) {
   const Articulation::Body& base = articulation.body(0);
@@ -112,6 +116,25 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
         eigen(mb.getLink(k - 1).m_cachedWorldTransform) * X_KP(articulation.body(k)).inverse();
   }
   return X_WK;
+}
+
+std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& mb, const Articulation& articulation) {
+  std::vector<MultiBodyConstraintPtr> limits;
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    const JointSpec& joint = articulation.body(k).joint;
+    if (joint.type == JointType::kContinuous) continue;
+    if (!std::isfinite(joint.lower) && !std::isfinite(joint.upper)) continue;
+    const double lower = std::max(joint.lower, -kUnclamped), upper = std::min(joint.upper, kUnclamped);
+    limits.emplace_back(new btMultiBodyJointLimitConstraint(&mb, k - 1, lower, upper));
+  }
+  return limits;
+}
+
+void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    const double damping = articulation.body(k).joint.damping;
+    if (damping > 0.0) mb.addJointTorque(k - 1, -damping * mb.getJointVel(k - 1));
+  }
 }
 
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& mb) {

@@ -18,6 +18,7 @@
 #include "hadal/physics/articulation.h"
 
 class btMultiBody;
+class btMultiBodyConstraint;
 
 namespace hadal::physics {
 
@@ -25,6 +26,10 @@ struct MultiBodyDeleter {
   void operator()(btMultiBody* body) const;
 };
 using MultiBodyPtr = std::unique_ptr<btMultiBody, MultiBodyDeleter>;
+struct MultiBodyConstraintDeleter {
+  void operator()(btMultiBodyConstraint* constraint) const;
+};
+using MultiBodyConstraintPtr = std::unique_ptr<btMultiBodyConstraint, MultiBodyConstraintDeleter>;
 
 // The articulation's bodies as a btMultiBody (the base fixed in W when fixed_base), at rest with every
 // joint at zero and B at the identity.
@@ -39,6 +44,16 @@ void set_multibody_state(btMultiBody& body, const Articulation& articulation, co
 // Each body's frame K in W as Bullet holds it (after set_multibody_state or a step; refreshes Bullet's
 // cached link transforms from its state).
 std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
+
+// Bullet ignores its links' own limit and damping fields (btMultiBodyLink.h: "todo: ... unused"), so:
+// the limits of every revolute and prismatic joint with a finite limit as Bullet constraints (hard
+// stops, solved with the contacts), for the caller to add to its btMultiBodyDynamicsWorld and keep; an
+// infinite side is left open (+-1e30). Bullet solves them only for a multibody with collision objects
+// (the base's and each link's btMultiBodyLinkCollider: only those put it in a simulation island).
+std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& body, const Articulation& articulation);
+// and each joint's viscous damping, -damping * qd as a joint torque for the next step (Bullet clears
+// applied torques after a step: call before every step).
+void add_joint_damping(btMultiBody& body, const Articulation& articulation);
 
 // The joint coordinates and rates Bullet holds.
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& body);
