@@ -137,6 +137,19 @@ void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {
   }
 }
 
+void add_body_force_W(btMultiBody& mb, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
+                      int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W) {
+  const Eigen::Vector3d c_W = X_WK.at(static_cast<std::size_t>(k)) * articulation.body(k).mass_K.p_BBcm;
+  const Eigen::Vector3d moment_W = (p_W - c_W).cross(f_W);
+  if (k == 0) {
+    mb.addBaseForce(bt(f_W));
+    mb.addBaseTorque(bt(moment_W));
+  } else {
+    mb.addLinkForce(k - 1, bt(f_W));
+    mb.addLinkTorque(k - 1, bt(moment_W));
+  }
+}
+
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& mb) {
   Eigen::VectorXd q(mb.getNumLinks());
   for (int i = 0; i < mb.getNumLinks(); ++i) q[i] = mb.getJointPos(i);

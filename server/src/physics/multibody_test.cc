@@ -224,5 +224,40 @@ TEST(MultiBodyTest, JointDampingDecaysTheSwingAtTheClosedFormRate) {
   EXPECT_LT(peak, 0.05 * 0.85);  // it did decay
 }
 
+// A force at a point of a link, held by the joint: with gravity off, a horizontal arm (revolute about y,
+// the bob's centre of mass 0.8 m out along x) carries a force F = (0.3, -0.4, -20) N at the point
+// (1.1, 0.15, 0.05) m of the bob, off its centre of mass. The joint torque that holds it is the moment of F
+// about the joint axis, tau = -((p - o) x F) . y: the arm stays within 1e-9 rad for 1 s (it starts at rest
+// and the net torque is zero to rounding), and 0.5 % more or less torque turns it the opposite ways by more
+// than 1e-3 rad (the holding effort's tolerance in issue 40, shown to tell).
+TEST(MultiBodyTest, AForceAtAPointOfALinkIsHeldByItsMomentAboutTheJoint) {
+  Pendulum p;
+  p.links[1].X_BL = at({0.0, 0.0, 0.0});
+  p.links[1].p_LLcm = Eigen::Vector3d(0.8, 0.0, 0.0);  // the arm along x: horizontal
+  const Articulation a(p.links, {{-1, {}}, {0, p.joint_spec}});
+  const Eigen::Vector3d F(0.3, -0.4, -20.0), point(1.1, 0.15, 0.05);
+  const double holding = -point.cross(F).dot(Eigen::Vector3d::UnitY());  // the joint is at W's origin
+  const auto swing = [&](double torque) {
+    MultiBodyPtr mb = make_multibody(a, true);
+    World world(0.0);
+    world.world.addMultiBody(mb.get());
+    for (int step = 0; step < static_cast<int>(1.0 / p.dt); ++step) {
+      const std::vector<Eigen::Isometry3d> X_WK = multibody_poses_W(*mb, a);
+      // The point moves with the bob: its place in the bob's frame K at q = 0 is `point` (K = B = W here).
+      add_body_force_W(*mb, a, X_WK, 1, F, X_WK[1] * point);
+      mb->addJointTorque(0, torque);
+      world.world.stepSimulation(p.dt, 0, p.dt);
+    }
+    const double q = mb->getJointPos(0);
+    world.world.removeMultiBody(mb.get());
+    return q;
+  };
+  EXPECT_LT(std::abs(swing(holding)), 1e-9);
+  const double more = swing(1.005 * holding), less = swing(0.995 * holding);
+  EXPECT_GT(std::abs(more), 1e-3);
+  EXPECT_GT(std::abs(less), 1e-3);
+  EXPECT_LT(more * less, 0.0);
+}
+
 }  // namespace
 }  // namespace hadal::physics

@@ -55,6 +55,12 @@ std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& body, const A
 // applied torques after a step: call before every step).
 void add_joint_damping(btMultiBody& body, const Articulation& articulation);
 
+// A force f_W [N] acting at the point p_W [m] of body k (both in W), for the next step: Bullet takes a
+// body's force at its centre of mass (from X_WK, multibody_poses_W's poses), so the moment
+// (p_W - c_W) x f_W goes in as a torque. How fluid forces reach each body of an articulated vehicle.
+void add_body_force_W(btMultiBody& body, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
+                      int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W);
+
 // The joint coordinates and rates Bullet holds.
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& body);
 Eigen::VectorXd multibody_joint_velocities(const btMultiBody& body);
