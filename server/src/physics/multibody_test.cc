@@ -78,6 +78,26 @@ struct Colliders {
   }
 };
 
+// A compound pendulum on a fixed base: a 2 kg bob whose centre of mass hangs l = 0.8 m below a revolute
+// joint about y, its own inertia about y 0.05 kg m^2 (0.03 and 0.02 about x and z: the wrong axis changes
+// the period).
+struct Pendulum {
+  double m = 2.0, l = 0.8, I_yy = 0.05, g = 9.81, dt = 0.002;
+  std::vector<LinkSpec> links = {link("frame", 10.0, at({0, 0, 0}), {0, 0, 0}, {1, 1, 1}),
+                                 link("bob", m, at({0.2, -0.1, 1.0}), {0, 0, -l}, {0.03, I_yy, 0.02})};
+  JointSpec joint_spec = joint(JointType::kRevolute, {0, 1, 0});
+  double I_O() const { return I_yy + m * l * l; }
+};
+
+// Writes the state of a multibody with one joint at rest, the joint at q0, B at the identity.
+void release_at(btMultiBody& mb, const Articulation& a, double q0) {
+  Eigen::VectorXd q(1), zero(1);
+  q << q0;
+  zero << 0.0;
+  set_multibody_state(mb, a, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), q,
+                      zero);
+}
+
 // An arm whose bodies have off-axis principal frames (tilted links, off-centre centres of mass) and both
 // joint kinds: Bullet's poses of every body, after the state is written in, are the articulation's.
 TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
@@ -113,25 +133,18 @@ TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
   EXPECT_EQ(multibody_joint_velocities(*mb), qd);
 }
 
-// A compound pendulum in vacuum on a fixed base: a 2 kg bob whose centre of mass hangs l = 0.8 m below a
-// revolute joint about y, its own inertia about y 0.05 kg m^2 (0.03 and 0.02 about x and z: the wrong axis
-// changes the period). Small swings (0.05 rad) have the period T = 2 pi sqrt((I_yy + m l^2) / (m g l)).
+// The pendulum in vacuum: small swings (0.05 rad) have the period T = 2 pi sqrt((I_yy + m l^2) / (m g l)).
 // Tolerance 5e-4 relative: the amplitude's lengthening theta0^2 / 16 = 1.6e-4, semi-implicit Euler at
 // 500 Hz (omega dt)^2 / 24 ~ 2e-6, the zero crossings interpolated linearly (~1e-7). Without damping the
 // swing keeps its amplitude (within 1 % after five periods; Bullet's default damping of 0.04 loses ~30 %).
 TEST(MultiBodyTest, CompoundPendulumSwingsWithTheClosedFormPeriod) {
-  const double m = 2.0, l = 0.8, I_yy = 0.05, g = 9.81, dt = 0.002;
-  const std::vector<LinkSpec> links = {link("frame", 10.0, at({0, 0, 0}), {0, 0, 0}, {1, 1, 1}),
-                                       link("bob", m, at({0.2, -0.1, 1.0}), {0, 0, -l}, {0.03, I_yy, 0.02})};
-  const Articulation a(links, {{-1, {}}, {0, joint(JointType::kRevolute, {0, 1, 0})}});
+  const Pendulum p;
+  const double m = p.m, l = p.l, I_yy = p.I_yy, g = p.g, dt = p.dt;
+  const Articulation a(p.links, {{-1, {}}, {0, p.joint_spec}});
   MultiBodyPtr mb = make_multibody(a, /*fixed_base=*/true);
   World world(g);
   world.world.addMultiBody(mb.get());
-  Eigen::VectorXd q0(1), zero(1);
-  q0 << 0.05;
-  zero << 0.0;
-  set_multibody_state(*mb, a, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), q0,
-                      zero);
+  release_at(*mb, a, 0.05);
   const double expected_T = 2.0 * M_PI * std::sqrt((I_yy + m * l * l) / (m * g * l));
   std::vector<double> crossings;  // downward zero crossings of q
   double previous = mb->getJointPos(0), peak = 0.0;
@@ -148,15 +161,6 @@ TEST(MultiBodyTest, CompoundPendulumSwingsWithTheClosedFormPeriod) {
   EXPECT_NEAR(T / expected_T, 1.0, 5e-4) << "T = " << T << " s, closed form " << expected_T << " s";
   EXPECT_NEAR(peak / 0.05, 1.0, 0.01);
 }
-
-// The compound pendulum of the test above, its bob hanging l below a revolute joint about y.
-struct Pendulum {
-  double m = 2.0, l = 0.8, I_yy = 0.05, g = 9.81, dt = 0.002;
-  std::vector<LinkSpec> links = {link("frame", 10.0, at({0, 0, 0}), {0, 0, 0}, {1, 1, 1}),
-                                 link("bob", m, at({0.2, -0.1, 1.0}), {0, 0, -l}, {0.03, I_yy, 0.02})};
-  JointSpec joint_spec = joint(JointType::kRevolute, {0, 1, 0});
-  double I_O() const { return I_yy + m * l * l; }
-};
 
 // Full effort against the limits: a joint torque of 50 N m (three times the largest gravity torque,
 // m g l = 15.7 N m) drives the bob up to its upper limit (0.3 rad) for 2 s, then down to its lower
@@ -202,11 +206,7 @@ TEST(MultiBodyTest, JointDampingDecaysTheSwingAtTheClosedFormRate) {
   MultiBodyPtr mb = make_multibody(a, true);
   World world(p.g);
   world.world.addMultiBody(mb.get());
-  Eigen::VectorXd q0(1), zero(1);
-  q0 << 0.05;
-  zero << 0.0;
-  set_multibody_state(*mb, a, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), q0,
-                      zero);
+  release_at(*mb, a, 0.05);
   const double T = 2.0 * M_PI * std::sqrt(p.I_O() / (p.m * p.g * p.l));
   double peak = 0.0, peak_time = 0.0;
   for (int step = 1; step <= static_cast<int>(5.3 * T / p.dt); ++step) {
