@@ -1,5 +1,7 @@
 #include "hadal/physics/multibody.h"
 
+#include "hadal/physics/joint_servo.h"
+
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
@@ -257,6 +259,69 @@ TEST(MultiBodyTest, AForceAtAPointOfALinkIsHeldByItsMomentAboutTheJoint) {
   EXPECT_GT(std::abs(more), 1e-3);
   EXPECT_GT(std::abs(less), 1e-3);
   EXPECT_LT(more * less, 0.0);
+}
+
+// Runs the pendulum under a joint servo for `seconds`, from rest at q0; returns (q, qd) at the end and,
+// through rate_at, qd at time `at`.
+std::pair<double, double> servo_run(const Pendulum& p, double g, const JointServoSpec& spec, JointCommandMode mode,
+                                    double target, double seconds, double at = -1.0, double* rate_at = nullptr) {
+  const Articulation a(p.links, {{-1, {}}, {0, p.joint_spec}});
+  MultiBodyPtr mb = make_multibody(a, true);
+  World world(g);
+  world.world.addMultiBody(mb.get());
+  release_at(*mb, a, 0.0);
+  for (int step = 0; step < static_cast<int>(std::lround(seconds / p.dt)); ++step) {
+    mb->addJointTorque(0, joint_servo_torque(spec, mode, target, mb->getJointPos(0), mb->getJointVel(0)));
+    add_joint_damping(*mb, a);
+    world.world.stepSimulation(p.dt, 0, p.dt);
+    if (rate_at != nullptr && std::abs((step + 1) * p.dt - at) < 0.5 * p.dt) *rate_at = mb->getJointVel(0);
+  }
+  const std::pair<double, double> end{mb->getJointPos(0), mb->getJointVel(0)};
+  world.world.removeMultiBody(mb.get());
+  return end;
+}
+
+// Position control against gravity: the pendulum settles where the servo's torque balances gravity's,
+// kp (q* - q) = m g l sin q (solved by Newton here), within 1e-6 rad after 6 s (the closed loop's slowest
+// mode decays as exp(-t kd / (2 I_O)) = exp(-45) by then). With the effort limited to 5 N m below what
+// holding needs, it sags to where m g l sin q = 5 N m: a saturated servo's torque is constant and damps
+// nothing, so the joint's own damping (3 N m s/rad, exp(-t c / (2 I_O)) = exp(-22) in 20 s) settles it.
+TEST(MultiBodyTest, APositionServoSettlesWhereItsTorqueBalancesGravity) {
+  const Pendulum p;
+  const double mgl = p.m * p.g * p.l;
+  JointServoSpec spec;
+  spec.kp = 200.0;
+  spec.kd = 20.0;
+  const double target = 0.6;
+  double q = target;
+  for (int i = 0; i < 50; ++i) q -= (spec.kp * (target - q) - mgl * std::sin(q)) / (-spec.kp - mgl * std::cos(q));
+  const auto [q_end, qd_end] = servo_run(p, p.g, spec, JointCommandMode::kPosition, target, 6.0);
+  EXPECT_NEAR(q_end, q, 1e-6);
+  EXPECT_NEAR(qd_end, 0.0, 1e-6);
+  EXPECT_GT(target - q_end, 0.03);  // gravity's share (0.042 rad) is visible: the law, not a rigid hold
+  spec.effort_limit = 5.0;
+  Pendulum damped = p;
+  damped.joint_spec.damping = 3.0;
+  const auto [q_sag, qd_sag] = servo_run(damped, p.g, spec, JointCommandMode::kPosition, M_PI / 2, 20.0);
+  EXPECT_NEAR(q_sag, std::asin(5.0 / mgl), 1e-6);
+  EXPECT_NEAR(qd_sag, 0.0, 1e-6);
+}
+
+// Velocity control without gravity: the rate approaches the command, held to the velocity limit, as
+// 2 (1 - exp(-t kd / I_O)): at t = I_O / kd (0.66 s) 1 - 1/e of it within 1 % (explicit Euler's dt kd / I_O
+// = 0.3 %), at 6 s (9 time constants) within 1e-3.
+TEST(MultiBodyTest, AVelocityServoReachesItsLimitedRateWithItsTimeConstant) {
+  const Pendulum p;
+  JointServoSpec spec;
+  spec.kd = 2.0;
+  spec.velocity_limit = 2.0;
+  const double tau = p.I_O() / spec.kd;
+  double rate_at_tau = 0.0;
+  const auto [q_end, qd_end] =
+      servo_run(p, 0.0, spec, JointCommandMode::kVelocity, 3.0, 6.0, std::round(tau / p.dt) * p.dt, &rate_at_tau);
+  EXPECT_NEAR(qd_end, 2.0, 1e-3);
+  EXPECT_NEAR(rate_at_tau / (2.0 * (1.0 - std::exp(-std::round(tau / p.dt) * p.dt / tau))), 1.0, 0.01);
+  EXPECT_GT(q_end, 0.0);
 }
 
 }  // namespace
