@@ -7,7 +7,8 @@
 //   velocity qd*: tau = kd (clamp(qd*, +-velocity_limit) - qd)
 //   effort tau*:  tau = tau*
 // and in every mode |tau| <= effort_limit. Gains and limits are at the joint (the motor's own times the
-// gear ratio, and its speed divided by it).
+// gear ratio, and its speed divided by it). A saturated servo's torque is constant and damps nothing:
+// only the joint's own damping (JointSpec::damping) then settles a swing.
 #pragma once
 
 #include <limits>
