@@ -56,7 +56,7 @@ class Runner {
         options_(options),
         stop_(stop),
         sim_(model),
-        dds_(model, options.domain_id, describe_process(options)) {
+        dds_(model, options.domain_id, describe_process(options), /*recorded=*/!options.record_dir.empty()) {
     // In real time a capture whose rays are late is dropped: the step loop never waits on the workers.
     sim_.set_wait_for_captures(options.mode != RunMode::kRealtime);
     clock_divider_ = RateDivider(model.world.clock_rate_hz);

@@ -32,7 +32,6 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
-constexpr int kStateHistoryDepth = 10;
 constexpr int kCommandHistoryDepth = 32;
 
 std::int64_t source_stamp_ns(const fdds::SampleInfo& info) {
@@ -288,8 +287,11 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   }
 };
 
-ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::string& description)
+ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::string& description,
+                                 bool recorded)
     : impl_(std::make_unique<Impl>(model)) {
+  const int state_history_depth = recorded ? kRecordedStateHistoryDepth : kStateHistoryDepth;
+  const int preview_history_depth = recorded ? kRecordedPreviewHistoryDepth : kPreviewHistoryDepth;
   Impl& d = *impl_;
   d.domain_id = domain_id;
   // The listener from the start, so that a hadald already on the domain is seen: what its callbacks touch
@@ -298,9 +300,9 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
   d.registry = std::make_unique<TopicRegistry>(d.participant);
   TopicRegistry& r = *d.registry;
 
-  d.clock_writer = r.writer<rosgraph_msgs::msg::ClockPubSubType>(clock_topic(), kStateHistoryDepth);
+  d.clock_writer = r.writer<rosgraph_msgs::msg::ClockPubSubType>(clock_topic(), state_history_depth);
   d.clock_slot = d.add_count(clock_topic());
-  d.status_writer = r.writer<hadal_msgs::msg::SimStatusPubSubType>(status_topic(), kStateHistoryDepth);
+  d.status_writer = r.writer<hadal_msgs::msg::SimStatusPubSubType>(status_topic(), state_history_depth);
   d.status_slot = d.add_count(status_topic());
   d.carry_in_monitor(d.status_writer, d.status_slot);
   d.reply_writer = r.writer<hadal_msgs::msg::StepReplyPubSubType>(step_reply_topic(), kCommandHistoryDepth);
@@ -316,7 +318,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     const std::string& name = model.vehicles[i].name;
     d.odometry_writers.push_back(
-        r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), kStateHistoryDepth));
+        r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), state_history_depth));
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
     d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
     auto& actuator_writers = d.actuator_state_writers.emplace_back();
@@ -326,7 +328,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
         if (!publishes_state_of_kind<K>(model.vehicles[i])) return;
         auto writer = std::make_unique<Impl::KindStateWriter<K>>();
         const std::string topic = actuator_state_topic(name, K::kListKey);
-        writer->writer = r.writer<typename ActuatorStateTopic<K>::PubSubType>(topic, kStateHistoryDepth);
+        writer->writer = r.writer<typename ActuatorStateTopic<K>::PubSubType>(topic, state_history_depth);
         writer->slot = d.add_count(topic);
         d.carry_in_monitor(writer->writer, writer->slot);
         actuator_writers.push_back(std::move(writer));
@@ -350,7 +352,7 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
               if constexpr (sensors::TopicInMonitor<Topic>::value) d.carry_in_monitor(endpoint.writer, endpoint.slot);
               if constexpr (sensors::TopicHasPreview<Topic>::value) {
                 const std::string preview = sensor_topic(name, sensor.name) + "/preview";
-                endpoint.preview_writer = r.writer<sensor_msgs::msg::ImagePubSubType>(preview, 1);
+                endpoint.preview_writer = r.writer<sensor_msgs::msg::ImagePubSubType>(preview, preview_history_depth);
                 endpoint.preview_slot = d.add_count(preview);
               }
             });

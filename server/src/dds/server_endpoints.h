@@ -47,8 +47,16 @@ struct TopicCount {
 
 class ServerEndpoints {
  public:
+  // How many samples the state writers (clock, status, odometry, actuator states) and the preview writers keep
+  // for reliable readers that fall behind: 10 and 1; while the server records itself (`recorded`: hadald
+  // --record) 100 (like the sensors' writers) and 10: its recorder reads every topic over DDS, and on a loaded
+  // 2-core machine it fell more than 10 odometry samples (0.2 s of sim time), and a preview image, behind and
+  // the bag lost them (interop.cyclone_decodes_recorded_bag).
+  static constexpr int kStateHistoryDepth = 10, kRecordedStateHistoryDepth = 100;
+  static constexpr int kPreviewHistoryDepth = 1, kRecordedPreviewHistoryDepth = 10;
+
   // `description` (which process this is: pid, host, scenario) goes with the participant for other hadald to name.
-  ServerEndpoints(const Model& model, int domain_id, const std::string& description = {});
+  ServerEndpoints(const Model& model, int domain_id, const std::string& description = {}, bool recorded = false);
   ~ServerEndpoints();
   ServerEndpoints(const ServerEndpoints&) = delete;
   ServerEndpoints& operator=(const ServerEndpoints&) = delete;
