@@ -176,13 +176,13 @@ struct EmbreeWorld {
   struct Mesh {
     SceneMeshInfo info;
     std::vector<std::uint32_t> triangle_materials;
-    // Texture coordinates (2 per vertex) and the triangles' vertex indices, kept when the mesh has
-    // texture coordinates (RayHits::tex_u, tex_v); empty otherwise.
+    // Texture coordinates (2 per vertex), kept when the mesh has them (RayHits::tex_u, tex_v); empty
+    // otherwise.
     std::vector<float> uvs;
-    std::vector<std::uint32_t> indices;
     // The mesh as Embree holds it (its geometry's buffers, alive as long as the world's scenes): the
     // vertices (x, y, z floats in the mesh's frame: W for the static scene, B for a body) and each
-    // triangle's three vertex indices, with each vertex's triangles, for refine_hits().
+    // triangle's three vertex indices (for texture coordinates and refine_hits()), with each vertex's
+    // triangles (for refine_hits(), RayKernels::kPortable only).
     const float* vertices = nullptr;
     const std::uint32_t* triangles = nullptr;
     VertexTriangles adjacency;
@@ -265,12 +265,8 @@ struct EmbreeWorld {
     if (mesh_of_geometry.size() <= geom_id) mesh_of_geometry.resize(geom_id + 1, -1);
     mesh_of_geometry[geom_id] = mesh_id;
     info.num_triangles = mesh.num_triangles();
-    Mesh kept{std::move(info), mesh.triangle_materials, {}, {}, vertices, triangles, {}};
+    Mesh kept{std::move(info), mesh.triangle_materials, mesh.uvs, vertices, triangles, {}};
     if (refine) kept.adjacency = vertex_triangles(vertices, mesh.num_vertices(), triangles, mesh.num_triangles());
-    if (!mesh.uvs.empty()) {
-      kept.uvs = mesh.uvs;
-      kept.indices = mesh.indices;
-    }
     meshes.push_back(std::move(kept));
     return mesh_id;
   }
@@ -480,6 +476,7 @@ struct EmbreeScene::Impl {
   // [t_near, t_far].
   void refine_hits(const RayBatch& rays, std::size_t begin, std::size_t end, const unsigned* geom,
                    const unsigned* inst, RayHits& hits) const {
+    if (!world->refine) return;
     unsigned cached_geom = kInvalidId, cached_inst = kInvalidId;
     const EmbreeWorld::Mesh* mesh = nullptr;
     RefinementMesh view;
@@ -488,7 +485,6 @@ struct EmbreeScene::Impl {
     bool body = false;
     Eigen::Matrix3d A_inverse;
     Eigen::Vector3d p_W;
-    if (!world->refine) return;
     for (std::size_t i = begin; i < end; ++i) {
       const unsigned g = geom[i - begin], in = inst[i - begin];
       if (g == kInvalidId) continue;
@@ -681,7 +677,7 @@ struct EmbreeScene::Impl {
       if (mesh->uvs.empty()) {
         tex_u[k] = tex_v[k] = kNaN;
       } else {
-        const std::uint32_t* tri = &mesh->indices[3 * static_cast<std::size_t>(triangle[k])];
+        const std::uint32_t* tri = &mesh->triangles[3 * static_cast<std::size_t>(triangle[k])];
         const float b1 = tex_u[k], b2 = tex_v[k], b0 = 1.0f - b1 - b2;
         const float* t0 = &mesh->uvs[2 * static_cast<std::size_t>(tri[0])];
         const float* t1 = &mesh->uvs[2 * static_cast<std::size_t>(tri[1])];

@@ -73,7 +73,6 @@ PlaneHit intersect(const RefinementMesh& mesh, std::uint32_t triangle, const dou
   return hit;
 }
 
-
 // The answer from the plane hit of the triangle chosen.
 RefinedHit refined(const PlaneHit& hit, std::uint32_t triangle) {
   RefinedHit out;

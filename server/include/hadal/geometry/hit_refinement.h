@@ -6,8 +6,8 @@
 // multiply-adds that differ between its kernels (SSE4.2, AVX, AVX2, AVX-512) and between CPU vendors, and
 // where a ray meets an edge or a vertex shared by several triangles, which of them it reports depends on
 // that arithmetic too. refine_hit() recomputes the hit in double precision (Moeller-Trumbore) and, for a
-// hit within a few rounding units of an edge or a vertex, chooses among the triangles sharing it by a rule
-// of its own: the one the hit point lies deepest inside. The result depends only on the mesh and the ray.
+// hit within a few rounding units of an edge or a vertex, or a grazing one, chooses among the triangles
+// around it by a rule of its own: the nearest the ray meets. The result depends only on the mesh and the ray.
 #pragma once
 
 #include <cstddef>
@@ -38,17 +38,19 @@ struct RefinementMesh {
 
 struct RefinedHit {
   bool ok = false;         // false: the triangle is degenerate or the ray lies in its plane; keep Embree's
-  std::uint32_t triangle;  // the triangle chosen (Embree's, or a neighbour at an edge or vertex)
+  std::uint32_t triangle = 0;  // the triangle chosen (Embree's, or a neighbour at an edge or vertex)
   double t = 0.0;          // ray parameter [m] (unit direction)
   double u = 0.0, v = 0.0; // barycentric coordinates of the hit on vertices 1 and 2 of `triangle`
   double n[3] = {0.0, 0.0, 0.0};  // unit normal (v1 - v0) x (v2 - v0), in the mesh's frame
 };
 
-// The hit of the ray o + t d (mesh frame, |d| = 1) given that Embree reported `triangle`. Candidates are
-// Embree's triangle and, when the hit point lies within the zone of a vertex or an edge (64 single-
-// precision rounding units of the coordinates involved), every triangle around that vertex or across that
-// edge; the chosen one is the candidate the point lies deepest inside (the largest of its smallest
-// distances to the triangle's edges, a point outside an edge counting negative), ties by lower index.
+// The hit of the ray o + t d (mesh frame, |d| = 1) given that Embree reported `triangle`. When the hit is
+// certain -- farther than the zone (32 single-precision rounding units of the largest coordinate involved)
+// from every edge of the triangle, and not grazing (cosine to its normal >= 0.05) -- it is that triangle's.
+// Otherwise the candidates are the triangles around its three vertices (its 1-ring; vertices at one
+// position are one) that the ray meets inside them within the zone, near Embree's distance (within 4
+// zones / cosine); the chosen one is the nearest, ties by the deeper inside (the larger of the smallest
+// distances to a triangle's edges), then by the lower index.
 RefinedHit refine_hit(const RefinementMesh& mesh, std::uint32_t triangle, const double o[3], const double d[3]);
 
 }  // namespace hadal::geometry
