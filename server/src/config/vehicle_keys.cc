@@ -5,6 +5,7 @@
 #include "hadal/config/entry_keys.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/actuator_kinds.h"
+#include "hadal/physics/articulation.h"
 #include "hadal/physics/control_vector.h"
 #include "hadal/sensors/sensor_kinds.h"
 
@@ -123,6 +124,7 @@ bool read_actuator_list(const Value& value, VehicleDefinition& d, VehicleContext
 // What the sensors and lights of a definition refer to: its links and actuators.
 void refer_to(const VehicleDefinition& d, VehicleContext& c) {
   c.link_names = d.link_names;
+  c.links = &d.links;
   c.actuator_names = d.control_names ? d.actuator_names : std::vector<std::string>();
   c.actuator_types = d.control_names ? d.actuator_types : std::vector<std::string>();
 }
@@ -163,8 +165,11 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
           d.link_names.emplace();
           c.names_taken.clear();
           for (const Value& item : *items) {
+            c.link_names = d.link_names;  // the earlier links: a `parent` names one of them
             LinkSpec link = geometry::link_keys().defaults();
             ok &= geometry::link_keys().read(item, &link, c);
+            // `pose` of a link with a parent is X_PL: X_BL at q = 0 through the parent's.
+            if (link.parent >= 0) link.X_BL = d.links[static_cast<std::size_t>(link.parent)].X_BL * link.X_BL;
             if (!link.name.empty() && d.link_names) {
               d.link_names->push_back(link.name);
             } else {
@@ -173,9 +178,20 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
             d.links.push_back(std::move(link));
           }
           c.link_names = d.link_names;
+          if (ok) {
+            // The tree as the physics builds it (physics/articulation.h): each moving body's mass and
+            // inertia, joint axes and limits; the message names the link.
+            try {
+              const physics::Articulation articulation(d.links);
+            } catch (const std::invalid_argument& e) {
+              value.error(std::string(e.what()).substr(std::string("articulation: ").size()));
+              ok = false;
+            }
+          }
           return ok;
         })
-        .doc("rigid bodies; links[0] is the base link, all are rigidly attached to B");
+        .doc("rigid bodies; links[0] is the base link, the others hang on it or on a `parent` through a `joint` "
+             "(fixed by default)");
     physics::ActuatorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
       t.custom(std::string(Kind::kListKey), read_actuator_list<Kind>, "", "list of maps")

@@ -413,5 +413,107 @@ TEST_F(ScenarioLoaderTest, AStaticVehicleTakesNoInitialVelocity) {
   EXPECT_TRUE(result.model->vehicles[0].is_static);
 }
 
+// Links on joints: `parent` names an earlier link, `pose` is then in the parent's frame (X_BL composes),
+// `joint` gives the type, axis, limits in degrees (revolute) or metres (prismatic), damping, friction and
+// the initial position.
+TEST_F(ScenarioLoaderTest, LinksHangOnTheirParentsThroughJoints) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
+      - name: shoulder
+        pose: {position: [1, 0, 0]}
+        mass: 5
+        inertia: {ixx: 0.1, iyy: 0.1, izz: 0.1}
+        joint: {type: revolute, axis: [0, 0, 2], lower_deg: -90, upper_deg: 45, damping: 3, friction: 0.5,
+                initial_deg: 30}
+      - name: slide
+        parent: shoulder
+        pose: {position: [0.5, 0, 0], rpy_deg: [0, 0, 90]}
+        mass: 1
+        inertia: {ixx: 0.01, iyy: 0.01, izz: 0.01}
+        joint: {type: prismatic, axis: [1, 0, 0], lower: 0, upper: 0.2}
+      - {name: camera_mount, parent: slide, pose: {position: [0, 0.1, 0]}, mass: 0.1,
+         inertia: {ixx: 0.001, iyy: 0.001, izz: 0.001}}
+)");
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& diagnostic : result.errors) ADD_FAILURE() << diagnostic.format();
+  ASSERT_TRUE(result.ok());
+  const std::vector<LinkSpec>& links = result.model->vehicles[0].links;
+  ASSERT_EQ(links.size(), 4u);
+  EXPECT_EQ(links[1].parent, -1);
+  EXPECT_EQ(links[1].joint.type, JointType::kRevolute);
+  EXPECT_EQ(links[1].joint.axis_L, Eigen::Vector3d(0, 0, 2));
+  EXPECT_NEAR(links[1].joint.lower, -0.5 * kPi, 1e-15);
+  EXPECT_NEAR(links[1].joint.upper, 0.25 * kPi, 1e-15);
+  EXPECT_NEAR(links[1].joint.initial, kPi / 6, 1e-15);
+  EXPECT_EQ(links[1].joint.damping, 3.0);
+  EXPECT_EQ(links[1].joint.friction, 0.5);
+  EXPECT_EQ(links[2].parent, 1);
+  EXPECT_EQ(links[2].joint.type, JointType::kPrismatic);
+  EXPECT_EQ(links[2].joint.upper, 0.2);
+  // X_BL = X_B,shoulder X_shoulder,slide: (1.5, 0, 0), turned 90 deg about z; the mount 0.1 m along the
+  // slide's y, which is B's -x.
+  EXPECT_TRUE(links[2].X_BL.translation().isApprox(Eigen::Vector3d(1.5, 0, 0), kTol));
+  EXPECT_TRUE(links[3].X_BL.translation().isApprox(Eigen::Vector3d(1.4, 0, 0), kTol));
+  EXPECT_EQ(links[3].parent, 2);
+  EXPECT_EQ(links[3].joint.type, JointType::kFixed);
+}
+
+// A parent that is not an earlier link (missing, itself or later: no cycle can be written), a joint on the
+// base link, a zero axis, limits the wrong way round, an inertia that is zero about an axis, and a sensor on
+// a moving link: each refused at its key.
+TEST_F(ScenarioLoaderTest, BadJointsAreRefusedAtTheirKeys) {
+  const std::string head = R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
+)";
+  const std::string missing = write("m.yaml", head + R"(      - {name: arm, parent: elbow, mass: 1,
+         inertia: {ixx: 1, iyy: 1, izz: 1}}
+      - {name: elbow, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
+)");
+  EXPECT_EQ(errors_of(missing), (Lines{missing + ":7:29: error: vehicles[0].links[1].parent: no earlier link named "
+                                                 "'elbow' (a parent comes before its children in `links`; earlier: "
+                                                 "frame)"}));
+  const std::string base = write("b.yaml", R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}, joint: {type: revolute, axis: [0, 0, 1]}}
+)");
+  EXPECT_EQ(errors_of(base), (Lines{base + ":6:72: error: vehicles[0].links[0].joint: links[0] is the base link: "
+                                           "it has no joint"}));
+  const std::string joint = write("j.yaml", head + R"(      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1},
+         joint: {type: revolute, axis: [0, 0, 0], lower_deg: 10, upper_deg: -10}}
+)");
+  EXPECT_EQ(errors_of(joint),
+            (Lines{joint + ":8:34: error: vehicles[0].links[1].joint.axis: must not be zero",
+                   joint + ":8:66: error: vehicles[0].links[1].joint.upper_deg: must not be below the lower limit"}));
+  const std::string point = write("p.yaml", head + R"(      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 0},
+         joint: {type: revolute, axis: [0, 0, 1]}}
+)");
+  EXPECT_EQ(errors_of(point), (Lines{point + ":7:61: error: vehicles[0].links[1].inertia.izz: must be > 0 (got 0)"}));
+  const std::string flat = write("f.yaml", head + R"(      - {name: arm, mass: 1,
+         inertia: {ixx: 1, iyy: 1, izz: 1, ixy: 1},
+         joint: {type: revolute, axis: [0, 0, 1]}}
+)");
+  EXPECT_EQ(errors_of(flat), (Lines{flat + ":8:19: error: vehicles[0].links[1].inertia: must be positive definite "
+                                           "(principal moments 0, 1, 2)"}));
+  const std::string sensor = write("s.yaml", head + R"(      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1},
+         joint: {type: continuous, axis: [0, 0, 1]}}
+    sensors:
+      - {name: depth, type: pressure, link: arm}
+)");
+  EXPECT_EQ(errors_of(sensor),
+            (Lines{sensor + ":10:45: error: vehicles[0].sensors[0].link: link 'arm' moves on a joint: sensors, "
+                            "actuators and lights on moving links are not supported yet"}));
+}
+
 }  // namespace
 }  // namespace hadal::config

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -10,6 +11,27 @@
 #include "hadal/geometry/mesh_import.h"
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/mesh_transform.h"
+
+namespace hadal {
+
+const char* to_string(JointType type) {
+  switch (type) {
+    case JointType::kFixed: return "fixed";
+    case JointType::kRevolute: return "revolute";
+    case JointType::kContinuous: return "continuous";
+    case JointType::kPrismatic: return "prismatic";
+  }
+  return "?";
+}
+
+bool link_moves(const std::vector<LinkSpec>& links, int index) {
+  for (int i = index; i >= 0 && i < static_cast<int>(links.size()); i = links[static_cast<std::size_t>(i)].parent) {
+    if (links[static_cast<std::size_t>(i)].joint.type != JointType::kFixed) return true;
+  }
+  return false;
+}
+
+}  // namespace hadal
 
 namespace hadal::geometry {
 namespace {
@@ -194,13 +216,90 @@ const KeyTable<AppearanceSpec>& appearance_keys() {
   });
 }
 
+const KeyTable<JointSpec>& joint_keys() {
+  return declare_keys<JointSpec>([](KeyTable<JointSpec>& t) {
+    t.describe("links[].joint",
+               "the joint to the parent link, at this link's origin (URDF's convention); q = 0 at `pose`");
+    t.choice("type", &JointSpec::type,
+             {{"fixed", JointType::kFixed, "rigidly on the parent"},
+              {"revolute", JointType::kRevolute, "turns about `axis` within its limits"},
+              {"continuous", JointType::kContinuous, "turns about `axis` without limits"},
+              {"prismatic", JointType::kPrismatic, "slides along `axis` within its limits"}})
+        .required()
+        .selects("joint type")
+        .doc("how the link moves relative to its parent");
+    t.vector("axis", &JointSpec::axis_L).only_for({"revolute", "continuous", "prismatic"})
+        .doc("in the link's frame L (normalised); q > 0 turns right-handed about it or slides along it");
+    t.number("lower_deg", &JointSpec::lower).only_for({"revolute"}).degrees().default_text("unlimited")
+        .doc("lower limit of q");
+    t.number("upper_deg", &JointSpec::upper).only_for({"revolute"}).degrees().default_text("unlimited")
+        .doc("upper limit of q");
+    t.number("lower", &JointSpec::lower).only_for({"prismatic"}).unit("m").default_text("unlimited")
+        .doc("lower limit of q");
+    t.number("upper", &JointSpec::upper).only_for({"prismatic"}).unit("m").default_text("unlimited")
+        .doc("upper limit of q");
+    t.number("initial_deg", &JointSpec::initial).only_for({"revolute", "continuous"}).degrees()
+        .doc("q at the start and after a reset");
+    t.number("initial", &JointSpec::initial).only_for({"prismatic"}).unit("m")
+        .doc("q at the start and after a reset");
+    t.number("damping", &JointSpec::damping).only_for({"revolute", "continuous", "prismatic"})
+        .unit("N m s/rad or N s/m").range(Range::non_negative())
+        .doc("viscous: a torque (force) -damping q_dot");
+    t.number("friction", &JointSpec::friction).only_for({"revolute", "continuous", "prismatic"})
+        .unit("N m or N").range(Range::non_negative())
+        .doc("Coulomb: holds the joint against smaller torques (forces), opposes its motion with this one");
+    t.check([](const KeyReads& reads, JointSpec& joint, NoContext&) {
+      if (joint.axis_L.norm() > 0.0) return true;
+      reads.error_at_key("axis", "must not be zero");
+      return false;
+    });
+    t.check([](const KeyReads& reads, JointSpec& joint, NoContext&) {
+      if (!(joint.lower > joint.upper)) return true;
+      reads.error_at_key(reads.has("upper_deg") ? "upper_deg" : "upper", "must not be below the lower limit");
+      return false;
+    });
+    t.check([](const KeyReads& reads, JointSpec& joint, NoContext&) {
+      if (!(joint.initial < joint.lower || joint.initial > joint.upper)) return true;
+      reads.error_at_key(reads.has("initial_deg") ? "initial_deg" : "initial", "must be within the joint's limits");
+      return false;
+    });
+  });
+}
+
 }  // namespace
 
 const KeyTable<LinkSpec, VehicleContext>& link_keys() {
   return declare_keys<LinkSpec, VehicleContext>([](KeyTable<LinkSpec, VehicleContext>& t) {
-    t.describe("links[]", "a rigid body of the vehicle, rigidly attached to B");
+    t.describe("links[]", "a rigid body of the vehicle: on the base link, or on a `parent` through a `joint`");
     config::declare_name_key(t, "link", &LinkSpec::name).doc("unique within the vehicle");
-    t.pose("pose", &LinkSpec::X_BL).doc("X_BL, the link frame L in B");
+    t.custom(
+         "parent",
+         [](const Value& value, LinkSpec& link, VehicleContext& c) {
+           const auto name = value.string();
+           if (!name) return false;
+           if (!c.link_names) return true;  // an earlier link was unusable (reported already)
+           const std::vector<std::string>& earlier = *c.link_names;
+           if (earlier.empty()) {
+             value.error("links[0] is the base link: it has no parent");
+             return false;
+           }
+           const auto it = std::find(earlier.begin(), earlier.end(), *name);
+           if (it == earlier.end()) {
+             value.error("no earlier link named " + config::quoted(*name) +
+                         " (a parent comes before its children in `links`" +
+                         "; earlier: " + config::join_names(earlier) + ")");
+             return false;
+           }
+           link.parent = static_cast<int>(it - earlier.begin());
+           return true;
+         },
+         config::kNameSchema, "string")
+        .default_text("the base link (links[0])")
+        .doc("the link this one hangs on, through `joint`; not for links[0]");
+    t.pose("pose", &LinkSpec::X_BL)
+        .doc("X_BL, the link frame L in B; with `parent`, X_PL in the parent's frame (at q = 0 of every joint)");
+    t.map("joint", &LinkSpec::joint, joint_keys()).default_text("fixed")
+        .doc("how the link moves relative to its parent (or B); not for links[0]");
     t.custom(
          "mesh", [](const Value& value, LinkSpec& link, VehicleContext&) { return read_link_mesh(value, link.mesh, true); },
          "", "map")
@@ -227,6 +326,11 @@ const KeyTable<LinkSpec, VehicleContext>& link_keys() {
         .doc("how the link looks to ray casts in place of its surface (open meshes are fine); the physics keeps "
              "`mesh` or `collisions`, mass and buoyancy ignore it");
     t.map("appearance", &LinkSpec::appearance, appearance_keys()).doc("how cameras and sonars see the link");
+    t.check([](const KeyReads& reads, LinkSpec&, VehicleContext& c) {
+      if (!reads.has("joint") || !c.link_names || !c.link_names->empty()) return true;
+      reads.error_at_key("joint", "links[0] is the base link: it has no joint");
+      return false;
+    });
     t.check([](const KeyReads& reads, LinkSpec& link, VehicleContext&) {
       bool ok = true;
       if (reads.has("density") && reads.ok("density")) {

@@ -155,6 +155,7 @@ TriangleMesh vehicle_mesh_B(const VehicleSpec& spec, int segments, bool seen) {
   TriangleMesh mesh_B;
   for (std::size_t k = 0; k < spec.links.size(); ++k) {
     const LinkSpec& link = spec.links[k];
+    if (seen && link_moves(spec.links, static_cast<int>(k))) continue;  // not drawn at q = 0 (header)
     const std::size_t first = mesh_B.num_triangles();
     const LinkMesh* own = seen ? link.seen_mesh() : (link.mesh && link.mesh->mesh ? &*link.mesh : nullptr);
     if (own) {

@@ -1,19 +1,17 @@
 #include "hadal/physics/articulation.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace hadal::physics {
 
-const char* to_string(JointType type) {
-  switch (type) {
-    case JointType::kFixed: return "fixed";
-    case JointType::kRevolute: return "revolute";
-    case JointType::kContinuous: return "continuous";
-    case JointType::kPrismatic: return "prismatic";
-  }
-  return "?";
+std::vector<LinkJoint> link_joints(const std::vector<LinkSpec>& links) {
+  std::vector<LinkJoint> joints;
+  joints.reserve(links.size());
+  for (const LinkSpec& link : links) joints.push_back(LinkJoint{link.parent, link.joint});
+  return joints;
 }
 
 namespace {
@@ -82,6 +80,16 @@ Articulation::Articulation(const std::vector<LinkSpec>& links, const std::vector
       body.mass_K = composite_mass_properties(in_K);
     } catch (const std::invalid_argument& e) {
       fail(static_cast<std::size_t>(body.links.front()), std::string("the body it starts: ") + e.what());
+    }
+    // A moving body turns (or is turned) about every axis: Featherstone's articulated inertia needs each
+    // principal moment > 0 (a point mass on a joint through it would have none about the joint).
+    if (k > 0 && !(body.mass_K.I_principal.minCoeff() > 0.0)) {
+      std::ostringstream moments;
+      moments << body.mass_K.I_principal.x() << ", " << body.mass_K.I_principal.y() << ", "
+              << body.mass_K.I_principal.z();
+      fail(static_cast<std::size_t>(body.links.front()),
+           "the body it starts needs a positive moment of inertia about every axis (principal moments " +
+               moments.str() + " kg m^2)");
     }
   }
 }

@@ -171,6 +171,12 @@ TEST(ArticulationTest, BadTreesAreClearErrors) {
   links[1].mass = 0.0;
   EXPECT_EQ(error_of(links, arm.joints).rfind("articulation: link 'upper': the body it starts: composite mass", 0), 0u)
       << error_of(links, arm.joints);
+  links = arm.links;
+  links[1].I_LLcm_L = Eigen::Vector3d(0.0, 0.2, 0.2).asDiagonal();  // no moment about x
+  EXPECT_EQ(error_of(links, arm.joints).rfind("articulation: link 'upper': the body it starts needs a positive "
+                                              "moment of inertia about every axis", 0),
+            0u)
+      << error_of(links, arm.joints);
 }
 
 }  // namespace

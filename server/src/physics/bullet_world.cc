@@ -1,11 +1,17 @@
 #include "hadal/physics/bullet_world.h"
 
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
 #include <vector>
 
 #include "hadal/geometry/triangle_mesh.h"
+#include "hadal/physics/articulation.h"
+#include "hadal/physics/multibody.h"
 
 namespace hadal::physics {
 
@@ -17,6 +23,14 @@ constexpr double kRestitution = 0.0;
 constexpr double kSeabedMeshMargin = 0.001;  // [m]
 constexpr double kMaxMargin = 0.01;      // [m]
 constexpr double kMarginFraction = 0.2;  // of the smallest half extent
+constexpr double kPlaceholderRadius = 0.01;  // [m] the collider of a body without shapes (collides with nothing)
+
+bool is_articulated(const VehicleSpec& spec) {
+  for (std::size_t i = 0; i < spec.links.size(); ++i) {
+    if (link_moves(spec.links, static_cast<int>(i))) return true;
+  }
+  return false;
+}
 
 btVector3 to_bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
 
@@ -71,6 +85,13 @@ std::unique_ptr<btCollisionShape> make_shape(const CollisionShape& shape) {
 }  // namespace
 
 struct BulletWorld::Impl {
+  // A multibody collider and the collision filter it joins the world with.
+  struct Collider {
+    std::unique_ptr<btCollisionShape> shape;  // the body's compound, or the placeholder sphere
+    std::unique_ptr<btMultiBodyLinkCollider> object;
+    int group = btBroadphaseProxy::DefaultFilter;
+    int mask = btBroadphaseProxy::AllFilter;
+  };
   struct Vehicle {
     MassProperties mass;
     Eigen::Isometry3d X_PB;
@@ -79,6 +100,13 @@ struct BulletWorld::Impl {
     std::unique_ptr<btRigidBody> body;
     bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
     bool is_static = false;     // VehicleSpec::is_static
+    // Articulated vehicles only (body is null then): the tree, Bullet's multibody, one collider per body
+    // (body order), the joints' limit and friction constraints, and each body's frame K in W as last set.
+    std::unique_ptr<Articulation> articulation;
+    MultiBodyPtr multibody;
+    std::vector<Collider> colliders;
+    std::vector<MultiBodyConstraintPtr> constraints;
+    std::vector<Eigen::Isometry3d> X_WK;
   };
   // The collision group of static vehicles (Bullet's first free custom group after its own five).
   static constexpr int kStaticVehicleFilter = btBroadphaseProxy::CharacterFilter << 1;
@@ -86,8 +114,10 @@ struct BulletWorld::Impl {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  // A multibody world and solver only for a model with an articulated vehicle.
+  std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
+  std::unique_ptr<btDiscreteDynamicsWorld> world;
+  btMultiBodyDynamicsWorld* multibody_world = nullptr;  // `world`, when it is one
 
   // The seabed: a plane, or a BVH over the model's seabed mesh (shared, never modified, so Bullet
   // reads its float vertex and index arrays in place).
@@ -97,34 +127,107 @@ struct BulletWorld::Impl {
   std::unique_ptr<btRigidBody> seabed;
   std::vector<Vehicle> vehicles;
 
+  explicit Impl(bool multibodies) {
+    if (multibodies) {
+      auto mb_solver = std::make_unique<btMultiBodyConstraintSolver>();
+      auto mb_world = std::make_unique<btMultiBodyDynamicsWorld>(&dispatcher, &broadphase, mb_solver.get(),
+                                                                 &configuration);
+      multibody_world = mb_world.get();
+      solver = std::move(mb_solver);
+      world = std::move(mb_world);
+    } else {
+      solver = std::make_unique<btSequentialImpulseConstraintSolver>();
+      world = std::make_unique<btDiscreteDynamicsWorld>(&dispatcher, &broadphase, solver.get(), &configuration);
+    }
+  }
+
   void add_bodies() {
-    world.addRigidBody(seabed.get());
+    world->addRigidBody(seabed.get());
     // The seabed is static (StaticFilter, colliding with everything else); a vehicle on soil contact
     // leaves static bodies out of its mask, so Bullet never pairs it with the seabed.
     for (Vehicle& v : vehicles) {
-      if (v.is_static) {
+      if (v.multibody) {
+        multibody_world->addMultiBody(v.multibody.get());
+        for (Collider& c : v.colliders) world->addCollisionObject(c.object.get(), c.group, c.mask);
+        for (auto& constraint : v.constraints) multibody_world->addMultiBodyConstraint(constraint.get());
+      } else if (v.is_static) {
         // Its own group, so that a vehicle on soil contact (which leaves StaticFilter out) still meets it;
         // never paired with the seabed (or another static body).
-        world.addRigidBody(v.body.get(), kStaticVehicleFilter,
-                           btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kStaticVehicleFilter);
+        world->addRigidBody(v.body.get(), kStaticVehicleFilter,
+                            btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kStaticVehicleFilter);
       } else if (v.soil_contact) {
-        world.addRigidBody(v.body.get(), btBroadphaseProxy::DefaultFilter,
-                           btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+        world->addRigidBody(v.body.get(), btBroadphaseProxy::DefaultFilter,
+                            btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
       } else {
-        world.addRigidBody(v.body.get());
+        world->addRigidBody(v.body.get());
       }
     }
   }
 
-  ~Impl() {
-    for (Vehicle& v : vehicles) world.removeRigidBody(v.body.get());
-    world.removeRigidBody(seabed.get());
+  void remove_bodies() {
+    for (Vehicle& v : vehicles) {
+      if (v.multibody) {
+        for (auto& constraint : v.constraints) multibody_world->removeMultiBodyConstraint(constraint.get());
+        for (Collider& c : v.colliders) world->removeCollisionObject(c.object.get());
+        multibody_world->removeMultiBody(v.multibody.get());
+      } else {
+        world->removeRigidBody(v.body.get());
+      }
+    }
+    world->removeRigidBody(seabed.get());
+  }
+
+  ~Impl() { remove_bodies(); }
+
+  // The articulated vehicle's multibody, colliders and constraints.
+  void make_articulated(Vehicle& v, const VehicleSpec& spec, double dt) {
+    v.articulation = std::make_unique<Articulation>(spec.links);
+    const Articulation& a = *v.articulation;
+    v.mass = a.body(0).mass_K;
+    v.X_PB = v.mass.X_BP.inverse();
+    v.multibody = make_multibody(a, spec.is_static);
+    for (int k = 0; k < a.num_bodies(); ++k) {
+      const Articulation::Body& body = a.body(k);
+      const Eigen::Isometry3d X_PK = body.mass_K.X_BP.inverse();
+      Collider c;
+      auto compound = std::make_unique<btCompoundShape>();
+      for (int l : body.links) {
+        for (const CollisionShape& shape : spec.links[static_cast<std::size_t>(l)].collisions) {
+          v.children.push_back(make_shape(shape));
+          compound->addChildShape(to_bt(X_PK * a.X_KL(l) * shape.X_LG), v.children.back().get());
+        }
+      }
+      if (compound->getNumChildShapes() > 0) {
+        c.shape = std::move(compound);
+        if (k == 0 && spec.is_static) {
+          c.group = kStaticVehicleFilter;
+          c.mask = btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kStaticVehicleFilter;
+        }
+      } else {
+        c.shape = std::make_unique<btSphereShape>(kPlaceholderRadius);
+        c.mask = 0;
+      }
+      c.object = std::make_unique<btMultiBodyLinkCollider>(v.multibody.get(), k - 1);
+      c.object->setCollisionShape(c.shape.get());
+      c.object->setFriction(kVehicleFriction);
+      c.object->setRestitution(kRestitution);
+      if (k == 0) {
+        v.multibody->setBaseCollider(c.object.get());
+      } else {
+        v.multibody->getLink(k - 1).m_collider = c.object.get();
+      }
+      v.colliders.push_back(std::move(c));
+    }
+    v.constraints = make_joint_limits(*v.multibody, a);
+    for (auto& friction : make_joint_friction(*v.multibody, a, dt)) v.constraints.push_back(std::move(friction));
   }
 };
 
-BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
+BulletWorld::BulletWorld(const Model& model)
+    : impl_(std::make_unique<Impl>(std::any_of(model.vehicles.begin(), model.vehicles.end(),
+                                               [](const VehicleSpec& spec) { return is_articulated(spec); }))) {
   Impl& w = *impl_;
-  w.world.setGravity(to_bt(model.world.gravity_W));
+  w.world->setGravity(to_bt(model.world.gravity_W));
 
   const SeabedSpec& seabed = model.world.seabed;
   if (seabed.type == SeabedType::kPlane || !seabed.mesh) {
@@ -156,6 +259,12 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
   for (const VehicleSpec& spec : model.vehicles) {
     Impl::Vehicle v;
     v.soil_contact = spec.seabed_contact == SeabedContact::kSoil;
+    v.is_static = spec.is_static;
+    if (is_articulated(spec)) {
+      w.make_articulated(v, spec, model.world.step_size());
+      w.vehicles.push_back(std::move(v));
+      continue;
+    }
     v.mass = composite_mass_properties(spec.links);
     v.X_PB = v.mass.X_BP.inverse();
     v.compound = std::make_unique<btCompoundShape>();
@@ -166,7 +275,6 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
       }
     }
     // A static vehicle (VehicleSpec::is_static) is a static Bullet body: mass 0, never integrated.
-    v.is_static = spec.is_static;
     btRigidBody::btRigidBodyConstructionInfo info(spec.is_static ? 0.0 : v.mass.mass, nullptr, v.compound.get(),
                                                   spec.is_static ? btVector3(0, 0, 0) : to_bt(v.mass.I_principal));
     info.m_friction = kVehicleFriction;
@@ -184,7 +292,13 @@ BulletWorld::BulletWorld(const Model& model) : impl_(std::make_unique<Impl>()) {
     RigidBodyState initial;
     initial.X_WB = spec.X_WB_initial;
     initial.v_WB = spec.v_WB_initial;
-    set_body_state(i, initial);
+    if (const Articulation* a = articulation(i)) {
+      Eigen::VectorXd q(a->num_dofs());
+      for (int k = 1; k < a->num_bodies(); ++k) q[k - 1] = a->body(k).joint.initial;
+      set_articulated_state(i, initial, q, Eigen::VectorXd::Zero(a->num_dofs()));
+    } else {
+      set_body_state(i, initial);
+    }
   }
 }
 
@@ -196,19 +310,35 @@ const MassProperties& BulletWorld::mass_properties(int vehicle) const {
   return impl_->vehicles[vehicle].mass;
 }
 
+const Articulation* BulletWorld::articulation(int vehicle) const {
+  return impl_->vehicles[vehicle].articulation.get();
+}
+
 RigidBodyState BulletWorld::body_state(int vehicle) const {
   const Impl::Vehicle& v = impl_->vehicles[vehicle];
-  const Eigen::Isometry3d X_WP = to_eigen(v.body->getCenterOfMassTransform());
+  Eigen::Isometry3d X_WP;
   RigidBodyState out;
+  Eigen::Vector3d v_WP;
+  if (v.multibody) {
+    X_WP = to_eigen(v.multibody->getBaseWorldTransform());
+    out.w_WB = to_eigen(v.multibody->getBaseOmega());
+    v_WP = to_eigen(v.multibody->getBaseVel());
+  } else {
+    X_WP = to_eigen(v.body->getCenterOfMassTransform());
+    out.w_WB = to_eigen(v.body->getAngularVelocity());
+    v_WP = to_eigen(v.body->getLinearVelocity());
+  }
   out.X_WB = X_WP * v.X_PB;
-  out.w_WB = to_eigen(v.body->getAngularVelocity());
-  out.v_WB = to_eigen(v.body->getLinearVelocity()) +
-             out.w_WB.cross(out.X_WB.translation() - X_WP.translation());
+  out.v_WB = v_WP + out.w_WB.cross(out.X_WB.translation() - X_WP.translation());
   return out;
 }
 
 void BulletWorld::set_body_state(int vehicle, const RigidBodyState& body) {
   Impl::Vehicle& v = impl_->vehicles[vehicle];
+  if (v.multibody) {
+    set_articulated_state(vehicle, body, joint_positions(vehicle), joint_velocities(vehicle));
+    return;
+  }
   const Eigen::Isometry3d X_WP = body.X_WB * v.mass.X_BP;
   const Eigen::Vector3d v_WP =
       body.v_WB + body.w_WB.cross(X_WP.translation() - body.X_WB.translation());
@@ -222,34 +352,93 @@ void BulletWorld::set_body_state(int vehicle, const RigidBodyState& body) {
   }
 }
 
+void BulletWorld::set_articulated_state(int vehicle, const RigidBodyState& body, const Eigen::VectorXd& q,
+                                        const Eigen::VectorXd& qd) {
+  Impl::Vehicle& v = impl_->vehicles[vehicle];
+  set_multibody_state(*v.multibody, *v.articulation, body.X_WB, body.v_WB, body.w_WB, q, qd);
+  v.multibody->clearForcesAndTorques();
+  v.X_WK = multibody_poses_W(*v.multibody, *v.articulation);
+  // The colliders' transforms from the new state (Bullet refreshes them only within a step).
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  v.multibody->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+}
+
+Eigen::VectorXd BulletWorld::joint_positions(int vehicle) const {
+  const Impl::Vehicle& v = impl_->vehicles[vehicle];
+  return v.multibody ? multibody_joint_positions(*v.multibody) : Eigen::VectorXd();
+}
+
+Eigen::VectorXd BulletWorld::joint_velocities(int vehicle) const {
+  const Impl::Vehicle& v = impl_->vehicles[vehicle];
+  return v.multibody ? multibody_joint_velocities(*v.multibody) : Eigen::VectorXd();
+}
+
 void BulletWorld::clear_contacts() {
   Impl& w = *impl_;
-  for (Impl::Vehicle& v : w.vehicles) w.world.removeRigidBody(v.body.get());
-  w.world.removeRigidBody(w.seabed.get());
+  w.remove_bodies();
   w.broadphase.resetPool(&w.dispatcher);  // empty now: resets the trees and stage counters
-  w.solver.reset();
+  w.solver->reset();
   w.add_bodies();
 }
 
 void BulletWorld::add_force_W(int vehicle, const Eigen::Vector3d& f_W,
                               const Eigen::Vector3d& p_WQ) {
-  btRigidBody& body = *impl_->vehicles[vehicle].body;
+  Impl::Vehicle& v = impl_->vehicles[vehicle];
+  if (v.multibody) {
+    add_body_force_W(vehicle, 0, f_W, p_WQ);
+    return;
+  }
+  btRigidBody& body = *v.body;
   body.applyForce(to_bt(f_W), to_bt(p_WQ) - body.getCenterOfMassPosition());
 }
 
 void BulletWorld::add_torque_W(int vehicle, const Eigen::Vector3d& tau_W) {
-  impl_->vehicles[vehicle].body->applyTorque(to_bt(tau_W));
+  Impl::Vehicle& v = impl_->vehicles[vehicle];
+  if (v.multibody) {
+    add_body_torque_W(vehicle, 0, tau_W);
+    return;
+  }
+  v.body->applyTorque(to_bt(tau_W));
 }
 
-void BulletWorld::step(double dt) { impl_->world.stepSimulation(dt, 0, dt); }
+void BulletWorld::add_body_force_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WQ) {
+  Impl::Vehicle& v = impl_->vehicles[vehicle];
+  physics::add_body_force_W(*v.multibody, *v.articulation, v.X_WK, body, f_W, p_WQ);
+}
+
+void BulletWorld::add_body_torque_W(int vehicle, int body, const Eigen::Vector3d& tau_W) {
+  btMultiBody& mb = *impl_->vehicles[vehicle].multibody;
+  if (body == 0) {
+    mb.addBaseTorque(to_bt(tau_W));
+  } else {
+    mb.addLinkTorque(body - 1, to_bt(tau_W));
+  }
+}
+
+void BulletWorld::add_joint_torque(int vehicle, int joint, double tau) {
+  impl_->vehicles[vehicle].multibody->addJointTorque(joint, tau);
+}
+
+void BulletWorld::step(double dt) {
+  impl_->world->stepSimulation(dt, 0, dt);
+  for (Impl::Vehicle& v : impl_->vehicles) {
+    if (v.multibody) v.X_WK = multibody_poses_W(*v.multibody, *v.articulation);
+  }
+}
 
 int BulletWorld::num_contact_points(int vehicle) const {
-  const btRigidBody* body = impl_->vehicles[vehicle].body.get();
+  const Impl::Vehicle& v = impl_->vehicles[vehicle];
+  const auto is_vehicle = [&](const btCollisionObject* object) {
+    if (!v.multibody) return object == v.body.get();
+    return std::any_of(v.colliders.begin(), v.colliders.end(),
+                       [&](const Impl::Collider& c) { return object == c.object.get(); });
+  };
   btCollisionDispatcher& dispatcher = impl_->dispatcher;
   int count = 0;
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-    if (manifold->getBody0() == body || manifold->getBody1() == body) {
+    if (is_vehicle(manifold->getBody0()) || is_vehicle(manifold->getBody1())) {
       count += manifold->getNumContacts();
     }
   }

@@ -2,10 +2,12 @@
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 namespace hadal::physics {
@@ -128,6 +130,19 @@ std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& mb, const Art
     limits.emplace_back(new btMultiBodyJointLimitConstraint(&mb, k - 1, lower, upper));
   }
   return limits;
+}
+
+std::vector<MultiBodyConstraintPtr> make_joint_friction(btMultiBody& mb, const Articulation& articulation,
+                                                        double dt) {
+  std::vector<MultiBodyConstraintPtr> friction;
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    const double limit = articulation.body(k).joint.friction;
+    if (!(limit > 0.0)) continue;
+    auto motor = std::make_unique<btMultiBodyJointMotor>(&mb, k - 1, /*desiredVelocity=*/0.0, limit * dt);
+    motor->setVelocityTarget(0.0, /*kd=*/1.0);  // the whole rate error in one step, within the impulse
+    friction.emplace_back(motor.release());
+  }
+  return friction;
 }
 
 void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {

@@ -7,6 +7,7 @@
 
 #include "hadal/config/key_table.h"
 #include "hadal/config/vehicle_context.h"
+#include "hadal/geometry/link_spec.h"
 
 namespace hadal::config {
 
@@ -36,6 +37,12 @@ typename KeyTable<T, VehicleContext>::Key declare_link_key(KeyTable<T, VehicleCo
       "link",
       [access](const Value& value, T& out, VehicleContext& context) {
         const auto index = read_link_reference(value, context.link_names);
+        if (index && context.links && link_moves(*context.links, *index)) {
+          // Issue 40's first part: mounts follow B only (docs/ARCHITECTURE.md, "Articulated vehicles").
+          value.error("link " + quoted(*value.string()) +
+                      " moves on a joint: sensors, actuators and lights on moving links are not supported yet");
+          return false;
+        }
         if (index) std::invoke(access, out) = *index;
         return index.has_value() || !context.link_names;
       },

@@ -73,16 +73,18 @@ class Simulation {
   const SimState& state() const { return state_; }
   double time() const { return state_.time; }
 
-  // Composite mass properties of a vehicle (centre of mass, inertia, principal frame), index < count.
+  // Composite mass properties of a vehicle (centre of mass, inertia, principal frame), index < count; of an
+  // articulated vehicle's base body (the links that do not move relative to B).
   const physics::MassProperties& mass_properties(int vehicle_index) const;
   // The vehicle's added mass at the surface, M_A0 about its centre of mass in B axes (zero for
-  // added_mass.model none) [kg, kg m, kg m^2].
+  // added_mass.model none) [kg, kg m, kg m^2]; an articulated vehicle's base body's.
   const Matrix6d& added_mass(int vehicle_index) const;
   // The soil's wrench on the vehicle in the last step (physics/terramechanics.h), or null for a vehicle
   // without soil contact.
   const physics::SoilWrench* soil_wrench(int vehicle_index) const;
   // The wrench the vehicle's force elements added up in the last step (actuators, fluid, Earth rotation,
-  // soil), at its centre of mass in W, before the added-mass conversion; gravity is not in it.
+  // soil), at its centre of mass in W, before the added-mass conversion; gravity is not in it. An
+  // articulated vehicle's base body's.
   const physics::StepWrench& applied_wrench(int vehicle_index) const;
   // The scenario's water column.
   const physics::Ocean& ocean() const { return *ocean_; }
@@ -113,6 +115,12 @@ class Simulation {
   // The validation alone: "" if set_controls would accept the command, else the reason.
   std::string check_controls(int vehicle_index, const std::vector<double>& controls) const;
 
+  // An articulated vehicle's joint efforts (physics/articulation.h): one torque [N m] or force [N] per
+  // moving joint in body order, each finite, held until the next. Returns "" when accepted, else the reason
+  // (an unknown vehicle, a vehicle without joints, the wrong length, a value that is not finite) with the
+  // state untouched.
+  std::string set_joint_efforts(int vehicle_index, const std::vector<double>& efforts);
+
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
 
@@ -138,7 +146,11 @@ class Simulation {
   void apply_forces(double t);
   void convert_for_added_mass(VehicleRuntime& runtime, const VehicleState& vehicle, Eigen::Vector3d& f_W,
                               Eigen::Vector3d& tau_W) const;
+  void apply_articulated_forces(std::size_t vehicle);
+  void hand_articulated_forces(std::size_t vehicle);
+  void write_body(int vehicle_index, const VehicleState& vehicle);
   void take_snapshot(double dt);
+  void keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle);
   void reset_non_finite_vehicles();
   void sample_sensors(double dt);
   template <class Kind>

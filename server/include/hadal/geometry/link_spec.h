@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -77,13 +78,35 @@ struct AppearanceSpec {
   std::optional<CheckerboardSpec> checkerboard;
 };
 
+// The joint between a link and its parent (YAML link.joint; physics/articulation.h builds the tree): URDF's
+// convention, the joint at the child link's origin, its axis in the child link's frame L. A joint's
+// coordinate q is an angle about the axis [rad] (revolute, continuous) or a distance along it [m]
+// (prismatic), zero at the link's `pose`, positive by the right-hand rule / along the axis.
+enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
+
+const char* to_string(JointType type);
+
+struct JointSpec {
+  JointType type = JointType::kFixed;
+  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();  // in the child link's frame; normalised on use
+  double lower = -std::numeric_limits<double>::infinity();  // [rad] or [m]
+  double upper = std::numeric_limits<double>::infinity();   // [rad] or [m]
+  double damping = 0.0;   // viscous [N m s/rad] or [N s/m]
+  double friction = 0.0;  // Coulomb [N m] or [N]
+  double initial = 0.0;   // q at the start and after a reset [rad] or [m]
+};
+
 struct LinkSpec {
   std::string name;
   double mass = 0.0;                                      // [kg], > 0
   double density = 0.0;  // [kg/m^3] the mass properties are the closed mesh's at this density; 0: given
   Eigen::Matrix3d I_LLcm_L = Eigen::Matrix3d::Identity();  // L about its centre of mass Lcm, L axes [kg m^2]
   Eigen::Vector3d p_LLcm = Eigen::Vector3d::Zero();       // centre of mass in L [m]
-  Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();  // link frame in the vehicle body frame
+  // The link frame in the vehicle body frame B, with every joint at q = 0 (YAML `pose` is X_PL, in the
+  // parent link's frame, for a link with a `parent`; the reader composes X_BL = X_BP X_PL).
+  Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+  int parent = -1;   // index of the parent link (an earlier one); -1: on the base link's body
+  JointSpec joint;   // to the parent (or to B): fixed unless given
   std::vector<CollisionShape> collisions;
   BuoyancySpec buoyancy;
   std::optional<LinkMesh> mesh;
@@ -99,6 +122,9 @@ struct LinkSpec {
     return mesh && mesh->mesh ? &*mesh : nullptr;
   }
 };
+
+// Whether links[index] moves relative to B: it or a link it hangs on has a joint that is not fixed.
+bool link_moves(const std::vector<LinkSpec>& links, int index);
 
 namespace geometry {
 // The keys of one entry of `links`. Reading imports the link's meshes and computes what they give (mass

@@ -49,7 +49,9 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 // coordinates come along (append_transformed), so a hit's RayHits::tex_u, tex_v are the link mesh's.
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
 // What ray casts see of the vehicle, in B: vehicle_surface_B with each link's `visual` mesh, where it has
-// one, in place of its surface (same material codes, the visual mesh's own materials).
+// one, in place of its surface (same material codes, the visual mesh's own materials). Links that move on
+// joints are left out: the ray-cast world and the viewer's scene hold one rigid mesh per vehicle (issue 40's
+// first part; docs/ARCHITECTURE.md, "Articulated vehicles").
 TriangleMesh vehicle_visual_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
 
 // The material code of vehicle_surface_B: link k's mesh material m (m < kLinkMaterialStride).

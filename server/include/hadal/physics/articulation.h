@@ -23,25 +23,15 @@
 
 namespace hadal::physics {
 
-enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
-
-const char* to_string(JointType type);
-
-struct JointSpec {
-  JointType type = JointType::kFixed;
-  Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();  // in the child link's frame; normalised on use
-  double lower = -std::numeric_limits<double>::infinity();  // [rad] or [m]
-  double upper = std::numeric_limits<double>::infinity();   // [rad] or [m]
-  double damping = 0.0;   // [N m s/rad] or [N s/m]
-  double friction = 0.0;  // Coulomb [N m] or [N]
-};
-
 // Where a link hangs: its parent link (an index into the vehicle's links, lower than its own; -1: on the
 // base, links[0]'s body) and the joint between them.
 struct LinkJoint {
   int parent = -1;
   JointSpec joint;
 };
+
+// The link-joint pairs of a vehicle's links (LinkSpec::parent and ::joint).
+std::vector<LinkJoint> link_joints(const std::vector<LinkSpec>& links);
 
 class Articulation {
  public:
@@ -65,6 +55,8 @@ class Articulation {
   // or a moving joint, an axis that is zero or not finite, lower > upper, a negative damping or friction,
   // a body without positive mass.
   Articulation(const std::vector<LinkSpec>& links, const std::vector<LinkJoint>& joints);
+  // From the links' own parent and joint.
+  explicit Articulation(const std::vector<LinkSpec>& links) : Articulation(links, link_joints(links)) {}
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
   // One coordinate per moving joint, in body order: body k > 0 has coordinate k - 1.

@@ -25,6 +25,15 @@
 // bit-identical continuations; a run restored while a vehicle is in contact can differ from the
 // uninterrupted run in the last bits (the contact cache is not part of SimState).
 //
+// Articulated vehicles (a link on a joint that is not fixed; physics/articulation.h) are one btMultiBody
+// each (physics/multibody.h: Featherstone's reduced coordinates, so joints are exact): body 0 is the base
+// body (frame B), its base fixed in W for a static vehicle; each body's shapes are one compound on its own
+// btMultiBodyLinkCollider (a body without shapes gets a small sphere that collides with nothing, since
+// Bullet solves joint limits and friction only for bodies with colliders); links do not collide with each
+// other. Joint limits and Coulomb friction are Bullet constraints; everything else (damping, efforts,
+// fluid) comes in as forces. The world is a btMultiBodyDynamicsWorld only when the model has an articulated
+// vehicle, so rigid-only scenes step exactly as before. The state adds the joint coordinates and rates.
+//
 // Contact parameters: friction 0.5 (vehicle) x 0.8 (seabed) = 0.4 combined (Bullet multiplies
 // them), restitution 0 -- a vehicle settling on sediment does not bounce. Collision margin:
 // Bullet's 0.04 m default is meant for metre-scale game objects; boxes and cylinders use
@@ -34,12 +43,15 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <vector>
 
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
 #include "hadal/physics/mass_properties.h"
 
 namespace hadal::physics {
+
+class Articulation;
 
 class BulletWorld {
  public:
@@ -51,7 +63,10 @@ class BulletWorld {
   BulletWorld& operator=(const BulletWorld&) = delete;
 
   int num_vehicles() const;
+  // The vehicle's; an articulated vehicle's base body's (Articulation::Body::mass_K, K = B).
   const MassProperties& mass_properties(int vehicle) const;
+  // The articulated vehicle's tree of bodies; null for a rigid vehicle.
+  const Articulation* articulation(int vehicle) const;
 
   // Pose and velocity of the vehicle's body frame B.
   RigidBodyState body_state(int vehicle) const;
@@ -60,6 +75,14 @@ class BulletWorld {
   // `body` must be finite (a NaN bounding box would poison the broadphase tree); re-enables a body
   // Bullet disabled after its bounding box overflowed.
   void set_body_state(int vehicle, const RigidBodyState& body);
+
+  // An articulated vehicle's state: B's pose and velocity and the joint coordinates and rates
+  // (Articulation::num_dofs() each); like set_body_state otherwise.
+  void set_articulated_state(int vehicle, const RigidBodyState& body, const Eigen::VectorXd& q,
+                             const Eigen::VectorXd& qd);
+  // Its joint coordinates and rates as Bullet holds them.
+  Eigen::VectorXd joint_positions(int vehicle) const;
+  Eigen::VectorXd joint_velocities(int vehicle) const;
 
   // Drops all contact manifolds and broadphase pairs and re-inserts the bodies in model order, so
   // collision bookkeeping no longer depends on history. Allocates; not for the per-step path.
@@ -71,10 +94,16 @@ class BulletWorld {
   // Pure moment [N m], expressed in W.
   void add_torque_W(int vehicle, const Eigen::Vector3d& tau_W);
 
+  // For an articulated vehicle's body k (Articulation's numbering; 0 is the base body): a force f_W at
+  // the world point p_WQ, a pure moment tau_W, and a torque (force) on moving joint j [N m or N].
+  void add_body_force_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WQ);
+  void add_body_torque_W(int vehicle, int body, const Eigen::Vector3d& tau_W);
+  void add_joint_torque(int vehicle, int joint, double tau);
+
   // Advances by exactly one step of dt seconds.
   void step(double dt);
 
-  // Number of contact points of the vehicle's body in the current contact manifolds.
+  // Number of contact points of the vehicle's body (any of its bodies) in the current contact manifolds.
   int num_contact_points(int vehicle) const;
 
  private:

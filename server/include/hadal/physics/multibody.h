@@ -51,6 +51,11 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articu
 // infinite side is left open (+-1e30). Bullet solves them only for a multibody with collision objects
 // (the base's and each link's btMultiBodyLinkCollider: only those put it in a simulation island).
 std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& body, const Articulation& articulation);
+// Each joint's Coulomb friction (JointSpec::friction > 0) as a Bullet motor driving its rate to zero with
+// an impulse of at most friction * dt per step: it holds the joint against smaller loads and opposes its
+// motion with the friction torque (force) otherwise. Solved with the contacts and limits (colliders needed,
+// as for the limits); for the caller to add and keep.
+std::vector<MultiBodyConstraintPtr> make_joint_friction(btMultiBody& body, const Articulation& articulation, double dt);
 // and each joint's viscous damping, -damping * qd as a joint torque for the next step (Bullet clears
 // applied torques after a step: call before every step).
 void add_joint_damping(btMultiBody& body, const Articulation& articulation);

@@ -1,0 +1,96 @@
+// The equations of motion of an articulated vehicle in generalised coordinates, and the added mass of its
+// bodies (issue 40; docs/ARCHITECTURE.md, "Articulated vehicles").
+//
+// Generalised velocity u = [v_W0; w_W0; qd]: the base body's centre-of-mass velocity and angular velocity
+// in W (what Bullet's btMultiBody holds for its base), then the joint rates (Articulation's order); a fixed
+// base drops the first six. Body k's centre-of-mass velocity and angular velocity in W are
+// [v_k; w_k] = J_k u (J_k 6 x n), its acceleration J_k u_dot + a_k with the velocity-product ("bias")
+// acceleration a_k = J_k_dot u. With each body's Newton-Euler equations at its centre of mass in W,
+//   M = sum_k J_k^T diag(m_k 1, I_k) J_k,     c = sum_k J_k^T [m_k a_k_lin; I_k a_k_ang + w_k x I_k w_k],
+// the motion is M u_dot + c = Q: the same equations Bullet's Featherstone step integrates (the test
+// compares the two step by step).
+//
+// Added mass (physics/added_mass.h has the single-body form): body k with M_A about its centre of mass in
+// K axes feels the fluid's reaction, in K axes,
+//   tau_A = -M_A nu_r_dot - C_A(nu_r) nu_r,   nu_r_dot = [R^T a_lin - w_K x v_rK; R^T a_ang],
+// nu_r = [R^T (v_k - v_water); R^T w_k] relative to a current constant in W, R = R_WK. The part linear in
+// u_dot moves to the left: (M + sum_k J_k^T R6 M_A R6^T J_k) u_dot = Q - c - c_A. Bullet knows only M, so
+// each body is handed its reaction tau_A at that u_dot as an applied wrench: Bullet's step then follows the
+// motion with the added mass (exact for any M_A, like the single-body conversion, and stable since no
+// acceleration is differentiated). Contact and joint-limit impulses see the rigid bodies' inertia only.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+#include "hadal/core/model.h"
+#include "hadal/physics/articulation.h"
+
+namespace hadal::physics {
+
+class ArticulatedDynamics {
+ public:
+  // A body's wrench at its centre of mass, in W: [f; tau].
+  using Wrench = Vector6d;
+
+  ArticulatedDynamics(const Articulation& articulation, bool fixed_base);
+
+  // Evaluates J_k, a_k, M and c at the bodies' poses X_WK (Articulation::poses_W) and B's velocity (of B's
+  // origin, in W) and the joint rates.
+  void update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
+              const Eigen::VectorXd& qd);
+
+  int size() const { return n_; }  // of u
+  const Eigen::VectorXd& u() const { return u_; }
+  const Eigen::MatrixXd& mass_matrix() const { return M_; }
+  const Eigen::VectorXd& bias() const { return c_; }
+  const Eigen::MatrixXd& jacobian(int k) const { return J_[static_cast<std::size_t>(k)]; }
+  // Body k's centre of mass in W, its velocity [v; w] in W, and its bias acceleration a_k.
+  const Eigen::Vector3d& p_Wcm(int k) const { return p_Wcm_[static_cast<std::size_t>(k)]; }
+  const Vector6d& velocity(int k) const { return V_[static_cast<std::size_t>(k)]; }
+  const Vector6d& bias_acceleration(int k) const { return A_[static_cast<std::size_t>(k)]; }
+
+  // The whole tree's mass, centre of mass, momentum, angular momentum and inertia about that centre (W).
+  struct Momentum {
+    double mass = 0.0;
+    Eigen::Vector3d c_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d P_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d L_W = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d I_W = Eigen::Matrix3d::Zero();
+  };
+  Momentum momentum() const;
+
+  // Q for body wrenches at the centres of mass (W), gravity g_W on every body, and joint torques.
+  Eigen::VectorXd generalized_force(const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
+                                    const Eigen::VectorXd& joint_torques) const;
+
+  struct AddedMassBody {
+    Matrix6d M_A = Matrix6d::Zero();                       // about the centre of mass, K axes (scaled)
+    Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();   // the current at the centre of mass
+  };
+  // Each body's added-mass reaction wrench (at its centre of mass, W) for the motion with applied body
+  // wrenches `wrenches_W`, gravity and joint torques (above), plus the generalised constraint force
+  // Q_c (contacts, limits, friction: size() entries, or none) that Bullet's solver will add, which the
+  // caller estimates from the step before (Bullet's impulses see the rigid inertia only, so without it
+  // a joint's friction would act as if the water were not there); coriolis: include C_A(nu_r) nu_r.
+  std::vector<Wrench> added_mass_reactions(const std::vector<AddedMassBody>& added,
+                                           const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
+                                           const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
+                                           bool coriolis) const;
+
+ private:
+  const Articulation& articulation_;
+  bool fixed_base_;
+  int n_;
+  std::vector<Eigen::MatrixXd> J_;
+  std::vector<Vector6d> V_, A_;
+  std::vector<Eigen::Vector3d> p_Wcm_;
+  std::vector<Eigen::Matrix3d> R_WK_, I_W_;
+  Eigen::VectorXd u_;
+  Eigen::MatrixXd M_;
+  Eigen::VectorXd c_;
+};
+
+}  // namespace hadal::physics

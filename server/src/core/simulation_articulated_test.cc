@@ -1,0 +1,306 @@
+// Simulation tests of articulated vehicles (physics/articulation.h, physics/articulated_dynamics.h): a
+// link on a joint in water against closed forms (the period from the wet weight and the added inertia,
+// the effort that holds it), joint limits, momentum of a free-floating vehicle swinging its arm, restored
+// states, and refused commands.
+#include "hadal/core/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "hadal/geometry/mesh_properties.h"
+#include "hadal/geometry/primitive_mesh.h"
+#include "hadal/physics/articulation.h"
+#include "hadal/physics/mass_properties.h"
+#include "hadal/physics/ocean.h"
+#include "hadal/physics/test_models.h"
+
+namespace hadal {
+namespace {
+
+namespace testing = physics::testing;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A frame fixed in the water (a static vehicle's base link, without geometry) at 50 m, and an arm: a
+// sphere of radius r and mass m on a revolute joint about y at the frame's origin, its centre l from the
+// joint along `arm_L` (down: a pendulum; along x: horizontal at q = 0). Only buoyancy (pressure) and the
+// sphere's added mass act (drag, skin friction, lift off).
+struct Pendulum {
+  double r = 0.1, m = 8.0, l = 0.5, depth = 50.0;
+  Eigen::Vector3d arm_L = Eigen::Vector3d(0, 0, -1);
+  double lower = -std::numeric_limits<double>::infinity(), upper = std::numeric_limits<double>::infinity();
+  double initial = 0.0;
+
+  Model model() const {
+    CollisionShape sphere;
+    sphere.type = CollisionShapeType::kSphere;
+    sphere.radius = r;
+    sphere.X_LG.translation() = l * arm_L;
+    VehicleSpec vehicle = testing::surface_vehicle(sphere, 1.0, Eigen::Matrix3d::Identity(), testing::drag_only(0.0),
+                                                   Eigen::Vector3d(0, 0, -depth));
+    vehicle.name = "frame";
+    vehicle.is_static = true;
+    LinkSpec arm = vehicle.links[0];
+    arm.name = "arm";
+    arm.mass = m;
+    arm.I_LLcm_L = physics::solid_sphere_inertia(m, r);
+    arm.p_LLcm = l * arm_L;
+    arm.joint.type = JointType::kRevolute;
+    arm.joint.axis_L = Eigen::Vector3d::UnitY();
+    arm.joint.lower = lower;
+    arm.joint.upper = upper;
+    arm.joint.initial = initial;
+    LinkSpec& frame = vehicle.links[0];
+    frame.name = "frame";
+    frame.mass = 10.0;
+    frame.collisions.clear();
+    vehicle.links.push_back(arm);
+    Model model = testing::water_model({vehicle});
+    model.world.seabed.z = -500.0;
+    return model;
+  }
+  // The tessellated sphere's volume (the surface model's buoyancy is exactly rho g of it).
+  double volume() const {
+    CollisionShape sphere;
+    sphere.type = CollisionShapeType::kSphere;
+    sphere.radius = r;
+    return geometry::compute_mesh_properties(geometry::tessellate(sphere)).volume;
+  }
+};
+
+double joint_q(const Simulation& sim) { return sim.state().vehicles[0].joint_positions.at(0); }
+
+// A 1 m box of 80 kg with a two-link arm (a shoulder turning about a tilted axis, a forearm about y) at
+// height z (in the water below 0).
+VehicleSpec arm_vehicle(double z) {
+  VehicleSpec vehicle = testing::surface_vehicle(testing::box_shape({1.0, 0.6, 0.4}), 80.0,
+                                                 physics::solid_box_inertia(80.0, {1.0, 0.6, 0.4}),
+                                                 testing::drag_only(0.0), Eigen::Vector3d(0, 0, z));
+  vehicle.fluid.added_mass.model = AddedMassModel::kNone;
+  LinkSpec shoulder = testing::box_link("shoulder", 6.0, {0.5, 0.1, 0.1}, 0.0, testing::at({0.6, 0.1, 0.0}));
+  shoulder.p_LLcm = Eigen::Vector3d(0.25, 0, 0);
+  shoulder.collisions[0].X_LG.translation() = shoulder.p_LLcm;
+  shoulder.joint.type = JointType::kRevolute;
+  shoulder.joint.axis_L = Eigen::Vector3d(0, 0.3, 1).normalized();
+  LinkSpec fore = testing::box_link("fore", 3.0, {0.4, 0.08, 0.08}, 0.0, testing::at({0.5, 0.0, 0.0}));
+  fore.parent = 1;
+  fore.X_BL = shoulder.X_BL * fore.X_BL;
+  fore.p_LLcm = Eigen::Vector3d(0.2, 0, 0);
+  fore.collisions[0].X_LG.translation() = fore.p_LLcm;
+  fore.joint.type = JointType::kRevolute;
+  fore.joint.axis_L = Eigen::Vector3d::UnitY();
+  vehicle.links.push_back(shoulder);
+  vehicle.links.push_back(fore);
+  return vehicle;
+}
+
+// Small swings of the pendulum in water: T = 2 pi sqrt((I_cm + m l^2 + m_A l^2) / ((m - rho V) g l)), with
+// m_A = kappa(50 m) rho V / 2 the sphere's added mass (Lamb; the fitted ellipsoid of the tessellated sphere)
+// and V the tessellated volume. Released at 2 degrees, the period over 5 swings from interpolated zero
+// crossings matches within 1 % (the bound; the amplitude's lengthening theta0^2 / 16 = 8e-5 and
+// the step's (omega dt)^2 ~ 3e-5 are far below). Without the added inertia the period is 11 % shorter.
+TEST(SimulationArticulatedTest, PendulumInWaterSwingsWithItsWetWeightAndAddedInertia) {
+  Pendulum p;
+  p.initial = 2.0 * kPi / 180.0;
+  Simulation sim(p.model());
+  const physics::Ocean& ocean = sim.ocean();
+  const double rho = ocean.density(p.depth + p.l);
+  const double V = p.volume();
+  const double m_A = ocean.kappa(p.depth + p.l) * 0.5 * rho * V;
+  const double g = 9.80665;
+  const double I = 0.4 * p.m * p.r * p.r + (p.m + m_A) * p.l * p.l;
+  const double expected = 2.0 * kPi * std::sqrt(I / ((p.m - rho * V) * g * p.l));
+  std::vector<double> crossings;
+  const double dt = sim.model().world.step_size();
+  double q_prev = joint_q(sim);
+  while (crossings.size() < 6 && sim.time() < 20.0) {
+    sim.step();
+    const double q = joint_q(sim);
+    if (q_prev < 0.0 && q >= 0.0) crossings.push_back(sim.time() - dt * q / (q - q_prev));
+    q_prev = q;
+  }
+  ASSERT_EQ(crossings.size(), 6u);
+  const double period = (crossings.back() - crossings.front()) / 5.0;
+  EXPECT_NEAR(period / expected, 1.0, 0.01) << "period " << period << " s, closed form " << expected << " s";
+}
+
+// The effort that holds the horizontal arm still is its wet weight times its lever arm,
+// tau = -(m - rho V) g l about +y (gravity turns +x towards -z: positive q). With it the arm stays within
+// 1e-5 rad for 0.5 s; 0.5 % more or less effort turns it by > 1e-3 rad either way (0.5 % of 18.7 N m over
+// the inertia 2.55 kg m^2: 4.6e-3 rad in 0.5 s).
+TEST(SimulationArticulatedTest, TheEffortHoldingAHorizontalArmIsItsWetWeightTimesItsLeverArm) {
+  Pendulum p;
+  p.arm_L = Eigen::Vector3d::UnitX();
+  const double rho_V = [&] {
+    Simulation sim(p.model());
+    return sim.ocean().density(p.depth) * p.volume();
+  }();
+  const double hold = -(p.m - rho_V) * 9.80665 * p.l;
+  const auto q_after = [&](double effort) {
+    Simulation sim(p.model());
+    EXPECT_EQ(sim.set_joint_efforts(0, {effort}), "");
+    for (int k = 0; k < 250; ++k) sim.step();
+    return joint_q(sim);
+  };
+  EXPECT_LT(std::abs(q_after(hold)), 1e-5);
+  EXPECT_LT(q_after(hold * 1.005), -1e-3);
+  EXPECT_GT(q_after(hold * 0.995), 1e-3);
+}
+
+// Coulomb friction at the joint: the horizontal arm's wet weight turns it with 18.7 N m. Friction of
+// 25 N m holds it (within 1e-6 rad for 0.5 s); friction of 10 N m lets it go with the closed-form
+// acceleration (tau_g - F) / (I_cm + (m + m_A) l^2): q(0.2 s) = alpha t^2 / 2 within 2 % (the gravity
+// torque falls with cos q, 3e-4 at 0.03 rad; one step's start-up, 1 %; measured 0.5 %). The friction is a
+// Bullet constraint, whose impulse sees the rigid inertia only: without the constraint force fed back into
+// the added-mass solve (VehicleState::constraint_force) q is 27 % short.
+TEST(SimulationArticulatedTest, JointFrictionHoldsBelowItsTorqueAndOpposesMotionAboveIt) {
+  Pendulum p;
+  p.arm_L = Eigen::Vector3d::UnitX();
+  const auto q_after = [&](double friction, int steps, double* alpha) {
+    Model model = p.model();
+    model.vehicles[0].links[1].joint.friction = friction;
+    Simulation sim(std::move(model));
+    const physics::Ocean& ocean = sim.ocean();
+    const double rho = ocean.density(p.depth);
+    const double m_A = ocean.kappa(p.depth) * 0.5 * rho * p.volume();
+    const double tau_g = (p.m - rho * p.volume()) * 9.80665 * p.l;
+    *alpha = (tau_g - friction) / (0.4 * p.m * p.r * p.r + (p.m + m_A) * p.l * p.l);
+    for (int k = 0; k < steps; ++k) sim.step();
+    return joint_q(sim);
+  };
+  double alpha = 0.0;
+  EXPECT_LT(std::abs(q_after(25.0, 250, &alpha)), 1e-6);
+  const double q = q_after(10.0, 100, &alpha);
+  EXPECT_NEAR(q / (0.5 * alpha * 0.2 * 0.2), 1.0, 0.02) << "q " << q;
+}
+
+// Joint limits are hard stops: under ten times the effort gravity needs, the arm pressed against its
+// limit of +-10 degrees for 1 s stays within 0.5 degrees of it (Bullet's limit constraint, solved with
+// the contacts).
+TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
+  Pendulum p;
+  p.lower = -10.0 * kPi / 180.0;
+  p.upper = 10.0 * kPi / 180.0;
+  for (const double effort : {200.0, -200.0}) {
+    Simulation sim(p.model());
+    ASSERT_EQ(sim.set_joint_efforts(0, {effort}), "");
+    double extreme = 0.0;
+    for (int k = 0; k < 500; ++k) {
+      sim.step();
+      extreme = effort > 0 ? std::max(extreme, joint_q(sim)) : std::min(extreme, joint_q(sim));
+    }
+    const double limit = effort > 0 ? p.upper : p.lower;
+    EXPECT_NEAR(extreme, limit, 0.5 * kPi / 180.0) << "effort " << effort;
+    EXPECT_NEAR(joint_q(sim), limit, 0.5 * kPi / 180.0) << "effort " << effort;
+  }
+}
+
+// A free-floating vehicle (no gravity; in air above the water, so no fluid forces) swinging a two-joint arm
+// with its joint motors: internal torques only, so its centre of mass stays where it was (within 1e-6 m over 2 s) and its
+// angular momentum stays zero, while the base moves and turns in reaction by centimetres and degrees.
+// (Bullet's step alone drifts by 9e-4 m here, first order in dt: Simulation::keep_momentum's correction.)
+TEST(SimulationArticulatedTest, AFreeFloatingVehicleSwingingItsArmKeepsItsCentreOfMass) {
+  Model model = testing::water_model({arm_vehicle(20.0)});  // in air
+  model.world.gravity_W.setZero();
+  Simulation sim(std::move(model));
+  struct Momentum {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();  // L about c
+  };
+  const auto momentum = [&]() {
+    // From the state through the articulation's own kinematics.
+    const VehicleState& v = sim.state().vehicles[0];
+    const physics::Articulation articulation(sim.model().vehicles[0].links);
+    const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(v.joint_positions.data(), 2);
+    const Eigen::VectorXd qd = Eigen::Map<const Eigen::VectorXd>(v.joint_velocities.data(), 2);
+    const std::vector<Eigen::Isometry3d> X_WK = articulation.poses_W(v.body.X_WB, q);
+    const auto velocity = articulation.velocities_W(X_WK, v.body.v_WB, v.body.w_WB, qd);
+    Momentum out;
+    double mass = 0.0;
+    for (int k = 0; k < articulation.num_bodies(); ++k) {
+      const physics::MassProperties& body = articulation.body(k).mass_K;
+      out.c += body.mass * (X_WK[static_cast<std::size_t>(k)] * body.p_BBcm);
+      mass += body.mass;
+    }
+    out.c /= mass;
+    for (int k = 0; k < articulation.num_bodies(); ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      const physics::MassProperties& body = articulation.body(k).mass_K;
+      const Eigen::Vector3d c_k = X_WK[i] * body.p_BBcm;
+      const Eigen::Vector3d v_k = velocity[i].v_WK + velocity[i].w_WK.cross(c_k - X_WK[i].translation());
+      const Eigen::Matrix3d R = X_WK[i].linear();
+      out.L += (c_k - out.c).cross(body.mass * v_k) + R * body.I_BBcm_B * R.transpose() * velocity[i].w_WK;
+    }
+    return out;
+  };
+  const Eigen::Vector3d c0 = momentum().c;
+  const Eigen::Isometry3d X_WB0 = sim.state().vehicles[0].body.X_WB;
+  double max_drift = 0.0, max_L = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    // A swing out and back: +-effort each half second.
+    const double sign = (k / 250) % 2 == 0 ? 1.0 : -1.0;
+    ASSERT_EQ(sim.set_joint_efforts(0, {4.0 * sign, -2.0 * sign}), "");
+    sim.step();
+    const Momentum now = momentum();
+    max_drift = std::max(max_drift, (now.c - c0).norm());
+    max_L = std::max(max_L, now.L.norm());
+  }
+  const Eigen::Isometry3d& X_WB = sim.state().vehicles[0].body.X_WB;
+  EXPECT_LT(max_drift, 1e-6);
+  EXPECT_LT(max_L, 1e-9);  // [kg m^2/s]; the arm's own is ~1 (a 0.5 kg m^2 link at ~2 rad/s)
+  EXPECT_GT((X_WB.translation() - X_WB0.translation()).norm(), 0.01) << "the base moves in reaction";
+  EXPECT_GT(Eigen::AngleAxisd(X_WB.linear() * X_WB0.linear().transpose()).angle(), 1.0 * kPi / 180.0);
+}
+
+// A restored state continues bit for bit: the joints are part of the state. Joint efforts are refused
+// when they do not fit (the state untouched), and reset puts the joints back at their initial positions.
+TEST(SimulationArticulatedTest, RestoredStatesContinueIdenticallyAndBadEffortsAreRefused) {
+  Pendulum p;
+  p.initial = 0.3;
+  Simulation sim(p.model());
+  EXPECT_EQ(sim.state().vehicles[0].joint_positions, std::vector<double>{0.3});
+  ASSERT_EQ(sim.set_joint_efforts(0, {1.5}), "");
+  for (int k = 0; k < 100; ++k) sim.step();
+  const SimState saved = sim.state();
+  for (int k = 0; k < 200; ++k) sim.step();
+  const SimState first = sim.state();
+  sim.set_state(saved);
+  for (int k = 0; k < 200; ++k) sim.step();
+  EXPECT_EQ(sim.state().vehicles[0].joint_positions, first.vehicles[0].joint_positions);
+  EXPECT_EQ(sim.state().vehicles[0].joint_velocities, first.vehicles[0].joint_velocities);
+  EXPECT_NE(first.vehicles[0].joint_positions, saved.vehicles[0].joint_positions);
+
+  EXPECT_NE(sim.set_joint_efforts(0, {1.0, 2.0}).find("2 joint efforts for 1 joints"), std::string::npos);
+  EXPECT_NE(sim.set_joint_efforts(0, {std::nan("")}).find("not finite"), std::string::npos);
+  EXPECT_NE(sim.set_joint_efforts(3, {1.0}).find("unknown vehicle"), std::string::npos);
+  EXPECT_EQ(sim.state().vehicles[0].joint_efforts, std::vector<double>{1.5});
+  SimState wrong = saved;
+  wrong.vehicles[0].joint_positions.push_back(0.0);
+  EXPECT_THROW(sim.set_state(wrong), std::invalid_argument);
+
+  ASSERT_EQ(sim.reset(7), "");
+  EXPECT_EQ(sim.state().vehicles[0].joint_positions, std::vector<double>{0.3});
+  EXPECT_EQ(sim.state().vehicles[0].joint_efforts, std::vector<double>{0.0});
+
+  // A floating vehicle in water, with added mass (constraint forces and momentum balance in the state).
+  VehicleSpec floating = arm_vehicle(-30.0);
+  floating.fluid.added_mass.model = AddedMassModel::kEllipsoid;
+  floating.links[2].joint.friction = 0.5;
+  Simulation swim(testing::water_model({floating}));
+  ASSERT_EQ(swim.set_joint_efforts(0, {3.0, -1.0}), "");
+  for (int k = 0; k < 100; ++k) swim.step();
+  const SimState start = swim.state();
+  EXPECT_EQ(start.vehicles[0].constraint_force.size(), 8u);
+  for (int k = 0; k < 200; ++k) swim.step();
+  const SimState once = swim.state();
+  swim.set_state(start);
+  for (int k = 0; k < 200; ++k) swim.step();
+  EXPECT_EQ(swim.state().vehicles[0].joint_positions, once.vehicles[0].joint_positions);
+  EXPECT_EQ(swim.state().vehicles[0].body.X_WB.matrix(), once.vehicles[0].body.X_WB.matrix());
+  EXPECT_EQ(swim.state().vehicles[0].body.v_WB, once.vehicles[0].body.v_WB);
+}
+
+}  // namespace
+}  // namespace hadal

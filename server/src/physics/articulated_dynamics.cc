@@ -1,0 +1,190 @@
+#include "hadal/physics/articulated_dynamics.h"
+
+#include <Eigen/Cholesky>
+
+#include <stdexcept>
+#include <string>
+
+#include "hadal/physics/added_mass.h"
+
+namespace hadal::physics {
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& r) {
+  Eigen::Matrix3d S;
+  S << 0.0, -r.z(), r.y(), r.z(), 0.0, -r.x(), -r.y(), r.x(), 0.0;
+  return S;
+}
+
+Matrix6d block_rotation(const Eigen::Matrix3d& R) {
+  Matrix6d R6 = Matrix6d::Zero();
+  R6.topLeftCorner<3, 3>() = R;
+  R6.bottomRightCorner<3, 3>() = R;
+  return R6;
+}
+
+}  // namespace
+
+ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool fixed_base)
+    : articulation_(articulation),
+      fixed_base_(fixed_base),
+      n_(articulation.num_dofs() + (fixed_base ? 0 : 6)) {
+  const auto bodies = static_cast<std::size_t>(articulation.num_bodies());
+  J_.assign(bodies, Eigen::MatrixXd::Zero(6, n_));
+  V_.assign(bodies, Vector6d::Zero());
+  A_.assign(bodies, Vector6d::Zero());
+  p_Wcm_.assign(bodies, Eigen::Vector3d::Zero());
+  R_WK_.assign(bodies, Eigen::Matrix3d::Identity());
+  I_W_.assign(bodies, Eigen::Matrix3d::Zero());
+  u_ = Eigen::VectorXd::Zero(n_);
+  M_ = Eigen::MatrixXd::Zero(n_, n_);
+  c_ = Eigen::VectorXd::Zero(n_);
+}
+
+void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
+                                 const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
+  const Articulation& a = articulation_;
+  if (static_cast<int>(X_WK.size()) != a.num_bodies() || qd.size() != a.num_dofs()) {
+    throw std::invalid_argument("articulated dynamics: " + std::to_string(X_WK.size()) + " poses and " +
+                                std::to_string(qd.size()) + " joint rates for " + std::to_string(a.num_bodies()) +
+                                " bodies");
+  }
+  const std::vector<Articulation::BodyVelocity> velocity = a.velocities_W(X_WK, v_WB, w_WB, qd);
+  const int offset = fixed_base_ ? 0 : 6;
+  for (int k = 0; k < a.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const Articulation::Body& body = a.body(k);
+    R_WK_[i] = X_WK[i].linear();
+    p_Wcm_[i] = X_WK[i] * body.mass_K.p_BBcm;
+    I_W_[i] = R_WK_[i] * body.mass_K.I_BBcm_B * R_WK_[i].transpose();
+    const Eigen::Vector3d& w = velocity[i].w_WK;
+    V_[i].head<3>() = velocity[i].v_WK + w.cross(p_Wcm_[i] - X_WK[i].translation());
+    V_[i].tail<3>() = w;
+    Eigen::MatrixXd& J = J_[i];
+    Vector6d& A = A_[i];
+    if (k == 0) {
+      J.setZero();
+      if (!fixed_base_) J.leftCols<6>().setIdentity();
+      A.setZero();
+      continue;
+    }
+    const auto p = static_cast<std::size_t>(body.parent);
+    const Eigen::Vector3d& c_k = p_Wcm_[i];
+    const Eigen::Vector3d& c_p = p_Wcm_[p];
+    const Eigen::Vector3d o_k = X_WK[i].translation();
+    const Eigen::Vector3d s = R_WK_[i] * body.axis_K;
+    const Eigen::Vector3d& w_p = V_[p].tail<3>();
+    const Eigen::Vector3d alpha_p = A_[p].tail<3>();
+    const Eigen::Vector3d a_p = A_[p].head<3>();
+    const double rate = qd[k - 1];
+    const int d = offset + k - 1;
+    // The parent's motion carried to this centre of mass, then the joint's own.
+    const Eigen::Vector3d r = c_k - c_p;
+    J.topRows<3>() = J_[p].topRows<3>() - skew(r) * J_[p].bottomRows<3>();
+    J.bottomRows<3>() = J_[p].bottomRows<3>();
+    if (body.joint.type == JointType::kPrismatic) {
+      J.block<3, 1>(0, d) += s;
+      A.tail<3>() = alpha_p;
+      A.head<3>() = a_p + alpha_p.cross(r) + w_p.cross(w_p.cross(r)) + 2.0 * w_p.cross(s * rate);
+    } else {
+      const Eigen::Vector3d r1 = o_k - c_p, r2 = c_k - o_k;
+      J.block<3, 1>(0, d) += s.cross(r2);
+      J.block<3, 1>(3, d) += s;
+      A.tail<3>() = alpha_p + w_p.cross(s * rate);
+      A.head<3>() = a_p + alpha_p.cross(r1) + w_p.cross(w_p.cross(r1)) + A.tail<3>().cross(r2) + w.cross(w.cross(r2));
+    }
+  }
+  M_.setZero();
+  c_.setZero();
+  for (int k = 0; k < a.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const double m = a.body(k).mass_K.mass;
+    const Eigen::MatrixXd& J = J_[i];
+    M_.noalias() += m * J.topRows<3>().transpose() * J.topRows<3>();
+    M_.noalias() += J.bottomRows<3>().transpose() * I_W_[i] * J.bottomRows<3>();
+    const Eigen::Vector3d w = V_[i].tail<3>();
+    c_.noalias() += J.topRows<3>().transpose() * (m * A_[i].head<3>());
+    c_.noalias() += J.bottomRows<3>().transpose() * (I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w));
+  }
+  u_.setZero();
+  if (!fixed_base_) {
+    u_.head<3>() = V_[0].head<3>();
+    u_.segment<3>(3) = V_[0].tail<3>();
+  }
+  u_.tail(a.num_dofs()) = qd;
+}
+
+ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
+  Momentum out;
+  for (int k = 0; k < articulation_.num_bodies(); ++k) {
+    const double m = articulation_.body(k).mass_K.mass;
+    out.mass += m;
+    out.c_W += m * p_Wcm_[static_cast<std::size_t>(k)];
+  }
+  out.c_W /= out.mass;
+  for (int k = 0; k < articulation_.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const double m = articulation_.body(k).mass_K.mass;
+    const Eigen::Vector3d r = p_Wcm_[i] - out.c_W;
+    out.P_W += m * V_[i].head<3>();
+    out.L_W += r.cross(m * V_[i].head<3>()) + I_W_[i] * V_[i].tail<3>();
+    out.I_W += I_W_[i] + m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+  }
+  return out;
+}
+
+Eigen::VectorXd ArticulatedDynamics::generalized_force(const std::vector<Wrench>& wrenches_W,
+                                                       const Eigen::Vector3d& g_W,
+                                                       const Eigen::VectorXd& joint_torques) const {
+  Eigen::VectorXd Q = Eigen::VectorXd::Zero(n_);
+  Q.tail(articulation_.num_dofs()) = joint_torques;
+  for (int k = 0; k < articulation_.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    Wrench W = wrenches_W.at(i);
+    W.head<3>() += articulation_.body(k).mass_K.mass * g_W;
+    Q.noalias() += J_[i].transpose() * W;
+  }
+  return Q;
+}
+
+std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::added_mass_reactions(
+    const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
+    const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c, bool coriolis) const {
+  const auto bodies = static_cast<std::size_t>(articulation_.num_bodies());
+  std::vector<Wrench> reactions(bodies, Wrench::Zero());
+  Eigen::MatrixXd M = M_;
+  Eigen::VectorXd rhs = generalized_force(wrenches_W, g_W, joint_torques) - c_;
+  if (Q_c.size() == n_) rhs += Q_c;
+  // Per body: R6 M_A R6^T J (the reaction's part in u_dot) and its velocity-product part, in W.
+  std::vector<Eigen::MatrixXd> MJ(bodies);
+  std::vector<Wrench> bias(bodies, Wrench::Zero());
+  bool any = false;
+  for (std::size_t i = 0; i < bodies; ++i) {
+    const Matrix6d& M_A = added.at(i).M_A;
+    if (M_A.isZero(0.0)) continue;
+    any = true;
+    const Matrix6d R6 = block_rotation(R_WK_[i]);
+    const Eigen::Matrix3d R_KW = R_WK_[i].transpose();
+    Vector6d nu_r;
+    nu_r.head<3>() = R_KW * (V_[i].head<3>() - added[i].v_water_W);
+    nu_r.tail<3>() = R_KW * V_[i].tail<3>();
+    Vector6d nu_r_dot_bias;
+    nu_r_dot_bias.head<3>() = R_KW * A_[i].head<3>() - nu_r.tail<3>().cross(nu_r.head<3>());
+    nu_r_dot_bias.tail<3>() = R_KW * A_[i].tail<3>();
+    Vector6d tau = -M_A * nu_r_dot_bias;
+    if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
+    bias[i] = R6 * tau;
+    MJ[i] = R6 * M_A * R6.transpose() * J_[i];
+    M.noalias() += J_[i].transpose() * MJ[i];
+    rhs.noalias() += J_[i].transpose() * bias[i];
+  }
+  if (!any) return reactions;
+  const Eigen::VectorXd u_dot = M.ldlt().solve(rhs);
+  for (std::size_t i = 0; i < bodies; ++i) {
+    if (MJ[i].size() == 0) continue;
+    reactions[i] = bias[i] - MJ[i] * u_dot;
+  }
+  return reactions;
+}
+
+}  // namespace hadal::physics
