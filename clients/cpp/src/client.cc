@@ -147,6 +147,17 @@ DropWeightStates from_msg(const hadal_msgs::msg::DropWeightState& m) {
   return d;
 }
 
+JointStates from_msg(const sensor_msgs::msg::JointState& m) {
+  JointStates j;
+  j.stamp = dds::from_time_msg(m.header().stamp());
+  j.frame_id = m.header().frame_id();
+  j.names = m.name();
+  j.position = m.position();
+  j.velocity = m.velocity();
+  j.effort = m.effort();
+  return j;
+}
+
 ThrusterStates from_msg(const hadal_msgs::msg::ThrusterState& m) {
   ThrusterStates t;
   t.stamp = dds::from_time_msg(m.header().stamp());
@@ -568,6 +579,12 @@ void Client::on_buoyancy_engine_state(const std::string& vehicle,
   impl_->subscribe<hadal_msgs::msg::BuoyancyEngineStatePubSubType, hadal_msgs::msg::BuoyancyEngineState>(
       dds::actuator_state_topic(vehicle, "buoyancy_engines"),
       [callback = std::move(callback)](const hadal_msgs::msg::BuoyancyEngineState& m) { callback(from_msg(m)); });
+}
+
+void Client::on_joint_state(const std::string& vehicle, std::function<void(const JointStates&)> callback) {
+  impl_->subscribe<sensor_msgs::msg::JointStatePubSubType, sensor_msgs::msg::JointState>(
+      dds::joint_states_topic(vehicle),
+      [callback = std::move(callback)](const sensor_msgs::msg::JointState& m) { callback(from_msg(m)); });
 }
 
 void Client::on_drop_weight_state(const std::string& vehicle, std::function<void(const DropWeightStates&)> callback) {

@@ -265,6 +265,10 @@ class PyClient {
     return wait_actuator_state("drop_weights", &hadal::Client::on_drop_weight_state, drop_weights_, vehicle,
                                min_stamp, timeout_s);
   }
+  std::optional<hadal::JointStates> wait_joint_state(const std::string& vehicle, double min_stamp, double timeout_s) {
+    return wait_actuator_state("joint_states", &hadal::Client::on_joint_state, joint_states_, vehicle, min_stamp,
+                               timeout_s);
+  }
   // Sensors, keyed "<vehicle>/<sensor>", subscribed on first use.
   std::optional<hadal::Imu> wait_imu(const std::string& vehicle, const std::string& sensor, double min_stamp,
                                      double timeout_s) {
@@ -409,6 +413,7 @@ class PyClient {
     sonar_image_.clear();
     sonar_detections_.clear();
     raw_sonar_image_.clear();
+    joint_states_.clear();
   }
 
   template <class Sample>
@@ -484,6 +489,7 @@ class PyClient {
   Latest<hadal::FinStates> fins_;
   Latest<hadal::BuoyancyEngineStates> buoyancy_engines_;
   Latest<hadal::DropWeightStates> drop_weights_;
+  Latest<hadal::JointStates> joint_states_;
   Latest<hadal::Imu> imu_;
   Latest<hadal::FluidPressure> pressure_;
   Latest<hadal::MagneticField> magnetic_field_;
@@ -632,6 +638,18 @@ PYBIND11_MODULE(_hadal, m) {
                              "vertical force while attached [N]")
       .def_readonly("command_source", &hadal::DropWeightStates::command_source,
                     "0 none, 1 scenario schedule, 2 client");
+
+  py::class_<hadal::JointStates>(m, "JointStates",
+                                 "sensor_msgs/JointState: an articulated vehicle's joints, named by their child links")
+      .def_readonly("stamp", &hadal::JointStates::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::JointStates::frame_id)
+      .def_readonly("names", &hadal::JointStates::names)
+      .def_property_readonly("position", [](const hadal::JointStates& j) { return to_numpy(j.position); },
+                             "[rad or m]")
+      .def_property_readonly("velocity", [](const hadal::JointStates& j) { return to_numpy(j.velocity); },
+                             "[rad/s or m/s]")
+      .def_property_readonly("effort", [](const hadal::JointStates& j) { return to_numpy(j.effort); },
+                             "the effort each joint's motor holds [N m or N]");
 
   py::class_<hadal::Imu>(m, "Imu", "sensor_msgs/Imu sample: rate and specific force in the sensor frame")
       .def_readonly("stamp", &hadal::Imu::stamp, "sim time [s]")
@@ -939,6 +957,8 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            "BuoyancyEngineStates with stamp >= min_stamp, or None on timeout")
       .def("wait_drop_weight_state", &PyClient::wait_drop_weight_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(), "DropWeightStates with stamp >= min_stamp, or None on timeout")
+      .def("wait_joint_state", &PyClient::wait_joint_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(), "JointStates with stamp >= min_stamp, or None on timeout")
       .def("wait_imu", &PyClient::wait_imu, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(), "Imu sample with stamp >= min_stamp, or None on timeout")
       .def("wait_fluid_pressure", &PyClient::wait_fluid_pressure, py::arg("vehicle"), py::arg("sensor"),

@@ -90,6 +90,12 @@ def sonar_server(domain_id):
 
 
 @pytest.fixture
+def arm_server(domain_id):
+    """hadald in lockstep mode on the articulated test scenario (tests/integration/scenarios/arm.yaml)."""
+    yield from _lockstep("tests/integration/scenarios/arm.yaml", domain_id)
+
+
+@pytest.fixture
 def crawler_server(domain_id):
     """hadald in lockstep mode on the crawler zoo scenario (configs/scenarios/crawler.yaml)."""
     yield from _lockstep("configs/scenarios/crawler.yaml", domain_id)

@@ -167,3 +167,19 @@ def test_fin_state(zoo_server):
     assert fins.names == ["rudder_top", "rudder_bottom", "elevator_port", "elevator_starboard"]
     np.testing.assert_allclose(np.degrees(fins.angle), [0.0, 0.0, 6.0, 6.0], atol=1e-9)
     assert fins.lift.shape == (4,) and fins.command_source == 2
+
+
+def test_joint_state(arm_server):
+    """An articulated vehicle's joints on rt/arm/joint_states (sensor_msgs/JointState), read as numpy arrays:
+    released at 30 and -20 degrees, the arm falls under its wet weight (positive q turns +x towards -z)."""
+    _, domain_id = arm_server
+    client = connect(domain_id, "arm")
+    client.wait_joint_state("arm", timeout_s=0)  # subscribe, then step
+    assert client.wait_for_subscriptions(WAIT_S)
+    t = client.step(100)  # 0.2 s
+    joints = client.wait_joint_state("arm", min_stamp=t, timeout_s=WAIT_S)
+    assert joints.names == ["shoulder", "forearm"]
+    assert joints.frame_id == "arm/base_link"
+    assert joints.position.dtype == np.float64 and joints.position.shape == (2,)
+    assert joints.position[0] > math.radians(30.0) and joints.velocity[0] > 0.0
+    np.testing.assert_array_equal(joints.effort, [0.0, 0.0])

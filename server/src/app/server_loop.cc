@@ -264,7 +264,10 @@ class Runner {
     const SimState& state = sim_.state();
     if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
-      if (odometry_dividers_[i].due(state.time)) dds_.publish_odometry(static_cast<int>(i), state);
+      if (odometry_dividers_[i].due(state.time)) {
+        dds_.publish_odometry(static_cast<int>(i), state);
+        dds_.publish_joint_states(static_cast<int>(i), state);
+      }
       if (actuator_state_dividers_[i].due(state.time)) {
         dds_.publish_actuator_states(static_cast<int>(i), state);
       }

@@ -36,6 +36,24 @@ void fill_odometry(const std::string& world_frame_id, const std::string& vehicle
   twist.angular().z(o.w_WB_B.z());
 }
 
+std::vector<std::string> joint_names(const VehicleSpec& vehicle) {
+  std::vector<std::string> names;
+  for (const LinkSpec& link : vehicle.links) {
+    if (link.joint.type != JointType::kFixed) names.push_back(link.name);
+  }
+  return names;
+}
+
+void fill_joint_state(const std::vector<std::string>& names, const std::string& vehicle_name, double time_s,
+                      const VehicleState& vehicle, sensor_msgs::msg::JointState& msg) {
+  msg.header().stamp(to_time_msg(time_s));
+  msg.header().frame_id(base_frame_id(vehicle_name));
+  msg.name(names);
+  msg.position(vehicle.joint_positions);
+  msg.velocity(vehicle.joint_velocities);
+  msg.effort(vehicle.joint_efforts);
+}
+
 void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::msg::StepReply& msg) {
   msg.vehicle_names().clear();
   msg.poses().clear();

@@ -12,6 +12,7 @@
 
 #include <hadal_msgs.h>
 #include <nav_msgs.h>
+#include <sensor_msgs.h>
 
 namespace hadal::dds {
 
@@ -26,6 +27,14 @@ OdometryValues odometry_values(const RigidBodyState& body);
 
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
+
+// The names of a vehicle's moving joints in state order (VehicleState::joint_positions): each joint is
+// named by its child link (configs/REFERENCE.md, `links[].joint`). Empty for a rigid vehicle.
+std::vector<std::string> joint_names(const VehicleSpec& vehicle);
+// sensor_msgs/JointState of the vehicle's joints: positions, velocities and the efforts their motors hold;
+// header.frame_id is the vehicle's base frame. `names` from joint_names().
+void fill_joint_state(const std::vector<std::string>& names, const std::string& vehicle_name, double time_s,
+                      const VehicleState& vehicle, sensor_msgs::msg::JointState& msg);
 
 // A step reply's ground truth: every vehicle's name, pose (7 numbers) and twist (6), as odometry_values.
 void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::msg::StepReply& msg);

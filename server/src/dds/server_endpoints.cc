@@ -99,6 +99,11 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   rosgraph_msgs::msg::Clock clock_msg;
   // One message per topic, kept until the topic's next write: the monitor serializes the last one when due.
   std::vector<nav_msgs::msg::Odometry> odometry_msgs;
+  // Per vehicle: its joint-state writer (null for a rigid vehicle), slot, message and joint names.
+  std::vector<fdds::DataWriter*> joint_state_writers;
+  std::vector<std::size_t> joint_state_slot;
+  std::vector<sensor_msgs::msg::JointState> joint_state_msgs;
+  std::vector<std::vector<std::string>> joint_names;
   hadal_msgs::msg::StepReply reply_msg;
   hadal_msgs::msg::SimStatus status_msg;
   hadal_msgs::msg::Scene scene_msg;  // written at start and after every reset
@@ -321,6 +326,17 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
         r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), state_history_depth));
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
     d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
+    d.joint_names.push_back(joint_names(model.vehicles[i]));
+    d.joint_state_msgs.emplace_back();
+    if (d.joint_names.back().empty()) {
+      d.joint_state_writers.push_back(nullptr);
+      d.joint_state_slot.push_back(0);
+    } else {
+      d.joint_state_writers.push_back(
+          r.writer<sensor_msgs::msg::JointStatePubSubType>(joint_states_topic(name), state_history_depth));
+      d.joint_state_slot.push_back(d.add_count(joint_states_topic(name)));
+      d.carry_in_monitor(d.joint_state_writers.back(), d.joint_state_slot.back());
+    }
     auto& actuator_writers = d.actuator_state_writers.emplace_back();
     physics::ActuatorKinds::for_each([&](auto tag) {
       using K = typename decltype(tag)::type;
@@ -440,6 +456,14 @@ void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state)
   impl_->write(impl_->odometry_writers[i], &impl_->odometry_msgs[i], impl_->odometry_slot[i]);
 }
 
+void ServerEndpoints::publish_joint_states(int vehicle_index, const SimState& state) {
+  const auto i = static_cast<std::size_t>(vehicle_index);
+  if (!impl_->joint_state_writers[i]) return;
+  fill_joint_state(impl_->joint_names[i], impl_->model.vehicles[i].name, state.time, state.vehicles[i],
+                   impl_->joint_state_msgs[i]);
+  impl_->write(impl_->joint_state_writers[i], &impl_->joint_state_msgs[i], impl_->joint_state_slot[i]);
+}
+
 void ServerEndpoints::publish_actuator_states(int vehicle_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
   for (const auto& writer : impl_->actuator_state_writers[i]) {
@@ -533,6 +557,9 @@ void ServerEndpoints::flush(double timeout_s) {
   std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer,
                                             impl_->scene_writer};
   writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
+  for (fdds::DataWriter* writer : impl_->joint_state_writers) {
+    if (writer) writers.push_back(writer);
+  }
   for (const auto& vehicle_writers : impl_->actuator_state_writers) {
     for (const auto& writer : vehicle_writers) writers.push_back(writer->writer);
   }

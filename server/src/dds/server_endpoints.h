@@ -79,6 +79,8 @@ class ServerEndpoints {
 
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);
+  // rt/<vehicle>/joint_states of an articulated vehicle (nothing for a rigid one).
+  void publish_joint_states(int vehicle_index, const SimState& state);
   // rt/<vehicle>/<kind>/state of each actuator kind the vehicle publishes (thrusters: every vehicle; tracks,
   // fins, buoyancy engines, drop weights: those that have one; dds/actuator_topics.h).
   void publish_actuator_states(int vehicle_index, const SimState& state);

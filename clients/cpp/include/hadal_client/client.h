@@ -115,6 +115,17 @@ struct DropWeightStates {
   std::uint8_t command_source = 0;    // 0 none, 1 scenario schedule, 2 client
 };
 
+// sensor_msgs/JointState of rt/<vehicle>/joint_states (articulated vehicles only): each moving joint,
+// named by its child link, in the server's state order.
+struct JointStates {
+  double stamp = 0.0;  // sim time [s]
+  std::string frame_id;  // <vehicle>/base_link
+  std::vector<std::string> names;
+  std::vector<double> position;  // [rad or m]
+  std::vector<double> velocity;  // [rad/s or m/s]
+  std::vector<double> effort;    // the effort each joint's motor holds [N m or N]
+};
+
 // sensor_msgs/FluidPressure of a pressure sensor, rt/<vehicle>/<sensor>: absolute pressure with the
 // sensor's noise. Depth below the surface follows as d = (p - p_atm) / (rho g) for the water's mean
 // density above the sensor (p_atm = 101325 Pa and rho = 1025 kg/m^3 unless the scenario says otherwise).
@@ -490,6 +501,8 @@ class Client {
   void on_fin_state(const std::string& vehicle, std::function<void(const FinStates&)> callback);
   void on_buoyancy_engine_state(const std::string& vehicle, std::function<void(const BuoyancyEngineStates&)> callback);
   void on_drop_weight_state(const std::string& vehicle, std::function<void(const DropWeightStates&)> callback);
+  // rt/<vehicle>/joint_states of an articulated vehicle, at its odometry rate.
+  void on_joint_state(const std::string& vehicle, std::function<void(const JointStates&)> callback);
   void on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                          std::function<void(const FluidPressure&)> callback);
   void on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback);

@@ -15,6 +15,8 @@ inline std::string scene_topic() { return "rt/hadal/scene"; }
 // The latest sample of each light topic in one message, at most 20 per wall second while read (Monitor).
 inline std::string monitor_topic() { return "rt/hadal/monitor"; }
 inline std::string odometry_topic(const std::string& vehicle) { return "rt/" + vehicle + "/odometry"; }
+// An articulated vehicle's joints (sensor_msgs/JointState), at the odometry rate.
+inline std::string joint_states_topic(const std::string& vehicle) { return "rt/" + vehicle + "/joint_states"; }
 // A sensor's samples (sensor_msgs/..., marine_acoustic_msgs/Dvl).
 inline std::string sensor_topic(const std::string& vehicle, const std::string& sensor) {
   return "rt/" + vehicle + "/" + sensor;
