@@ -178,6 +178,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
     vehicle->actuators = definition->actuators;
     vehicle->sensors = definition->sensors;
     vehicle->lights = definition->lights;
+    vehicle->joint_controllers = definition->joint_controllers;
     vehicle->fluid = definition->fluid;
     for (SensorSpec& sensor : vehicle->sensors) {
       if (sensor.frame_id.empty()) sensor.frame_id = vehicle->name + "/" + sensor.name;

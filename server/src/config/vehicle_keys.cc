@@ -1,5 +1,6 @@
 #include "hadal/config/vehicle_keys.h"
 
+#include <map>
 #include <utility>
 
 #include "hadal/config/entry_keys.h"
@@ -235,6 +236,47 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
           return ok;
         })
         .doc("spot lights that cameras see by");
+    t.custom(
+         "joint_controllers",
+         [](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+           const auto items = value.list();
+           if (!items) return false;
+           refer_to(d, c);
+           c.names_taken.clear();
+           for (const auto& controller : d.joint_controllers) c.names_taken.emplace(controller.name, d.source_file);
+           // Which group drives each joint so far (a joint is in one group at most).
+           std::map<int, std::string> owner;
+           for (const auto& controller : d.joint_controllers) {
+             for (int joint : controller.joints) owner.emplace(joint, controller.name);
+           }
+           bool ok = true;
+           for (const Value& item : *items) {
+             physics::JointControllerSpec controller = physics::joint_controller_keys().defaults();
+             if (!physics::joint_controller_keys().read(item, &controller, c)) {
+               ok = false;
+               continue;
+             }
+             for (int joint : controller.joints) {
+               const auto [it, inserted] = owner.emplace(joint, controller.name);
+               if (!inserted) {
+                 std::string name = std::to_string(joint);
+                 for (std::size_t l = 0, dof = 0; l < d.links.size(); ++l) {
+                   if (d.links[l].joint.type == JointType::kFixed) continue;
+                   if (dof++ == static_cast<std::size_t>(joint)) name = d.links[l].name;
+                 }
+                 item.error("joint " + config::quoted(name) + " is already driven by joint controller " +
+                            config::quoted(it->second) +
+                            " (a joint is in one controller at most)");
+                 ok = false;
+               }
+             }
+             d.joint_controllers.push_back(std::move(controller));
+           }
+           return ok;
+         },
+         "", "list of maps")
+        .items_of(physics::joint_controller_keys())
+        .doc("groups of an articulated vehicle's joints commanded together (position, velocity or effort)");
     t.map("fluid", &VehicleDefinition::fluid, physics::fluid_keys())
         .unless("include")
         .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {

@@ -25,6 +25,7 @@
 #include "hadal/physics/articulation.h"
 #include "hadal/physics/bullet_world.h"
 #include "hadal/physics/fluid_forces.h"
+#include "hadal/physics/joint_servo.h"
 #include "hadal/physics/mass_properties.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/terramechanics.h"
@@ -113,6 +114,20 @@ struct Simulation::VehicleRuntime {
       }
     }
     M_A0 = bodies[0].M_A0;
+    motors.resize(static_cast<std::size_t>(a.num_dofs()));
+    for (int j = 0; j < a.num_dofs(); ++j) {
+      const JointSpec& joint = a.body(j + 1).joint;
+      motors[static_cast<std::size_t>(j)].servo.effort_limit = joint.effort_limit;
+      motors[static_cast<std::size_t>(j)].servo.velocity_limit = joint.velocity_limit;
+    }
+    for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
+      for (int joint : controller.joints) {
+        JointMotor& motor = motors.at(static_cast<std::size_t>(joint));
+        motor.mode = controller.mode;
+        motor.servo.kp = controller.kp;
+        motor.servo.kd = controller.kd;
+      }
+    }
   }
 
   physics::VehicleActuators actuators;
@@ -166,6 +181,13 @@ struct Simulation::VehicleRuntime {
     physics::StepWrench wrench;
   };
   std::vector<Body> bodies;
+  // Per moving joint: its motor's law (its controller's mode and gains with the joint's limits; effort mode
+  // for a joint in no controller).
+  struct JointMotor {
+    physics::JointCommandMode mode = physics::JointCommandMode::kEffort;
+    physics::JointServoSpec servo;
+  };
+  std::vector<JointMotor> motors;
   std::unique_ptr<physics::ArticulatedDynamics> dynamics;
   bool has_added_mass = false;
   std::vector<Eigen::Isometry3d> X_WK;
@@ -203,7 +225,7 @@ bool is_finite(const VehicleState& vehicle) {
     if (!std::isfinite(control)) return false;
   }
   for (const auto* joints : {&vehicle.joint_positions, &vehicle.joint_velocities, &vehicle.joint_efforts,
-                             &vehicle.constraint_force}) {
+                             &vehicle.joint_targets, &vehicle.constraint_force}) {
     for (double value : *joints) {
       if (!std::isfinite(value)) return false;
     }
@@ -246,12 +268,21 @@ VehicleState initial_vehicle_state(const VehicleSpec& spec) {
   vehicle.body.w_WB = spec.w_WB_initial;
   vehicle.actuators = physics::VehicleActuators::initial_states(spec);
   vehicle.command_source = spec.schedule.empty() ? CommandSource::kNone : CommandSource::kSchedule;
-  // A moving joint starts a body, in link order (physics/articulation.h).
+  // A moving joint starts a body, in link order (physics/articulation.h). A position-controlled joint
+  // holds where it starts; every other command starts at zero.
   for (const LinkSpec& link : spec.links) {
     if (link.joint.type == JointType::kFixed) continue;
     vehicle.joint_positions.push_back(link.joint.initial);
     vehicle.joint_velocities.push_back(0.0);
     vehicle.joint_efforts.push_back(0.0);
+    vehicle.joint_targets.push_back(0.0);
+  }
+  for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
+    if (controller.mode != physics::JointCommandMode::kPosition) continue;
+    for (int joint : controller.joints) {
+      const auto j = static_cast<std::size_t>(joint);
+      vehicle.joint_targets.at(j) = vehicle.joint_positions.at(j);
+    }
   }
   return vehicle;
 }
@@ -270,6 +301,7 @@ void reset_non_finite(const VehicleSpec& spec, VehicleState& vehicle) {
   vehicle.joint_positions = initial.joint_positions;
   vehicle.joint_velocities = initial.joint_velocities;
   vehicle.joint_efforts = initial.joint_efforts;
+  vehicle.joint_targets = initial.joint_targets;
   vehicle.constraint_force.clear();
   vehicle.faults |= kFaultNonFiniteState;
   ++vehicle.fault_resets;
@@ -439,11 +471,12 @@ void Simulation::set_state(const SimState& state) {
     const physics::Articulation* articulation = world_->articulation(static_cast<int>(i));
     const std::size_t joints = articulation ? static_cast<std::size_t>(articulation->num_dofs()) : 0;
     if (vehicle.joint_positions.size() != joints || vehicle.joint_velocities.size() != joints ||
-        vehicle.joint_efforts.size() != joints) {
-      throw std::invalid_argument(prefix + "expected " + std::to_string(joints) + " joint positions, rates and " +
-                                  "efforts, got " + std::to_string(vehicle.joint_positions.size()) + ", " +
-                                  std::to_string(vehicle.joint_velocities.size()) + " and " +
-                                  std::to_string(vehicle.joint_efforts.size()));
+        vehicle.joint_efforts.size() != joints || vehicle.joint_targets.size() != joints) {
+      throw std::invalid_argument(prefix + "expected " + std::to_string(joints) + " joint positions, rates, " +
+                                  "efforts and targets, got " + std::to_string(vehicle.joint_positions.size()) + ", " +
+                                  std::to_string(vehicle.joint_velocities.size()) + ", " +
+                                  std::to_string(vehicle.joint_efforts.size()) + " and " +
+                                  std::to_string(vehicle.joint_targets.size()));
     }
     const std::size_t generalised = articulation ? joints + (spec.is_static ? 0 : 6) : 0;
     if (!vehicle.constraint_force.empty() && vehicle.constraint_force.size() != generalised) {
@@ -532,19 +565,61 @@ std::string Simulation::set_joint_efforts(int vehicle_index, const std::vector<d
   if (vehicle_index < 0 || vehicle_index >= static_cast<int>(model_.vehicles.size())) {
     return "unknown vehicle index " + std::to_string(vehicle_index);
   }
+  const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
   const physics::Articulation* articulation = world_->articulation(vehicle_index);
-  const std::string& name = model_.vehicles[static_cast<std::size_t>(vehicle_index)].name;
-  if (!articulation) return "vehicle '" + name + "' has no moving joints";
+  if (!articulation) return "vehicle '" + spec.name + "' has no moving joints";
   if (efforts.size() != static_cast<std::size_t>(articulation->num_dofs())) {
-    return "vehicle '" + name + "': " + std::to_string(efforts.size()) + " joint efforts for " +
+    return "vehicle '" + spec.name + "': " + std::to_string(efforts.size()) + " joint efforts for " +
            std::to_string(articulation->num_dofs()) + " joints";
+  }
+  for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
+    if (controller.mode != physics::JointCommandMode::kEffort) {
+      return "vehicle '" + spec.name + "': joint controller '" + controller.name + "' commands its joints' " +
+             physics::to_string(controller.mode) + ": efforts go to joints of effort controllers or of none";
+    }
   }
   for (std::size_t j = 0; j < efforts.size(); ++j) {
     if (!std::isfinite(efforts[j])) {
-      return "vehicle '" + name + "': joint effort " + std::to_string(j) + " is not finite";
+      return "vehicle '" + spec.name + "': joint effort " + std::to_string(j) + " is not finite";
     }
   }
-  state_.vehicles[static_cast<std::size_t>(vehicle_index)].joint_efforts = efforts;
+  state_.vehicles[static_cast<std::size_t>(vehicle_index)].joint_targets = efforts;
+  return {};
+}
+
+std::string Simulation::set_joint_commands(int vehicle_index, const std::string& controller_name,
+                                           const std::vector<double>& values) {
+  if (vehicle_index < 0 || vehicle_index >= static_cast<int>(model_.vehicles.size())) {
+    return "unknown vehicle index " + std::to_string(vehicle_index);
+  }
+  const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
+  const auto found = std::find_if(spec.joint_controllers.begin(), spec.joint_controllers.end(),
+                                  [&](const physics::JointControllerSpec& c) { return c.name == controller_name; });
+  if (found == spec.joint_controllers.end()) {
+    std::string known;
+    for (const auto& c : spec.joint_controllers) known += (known.empty() ? "" : ", ") + c.name;
+    return "vehicle '" + spec.name + "' has no joint controller '" + controller_name + "' (" +
+           (known.empty() ? std::string("it has none") : "it has " + known) + ")";
+  }
+  const physics::JointControllerSpec& controller = *found;
+  const std::string prefix = "vehicle '" + spec.name + "': joint controller '" + controller.name + "': ";
+  if (values.size() != controller.joints.size()) {
+    return prefix + std::to_string(values.size()) + " values for " + std::to_string(controller.joints.size()) +
+           " joints";
+  }
+  const physics::Articulation& a = *world_->articulation(vehicle_index);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const JointSpec& joint = a.body(controller.joints[k] + 1).joint;
+    const std::string& link = spec.links[static_cast<std::size_t>(a.body(controller.joints[k] + 1).joint_link)].name;
+    if (!std::isfinite(values[k])) return prefix + "value " + std::to_string(k) + " (" + link + ") is not finite";
+    const bool outside = values[k] < joint.lower || values[k] > joint.upper;
+    if (controller.mode == physics::JointCommandMode::kPosition && outside) {
+      return prefix + "position " + format_number(values[k]) + " for '" + link + "' is outside its limits [" +
+             format_number(joint.lower) + ", " + format_number(joint.upper) + "]";
+    }
+  }
+  std::vector<double>& targets = state_.vehicles[static_cast<std::size_t>(vehicle_index)].joint_targets;
+  for (std::size_t k = 0; k < values.size(); ++k) targets[static_cast<std::size_t>(controller.joints[k])] = values[k];
   return {};
 }
 
@@ -686,14 +761,19 @@ void Simulation::apply_articulated_forces(std::size_t i) {
 // its submerged fraction, as for a rigid vehicle), and each joint's effort less its viscous damping.
 void Simulation::hand_articulated_forces(std::size_t i) {
   VehicleRuntime& runtime = *runtime_[i];
-  const VehicleState& vehicle = state_.vehicles[i];
+  VehicleState& vehicle = state_.vehicles[i];
   const physics::ArticulatedDynamics& dynamics = *runtime.dynamics;
   const physics::Articulation& a = *runtime.articulation;
   const auto n = static_cast<std::size_t>(a.num_dofs());
   Eigen::VectorXd tau(static_cast<Eigen::Index>(n));
   for (std::size_t j = 0; j < n; ++j) {
-    tau[static_cast<Eigen::Index>(j)] =
-        vehicle.joint_efforts[j] - a.body(static_cast<int>(j) + 1).joint.damping * vehicle.joint_velocities[j];
+    // The joint's motor (its controller's law, or the effort it holds), then its viscous damping.
+    const VehicleRuntime::JointMotor& motor = runtime.motors[j];
+    const double effort = physics::joint_servo_torque(motor.servo, motor.mode, vehicle.joint_targets[j],
+                                                      vehicle.joint_positions[j], vehicle.joint_velocities[j]);
+    vehicle.joint_efforts[j] = effort;
+    const double damping = a.body(static_cast<int>(j) + 1).joint.damping;
+    tau[static_cast<Eigen::Index>(j)] = effort - damping * vehicle.joint_velocities[j];
   }
   std::vector<physics::ArticulatedDynamics::Wrench> wrenches(runtime.bodies.size());
   for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {

@@ -177,6 +177,51 @@ TEST(SimulationArticulatedTest, JointFrictionHoldsBelowItsTorqueAndOpposesMotion
   EXPECT_NEAR(q / (0.5 * alpha * 0.2 * 0.2), 1.0, 0.02) << "q " << q;
 }
 
+// A position controller (kp, kd) holds the horizontal arm at its target less the gravity sag: at rest
+// kp (q* - q) balances the wet weight's torque tau_g cos q, so q = q* + tau_g cos(q) / kp (solved by
+// iteration); after 4 s (the slow mode's time constant kd / kp = 0.1 s) within 1e-6 rad. An effort
+// controller's command is held within the joint's effort_limit, and bad commands are refused by name.
+TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJointsLimits) {
+  Pendulum p;
+  p.arm_L = Eigen::Vector3d::UnitX();
+  p.lower = -1.0;
+  p.upper = 1.0;
+  Model model = p.model();
+  physics::JointControllerSpec position;
+  position.name = "arm_position";
+  position.mode = physics::JointCommandMode::kPosition;
+  position.joints = {0};
+  position.kp = 2000.0;
+  position.kd = 200.0;
+  model.vehicles[0].joint_controllers.push_back(position);
+  Simulation sim(std::move(model));
+  const double rho_V = sim.ocean().density(p.depth) * p.volume();
+  const double tau_g = (p.m - rho_V) * 9.80665 * p.l;
+  EXPECT_EQ(sim.state().vehicles[0].joint_targets, std::vector<double>{0.0});  // holds where it starts
+  ASSERT_EQ(sim.set_joint_commands(0, "arm_position", {0.3}), "");
+  for (int k = 0; k < 2000; ++k) sim.step();
+  double expected = 0.3;
+  for (int k = 0; k < 20; ++k) expected = 0.3 + tau_g * std::cos(expected) / position.kp;
+  EXPECT_NEAR(joint_q(sim), expected, 1e-6) << "sag " << expected - 0.3;
+  EXPECT_NEAR(sim.state().vehicles[0].joint_efforts[0], -tau_g * std::cos(expected), 1e-3);
+
+  EXPECT_NE(sim.set_joint_commands(0, "arm_position", {1.5}).find("outside its limits [-1, 1]"), std::string::npos);
+  EXPECT_NE(sim.set_joint_commands(0, "arm_position", {0.1, 0.2}).find("2 values for 1 joints"), std::string::npos);
+  EXPECT_NE(sim.set_joint_commands(0, "arm_position", {std::nan("")}).find("not finite"), std::string::npos);
+  EXPECT_NE(sim.set_joint_commands(0, "gripper", {0.0}).find("no joint controller 'gripper' (it has arm_position)"),
+            std::string::npos);
+  EXPECT_NE(sim.set_joint_efforts(0, {1.0}).find("commands its joints' position"), std::string::npos);
+  EXPECT_EQ(sim.state().vehicles[0].joint_targets, std::vector<double>{0.3});
+
+  Model limited = p.model();
+  limited.vehicles[0].links[1].joint.effort_limit = 5.0;
+  Simulation weak(std::move(limited));
+  ASSERT_EQ(weak.set_joint_efforts(0, {-50.0}), "");
+  weak.step();
+  EXPECT_EQ(weak.state().vehicles[0].joint_efforts, std::vector<double>{-5.0});
+  EXPECT_EQ(weak.state().vehicles[0].joint_targets, std::vector<double>{-50.0});
+}
+
 // Joint limits are hard stops: under ten times the effort gravity needs, the arm pressed against its
 // limit of +-10 degrees for 1 s stays within 0.5 degrees of it (Bullet's limit constraint, solved with
 // the contacts).

@@ -248,6 +248,12 @@ const KeyTable<JointSpec>& joint_keys() {
     t.number("friction", &JointSpec::friction).only_for({"revolute", "continuous", "prismatic"})
         .unit("N m or N").range(Range::non_negative())
         .doc("Coulomb: holds the joint against smaller torques (forces), opposes its motion with this one");
+    t.number("effort_limit", &JointSpec::effort_limit).only_for({"revolute", "continuous", "prismatic"})
+        .unit("N m or N").range(Range::positive()).default_text("unlimited")
+        .doc("its motor's largest torque (force), whatever the command");
+    t.number("velocity_limit", &JointSpec::velocity_limit).only_for({"revolute", "continuous", "prismatic"})
+        .unit("rad/s or m/s").range(Range::positive()).default_text("unlimited")
+        .doc("the largest rate a position or velocity command asks for");
     t.check([](const KeyReads& reads, JointSpec& joint, NoContext&) {
       if (joint.axis_L.norm() > 0.0) return true;
       reads.error_at_key("axis", "must not be zero");

@@ -25,6 +25,7 @@ struct VehicleDefinition {
   std::vector<ActuatorSpec> actuators;
   std::vector<SensorSpec> sensors;
   std::vector<LightSpec> lights;
+  std::vector<physics::JointControllerSpec> joint_controllers;
   FluidSpec fluid;
   // Length and names of the control vector, or nullopt when an actuator list itself is unusable (not a
   // list, an actuator without a valid name): the schedule's setpoint count is then not checked.

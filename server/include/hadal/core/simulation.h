@@ -116,10 +116,16 @@ class Simulation {
   std::string check_controls(int vehicle_index, const std::vector<double>& controls) const;
 
   // An articulated vehicle's joint efforts (physics/articulation.h): one torque [N m] or force [N] per
-  // moving joint in body order, each finite, held until the next. Returns "" when accepted, else the reason
-  // (an unknown vehicle, a vehicle without joints, the wrong length, a value that is not finite) with the
-  // state untouched.
+  // moving joint in body order, each finite, held until the next, each within its joint's effort_limit when
+  // applied. Only for a vehicle whose joint controllers (if any) are effort groups. Returns "" when accepted,
+  // else the reason (an unknown vehicle, a vehicle without joints, a position or velocity controller, the
+  // wrong length, a value that is not finite) with the state untouched.
   std::string set_joint_efforts(int vehicle_index, const std::vector<double>& efforts);
+  // A command of one of the vehicle's joint controllers (VehicleSpec::joint_controllers, by name): one
+  // value per joint of the group, in its order, held until the next (physics/joint_servo.h has the law).
+  // Refused with the reason (unknown controller, wrong length, not finite, a position outside the joint's
+  // limits), the state untouched.
+  std::string set_joint_commands(int vehicle_index, const std::string& controller, const std::vector<double>& values);
 
   // Advances by one physics step of model().world.step_size() seconds.
   void step();

@@ -78,11 +78,15 @@ struct VehicleState {
   // shear displacement in the soil, in W [m]; empty until the vehicle first touches soil.
   std::vector<Eigen::Vector3d> soil_shear_W;
   // An articulated vehicle's moving joints (physics/articulation.h; one each, in body order), empty for a
-  // rigid vehicle: coordinates q [rad or m], rates [rad/s or m/s], and the effort each joint's motor holds
-  // (the last accepted command, Simulation::set_joint_efforts) [N m or N].
+  // rigid vehicle: coordinates q [rad or m], rates [rad/s or m/s], and the effort each joint's motor
+  // applied in the last step [N m or N].
   std::vector<double> joint_positions;
   std::vector<double> joint_velocities;
   std::vector<double> joint_efforts;
+  // The command each joint holds (the last accepted): a position, rate or effort as its joint controller
+  // takes it (an effort for a joint in none) [rad or m, rad/s or m/s, N m or N]; joint_efforts is what its
+  // motor applied in the last step.
+  std::vector<double> joint_targets;
   // An articulated vehicle with added mass: the generalised force Bullet's constraints (contacts, joint
   // limits, joint friction) applied in the last step, measured from its velocity change, fed into the next
   // step's added-mass solve as contact_wrench_B is for a rigid vehicle (physics/articulated_dynamics.h;

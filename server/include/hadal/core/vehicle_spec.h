@@ -17,6 +17,7 @@
 #include "hadal/geometry/link_spec.h"
 #include "hadal/physics/actuator_specs.h"
 #include "hadal/physics/fluid_spec.h"
+#include "hadal/physics/joint_servo.h"
 #include "hadal/render/light_spec.h"
 #include "hadal/sensors/sensor_specs.h"
 
@@ -96,6 +97,8 @@ struct VehicleSpec {
   std::vector<ActuatorSpec> actuators;  // their controls form the vehicle's control vector, in order
   std::vector<SensorSpec> sensors;
   std::vector<LightSpec> lights;
+  // Groups of an articulated vehicle's joints commanded together (physics/joint_servo.h).
+  std::vector<physics::JointControllerSpec> joint_controllers;
   FluidSpec fluid;
   Eigen::Isometry3d X_WB_initial = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_WB_initial = Eigen::Vector3d::Zero();  // initial linear velocity in W [m/s]

@@ -94,6 +94,10 @@ struct JointSpec {
   double damping = 0.0;   // viscous [N m s/rad] or [N s/m]
   double friction = 0.0;  // Coulomb [N m] or [N]
   double initial = 0.0;   // q at the start and after a reset [rad] or [m]
+  // Its motor's limits (URDF's <limit effort velocity>): every torque (force) it applies, and the rate a
+  // position or velocity command may ask for.
+  double effort_limit = std::numeric_limits<double>::infinity();    // [N m] or [N], > 0
+  double velocity_limit = std::numeric_limits<double>::infinity();  // [rad/s] or [m/s], > 0
 };
 
 struct LinkSpec {

@@ -12,6 +12,14 @@
 #pragma once
 
 #include <limits>
+#include <string>
+#include <vector>
+
+#include "hadal/config/key_table_fwd.h"
+
+namespace hadal::config {
+struct VehicleContext;
+}
 
 namespace hadal::physics {
 
@@ -26,5 +34,22 @@ struct JointServoSpec {
 
 // The joint torque for the command `target` at joint position q and rate qd (see above).
 double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd);
+
+const char* to_string(JointCommandMode mode);
+
+// A group of joints commanded together, ros2_control's shape (YAML `joint_controllers`): a position,
+// velocity or effort group whose command is one value per joint, in `joints` order. The gains are the
+// group's; each joint's effort and velocity limits are its own (links[].joint). A joint is in at most one
+// group; a joint in none takes efforts (Simulation::set_joint_efforts).
+struct JointControllerSpec {
+  std::string name;
+  JointCommandMode mode = JointCommandMode::kEffort;
+  std::vector<int> joints;  // indices of the vehicle's moving joints (in the order of its links)
+  double kp = 0.0;          // [N m/rad or N/m]: position
+  double kd = 0.0;          // [N m s/rad or N s/m]: position (optional), velocity
+};
+
+// The keys of one entry of `joint_controllers`.
+const config::KeyTable<JointControllerSpec, config::VehicleContext>& joint_controller_keys();
 
 }  // namespace hadal::physics
