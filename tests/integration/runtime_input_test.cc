@@ -186,6 +186,43 @@ TEST(RuntimeInputTest, ReplayedAndDuplicatedRequestsAreRefusedAndChangeNothing) 
   EXPECT_NEAR(s.client().step(10), 0.06, 1e-12);
 }
 
+// Joint-controller commands attached to step requests (tests/integration/scenarios/arm.yaml): malformed
+// ones (counts that do not add up, an unknown controller, a position beyond the joint's limit, NaN) are
+// refused with the reason and step nothing; the server goes on, and a good one is applied before the step.
+TEST(RuntimeInputTest, JointCommandsInStepRequestsAreCheckedBeforeAnythingSteps) {
+  LockstepServer s("tests/integration/scenarios/arm.yaml");
+  s.connect();
+  RawPeer peer(s.domain());
+  const auto with_joint_command = [](std::uint64_t id, const std::string& controller, std::vector<double> values,
+                                     std::uint32_t count) {
+    hadal_msgs::msg::StepRequest r = request(id, 10);
+    r.joint_command_vehicles({"arm"});
+    r.joint_command_controllers({controller});
+    r.joint_command_counts({count});
+    r.joint_commands(std::move(values));
+    return r;
+  };
+  const std::vector<std::pair<hadal_msgs::msg::StepRequest, std::string>> refused = {
+      {with_joint_command(1, "shoulder_position", {0.1, 0.2}, 1),
+       "joint_command_counts add up to 1 but 2 joint commands are attached"},
+      {with_joint_command(2, "elbow", {0.1}, 1),
+       "arm: vehicle 'arm' has no joint controller 'elbow' (it has shoulder_position, forearm_effort)"},
+      {with_joint_command(3, "shoulder_position", {3.0}, 1),
+       "arm: vehicle 'arm': joint controller 'shoulder_position': position 3 for 'shoulder' is outside its limits "
+       "[-2.0943951023931953, 2.0943951023931953]"},
+      {with_joint_command(4, "forearm_effort", {std::nan("")}, 1),
+       "arm: vehicle 'arm': joint controller 'forearm_effort': value 0 (forearm) is not finite"}};
+  for (const auto& [bad, reason] : refused) {
+    const hadal_msgs::msg::StepReply reply = peer.send(bad);
+    EXPECT_FALSE(reply.accepted());
+    EXPECT_EQ(reply.error(), reason);
+    EXPECT_EQ(reply.sim_time_s(), 0.0);
+  }
+  const hadal_msgs::msg::StepReply reply = peer.send(with_joint_command(5, "forearm_effort", {0.25}, 1));
+  ASSERT_TRUE(reply.accepted()) << reply.error();
+  EXPECT_NEAR(reply.sim_time_s(), 0.02, 1e-12);
+}
+
 TEST(RuntimeInputTest, StepRequestsToAServerNotInLockstepAreRefusedAtOnce) {
   DomainLease domain;
   ServerProcess server({source_path(kClientScenario), "--mode", "realtime", "--domain-id",

@@ -401,6 +401,32 @@ struct Client::Impl {
   std::map<std::string, Odometry> reply_states;
   bool replied = false;
   std::map<std::string, std::vector<double>> pending_commands;  // attached to the next step()
+  // Joint controller commands attached to the next step(), by (vehicle, controller), and their writers.
+  std::map<std::pair<std::string, std::string>, std::vector<double>> pending_joint_commands;
+  std::map<std::pair<std::string, std::string>, fdds::DataWriter*> joint_command_writers;
+
+  // Keeps `values` to attach to the next step() (pending[key]) and publishes them on `topic` through
+  // writers[key], made on first use (waiting up to 2 s for the server's reader).
+  template <class Key>
+  void publish_and_attach(std::map<Key, std::vector<double>>& pending, std::map<Key, fdds::DataWriter*>& writers,
+                          const Key& key, const std::string& topic, const std::vector<double>& values) {
+    fdds::DataWriter* writer = nullptr;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      pending[key] = values;
+      auto found = writers.find(key);
+      if (found != writers.end()) writer = found->second;
+    }
+    if (writer == nullptr) {
+      writer = registry->writer<std_msgs::msg::Float64MultiArrayPubSubType>(topic, kHistoryDepth);
+      wait_for_match(writer, 2.0);
+      std::lock_guard<std::mutex> lock(mutex);
+      writers[key] = writer;
+    }
+    std_msgs::msg::Float64MultiArray msg;
+    msg.data(values);
+    writer->write(&msg);
+  }
   std::uint64_t next_request_id = 0;
 
   // Attaches the pending setpoints and sends a step or reset request: its id, for await().
@@ -742,24 +768,15 @@ void Client::attach_commands(const std::string& vehicle, const std::vector<doubl
 }
 
 void Client::set_commands(const std::string& vehicle, const std::vector<double>& commands) {
-  Impl& d = *impl_;
-  fdds::DataWriter* writer = nullptr;
-  {
-    std::lock_guard<std::mutex> lock(d.mutex);
-    d.pending_commands[vehicle] = commands;
-    auto found = d.setpoint_writers.find(vehicle);
-    if (found != d.setpoint_writers.end()) writer = found->second;
-  }
-  if (writer == nullptr) {
-    writer = d.registry->writer<std_msgs::msg::Float64MultiArrayPubSubType>(
-        dds::actuator_commands_topic(vehicle), kHistoryDepth);
-    wait_for_match(writer, 2.0);
-    std::lock_guard<std::mutex> lock(d.mutex);
-    d.setpoint_writers[vehicle] = writer;
-  }
-  std_msgs::msg::Float64MultiArray msg;
-  msg.data(commands);
-  writer->write(&msg);
+  impl_->publish_and_attach(impl_->pending_commands, impl_->setpoint_writers, vehicle,
+                            dds::actuator_commands_topic(vehicle), commands);
+}
+
+void Client::set_joint_commands(const std::string& vehicle, const std::string& controller,
+                                const std::vector<double>& values) {
+  impl_->publish_and_attach(impl_->pending_joint_commands, impl_->joint_command_writers,
+                            std::make_pair(vehicle, controller), dds::joint_commands_topic(vehicle, controller),
+                            values);
 }
 
 std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double timeout_s) {
@@ -778,6 +795,13 @@ std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double
       request.setpoints().insert(request.setpoints().end(), setpoints.begin(), setpoints.end());
     }
     d.pending_commands.clear();
+    for (const auto& [key, values] : d.pending_joint_commands) {
+      request.joint_command_vehicles().push_back(key.first);
+      request.joint_command_controllers().push_back(key.second);
+      request.joint_command_counts().push_back(static_cast<std::uint32_t>(values.size()));
+      request.joint_commands().insert(request.joint_commands().end(), values.begin(), values.end());
+    }
+    d.pending_joint_commands.clear();
     d.replies.emplace(id, std::nullopt);
   }
   d.step_writer->write(&request);

@@ -350,6 +350,10 @@ class PyClient {
       client()->attach_commands(vehicle, commands);
     }
   }
+  void set_joint_commands(const std::string& vehicle, const std::string& controller,
+                          const std::vector<double>& values) {
+    client()->set_joint_commands(vehicle, controller, values);
+  }
   double step(std::uint32_t steps, double timeout_s) { return client()->step(steps, timeout_s); }
   // The samples kept so far are forgotten first: after the reset sim time starts again at 0, and a kept
   // sample of the run before would satisfy any min_stamp.
@@ -998,6 +1002,11 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            py::arg("channel") = "port", py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "RawSonarImage of rt/<vehicle>/<sensor>/<channel> (a side-scan's 'port' or 'starboard') with stamp >= "
            "min_stamp, or None on timeout")
+      .def("set_joint_commands", &PyClient::set_joint_commands, py::arg("vehicle"), py::arg("controller"),
+           py::arg("values"), release(),
+           "A joint controller's command (the scenario's joint_controllers): one value per joint of the group, in "
+           "its order (a position [rad or m], rate or effort). Published on rt/<vehicle>/<controller>/commands "
+           "and attached to the next step()/reset()")
       .def("set_commands", &PyClient::set_commands, py::arg("vehicle"), py::arg("commands"),
            py::arg("publish") = true, release(),
            "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop "

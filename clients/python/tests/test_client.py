@@ -170,8 +170,11 @@ def test_fin_state(zoo_server):
 
 
 def test_joint_state(arm_server):
-    """An articulated vehicle's joints on rt/arm/joint_states (sensor_msgs/JointState), read as numpy arrays:
-    released at 30 and -20 degrees, the arm falls under its wet weight (positive q turns +x towards -z)."""
+    """An articulated vehicle's joints on rt/arm/joint_states (sensor_msgs/JointState), read as numpy arrays,
+    commanded through its joint controllers: the shoulder's position controller holds it where it starts
+    (30 deg) less its sag; the forearm, released at -20 deg with no effort, falls under its wet weight
+    (positive q turns +x towards -z). A command for the position controller then moves the shoulder; a bad
+    one is refused by the lockstep step with its reason."""
     _, domain_id = arm_server
     client = connect(domain_id, "arm")
     client.wait_joint_state("arm", timeout_s=0)  # subscribe, then step
@@ -181,5 +184,17 @@ def test_joint_state(arm_server):
     assert joints.names == ["shoulder", "forearm"]
     assert joints.frame_id == "arm/base_link"
     assert joints.position.dtype == np.float64 and joints.position.shape == (2,)
-    assert joints.position[0] > math.radians(30.0) and joints.velocity[0] > 0.0
-    np.testing.assert_array_equal(joints.effort, [0.0, 0.0])
+    assert abs(joints.position[0] - math.radians(30.0)) < math.radians(3.0)
+    assert joints.position[1] > math.radians(-20.0) and joints.velocity[1] > 0.0
+    assert joints.effort[1] == 0.0 and joints.effort[0] != 0.0
+
+    client.set_joint_commands("arm", "shoulder_position", [math.radians(-10.0)])
+    client.set_joint_commands("arm", "forearm_effort", [0.5])
+    t = client.step(1000)  # 2 s
+    joints = client.wait_joint_state("arm", min_stamp=t, timeout_s=WAIT_S)
+    assert abs(joints.position[0] - math.radians(-10.0)) < math.radians(3.0)
+    assert joints.effort[1] == 0.5
+
+    client.set_joint_commands("arm", "shoulder_position", [math.radians(150.0)])  # beyond its 120 deg limit
+    with pytest.raises(hadal.CommandRejected, match="outside its limits"):
+        client.step(1)

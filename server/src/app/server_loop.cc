@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -164,7 +165,10 @@ class Runner {
       // All attached commands are checked before any is applied: a refused request changes nothing.
       std::string refused;
       for (const auto& command : request->commands) {
-        const std::string reason = sim_.check_controls(command.vehicle_index, command.setpoints);
+        const std::string reason =
+            command.joint_controller.empty()
+                ? sim_.check_controls(command.vehicle_index, command.setpoints)
+                : sim_.check_joint_commands(command.vehicle_index, command.joint_controller, command.setpoints);
         if (!reason.empty() && refused.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
       }
       if (!refused.empty()) {
@@ -212,6 +216,7 @@ class Runner {
     for (auto& samples : published_samples_) std::fill(samples.begin(), samples.end(), 0);
     std::fill(last_command_stamp_.begin(), last_command_stamp_.end(), std::numeric_limits<std::int64_t>::min());
     std::fill(last_command_source_.begin(), last_command_source_.end(), dds::SourceId{});
+    last_joint_command_.clear();
     const auto& vehicles = sim_.state().vehicles;
     for (std::size_t i = 0; i < vehicles.size(); ++i) {
       // The summary's distances, like its sim time and steps, count from the reset (the pose it set).
@@ -227,6 +232,18 @@ class Runner {
   std::string apply_command(const dds::InboundCommand& command) {
     if (!command.error.empty()) return command.error;
     const auto v = static_cast<std::size_t>(command.vehicle_index);
+    if (!command.joint_controller.empty()) {
+      // The same staleness rule, per joint controller.
+      auto& [source, stamp] = last_joint_command_[{command.vehicle_index, command.joint_controller}];
+      if (command.source == source && command.source_stamp_ns < stamp) return "";
+      const std::string reason = sim_.set_joint_commands(command.vehicle_index, command.joint_controller,
+                                                         command.setpoints);
+      if (reason.empty()) {
+        source = command.source;
+        stamp = command.source_stamp_ns;
+      }
+      return reason;
+    }
     // DDS does not order samples across topics: a command older than one its own sender had applied (the
     // setpoints a client also attached to a step request, arriving after it) is stale. Stamps of
     // different senders come from different clocks and are never compared: between senders, the later
@@ -430,6 +447,8 @@ class Runner {
   dds::ServerEndpoints dds_;
   RateDivider clock_divider_;
   std::vector<RateDivider> odometry_dividers_, actuator_state_dividers_;
+  // The sender and source stamp of the last joint command applied, per (vehicle, joint controller).
+  std::map<std::pair<int, std::string>, std::pair<dds::SourceId, std::int64_t>> last_joint_command_;
   std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor
   std::vector<std::int64_t> last_command_stamp_;
   std::vector<dds::SourceId> last_command_source_;  // who sent the command applied last, per vehicle

@@ -589,6 +589,19 @@ std::string Simulation::set_joint_efforts(int vehicle_index, const std::vector<d
 
 std::string Simulation::set_joint_commands(int vehicle_index, const std::string& controller_name,
                                            const std::vector<double>& values) {
+  const std::string reason = check_joint_commands(vehicle_index, controller_name, values);
+  if (!reason.empty()) return reason;
+  const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
+  const physics::JointControllerSpec& controller =
+      *std::find_if(spec.joint_controllers.begin(), spec.joint_controllers.end(),
+                    [&](const physics::JointControllerSpec& c) { return c.name == controller_name; });
+  std::vector<double>& targets = state_.vehicles[static_cast<std::size_t>(vehicle_index)].joint_targets;
+  for (std::size_t k = 0; k < values.size(); ++k) targets[static_cast<std::size_t>(controller.joints[k])] = values[k];
+  return {};
+}
+
+std::string Simulation::check_joint_commands(int vehicle_index, const std::string& controller_name,
+                                             const std::vector<double>& values) const {
   if (vehicle_index < 0 || vehicle_index >= static_cast<int>(model_.vehicles.size())) {
     return "unknown vehicle index " + std::to_string(vehicle_index);
   }
@@ -618,8 +631,6 @@ std::string Simulation::set_joint_commands(int vehicle_index, const std::string&
              format_number(joint.lower) + ", " + format_number(joint.upper) + "]";
     }
   }
-  std::vector<double>& targets = state_.vehicles[static_cast<std::size_t>(vehicle_index)].joint_targets;
-  for (std::size_t k = 0; k < values.size(); ++k) targets[static_cast<std::size_t>(controller.joints[k])] = values[k];
   return {};
 }
 

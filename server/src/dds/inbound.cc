@@ -67,6 +67,47 @@ std::string parse_reset(const Model& model, const hadal_msgs::msg::StepRequest& 
 
 }  // namespace
 
+namespace {
+
+// The joint-controller commands attached to a request: "" when they parse, else the reason.
+std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::StepRequest& msg, const SourceId& source,
+                                 std::int64_t stamp, InboundStepRequest& request) {
+  const std::size_t n = msg.joint_command_vehicles().size();
+  if (msg.joint_command_controllers().size() != n || msg.joint_command_counts().size() != n) {
+    return "joint_command_vehicles, joint_command_controllers and joint_command_counts differ in length";
+  }
+  std::size_t cursor = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string& name = msg.joint_command_vehicles()[i];
+    const int index = model.vehicle_index(name);
+    if (index < 0) {
+      request.unknown_vehicle = echoed(name);
+      return "unknown vehicle '" + echoed(name) + "'";
+    }
+    const std::size_t count = msg.joint_command_counts()[i];
+    if (cursor + count > msg.joint_commands().size()) {
+      return "joint_command_counts add up to more than the " + std::to_string(msg.joint_commands().size()) +
+             " joint commands attached";
+    }
+    InboundCommand command;
+    command.vehicle_index = index;
+    command.joint_controller = msg.joint_command_controllers()[i];
+    command.source = source;
+    command.source_stamp_ns = stamp;
+    command.setpoints.assign(msg.joint_commands().begin() + static_cast<std::ptrdiff_t>(cursor),
+                             msg.joint_commands().begin() + static_cast<std::ptrdiff_t>(cursor + count));
+    cursor += count;
+    request.commands.push_back(std::move(command));
+  }
+  if (cursor != msg.joint_commands().size()) {
+    return "joint_command_counts add up to " + std::to_string(cursor) + " but " +
+           std::to_string(msg.joint_commands().size()) + " joint commands are attached";
+  }
+  return "";
+}
+
+}  // namespace
+
 InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg::StepRequest& msg,
                                       const SourceId& source,
                                       std::int64_t stamp) {
@@ -121,7 +162,9 @@ InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg:
   if (cursor != msg.setpoints().size()) {
     request.error = "setpoint_counts add up to " + std::to_string(cursor) + " but " +
                     std::to_string(msg.setpoints().size()) + " setpoints are attached";
+    return request;
   }
+  request.error = parse_joint_commands(model, msg, source, stamp, request);
   return request;
 }
 

@@ -26,6 +26,9 @@ using SourceId = std::array<std::uint8_t, 12>;
 // A thruster command from rt/<vehicle>/actuators/commands, or attached to a step request.
 struct InboundCommand {
   int vehicle_index = -1;
+  // Empty: the vehicle's control vector (rt/<vehicle>/actuators/commands); else the joint controller whose
+  // command `setpoints` is (rt/<vehicle>/<controller>/commands, Simulation::set_joint_commands).
+  std::string joint_controller;
   std::vector<double> setpoints;
   SourceId source{};                 // the sending participant
   std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins

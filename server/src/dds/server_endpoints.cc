@@ -157,15 +157,18 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   bool interrupted = false;
 
   // One listener per setpoints reader, so the vehicle index is known without a lookup.
+  // A joint controller's listener also names the controller.
   struct SetpointListener : public fdds::DataReaderListener {
     Impl* owner = nullptr;
     int vehicle_index = -1;
+    std::string joint_controller;
     void on_data_available(fdds::DataReader* reader) override {
       std_msgs::msg::Float64MultiArray msg;
       fdds::SampleInfo info;
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
         InboundCommand command = command_from_array(vehicle_index, msg, source_of(info), source_stamp_ns(info));
+        command.joint_controller = joint_controller;
         std::lock_guard<std::mutex> lock(owner->mutex);
         if (owner->commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
           owner->commands.erase(owner->commands.begin());
@@ -382,6 +385,15 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
     d.setpoint_readers.push_back(r.reader<std_msgs::msg::Float64MultiArrayPubSubType>(
         actuator_commands_topic(name), kCommandHistoryDepth, listener.get()));
     d.setpoint_listeners.push_back(std::move(listener));
+    for (const physics::JointControllerSpec& controller : model.vehicles[i].joint_controllers) {
+      auto joint_listener = std::make_unique<Impl::SetpointListener>();
+      joint_listener->owner = &d;
+      joint_listener->vehicle_index = static_cast<int>(i);
+      joint_listener->joint_controller = controller.name;
+      d.setpoint_readers.push_back(r.reader<std_msgs::msg::Float64MultiArrayPubSubType>(
+          joint_commands_topic(name, controller.name), kCommandHistoryDepth, joint_listener.get()));
+      d.setpoint_listeners.push_back(std::move(joint_listener));
+    }
   }
   d.step_listener.owner = &d;
   d.step_reader = r.reader<hadal_msgs::msg::StepRequestPubSubType>(step_request_topic(), kCommandHistoryDepth,

@@ -12,14 +12,15 @@
 
 namespace hadal::physics {
 
-namespace {
-
-
 Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
   Eigen::Matrix3d s;
   s << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
   return s;
 }
+
+namespace {
+
+
 
 // Lamb's rotational coefficient about the axis whose two perpendicular semi-axes are p, q with
 // coefficients P, Q (m_44: p = b, q = c, P = beta0, Q = gamma0). rho V / 5 times the ratio, which is

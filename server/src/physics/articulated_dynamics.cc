@@ -10,12 +10,6 @@
 namespace hadal::physics {
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d S;
-  S << 0.0, -r.z(), r.y(), r.z(), 0.0, -r.x(), -r.y(), r.x(), 0.0;
-  return S;
-}
-
 Matrix6d block_rotation(const Eigen::Matrix3d& R) {
   Matrix6d R6 = Matrix6d::Zero();
   R6.topLeftCorner<3, 3>() = R;

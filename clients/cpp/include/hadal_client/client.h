@@ -540,6 +540,14 @@ class Client {
   // published on the commands topic (one DDS sample less per control period; what the Python
   // environments use). Validated by the server with the request (CommandRejected, UnknownVehicle).
   void attach_commands(const std::string& vehicle, const std::vector<double>& commands);
+  // An articulated vehicle's joint controller command (its scenario's `joint_controllers`): one value per
+  // joint of the group, in its order (a position [rad or m], rate or effort), published on
+  // rt/<vehicle>/<controller>/commands (std_msgs/Float64MultiArray, as ros2_control's forward command
+  // controllers take it) and attached to the next step() request, like set_commands. The server refuses a
+  // wrong length, NaN, a position outside the joint's limits or an unknown controller (last_error; in
+  // lockstep, CommandRejected from step()).
+  void set_joint_commands(const std::string& vehicle, const std::string& controller,
+                          const std::vector<double>& values);
   // The names before the control vector drove every actuator kind: refused at compile time, naming the
   // new ones.
   template <class... Args>

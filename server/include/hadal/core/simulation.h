@@ -126,6 +126,9 @@ class Simulation {
   // Refused with the reason (unknown controller, wrong length, not finite, a position outside the joint's
   // limits), the state untouched.
   std::string set_joint_commands(int vehicle_index, const std::string& controller, const std::vector<double>& values);
+  // The validation alone: "" if set_joint_commands would accept the command, else the reason.
+  std::string check_joint_commands(int vehicle_index, const std::string& controller,
+                                   const std::vector<double>& values) const;
 
   // Advances by one physics step of model().world.step_size() seconds.
   void step();

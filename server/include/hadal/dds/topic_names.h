@@ -21,6 +21,10 @@ inline std::string joint_states_topic(const std::string& vehicle) { return "rt/"
 inline std::string sensor_topic(const std::string& vehicle, const std::string& sensor) {
   return "rt/" + vehicle + "/" + sensor;
 }
+// A joint controller's commands (std_msgs/Float64MultiArray, one value per joint of the group).
+inline std::string joint_commands_topic(const std::string& vehicle, const std::string& controller) {
+  return "rt/" + vehicle + "/" + controller + "/commands";
+}
 inline std::string actuator_commands_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/actuators/commands";
 }

@@ -83,6 +83,9 @@ Ellipsoid equivalent_ellipsoid(const geometry::MeshProperties& props);
 Matrix6d shift_added_mass(const Matrix6d& M_O, const Eigen::Matrix3d& R_BE,
                           const Eigen::Vector3d& p_BO, const Eigen::Vector3d& p_BC);
 
+// The cross-product matrix: skew(a) b = a x b.
+Eigen::Matrix3d skew(const Eigen::Vector3d& a);
+
 // C_A(nu) nu for added-mass matrix M_A (about C, B axes).
 Vector6d added_mass_coriolis(const Matrix6d& M_A, const Vector6d& nu);
 
