@@ -1,0 +1,215 @@
+/* hadal-ros2-joint-probe: a ROS 2 node's view of an articulated vehicle in a lockstep hadald, written with
+ * Cyclone DDS (as under rmw_cyclonedds_cpp) against the independently written ROS 2 types in ros2_types.idl.
+ * It commands a joint controller with std_msgs/Float64MultiArray on rt/<vehicle>/<controller>/commands (as
+ * `ros2 topic pub` would, and attached to the step request as hadal's clients do), steps the server with
+ * hadal_msgs/StepRequest, and reads sensor_msgs/JointState on rt/<vehicle>/joint_states. Checks, each printed
+ * as "ok: ..." or "FAIL: ...":
+ *   1. the step request carrying the joint command is accepted;
+ *   2. JointState names the expected joints, with as many positions, velocities and efforts, all finite, and
+ *      the commanded joint's effort is the commanded value (an effort controller), at the reply's sim time;
+ *   3. a command for a joint controller the vehicle does not have is refused with the server's reason and
+ *      steps nothing.
+ * usage: hadal-ros2-joint-probe [--domain-id N] [--vehicle arm] [--controller forearm_effort] [--joint 1]
+ *                               [--joints 2] [--effort 0.5]
+ * Exit 0 when every check passed, 1 otherwise, 2 on a usage or DDS error. Discovery: loopback only (set
+ * CYCLONEDDS_URI to override). */
+#include <dds/dds.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ros2_types.h"
+
+static int failures = 0;
+
+static void check(bool ok, const char *what, double a, double b) {
+  printf("%s: %s (%.6g, %.6g)\n", ok ? "ok" : "FAIL", what, a, b);
+  if (!ok) ++failures;
+}
+
+static void configure_loopback(void) {
+  const char *uri = getenv("CYCLONEDDS_URI");
+  if (uri != NULL && *uri != '\0') return;
+  setenv("CYCLONEDDS_URI",
+         "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/>"
+         "</Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery>"
+         "<ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>"
+         "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>",
+         1);
+}
+
+static dds_entity_t endpoint(dds_entity_t pp, const dds_topic_descriptor_t *desc, const char *name, bool writer) {
+  dds_entity_t topic = dds_create_topic(pp, desc, name, NULL, NULL);
+  if (topic < 0) return topic;
+  dds_qos_t *qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 32);
+  dds_entity_t e = writer ? dds_create_writer(pp, topic, qos, NULL) : dds_create_reader(pp, topic, qos, NULL);
+  dds_delete_qos(qos);
+  return e;
+}
+
+static bool wait_matched(dds_entity_t writer, double seconds) {
+  for (int i = 0; i < (int)(seconds * 100); ++i) {
+    dds_publication_matched_status_t status;
+    if (dds_get_publication_matched_status(writer, &status) == DDS_RETCODE_OK && status.current_count > 0)
+      return true;
+    dds_sleepfor(DDS_MSECS(10));
+  }
+  return false;
+}
+
+/* Takes replies until the one for `id` arrives (or 20 s pass): accepted, sim time and error copied out. */
+static bool await_reply(dds_entity_t reader, uint64_t id, bool *accepted, double *sim_time, char *error,
+                        size_t error_size) {
+  for (int i = 0; i < 20000; ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(reader, samples, &info, 1, 1) > 0) {
+      const hadal_msgs_msg_dds__StepReply_ *r = samples[0];
+      const bool mine = info.valid_data && r->request_id == id;
+      if (mine) {
+        *accepted = r->accepted;
+        *sim_time = r->sim_time_s;
+        snprintf(error, error_size, "%s", r->error ? r->error : "");
+      }
+      dds_return_loan(reader, samples, 1);
+      if (mine) return true;
+    }
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  return false;
+}
+
+int main(int argc, char **argv) {
+  const char *env_domain = getenv("ROS_DOMAIN_ID");
+  int domain = (env_domain != NULL && *env_domain != '\0') ? atoi(env_domain) : 0;
+  const char *vehicle = "arm", *controller = "forearm_effort";
+  int joint = 1, joints = 2;
+  double effort = 0.5;
+  for (int i = 1; i < argc; i += 2) {
+    const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+    if (v == NULL) {
+      fprintf(stderr, "hadal-ros2-joint-probe: %s needs a value\n", a);
+      return 2;
+    }
+    if (strcmp(a, "--domain-id") == 0) domain = atoi(v);
+    else if (strcmp(a, "--vehicle") == 0) vehicle = v;
+    else if (strcmp(a, "--controller") == 0) controller = v;
+    else if (strcmp(a, "--joint") == 0) joint = atoi(v);
+    else if (strcmp(a, "--joints") == 0) joints = atoi(v);
+    else if (strcmp(a, "--effort") == 0) effort = atof(v);
+    else {
+      fprintf(stderr, "hadal-ros2-joint-probe: unknown option %s\n", a);
+      return 2;
+    }
+  }
+  if (domain < 0 || domain > 232 || joints < 1 || joint < 0 || joint >= joints) {
+    fprintf(stderr, "usage: hadal-ros2-joint-probe [--domain-id N] [--vehicle V] [--controller C] [--joint K] "
+                    "[--joints N] [--effort E]\n");
+    return 2;
+  }
+  configure_loopback();
+  dds_entity_t pp = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
+  if (pp < 0) return 2;
+  char command_topic[256], joints_topic[256];
+  snprintf(command_topic, sizeof(command_topic), "rt/%s/%s/commands", vehicle, controller);
+  snprintf(joints_topic, sizeof(joints_topic), "rt/%s/joint_states", vehicle);
+  dds_entity_t wr_request = endpoint(pp, &hadal_msgs_msg_dds__StepRequest__desc, "rt/hadal/step_request", true);
+  dds_entity_t wr_command = endpoint(pp, &std_msgs_msg_dds__Float64MultiArray__desc, command_topic, true);
+  dds_entity_t rd_reply = endpoint(pp, &hadal_msgs_msg_dds__StepReply__desc, "rt/hadal/step_reply", false);
+  dds_entity_t rd_joints = endpoint(pp, &sensor_msgs_msg_dds__JointState__desc, joints_topic, false);
+  if (wr_request < 0 || wr_command < 0 || rd_reply < 0 || rd_joints < 0) return 2;
+  if (!wait_matched(wr_request, 20.0) || !wait_matched(wr_command, 20.0)) {
+    printf("FAIL: hadald's readers on rt/hadal/step_request and %s never matched\n", command_topic);
+    return 1;
+  }
+  for (int i = 0; i < 2000; ++i) {
+    dds_subscription_matched_status_t a, b;
+    dds_get_subscription_matched_status(rd_reply, &a);
+    dds_get_subscription_matched_status(rd_joints, &b);
+    if (a.current_count > 0 && b.current_count > 0) break;
+    dds_sleepfor(DDS_MSECS(10));
+  }
+
+  /* 1: the command on its topic and attached to the request. */
+  double value = effort;
+  std_msgs_msg_dds__Float64MultiArray_ command;
+  memset(&command, 0, sizeof(command));
+  command.data._buffer = &value;
+  command.data._length = command.data._maximum = 1;
+  dds_write(wr_command, &command);
+  char *vehicles[1] = {(char *)vehicle};
+  char *controllers[1] = {(char *)controller};
+  uint32_t counts[1] = {1};
+  hadal_msgs_msg_dds__StepRequest_ request;
+  memset(&request, 0, sizeof(request));
+  request.request_id = 1;
+  request.steps = 50;
+  request.joint_command_vehicles._buffer = vehicles;
+  request.joint_command_vehicles._length = request.joint_command_vehicles._maximum = 1;
+  request.joint_command_controllers._buffer = controllers;
+  request.joint_command_controllers._length = request.joint_command_controllers._maximum = 1;
+  request.joint_command_counts._buffer = counts;
+  request.joint_command_counts._length = request.joint_command_counts._maximum = 1;
+  request.joint_commands._buffer = &value;
+  request.joint_commands._length = request.joint_commands._maximum = 1;
+  dds_write(wr_request, &request);
+  bool accepted = false;
+  double t = -1.0;
+  char error[512];
+  const bool answered = await_reply(rd_reply, 1, &accepted, &t, error, sizeof(error));
+  check(answered && accepted, "the step request with a joint command is accepted", t, 0.1);
+
+  /* 2: the newest JointState at the reply's sim time. */
+  bool found = false, names_ok = false, finite = true;
+  uint32_t n_names = 0, n_position = 0, n_velocity = 0, n_effort = 0;
+  double echoed = NAN, stamp = -1.0;
+  for (int i = 0; i < 20000 && answered && !(stamp >= t - 1e-9); ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(rd_joints, samples, &info, 1, 1) > 0) {
+      const sensor_msgs_msg_dds__JointState_ *m = samples[0];
+      if (info.valid_data) {
+        found = true;
+        stamp = m->header.stamp.sec + 1e-9 * m->header.stamp.nanosec;
+        n_names = m->name._length;
+        n_position = m->position._length;
+        n_velocity = m->velocity._length;
+        n_effort = m->effort._length;
+        names_ok = n_names == (uint32_t)joints;
+        finite = true;
+        for (uint32_t k = 0; k < n_position && k < n_velocity; ++k) {
+          finite = finite && isfinite(m->position._buffer[k]) && isfinite(m->velocity._buffer[k]);
+        }
+        echoed = (uint32_t)joint < n_effort ? m->effort._buffer[joint] : NAN;
+        if (names_ok) printf("   joints: %s, %s\n", m->name._buffer[0], n_names > 1 ? m->name._buffer[1] : "");
+      }
+      dds_return_loan(rd_joints, samples, 1);
+    }
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  check(found && fabs(stamp - t) < 1e-9, "a JointState at the reply's sim time [s]", stamp, t);
+  check(names_ok && n_position == n_names && n_velocity == n_names && n_effort == n_names && finite,
+        "JointState names every joint, with as many finite positions, velocities and efforts", n_names, joints);
+  check(echoed == effort, "the commanded joint's effort is the command [N m]", echoed, effort);
+
+  /* 3: a controller the vehicle does not have. */
+  controllers[0] = "no_such_controller";
+  request.request_id = 2;
+  request.steps = 1;
+  dds_write(wr_request, &request);
+  double t_refused = -1.0;
+  const bool refused = await_reply(rd_reply, 2, &accepted, &t_refused, error, sizeof(error)) && !accepted &&
+                       strstr(error, "no joint controller 'no_such_controller'") != NULL &&
+                       fabs(t_refused - t) < 1e-12;
+  printf("   server's reason: %s\n", error);
+  check(refused, "a command for an unknown joint controller is refused and steps nothing", t_refused, t);
+
+  dds_delete(pp);
+  return failures == 0 ? 0 : 1;
+}
