@@ -70,6 +70,21 @@ TEST_F(ValidationCliTest, CrawlerShortDrive) {
   EXPECT_EQ(run(HADAL_VALIDATE_CRAWLER, "--setpoint 1.5").exit_code, 2);
 }
 
+// The arm figure, 10 s: the coupled base pitches nose-down (the arm's wet weight forward of the centre of
+// buoyancy) and moves, by more than a degree and a centimetre; the uncoupled base stays at its trim (the
+// scenario's centre of mass trims the stowed arm level to 0.1 deg).
+TEST_F(ValidationCliTest, ArmShortUnfolding) {
+  const RunResult r = run(HADAL_VALIDATE_ARM, "--duration 10 --start 1 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  expect_outputs("arm_reaction");
+  EXPECT_GT(json["coupled_final_pitch_deg"].number, 1.0);
+  EXPECT_GT(json["coupled_peak_displacement_m"].number, 0.01);
+  EXPECT_LT(json["uncoupled_peak_pitch_deg"].number, 0.1);
+  EXPECT_LT(json["uncoupled_peak_displacement_m"].number, 0.005);
+  EXPECT_EQ(run(HADAL_VALIDATE_ARM, "--start -1").exit_code, 2);
+}
+
 TEST_F(ValidationCliTest, CoriolisShortLeg) {
   const RunResult r = run(HADAL_VALIDATE_CORIOLIS, "--distance 200 --out " + dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
