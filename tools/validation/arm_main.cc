@@ -157,8 +157,10 @@ int main(int argc, char** argv) {
   };
   plot::Panel pitch = base_panel("Base pitch (nose down +)", "pitch [deg]",
                                  [](const Sample& s, const Sample&) { return s.pitch_deg; });
-  plot::Panel surge = base_panel("Base surge", "x - x(0) [m]", [](const Sample& s, const Sample& s0) { return s.x - s0.x; });
-  plot::Panel heave = base_panel("Base heave", "z - z(0) [m]", [](const Sample& s, const Sample& s0) { return s.z - s0.z; });
+  plot::Panel surge =
+      base_panel("Base surge", "x - x(0) [m]", [](const Sample& s, const Sample& s0) { return s.x - s0.x; });
+  plot::Panel heave =
+      base_panel("Base heave", "z - z(0) [m]", [](const Sample& s, const Sample& s0) { return s.z - s0.z; });
   plot::Panel joints;
   joints.title = "Arm joints (coupled run)";
   joints.x.label = "time [s]";
