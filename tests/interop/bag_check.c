@@ -182,6 +182,23 @@ static void summarize_odometry(const void *s, char *out, size_t n) {
            num(p->x, x), num(p->y, y), num(p->z, z));
 }
 
+static const char *check_joint_state(const void *s, char *why, size_t n) {
+  const sensor_msgs_msg_dds__JointState_ *m = s;
+  const uint32_t joints = m->name._length;
+  if (m->position._length != joints || m->velocity._length != joints || m->effort._length != joints) {
+    snprintf(why, n, "%u names but %u positions, %u velocities and %u efforts", (unsigned)joints,
+             (unsigned)m->position._length, (unsigned)m->velocity._length, (unsigned)m->effort._length);
+    return why;
+  }
+  for (uint32_t k = 0; k < joints; ++k) {
+    if (!isfinite(m->position._buffer[k]) || !isfinite(m->velocity._buffer[k]) || !isfinite(m->effort._buffer[k])) {
+      snprintf(why, n, "joint %u is not finite", (unsigned)k);
+      return why;
+    }
+  }
+  return NULL;
+}
+
 static const char *check_imu(const void *s, char *why, size_t n) {
   const sensor_msgs_msg_dds__Imu_ *m = s;
   /* orientation_covariance[0] = -1: no orientation estimate; otherwise the quaternion must be one. */
@@ -562,6 +579,7 @@ static const known_type KNOWN_TYPES[] = {
     {&nav_msgs_msg_dds__Odometry__desc, STAMP_HEADER, check_odometry, summarize_odometry},
     {&sensor_msgs_msg_dds__FluidPressure__desc, STAMP_HEADER, NULL, summarize_fluid_pressure},
     {&sensor_msgs_msg_dds__Imu__desc, STAMP_HEADER, check_imu, NULL},
+    {&sensor_msgs_msg_dds__JointState__desc, STAMP_HEADER, check_joint_state, NULL},
     {&sensor_msgs_msg_dds__MagneticField__desc, STAMP_HEADER, NULL, NULL},
     {&sensor_msgs_msg_dds__NavSatStatus__desc, STAMP_NONE, NULL, NULL},
     {&sensor_msgs_msg_dds__NavSatFix__desc, STAMP_HEADER, check_nav_sat_fix, NULL},

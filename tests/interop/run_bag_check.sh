@@ -10,7 +10,8 @@
 #   - every topic but /hadal/step_reply has messages (see the comment at STEP_REPLY below);
 #   - the bag's total is the "recorded N message(s)" hadald reports.
 #
-# usage: run_bag_check.sh HADALD BAG_CHECK REPO_ROOT
+# usage: run_bag_check.sh HADALD BAG_CHECK REPO_ROOT [SCENARIO]   (relative to REPO_ROOT; default
+#        configs/scenarios/default.yaml)
 #
 # Discovery stays on loopback (ROS_LOCALHOST_ONLY=1); the run takes its own DDS domain 100..199 by holding
 # /tmp/hadal-dds-domain-<N>.lock (../reserve_domain.sh), so concurrent tests never see each other.
@@ -18,11 +19,11 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/interop_lib.sh"
 INTEROP_NAME="bag check"
 
-(( $# == 3 )) || usage "HADALD BAG_CHECK REPO_ROOT"
+(( $# == 3 || $# == 4 )) || usage "HADALD BAG_CHECK REPO_ROOT [SCENARIO]"
 HADALD=$1
 BAG_CHECK=$2
 REPO_ROOT=$3
-SCENARIO=configs/scenarios/default.yaml
+SCENARIO=${4:-configs/scenarios/default.yaml}
 DURATION=2
 PYTHON=/usr/bin/python3
 
@@ -135,4 +136,4 @@ EOF
   echo "--- hadal-bag-check stdout (JSON) ---" >&2; cat "$WORK/bag.json" >&2
   fail "the recorded bag does not decode as ROS 2 types, or does not hold what hadald published (see above)"
 fi
-echo "PASS: bag check: every message of a recorded default-scenario bag decodes with Cyclone and ros2_types.idl"
+echo "PASS: bag check: every message of a recorded bag of $SCENARIO decodes with Cyclone and ros2_types.idl"
