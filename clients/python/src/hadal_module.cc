@@ -644,7 +644,7 @@ PYBIND11_MODULE(_hadal, m) {
                     "0 none, 1 scenario schedule, 2 client");
 
   py::class_<hadal::JointStates>(m, "JointStates",
-                                 "sensor_msgs/JointState: an articulated vehicle's joints, named by their child links")
+                                 "sensor_msgs/JointState: an articulated vehicle's joints by name (links[].joint.name)")
       .def_readonly("stamp", &hadal::JointStates::stamp, "sim time [s]")
       .def_readonly("frame_id", &hadal::JointStates::frame_id)
       .def_readonly("names", &hadal::JointStates::names)

@@ -179,6 +179,17 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
             d.links.push_back(std::move(link));
           }
           c.link_names = d.link_names;
+          // Joint names (a link's own unless its joint names itself) are unique among the moving joints.
+          std::map<std::string, std::string> joint_owner;
+          for (std::size_t l = 0; l < d.links.size() && ok; ++l) {
+            if (d.links[l].joint.type == JointType::kFixed) continue;
+            const auto [it, inserted] = joint_owner.emplace(joint_name(d.links[l]), d.links[l].name);
+            if (!inserted) {
+              (*items)[l].error("joint name " + config::quoted(it->first) + " is taken by the joint of link " +
+                                config::quoted(it->second));
+              ok = false;
+            }
+          }
           if (ok) {
             // The tree as the physics builds it (physics/articulation.h): each moving body's mass and
             // inertia, joint axes and limits; the message names the link.
@@ -262,7 +273,7 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
                  std::string name = std::to_string(joint);
                  for (std::size_t l = 0, dof = 0; l < d.links.size(); ++l) {
                    if (d.links[l].joint.type == JointType::kFixed) continue;
-                   if (dof++ == static_cast<std::size_t>(joint)) name = d.links[l].name;
+                   if (dof++ == static_cast<std::size_t>(joint)) name = joint_name(d.links[l]);
                  }
                  item.error("joint " + config::quoted(name) + " is already driven by joint controller " +
                             config::quoted(it->second) +

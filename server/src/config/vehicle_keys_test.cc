@@ -515,8 +515,8 @@ vehicles:
                             "actuators and lights on moving links are not supported yet"}));
 }
 
-// joint_controllers: groups of moving joints by their links' names, in command order; gains and the joints'
-// own limits.
+// joint_controllers: groups of moving joints by their names (a link's own unless its joint names itself), in
+// command order; gains and the joints' own limits. Two joints of one name are refused.
 TEST_F(ScenarioLoaderTest, JointControllersNameMovingJoints) {
   const std::string head = R"(world: {}
 vehicles:
@@ -530,12 +530,12 @@ vehicles:
       - {name: elbow, parent: shoulder, mass: 3, inertia: {ixx: 1, iyy: 1, izz: 1},
          joint: {type: revolute, axis: [0, 1, 0]}}
       - {name: jaw, parent: elbow, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1},
-         joint: {type: prismatic, axis: [0, 1, 0], lower: 0, upper: 0.1}}
+         joint: {name: grip, type: prismatic, axis: [0, 1, 0], lower: 0, upper: 0.1}}
     joint_controllers:
 )";
   const std::string path = write("s.yaml", head + R"(      - {name: arm, type: position, joints: [elbow, shoulder],
          kp: 300, kd: 30}
-      - {name: gripper, type: effort, joints: [jaw]}
+      - {name: gripper, type: effort, joints: [grip]}
 )");
   const LoadResult result = load_scenario_file(path);
   for (const Diagnostic& diagnostic : result.errors) ADD_FAILURE() << diagnostic.format();
@@ -547,7 +547,8 @@ vehicles:
   EXPECT_EQ(rov.joint_controllers[0].joints, (std::vector<int>{1, 0}));  // elbow is the second moving joint
   EXPECT_EQ(rov.joint_controllers[0].kp, 300.0);
   EXPECT_EQ(rov.joint_controllers[0].kd, 30.0);
-  EXPECT_EQ(rov.joint_controllers[1].joints, std::vector<int>{2});
+  EXPECT_EQ(rov.joint_controllers[1].joints, std::vector<int>{2});  // by the joint's own name
+  EXPECT_EQ(rov.links[4].joint.name, "grip");
   EXPECT_EQ(rov.links[1].joint.effort_limit, 80.0);
   EXPECT_EQ(rov.links[1].joint.velocity_limit, 0.5);
 
@@ -556,14 +557,26 @@ vehicles:
   EXPECT_EQ(errors_of(bad),
             (Lines{bad + ":15:9: error: vehicles[0].joint_controllers[0]: missing required key 'kp' (needed by joint "
                          "controller type 'position')",
-                   bad + ":15:52: error: vehicles[0].joint_controllers[0].joints[1]: link 'camera' has no moving "
-                         "joint (its `joint` is fixed)",
-                   bad + ":15:59: error: vehicles[0].joint_controllers[0].joints[2]: no link named 'nope' in this "
-                         "vehicle (links: frame, shoulder, camera, elbow, jaw)",
+                   bad + ":15:52: error: vehicles[0].joint_controllers[0].joints[1]: no moving joint named 'camera' "
+                         "in this vehicle (joints: shoulder, elbow, grip)",
+                   bad + ":15:59: error: vehicles[0].joint_controllers[0].joints[2]: no moving joint named 'nope' in "
+                         "this vehicle (joints: shoulder, elbow, grip)",
                    bad + ":15:64: error: vehicles[0].joint_controllers[0].joints[3]: joint 'elbow' is listed twice"}));
   const std::string twice = write("t.yaml", head + R"(      - {name: arm, type: position, joints: [elbow], kp: 1}
       - {name: hold, type: velocity, joints: [elbow], kd: 5}
 )");
+  const std::string clash = write("c.yaml", R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
+      - {name: shoulder, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1}, joint: {type: revolute, axis: [0, 1, 0]}}
+      - {name: elbow, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1},
+         joint: {name: shoulder, type: revolute, axis: [0, 1, 0]}}
+)");
+  EXPECT_EQ(errors_of(clash), (Lines{clash + ":8:9: error: vehicles[0].links[2]: joint name 'shoulder' is taken by "
+                                             "the joint of link 'shoulder'"}));
   EXPECT_EQ(errors_of(twice),
             (Lines{twice + ":16:9: error: vehicles[0].joint_controllers[1]: joint 'elbow' is already driven by joint "
                            "controller 'arm' (a joint is in one controller at most)"}));

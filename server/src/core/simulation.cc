@@ -623,7 +623,8 @@ std::string Simulation::check_joint_commands(int vehicle_index, const std::strin
   const physics::Articulation& a = *world_->articulation(vehicle_index);
   for (std::size_t k = 0; k < values.size(); ++k) {
     const JointSpec& joint = a.body(controller.joints[k] + 1).joint;
-    const std::string& link = spec.links[static_cast<std::size_t>(a.body(controller.joints[k] + 1).joint_link)].name;
+    const int joint_link = a.body(controller.joints[k] + 1).joint_link;
+    const std::string& link = joint_name(spec.links[static_cast<std::size_t>(joint_link)]);
     if (!std::isfinite(values[k])) return prefix + "value " + std::to_string(k) + " (" + link + ") is not finite";
     const bool outside = values[k] < joint.lower || values[k] > joint.upper;
     if (controller.mode == physics::JointCommandMode::kPosition && outside) {

@@ -39,7 +39,7 @@ void fill_odometry(const std::string& world_frame_id, const std::string& vehicle
 std::vector<std::string> joint_names(const VehicleSpec& vehicle) {
   std::vector<std::string> names;
   for (const LinkSpec& link : vehicle.links) {
-    if (link.joint.type != JointType::kFixed) names.push_back(link.name);
+    if (link.joint.type != JointType::kFixed) names.push_back(joint_name(link));
   }
   return names;
 }

@@ -28,8 +28,8 @@ OdometryValues odometry_values(const RigidBodyState& body);
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
 
-// The names of a vehicle's moving joints in state order (VehicleState::joint_positions): each joint is
-// named by its child link (configs/REFERENCE.md, `links[].joint`). Empty for a rigid vehicle.
+// The names of a vehicle's moving joints in state order (VehicleState::joint_positions): `joint.name`, else
+// the child link's (configs/REFERENCE.md, `links[].joint`). Empty for a rigid vehicle.
 std::vector<std::string> joint_names(const VehicleSpec& vehicle);
 // sensor_msgs/JointState of the vehicle's joints: positions, velocities and the efforts their motors hold;
 // header.frame_id is the vehicle's base frame. `names` from joint_names().

@@ -220,6 +220,8 @@ const KeyTable<JointSpec>& joint_keys() {
   return declare_keys<JointSpec>([](KeyTable<JointSpec>& t) {
     t.describe("links[].joint",
                "the joint to the parent link, at this link's origin (URDF's convention); q = 0 at `pose`");
+    t.string("name", &JointSpec::name).default_text("the link's name")
+        .doc("the joint's name in JointState and joint_controllers; unique among the vehicle's joints");
     t.choice("type", &JointSpec::type,
              {{"fixed", JointType::kFixed, "rigidly on the parent"},
               {"revolute", JointType::kRevolute, "turns about `axis` within its limits"},

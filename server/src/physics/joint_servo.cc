@@ -54,24 +54,28 @@ bool read_controlled_joints(const config::Value& value, JointControllerSpec& con
     return false;
   }
   if (!c.link_names || !c.links) return true;  // the links were unusable (reported already)
+  // The moving joints' names, in state order.
+  std::vector<std::string> names;
+  for (const LinkSpec& link : *c.links) {
+    if (link.joint.type != JointType::kFixed) names.push_back(joint_name(link));
+  }
   bool ok = true;
   for (const config::Value& item : *items) {
-    const auto index = config::read_link_reference(item, c.link_names);
-    if (!index) {
+    const auto name = item.string();
+    if (!name) {
       ok = false;
       continue;
     }
-    const std::vector<LinkSpec>& links = *c.links;
-    if (links[static_cast<std::size_t>(*index)].joint.type == JointType::kFixed) {
-      item.error("link " + config::quoted(links[static_cast<std::size_t>(*index)].name) +
-                 " has no moving joint (its `joint` is fixed)");
+    const auto found = std::find(names.begin(), names.end(), *name);
+    if (found == names.end()) {
+      item.error("no moving joint named " + config::quoted(*name) + " in this vehicle" +
+                 (names.empty() ? std::string(" (it has none)") : " (joints: " + config::join_names(names) + ")"));
       ok = false;
       continue;
     }
-    int dof = 0;
-    for (int i = 0; i < *index; ++i) dof += links[static_cast<std::size_t>(i)].joint.type != JointType::kFixed;
+    const int dof = static_cast<int>(found - names.begin());
     if (std::find(controller.joints.begin(), controller.joints.end(), dof) != controller.joints.end()) {
-      item.error("joint " + config::quoted(links[static_cast<std::size_t>(*index)].name) + " is listed twice");
+      item.error("joint " + config::quoted(*name) + " is listed twice");
       ok = false;
       continue;
     }
@@ -102,9 +106,9 @@ const config::KeyTable<JointControllerSpec, VehicleContext>& joint_controller_ke
         .selects("joint controller type")
         .doc("what a command sets; every joint's torque stays within its effort_limit");
     t.custom("joints", read_controlled_joints, R"({"type": "array", "items": {"type": "string"}, "minItems": 1})",
-             "list of link names")
+             "list of joint names")
         .required()
-        .doc("the links whose joints it drives, in command order");
+        .doc("the joints it drives (by name: a link's own unless its joint names itself), in command order");
     t.number("kp", &JointControllerSpec::kp).only_for({"position"}).required_for({"position"})
         .unit("N m/rad or N/m").range(Range::positive()).doc("stiffness");
     t.number("kd", &JointControllerSpec::kd).only_for({"position", "velocity"}).required_for({"velocity"})

@@ -116,7 +116,7 @@ struct DropWeightStates {
 };
 
 // sensor_msgs/JointState of rt/<vehicle>/joint_states (articulated vehicles only): each moving joint,
-// named by its child link, in the server's state order.
+// named as the scenario names them (links[].joint.name, else the link's), in the server's state order.
 struct JointStates {
   double stamp = 0.0;  // sim time [s]
   std::string frame_id;  // <vehicle>/base_link

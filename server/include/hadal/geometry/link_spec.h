@@ -87,6 +87,7 @@ enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
 const char* to_string(JointType type);
 
 struct JointSpec {
+  std::string name;  // as ROS names it (JointState, joint_controllers); empty: the child link's name
   JointType type = JointType::kFixed;
   Eigen::Vector3d axis_L = Eigen::Vector3d::UnitZ();  // in the child link's frame; normalised on use
   double lower = -std::numeric_limits<double>::infinity();  // [rad] or [m]
@@ -126,6 +127,9 @@ struct LinkSpec {
     return mesh && mesh->mesh ? &*mesh : nullptr;
   }
 };
+
+// A link's joint's name: JointSpec::name, else the link's own.
+inline const std::string& joint_name(const LinkSpec& link) { return link.joint.name.empty() ? link.name : link.joint.name; }
 
 // Whether links[index] moves relative to B: it or a link it hangs on has a joint that is not fixed.
 bool link_moves(const std::vector<LinkSpec>& links, int index);
