@@ -129,7 +129,9 @@ struct LinkSpec {
 };
 
 // A link's joint's name: JointSpec::name, else the link's own.
-inline const std::string& joint_name(const LinkSpec& link) { return link.joint.name.empty() ? link.name : link.joint.name; }
+inline const std::string& joint_name(const LinkSpec& link) {
+  return link.joint.name.empty() ? link.name : link.joint.name;
+}
 
 // Whether links[index] moves relative to B: it or a link it hangs on has a joint that is not fixed.
 bool link_moves(const std::vector<LinkSpec>& links, int index);
