@@ -21,47 +21,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "probe_common.h"
 #include "ros2_types.h"
-
-static int failures = 0;
-
-static void check(bool ok, const char *what, double a, double b) {
-  printf("%s: %s (%.6g, %.6g)\n", ok ? "ok" : "FAIL", what, a, b);
-  if (!ok) ++failures;
-}
-
-static void configure_loopback(void) {
-  const char *uri = getenv("CYCLONEDDS_URI");
-  if (uri != NULL && *uri != '\0') return;
-  setenv("CYCLONEDDS_URI",
-         "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/>"
-         "</Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery>"
-         "<ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>"
-         "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>",
-         1);
-}
-
-static dds_entity_t endpoint(dds_entity_t pp, const dds_topic_descriptor_t *desc, const char *name, bool writer) {
-  dds_entity_t topic = dds_create_topic(pp, desc, name, NULL, NULL);
-  if (topic < 0) return topic;
-  dds_qos_t *qos = dds_create_qos();
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 32);
-  dds_entity_t e = writer ? dds_create_writer(pp, topic, qos, NULL) : dds_create_reader(pp, topic, qos, NULL);
-  dds_delete_qos(qos);
-  return e;
-}
-
-static bool wait_matched(dds_entity_t writer, double seconds) {
-  for (int i = 0; i < (int)(seconds * 100); ++i) {
-    dds_publication_matched_status_t status;
-    if (dds_get_publication_matched_status(writer, &status) == DDS_RETCODE_OK && status.current_count > 0)
-      return true;
-    dds_sleepfor(DDS_MSECS(10));
-  }
-  return false;
-}
 
 /* Takes replies until the one for `id` arrives (or 20 s pass): accepted, sim time and error copied out. */
 static bool await_reply(dds_entity_t reader, uint64_t id, bool *accepted, double *sim_time, char *error,
