@@ -101,7 +101,8 @@ struct BulletWorld::Impl {
     bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
     bool is_static = false;     // VehicleSpec::is_static
     // Articulated vehicles only (body is null then): the tree, Bullet's multibody, one collider per body
-    // (body order), the joints' limit and friction constraints, and each body's frame K in W as last set.
+    // (body order), the joints' limit and friction constraints, and each body's frame K in W as the last
+    // set_articulated_state wrote it (the poses add_body_force_W takes moments about).
     std::unique_ptr<Articulation> articulation;
     MultiBodyPtr multibody;
     std::vector<Collider> colliders;
@@ -420,12 +421,7 @@ void BulletWorld::add_joint_torque(int vehicle, int joint, double tau) {
   impl_->vehicles[vehicle].multibody->addJointTorque(joint, tau);
 }
 
-void BulletWorld::step(double dt) {
-  impl_->world->stepSimulation(dt, 0, dt);
-  for (Impl::Vehicle& v : impl_->vehicles) {
-    if (v.multibody) v.X_WK = multibody_poses_W(*v.multibody, *v.articulation);
-  }
-}
+void BulletWorld::step(double dt) { impl_->world->stepSimulation(dt, 0, dt); }
 
 int BulletWorld::num_contact_points(int vehicle) const {
   const Impl::Vehicle& v = impl_->vehicles[vehicle];

@@ -95,7 +95,9 @@ class BulletWorld {
   void add_torque_W(int vehicle, const Eigen::Vector3d& tau_W);
 
   // For an articulated vehicle's body k (Articulation's numbering; 0 is the base body): a force f_W at
-  // the world point p_WQ, a pure moment tau_W, and a torque (force) on moving joint j [N m or N].
+  // the world point p_WQ, a pure moment tau_W, and a torque (force) on moving joint j [N m or N]. The
+  // force's moment is taken about the body's centre of mass where set_articulated_state put it: write the
+  // state before adding forces, as the simulation does every step.
   void add_body_force_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WQ);
   void add_body_torque_W(int vehicle, int body, const Eigen::Vector3d& tau_W);
   void add_joint_torque(int vehicle, int joint, double tau);
