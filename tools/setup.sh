@@ -16,7 +16,7 @@ fi
 PACKAGES=(
   build-essential cmake pkg-config
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev libbullet-dev
-  libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev
+  libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev liburdfdom-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev openssl
   libcivetweb-dev libjs-three libjpeg62-turbo-dev
   python3 python3-dev pybind11-dev python3-numpy python3-yaml python3-matplotlib

@@ -147,14 +147,21 @@ void add_keys(const TableDoc& table, Json& schema) {
   Json all_of = Json::array();
   for (const KeyDoc& key : table.keys) {
     properties[key.name] = key_schema(key);
+    // Required, or (optional_with) this key or the other one.
+    const Json required_clause =
+        key.optional_with.empty()
+            ? Json{{"required", Json::array({key.name})}}
+            : Json{{"anyOf", Json::array({Json{{"required", Json::array({key.name})}},
+                                          Json{{"required", Json::array({key.optional_with})}}})}};
     if (key.unless.empty()) {
-      if (key.required) required.push_back(key.name);
+      if (key.required && key.optional_with.empty()) required.push_back(key.name);
+      if (key.required && !key.optional_with.empty()) all_of.push_back(required_clause);
       continue;
     }
     // Not with `unless`; required without it when required at all.
     Json clause = {{"if", {{"required", Json::array({key.unless})}}},
                    {"then", {{"properties", {{key.name, false}}}}}};
-    if (key.required) clause["else"] = {{"required", Json::array({key.name})}};
+    if (key.required) clause["else"] = required_clause;
     all_of.push_back(clause);
   }
   schema["properties"] = properties;

@@ -191,6 +191,7 @@ std::string reference_table(const TableDoc& table) {
       description += (key.doc.empty() ? "keys: `" : " (keys: `") + key.table->id + (key.doc.empty() ? "`" : "`)");
     }
     if (!key.unless.empty()) description += "; not with `" + key.unless + "`";
+    if (!key.optional_with.empty()) description += "; may be left out with `" + key.optional_with + "`";
     out += "| `" + key.name + "` | " + cell(type_text(key)) + " | " + cell(key.unit) + " | " + cell(key.default_text) +
            " | " + cell(range_text(key)) + " | " + cell(description) + " |\n";
   }

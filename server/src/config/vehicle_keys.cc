@@ -1,9 +1,12 @@
 #include "hadal/config/vehicle_keys.h"
 
+#include <algorithm>
+#include <functional>
 #include <map>
 #include <utility>
 
 #include "hadal/config/entry_keys.h"
+#include "hadal/config/urdf_import.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/actuator_kinds.h"
 #include "hadal/physics/articulation.h"
@@ -122,6 +125,66 @@ bool read_actuator_list(const Value& value, VehicleDefinition& d, VehicleContext
   return ok;
 }
 
+// Checks over the whole link list (YAML's and a URDF's): joint names unique among the moving joints, and the
+// tree as the physics builds it (physics/articulation.h: each moving body's mass and inertia, joint axes
+// and limits). `at(l)` is where link l's problems are reported, `whole` where the tree's are.
+bool check_link_tree(const VehicleDefinition& d, const std::function<Value(std::size_t)>& at, const Value& whole) {
+  bool ok = true;
+  // Joint names (a link's own unless its joint names itself).
+  std::map<std::string, std::string> joint_owner;
+  for (std::size_t l = 0; l < d.links.size(); ++l) {
+    if (d.links[l].joint.type == JointType::kFixed) continue;
+    const auto [it, inserted] = joint_owner.emplace(joint_name(d.links[l]), d.links[l].name);
+    if (!inserted) {
+      at(l).error("joint name " + config::quoted(it->first) + " (link " + config::quoted(d.links[l].name) +
+                  ") is taken by the joint of link " + config::quoted(it->second));
+      ok = false;
+    }
+  }
+  if (!ok) return false;
+  try {
+    const physics::Articulation articulation(d.links);
+  } catch (const std::invalid_argument& e) {
+    whole.error(std::string(e.what()).substr(std::string("articulation: ").size()));
+    return false;
+  }
+  return true;
+}
+
+// A vehicle's `urdf`: its links appended to those of `links` (docs/ARCHITECTURE.md, "URDF import").
+bool read_urdf(const Value& value, VehicleDefinition& d, VehicleContext& c) {
+  UrdfMount mount = urdf_keys().defaults();
+  if (!urdf_keys().read(value, &mount, c)) return false;
+  if (!d.links.empty() && !d.link_names) return false;  // `links` were unusable (reported)
+  int parent_index = 0;
+  if (!mount.parent.empty()) {
+    const Value parent = value.in_same_file(value.node()["parent"], child_path(value.path(), "parent"),
+                                            value.node()["parent"].Mark());
+    if (d.links.empty()) {
+      parent.error("needs `links` (without them the URDF's root is the base link)");
+      return false;
+    }
+    const auto index = read_link_reference(parent, d.link_names);
+    if (!index) return false;
+    parent_index = *index;
+  }
+  const std::size_t before = d.links.size();
+  bool ok = import_urdf(value, mount, parent_index, &d.links);
+  if (!d.link_names) d.link_names.emplace();
+  for (std::size_t l = before; l < d.links.size(); ++l) {
+    const std::string& name = d.links[l].name;
+    if (std::find(d.link_names->begin(), d.link_names->end(), name) != d.link_names->end()) {
+      value.error("the URDF's link " + quoted(name) + " has the name of a link in `links`");
+      ok = false;
+    }
+    d.link_names->push_back(name);
+  }
+  c.link_names = d.link_names;
+  c.links = &d.links;
+  if (!ok) return false;
+  return check_link_tree(d, [&](std::size_t) { return value; }, value);
+}
+
 // What the sensors and lights of a definition refer to: its links and actuators.
 void refer_to(const VehicleDefinition& d, VehicleContext& c) {
   c.link_names = d.link_names;
@@ -154,6 +217,7 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
     t.list("links", &VehicleDefinition::links, geometry::link_keys())
         .required()
         .unless("include")
+        .optional_with("urdf")
         .min_items(1)
         .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
           const auto items = value.list();
@@ -179,31 +243,14 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
             d.links.push_back(std::move(link));
           }
           c.link_names = d.link_names;
-          // Joint names (a link's own unless its joint names itself) are unique among the moving joints.
-          std::map<std::string, std::string> joint_owner;
-          for (std::size_t l = 0; l < d.links.size() && ok; ++l) {
-            if (d.links[l].joint.type == JointType::kFixed) continue;
-            const auto [it, inserted] = joint_owner.emplace(joint_name(d.links[l]), d.links[l].name);
-            if (!inserted) {
-              (*items)[l].error("joint name " + config::quoted(it->first) + " is taken by the joint of link " +
-                                config::quoted(it->second));
-              ok = false;
-            }
-          }
-          if (ok) {
-            // The tree as the physics builds it (physics/articulation.h): each moving body's mass and
-            // inertia, joint axes and limits; the message names the link.
-            try {
-              const physics::Articulation articulation(d.links);
-            } catch (const std::invalid_argument& e) {
-              value.error(std::string(e.what()).substr(std::string("articulation: ").size()));
-              ok = false;
-            }
-          }
-          return ok;
+          return ok && check_link_tree(d, [&](std::size_t l) { return (*items)[l]; }, value);
         })
         .doc("rigid bodies; links[0] is the base link, the others hang on it or on a `parent` through a `joint` "
              "(fixed by default)");
+    t.custom("urdf", read_urdf, "", "map")
+        .keys_of(urdf_keys())
+        .unless("include")
+        .doc("links and joints from a URDF file, after those of `links` (or instead of them)");
     physics::ActuatorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
       t.custom(std::string(Kind::kListKey), read_actuator_list<Kind>, "", "list of maps")

@@ -575,7 +575,7 @@ vehicles:
       - {name: elbow, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1},
          joint: {name: shoulder, type: revolute, axis: [0, 1, 0]}}
 )");
-  EXPECT_EQ(errors_of(clash), (Lines{clash + ":8:9: error: vehicles[0].links[2]: joint name 'shoulder' is taken by "
+  EXPECT_EQ(errors_of(clash), (Lines{clash + ":8:9: error: vehicles[0].links[2]: joint name 'shoulder' (link 'elbow') is taken by "
                                              "the joint of link 'shoulder'"}));
   EXPECT_EQ(errors_of(twice),
             (Lines{twice + ":16:9: error: vehicles[0].joint_controllers[1]: joint 'elbow' is already driven by joint "

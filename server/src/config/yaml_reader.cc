@@ -332,27 +332,39 @@ bool lies_within(const std::filesystem::path& path, const std::filesystem::path&
 }  // namespace
 
 bool Value::file_path(const std::string& written, std::string* path) const {
-  namespace fs = std::filesystem;
-  const fs::path joined = fs::path(file()).parent_path() / written;
+  const std::filesystem::path joined = std::filesystem::path(file()).parent_path() / written;
   *path = joined.string();
+  const std::string refusal = file_refusal(joined, written);
+  if (!refusal.empty()) error(refusal);
+  return refusal.empty();
+}
+
+std::string Value::file_refusal(const std::filesystem::path& path, const std::string& written) const {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path real = fs::weakly_canonical(fs::absolute(joined, ec), ec);
+  const fs::path real = fs::weakly_canonical(fs::absolute(path, ec), ec);
   if (source_->roots) {
     bool inside = false;
     for (const fs::path& root : *source_->roots) inside |= !ec && lies_within(real, root);
     if (!inside) {
       std::string roots;
       for (const fs::path& root : *source_->roots) roots += (roots.empty() ? "" : ", ") + root.string();
-      error(quoted(written) + " lies outside the directories a scenario may name files in (" + roots +
-            "; symlinks resolved); hadald --asset-root DIR or $HADAL_ASSET_ROOTS adds one");
-      return false;
+      return quoted(written) + " lies outside the directories a scenario may name files in (" + roots +
+             "; symlinks resolved); hadald --asset-root DIR or $HADAL_ASSET_ROOTS adds one";
     }
   }
-  if (fs::exists(real, ec) && !fs::is_regular_file(real, ec)) {
-    error(quoted(written) + " is not a regular file");
-    return false;
+  if (fs::exists(real, ec) && !fs::is_regular_file(real, ec)) return quoted(written) + " is not a regular file";
+  return "";
+}
+
+void Value::report_in(const std::string& file, int line, int column, std::string path, std::string message,
+                      bool warning) const {
+  YAML::Mark mark = YAML::Mark::null_mark();
+  if (line > 0) {
+    mark.line = line - 1;
+    mark.column = std::max(column - 1, 0);
   }
-  return true;
+  source_->sink->report(file, mark, std::move(path), std::move(message), warning);
 }
 
 Value Value::in_same_file(YAML::Node node, std::string path, YAML::Mark mark) const {

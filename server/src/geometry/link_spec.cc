@@ -62,38 +62,13 @@ const KeyTable<Inertia>& inertia_keys() {
   });
 }
 
-// A physical body has a positive-definite I whose principal moments satisfy the triangle inequalities
-// A + B >= C (because A + B - C = 2 * integral of z^2 dm).
 bool read_inertia(const Value& value, LinkSpec& link, VehicleContext&) {
   Inertia in;
   if (!inertia_keys().read(value, &in)) return false;
   Eigen::Matrix3d I;
   I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
-  if (!(moments.minCoeff() > 0.0)) {
-    value.error("must be positive definite (principal moments " + config::format_approximate(moments[0]) + ", " +
-                config::format_approximate(moments[1]) + ", " + config::format_approximate(moments[2]) + ")");
-    return false;
-  }
-  const double tolerance = kTriangleRelativeTolerance * moments.maxCoeff();
-  // Diagonal entries obey the inequalities in any axes, so check them first for a readable message.
-  const struct {
-    double a, b, c;
-    const char* text;
-  } diagonal_checks[] = {{in.ixx, in.iyy, in.izz, "ixx + iyy >= izz"},
-                         {in.iyy, in.izz, in.ixx, "iyy + izz >= ixx"},
-                         {in.izz, in.ixx, in.iyy, "izz + ixx >= iyy"}};
-  for (const auto& check : diagonal_checks) {
-    if (check.a + check.b < check.c - tolerance) {
-      value.error(std::string("violates the triangle inequality ") + check.text + " (" + config::format_number(check.a) +
-                  " + " + config::format_number(check.b) + " < " + config::format_number(check.c) + ")");
-      return false;
-    }
-  }
-  // Eigenvalues are sorted ascending: the binding inequality is m0 + m1 >= m2.
-  if (moments[0] + moments[1] < moments[2] - tolerance) {
-    value.error("violates the triangle inequality for principal moments (" + config::format_approximate(moments[0]) +
-                " + " + config::format_approximate(moments[1]) + " < " + config::format_approximate(moments[2]) + ")");
+  if (const std::string error = inertia_error(I); !error.empty()) {
+    value.error(error);
     return false;
   }
   link.I_LLcm_L = I;
@@ -135,32 +110,22 @@ const KeyTable<LinkMesh>& link_mesh_keys() {
   });
 }
 
-// A link's mesh: the file imported into L, with its volume properties. `volume_matters`: a hull's (a
-// closed mesh oriented inward is an error), not a visual's (open meshes welcome).
+// A link's mesh (YAML link.mesh or link.visual), through load_link_mesh: an import error is reported at
+// its `file`, a bad volume at the map.
 bool read_link_mesh(const Value& value, std::optional<LinkMesh>& out, bool volume_matters) {
   LinkMesh link_mesh;
   if (!link_mesh_keys().read(value, &link_mesh)) return false;
-  ImportResult imported = import_mesh(link_mesh.file, link_mesh.import);
-  if (!imported.mesh) {
-    const YAML::Node file = value.node()["file"];
-    value.in_same_file(file, config::child_path(value.path(), "file"), file.Mark()).error(imported.error);
+  const MeshLoad loaded = load_link_mesh(std::move(link_mesh), volume_matters, value.node()["file"].Scalar());
+  if (!loaded.mesh) {
+    if (loaded.at_file) {
+      const YAML::Node file = value.node()["file"];
+      value.in_same_file(file, config::child_path(value.path(), "file"), file.Mark()).error(loaded.error);
+    } else {
+      value.error(loaded.error);
+    }
     return false;
   }
-  TriangleMesh& mesh = *imported.mesh;
-  transform_mesh(link_mesh.X_LM, &mesh);
-  const MeshProperties properties = compute_mesh_properties(mesh);
-  link_mesh.closed = properties.closed;
-  link_mesh.volume = properties.volume;
-  link_mesh.p_LMc = properties.centroid;
-  link_mesh.I_unit_density = properties.inertia_unit_density;
-  link_mesh.boundary_edges = properties.boundary_edges;
-  link_mesh.mesh = std::make_shared<const TriangleMesh>(std::move(mesh));
-  if (volume_matters && properties.closed && !(properties.volume > 0.0)) {
-    value.error("mesh " + config::quoted(value.node()["file"].Scalar()) + " encloses a volume of " +
-                config::format_approximate(properties.volume) + " m^3 (faces oriented inward?)");
-    return false;
-  }
-  out = std::move(link_mesh);
+  out = std::move(loaded.mesh);
   return true;
 }
 
@@ -275,6 +240,62 @@ const KeyTable<JointSpec>& joint_keys() {
 }
 
 }  // namespace
+
+// A physical body has a positive-definite I whose principal moments satisfy the triangle inequalities
+// A + B >= C (because A + B - C = 2 * integral of z^2 dm).
+std::string inertia_error(const Eigen::Matrix3d& I) {
+  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
+  if (!(moments.minCoeff() > 0.0)) {
+    return "must be positive definite (principal moments " + config::format_approximate(moments[0]) + ", " +
+           config::format_approximate(moments[1]) + ", " + config::format_approximate(moments[2]) + ")";
+  }
+  const double tolerance = kTriangleRelativeTolerance * moments.maxCoeff();
+  // Diagonal entries obey the inequalities in any axes, so check them first for a readable message.
+  const struct {
+    double a, b, c;
+    const char* text;
+  } diagonal_checks[] = {{I(0, 0), I(1, 1), I(2, 2), "ixx + iyy >= izz"},
+                         {I(1, 1), I(2, 2), I(0, 0), "iyy + izz >= ixx"},
+                         {I(2, 2), I(0, 0), I(1, 1), "izz + ixx >= iyy"}};
+  for (const auto& check : diagonal_checks) {
+    if (check.a + check.b < check.c - tolerance) {
+      return std::string("violates the triangle inequality ") + check.text + " (" + config::format_number(check.a) +
+             " + " + config::format_number(check.b) + " < " + config::format_number(check.c) + ")";
+    }
+  }
+  // Eigenvalues are sorted ascending: the binding inequality is m0 + m1 >= m2.
+  if (moments[0] + moments[1] < moments[2] - tolerance) {
+    return "violates the triangle inequality for principal moments (" + config::format_approximate(moments[0]) +
+           " + " + config::format_approximate(moments[1]) + " < " + config::format_approximate(moments[2]) + ")";
+  }
+  return "";
+}
+
+MeshLoad load_link_mesh(LinkMesh link_mesh, bool volume_matters, const std::string& written) {
+  MeshLoad result;
+  ImportResult imported = import_mesh(link_mesh.file, link_mesh.import);
+  if (!imported.mesh) {
+    result.error = imported.error;
+    result.at_file = true;
+    return result;
+  }
+  TriangleMesh& mesh = *imported.mesh;
+  transform_mesh(link_mesh.X_LM, &mesh);
+  const MeshProperties properties = compute_mesh_properties(mesh);
+  link_mesh.closed = properties.closed;
+  link_mesh.volume = properties.volume;
+  link_mesh.p_LMc = properties.centroid;
+  link_mesh.I_unit_density = properties.inertia_unit_density;
+  link_mesh.boundary_edges = properties.boundary_edges;
+  link_mesh.mesh = std::make_shared<const TriangleMesh>(std::move(mesh));
+  if (volume_matters && properties.closed && !(properties.volume > 0.0)) {
+    result.error = "mesh " + config::quoted(written) + " encloses a volume of " +
+                   config::format_approximate(properties.volume) + " m^3 (faces oriented inward?)";
+    return result;
+  }
+  result.mesh = std::move(link_mesh);
+  return result;
+}
 
 const KeyTable<LinkSpec, VehicleContext>& link_keys() {
   return declare_keys<LinkSpec, VehicleContext>([](KeyTable<LinkSpec, VehicleContext>& t) {

@@ -56,8 +56,11 @@ bool read_controlled_joints(const config::Value& value, JointControllerSpec& con
   if (!c.link_names || !c.links) return true;  // the links were unusable (reported already)
   // The moving joints' names, in state order.
   std::vector<std::string> names;
+  std::vector<const JointSpec*> joints;
   for (const LinkSpec& link : *c.links) {
-    if (link.joint.type != JointType::kFixed) names.push_back(joint_name(link));
+    if (link.joint.type == JointType::kFixed) continue;
+    names.push_back(joint_name(link));
+    joints.push_back(&link.joint);
   }
   bool ok = true;
   for (const config::Value& item : *items) {
@@ -74,6 +77,14 @@ bool read_controlled_joints(const config::Value& value, JointControllerSpec& con
       continue;
     }
     const int dof = static_cast<int>(found - names.begin());
+    // A URDF's <limit effort="0"> (velocity="0"): the joint has no motor (it cannot move by command).
+    const JointSpec& joint = *joints[static_cast<std::size_t>(dof)];
+    if (!(joint.effort_limit > 0.0) || !(joint.velocity_limit > 0.0)) {
+      item.error("joint " + config::quoted(*name) + " has no motor (its " +
+                 (joint.effort_limit > 0.0 ? "velocity" : "effort") + " limit is 0)");
+      ok = false;
+      continue;
+    }
     if (std::find(controller.joints.begin(), controller.joints.end(), dof) != controller.joints.end()) {
       item.error("joint " + config::quoted(*name) + " is listed twice");
       ok = false;

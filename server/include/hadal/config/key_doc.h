@@ -86,6 +86,7 @@ struct KeyDoc {
   std::string type_text;  // the reference's Type column when not derived from `type`
   std::string rule;       // what the range column adds ("<= `world.physics_rate_hz`")
   std::string unless;     // not read when this other key is given (and then not required)
+  std::string optional_with;  // a required key that may be left out when this other key is given
   // The table this key comes from when another table's keys sit in this map but are read by the map's
   // owner (a vehicle entry's inline definition): the reference points there instead of repeating them.
   std::string described_in;

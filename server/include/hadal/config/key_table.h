@@ -205,6 +205,9 @@ class KeyTable {
     // The key is not read when `other` is given (the table's checks say what the two together mean); a
     // required key is then not required.
     Key& unless(std::string other) { return set([&](Entry& e) { e.doc.unless = std::move(other); }); }
+    // A required key that may be left out when `other` is given (the two may also come together: a
+    // vehicle's `links` and its `urdf`).
+    Key& optional_with(std::string other) { return set([&](Entry& e) { e.doc.optional_with = std::move(other); }); }
     // The key is read by the table's owner (a vehicle entry's `include`: it decides what the other keys
     // mean); the table describes it and allows it.
     Key& read_elsewhere() {
@@ -768,6 +771,9 @@ class KeyTable {
       const Entry& e = entries_[i];
       const KeyDoc& k = e.doc;
       if (!k.unless.empty() && map.allows(k.unless) && map.has(k.unless)) continue;
+      if (!k.optional_with.empty() && map.allows(k.optional_with) && map.has(k.optional_with) && !map.has(k.name)) {
+        continue;
+      }
       if (!k.only_for.empty() || !k.required_for.empty()) {
         if (!selected) continue;  // the selector is invalid (reported): keys that depend on it are not read
       }
@@ -824,7 +830,7 @@ class KeyTable {
         KeyDoc k = e.doc;
         if (!e.default_is_contextual) {
           if (k.required) {
-            k.default_text = "required";
+            k.default_text = k.optional_with.empty() ? "required" : "required (unless `" + k.optional_with + "`)";
           } else if (!k.required_for.empty()) {
             k.default_text = "required for " + join_values(k.required_for);
           } else if (e.default_of) {

@@ -96,6 +96,14 @@ class Value {
   // (docs/ARCHITECTURE.md, "Files a scenario may reach"). A file that does not exist passes: its reader
   // reports it.
   bool file_path(const std::string& written, std::string* path) const;
+  // Why `path` may not be named by this source's files, or "": outside its roots once symlinks are resolved
+  // ("lies outside ..."), or not a regular file. `written` is how the file named it.
+  std::string file_refusal(const std::filesystem::path& path, const std::string& written) const;
+  // The directories the files this source names must lie in (null: anywhere).
+  const std::vector<std::filesystem::path>* roots() const { return source_->roots.get(); }
+  // Reports in another file this one led to (a URDF a vehicle names): 1-based line and column (0: none).
+  void report_in(const std::string& file, int line, int column, std::string path, std::string message,
+                 bool warning = false) const;
 
   // Element `index` of a list node (path `path[index]`).
   Value element(std::size_t index) const;

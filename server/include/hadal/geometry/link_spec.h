@@ -96,9 +96,10 @@ struct JointSpec {
   double friction = 0.0;  // Coulomb [N m] or [N]
   double initial = 0.0;   // q at the start and after a reset [rad] or [m]
   // Its motor's limits (URDF's <limit effort velocity>): every torque (force) it applies, and the rate a
-  // position or velocity command may ask for.
-  double effort_limit = std::numeric_limits<double>::infinity();    // [N m] or [N], > 0
-  double velocity_limit = std::numeric_limits<double>::infinity();  // [rad/s] or [m/s], > 0
+  // position or velocity command may ask for. > 0 from YAML; 0 from a URDF means no motor (no joint
+  // controller may drive it).
+  double effort_limit = std::numeric_limits<double>::infinity();    // [N m] or [N]
+  double velocity_limit = std::numeric_limits<double>::infinity();  // [rad/s] or [m/s]
 };
 
 struct LinkSpec {
@@ -137,6 +138,20 @@ inline const std::string& joint_name(const LinkSpec& link) {
 bool link_moves(const std::vector<LinkSpec>& links, int index);
 
 namespace geometry {
+// Why I (about the centre of mass) cannot be a body's inertia, or "": it must be positive definite, its
+// principal moments obeying A + B >= C (0.1 % of the largest moment of slack for rounded hand-typed values).
+std::string inertia_error(const Eigen::Matrix3d& I);
+
+// A link's mesh file imported into L (its `import` options, X_LM), with its volume properties. `written`
+// names the file in messages. `volume_matters`: a hull's (a closed mesh oriented inward is an error), not
+// a visual's (open meshes welcome).
+struct MeshLoad {
+  std::optional<LinkMesh> mesh;  // nullopt: `error` says why
+  std::string error;
+  bool at_file = false;  // the file itself could not be imported (else its volume is wrong)
+};
+MeshLoad load_link_mesh(LinkMesh link_mesh, bool volume_matters, const std::string& written);
+
 // The keys of one entry of `links`. Reading imports the link's meshes and computes what they give (mass
 // properties with `density`, buoyancy of a closed mesh).
 const config::KeyTable<LinkSpec, config::VehicleContext>& link_keys();
