@@ -534,7 +534,7 @@ vehicles:
     joint_controllers:
 )";
   const std::string path = write("s.yaml", head + R"(      - {name: arm, type: position, joints: [elbow, shoulder],
-         kp: 300, kd: 30}
+         kp: 300, kd: [30, 60]}
       - {name: gripper, type: effort, joints: [grip]}
 )");
   const LoadResult result = load_scenario_file(path);
@@ -545,12 +545,21 @@ vehicles:
   EXPECT_EQ(rov.joint_controllers[0].name, "arm");
   EXPECT_EQ(rov.joint_controllers[0].mode, physics::JointCommandMode::kPosition);
   EXPECT_EQ(rov.joint_controllers[0].joints, (std::vector<int>{1, 0}));  // elbow is the second moving joint
-  EXPECT_EQ(rov.joint_controllers[0].kp, 300.0);
-  EXPECT_EQ(rov.joint_controllers[0].kd, 30.0);
+  // One kp for both joints; kd per joint, in `joints` order.
+  EXPECT_EQ(rov.joint_controllers[0].kp, (std::vector<double>{300.0, 300.0}));
+  EXPECT_EQ(rov.joint_controllers[0].kd, (std::vector<double>{30.0, 60.0}));
   EXPECT_EQ(rov.joint_controllers[1].joints, std::vector<int>{2});  // by the joint's own name
   EXPECT_EQ(rov.links[4].joint.name, "grip");
   EXPECT_EQ(rov.links[1].joint.effort_limit, 80.0);
   EXPECT_EQ(rov.links[1].joint.velocity_limit, 0.5);
+
+  const std::string gains = write("g.yaml", head + R"(      - {name: arm, type: position, joints: [elbow, shoulder],
+         kp: [1, 2, 3], kd: [-1, 1]}
+)");
+  EXPECT_EQ(errors_of(gains),
+            (Lines{gains + ":16:10: error: vehicles[0].joint_controllers[0].kp: has 3 gains for 2 joints (give one, or "
+                           "one per joint)",
+                   gains + ":16:30: error: vehicles[0].joint_controllers[0].kd[0]: must be >= 0 (got -1)"}));
 
   const std::string bad = write("b.yaml", head + R"(      - {name: arm, type: position, joints: [elbow,camera,nope,elbow]}
 )");

@@ -121,11 +121,11 @@ struct Simulation::VehicleRuntime {
       motors[static_cast<std::size_t>(j)].servo.velocity_limit = joint.velocity_limit;
     }
     for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
-      for (int joint : controller.joints) {
-        JointMotor& motor = motors.at(static_cast<std::size_t>(joint));
+      for (std::size_t i = 0; i < controller.joints.size(); ++i) {
+        JointMotor& motor = motors.at(static_cast<std::size_t>(controller.joints[i]));
         motor.mode = controller.mode;
-        motor.servo.kp = controller.kp;
-        motor.servo.kd = controller.kd;
+        motor.servo.kp = i < controller.kp.size() ? controller.kp[i] : 0.0;
+        motor.servo.kd = i < controller.kd.size() ? controller.kd[i] : 0.0;
       }
     }
   }
@@ -777,38 +777,54 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   const physics::ArticulatedDynamics& dynamics = *runtime.dynamics;
   const physics::Articulation& a = *runtime.articulation;
   const auto n = static_cast<std::size_t>(a.num_dofs());
-  Eigen::VectorXd tau(static_cast<Eigen::Index>(n));
+  const double dt = model_.world.step_size();
+  // Each joint's motor (its controller's law, or the effort it holds) and its viscous damping, taken
+  // implicitly over the step with the added mass (physics/joint_servo.h).
+  physics::ArticulatedDynamics::ImplicitJoints implicit;
+  const auto dofs = static_cast<Eigen::Index>(n);
+  implicit.servo.resize(dofs);
+  implicit.servo_D.resize(dofs);
+  implicit.limit.resize(dofs);
+  implicit.damping_D.resize(dofs);
+  Eigen::VectorXd tau(dofs);  // the explicit part of the damping
   for (std::size_t j = 0; j < n; ++j) {
-    // The joint's motor (its controller's law, or the effort it holds), then its viscous damping.
+    const auto e = static_cast<Eigen::Index>(j);
     const VehicleRuntime::JointMotor& motor = runtime.motors[j];
-    const double effort = physics::joint_servo_torque(motor.servo, motor.mode, vehicle.joint_targets[j],
-                                                      vehicle.joint_positions[j], vehicle.joint_velocities[j]);
-    vehicle.joint_efforts[j] = effort;
+    const physics::ServoStep step = physics::joint_servo_step(
+        motor.servo, motor.mode, vehicle.joint_targets[j], vehicle.joint_positions[j], vehicle.joint_velocities[j], dt);
+    const double limit = motor.servo.effort_limit;
+    implicit.limit[e] = limit;
+    implicit.servo[e] = std::clamp(step.torque, -limit, limit);
+    implicit.servo_D[e] = std::abs(step.torque) > limit ? 0.0 : step.D;
     const double damping = a.body(static_cast<int>(j) + 1).joint.damping;
-    tau[static_cast<Eigen::Index>(j)] = effort - damping * vehicle.joint_velocities[j];
+    tau[e] = -damping * vehicle.joint_velocities[j];
+    implicit.damping_D[e] = damping * dt;
   }
   std::vector<physics::ArticulatedDynamics::Wrench> wrenches(runtime.bodies.size());
   for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {
     wrenches[k] << runtime.bodies[k].wrench.f_W, runtime.bodies[k].wrench.tau_W;
   }
+  std::vector<physics::ArticulatedDynamics::AddedMassBody> added(runtime.bodies.size());
   if (runtime.has_added_mass) {
-    std::vector<physics::ArticulatedDynamics::AddedMassBody> added(runtime.bodies.size());
     for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {
       const VehicleRuntime::Body& body = runtime.bodies[k];
       const double depth = std::max(ocean_->depth(dynamics.p_Wcm(static_cast<int>(k)).z()), 0.0);
       added[k].M_A = ocean_->kappa(depth) * body.wrench.submerged_fraction * body.M_A0;
       added[k].v_water_W = body.wrench.v_water_W;
     }
-    const auto n_c = static_cast<Eigen::Index>(vehicle.constraint_force.size());
-    const Eigen::VectorXd Q_c = Eigen::Map<const Eigen::VectorXd>(vehicle.constraint_force.data(), n_c);
-    const std::vector<physics::ArticulatedDynamics::Wrench> reactions = dynamics.added_mass_reactions(
-        added, wrenches, model_.world.gravity_W, tau, Q_c, model_.vehicles[i].fluid.added_mass.coriolis);
-    for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions[k];
-    runtime.u0 = dynamics.u();
-    runtime.M0 = dynamics.mass_matrix();
-    runtime.c0 = dynamics.bias();
-    runtime.Q_given = dynamics.generalized_force(wrenches, model_.world.gravity_W, tau);
   }
+  const auto n_c = static_cast<Eigen::Index>(vehicle.constraint_force.size());
+  const Eigen::VectorXd Q_c = Eigen::Map<const Eigen::VectorXd>(vehicle.constraint_force.data(), n_c);
+  const physics::ArticulatedDynamics::Reactions reactions =
+      dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, Q_c,
+                         model_.vehicles[i].fluid.added_mass.coriolis, &implicit);
+  for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions.bodies[k];
+  tau = reactions.joint_torques;
+  for (std::size_t j = 0; j < n; ++j) vehicle.joint_efforts[j] = reactions.servo[static_cast<Eigen::Index>(j)];
+  runtime.u0 = dynamics.u();
+  runtime.M0 = dynamics.mass_matrix();
+  runtime.c0 = dynamics.bias();
+  runtime.Q_given = dynamics.generalized_force(wrenches, model_.world.gravity_W, tau);
   runtime.target.active = !model_.vehicles[i].is_static;
   if (runtime.target.active) {
     // The whole tree's momentum balance under the external wrenches (the joints' torques are internal).
@@ -819,7 +835,6 @@ void Simulation::hand_articulated_forces(std::size_t i) {
       F_W += wrenches[k].head<3>();
       tau_W += (dynamics.p_Wcm(static_cast<int>(k)) - now.c_W).cross(wrenches[k].head<3>()) + wrenches[k].tail<3>();
     }
-    const double dt = model_.world.step_size();
     VehicleRuntime::MomentumTarget& target = runtime.target;
     target.P_W = now.P_W + dt * F_W;
     target.c_W = now.c_W + dt * target.P_W / now.mass;
@@ -875,7 +890,7 @@ void Simulation::take_snapshot(double dt) {
       const Eigen::VectorXd qd = world_->joint_velocities(static_cast<int>(i));
       vehicle.joint_positions.assign(q.data(), q.data() + q.size());
       vehicle.joint_velocities.assign(qd.data(), qd.data() + qd.size());
-      if (runtime.has_added_mass) {
+      {
         // What Bullet's constraints added: M u_dot - (Q - c) over the step, at the step's start.
         const auto n_u = runtime.u0.size();
         Eigen::VectorXd u1(n_u);

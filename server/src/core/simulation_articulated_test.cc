@@ -191,8 +191,8 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
   position.name = "arm_position";
   position.mode = physics::JointCommandMode::kPosition;
   position.joints = {0};
-  position.kp = 2000.0;
-  position.kd = 200.0;
+  position.kp = {2000.0};
+  position.kd = {200.0};
   model.vehicles[0].joint_controllers.push_back(position);
   Simulation sim(std::move(model));
   const double rho_V = sim.ocean().density(p.depth) * p.volume();
@@ -201,7 +201,7 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
   ASSERT_EQ(sim.set_joint_commands(0, "arm_position", {0.3}), "");
   for (int k = 0; k < 2000; ++k) sim.step();
   double expected = 0.3;
-  for (int k = 0; k < 20; ++k) expected = 0.3 + tau_g * std::cos(expected) / position.kp;
+  for (int k = 0; k < 20; ++k) expected = 0.3 + tau_g * std::cos(expected) / position.kp[0];
   EXPECT_NEAR(joint_q(sim), expected, 1e-6) << "sag " << expected - 0.3;
   EXPECT_NEAR(sim.state().vehicles[0].joint_efforts[0], -tau_g * std::cos(expected), 1e-3);
 
@@ -220,6 +220,40 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
   weak.step();
   EXPECT_EQ(weak.state().vehicles[0].joint_efforts, std::vector<double>{-5.0});
   EXPECT_EQ(weak.state().vehicles[0].joint_targets, std::vector<double>{-50.0});
+}
+
+// The servo is taken implicitly over the step (physics/joint_servo.h), so gains far past the explicit
+// bound hold a light link: a 50 g sphere 0.5 m out (I = m l^2 + its added inertia, about 0.013 kg m^2)
+// under kd = 100 has kd dt / I = 15 at 500 Hz, where an explicit law multiplies every rate error by
+// |1 - 15| each step. It settles where kp (q* - q) balances the wet weight's torque, as the slow law does.
+TEST(SimulationArticulatedTest, AStiffServoOnALightLinkIsStable) {
+  Pendulum p;
+  p.r = 0.02;
+  p.m = 0.05;
+  p.arm_L = Eigen::Vector3d::UnitX();
+  Model model = p.model();
+  ASSERT_EQ(model.world.physics_rate_hz, 500.0);
+  physics::JointControllerSpec position;
+  position.name = "wrist";
+  position.mode = physics::JointCommandMode::kPosition;
+  position.joints = {0};
+  position.kp = {5000.0};
+  position.kd = {100.0};
+  model.vehicles[0].joint_controllers.push_back(position);
+  Simulation sim(std::move(model));
+  const double rho_V = sim.ocean().density(p.depth) * p.volume();
+  const double tau_g = (p.m - rho_V) * 9.80665 * p.l;
+  ASSERT_EQ(sim.set_joint_commands(0, "wrist", {0.5}), "");
+  double fastest = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    sim.step();
+    fastest = std::max(fastest, std::abs(sim.state().vehicles[0].joint_velocities[0]));
+  }
+  double expected = 0.5;
+  for (int k = 0; k < 20; ++k) expected = 0.5 + tau_g * std::cos(expected) / position.kp[0];
+  EXPECT_NEAR(joint_q(sim), expected, 1e-9);
+  // The rate the law asks for is kp / kd (q* - q) = 25 rad/s at the start: never more.
+  EXPECT_LE(fastest, 25.0);
 }
 
 // Joint limits are hard stops: under ten times the effort gravity needs, the arm pressed against its

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -141,11 +142,16 @@ Eigen::VectorXd ArticulatedDynamics::generalized_force(const std::vector<Wrench>
   return Q;
 }
 
-std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::added_mass_reactions(
+ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
-    const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c, bool coriolis) const {
+    const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c, bool coriolis,
+    const ImplicitJoints* implicit) const {
   const auto bodies = static_cast<std::size_t>(articulation_.num_bodies());
-  std::vector<Wrench> reactions(bodies, Wrench::Zero());
+  const int dofs = articulation_.num_dofs();
+  Reactions out;
+  out.bodies.assign(bodies, Wrench::Zero());
+  out.joint_torques = joint_torques;
+  std::vector<Wrench>& reactions = out.bodies;
   Eigen::MatrixXd M = M_;
   Eigen::VectorXd rhs = generalized_force(wrenches_W, g_W, joint_torques) - c_;
   if (Q_c.size() == n_) rhs += Q_c;
@@ -172,13 +178,41 @@ std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::added_mass_reactio
     M.noalias() += J_[i].transpose() * MJ[i];
     rhs.noalias() += J_[i].transpose() * bias[i];
   }
-  if (!any) return reactions;
-  const Eigen::VectorXd u_dot = M.ldlt().solve(rhs);
+  if (!any && implicit == nullptr) return out;
+  Eigen::VectorXd u_dot;
+  if (implicit == nullptr) {
+    u_dot = M.ldlt().solve(rhs);
+  } else {
+    // The joints' block of u is its tail.
+    out.servo = implicit->servo;
+    Eigen::VectorXd servo_D = implicit->servo_D;
+    for (int pass = 0; pass <= dofs; ++pass) {
+      Eigen::MatrixXd A = M;
+      A.diagonal().tail(dofs) += servo_D + implicit->damping_D;
+      Eigen::VectorXd b = rhs;
+      b.tail(dofs) += out.servo;
+      u_dot = A.ldlt().solve(b);
+      bool saturated = false;
+      for (int j = 0; j < dofs; ++j) {
+        if (servo_D[j] == 0.0) continue;
+        const double tau = out.servo[j] - servo_D[j] * u_dot[n_ - dofs + j];
+        if (std::abs(tau) > implicit->limit[j]) {
+          out.servo[j] = std::copysign(implicit->limit[j], tau);
+          servo_D[j] = 0.0;
+          saturated = true;
+        }
+      }
+      if (!saturated) break;
+    }
+    const Eigen::VectorXd qdd = u_dot.tail(dofs);
+    out.servo -= servo_D.cwiseProduct(qdd);
+    out.joint_torques += out.servo - implicit->damping_D.cwiseProduct(qdd);
+  }
   for (std::size_t i = 0; i < bodies; ++i) {
     if (MJ[i].size() == 0) continue;
     reactions[i] = bias[i] - MJ[i] * u_dot;
   }
-  return reactions;
+  return out;
 }
 
 }  // namespace hadal::physics

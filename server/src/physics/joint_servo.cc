@@ -1,6 +1,7 @@
 #include "hadal/physics/joint_servo.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "hadal/config/entry_keys.h"
@@ -11,27 +12,43 @@ namespace hadal::physics {
 using namespace config::keys;
 using config::VehicleContext;
 
-double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd) {
-  double tau = target;
+ServoStep joint_servo_step(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd,
+                           double dt) {
+  ServoStep step;
+  step.torque = target;
   switch (mode) {
     case JointCommandMode::kPosition: {
       // kp (q* - q) - kd qd = kd (qd_wanted - qd) with qd_wanted = kp (q* - q) / kd: that rate is what the
-      // velocity limit bounds (a PD law without kd has no rate to bound).
+      // velocity limit bounds (a PD law without kd has no rate to bound). At the step's end, q' = q + dt qd
+      // + dt^2 qdd and qd' = qd + dt qdd.
+      const double q_end = q + dt * qd;
       if (spec.kd > 0.0) {
-        const double wanted = std::clamp(spec.kp * (target - q) / spec.kd, -spec.velocity_limit, spec.velocity_limit);
-        tau = spec.kd * (wanted - qd);
+        const double wanted = spec.kp * (target - q_end) / spec.kd;
+        if (std::abs(wanted) < spec.velocity_limit) {
+          step.torque = spec.kp * (target - q_end) - spec.kd * qd;
+          step.D = spec.kp * dt * dt + spec.kd * dt;
+        } else {
+          step.torque = spec.kd * (std::copysign(spec.velocity_limit, wanted) - qd);
+          step.D = spec.kd * dt;
+        }
       } else {
-        tau = spec.kp * (target - q);
+        step.torque = spec.kp * (target - q_end);
+        step.D = spec.kp * dt * dt;
       }
       break;
     }
     case JointCommandMode::kVelocity:
-      tau = spec.kd * (std::clamp(target, -spec.velocity_limit, spec.velocity_limit) - qd);
+      step.torque = spec.kd * (std::clamp(target, -spec.velocity_limit, spec.velocity_limit) - qd);
+      step.D = spec.kd * dt;
       break;
     case JointCommandMode::kEffort:
       break;
   }
-  return std::clamp(tau, -spec.effort_limit, spec.effort_limit);
+  return step;
+}
+
+double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd) {
+  return std::clamp(joint_servo_step(spec, mode, target, q, qd, 0.0).torque, -spec.effort_limit, spec.effort_limit);
 }
 
 const char* to_string(JointCommandMode mode) {
@@ -44,6 +61,27 @@ const char* to_string(JointCommandMode mode) {
 }
 
 namespace {
+
+constexpr const char* kGainsSchema =
+    R"({"oneOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}, "minItems": 1}]})";
+
+// A gain: one number, or a list of them (one per joint; the table's check matches it to `joints`).
+bool read_gains(const config::Value& value, const Range& range, std::vector<double>* gains) {
+  if (value.node().IsSequence()) {
+    const auto numbers = value.numbers(std::nullopt, range);
+    if (!numbers) return false;
+    if (numbers->empty()) {
+      value.error("must not be empty");
+      return false;
+    }
+    *gains = *numbers;
+    return true;
+  }
+  const auto number = value.number(range);
+  if (!number) return false;
+  *gains = {*number};
+  return true;
+}
 
 // `joints`: names of links on moving joints, each once; into their indices among the moving joints.
 bool read_controlled_joints(const config::Value& value, JointControllerSpec& controller, VehicleContext& c) {
@@ -120,11 +158,32 @@ const config::KeyTable<JointControllerSpec, VehicleContext>& joint_controller_ke
              "list of joint names")
         .required()
         .doc("the joints it drives (by name: a link's own unless its joint names itself), in command order");
-    t.number("kp", &JointControllerSpec::kp).only_for({"position"}).required_for({"position"})
-        .unit("N m/rad or N/m").range(Range::positive()).doc("stiffness");
-    t.number("kd", &JointControllerSpec::kd).only_for({"position", "velocity"}).required_for({"velocity"})
-        .unit("N m s/rad or N s/m").range(Range::non_negative())
-        .default_text("0 (position: a plain kp law, no rate limit)").doc("damping gain");
+    t.custom("kp", [](const config::Value& value, JointControllerSpec& c, VehicleContext&) {
+           return read_gains(value, Range::positive(), &c.kp);
+         }, kGainsSchema, "number or list of numbers")
+        .only_for({"position"}).required_for({"position"}).unit("N m/rad or N/m").range(Range::positive())
+        .doc("stiffness: one for every joint, or one per joint in `joints` order");
+    t.custom("kd", [](const config::Value& value, JointControllerSpec& c, VehicleContext&) {
+           return read_gains(value, Range::non_negative(), &c.kd);
+         }, kGainsSchema, "number or list of numbers")
+        .only_for({"position", "velocity"}).required_for({"velocity"}).unit("N m s/rad or N s/m")
+        .range(Range::non_negative())
+        .default_text("0 (position: a plain kp law, no rate limit)")
+        .doc("damping gain: one for every joint, or one per joint in `joints` order");
+    // One gain for the group stands for each joint's; a list has one per joint.
+    t.check([](const config::KeyReads& reads, JointControllerSpec& c, VehicleContext&) {
+      bool ok = true;
+      for (auto [key, gains] : {std::pair{"kp", &c.kp}, std::pair{"kd", &c.kd}}) {
+        if (gains->size() == 1) gains->resize(c.joints.size(), gains->front());
+        if (gains->empty() && c.mode == JointCommandMode::kPosition) gains->resize(c.joints.size(), 0.0);
+        if (!gains->empty() && gains->size() != c.joints.size() && !c.joints.empty() && reads.ok("joints")) {
+          reads.error_at_key(key, "has " + std::to_string(gains->size()) + " gains for " +
+                                      std::to_string(c.joints.size()) + " joints (give one, or one per joint)");
+          ok = false;
+        }
+      }
+      return ok;
+    });
   });
 }
 

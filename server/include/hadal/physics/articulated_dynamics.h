@@ -78,7 +78,30 @@ class ArticulatedDynamics {
   std::vector<Wrench> added_mass_reactions(const std::vector<AddedMassBody>& added,
                                            const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
                                            const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
-                                           bool coriolis) const;
+                                           bool coriolis) const {
+    return reactions(added, wrenches_W, g_W, joint_torques, Q_c, coriolis, nullptr).bodies;
+  }
+
+  // Joint torques taken implicitly over the step (num_dofs() entries each), solved with the added mass:
+  // each joint's servo torque servo - servo_D qdd, kept within +-limit (a joint that would pass it takes
+  // the limit and loses its servo_D: the solve is repeated until none does), and its viscous damping's
+  // implicit part -damping_D qdd (its explicit part is in joint_torques). Both move to the left like added
+  // mass, (M + sum J^T M_A J + diag(servo_D + damping_D)) u_dot = Q - c - c_A, so a stiff servo on a light
+  // wrist is stable at any step (physics/joint_servo.h).
+  struct ImplicitJoints {
+    Eigen::VectorXd servo;      // [N m] or [N]
+    Eigen::VectorXd servo_D;    // >= 0 [N m s^2/rad] or [N s^2/m]
+    Eigen::VectorXd limit;      // > 0 (infinity: none)
+    Eigen::VectorXd damping_D;  // >= 0
+  };
+  struct Reactions {
+    std::vector<Wrench> bodies;    // each body's added-mass reaction (at its centre of mass, W)
+    Eigen::VectorXd servo;         // with `implicit`: each joint's servo torque over the step
+    Eigen::VectorXd joint_torques;  // the joint torques to apply: joint_torques + servo - damping_D qdd
+  };
+  Reactions reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
+                      const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
+                      bool coriolis, const ImplicitJoints* implicit) const;
 
  private:
   const Articulation& articulation_;

@@ -1,7 +1,6 @@
 // A joint's servo (issue 40's joint actuators; docs/ARCHITECTURE.md, "Articulated vehicles"): the torque
 // (revolute) or force (prismatic) a motor behind a gearbox puts on its joint, from ros2_control's three
-// command kinds. Hadal's own law, applied as a joint torque each step (explicit, so its gains are bounded
-// by the step: kd dt / I_joint < 2 and kp dt^2 / I_joint < 1 keep it stable):
+// command kinds. Hadal's own law:
 //   position q*:  tau = kp (q* - q) - kd qd, the rate it asks for kept within +-velocity_limit (a target
 //                 far away is approached at the velocity limit: tau = kd (+-velocity_limit - qd))
 //   velocity qd*: tau = kd (clamp(qd*, +-velocity_limit) - qd)
@@ -9,6 +8,11 @@
 // and in every mode |tau| <= effort_limit. Gains and limits are at the joint (the motor's own times the
 // gear ratio, and its speed divided by it). A saturated servo's torque is constant and damps nothing:
 // only the joint's own damping (JointSpec::damping) then settles a swing.
+//
+// The simulation takes the law implicitly over each step (joint_servo_step, solved with the vehicle's
+// equations of motion: physics/articulated_dynamics.h), at the step's end state q + dt qd', qd' = qd +
+// dt qdd: stable for any gain and joint inertia (an explicit law would need kd dt / I < 2, which a light
+// wrist on a stiff arm's gains breaks), and the same law at rest.
 #pragma once
 
 #include <limits>
@@ -32,21 +36,33 @@ struct JointServoSpec {
   double velocity_limit = std::numeric_limits<double>::infinity();  // [rad/s] or [m/s], > 0
 };
 
-// The joint torque for the command `target` at joint position q and rate qd (see above).
+// The law over a step of dt: tau = torque - D qdd until the torque passes the effort limit (then the limit,
+// D = 0). dt = 0 gives the law at (q, qd).
+struct ServoStep {
+  double torque = 0.0;  // [N m] or [N], not yet limited
+  double D = 0.0;       // [N m s^2/rad] or [N s^2/m]: the torque's change per unit qdd over the step
+};
+ServoStep joint_servo_step(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd,
+                           double dt);
+
+// The joint torque for the command `target` at joint position q and rate qd (see above): the law at (q,
+// qd), within the effort limit.
 double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd);
 
 const char* to_string(JointCommandMode mode);
 
 // A group of joints commanded together, ros2_control's shape (YAML `joint_controllers`): a position,
-// velocity or effort group whose command is one value per joint, in `joints` order. The gains are the
-// group's; each joint's effort and velocity limits are its own (links[].joint). A joint is in at most one
-// group; a joint in none takes efforts (Simulation::set_joint_efforts).
+// velocity or effort group whose command is one value per joint, in `joints` order. Gains are per joint
+// (YAML: one number for every joint of the group, or a list, one per joint: a wrist needs far smaller
+// gains than a shoulder for the same step); each joint's effort and velocity limits are its own
+// (links[].joint). A joint is in at most one group; a joint in none takes efforts
+// (Simulation::set_joint_efforts).
 struct JointControllerSpec {
   std::string name;
   JointCommandMode mode = JointCommandMode::kEffort;
   std::vector<int> joints;  // indices of the vehicle's moving joints (in the order of its links)
-  double kp = 0.0;          // [N m/rad or N/m]: position
-  double kd = 0.0;          // [N m s/rad or N s/m]: position (optional), velocity
+  std::vector<double> kp;   // per joint of `joints` [N m/rad or N/m]: position; empty otherwise
+  std::vector<double> kd;   // per joint of `joints` [N m s/rad or N s/m]: position (0: none), velocity
 };
 
 // The keys of one entry of `joint_controllers`.
