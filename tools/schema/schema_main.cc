@@ -73,10 +73,12 @@ int reference(const std::vector<std::string>& args) {
     std::fprintf(stderr, "hadal-schema: cannot read %s\n", path.c_str());
     return 1;
   }
-  // Every table of a scenario, and the vehicle definition's (a vehicle entry describes its keys there).
+  // Every table of a scenario, and the vehicle and object definitions' (an entry describes its keys there).
   std::vector<const hadal::config::TableDoc*> tables = hadal::config::all_tables(hadal::config::scenario_keys().doc());
-  for (const hadal::config::TableDoc* table : hadal::config::all_tables(hadal::config::definition_keys().doc())) {
-    if (std::find(tables.begin(), tables.end(), table) == tables.end()) tables.push_back(table);
+  for (const auto* root : {&hadal::config::definition_keys().doc(), &hadal::config::object_definition_keys().doc()}) {
+    for (const hadal::config::TableDoc* table : hadal::config::all_tables(*root)) {
+      if (std::find(tables.begin(), tables.end(), table) == tables.end()) tables.push_back(table);
+    }
   }
   const hadal::config::ReferenceUpdate update = hadal::config::update_reference(text, tables);
   int status = 0;

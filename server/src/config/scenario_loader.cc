@@ -25,6 +25,8 @@ const KeyTable<Model, LoadContext>& scenario_keys() {
     t.map("world", &Model::world, world_keys()).required().doc("the world");
     t.list("vehicles", &Model::vehicles, vehicle_entry_keys()).required().min_items(1).read_elsewhere()
         .doc("the vehicles, each defined inline or by `include`");
+    t.list("objects", &Model::vehicles, object_entry_keys()).read_elsewhere()
+        .doc("free objects (samples, rocks, crates), each defined inline or by `include`; they follow the vehicles");
     t.custom(
          "security",
          [](const Value& value, Model& model, LoadContext&) {
@@ -52,11 +54,13 @@ class ScenarioLoader {
   LoadResult load(const std::string& path, const LoadOptions& options);
 
  private:
-  void read_vehicle(const Value& value, VehicleSpec* vehicle);
+  // A `vehicles` entry, or (object) an `objects` entry.
+  void read_vehicle(const Value& value, VehicleSpec* vehicle, bool object = false);
   void warn_if_above_surface(const MapReader& map, const VehicleSpec& vehicle);
   // The definition in `include` (a path relative to the including file), loaded once per resolved path.
   // nullopt when the file cannot be opened (reported at `include`) or does not parse.
-  const std::optional<VehicleDefinition>& included_definition(const Value& include, const std::string& path);
+  const std::optional<VehicleDefinition>& included_definition(const Value& include, const std::string& path,
+                                                              bool object);
   void read_schedule(const Value& value, const VehicleDefinition* definition,
                      std::vector<SetpointKeyframe>* schedule);
   VehicleContext vehicle_context() const {
@@ -71,7 +75,7 @@ class ScenarioLoader {
     std::string open_error;                       // set when the file cannot be opened
     std::optional<VehicleDefinition> definition;  // nullopt when it cannot be opened or parsed
   };
-  std::map<std::string, IncludedFile> includes_;      // by resolved path
+  std::map<std::pair<std::string, bool>, IncludedFile> includes_;  // by resolved path, and object or not
   std::shared_ptr<const std::vector<std::filesystem::path>> roots_;  // where the files named may lie
   std::map<std::string, std::string> vehicle_names_;  // name -> path of the entry that used it first
 };
@@ -111,6 +115,15 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
           }
         }
       }
+      if (const auto objects = map.optional("objects")) {
+        if (const auto items = objects->list()) {
+          for (std::size_t i = 0; i < items->size(); ++i) {
+            VehicleSpec object;
+            read_vehicle((*items)[i], &object, true);
+            model.vehicles.push_back(std::move(object));
+          }
+        }
+      }
     }
   }
 
@@ -122,8 +135,10 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
   return result;
 }
 
-void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
-  const MapReader map(value, vehicle_entry_keys().names());
+void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle, bool object) {
+  const auto& entry_keys = object ? object_entry_keys() : vehicle_entry_keys();
+  const auto& definition_table = object ? object_definition_keys() : definition_keys();
+  const MapReader map(value, entry_keys.names());
   if (!map.ok()) return;
 
   if (const auto name = map.required("name")) {
@@ -133,7 +148,11 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
         name->error("must match [A-Za-z][A-Za-z0-9_]* (got " + quoted(*text) + ")");
       } else {
         const auto [it, inserted] = vehicle_names_.emplace(*text, value.path());
-        if (!inserted) name->error("duplicate vehicle name " + quoted(*text) + " (first used by " + it->second + ")");
+        if (!inserted) {
+          const bool mixed = object || it->second.rfind("objects[", 0) == 0;
+          name->error(std::string("duplicate ") + (object ? "object" : "vehicle") + " name " + quoted(*text) +
+                      " (first used by " + it->second + (mixed ? "; vehicles and objects share their names)" : ")"));
+        }
       }
     }
   }
@@ -141,7 +160,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
   // The definition: either `include` (which the entry may extend with more `sensors` and `lights`) or
   // inline keys, never both.
   std::vector<std::string> inline_keys;
-  for (const std::string& key : definition_keys().names()) {
+  for (const std::string& key : definition_table.names()) {
     if (map.has(key) && key != "sensors" && key != "lights") inline_keys.push_back(quoted(key));
   }
   std::optional<VehicleDefinition> inline_definition;
@@ -151,24 +170,25 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
       map.error_at_key("include", "cannot be combined with an inline definition (found " + join_names(inline_keys) +
                                       "; an entry with 'include' may only add 'sensors' and 'lights')");
     } else if (const auto include_path = include->string()) {
-      const auto& included = included_definition(*include, *include_path);
-      if (included && (map.has("sensors") || map.has("lights"))) {
+      const auto& included = included_definition(*include, *include_path, object);
+      if (included && !object && (map.has("sensors") || map.has("lights"))) {
         inline_definition = *included;  // extended by the entry's own lists
         VehicleContext context = vehicle_context();
-        definition_keys().read_only(map, &*inline_definition, context, {"sensors", "lights"});
+        definition_table.read_only(map, &*inline_definition, context, {"sensors", "lights"});
         definition = &*inline_definition;
       } else if (included) {
         definition = &*included;
       }
     }
-  } else if (!inline_keys.empty() || map.has("sensors") || map.has("lights")) {
+  } else if (!inline_keys.empty() || (!object && (map.has("sensors") || map.has("lights")))) {
     inline_definition.emplace();
     inline_definition->source_file = map.value().file();
     VehicleContext context = vehicle_context();
-    definition_keys().read_map(map, &*inline_definition, context);
+    definition_table.read_map(map, &*inline_definition, context);
     definition = &*inline_definition;
   } else {
-    value.error("needs either 'include' or an inline definition ('type', 'links', ...)");
+    value.error(object ? "needs either 'include' or an inline definition ('links', ...)"
+                       : "needs either 'include' or an inline definition ('type', 'links', ...)");
   }
   if (definition) {
     vehicle->source_file = definition->source_file;
@@ -186,8 +206,9 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle) {
   }
 
   std::vector<std::string> failed;
-  vehicle_entry_keys().read_map(map, vehicle, context_, &failed);
+  entry_keys.read_map(map, vehicle, context_, &failed);
   if (std::find(failed.begin(), failed.end(), "initial_pose") == failed.end()) warn_if_above_surface(map, *vehicle);
+  if (object) return;
   if (const auto schedule = map.optional("schedule")) read_schedule(*schedule, definition, &vehicle->schedule);
 }
 
@@ -207,22 +228,23 @@ void ScenarioLoader::warn_if_above_surface(const MapReader& map, const VehicleSp
 }
 
 const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(const Value& include,
-                                                                            const std::string& path) {
+                                                                            const std::string& path, bool object) {
   static const std::optional<VehicleDefinition> kRefused;
   std::string resolved;
   if (!include.file_path(path, &resolved)) return kRefused;
-  auto [it, first_use] = includes_.try_emplace(resolved);
+  auto [it, first_use] = includes_.try_emplace(std::make_pair(resolved, object));
   IncludedFile& included = it->second;
   if (first_use) {
     const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
     if (root) {
       const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_});
-      const MapReader map(Value::root(*root, source), definition_keys().names());
+      const auto& table = object ? object_definition_keys() : definition_keys();
+      const MapReader map(Value::root(*root, source), table.names());
       if (map.ok()) {
         included.definition.emplace();
         included.definition->source_file = resolved;
         VehicleContext context = vehicle_context();
-        definition_keys().read_map(map, &*included.definition, context);
+        table.read_map(map, &*included.definition, context);
       }
     }
   }

@@ -195,9 +195,18 @@ void refer_to(const VehicleDefinition& d, VehicleContext& c) {
 
 }  // namespace
 
-const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
-  return declare_keys<VehicleDefinition, VehicleContext>([](KeyTable<VehicleDefinition, VehicleContext>& t) {
+namespace {
+
+// The keys of a vehicle definition, or (object) of an object's: no type, actuators, sensors, lights or joint
+// controllers.
+void declare_definition_keys(KeyTable<VehicleDefinition, VehicleContext>& t, bool object) {
+  if (object) {
+    t.describe("object", "an object's definition (a sample, a rock, a crate): an object file, or inline in an "
+                         "object entry; its links and fluid model, as a vehicle's");
+  } else {
     t.describe("vehicle", "a vehicle definition: a vehicle file, or inline in a vehicle entry");
+  }
+  if (!object) {
     t.choice("type", &VehicleDefinition::type,
              {{"auv", VehicleType::kAuv},
               {"rov", VehicleType::kRov},
@@ -208,6 +217,7 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
         .required()
         .unless("include")
         .doc("the vehicle's class, a label for tools and logs; what it does comes from its links, actuators and sensors");
+  }
     t.choice("seabed_contact", &VehicleDefinition::seabed_contact,
              {{"rigid", SeabedContact::kRigid, "Bullet's rigid contact of the collision shapes (friction 0.4, no bounce)"},
               {"soil", SeabedContact::kSoil,
@@ -251,6 +261,13 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
         .keys_of(urdf_keys())
         .unless("include")
         .doc("links and joints from a URDF file, after those of `links` (or instead of them)");
+    if (object) {
+      t.check([](const KeyReads&, VehicleDefinition& d, VehicleContext&) {
+        d.type = VehicleType::kObject;
+        return true;
+      });
+    }
+    if (!object) {
     physics::ActuatorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
       t.custom(std::string(Kind::kListKey), read_actuator_list<Kind>, "", "list of maps")
@@ -335,6 +352,7 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
          "", "list of maps")
         .items_of(physics::joint_controller_keys())
         .doc("groups of an articulated vehicle's joints commanded together (position, velocity or effort)");
+    }
     t.map("fluid", &VehicleDefinition::fluid, physics::fluid_keys())
         .unless("include")
         .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
@@ -353,7 +371,18 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
       }
       return true;
     });
-  });
+}
+
+}  // namespace
+
+const KeyTable<VehicleDefinition, VehicleContext>& definition_keys() {
+  return declare_keys<VehicleDefinition, VehicleContext>(
+      [](KeyTable<VehicleDefinition, VehicleContext>& t) { declare_definition_keys(t, false); });
+}
+
+const KeyTable<VehicleDefinition, VehicleContext>& object_definition_keys() {
+  return declare_keys<VehicleDefinition, VehicleContext>(
+      [](KeyTable<VehicleDefinition, VehicleContext>& t) { declare_definition_keys(t, true); });
 }
 
 const KeyTable<SetpointKeyframe>& keyframe_keys() {
@@ -370,33 +399,49 @@ const KeyTable<SetpointKeyframe>& keyframe_keys() {
   });
 }
 
-const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
-  return declare_keys<VehicleSpec, LoadContext>([](KeyTable<VehicleSpec, LoadContext>& t) {
+namespace {
+
+// The keys of a vehicle entry, or (object) of an object entry: no actuators, so no command timeout,
+// actuator states or schedule.
+void declare_entry_keys(KeyTable<VehicleSpec, LoadContext>& t, bool object) {
+  if (object) {
+    t.describe("objects[]",
+               "a free object (a sample, a rock, a crate): its definition from `include` or inline, where it "
+               "starts; it rests on the seabed, sinks or floats by its own fluid model, can be grasped, carried and "
+               "dropped, and its ground truth is published on rt/<name>/odometry");
+  } else {
     t.describe("vehicles[]",
                "a vehicle: its definition either from `include` (which the entry may extend "
                "with sensors and lights) or inline, where it starts, its rates and schedule");
-    t.string("name", &VehicleSpec::name).required().read_elsewhere()
-        .rule("[A-Za-z][A-Za-z0-9_]*, unique").doc("a topic segment: rt/<name>/...");
-    t.string("include", &VehicleSpec::source_file).read_elsewhere()
-        .doc("a vehicle file, relative to this file; not with the inline definition keys but sensors and lights");
-    t.pose("initial_pose", &VehicleSpec::X_WB_initial).doc("X_WB at t = 0");
-    t.boolean("static", &VehicleSpec::is_static)
-        .doc("fixed at its initial pose (a prop, a fixed instrument): no forces, never moves, others collide with "
-             "it; its sensors still sample");
-    t.vector("initial_velocity", &VehicleSpec::v_WB_initial).unit("m/s").doc("v_WB in W");
-    t.vector("initial_angular_velocity", &VehicleSpec::w_WB_initial).unit("rad/s").range(Range::closed(-100.0, 100.0))
-        .doc("w_WB in W (a tumbling calibration target, say)");
+  }
+  t.string("name", &VehicleSpec::name).required().read_elsewhere()
+      .rule("[A-Za-z][A-Za-z0-9_]*, unique among vehicles and objects").doc("a topic segment: rt/<name>/...");
+  t.string("include", &VehicleSpec::source_file).read_elsewhere()
+      .doc(object ? "an object file, relative to this file; not with the inline definition keys"
+                  : "a vehicle file, relative to this file; not with the inline definition keys but sensors and lights");
+  t.pose("initial_pose", &VehicleSpec::X_WB_initial).doc("X_WB at t = 0");
+  t.boolean("static", &VehicleSpec::is_static)
+      .doc("fixed at its initial pose (a prop, a fixed instrument): no forces, never moves, others collide with "
+           "it; its sensors still sample");
+  t.vector("initial_velocity", &VehicleSpec::v_WB_initial).unit("m/s").doc("v_WB in W");
+  t.vector("initial_angular_velocity", &VehicleSpec::w_WB_initial).unit("rad/s").range(Range::closed(-100.0, 100.0))
+      .doc("w_WB in W (a tumbling calibration target, say)");
+  if (!object) {
     t.number("command_timeout_s", &VehicleSpec::command_timeout).unit("s").range(Range::positive())
         .doc("the actuators stop when no command arrives for this long (sim time)");
-    t.rate_hz("odometry_rate_hz", &VehicleSpec::odometry_rate_hz).doc("rate of rt/<vehicle>/odometry");
+  }
+  t.rate_hz("odometry_rate_hz", &VehicleSpec::odometry_rate_hz).doc("rate of rt/<vehicle>/odometry");
+  if (!object) {
     t.rate_hz("actuator_state_rate_hz", &VehicleSpec::actuator_state_rate_hz)
         .doc("rate of every actuator kind's state topic (rt/<vehicle>/<kind>/state)");
     t.renamed("thruster_state_rate_hz", "actuator_state_rate_hz", "it sets every actuator kind's state rate");
     t.list("schedule", &VehicleSpec::schedule, keyframe_keys()).read_elsewhere()
         .doc("an open-loop schedule that drives the vehicle until a client first commands it; before its first "
              "keyframe the setpoints are zero");
-    t.part(definition_keys());  // read by the scenario loader, which resolves `include`
-    t.check([](const KeyReads& reads, VehicleSpec& v, LoadContext&) {
+  }
+  // Read by the scenario loader, which resolves `include`.
+  t.part(object ? object_definition_keys() : definition_keys());
+  t.check([](const KeyReads& reads, VehicleSpec& v, LoadContext&) {
       if (!v.is_static) return true;
       bool ok = true;
       for (const char* key : {"initial_velocity", "initial_angular_velocity"}) {
@@ -409,7 +454,18 @@ const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
       }
       return ok;
     });
-  });
+}
+
+}  // namespace
+
+const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys() {
+  return declare_keys<VehicleSpec, LoadContext>(
+      [](KeyTable<VehicleSpec, LoadContext>& t) { declare_entry_keys(t, false); });
+}
+
+const KeyTable<VehicleSpec, LoadContext>& object_entry_keys() {
+  return declare_keys<VehicleSpec, LoadContext>(
+      [](KeyTable<VehicleSpec, LoadContext>& t) { declare_entry_keys(t, true); });
 }
 
 }  // namespace hadal::config

@@ -591,5 +591,49 @@ vehicles:
                            "controller 'arm' (a joint is in one controller at most)"}));
 }
 
+// `objects`: free objects after the vehicles, of type object, inline or from an object file; no actuators
+// (or any key only a vehicle has), and one namespace of names with the vehicles.
+TEST_F(ScenarioLoaderTest, ObjectsFollowTheVehiclesWithoutActuators) {
+  write("objects/tube.yaml", R"(links:
+  - {name: tube, mass: 0.8, inertia: {ixx: 0.002, iyy: 0.002, izz: 0.0002},
+     collisions: [{shape: cylinder, radius: 0.03, length: 0.3}]}
+)");
+  const std::string path = write("s.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + R"(objects:
+  - name: sample
+    include: objects/tube.yaml
+    initial_pose: {position: [1, 0, -99.8]}
+  - name: rock
+    links:
+      - {name: rock, mass: 30, inertia: {ixx: 0.2, iyy: 0.2, izz: 0.2}, collisions: [{shape: sphere, radius: 0.15}]}
+)");
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& diagnostic : result.errors) ADD_FAILURE() << diagnostic.format();
+  ASSERT_TRUE(result.ok());
+  const Model& model = *result.model;
+  ASSERT_EQ(model.vehicles.size(), 3u);
+  EXPECT_EQ(model.vehicles[0].type, VehicleType::kAuv);
+  EXPECT_EQ(model.vehicles[1].name, "sample");
+  EXPECT_EQ(model.vehicles[1].type, VehicleType::kObject);
+  EXPECT_EQ(model.vehicles[1].links.at(0).mass, 0.8);
+  EXPECT_EQ(model.vehicles[1].X_WB_initial.translation(), Eigen::Vector3d(1, 0, -99.8));
+  EXPECT_EQ(model.vehicles[2].type, VehicleType::kObject);
+  EXPECT_TRUE(model.vehicles[2].actuators.empty());
+
+  const std::string bad = write("b.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle + R"(objects:
+  - name: auv
+    links: [{name: l, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]
+  - name: crate
+    type: rov
+    links: [{name: l, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]
+    thrusters: []
+)");
+  const auto errors = errors_of(bad);
+  ASSERT_EQ(errors.size(), 3u) << ::testing::PrintToString(errors);
+  EXPECT_EQ(errors[0], bad + ":18:11: error: objects[0].name: duplicate object name 'auv' (first used by vehicles[0]; "
+                             "vehicles and objects share their names)");
+  EXPECT_EQ(errors[1].rfind(bad + ":21:5: error: objects[1].type: unknown key 'type'", 0), 0u) << errors[1];
+  EXPECT_EQ(errors[2].rfind(bad + ":23:5: error: objects[1].thrusters: unknown key 'thrusters'", 0), 0u) << errors[2];
+}
+
 }  // namespace
 }  // namespace hadal::config

@@ -68,6 +68,7 @@ constexpr VehicleTypeName kVehicleTypeNames[] = {
     {VehicleType::kAuv, "auv"},         {VehicleType::kRov, "rov"},
     {VehicleType::kLander, "lander"},   {VehicleType::kSurfaceVessel, "surface_vessel"},
     {VehicleType::kGlider, "glider"},   {VehicleType::kCrawler, "crawler"},
+    {VehicleType::kObject, "object"},
 };
 }  // namespace
 

@@ -44,6 +44,11 @@ const KeyTable<VehicleDefinition, VehicleContext>& definition_keys();
 // The keys of a scenario's vehicle entry besides the definition's: name, include, where it starts, rates,
 // schedule. `name`, `include` and `schedule` are read by the scenario loader.
 const KeyTable<VehicleSpec, LoadContext>& vehicle_entry_keys();
+// An object's (a scenario's `objects`: a sample, a rock, a crate): a definition without type, actuators,
+// sensors, lights or joint controllers, and an entry without what only actuators need. Objects become
+// VehicleSpecs of type kObject after the vehicles.
+const KeyTable<VehicleDefinition, VehicleContext>& object_definition_keys();
+const KeyTable<VehicleSpec, LoadContext>& object_entry_keys();
 // The keys of a schedule keyframe.
 const KeyTable<SetpointKeyframe>& keyframe_keys();
 

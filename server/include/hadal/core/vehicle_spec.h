@@ -23,7 +23,9 @@
 
 namespace hadal {
 
-enum class VehicleType { kAuv, kRov, kLander, kSurfaceVessel, kGlider, kCrawler };
+// kObject: a scenario's `objects` entry (a sample, a rock, a crate): no actuators, sensors, lights or joint
+// controllers; it rests, sinks or floats, and can be picked up.
+enum class VehicleType { kAuv, kRov, kLander, kSurfaceVessel, kGlider, kCrawler, kObject };
 
 // An actuator (YAML: a list of the vehicle definition per kind, e.g. `thrusters`), mounted on a link. Its
 // kind (physics/actuator_kinds.h) says what it is, what it takes from the vehicle's control vector and
