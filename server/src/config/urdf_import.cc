@@ -1,10 +1,13 @@
 #include "hadal/config/urdf_import.h"
 
 #include <console_bridge/console.h>
+#include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -114,6 +117,9 @@ class Importer {
     where_.report_in(mount_.file, p.line, p.column, tag + " " + config::quoted(name), message, true);
   }
   bool import_link(const urdf::Link& link, LinkSpec* spec);
+  // Gazebo's friction of each link that has one (<gazebo reference="link"><mu1>), which urdfdom skips.
+  void read_gazebo_friction();
+  std::map<std::string, double> friction_;
   bool import_joint(const urdf::Joint& joint, JointSpec* spec);
   std::optional<LinkMesh> import_mesh(const urdf::Link& link, const urdf::Mesh& mesh, const urdf::Pose& origin,
                                       bool volume_matters);
@@ -190,8 +196,29 @@ std::optional<LinkMesh> Importer::import_mesh(const urdf::Link& link, const urdf
   return std::move(loaded.mesh);
 }
 
+void Importer::read_gazebo_friction() {
+  TiXmlDocument document;
+  document.Parse(text_.text().c_str());
+  const TiXmlElement* robot = document.RootElement();
+  if (robot == nullptr) return;
+  for (const TiXmlElement* gazebo = robot->FirstChildElement("gazebo"); gazebo != nullptr;
+       gazebo = gazebo->NextSiblingElement("gazebo")) {
+    const char* reference = gazebo->Attribute("reference");
+    const TiXmlElement* mu1 = gazebo->FirstChildElement("mu1");
+    if (reference == nullptr || mu1 == nullptr || mu1->GetText() == nullptr) continue;
+    char* end = nullptr;
+    const double mu = std::strtod(mu1->GetText(), &end);
+    if (end == mu1->GetText() || !(mu >= 0.0 && mu <= 2.0)) {
+      error("link", reference, std::string("gazebo mu1 must be a number in [0, 2] (got '") + mu1->GetText() + "')");
+      continue;
+    }
+    friction_[reference] = mu;
+  }
+}
+
 bool Importer::import_link(const urdf::Link& link, LinkSpec* spec) {
   spec->name = link.name;
+  if (const auto it = friction_.find(link.name); it != friction_.end()) spec->friction = it->second;
   spec->mass = 0.0;
   spec->I_LLcm_L.setZero();
   if (link.inertial) {
@@ -354,6 +381,7 @@ bool Importer::run(int parent_index, std::vector<LinkSpec>* links) {
     if (ok_) where_.report_in(mount_.file, 0, 0, "robot", "urdfdom could not read the file as a URDF");
     return false;
   }
+  read_gazebo_friction();
   urdf::LinkConstSharedPtr root = model->getRoot();
   if (!mount_.root.empty()) {
     root = model->getLink(mount_.root);

@@ -58,6 +58,7 @@ constexpr const char* kArm = R"(<?xml version="1.0"?>
     <limit lower="0.2" upper="1.5" effort="80" velocity="0.7"/>
     <dynamics damping="3" friction="1.5"/>
   </joint>
+  <gazebo reference="forearm"><mu1>0.9</mu1><selfCollide>false</selfCollide></gazebo>
 </robot>
 )";
 
@@ -101,6 +102,8 @@ TEST_F(ScenarioLoaderTest, UrdfLinksJointsAndInertialsBecomeTheVehicles) {
   EXPECT_EQ(forearm.parent, 0);
   EXPECT_TRUE(forearm.X_BL.translation().isApprox(Eigen::Vector3d(0.5, 0, 0)));
   EXPECT_EQ(forearm.mass, 4.0);
+  EXPECT_EQ(forearm.friction, 0.9);  // Gazebo's mu1
+  EXPECT_EQ(base.friction, 0.5);     // the default
   ASSERT_EQ(forearm.collisions.size(), 1u);
   EXPECT_EQ(forearm.collisions[0].type, CollisionShapeType::kSphere);
   const JointSpec& elbow = forearm.joint;

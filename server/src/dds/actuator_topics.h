@@ -132,9 +132,10 @@ struct PublishedForEveryVehicle<K, std::void_t<decltype(ActuatorStateTopic<K>::k
     : std::bool_constant<ActuatorStateTopic<K>::kEveryVehicle> {};
 
 // Whether `vehicle` publishes kind K's state topic: it has an actuator of kind K, or K's is published for
-// every vehicle.
+// every vehicle (but an object: it has no actuators and takes no commands).
 template <class K>
 bool publishes_state_of_kind(const VehicleSpec& vehicle) {
+  if (vehicle.type == VehicleType::kObject) return false;
   if (PublishedForEveryVehicle<K>::value) return true;
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     if (std::holds_alternative<typename K::Spec>(actuator.kind)) return true;

@@ -344,6 +344,9 @@ const KeyTable<LinkSpec, VehicleContext>& link_keys() {
     t.custom("inertia", read_inertia, "", "map").keys_of(inertia_keys()).required().unless("density")
         .default_text("required (unless `density`)").unit("kg m²").doc("about the centre of mass, in L's axes");
     t.list("collisions", &LinkSpec::collisions, collision_keys()).doc("collision shapes");
+    t.number("friction", &LinkSpec::friction).range(Range::closed(0.0, 2.0))
+        .doc("Coulomb friction coefficient of its surface in rigid contact; a contact's is the product of its two "
+             "surfaces' (the seabed's is 0.8); a body's is its first link's (a gripper's pads: about 1)");
     t.map("buoyancy", &LinkSpec::buoyancy, buoyancy_keys())
         .default_text("volume 0, or the closed `mesh`'s volume")
         .doc("lumped buoyancy (the lumped fluid model; the surface model integrates pressure instead)");

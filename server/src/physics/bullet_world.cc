@@ -210,7 +210,8 @@ struct BulletWorld::Impl {
       }
       c.object = std::make_unique<btMultiBodyLinkCollider>(v.multibody.get(), k - 1);
       c.object->setCollisionShape(c.shape.get());
-      c.object->setFriction(kVehicleFriction);
+      const int first_link = k == 0 ? 0 : a.body(k).joint_link;
+      c.object->setFriction(spec.links.at(static_cast<std::size_t>(first_link)).friction);
       c.object->setRestitution(kRestitution);
       if (k == 0) {
         v.multibody->setBaseCollider(c.object.get());
@@ -278,7 +279,7 @@ BulletWorld::BulletWorld(const Model& model)
     // A static vehicle (VehicleSpec::is_static) is a static Bullet body: mass 0, never integrated.
     btRigidBody::btRigidBodyConstructionInfo info(spec.is_static ? 0.0 : v.mass.mass, nullptr, v.compound.get(),
                                                   spec.is_static ? btVector3(0, 0, 0) : to_bt(v.mass.I_principal));
-    info.m_friction = kVehicleFriction;
+    info.m_friction = spec.links.empty() ? kVehicleFriction : spec.links[0].friction;
     info.m_restitution = kRestitution;
     v.body = std::make_unique<btRigidBody>(info);
     v.body->setActivationState(DISABLE_DEACTIVATION);

@@ -114,6 +114,10 @@ struct LinkSpec {
   int parent = -1;   // index of the parent link (an earlier one); -1: on the base link's body
   JointSpec joint;   // to the parent (or to B): fixed unless given
   std::vector<CollisionShape> collisions;
+  // Coulomb friction coefficient of the link's surface in rigid contact: a contact's is the product of its
+  // two surfaces' (Bullet's rule; the seabed's is 0.8). A rigid body's is its first link's: the base link's
+  // for a vehicle, that of the link whose joint starts it for an arm's body.
+  double friction = 0.5;
   BuoyancySpec buoyancy;
   std::optional<LinkMesh> mesh;
   // How the link looks to ray casts (cameras, DVL and altimeter beams, geometry/world_scene.h), in place

@@ -1,0 +1,279 @@
+#!/usr/bin/python3
+"""Pick and place: the work-class ROV takes a push core from the sediment and puts it in its basket.
+
+configs/scenarios/rov_intervention.yaml: the SF 30k (configs/vehicles/work_class_rov.yaml) with its Oberon 7
+arm hovers over a push core lying on the sediment. This example, a lockstep client at 10 Hz:
+  - holds the ROV on station (a PID on position and heading, a PD on roll and pitch, the wrench allocated
+    over the eight thrusters by least squares);
+  - plans the arm's moves with its own kinematics, read from the arm's URDF (configs/urdf/oberon7_arm.urdf)
+    and its mount in the vehicle file: forward kinematics, and inverse kinematics by damped least squares
+    for the gripper's centre pointing down with its fingers closing across the core;
+  - sends each move as joint positions interpolated in time to the `arm` position controller (its joints
+    also keep their own rate limits), and opens and closes the parallel gripper with efforts on the
+    `gripper` controller: the core is held by the fingers' contact and friction alone.
+It reads ground truth (the ROV's and the core's odometry): an example of manipulation, not of perception.
+
+    hadald configs/scenarios/rov_intervention.yaml --mode lockstep &
+    /usr/bin/python3 examples/python/rov_pick_and_place.py
+
+(needs the Python client on PYTHONPATH: build/python, or the installed package). Prints each phase and where
+the core ends up; exits 1 if it is not in the basket.
+"""
+
+import argparse
+import math
+import os
+import sys
+import xml.etree.ElementTree as ElementTree
+
+import numpy as np
+import yaml
+
+try:
+    import hadal
+except ImportError:  # run from the source tree after a build
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "../../build/python"))
+    import hadal
+
+CONFIGS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../configs")
+VEHICLE_FILE = os.path.join(CONFIGS, "vehicles/work_class_rov.yaml")
+ARM_JOINTS = ["azimuth", "shoulder", "elbow", "roll", "pitch", "wrist"]
+# The gripper's centre in the end effector's frame: between the finger tips, along its x axis [m].
+TCP_EE = np.array([0.16, 0.0, 0.0])
+GRIP_EFFORT = 20.0  # [N m] on each finger: 10 N m over the joints' 10 N m of friction
+
+
+def rpy_matrix(roll, pitch, yaw):
+    """URDF's fixed-axis roll, pitch, yaw: Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch),
+                              math.cos(yaw), math.sin(yaw))
+    return (np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]]) @ np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
+            @ np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]]))
+
+
+def transform(R, p):
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = p
+    return T
+
+
+def axis_rotation(axis, angle):
+    """Rodrigues: the rotation by `angle` about the unit `axis`."""
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+
+
+def rotation(q):
+    """R_WB of a ROS quaternion (x, y, z, w)."""
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+class ArmKinematics:
+    """The arm's chain from the vehicle body frame B to the end effector, from the URDF and its mount."""
+
+    def __init__(self, vehicle_file=VEHICLE_FILE):
+        with open(vehicle_file) as f:
+            vehicle = yaml.safe_load(f)
+        mount = vehicle["urdf"]
+        pose = mount.get("pose", {})
+        self.X_B_base = transform(rpy_matrix(*[math.radians(a) for a in pose.get("rpy_deg", [0, 0, 0])]),
+                                  pose.get("position", [0, 0, 0]))
+        urdf = os.path.join(os.path.dirname(vehicle_file), mount["file"])
+        joints = {j.get("name"): j for j in ElementTree.parse(urdf).getroot().findall("joint")}
+        self.origins, self.axes, lower, upper = [], [], [], []
+        for name in ARM_JOINTS:
+            joint = joints[name]
+            origin = joint.find("origin")
+            xyz = [float(v) for v in (origin.get("xyz", "0 0 0") if origin is not None else "0 0 0").split()]
+            rpy = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
+            self.origins.append(transform(rpy_matrix(*rpy), xyz))
+            self.axes.append([float(v) for v in joint.find("axis").get("xyz").split()])
+            limit = joint.find("limit")
+            has_limits = joint.get("type") != "continuous" and limit is not None
+            lower.append(float(limit.get("lower")) if has_limits else -math.pi)
+            upper.append(float(limit.get("upper")) if has_limits else math.pi)
+        self.lower, self.upper = np.array(lower), np.array(upper)
+
+    def end_effector(self, q):
+        """X_B_ee: the end effector's frame in B at joint positions q."""
+        X = self.X_B_base.copy()
+        for origin, axis, angle in zip(self.origins, self.axes, q):
+            X = X @ origin @ transform(axis_rotation(axis, angle), np.zeros(3))
+        return X
+
+    def _error(self, q, tcp_B, close_B):
+        X = self.end_effector(q)
+        tcp = X[:3, :3] @ TCP_EE + X[:3, 3]
+        # The gripper points down (its x along -z of B) and closes along close_B (its y).
+        return np.concatenate([tcp - tcp_B, 0.3 * (X[:3, 0] - np.array([0.0, 0.0, -1.0])),
+                               0.3 * (X[:3, 1] - close_B)])
+
+    def inverse(self, tcp_B, close_B, q0):
+        """Joint positions that put the gripper's centre at tcp_B pointing down, closing along close_B:
+        damped least squares from q0 within the joint limits. Raises if it does not converge."""
+        q = np.array(q0, dtype=float)
+        close_B = np.asarray(close_B, dtype=float) / np.linalg.norm(close_B)
+        for _ in range(200):
+            e = self._error(q, tcp_B, close_B)
+            if np.linalg.norm(e) < 1e-7:
+                return q
+            J = np.empty((e.size, q.size))
+            for i in range(q.size):
+                dq = np.zeros(q.size)
+                dq[i] = 1e-7
+                J[:, i] = (self._error(q + dq, tcp_B, close_B) - e) / 1e-7
+            q = np.clip(q - J.T @ np.linalg.solve(J @ J.T + 1e-4 * np.eye(e.size), e), self.lower, self.upper)
+        raise RuntimeError(f"no joint positions reach {tcp_B} (residual {np.linalg.norm(e):.3g})")
+
+
+class StationKeeper:
+    """Holds the ROV's position, heading and level trim (the arm and basket ahead of the centre of mass
+    pitch it down by a few degrees against the foam's righting moment). Gains for ~1900 kg plus its added
+    mass (Berg 2012) at ~0.5 rad/s, critically damped."""
+
+    def __init__(self, station_W, heading, dt, vehicle_file=VEHICLE_FILE):
+        with open(vehicle_file) as f:
+            thrusters = yaml.safe_load(f)["thrusters"]
+        columns = []
+        for t in thrusters:
+            d = np.array(t["direction"], dtype=float)
+            d /= np.linalg.norm(d)
+            columns.append(np.concatenate([d, np.cross(np.array(t["position"], dtype=float), d)]))
+        self.allocate = np.linalg.pinv(np.array(columns).T)  # wrench in B (about B's origin) -> thrusts
+        t = thrusters[0]
+        self.t_max = (t["thrust_coefficient"] * 1025.0 * t["propeller_diameter"] ** 4 * (t["max_rpm"] / 60.0) ** 2)
+        self.station_W, self.heading, self.dt = np.asarray(station_W, dtype=float), heading, dt
+        self.integral_W = np.zeros(3)
+        self.kp, self.kd, self.ki = np.array([700.0, 800.0, 1400.0]), np.array([2600.0, 3000.0, 5500.0]), 60.0
+        self.kp_yaw, self.kd_yaw, self.kp_tilt, self.kd_tilt = 230.0, 900.0, 3000.0, 2000.0
+
+    def setpoints(self, odometry):
+        R_WB = rotation(odometry.q_WB)
+        v_W = R_WB @ odometry.v_WB_B
+        error_W = self.station_W - odometry.p_WB
+        self.integral_W = np.clip(self.integral_W + error_W * self.dt, -50.0, 50.0)
+        force_W = self.kp * error_W - self.kd * v_W + self.ki * self.integral_W
+        yaw = math.atan2(R_WB[1, 0], R_WB[0, 0])
+        yaw_error = math.atan2(math.sin(self.heading - yaw), math.cos(self.heading - yaw))
+        roll = math.atan2(R_WB[2, 1], R_WB[2, 2])
+        pitch = -math.asin(max(-1.0, min(1.0, R_WB[2, 0])))
+        w_B = odometry.w_WB_B
+        moment_B = np.array([-self.kp_tilt * roll - self.kd_tilt * w_B[0], -self.kp_tilt * pitch - self.kd_tilt * w_B[1],
+                             self.kp_yaw * yaw_error - self.kd_yaw * w_B[2]])
+        thrust = self.allocate @ np.concatenate([R_WB.T @ force_W, moment_B])
+        return np.clip(np.sign(thrust) * np.sqrt(np.abs(thrust) / self.t_max), -1.0, 1.0)
+
+
+class Intervention:
+    """The lockstep loop: station keeping every period, and the arm's and gripper's commands."""
+
+    def __init__(self, client, vehicle="rov", target="core", period_s=0.1, report=print):
+        self.client, self.vehicle, self.target, self.report = client, vehicle, target, report
+        status = client.status()
+        self.steps = max(1, round(period_s / status.step_size))
+        self.period = self.steps * status.step_size
+        self.arm = ArmKinematics()
+        client.wait_odometry(vehicle, timeout_s=0)
+        client.wait_odometry(target, timeout_s=0)
+        client.wait_joint_state(vehicle, timeout_s=0)
+        client.wait_for_subscriptions()
+        self.t = client.step(self.steps)
+        self.odometry = client.wait_odometry(vehicle, min_stamp=self.t - 1e-9)
+        R_WB = rotation(self.odometry.q_WB)
+        self.keeper = StationKeeper(self.odometry.p_WB.copy(), math.atan2(R_WB[1, 0], R_WB[0, 0]), self.period)
+        joints = client.wait_joint_state(vehicle, min_stamp=self.t - 1e-9)
+        self.q = np.array([joints.position[joints.names.index(name)] for name in ARM_JOINTS])
+        self.grip = 0.0
+
+    def tick(self):
+        """One period: the thrusters' setpoints, then the step."""
+        self.client.set_commands(self.vehicle, self.keeper.setpoints(self.odometry).tolist())
+        self.t = self.client.step(self.steps)
+        self.odometry = self.client.wait_odometry(self.vehicle, min_stamp=self.t - 1e-9)
+
+    def wait(self, seconds):
+        for _ in range(round(seconds / self.period)):
+            self.tick()
+
+    def move(self, q_goal, speed=0.12):
+        """The arm from its commanded position to q_goal in a straight line in joint space, the slowest joint
+        at `speed` [rad/s] (under every joint's limit), then 1.5 s to settle."""
+        q_goal = np.asarray(q_goal, dtype=float)
+        duration = max(float(np.max(np.abs(q_goal - self.q))) / speed, self.period)
+        start, steps = self.q.copy(), round(duration / self.period)
+        for k in range(1, steps + 1):
+            self.client.set_joint_commands(self.vehicle, "arm", (start + (q_goal - start) * k / steps).tolist())
+            self.tick()
+        self.q = q_goal
+        self.wait(1.5)
+
+    def gripper(self, effort, seconds=2.0):
+        """Opens (effort > 0) or closes the fingers and holds that effort."""
+        self.grip = effort
+        self.client.set_joint_commands(self.vehicle, "gripper", [effort, effort])
+        self.wait(seconds)
+
+    def to_body(self, p_W):
+        """A world point in B, at the ROV's present pose."""
+        return rotation(self.odometry.q_WB).T @ (np.asarray(p_W) - self.odometry.p_WB)
+
+    def target_position_W(self):
+        return self.client.wait_odometry(self.target, min_stamp=self.t - 1e-9).p_WB.copy()
+
+    def reach(self, tcp_B, close_B=(1.0, 0.0, 0.0)):
+        self.move(self.arm.inverse(np.asarray(tcp_B, dtype=float), close_B, self.q))
+
+
+def pick_and_place(client, vehicle="rov", target="core", report=print):
+    """Runs the whole intervention. Returns the core's positions in B [m] where it started, lifted, just
+    before the gripper let go and at the end, with whether it ended in the basket: a dict."""
+    job = Intervention(client, vehicle, target, report=report)
+    report(f"t = {job.t:5.1f} s  station kept at {np.round(job.keeper.station_W, 2).tolist()}")
+    job.wait(2.0)
+    job.gripper(GRIP_EFFORT)
+    core_B = job.to_body(job.target_position_W())
+    report(f"t = {job.t:5.1f} s  gripper open; core at {np.round(core_B, 3).tolist()} in B")
+    # The fingers close on the core's upper half: its centre 0.3 m long, the gripper's 0.08 m above it.
+    grasp_B = core_B + [0.0, 0.0, 0.08]
+    job.reach(grasp_B + [0.0, 0.0, 0.25])
+    job.reach(grasp_B)
+    report(f"t = {job.t:5.1f} s  gripper around the core")
+    job.gripper(-GRIP_EFFORT)
+    job.reach(grasp_B + [0.0, 0.0, 0.3])
+    lifted = job.to_body(job.target_position_W())
+    report(f"t = {job.t:5.1f} s  core lifted to {np.round(lifted, 3).tolist()} in B")
+    # Over the basket (configs/vehicles/work_class_rov.yaml: its floor's top 1.09 m below B), then down
+    # until the core's bottom is 3 cm above the floor, and let go.
+    basket_B = np.array([1.75, 0.0, -1.09])
+    release_B = basket_B + [0.0, 0.0, 0.03 + 0.15 + 0.08]
+    job.reach(release_B + [0.0, 0.0, 0.15])
+    job.reach(release_B)
+    held = job.to_body(job.target_position_W())
+    job.gripper(GRIP_EFFORT)
+    job.reach(release_B + [0.0, 0.0, 0.15])
+    job.wait(3.0)
+    final_B = job.to_body(job.target_position_W())
+    # Inside the walls, upright or tipped over (its centre at most half its length above the floor).
+    inside = bool(abs(final_B[0] - basket_B[0]) < 0.17 and abs(final_B[1] - basket_B[1]) < 0.22
+                  and basket_B[2] < final_B[2] < basket_B[2] + 0.16)
+    report(f"t = {job.t:5.1f} s  core at {np.round(final_B, 3).tolist()} in B: "
+           f"{'in the basket' if inside else 'NOT in the basket'}")
+    return {"start_B": core_B, "lifted_B": lifted, "held_B": held, "final_B": final_B, "inside": inside}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--domain-id", type=int, help="DDS domain (default: $ROS_DOMAIN_ID, else 0)")
+    args = parser.parse_args()
+    client = hadal.Client(domain_id=args.domain_id)
+    client.wait_for_server()
+    sys.exit(0 if pick_and_place(client)["inside"] else 1)
+
+
+if __name__ == "__main__":
+    main()
