@@ -9,8 +9,9 @@ arm hovers over a push core lying on the sediment. This example, a lockstep clie
     and its mount in the vehicle file: forward kinematics, and inverse kinematics by damped least squares
     for the gripper's centre pointing down with its fingers closing across the core;
   - sends each move as joint positions interpolated in time to the `arm` position controller (its joints
-    also keep their own rate limits), and opens and closes the parallel gripper with efforts on the
-    `gripper` controller: the core is held by the fingers' contact and friction alone.
+    also keep their own rate limits), and opens and shuts the parallel gripper on the `gripper` position
+    controller (shut on an object, each finger presses like a spring): the core is held by the fingers'
+    contact and friction alone.
 It reads ground truth (the ROV's and the core's odometry): an example of manipulation, not of perception.
 
     hadald configs/scenarios/rov_intervention.yaml --mode lockstep &
@@ -40,7 +41,10 @@ VEHICLE_FILE = os.path.join(CONFIGS, "vehicles/work_class_rov.yaml")
 ARM_JOINTS = ["azimuth", "shoulder", "elbow", "roll", "pitch", "wrist"]
 # The gripper's centre in the end effector's frame: between the finger tips, along its x axis [m].
 TCP_EE = np.array([0.16, 0.0, 0.0])
-GRIP_EFFORT = 20.0  # [N m] on each finger: 10 N m over the joints' 10 N m of friction
+GRIPPER_OPEN, GRIPPER_SHUT = 1.0, 0.0  # finger positions [rad] (the URDF's limits: 0 .. 1.047)
+# The gripper's centre above the core's when it shuts: on its handle (configs/objects/push_core.yaml), a
+# 25 mm bar the jaws close on nearly shut, where their faces squeeze it neither in nor out.
+GRASP_ABOVE_CENTRE = 0.21  # [m]
 
 
 def rpy_matrix(roll, pitch, yaw):
@@ -201,22 +205,32 @@ class Intervention:
             self.tick()
 
     def move(self, q_goal, speed=0.12):
-        """The arm from its commanded position to q_goal in a straight line in joint space, the slowest joint
-        at `speed` [rad/s] (under every joint's limit), then 1.5 s to settle."""
+        """The arm from its commanded position to q_goal along a straight line in joint space, starting and
+        stopping smoothly (a half-cosine profile: a held core is not shaken loose), the fastest joint at
+        `speed` [rad/s] at most (under every joint's limit), then 1.5 s to settle."""
         q_goal = np.asarray(q_goal, dtype=float)
-        duration = max(float(np.max(np.abs(q_goal - self.q))) / speed, self.period)
+        duration = max(0.5 * math.pi * float(np.max(np.abs(q_goal - self.q))) / speed, self.period)
         start, steps = self.q.copy(), round(duration / self.period)
         for k in range(1, steps + 1):
-            self.client.set_joint_commands(self.vehicle, "arm", (start + (q_goal - start) * k / steps).tolist())
+            s = 0.5 * (1.0 - math.cos(math.pi * k / steps))
+            self.client.set_joint_commands(self.vehicle, "arm", (start + (q_goal - start) * s).tolist())
             self.tick()
         self.q = q_goal
         self.wait(1.5)
 
-    def gripper(self, effort, seconds=2.0):
-        """Opens (effort > 0) or closes the fingers and holds that effort."""
-        self.grip = effort
-        self.client.set_joint_commands(self.vehicle, "gripper", [effort, effort])
-        self.wait(seconds)
+    def gripper(self, position, timeout_s=10.0):
+        """Opens or shuts the fingers (both to `position`) and waits until both have stopped: at the position,
+        or on an object (they move at 0.15 rad/s at most)."""
+        self.grip = position
+        self.client.set_joint_commands(self.vehicle, "gripper", [position, position])
+        start = self.t
+        while self.t - start < timeout_s:
+            self.tick()
+            joints = self.client.wait_joint_state(self.vehicle, min_stamp=self.t - 1e-9)
+            rates = [joints.velocity[joints.names.index(f)] for f in ("finger_left_joint", "finger_right_joint")]
+            if self.t - start > 1.0 and max(abs(r) for r in rates) < 0.01:
+                break
+        self.wait(0.5)
 
     def to_body(self, p_W):
         """A world point in B, at the ROV's present pose."""
@@ -235,26 +249,32 @@ def pick_and_place(client, vehicle="rov", target="core", report=print):
     job = Intervention(client, vehicle, target, report=report)
     report(f"t = {job.t:5.1f} s  station kept at {np.round(job.keeper.station_W, 2).tolist()}")
     job.wait(2.0)
-    job.gripper(GRIP_EFFORT)
+    job.gripper(GRIPPER_OPEN)
     core_B = job.to_body(job.target_position_W())
     report(f"t = {job.t:5.1f} s  gripper open; core at {np.round(core_B, 3).tolist()} in B")
-    # The fingers close on the core's upper half: its centre 0.3 m long, the gripper's 0.08 m above it.
-    grasp_B = core_B + [0.0, 0.0, 0.08]
+    grasp_B = core_B + [0.0, 0.0, GRASP_ABOVE_CENTRE]
+    # Out of the stowed pose high over the core (a straight line in joint space from the stowed pose to
+    # just above it would sweep the gripper through it), then down onto it.
+    job.reach(grasp_B + [0.0, 0.0, 0.5])
+    job.reach(grasp_B + [0.0, 0.0, 0.25])
+    # The arm's weight moved forward and the ROV's trim with it: where the core is in B now, then down
+    # onto it (a slender core standing on the sediment tips over at the first push of a finger).
+    grasp_B = job.to_body(job.target_position_W()) + [0.0, 0.0, GRASP_ABOVE_CENTRE]
     job.reach(grasp_B + [0.0, 0.0, 0.25])
     job.reach(grasp_B)
     report(f"t = {job.t:5.1f} s  gripper around the core")
-    job.gripper(-GRIP_EFFORT)
+    job.gripper(GRIPPER_SHUT)
     job.reach(grasp_B + [0.0, 0.0, 0.3])
     lifted = job.to_body(job.target_position_W())
     report(f"t = {job.t:5.1f} s  core lifted to {np.round(lifted, 3).tolist()} in B")
     # Over the basket (configs/vehicles/work_class_rov.yaml: its floor's top 1.09 m below B), then down
-    # until the core's bottom is 3 cm above the floor, and let go.
+    # until the core's bottom is 8 cm above the floor (below the walls' top), and let go.
     basket_B = np.array([1.75, 0.0, -1.09])
-    release_B = basket_B + [0.0, 0.0, 0.03 + 0.15 + 0.08]
+    release_B = basket_B + [0.0, 0.0, 0.08 + 0.15 + GRASP_ABOVE_CENTRE]
     job.reach(release_B + [0.0, 0.0, 0.15])
     job.reach(release_B)
     held = job.to_body(job.target_position_W())
-    job.gripper(GRIP_EFFORT)
+    job.gripper(GRIPPER_OPEN)
     job.reach(release_B + [0.0, 0.0, 0.15])
     job.wait(3.0)
     final_B = job.to_body(job.target_position_W())

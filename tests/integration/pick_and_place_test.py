@@ -27,7 +27,7 @@ def test_the_arm_picks_the_core_up_and_places_it_in_the_basket_identically_twice
     assert abs(first["start_B"][2] - (-1.55)) < 0.2
     # ... lifted with the gripper by 0.3 m (the arm's targets), minus a few centimetres of slip at most,
     assert first["lifted_B"][2] - first["start_B"][2] > 0.25
-    # ... held above the basket (floor 1.09 m below B; the core's bottom 3 cm above it, its centre 0.18 m) ...
+    # ... held above the basket (floor 1.09 m below B; the core's bottom 8 cm above it, its centre 0.23 m) ...
     assert first["held_B"][2] > -1.09 + 0.15
     # ... and dropped into it when the gripper opened.
     assert first["final_B"][2] < first["held_B"][2] - 0.01

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <utility>
@@ -20,6 +21,32 @@
 #include "hadal/config/yaml_reader.h"
 
 namespace hadal::config {
+
+namespace {
+
+constexpr const char* kInitialSchema = R"({"type": "object", "additionalProperties": {"type": "number"}})";
+
+// `initial_deg` or `initial`: joint name -> position.
+bool read_initial(const Value& value, bool angle, UrdfMount& mount) {
+  if (!value.node().IsMap()) {
+    value.error("must be a map of joint names to numbers (got " + value.describe() + ")");
+    return false;
+  }
+  bool ok = true;
+  for (const auto& entry : value.node()) {
+    const std::string name = entry.first.Scalar();
+    const Value item = value.in_same_file(entry.second, child_path(value.path(), name), entry.second.Mark());
+    const std::optional<double> number = item.number();
+    if (!number) {
+      ok = false;
+      continue;
+    }
+    mount.initial.push_back({name, angle ? *number * 3.14159265358979323846 / 180.0 : *number, angle});
+  }
+  return ok;
+}
+
+}  // namespace
 
 const KeyTable<UrdfMount, VehicleContext>& urdf_keys() {
   return declare_keys<UrdfMount, VehicleContext>([](KeyTable<UrdfMount, VehicleContext>& t) {
@@ -33,6 +60,14 @@ const KeyTable<UrdfMount, VehicleContext>& urdf_keys() {
         .doc("with `links`: the link the root hangs on, by a fixed joint");
     t.pose("pose", &UrdfMount::X_PR)
         .doc("the root link's frame in `parent`'s (without `links`: in the body frame B, the root being the base link)");
+    t.custom("initial_deg", [](const Value& value, UrdfMount& m, VehicleContext&) { return read_initial(value, true, m); },
+             kInitialSchema, "map of joint names to numbers")
+        .unit("deg").default_text("0 (or the nearer limit)")
+        .doc("where revolute and continuous joints start, by name: {elbow: -30, ...}");
+    t.custom("initial", [](const Value& value, UrdfMount& m, VehicleContext&) { return read_initial(value, false, m); },
+             kInitialSchema, "map of joint names to numbers")
+        .unit("m").default_text("0 (or the nearer limit)")
+        .doc("where prismatic joints start, by name");
   });
 }
 
@@ -439,6 +474,43 @@ bool Importer::run(int parent_index, std::vector<LinkSpec>* links) {
 
 }  // namespace
 
+namespace {
+
+// `initial_deg` and `initial` onto the imported links' joints (from index `first` on), each reported at its
+// YAML entry: a joint the URDF does not have, of the other kind, or outside its limits.
+bool apply_initial(const Value& where, const UrdfMount& mount, std::size_t first, std::vector<LinkSpec>* links) {
+  bool ok = true;
+  for (const UrdfMount::Initial& initial : mount.initial) {
+    const char* key = initial.angle ? "initial_deg" : "initial";
+    const YAML::Node node = where.node()[key][initial.joint];
+    const Value item = where.in_same_file(node, child_path(child_path(where.path(), key), initial.joint), node.Mark());
+    const auto it = std::find_if(links->begin() + static_cast<std::ptrdiff_t>(first), links->end(),
+                                 [&](const LinkSpec& l) { return l.joint.type != JointType::kFixed &&
+                                                                 l.joint.name == initial.joint; });
+    if (it == links->end()) {
+      item.error("the URDF has no moving joint named " + config::quoted(initial.joint));
+      ok = false;
+      continue;
+    }
+    JointSpec& joint = it->joint;
+    if ((joint.type == JointType::kPrismatic) == initial.angle) {
+      item.error(std::string("joint ") + config::quoted(initial.joint) + " is " + to_string(joint.type) + ": its start goes in `" +
+                 (initial.angle ? "initial" : "initial_deg") + "`");
+      ok = false;
+      continue;
+    }
+    if (initial.value < joint.lower || initial.value > joint.upper) {
+      item.error("must be within the joint's limits");
+      ok = false;
+      continue;
+    }
+    joint.initial = initial.value;
+  }
+  return ok;
+}
+
+}  // namespace
+
 bool import_urdf(const Value& where, const UrdfMount& mount, int parent_index, std::vector<LinkSpec>* links) {
   std::ifstream in(mount.file, std::ios::binary);
   const YAML::Node file = where.node()["file"];
@@ -449,8 +521,9 @@ bool import_urdf(const Value& where, const UrdfMount& mount, int parent_index, s
   }
   std::ostringstream text;
   text << in.rdbuf();
+  const std::size_t first = links->size();
   Importer importer(where, mount, UrdfText(text.str()));
-  return importer.run(parent_index, links);
+  return importer.run(parent_index, links) && apply_initial(where, mount, first, links);
 }
 
 }  // namespace hadal::config

@@ -154,6 +154,26 @@ vehicles:
   EXPECT_EQ(articulation.num_dofs(), 1);
 }
 
+// A URDF has no initial positions: `initial_deg` (revolute, continuous) and `initial` (prismatic) give them by
+// joint name, checked against the imported joints.
+TEST_F(ScenarioLoaderTest, UrdfJointsStartWhereTheYamlSays) {
+  write("urdf/arm.urdf", kArm);
+  const std::string path = write("s.yaml", vehicle_with("    urdf: {file: urdf/arm.urdf, initial_deg: {elbow: 45}}\n"));
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& d : result.errors) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(result.ok());
+  EXPECT_NEAR(result.model->vehicles.at(0).links.at(1).joint.initial, 0.25 * 3.14159265358979323846, 1e-15);
+
+  const std::string bad = write("b.yaml", vehicle_with("    urdf:\n      file: urdf/arm.urdf\n"
+                                                       "      initial_deg: {elbow: 100, nope: 3}\n"
+                                                       "      initial: {elbow: 0.5}\n"));
+  EXPECT_EQ(errors_of(bad),
+            Lines({bad + ":7:28: error: vehicles[0].urdf.initial_deg.elbow: must be within the joint's limits",
+                   bad + ":7:39: error: vehicles[0].urdf.initial_deg.nope: the URDF has no moving joint named 'nope'",
+                   bad + ":8:24: error: vehicles[0].urdf.initial.elbow: joint 'elbow' is revolute: its start goes in "
+                         "`initial_deg`"}));
+}
+
 TEST_F(ScenarioLoaderTest, UrdfMeshesByPackageAndRelativePaths) {
   // A package laid out as ROS's: box_pkg/urdf/box.urdf names package://box_pkg/meshes/hull.glb.
   std::filesystem::create_directories(dir_ / "box_pkg/meshes");

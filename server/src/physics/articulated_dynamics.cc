@@ -95,8 +95,11 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     const auto i = static_cast<std::size_t>(k);
     const double m = a.body(k).mass_K.mass;
     const Eigen::MatrixXd& J = J_[i];
-    M_.noalias() += m * J.topRows<3>().transpose() * J.topRows<3>();
-    M_.noalias() += J.bottomRows<3>().transpose() * I_W_[i] * J.bottomRows<3>();
+    // Coefficient-wise products: these are small (n x 3 by 3 x n), where Eigen's blocked GEMM spends more
+    // on packing than on arithmetic.
+    M_.noalias() += (m * J.topRows<3>().transpose()).lazyProduct(J.topRows<3>());
+    const Eigen::Matrix<double, 3, Eigen::Dynamic> IJ = I_W_[i] * J.bottomRows<3>();
+    M_.noalias() += J.bottomRows<3>().transpose().lazyProduct(IJ);
     const Eigen::Vector3d w = V_[i].tail<3>();
     c_.noalias() += J.topRows<3>().transpose() * (m * A_[i].head<3>());
     c_.noalias() += J.bottomRows<3>().transpose() * (I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w));
@@ -174,8 +177,8 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     Vector6d tau = -M_A * nu_r_dot_bias;
     if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
     bias[i] = R6 * tau;
-    MJ[i] = R6 * M_A * R6.transpose() * J_[i];
-    M.noalias() += J_[i].transpose() * MJ[i];
+    MJ[i] = (R6 * M_A * R6.transpose()).lazyProduct(J_[i]);
+    M.noalias() += J_[i].transpose().lazyProduct(MJ[i]);
     rhs.noalias() += J_[i].transpose() * bias[i];
   }
   if (!any && implicit == nullptr) return out;

@@ -39,6 +39,14 @@ struct UrdfMount {
   std::string root;    // the URDF link the import starts at; empty: the URDF's root link
   std::string parent;  // the vehicle's link (from `links`) the root hangs on, by a fixed joint; empty: links[0]
   Eigen::Isometry3d X_PR = Eigen::Isometry3d::Identity();  // the root link's frame R in that link's (or B)
+  // Where joints start (a URDF has no such element): by joint name, revolute and continuous joints from
+  // `initial_deg` [rad here], prismatic ones from `initial` [m]; checked against the joints once imported.
+  struct Initial {
+    std::string joint;
+    double value = 0.0;
+    bool angle = true;  // from initial_deg
+  };
+  std::vector<Initial> initial;
 };
 
 const KeyTable<UrdfMount, VehicleContext>& urdf_keys();
