@@ -69,12 +69,7 @@ def axis_rotation(axis, angle):
     return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
 
 
-def rotation(q):
-    """R_WB of a ROS quaternion (x, y, z, w)."""
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+rotation = hadal.frames.rotation_matrix  # R_WB of a ROS quaternion (x, y, z, w)
 
 
 class ArmKinematics:

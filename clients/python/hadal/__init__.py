@@ -28,6 +28,7 @@ from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates,
                      SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
                      UnknownSensor, UnknownVehicle)
+from . import frames
 from .server import Server
 
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",

@@ -39,6 +39,7 @@ import numpy as np
 
 from ._hadal import Client, current_cpu, default_domain_id
 from .errors import Timeout, UnknownVehicle
+from .frames import rotation_matrix, yaw
 from .server import Server
 
 try:  # optional: only to be a registered gymnasium.Env with gymnasium spaces
@@ -91,19 +92,6 @@ def _box(low, high, shape, dtype=np.float32):
     if gymnasium is not None:
         return gymnasium.spaces.Box(low=low, high=high, shape=shape, dtype=dtype)
     return Box(low, high, shape, dtype)
-
-
-def _rotation(q):
-    """The rotation matrix of a quaternion (x, y, z, w)."""
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
-def _yaw(q):
-    x, y, z, w = q
-    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
 
 
 def _yawed(pose_q, yaw):
@@ -166,7 +154,7 @@ class WaypointAtDepth(Task):
 
     def start(self, rng, scenario_pose):
         p, q = scenario_pose
-        yaw0 = _yaw(q)
+        yaw0 = yaw(q)
         heading = yaw0 + rng.uniform(-math.radians(30), math.radians(30))
         bearing = yaw0 + rng.uniform(-math.radians(45), math.radians(45))
         distance = rng.uniform(10.0, 20.0)
@@ -177,7 +165,7 @@ class WaypointAtDepth(Task):
 
     def observe(self, env, t):
         odom = env.ground_truth()
-        R_WB = _rotation(odom.q_WB)
+        R_WB = rotation_matrix(odom.q_WB)
         offset_W = self.goal_W - odom.p_WB
         self.distance = math.sqrt(offset_W @ offset_W)
         observation = np.empty(12, dtype=np.float32)
@@ -226,7 +214,7 @@ class StationKeeping(Task):
     def start(self, rng, scenario_pose):
         p, q = scenario_pose
         self.station_W = np.array(p)
-        self.station_yaw = _yaw(q)
+        self.station_yaw = yaw(q)
         offset = np.array([rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-0.5, 0.5)])
         return {self.vehicle: (*(self.station_W + offset), *_yawed(q, rng.uniform(-0.3, 0.3)))}
 
@@ -238,7 +226,7 @@ class StationKeeping(Task):
         depth_B = (pressure.pressure - P_ATM_PA) / (RHO_KG_M3 * G_M_S2) + self.depth_sensor_above_B_m
         depth_error = depth_B + self.station_W[2]
         offset = odom.p_WB - self.station_W
-        heading_error = _yaw(odom.q_WB) - self.station_yaw
+        heading_error = yaw(odom.q_WB) - self.station_yaw
         self.offset_m = float(math.hypot(offset[0], offset[1]) + abs(depth_error))
         velocity = dvl.velocity if dvl.velocity_mode != dvl.VELOCITY_MODE_NONE else np.zeros(3)
         return np.concatenate([velocity, imu.angular_velocity, imu.linear_acceleration, [depth_error],

@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <map>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <regex>
@@ -54,19 +54,26 @@ const KeyTable<UrdfMount, VehicleContext>& urdf_keys() {
                "links, joints, inertials, collision shapes and meshes from a URDF file (docs/ARCHITECTURE.md, "
                "\"URDF import\"); the YAML adds the fluid model, sensors, actuators and joint controllers");
     t.file("file", &UrdfMount::file).required().doc("the URDF file");
-    t.string("root", &UrdfMount::root).default_text("the URDF's root link")
+    t.string("root", &UrdfMount::root)
+        .default_text("the URDF's root link")
         .doc("the URDF link to start at: it and the links below it are imported (leave out a `world` link)");
-    t.string("parent", &UrdfMount::parent).default_text("links[0]")
+    t.string("parent", &UrdfMount::parent)
+        .default_text("links[0]")
         .doc("with `links`: the link the root hangs on, by a fixed joint");
     t.pose("pose", &UrdfMount::X_PR)
-        .doc("the root link's frame in `parent`'s (without `links`: in the body frame B, the root being the base link)");
-    t.custom("initial_deg", [](const Value& value, UrdfMount& m, VehicleContext&) { return read_initial(value, true, m); },
-             kInitialSchema, "map of joint names to numbers")
-        .unit("deg").default_text("0 (or the nearer limit)")
+        .doc(
+            "the root link's frame in `parent`'s (without `links`: in the body frame B, the root being the base link)");
+    t.custom(
+         "initial_deg", [](const Value& value, UrdfMount& m, VehicleContext&) { return read_initial(value, true, m); },
+         kInitialSchema, "map of joint names to numbers")
+        .unit("deg")
+        .default_text("0 (or the nearer limit)")
         .doc("where revolute and continuous joints start, by name: {elbow: -30, ...}");
-    t.custom("initial", [](const Value& value, UrdfMount& m, VehicleContext&) { return read_initial(value, false, m); },
-             kInitialSchema, "map of joint names to numbers")
-        .unit("m").default_text("0 (or the nearer limit)")
+    t.custom(
+         "initial", [](const Value& value, UrdfMount& m, VehicleContext&) { return read_initial(value, false, m); },
+         kInitialSchema, "map of joint names to numbers")
+        .unit("m")
+        .default_text("0 (or the nearer limit)")
         .doc("where prismatic joints start, by name");
   });
 }
@@ -80,7 +87,8 @@ namespace fs = std::filesystem;
 class CollectMessages : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages.push_back({text, level == console_bridge::CONSOLE_BRIDGE_LOG_WARN});
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN)
+      messages.push_back({text, level == console_bridge::CONSOLE_BRIDGE_LOG_WARN});
   }
   struct Message {
     std::string text;
@@ -213,12 +221,13 @@ std::string Importer::mesh_path(const std::string& link, const std::string& file
   return path.string();
 }
 
-std::optional<LinkMesh> Importer::import_mesh(const urdf::Link& link, const urdf::Mesh& mesh,
-                                              const urdf::Pose& origin, bool volume_matters) {
+std::optional<LinkMesh> Importer::import_mesh(const urdf::Link& link, const urdf::Mesh& mesh, const urdf::Pose& origin,
+                                              bool volume_matters) {
   if (mesh.scale.x != mesh.scale.y || mesh.scale.y != mesh.scale.z || !(mesh.scale.x > 0.0)) {
     error("link", link.name,
-          "mesh " + config::quoted(mesh.filename) + ": scale must be uniform and positive (got " + format_number(mesh.scale.x) +
-              " " + format_number(mesh.scale.y) + " " + format_number(mesh.scale.z) + ")");
+          "mesh " + config::quoted(mesh.filename) + ": scale must be uniform and positive (got " +
+              format_number(mesh.scale.x) + " " + format_number(mesh.scale.y) + " " + format_number(mesh.scale.z) +
+              ")");
     return std::nullopt;
   }
   LinkMesh spec;
@@ -301,10 +310,9 @@ bool Importer::import_link(const urdf::Link& link, LinkSpec* spec) {
         continue;
       }
     }
-    const bool positive = shape.type == CollisionShapeType::kBox ? (shape.box_size.array() > 0.0).all()
-                                                                 : shape.radius > 0.0 &&
-                                                                       (shape.type == CollisionShapeType::kSphere ||
-                                                                        shape.length > 0.0);
+    const bool positive = shape.type == CollisionShapeType::kBox
+                              ? (shape.box_size.array() > 0.0).all()
+                              : shape.radius > 0.0 && (shape.type == CollisionShapeType::kSphere || shape.length > 0.0);
     if (!positive) {
       error("link", link.name, "collision shape with a zero or negative size");
       continue;
@@ -336,16 +344,26 @@ bool Importer::import_link(const urdf::Link& link, LinkSpec* spec) {
 bool Importer::import_joint(const urdf::Joint& joint, JointSpec* spec) {
   spec->name = joint.name;
   switch (joint.type) {
-    case urdf::Joint::FIXED: spec->type = JointType::kFixed; return true;
-    case urdf::Joint::REVOLUTE: spec->type = JointType::kRevolute; break;
-    case urdf::Joint::CONTINUOUS: spec->type = JointType::kContinuous; break;
-    case urdf::Joint::PRISMATIC: spec->type = JointType::kPrismatic; break;
+    case urdf::Joint::FIXED:
+      spec->type = JointType::kFixed;
+      return true;
+    case urdf::Joint::REVOLUTE:
+      spec->type = JointType::kRevolute;
+      break;
+    case urdf::Joint::CONTINUOUS:
+      spec->type = JointType::kContinuous;
+      break;
+    case urdf::Joint::PRISMATIC:
+      spec->type = JointType::kPrismatic;
+      break;
     case urdf::Joint::FLOATING:
     case urdf::Joint::PLANAR:
     case urdf::Joint::UNKNOWN:
       error("joint", joint.name,
             std::string("type ") +
-                (joint.type == urdf::Joint::FLOATING ? "floating" : joint.type == urdf::Joint::PLANAR ? "planar" : "unknown") +
+                (joint.type == urdf::Joint::FLOATING ? "floating"
+                 : joint.type == urdf::Joint::PLANAR ? "planar"
+                                                     : "unknown") +
                 " is not supported (fixed, revolute, continuous, prismatic); a vehicle's base floats already");
       return false;
   }
@@ -377,8 +395,9 @@ bool Importer::import_joint(const urdf::Joint& joint, JointSpec* spec) {
     }
   }
   if (joint.mimic) {
-    warn("joint", joint.name,
-         "mimics " + config::quoted(joint.mimic->joint_name) + ": Hadal does not couple it, the joint moves on its own");
+    warn(
+        "joint", joint.name,
+        "mimics " + config::quoted(joint.mimic->joint_name) + ": Hadal does not couple it, the joint moves on its own");
   }
   return ok_;
 }
@@ -427,8 +446,8 @@ bool Importer::run(int parent_index, std::vector<LinkSpec>* links) {
       for (const auto& link : all) names.push_back(link->name);
       std::sort(names.begin(), names.end());
       where_.in_same_file(where_.node()["root"], child_path(where_.path(), "root"), where_.node()["root"].Mark())
-          .error("no link named " + config::quoted(mount_.root) + " in " + config::quoted(fs::path(mount_.file).filename().string()) +
-                 " (links: " + join_names(names) + ")");
+          .error("no link named " + config::quoted(mount_.root) + " in " +
+                 config::quoted(fs::path(mount_.file).filename().string()) + " (links: " + join_names(names) + ")");
       return false;
     }
   }
@@ -436,9 +455,10 @@ bool Importer::run(int parent_index, std::vector<LinkSpec>* links) {
     for (const urdf::JointSharedPtr& joint : root->child_joints) {
       if (joint->type == urdf::Joint::FIXED) continue;
       error("link", root->name,
-            "the root link has no inertial and its joint " + config::quoted(joint->name) + " moves: it is not part of a "
-            "vehicle (Gazebo's `world`?); give urdf.root, the link to start at (" + config::quoted(joint->child_link_name) +
-            "?)");
+            "the root link has no inertial and its joint " + config::quoted(joint->name) +
+                " moves: it is not part of a "
+                "vehicle (Gazebo's `world`?); give urdf.root, the link to start at (" +
+                config::quoted(joint->child_link_name) + "?)");
       return false;
     }
   }
@@ -460,7 +480,8 @@ bool Importer::run(int parent_index, std::vector<LinkSpec>* links) {
       spec.parent = item.parent;
       const urdf::Joint& joint = *item.link->parent_joint;
       import_joint(joint, &spec.joint);
-      spec.X_BL = (*links)[static_cast<std::size_t>(item.parent)].X_BL * to_isometry(joint.parent_to_joint_origin_transform);
+      spec.X_BL =
+          (*links)[static_cast<std::size_t>(item.parent)].X_BL * to_isometry(joint.parent_to_joint_origin_transform);
     }
     const int index = static_cast<int>(links->size());
     links->push_back(std::move(spec));
@@ -484,9 +505,9 @@ bool apply_initial(const Value& where, const UrdfMount& mount, std::size_t first
     const char* key = initial.angle ? "initial_deg" : "initial";
     const YAML::Node node = where.node()[key][initial.joint];
     const Value item = where.in_same_file(node, child_path(child_path(where.path(), key), initial.joint), node.Mark());
-    const auto it = std::find_if(links->begin() + static_cast<std::ptrdiff_t>(first), links->end(),
-                                 [&](const LinkSpec& l) { return l.joint.type != JointType::kFixed &&
-                                                                 l.joint.name == initial.joint; });
+    const auto it = std::find_if(
+        links->begin() + static_cast<std::ptrdiff_t>(first), links->end(),
+        [&](const LinkSpec& l) { return l.joint.type != JointType::kFixed && l.joint.name == initial.joint; });
     if (it == links->end()) {
       item.error("the URDF has no moving joint named " + config::quoted(initial.joint));
       ok = false;
@@ -494,8 +515,8 @@ bool apply_initial(const Value& where, const UrdfMount& mount, std::size_t first
     }
     JointSpec& joint = it->joint;
     if ((joint.type == JointType::kPrismatic) == initial.angle) {
-      item.error(std::string("joint ") + config::quoted(initial.joint) + " is " + to_string(joint.type) + ": its start goes in `" +
-                 (initial.angle ? "initial" : "initial_deg") + "`");
+      item.error(std::string("joint ") + config::quoted(initial.joint) + " is " + to_string(joint.type) +
+                 ": its start goes in `" + (initial.angle ? "initial" : "initial_deg") + "`");
       ok = false;
       continue;
     }

@@ -2,7 +2,6 @@
 // package:// and relative paths, the errors at the URDF's element (file:line:col, the element named), and
 // the Oberon 7 arm shipped in configs/urdf/ read with its source's masses and limits intact.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -178,8 +177,10 @@ TEST_F(ScenarioLoaderTest, UrdfMeshesByPackageAndRelativePaths) {
   // A package laid out as ROS's: box_pkg/urdf/box.urdf names package://box_pkg/meshes/hull.glb.
   std::filesystem::create_directories(dir_ / "box_pkg/meshes");
   std::filesystem::create_directories(dir_ / "box_pkg/urdf");
-  assets::write_scene(assets::single_mesh_scene(assets::make_box(0.4, 0.2, 0.1)), (dir_ / "box_pkg/meshes/hull.glb").string());
-  assets::write_scene(assets::single_mesh_scene(assets::make_box(1.0, 1.0, 1.0)), (dir_ / "box_pkg/urdf/look.stl").string());
+  assets::write_scene(assets::single_mesh_scene(assets::make_box(0.4, 0.2, 0.1)),
+                      (dir_ / "box_pkg/meshes/hull.glb").string());
+  assets::write_scene(assets::single_mesh_scene(assets::make_box(1.0, 1.0, 1.0)),
+                      (dir_ / "box_pkg/urdf/look.stl").string());
   write("box_pkg/urdf/box.urdf", R"(<robot name="box">
   <link name="hull">
     <inertial><mass value="8"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
@@ -246,10 +247,11 @@ TEST_F(UrdfErrorTest, AJointNamingAMissingLinkIsNamed) {
 
 TEST_F(UrdfErrorTest, ACycleIsRefused) {
   // a -> b -> a: urdfdom finds no root (every link has a parent).
-  const auto errors = errors_with(std::string("<robot name=\"r\">\n") + kLinkA + kLinkB +
-                                  "  <joint name=\"ab\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
-                                  "  <joint name=\"ba\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>\n"
-                                  "</robot>\n");
+  const auto errors =
+      errors_with(std::string("<robot name=\"r\">\n") + kLinkA + kLinkB +
+                  "  <joint name=\"ab\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
+                  "  <joint name=\"ba\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>\n"
+                  "</robot>\n");
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors[0].find(file("a.urdf") + ":"), std::string::npos) << errors[0];
   EXPECT_NE(errors[0].find("urdfdom: "), std::string::npos) << errors[0];
@@ -258,7 +260,8 @@ TEST_F(UrdfErrorTest, ACycleIsRefused) {
 TEST_F(UrdfErrorTest, AZeroInertiaIsRefusedAtItsLink) {
   const auto errors = errors_with(
       "<robot name=\"r\">\n  <link name=\"flat\">\n"
-      "    <inertial><mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>\n"
+      "    <inertial><mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"0\" "
+      "iyz=\"0\"/></inertial>\n"
       "  </link>\n</robot>\n");
   EXPECT_EQ(errors, Lines({file("a.urdf") +
                            ":2:3: error: link 'flat': inertia must be positive definite (principal moments 0, 0, 0)"}));
@@ -280,14 +283,16 @@ TEST_F(UrdfErrorTest, GazebosWorldRootAsksForAnotherRoot) {
                                     "to start at ('a'?)"}));
   // Starting at `a` leaves `world` and the anchor out.
   EXPECT_TRUE(errors_with(urdf, "    urdf: {file: a.urdf, root: a}\n").empty());
-  EXPECT_EQ(errors_with(urdf, "    urdf: {file: a.urdf, root: b}\n"),
-            Lines({file("s.yaml") + ":5:32: error: vehicles[0].urdf.root: no link named 'b' in 'a.urdf' (links: a, world)"}));
+  EXPECT_EQ(
+      errors_with(urdf, "    urdf: {file: a.urdf, root: b}\n"),
+      Lines({file("s.yaml") + ":5:32: error: vehicles[0].urdf.root: no link named 'b' in 'a.urdf' (links: a, world)"}));
 }
 
 TEST_F(UrdfErrorTest, MountErrorsAreAtTheirYamlKeys) {
   write("elsewhere/b.urdf", std::string("<robot name=\"r\">\n") + kLinkA + "</robot>\n");
   // A URDF outside the scenario's tree and hadal's configs.
-  const std::filesystem::path outside = std::filesystem::temp_directory_path() / ("hadal_urdf_outside_" + std::to_string(::getpid()) + ".urdf");
+  const std::filesystem::path outside =
+      std::filesystem::temp_directory_path() / ("hadal_urdf_outside_" + std::to_string(::getpid()) + ".urdf");
   std::ofstream(outside) << "<robot name=\"r\"/>\n";
   const auto errors = errors_with(std::string("<robot name=\"r\">\n") + kLinkA + "</robot>\n",
                                   "    urdf: {file: " + outside.string() + "}\n");
@@ -307,7 +312,8 @@ TEST_F(UrdfErrorTest, MountErrorsAreAtTheirYamlKeys) {
 TEST_F(UrdfErrorTest, AMeshOutsideTheRootsIsRefused) {
   const auto errors = errors_with(
       "<robot name=\"r\">\n  <link name=\"a\">\n"
-      "    <inertial><mass value=\"1\"/><inertia ixx=\"0.1\" iyy=\"0.1\" izz=\"0.1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>\n"
+      "    <inertial><mass value=\"1\"/><inertia ixx=\"0.1\" iyy=\"0.1\" izz=\"0.1\" ixy=\"0\" ixz=\"0\" "
+      "iyz=\"0\"/></inertial>\n"
       "    <collision><geometry><mesh filename=\"file:///etc/hostname\"/></geometry></collision>\n"
       "  </link>\n</robot>\n");
   ASSERT_EQ(errors.size(), 1u);
@@ -321,8 +327,9 @@ TEST_F(UrdfErrorTest, AJointWithoutMotorCannotBeDriven) {
                            "  <joint name=\"tip\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\n"
                            "    <limit effort=\"0\" lower=\"-1\" upper=\"1\" velocity=\"1\"/></joint>\n</robot>\n";
   EXPECT_TRUE(errors_with(urdf).empty());
-  EXPECT_EQ(errors_with(urdf, "    urdf: {file: a.urdf}\n    joint_controllers:\n"
-                              "      - {name: tips, type: effort, joints: [tip]}\n"),
+  EXPECT_EQ(errors_with(urdf,
+                        "    urdf: {file: a.urdf}\n    joint_controllers:\n"
+                        "      - {name: tips, type: effort, joints: [tip]}\n"),
             Lines({file("s.yaml") + ":7:45: error: vehicles[0].joint_controllers[0].joints[0]: joint 'tip' has no "
                                     "motor (its effort limit is 0)"}));
 }
@@ -339,13 +346,15 @@ TEST_F(ScenarioLoaderTest, Oberon7ArmImportsWithItsSourcesMassesAndLimits) {
   const struct {
     const char* link;
     double mass;
-  } masses[] = {{"base", 9.67467717018},          {"shoulder_link", 6.72225246901}, {"upper_arm", 12.4443999072},
-                {"elbow_link", 10.3145088675},    {"forearm", 8.54626175585},       {"wrist_link", 3.9024235777},
-                {"end_effector", 3.46114581082},  {"finger_left", 0.879770511849},  {"finger_tip_left", 1.12550524054},
-                {"finger_right", 0.879770511849}, {"finger_tip_right", 1.12550524054}};
+  } masses[] = {
+      {"base", 9.67467717018},          {"shoulder_link", 6.72225246901},   {"upper_arm", 12.4443999072},
+      {"elbow_link", 10.3145088675},    {"forearm", 8.54626175585},         {"wrist_link", 3.9024235777},
+      {"end_effector", 3.46114581082},  {"finger_left", 0.879770511849},    {"finger_tip_left", 1.12550524054},
+      {"finger_right", 0.879770511849}, {"finger_tip_right", 1.12550524054}};
   ASSERT_EQ(links.size(), std::size(masses));
   for (const auto& expected : masses) {
-    const auto it = std::find_if(links.begin(), links.end(), [&](const LinkSpec& l) { return l.name == expected.link; });
+    const auto it =
+        std::find_if(links.begin(), links.end(), [&](const LinkSpec& l) { return l.name == expected.link; });
     ASSERT_NE(it, links.end()) << expected.link;
     EXPECT_EQ(it->mass, expected.mass) << expected.link;
   }
