@@ -69,7 +69,22 @@ struct Pendulum {
     sphere.radius = r;
     return geometry::compute_mesh_properties(geometry::tessellate(sphere)).volume;
   }
+  // The wet weight's torque about the joint with the arm horizontal [N m], in `sim`'s water at the depth.
+  double gravity_torque(const Simulation& sim) const {
+    return (m - sim.ocean().density(depth) * volume()) * 9.80665 * l;
+  }
 };
+
+// A position controller `name` on the one joint, with gains kp and kd.
+physics::JointControllerSpec position_controller(const std::string& name, double kp, double kd) {
+  physics::JointControllerSpec position;
+  position.name = name;
+  position.mode = physics::JointCommandMode::kPosition;
+  position.joints = {0};
+  position.kp = {kp};
+  position.kd = {kd};
+  return position;
+}
 
 double joint_q(const Simulation& sim) { return sim.state().vehicles[0].joint_positions.at(0); }
 
@@ -187,16 +202,10 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
   p.lower = -1.0;
   p.upper = 1.0;
   Model model = p.model();
-  physics::JointControllerSpec position;
-  position.name = "arm_position";
-  position.mode = physics::JointCommandMode::kPosition;
-  position.joints = {0};
-  position.kp = {2000.0};
-  position.kd = {200.0};
+  const physics::JointControllerSpec position = position_controller("arm_position", 2000.0, 200.0);
   model.vehicles[0].joint_controllers.push_back(position);
   Simulation sim(std::move(model));
-  const double rho_V = sim.ocean().density(p.depth) * p.volume();
-  const double tau_g = (p.m - rho_V) * 9.80665 * p.l;
+  const double tau_g = p.gravity_torque(sim);
   EXPECT_EQ(sim.state().vehicles[0].joint_targets, std::vector<double>{0.0});  // holds where it starts
   ASSERT_EQ(sim.set_joint_commands(0, "arm_position", {0.3}), "");
   for (int k = 0; k < 2000; ++k) sim.step();
@@ -233,16 +242,10 @@ TEST(SimulationArticulatedTest, AStiffServoOnALightLinkIsStable) {
   p.arm_L = Eigen::Vector3d::UnitX();
   Model model = p.model();
   ASSERT_EQ(model.world.physics_rate_hz, 500.0);
-  physics::JointControllerSpec position;
-  position.name = "wrist";
-  position.mode = physics::JointCommandMode::kPosition;
-  position.joints = {0};
-  position.kp = {5000.0};
-  position.kd = {100.0};
+  const physics::JointControllerSpec position = position_controller("wrist", 5000.0, 100.0);
   model.vehicles[0].joint_controllers.push_back(position);
   Simulation sim(std::move(model));
-  const double rho_V = sim.ocean().density(p.depth) * p.volume();
-  const double tau_g = (p.m - rho_V) * 9.80665 * p.l;
+  const double tau_g = p.gravity_torque(sim);
   ASSERT_EQ(sim.set_joint_commands(0, "wrist", {0.5}), "");
   double fastest = 0.0;
   for (int k = 0; k < 1000; ++k) {
