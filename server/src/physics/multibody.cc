@@ -145,12 +145,6 @@ std::vector<MultiBodyConstraintPtr> make_joint_friction(btMultiBody& mb, const A
   return friction;
 }
 
-void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {
-  for (int k = 1; k < articulation.num_bodies(); ++k) {
-    const double damping = articulation.body(k).joint.damping;
-    if (damping > 0.0) mb.addJointTorque(k - 1, -damping * mb.getJointVel(k - 1));
-  }
-}
 
 void add_body_force_W(btMultiBody& mb, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
                       int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W) {

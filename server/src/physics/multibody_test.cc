@@ -366,6 +366,16 @@ TEST(MultiBodyTest, JointLimitsHoldUnderFullEffort) {
   EXPECT_LT(lowest, -0.2 + half_degree);
 }
 
+// Each joint's viscous damping, -damping * qd, as a joint torque for the next step (Bullet clears applied
+// torques after a step: call before every step). Explicit, as Bullet sees it; the simulation takes it
+// implicitly with the added mass (physics/articulated_dynamics.h).
+void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    const double damping = articulation.body(k).joint.damping;
+    if (damping > 0.0) mb.addJointTorque(k - 1, -damping * mb.getJointVel(k - 1));
+  }
+}
+
 // Joint damping c: released from 0.05 rad at rest, the linearised pendulum's peaks are
 // theta0 exp(-c t / (2 I_O)) at t = n pi / omega_d. The peak after five periods against that envelope at
 // its own time: within 0.5 % (the peak sampled at 500 Hz, (omega dt)^2 / 2 ~ 3e-5; the swing's

@@ -56,9 +56,6 @@ std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& body, const A
 // motion with the friction torque (force) otherwise. Solved with the contacts and limits (colliders needed,
 // as for the limits); for the caller to add and keep.
 std::vector<MultiBodyConstraintPtr> make_joint_friction(btMultiBody& body, const Articulation& articulation, double dt);
-// and each joint's viscous damping, -damping * qd as a joint torque for the next step (Bullet clears
-// applied torques after a step: call before every step).
-void add_joint_damping(btMultiBody& body, const Articulation& articulation);
 
 // A force f_W [N] acting at the point p_W [m] of body k (both in W), for the next step: Bullet takes a
 // body's force at its centre of mass (from X_WK, multibody_poses_W's poses), so the moment
