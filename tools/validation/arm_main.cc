@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
     std::size_t dof = 0;
     for (const LinkSpec& link : rov.links) {
       if (link.joint.type == JointType::kFixed) continue;
-      if (dof++ == j) s.label = link.name;
+      if (dof++ == j) s.label = joint_name(link);
     }
     s.color = plot::palette(static_cast<int>(j) + 2);
     for (const Sample& sample : runs[0]) {
