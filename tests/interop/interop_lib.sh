@@ -93,6 +93,27 @@ show_logs() {
   fi
 }
 
+# start_lockstep_hadald SCENARIO ARGS...: hadald in lockstep on $DOMAIN in the background (its output in
+# $WORK/hadald.log), stopped on exit.
+start_lockstep_hadald() {
+  local scenario=$1
+  shift
+  "$HADALD" "$scenario" --mode lockstep --domain-id "$DOMAIN" "$@" --no-status-line >"$WORK/hadald.log" 2>&1 9>&- &
+  BACKGROUND_PID=$!
+}
+
+# probe_lockstep_hadald ARGS...: $PROBE in the foreground against the hadald start_lockstep_hadald started;
+# fails (showing hadald's log) if the probe does, or if hadald did not outlive it.
+probe_lockstep_hadald() {
+  local rc=0
+  "$PROBE" --domain-id "$DOMAIN" "$@" 9>&- || rc=$?
+  if [[ $rc -ne 0 ]]; then
+    echo "--- hadald ---" >&2; cat "$WORK/hadald.log" >&2
+    fail "the probe exited with $rc"
+  fi
+  kill -0 "$BACKGROUND_PID" 2>/dev/null || fail "hadald is not running any more"
+}
+
 fail_unless_hadald_succeeded() {
   [[ $HADALD_RC -eq 0 ]] || { show_logs; fail "hadald exited with $HADALD_RC"; }
 }

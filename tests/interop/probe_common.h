@@ -7,8 +7,11 @@
 #include <dds/dds.h>
 
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+
+#include "ros2_types.h"
 
 static int failures = 0;
 
@@ -45,6 +48,39 @@ static bool wait_matched(dds_entity_t writer, double seconds) {
     dds_publication_matched_status_t status;
     if (dds_get_publication_matched_status(writer, &status) == DDS_RETCODE_OK && status.current_count > 0)
       return true;
+    dds_sleepfor(DDS_MSECS(10));
+  }
+  return false;
+}
+
+/* Takes step replies until the one for `id` arrives (or 20 s pass), handing it to `take` with `ctx` while the
+   reader's loan lasts (its sequences are not kept: `take` copies what it needs). */
+typedef void (*reply_taker)(const hadal_msgs_msg_dds__StepReply_ *reply, void *ctx);
+static bool await_step_reply(dds_entity_t reader, uint64_t id, reply_taker take, void *ctx) {
+  for (int i = 0; i < 20000; ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(reader, samples, &info, 1, 1) > 0) {
+      const hadal_msgs_msg_dds__StepReply_ *r = samples[0];
+      const bool mine = info.valid_data && r->request_id == id;
+      if (mine) take(r, ctx);
+      dds_return_loan(reader, samples, 1);
+      samples[0] = NULL;
+      if (mine) return true;
+    }
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  return false;
+}
+
+/* Waits up to `seconds` until both readers are matched by a writer (hadald's writers may lag its readers);
+   true once they are. */
+static bool wait_subscribed(dds_entity_t reader_a, dds_entity_t reader_b, double seconds) {
+  for (int i = 0; i < (int)(seconds * 100); ++i) {
+    dds_subscription_matched_status_t a, b;
+    dds_get_subscription_matched_status(reader_a, &a);
+    dds_get_subscription_matched_status(reader_b, &b);
+    if (a.current_count > 0 && b.current_count > 0) return true;
     dds_sleepfor(DDS_MSECS(10));
   }
   return false;

@@ -24,26 +24,26 @@
 #include "probe_common.h"
 #include "ros2_types.h"
 
-/* Takes replies until the one for `id` arrives (or 20 s pass): accepted, sim time and error copied out. */
+/* What a reply leaves: accepted, sim time and error. */
+struct reply_copy {
+  bool *accepted;
+  double *sim_time;
+  char *error;
+  size_t error_size;
+};
+
+static void copy_reply(const hadal_msgs_msg_dds__StepReply_ *r, void *ctx) {
+  struct reply_copy *c = ctx;
+  *c->accepted = r->accepted;
+  *c->sim_time = r->sim_time_s;
+  snprintf(c->error, c->error_size, "%s", r->error ? r->error : "");
+}
+
+/* The reply for `id` (or 20 s pass): accepted, sim time and error copied out. */
 static bool await_reply(dds_entity_t reader, uint64_t id, bool *accepted, double *sim_time, char *error,
                         size_t error_size) {
-  for (int i = 0; i < 20000; ++i) {
-    void *samples[1] = {NULL};
-    dds_sample_info_t info;
-    while (dds_take(reader, samples, &info, 1, 1) > 0) {
-      const hadal_msgs_msg_dds__StepReply_ *r = samples[0];
-      const bool mine = info.valid_data && r->request_id == id;
-      if (mine) {
-        *accepted = r->accepted;
-        *sim_time = r->sim_time_s;
-        snprintf(error, error_size, "%s", r->error ? r->error : "");
-      }
-      dds_return_loan(reader, samples, 1);
-      if (mine) return true;
-    }
-    dds_sleepfor(DDS_MSECS(1));
-  }
-  return false;
+  struct reply_copy c = {accepted, sim_time, error, error_size};
+  return await_step_reply(reader, id, copy_reply, &c);
 }
 
 int main(int argc, char **argv) {
@@ -89,13 +89,7 @@ int main(int argc, char **argv) {
     printf("FAIL: hadald's readers on rt/hadal/step_request and %s never matched\n", command_topic);
     return 1;
   }
-  for (int i = 0; i < 2000; ++i) {
-    dds_subscription_matched_status_t a, b;
-    dds_get_subscription_matched_status(rd_reply, &a);
-    dds_get_subscription_matched_status(rd_joints, &b);
-    if (a.current_count > 0 && b.current_count > 0) break;
-    dds_sleepfor(DDS_MSECS(10));
-  }
+  wait_subscribed(rd_reply, rd_joints, 20.0);
 
   /* 1: the command on its topic and attached to the request. */
   double value = effort;

@@ -30,31 +30,29 @@
 static const char *g_vehicle = "auv";
 static double g_reply_x = NAN;
 
-/* Takes replies until the one for `id` arrives (or 20 s pass); returns it in *out (its sequences are the
- * reader's loan, not kept: what is needed of them is copied, g_reply_x). */
+/* Where a reply goes: the reply itself (its sequences are the reader's loan, not kept), its error, and
+ * g_reply_x, the driven vehicle's x in it. */
+struct reply_copy {
+  hadal_msgs_msg_dds__StepReply_ *out;
+  char *error;
+  size_t error_size;
+};
+
+static void copy_reply(const hadal_msgs_msg_dds__StepReply_ *r, void *ctx) {
+  struct reply_copy *c = ctx;
+  *c->out = *r;
+  snprintf(c->error, c->error_size, "%s", r->error ? r->error : "");
+  g_reply_x = NAN;
+  for (uint32_t v = 0; v < r->vehicle_names._length && 7 * v < r->poses._length; ++v) {
+    if (strcmp(r->vehicle_names._buffer[v], g_vehicle) == 0) g_reply_x = r->poses._buffer[7 * v];
+  }
+}
+
+/* The reply for `id` (or 20 s pass), in *out. */
 static bool await_reply(dds_entity_t reader, uint64_t id, hadal_msgs_msg_dds__StepReply_ *out, char *error,
                         size_t error_size) {
-  for (int i = 0; i < 20000; ++i) {
-    void *samples[1] = {NULL};
-    dds_sample_info_t info;
-    while (dds_take(reader, samples, &info, 1, 1) > 0) {
-      const hadal_msgs_msg_dds__StepReply_ *r = samples[0];
-      const bool mine = info.valid_data && r->request_id == id;
-      if (mine) {
-        *out = *r;
-        snprintf(error, error_size, "%s", r->error ? r->error : "");
-        g_reply_x = NAN;
-        for (uint32_t v = 0; v < r->vehicle_names._length && 7 * v < r->poses._length; ++v) {
-          if (strcmp(r->vehicle_names._buffer[v], g_vehicle) == 0) g_reply_x = r->poses._buffer[7 * v];
-        }
-      }
-      dds_return_loan(reader, samples, 1);
-      samples[0] = NULL;
-      if (mine) return true;
-    }
-    dds_sleepfor(DDS_MSECS(1));
-  }
-  return false;
+  struct reply_copy c = {out, error, error_size};
+  return await_step_reply(reader, id, copy_reply, &c);
 }
 
 /* The newest odometry sample with stamp >= t (waiting up to 20 s): its x and stamp. */
@@ -134,13 +132,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   /* Readers matched by hadald's writers before the first request (the writer side may lag the reader). */
-  for (int i = 0; i < 2000; ++i) {
-    dds_subscription_matched_status_t a, b;
-    dds_get_subscription_matched_status(rd_reply, &a);
-    dds_get_subscription_matched_status(rd_odom, &b);
-    if (a.current_count > 0 && b.current_count > 0) break;
-    dds_sleepfor(DDS_MSECS(10));
-  }
+  wait_subscribed(rd_reply, rd_odom, 20.0);
 
   uint64_t id = 1000;
   hadal_msgs_msg_dds__StepRequest_ request;

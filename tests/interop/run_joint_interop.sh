@@ -15,16 +15,6 @@ REPO_ROOT=$3
 reserve_interop_domain
 make_work_dir hadal-joint-interop
 isolate_discovery
-"$HADALD" "$REPO_ROOT/tests/integration/scenarios/arm.yaml" --mode lockstep --domain-id "$DOMAIN" \
-  --no-status-line >"$WORK/hadald.log" 2>&1 9>&- &
-BACKGROUND_PID=$!
-
-RC=0
-"$PROBE" --domain-id "$DOMAIN" --vehicle arm --controller forearm_effort --joint 1 --joints 2 --effort 0.5 9>&- ||
-  RC=$?
-if [[ $RC -ne 0 ]]; then
-  echo "--- hadald ---" >&2; cat "$WORK/hadald.log" >&2
-  fail "the probe exited with $RC"
-fi
-kill -0 "$BACKGROUND_PID" 2>/dev/null || fail "hadald is not running any more"
+start_lockstep_hadald "$REPO_ROOT/tests/integration/scenarios/arm.yaml"
+probe_lockstep_hadald --vehicle arm --controller forearm_effort --joint 1 --joints 2 --effort 0.5
 echo "PASS: joint interop: a Cyclone DDS node commanded a joint controller and read JointState with ROS 2 types"

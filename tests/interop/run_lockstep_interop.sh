@@ -16,18 +16,9 @@ REPO_ROOT=$3
 reserve_interop_domain
 make_work_dir hadal-lockstep-interop
 isolate_discovery
-"$HADALD" "$REPO_ROOT/configs/scenarios/default.yaml" --mode lockstep --no-cameras --domain-id "$DOMAIN" \
-  --no-status-line >"$WORK/hadald.log" 2>&1 9>&- &
-BACKGROUND_PID=$!
+start_lockstep_hadald "$REPO_ROOT/configs/scenarios/default.yaml" --no-cameras
 
 # The default AUV (configs/vehicles/torpedo_auv.yaml): 3 thrusters, 500 Hz physics. 20 requests of 50
 # steps at 0.8 main thrust: 2 s from rest, ~0.8 m (hadal's own clients see the same); 0.3 m is a floor.
-RC=0
-"$PROBE" --domain-id "$DOMAIN" --vehicle auv --setpoints 0.8,0,0 --requests 20 --steps 50 --step-size 0.002 \
-  --min-advance 0.3 9>&- || RC=$?
-if [[ $RC -ne 0 ]]; then
-  echo "--- hadald ---" >&2; cat "$WORK/hadald.log" >&2
-  fail "the probe exited with $RC"
-fi
-kill -0 "$BACKGROUND_PID" 2>/dev/null || fail "hadald is not running any more"
+probe_lockstep_hadald --vehicle auv --setpoints 0.8,0,0 --requests 20 --steps 50 --step-size 0.002 --min-advance 0.3
 echo "PASS: lockstep interop: a Cyclone DDS node stepped, commanded and reset hadald with ROS 2 types"
