@@ -193,20 +193,15 @@ void refer_to(const VehicleDefinition& d, VehicleContext& c) {
   c.actuator_types = d.control_names ? d.actuator_types : std::vector<std::string>();
 }
 
-}  // namespace
-
-namespace {
-
 // The keys of a vehicle definition, or (object) of an object's: no type, actuators, sensors, lights or joint
 // controllers.
 void declare_definition_keys(KeyTable<VehicleDefinition, VehicleContext>& t, bool object) {
   if (object) {
-    t.describe("object", "an object's definition (a sample, a rock, a crate): an object file, or inline in an "
-                         "object entry; its links and fluid model, as a vehicle's");
+    t.describe("object",
+               "an object's definition (a sample, a rock, a crate): an object file, or inline in an "
+               "object entry; its links and fluid model, as a vehicle's");
   } else {
     t.describe("vehicle", "a vehicle definition: a vehicle file, or inline in a vehicle entry");
-  }
-  if (!object) {
     t.choice("type", &VehicleDefinition::type,
              {{"auv", VehicleType::kAuv},
               {"rov", VehicleType::kRov},
@@ -216,58 +211,64 @@ void declare_definition_keys(KeyTable<VehicleDefinition, VehicleContext>& t, boo
               {"crawler", VehicleType::kCrawler}})
         .required()
         .unless("include")
-        .doc("the vehicle's class, a label for tools and logs; what it does comes from its links, actuators and sensors");
+        .doc(
+            "the vehicle's class, a label for tools and logs; what it does comes from its links, actuators and "
+            "sensors");
   }
-    t.choice("seabed_contact", &VehicleDefinition::seabed_contact,
-             {{"rigid", SeabedContact::kRigid, "Bullet's rigid contact of the collision shapes (friction 0.4, no bounce)"},
-              {"soil", SeabedContact::kSoil,
-               "world.soil presses and shears every face of the surface that sinks into the seabed, instead of Bullet"}})
-        .unless("include")
-        .doc("how the vehicle meets the seabed; soil needs a link with a mesh or collision shapes");
-    t.list("links", &VehicleDefinition::links, geometry::link_keys())
-        .required()
-        .unless("include")
-        .optional_with("urdf")
-        .min_items(1)
-        .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
-          const auto items = value.list();
-          if (!items) return false;
-          bool ok = true;
-          if (items->empty()) {
-            value.error("must not be empty (links[0] is the base link)");
-            ok = false;
+  t.choice("seabed_contact", &VehicleDefinition::seabed_contact,
+           {{"rigid", SeabedContact::kRigid,
+             "Bullet's rigid contact of the collision shapes (friction: each link's `friction` times the seabed's 0.8, "
+             "0.4 by default; no bounce)"},
+            {"soil", SeabedContact::kSoil,
+             "world.soil presses and shears every face of the surface that sinks into the seabed, instead of Bullet"}})
+      .unless("include")
+      .doc("how the vehicle meets the seabed; soil needs a link with a mesh or collision shapes");
+  t.list("links", &VehicleDefinition::links, geometry::link_keys())
+      .required()
+      .unless("include")
+      .optional_with("urdf")
+      .min_items(1)
+      .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+        const auto items = value.list();
+        if (!items) return false;
+        bool ok = true;
+        if (items->empty()) {
+          value.error("must not be empty (links[0] is the base link)");
+          ok = false;
+        }
+        d.link_names.emplace();
+        c.names_taken.clear();
+        for (const Value& item : *items) {
+          c.link_names = d.link_names;  // the earlier links: a `parent` names one of them
+          LinkSpec link = geometry::link_keys().defaults();
+          ok &= geometry::link_keys().read(item, &link, c);
+          // `pose` of a link with a parent is X_PL: X_BL at q = 0 through the parent's.
+          if (link.parent >= 0) link.X_BL = d.links[static_cast<std::size_t>(link.parent)].X_BL * link.X_BL;
+          if (!link.name.empty() && d.link_names) {
+            d.link_names->push_back(link.name);
+          } else {
+            d.link_names.reset();
           }
-          d.link_names.emplace();
-          c.names_taken.clear();
-          for (const Value& item : *items) {
-            c.link_names = d.link_names;  // the earlier links: a `parent` names one of them
-            LinkSpec link = geometry::link_keys().defaults();
-            ok &= geometry::link_keys().read(item, &link, c);
-            // `pose` of a link with a parent is X_PL: X_BL at q = 0 through the parent's.
-            if (link.parent >= 0) link.X_BL = d.links[static_cast<std::size_t>(link.parent)].X_BL * link.X_BL;
-            if (!link.name.empty() && d.link_names) {
-              d.link_names->push_back(link.name);
-            } else {
-              d.link_names.reset();
-            }
-            d.links.push_back(std::move(link));
-          }
-          c.link_names = d.link_names;
-          return ok && check_link_tree(d, [&](std::size_t l) { return (*items)[l]; }, value);
-        })
-        .doc("rigid bodies; links[0] is the base link, the others hang on it or on a `parent` through a `joint` "
-             "(fixed by default)");
-    t.custom("urdf", read_urdf, "", "map")
-        .keys_of(urdf_keys())
-        .unless("include")
-        .doc("links and joints from a URDF file, after those of `links` (or instead of them)");
-    if (object) {
-      t.check([](const KeyReads&, VehicleDefinition& d, VehicleContext&) {
-        d.type = VehicleType::kObject;
-        return true;
-      });
-    }
-    if (!object) {
+          d.links.push_back(std::move(link));
+        }
+        c.link_names = d.link_names;
+        return ok && check_link_tree(
+                         d, [&](std::size_t l) { return (*items)[l]; }, value);
+      })
+      .doc(
+          "rigid bodies; links[0] is the base link, the others hang on it or on a `parent` through a `joint` "
+          "(fixed by default)");
+  t.custom("urdf", read_urdf, "", "map")
+      .keys_of(urdf_keys())
+      .unless("include")
+      .doc("links and joints from a URDF file, after those of `links` (or instead of them)");
+  if (object) {
+    t.check([](const KeyReads&, VehicleDefinition& d, VehicleContext&) {
+      d.type = VehicleType::kObject;
+      return true;
+    });
+  }
+  if (!object) {
     physics::ActuatorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
       t.custom(std::string(Kind::kListKey), read_actuator_list<Kind>, "", "list of maps")
@@ -340,8 +341,7 @@ void declare_definition_keys(KeyTable<VehicleDefinition, VehicleContext>& t, boo
                    if (dof++ == static_cast<std::size_t>(joint)) name = joint_name(d.links[l]);
                  }
                  item.error("joint " + config::quoted(name) + " is already driven by joint controller " +
-                            config::quoted(it->second) +
-                            " (a joint is in one controller at most)");
+                            config::quoted(it->second) + " (a joint is in one controller at most)");
                  ok = false;
                }
              }
@@ -352,25 +352,25 @@ void declare_definition_keys(KeyTable<VehicleDefinition, VehicleContext>& t, boo
          "", "list of maps")
         .items_of(physics::joint_controller_keys())
         .doc("groups of an articulated vehicle's joints commanded together (position, velocity or effort)");
+  }
+  t.map("fluid", &VehicleDefinition::fluid, physics::fluid_keys())
+      .unless("include")
+      .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
+        d.fluid = physics::default_fluid(d.links);
+        c.links = &d.links;
+        return physics::fluid_keys().read(value, &d.fluid, c);
+      })
+      .default_text("`surface` with added mass fitted to the hull, or `lumped` without link geometry")
+      .doc("the fluid model");
+  t.check([](const KeyReads& reads, VehicleDefinition& d, VehicleContext&) {
+    if (!reads.has("fluid")) d.fluid = physics::default_fluid(d.links);
+    if (d.seabed_contact == SeabedContact::kSoil && !d.links.empty() && !geometry::has_surface_geometry(d.links)) {
+      reads.error_at_key("seabed_contact",
+                         "soil contact presses on the vehicle's surface, and no link has a mesh or collision shapes");
+      return false;
     }
-    t.map("fluid", &VehicleDefinition::fluid, physics::fluid_keys())
-        .unless("include")
-        .read_with([](const Value& value, VehicleDefinition& d, VehicleContext& c) {
-          d.fluid = physics::default_fluid(d.links);
-          c.links = &d.links;
-          return physics::fluid_keys().read(value, &d.fluid, c);
-        })
-        .default_text("`surface` with added mass fitted to the hull, or `lumped` without link geometry")
-        .doc("the fluid model");
-    t.check([](const KeyReads& reads, VehicleDefinition& d, VehicleContext&) {
-      if (!reads.has("fluid")) d.fluid = physics::default_fluid(d.links);
-      if (d.seabed_contact == SeabedContact::kSoil && !d.links.empty() && !geometry::has_surface_geometry(d.links)) {
-        reads.error_at_key("seabed_contact",
-                           "soil contact presses on the vehicle's surface, and no link has a mesh or collision shapes");
-        return false;
-      }
-      return true;
-    });
+    return true;
+  });
 }
 
 }  // namespace
@@ -414,20 +414,30 @@ void declare_entry_keys(KeyTable<VehicleSpec, LoadContext>& t, bool object) {
                "a vehicle: its definition either from `include` (which the entry may extend "
                "with sensors and lights) or inline, where it starts, its rates and schedule");
   }
-  t.string("name", &VehicleSpec::name).required().read_elsewhere()
-      .rule("[A-Za-z][A-Za-z0-9_]*, unique among vehicles and objects").doc("a topic segment: rt/<name>/...");
-  t.string("include", &VehicleSpec::source_file).read_elsewhere()
-      .doc(object ? "an object file, relative to this file; not with the inline definition keys"
-                  : "a vehicle file, relative to this file; not with the inline definition keys but sensors and lights");
+  t.string("name", &VehicleSpec::name)
+      .required()
+      .read_elsewhere()
+      .rule("[A-Za-z][A-Za-z0-9_]*, unique among vehicles and objects")
+      .doc("a topic segment: rt/<name>/...");
+  t.string("include", &VehicleSpec::source_file)
+      .read_elsewhere()
+      .doc(object
+               ? "an object file, relative to this file; not with the inline definition keys"
+               : "a vehicle file, relative to this file; not with the inline definition keys but sensors and lights");
   t.pose("initial_pose", &VehicleSpec::X_WB_initial).doc("X_WB at t = 0");
   t.boolean("static", &VehicleSpec::is_static)
-      .doc("fixed at its initial pose (a prop, a fixed instrument): no forces, never moves, others collide with "
-           "it; its sensors still sample");
+      .doc(
+          "fixed at its initial pose (a prop, a fixed instrument): no forces, never moves, others collide with "
+          "it; its sensors still sample");
   t.vector("initial_velocity", &VehicleSpec::v_WB_initial).unit("m/s").doc("v_WB in W");
-  t.vector("initial_angular_velocity", &VehicleSpec::w_WB_initial).unit("rad/s").range(Range::closed(-100.0, 100.0))
+  t.vector("initial_angular_velocity", &VehicleSpec::w_WB_initial)
+      .unit("rad/s")
+      .range(Range::closed(-100.0, 100.0))
       .doc("w_WB in W (a tumbling calibration target, say)");
   if (!object) {
-    t.number("command_timeout_s", &VehicleSpec::command_timeout).unit("s").range(Range::positive())
+    t.number("command_timeout_s", &VehicleSpec::command_timeout)
+        .unit("s")
+        .range(Range::positive())
         .doc("the actuators stop when no command arrives for this long (sim time)");
   }
   t.rate_hz("odometry_rate_hz", &VehicleSpec::odometry_rate_hz).doc("rate of rt/<vehicle>/odometry");
@@ -435,25 +445,27 @@ void declare_entry_keys(KeyTable<VehicleSpec, LoadContext>& t, bool object) {
     t.rate_hz("actuator_state_rate_hz", &VehicleSpec::actuator_state_rate_hz)
         .doc("rate of every actuator kind's state topic (rt/<vehicle>/<kind>/state)");
     t.renamed("thruster_state_rate_hz", "actuator_state_rate_hz", "it sets every actuator kind's state rate");
-    t.list("schedule", &VehicleSpec::schedule, keyframe_keys()).read_elsewhere()
-        .doc("an open-loop schedule that drives the vehicle until a client first commands it; before its first "
-             "keyframe the setpoints are zero");
+    t.list("schedule", &VehicleSpec::schedule, keyframe_keys())
+        .read_elsewhere()
+        .doc(
+            "an open-loop schedule that drives the vehicle until a client first commands it; before its first "
+            "keyframe the setpoints are zero");
   }
   // Read by the scenario loader, which resolves `include`.
   t.part(object ? object_definition_keys() : definition_keys());
   t.check([](const KeyReads& reads, VehicleSpec& v, LoadContext&) {
-      if (!v.is_static) return true;
-      bool ok = true;
-      for (const char* key : {"initial_velocity", "initial_angular_velocity"}) {
-        const bool moving = std::string(key) == "initial_velocity" ? !v.v_WB_initial.isZero(0.0)
-                                                                   : !v.w_WB_initial.isZero(0.0);
-        if (reads.has(key) && reads.ok(key) && moving) {
-          reads.error_at_key(key, "a static vehicle never moves (static: true): leave it out");
-          ok = false;
-        }
+    if (!v.is_static) return true;
+    bool ok = true;
+    for (const char* key : {"initial_velocity", "initial_angular_velocity"}) {
+      const bool moving =
+          std::string(key) == "initial_velocity" ? !v.v_WB_initial.isZero(0.0) : !v.w_WB_initial.isZero(0.0);
+      if (reads.has(key) && reads.ok(key) && moving) {
+        reads.error_at_key(key, "a static vehicle never moves (static: true): leave it out");
+        ok = false;
       }
-      return ok;
-    });
+    }
+    return ok;
+  });
 }
 
 }  // namespace

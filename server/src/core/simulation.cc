@@ -890,19 +890,17 @@ void Simulation::take_snapshot(double dt) {
       const Eigen::VectorXd qd = world_->joint_velocities(static_cast<int>(i));
       vehicle.joint_positions.assign(q.data(), q.data() + q.size());
       vehicle.joint_velocities.assign(qd.data(), qd.data() + qd.size());
-      {
-        // What Bullet's constraints added: M u_dot - (Q - c) over the step, at the step's start.
-        const auto n_u = runtime.u0.size();
-        Eigen::VectorXd u1(n_u);
-        u1.tail(qd.size()) = qd;
-        if (n_u > qd.size()) {
-          const Eigen::Vector3d p_Wcm = vehicle.body.X_WB * runtime.p_BBcm;
-          u1.head<3>() = vehicle.body.v_WB + vehicle.body.w_WB.cross(p_Wcm - vehicle.body.X_WB.translation());
-          u1.segment<3>(3) = vehicle.body.w_WB;
-        }
-        const Eigen::VectorXd Q_c = runtime.M0 * ((u1 - runtime.u0) / dt) - (runtime.Q_given - runtime.c0);
-        vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
+      // What Bullet's constraints added: M u_dot - (Q - c) over the step, at the step's start.
+      const auto n_u = runtime.u0.size();
+      Eigen::VectorXd u1(n_u);
+      u1.tail(qd.size()) = qd;
+      if (n_u > qd.size()) {
+        const Eigen::Vector3d p_Wcm = vehicle.body.X_WB * runtime.p_BBcm;
+        u1.head<3>() = vehicle.body.v_WB + vehicle.body.w_WB.cross(p_Wcm - vehicle.body.X_WB.translation());
+        u1.segment<3>(3) = vehicle.body.w_WB;
       }
+      const Eigen::VectorXd Q_c = runtime.M0 * ((u1 - runtime.u0) / dt) - (runtime.Q_given - runtime.c0);
+      vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
         keep_momentum(*runtime_[i], vehicle);
       }

@@ -17,7 +17,6 @@ namespace hadal::physics {
 
 namespace {
 
-constexpr double kVehicleFriction = 0.5;
 constexpr double kSeabedFriction = 0.8;
 constexpr double kRestitution = 0.0;
 constexpr double kSeabedMeshMargin = 0.001;  // [m]
@@ -279,7 +278,7 @@ BulletWorld::BulletWorld(const Model& model)
     // A static vehicle (VehicleSpec::is_static) is a static Bullet body: mass 0, never integrated.
     btRigidBody::btRigidBodyConstructionInfo info(spec.is_static ? 0.0 : v.mass.mass, nullptr, v.compound.get(),
                                                   spec.is_static ? btVector3(0, 0, 0) : to_bt(v.mass.I_principal));
-    info.m_friction = spec.links.empty() ? kVehicleFriction : spec.links[0].friction;
+    info.m_friction = spec.links.empty() ? LinkSpec{}.friction : spec.links[0].friction;
     info.m_restitution = kRestitution;
     v.body = std::make_unique<btRigidBody>(info);
     v.body->setActivationState(DISABLE_DEACTIVATION);

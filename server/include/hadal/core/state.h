@@ -87,10 +87,11 @@ struct VehicleState {
   // takes it (an effort for a joint in none) [rad or m, rad/s or m/s, N m or N]; joint_efforts is what its
   // motor applied in the last step.
   std::vector<double> joint_targets;
-  // An articulated vehicle with added mass: the generalised force Bullet's constraints (contacts, joint
-  // limits, joint friction) applied in the last step, measured from its velocity change, fed into the next
-  // step's added-mass solve as contact_wrench_B is for a rigid vehicle (physics/articulated_dynamics.h;
-  // base centre-of-mass force and moment in W, then the joints) [N, N m]; empty until the first step.
+  // An articulated vehicle: the generalised force Bullet's constraints (contacts, joint limits, joint
+  // friction) applied in the last step, measured from its velocity change, fed into the next step's
+  // generalised solve (implicit joint servos and damping, added mass) as contact_wrench_B is for a rigid
+  // vehicle (physics/articulated_dynamics.h; base centre-of-mass force and moment in W, then the joints)
+  // [N, N m]; empty until the first step.
   std::vector<double> constraint_force;
 };
 
