@@ -150,20 +150,23 @@ class Importer {
   bool run(int parent_index, std::vector<LinkSpec>* links);
 
  private:
-  void error(const std::string& tag, const std::string& name, const std::string& message) {
+  // A problem at the element <tag name="name">, in the URDF at its line.
+  void report(const std::string& tag, const std::string& name, const std::string& message, bool warning) {
     const Place p = text_.find(tag, name);
-    where_.report_in(mount_.file, p.line, p.column, tag + " " + config::quoted(name), message);
-    ok_ = false;
+    where_.report_in(mount_.file, p.line, p.column, tag + " " + config::quoted(name), message, warning);
+    if (!warning) ok_ = false;
+  }
+  void error(const std::string& tag, const std::string& name, const std::string& message) {
+    report(tag, name, message, false);
   }
   void warn(const std::string& tag, const std::string& name, const std::string& message) {
-    const Place p = text_.find(tag, name);
-    where_.report_in(mount_.file, p.line, p.column, tag + " " + config::quoted(name), message, true);
+    report(tag, name, message, true);
   }
-  bool import_link(const urdf::Link& link, LinkSpec* spec);
   // Gazebo's friction of each link that has one (<gazebo reference="link"><mu1>), which urdfdom skips.
   void read_gazebo_friction();
-  std::map<std::string, double> friction_;
-  bool import_joint(const urdf::Joint& joint, JointSpec* spec);
+  // Fill *spec from the element; problems are reported (ok_).
+  void import_link(const urdf::Link& link, LinkSpec* spec);
+  void import_joint(const urdf::Joint& joint, JointSpec* spec);
   std::optional<LinkMesh> import_mesh(const urdf::Link& link, const urdf::Mesh& mesh, const urdf::Pose& origin,
                                       bool volume_matters);
   // The file a mesh's filename names, or "" (reported).
@@ -172,6 +175,7 @@ class Importer {
   const Value& where_;
   const UrdfMount& mount_;
   UrdfText text_;
+  std::map<std::string, double> friction_;  // read_gazebo_friction's, by link name
   bool ok_ = true;
 };
 
@@ -260,7 +264,7 @@ void Importer::read_gazebo_friction() {
   }
 }
 
-bool Importer::import_link(const urdf::Link& link, LinkSpec* spec) {
+void Importer::import_link(const urdf::Link& link, LinkSpec* spec) {
   spec->name = link.name;
   if (const auto it = friction_.find(link.name); it != friction_.end()) spec->friction = it->second;
   spec->mass = 0.0;
@@ -338,15 +342,14 @@ bool Importer::import_link(const urdf::Link& link, LinkSpec* spec) {
     }
     spec->visual = import_mesh(link, static_cast<const urdf::Mesh&>(*visual->geometry), visual->origin, false);
   }
-  return ok_;
 }
 
-bool Importer::import_joint(const urdf::Joint& joint, JointSpec* spec) {
+void Importer::import_joint(const urdf::Joint& joint, JointSpec* spec) {
   spec->name = joint.name;
   switch (joint.type) {
     case urdf::Joint::FIXED:
       spec->type = JointType::kFixed;
-      return true;
+      return;
     case urdf::Joint::REVOLUTE:
       spec->type = JointType::kRevolute;
       break;
@@ -365,7 +368,7 @@ bool Importer::import_joint(const urdf::Joint& joint, JointSpec* spec) {
                  : joint.type == urdf::Joint::PLANAR ? "planar"
                                                      : "unknown") +
                 " is not supported (fixed, revolute, continuous, prismatic); a vehicle's base floats already");
-      return false;
+      return;
   }
   spec->axis_L = to_vector(joint.axis);
   if (!(spec->axis_L.norm() > 0.0)) error("joint", joint.name, "axis must not be zero");
@@ -399,7 +402,6 @@ bool Importer::import_joint(const urdf::Joint& joint, JointSpec* spec) {
         "joint", joint.name,
         "mimics " + config::quoted(joint.mimic->joint_name) + ": Hadal does not couple it, the joint moves on its own");
   }
-  return ok_;
 }
 
 bool Importer::run(int parent_index, std::vector<LinkSpec>* links) {
