@@ -13,19 +13,19 @@ using namespace config::keys;
 using config::VehicleContext;
 
 ServoStep joint_servo_step(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd,
-                           double dt) {
+                           double dt, double target_rate) {
   ServoStep step;
   step.torque = target;
   switch (mode) {
     case JointCommandMode::kPosition: {
-      // kp (q* - q) - kd qd = kd (qd_wanted - qd) with qd_wanted = kp (q* - q) / kd: that rate is what the
-      // velocity limit bounds (a PD law without kd has no rate to bound). At the step's end, q' = q + dt qd
-      // + dt^2 qdd and qd' = qd + dt qdd.
+      // kp (q* - q) + kd (qd* - qd) = kd (qd_wanted - qd) with qd_wanted = kp (q* - q) / kd + qd*: that
+      // rate is what the velocity limit bounds (a PD law without kd has no rate to bound, nor a rate to feed
+      // forward). At the step's end, q' = q + dt qd + dt^2 qdd and qd' = qd + dt qdd.
       const double q_end = q + dt * qd;
       if (spec.kd > 0.0) {
-        const double wanted = spec.kp * (target - q_end) / spec.kd;
+        const double wanted = spec.kp * (target - q_end) / spec.kd + target_rate;
         if (std::abs(wanted) < spec.velocity_limit) {
-          step.torque = spec.kp * (target - q_end) - spec.kd * qd;
+          step.torque = spec.kp * (target - q_end) + spec.kd * (target_rate - qd);
           step.D = spec.kp * dt * dt + spec.kd * dt;
         } else {
           step.torque = spec.kd * (std::copysign(spec.velocity_limit, wanted) - qd);
@@ -47,8 +47,10 @@ ServoStep joint_servo_step(const JointServoSpec& spec, JointCommandMode mode, do
   return step;
 }
 
-double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd) {
-  return std::clamp(joint_servo_step(spec, mode, target, q, qd, 0.0).torque, -spec.effort_limit, spec.effort_limit);
+double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd,
+                          double target_rate) {
+  return std::clamp(joint_servo_step(spec, mode, target, q, qd, 0.0, target_rate).torque, -spec.effort_limit,
+                    spec.effort_limit);
 }
 
 const char* to_string(JointCommandMode mode) {

@@ -40,5 +40,24 @@ TEST(JointServoTest, LimitsBoundTheRateAskedForAndTheEffort) {
   EXPECT_DOUBLE_EQ(joint_servo_torque(spec, JointCommandMode::kPosition, 1.2, 0.2, 5.0), 20.0);
 }
 
+// A moving position target (a trajectory's): its rate is fed forward, so a joint on the target at the
+// target's rate feels no torque, and the rate asked for (the error's plus the target's) is what the
+// velocity limit bounds.
+TEST(JointServoTest, APositionTargetsRateIsFedForward) {
+  JointServoSpec spec;
+  spec.kp = 100.0;
+  spec.kd = 10.0;
+  // On the target at its rate: no torque.
+  EXPECT_DOUBLE_EQ(joint_servo_torque(spec, JointCommandMode::kPosition, 0.2, 0.2, 0.7, 0.7), 0.0);
+  // kp (q* - q) + kd (qd* - qd) = 100 * 0.3 + 10 * (0.7 - 0.1) = 36.
+  EXPECT_DOUBLE_EQ(joint_servo_torque(spec, JointCommandMode::kPosition, 0.5, 0.2, 0.1, 0.7), 36.0);
+  // Rate asked for 3 + 0.7 = 3.7, held to 2: 10 * (2 - 0.1) = 19.
+  spec.velocity_limit = 2.0;
+  EXPECT_DOUBLE_EQ(joint_servo_torque(spec, JointCommandMode::kPosition, 0.5, 0.2, 0.1, 0.7), 19.0);
+  // A velocity or effort command ignores it.
+  EXPECT_DOUBLE_EQ(joint_servo_torque(spec, JointCommandMode::kVelocity, 1.5, 0.2, 0.1, 0.7), 14.0);
+  EXPECT_DOUBLE_EQ(joint_servo_torque(spec, JointCommandMode::kEffort, 1.5, 0.2, 0.1, 0.7), 1.5);
+}
+
 }  // namespace
 }  // namespace hadal::physics

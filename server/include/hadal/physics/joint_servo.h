@@ -1,8 +1,10 @@
 // A joint's servo (issue 40's joint actuators; docs/ARCHITECTURE.md, "Articulated vehicles"): the torque
 // (revolute) or force (prismatic) a motor behind a gearbox puts on its joint, from ros2_control's three
 // command kinds. Hadal's own law:
-//   position q*:  tau = kp (q* - q) - kd qd, the rate it asks for kept within +-velocity_limit (a target
-//                 far away is approached at the velocity limit: tau = kd (+-velocity_limit - qd))
+//   position q*:  tau = kp (q* - q) + kd (qd* - qd), the rate it asks for (kp (q* - q) / kd + qd*) kept
+//                 within +-velocity_limit (a target far away is approached at the velocity limit: tau =
+//                 kd (+-velocity_limit - qd)); qd* is the target's own rate, 0 for a plain position command
+//                 and the interpolated rate while a trajectory is followed (physics/joint_trajectory.h)
 //   velocity qd*: tau = kd (clamp(qd*, +-velocity_limit) - qd)
 //   effort tau*:  tau = tau*
 // and in every mode |tau| <= effort_limit. Gains and limits are at the joint (the motor's own times the
@@ -43,11 +45,12 @@ struct ServoStep {
   double D = 0.0;       // [N m s^2/rad] or [N s^2/m]: the torque's change per unit qdd over the step
 };
 ServoStep joint_servo_step(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd,
-                           double dt);
+                           double dt, double target_rate = 0.0);
 
-// The joint torque for the command `target` at joint position q and rate qd (see above): the law at (q,
-// qd), within the effort limit.
-double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd);
+// The joint torque for the command `target` (and, for a position, its rate target_rate) at joint position q
+// and rate qd (see above): the law at (q, qd), within the effort limit.
+double joint_servo_torque(const JointServoSpec& spec, JointCommandMode mode, double target, double q, double qd,
+                          double target_rate = 0.0);
 
 const char* to_string(JointCommandMode mode);
 
