@@ -8,9 +8,13 @@
  *   2. JointState names the expected joints, with as many positions, velocities and efforts, all finite, and
  *      the commanded joint's effort is the commanded value (an effort controller), at the reply's sim time;
  *   3. a command for a joint controller the vehicle does not have is refused with the server's reason and
- *      steps nothing.
+ *      steps nothing;
+ *   4. a trajectory_msgs/JointTrajectory published on rt/<vehicle>/<position group>/joint_trajectory (as
+ *      MoveIt hands one to ros2_control's joint_trajectory_controller), stamped ahead in sim time, brings
+ *      its joint to the waypoint within 3 degrees.
  * usage: hadal-ros2-joint-probe [--domain-id N] [--vehicle arm] [--controller forearm_effort] [--joint 1]
- *                               [--joints 2] [--effort 0.5]
+ *                               [--joints 2] [--effort 0.5] [--position-group shoulder_position]
+ *                               [--position-joint shoulder] [--position-index 0]
  * Exit 0 when every check passed, 1 otherwise, 2 on a usage or DDS error. Discovery: loopback only (set
  * CYCLONEDDS_URI to override). */
 #include <dds/dds.h>
@@ -52,6 +56,8 @@ int main(int argc, char **argv) {
   const char *vehicle = "arm", *controller = "forearm_effort";
   int joint = 1, joints = 2;
   double effort = 0.5;
+  const char *group = "shoulder_position", *group_joint = "shoulder";
+  int group_index = 0;
   for (int i = 1; i < argc; i += 2) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
     if (v == NULL) {
@@ -64,12 +70,16 @@ int main(int argc, char **argv) {
     else if (strcmp(a, "--joint") == 0) joint = atoi(v);
     else if (strcmp(a, "--joints") == 0) joints = atoi(v);
     else if (strcmp(a, "--effort") == 0) effort = atof(v);
+    else if (strcmp(a, "--position-group") == 0) group = v;
+    else if (strcmp(a, "--position-joint") == 0) group_joint = v;
+    else if (strcmp(a, "--position-index") == 0) group_index = atoi(v);
     else {
       fprintf(stderr, "hadal-ros2-joint-probe: unknown option %s\n", a);
       return 2;
     }
   }
-  if (domain < 0 || domain > 232 || joints < 1 || joint < 0 || joint >= joints) {
+  if (domain < 0 || domain > 232 || joints < 1 || joint < 0 || joint >= joints || group_index < 0 ||
+      group_index >= joints) {
     fprintf(stderr, "usage: hadal-ros2-joint-probe [--domain-id N] [--vehicle V] [--controller C] [--joint K] "
                     "[--joints N] [--effort E]\n");
     return 2;
@@ -77,16 +87,20 @@ int main(int argc, char **argv) {
   configure_loopback();
   dds_entity_t pp = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (pp < 0) return 2;
-  char command_topic[256], joints_topic[256];
+  char command_topic[256], joints_topic[256], trajectory_topic[256];
   snprintf(command_topic, sizeof(command_topic), "rt/%s/%s/commands", vehicle, controller);
+  snprintf(trajectory_topic, sizeof(trajectory_topic), "rt/%s/%s/joint_trajectory", vehicle, group);
   snprintf(joints_topic, sizeof(joints_topic), "rt/%s/joint_states", vehicle);
   dds_entity_t wr_request = endpoint(pp, &hadal_msgs_msg_dds__StepRequest__desc, "rt/hadal/step_request", true);
   dds_entity_t wr_command = endpoint(pp, &std_msgs_msg_dds__Float64MultiArray__desc, command_topic, true);
   dds_entity_t rd_reply = endpoint(pp, &hadal_msgs_msg_dds__StepReply__desc, "rt/hadal/step_reply", false);
   dds_entity_t rd_joints = endpoint(pp, &sensor_msgs_msg_dds__JointState__desc, joints_topic, false);
-  if (wr_request < 0 || wr_command < 0 || rd_reply < 0 || rd_joints < 0) return 2;
-  if (!wait_matched(wr_request, 20.0) || !wait_matched(wr_command, 20.0)) {
-    printf("FAIL: hadald's readers on rt/hadal/step_request and %s never matched\n", command_topic);
+  dds_entity_t wr_trajectory =
+      endpoint(pp, &trajectory_msgs_msg_dds__JointTrajectory__desc, trajectory_topic, true);
+  if (wr_request < 0 || wr_command < 0 || rd_reply < 0 || rd_joints < 0 || wr_trajectory < 0) return 2;
+  if (!wait_matched(wr_request, 20.0) || !wait_matched(wr_command, 20.0) || !wait_matched(wr_trajectory, 20.0)) {
+    printf("FAIL: hadald's readers on rt/hadal/step_request, %s and %s never matched\n", command_topic,
+           trajectory_topic);
     return 1;
   }
   wait_subscribed(rd_reply, rd_joints, 20.0);
@@ -164,6 +178,53 @@ int main(int argc, char **argv) {
                        fabs(t_refused - t) < 1e-12;
   printf("   server's reason: %s\n", error);
   check(refused, "a command for an unknown joint controller is refused and steps nothing", t_refused, t);
+
+  /* 4: a trajectory on its topic, stamped 0.1 s ahead (so it does not matter at which step it arrives), to
+   * 0.2 rad 0.5 s later; then 1 s of steps (the topic is not ordered with the step requests: a wall second
+   * for it to arrive first). */
+  double target = 0.2;
+  trajectory_msgs_msg_dds__JointTrajectoryPoint_ point;
+  memset(&point, 0, sizeof(point));
+  point.positions._buffer = &target;
+  point.positions._length = point.positions._maximum = 1;
+  point.time_from_start.sec = 0;
+  point.time_from_start.nanosec = 500000000u;
+  char *names[1] = {(char *)group_joint};
+  trajectory_msgs_msg_dds__JointTrajectory_ trajectory;
+  memset(&trajectory, 0, sizeof(trajectory));
+  const double start = t + 0.1;
+  trajectory.header.stamp.sec = (int32_t)floor(start);
+  trajectory.header.stamp.nanosec = (uint32_t)llround((start - floor(start)) * 1e9);
+  trajectory.header.frame_id = "";
+  trajectory.joint_names._buffer = names;
+  trajectory.joint_names._length = trajectory.joint_names._maximum = 1;
+  trajectory.points._buffer = &point;
+  trajectory.points._length = trajectory.points._maximum = 1;
+  dds_write(wr_trajectory, &trajectory);
+  dds_sleepfor(DDS_SECS(1));
+  memset(&request, 0, sizeof(request));
+  request.request_id = 3;
+  request.steps = 500;
+  dds_write(wr_request, &request);
+  double t_followed = -1.0;
+  const bool followed = await_reply(rd_reply, 3, &accepted, &t_followed, error, sizeof(error)) && accepted;
+  double reached = NAN;
+  stamp = -1.0;
+  for (int i = 0; i < 20000 && followed && !(stamp >= t_followed - 1e-9); ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(rd_joints, samples, &info, 1, 1) > 0) {
+      const sensor_msgs_msg_dds__JointState_ *m = samples[0];
+      if (info.valid_data && (uint32_t)group_index < m->position._length) {
+        stamp = m->header.stamp.sec + 1e-9 * m->header.stamp.nanosec;
+        reached = m->position._buffer[group_index];
+      }
+      dds_return_loan(rd_joints, samples, 1);
+    }
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  check(followed && fabs(reached - target) < 3.0 * M_PI / 180.0,
+        "a JointTrajectory on its topic brings the joint to its waypoint [rad]", reached, target);
 
   dds_delete(pp);
   return failures == 0 ? 0 : 1;

@@ -18,6 +18,7 @@
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
+#include <trajectory_msgsPubSubTypes.h>
 
 #include <algorithm>
 #include <chrono>
@@ -404,6 +405,9 @@ struct Client::Impl {
   // Joint controller commands attached to the next step(), by (vehicle, controller), and their writers.
   std::map<std::pair<std::string, std::string>, std::vector<double>> pending_joint_commands;
   std::map<std::pair<std::string, std::string>, fdds::DataWriter*> joint_command_writers;
+  // Joint trajectories attached to the next step(), by (vehicle, controller), and their writers.
+  std::map<std::pair<std::string, std::string>, trajectory_msgs::msg::JointTrajectory> pending_joint_trajectories;
+  std::map<std::pair<std::string, std::string>, fdds::DataWriter*> joint_trajectory_writers;
 
   // Keeps `values` to attach to the next step() (pending[key]) and publishes them on `topic` through
   // writers[key], made on first use (waiting up to 2 s for the server's reader).
@@ -779,6 +783,41 @@ void Client::set_joint_commands(const std::string& vehicle, const std::string& c
                             values);
 }
 
+void Client::set_joint_trajectory(const std::string& vehicle, const std::string& controller,
+                                  const JointTrajectory& trajectory) {
+  trajectory_msgs::msg::JointTrajectory msg;
+  // A zero stamp: on receipt (ros2_control's convention).
+  if (trajectory.start_time) msg.header().stamp(dds::to_time_msg(*trajectory.start_time));
+  msg.joint_names(trajectory.joint_names);
+  for (const JointTrajectoryPoint& point : trajectory.points) {
+    trajectory_msgs::msg::JointTrajectoryPoint out;
+    out.positions(point.positions);
+    out.velocities(point.velocities);
+    out.accelerations(point.accelerations);
+    const builtin_interfaces::msg::Time t = dds::to_time_msg(point.time_from_start);
+    out.time_from_start().sec(t.sec());
+    out.time_from_start().nanosec(t.nanosec());
+    msg.points().push_back(std::move(out));
+  }
+  Impl& d = *impl_;
+  const auto key = std::make_pair(vehicle, controller);
+  fdds::DataWriter* writer = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    d.pending_joint_trajectories[key] = msg;
+    auto found = d.joint_trajectory_writers.find(key);
+    if (found != d.joint_trajectory_writers.end()) writer = found->second;
+  }
+  if (writer == nullptr) {
+    writer = d.registry->writer<trajectory_msgs::msg::JointTrajectoryPubSubType>(
+        dds::joint_trajectory_topic(vehicle, controller), kHistoryDepth);
+    wait_for_match(writer, 2.0);
+    std::lock_guard<std::mutex> lock(d.mutex);
+    d.joint_trajectory_writers[key] = writer;
+  }
+  writer->write(&msg);
+}
+
 std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double timeout_s) {
   Impl& d = *this;
   if (!wait_for_match(d.step_writer, timeout_s)) {
@@ -802,6 +841,12 @@ std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double
       request.joint_commands().insert(request.joint_commands().end(), values.begin(), values.end());
     }
     d.pending_joint_commands.clear();
+    for (auto& [key, trajectory] : d.pending_joint_trajectories) {
+      request.joint_trajectory_vehicles().push_back(key.first);
+      request.joint_trajectory_controllers().push_back(key.second);
+      request.joint_trajectories().push_back(std::move(trajectory));
+    }
+    d.pending_joint_trajectories.clear();
     d.replies.emplace(id, std::nullopt);
   }
   d.step_writer->write(&request);

@@ -354,6 +354,43 @@ class PyClient {
                           const std::vector<double>& values) {
     client()->set_joint_commands(vehicle, controller, values);
   }
+  // Arrays to a JointTrajectory with the GIL held (shapes checked here, the rest by the server), then sent
+  // without it.
+  void set_joint_trajectory(const std::string& vehicle, const std::string& controller,
+                            const std::vector<std::string>& joint_names,
+                            const py::array_t<double, py::array::c_style | py::array::forcecast>& times,
+                            const py::array_t<double, py::array::c_style | py::array::forcecast>& positions,
+                            const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>&
+                                velocities,
+                            const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>&
+                                accelerations,
+                            std::optional<double> start_time) {
+    const auto n = static_cast<py::ssize_t>(joint_names.size());
+    if (times.ndim() != 1) throw py::value_error("times: a 1-D array of seconds, one per waypoint");
+    const py::ssize_t points = times.shape(0);
+    const auto rows = [&](const char* what, const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
+      if (a.ndim() != 2 || a.shape(0) != points || a.shape(1) != n) {
+        throw py::value_error(std::string(what) + ": shape (" + std::to_string(points) + ", " + std::to_string(n) +
+                              ") expected (one row per waypoint, one column per joint name)");
+      }
+      std::vector<std::vector<double>> out(static_cast<std::size_t>(points));
+      for (py::ssize_t k = 0; k < points; ++k) out[static_cast<std::size_t>(k)].assign(a.data(k, 0), a.data(k, 0) + n);
+      return out;
+    };
+    const auto p = rows("positions", positions);
+    const auto v = velocities ? rows("velocities", *velocities) : std::vector<std::vector<double>>{};
+    const auto a = accelerations ? rows("accelerations", *accelerations) : std::vector<std::vector<double>>{};
+    hadal::JointTrajectory trajectory;
+    trajectory.joint_names = joint_names;
+    trajectory.start_time = start_time;
+    for (py::ssize_t k = 0; k < points; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      trajectory.points.push_back({*times.data(k), p[i], v.empty() ? std::vector<double>{} : v[i],
+                                   a.empty() ? std::vector<double>{} : a[i]});
+    }
+    py::gil_scoped_release unlocked;
+    client()->set_joint_trajectory(vehicle, controller, trajectory);
+  }
   double step(std::uint32_t steps, double timeout_s) { return client()->step(steps, timeout_s); }
   // The samples kept so far are forgotten first: after the reset sim time starts again at 0, and a kept
   // sample of the run before would satisfy any min_stamp.
@@ -1007,6 +1044,17 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            "A joint controller's command (the scenario's joint_controllers): one value per joint of the group, in "
            "its order (a position [rad or m], rate or effort). Published on rt/<vehicle>/<controller>/commands "
            "and attached to the next step()/reset()")
+      .def("set_joint_trajectory", &PyClient::set_joint_trajectory, py::arg("vehicle"), py::arg("controller"),
+           py::arg("joint_names"), py::arg("times"), py::arg("positions"), py::arg("velocities") = std::nullopt,
+           py::arg("accelerations") = std::nullopt, py::arg("start_time") = std::nullopt,
+           "A trajectory for a position group (trajectory_msgs/JointTrajectory, as ros2_control's "
+           "joint_trajectory_controller takes it): waypoints at `times` [s] after its start (start_time, a sim "
+           "time [s]; None: when the server applies it), `positions` one row per waypoint and one column per "
+           "name in joint_names (the group's joints in any order) [rad or m], optional `velocities` and "
+           "`accelerations` of the same shape. Between waypoints each joint moves on a line, a cubic (with "
+           "velocities) or a quintic (with accelerations), from where it is when the trajectory starts; then "
+           "the last waypoint is held. Published on rt/<vehicle>/<controller>/joint_trajectory and attached to "
+           "the next step()/reset(); the server refuses a bad one (CommandRejected in lockstep)")
       .def("set_commands", &PyClient::set_commands, py::arg("vehicle"), py::arg("commands"),
            py::arg("publish") = true, release(),
            "The vehicle's control vector: one entry per actuator (thrusters, tracks, fins, buoyancy engines, drop "

@@ -198,3 +198,37 @@ def test_joint_state(arm_server):
     client.set_joint_commands("arm", "shoulder_position", [math.radians(150.0)])  # beyond its 120 deg limit
     with pytest.raises(hadal.CommandRejected, match="outside its limits"):
         client.step(1)
+
+
+def test_joint_trajectory(arm_server):
+    """A trajectory for the shoulder's position group (trajectory_msgs/JointTrajectory, attached to the step
+    request and published on rt/arm/shoulder_position/joint_trajectory), stamped 0.1 s ahead in sim time:
+    the shoulder keeps its command until then, passes the first waypoint (10 deg at 1 s) and holds the
+    last (40 deg at 2 s), each within 3 deg (the gravity sag of kp = 400 on the arm's wet weight). A
+    trajectory naming a joint outside the group, or sent to an effort group, is refused with its reason."""
+    _, domain_id = arm_server
+    client = connect(domain_id, "arm")
+    client.wait_joint_state("arm", timeout_s=0)
+    assert client.wait_for_subscriptions(WAIT_S)
+    client.set_joint_commands("arm", "shoulder_position", [math.radians(-30.0)])
+    t0 = client.step(1000)  # 2 s at 500 Hz: settled at -30 deg
+    client.set_joint_trajectory("arm", "shoulder_position", ["shoulder"], times=[1.0, 2.0],
+                                positions=np.radians([[10.0], [40.0]]), start_time=t0 + 0.1)
+    t = client.step(50)  # 0.1 s: not started
+    joints = client.wait_joint_state("arm", min_stamp=t, timeout_s=WAIT_S)
+    assert abs(joints.position[0] - math.radians(-30.0)) < math.radians(3.0)
+    t = client.step(500)  # to t0 + 1.1 s: at the first waypoint
+    joints = client.wait_joint_state("arm", min_stamp=t, timeout_s=WAIT_S)
+    assert abs(joints.position[0] - math.radians(10.0)) < math.radians(3.0)
+    t = client.step(1500)  # to t0 + 4.1 s: holding the last
+    joints = client.wait_joint_state("arm", min_stamp=t, timeout_s=WAIT_S)
+    assert abs(joints.position[0] - math.radians(40.0)) < math.radians(3.0)
+
+    client.set_joint_trajectory("arm", "shoulder_position", ["forearm"], times=[1.0], positions=[[0.0]])
+    with pytest.raises(hadal.CommandRejected, match="'forearm' is not a joint of the group"):
+        client.step(1)
+    client.set_joint_trajectory("arm", "forearm_effort", ["forearm"], times=[1.0], positions=[[0.0]])
+    with pytest.raises(hadal.CommandRejected, match="only position groups follow trajectories"):
+        client.step(1)
+    with pytest.raises(ValueError, match=r"positions: shape \(2, 1\) expected"):
+        client.set_joint_trajectory("arm", "shoulder_position", ["shoulder"], times=[1.0, 2.0], positions=[[0.0]])

@@ -166,7 +166,9 @@ class Runner {
       std::string refused;
       for (const auto& command : request->commands) {
         const std::string reason =
-            command.joint_controller.empty()
+            command.trajectory
+                ? sim_.check_joint_trajectory(command.vehicle_index, command.joint_controller, *command.trajectory)
+            : command.joint_controller.empty()
                 ? sim_.check_controls(command.vehicle_index, command.setpoints)
                 : sim_.check_joint_commands(command.vehicle_index, command.joint_controller, command.setpoints);
         if (!reason.empty() && refused.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
@@ -236,8 +238,10 @@ class Runner {
       // The same staleness rule, per joint controller.
       auto& [source, stamp] = last_joint_command_[{command.vehicle_index, command.joint_controller}];
       if (command.source == source && command.source_stamp_ns < stamp) return "";
-      const std::string reason = sim_.set_joint_commands(command.vehicle_index, command.joint_controller,
-                                                         command.setpoints);
+      const std::string reason =
+          command.trajectory
+              ? sim_.set_joint_trajectory(command.vehicle_index, command.joint_controller, *command.trajectory)
+              : sim_.set_joint_commands(command.vehicle_index, command.joint_controller, command.setpoints);
       if (reason.empty()) {
         source = command.source;
         stamp = command.source_stamp_ns;

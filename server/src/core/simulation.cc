@@ -225,7 +225,7 @@ bool is_finite(const VehicleState& vehicle) {
     if (!std::isfinite(control)) return false;
   }
   for (const auto* joints : {&vehicle.joint_positions, &vehicle.joint_velocities, &vehicle.joint_efforts,
-                             &vehicle.joint_targets, &vehicle.constraint_force}) {
+                             &vehicle.joint_targets, &vehicle.joint_target_rates, &vehicle.constraint_force}) {
     for (double value : *joints) {
       if (!std::isfinite(value)) return false;
     }
@@ -276,7 +276,9 @@ VehicleState initial_vehicle_state(const VehicleSpec& spec) {
     vehicle.joint_velocities.push_back(0.0);
     vehicle.joint_efforts.push_back(0.0);
     vehicle.joint_targets.push_back(0.0);
+    vehicle.joint_target_rates.push_back(0.0);
   }
+  vehicle.joint_trajectories.assign(spec.joint_controllers.size(), nullptr);
   for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
     if (controller.mode != physics::JointCommandMode::kPosition) continue;
     for (int joint : controller.joints) {
@@ -302,6 +304,8 @@ void reset_non_finite(const VehicleSpec& spec, VehicleState& vehicle) {
   vehicle.joint_velocities = initial.joint_velocities;
   vehicle.joint_efforts = initial.joint_efforts;
   vehicle.joint_targets = initial.joint_targets;
+  vehicle.joint_target_rates = initial.joint_target_rates;
+  vehicle.joint_trajectories = initial.joint_trajectories;
   vehicle.constraint_force.clear();
   vehicle.faults |= kFaultNonFiniteState;
   ++vehicle.fault_resets;
@@ -471,12 +475,20 @@ void Simulation::set_state(const SimState& state) {
     const physics::Articulation* articulation = world_->articulation(static_cast<int>(i));
     const std::size_t joints = articulation ? static_cast<std::size_t>(articulation->num_dofs()) : 0;
     if (vehicle.joint_positions.size() != joints || vehicle.joint_velocities.size() != joints ||
-        vehicle.joint_efforts.size() != joints || vehicle.joint_targets.size() != joints) {
+        vehicle.joint_efforts.size() != joints || vehicle.joint_targets.size() != joints ||
+        vehicle.joint_target_rates.size() != joints) {
       throw std::invalid_argument(prefix + "expected " + std::to_string(joints) + " joint positions, rates, " +
-                                  "efforts and targets, got " + std::to_string(vehicle.joint_positions.size()) + ", " +
+                                  "efforts, targets and target rates, got " +
+                                  std::to_string(vehicle.joint_positions.size()) + ", " +
                                   std::to_string(vehicle.joint_velocities.size()) + ", " +
-                                  std::to_string(vehicle.joint_efforts.size()) + " and " +
-                                  std::to_string(vehicle.joint_targets.size()));
+                                  std::to_string(vehicle.joint_efforts.size()) + ", " +
+                                  std::to_string(vehicle.joint_targets.size()) + " and " +
+                                  std::to_string(vehicle.joint_target_rates.size()));
+    }
+    if (vehicle.joint_trajectories.size() != spec.joint_controllers.size()) {
+      throw std::invalid_argument(prefix + "expected " + std::to_string(spec.joint_controllers.size()) +
+                                  " joint trajectory slots (one per joint controller), got " +
+                                  std::to_string(vehicle.joint_trajectories.size()));
     }
     const std::size_t generalised = articulation ? joints + (spec.is_static ? 0 : 6) : 0;
     if (!vehicle.constraint_force.empty() && vehicle.constraint_force.size() != generalised) {
@@ -592,28 +604,43 @@ std::string Simulation::set_joint_commands(int vehicle_index, const std::string&
   const std::string reason = check_joint_commands(vehicle_index, controller_name, values);
   if (!reason.empty()) return reason;
   const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
-  const physics::JointControllerSpec& controller =
-      *std::find_if(spec.joint_controllers.begin(), spec.joint_controllers.end(),
-                    [&](const physics::JointControllerSpec& c) { return c.name == controller_name; });
-  std::vector<double>& targets = state_.vehicles[static_cast<std::size_t>(vehicle_index)].joint_targets;
-  for (std::size_t k = 0; k < values.size(); ++k) targets[static_cast<std::size_t>(controller.joints[k])] = values[k];
+  const physics::JointControllerSpec& controller = *find_joint_controller(vehicle_index, controller_name, nullptr);
+  VehicleState& vehicle = state_.vehicles[static_cast<std::size_t>(vehicle_index)];
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const auto j = static_cast<std::size_t>(controller.joints[k]);
+    vehicle.joint_targets[j] = values[k];
+    vehicle.joint_target_rates[j] = 0.0;
+  }
+  // A command ends the group's trajectory.
+  vehicle.joint_trajectories[static_cast<std::size_t>(&controller - spec.joint_controllers.data())].reset();
   return {};
+}
+
+const physics::JointControllerSpec* Simulation::find_joint_controller(int vehicle_index, const std::string& name,
+                                                                      std::string* reason) const {
+  if (vehicle_index < 0 || vehicle_index >= static_cast<int>(model_.vehicles.size())) {
+    if (reason) *reason = "unknown vehicle index " + std::to_string(vehicle_index);
+    return nullptr;
+  }
+  const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
+  const auto found = std::find_if(spec.joint_controllers.begin(), spec.joint_controllers.end(),
+                                  [&](const physics::JointControllerSpec& c) { return c.name == name; });
+  if (found != spec.joint_controllers.end()) return &*found;
+  if (reason) {
+    std::string known;
+    for (const auto& c : spec.joint_controllers) known += (known.empty() ? "" : ", ") + c.name;
+    *reason = "vehicle '" + spec.name + "' has no joint controller '" + name + "' (" +
+              (known.empty() ? std::string("it has none") : "it has " + known) + ")";
+  }
+  return nullptr;
 }
 
 std::string Simulation::check_joint_commands(int vehicle_index, const std::string& controller_name,
                                              const std::vector<double>& values) const {
-  if (vehicle_index < 0 || vehicle_index >= static_cast<int>(model_.vehicles.size())) {
-    return "unknown vehicle index " + std::to_string(vehicle_index);
-  }
+  std::string reason;
+  const physics::JointControllerSpec* found = find_joint_controller(vehicle_index, controller_name, &reason);
+  if (!found) return reason;
   const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
-  const auto found = std::find_if(spec.joint_controllers.begin(), spec.joint_controllers.end(),
-                                  [&](const physics::JointControllerSpec& c) { return c.name == controller_name; });
-  if (found == spec.joint_controllers.end()) {
-    std::string known;
-    for (const auto& c : spec.joint_controllers) known += (known.empty() ? "" : ", ") + c.name;
-    return "vehicle '" + spec.name + "' has no joint controller '" + controller_name + "' (" +
-           (known.empty() ? std::string("it has none") : "it has " + known) + ")";
-  }
   const physics::JointControllerSpec& controller = *found;
   const std::string prefix = "vehicle '" + spec.name + "': joint controller '" + controller.name + "': ";
   if (values.size() != controller.joints.size()) {
@@ -633,6 +660,118 @@ std::string Simulation::check_joint_commands(int vehicle_index, const std::strin
     }
   }
   return {};
+}
+
+std::string Simulation::set_joint_trajectory(int vehicle_index, const std::string& controller_name,
+                                             const physics::JointTrajectoryCommand& command) {
+  physics::JointTrajectory trajectory;
+  const std::string reason = group_trajectory(vehicle_index, controller_name, command, &trajectory);
+  if (!reason.empty()) return reason;
+  trajectory.start_time = command.start_time.value_or(state_.time);
+  const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
+  const physics::JointControllerSpec& controller = *find_joint_controller(vehicle_index, controller_name, nullptr);
+  state_.vehicles[static_cast<std::size_t>(vehicle_index)]
+      .joint_trajectories[static_cast<std::size_t>(&controller - spec.joint_controllers.data())] =
+      std::make_shared<const physics::JointTrajectory>(std::move(trajectory));
+  return {};
+}
+
+std::string Simulation::check_joint_trajectory(int vehicle_index, const std::string& controller_name,
+                                               const physics::JointTrajectoryCommand& command) const {
+  return group_trajectory(vehicle_index, controller_name, command, nullptr);
+}
+
+std::string Simulation::group_trajectory(int vehicle_index, const std::string& controller_name,
+                                         const physics::JointTrajectoryCommand& command,
+                                         physics::JointTrajectory* out) const {
+  std::string reason;
+  const physics::JointControllerSpec* controller = find_joint_controller(vehicle_index, controller_name, &reason);
+  if (!controller) return reason;
+  const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
+  const std::string prefix = "vehicle '" + spec.name + "': joint controller '" + controller->name + "': trajectory: ";
+  if (controller->mode != physics::JointCommandMode::kPosition) {
+    return prefix + "it is a " + physics::to_string(controller->mode) + " group; only position groups follow "
+           "trajectories";
+  }
+  const physics::Articulation& a = *world_->articulation(vehicle_index);
+  const auto name_of = [&](int joint) -> const std::string& {
+    return joint_name(spec.links[static_cast<std::size_t>(a.body(joint + 1).joint_link)]);
+  };
+  const std::size_t n = controller->joints.size();
+  std::string names;
+  for (int joint : controller->joints) names += (names.empty() ? "" : ", ") + name_of(joint);
+  if (command.joint_names.size() != n) {
+    return prefix + std::to_string(command.joint_names.size()) + " joint names for the group's " + std::to_string(n) +
+           " joints (" + names + ")";
+  }
+  // column[k]: where the group's k-th joint is in the command.
+  std::vector<std::size_t> column(n, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string& name = command.joint_names[i];
+    std::size_t k = 0;
+    while (k < n && name_of(controller->joints[k]) != name) ++k;
+    if (k == n) {
+      return prefix + "joint_names[" + std::to_string(i) + "] '" + name + "' is not a joint of the group (" + names +
+             ")";
+    }
+    if (column[k] != n) return prefix + "joint_names[" + std::to_string(i) + "] '" + name + "' is named twice";
+    column[k] = i;
+  }
+  if (std::string e = physics::check_joint_trajectory(command.points, n); !e.empty()) return prefix + e;
+  if (command.start_time && !std::isfinite(*command.start_time)) return prefix + "its start time is not finite";
+  for (std::size_t p = 0; p < command.points.size(); ++p) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const JointSpec& joint = a.body(controller->joints[k] + 1).joint;
+      const double value = command.points[p].positions[column[k]];
+      if (value < joint.lower || value > joint.upper) {
+        return prefix + "points[" + std::to_string(p) + "].positions: " + format_number(value) + " for '" +
+               name_of(controller->joints[k]) + "' is outside its limits [" + format_number(joint.lower) + ", " +
+               format_number(joint.upper) + "]";
+      }
+    }
+  }
+  if (out) {
+    out->points.clear();
+    const auto reorder = [&](const std::vector<double>& values) {
+      std::vector<double> ordered;
+      if (values.empty()) return ordered;
+      for (std::size_t k = 0; k < n; ++k) ordered.push_back(values[column[k]]);
+      return ordered;
+    };
+    for (const physics::JointTrajectoryPoint& point : command.points) {
+      out->points.push_back({point.time_from_start, reorder(point.positions), reorder(point.velocities),
+                             reorder(point.accelerations)});
+    }
+  }
+  return {};
+}
+
+// Each group that follows a trajectory: its joints' position targets and their rates at t. A trajectory
+// whose start has come starts from the joints' state now (the step's start); one whose last waypoint has
+// passed leaves its targets there, at rest.
+void Simulation::follow_joint_trajectories(std::size_t i, double t) {
+  VehicleState& vehicle = state_.vehicles[i];
+  const std::vector<physics::JointControllerSpec>& controllers = model_.vehicles[i].joint_controllers;
+  for (std::size_t c = 0; c < vehicle.joint_trajectories.size(); ++c) {
+    std::shared_ptr<const physics::JointTrajectory>& trajectory = vehicle.joint_trajectories[c];
+    if (!trajectory || t < trajectory->start_time) continue;
+    const std::vector<int>& joints = controllers[c].joints;
+    if (!trajectory->started()) {
+      auto started = std::make_shared<physics::JointTrajectory>(*trajectory);
+      started->started_at = state_.time;
+      for (int joint : joints) {
+        started->start_positions.push_back(vehicle.joint_positions[static_cast<std::size_t>(joint)]);
+        started->start_velocities.push_back(vehicle.joint_velocities[static_cast<std::size_t>(joint)]);
+      }
+      trajectory = std::move(started);
+    }
+    for (std::size_t k = 0; k < joints.size(); ++k) {
+      const physics::JointSetpoint setpoint = physics::sample_joint_trajectory(*trajectory, k, t);
+      vehicle.joint_targets[static_cast<std::size_t>(joints[k])] = setpoint.position;
+      vehicle.joint_target_rates[static_cast<std::size_t>(joints[k])] = setpoint.rate;
+    }
+    if (t >= trajectory->end_time()) trajectory.reset();
+  }
 }
 
 // The vehicle's state into Bullet: its body, and an articulated vehicle's joints.
@@ -787,11 +926,14 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   implicit.limit.resize(dofs);
   implicit.damping_D.resize(dofs);
   Eigen::VectorXd tau(dofs);  // the explicit part of the damping
+  // Trajectories are sampled at the step's end, where the implicit law takes its error.
+  follow_joint_trajectories(i, state_.time + dt);
   for (std::size_t j = 0; j < n; ++j) {
     const auto e = static_cast<Eigen::Index>(j);
     const VehicleRuntime::JointMotor& motor = runtime.motors[j];
-    const physics::ServoStep step = physics::joint_servo_step(
-        motor.servo, motor.mode, vehicle.joint_targets[j], vehicle.joint_positions[j], vehicle.joint_velocities[j], dt);
+    const physics::ServoStep step =
+        physics::joint_servo_step(motor.servo, motor.mode, vehicle.joint_targets[j], vehicle.joint_positions[j],
+                                  vehicle.joint_velocities[j], dt, vehicle.joint_target_rates[j]);
     const double limit = motor.servo.effort_limit;
     implicit.limit[e] = limit;
     implicit.servo[e] = std::clamp(step.torque, -limit, limit);

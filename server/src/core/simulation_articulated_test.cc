@@ -231,6 +231,107 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
   EXPECT_EQ(weak.state().vehicles[0].joint_targets, std::vector<double>{-50.0});
 }
 
+// A position group follows a trajectory (physics/joint_trajectory.h): nothing changes before its start;
+// then each step's target is the line from where the joint was at the start to the waypoint, sampled at
+// the step's end, and its rate is fed forward, so on the ramp the arm runs at the target less the same
+// gravity sag as at rest (the steady ramp needs no torque beyond gravity's). Without the feed-forward it
+// would also lag kd / kp times the rate (0.1 s * 0.3 rad/s = 0.03 rad); the bound, 1e-3 rad, is the
+// start's transient, decayed over seven time constants kd / kp. After the last waypoint the group holds
+// it; a command cancels a trajectory; malformed trajectories are refused by name.
+TEST(SimulationArticulatedTest, APositionGroupFollowsATrajectoryWithItsRateFedForward) {
+  Pendulum p;
+  p.arm_L = Eigen::Vector3d::UnitX();
+  p.lower = -1.0;
+  p.upper = 1.0;
+  Model model = p.model();
+  const physics::JointControllerSpec position = position_controller("arm_position", 2000.0, 200.0);
+  model.vehicles[0].joint_controllers.push_back(position);
+  physics::JointControllerSpec velocity = position_controller("arm_velocity", 0.0, 10.0);
+  velocity.mode = physics::JointCommandMode::kVelocity;
+  Simulation sim(std::move(model));
+  const double dt = sim.model().world.step_size();
+  const double tau_g = p.gravity_torque(sim);
+  const auto sag = [&](double target) {
+    double q = target;
+    for (int k = 0; k < 20; ++k) q = target + tau_g * std::cos(q) / position.kp[0];
+    return q - target;
+  };
+  // Settled at 0 first.
+  for (int k = 0; k < 1000; ++k) sim.step();
+  const double q0 = joint_q(sim), t_start = sim.state().time + 0.1, t_end = t_start + 1.0;
+  physics::JointTrajectoryCommand command;
+  command.start_time = t_start;
+  command.joint_names = {"arm"};
+  command.points = {{1.0, {0.3}, {}, {}}};
+  ASSERT_EQ(sim.set_joint_trajectory(0, "arm_position", command), "");
+  while (sim.state().time + dt < t_start) {
+    sim.step();
+    ASSERT_EQ(sim.state().vehicles[0].joint_targets[0], 0.0);
+  }
+  const double started_at = sim.state().time, q_started = joint_q(sim);
+  const double rate = (0.3 - q_started) / (t_end - started_at);
+  double worst = 0.0;
+  while (sim.state().time + dt < t_end) {
+    sim.step();
+    const double t = sim.state().time;  // the end of the step just taken: where its target was sampled
+    ASSERT_NEAR(sim.state().vehicles[0].joint_targets[0], q_started + rate * (t - started_at), 1e-12) << t;
+    ASSERT_NEAR(sim.state().vehicles[0].joint_target_rates[0], rate, 1e-12) << t;
+    if (t > started_at + 0.7) {
+      const double target = sim.state().vehicles[0].joint_targets[0];
+      worst = std::max(worst, std::abs(joint_q(sim) - target - sag(target)));
+    }
+  }
+  EXPECT_LT(worst, 1e-3) << "q0 " << q0;
+  sim.step();
+  EXPECT_EQ(sim.state().vehicles[0].joint_targets[0], 0.3);
+  EXPECT_EQ(sim.state().vehicles[0].joint_target_rates[0], 0.0);
+  EXPECT_EQ(sim.state().vehicles[0].joint_trajectories[0], nullptr);
+  for (int k = 0; k < 2000; ++k) sim.step();
+  EXPECT_NEAR(joint_q(sim), 0.3 + sag(0.3), 1e-6);
+
+  // A command cancels a trajectory that has not ended.
+  command.start_time.reset();
+  command.points = {{2.0, {-0.5}, {}, {}}};
+  ASSERT_EQ(sim.set_joint_trajectory(0, "arm_position", command), "");
+  for (int k = 0; k < 100; ++k) sim.step();  // 0.2 s at -0.4 rad/s
+  EXPECT_NEAR(sim.state().vehicles[0].joint_targets[0], 0.3 + sag(0.3) - 0.08, 1e-3);
+  ASSERT_EQ(sim.set_joint_commands(0, "arm_position", {0.2}), "");
+  for (int k = 0; k < 10; ++k) sim.step();
+  EXPECT_EQ(sim.state().vehicles[0].joint_targets[0], 0.2);
+  EXPECT_EQ(sim.state().vehicles[0].joint_target_rates[0], 0.0);
+
+  const auto refused = [&](const std::string& controller, physics::JointTrajectoryCommand bad) {
+    return sim.set_joint_trajectory(0, controller, bad);
+  };
+  command.points = {{1.0, {1.5}, {}, {}}};
+  EXPECT_EQ(refused("arm_position", command),
+            "vehicle 'frame': joint controller 'arm_position': trajectory: points[0].positions: 1.5 for 'arm' is "
+            "outside its limits [-1, 1]");
+  command.points = {{1.0, {0.5}, {}, {}}, {0.5, {0.5}, {}, {}}};
+  EXPECT_EQ(refused("arm_position", command),
+            "vehicle 'frame': joint controller 'arm_position': trajectory: points[1].time_from_start: must come "
+            "after points[0]'s");
+  command.points = {{1.0, {0.5}, {}, {}}};
+  command.joint_names = {"elbow"};
+  EXPECT_EQ(refused("arm_position", command),
+            "vehicle 'frame': joint controller 'arm_position': trajectory: joint_names[0] 'elbow' is not a joint "
+            "of the group (arm)");
+  command.joint_names = {"arm", "arm"};
+  EXPECT_EQ(refused("arm_position", command),
+            "vehicle 'frame': joint controller 'arm_position': trajectory: 2 joint names for the group's 1 joints "
+            "(arm)");
+  command.joint_names = {"arm"};
+  EXPECT_NE(refused("gripper", command).find("no joint controller 'gripper'"), std::string::npos);
+  EXPECT_EQ(sim.state().vehicles[0].joint_targets[0], 0.2);
+
+  Model with_velocity = p.model();
+  with_velocity.vehicles[0].joint_controllers.push_back(velocity);
+  Simulation rates(std::move(with_velocity));
+  EXPECT_EQ(rates.set_joint_trajectory(0, "arm_velocity", command),
+            "vehicle 'frame': joint controller 'arm_velocity': trajectory: it is a velocity group; only position "
+            "groups follow trajectories");
+}
+
 // The servo is taken implicitly over the step (physics/joint_servo.h), so gains far past the explicit
 // bound hold a light link: a 50 g sphere 0.5 m out (I = m l^2 + its added inertia, about 0.013 kg m^2)
 // under kd = 100 has kd dt / I = 15 at 500 Hz, where an explicit law multiplies every rate error by

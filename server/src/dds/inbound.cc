@@ -28,6 +28,35 @@ InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float6
   return command;
 }
 
+InboundCommand command_from_trajectory(int vehicle_index, const std::string& controller,
+                                       const trajectory_msgs::msg::JointTrajectory& msg, const SourceId& source,
+                                       std::int64_t stamp_ns) {
+  InboundCommand command;
+  command.vehicle_index = vehicle_index;
+  command.joint_controller = controller;
+  command.source = source;
+  command.source_stamp_ns = stamp_ns;
+  physics::JointTrajectoryCommand& trajectory = command.trajectory.emplace();
+  const builtin_interfaces::msg::Time& stamp = msg.header().stamp();
+  if (stamp.sec() != 0 || stamp.nanosec() != 0) trajectory.start_time = stamp.sec() + 1e-9 * stamp.nanosec();
+  trajectory.joint_names = msg.joint_names();
+  for (std::size_t k = 0; k < msg.points().size(); ++k) {
+    const trajectory_msgs::msg::JointTrajectoryPoint& in = msg.points()[k];
+    if (!in.effort().empty()) {
+      command.error = "joint trajectory for '" + echoed(controller) + "': points[" + std::to_string(k) +
+                      "].effort: efforts are not followed (a position group takes positions, velocities and "
+                      "accelerations); leave it empty";
+      return command;
+    }
+    physics::JointTrajectoryPoint& point = trajectory.points.emplace_back();
+    point.time_from_start = in.time_from_start().sec() + 1e-9 * in.time_from_start().nanosec();
+    point.positions = in.positions();
+    point.velocities = in.velocities();
+    point.accelerations = in.accelerations();
+  }
+  return command;
+}
+
 namespace {
 
 // The reset part of a step request: its seed and its poses (7 numbers per named vehicle: a position
@@ -102,6 +131,23 @@ std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::Step
   if (cursor != msg.joint_commands().size()) {
     return "joint_command_counts add up to " + std::to_string(cursor) + " but " +
            std::to_string(msg.joint_commands().size()) + " joint commands are attached";
+  }
+  const std::size_t trajectories = msg.joint_trajectories().size();
+  if (msg.joint_trajectory_vehicles().size() != trajectories ||
+      msg.joint_trajectory_controllers().size() != trajectories) {
+    return "joint_trajectory_vehicles, joint_trajectory_controllers and joint_trajectories differ in length";
+  }
+  for (std::size_t i = 0; i < trajectories; ++i) {
+    const std::string& name = msg.joint_trajectory_vehicles()[i];
+    const int index = model.vehicle_index(name);
+    if (index < 0) {
+      request.unknown_vehicle = echoed(name);
+      return "unknown vehicle '" + echoed(name) + "'";
+    }
+    InboundCommand command = command_from_trajectory(index, msg.joint_trajectory_controllers()[i],
+                                                     msg.joint_trajectories()[i], source, stamp);
+    if (!command.error.empty()) return command.error;
+    request.commands.push_back(std::move(command));
   }
   return "";
 }

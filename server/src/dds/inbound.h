@@ -5,9 +5,11 @@
 #pragma once
 
 #include "hadal/core/model.h"
+#include "hadal/physics/joint_trajectory.h"
 
 #include <hadal_msgs.h>
 #include <std_msgs.h>
+#include <trajectory_msgs.h>
 
 #include <Eigen/Geometry>
 
@@ -30,6 +32,9 @@ struct InboundCommand {
   // command `setpoints` is (rt/<vehicle>/<controller>/commands, Simulation::set_joint_commands).
   std::string joint_controller;
   std::vector<double> setpoints;
+  // A trajectory for the position group `joint_controller` (rt/<vehicle>/<controller>/joint_trajectory,
+  // Simulation::set_joint_trajectory) instead of setpoints.
+  std::optional<physics::JointTrajectoryCommand> trajectory;
   SourceId source{};                 // the sending participant
   std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins
   std::string error;                 // non-empty: malformed before it reached the simulation
@@ -55,6 +60,12 @@ std::string echoed(const std::string& name);
 // Setpoints carried by a std_msgs/Float64MultiArray: data[layout.data_offset:].
 InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float64MultiArray& msg,
                                   const SourceId& source, std::int64_t stamp_ns);
+
+// A trajectory_msgs/JointTrajectory for the joint controller `controller` (the simulation checks the rest):
+// header.stamp a sim time (zero: none, on receipt), durations in seconds.
+InboundCommand command_from_trajectory(int vehicle_index, const std::string& controller,
+                                       const trajectory_msgs::msg::JointTrajectory& msg, const SourceId& source,
+                                       std::int64_t stamp_ns);
 
 // A step request checked against the model: its commands, its reset, or the error refusing it as a whole.
 InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg::StepRequest& msg,

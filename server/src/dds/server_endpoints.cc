@@ -20,6 +20,7 @@
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
 #include <std_msgsPubSubTypes.h>
+#include <trajectory_msgsPubSubTypes.h>
 
 #include <algorithm>
 #include <cmath>
@@ -87,6 +88,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   };
   std::vector<std::vector<std::vector<SensorTopic>>> sensors;  // [vehicle][sensor][topic]
   std::vector<fdds::DataReader*> setpoint_readers;
+  std::vector<fdds::DataReader*> trajectory_readers;
   fdds::DataReader* step_reader = nullptr;
 
   // Counts indexed like topic_names.
@@ -179,6 +181,29 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     }
   };
   std::vector<std::unique_ptr<SetpointListener>> setpoint_listeners;
+
+  // One listener per position group's trajectory reader.
+  struct TrajectoryListener : public fdds::DataReaderListener {
+    Impl* owner = nullptr;
+    int vehicle_index = -1;
+    std::string joint_controller;
+    void on_data_available(fdds::DataReader* reader) override {
+      trajectory_msgs::msg::JointTrajectory msg;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        InboundCommand command =
+            command_from_trajectory(vehicle_index, joint_controller, msg, source_of(info), source_stamp_ns(info));
+        std::lock_guard<std::mutex> lock(owner->mutex);
+        if (owner->commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
+          owner->commands.erase(owner->commands.begin());
+          ++owner->superseded;
+        }
+        owner->commands.push_back(std::move(command));
+      }
+    }
+  };
+  std::vector<std::unique_ptr<TrajectoryListener>> trajectory_listeners;
 
   struct StepListener : public fdds::DataReaderListener {
     Impl* owner = nullptr;
@@ -393,6 +418,14 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
       d.setpoint_readers.push_back(r.reader<std_msgs::msg::Float64MultiArrayPubSubType>(
           joint_commands_topic(name, controller.name), kCommandHistoryDepth, joint_listener.get()));
       d.setpoint_listeners.push_back(std::move(joint_listener));
+      if (controller.mode != physics::JointCommandMode::kPosition) continue;
+      auto trajectory_listener = std::make_unique<Impl::TrajectoryListener>();
+      trajectory_listener->owner = &d;
+      trajectory_listener->vehicle_index = static_cast<int>(i);
+      trajectory_listener->joint_controller = controller.name;
+      d.trajectory_readers.push_back(r.reader<trajectory_msgs::msg::JointTrajectoryPubSubType>(
+          joint_trajectory_topic(name, controller.name), kCommandHistoryDepth, trajectory_listener.get()));
+      d.trajectory_listeners.push_back(std::move(trajectory_listener));
     }
   }
   d.step_listener.owner = &d;

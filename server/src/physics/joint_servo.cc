@@ -143,14 +143,16 @@ const config::KeyTable<JointControllerSpec, VehicleContext>& joint_controller_ke
     t.describe("joint_controllers[]",
                "a group of joints commanded together (ros2_control's shape): one value per joint");
     config::declare_name_key(t, "joint controller", &JointControllerSpec::name)
-        .doc("unique within the vehicle; its commands come on rt/<vehicle>/<name>/commands (not `actuators`)");
+        .doc("unique within the vehicle; its commands come on rt/<vehicle>/<name>/commands (not `actuators`), a "
+             "position group's trajectories on rt/<vehicle>/<name>/joint_trajectory");
     t.check([](const config::KeyReads& reads, JointControllerSpec& controller, VehicleContext&) {
       if (controller.name != "actuators") return true;
       reads.error_at_key("name", "'actuators' is taken: rt/<vehicle>/actuators/commands carries the control vector");
       return false;
     });
     t.choice("type", &JointControllerSpec::mode,
-             {{"position", JointCommandMode::kPosition, "kd (clamp(kp (q* - q) / kd, +-velocity_limit) - q_dot)"},
+             {{"position", JointCommandMode::kPosition,
+               "kd (clamp(kp (q* - q) / kd + q_dot*, +-velocity_limit) - q_dot), q_dot* a trajectory's rate"},
               {"velocity", JointCommandMode::kVelocity, "kd (clamp(q_dot*, +-velocity_limit) - q_dot)"},
               {"effort", JointCommandMode::kEffort, "the commanded torque (force)"}})
         .required()

@@ -126,6 +126,23 @@ struct JointStates {
   std::vector<double> effort;    // the effort each joint's motor holds [N m or N]
 };
 
+// A position group's trajectory (trajectory_msgs/JointTrajectory, as ros2_control's
+// joint_trajectory_controller takes it): waypoints at times after its start. Between waypoints the server
+// moves each joint on a line (positions alone), a cubic (with velocities) or a quintic (with
+// accelerations too), from where the joints are when it starts; then it holds the last waypoint.
+struct JointTrajectoryPoint {
+  double time_from_start = 0.0;       // [s], increasing from point to point
+  std::vector<double> positions;      // one per joint, in joint_names' order [rad or m]
+  std::vector<double> velocities;     // empty, or one per joint [rad/s or m/s]
+  std::vector<double> accelerations;  // empty, or (with velocities) one per joint [rad/s^2 or m/s^2]
+};
+struct JointTrajectory {
+  std::vector<std::string> joint_names;  // the group's joints, each once, in any order
+  std::vector<JointTrajectoryPoint> points;
+  // The sim time [s] from which time_from_start counts; none: when the server applies it (the next step).
+  std::optional<double> start_time;
+};
+
 // sensor_msgs/FluidPressure of a pressure sensor, rt/<vehicle>/<sensor>: absolute pressure with the
 // sensor's noise. Depth below the surface follows as d = (p - p_atm) / (rho g) for the water's mean
 // density above the sensor (p_atm = 101325 Pa and rho = 1025 kg/m^3 unless the scenario says otherwise).
@@ -548,6 +565,13 @@ class Client {
   // lockstep, CommandRejected from step()).
   void set_joint_commands(const std::string& vehicle, const std::string& controller,
                           const std::vector<double>& values);
+  // A trajectory for a position group (JointTrajectory above), published on
+  // rt/<vehicle>/<controller>/joint_trajectory (trajectory_msgs/JointTrajectory) and attached to the next
+  // step() request, like set_joint_commands; it replaces the group's command or trajectory when it starts.
+  // The server refuses joint names that are not the group's, a waypoint outside a joint's limits, times that
+  // do not increase, NaN (last_error; in lockstep, CommandRejected from step()).
+  void set_joint_trajectory(const std::string& vehicle, const std::string& controller,
+                            const JointTrajectory& trajectory);
   // The names before the control vector drove every actuator kind: refused at compile time, naming the
   // new ones.
   template <class... Args>

@@ -130,6 +130,18 @@ class Simulation {
   std::string check_joint_commands(int vehicle_index, const std::string& controller,
                                    const std::vector<double>& values) const;
 
+  // A trajectory for one of the vehicle's position groups (physics/joint_trajectory.h): its joints named
+  // in any order, its waypoints each within the joints' limits. It replaces the group's trajectory or
+  // command when its start time comes (the next step when it has none), and is followed from the joints'
+  // state then; after its last waypoint the group holds that waypoint. A command
+  // (set_joint_commands) cancels it. Refused with the reason (an unknown controller, not a position group,
+  // joint names that are not the group's, a malformed point), the state untouched.
+  std::string set_joint_trajectory(int vehicle_index, const std::string& controller,
+                                   const physics::JointTrajectoryCommand& trajectory);
+  // The validation alone: "" if set_joint_trajectory would accept the trajectory, else the reason.
+  std::string check_joint_trajectory(int vehicle_index, const std::string& controller,
+                                     const physics::JointTrajectoryCommand& trajectory) const;
+
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
 
@@ -157,6 +169,15 @@ class Simulation {
                               Eigen::Vector3d& tau_W) const;
   void apply_articulated_forces(std::size_t vehicle);
   void hand_articulated_forces(std::size_t vehicle);
+  // The position targets and their rates of the vehicle's groups that follow trajectories, at sim time t.
+  void follow_joint_trajectories(std::size_t vehicle, double t);
+  // check_joint_trajectory's checks; when they pass and `out` is given, the trajectory's points in the
+  // group's joint order.
+  std::string group_trajectory(int vehicle_index, const std::string& controller,
+                               const physics::JointTrajectoryCommand& command, physics::JointTrajectory* out) const;
+  // The vehicle's joint controller by name, or null with the reason in *reason.
+  const physics::JointControllerSpec* find_joint_controller(int vehicle_index, const std::string& name,
+                                                            std::string* reason) const;
   void write_body(int vehicle_index, const VehicleState& vehicle);
   void take_snapshot(double dt);
   void keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle);

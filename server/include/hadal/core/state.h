@@ -6,10 +6,12 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "hadal/physics/actuator_kinds.h"
+#include "hadal/physics/joint_trajectory.h"
 #include "hadal/sensors/sensor_kinds.h"
 
 namespace hadal {
@@ -87,6 +89,12 @@ struct VehicleState {
   // takes it (an effort for a joint in none) [rad or m, rad/s or m/s, N m or N]; joint_efforts is what its
   // motor applied in the last step.
   std::vector<double> joint_targets;
+  // The rate of each joint's position target (a trajectory's, fed forward by the position law; zero for a
+  // held command) [rad/s or m/s].
+  std::vector<double> joint_target_rates;
+  // Per joint controller (VehicleSpec::joint_controllers' order): the trajectory its position group follows
+  // (physics/joint_trajectory.h), or none. Shared, never changed in place: a copied state keeps its own.
+  std::vector<std::shared_ptr<const physics::JointTrajectory>> joint_trajectories;
   // An articulated vehicle: the generalised force Bullet's constraints (contacts, joint limits, joint
   // friction) applied in the last step, measured from its velocity change, fed into the next step's
   // generalised solve (implicit joint servos and damping, added mass) as contact_wrench_B is for a rigid

@@ -25,6 +25,11 @@ inline std::string sensor_topic(const std::string& vehicle, const std::string& s
 inline std::string joint_commands_topic(const std::string& vehicle, const std::string& controller) {
   return "rt/" + vehicle + "/" + controller + "/commands";
 }
+// A position group's trajectories (trajectory_msgs/JointTrajectory), as ros2_control's
+// joint_trajectory_controller reads them.
+inline std::string joint_trajectory_topic(const std::string& vehicle, const std::string& controller) {
+  return "rt/" + vehicle + "/" + controller + "/joint_trajectory";
+}
 inline std::string actuator_commands_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/actuators/commands";
 }

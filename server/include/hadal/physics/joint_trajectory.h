@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,17 @@ struct JointTrajectory {
   bool started() const { return !start_positions.empty(); }
   // The sim time [s] of the last waypoint.
   double end_time() const { return start_time + points.back().time_from_start; }
+};
+
+// A trajectory as a client sends it (trajectory_msgs/JointTrajectory): for a position group, naming its
+// joints in any order; the simulation checks it and puts it in the group's order
+// (Simulation::set_joint_trajectory).
+struct JointTrajectoryCommand {
+  // Sim time [s] at which time_from_start counts (the header's stamp); none (a zero stamp): the sim time
+  // at which the command is applied.
+  std::optional<double> start_time;
+  std::vector<std::string> joint_names;      // the group's joints, each once, in any order
+  std::vector<JointTrajectoryPoint> points;  // values in joint_names' order
 };
 
 struct JointSetpoint {
