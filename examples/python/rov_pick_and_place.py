@@ -180,6 +180,7 @@ class Intervention:
         client.wait_odometry(vehicle, timeout_s=0)
         client.wait_odometry(target, timeout_s=0)
         client.wait_joint_state(vehicle, timeout_s=0)
+        client.wait_wrench(vehicle, "wrist_ft", timeout_s=0)
         client.wait_for_subscriptions()
         self.t = client.step(self.steps)
         self.odometry = client.wait_odometry(vehicle, min_stamp=self.t - 1e-9)
@@ -227,6 +228,13 @@ class Intervention:
                 break
         self.wait(0.5)
 
+    def wrist_force_W(self):
+        """The wrist force/torque sensor's force [N] in W: what the end effector and what it holds put on the
+        wrist (the sensor sits at the end effector's frame)."""
+        wrench = self.client.wait_wrench(self.vehicle, "wrist_ft", min_stamp=self.t - 1e-9)
+        R_WS = rotation(self.odometry.q_WB) @ self.arm.end_effector(self.q)[:3, :3]
+        return R_WS @ wrench.force
+
     def to_body(self, p_W):
         """A world point in B, at the ROV's present pose."""
         return rotation(self.odometry.q_WB).T @ (np.asarray(p_W) - self.odometry.p_WB)
@@ -256,12 +264,15 @@ def pick_and_place(client, vehicle="rov", target="core", report=print):
     # onto it (a slender core standing on the sediment tips over at the first push of a finger).
     grasp_B = job.to_body(job.target_position_W()) + [0.0, 0.0, GRASP_ABOVE_CENTRE]
     job.reach(grasp_B + [0.0, 0.0, 0.25])
+    empty_W = job.wrist_force_W()
     job.reach(grasp_B)
     report(f"t = {job.t:5.1f} s  gripper around the core")
     job.gripper(GRIPPER_SHUT)
     job.reach(grasp_B + [0.0, 0.0, 0.3])
     lifted = job.to_body(job.target_position_W())
-    report(f"t = {job.t:5.1f} s  core lifted to {np.round(lifted, 3).tolist()} in B")
+    # What the wrist feels of the core: the downward pull it gained since the gripper hung empty.
+    felt = float(empty_W[2] - job.wrist_force_W()[2])
+    report(f"t = {job.t:5.1f} s  core lifted to {np.round(lifted, 3).tolist()} in B; the wrist feels {felt:.2f} N")
     # Over the basket (configs/vehicles/work_class_rov.yaml: its floor's top 1.09 m below B), then down
     # until the core's bottom is 8 cm above the floor (below the walls' top), and let go.
     basket_B = np.array([1.75, 0.0, -1.09])
@@ -278,7 +289,8 @@ def pick_and_place(client, vehicle="rov", target="core", report=print):
                   and basket_B[2] < final_B[2] < basket_B[2] + 0.16)
     report(f"t = {job.t:5.1f} s  core at {np.round(final_B, 3).tolist()} in B: "
            f"{'in the basket' if inside else 'NOT in the basket'}")
-    return {"start_B": core_B, "lifted_B": lifted, "held_B": held, "final_B": final_B, "inside": inside}
+    return {"start_B": core_B, "lifted_B": lifted, "held_B": held, "final_B": final_B, "inside": inside,
+            "felt_N": np.array([felt])}
 
 
 def main():

@@ -199,6 +199,16 @@ static const char *check_joint_state(const void *s, char *why, size_t n) {
   return NULL;
 }
 
+static const char *check_wrench_stamped(const void *s, char *why, size_t n) {
+  const geometry_msgs_msg_dds__WrenchStamped_ *m = s;
+  const geometry_msgs_msg_dds__Vector3_ *f = &m->wrench.force, *t = &m->wrench.torque;
+  if (!isfinite(f->x) || !isfinite(f->y) || !isfinite(f->z) || !isfinite(t->x) || !isfinite(t->y) || !isfinite(t->z)) {
+    snprintf(why, n, "a force or torque that is not finite");
+    return why;
+  }
+  return NULL;
+}
+
 static const char *check_imu(const void *s, char *why, size_t n) {
   const sensor_msgs_msg_dds__Imu_ *m = s;
   /* orientation_covariance[0] = -1: no orientation estimate; otherwise the quaternion must be one. */
@@ -576,6 +586,8 @@ static const known_type KNOWN_TYPES[] = {
     {&geometry_msgs_msg_dds__PoseWithCovariance__desc, STAMP_NONE, NULL, NULL},
     {&geometry_msgs_msg_dds__Twist__desc, STAMP_NONE, NULL, NULL},
     {&geometry_msgs_msg_dds__TwistWithCovariance__desc, STAMP_NONE, NULL, NULL},
+    {&geometry_msgs_msg_dds__Wrench__desc, STAMP_NONE, NULL, NULL},
+    {&geometry_msgs_msg_dds__WrenchStamped__desc, STAMP_HEADER, check_wrench_stamped, NULL},
     {&nav_msgs_msg_dds__Odometry__desc, STAMP_HEADER, check_odometry, summarize_odometry},
     {&sensor_msgs_msg_dds__FluidPressure__desc, STAMP_HEADER, NULL, summarize_fluid_pressure},
     {&sensor_msgs_msg_dds__Imu__desc, STAMP_HEADER, check_imu, NULL},

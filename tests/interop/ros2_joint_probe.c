@@ -11,10 +11,13 @@
  *      steps nothing;
  *   4. a trajectory_msgs/JointTrajectory published on rt/<vehicle>/<position group>/joint_trajectory (as
  *      MoveIt hands one to ros2_control's joint_trajectory_controller), stamped ahead in sim time, brings
- *      its joint to the waypoint within 3 degrees.
+ *      its joint to the waypoint within 3 degrees;
+ *   5. the force/torque sensor's geometry_msgs/WrenchStamped on rt/<vehicle>/<sensor> comes at the reply's
+ *      sim time, in the sensor's frame, finite, its force between 1 and 100 N (the forearm's wet weight
+ *      and swing).
  * usage: hadal-ros2-joint-probe [--domain-id N] [--vehicle arm] [--controller forearm_effort] [--joint 1]
  *                               [--joints 2] [--effort 0.5] [--position-group shoulder_position]
- *                               [--position-joint shoulder] [--position-index 0]
+ *                               [--position-joint shoulder] [--position-index 0] [--wrench-sensor elbow_ft]
  * Exit 0 when every check passed, 1 otherwise, 2 on a usage or DDS error. Discovery: loopback only (set
  * CYCLONEDDS_URI to override). */
 #include <dds/dds.h>
@@ -56,7 +59,7 @@ int main(int argc, char **argv) {
   const char *vehicle = "arm", *controller = "forearm_effort";
   int joint = 1, joints = 2;
   double effort = 0.5;
-  const char *group = "shoulder_position", *group_joint = "shoulder";
+  const char *group = "shoulder_position", *group_joint = "shoulder", *wrench_sensor = "elbow_ft";
   int group_index = 0;
   for (int i = 1; i < argc; i += 2) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -73,6 +76,7 @@ int main(int argc, char **argv) {
     else if (strcmp(a, "--position-group") == 0) group = v;
     else if (strcmp(a, "--position-joint") == 0) group_joint = v;
     else if (strcmp(a, "--position-index") == 0) group_index = atoi(v);
+    else if (strcmp(a, "--wrench-sensor") == 0) wrench_sensor = v;
     else {
       fprintf(stderr, "hadal-ros2-joint-probe: unknown option %s\n", a);
       return 2;
@@ -87,7 +91,9 @@ int main(int argc, char **argv) {
   configure_loopback();
   dds_entity_t pp = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (pp < 0) return 2;
-  char command_topic[256], joints_topic[256], trajectory_topic[256];
+  char command_topic[256], joints_topic[256], trajectory_topic[256], wrench_topic[256], wrench_frame[256];
+  snprintf(wrench_topic, sizeof(wrench_topic), "rt/%s/%s", vehicle, wrench_sensor);
+  snprintf(wrench_frame, sizeof(wrench_frame), "%s/%s", vehicle, wrench_sensor);
   snprintf(command_topic, sizeof(command_topic), "rt/%s/%s/commands", vehicle, controller);
   snprintf(trajectory_topic, sizeof(trajectory_topic), "rt/%s/%s/joint_trajectory", vehicle, group);
   snprintf(joints_topic, sizeof(joints_topic), "rt/%s/joint_states", vehicle);
@@ -97,13 +103,17 @@ int main(int argc, char **argv) {
   dds_entity_t rd_joints = endpoint(pp, &sensor_msgs_msg_dds__JointState__desc, joints_topic, false);
   dds_entity_t wr_trajectory =
       endpoint(pp, &trajectory_msgs_msg_dds__JointTrajectory__desc, trajectory_topic, true);
-  if (wr_request < 0 || wr_command < 0 || rd_reply < 0 || rd_joints < 0 || wr_trajectory < 0) return 2;
+  dds_entity_t rd_wrench = endpoint(pp, &geometry_msgs_msg_dds__WrenchStamped__desc, wrench_topic, false);
+  if (wr_request < 0 || wr_command < 0 || rd_reply < 0 || rd_joints < 0 || wr_trajectory < 0 || rd_wrench < 0) {
+    return 2;
+  }
   if (!wait_matched(wr_request, 20.0) || !wait_matched(wr_command, 20.0) || !wait_matched(wr_trajectory, 20.0)) {
     printf("FAIL: hadald's readers on rt/hadal/step_request, %s and %s never matched\n", command_topic,
            trajectory_topic);
     return 1;
   }
   wait_subscribed(rd_reply, rd_joints, 20.0);
+  wait_subscribed(rd_reply, rd_wrench, 20.0);
 
   /* 1: the command on its topic and attached to the request. */
   double value = effort;
@@ -225,6 +235,31 @@ int main(int argc, char **argv) {
   }
   check(followed && fabs(reached - target) < 3.0 * M_PI / 180.0,
         "a JointTrajectory on its topic brings the joint to its waypoint [rad]", reached, target);
+
+  /* 5: the newest WrenchStamped, at the last reply's sim time. */
+  double wrench_stamp = -1.0, force = NAN;
+  bool frame_ok = false, wrench_finite = false;
+  for (int i = 0; i < 20000 && followed && !(wrench_stamp >= t_followed - 1e-9); ++i) {
+    void *samples[1] = {NULL};
+    dds_sample_info_t info;
+    while (dds_take(rd_wrench, samples, &info, 1, 1) > 0) {
+      const geometry_msgs_msg_dds__WrenchStamped_ *m = samples[0];
+      if (info.valid_data) {
+        const geometry_msgs_msg_dds__Vector3_ *f = &m->wrench.force, *q = &m->wrench.torque;
+        wrench_stamp = m->header.stamp.sec + 1e-9 * m->header.stamp.nanosec;
+        frame_ok = m->header.frame_id != NULL && strcmp(m->header.frame_id, wrench_frame) == 0;
+        wrench_finite = isfinite(f->x) && isfinite(f->y) && isfinite(f->z) && isfinite(q->x) && isfinite(q->y) &&
+                        isfinite(q->z);
+        force = sqrt(f->x * f->x + f->y * f->y + f->z * f->z);
+      }
+      dds_return_loan(rd_wrench, samples, 1);
+    }
+    dds_sleepfor(DDS_MSECS(1));
+  }
+  check(fabs(wrench_stamp - t_followed) < 1e-9 && frame_ok, "a WrenchStamped at the reply's sim time, in its frame [s]",
+        wrench_stamp, t_followed);
+  check(wrench_finite && force > 1.0 && force < 100.0, "the force/torque sensor's force is finite and plausible [N]",
+        force, 10.0);
 
   dds_delete(pp);
   return failures == 0 ? 0 : 1;

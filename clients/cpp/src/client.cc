@@ -14,6 +14,7 @@
 
 #include <hadal_msgsPubSubTypes.h>
 #include <marine_acoustic_msgsPubSubTypes.h>
+#include <geometry_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
@@ -201,6 +202,15 @@ std::array<double, N> to_doubles(const std::array<T, N>& values) {
   std::array<double, N> out{};
   for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<double>(values[i]);
   return out;
+}
+
+Wrench from_msg(const geometry_msgs::msg::WrenchStamped& m) {
+  Wrench w;
+  w.stamp = dds::from_time_msg(m.header().stamp());
+  w.frame_id = m.header().frame_id();
+  w.force = to_array(m.wrench().force());
+  w.torque = to_array(m.wrench().torque());
+  return w;
 }
 
 MagneticField from_msg(const sensor_msgs::msg::MagneticField& m) {
@@ -656,6 +666,13 @@ void Client::on_magnetic_field(const std::string& vehicle, const std::string& se
   impl_->subscribe<sensor_msgs::msg::MagneticFieldPubSubType, sensor_msgs::msg::MagneticField>(
       dds::sensor_topic(vehicle, sensor),
       [callback = std::move(callback)](const sensor_msgs::msg::MagneticField& m) { callback(from_msg(m)); });
+}
+
+void Client::on_wrench(const std::string& vehicle, const std::string& sensor,
+                       std::function<void(const Wrench&)> callback) {
+  impl_->subscribe<geometry_msgs::msg::WrenchStampedPubSubType, geometry_msgs::msg::WrenchStamped>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const geometry_msgs::msg::WrenchStamped& m) { callback(from_msg(m)); });
 }
 
 void Client::on_nav_sat_fix(const std::string& vehicle, const std::string& sensor,

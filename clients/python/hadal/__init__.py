@@ -25,7 +25,7 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
-                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, default_domain_id)
+                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, Wrench, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
                      UnknownSensor, UnknownVehicle)
 from . import frames
@@ -35,4 +35,4 @@ __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "Comma
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",
-           "default_domain_id"]
+           "Wrench", "default_domain_id"]

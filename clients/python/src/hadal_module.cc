@@ -211,7 +211,7 @@ class PyClient {
         {"nav_sat_fix", "gps"},   {"dvl", "dvl"},                  {"range", "altimeter"},
         {"laser_scan", "profiler"}, {"image", "camera"},           {"depth", "camera"},
         {"camera_info", "camera"}, {"sonar_image", "fls"},         {"sonar_detections", "multibeam"},
-        {"raw_sonar_image", "sidescan"}};
+        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}};
     const auto it = types.find(kind);
     return it == types.end() ? std::string() : it->second;
   }
@@ -283,6 +283,10 @@ class PyClient {
                                                           double min_stamp, double timeout_s) {
     return wait_sensor("magnetic_field", &hadal::Client::on_magnetic_field, magnetic_field_, vehicle, sensor,
                        min_stamp, timeout_s);
+  }
+  std::optional<hadal::Wrench> wait_wrench(const std::string& vehicle, const std::string& sensor, double min_stamp,
+                                           double timeout_s) {
+    return wait_sensor("wrench", &hadal::Client::on_wrench, wrench_, vehicle, sensor, min_stamp, timeout_s);
   }
   std::optional<hadal::NavSatFix> wait_nav_sat_fix(const std::string& vehicle, const std::string& sensor,
                                                    double min_stamp, double timeout_s) {
@@ -444,6 +448,7 @@ class PyClient {
     imu_.clear();
     pressure_.clear();
     magnetic_field_.clear();
+    wrench_.clear();
     nav_sat_fix_.clear();
     dvl_.clear();
     range_.clear();
@@ -534,6 +539,7 @@ class PyClient {
   Latest<hadal::Imu> imu_;
   Latest<hadal::FluidPressure> pressure_;
   Latest<hadal::MagneticField> magnetic_field_;
+  Latest<hadal::Wrench> wrench_;
   Latest<hadal::NavSatFix> nav_sat_fix_;
   Latest<hadal::Dvl> dvl_;
   Latest<hadal::Range> range_;
@@ -706,6 +712,14 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("pressure", &hadal::FluidPressure::pressure, "absolute [Pa]")
       .def_readonly("variance", &hadal::FluidPressure::variance, "[Pa^2]");
 
+  py::class_<hadal::Wrench>(m, "Wrench",
+                            "geometry_msgs/WrenchStamped sample of a force_torque sensor: the wrench across its "
+                            "link's joint in the sensor frame, about its origin")
+      .def_readonly("stamp", &hadal::Wrench::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::Wrench::frame_id)
+      .def_property_readonly("force", [](const hadal::Wrench& w) { return to_numpy(w.force); }, "[N], shape (3,)")
+      .def_property_readonly("torque", [](const hadal::Wrench& w) { return to_numpy(w.torque); },
+                             "[N m] about the sensor's origin, shape (3,)");
   py::class_<hadal::MagneticField>(m, "MagneticField",
                                    "sensor_msgs/MagneticField sample: flux density in the sensor frame")
       .def_readonly("stamp", &hadal::MagneticField::stamp, "sim time [s]")
@@ -1005,6 +1019,10 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
       .def("wait_fluid_pressure", &PyClient::wait_fluid_pressure, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "FluidPressure sample with stamp >= min_stamp, or None on timeout")
+      .def("wait_wrench", &PyClient::wait_wrench, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "Wrench sample of rt/<vehicle>/<sensor> (a force_torque sensor) with stamp >= min_stamp, or None on "
+           "timeout")
       .def("wait_magnetic_field", &PyClient::wait_magnetic_field, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "MagneticField sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")

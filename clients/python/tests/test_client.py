@@ -232,3 +232,20 @@ def test_joint_trajectory(arm_server):
         client.step(1)
     with pytest.raises(ValueError, match=r"positions: shape \(2, 1\) expected"):
         client.set_joint_trajectory("arm", "shoulder_position", ["shoulder"], times=[1.0, 2.0], positions=[[0.0]])
+
+
+def test_force_torque_wrench(arm_server):
+    """The elbow's force_torque sensor (geometry_msgs/WrenchStamped on rt/arm/elbow_ft) as numpy arrays: at
+    the reply's sim time, in the sensor's frame, the forearm's pull finite and between its wet weight's
+    order (1 N) and ten times it."""
+    _, domain_id = arm_server
+    client = connect(domain_id, "arm")
+    client.wait_wrench("arm", "elbow_ft", timeout_s=0)  # subscribe, then step
+    assert client.wait_for_subscriptions(WAIT_S)
+    t = client.step(50)  # 0.1 s: a 50 Hz sample at t
+    wrench = client.wait_wrench("arm", "elbow_ft", min_stamp=t, timeout_s=WAIT_S)
+    assert wrench.stamp == pytest.approx(t, abs=1e-9)
+    assert wrench.frame_id == "arm/elbow_ft"
+    assert wrench.force.shape == (3,) and wrench.torque.shape == (3,) and wrench.force.dtype == np.float64
+    assert np.all(np.isfinite(wrench.force)) and np.all(np.isfinite(wrench.torque))
+    assert 1.0 < np.linalg.norm(wrench.force) < 100.0

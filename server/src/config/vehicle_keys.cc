@@ -32,15 +32,19 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
         .doc("unique in the vehicle; the topic's last part");
     std::vector<KeyTable<SensorEntry, VehicleContext>::Named<std::size_t>> types;
     std::vector<std::string> captured;
+    std::vector<bool> on_joint;
     sensors::SensorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
       types.push_back({std::string(Kind::kType), types.size()});
       if (Kind::kCaptures) captured.emplace_back(Kind::kType);
+      on_joint.push_back(sensors::OnJoint<Kind>::value);
     });
     t.choice("type", &SensorEntry::kind, types).required().selects("sensor type").doc("the sensor's kind");
-    declare_link_key(t, [](SensorEntry& e) -> int& { return e.spec.link_index; })
+    declare_link_key(
+        t, [](SensorEntry& e) -> int& { return e.spec.link_index; },
+        [on_joint](const SensorEntry& e) { return on_joint.at(e.kind); })
         .default_text("the base link")
-        .doc("a link of this vehicle");
+        .doc("a link of this vehicle (force_torque: a link on a moving joint, whose joint it measures)");
     t.pose("pose", [](SensorEntry& e) -> Eigen::Isometry3d& { return e.spec.X_LS; }).doc("mounting pose X_LS in the link frame");
     t.rate_hz("rate_hz", [](SensorEntry& e) -> double& { return e.spec.rate_hz; })
         .doc("samples per second of sim time (a preset may set it when not given)");
@@ -56,6 +60,12 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
     t.check([](const KeyReads& reads, SensorEntry& e, VehicleContext&) {
       if (e.spec.captured() && !reads.has("latency_s") && e.spec.rate_hz > 0.0) e.spec.latency_s = 1.0 / e.spec.rate_hz;
       return true;
+    });
+    t.check([on_joint](const KeyReads& reads, SensorEntry& e, VehicleContext&) {
+      if (!on_joint.at(e.kind) || reads.has("link")) return true;
+      reads.error_at_key("type", "a " + std::string(e.spec.type()) + " sensor needs `link`: the link on a moving " +
+                                     "joint whose joint it measures");
+      return false;
     });
     t.unused_note([](const MapReader&, const SensorEntry&) -> std::string {
       return " (it samples on the stepping thread, without latency)";

@@ -515,6 +515,42 @@ vehicles:
                             "actuators and lights on moving links are not supported yet"}));
 }
 
+// A force_torque sensor measures its link's joint: it is on a link on a moving joint (the one place a
+// sensor may be on a moving link), refused on a link on a fixed joint and without `link`, in either order of
+// `type` and `link` in the entry.
+TEST_F(ScenarioLoaderTest, AForceTorqueSensorIsOnTheLinkOfAMovingJoint) {
+  const std::string head = R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}, collisions: [{shape: box, size: [1, 1, 1]}]}
+      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}, collisions: [{shape: sphere, radius: 0.1}],
+         pose: {position: [1, 0, 0]}, joint: {type: revolute, axis: [0, 1, 0]}}
+      - {name: tool, parent: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+)";
+  const std::string good = write("ft.yaml", head + R"(      - {name: wrist, link: arm, type: force_torque, force_noise_stddev: 0.5,
+         measure_direction: parent_to_child, pose: {position: [0.1, 0, 0]}}
+)");
+  const auto loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.ok()) << (loaded.errors.empty() ? "" : loaded.errors.front().message);
+  const SensorSpec& sensor = loaded.model->vehicles[0].sensors[0];
+  EXPECT_EQ(sensor.type(), "force_torque");
+  EXPECT_EQ(sensor.link_index, 1);
+  EXPECT_TRUE(std::get<sensors::ForceTorqueSpec>(sensor.kind).parent_to_child);
+  EXPECT_EQ(std::get<sensors::ForceTorqueSpec>(sensor.kind).force_noise_stddev, 0.5);
+  const std::string fixed = write("fixed.yaml", head + R"(      - {name: wrist, type: force_torque, link: tool}
+)");
+  EXPECT_EQ(errors_of(fixed), (Lines{fixed + ":11:49: error: vehicles[0].sensors[0].link: link 'tool' is not on a "
+                                             "moving joint: this sensor measures the wrench across its link's joint "
+                                             "(revolute, continuous or prismatic)"}));
+  const std::string base = write("base.yaml", head + R"(      - {name: wrist, type: force_torque}
+)");
+  EXPECT_EQ(errors_of(base), (Lines{base + ":11:23: error: vehicles[0].sensors[0].type: a force_torque sensor needs "
+                                           "`link`: the link on a moving joint whose joint it measures"}));
+}
+
 // joint_controllers: groups of moving joints by their names (a link's own unless its joint names itself), in
 // command order; gains and the joints' own limits. Two joints of one name are refused.
 TEST_F(ScenarioLoaderTest, JointControllersNameMovingJoints) {

@@ -189,6 +189,9 @@ struct Simulation::VehicleRuntime {
   };
   std::vector<JointMotor> motors;
   std::unique_ptr<physics::ArticulatedDynamics> dynamics;
+  // Each body's wrench handed to Bullet in the step (at its centre of mass, W; gravity and joint torques
+  // apart), for the joints' wrenches (VehicleState::joint_wrenches_L).
+  std::vector<physics::ArticulatedDynamics::Wrench> handed_W;
   bool has_added_mass = false;
   std::vector<Eigen::Isometry3d> X_WK;
   // A floating articulated vehicle's momentum balance over the step (Simulation::keep_momentum): the
@@ -223,6 +226,9 @@ bool is_finite(const VehicleState& vehicle) {
   if (!physics::VehicleActuators::is_finite(vehicle.actuators)) return false;
   for (double control : vehicle.client_controls) {
     if (!std::isfinite(control)) return false;
+  }
+  for (const auto& wrench : vehicle.joint_wrenches_L) {
+    if (!wrench.allFinite()) return false;
   }
   for (const auto* joints : {&vehicle.joint_positions, &vehicle.joint_velocities, &vehicle.joint_efforts,
                              &vehicle.joint_targets, &vehicle.joint_target_rates, &vehicle.constraint_force}) {
@@ -261,6 +267,12 @@ const std::vector<double>& select_controls(const VehicleSpec& spec, double t, do
   return after == spec.schedule.begin() ? kZeros : std::prev(after)->setpoints;
 }
 
+// A sensor whose kind measures its link's joint (sensors::OnJoint: the force/torque sensor).
+bool on_joint(const SensorSpec& sensor) {
+  return std::visit([](const auto& spec) { return sensors::OnJoint<sensors::KindOf<std::decay_t<decltype(spec)>>>::value; },
+                    sensor.kind);
+}
+
 VehicleState initial_vehicle_state(const VehicleSpec& spec) {
   VehicleState vehicle;
   vehicle.body.X_WB = spec.X_WB_initial;
@@ -279,6 +291,10 @@ VehicleState initial_vehicle_state(const VehicleSpec& spec) {
     vehicle.joint_target_rates.push_back(0.0);
   }
   vehicle.joint_trajectories.assign(spec.joint_controllers.size(), nullptr);
+  // The joints' wrenches are worked out only for a vehicle with a sensor that measures them.
+  if (std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint)) {
+    vehicle.joint_wrenches_L.assign(spec.links.size(), Eigen::Matrix<double, 6, 1>::Zero());
+  }
   for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
     if (controller.mode != physics::JointCommandMode::kPosition) continue;
     for (int joint : controller.joints) {
@@ -306,6 +322,7 @@ void reset_non_finite(const VehicleSpec& spec, VehicleState& vehicle) {
   vehicle.joint_targets = initial.joint_targets;
   vehicle.joint_target_rates = initial.joint_target_rates;
   vehicle.joint_trajectories = initial.joint_trajectories;
+  vehicle.joint_wrenches_L = initial.joint_wrenches_L;
   vehicle.constraint_force.clear();
   vehicle.faults |= kFaultNonFiniteState;
   ++vehicle.fault_resets;
@@ -320,6 +337,14 @@ std::string format_number(double value) {
 // What issue 40's first part does not simulate on an articulated vehicle yet, refused by name (the scenario
 // reader refuses mounts on moving links with the key's position; this is the check for models built in code).
 void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
+  for (const SensorSpec& sensor : vehicle.sensors) {
+    if (!on_joint(sensor)) continue;
+    const auto link = static_cast<std::size_t>(sensor.link_index);
+    if (link >= vehicle.links.size() || vehicle.links[link].joint.type == JointType::kFixed) {
+      throw std::invalid_argument("vehicle '" + vehicle.name + "': sensor '" + sensor.name + "' (" +
+                                  std::string(sensor.type()) + ") must be on a link on a moving joint");
+    }
+  }
   bool articulated = false;
   for (std::size_t i = 0; i < vehicle.links.size(); ++i) articulated |= link_moves(vehicle.links, static_cast<int>(i));
   if (!articulated) return;
@@ -339,7 +364,9 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
                                   "yet");
     }
   };
-  for (const SensorSpec& sensor : vehicle.sensors) refuse_moving(sensor.link_index, "sensor '" + sensor.name + "'");
+  for (const SensorSpec& sensor : vehicle.sensors) {
+    if (!on_joint(sensor)) refuse_moving(sensor.link_index, "sensor '" + sensor.name + "'");
+  }
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     refuse_moving(actuator.link_index, std::string(actuator.type()) + " '" + actuator.name + "'");
   }
@@ -484,6 +511,12 @@ void Simulation::set_state(const SimState& state) {
                                   std::to_string(vehicle.joint_efforts.size()) + ", " +
                                   std::to_string(vehicle.joint_targets.size()) + " and " +
                                   std::to_string(vehicle.joint_target_rates.size()));
+    }
+    const std::size_t wrenches = std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint) ? spec.links.size() : 0;
+    if (vehicle.joint_wrenches_L.size() != wrenches) {
+      throw std::invalid_argument(prefix + "expected " + std::to_string(wrenches) + " joint wrenches (one per link " +
+                                  "with a force_torque sensor on the vehicle, else none), got " +
+                                  std::to_string(vehicle.joint_wrenches_L.size()));
     }
     if (vehicle.joint_trajectories.size() != spec.joint_controllers.size()) {
       throw std::invalid_argument(prefix + "expected " + std::to_string(spec.joint_controllers.size()) +
@@ -961,6 +994,7 @@ void Simulation::hand_articulated_forces(std::size_t i) {
       dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, Q_c,
                          model_.vehicles[i].fluid.added_mass.coriolis, &implicit);
   for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions.bodies[k];
+  if (!vehicle.joint_wrenches_L.empty()) runtime.handed_W = wrenches;
   tau = reactions.joint_torques;
   for (std::size_t j = 0; j < n; ++j) vehicle.joint_efforts[j] = reactions.servo[static_cast<Eigen::Index>(j)];
   runtime.u0 = dynamics.u();
@@ -1043,6 +1077,7 @@ void Simulation::take_snapshot(double dt) {
       }
       const Eigen::VectorXd Q_c = runtime.M0 * ((u1 - runtime.u0) / dt) - (runtime.Q_given - runtime.c0);
       vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
+      if (!vehicle.joint_wrenches_L.empty()) measure_joint_wrenches(i, (u1 - runtime.u0) / dt, dt);
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
         keep_momentum(*runtime_[i], vehicle);
       }
@@ -1064,6 +1099,33 @@ void Simulation::take_snapshot(double dt) {
   }
   ++state_.step_count;
   state_.time = static_cast<double>(state_.step_count) * dt;
+}
+
+// Each moving joint's wrench over the step just taken (physics/articulated_dynamics.h), from the
+// acceleration Bullet gave (u_dot), the wrenches handed to it and its contacts, turned into each joint's
+// link frame at the step's start.
+void Simulation::measure_joint_wrenches(std::size_t i, const Eigen::VectorXd& u_dot, double dt) {
+  const VehicleRuntime& runtime = *runtime_[i];
+  const physics::ArticulatedDynamics& dynamics = *runtime.dynamics;
+  const physics::Articulation& a = *runtime.articulation;
+  std::vector<physics::ArticulatedDynamics::Wrench> external = runtime.handed_W;
+  const std::vector<Eigen::Matrix<double, 6, 1>> contacts = world_->contact_wrenches_W(static_cast<int>(i), dt);
+  for (std::size_t k = 0; k < external.size(); ++k) {
+    // The contacts' moment about the world origin, moved to the centre of mass.
+    const Eigen::Vector3d f_W = contacts[k].head<3>();
+    external[k].head<3>() += f_W;
+    external[k].tail<3>() += contacts[k].tail<3>() - dynamics.p_Wcm(static_cast<int>(k)).cross(f_W);
+  }
+  const std::vector<physics::ArticulatedDynamics::Wrench> joints =
+      dynamics.joint_wrenches(u_dot, external, model_.world.gravity_W);
+  VehicleState& vehicle = state_.vehicles[i];
+  for (int k = 1; k < a.num_bodies(); ++k) {
+    const auto b = static_cast<std::size_t>(k);
+    const Eigen::Matrix3d R_KW = runtime.X_WK[b].linear().transpose();
+    Eigen::Matrix<double, 6, 1>& out = vehicle.joint_wrenches_L[static_cast<std::size_t>(a.body(k).joint_link)];
+    out.head<3>() = R_KW * joints[b].head<3>();
+    out.tail<3>() = R_KW * joints[b].tail<3>();
+  }
 }
 
 // Bullet's semi-implicit Euler in reduced coordinates keeps a free tree's momentum only to first order in
@@ -1118,7 +1180,7 @@ void Simulation::sample_sensors(double dt) {
       const sensors::SampleContext context{state_.time,  mount.period,   dt,           model_.world,
                                            *ocean_,      *environment_, state_,       static_cast<int>(i),
                                            mount.X_BS,   runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
-                                           rays_.get()};
+                                           rays_.get(),  &spec.sensors[k]};
       std::visit(
           [&](const auto& kind_spec) {
             using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;

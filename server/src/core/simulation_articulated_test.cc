@@ -16,6 +16,7 @@
 #include "hadal/physics/mass_properties.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/test_models.h"
+#include "hadal/sensors/force_torque_sensor.h"
 
 namespace hadal {
 namespace {
@@ -330,6 +331,136 @@ TEST(SimulationArticulatedTest, APositionGroupFollowsATrajectoryWithItsRateFedFo
   EXPECT_EQ(rates.set_joint_trajectory(0, "arm_velocity", command),
             "vehicle 'frame': joint controller 'arm_velocity': trajectory: it is a velocity group; only position "
             "groups follow trajectories");
+}
+
+// A force_torque sensor on the arm's link (its joint), sampled every step; `pose` its mounting in the link.
+SensorSpec force_torque_sensor(const Eigen::Isometry3d& X_LS) {
+  SensorSpec sensor;
+  sensor.name = "wrist_ft";
+  sensor.link_index = 1;
+  sensor.X_LS = X_LS;
+  sensor.rate_hz = 500.0;
+  sensor.frame_id = "frame/wrist_ft";
+  sensor.kind = sensors::ForceTorqueSpec{};
+  return sensor;
+}
+
+const sensors::ForceTorqueSensor::State& force_torque(const Simulation& sim) {
+  return state_of<sensors::ForceTorqueSensor>(sim.state().vehicles[0].sensors.at(0));
+}
+
+// The horizontal arm held by its position controller: at rest, what it puts on the frame across its joint
+// (child_to_parent) is its wet weight W straight down and the moment W l cos q about +y, which is minus
+// its motor's effort. The sensor sits 0.1 m along the arm, turned 90 degrees about x: the force reads in
+// its axes, and the moment about its own origin is the joint's less the lever 0.1 m x F. At rest the
+// Newton-Euler sum is exact but for the servo's residual motion (< 1e-9 rad/s after 4 s), hence 1e-6 of W.
+TEST(SimulationArticulatedTest, AForceTorqueSensorReadsTheWetWeightAndTheEffortHoldingAnArm) {
+  Pendulum p;
+  p.arm_L = Eigen::Vector3d::UnitX();
+  Model model = p.model();
+  model.vehicles[0].joint_controllers.push_back(position_controller("arm_position", 2000.0, 200.0));
+  Eigen::Isometry3d X_LS = Eigen::Isometry3d::Identity();
+  X_LS.translation() = Eigen::Vector3d(0.1, 0.0, 0.0);
+  X_LS.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  model.vehicles[0].sensors.push_back(force_torque_sensor(X_LS));
+  Simulation sim(std::move(model));
+  const double W = p.gravity_torque(sim) / p.l;  // the wet weight [N]
+  for (int k = 0; k < 2000; ++k) sim.step();
+  const double q = joint_q(sim);
+  // The link frame L is the arm's, turned by q about y; F in W is (0, 0, -W).
+  const Eigen::Matrix3d R_WL = Eigen::AngleAxisd(q, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d F_L = R_WL.transpose() * Eigen::Vector3d(0, 0, -W);
+  const Eigen::Vector3d N_L(0.0, W * p.l * std::cos(q), 0.0);
+  EXPECT_NEAR(N_L.y(), -sim.state().vehicles[0].joint_efforts[0], 1e-6 * W * p.l);
+  const Eigen::Matrix3d R_SL = X_LS.linear().transpose();
+  const Eigen::Vector3d F_S = R_SL * F_L;
+  const Eigen::Vector3d N_S = R_SL * (N_L - X_LS.translation().cross(F_L));
+  EXPECT_LT((force_torque(sim).force_S - F_S).norm(), 1e-6 * W) << force_torque(sim).force_S.transpose();
+  EXPECT_LT((force_torque(sim).torque_S - N_S).norm(), 1e-6 * W * p.l) << force_torque(sim).torque_S.transpose();
+}
+
+// The pendulum swinging freely in water: across its joint it pulls on the frame along the arm with its
+// wet weight's share and its centripetal force,
+//   (m - rho V) g cos(theta) + m omega^2 l   (without added mass),
+// and passes no moment about the joint's axis (no motor, no damping). With added mass the moment about
+// the axis stays zero only if the added mass's reaction is counted: it alone decelerates the arm's m_A
+// share (m_A l alpha, 4 N m at the swing's ends, would be left over). Each step's reading against the
+// state the step started from, to 1e-6 of the wet weight (the sums are exact for the discrete step).
+TEST(SimulationArticulatedTest, ASwingingPendulumPullsWithItsWetWeightAndItsCentripetalForce) {
+  Pendulum p;
+  p.initial = 40.0 * kPi / 180.0;
+  for (const bool added_mass : {false, true}) {
+    Model model = p.model();
+    if (!added_mass) model.vehicles[0].fluid.added_mass.model = AddedMassModel::kNone;
+    model.vehicles[0].sensors.push_back(force_torque_sensor(Eigen::Isometry3d::Identity()));
+    Simulation sim(std::move(model));
+    const double rho = sim.ocean().density(p.depth + p.l), V = p.volume(), g = 9.80665;
+    const double W = (p.m - rho * V) * g;
+    double worst_radial = 0.0, worst_axis = 0.0, fastest = 0.0;
+    for (int k = 0; k < 1000; ++k) {
+      const double theta = joint_q(sim), omega = sim.state().vehicles[0].joint_velocities[0];
+      sim.step();
+      fastest = std::max(fastest, std::abs(omega));
+      // In L (the arm's frame) the arm points along -z: the pull on the frame is along -z.
+      const double pull = W * std::cos(theta) + p.m * omega * omega * p.l;
+      worst_radial = std::max(worst_radial, std::abs(-force_torque(sim).force_S.z() - pull));
+      worst_axis = std::max(worst_axis, std::abs(force_torque(sim).torque_S.y()));
+    }
+    EXPECT_GT(fastest, 1.0) << added_mass;  // it swings: m omega^2 l is a tenth of W or more
+    if (!added_mass) EXPECT_LT(worst_radial, 1e-6 * W) << worst_radial;
+    EXPECT_LT(worst_axis, 1e-6 * W * p.l) << added_mass << " " << worst_axis;
+  }
+}
+
+// A load resting on a tray: the contact carries its wet weight to the tray, and the tray's joint carries
+// both. The tray (a 0.6 x 0.3 x 0.04 m box of 10 kg centred 0.4 m out) hangs on the frame's joint about y,
+// held level by its position controller; a 0.12 m cube of 4 kg rests on it 0.55 m out. Settled (2 s), the
+// sensor reads both wet weights straight down and their moments about the joint, each taken at where its
+// body is; 1e-4 of the total for what is left of the settling. Without the contacts' impulses it would
+// read the tray alone: the load is 45 % of the total.
+TEST(SimulationArticulatedTest, AForceTorqueSensorFeelsALoadThroughItsContacts) {
+  // Either order of the vehicles, so that the tray is either body of Bullet's contact manifold.
+  for (const bool load_first : {false, true}) {
+    Pendulum p;
+    Model model = p.model();
+    VehicleSpec frame = model.vehicles[0];
+    LinkSpec& tray = frame.links[1];
+    const Eigen::Vector3d size(0.6, 0.3, 0.04);
+    tray.name = "tray";
+    tray.mass = 10.0;
+    tray.I_LLcm_L = physics::solid_box_inertia(10.0, size);
+    tray.p_LLcm = Eigen::Vector3d(0.4, 0.0, 0.0);
+    tray.collisions = {testing::box_shape(size)};
+    tray.collisions[0].X_LG.translation() = tray.p_LLcm;
+    frame.joint_controllers.push_back(position_controller("tray_position", 20000.0, 2000.0));
+    frame.sensors.push_back(force_torque_sensor(Eigen::Isometry3d::Identity()));
+    const double edge = 0.12;
+    VehicleSpec load = testing::surface_vehicle(testing::box_shape(Eigen::Vector3d::Constant(edge)), 4.0,
+                                                physics::solid_box_inertia(4.0, Eigen::Vector3d::Constant(edge)),
+                                                testing::drag_only(0.0), Eigen::Vector3d(0.55, 0.0, -p.depth + 0.0805));
+    load.name = "load";
+    model.vehicles = load_first ? std::vector<VehicleSpec>{load, frame} : std::vector<VehicleSpec>{frame, load};
+    const std::size_t f = load_first ? 1 : 0, l = 1 - f;
+    Simulation sim(std::move(model));
+    for (int k = 0; k < 1000; ++k) sim.step();
+    const double rho = sim.ocean().density(p.depth), g = 9.80665;
+    const double W_tray = (10.0 - rho * size.prod()) * g, W_load = (4.0 - rho * edge * edge * edge) * g;
+    const double q = sim.state().vehicles[f].joint_positions[0];
+    const Eigen::Matrix3d R_WL = Eigen::AngleAxisd(q, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const Eigen::Vector3d o_W(0.0, 0.0, -p.depth);
+    const Eigen::Vector3d r_tray = R_WL * Eigen::Vector3d(0.4, 0.0, 0.0);
+    const Eigen::Vector3d r_load = sim.state().vehicles[l].body.X_WB.translation() - o_W;
+    ASSERT_NEAR(r_load.x(), 0.55, 0.01);  // still where it was put
+    const Eigen::Vector3d F_W(0.0, 0.0, -(W_tray + W_load));
+    const Eigen::Vector3d N_W =
+        r_tray.cross(Eigen::Vector3d(0, 0, -W_tray)) + r_load.cross(Eigen::Vector3d(0, 0, -W_load));
+    const double total = W_tray + W_load;
+    const auto& reading = state_of<sensors::ForceTorqueSensor>(sim.state().vehicles[f].sensors.at(0));
+    EXPECT_LT((reading.force_S - R_WL.transpose() * F_W).norm(), 1e-4 * total)
+        << load_first << ": " << reading.force_S.transpose() << " vs " << (R_WL.transpose() * F_W).transpose();
+    EXPECT_LT((reading.torque_S - R_WL.transpose() * N_W).norm(), 1e-4 * total * 0.5)
+        << load_first << ": " << reading.torque_S.transpose() << " vs " << (R_WL.transpose() * N_W).transpose();
+  }
 }
 
 // The servo is taken implicitly over the step (physics/joint_servo.h), so gains far past the explicit

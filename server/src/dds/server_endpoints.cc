@@ -16,6 +16,7 @@
 
 #include <hadal_msgsPubSubTypes.h>
 #include <marine_acoustic_msgsPubSubTypes.h>
+#include <geometry_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
 #include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>

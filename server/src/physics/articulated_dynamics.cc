@@ -29,6 +29,7 @@ ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool 
   V_.assign(bodies, Vector6d::Zero());
   A_.assign(bodies, Vector6d::Zero());
   p_Wcm_.assign(bodies, Eigen::Vector3d::Zero());
+  o_W_.assign(bodies, Eigen::Vector3d::Zero());
   R_WK_.assign(bodies, Eigen::Matrix3d::Identity());
   I_W_.assign(bodies, Eigen::Matrix3d::Zero());
   u_ = Eigen::VectorXd::Zero(n_);
@@ -51,6 +52,7 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     const Articulation::Body& body = a.body(k);
     R_WK_[i] = X_WK[i].linear();
     p_Wcm_[i] = X_WK[i] * body.mass_K.p_BBcm;
+    o_W_[i] = X_WK[i].translation();
     I_W_[i] = R_WK_[i] * body.mass_K.I_BBcm_B * R_WK_[i].transpose();
     const Eigen::Vector3d& w = velocity[i].w_WK;
     V_[i].head<3>() = velocity[i].v_WK + w.cross(p_Wcm_[i] - X_WK[i].translation());
@@ -127,6 +129,32 @@ ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
     out.P_W += m * V_[i].head<3>();
     out.L_W += r.cross(m * V_[i].head<3>()) + I_W_[i] * V_[i].tail<3>();
     out.I_W += I_W_[i] + m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+  }
+  return out;
+}
+
+std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::joint_wrenches(const Eigen::VectorXd& u_dot,
+                                                                             const std::vector<Wrench>& external_W,
+                                                                             const Eigen::Vector3d& g_W) const {
+  const int bodies = articulation_.num_bodies();
+  std::vector<Wrench> out(static_cast<std::size_t>(bodies), Wrench::Zero());
+  // Children come after their parents: from the last body back, each adds its own need to what its
+  // children passed it, then passes the sum to its parent (moved to the parent's joint).
+  for (int k = bodies - 1; k >= 1; --k) {
+    const auto i = static_cast<std::size_t>(k);
+    const double m = articulation_.body(k).mass_K.mass;
+    const Vector6d acceleration = J_[i] * u_dot + A_[i];
+    const Eigen::Vector3d w = V_[i].tail<3>();
+    const Eigen::Vector3d F = m * acceleration.head<3>() - external_W.at(i).head<3>() - m * g_W;
+    const Eigen::Vector3d N =
+        I_W_[i] * acceleration.tail<3>() + w.cross(I_W_[i] * w) - external_W[i].tail<3>();
+    out[i].head<3>() += F;
+    out[i].tail<3>() += N + (p_Wcm_[i] - o_W_[i]).cross(F);
+    const int parent = articulation_.body(k).parent;
+    if (parent < 1) continue;
+    const auto p = static_cast<std::size_t>(parent);
+    out[p].head<3>() += out[i].head<3>();
+    out[p].tail<3>() += out[i].tail<3>() + (o_W_[i] - o_W_[p]).cross(out[i].head<3>());
   }
   return out;
 }

@@ -441,4 +441,37 @@ int BulletWorld::num_contact_points(int vehicle) const {
   return count;
 }
 
+std::vector<Eigen::Matrix<double, 6, 1>> BulletWorld::contact_wrenches_W(int vehicle, double dt) const {
+  const Impl::Vehicle& v = impl_->vehicles[vehicle];
+  std::vector<Eigen::Matrix<double, 6, 1>> out(v.colliders.size(), Eigen::Matrix<double, 6, 1>::Zero());
+  const auto body_of = [&](const btCollisionObject* object) {
+    for (std::size_t k = 0; k < v.colliders.size(); ++k) {
+      if (object == v.colliders[k].object.get()) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  const auto add = [&](int body, const btVector3& impulse, const btVector3& point) {
+    if (body < 0) return;
+    const Eigen::Vector3d f_W = to_eigen(impulse) / dt;
+    out[static_cast<std::size_t>(body)].head<3>() += f_W;
+    out[static_cast<std::size_t>(body)].tail<3>() += to_eigen(point).cross(f_W);
+  };
+  btCollisionDispatcher& dispatcher = impl_->dispatcher;
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+    const int a = body_of(manifold->getBody0()), b = body_of(manifold->getBody1());
+    if (a < 0 && b < 0) continue;
+    for (int c = 0; c < manifold->getNumContacts(); ++c) {
+      const btManifoldPoint& point = manifold->getContactPoint(c);
+      // On body 0 along the normal (from 1 towards 0) and the friction directions; the opposite on body 1.
+      const btVector3 impulse = point.m_normalWorldOnB * point.m_appliedImpulse +
+                                point.m_lateralFrictionDir1 * point.m_appliedImpulseLateral1 +
+                                point.m_lateralFrictionDir2 * point.m_appliedImpulseLateral2;
+      add(a, impulse, point.getPositionWorldOnA());
+      add(b, -impulse, point.getPositionWorldOnB());
+    }
+  }
+  return out;
+}
+
 }  // namespace hadal::physics

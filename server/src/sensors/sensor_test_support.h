@@ -55,7 +55,8 @@ class SensorTestWorld {
   void sample(const typename K::Spec& spec, typename K::State& sensor_state, const Eigen::Isometry3d& X_BS,
               double rate_hz, int vehicle = 0) {
     const SampleContext context{state.time, 1.0 / rate_hz, step_size, model.world, ocean, environment, state,
-                                vehicle, X_BS, p_BBcm, v_WBcm_step_start, w_WB_step_start, rays.get()};
+                                vehicle, X_BS, p_BBcm, v_WBcm_step_start, w_WB_step_start, rays.get(),
+                                sensor_spec};
     K::sample(context, spec, sensor_state);
   }
 
@@ -71,6 +72,8 @@ class SensorTestWorld {
   Eigen::Vector3d p_BBcm = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_WBcm_step_start = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_WB_step_start = Eigen::Vector3d::Zero();
+  // The sampled sensor's spec, for kinds that read their link or X_LS (SampleContext::sensor).
+  const SensorSpec* sensor_spec = nullptr;
 };
 
 // One capture of kind K (one that captures by scene work: a camera, a sonar) of the sensor mounted at X_BS on

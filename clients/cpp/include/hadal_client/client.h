@@ -165,6 +165,15 @@ struct Imu {
 // sensor_msgs/MagneticField of a magnetometer, rt/<vehicle>/<sensor>: the magnetic flux density at
 // the sensor (Earth's field from the World Magnetic Model plus the scenario's dipoles, soft iron and
 // noise) expressed in the sensor frame S.
+// geometry_msgs/WrenchStamped of a force_torque sensor, rt/<vehicle>/<sensor>: the wrench across its link's
+// joint in the sensor frame, about its origin (by default what the link and its load put on the parent).
+struct Wrench {
+  double stamp = 0.0;                // sim time of the sample [s]
+  std::string frame_id;              // the sensor's frame
+  std::array<double, 3> force{};     // [N]
+  std::array<double, 3> torque{};    // [N m]
+};
+
 struct MagneticField {
   double stamp = 0.0;                               // sim time of the sample [s]
   std::string frame_id;                             // the sensor's frame
@@ -525,6 +534,7 @@ class Client {
   void on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback);
   void on_magnetic_field(const std::string& vehicle, const std::string& sensor,
                          std::function<void(const MagneticField&)> callback);
+  void on_wrench(const std::string& vehicle, const std::string& sensor, std::function<void(const Wrench&)> callback);
   void on_nav_sat_fix(const std::string& vehicle, const std::string& sensor,
                       std::function<void(const NavSatFix&)> callback);
   void on_dvl(const std::string& vehicle, const std::string& sensor, std::function<void(const Dvl&)> callback);

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <string>
+#include <type_traits>
 
 #include "hadal/config/key_table.h"
 #include "hadal/config/vehicle_context.h"
@@ -30,14 +31,24 @@ typename KeyTable<T, VehicleContext>::Key declare_name_key(KeyTable<T, VehicleCo
 }
 
 // `link`, one of the vehicle's links: its index, into the int field `access` gives (a link list that was
-// itself unusable is reported already: its names are not checked).
+// itself unusable is reported already: its names are not checked). An entry for which `on_joint` holds
+// (a force_torque sensor, read before its link) measures its link's joint: that link must hang on a
+// moving joint. Other entries may not be on moving links (yet).
 template <class T, class A>
-typename KeyTable<T, VehicleContext>::Key declare_link_key(KeyTable<T, VehicleContext>& t, A access) {
+typename KeyTable<T, VehicleContext>::Key declare_link_key(KeyTable<T, VehicleContext>& t, A access,
+                                                           std::function<bool(const std::common_type_t<T>&)> on_joint =
+                                                               nullptr) {
   return t.custom(
       "link",
-      [access](const Value& value, T& out, VehicleContext& context) {
+      [access, on_joint](const Value& value, T& out, VehicleContext& context) {
         const auto index = read_link_reference(value, context.link_names);
-        if (index && context.links && link_moves(*context.links, *index)) {
+        if (index && context.links && on_joint && on_joint(out)) {
+          if ((*context.links)[static_cast<std::size_t>(*index)].joint.type == JointType::kFixed) {
+            value.error("link " + quoted(*value.string()) + " is not on a moving joint: this sensor measures the " +
+                        "wrench across its link's joint (revolute, continuous or prismatic)");
+            return false;
+          }
+        } else if (index && context.links && link_moves(*context.links, *index)) {
           // Issue 40's first part: mounts follow B only (docs/ARCHITECTURE.md, "Articulated vehicles").
           value.error("link " + quoted(*value.string()) +
                       " moves on a joint: sensors, actuators and lights on moving links are not supported yet");

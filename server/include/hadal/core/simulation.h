@@ -169,6 +169,7 @@ class Simulation {
                               Eigen::Vector3d& tau_W) const;
   void apply_articulated_forces(std::size_t vehicle);
   void hand_articulated_forces(std::size_t vehicle);
+  void measure_joint_wrenches(std::size_t vehicle, const Eigen::VectorXd& u_dot, double dt);
   // The position targets and their rates of the vehicle's groups that follow trajectories, at sim time t.
   void follow_joint_trajectories(std::size_t vehicle, double t);
   // check_joint_trajectory's checks; when they pass and `out` is given, the trajectory's points in the

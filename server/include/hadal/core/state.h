@@ -101,6 +101,11 @@ struct VehicleState {
   // vehicle (physics/articulated_dynamics.h; base centre-of-mass force and moment in W, then the joints)
   // [N, N m]; empty until the first step.
   std::vector<double> constraint_force;
+  // An articulated vehicle with force_torque sensors: per link (VehicleSpec::links), the wrench its parent
+  // applied on it and on everything beyond it across its joint over the last step, in the link's frame L
+  // about L's origin (the joint), force then torque [N; N m] (physics/articulated_dynamics.h); zero for a
+  // link on no moving joint. Empty for other vehicles.
+  std::vector<Eigen::Matrix<double, 6, 1>> joint_wrenches_L;
 };
 
 struct SimState {

@@ -103,13 +103,22 @@ class ArticulatedDynamics {
                       const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
                       bool coriolis, const ImplicitJoints* implicit) const;
 
+  // The wrench each moving joint transmits over a step with generalised acceleration u_dot (Bullet's
+  // (u' - u) / dt, its constraints' and contacts' effects included): for body k >= 1, what its parent
+  // applies on it and on every body beyond it, force and moment about the joint (K's origin), in W, by
+  // Newton-Euler over that subtree: sum of (m a - F - m g) and (I alpha + w x I w - tau + r x (m a - F)),
+  // a = J u_dot + the bias acceleration, external_W each body's applied wrench at its centre of mass
+  // (fluid, added mass, contacts; not gravity, not joint torques). Element 0 is zero.
+  std::vector<Wrench> joint_wrenches(const Eigen::VectorXd& u_dot, const std::vector<Wrench>& external_W,
+                                     const Eigen::Vector3d& g_W) const;
+
  private:
   const Articulation& articulation_;
   bool fixed_base_;
   int n_;
   std::vector<Eigen::MatrixXd> J_;
   std::vector<Vector6d> V_, A_;
-  std::vector<Eigen::Vector3d> p_Wcm_;
+  std::vector<Eigen::Vector3d> p_Wcm_, o_W_;  // centres of mass, K's origins
   std::vector<Eigen::Matrix3d> R_WK_, I_W_;
   Eigen::VectorXd u_;
   Eigen::MatrixXd M_;

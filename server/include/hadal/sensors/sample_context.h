@@ -36,6 +36,8 @@ struct SampleContext {
   // The world's ray-cast scene (seabed and every vehicle's surface); null unless some sensor of the
   // simulation casts rays. SceneRays::cast poses the bodies at `state` first.
   geometry::SceneRays* rays = nullptr;
+  // The sensor's spec (its link and its mounting X_LS in the link's frame).
+  const SensorSpec* sensor = nullptr;
 
   const VehicleState& vehicle() const { return state.vehicles[static_cast<std::size_t>(vehicle_index)]; }
   const RigidBodyState& body() const { return vehicle().body; }

@@ -158,6 +158,13 @@ struct MessageHeader {
   double rate_hz = 0.0;
 };
 
+// A kind that measures the joint of its link (kOnJoint = true: the force/torque sensor) must be on a link
+// that hangs on a moving joint; other kinds are refused on moving links.
+template <class K, class = void>
+struct OnJoint : std::false_type {};
+template <class K>
+struct OnJoint<K, std::void_t<decltype(K::kOnJoint)>> : std::bool_constant<K::kOnJoint> {};
+
 // Kind<Spec>: the kind a spec belongs to.
 template <class Spec>
 using KindOf = typename Spec::Kind;

@@ -7,6 +7,7 @@
 #include "hadal/sensors/altimeter_sensor.h"
 #include "hadal/sensors/camera_sensor.h"
 #include "hadal/sensors/dvl_sensor.h"
+#include "hadal/sensors/force_torque_sensor.h"
 #include "hadal/sensors/fls_sensor.h"
 #include "hadal/sensors/gps_sensor.h"
 #include "hadal/sensors/imu_sensor.h"
@@ -23,7 +24,7 @@ namespace hadal::sensors {
 
 using SensorKinds =
     KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
-             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor>;
+             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor, ForceTorqueSensor>;
 
 // The model's variant of specs (sensors/sensor_specs.h) is this list's.
 static_assert(std::is_same_v<SensorKindSpec, SensorKinds::Specs>, "sensors/sensor_specs.h lists the kinds in this order");

@@ -8,6 +8,7 @@
 #include "hadal/sensors/camera_spec.h"
 #include "hadal/sensors/dvl_spec.h"
 #include "hadal/sensors/fls_spec.h"
+#include "hadal/sensors/force_torque_spec.h"
 #include "hadal/sensors/gps_spec.h"
 #include "hadal/sensors/imu_spec.h"
 #include "hadal/sensors/magnetometer_spec.h"
@@ -19,6 +20,6 @@
 namespace hadal::sensors {
 
 using SensorKindSpec = std::variant<PressureSpec, ImuSpec, MagnetometerSpec, GpsSpec, DvlSpec, AltimeterSpec,
-                                    ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec>;
+                                    ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec, ForceTorqueSpec>;
 
 }  // namespace hadal::sensors
