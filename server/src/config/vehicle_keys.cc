@@ -32,19 +32,35 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
         .doc("unique in the vehicle; the topic's last part");
     std::vector<KeyTable<SensorEntry, VehicleContext>::Named<std::size_t>> types;
     std::vector<std::string> captured;
-    std::vector<bool> on_joint;
+    std::vector<bool> on_joint, on_moving_link;
     sensors::SensorKinds::for_each([&](auto tag) {
       using Kind = typename decltype(tag)::type;
       types.push_back({std::string(Kind::kType), types.size()});
       if (Kind::kCaptures) captured.emplace_back(Kind::kType);
       on_joint.push_back(sensors::OnJoint<Kind>::value);
+      on_moving_link.push_back(sensors::OnMovingLink<Kind>::value);
     });
     t.choice("type", &SensorEntry::kind, types).required().selects("sensor type").doc("the sensor's kind");
     declare_link_key(
         t, [](SensorEntry& e) -> int& { return e.spec.link_index; },
-        [on_joint](const SensorEntry& e) { return on_joint.at(e.kind); })
+        LinkPlacement<SensorEntry>([on_joint, on_moving_link, types](const SensorEntry& e, const LinkSpec& link,
+                                                                     bool moves) -> std::string {
+          const std::string type = types.at(e.kind).name;
+          const std::string a = std::string("aeiou").find(type.front()) == std::string::npos ? "a " : "an ";
+          if (on_joint.at(e.kind)) {
+            if (link.joint.type != JointType::kFixed) return "";
+            return "is not on a moving joint: " + a + type + " sensor measures the wrench across its link's joint " +
+                   "(revolute, continuous or prismatic)";
+          }
+          if (moves && !on_moving_link.at(e.kind)) {
+            return "moves on a joint: " + a + type + " sensor reads its vehicle body's motion, which is not its " +
+                   "link's: mount it on a link that does not move";
+          }
+          return "";
+        }))
         .default_text("the base link")
-        .doc("a link of this vehicle (force_torque: a link on a moving joint, whose joint it measures)");
+        .doc("a link of this vehicle; the sensor follows it when it moves on a joint (not an imu or a dvl); "
+             "force_torque: a link on a moving joint, whose joint it measures");
     t.pose("pose", [](SensorEntry& e) -> Eigen::Isometry3d& { return e.spec.X_LS; }).doc("mounting pose X_LS in the link frame");
     t.rate_hz("rate_hz", [](SensorEntry& e) -> double& { return e.spec.rate_hz; })
         .doc("samples per second of sim time (a preset may set it when not given)");

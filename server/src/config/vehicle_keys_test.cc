@@ -463,7 +463,7 @@ vehicles:
 }
 
 // A parent that is not an earlier link (missing, itself or later: no cycle can be written), a joint on the
-// base link, a zero axis, limits the wrong way round, an inertia that is zero about an axis, and a sensor on
+// base link, a zero axis, limits the wrong way round, an inertia that is zero about an axis, and an imu on
 // a moving link: each refused at its key.
 TEST_F(ScenarioLoaderTest, BadJointsAreRefusedAtTheirKeys) {
   const std::string head = R"(world: {}
@@ -508,16 +508,17 @@ vehicles:
   const std::string sensor = write("s.yaml", head + R"(      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1},
          joint: {type: continuous, axis: [0, 0, 1]}}
     sensors:
-      - {name: depth, type: pressure, link: arm}
+      - {name: imu, type: imu, link: arm}
 )");
   EXPECT_EQ(errors_of(sensor),
-            (Lines{sensor + ":10:45: error: vehicles[0].sensors[0].link: link 'arm' moves on a joint: sensors, "
-                            "actuators and lights on moving links are not supported yet"}));
+            (Lines{sensor + ":10:38: error: vehicles[0].sensors[0].link: link 'arm' moves on a joint: an imu sensor "
+                            "reads its vehicle body's motion, which is not its link's: mount it on a link that does "
+                            "not move"}));
 }
 
-// A force_torque sensor measures its link's joint: it is on a link on a moving joint (the one place a
-// sensor may be on a moving link), refused on a link on a fixed joint and without `link`, in either order of
-// `type` and `link` in the entry.
+// A force_torque sensor measures its link's joint: it is on a link on a moving joint, refused on a link on a
+// fixed joint and without `link`, in either order of `type` and `link` in the entry. A pressure sensor may
+// follow a moving link (an imu may not: BadJointsAreRefusedAtTheirKeys).
 TEST_F(ScenarioLoaderTest, AForceTorqueSensorIsOnTheLinkOfAMovingJoint) {
   const std::string head = R"(world: {}
 vehicles:
@@ -532,6 +533,7 @@ vehicles:
 )";
   const std::string good = write("ft.yaml", head + R"(      - {name: wrist, link: arm, type: force_torque, force_noise_stddev: 0.5,
          measure_direction: parent_to_child, pose: {position: [0.1, 0, 0]}}
+      - {name: depth, type: pressure, link: tool}
 )");
   const auto loaded = load_scenario_file(good);
   ASSERT_TRUE(loaded.ok()) << (loaded.errors.empty() ? "" : loaded.errors.front().message);
@@ -540,10 +542,11 @@ vehicles:
   EXPECT_EQ(sensor.link_index, 1);
   EXPECT_TRUE(std::get<sensors::ForceTorqueSpec>(sensor.kind).parent_to_child);
   EXPECT_EQ(std::get<sensors::ForceTorqueSpec>(sensor.kind).force_noise_stddev, 0.5);
+  EXPECT_EQ(loaded.model->vehicles[0].sensors[1].link_index, 2);  // a pressure sensor follows a moving link
   const std::string fixed = write("fixed.yaml", head + R"(      - {name: wrist, type: force_torque, link: tool}
 )");
   EXPECT_EQ(errors_of(fixed), (Lines{fixed + ":11:49: error: vehicles[0].sensors[0].link: link 'tool' is not on a "
-                                             "moving joint: this sensor measures the wrench across its link's joint "
+                                             "moving joint: a force_torque sensor measures the wrench across its link's joint "
                                              "(revolute, continuous or prismatic)"}));
   const std::string base = write("base.yaml", head + R"(      - {name: wrist, type: force_torque}
 )");

@@ -51,6 +51,11 @@ struct Simulation::VehicleRuntime {
       mount.X_BS = spec.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
       mount.period = 1.0 / sensor.rate_hz;
       mount.latency_steps = sensor.latency_steps(world.physics_rate_hz);
+      // A sensor on a moving link follows its body K (its mounting in B is worked out at each sample).
+      if (articulation) {
+        mount.body = articulation->body_of_link(sensor.link_index);
+        mount.X_KS = articulation->X_KL(sensor.link_index) * sensor.X_LS;
+      }
     }
     if (articulation) {
       make_bodies(spec, world, ocean);
@@ -154,7 +159,10 @@ struct Simulation::VehicleRuntime {
   // Per sensor (same order as VehicleSpec::sensors): its pose in B, its sample period, and for a
   // captured kind its latency in steps and the captures in flight (one per pending capture, same order).
   struct Sensor {
+    // The mounting in B; for a sensor on a moving link (body > 0), at the last sample.
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
+    int body = 0;  // an articulated vehicle's body the sensor's link is part of (0: the base, fixed in B)
+    Eigen::Isometry3d X_KS = Eigen::Isometry3d::Identity();  // the mounting in that body's frame K
     double period = 0.0;  // nominal sample period 1 / rate_hz [s]
     std::uint64_t latency_steps = 0;
     std::deque<InFlight> in_flight;
@@ -273,6 +281,13 @@ bool on_joint(const SensorSpec& sensor) {
                     sensor.kind);
 }
 
+// A sensor whose kind may follow a moving link (sensors::OnMovingLink: not the IMU, not the DVL).
+bool follows_moving_link(const SensorSpec& sensor) {
+  return std::visit(
+      [](const auto& spec) { return sensors::OnMovingLink<sensors::KindOf<std::decay_t<decltype(spec)>>>::value; },
+      sensor.kind);
+}
+
 VehicleState initial_vehicle_state(const VehicleSpec& spec) {
   VehicleState vehicle;
   vehicle.body.X_WB = spec.X_WB_initial;
@@ -365,7 +380,7 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
     }
   };
   for (const SensorSpec& sensor : vehicle.sensors) {
-    if (!on_joint(sensor)) refuse_moving(sensor.link_index, "sensor '" + sensor.name + "'");
+    if (!on_joint(sensor) && !follows_moving_link(sensor)) refuse_moving(sensor.link_index, "sensor '" + sensor.name + "'");
   }
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     refuse_moving(actuator.link_index, std::string(actuator.type()) + " '" + actuator.name + "'");
@@ -1172,15 +1187,27 @@ void Simulation::sample_sensors(double dt) {
     const VehicleSpec& spec = model_.vehicles[i];
     VehicleRuntime& runtime = *runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
+    std::vector<Eigen::Isometry3d> X_WK;  // the bodies' poses at this state, when a moving sensor needs them
     for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
       const bool due = sample_due(state_.step_count, dt, spec.sensors[k].rate_hz);
       SensorState& out = vehicle.sensors[k];
       if (!due && out.captures.empty()) continue;
       VehicleRuntime::Sensor& mount = runtime.sensors[k];
-      const sensors::SampleContext context{state_.time,  mount.period,   dt,           model_.world,
-                                           *ocean_,      *environment_, state_,       static_cast<int>(i),
-                                           mount.X_BS,   runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
-                                           rays_.get(),  &spec.sensors[k]};
+      if (due && mount.body > 0) {
+        if (X_WK.empty()) {
+          const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
+          X_WK = runtime.articulation->poses_W(vehicle.body.X_WB,
+                                               Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n));
+        }
+        mount.X_BS = vehicle.body.X_WB.inverse() * X_WK[static_cast<std::size_t>(mount.body)] * mount.X_KS;
+      }
+      const auto context_at = [&](const Eigen::Isometry3d& X_BS) {
+        return sensors::SampleContext{state_.time, mount.period,   dt,             model_.world,
+                                      *ocean_,     *environment_,  state_,         static_cast<int>(i),
+                                      X_BS,        runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
+                                      rays_.get(), &spec.sensors[k]};
+      };
+      const sensors::SampleContext context = context_at(mount.X_BS);
       std::visit(
           [&](const auto& kind_spec) {
             using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
@@ -1191,6 +1218,7 @@ void Simulation::sample_sensors(double dt) {
                 capture.time = state_.time;
                 capture.step_count = state_.step_count;
                 capture.due_step = state_.step_count + mount.latency_steps;
+                capture.X_BS = mount.X_BS;
                 for (const VehicleState& v : state_.vehicles) capture.X_WB.push_back(v.body.X_WB);
                 submit_capture<Kind>(i, k, kind_spec, capture);
               }
@@ -1201,13 +1229,15 @@ void Simulation::sample_sensors(double dt) {
                                    (kByWork ? flight.done.wait_for(std::chrono::seconds(0))
                                             : flight.hits.wait_for(std::chrono::seconds(0))) == std::future_status::ready;
                 if (ready) {
+                  // Delivered with the mounting of its snapshot (a moving sensor's has changed since).
+                  const sensors::SampleContext captured = context_at(out.captures.front().X_BS);
                   if constexpr (kByWork) {
                     flight.done.get();
-                    Kind::deliver(context, kind_spec, kind_state,
+                    Kind::deliver(captured, kind_spec, kind_state,
                                   std::move(*std::static_pointer_cast<typename Kind::Capture>(flight.output)));
                   } else {
                     geometry::RayHits hits = flight.hits.get();
-                    Kind::deliver(context, kind_spec, kind_state, hits);
+                    Kind::deliver(captured, kind_spec, kind_state, hits);
                     service_->recycle(std::move(hits));
                   }
                   out.stamp = out.captures.front().time;
@@ -1235,7 +1265,7 @@ void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const t
                                 const PendingCapture& capture) {
   VehicleRuntime::Sensor& mount = runtime_[vehicle]->sensors[sensor];
   const sensors::CaptureContext context{capture.time,  capture.step_count, capture.X_WB, static_cast<int>(vehicle),
-                                        mount.X_BS,    &model_,            ocean_.get()};
+                                        capture.X_BS,  &model_,            ocean_.get()};
   VehicleRuntime::InFlight flight;
   if constexpr (sensors::CapturesByWork<Kind>::value) {
     auto output = std::make_shared<typename Kind::Capture>();

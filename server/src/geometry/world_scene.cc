@@ -31,7 +31,10 @@ EmbreeScene build_world_scene(const Model& model, const std::string& device_conf
   for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
     const VehicleSpec& vehicle = model.vehicles[v];
     if (!has_visual_geometry(vehicle.links)) continue;
-    scene.add_body_mesh(static_cast<int>(v), vehicle_visual_B(vehicle), kVehicleMaterial, vehicle.name);
+    // An articulated vehicle's moving links are not in its mesh: one whose geometry is all on them has none.
+    TriangleMesh mesh = vehicle_visual_B(vehicle);
+    if (mesh.num_triangles() == 0) continue;
+    scene.add_body_mesh(static_cast<int>(v), std::move(mesh), kVehicleMaterial, vehicle.name);
   }
   return scene;
 }

@@ -31,28 +31,31 @@ typename KeyTable<T, VehicleContext>::Key declare_name_key(KeyTable<T, VehicleCo
 }
 
 // `link`, one of the vehicle's links: its index, into the int field `access` gives (a link list that was
-// itself unusable is reported already: its names are not checked). An entry for which `on_joint` holds
-// (a force_torque sensor, read before its link) measures its link's joint: that link must hang on a
-// moving joint. Other entries may not be on moving links (yet).
+// itself unusable is reported already: its names are not checked). An entry on a link that moves on a joint
+// is refused (its mounting would follow the body, not the link) unless `placement` says otherwise:
+// placement(entry, link, moves) returns "" to accept the link or what is wrong with it, after the link's
+// name ("moves on a joint: ..."; for a sensor, read after its type: most kinds follow a moving link, a
+// force_torque sensor needs one).
+template <class T>
+using LinkPlacement = std::function<std::string(const std::common_type_t<T>&, const LinkSpec&, bool moves)>;
+
 template <class T, class A>
 typename KeyTable<T, VehicleContext>::Key declare_link_key(KeyTable<T, VehicleContext>& t, A access,
-                                                           std::function<bool(const std::common_type_t<T>&)> on_joint =
-                                                               nullptr) {
+                                                           LinkPlacement<T> placement = nullptr) {
   return t.custom(
       "link",
-      [access, on_joint](const Value& value, T& out, VehicleContext& context) {
+      [access, placement](const Value& value, T& out, VehicleContext& context) {
         const auto index = read_link_reference(value, context.link_names);
-        if (index && context.links && on_joint && on_joint(out)) {
-          if ((*context.links)[static_cast<std::size_t>(*index)].joint.type == JointType::kFixed) {
-            value.error("link " + quoted(*value.string()) + " is not on a moving joint: this sensor measures the " +
-                        "wrench across its link's joint (revolute, continuous or prismatic)");
+        if (index && context.links) {
+          const bool moves = link_moves(*context.links, *index);
+          const std::string refusal =
+              placement ? placement(out, (*context.links)[static_cast<std::size_t>(*index)], moves)
+              : moves   ? std::string("moves on a joint: actuators and lights on moving links are not supported yet")
+                        : std::string();
+          if (!refusal.empty()) {
+            value.error("link " + quoted(*value.string()) + " " + refusal);
             return false;
           }
-        } else if (index && context.links && link_moves(*context.links, *index)) {
-          // Issue 40's first part: mounts follow B only (docs/ARCHITECTURE.md, "Articulated vehicles").
-          value.error("link " + quoted(*value.string()) +
-                      " moves on a joint: sensors, actuators and lights on moving links are not supported yet");
-          return false;
         }
         if (index) std::invoke(access, out) = *index;
         return index.has_value() || !context.link_names;

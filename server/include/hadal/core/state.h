@@ -39,6 +39,7 @@ struct PendingCapture {
   std::uint64_t step_count = 0;  // of the snapshot
   std::uint64_t due_step = 0;    // delivered at the end of this step (capture + latency)
   std::vector<Eigen::Isometry3d> X_WB;  // every body's pose at the snapshot
+  Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();  // the sensor's mounting in B then (it may move)
 };
 
 // A sensor's evolving part: its kind's State (noise streams, biases, the last sample; same alternative

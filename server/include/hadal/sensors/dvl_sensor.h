@@ -29,6 +29,7 @@ struct DvlSensor {
   static constexpr std::string_view kType = "dvl";
   static constexpr bool kCastsRays = true;
   static constexpr bool kCaptures = false;
+  static constexpr bool kOnMovingLink = false;  // its beams' velocities are the body's
   using Message = marine_acoustic_msgs::msg::Dvl;
   using PubSubType = marine_acoustic_msgs::msg::DvlPubSubType;
 

@@ -35,6 +35,7 @@ struct ImuSensor {
   static constexpr std::string_view kType = "imu";
   static constexpr bool kCastsRays = false;
   static constexpr bool kCaptures = false;
+  static constexpr bool kOnMovingLink = false;  // its rates and accelerations are the body's
   using Message = sensor_msgs::msg::Imu;
   using PubSubType = sensor_msgs::msg::ImuPubSubType;
 

@@ -165,6 +165,14 @@ struct OnJoint : std::false_type {};
 template <class K>
 struct OnJoint<K, std::void_t<decltype(K::kOnJoint)>> : std::bool_constant<K::kOnJoint> {};
 
+// A kind that reads the motion of its vehicle's body (its velocity and accelerations: the IMU, the DVL) sets
+// kOnMovingLink = false: it may not be on a link that moves on a joint (the body's motion is not the
+// link's). Every other kind may: its mounting follows its link (Simulation::sample_sensors).
+template <class K, class = void>
+struct OnMovingLink : std::true_type {};
+template <class K>
+struct OnMovingLink<K, std::void_t<decltype(K::kOnMovingLink)>> : std::bool_constant<K::kOnMovingLink> {};
+
 // Kind<Spec>: the kind a spec belongs to.
 template <class Spec>
 using KindOf = typename Spec::Kind;
