@@ -91,6 +91,25 @@ physics::JointControllerSpec position_controller(const std::string& name, double
 
 double joint_q(const Simulation& sim) { return sim.state().vehicles[0].joint_positions.at(0); }
 
+// Where a position controller of stiffness kp holds the horizontal arm commanded to `target`: at rest
+// kp (q* - q) balances the wet weight's torque tau_g cos q, so q = q* + tau_g cos(q) / kp (by iteration).
+double held_at(double target, double tau_g, double kp) {
+  double q = target;
+  for (int k = 0; k < 20; ++k) q = target + tau_g * std::cos(q) / kp;
+  return q;
+}
+
+// The pendulum's arm horizontal (along x at q = 0), within +-1 rad, and its position controller
+// "arm_position" (kp 2000, kd 200).
+Model held_arm(Pendulum& p) {
+  p.arm_L = Eigen::Vector3d::UnitX();
+  p.lower = -1.0;
+  p.upper = 1.0;
+  Model model = p.model();
+  model.vehicles[0].joint_controllers.push_back(position_controller("arm_position", 2000.0, 200.0));
+  return model;
+}
+
 // A 1 m box of 80 kg with a two-link arm (a shoulder turning about a tilted axis, a forearm about y) at
 // height z (in the water below 0).
 VehicleSpec arm_vehicle(double z) {
@@ -201,19 +220,14 @@ TEST(SimulationArticulatedTest, JointFrictionHoldsBelowItsTorqueAndOpposesMotion
 // controller's command is held within the joint's effort_limit, and bad commands are refused by name.
 TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJointsLimits) {
   Pendulum p;
-  p.arm_L = Eigen::Vector3d::UnitX();
-  p.lower = -1.0;
-  p.upper = 1.0;
-  Model model = p.model();
-  const physics::JointControllerSpec position = position_controller("arm_position", 2000.0, 200.0);
-  model.vehicles[0].joint_controllers.push_back(position);
+  Model model = held_arm(p);
+  const physics::JointControllerSpec position = model.vehicles[0].joint_controllers[0];
   Simulation sim(std::move(model));
   const double tau_g = p.gravity_torque(sim);
   EXPECT_EQ(sim.state().vehicles[0].joint_targets, std::vector<double>{0.0});  // holds where it starts
   ASSERT_EQ(sim.set_joint_commands(0, "arm_position", {0.3}), "");
   for (int k = 0; k < 2000; ++k) sim.step();
-  double expected = 0.3;
-  for (int k = 0; k < 20; ++k) expected = 0.3 + tau_g * std::cos(expected) / position.kp[0];
+  const double expected = held_at(0.3, tau_g, position.kp[0]);
   EXPECT_NEAR(joint_q(sim), expected, 1e-6) << "sag " << expected - 0.3;
   EXPECT_NEAR(sim.state().vehicles[0].joint_efforts[0], -tau_g * std::cos(expected), 1e-3);
 
@@ -243,22 +257,14 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
 // it; a command cancels a trajectory; malformed trajectories are refused by name.
 TEST(SimulationArticulatedTest, APositionGroupFollowsATrajectoryWithItsRateFedForward) {
   Pendulum p;
-  p.arm_L = Eigen::Vector3d::UnitX();
-  p.lower = -1.0;
-  p.upper = 1.0;
-  Model model = p.model();
-  const physics::JointControllerSpec position = position_controller("arm_position", 2000.0, 200.0);
-  model.vehicles[0].joint_controllers.push_back(position);
+  Model model = held_arm(p);
+  const physics::JointControllerSpec position = model.vehicles[0].joint_controllers[0];
   physics::JointControllerSpec velocity = position_controller("arm_velocity", 0.0, 10.0);
   velocity.mode = physics::JointCommandMode::kVelocity;
   Simulation sim(std::move(model));
   const double dt = sim.model().world.step_size();
   const double tau_g = p.gravity_torque(sim);
-  const auto sag = [&](double target) {
-    double q = target;
-    for (int k = 0; k < 20; ++k) q = target + tau_g * std::cos(q) / position.kp[0];
-    return q - target;
-  };
+  const auto sag = [&](double target) { return held_at(target, tau_g, position.kp[0]) - target; };
   // Settled at 0 first.
   for (int k = 0; k < 1000; ++k) sim.step();
   const double q0 = joint_q(sim), t_start = sim.state().time + 0.1, t_end = t_start + 1.0;
@@ -358,9 +364,7 @@ const sensors::ForceTorqueSensor::State& force_torque(const Simulation& sim) {
 // Newton-Euler sum is exact but for the servo's residual motion (< 1e-9 rad/s after 4 s), hence 1e-6 of W.
 TEST(SimulationArticulatedTest, AForceTorqueSensorReadsTheWetWeightAndTheEffortHoldingAnArm) {
   Pendulum p;
-  p.arm_L = Eigen::Vector3d::UnitX();
-  Model model = p.model();
-  model.vehicles[0].joint_controllers.push_back(position_controller("arm_position", 2000.0, 200.0));
+  Model model = held_arm(p);
   Eigen::Isometry3d X_LS = Eigen::Isometry3d::Identity();
   X_LS.translation() = Eigen::Vector3d(0.1, 0.0, 0.0);
   X_LS.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
@@ -546,8 +550,7 @@ TEST(SimulationArticulatedTest, AStiffServoOnALightLinkIsStable) {
     sim.step();
     fastest = std::max(fastest, std::abs(sim.state().vehicles[0].joint_velocities[0]));
   }
-  double expected = 0.5;
-  for (int k = 0; k < 20; ++k) expected = 0.5 + tau_g * std::cos(expected) / position.kp[0];
+  const double expected = held_at(0.5, tau_g, position.kp[0]);
   EXPECT_NEAR(joint_q(sim), expected, 1e-9);
   // The rate the law asks for is kp / kd (q* - q) = 25 rad/s at the start: never more.
   EXPECT_LE(fastest, 25.0);

@@ -142,9 +142,8 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
     set_color(vehicle_albedo(model, vehicle), mesh.color());
 
     for (const SensorSpec& sensor : vehicle.sensors) {
-      // The scene is rigid (each vehicle one mesh without its moving links): a sensor on a moving link has
-      // no fixed frame in it.
-      if (link_moves(vehicle.links, sensor.link_index)) continue;
+      // Every sensor, so that clients know them all; one on a moving link at its pose with every joint at
+      // zero (the scene is rigid: each vehicle one mesh, without its moving links).
       hadal_msgs::msg::SceneFrame& frame = msg.frames().emplace_back();
       frame.vehicle(vehicle.name);
       frame.name(sensor.name);

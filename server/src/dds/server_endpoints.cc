@@ -159,6 +159,16 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::set<std::string> reported_topics;
   bool interrupted = false;
 
+  // A command for the next step; a full queue drops its oldest (kMaxQueuedCommands).
+  void enqueue(InboundCommand&& command) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
+      commands.erase(commands.begin());
+      ++superseded;
+    }
+    commands.push_back(std::move(command));
+  }
+
   // One listener per setpoints reader, so the vehicle index is known without a lookup.
   // A joint controller's listener also names the controller.
   struct SetpointListener : public fdds::DataReaderListener {
@@ -172,12 +182,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
         if (!info.valid_data) continue;
         InboundCommand command = command_from_array(vehicle_index, msg, source_of(info), source_stamp_ns(info));
         command.joint_controller = joint_controller;
-        std::lock_guard<std::mutex> lock(owner->mutex);
-        if (owner->commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
-          owner->commands.erase(owner->commands.begin());
-          ++owner->superseded;
-        }
-        owner->commands.push_back(std::move(command));
+        owner->enqueue(std::move(command));
       }
     }
   };
@@ -193,14 +198,8 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
-        InboundCommand command =
-            command_from_trajectory(vehicle_index, joint_controller, msg, source_of(info), source_stamp_ns(info));
-        std::lock_guard<std::mutex> lock(owner->mutex);
-        if (owner->commands.size() >= ServerEndpoints::kMaxQueuedCommands) {
-          owner->commands.erase(owner->commands.begin());
-          ++owner->superseded;
-        }
-        owner->commands.push_back(std::move(command));
+        owner->enqueue(
+            command_from_trajectory(vehicle_index, joint_controller, msg, source_of(info), source_stamp_ns(info)));
       }
     }
   };
