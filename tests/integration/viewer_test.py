@@ -102,6 +102,12 @@ def bag_odometry(bag, topic):
     return 1e-9 * start, poses
 
 
+def showing(browser, stamp):
+    """The page's pose of the AUV when its stamp is `stamp` [s], else None."""
+    pose = page_pose(browser, "auv")
+    return pose if pose and abs(pose["stamp"] - stamp) < 1e-9 else None
+
+
 def shown_after_seek(recorded, t):
     """The odometry the viewer shows after a seek to t [s] on its timeline: the last fed at or before it."""
     start, rows = recorded
@@ -246,7 +252,7 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
         recorded = bag_odometry(bag, "/auv/odometry")
         _, stamp_2s, p_2s, q_2s = shown_after_seek(recorded, 2.0)
         assert abs(stamp_2s - 2.0) < 0.05, stamp_2s  # a sample of about 2 s (50 Hz)
-        pose2 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - stamp_2s) < 1e-9 and p, 30,
+        pose2 = wait_until(lambda: showing(browser, stamp_2s), 30,
                            "the pose at 2 s")
         np.testing.assert_array_equal(pose2["p"], p_2s)
         np.testing.assert_array_equal(pose2["q"], q_2s)
@@ -257,7 +263,7 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
         browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 1;"
                          " t.dispatchEvent(new Event('input')); })()")
         _, stamp_1s, p_1s, _ = shown_after_seek(recorded, 1.0)
-        pose1 = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - stamp_1s) < 1e-9 and p, 30,
+        pose1 = wait_until(lambda: showing(browser, stamp_1s), 30,
                            "the pose at 1 s")
         np.testing.assert_array_equal(pose1["p"], p_1s)
         assert pose1["p"] != pose2["p"]
@@ -265,7 +271,7 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
                               "a shorter trail")
         browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 2;"
                          " t.dispatchEvent(new Event('input')); })()")
-        again = wait_until(lambda: (p := page_pose(browser, "auv")) and abs(p["stamp"] - stamp_2s) < 1e-9 and p, 30,
+        again = wait_until(lambda: showing(browser, stamp_2s), 30,
                            "the pose at 2 s again")
         assert again["p"] == pose2["p"] and again["q"] == pose2["q"]
         camera = wait_until(lambda: browser.evaluate(f"hadalViewer.cameraMean('{CAMERA}')"), 30, "a camera frame")
