@@ -788,6 +788,12 @@ void Client::attach_commands(const std::string& vehicle, const std::vector<doubl
   impl_->pending_commands[vehicle] = commands;
 }
 
+void Client::attach_joint_commands(const std::string& vehicle, const std::string& controller,
+                                   const std::vector<double>& values) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->pending_joint_commands[std::make_pair(vehicle, controller)] = values;
+}
+
 void Client::set_commands(const std::string& vehicle, const std::vector<double>& commands) {
   impl_->publish_and_attach(impl_->pending_commands, impl_->setpoint_writers, vehicle,
                             dds::actuator_commands_topic(vehicle), commands);

@@ -112,6 +112,11 @@ class Task:
     vehicle = "auv"
     cameras = False           # start the server with the scenario's cameras
     num_actions = 0           # the vehicle's control vector: one entry per actuator, [-1, 1]
+    # Joint actions after the control vector, for an articulated vehicle: ((controller, ((low, high), ...)),
+    # ...), one action per joint of each named joint controller (a position, velocity or effort group), its
+    # [-1, 1] mapped linearly onto [low, high] (rad or m, rad/s or m/s, N m or N) and held until the next
+    # step; the episode starts with the scenario's joint commands.
+    joint_actions = ()
     control_period_s = 0.1    # sim time per env step
     max_episode_steps = 600
     observation_names = ()
@@ -296,7 +301,11 @@ class HadalEnv(_Closing, _EnvBase):
         self.timeout_s = timeout_s
         self.max_episode_steps = max_episode_steps or self.task.max_episode_steps
         self.observation_space = _box(-np.inf, np.inf, (len(self.task.observation_names),))
-        self.action_space = _box(-1.0, 1.0, (self.task.num_actions,))
+        self._joint_actions = [(controller, np.array([low for low, _ in ranges], dtype=np.float64),
+                                np.array([high for _, high in ranges], dtype=np.float64))
+                               for controller, ranges in self.task.joint_actions]
+        self._num_actions = self.task.num_actions + sum(low.size for _, low, _ in self._joint_actions)
+        self.action_space = _box(-1.0, 1.0, (self._num_actions,))
         self.np_random = np.random.default_rng(seed)
         # Its own stream, not the episode stream of an env seeded seed + 1 (VectorEnv seeds env i with seed + i).
         self.action_space.seed(None if seed is None else int(np.random.default_rng([seed, 0xAC7]).integers(2**31)))
@@ -386,7 +395,7 @@ class HadalEnv(_Closing, _EnvBase):
             self._time = self.client.wait_reply(request, timeout_s=self.timeout_s)
             self._steps = 0
             observation = self.task.observe(self, self._time)
-            self.task.reward(self, observation, np.zeros(self.task.num_actions))  # the task's reference point
+            self.task.reward(self, observation, np.zeros(self._num_actions))  # the task's reference point
             self._started = True
             return observation, {"sim_time": self._time, "episode_step": 0, "noise_seed": noise_seed}
         return finish
@@ -394,11 +403,17 @@ class HadalEnv(_Closing, _EnvBase):
     def _begin_step(self, action):
         if not self._started:
             raise RuntimeError("HadalEnv.step() before reset(): call reset() to start an episode")
-        action = np.asarray(action, dtype=np.float64).reshape(self.task.num_actions)
+        action = np.asarray(action, dtype=np.float64).reshape(self._num_actions)
         if not np.isfinite(action).all():
             raise ValueError(f"action has non-finite entries: {action}")
         action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its per-call checks
-        self.client.set_commands(self.task.vehicle, action.tolist(), publish=False)
+        at = self.task.num_actions
+        self.client.set_commands(self.task.vehicle, action[:at].tolist(), publish=False)
+        for controller, low, high in self._joint_actions:
+            share = action[at:at + low.size]
+            at += low.size
+            values = low + 0.5 * (share + 1.0) * (high - low)
+            self.client.set_joint_commands(self.task.vehicle, controller, values.tolist(), publish=False)
         request = self.client.send_step(self.frame_skip, timeout_s=self.timeout_s)
 
         def finish():

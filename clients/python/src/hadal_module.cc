@@ -355,8 +355,12 @@ class PyClient {
     }
   }
   void set_joint_commands(const std::string& vehicle, const std::string& controller,
-                          const std::vector<double>& values) {
-    client()->set_joint_commands(vehicle, controller, values);
+                          const std::vector<double>& values, bool publish) {
+    if (publish) {
+      client()->set_joint_commands(vehicle, controller, values);
+    } else {
+      client()->attach_joint_commands(vehicle, controller, values);
+    }
   }
   // Arrays to a JointTrajectory with the GIL held (shapes checked here, the rest by the server), then sent
   // without it.
@@ -1058,10 +1062,10 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            "RawSonarImage of rt/<vehicle>/<sensor>/<channel> (a side-scan's 'port' or 'starboard') with stamp >= "
            "min_stamp, or None on timeout")
       .def("set_joint_commands", &PyClient::set_joint_commands, py::arg("vehicle"), py::arg("controller"),
-           py::arg("values"), release(),
+           py::arg("values"), py::arg("publish") = true, release(),
            "A joint controller's command (the scenario's joint_controllers): one value per joint of the group, in "
            "its order (a position [rad or m], rate or effort). Published on rt/<vehicle>/<controller>/commands "
-           "and attached to the next step()/reset()")
+           "and attached to the next step()/reset(); publish=False: only attached (lockstep)")
       .def("set_joint_trajectory", &PyClient::set_joint_trajectory, py::arg("vehicle"), py::arg("controller"),
            py::arg("joint_names"), py::arg("times"), py::arg("positions"), py::arg("velocities") = std::nullopt,
            py::arg("accelerations") = std::nullopt, py::arg("start_time") = std::nullopt,

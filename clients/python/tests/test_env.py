@@ -168,3 +168,43 @@ def test_vector_env_raises_an_envs_error_and_leaves_nothing_running():
         envs.step(np.zeros((2, 3)))  # both still answer
         servers = [env.server.process for env in envs.envs]
     assert all(server.poll() is not None for server in servers)
+
+
+class ShoulderReach(hadal.env.Task):
+    """A task of one joint action on the articulated test scenario: the arm's shoulder position group, its
+    [-1, 1] mapped onto [-60, 60] degrees; observed: both joints' positions."""
+
+    scenario = os.path.join(os.environ.get("HADAL_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "../../..")),
+                            "tests/integration/scenarios/arm.yaml")
+    vehicle = "arm"
+    num_actions = 0  # the frame has no thrusters
+    joint_actions = (("shoulder_position", ((math.radians(-60.0), math.radians(60.0)),)),)
+    observation_names = ("shoulder", "forearm")
+
+    def start(self, rng, scenario_pose):
+        return {self.vehicle: np.concatenate(scenario_pose)}
+
+    def observe(self, env, t):
+        joints = env.client.wait_joint_state(self.vehicle, min_stamp=t - 1e-9, timeout_s=env.timeout_s)
+        return np.asarray(joints.position, dtype=np.float32)
+
+    def reward(self, env, observation, action):
+        return 0.0, False, {}
+
+
+def test_joint_actions_command_an_arms_position_group():
+    """Task.joint_actions puts a position group's joints in the action space after the control vector: +1
+    drives the shoulder to 60 degrees, -0.5 to -30 (each within 3 degrees: the gravity sag of kp = 400), and
+    a reset starts the next episode from the scenario's joints (the shoulder at 30 degrees)."""
+    with hadal.env.HadalEnv(task=ShoulderReach(), seed=3, max_episode_steps=100) as env:
+        assert env.action_space.shape == (1,)
+        observation, _ = env.reset()
+        assert abs(observation[0] - math.radians(30.0)) < math.radians(3.0)
+        for _ in range(30):  # 3 s
+            observation, *_ = env.step([1.0])
+        assert abs(observation[0] - math.radians(60.0)) < math.radians(3.0), np.degrees(observation)
+        for _ in range(30):
+            observation, *_ = env.step([-0.5])
+        assert abs(observation[0] - math.radians(-30.0)) < math.radians(3.0), np.degrees(observation)
+        observation, _ = env.reset()
+        assert abs(observation[0] - math.radians(30.0)) < math.radians(3.0), np.degrees(observation)

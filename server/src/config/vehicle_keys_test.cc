@@ -531,8 +531,8 @@ vehicles:
       - {name: tool, parent: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
     sensors:
 )";
-  const std::string good = write("ft.yaml", head + R"(      - {name: wrist, link: arm, type: force_torque, force_noise_stddev: 0.5,
-         measure_direction: parent_to_child, pose: {position: [0.1, 0, 0]}}
+  const std::string good = write("ft.yaml", head + R"(      - {name: wrist, link: arm, type: force_torque,
+         force_noise_stddev: 0.5, measure_direction: parent_to_child, pose: {position: [0.1, 0, 0]}}
       - {name: depth, type: pressure, link: tool}
 )");
   const auto loaded = load_scenario_file(good);
@@ -546,8 +546,8 @@ vehicles:
   const std::string fixed = write("fixed.yaml", head + R"(      - {name: wrist, type: force_torque, link: tool}
 )");
   EXPECT_EQ(errors_of(fixed), (Lines{fixed + ":11:49: error: vehicles[0].sensors[0].link: link 'tool' is not on a "
-                                             "moving joint: a force_torque sensor measures the wrench across its link's joint "
-                                             "(revolute, continuous or prismatic)"}));
+                                             "moving joint: a force_torque sensor measures the wrench across its "
+                                             "link's joint (revolute, continuous or prismatic)"}));
   const std::string base = write("base.yaml", head + R"(      - {name: wrist, type: force_torque}
 )");
   EXPECT_EQ(errors_of(base), (Lines{base + ":11:23: error: vehicles[0].sensors[0].type: a force_torque sensor needs "

@@ -277,8 +277,9 @@ const std::vector<double>& select_controls(const VehicleSpec& spec, double t, do
 
 // A sensor whose kind measures its link's joint (sensors::OnJoint: the force/torque sensor).
 bool on_joint(const SensorSpec& sensor) {
-  return std::visit([](const auto& spec) { return sensors::OnJoint<sensors::KindOf<std::decay_t<decltype(spec)>>>::value; },
-                    sensor.kind);
+  return std::visit(
+      [](const auto& spec) { return sensors::OnJoint<sensors::KindOf<std::decay_t<decltype(spec)>>>::value; },
+      sensor.kind);
 }
 
 // A sensor whose kind may follow a moving link (sensors::OnMovingLink: not the IMU, not the DVL).
@@ -380,7 +381,9 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
     }
   };
   for (const SensorSpec& sensor : vehicle.sensors) {
-    if (!on_joint(sensor) && !follows_moving_link(sensor)) refuse_moving(sensor.link_index, "sensor '" + sensor.name + "'");
+    if (!on_joint(sensor) && !follows_moving_link(sensor)) {
+      refuse_moving(sensor.link_index, "sensor '" + sensor.name + "'");
+    }
   }
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     refuse_moving(actuator.link_index, std::string(actuator.type()) + " '" + actuator.name + "'");
@@ -527,7 +530,8 @@ void Simulation::set_state(const SimState& state) {
                                   std::to_string(vehicle.joint_targets.size()) + " and " +
                                   std::to_string(vehicle.joint_target_rates.size()));
     }
-    const std::size_t wrenches = std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint) ? spec.links.size() : 0;
+    const bool measures_joints = std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint);
+    const std::size_t wrenches = measures_joints ? spec.links.size() : 0;
     if (vehicle.joint_wrenches_L.size() != wrenches) {
       throw std::invalid_argument(prefix + "expected " + std::to_string(wrenches) + " joint wrenches (one per link " +
                                   "with a force_torque sensor on the vehicle, else none), got " +

@@ -575,6 +575,10 @@ class Client {
   // lockstep, CommandRejected from step()).
   void set_joint_commands(const std::string& vehicle, const std::string& controller,
                           const std::vector<double>& values);
+  // Lockstep only: a joint controller's command for the next step() or reset() request, attached to it and
+  // not published (as attach_commands for the control vector; what the Python environments use).
+  void attach_joint_commands(const std::string& vehicle, const std::string& controller,
+                             const std::vector<double>& values);
   // A trajectory for a position group (JointTrajectory above), published on
   // rt/<vehicle>/<controller>/joint_trajectory (trajectory_msgs/JointTrajectory) and attached to the next
   // step() request, like set_joint_commands; it replaces the group's command or trajectory when it starts.
