@@ -41,12 +41,8 @@ from hadal.server import scenario_path
 VEHICLE = "auv"
 
 
-def rotation(q):
-    """R_WB of a ROS quaternion (x, y, z, w)."""
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+rotation = hadal.frames.rotation_matrix  # R_WB of a ROS quaternion (x, y, z, w)
+yaw_of = hadal.frames.yaw
 
 
 def rotate_by_rate(q, w_B, dt):
@@ -60,11 +56,6 @@ def rotate_by_rate(q, w_B, dt):
     q = np.array([w * bx + x * bw + y * bz - z * by, w * by - x * bz + y * bw + z * bx,
                   w * bz + x * by - y * bx + z * bw, w * bw - x * bx - y * by - z * bz])
     return q / np.linalg.norm(q)
-
-
-def yaw_of(q):
-    R = rotation(q)
-    return math.atan2(R[1, 0], R[0, 0])
 
 
 def wrap(angle):

@@ -51,21 +51,14 @@ CRUISE, TURN = 0.6, 0.1  # main thruster setpoints: straight (~1.07 m/s), and wh
 #                          more than 0.3 rad: the nose thruster turns the AUV tighter the slower it goes
 
 
-def yaw_of(q):
-    x, y, z, w = q
-    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+yaw_of = hadal.frames.yaw
 
 
 def wrap(angle):
     return math.atan2(math.sin(angle), math.cos(angle))
 
 
-def rotation(q):
-    """R_WB of a ROS quaternion (x, y, z, w)."""
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+rotation = hadal.frames.rotation_matrix  # R_WB of a ROS quaternion (x, y, z, w)
 
 
 def autopilot(odom, line_y, direction, depth):
