@@ -409,6 +409,23 @@ TEST(HadaldTest, FastModeRunsTheDefaultScenarioForItsDurationAndSummarises) {
   EXPECT_NE(out.find("rt/auv/camera/preview 0\n"), std::string::npos) << out;
 }
 
+// A scenario's objects are vehicles without actuators: the push core publishes its odometry and no actuator
+// state, while the ROV publishes its thrusters', its joints and its wrist's wrench (configs/scenarios/
+// rov_intervention.yaml, 0.1 s in fast mode: 6 odometry samples at 50 Hz, t = 0 included).
+TEST(HadaldTest, AnObjectPublishesItsOdometryAndNoActuatorState) {
+  DomainLease domain;
+  ServerProcess server({source_path("configs/scenarios/rov_intervention.yaml"), "--duration", "0.1", "--mode", "fast",
+                        "--domain-id", std::to_string(domain.id()), "--no-status-line", "--discovery-wait", "0"});
+  ASSERT_EQ(server.wait(120.0), 0) << server.err();
+  const std::string out = server.out();
+  EXPECT_NE(out.find("rt/core/odometry 6\n"), std::string::npos) << out;
+  EXPECT_EQ(out.find("rt/core/thrusters/state"), std::string::npos) << out;
+  EXPECT_EQ(out.find("rt/core/joint_states"), std::string::npos) << out;
+  EXPECT_NE(out.find("rt/rov/thrusters/state"), std::string::npos) << out;
+  EXPECT_NE(out.find("rt/rov/joint_states 6\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("rt/rov/wrist_ft 10\n"), std::string::npos) << out;  // 100 Hz, from the first step
+}
+
 TEST(HadaldTest, SummaryAltitudeIsARayCastToTheSeabed) {
   // The client scenario has a plane seabed at z = -100 and the AUV starts at z = -50 with no command:
   // it only rises (positive buoyancy). The summary's altitude comes from a ray cast straight down
