@@ -1,7 +1,7 @@
 // hadal-schema: what the scenario format's key tables (config/key_table.h) make, for the repository's
 // generated files (docs/ARCHITECTURE.md, "Keys: one declaration each").
 //
-//   hadal-schema json scenario|vehicle [--check FILE]   the JSON Schema (as hadald --schema); with --check,
+//   hadal-schema json scenario|vehicle|object [--check FILE]   the JSON Schema (as hadald --schema); with --check,
 //                                                        exit 1 when FILE is not exactly it
 //   hadal-schema reference FILE [--check]               make FILE's key tables anew (configs/REFERENCE.md);
 //                                                        with --check, exit 1 when they are stale instead
@@ -24,7 +24,7 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hadal-schema json scenario|vehicle [--check FILE]\n"
+    "usage: hadal-schema json scenario|vehicle|object [--check FILE]\n"
     "       hadal-schema reference FILE [--check]\n";
 
 bool read_file(const std::string& path, std::string* text) {

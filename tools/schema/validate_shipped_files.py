@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Validates every scenario and vehicle file shipped in the repository against `hadald --schema` with an
+"""Validates every scenario, vehicle and object file shipped in the repository against `hadald --schema` with an
 independent JSON Schema validator (Debian's python3-jsonschema), and shows that the schema refuses what
 hadald refuses: a misspelled key, a wrong type, a key another type does not use.
 
@@ -53,8 +53,8 @@ def errors(validator, document):
 
 def main():
     hadald, source = sys.argv[1], sys.argv[2]
-    scenario, vehicle = schema(hadald, "scenario"), schema(hadald, "vehicle")
-    counts = {"scenario": 0, "vehicle": 0}
+    scenario, vehicle, thing = schema(hadald, "scenario"), schema(hadald, "vehicle"), schema(hadald, "object")
+    counts = {"scenario": 0, "vehicle": 0, "object": 0}
     failures = []
     for root, dirs, files in os.walk(source):
         dirs[:] = [d for d in dirs if d not in (".git", "build") and not d.startswith("build")]
@@ -69,17 +69,20 @@ def main():
                 kind, validator = "scenario", scenario
             elif "links" in document and "type" in document:
                 kind, validator = "vehicle", vehicle
+            elif "links" in document and os.path.basename(root) == "objects":
+                kind, validator = "object", thing  # an object file has no type
             else:
-                continue  # not a scenario or vehicle file (compose files, security blocks)
+                continue  # not a scenario, vehicle or object file (compose files, security blocks)
             counts[kind] += 1
             for error in errors(validator, document):
                 failures.append("%s: %s: %s" % (os.path.relpath(path, source), "/".join(map(str, error.absolute_path)),
                                                 error.message))
-    print("validated %d scenario files and %d vehicle files" % (counts["scenario"], counts["vehicle"]))
+    print("validated %d scenario files, %d vehicle files and %d object files" %
+          (counts["scenario"], counts["vehicle"], counts["object"]))
     for failure in failures:
         print("FAIL " + failure)
     # Every shipped scenario and vehicle was seen (a walk that found none would pass vacuously).
-    assert counts["scenario"] >= 15 and counts["vehicle"] >= 7, counts
+    assert counts["scenario"] >= 15 and counts["vehicle"] >= 7 and counts["object"] >= 1, counts
     assert not failures, "%d shipped files do not validate" % len(failures)
 
     # What hadald refuses, the schema refuses too.
@@ -111,6 +114,9 @@ def main():
         "latency_s", 0.1), "latency_s on a kind sampled on the stepping thread")
     refused(vehicle, torpedo, lambda d: d["thrusters"][0].pop("max_rpm"), "a missing required key")
     refused(vehicle, torpedo, lambda d: d["sensors"].append({"name": "x", "type": "sonar"}), "an unknown sensor type")
+    core = load(os.path.join(source, "configs", "objects", "push_core.yaml"))
+    assert not errors(thing, core)
+    refused(thing, core, lambda d: d.__setitem__("thrusters", []), "an actuator list on an object")
     assert imu["type"] == "imu"
     print("ok")
 

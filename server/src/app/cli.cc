@@ -46,7 +46,7 @@ std::string usage() {
          "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
          "                            [--no-cameras] [--asset-root DIR]... [--security FILE]\n"
          "                            [--ray-kernels native|portable]\n"
-         "       hadald --schema [scenario|vehicle]\n"
+         "       hadald --schema [scenario|vehicle|object]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -72,8 +72,8 @@ std::string usage() {
          "                   (besides its own tree and hadal's configs; also $HADAL_ASSET_ROOTS, a:b)\n"
          "  --security FILE  DDS Security (authentication, encryption, access control) with the files of\n"
          "                   FILE's `security:` block, in place of the scenario's (tools/make-security-demo.sh)\n"
-         "  --schema [scenario|vehicle]  print the JSON Schema of scenario (default) or vehicle files,\n"
-         "                   for editors (docs/configuration.md), and exit\n"
+         "  --schema [scenario|vehicle|object]  print the JSON Schema of scenario (default), vehicle or\n"
+         "                   object files, for editors (docs/configuration.md), and exit\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
 }
 
@@ -92,7 +92,9 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
     }
     if (arg == "--schema") {
       o.schema = "scenario";
-      if (i + 1 < args.size() && (args[i + 1] == "scenario" || args[i + 1] == "vehicle")) o.schema = args[++i];
+      if (i + 1 < args.size() && (args[i + 1] == "scenario" || args[i + 1] == "vehicle" || args[i + 1] == "object")) {
+        o.schema = args[++i];
+      }
       return parse;
     }
     if (arg == "--no-status-line") {

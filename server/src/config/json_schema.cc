@@ -225,6 +225,9 @@ std::string json_schema(const TableDoc& root, const std::string& title) {
 std::optional<std::string> scenario_json_schema(const std::string& which) {
   if (which == "scenario") return json_schema(scenario_keys().doc(), "Hadal scenario (configs/scenarios/*.yaml)");
   if (which == "vehicle") return json_schema(definition_keys().doc(), "Hadal vehicle file (configs/vehicles/*.yaml)");
+  if (which == "object") {
+    return json_schema(object_definition_keys().doc(), "Hadal object file (configs/objects/*.yaml)");
+  }
   return std::nullopt;
 }
 
