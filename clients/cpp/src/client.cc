@@ -419,27 +419,33 @@ struct Client::Impl {
   std::map<std::pair<std::string, std::string>, trajectory_msgs::msg::JointTrajectory> pending_joint_trajectories;
   std::map<std::pair<std::string, std::string>, fdds::DataWriter*> joint_trajectory_writers;
 
-  // Keeps `values` to attach to the next step() (pending[key]) and publishes them on `topic` through
+  // Keeps `value` to attach to the next step() (pending[key]) and publishes `msg` on `topic` through
   // writers[key], made on first use (waiting up to 2 s for the server's reader).
-  template <class Key>
-  void publish_and_attach(std::map<Key, std::vector<double>>& pending, std::map<Key, fdds::DataWriter*>& writers,
-                          const Key& key, const std::string& topic, const std::vector<double>& values) {
+  template <class PubSubType, class Key, class Pending, class Msg>
+  void publish_and_attach(std::map<Key, Pending>& pending, std::map<Key, fdds::DataWriter*>& writers, const Key& key,
+                          const std::string& topic, const Pending& value, Msg& msg) {
     fdds::DataWriter* writer = nullptr;
     {
       std::lock_guard<std::mutex> lock(mutex);
-      pending[key] = values;
+      pending[key] = value;
       auto found = writers.find(key);
       if (found != writers.end()) writer = found->second;
     }
     if (writer == nullptr) {
-      writer = registry->writer<std_msgs::msg::Float64MultiArrayPubSubType>(topic, kHistoryDepth);
+      writer = registry->writer<PubSubType>(topic, kHistoryDepth);
       wait_for_match(writer, 2.0);
       std::lock_guard<std::mutex> lock(mutex);
       writers[key] = writer;
     }
+    writer->write(&msg);
+  }
+  // Setpoints, published as a std_msgs/Float64MultiArray.
+  template <class Key>
+  void publish_and_attach(std::map<Key, std::vector<double>>& pending, std::map<Key, fdds::DataWriter*>& writers,
+                          const Key& key, const std::string& topic, const std::vector<double>& values) {
     std_msgs::msg::Float64MultiArray msg;
     msg.data(values);
-    writer->write(&msg);
+    publish_and_attach<std_msgs::msg::Float64MultiArrayPubSubType>(pending, writers, key, topic, values, msg);
   }
   std::uint64_t next_request_id = 0;
 
@@ -822,23 +828,9 @@ void Client::set_joint_trajectory(const std::string& vehicle, const std::string&
     out.time_from_start().nanosec(t.nanosec());
     msg.points().push_back(std::move(out));
   }
-  Impl& d = *impl_;
-  const auto key = std::make_pair(vehicle, controller);
-  fdds::DataWriter* writer = nullptr;
-  {
-    std::lock_guard<std::mutex> lock(d.mutex);
-    d.pending_joint_trajectories[key] = msg;
-    auto found = d.joint_trajectory_writers.find(key);
-    if (found != d.joint_trajectory_writers.end()) writer = found->second;
-  }
-  if (writer == nullptr) {
-    writer = d.registry->writer<trajectory_msgs::msg::JointTrajectoryPubSubType>(
-        dds::joint_trajectory_topic(vehicle, controller), kHistoryDepth);
-    wait_for_match(writer, 2.0);
-    std::lock_guard<std::mutex> lock(d.mutex);
-    d.joint_trajectory_writers[key] = writer;
-  }
-  writer->write(&msg);
+  impl_->publish_and_attach<trajectory_msgs::msg::JointTrajectoryPubSubType>(
+      impl_->pending_joint_trajectories, impl_->joint_trajectory_writers, std::make_pair(vehicle, controller),
+      dds::joint_trajectory_topic(vehicle, controller), msg, msg);
 }
 
 std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double timeout_s) {

@@ -275,18 +275,20 @@ const std::vector<double>& select_controls(const VehicleSpec& spec, double t, do
   return after == spec.schedule.begin() ? kZeros : std::prev(after)->setpoints;
 }
 
-// A sensor whose kind measures its link's joint (sensors::OnJoint: the force/torque sensor).
-bool on_joint(const SensorSpec& sensor) {
+// Trait<K>::value of the sensor's kind K (sensors/sensor_kind.h's mounting traits).
+template <template <class, class> class Trait>
+bool kind_is(const SensorSpec& sensor) {
   return std::visit(
-      [](const auto& spec) { return sensors::OnJoint<sensors::KindOf<std::decay_t<decltype(spec)>>>::value; },
+      [](const auto& spec) { return Trait<sensors::KindOf<std::decay_t<decltype(spec)>>, void>::value; },
       sensor.kind);
 }
-
-// A sensor whose kind may follow a moving link (sensors::OnMovingLink: not the IMU, not the DVL).
-bool follows_moving_link(const SensorSpec& sensor) {
-  return std::visit(
-      [](const auto& spec) { return sensors::OnMovingLink<sensors::KindOf<std::decay_t<decltype(spec)>>>::value; },
-      sensor.kind);
+// A sensor whose kind measures its link's joint (the force/torque sensor).
+bool on_joint(const SensorSpec& sensor) { return kind_is<sensors::OnJoint>(sensor); }
+// A sensor whose kind may follow a moving link (not the IMU, not the DVL).
+bool follows_moving_link(const SensorSpec& sensor) { return kind_is<sensors::OnMovingLink>(sensor); }
+// A vehicle whose joints' wrenches are worked out (VehicleState::joint_wrenches_L): one with such a sensor.
+bool measures_joints(const VehicleSpec& spec) {
+  return std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint);
 }
 
 VehicleState initial_vehicle_state(const VehicleSpec& spec) {
@@ -307,8 +309,7 @@ VehicleState initial_vehicle_state(const VehicleSpec& spec) {
     vehicle.joint_target_rates.push_back(0.0);
   }
   vehicle.joint_trajectories.assign(spec.joint_controllers.size(), nullptr);
-  // The joints' wrenches are worked out only for a vehicle with a sensor that measures them.
-  if (std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint)) {
+  if (measures_joints(spec)) {
     vehicle.joint_wrenches_L.assign(spec.links.size(), Eigen::Matrix<double, 6, 1>::Zero());
   }
   for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
@@ -530,8 +531,7 @@ void Simulation::set_state(const SimState& state) {
                                   std::to_string(vehicle.joint_targets.size()) + " and " +
                                   std::to_string(vehicle.joint_target_rates.size()));
     }
-    const bool measures_joints = std::any_of(spec.sensors.begin(), spec.sensors.end(), on_joint);
-    const std::size_t wrenches = measures_joints ? spec.links.size() : 0;
+    const std::size_t wrenches = measures_joints(spec) ? spec.links.size() : 0;
     if (vehicle.joint_wrenches_L.size() != wrenches) {
       throw std::invalid_argument(prefix + "expected " + std::to_string(wrenches) + " joint wrenches (one per link " +
                                   "with a force_torque sensor on the vehicle, else none), got " +
@@ -1094,9 +1094,10 @@ void Simulation::take_snapshot(double dt) {
         u1.head<3>() = vehicle.body.v_WB + vehicle.body.w_WB.cross(p_Wcm - vehicle.body.X_WB.translation());
         u1.segment<3>(3) = vehicle.body.w_WB;
       }
-      const Eigen::VectorXd Q_c = runtime.M0 * ((u1 - runtime.u0) / dt) - (runtime.Q_given - runtime.c0);
+      const Eigen::VectorXd u_dot = (u1 - runtime.u0) / dt;
+      const Eigen::VectorXd Q_c = runtime.M0 * u_dot - (runtime.Q_given - runtime.c0);
       vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
-      if (!vehicle.joint_wrenches_L.empty()) measure_joint_wrenches(i, (u1 - runtime.u0) / dt, dt);
+      if (!vehicle.joint_wrenches_L.empty()) measure_joint_wrenches(i, u_dot, dt);
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
         keep_momentum(*runtime_[i], vehicle);
       }

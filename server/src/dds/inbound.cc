@@ -5,6 +5,8 @@
 #include <cmath>
 #include <set>
 
+#include "hadal/dds/time_msg.h"
+
 namespace hadal::dds {
 
 std::string echoed(const std::string& name) {
@@ -38,7 +40,7 @@ InboundCommand command_from_trajectory(int vehicle_index, const std::string& con
   command.source_stamp_ns = stamp_ns;
   physics::JointTrajectoryCommand& trajectory = command.trajectory.emplace();
   const builtin_interfaces::msg::Time& stamp = msg.header().stamp();
-  if (stamp.sec() != 0 || stamp.nanosec() != 0) trajectory.start_time = stamp.sec() + 1e-9 * stamp.nanosec();
+  if (stamp.sec() != 0 || stamp.nanosec() != 0) trajectory.start_time = from_time_msg(stamp);
   trajectory.joint_names = msg.joint_names();
   for (std::size_t k = 0; k < msg.points().size(); ++k) {
     const trajectory_msgs::msg::JointTrajectoryPoint& in = msg.points()[k];
@@ -58,6 +60,17 @@ InboundCommand command_from_trajectory(int vehicle_index, const std::string& con
 }
 
 namespace {
+
+// The index of the vehicle a request names, or -1 with the request's error (returned) and its unknown vehicle
+// set.
+int named_vehicle(const Model& model, const std::string& name, InboundStepRequest& request, std::string* error) {
+  const int index = model.vehicle_index(name);
+  if (index < 0) {
+    request.unknown_vehicle = echoed(name);
+    *error = "unknown vehicle '" + echoed(name) + "'";
+  }
+  return index;
+}
 
 // The reset part of a step request: its seed and its poses (7 numbers per named vehicle: a position
 // and a unit quaternion, normalised when its norm is within 1e-3 of 1; finiteness is Simulation::reset's
@@ -106,13 +119,10 @@ std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::Step
     return "joint_command_vehicles, joint_command_controllers and joint_command_counts differ in length";
   }
   std::size_t cursor = 0;
+  std::string error;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::string& name = msg.joint_command_vehicles()[i];
-    const int index = model.vehicle_index(name);
-    if (index < 0) {
-      request.unknown_vehicle = echoed(name);
-      return "unknown vehicle '" + echoed(name) + "'";
-    }
+    const int index = named_vehicle(model, msg.joint_command_vehicles()[i], request, &error);
+    if (index < 0) return error;
     const std::size_t count = msg.joint_command_counts()[i];
     if (cursor + count > msg.joint_commands().size()) {
       return "joint_command_counts add up to more than the " + std::to_string(msg.joint_commands().size()) +
@@ -138,12 +148,8 @@ std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::Step
     return "joint_trajectory_vehicles, joint_trajectory_controllers and joint_trajectories differ in length";
   }
   for (std::size_t i = 0; i < trajectories; ++i) {
-    const std::string& name = msg.joint_trajectory_vehicles()[i];
-    const int index = model.vehicle_index(name);
-    if (index < 0) {
-      request.unknown_vehicle = echoed(name);
-      return "unknown vehicle '" + echoed(name) + "'";
-    }
+    const int index = named_vehicle(model, msg.joint_trajectory_vehicles()[i], request, &error);
+    if (index < 0) return error;
     InboundCommand command = command_from_trajectory(index, msg.joint_trajectory_controllers()[i],
                                                      msg.joint_trajectories()[i], source, stamp);
     if (!command.error.empty()) return command.error;
@@ -180,12 +186,8 @@ InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg:
   std::set<int> named;
   for (std::size_t i = 0; i < msg.vehicle_names().size(); ++i) {
     const std::string& name = msg.vehicle_names()[i];
-    const int index = model.vehicle_index(name);
-    if (index < 0) {
-      request.error = "unknown vehicle '" + echoed(name) + "'";
-      request.unknown_vehicle = echoed(name);
-      return request;
-    }
+    const int index = named_vehicle(model, name, request, &request.error);
+    if (index < 0) return request;
     if (!named.insert(index).second) {
       request.error = "vehicle '" + name + "' has setpoints attached twice";
       return request;

@@ -111,6 +111,15 @@ struct BulletWorld::Impl {
   // The collision group of static vehicles (Bullet's first free custom group after its own five).
   static constexpr int kStaticVehicleFilter = btBroadphaseProxy::CharacterFilter << 1;
 
+  // Which of vehicle v's bodies `object` is (Articulation's numbering; a rigid vehicle's one body is 0), or -1.
+  static int body_of(const Vehicle& v, const btCollisionObject* object) {
+    if (!v.multibody) return object == v.body.get() ? 0 : -1;
+    for (std::size_t k = 0; k < v.colliders.size(); ++k) {
+      if (object == v.colliders[k].object.get()) return static_cast<int>(k);
+    }
+    return -1;
+  }
+
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
@@ -425,16 +434,11 @@ void BulletWorld::step(double dt) { impl_->world->stepSimulation(dt, 0, dt); }
 
 int BulletWorld::num_contact_points(int vehicle) const {
   const Impl::Vehicle& v = impl_->vehicles[vehicle];
-  const auto is_vehicle = [&](const btCollisionObject* object) {
-    if (!v.multibody) return object == v.body.get();
-    return std::any_of(v.colliders.begin(), v.colliders.end(),
-                       [&](const Impl::Collider& c) { return object == c.object.get(); });
-  };
   btCollisionDispatcher& dispatcher = impl_->dispatcher;
   int count = 0;
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-    if (is_vehicle(manifold->getBody0()) || is_vehicle(manifold->getBody1())) {
+    if (Impl::body_of(v, manifold->getBody0()) >= 0 || Impl::body_of(v, manifold->getBody1()) >= 0) {
       count += manifold->getNumContacts();
     }
   }
@@ -443,13 +447,8 @@ int BulletWorld::num_contact_points(int vehicle) const {
 
 std::vector<Eigen::Matrix<double, 6, 1>> BulletWorld::contact_wrenches_W(int vehicle, double dt) const {
   const Impl::Vehicle& v = impl_->vehicles[vehicle];
-  std::vector<Eigen::Matrix<double, 6, 1>> out(v.colliders.size(), Eigen::Matrix<double, 6, 1>::Zero());
-  const auto body_of = [&](const btCollisionObject* object) {
-    for (std::size_t k = 0; k < v.colliders.size(); ++k) {
-      if (object == v.colliders[k].object.get()) return static_cast<int>(k);
-    }
-    return -1;
-  };
+  std::vector<Eigen::Matrix<double, 6, 1>> out(v.multibody ? v.colliders.size() : 1,
+                                               Eigen::Matrix<double, 6, 1>::Zero());
   const auto add = [&](int body, const btVector3& impulse, const btVector3& point) {
     if (body < 0) return;
     const Eigen::Vector3d f_W = to_eigen(impulse) / dt;
@@ -459,7 +458,7 @@ std::vector<Eigen::Matrix<double, 6, 1>> BulletWorld::contact_wrenches_W(int veh
   btCollisionDispatcher& dispatcher = impl_->dispatcher;
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-    const int a = body_of(manifold->getBody0()), b = body_of(manifold->getBody1());
+    const int a = Impl::body_of(v, manifold->getBody0()), b = Impl::body_of(v, manifold->getBody1());
     if (a < 0 && b < 0) continue;
     for (int c = 0; c < manifold->getNumContacts(); ++c) {
       const btManifoldPoint& point = manifold->getContactPoint(c);

@@ -107,7 +107,7 @@ class BulletWorld {
 
   // Number of contact points of the vehicle's body (any of its bodies) in the current contact manifolds.
   int num_contact_points(int vehicle) const;
-  // An articulated vehicle's contacts in the last step of dt: per body (Articulation's numbering), the
+  // A vehicle's contacts in the last step of dt: per body (Articulation's numbering; a rigid vehicle: one), the
   // force and the moment about the world origin its contact points' impulses (normal and friction, as the
   // solver applied them) give over the step, in W [N; N m].
   std::vector<Eigen::Matrix<double, 6, 1>> contact_wrenches_W(int vehicle, double dt) const;
