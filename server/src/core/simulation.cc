@@ -1160,7 +1160,9 @@ void Simulation::keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle) {
   const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
   const Eigen::Map<const Eigen::VectorXd> q(vehicle.joint_positions.data(), n);
   const Eigen::Map<const Eigen::VectorXd> qd(vehicle.joint_velocities.data(), n);
-  dynamics.update(runtime.articulation->poses_W(vehicle.body.X_WB, q), vehicle.body.v_WB, vehicle.body.w_WB, qd);
+  // The next step's update() starts from this state again; its momentum needs the kinematics alone.
+  dynamics.update_kinematics(runtime.articulation->poses_W(vehicle.body.X_WB, q), vehicle.body.v_WB,
+                             vehicle.body.w_WB, qd);
   const physics::ArticulatedDynamics::Momentum after = dynamics.momentum();
   const VehicleRuntime::MomentumTarget& target = runtime.target;
   vehicle.body.X_WB.translation() += target.c_W - after.c_W;

@@ -32,21 +32,23 @@ ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool 
   o_W_.assign(bodies, Eigen::Vector3d::Zero());
   R_WK_.assign(bodies, Eigen::Matrix3d::Identity());
   I_W_.assign(bodies, Eigen::Matrix3d::Zero());
+  v_WK_.assign(bodies, Eigen::Vector3d::Zero());
+  cols_.assign(bodies, 0);
+  for (std::size_t k = 0; k < bodies; ++k) cols_[k] = (fixed_base ? 0 : 6) + static_cast<Eigen::Index>(k);
+  IJ_ = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n_);
   u_ = Eigen::VectorXd::Zero(n_);
   M_ = Eigen::MatrixXd::Zero(n_, n_);
   c_ = Eigen::VectorXd::Zero(n_);
 }
 
-void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
-                                 const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
+void ArticulatedDynamics::update_kinematics(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
+                                            const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
   const Articulation& a = articulation_;
   if (static_cast<int>(X_WK.size()) != a.num_bodies() || qd.size() != a.num_dofs()) {
     throw std::invalid_argument("articulated dynamics: " + std::to_string(X_WK.size()) + " poses and " +
                                 std::to_string(qd.size()) + " joint rates for " + std::to_string(a.num_bodies()) +
                                 " bodies");
   }
-  const std::vector<Articulation::BodyVelocity> velocity = a.velocities_W(X_WK, v_WB, w_WB, qd);
-  const int offset = fixed_base_ ? 0 : 6;
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     const Articulation::Body& body = a.body(k);
@@ -54,22 +56,58 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     p_Wcm_[i] = X_WK[i] * body.mass_K.p_BBcm;
     o_W_[i] = X_WK[i].translation();
     I_W_[i] = R_WK_[i] * body.mass_K.I_BBcm_B * R_WK_[i].transpose();
-    const Eigen::Vector3d& w = velocity[i].w_WK;
-    V_[i].head<3>() = velocity[i].v_WK + w.cross(p_Wcm_[i] - X_WK[i].translation());
+    // K's origin moves with its parent (a point of it), plus the joint's own motion (Articulation::velocities_W).
+    Eigen::Vector3d& v = v_WK_[i];
+    Eigen::Vector3d w = w_WB;
+    if (k == 0) {
+      v = v_WB;
+    } else {
+      const auto p = static_cast<std::size_t>(body.parent);
+      w = V_[p].tail<3>();
+      v = v_WK_[p] + w.cross(o_W_[i] - o_W_[p]);
+      const Eigen::Vector3d s = R_WK_[i] * body.axis_K;
+      const double rate = qd[k - 1];
+      if (body.joint.type == JointType::kPrismatic) {
+        v += rate * s;
+      } else {
+        w += rate * s;
+      }
+    }
+    V_[i].head<3>() = v + w.cross(p_Wcm_[i] - o_W_[i]);
     V_[i].tail<3>() = w;
+  }
+  u_.setZero();
+  if (!fixed_base_) {
+    u_.head<3>() = V_[0].head<3>();
+    u_.segment<3>(3) = V_[0].tail<3>();
+  }
+  u_.tail(a.num_dofs()) = qd;
+}
+
+void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
+                                 const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
+  update_kinematics(X_WK, v_WB, w_WB, qd);
+  const Articulation& a = articulation_;
+  const int offset = fixed_base_ ? 0 : 6;
+  // Body k moves with the base and the joints on its path from it, whose columns of u all come before
+  // offset + k (parents before children): J_k's columns from cols_[k] on stay zero and are not touched.
+  for (int k = 0; k < a.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const Articulation::Body& body = a.body(k);
     Eigen::MatrixXd& J = J_[i];
     Vector6d& A = A_[i];
     if (k == 0) {
-      J.setZero();
       if (!fixed_base_) J.leftCols<6>().setIdentity();
       A.setZero();
       continue;
     }
     const auto p = static_cast<std::size_t>(body.parent);
+    const Eigen::Index parent_cols = cols_[p];
     const Eigen::Vector3d& c_k = p_Wcm_[i];
     const Eigen::Vector3d& c_p = p_Wcm_[p];
-    const Eigen::Vector3d o_k = X_WK[i].translation();
+    const Eigen::Vector3d& o_k = o_W_[i];
     const Eigen::Vector3d s = R_WK_[i] * body.axis_K;
+    const Eigen::Vector3d& w = V_[i].tail<3>();
     const Eigen::Vector3d& w_p = V_[p].tail<3>();
     const Eigen::Vector3d alpha_p = A_[p].tail<3>();
     const Eigen::Vector3d a_p = A_[p].head<3>();
@@ -77,16 +115,18 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     const int d = offset + k - 1;
     // The parent's motion carried to this centre of mass, then the joint's own.
     const Eigen::Vector3d r = c_k - c_p;
-    J.topRows<3>() = J_[p].topRows<3>() - skew(r) * J_[p].bottomRows<3>();
-    J.bottomRows<3>() = J_[p].bottomRows<3>();
+    J.topLeftCorner(3, parent_cols) =
+        J_[p].topLeftCorner(3, parent_cols) - skew(r) * J_[p].bottomLeftCorner(3, parent_cols);
+    J.bottomLeftCorner(3, parent_cols) = J_[p].bottomLeftCorner(3, parent_cols);
     if (body.joint.type == JointType::kPrismatic) {
-      J.block<3, 1>(0, d) += s;
+      J.block<3, 1>(0, d) = s;
+      J.block<3, 1>(3, d).setZero();
       A.tail<3>() = alpha_p;
       A.head<3>() = a_p + alpha_p.cross(r) + w_p.cross(w_p.cross(r)) + 2.0 * w_p.cross(s * rate);
     } else {
       const Eigen::Vector3d r1 = o_k - c_p, r2 = c_k - o_k;
-      J.block<3, 1>(0, d) += s.cross(r2);
-      J.block<3, 1>(3, d) += s;
+      J.block<3, 1>(0, d) = s.cross(r2);
+      J.block<3, 1>(3, d) = s;
       A.tail<3>() = alpha_p + w_p.cross(s * rate);
       A.head<3>() = a_p + alpha_p.cross(r1) + w_p.cross(w_p.cross(r1)) + A.tail<3>().cross(r2) + w.cross(w.cross(r2));
     }
@@ -95,23 +135,22 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
   c_.setZero();
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
+    const Eigen::Index cols = cols_[i];
+    if (cols == 0) continue;
     const double m = a.body(k).mass_K.mass;
-    const Eigen::MatrixXd& J = J_[i];
+    const auto J_lin = J_[i].topLeftCorner(3, cols);
+    const auto J_ang = J_[i].bottomLeftCorner(3, cols);
     // Coefficient-wise products: these are small (n x 3 by 3 x n), where Eigen's blocked GEMM spends more
     // on packing than on arithmetic.
-    M_.noalias() += (m * J.topRows<3>().transpose()).lazyProduct(J.topRows<3>());
-    const Eigen::Matrix<double, 3, Eigen::Dynamic> IJ = I_W_[i] * J.bottomRows<3>();
-    M_.noalias() += J.bottomRows<3>().transpose().lazyProduct(IJ);
+    auto M = M_.topLeftCorner(cols, cols);
+    M.noalias() += (m * J_lin.transpose()).lazyProduct(J_lin);
+    IJ_.leftCols(cols).noalias() = I_W_[i] * J_ang;
+    M.noalias() += J_ang.transpose().lazyProduct(IJ_.leftCols(cols));
     const Eigen::Vector3d w = V_[i].tail<3>();
-    c_.noalias() += J.topRows<3>().transpose() * (m * A_[i].head<3>());
-    c_.noalias() += J.bottomRows<3>().transpose() * (I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w));
+    auto c = c_.head(cols);
+    c.noalias() += J_lin.transpose() * (m * A_[i].head<3>());
+    c.noalias() += J_ang.transpose() * (I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w));
   }
-  u_.setZero();
-  if (!fixed_base_) {
-    u_.head<3>() = V_[0].head<3>();
-    u_.segment<3>(3) = V_[0].tail<3>();
-  }
-  u_.tail(a.num_dofs()) = qd;
 }
 
 ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
@@ -168,7 +207,7 @@ Eigen::VectorXd ArticulatedDynamics::generalized_force(const std::vector<Wrench>
     const auto i = static_cast<std::size_t>(k);
     Wrench W = wrenches_W.at(i);
     W.head<3>() += articulation_.body(k).mass_K.mass * g_W;
-    Q.noalias() += J_[i].transpose() * W;
+    Q.head(cols_[i]).noalias() += J_[i].leftCols(cols_[i]).transpose() * W;
   }
   return Q;
 }
@@ -187,12 +226,13 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
   Eigen::VectorXd rhs = generalized_force(wrenches_W, g_W, joint_torques) - c_;
   if (Q_c.size() == n_) rhs += Q_c;
   // Per body: R6 M_A R6^T J (the reaction's part in u_dot) and its velocity-product part, in W.
-  std::vector<Eigen::MatrixXd> MJ(bodies);
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> MJ(bodies);  // over J's leading columns
   std::vector<Wrench> bias(bodies, Wrench::Zero());
   bool any = false;
   for (std::size_t i = 0; i < bodies; ++i) {
     const Matrix6d& M_A = added.at(i).M_A;
-    if (M_A.isZero(0.0)) continue;
+    const Eigen::Index cols = cols_[i];
+    if (M_A.isZero(0.0) || cols == 0) continue;
     any = true;
     const Matrix6d R6 = block_rotation(R_WK_[i]);
     const Eigen::Matrix3d R_KW = R_WK_[i].transpose();
@@ -205,9 +245,10 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     Vector6d tau = -M_A * nu_r_dot_bias;
     if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
     bias[i] = R6 * tau;
-    MJ[i] = (R6 * M_A * R6.transpose()).lazyProduct(J_[i]);
-    M.noalias() += J_[i].transpose().lazyProduct(MJ[i]);
-    rhs.noalias() += J_[i].transpose() * bias[i];
+    const auto J = J_[i].leftCols(cols);
+    MJ[i].noalias() = (R6 * M_A * R6.transpose()).lazyProduct(J);
+    M.topLeftCorner(cols, cols).noalias() += J.transpose().lazyProduct(MJ[i]);
+    rhs.head(cols).noalias() += J.transpose() * bias[i];
   }
   if (!any && implicit == nullptr) return out;
   Eigen::VectorXd u_dot;
@@ -241,7 +282,7 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
   }
   for (std::size_t i = 0; i < bodies; ++i) {
     if (MJ[i].size() == 0) continue;
-    reactions[i] = bias[i] - MJ[i] * u_dot;
+    reactions[i] = bias[i] - MJ[i] * u_dot.head(cols_[i]);
   }
   return out;
 }

@@ -41,6 +41,10 @@ class ArticulatedDynamics {
   // origin, in W) and the joint rates.
   void update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
               const Eigen::VectorXd& qd);
+  // The kinematic part of update() alone: the bodies' poses, centres of mass, velocities, inertias in W and u
+  // (what momentum() needs). J_k, a_k, M and c keep the values of the last update().
+  void update_kinematics(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
+                         const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd);
 
   int size() const { return n_; }  // of u
   const Eigen::VectorXd& u() const { return u_; }
@@ -118,7 +122,9 @@ class ArticulatedDynamics {
   int n_;
   std::vector<Eigen::MatrixXd> J_;
   std::vector<Vector6d> V_, A_;
-  std::vector<Eigen::Vector3d> p_Wcm_, o_W_;  // centres of mass, K's origins
+  std::vector<Eigen::Vector3d> p_Wcm_, o_W_, v_WK_;  // centres of mass, K's origins and their velocities
+  std::vector<Eigen::Index> cols_;  // J_k's columns that can be non-zero (the rest stay zero)
+  Eigen::Matrix<double, 3, Eigen::Dynamic> IJ_;  // scratch of update()
   std::vector<Eigen::Matrix3d> R_WK_, I_W_;
   Eigen::VectorXd u_;
   Eigen::MatrixXd M_;
