@@ -1,7 +1,8 @@
 """hadal-viewer in a real browser (issue 14): Debian's headless Chromium, driven over its DevTools protocol,
 loads the page against a running lockstep hadald and a recorded bag. The page shows the seabed and the
-vehicle, the vehicle's pose in the 3-D view is the odometry's after steps, the camera pane shows a frame
-that is not black, and a bag replays with seeking. Screenshots go to HADAL_ARTIFACTS (build/test-artifacts/
+vehicle, the vehicle's pose in the 3-D view is the odometry's after steps, an articulated vehicle's arm is
+drawn where its joints put it, the camera pane shows a frame that is not black, and a bag replays with
+seeking. Screenshots go to HADAL_ARTIFACTS (build/test-artifacts/
 viewer) for a person to look at."""
 
 import contextlib
@@ -165,6 +166,61 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
             err = stop(viewer)
     assert re.search(r", 0 undecodable$", err.strip()), err
     assert monitor_written(server) > 0  # the page's viewer read the monitor
+
+
+def rotation_of(q):
+    """The rotation matrix of a unit quaternion [x, y, z, w]."""
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
+    """The work-class ROV's arm, commanded away from its stowed pose: the page draws every moving body where
+    the scene's links and the joints' positions put it (X_WK = X_WB X_parent_K(q) down the tree, worked out
+    here from the odometry, the scene's kinematics and the joint states as the client reads them). Within
+    1e-4 m and 1e-5 in the rotation: three.js's matrices are float32, 1500 m down (1e-4 m there)."""
+    scenario = os.path.join(SOURCE_DIR, "configs", "scenarios", "rov_intervention.yaml")
+    with hadal.Server(scenario, mode="lockstep", cameras=False) as server:
+        viewer, url = start_viewer("--domain-id", str(server.domain_id))
+        try:
+            browser.open(url)
+            links = wait_until(lambda: browser.evaluate("hadalViewer.state.scene && hadalViewer.state.scene.links"),
+                               60, "the scene's links")
+            assert len(links) == 10 and links[0]["parent"] == "base_link", links
+            with server.client("viewer_arm_test") as client:
+                client.set_joint_commands("rov", "arm", [0.6, 0.4, -0.5, 0.3, 0.5, 0.2])
+                client.step(500)  # 1 s
+                odometry = client.wait_odometry("rov", min_stamp=1.0)
+                joints = client.wait_joint_state("rov", min_stamp=1.0)
+                positions = dict(zip(joints.names, joints.position))
+                assert abs(positions["azimuth"]) > 0.05  # moving towards its command
+                page = wait_until(lambda: (v := browser.evaluate("hadalViewer.state.lastUpdate.vehicles.rov")) and
+                                  v["stamp"] >= 1.0 and v.get("joints") == positions and v, 30,
+                                  "the page's pose and joints at t = 1 s")
+                np.testing.assert_array_equal(page["p"], odometry.p_WB)
+                posed = {"base_link": (rotation_of(odometry.q_WB), np.asarray(odometry.p_WB))}
+                drawn = 0
+                for link in links:
+                    R_P, p_P = posed[link["parent"]]
+                    R = R_P @ rotation_of(link["q"])
+                    p = p_P + R_P @ np.asarray(link["p"])
+                    axis, q = np.asarray(link["axis"]), positions[link["joint"]]
+                    if link["joint_type"] == "prismatic":
+                        p = p + R @ axis * q
+                    else:
+                        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+                        R = R @ (np.eye(3) + np.sin(q) * K + (1 - np.cos(q)) * K @ K)
+                    posed[link["name"]] = (R, p)
+                    shown = browser.evaluate(f"hadalViewer.linkPose('rov', '{link['name']}')")
+                    np.testing.assert_allclose(shown["p"], p, rtol=0, atol=1e-4, err_msg=link["name"])
+                    np.testing.assert_allclose(rotation_of(shown["q"]), R, rtol=0, atol=1e-5, err_msg=link["name"])
+                    drawn += shown["vertices"] > 0
+                assert drawn >= 6, drawn  # the arm's bodies with a mesh
+                browser.screenshot(os.path.join(ARTIFACTS, "rov_arm.png"))
+        finally:
+            stop(viewer)
 
 
 def test_ten_loads_in_a_row_each_show_the_run_at_their_load_event(browser):

@@ -318,6 +318,33 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
         append_numbers(json, q, 4);
         json += ",\"range\":" + json_number(frame.range()) + ",\"half_angle\":" + json_number(frame.half_angle()) + '}';
       }
+      json += "],\"links\":[";
+      for (std::size_t i = 0; i < msg.links().size(); ++i) {
+        const auto& link = msg.links()[i];
+        if (i) json += ',';
+        json += "{\"vehicle\":";
+        append_string(json, link.vehicle());
+        json += ",\"name\":";
+        append_string(json, link.name());
+        json += ",\"parent\":";
+        append_string(json, link.parent());
+        json += ",\"joint\":";
+        append_string(json, link.joint());
+        json += ",\"joint_type\":";
+        append_string(json, link.joint_type());
+        const auto& pose = link.pose();
+        const double p[3] = {pose.position().x(), pose.position().y(), pose.position().z()};
+        const double q[4] = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(),
+                             pose.orientation().w()};
+        const double axis[3] = {link.axis().x(), link.axis().y(), link.axis().z()};
+        json += ",\"p\":";
+        append_numbers(json, p, 3);
+        json += ",\"q\":";
+        append_numbers(json, q, 4);
+        json += ",\"axis\":";
+        append_numbers(json, axis, 3);
+        json += '}';
+      }
       json += "]}";
       scene_json_ = std::move(json);
       ++scene_generation_;
@@ -396,6 +423,17 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
       add_point(topic + "/altitude", vehicle + " altitude", sensor + " altitude", "m", t, msg.altitude());
       add_point(topic + "/vx", vehicle + " " + sensor + " velocity", "vx", "m/s", t, msg.velocity().x());
       add_point(topic + "/vy", vehicle + " " + sensor + " velocity", "vy", "m/s", t, msg.velocity().y());
+    }
+  } else if (type == "sensor_msgs/msg/JointState") {
+    // An articulated vehicle's joints (rt/<vehicle>/joint_states): the page poses its moving bodies from them
+    // (the scene's links).
+    sensor_msgs::msg::JointState msg;
+    if ((ok = decode<sensor_msgs::msg::JointStatePubSubType>(data, size, &msg))) {
+      note_time(stamp_of(msg.header()));
+      Vehicle& v = vehicles_[vehicle];
+      for (std::size_t j = 0; j < msg.name().size() && j < msg.position().size(); ++j) {
+        v.joints[msg.name()[j]] = msg.position()[j];
+      }
     }
   } else if (type == "sensor_msgs/msg/Range") {
     sensor_msgs::msg::Range msg;
@@ -565,6 +603,17 @@ std::string ViewerState::update_json_locked(std::uint64_t since_seq, bool trail_
     const std::uint64_t from = trail_points ? v.polled_trail : v.trail_total;
     json += ",\"trail_from\":" + std::to_string(from) + ",\"trail\":";
     append_trail(json, v, from);
+    if (!v.joints.empty()) {
+      json += ",\"joints\":{";
+      bool first_joint = true;
+      for (const auto& [joint, position] : v.joints) {
+        if (!first_joint) json += ',';
+        first_joint = false;
+        append_string(json, joint);
+        json += ':' + json_number(position);
+      }
+      json += '}';
+    }
     json += '}';
   }
   json += "},\"overlays\":[";

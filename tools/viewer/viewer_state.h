@@ -95,6 +95,7 @@ class ViewerState {
     std::vector<float> trail;         // x y z per point, the latest kTrailPoints
     std::uint64_t trail_total = 0;    // points ever added (the first kept is trail_total - trail.size() / 3)
     std::uint64_t polled_trail = 0;   // points sent to the pages so far
+    std::map<std::string, double> joints;  // the latest joint_states: each joint's position [rad or m]
   };
   struct Series {
     std::string plot, label, unit;

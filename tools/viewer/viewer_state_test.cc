@@ -122,6 +122,44 @@ hadal_msgs::msg::Scene scene(float z) {
   return msg;
 }
 
+// An articulated vehicle: the scene's links go to the page with their kinematics, and each vehicle's latest
+// joint positions (rt/<vehicle>/joint_states) ride with its pose, by joint name.
+TEST(ViewerStateTest, TheScenesLinksAndTheLatestJointPositionsReachThePage) {
+  ViewerState state;
+  hadal_msgs::msg::Scene msg = scene(-100.0f);
+  hadal_msgs::msg::SceneLink& link = msg.links().emplace_back();
+  link.vehicle("auv");
+  link.name("upper_arm");
+  link.parent("base_link");
+  link.joint("shoulder");
+  link.joint_type("revolute");
+  link.pose().position().x(0.5);
+  link.pose().orientation().w(1.0);
+  link.axis().y(1.0);
+  const auto scene_bytes = cdr<hadal_msgs::msg::ScenePubSubType>(msg);
+  state.add("/hadal/scene", "hadal_msgs/msg/Scene", scene_bytes.data(), scene_bytes.size());
+  const PushOutput first = state.poll(0.0);
+  EXPECT_NE(first.scene_json.find("\"links\":[{\"vehicle\":\"auv\",\"name\":\"upper_arm\",\"parent\":\"base_link\","
+                                  "\"joint\":\"shoulder\",\"joint_type\":\"revolute\",\"p\":[0.5,0,0],"
+                                  "\"q\":[0,0,0,1],\"axis\":[0,1,0]}]"),
+            std::string::npos)
+      << first.scene_json;
+
+  add_odometry(state, 1.0, 0.0, -96.0);
+  for (const double q : {0.25, -0.75}) {
+    sensor_msgs::msg::JointState joints;
+    joints.header().stamp().sec(1);
+    joints.name({"shoulder", "elbow"});
+    joints.position({q, 2.0 * q});
+    const auto bytes = cdr<sensor_msgs::msg::JointStatePubSubType>(joints);
+    state.add("/auv/joint_states", "sensor_msgs/msg/JointState", bytes.data(), bytes.size());
+  }
+  const PushOutput update = state.poll(1.0);
+  EXPECT_NE(update.update_json.find("\"joints\":{\"elbow\":-1.5,\"shoulder\":-0.75}"), std::string::npos)
+      << update.update_json;
+  EXPECT_EQ(state.undecodable(), 0u);
+}
+
 TEST(ViewerStateTest, TheSameSceneAgainChangesNothingAnotherStartsOver) {
   ViewerState state;
   auto first = scene(-100.0f);

@@ -3,6 +3,7 @@
 #include "hadal/dds/time_msg.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/seabed_height.h"
+#include "hadal/physics/articulation.h"
 #include "hadal/sensors/sensor_kinds.h"
 
 #include <algorithm>
@@ -98,6 +99,43 @@ sensors::SensorReach sensor_reach(const SensorSpec& sensor) {
                     sensor.kind);
 }
 
+// An articulated vehicle's moving bodies: a mesh each (in its frame K, when it has geometry) and its
+// SceneLink, parents first (Articulation's order).
+void add_moving_bodies(const VehicleSpec& vehicle, const Eigen::Array3d& albedo, hadal_msgs::msg::Scene& msg) {
+  if (std::none_of(vehicle.links.begin(), vehicle.links.end(),
+                   [&](const LinkSpec& link) { return link.joint.type != JointType::kFixed; })) {
+    return;
+  }
+  const physics::Articulation a(vehicle.links);
+  const auto link_name = [&](int body) {
+    return body <= 0 ? std::string("base_link") : vehicle.links[static_cast<std::size_t>(a.body(body).joint_link)].name;
+  };
+  for (int k = 1; k < a.num_bodies(); ++k) {
+    const physics::Articulation::Body& body = a.body(k);
+    const std::string name = link_name(k);
+    std::vector<std::pair<int, Eigen::Isometry3d>> X_KL;
+    for (const int l : body.links) X_KL.emplace_back(l, a.X_KL(l));
+    const geometry::TriangleMesh mesh_K = geometry::links_visual_A(vehicle, X_KL);
+    if (mesh_K.num_triangles() > 0) {
+      hadal_msgs::msg::SceneMesh& mesh = msg.meshes().emplace_back();
+      mesh.name(vehicle.name + "/" + name);
+      mesh.frame_id(vehicle.name + "/" + name);
+      copy_mesh(mesh_K, mesh);
+      set_color(albedo, mesh.color());
+    }
+    hadal_msgs::msg::SceneLink& link = msg.links().emplace_back();
+    link.vehicle(vehicle.name);
+    link.name(name);
+    link.parent(link_name(body.parent));
+    link.joint(joint_name(vehicle.links[static_cast<std::size_t>(body.joint_link)]));
+    link.joint_type(to_string(body.joint.type));
+    set_pose(body.X_PK0, link.pose());
+    link.axis().x(body.axis_K.x());
+    link.axis().y(body.axis_K.y());
+    link.axis().z(body.axis_K.z());
+  }
+}
+
 Eigen::Array3d vehicle_albedo(const Model& model, const VehicleSpec& vehicle) {
   for (const LinkSpec& link : vehicle.links) {
     if (link.appearance.albedo) return *link.appearance.albedo;
@@ -115,6 +153,7 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
   msg.vehicle_types().clear();
   msg.meshes().clear();
   msg.frames().clear();
+  msg.links().clear();
 
   const SeabedSpec& seabed = model.world.seabed;
   msg.seabed_is_plane(seabed.type == SeabedType::kPlane || !seabed.mesh);
@@ -140,10 +179,11 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
     mesh.frame_id(vehicle.name + "/base_link");
     copy_mesh(geometry::vehicle_visual_B(vehicle), mesh);
     set_color(vehicle_albedo(model, vehicle), mesh.color());
+    add_moving_bodies(vehicle, vehicle_albedo(model, vehicle), msg);
 
     for (const SensorSpec& sensor : vehicle.sensors) {
-      // Every sensor, so that clients know them all; one on a moving link at its pose with every joint at
-      // zero (the scene is rigid: each vehicle one mesh, without its moving links).
+      // Every sensor, so that clients know them all; one on a moving link at its pose in B with every joint
+      // at zero.
       hadal_msgs::msg::SceneFrame& frame = msg.frames().emplace_back();
       frame.vehicle(vehicle.name);
       frame.name(sensor.name);

@@ -4,7 +4,9 @@
 // triangles); a mesh of at most kMaxSeabedTriangles goes as it is; a larger one is resampled as a height
 // field of at most kSeabedGrid x kSeabedGrid cells over its xy extent (its top surface, as the physics'
 // geometry::SeabedHeight sees it; overhangs are lost, cells with no seabed left out). Each vehicle's
-// mesh in B is what cameras see (geometry::vehicle_visual_B). Frames: every sensor's X_BS and every
+// mesh in B is what cameras see (geometry::vehicle_visual_B); an articulated vehicle's moving bodies add
+// a mesh each in their frame K ("<vehicle>/<link>", geometry::links_visual_A) and a SceneLink with the
+// kinematics to pose it from rt/<vehicle>/joint_states. Frames: every sensor's X_BS and every
 // light's X_BF, with the reach a viewer draws (beams: the sensor's range limit; a camera: its far plane;
 // a light: kLightReach) and a cone half angle (a light's outer one, a camera's horizontal).
 // Units: m, rad.

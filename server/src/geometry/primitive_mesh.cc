@@ -150,31 +150,36 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 
 namespace {
 
+// Link k's surface (or with `seen` its seen_mesh()) moved by X_AL, appended to mesh_A.
+void append_link(const LinkSpec& link, std::size_t k, const Eigen::Isometry3d& X_AL, int segments, bool seen,
+                 TriangleMesh& mesh_A) {
+  const std::size_t first = mesh_A.num_triangles();
+  const LinkMesh* own = seen ? link.seen_mesh() : (link.mesh && link.mesh->mesh ? &*link.mesh : nullptr);
+  if (own) {
+    const TriangleMesh& mesh_L = *own->mesh;
+    append_transformed(mesh_L, X_AL, &mesh_A);
+    // The link's triangles name the link and their own material (header).
+    mesh_A.triangle_materials.resize(mesh_A.num_triangles(), link_material(k, 0));
+    if (mesh_L.triangle_materials.size() == mesh_L.num_triangles()) {
+      for (std::size_t t = 0; t < mesh_L.num_triangles(); ++t) {
+        mesh_A.triangle_materials[first + t] =
+            link_material(k, std::min(mesh_L.triangle_materials[t], kLinkMaterialStride - 1));
+      }
+    }
+  } else {
+    for (const CollisionShape& shape : link.collisions) {
+      append_transformed(tessellate(shape, segments), X_AL * shape.X_LG, &mesh_A);
+    }
+    mesh_A.triangle_materials.resize(mesh_A.num_triangles(), link_material(k, 0));
+  }
+}
+
 // vehicle_surface_B, or with `seen` each link's seen_mesh() in place of its own mesh.
 TriangleMesh vehicle_mesh_B(const VehicleSpec& spec, int segments, bool seen) {
   TriangleMesh mesh_B;
   for (std::size_t k = 0; k < spec.links.size(); ++k) {
-    const LinkSpec& link = spec.links[k];
     if (seen && link_moves(spec.links, static_cast<int>(k))) continue;  // not drawn at q = 0 (header)
-    const std::size_t first = mesh_B.num_triangles();
-    const LinkMesh* own = seen ? link.seen_mesh() : (link.mesh && link.mesh->mesh ? &*link.mesh : nullptr);
-    if (own) {
-      const TriangleMesh& mesh_L = *own->mesh;
-      append_transformed(mesh_L, link.X_BL, &mesh_B);
-      // The link's triangles name the link and their own material (header).
-      mesh_B.triangle_materials.resize(mesh_B.num_triangles(), link_material(k, 0));
-      if (mesh_L.triangle_materials.size() == mesh_L.num_triangles()) {
-        for (std::size_t t = 0; t < mesh_L.num_triangles(); ++t) {
-          mesh_B.triangle_materials[first + t] =
-              link_material(k, std::min(mesh_L.triangle_materials[t], kLinkMaterialStride - 1));
-        }
-      }
-    } else {
-      for (const CollisionShape& shape : link.collisions) {
-        append_transformed(tessellate(shape, segments), link.X_BL * shape.X_LG, &mesh_B);
-      }
-      mesh_B.triangle_materials.resize(mesh_B.num_triangles(), link_material(k, 0));
-    }
+    append_link(spec.links[k], k, spec.links[k].X_BL, segments, seen, mesh_B);
   }
   return mesh_B;
 }
@@ -184,6 +189,16 @@ TriangleMesh vehicle_mesh_B(const VehicleSpec& spec, int segments, bool seen) {
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments) { return vehicle_mesh_B(spec, segments, false); }
 
 TriangleMesh vehicle_visual_B(const VehicleSpec& spec, int segments) { return vehicle_mesh_B(spec, segments, true); }
+
+TriangleMesh links_visual_A(const VehicleSpec& spec, const std::vector<std::pair<int, Eigen::Isometry3d>>& X_AL,
+                            int segments) {
+  TriangleMesh mesh_A;
+  for (const auto& [link, X] : X_AL) {
+    append_link(spec.links.at(static_cast<std::size_t>(link)), static_cast<std::size_t>(link), X, segments, true,
+                mesh_A);
+  }
+  return mesh_A;
+}
 
 bool has_visual_geometry(const std::vector<LinkSpec>& links) {
   return has_surface_geometry(links) || std::any_of(links.begin(), links.end(), [](const LinkSpec& link) {

@@ -1,5 +1,5 @@
-// hadal-viewer's page: a three.js view of the run (seabed, vehicles, trails, DVL and altimeter beams,
-// light cones, camera frusta), camera panes, plots and the status line, fed by hadal-viewer over a
+// hadal-viewer's page: a three.js view of the run (seabed, vehicles and their moving links, trails, DVL and
+// altimeter beams, light cones, camera frusta), camera panes, plots and the status line, fed by hadal-viewer over a
 // WebSocket (tools/viewer/viewer_state.h says what it sends). World frame W is ENU with z up, as on the
 // wire; three.js's camera is told that z is up, so nothing is converted. window.hadalViewer exposes what
 // is drawn, for tests and the curious.
@@ -15,6 +15,7 @@ const state = {
   meshes: [],             // THREE.Mesh per scene mesh (index as in the scene)
   vehicles: {},           // name -> {group, trail, trailCount, lastUpdate}
   frames: {},             // "vehicle/name" -> {frame JSON, object}
+  links: {},              // "vehicle/link" -> {link JSON, moving: THREE.Group} (articulated vehicles' moving bodies)
   overlays: {},           // "vehicle/sensor" -> THREE.LineSegments
   series: {},             // key -> {plot, label, unit, t: [], v: []}
   historySeq: 0,
@@ -73,6 +74,7 @@ function clearWorld() {
   state.meshes = [];
   state.vehicles = {};
   state.frames = {};
+  state.links = {};
   state.overlays = {};
 }
 
@@ -124,6 +126,21 @@ function onScene(msg) {
     world.add(trail);
     state.vehicles[v.name] = {group, trail, trailCount: 0, trailTotal: 0, last: null};
   }
+  // Each moving body of an articulated vehicle: a group at its frame K with the joint at zero (in its
+  // parent's, so a body follows its parents), and in it the joint's motion, which holds the body's mesh.
+  for (const l of msg.links || []) {
+    const vehicle = state.vehicles[l.vehicle];
+    const parent = l.parent === 'base_link' ? vehicle && vehicle.group
+                                            : (state.links[l.vehicle + '/' + l.parent] || {}).moving;
+    if (!parent) continue;
+    const fixed = new THREE.Group();
+    poseObject(fixed, l.p, l.q);
+    const moving = new THREE.Group();
+    moving.name = l.vehicle + '/' + l.name;
+    fixed.add(moving);
+    parent.add(fixed);
+    state.links[l.vehicle + '/' + l.name] = {link: l, moving, axis: new THREE.Vector3(...l.axis)};
+  }
   for (const f of msg.frames) {
     const object = new THREE.Group();
     poseObject(object, f.p, f.q);
@@ -170,8 +187,8 @@ function onMesh(index, positions, indices) {
   const mesh = new THREE.Mesh(geometry, material);
   mesh.name = info.name;
   state.meshes[index] = mesh;
-  const vehicle = state.vehicles[info.name];
-  (vehicle ? vehicle.group : world).add(mesh);
+  const vehicle = state.vehicles[info.name], link = state.links[info.name];
+  (vehicle ? vehicle.group : link ? link.moving : world).add(mesh);
 }
 
 // DVL beams and altimeter ranges, in the sensor's frame: green where the beam returned, grey (to the
@@ -246,6 +263,20 @@ function onHistory(msg) {
   rebuildPlots();
 }
 
+// The vehicle's moving bodies at its joints' positions (rt/<vehicle>/joint_states): a rotation about the
+// joint's axis, or a translation along it.
+function poseLinks(vehicleName, joints) {
+  for (const link of Object.values(state.links)) {
+    if (link.link.vehicle !== vehicleName || !(link.link.joint in joints)) continue;
+    const q = joints[link.link.joint];
+    if (link.link.joint_type === 'prismatic') {
+      link.moving.position.copy(link.axis).multiplyScalar(q);
+    } else {
+      link.moving.quaternion.setFromAxisAngle(link.axis, q);
+    }
+  }
+}
+
 function onUpdate(msg) {
   state.updates++;
   state.lastUpdate = msg;
@@ -256,6 +287,7 @@ function onUpdate(msg) {
     const previous = vehicle.group.position.clone();
     poseObject(vehicle.group, v.p, v.q);
     vehicle.group.visible = true;
+    if (v.joints) poseLinks(name, v.joints);
     vehicle.last = v;
     appendTrailPoints(vehicle, v.trail_from, v.trail);
     if (name === state.followed) {  // the orbit follows the vehicle
@@ -563,6 +595,18 @@ window.hadalViewer = {
     const onScreen = Math.abs(ndc.x) <= 1 && Math.abs(ndc.y) <= 1 && ndc.z >= -1 && ndc.z <= 1;
     return {p: [p.x, p.y, p.z], q: [q.x, q.y, q.z, q.w], stamp: v.last.stamp, on_screen: onScreen,
             meshes: v.group.children.filter((c) => c.isMesh).length};
+  },
+  // A moving body's mesh: its pose in W (three.js's world, the scene's W) and its vertex count; null when
+  // the scene has no such body or it has no mesh.
+  linkPose(vehicle, link) {
+    const l = state.links[vehicle + '/' + link];
+    if (!l) return null;
+    const mesh = l.moving.children.find((c) => c.isMesh);
+    l.moving.updateMatrixWorld(true);
+    const p = new THREE.Vector3(), q = new THREE.Quaternion();
+    l.moving.getWorldPosition(p);
+    l.moving.getWorldQuaternion(q);
+    return {p: [p.x, p.y, p.z], q: [q.x, q.y, q.z, q.w], vertices: mesh ? mesh.geometry.attributes.position.count : 0};
   },
   cameraMean(topic) {
     const pane = state.cameras[topic];

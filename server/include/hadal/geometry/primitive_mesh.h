@@ -50,9 +50,13 @@ void append_transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& X_AM,
 TriangleMesh vehicle_surface_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
 // What ray casts see of the vehicle, in B: vehicle_surface_B with each link's `visual` mesh, where it has
 // one, in place of its surface (same material codes, the visual mesh's own materials). Links that move on
-// joints are left out: the ray-cast world and the viewer's scene hold one rigid mesh per vehicle (issue 40's
-// first part; docs/ARCHITECTURE.md, "Articulated vehicles").
+// joints are left out: the ray-cast world holds one rigid mesh per vehicle, the viewer's scene one more per
+// moving body (links_visual_A; docs/ARCHITECTURE.md, "Articulated vehicles").
 TriangleMesh vehicle_visual_B(const VehicleSpec& spec, int segments = kPrimitiveSegments);
+// What vehicle_visual_B has of each of the given links (its visual mesh, else its surface), link l moved
+// into a frame A by its X_AL instead of X_BL: a moving body's mesh in its frame K (with Articulation's X_KL).
+TriangleMesh links_visual_A(const VehicleSpec& spec, const std::vector<std::pair<int, Eigen::Isometry3d>>& X_AL,
+                            int segments = kPrimitiveSegments);
 
 // The material code of vehicle_surface_B: link k's mesh material m (m < kLinkMaterialStride).
 inline constexpr std::uint32_t kLinkMaterialStride = 1u << 16;
