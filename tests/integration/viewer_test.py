@@ -168,14 +168,6 @@ def test_the_page_shows_a_lockstep_run_as_odometry_has_it(browser, tmp_path):
     assert monitor_written(server) > 0  # the page's viewer read the monitor
 
 
-def rotation_of(q):
-    """The rotation matrix of a unit quaternion [x, y, z, w]."""
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
 def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
     """The work-class ROV's arm, commanded away from its stowed pose: the page draws every moving body where
     the scene's links and the joints' positions put it (X_WK = X_WB X_parent_K(q) down the tree, worked out
@@ -200,11 +192,11 @@ def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
                                   v["stamp"] >= 1.0 and v.get("joints") == positions and v, 30,
                                   "the page's pose and joints at t = 1 s")
                 np.testing.assert_array_equal(page["p"], odometry.p_WB)
-                posed = {"base_link": (rotation_of(odometry.q_WB), np.asarray(odometry.p_WB))}
+                posed = {"base_link": (hadal.frames.rotation_matrix(odometry.q_WB), np.asarray(odometry.p_WB))}
                 drawn = 0
                 for link in links:
                     R_P, p_P = posed[link["parent"]]
-                    R = R_P @ rotation_of(link["q"])
+                    R = R_P @ hadal.frames.rotation_matrix(link["q"])
                     p = p_P + R_P @ np.asarray(link["p"])
                     axis, q = np.asarray(link["axis"]), positions[link["joint"]]
                     if link["joint_type"] == "prismatic":
@@ -215,7 +207,7 @@ def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
                     posed[link["name"]] = (R, p)
                     shown = browser.evaluate(f"hadalViewer.linkPose('rov', '{link['name']}')")
                     np.testing.assert_allclose(shown["p"], p, rtol=0, atol=1e-4, err_msg=link["name"])
-                    np.testing.assert_allclose(rotation_of(shown["q"]), R, rtol=0, atol=1e-5, err_msg=link["name"])
+                    np.testing.assert_allclose(hadal.frames.rotation_matrix(shown["q"]), R, rtol=0, atol=1e-5, err_msg=link["name"])
                     drawn += shown["vertices"] > 0
                 assert drawn >= 6, drawn  # the arm's bodies with a mesh
                 browser.screenshot(os.path.join(ARTIFACTS, "rov_arm.png"))

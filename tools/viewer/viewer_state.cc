@@ -175,6 +175,16 @@ void append_numbers(std::string& out, const double* values, std::size_t n) {
   out += ']';
 }
 
+// ,"p":[x,y,z],"q":[x,y,z,w] of a pose.
+void append_pose(std::string& out, const geometry_msgs::msg::Pose& pose) {
+  const double p[3] = {pose.position().x(), pose.position().y(), pose.position().z()};
+  const double q[4] = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(), pose.orientation().w()};
+  out += ",\"p\":";
+  append_numbers(out, p, 3);
+  out += ",\"q\":";
+  append_numbers(out, q, 4);
+}
+
 // "/auv/dvl" -> ("auv", "dvl"); "/auv/camera/image_raw" -> ("auv", "camera/image_raw").
 std::pair<std::string, std::string> split_topic(const std::string& topic) {
   const std::size_t slash = topic.find('/', 1);
@@ -308,14 +318,7 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
         append_string(json, frame.name());
         json += ",\"kind\":";
         append_string(json, frame.kind());
-        const auto& pose = frame.pose();
-        const double p[3] = {pose.position().x(), pose.position().y(), pose.position().z()};
-        const double q[4] = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(),
-                             pose.orientation().w()};
-        json += ",\"p\":";
-        append_numbers(json, p, 3);
-        json += ",\"q\":";
-        append_numbers(json, q, 4);
+        append_pose(json, frame.pose());
         json += ",\"range\":" + json_number(frame.range()) + ",\"half_angle\":" + json_number(frame.half_angle()) + '}';
       }
       json += "],\"links\":[";
@@ -332,15 +335,8 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
         append_string(json, link.joint());
         json += ",\"joint_type\":";
         append_string(json, link.joint_type());
-        const auto& pose = link.pose();
-        const double p[3] = {pose.position().x(), pose.position().y(), pose.position().z()};
-        const double q[4] = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(),
-                             pose.orientation().w()};
+        append_pose(json, link.pose());
         const double axis[3] = {link.axis().x(), link.axis().y(), link.axis().z()};
-        json += ",\"p\":";
-        append_numbers(json, p, 3);
-        json += ",\"q\":";
-        append_numbers(json, q, 4);
         json += ",\"axis\":";
         append_numbers(json, axis, 3);
         json += '}';
