@@ -207,7 +207,8 @@ def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
                     posed[link["name"]] = (R, p)
                     shown = browser.evaluate(f"hadalViewer.linkPose('rov', '{link['name']}')")
                     np.testing.assert_allclose(shown["p"], p, rtol=0, atol=1e-4, err_msg=link["name"])
-                    np.testing.assert_allclose(hadal.frames.rotation_matrix(shown["q"]), R, rtol=0, atol=1e-5, err_msg=link["name"])
+                    np.testing.assert_allclose(hadal.frames.rotation_matrix(shown["q"]), R, rtol=0, atol=1e-5,
+                                               err_msg=link["name"])
                     drawn += shown["vertices"] > 0
                 assert drawn >= 6, drawn  # the arm's bodies with a mesh
                 browser.screenshot(os.path.join(ARTIFACTS, "rov_arm.png"))
