@@ -211,6 +211,13 @@ def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
                                                err_msg=link["name"])
                     drawn += shown["vertices"] > 0
                 assert drawn >= 6, drawn  # the arm's bodies with a mesh
+                # The wrist's force/torque frame rides on its body.
+                frame = browser.evaluate("(() => { const f = hadalViewer.state.frames['rov/wrist_ft']; "
+                                         "f.object.updateMatrixWorld(true); const p = f.object.getWorldPosition("
+                                         "f.object.position.clone()); return {frame: f.frame, p: [p.x, p.y, p.z]}; })()")
+                R, p = posed[frame["frame"]["link"]]
+                np.testing.assert_allclose(frame["p"], p + R @ np.asarray(frame["frame"]["link_p"]), rtol=0,
+                                           atol=1e-4)
                 browser.screenshot(os.path.join(ARTIFACTS, "rov_arm.png"))
         finally:
             stop(viewer)

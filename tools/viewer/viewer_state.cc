@@ -175,13 +175,13 @@ void append_numbers(std::string& out, const double* values, std::size_t n) {
   out += ']';
 }
 
-// ,"p":[x,y,z],"q":[x,y,z,w] of a pose.
-void append_pose(std::string& out, const geometry_msgs::msg::Pose& pose) {
+// ,"<prefix>p":[x,y,z],"<prefix>q":[x,y,z,w] of a pose.
+void append_pose(std::string& out, const geometry_msgs::msg::Pose& pose, const std::string& prefix = "") {
   const double p[3] = {pose.position().x(), pose.position().y(), pose.position().z()};
   const double q[4] = {pose.orientation().x(), pose.orientation().y(), pose.orientation().z(), pose.orientation().w()};
-  out += ",\"p\":";
+  out += ",\"" + prefix + "p\":";
   append_numbers(out, p, 3);
-  out += ",\"q\":";
+  out += ",\"" + prefix + "q\":";
   append_numbers(out, q, 4);
 }
 
@@ -319,7 +319,13 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
         json += ",\"kind\":";
         append_string(json, frame.kind());
         append_pose(json, frame.pose());
-        json += ",\"range\":" + json_number(frame.range()) + ",\"half_angle\":" + json_number(frame.half_angle()) + '}';
+        json += ",\"range\":" + json_number(frame.range()) + ",\"half_angle\":" + json_number(frame.half_angle());
+        if (!frame.link().empty()) {  // on a moving body: its pose in the body, "link_p" and "link_q"
+          json += ",\"link\":";
+          append_string(json, frame.link());
+          append_pose(json, frame.link_pose(), "link_");
+        }
+        json += '}';
       }
       json += "],\"links\":[";
       for (std::size_t i = 0; i < msg.links().size(); ++i) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 namespace hadal::dds {
@@ -101,12 +102,8 @@ sensors::SensorReach sensor_reach(const SensorSpec& sensor) {
 
 // An articulated vehicle's moving bodies: a mesh each (in its frame K, when it has geometry) and its
 // SceneLink, parents first (Articulation's order).
-void add_moving_bodies(const VehicleSpec& vehicle, const Eigen::Array3d& albedo, hadal_msgs::msg::Scene& msg) {
-  if (std::none_of(vehicle.links.begin(), vehicle.links.end(),
-                   [&](const LinkSpec& link) { return link.joint.type != JointType::kFixed; })) {
-    return;
-  }
-  const physics::Articulation a(vehicle.links);
+void add_moving_bodies(const VehicleSpec& vehicle, const physics::Articulation& a, const Eigen::Array3d& albedo,
+                       hadal_msgs::msg::Scene& msg) {
   const auto link_name = [&](int body) {
     return body <= 0 ? std::string("base_link") : vehicle.links[static_cast<std::size_t>(a.body(body).joint_link)].name;
   };
@@ -179,8 +176,25 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
     mesh.frame_id(vehicle.name + "/base_link");
     copy_mesh(geometry::vehicle_visual_B(vehicle), mesh);
     set_color(vehicle_albedo(model, vehicle), mesh.color());
-    add_moving_bodies(vehicle, vehicle_albedo(model, vehicle), msg);
+    // An articulated vehicle's moving bodies, and the frames on them (which name the body and their pose in
+    // it, so that a viewer moves them with it).
+    std::optional<physics::Articulation> articulation;
+    if (std::any_of(vehicle.links.begin(), vehicle.links.end(),
+                    [](const LinkSpec& link) { return link.joint.type != JointType::kFixed; })) {
+      articulation.emplace(vehicle.links);
+      add_moving_bodies(vehicle, *articulation, vehicle_albedo(model, vehicle), msg);
+    }
 
+    const auto on_body = [&](int link, const Eigen::Isometry3d& X_LF, hadal_msgs::msg::SceneFrame& frame) {
+      if (!articulation) return;
+      const physics::Articulation& a = *articulation;
+      for (int k = 1; k < a.num_bodies(); ++k) {
+        const std::vector<int>& links = a.body(k).links;
+        if (std::find(links.begin(), links.end(), link) == links.end()) continue;
+        frame.link(vehicle.links[static_cast<std::size_t>(a.body(k).joint_link)].name);
+        set_pose(a.X_KL(link) * X_LF, frame.link_pose());
+      }
+    };
     for (const SensorSpec& sensor : vehicle.sensors) {
       // Every sensor, so that clients know them all; one on a moving link at its pose in B with every joint
       // at zero.
@@ -190,6 +204,7 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
       frame.kind(std::string(sensor.type()));
       frame.frame_id(sensor.frame_id);
       set_pose(vehicle.links[sensor.link_index].X_BL * sensor.X_LS, frame.pose());
+      on_body(sensor.link_index, sensor.X_LS, frame);
       const sensors::SensorReach reach = sensor_reach(sensor);
       frame.range(reach.range_m);
       frame.half_angle(reach.half_angle_rad);
@@ -201,6 +216,7 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
       frame.kind("light");
       frame.frame_id(vehicle.name + "/" + light.name);
       set_pose(vehicle.links[light.link_index].X_BL * light.X_LF, frame.pose());
+      on_body(light.link_index, light.X_LF, frame);
       frame.range(kLightReach);
       frame.half_angle(light.outer_half_angle);
     }

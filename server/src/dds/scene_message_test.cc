@@ -135,6 +135,29 @@ TEST(SceneMessageTest, AnArticulatedVehiclesMovingBodiesHaveAMeshAndTheirKinemat
     }
   }
   EXPECT_GT(moving_triangles, 0u);
+  // The wrist's force/torque sensor rides on the end effector's body: the frame names it, and its pose in it,
+  // carried by the body's pose at q = 0, is the frame's pose in B.
+  const auto* wrist = find_frame(msg, "rov", "wrist_ft");
+  ASSERT_NE(wrist, nullptr);
+  ASSERT_FALSE(wrist->link().empty());
+  const auto pose_of = [](const geometry_msgs::msg::Pose& pose) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translation() = Eigen::Vector3d(pose.position().x(), pose.position().y(), pose.position().z());
+    X.linear() = Eigen::Quaterniond(pose.orientation().w(), pose.orientation().x(), pose.orientation().y(),
+                                    pose.orientation().z())
+                     .toRotationMatrix();
+    return X;
+  };
+  const std::vector<Eigen::Isometry3d> X_BK0 =
+      a.poses_W(Eigen::Isometry3d::Identity(), Eigen::VectorXd::Zero(q.size()));
+  int body = -1;
+  for (int k = 1; k < a.num_bodies(); ++k) {
+    if (rov.links[static_cast<std::size_t>(a.body(k).joint_link)].name == wrist->link()) body = k;
+  }
+  ASSERT_GT(body, 0) << wrist->link();
+  const Eigen::Isometry3d X_BS = X_BK0[static_cast<std::size_t>(body)] * pose_of(wrist->link_pose());
+  EXPECT_LT((X_BS.matrix() - pose_of(wrist->pose()).matrix()).norm(), 1e-12);
+  EXPECT_TRUE(find_frame(msg, "rov", "depth")->link().empty());  // on the frame (B)
   std::vector<std::pair<int, Eigen::Isometry3d>> every_link;
   for (std::size_t l = 0; l < rov.links.size(); ++l) every_link.emplace_back(static_cast<int>(l), rov.links[l].X_BL);
   EXPECT_EQ(geometry::vehicle_visual_B(rov).num_triangles() + moving_triangles,

@@ -143,11 +143,16 @@ function onScene(msg) {
   }
   for (const f of msg.frames) {
     const object = new THREE.Group();
-    poseObject(object, f.p, f.q);
     const marker = frameMarker(f);
     if (marker) object.add(marker);
-    const vehicle = state.vehicles[f.vehicle];
-    if (vehicle) vehicle.group.add(object);
+    const vehicle = state.vehicles[f.vehicle], link = f.link && state.links[f.vehicle + '/' + f.link];
+    if (link) {  // on a moving body: moves with it
+      poseObject(object, f.link_p, f.link_q);
+      link.moving.add(object);
+    } else {
+      poseObject(object, f.p, f.q);
+      if (vehicle) vehicle.group.add(object);
+    }
     state.frames[f.vehicle + '/' + f.name] = {frame: f, object};
   }
   const follow = document.getElementById('follow');
