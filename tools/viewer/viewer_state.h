@@ -54,9 +54,10 @@ class ViewerState {
   explicit ViewerState(double image_interval_s = 0.2) : image_interval_s_(image_interval_s) {}
 
   // One sample: its ROS 2 topic ("/auv/odometry") and type ("nav_msgs/msg/Odometry") and its CDR bytes.
-  // Draws the scene, odometry, status, DVL, ranges, pressure, IMU, /clock (a bag's time) and any 8-bit
-  // image; a hadal_msgs/Monitor is taken apart into the samples it carries, each once. Types the viewer does
-  // not draw are counted and otherwise ignored; a sample that does not decode is counted as such.
+  // Draws the scene, odometry, joint states (an articulated vehicle's moving bodies), status, DVL, ranges,
+  // pressure, IMU, /clock (a bag's time) and any 8-bit image; a hadal_msgs/Monitor is taken apart into the
+  // samples it carries, each once. Types the viewer does not draw are counted and otherwise ignored; a sample
+  // that does not decode is counted as such.
   // Thread-safe.
   void add(const std::string& topic, const std::string& type, const unsigned char* data, std::size_t size);
   // The topics a live viewer reads: the scene, the monitor (rt/hadal/monitor: the latest sample of each light

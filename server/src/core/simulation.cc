@@ -362,9 +362,7 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
                                   std::string(sensor.type()) + ") must be on a link on a moving joint");
     }
   }
-  bool articulated = false;
-  for (std::size_t i = 0; i < vehicle.links.size(); ++i) articulated |= link_moves(vehicle.links, static_cast<int>(i));
-  if (!articulated) return;
+  if (!physics::is_articulated(vehicle.links)) return;
   const std::string prefix = "vehicle '" + vehicle.name + "': an articulated vehicle (a link on a joint) ";
   if (vehicle.fluid.model != FluidModelType::kSurface) {
     throw std::invalid_argument(prefix + "needs fluid.model surface");

@@ -100,16 +100,18 @@ sensors::SensorReach sensor_reach(const SensorSpec& sensor) {
                     sensor.kind);
 }
 
+// The name a scene gives body k of an articulated vehicle: its joint link's, "base_link" for the base.
+std::string body_name(const VehicleSpec& vehicle, const physics::Articulation& a, int body) {
+  return body <= 0 ? std::string("base_link") : vehicle.links[static_cast<std::size_t>(a.body(body).joint_link)].name;
+}
+
 // An articulated vehicle's moving bodies: a mesh each (in its frame K, when it has geometry) and its
 // SceneLink, parents first (Articulation's order).
 void add_moving_bodies(const VehicleSpec& vehicle, const physics::Articulation& a, const Eigen::Array3d& albedo,
                        hadal_msgs::msg::Scene& msg) {
-  const auto link_name = [&](int body) {
-    return body <= 0 ? std::string("base_link") : vehicle.links[static_cast<std::size_t>(a.body(body).joint_link)].name;
-  };
   for (int k = 1; k < a.num_bodies(); ++k) {
     const physics::Articulation::Body& body = a.body(k);
-    const std::string name = link_name(k);
+    const std::string name = body_name(vehicle, a, k);
     std::vector<std::pair<int, Eigen::Isometry3d>> X_KL;
     for (const int l : body.links) X_KL.emplace_back(l, a.X_KL(l));
     const geometry::TriangleMesh mesh_K = geometry::links_visual_A(vehicle, X_KL);
@@ -123,7 +125,7 @@ void add_moving_bodies(const VehicleSpec& vehicle, const physics::Articulation& 
     hadal_msgs::msg::SceneLink& link = msg.links().emplace_back();
     link.vehicle(vehicle.name);
     link.name(name);
-    link.parent(link_name(body.parent));
+    link.parent(body_name(vehicle, a, body.parent));
     link.joint(joint_name(vehicle.links[static_cast<std::size_t>(body.joint_link)]));
     link.joint_type(to_string(body.joint.type));
     set_pose(body.X_PK0, link.pose());
@@ -179,21 +181,15 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
     // An articulated vehicle's moving bodies, and the frames on them (which name the body and their pose in
     // it, so that a viewer moves them with it).
     std::optional<physics::Articulation> articulation;
-    if (std::any_of(vehicle.links.begin(), vehicle.links.end(),
-                    [](const LinkSpec& link) { return link.joint.type != JointType::kFixed; })) {
+    if (physics::is_articulated(vehicle.links)) {
       articulation.emplace(vehicle.links);
       add_moving_bodies(vehicle, *articulation, vehicle_albedo(model, vehicle), msg);
     }
 
     const auto on_body = [&](int link, const Eigen::Isometry3d& X_LF, hadal_msgs::msg::SceneFrame& frame) {
-      if (!articulation) return;
-      const physics::Articulation& a = *articulation;
-      for (int k = 1; k < a.num_bodies(); ++k) {
-        const std::vector<int>& links = a.body(k).links;
-        if (std::find(links.begin(), links.end(), link) == links.end()) continue;
-        frame.link(vehicle.links[static_cast<std::size_t>(a.body(k).joint_link)].name);
-        set_pose(a.X_KL(link) * X_LF, frame.link_pose());
-      }
+      if (!articulation || articulation->body_of_link(link) == 0) return;
+      frame.link(body_name(vehicle, *articulation, articulation->body_of_link(link)));
+      set_pose(articulation->X_KL(link) * X_LF, frame.link_pose());
     };
     for (const SensorSpec& sensor : vehicle.sensors) {
       // Every sensor, so that clients know them all; one on a moving link at its pose in B with every joint

@@ -32,7 +32,6 @@ ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool 
   o_W_.assign(bodies, Eigen::Vector3d::Zero());
   R_WK_.assign(bodies, Eigen::Matrix3d::Identity());
   I_W_.assign(bodies, Eigen::Matrix3d::Zero());
-  v_WK_.assign(bodies, Eigen::Vector3d::Zero());
   cols_.assign(bodies, 0);
   for (std::size_t k = 0; k < bodies; ++k) cols_[k] = (fixed_base ? 0 : 6) + static_cast<Eigen::Index>(k);
   IJ_ = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n_);
@@ -49,6 +48,7 @@ void ArticulatedDynamics::update_kinematics(const std::vector<Eigen::Isometry3d>
                                 std::to_string(qd.size()) + " joint rates for " + std::to_string(a.num_bodies()) +
                                 " bodies");
   }
+  const std::vector<Articulation::BodyVelocity> velocity = a.velocities_W(X_WK, v_WB, w_WB, qd);
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     const Articulation::Body& body = a.body(k);
@@ -56,24 +56,8 @@ void ArticulatedDynamics::update_kinematics(const std::vector<Eigen::Isometry3d>
     p_Wcm_[i] = X_WK[i] * body.mass_K.p_BBcm;
     o_W_[i] = X_WK[i].translation();
     I_W_[i] = R_WK_[i] * body.mass_K.I_BBcm_B * R_WK_[i].transpose();
-    // K's origin moves with its parent (a point of it), plus the joint's own motion (Articulation::velocities_W).
-    Eigen::Vector3d& v = v_WK_[i];
-    Eigen::Vector3d w = w_WB;
-    if (k == 0) {
-      v = v_WB;
-    } else {
-      const auto p = static_cast<std::size_t>(body.parent);
-      w = V_[p].tail<3>();
-      v = v_WK_[p] + w.cross(o_W_[i] - o_W_[p]);
-      const Eigen::Vector3d s = R_WK_[i] * body.axis_K;
-      const double rate = qd[k - 1];
-      if (body.joint.type == JointType::kPrismatic) {
-        v += rate * s;
-      } else {
-        w += rate * s;
-      }
-    }
-    V_[i].head<3>() = v + w.cross(p_Wcm_[i] - o_W_[i]);
+    const Eigen::Vector3d& w = velocity[i].w_WK;
+    V_[i].head<3>() = velocity[i].v_WK + w.cross(p_Wcm_[i] - o_W_[i]);
     V_[i].tail<3>() = w;
   }
   u_.setZero();

@@ -105,6 +105,13 @@ Eigen::Isometry3d Articulation::joint_motion(const Body& body, double q) {
   return X;
 }
 
+bool is_articulated(const std::vector<LinkSpec>& links) {
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    if (link_moves(links, static_cast<int>(i))) return true;
+  }
+  return false;
+}
+
 std::vector<Eigen::Isometry3d> Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::VectorXd& q) const {
   if (q.size() != num_dofs()) {
     throw std::invalid_argument("articulation: " + std::to_string(q.size()) + " joint coordinates for " +

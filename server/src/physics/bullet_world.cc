@@ -24,12 +24,6 @@ constexpr double kMaxMargin = 0.01;      // [m]
 constexpr double kMarginFraction = 0.2;  // of the smallest half extent
 constexpr double kPlaceholderRadius = 0.01;  // [m] the collider of a body without shapes (collides with nothing)
 
-bool is_articulated(const VehicleSpec& spec) {
-  for (std::size_t i = 0; i < spec.links.size(); ++i) {
-    if (link_moves(spec.links, static_cast<int>(i))) return true;
-  }
-  return false;
-}
 
 btVector3 to_bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
 
@@ -235,7 +229,7 @@ struct BulletWorld::Impl {
 
 BulletWorld::BulletWorld(const Model& model)
     : impl_(std::make_unique<Impl>(std::any_of(model.vehicles.begin(), model.vehicles.end(),
-                                               [](const VehicleSpec& spec) { return is_articulated(spec); }))) {
+                                               [](const VehicleSpec& spec) { return is_articulated(spec.links); }))) {
   Impl& w = *impl_;
   w.world->setGravity(to_bt(model.world.gravity_W));
 
@@ -270,7 +264,7 @@ BulletWorld::BulletWorld(const Model& model)
     Impl::Vehicle v;
     v.soil_contact = spec.seabed_contact == SeabedContact::kSoil;
     v.is_static = spec.is_static;
-    if (is_articulated(spec)) {
+    if (is_articulated(spec.links)) {
       w.make_articulated(v, spec, model.world.step_size());
       w.vehicles.push_back(std::move(v));
       continue;

@@ -1,6 +1,6 @@
 // hadal-viewer's page: a three.js view of the run (seabed, vehicles and their moving links, trails, DVL and
-// altimeter beams, light cones, camera frusta), camera panes, plots and the status line, fed by hadal-viewer over a
-// WebSocket (tools/viewer/viewer_state.h says what it sends). World frame W is ENU with z up, as on the
+// altimeter beams, light cones, camera frusta), camera panes, plots and the status line, fed by hadal-viewer
+// over a WebSocket (tools/viewer/viewer_state.h says what it sends). World frame W is ENU with z up, as on the
 // wire; three.js's camera is told that z is up, so nothing is converted. window.hadalViewer exposes what
 // is drawn, for tests and the curious.
 'use strict';
@@ -601,8 +601,8 @@ window.hadalViewer = {
     return {p: [p.x, p.y, p.z], q: [q.x, q.y, q.z, q.w], stamp: v.last.stamp, on_screen: onScreen,
             meshes: v.group.children.filter((c) => c.isMesh).length};
   },
-  // A moving body's mesh: its pose in W (three.js's world, the scene's W) and its vertex count; null when
-  // the scene has no such body or it has no mesh.
+  // A moving body: its pose in W (three.js's world, the scene's W) and its mesh's vertex count (0 without a
+  // mesh); null when the scene has no such body.
   linkPose(vehicle, link) {
     const l = state.links[vehicle + '/' + link];
     if (!l) return null;

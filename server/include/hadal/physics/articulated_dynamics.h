@@ -122,7 +122,7 @@ class ArticulatedDynamics {
   int n_;
   std::vector<Eigen::MatrixXd> J_;
   std::vector<Vector6d> V_, A_;
-  std::vector<Eigen::Vector3d> p_Wcm_, o_W_, v_WK_;  // centres of mass, K's origins and their velocities
+  std::vector<Eigen::Vector3d> p_Wcm_, o_W_;  // centres of mass, K's origins
   std::vector<Eigen::Index> cols_;  // J_k's columns that can be non-zero (the rest stay zero)
   Eigen::Matrix<double, 3, Eigen::Dynamic> IJ_;  // scratch of update()
   std::vector<Eigen::Matrix3d> R_WK_, I_W_;

@@ -33,6 +33,9 @@ struct LinkJoint {
 // The link-joint pairs of a vehicle's links (LinkSpec::parent and ::joint).
 std::vector<LinkJoint> link_joints(const std::vector<LinkSpec>& links);
 
+// Whether a vehicle with these links is articulated: some link moves on a joint (link_moves).
+bool is_articulated(const std::vector<LinkSpec>& links);
+
 class Articulation {
  public:
   struct Body {
