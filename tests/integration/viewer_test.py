@@ -231,6 +231,10 @@ def test_ten_loads_in_a_row_each_show_the_run_at_their_load_event(browser):
     with hadal.Server("default", mode="realtime") as server:
         viewer, url = start_viewer("--domain-id", str(server.domain_id))
         try:
+            # Loads of a run the viewer found (finding hadald on a loaded machine can take longer than the first
+            # state waits for a hadald that is not there).
+            line = read_line(viewer, 60)
+            assert line and line.startswith("hadal-viewer: watching hadald ("), line
             for load in range(10):
                 browser.load(url)
                 at_load = browser.evaluate("hadalViewer.atLoad")

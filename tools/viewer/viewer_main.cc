@@ -110,6 +110,8 @@ class LiveSource {
     }
     wake_.notify_one();
   }
+  // Whether hadald was found on the domain (its scene then comes, however slowly a loaded machine reads it).
+  bool found() const { return discovered_; }
   // Whether a page's first paint can show the run: the scene, the monitor's status and a frame of every
   // camera preview hadald writes.
   bool first_paint_ready(const hadal::viewer::ViewerState::Contents& contents) {
@@ -510,8 +512,9 @@ int main(int argc, char** argv) {
   // The page's first state, part of its load: a page (or a one-shot screenshot) shows the run at its load
   // event, not a "waiting" line. Served once the source has what a first paint shows (the scene, the status,
   // a frame of every camera), or the run has not advanced for kIdle (lockstep between steps, a paused bag:
-  // no frame will come), or when there is no scene kNoScene after the request (no hadald yet: the WebSocket
-  // brings it when there is one), or after kFirstPaintWait, whichever is first.
+  // no frame will come), or when hadald is not found kNoScene after the request (no hadald yet: the WebSocket
+  // brings the scene when there is one; once hadald is found its scene is waited for), or after
+  // kFirstPaintWait, whichever is first.
   callbacks.first_state = [&] {
     constexpr double kFirstPaintWait_s = 10.0, kNoScene_s = 2.0, kIdle_s = 1.0, kLook_s = 0.05;
     if (live) live->page_loading();
@@ -520,7 +523,7 @@ int main(int argc, char** argv) {
     while (!g_stop.load() && now_s() - start < kFirstPaintWait_s) {
       const hadal::viewer::ViewerState::Contents contents = state.contents();
       if (player ? player->first_paint_ready(contents) : live->first_paint_ready(contents)) break;
-      if (!contents.scene && now_s() - start >= kNoScene_s) break;
+      if (!contents.scene && !(live && live->found()) && now_s() - start >= kNoScene_s) break;
       if (contents.sim_time != last_sim_time) {
         last_sim_time = contents.sim_time;
         moved_at = now_s();
