@@ -399,7 +399,7 @@ class Runner {
   std::vector<double> altitudes() {
     const auto cast = [&](float direction_z) {
       geometry::RayBatch batch;
-      batch.set_snapshot(sim_.state());
+      batch.set_snapshot(sim_.state(), sim_.ray_body_poses(sim_.state()));
       const auto& vehicles = sim_.state().vehicles;
       for (std::size_t i = 0; i < vehicles.size(); ++i) {
         batch.add_ray(vehicles[i].body.X_WB.translation().cast<float>(), Eigen::Vector3f(0.0f, 0.0f, direction_z),

@@ -131,6 +131,7 @@ bool read_actuator_list(const Value& value, VehicleDefinition& d, VehicleContext
     return false;
   }
   if (d.control_count) *d.control_count += items->size() * Kind::kControls;
+  c.links = &d.links;  // an actuator on a link that moves is refused at its `link`
   std::swap(c.names_taken, c.actuator_names_taken);  // unique across every actuator list
   bool ok = true;
   for (const Value& item : *items) {

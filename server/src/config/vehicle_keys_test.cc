@@ -514,6 +514,25 @@ vehicles:
             (Lines{sensor + ":10:38: error: vehicles[0].sensors[0].link: link 'arm' moves on a joint: an imu sensor "
                             "reads its vehicle body's motion, which is not its link's: mount it on a link that does "
                             "not move"}));
+  // A thruster on an arm is refused (actuators act on the base body); a lamp on it follows it.
+  const std::string thruster = write("t.yaml", head + R"(      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1},
+         joint: {type: continuous, axis: [0, 0, 1]}}
+    thrusters:
+      - {name: t, link: arm, position: [0, 0, 0], direction: [1, 0, 0], propeller_diameter: 0.1,
+         thrust_coefficient: 0.4, max_rpm: 500}
+)");
+  EXPECT_EQ(errors_of(thruster),
+            (Lines{thruster + ":10:25: error: vehicles[0].thrusters[0].link: link 'arm' moves on a joint: actuators "
+                              "on moving links are not supported yet"}));
+  const std::string lamp = write("l.yaml", head + R"(      - {name: arm, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1},
+         joint: {type: continuous, axis: [0, 0, 1]}}
+    lights:
+      - {name: lamp, link: arm}
+)");
+  const LoadResult lit = load_scenario_file(lamp);
+  for (const Diagnostic& diagnostic : lit.errors) ADD_FAILURE() << diagnostic.format();
+  ASSERT_TRUE(lit.ok());
+  EXPECT_EQ(lit.model->vehicles[0].lights.at(0).link_index, 1);
 }
 
 // A force_torque sensor measures its link's joint: it is on a link on a moving joint, refused on a link on a

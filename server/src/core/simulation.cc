@@ -375,8 +375,8 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
     if (link >= 0 && link < static_cast<int>(vehicle.links.size()) && link_moves(vehicle.links, link)) {
       throw std::invalid_argument(prefix + what + " is on link '" +
                                   vehicle.links[static_cast<std::size_t>(link)].name +
-                                  "', which moves: sensors, actuators and lights on moving links are not supported "
-                                  "yet");
+                                  "', which moves: sensors of this kind (they measure the base body's motion) and "
+                                  "actuators are not supported on moving links");
     }
   };
   for (const SensorSpec& sensor : vehicle.sensors) {
@@ -387,7 +387,6 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
   for (const ActuatorSpec& actuator : vehicle.actuators) {
     refuse_moving(actuator.link_index, std::string(actuator.type()) + " '" + actuator.name + "'");
   }
-  for (const LightSpec& light : vehicle.lights) refuse_moving(light.link_index, "light '" + light.name + "'");
 }
 
 const Model& validated(const Model& model) {
@@ -425,7 +424,9 @@ const Model& validated(const Model& model) {
 }  // namespace
 
 Simulation::Simulation(Model model)
-    : model_(std::move(model)), world_(std::make_unique<physics::BulletWorld>(validated(model_))) {
+    : model_(std::move(model)),
+      world_(std::make_unique<physics::BulletWorld>(validated(model_))),
+      ray_bodies_(model_) {
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
   for (const VehicleSpec& spec : model_.vehicles) {
     const bool needs_seabed =
@@ -1207,10 +1208,10 @@ void Simulation::sample_sensors(double dt) {
         mount.X_BS = vehicle.body.X_WB.inverse() * X_WK[static_cast<std::size_t>(mount.body)] * mount.X_KS;
       }
       const auto context_at = [&](const Eigen::Isometry3d& X_BS) {
-        return sensors::SampleContext{state_.time, mount.period,   dt,             model_.world,
-                                      *ocean_,     *environment_,  state_,         static_cast<int>(i),
-                                      X_BS,        runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
-                                      rays_.get(), &spec.sensors[k]};
+        return sensors::SampleContext{state_.time,     mount.period,   dt,             model_.world,
+                                      *ocean_,         *environment_,  state_,         static_cast<int>(i),
+                                      X_BS,            runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
+                                      rays_.get(),     &spec.sensors[k], ray_bodies_.of_body(static_cast<int>(i), mount.body)};
       };
       const sensors::SampleContext context = context_at(mount.X_BS);
       std::visit(
@@ -1224,7 +1225,7 @@ void Simulation::sample_sensors(double dt) {
                 capture.step_count = state_.step_count;
                 capture.due_step = state_.step_count + mount.latency_steps;
                 capture.X_BS = mount.X_BS;
-                for (const VehicleState& v : state_.vehicles) capture.X_WB.push_back(v.body.X_WB);
+                capture.X_WB = ray_body_poses(state_);
                 submit_capture<Kind>(i, k, kind_spec, capture);
               }
               while (!out.captures.empty() && out.captures.front().due_step <= state_.step_count) {
@@ -1270,7 +1271,8 @@ void Simulation::submit_capture(std::size_t vehicle, std::size_t sensor, const t
                                 const PendingCapture& capture) {
   VehicleRuntime::Sensor& mount = runtime_[vehicle]->sensors[sensor];
   const sensors::CaptureContext context{capture.time,  capture.step_count, capture.X_WB, static_cast<int>(vehicle),
-                                        capture.X_BS,  &model_,            ocean_.get()};
+                                        capture.X_BS,  &model_,            ocean_.get(),
+                                        ray_bodies_.of_body(static_cast<int>(vehicle), mount.body)};
   VehicleRuntime::InFlight flight;
   if constexpr (sensors::CapturesByWork<Kind>::value) {
     auto output = std::make_shared<typename Kind::Capture>();
@@ -1312,12 +1314,31 @@ void Simulation::restart_captures() {
   }
 }
 
+std::vector<Eigen::Isometry3d> Simulation::ray_body_poses(const SimState& state) const {
+  std::vector<Eigen::Isometry3d> X_Wb;
+  X_Wb.reserve(static_cast<std::size_t>(ray_bodies_.count()));
+  for (const VehicleState& vehicle : state.vehicles) X_Wb.push_back(vehicle.body.X_WB);
+  for (std::size_t i = 0; i < runtime_.size() && i < state.vehicles.size(); ++i) {
+    const physics::Articulation* articulation = runtime_[i]->articulation;
+    if (articulation == nullptr) continue;
+    const VehicleState& vehicle = state.vehicles[i];
+    const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
+    const std::vector<Eigen::Isometry3d> X_WK =
+        articulation->poses_W(vehicle.body.X_WB, Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n));
+    for (int k = 1; k < articulation->num_bodies(); ++k) {
+      X_Wb.push_back(X_WK[static_cast<std::size_t>(k)] * articulation->body(k).X_BK0.inverse());
+    }
+  }
+  return X_Wb;
+}
+
 geometry::SceneRays& Simulation::scene_rays() {
   if (!rays_) {
     // Embree builds its BVHs on world.threads threads (its own default: all).
     const std::string device_config =
         model_.world.threads > 0 ? "threads=" + std::to_string(model_.world.threads) : std::string();
-    rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_, device_config));
+    rays_ = std::make_unique<geometry::SceneRays>(geometry::build_world_scene(model_, device_config),
+                                                  [this](const SimState& state) { return ray_body_poses(state); });
   }
   return *rays_;
 }

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <map>
@@ -18,6 +19,9 @@
 #include "hadal/physics/mass_properties.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/test_models.h"
+#include "hadal/render/camera_rays.h"
+#include "hadal/render/lens.h"
+#include "hadal/sensors/camera_sensor.h"
 #include "hadal/sensors/force_torque_sensor.h"
 
 namespace hadal {
@@ -527,6 +531,115 @@ TEST(SimulationArticulatedTest, SensorsOnAMovingLinkFollowIt) {
     ++checked;
   }
   EXPECT_GE(checked, 15);
+}
+
+// The ray-cast world has the moving links where their joints put them (geometry/world_scene.h): a profiler
+// on the static frame, at the joint and looking straight down, meets the pendulum's bob, a 0.2 m cube
+// whose centre hangs l = 0.5 m below the joint, on the face nearest the joint: at (l - h) / cos(theta)
+// for a swing angle theta (h = 0.1 m, the half side; the beam stays on that face while tan(theta) (l - h)
+// < h). Swinging within +-10 deg, that is 0.400-0.406 m; a bob left at q = 0 would read 0.400 m
+// throughout. Tolerance: Embree's float32 distances, a few ulp of the 50 m coordinates (4e-6 m each).
+TEST(SimulationArticulatedTest, RaysMeetAMovingLinkWhereItsJointPutsIt) {
+  Pendulum p;
+  p.initial = 10.0 * kPi / 180.0;
+  Model model = p.model();
+  const double h = 0.1;
+  model.vehicles[0].links[1].collisions[0] = testing::box_shape({2 * h, 2 * h, 2 * h});
+  model.vehicles[0].links[1].collisions[0].X_LG.translation() = p.l * p.arm_L;
+  SensorSpec profiler;
+  profiler.name = "profiler";
+  profiler.link_index = 0;  // the frame
+  profiler.X_LS.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();  // x down
+  profiler.rate_hz = 50.0;
+  sensors::ProfilerSensor::Spec beam;
+  beam.beams = 1;
+  beam.fov = 1e-3;
+  beam.beam_width = 1e-4;
+  beam.rays_per_beam = 1;
+  beam.noise_stddev = 0.0;
+  beam.resolution = 0.0;
+  beam.min_range = 0.1;
+  profiler.kind = beam;
+  model.vehicles[0].sensors = {profiler};
+  Simulation sim(std::move(model));
+  std::map<std::uint64_t, double> theta_at;  // by step count
+  std::uint64_t scans = 0;
+  int checked = 0;
+  double widest = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    sim.step();
+    theta_at[sim.state().step_count] = joint_q(sim);
+    const SensorState& scan = sim.state().vehicles[0].sensors[0];
+    if (scan.samples == scans) continue;
+    scans = scan.samples;
+    const double theta = theta_at.at(static_cast<std::uint64_t>(std::llround(scan.stamp / sim.model().world.step_size())));
+    const double range = state_of<sensors::ProfilerSensor>(scan).ranges.at(0);
+    EXPECT_NEAR(range, (p.l - h) / std::cos(theta), 2e-5) << k;
+    widest = std::max(widest, std::abs(theta));
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
+  EXPECT_GT(widest, 8.0 * kPi / 180.0);  // the bob swung, and the beam saw it where it was
+}
+
+// A light on a moving link follows it: a narrow lamp (2-3 deg) on the pendulum's arm, 0.25 m to its side
+// and pointing along it, held at theta = 0.3 rad (its limits both there), lights the seabed 10 m below the
+// joint where its axis meets it, (-10 tan(theta), 0.25, -60) in W; a camera on the frame looking straight
+// down sees the spot's centroid (pixels above half its peak) at that point's projection (render::project)
+// within 1 px: the spot is some 8 px across, its brightness varies over it by the inverse square and the
+// incidence by a few %, which moves the centroid by a fraction of a pixel. A lamp left at q = 0 would
+// light (0, 0.25, -60), 21 px away.
+TEST(SimulationArticulatedTest, ALightOnAMovingLinkLightsWhereItsJointPointsIt) {
+  Pendulum p;
+  p.initial = p.lower = p.upper = 0.3;
+  Model model = p.model();
+  model.world.seabed.z = -p.depth - 10.0;
+  SensorSpec camera;
+  camera.name = "camera";
+  camera.link_index = 0;
+  camera.X_LS = testing::at(Eigen::Vector3d(0, -0.3, 0),
+                            Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix());
+  camera.rate_hz = 10.0;
+  sensors::CameraSensor::Spec spec;
+  const render::LensSpec lens = render::lens_from_horizontal_fov(96, 72, 70.0 * kDegToRad);
+  sensors::CameraSensor::set_lens(spec, lens);
+  spec.sensor.exposure_s = 0.5;
+  camera.kind = spec;
+  model.vehicles[0].sensors = {camera};
+  LightSpec lamp;
+  lamp.name = "lamp";
+  lamp.link_index = 1;  // the arm
+  lamp.X_LF = testing::at(Eigen::Vector3d(0, 0.25, 0),
+                          Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix());  // x along the arm
+  lamp.inner_half_angle = 2.0 * kDegToRad;
+  lamp.outer_half_angle = 3.0 * kDegToRad;
+  lamp.intensity_W_per_sr = Eigen::Array3d::Constant(2e4);
+  model.vehicles[0].lights = {lamp};
+  const Eigen::Isometry3d X_WC = model.vehicles[0].X_WB_initial * camera.X_LS * render::X_SC();
+  Simulation sim(std::move(model));
+  for (int k = 0; k < 60; ++k) sim.step();
+  ASSERT_NEAR(joint_q(sim), 0.3, 1e-3);
+  const auto& image = state_of<sensors::CameraSensor>(sim.state().vehicles[0].sensors[0]).image;
+  ASSERT_EQ(image.size(), 96u * 72u * 3u);
+  std::vector<double> luma(96 * 72);
+  for (std::size_t i = 0; i < luma.size(); ++i) luma[i] = image[3 * i] + image[3 * i + 1] + image[3 * i + 2];
+  const double peak = *std::max_element(luma.begin(), luma.end());
+  const double floor = *std::min_element(luma.begin(), luma.end());
+  ASSERT_GT(peak - floor, 100.0);
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double n = 0.0;
+  for (int v = 0; v < 72; ++v) {
+    for (int u = 0; u < 96; ++u) {
+      if (luma[static_cast<std::size_t>(v * 96 + u)] <= 0.5 * (peak + floor)) continue;
+      sum += Eigen::Vector2d(u, v);
+      n += 1.0;
+    }
+  }
+  const Eigen::Vector3d spot_W(-10.0 * std::tan(0.3), 0.25, -p.depth - 10.0);
+  Eigen::Vector2d expected;
+  ASSERT_TRUE(render::project(lens, X_WC.inverse() * spot_W, &expected));
+  EXPECT_LT((sum / n - expected).norm(), 1.0) << (sum / n).transpose() << " vs " << expected.transpose() << ", " << n
+                                             << " px";
 }
 
 // The servo is taken implicitly over the step (physics/joint_servo.h), so gains far past the explicit

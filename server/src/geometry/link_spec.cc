@@ -31,6 +31,17 @@ bool link_moves(const std::vector<LinkSpec>& links, int index) {
   return false;
 }
 
+std::vector<int> link_bodies(const std::vector<LinkSpec>& links) {
+  std::vector<int> body(links.size(), 0);
+  int bodies = 1;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const int parent = links[i].parent;
+    const int parent_body = parent >= 0 && parent < static_cast<int>(i) ? body[static_cast<std::size_t>(parent)] : 0;
+    body[i] = links[i].joint.type == JointType::kFixed ? parent_body : bodies++;
+  }
+  return body;
+}
+
 }  // namespace hadal
 
 namespace hadal::geometry {

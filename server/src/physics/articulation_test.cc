@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hadal::physics {
 namespace {
@@ -62,6 +64,24 @@ TEST(ArticulationTest, FixedLinksJoinTheirParentsBody) {
   EXPECT_LT((a.body(2).mass_K.p_BBcm - p_KKcm).norm(), 1e-15);
   // The elbow's axis (0, 0, 2) in its link frame, normalised.
   EXPECT_EQ(a.body(2).axis_K, Eigen::Vector3d(0, 0, 1));
+}
+
+// geometry's link_bodies (what the ray-cast scene's bodies are made of) numbers a branched tree's bodies as
+// the articulation does: base; a on it (revolute); b fixed on the base; c on a (revolute); d fixed on c;
+// e on b (revolute): bodies 0, 1, 0, 2, 2, 3.
+TEST(ArticulationTest, LinkBodiesNumberTheBodiesAsTheArticulationDoes) {
+  std::vector<LinkSpec> links;
+  const std::vector<std::pair<int, bool>> tree = {{-1, false}, {0, true}, {0, false}, {1, true}, {3, false}, {2, true}};
+  for (std::size_t i = 0; i < tree.size(); ++i) {
+    LinkSpec l = link("l" + std::to_string(i), 1.0, {0.1 * static_cast<double>(i), 0, 0}, {0, 0, 0});
+    l.parent = tree[i].first;
+    if (tree[i].second) l.joint = revolute({0, 1, 0});
+    links.push_back(l);
+  }
+  const Articulation a(links);
+  const std::vector<int> bodies = link_bodies(links);
+  EXPECT_EQ(bodies, (std::vector<int>{0, 1, 0, 2, 2, 3}));
+  for (std::size_t i = 0; i < links.size(); ++i) EXPECT_EQ(bodies[i], a.body_of_link(static_cast<int>(i))) << i;
 }
 
 // Forward kinematics against the planar closed form, at angles that tell the joints and the signs apart.

@@ -13,7 +13,12 @@ const KeyTable<LightSpec, VehicleContext>& light_keys() {
                "a spot light on a link: full intensity inside the inner half angle of its "
                "axis (x of its frame), none beyond the outer, a smooth edge between");
     config::declare_name_key(t, "light", &LightSpec::name).doc("unique among the vehicle's lights");
-    config::declare_link_key(t, &LightSpec::link_index).required().doc("a link of this vehicle");
+    // A light on a link that moves on a joint (a lamp on an arm) follows its link (geometry/world_scene.h).
+    config::declare_link_key(t, &LightSpec::link_index, config::LinkPlacement<LightSpec>([](auto&&...) {
+                               return std::string();
+                             }))
+        .required()
+        .doc("a link of this vehicle (one on a joint moves with it)");
     t.pose("pose", &LightSpec::X_LF).doc("the light's frame in the link frame; the beam points along its x");
     t.number("inner_half_angle_deg", &LightSpec::inner_half_angle).degrees().range(Range::right_open(0.0, 180.0))
         .doc("full intensity inside");

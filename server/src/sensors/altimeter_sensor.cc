@@ -42,7 +42,7 @@ void AltimeterSensor::sample(const SampleContext& context, const Spec& spec, Sta
   const Eigen::Isometry3d& X_WB = context.body().X_WB;
   const Eigen::Vector3d x_W = X_WB.linear() * context.X_BS.linear().col(0);
   const double range = context.rays->cast(context.state, context.p_WS(), std::array<Eigen::Vector3d, 1>{x_W},
-                                          context.vehicle_index, 1.01 * spec.max_range)[0];
+                                          context.own_ray_body(), 1.01 * spec.max_range)[0];
   // The noise stream advances every sample, in the window or not.
   const double measured =
       measure(channel(spec, context.period), state.noise, std::isfinite(range) ? range : 0.0, context.period);

@@ -43,34 +43,40 @@ render::SpotLight spot_light(const LightSpec& light, const Eigen::Isometry3d& X_
   return spot;
 }
 
-// Every vehicle's lights posed at the snapshot, and the world's optics.
-render::FrameLighting lighting_at(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB) {
+// Every vehicle's lights posed at the snapshot (each on its link's ray body: geometry/world_scene.h), and the
+// world's optics.
+render::FrameLighting lighting_at(const Model& model, const geometry::RayBodies& bodies,
+                                  const std::vector<Eigen::Isometry3d>& X_WB) {
   render::FrameLighting lighting;
   lighting.water = model.world.optics.water;
   lighting.daylight = model.world.optics.daylight;
   lighting.marine_snow = model.world.optics.marine_snow;
-  for (std::size_t i = 0; i < model.vehicles.size() && i < X_WB.size(); ++i) {
+  for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     const VehicleSpec& vehicle = model.vehicles[i];
     for (const LightSpec& light : vehicle.lights) {
+      const auto b = static_cast<std::size_t>(bodies.of_link(static_cast<int>(i), light.link_index));
+      if (b >= X_WB.size()) continue;
       lighting.lights.push_back(
-          spot_light(light, X_WB[i] * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF));
+          spot_light(light, X_WB[b] * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF));
     }
   }
   return lighting;
 }
 
-// The lights in the camera's optical frame C when they all ride on the camera's own vehicle (rigid:
-// the same in every frame, from the specs alone, so their backscatter table is kept); nullopt when
-// another vehicle has lights (they move relative to the camera).
-std::optional<std::vector<render::SpotLight>> own_lights_C(const Model& model, int vehicle_index,
+// The lights in the camera's optical frame C when they all ride on the camera's own vehicle's base body, as
+// the camera does (rigid: the same in every frame, from the specs alone, so their backscatter table is kept);
+// nullopt when a light moves relative to the camera (on another vehicle, or either on a moving link).
+std::optional<std::vector<render::SpotLight>> own_lights_C(const Model& model, const geometry::RayBodies& bodies,
+                                                           int vehicle_index, int own_ray_body,
                                                            const Eigen::Isometry3d& X_BS) {
   std::vector<render::SpotLight> lights_C;
   const Eigen::Isometry3d X_CB = (X_BS * render::X_SC()).inverse();
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
     const VehicleSpec& vehicle = model.vehicles[i];
     if (vehicle.lights.empty()) continue;
-    if (static_cast<int>(i) != vehicle_index) return std::nullopt;
+    if (static_cast<int>(i) != vehicle_index || own_ray_body != vehicle_index) return std::nullopt;
     for (const LightSpec& light : vehicle.lights) {
+      if (bodies.link_moves(vehicle_index, light.link_index)) return std::nullopt;
       lights_C.push_back(spot_light(light, X_CB * vehicle.links[static_cast<std::size_t>(light.link_index)].X_BL * light.X_LF));
     }
   }
@@ -84,21 +90,23 @@ void fill_header(const MessageHeader& header, std_msgs::msg::Header& out) {
 
 }  // namespace
 
-Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB,
-                              const render::SurfacePoint& hit) {
+Eigen::Array3d surface_albedo(const Model& model, const geometry::RayBodies& bodies,
+                              const std::vector<Eigen::Isometry3d>& X_WB, const render::SurfacePoint& hit) {
   const OpticsSpec& optics = model.world.optics;
   const Eigen::Vector3d& p_W = hit.p_W;
   if (hit.material == geometry::kSeabedMaterial || hit.body < 0) {
     return render::sediment_albedo(optics.seabed_pattern, optics.seabed_albedo, p_W.x(), p_W.y());
   }
+  // The hit's ray body b carries its links at X_W(b) X_BL (geometry/world_scene.h).
   const auto b = static_cast<std::size_t>(hit.body);
   const std::uint32_t code = hit.material - geometry::kVehicleMaterial;  // geometry::link_material(link, m)
   const std::size_t link = geometry::link_of_material(code);
-  if (hit.material < geometry::kVehicleMaterial || b >= model.vehicles.size() || b >= X_WB.size() ||
-      link >= model.vehicles[b].links.size()) {
+  if (hit.material < geometry::kVehicleMaterial || hit.body >= bodies.count() || b >= X_WB.size()) {
     return optics.vehicle_albedo;
   }
-  const LinkSpec& spec = model.vehicles[b].links[link];
+  const VehicleSpec& vehicle = model.vehicles[static_cast<std::size_t>(bodies.vehicle(hit.body))];
+  if (link >= vehicle.links.size()) return optics.vehicle_albedo;
+  const LinkSpec& spec = vehicle.links[link];
   render::Rgb base = optics.vehicle_albedo;
   if (spec.appearance.albedo) {
     base = *spec.appearance.albedo;
@@ -128,14 +136,14 @@ Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isome
   return (static_cast<long>(column) + static_cast<long>(row)) % 2 == 0 ? render::Rgb(board.dark_albedo) : base;
 }
 
-void surface_albedos(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, const render::SurfacePoints& points,
-                     float* r, float* g, float* b) {
+void surface_albedos(const Model& model, const geometry::RayBodies& bodies, const std::vector<Eigen::Isometry3d>& X_WB,
+                     const render::SurfacePoints& points, float* r, float* g, float* b) {
   const OpticsSpec& optics = model.world.optics;
   render::sediment_albedo(optics.seabed_pattern, optics.seabed_albedo, points.origin_W.head<2>(), points.x, points.y,
                           points.count, r, g, b);
   for (std::size_t i = 0; i < points.count; ++i) {
     if (points.material[i] == geometry::kSeabedMaterial || points.body[i] < 0) continue;  // the seabed, or a miss
-    const Eigen::Array3d albedo = surface_albedo(model, X_WB, points.point(i));
+    const Eigen::Array3d albedo = surface_albedo(model, bodies, X_WB, points.point(i));
     r[i] = static_cast<float>(albedo[0]);
     g[i] = static_cast<float>(albedo[1]);
     b[i] = static_cast<float>(albedo[2]);
@@ -318,15 +326,18 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   if (context.model == nullptr) throw std::logic_error("camera capture: no model in the capture context");
   if (!spec.lens) throw std::logic_error("camera capture: the camera has no lens (a failed read)");
   const Eigen::Isometry3d X_WC = context.X_WS() * render::X_SC();
-  const std::int32_t own_body = static_cast<std::int32_t>(context.vehicle_index);
+  const std::int32_t own_body = static_cast<std::int32_t>(context.own_ray_body());
   const std::uint64_t key = state.noise_key, frame = context.step_count;
-  render::FrameLighting lighting = lighting_at(*context.model, context.X_WB);
+  geometry::RayBodies bodies(*context.model);
+  render::FrameLighting lighting = lighting_at(*context.model, bodies, context.X_WB);
   lighting.negligible_radiance_W_per_m2_sr = negligible_radiance(spec.sensor);
-  return [&out, spec, X_WC, own_body, key, frame, model = context.model, X_WB = context.X_WB, lighting = std::move(lighting),
-          lights_C = own_lights_C(*context.model, context.vehicle_index, context.X_BS)](
+  std::optional<std::vector<render::SpotLight>> lights_C =
+      own_lights_C(*context.model, bodies, context.vehicle_index, own_body, context.X_BS);
+  return [&out, spec, X_WC, own_body, key, frame, model = context.model, bodies = std::move(bodies), X_WB = context.X_WB,
+          lighting = std::move(lighting), lights_C = std::move(lights_C)](
              const geometry::EmbreeScene& scene, const ParallelFor& parallel) mutable {
     const render::AlbedoOfPoints albedo = [&](const render::SurfacePoints& points, float* r, float* g, float* b) {
-      surface_albedos(*model, X_WB, points, r, g, b);
+      surface_albedos(*model, bodies, X_WB, points, r, g, b);
     };
     if (lights_C && spec.backscatter_cache) {
       lighting.backscatter = spec.backscatter_cache->get(lighting, *lights_C, spec.lens, static_cast<float>(spec.near_clip),

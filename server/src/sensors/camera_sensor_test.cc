@@ -165,9 +165,10 @@ TEST(CameraSensorTest, GltfBaseColourIsTheAlbedoOfAMeshedLink) {
   geometry::RayHits hits;
   hits.resize(rays.size());
   scene.intersect(rays, 0, rays.size(), geometry::QueryPath::kSingle, hits);
+  const geometry::RayBodies bodies(model);
   const auto albedo = [&](std::size_t i) {
     const Eigen::Vector3d p = from.cast<double>() + hits.distance[i] * Eigen::Vector3d(rays.d_W_x[i], rays.d_W_y[i], rays.d_W_z[i]);
-    return surface_albedo(model, X_WB, render::SurfacePoint{hits.material[i], hits.body[i], p, hits.tex_u[i], hits.tex_v[i]});
+    return surface_albedo(model, bodies, X_WB, render::SurfacePoint{hits.material[i], hits.body[i], p, hits.tex_u[i], hits.tex_v[i]});
   };
   ASSERT_TRUE(hits.hit(0) && hits.hit(1) && hits.hit(2));
   EXPECT_TRUE(albedo(0).isApprox(Eigen::Array3d(0.9, 0.1, 0.1), 1e-6)) << albedo(0).transpose();
@@ -224,11 +225,12 @@ TEST(CameraSensorTest, GltfBaseColourTextureIsSampledAtTheHit) {
   hits.resize(rays.size());
   scene.intersect(rays, 0, rays.size(), geometry::QueryPath::kAuto, hits);
   const Eigen::Array3d factor(1.0, 0.5, 0.25);
+  const geometry::RayBodies bodies(model);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     ASSERT_TRUE(hits.hit(i));
     const Eigen::Vector3d p = from.cast<double>() + hits.distance[i] * Eigen::Vector3d(rays.d_W_x[i], rays.d_W_y[i], rays.d_W_z[i]);
     const Eigen::Array3d albedo =
-        surface_albedo(model, X_WB, render::SurfacePoint{hits.material[i], hits.body[i], p, hits.tex_u[i], hits.tex_v[i]});
+        surface_albedo(model, bodies, X_WB, render::SurfacePoint{hits.material[i], hits.body[i], p, hits.tex_u[i], hits.tex_v[i]});
     const auto rgb = assets::test_texture_pixel(texels[i].first, texels[i].second);
     const Eigen::Array3d expected = factor * Eigen::Array3d(render::srgb_to_linear(rgb[0] / 255.0),
                                                             render::srgb_to_linear(rgb[1] / 255.0),

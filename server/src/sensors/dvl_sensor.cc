@@ -153,7 +153,7 @@ void DvlSensor::sample(const SampleContext& context, const Spec& spec, State& st
   const std::array<Eigen::Vector3d, kDvlBeams> beams_S = dvl_beam_unit_vectors(params);
   std::array<Eigen::Vector3d, kDvlBeams> beams_W;
   for (int b = 0; b < kDvlBeams; ++b) beams_W[b] = R_WS * beams_S[b];
-  input.slant_range = context.rays->cast(context.state, p_WS, beams_W, context.vehicle_index, ray_length(spec));
+  input.slant_range = context.rays->cast(context.state, p_WS, beams_W, context.own_ray_body(), ray_length(spec));
   if (params.water_track) {
     const int n = spec.water_track_layer_samples;
     for (int b = 0; b < kDvlBeams; ++b) {

@@ -99,15 +99,19 @@ render::BackscatterOfHits model_backscatter(const Model& model) {
   const AcousticsSpec& acoustics = model.world.acoustics;
   const float seabed = static_cast<float>(std::pow(10.0, acoustics.seabed_backscatter_db / 10.0));
   const float hull = static_cast<float>(std::pow(10.0, acoustics.vehicle_backscatter_db / 10.0));
-  // Per vehicle and link: its appearance's backscatter if given, else the hulls'.
+  // Per vehicle and link: its appearance's backscatter if given, else the hulls'; each ray body's vehicle.
   std::vector<std::vector<float>> links(model.vehicles.size());
+  const geometry::RayBodies bodies(model);
+  std::vector<std::size_t> vehicle_of;
+  for (int b = 0; b < bodies.count(); ++b) vehicle_of.push_back(static_cast<std::size_t>(bodies.vehicle(b)));
   for (std::size_t v = 0; v < model.vehicles.size(); ++v) {
     for (const LinkSpec& link : model.vehicles[v].links) {
       const std::optional<double>& db = link.appearance.backscatter_db;
       links[v].push_back(db ? static_cast<float>(std::pow(10.0, *db / 10.0)) : hull);
     }
   }
-  return [seabed, hull, links = std::move(links)](const geometry::RayHits& hits, std::size_t count, float* mu) {
+  return [seabed, hull, links = std::move(links), vehicle_of = std::move(vehicle_of)](const geometry::RayHits& hits,
+                                                                                    std::size_t count, float* mu) {
     for (std::size_t i = 0; i < count; ++i) {
       const std::int32_t body = hits.body[i];
       if (body == geometry::kNoHit) {
@@ -117,8 +121,9 @@ render::BackscatterOfHits model_backscatter(const Model& model) {
       } else {
         const auto b = static_cast<std::size_t>(body);
         const std::size_t link = geometry::link_of_material(hits.material[i] - geometry::kVehicleMaterial);
-        mu[i] = b < links.size() && hits.material[i] >= geometry::kVehicleMaterial && link < links[b].size()
-                    ? links[b][link]
+        const std::size_t v = b < vehicle_of.size() ? vehicle_of[b] : links.size();
+        mu[i] = v < links.size() && hits.material[i] >= geometry::kVehicleMaterial && link < links[v].size()
+                    ? links[v][link]
                     : hull;
       }
     }
@@ -134,7 +139,7 @@ CaptureWork sonar_ping_work(const CaptureContext& context, std::shared_ptr<const
   if (!ping) throw std::logic_error("sonar capture: the sonar has no ping spec (a failed read)");
   const Eigen::Isometry3d X_WS = context.X_WS();
   *water = sonar_water(*context.ocean, X_WS.translation(), frequency_hz);
-  const std::int32_t own_body = static_cast<std::int32_t>(context.vehicle_index);
+  const std::int32_t own_body = static_cast<std::int32_t>(context.own_ray_body());
   return [ping = std::move(ping), X_WS, own_body, w = *water, backscatter = model_backscatter(*context.model), noise_key,
           index = context.step_count, sink = std::move(sink)](const geometry::EmbreeScene& scene, const ParallelFor& parallel) {
     render::ping(scene, *ping, X_WS, own_body, w, backscatter, noise_key, index, parallel, sink);

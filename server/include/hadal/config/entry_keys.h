@@ -50,7 +50,7 @@ typename KeyTable<T, VehicleContext>::Key declare_link_key(KeyTable<T, VehicleCo
           const bool moves = link_moves(*context.links, *index);
           const std::string refusal =
               placement ? placement(out, (*context.links)[static_cast<std::size_t>(*index)], moves)
-              : moves   ? std::string("moves on a joint: actuators and lights on moving links are not supported yet")
+              : moves   ? std::string("moves on a joint: actuators on moving links are not supported yet")
                         : std::string();
           if (!refusal.empty()) {
             value.error("link " + quoted(*value.string()) + " " + refusal);

@@ -26,6 +26,7 @@
 
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
+#include "hadal/geometry/world_scene.h"
 
 #include <atomic>
 #include <memory>
@@ -149,6 +150,10 @@ class Simulation {
   // (seabed and every vehicle's surface) the sensors see: captured sensors use them, and so may a
   // caller, e.g. for a probe against the last state. Made on first use.
   geometry::RaycastService& raycast_service();
+  // Every ray body's pose at `state` (geometry/world_scene.h: the vehicles' X_WB, then each articulated
+  // vehicle's moving bodies as "B as the body carries it", X_WK X_BK0^-1): what a batch cast against the
+  // state's snapshot needs (RayBatch::set_snapshot).
+  std::vector<Eigen::Isometry3d> ray_body_poses(const SimState& state) const;
 
   // Captures due at a step: waited for (default: lockstep, fast, tests; deterministic), or dropped when
   // their rays are not done yet (real time: the step never waits), counted in dropped_captures().
@@ -202,6 +207,7 @@ class Simulation {
   // their own view.
   std::unique_ptr<geometry::SceneRays> rays_;
   std::unique_ptr<geometry::RaycastService> service_;
+  geometry::RayBodies ray_bodies_;  // which vehicle and body each ray body is
   bool wait_for_captures_ = true;
   std::uint64_t dropped_captures_ = 0;
   // Shared with the queued scene work, which counts itself when it finds it was dropped.

@@ -141,6 +141,11 @@ inline const std::string& joint_name(const LinkSpec& link) {
 // Whether links[index] moves relative to B: it or a link it hangs on has a joint that is not fixed.
 bool link_moves(const std::vector<LinkSpec>& links, int index);
 
+// Each link's rigid body, numbered as physics::Articulation numbers them (physics/articulation.h): 0 for
+// the base body (the links rigidly on B), k for the body that the k-th moving joint in link order starts;
+// a link on a fixed joint is on its parent's body. Links whose parent is not an earlier link are on the base.
+std::vector<int> link_bodies(const std::vector<LinkSpec>& links);
+
 namespace geometry {
 // Why I (about the centre of mass) cannot be a body's inertia, or "": it must be positive definite, its
 // principal moments obeying A + B >= C (0.1 % of the largest moment of slack for rounded hand-typed values).

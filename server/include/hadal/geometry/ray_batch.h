@@ -39,6 +39,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace hadal::geometry {
@@ -105,11 +106,13 @@ struct RayBatch {
     t_far.push_back(t_max);
   }
 
-  // Takes sim time, step count and every vehicle's body pose from a state snapshot.
-  void set_snapshot(const SimState& state) {
+  // Takes sim time and step count from a state snapshot, and the ray bodies' poses at it (world_scene.h;
+  // Simulation::ray_body_poses); without them every vehicle's X_WB (a world without moving bodies).
+  void set_snapshot(const SimState& state, std::vector<Eigen::Isometry3d> poses = {}) {
     sim_time = state.time;
     step_count = state.step_count;
-    X_WB.clear();
+    X_WB = std::move(poses);
+    if (!X_WB.empty()) return;
     X_WB.reserve(state.vehicles.size());
     for (const VehicleState& vehicle : state.vehicles) X_WB.push_back(vehicle.body.X_WB);
   }

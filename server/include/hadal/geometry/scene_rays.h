@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -18,13 +19,17 @@ namespace hadal::geometry {
 
 class SceneRays {
  public:
-  // A view of the world (EmbreeScene::view()); built here if it is not yet.
-  explicit SceneRays(EmbreeScene scene) : scene_(std::move(scene)) {
+  // The ray bodies' poses at a state (geometry/world_scene.h): Simulation::ray_body_poses.
+  using Poses = std::function<std::vector<Eigen::Isometry3d>(const SimState&)>;
+
+  // A view of the world (EmbreeScene::view()); built here if it is not yet. Without `poses` the bodies are
+  // the vehicles' base bodies at their X_WB (a world without moving bodies).
+  explicit SceneRays(EmbreeScene scene, Poses poses = {}) : scene_(std::move(scene)), poses_of_(std::move(poses)) {
     if (!scene_.built()) scene_.build();
   }
 
-  // Distances [m] along the unit directions d_W from p_W in the world at `state`, passing through body
-  // `own` (a sensor's own vehicle); +inf where nothing is hit within max_distance.
+  // Distances [m] along the unit directions d_W from p_W in the world at `state`, passing through ray body
+  // `own` (the body a sensor is mounted on); +inf where nothing is hit within max_distance.
   template <std::size_t N>
   std::array<double, N> cast(const SimState& state, const Eigen::Vector3d& p_W,
                              const std::array<Eigen::Vector3d, N>& d_W, int own, double max_distance) {
@@ -49,13 +54,18 @@ class SceneRays {
  private:
   void pose(const SimState& state) {
     if (posed_step_ == state.step_count) return;
-    poses_.clear();
-    for (const VehicleState& vehicle : state.vehicles) poses_.push_back(vehicle.body.X_WB);
+    if (poses_of_) {
+      poses_ = poses_of_(state);
+    } else {
+      poses_.clear();
+      for (const VehicleState& vehicle : state.vehicles) poses_.push_back(vehicle.body.X_WB);
+    }
     scene_.set_body_poses(poses_);
     posed_step_ = state.step_count;
   }
 
   EmbreeScene scene_;
+  Poses poses_of_;
   RayBatch rays_;
   RayHits hits_;
   std::vector<Eigen::Isometry3d> poses_;

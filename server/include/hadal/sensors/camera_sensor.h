@@ -43,6 +43,9 @@ class CameraInfo;
 class CameraInfoPubSubType;
 }  // namespace sensor_msgs::msg
 
+namespace hadal::geometry {
+class RayBodies;
+}
 namespace hadal::render {
 class BackscatterTableCache;
 struct SurfacePoint;
@@ -56,13 +59,13 @@ namespace hadal::sensors {
 // appearance albedo if given, else the base colour of the link mesh's glTF material the triangle
 // belongs to (geometry::link_material): its factor times its base-colour texture at the hit's texture
 // coordinates (render/texture.h), else the world's vehicle albedo; a checkerboard appearance is
-// evaluated in the link's pattern frame at the snapshot X_WB.
-Eigen::Array3d surface_albedo(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB,
-                              const render::SurfacePoint& hit);
+// evaluated in the link's pattern frame at the snapshot's ray body poses X_WB (geometry/world_scene.h).
+Eigen::Array3d surface_albedo(const Model& model, const geometry::RayBodies& bodies,
+                              const std::vector<Eigen::Isometry3d>& X_WB, const render::SurfacePoint& hit);
 // The same for a band of points (render::AlbedoOfPoints): the seabed's in one vectorized pass
 // (render::sediment_albedo's batch form), the links' point by point.
-void surface_albedos(const Model& model, const std::vector<Eigen::Isometry3d>& X_WB, const render::SurfacePoints& points,
-                     float* r, float* g, float* b);
+void surface_albedos(const Model& model, const geometry::RayBodies& bodies, const std::vector<Eigen::Isometry3d>& X_WB,
+                     const render::SurfacePoints& points, float* r, float* g, float* b);
 
 struct CameraSensor {
   static constexpr std::string_view kType = "camera";

@@ -38,6 +38,11 @@ struct SampleContext {
   geometry::SceneRays* rays = nullptr;
   // The sensor's spec (its link and its mounting X_LS in the link's frame).
   const SensorSpec* sensor = nullptr;
+  // The ray body the sensor is mounted on (geometry/world_scene.h), which its rays pass through; -1: the
+  // vehicle's base body (vehicle_index).
+  int ray_body = -1;
+
+  int own_ray_body() const { return ray_body >= 0 ? ray_body : vehicle_index; }
 
   const VehicleState& vehicle() const { return state.vehicles[static_cast<std::size_t>(vehicle_index)]; }
   const RigidBodyState& body() const { return vehicle().body; }

@@ -135,13 +135,17 @@ struct SensorSetup {
 struct CaptureContext {
   double time = 0.0;  // sim time of the snapshot [s]
   std::uint64_t step_count = 0;
-  const std::vector<Eigen::Isometry3d>& X_WB;  // every body's pose at the snapshot (SimState order)
+  // Every ray body's pose at the snapshot (geometry/world_scene.h: the vehicles' X_WB in SimState order, then
+  // the moving bodies' "B as the body carries it").
+  const std::vector<Eigen::Isometry3d>& X_WB;
   int vehicle_index = 0;                       // the sensor's vehicle
-  const Eigen::Isometry3d& X_BS;               // mounting pose of S in B
+  const Eigen::Isometry3d& X_BS;               // mounting pose of S in B (the vehicle's B) at the snapshot
   const Model* model = nullptr;               // the simulation's model (a camera's lights and optics)
   const physics::Ocean* ocean = nullptr;       // the simulation's water column
+  int ray_body = -1;  // the ray body the sensor is on, which its rays pass through; -1: vehicle_index's base
 
   Eigen::Isometry3d X_WS() const { return X_WB[static_cast<std::size_t>(vehicle_index)] * X_BS; }
+  int own_ray_body() const { return ray_body >= 0 ? ray_body : vehicle_index; }
 };
 
 // How far a sensor looks along x_S and the half angle of its cone, for monitors that draw it
