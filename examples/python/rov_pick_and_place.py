@@ -9,9 +9,9 @@ arm hovers over a push core lying on the sediment. This example, a lockstep clie
     and its mount in the vehicle file: forward kinematics, and inverse kinematics by damped least squares
     for the gripper's centre pointing down with its fingers closing across the core;
   - sends each move as joint positions interpolated in time to the `arm` position controller (its joints
-    also keep their own rate limits), and opens and shuts the parallel gripper on the `gripper` position
-    controller (shut on an object, each finger presses like a spring): the core is held by the fingers'
-    contact and friction alone.
+    also keep their own rate limits), and opens and shuts the parallel gripper with its `gripper` controller
+    (one position for both fingers; shut on an object, each finger presses like a spring): the core is held
+    by the fingers' contact and friction alone.
 It reads ground truth (the ROV's and the core's odometry): an example of manipulation, not of perception.
 
     hadald configs/scenarios/rov_intervention.yaml --mode lockstep &
@@ -218,7 +218,7 @@ class Intervention:
         """Opens or shuts the fingers (both to `position`) and waits until both have stopped: at the position,
         or on an object (they move at 0.15 rad/s at most)."""
         self.grip = position
-        self.client.set_joint_commands(self.vehicle, "gripper", [position, position])
+        self.client.set_joint_commands(self.vehicle, "gripper", [position])  # a gripper: both fingers there
         start = self.t
         while self.t - start < timeout_s:
             self.tick()

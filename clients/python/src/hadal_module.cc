@@ -1064,7 +1064,8 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
       .def("set_joint_commands", &PyClient::set_joint_commands, py::arg("vehicle"), py::arg("controller"),
            py::arg("values"), py::arg("publish") = true, release(),
            "A joint controller's command (the scenario's joint_controllers): one value per joint of the group, in "
-           "its order (a position [rad or m], rate or effort). Published on rt/<vehicle>/<controller>/commands "
+           "its order (a position [rad or m], rate or effort); a gripper's: [position] or [position, max_effort]. "
+           "Published on rt/<vehicle>/<controller>/commands "
            "and attached to the next step()/reset(); publish=False: only attached (lockstep)")
       .def("set_joint_trajectory", &PyClient::set_joint_trajectory, py::arg("vehicle"), py::arg("controller"),
            py::arg("joint_names"), py::arg("times"), py::arg("positions"), py::arg("velocities") = std::nullopt,

@@ -647,6 +647,33 @@ vehicles:
   EXPECT_EQ(errors_of(twice),
             (Lines{twice + ":16:9: error: vehicles[0].joint_controllers[1]: joint 'elbow' is already driven by joint "
                            "controller 'arm' (a joint is in one controller at most)"}));
+  // A gripper: its fingers' multipliers default to 1; given, one per joint and none zero; kp required.
+  const std::string grip = write("gr.yaml", head + R"(      - {name: hand, type: gripper, joints: [elbow, grip], kp: 5}
+      - {name: wrist, type: gripper, joints: [shoulder], kp: 5, multipliers: [-0.5]}
+)");
+  const LoadResult gripped = load_scenario_file(grip);
+  for (const Diagnostic& diagnostic : gripped.errors) ADD_FAILURE() << diagnostic.format();
+  ASSERT_TRUE(gripped.ok());
+  const auto& hand = gripped.model->vehicles[0].joint_controllers;
+  EXPECT_EQ(hand[0].mode, physics::JointCommandMode::kGripper);
+  EXPECT_EQ(hand[0].multipliers, (std::vector<double>{1.0, 1.0}));
+  EXPECT_EQ(hand[0].kd, (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(hand[1].multipliers, std::vector<double>{-0.5});
+  const std::string bad_grip = write("bg.yaml", head + R"(      - {name: hand, type: gripper, joints: [elbow, grip],
+         multipliers: [1, 1, 1]}
+      - {name: other, type: position, joints: [shoulder], kp: 5, multipliers: [1]}
+)");
+  EXPECT_EQ(errors_of(bad_grip),
+            (Lines{bad_grip + ":15:9: error: vehicles[0].joint_controllers[0]: missing required key 'kp' (needed by "
+                              "joint controller type 'gripper')",
+                   bad_grip + ":16:10: error: vehicles[0].joint_controllers[0].multipliers: has 3 multipliers for 2 "
+                              "joints (one per joint)",
+                   bad_grip + ":17:66: error: vehicles[0].joint_controllers[1].multipliers: key 'multipliers' is not "
+                              "used by joint controller type 'position'"}));
+  const std::string zero = write("z.yaml", head + R"(      - {name: hand, type: gripper, joints: [grip], kp: 5, multipliers: [0]}
+)");
+  EXPECT_EQ(errors_of(zero), (Lines{zero + ":15:74: error: vehicles[0].joint_controllers[0].multipliers[0]: a finger's "
+                                           "multiplier must not be 0 (the finger would not move)"}));
 }
 
 // `objects`: free objects after the vehicles, of type object, inline or from an object file; no actuators

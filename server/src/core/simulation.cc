@@ -128,7 +128,9 @@ struct Simulation::VehicleRuntime {
     for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
       for (std::size_t i = 0; i < controller.joints.size(); ++i) {
         JointMotor& motor = motors.at(static_cast<std::size_t>(controller.joints[i]));
-        motor.mode = controller.mode;
+        // A gripper's fingers run the position law (physics/joint_servo.h).
+        motor.mode = controller.mode == physics::JointCommandMode::kGripper ? physics::JointCommandMode::kPosition
+                                                                             : controller.mode;
         motor.servo.kp = i < controller.kp.size() ? controller.kp[i] : 0.0;
         motor.servo.kd = i < controller.kd.size() ? controller.kd[i] : 0.0;
       }
@@ -307,13 +309,17 @@ VehicleState initial_vehicle_state(const VehicleSpec& spec) {
     vehicle.joint_efforts.push_back(0.0);
     vehicle.joint_targets.push_back(0.0);
     vehicle.joint_target_rates.push_back(0.0);
+    vehicle.joint_effort_caps.push_back(std::numeric_limits<double>::infinity());
   }
   vehicle.joint_trajectories.assign(spec.joint_controllers.size(), nullptr);
   if (measures_joints(spec)) {
     vehicle.joint_wrenches_L.assign(spec.links.size(), Eigen::Matrix<double, 6, 1>::Zero());
   }
   for (const physics::JointControllerSpec& controller : spec.joint_controllers) {
-    if (controller.mode != physics::JointCommandMode::kPosition) continue;
+    if (controller.mode != physics::JointCommandMode::kPosition &&
+        controller.mode != physics::JointCommandMode::kGripper) {
+      continue;
+    }
     for (int joint : controller.joints) {
       const auto j = static_cast<std::size_t>(joint);
       vehicle.joint_targets.at(j) = vehicle.joint_positions.at(j);
@@ -338,6 +344,7 @@ void reset_non_finite(const VehicleSpec& spec, VehicleState& vehicle) {
   vehicle.joint_efforts = initial.joint_efforts;
   vehicle.joint_targets = initial.joint_targets;
   vehicle.joint_target_rates = initial.joint_target_rates;
+  vehicle.joint_effort_caps = initial.joint_effort_caps;
   vehicle.joint_trajectories = initial.joint_trajectories;
   vehicle.joint_wrenches_L = initial.joint_wrenches_L;
   vehicle.constraint_force.clear();
@@ -521,14 +528,15 @@ void Simulation::set_state(const SimState& state) {
     const std::size_t joints = articulation ? static_cast<std::size_t>(articulation->num_dofs()) : 0;
     if (vehicle.joint_positions.size() != joints || vehicle.joint_velocities.size() != joints ||
         vehicle.joint_efforts.size() != joints || vehicle.joint_targets.size() != joints ||
-        vehicle.joint_target_rates.size() != joints) {
+        vehicle.joint_target_rates.size() != joints || vehicle.joint_effort_caps.size() != joints) {
       throw std::invalid_argument(prefix + "expected " + std::to_string(joints) + " joint positions, rates, " +
-                                  "efforts, targets and target rates, got " +
+                                  "efforts, targets, target rates and effort caps, got " +
                                   std::to_string(vehicle.joint_positions.size()) + ", " +
                                   std::to_string(vehicle.joint_velocities.size()) + ", " +
                                   std::to_string(vehicle.joint_efforts.size()) + ", " +
-                                  std::to_string(vehicle.joint_targets.size()) + " and " +
-                                  std::to_string(vehicle.joint_target_rates.size()));
+                                  std::to_string(vehicle.joint_targets.size()) + ", " +
+                                  std::to_string(vehicle.joint_target_rates.size()) + " and " +
+                                  std::to_string(vehicle.joint_effort_caps.size()));
     }
     const std::size_t wrenches = measures_joints(spec) ? spec.links.size() : 0;
     if (vehicle.joint_wrenches_L.size() != wrenches) {
@@ -657,10 +665,12 @@ std::string Simulation::set_joint_commands(int vehicle_index, const std::string&
   const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
   const physics::JointControllerSpec& controller = *find_joint_controller(vehicle_index, controller_name, nullptr);
   VehicleState& vehicle = state_.vehicles[static_cast<std::size_t>(vehicle_index)];
-  for (std::size_t k = 0; k < values.size(); ++k) {
+  const bool gripper = controller.mode == physics::JointCommandMode::kGripper;
+  for (std::size_t k = 0; k < controller.joints.size(); ++k) {
     const auto j = static_cast<std::size_t>(controller.joints[k]);
-    vehicle.joint_targets[j] = values[k];
+    vehicle.joint_targets[j] = gripper ? controller.multipliers[k] * values[0] : values[k];
     vehicle.joint_target_rates[j] = 0.0;
+    if (gripper) vehicle.joint_effort_caps[j] = values.size() > 1 ? values[1] : std::numeric_limits<double>::infinity();
   }
   // A command ends the group's trajectory.
   vehicle.joint_trajectories[static_cast<std::size_t>(&controller - spec.joint_controllers.data())].reset();
@@ -694,11 +704,31 @@ std::string Simulation::check_joint_commands(int vehicle_index, const std::strin
   const VehicleSpec& spec = model_.vehicles[static_cast<std::size_t>(vehicle_index)];
   const physics::JointControllerSpec& controller = *found;
   const std::string prefix = "vehicle '" + spec.name + "': joint controller '" + controller.name + "': ";
+  const physics::Articulation& a = *world_->articulation(vehicle_index);
+  if (controller.mode == physics::JointCommandMode::kGripper) {
+    if (values.empty() || values.size() > 2) {
+      return prefix + std::to_string(values.size()) + " values: a gripper takes [position] or [position, max_effort]";
+    }
+    if (!std::isfinite(values[0])) return prefix + "the position is not finite";
+    if (values.size() > 1 && !(values[1] > 0.0 && std::isfinite(values[1]))) {
+      return prefix + "max_effort " + format_number(values[1]) + " must be finite and > 0";
+    }
+    for (std::size_t k = 0; k < controller.joints.size(); ++k) {
+      const JointSpec& joint = a.body(controller.joints[k] + 1).joint;
+      const std::string& link =
+          joint_name(spec.links[static_cast<std::size_t>(a.body(controller.joints[k] + 1).joint_link)]);
+      const double target = controller.multipliers[k] * values[0];
+      if (target < joint.lower || target > joint.upper) {
+        return prefix + "position " + format_number(values[0]) + " puts '" + link + "' at " + format_number(target) +
+               ", outside its limits [" + format_number(joint.lower) + ", " + format_number(joint.upper) + "]";
+      }
+    }
+    return {};
+  }
   if (values.size() != controller.joints.size()) {
     return prefix + std::to_string(values.size()) + " values for " + std::to_string(controller.joints.size()) +
            " joints";
   }
-  const physics::Articulation& a = *world_->articulation(vehicle_index);
   for (std::size_t k = 0; k < values.size(); ++k) {
     const JointSpec& joint = a.body(controller.joints[k] + 1).joint;
     const int joint_link = a.body(controller.joints[k] + 1).joint_link;
@@ -985,7 +1015,7 @@ void Simulation::hand_articulated_forces(std::size_t i) {
     const physics::ServoStep step =
         physics::joint_servo_step(motor.servo, motor.mode, vehicle.joint_targets[j], vehicle.joint_positions[j],
                                   vehicle.joint_velocities[j], dt, vehicle.joint_target_rates[j]);
-    const double limit = motor.servo.effort_limit;
+    const double limit = std::min(motor.servo.effort_limit, vehicle.joint_effort_caps[j]);  // a gripper's max_effort
     implicit.limit[e] = limit;
     implicit.servo[e] = std::clamp(step.torque, -limit, limit);
     implicit.servo_D[e] = std::abs(step.torque) > limit ? 0.0 : step.D;

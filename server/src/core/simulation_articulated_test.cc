@@ -252,6 +252,66 @@ TEST(SimulationArticulatedTest, JointControllersHoldTheirCommandsWithinTheJoints
   EXPECT_EQ(weak.state().vehicles[0].joint_targets, std::vector<double>{-50.0});
 }
 
+// A gripper (physics/joint_servo.h) moves its fingers together: two horizontal arms (the pendulum's, 0.5 m
+// apart in y), the second on a joint about -y and so with multiplier -1: the command [0.3] holds both at
+// the same physical angle, q1 = held_at(0.3) and q2 = -q1 (the position law's gravity sag, as a position
+// group's; within 1e-6 rad after 4 s). With [0.3, max_effort] and max_effort half the wet weight's torque,
+// neither finger can hold its arm up: each sags onto its limit (q1 = 1, q2 = -1) pushing back with exactly
+// max_effort (its joint effort, to the bit), and a plain [0.3] lifts them back. Bad commands are refused
+// by name and change nothing.
+TEST(SimulationArticulatedTest, AGripperMovesItsFingersTogetherWithinItsMaxEffort) {
+  Pendulum p;
+  Model model = held_arm(p);
+  VehicleSpec& vehicle = model.vehicles[0];
+  LinkSpec mirrored = vehicle.links[1];
+  mirrored.name = "arm_mirrored";
+  mirrored.X_BL.translation() = Eigen::Vector3d(0.0, 0.5, 0.0);
+  mirrored.joint.axis_L = -Eigen::Vector3d::UnitY();
+  vehicle.links.push_back(mirrored);
+  physics::JointControllerSpec gripper = position_controller("gripper", 2000.0, 200.0);
+  gripper.mode = physics::JointCommandMode::kGripper;
+  gripper.joints = {0, 1};
+  gripper.kp = {2000.0, 2000.0};
+  gripper.kd = {200.0, 200.0};
+  gripper.multipliers = {1.0, -1.0};
+  vehicle.joint_controllers = {gripper};
+  Simulation sim(std::move(model));
+  const double tau_g = p.gravity_torque(sim);
+  const auto q = [&](std::size_t j) { return sim.state().vehicles[0].joint_positions.at(j); };
+  ASSERT_EQ(sim.set_joint_commands(0, "gripper", {0.3}), "");
+  for (int k = 0; k < 2000; ++k) sim.step();
+  const double held = held_at(0.3, tau_g, 2000.0);
+  EXPECT_NEAR(q(0), held, 1e-6);
+  EXPECT_NEAR(q(1), -held, 1e-6);
+
+  const double max_effort = 0.5 * tau_g;
+  ASSERT_EQ(sim.set_joint_commands(0, "gripper", {0.3, max_effort}), "");
+  for (int k = 0; k < 2000; ++k) sim.step();
+  EXPECT_NEAR(q(0), 1.0, 1e-3);
+  EXPECT_NEAR(q(1), -1.0, 1e-3);
+  EXPECT_EQ(std::abs(sim.state().vehicles[0].joint_efforts[0]), max_effort);
+  EXPECT_EQ(std::abs(sim.state().vehicles[0].joint_efforts[1]), max_effort);
+
+  ASSERT_EQ(sim.set_joint_commands(0, "gripper", {0.3}), "");
+  for (int k = 0; k < 2000; ++k) sim.step();
+  EXPECT_NEAR(q(0), held, 1e-6);
+
+  const auto refused = [&](const std::vector<double>& values, const std::string& why) {
+    const std::string reason = sim.set_joint_commands(0, "gripper", values);
+    EXPECT_NE(reason.find(why), std::string::npos) << reason;
+  };
+  refused({}, "0 values: a gripper takes [position] or [position, max_effort]");
+  refused({0.1, 1.0, 2.0}, "3 values");
+  refused({std::nan("")}, "the position is not finite");
+  refused({1.5}, "position 1.5 puts 'arm' at 1.5, outside its limits [-1, 1]");
+  refused({0.1, 0.0}, "max_effort 0 must be finite and > 0");
+  refused({0.1, std::numeric_limits<double>::infinity()}, "max_effort inf must be finite and > 0");
+  const std::vector<double> targets = sim.state().vehicles[0].joint_targets;
+  EXPECT_EQ(targets, (std::vector<double>{0.3, -0.3}));
+  EXPECT_NE(sim.set_joint_trajectory(0, "gripper", {}).find("only position groups follow trajectories"),
+            std::string::npos);
+}
+
 // A position group follows a trajectory (physics/joint_trajectory.h): nothing changes before its start;
 // then each step's target is the line from where the joint was at the start to the waypoint, sampled at
 // the step's end, and its rate is fed forward, so on the ramp the arm runs at the target less the same

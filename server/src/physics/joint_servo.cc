@@ -17,7 +17,8 @@ ServoStep joint_servo_step(const JointServoSpec& spec, JointCommandMode mode, do
   ServoStep step;
   step.torque = target;
   switch (mode) {
-    case JointCommandMode::kPosition: {
+    case JointCommandMode::kPosition:
+    case JointCommandMode::kGripper: {
       // kp (q* - q) + kd (qd* - qd) = kd (qd_wanted - qd) with qd_wanted = kp (q* - q) / kd + qd*: that
       // rate is what the velocity limit bounds (a PD law without kd has no rate to bound, nor a rate to feed
       // forward). At the step's end, q' = q + dt qd + dt^2 qdd and qd' = qd + dt qdd.
@@ -58,6 +59,7 @@ const char* to_string(JointCommandMode mode) {
     case JointCommandMode::kPosition: return "position";
     case JointCommandMode::kVelocity: return "velocity";
     case JointCommandMode::kEffort: return "effort";
+    case JointCommandMode::kGripper: return "gripper";
   }
   return "?";
 }
@@ -154,7 +156,10 @@ const config::KeyTable<JointControllerSpec, VehicleContext>& joint_controller_ke
              {{"position", JointCommandMode::kPosition,
                "kd (clamp(kp (q* - q) / kd + q_dot*, +-velocity_limit) - q_dot), q_dot* a trajectory's rate"},
               {"velocity", JointCommandMode::kVelocity, "kd (clamp(q_dot*, +-velocity_limit) - q_dot)"},
-              {"effort", JointCommandMode::kEffort, "the commanded torque (force)"}})
+              {"effort", JointCommandMode::kEffort, "the commanded torque (force)"},
+              {"gripper", JointCommandMode::kGripper,
+               "fingers moved together: a command [position] or [position, max_effort] holds finger j at "
+               "multipliers[j] x position by the position law, its effort within max_effort if given"}})
         .required()
         .selects("joint controller type")
         .doc("what a command sets; every joint's torque stays within its effort_limit");
@@ -165,21 +170,47 @@ const config::KeyTable<JointControllerSpec, VehicleContext>& joint_controller_ke
     t.custom("kp", [](const config::Value& value, JointControllerSpec& c, VehicleContext&) {
            return read_gains(value, Range::positive(), &c.kp);
          }, kGainsSchema, "number or list of numbers")
-        .only_for({"position"}).required_for({"position"}).unit("N m/rad or N/m").range(Range::positive())
+        .only_for({"position", "gripper"}).required_for({"position", "gripper"}).unit("N m/rad or N/m")
+        .range(Range::positive())
         .doc("stiffness: one for every joint, or one per joint in `joints` order");
     t.custom("kd", [](const config::Value& value, JointControllerSpec& c, VehicleContext&) {
            return read_gains(value, Range::non_negative(), &c.kd);
          }, kGainsSchema, "number or list of numbers")
-        .only_for({"position", "velocity"}).required_for({"velocity"}).unit("N m s/rad or N s/m")
+        .only_for({"position", "velocity", "gripper"}).required_for({"velocity"}).unit("N m s/rad or N s/m")
         .range(Range::non_negative())
         .default_text("0 (position: a plain kp law, no rate limit)")
         .doc("damping gain: one for every joint, or one per joint in `joints` order");
+    t.custom("multipliers", [](const config::Value& value, JointControllerSpec& c, VehicleContext&) {
+           const auto items = value.list();
+           if (!items) return false;
+           bool ok = true;
+           for (const config::Value& item : *items) {
+             const auto m = item.number(Range::finite());
+             if (m && *m == 0.0) item.error("a finger's multiplier must not be 0 (the finger would not move)");
+             ok = ok && m && *m != 0.0;
+             if (m) c.multipliers.push_back(*m);
+           }
+           return ok;
+         }, R"({"type": "array", "items": {"type": "number"}, "minItems": 1})", "list of numbers")
+        .only_for({"gripper"})
+        .default_text("1 for every joint")
+        .doc("each finger's position per unit of the gripper's command, in `joints` order (URDF's mimic "
+             "multiplier: -1 for a finger whose joint opens the other way)");
     // One gain for the group stands for each joint's; a list has one per joint.
     t.check([](const config::KeyReads& reads, JointControllerSpec& c, VehicleContext&) {
       bool ok = true;
+      if (c.mode == JointCommandMode::kGripper) {
+        if (c.multipliers.empty()) c.multipliers.assign(c.joints.size(), 1.0);
+        if (c.multipliers.size() != c.joints.size() && !c.joints.empty() && reads.ok("joints")) {
+          reads.error_at_key("multipliers", "has " + std::to_string(c.multipliers.size()) + " multipliers for " +
+                                                std::to_string(c.joints.size()) + " joints (one per joint)");
+          ok = false;
+        }
+      }
       for (auto [key, gains] : {std::pair{"kp", &c.kp}, std::pair{"kd", &c.kd}}) {
         if (gains->size() == 1) gains->resize(c.joints.size(), gains->front());
-        if (gains->empty() && c.mode == JointCommandMode::kPosition) gains->resize(c.joints.size(), 0.0);
+        const bool positional = c.mode == JointCommandMode::kPosition || c.mode == JointCommandMode::kGripper;
+        if (gains->empty() && positional) gains->resize(c.joints.size(), 0.0);
         if (!gains->empty() && gains->size() != c.joints.size() && !c.joints.empty() && reads.ok("joints")) {
           reads.error_at_key(key, "has " + std::to_string(gains->size()) + " gains for " +
                                       std::to_string(c.joints.size()) + " joints (give one, or one per joint)");

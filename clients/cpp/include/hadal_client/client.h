@@ -568,7 +568,8 @@ class Client {
   // environments use). Validated by the server with the request (CommandRejected, UnknownVehicle).
   void attach_commands(const std::string& vehicle, const std::vector<double>& commands);
   // An articulated vehicle's joint controller command (its scenario's `joint_controllers`): one value per
-  // joint of the group, in its order (a position [rad or m], rate or effort), published on
+  // joint of the group, in its order (a position [rad or m], rate or effort; a gripper's: [position] or
+  // [position, max_effort], every finger at its multiplier times the position), published on
   // rt/<vehicle>/<controller>/commands (std_msgs/Float64MultiArray, as ros2_control's forward command
   // controllers take it) and attached to the next step() request, like set_commands. The server refuses a
   // wrong length, NaN, a position outside the joint's limits or an unknown controller (last_error; in

@@ -93,6 +93,9 @@ struct VehicleState {
   // The rate of each joint's position target (a trajectory's, fed forward by the position law; zero for a
   // held command) [rad/s or m/s].
   std::vector<double> joint_target_rates;
+  // Each joint's effort bound from its last command besides its joint's effort_limit (a gripper's
+  // max_effort, physics/joint_servo.h) [N m or N]; +inf: none.
+  std::vector<double> joint_effort_caps;
   // Per joint controller (VehicleSpec::joint_controllers' order): the trajectory its position group follows
   // (physics/joint_trajectory.h), or none. Shared, never changed in place: a copied state keeps its own.
   std::vector<std::shared_ptr<const physics::JointTrajectory>> joint_trajectories;

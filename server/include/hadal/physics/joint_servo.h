@@ -7,7 +7,8 @@
 //                 and the interpolated rate while a trajectory is followed (physics/joint_trajectory.h)
 //   velocity qd*: tau = kd (clamp(qd*, +-velocity_limit) - qd)
 //   effort tau*:  tau = tau*
-// and in every mode |tau| <= effort_limit. Gains and limits are at the joint (the motor's own times the
+// and in every mode |tau| <= effort_limit. A gripper (JointControllerSpec below) drives each finger by the
+// position law, its target the gripper's command times the finger's multiplier. Gains and limits are at the joint (the motor's own times the
 // gear ratio, and its speed divided by it). A saturated servo's torque is constant and damps nothing:
 // only the joint's own damping (JointSpec::damping) then settles a swing.
 //
@@ -29,7 +30,8 @@ struct VehicleContext;
 
 namespace hadal::physics {
 
-enum class JointCommandMode { kPosition, kVelocity, kEffort };
+// kGripper: a gripper group's joints, each under the position law (a motor never runs in this mode).
+enum class JointCommandMode { kPosition, kVelocity, kEffort, kGripper };
 
 struct JointServoSpec {
   double kp = 0.0;  // [N m/rad] or [N/m]
@@ -60,12 +62,24 @@ const char* to_string(JointCommandMode mode);
 // gains than a shoulder for the same step); each joint's effort and velocity limits are its own
 // (links[].joint). A joint is in at most one group; a joint in none takes efforts
 // (Simulation::set_joint_efforts).
+//
+// A gripper (YAML `type: gripper`; ros2_control's gripper controllers, control_msgs/GripperCommand's two
+// fields) moves its fingers together: its command is [position] or [position, max_effort]. Finger j is
+// held by the position law at multipliers[j] x position (URDF's mimic joints: a parallel gripper's two
+// fingers at 1 and 1 when both open positive, 1 and -1 when mirrored), each finger's effort within
+// max_effort [N m or N] when the command gives one (else within its joint's effort_limit): how hard the
+// fingers squeeze what they hold, which they hold by contact and friction only.
 struct JointControllerSpec {
   std::string name;
   JointCommandMode mode = JointCommandMode::kEffort;
   std::vector<int> joints;  // indices of the vehicle's moving joints (in the order of its links)
-  std::vector<double> kp;   // per joint of `joints` [N m/rad or N/m]: position; empty otherwise
-  std::vector<double> kd;   // per joint of `joints` [N m s/rad or N s/m]: position (0: none), velocity
+  std::vector<double> kp;   // per joint of `joints` [N m/rad or N/m]: position, gripper; empty otherwise
+  std::vector<double> kd;   // per joint [N m s/rad or N s/m]: position, gripper (0: none), velocity
+  std::vector<double> multipliers;  // gripper: per joint, its position per unit of the command; else empty
+
+  // The number of values a command has: one per joint, or a gripper's 1 (position) or 2 (and max_effort).
+  std::size_t max_command_values() const { return mode == JointCommandMode::kGripper ? 2 : joints.size(); }
+  std::size_t min_command_values() const { return mode == JointCommandMode::kGripper ? 1 : joints.size(); }
 };
 
 // The keys of one entry of `joint_controllers`.
