@@ -1,8 +1,10 @@
 // Free-run step rate of a scenario's simulation core (no DDS): steps per wall second and the
 // real-time factor they correspond to. Prints one JSON object per repetition.
 //   build/bin/hadal_bench_step_rate [SCENARIO.yaml] [--sim-seconds S] [--repetitions N] [--threads N]
+//                                  [--no-cameras]
 // The default is configs/scenarios/default.yaml, 60 s of sim time, 3 repetitions, the scenario's
-// world.threads (--threads overrides it, as hadald's does). The whole server
+// world.threads (--threads overrides it, as hadald's does); --no-cameras leaves the cameras out (as
+// hadald's: the step without rendering). The whole server
 // (with DDS publishing) is measured by bench/run_benchmarks.sh through `hadald --mode fast`.
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
@@ -17,14 +19,18 @@ int main(int argc, char** argv) {
   double sim_seconds = 60.0;
   int repetitions = 3;
   int threads = 0;  // 0: the scenario's
+  bool cameras = true;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--sim-seconds" && i + 1 < argc) sim_seconds = std::atof(argv[++i]);
     else if (arg == "--repetitions" && i + 1 < argc) repetitions = std::atoi(argv[++i]);
     else if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    else if (arg == "--no-cameras") cameras = false;
     else if (arg.rfind("--", 0) != 0) scenario = arg;
     else {
-      std::fprintf(stderr, "usage: hadal_bench_step_rate [SCENARIO.yaml] [--sim-seconds S] [--repetitions N] [--threads N]\n");
+      std::fprintf(stderr,
+                   "usage: hadal_bench_step_rate [SCENARIO.yaml] [--sim-seconds S] [--repetitions N] [--threads N] "
+                   "[--no-cameras]\n");
       return 2;
     }
   }
@@ -35,6 +41,7 @@ int main(int argc, char** argv) {
   }
   hadal::Model& model = *loaded.model;
   if (threads > 0) model.world.threads = threads;
+  if (!cameras) hadal::remove_cameras(model);
   const auto steps = static_cast<std::uint64_t>(sim_seconds * model.world.physics_rate_hz);
   for (int r = 0; r < repetitions; ++r) {
     hadal::Simulation sim(model);

@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "hadal/dds/participant.h"
 #include "hadal/core/allocator.h"
+#include "hadal/core/simulation.h"
 #include "hadal/config/json_schema.h"
 #include "hadal/config/scenario_loader.h"
 #include "hadal/config/security_block.h"
@@ -103,21 +104,7 @@ int main(int argc, char** argv) {
   if (cli.options.seed) model.world.seed = *cli.options.seed;
   if (cli.options.threads) model.world.threads = *cli.options.threads;
   if (cli.options.ray_kernels) model.world.ray_kernels = *cli.options.ray_kernels;
-  if (!cli.options.cameras) {
-    for (VehicleSpec& vehicle : model.vehicles) {
-      auto& sensors = vehicle.sensors;
-      sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
-                                   [](const SensorSpec& s) {
-                                     return std::visit(
-                                         [](const auto& spec) {
-                                           using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
-                                           return sensors::RendersImages<Kind>::value;
-                                         },
-                                         s.kind);
-                                   }),
-                    sensors.end());
-    }
-  }
+  if (!cli.options.cameras) hadal::remove_cameras(model);
 
   install_signal_handlers();
   std::fprintf(stderr,

@@ -430,6 +430,22 @@ const Model& validated(const Model& model) {
 
 }  // namespace
 
+void remove_cameras(Model& model) {
+  for (VehicleSpec& vehicle : model.vehicles) {
+    auto& sensors = vehicle.sensors;
+    sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
+                                 [](const SensorSpec& s) {
+                                   return std::visit(
+                                       [](const auto& spec) {
+                                         using Kind = sensors::KindOf<std::decay_t<decltype(spec)>>;
+                                         return sensors::RendersImages<Kind>::value;
+                                       },
+                                       s.kind);
+                                 }),
+                  sensors.end());
+  }
+}
+
 Simulation::Simulation(Model model)
     : model_(std::move(model)),
       world_(std::make_unique<physics::BulletWorld>(validated(model_))),

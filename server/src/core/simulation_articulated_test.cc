@@ -535,6 +535,26 @@ TEST(SimulationArticulatedTest, AForceTorqueSensorFeelsALoadThroughItsContacts) 
   }
 }
 
+// A profiler "profiler" on link `link` at p_LS looking straight down its link's -z (x_S down), with one
+// exact, narrow beam (1 mrad, one ray, no noise, ranges from 0.1 m) at 50 Hz.
+SensorSpec down_beam(int link, const Eigen::Vector3d& p_LS) {
+  SensorSpec profiler;
+  profiler.name = "profiler";
+  profiler.link_index = link;
+  profiler.X_LS = testing::at(p_LS, Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix());
+  profiler.rate_hz = 50.0;
+  sensors::ProfilerSensor::Spec beam;
+  beam.beams = 1;
+  beam.fov = 1e-3;
+  beam.beam_width = 1e-4;
+  beam.rays_per_beam = 1;
+  beam.noise_stddev = 0.0;
+  beam.resolution = 0.0;
+  beam.min_range = 0.1;
+  profiler.kind = beam;
+  return profiler;
+}
+
 // Sensors follow their moving link: a pressure sensor and a downward profiler 0.6 m down the swinging
 // pendulum's arm read where the arm has taken them. The pressure is the ocean's at the sensor's depth,
 // 50 m + 0.6 cos(theta) (1e-9 relative: the same arithmetic); the profiler's single narrow beam, along the
@@ -555,19 +575,8 @@ TEST(SimulationArticulatedTest, SensorsOnAMovingLinkFollowIt) {
   sensors::PressureSensor::Spec exact;
   exact.resolution = 0.0;
   pressure.kind = exact;
-  SensorSpec profiler = pressure;
-  profiler.name = "profiler";
-  profiler.X_LS.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();  // x down
-  profiler.rate_hz = 50.0;
+  SensorSpec profiler = down_beam(1, pressure.X_LS.translation());
   profiler.latency_s = 0.02;
-  sensors::ProfilerSensor::Spec beam;
-  beam.beams = 1;
-  beam.fov = 1e-3;
-  beam.beam_width = 1e-4;
-  beam.rays_per_beam = 1;
-  beam.noise_stddev = 0.0;
-  beam.resolution = 0.0;
-  profiler.kind = beam;
   model.vehicles[0].sensors = {pressure, profiler};
   Simulation sim(std::move(model));
   std::map<std::uint64_t, double> theta_at;  // by step count
@@ -606,21 +615,7 @@ TEST(SimulationArticulatedTest, RaysMeetAMovingLinkWhereItsJointPutsIt) {
   const double h = 0.1;
   model.vehicles[0].links[1].collisions[0] = testing::box_shape({2 * h, 2 * h, 2 * h});
   model.vehicles[0].links[1].collisions[0].X_LG.translation() = p.l * p.arm_L;
-  SensorSpec profiler;
-  profiler.name = "profiler";
-  profiler.link_index = 0;  // the frame
-  profiler.X_LS.linear() = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();  // x down
-  profiler.rate_hz = 50.0;
-  sensors::ProfilerSensor::Spec beam;
-  beam.beams = 1;
-  beam.fov = 1e-3;
-  beam.beam_width = 1e-4;
-  beam.rays_per_beam = 1;
-  beam.noise_stddev = 0.0;
-  beam.resolution = 0.0;
-  beam.min_range = 0.1;
-  profiler.kind = beam;
-  model.vehicles[0].sensors = {profiler};
+  model.vehicles[0].sensors = {down_beam(0, Eigen::Vector3d::Zero())};  // on the frame, at the joint
   Simulation sim(std::move(model));
   std::map<std::uint64_t, double> theta_at;  // by step count
   std::uint64_t scans = 0;

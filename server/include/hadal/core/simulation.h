@@ -36,6 +36,10 @@
 
 namespace hadal {
 
+// Leaves every sensor that renders images (sensors::RendersImages: the camera) out of the model's vehicles:
+// hadald --no-cameras, hadal_bench_step_rate --no-cameras.
+void remove_cameras(Model& model);
+
 class WorkerPool;
 
 namespace sensors {
