@@ -60,8 +60,6 @@ int main(int argc, char** argv) {
   Simulation sim(model);
   const auto steps = static_cast<std::uint64_t>(std::llround(time * model.world.physics_rate_hz));
   while (sim.state().step_count < steps) sim.step();
-  std::vector<Eigen::Isometry3d> X_WB;
-  for (const VehicleState& vehicle : sim.state().vehicles) X_WB.push_back(vehicle.body.X_WB);
 
   int cameras = 0;
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
@@ -72,15 +70,17 @@ int main(int argc, char** argv) {
       ++cameras;
       const auto& spec = spec_of<sensors::CameraSensor>(sensor);
       const auto& state = std::get<sensors::CameraSensor::State>(sim.state().vehicles[i].sensors[k].kind);
-      const Eigen::Isometry3d X_BS = vehicle.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
+      const Simulation::CaptureMount mount = sim.capture_mount(static_cast<int>(i), static_cast<int>(k));
       std::vector<double> wall_s;
       for (int r = 0; r < repetitions; ++r) {
         // A different step each time (the noise is keyed by it), the same state.
-        const sensors::CaptureContext context{sim.time(), sim.state().step_count + static_cast<std::uint64_t>(r), X_WB,
-                                              static_cast<int>(i), X_BS, &sim.model()};
+        const sensors::CaptureContext context{sim.time(),  sim.state().step_count + static_cast<std::uint64_t>(r),
+                                              mount.X_Wb,  static_cast<int>(i),
+                                              mount.X_BS,  &sim.model(),
+                                              nullptr,     mount.ray_body};
         sensors::CameraSensor::Capture frame;
         const auto start = bench::Clock::now();
-        sim.raycast_service().submit(X_WB, sensors::CameraSensor::capture(context, spec, state, frame)).get();
+        sim.raycast_service().submit(mount.X_Wb, sensors::CameraSensor::capture(context, spec, state, frame)).get();
         wall_s.push_back(bench::seconds_since(start));
         if (frame.image.empty()) return 1;
       }

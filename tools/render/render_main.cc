@@ -131,18 +131,19 @@ int main(int argc, char** argv) {
   const auto steps = static_cast<std::uint64_t>(std::llround(time * model.world.physics_rate_hz));
   while (sim.state().step_count < steps) sim.step();
 
-  std::vector<Eigen::Isometry3d> X_WB;
-  for (const VehicleState& vehicle : sim.state().vehicles) X_WB.push_back(vehicle.body.X_WB);
   for (const CameraRef& ref : cameras) {
     const VehicleSpec& vehicle = model.vehicles[ref.vehicle];
     const SensorSpec& sensor = vehicle.sensors[ref.sensor];
     const auto& spec = spec_of<sensors::CameraSensor>(sensor);
     const auto& state = std::get<sensors::CameraSensor::State>(sim.state().vehicles[ref.vehicle].sensors[ref.sensor].kind);
-    const Eigen::Isometry3d X_BS = vehicle.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
-    const sensors::CaptureContext context{sim.time(), sim.state().step_count, X_WB, static_cast<int>(ref.vehicle), X_BS,
-                                          &sim.model()};
+    // The ray bodies' poses, and the camera's mounting where its link is now (a wrist camera's moves).
+    const Simulation::CaptureMount mount =
+        sim.capture_mount(static_cast<int>(ref.vehicle), static_cast<int>(ref.sensor));
+    const auto v = static_cast<int>(ref.vehicle);
+    const sensors::CaptureContext context{sim.time(), sim.state().step_count, mount.X_Wb, v,
+                                          mount.X_BS, &sim.model(),           nullptr,    mount.ray_body};
     sensors::CameraSensor::Capture frame;
-    sim.raycast_service().submit(X_WB, sensors::CameraSensor::capture(context, spec, state, frame)).get();
+    sim.raycast_service().submit(mount.X_Wb, sensors::CameraSensor::capture(context, spec, state, frame)).get();
 
     const int width = spec.lens->width_px(), height = spec.lens->height_px();
     const int channels = spec.mono ? 1 : 3;

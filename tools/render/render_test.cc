@@ -53,6 +53,19 @@ TEST_F(RenderCliTest, WritesTheImageAndDepthOfEveryCamera) {
   EXPECT_EQ(depth.at<std::uint16_t>(0, 0), 10000);
 }
 
+// An articulated vehicle's camera on a moving link (the work-class ROV's wrist camera): rendered where the
+// arm holds it, in the world with the arm's bodies in it (the tool once passed the vehicles' poses only, which
+// the ray-cast world, one body per moving part, refused).
+TEST_F(RenderCliTest, RendersACameraOnAnArticulatedVehiclesArm) {
+  const RunResult r = render(std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/rov_intervention.yaml --camera "
+                             "wrist_camera --out " + dir_ + "/rov");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json line = parse(r.out);
+  EXPECT_EQ(line["camera"].string, "wrist_camera");
+  EXPECT_EQ(line["hit_fraction"].number, 1.0);
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/rov/rov_wrist_camera.png"));
+}
+
 TEST_F(RenderCliTest, ErrorsHaveTheDocumentedExitCodes) {
   // A camera that does not exist: 1, naming the cameras there are.
   RunResult r = render(scenario() + " --camera mast --out " + dir_);

@@ -1240,24 +1240,19 @@ void Simulation::sample_sensors(double dt) {
     VehicleRuntime& runtime = *runtime_[i];
     VehicleState& vehicle = state_.vehicles[i];
     std::vector<Eigen::Isometry3d> X_WK;  // the bodies' poses at this state, when a moving sensor needs them
+    std::vector<Eigen::Isometry3d> X_Wb;  // every ray body's pose at this state, when a capture needs them
     for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
       const bool due = sample_due(state_.step_count, dt, spec.sensors[k].rate_hz);
       SensorState& out = vehicle.sensors[k];
       if (!due && out.captures.empty()) continue;
       VehicleRuntime::Sensor& mount = runtime.sensors[k];
-      if (due && mount.body > 0) {
-        if (X_WK.empty()) {
-          const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
-          X_WK = runtime.articulation->poses_W(vehicle.body.X_WB,
-                                               Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n));
-        }
-        mount.X_BS = vehicle.body.X_WB.inverse() * X_WK[static_cast<std::size_t>(mount.body)] * mount.X_KS;
-      }
+      if (due && mount.body > 0) mount.X_BS = mounting_B(runtime, static_cast<int>(k), vehicle, X_WK);
+      const int ray_body = ray_bodies_.of_body(static_cast<int>(i), mount.body);
       const auto context_at = [&](const Eigen::Isometry3d& X_BS) {
-        return sensors::SampleContext{state_.time,     mount.period,   dt,             model_.world,
-                                      *ocean_,         *environment_,  state_,         static_cast<int>(i),
-                                      X_BS,            runtime.p_BBcm, runtime.v_WBcm, runtime.w_WB,
-                                      rays_.get(),     &spec.sensors[k], ray_bodies_.of_body(static_cast<int>(i), mount.body)};
+        return sensors::SampleContext{state_.time, mount.period,     dt,             model_.world,
+                                      *ocean_,     *environment_,    state_,         static_cast<int>(i),
+                                      X_BS,        runtime.p_BBcm,   runtime.v_WBcm, runtime.w_WB,
+                                      rays_.get(), &spec.sensors[k], ray_body};
       };
       const sensors::SampleContext context = context_at(mount.X_BS);
       std::visit(
@@ -1271,7 +1266,8 @@ void Simulation::sample_sensors(double dt) {
                 capture.step_count = state_.step_count;
                 capture.due_step = state_.step_count + mount.latency_steps;
                 capture.X_BS = mount.X_BS;
-                capture.X_WB = ray_body_poses(state_);
+                if (X_Wb.empty()) X_Wb = ray_body_poses(state_);
+                capture.X_WB = X_Wb;
                 submit_capture<Kind>(i, k, kind_spec, capture);
               }
               while (!out.captures.empty() && out.captures.front().due_step <= state_.step_count) {
@@ -1376,6 +1372,29 @@ std::vector<Eigen::Isometry3d> Simulation::ray_body_poses(const SimState& state)
     }
   }
   return X_Wb;
+}
+
+Eigen::Isometry3d Simulation::mounting_B(const VehicleRuntime& runtime, int sensor, const VehicleState& vehicle,
+                                         std::vector<Eigen::Isometry3d>& X_WK) const {
+  const VehicleRuntime::Sensor& mount = runtime.sensors.at(static_cast<std::size_t>(sensor));
+  if (mount.body == 0) return mount.X_BS;
+  if (X_WK.empty()) {
+    const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
+    X_WK = runtime.articulation->poses_W(vehicle.body.X_WB,
+                                         Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n));
+  }
+  return vehicle.body.X_WB.inverse() * X_WK[static_cast<std::size_t>(mount.body)] * mount.X_KS;
+}
+
+Simulation::CaptureMount Simulation::capture_mount(int vehicle_index, int sensor_index) const {
+  const auto v = static_cast<std::size_t>(vehicle_index);
+  const VehicleRuntime& runtime = *runtime_.at(v);
+  std::vector<Eigen::Isometry3d> X_WK;
+  CaptureMount out;
+  out.X_Wb = ray_body_poses(state_);
+  out.X_BS = mounting_B(runtime, sensor_index, state_.vehicles.at(v), X_WK);
+  out.ray_body = ray_bodies_.of_body(vehicle_index, runtime.sensors.at(static_cast<std::size_t>(sensor_index)).body);
+  return out;
 }
 
 geometry::SceneRays& Simulation::scene_rays() {

@@ -627,7 +627,8 @@ TEST(SimulationArticulatedTest, RaysMeetAMovingLinkWhereItsJointPutsIt) {
     const SensorState& scan = sim.state().vehicles[0].sensors[0];
     if (scan.samples == scans) continue;
     scans = scan.samples;
-    const double theta = theta_at.at(static_cast<std::uint64_t>(std::llround(scan.stamp / sim.model().world.step_size())));
+    const auto step = static_cast<std::uint64_t>(std::llround(scan.stamp / sim.model().world.step_size()));
+    const double theta = theta_at.at(step);
     const double range = state_of<sensors::ProfilerSensor>(scan).ranges.at(0);
     EXPECT_NEAR(range, (p.l - h) / std::cos(theta), 2e-5) << k;
     widest = std::max(widest, std::abs(theta));
@@ -664,8 +665,8 @@ TEST(SimulationArticulatedTest, ALightOnAMovingLinkLightsWhereItsJointPointsIt) 
   LightSpec lamp;
   lamp.name = "lamp";
   lamp.link_index = 1;  // the arm
-  lamp.X_LF = testing::at(Eigen::Vector3d(0, 0.25, 0),
-                          Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix());  // x along the arm
+  const Eigen::Matrix3d x_along_arm = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  lamp.X_LF = testing::at(Eigen::Vector3d(0, 0.25, 0), x_along_arm);
   lamp.inner_half_angle = 2.0 * kDegToRad;
   lamp.outer_half_angle = 3.0 * kDegToRad;
   lamp.intensity_W_per_sr = Eigen::Array3d::Constant(2e4);
@@ -695,6 +696,37 @@ TEST(SimulationArticulatedTest, ALightOnAMovingLinkLightsWhereItsJointPointsIt) 
   ASSERT_TRUE(render::project(lens, X_WC.inverse() * spot_W, &expected));
   EXPECT_LT((sum / n - expected).norm(), 1.0) << (sum / n).transpose() << " vs " << expected.transpose() << ", " << n
                                              << " px";
+}
+
+// What a frame rendered outside the step takes (Simulation::capture_mount, hadal-render's): for a sensor on
+// the pendulum's arm swung to theta about y at the frame's origin, its mounting in B is R_y(theta) X_LS
+// (closed form, 1e-12), it is on the arm's ray body (1: after the one vehicle's base body), and the ray bodies'
+// poses are the frame's and the arm's "B as it carries it" (R_y(theta) here).
+TEST(SimulationArticulatedTest, ACaptureMountIsWhereTheJointsHoldTheSensor) {
+  Pendulum p;
+  p.initial = 0.4;
+  Model model = p.model();
+  SensorSpec profiler = down_beam(1, Eigen::Vector3d(0.1, 0.2, -0.3));
+  model.vehicles[0].sensors = {down_beam(0, Eigen::Vector3d::Zero()), profiler};
+  model.vehicles[0].sensors[0].name = "frame_profiler";
+  Simulation sim(std::move(model));
+  for (int k = 0; k < 37; ++k) sim.step();
+  const double theta = joint_q(sim);
+  ASSERT_GT(std::abs(theta - 0.4), 1e-3);  // it has swung
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Simulation::CaptureMount on_arm = sim.capture_mount(0, 1);
+  const Eigen::Isometry3d X_BS = testing::at(R * profiler.X_LS.translation(), R * profiler.X_LS.linear());
+  EXPECT_LT((on_arm.X_BS.matrix() - X_BS.matrix()).norm(), 1e-12);
+  EXPECT_EQ(on_arm.ray_body, 1);
+  ASSERT_EQ(on_arm.X_Wb.size(), 2u);
+  const Eigen::Isometry3d& X_WB = sim.state().vehicles[0].body.X_WB;
+  EXPECT_LT((on_arm.X_Wb[0].matrix() - X_WB.matrix()).norm(), 1e-12);
+  EXPECT_LT((on_arm.X_Wb[1].matrix() - (X_WB * testing::at(Eigen::Vector3d::Zero(), R)).matrix()).norm(), 1e-12);
+  const Simulation::CaptureMount on_frame = sim.capture_mount(0, 0);
+  EXPECT_EQ(on_frame.ray_body, 0);
+  EXPECT_TRUE(on_frame.X_BS.isApprox(sim.model().vehicles[0].sensors[0].X_LS, 1e-15));
+  EXPECT_THROW(sim.capture_mount(0, 2), std::out_of_range);
+  EXPECT_THROW(sim.capture_mount(1, 0), std::out_of_range);
 }
 
 // The servo is taken implicitly over the step (physics/joint_servo.h), so gains far past the explicit

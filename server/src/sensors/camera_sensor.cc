@@ -333,8 +333,8 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   lighting.negligible_radiance_W_per_m2_sr = negligible_radiance(spec.sensor);
   std::optional<std::vector<render::SpotLight>> lights_C =
       own_lights_C(*context.model, bodies, context.vehicle_index, own_body, context.X_BS);
-  return [&out, spec, X_WC, own_body, key, frame, model = context.model, bodies = std::move(bodies), X_WB = context.X_WB,
-          lighting = std::move(lighting), lights_C = std::move(lights_C)](
+  return [&out, spec, X_WC, own_body, key, frame, model = context.model, bodies = std::move(bodies),
+          X_WB = context.X_WB, lighting = std::move(lighting), lights_C = std::move(lights_C)](
              const geometry::EmbreeScene& scene, const ParallelFor& parallel) mutable {
     const render::AlbedoOfPoints albedo = [&](const render::SurfacePoints& points, float* r, float* g, float* b) {
       surface_albedos(*model, bodies, X_WB, points, r, g, b);

@@ -60,7 +60,8 @@ geometry::RayBatch ProfilerSensor::capture_rays(const CaptureContext& context, c
     for (int j = 0; j < spec.rays_per_beam; ++j) {
       const double phi = beam_angle(spec, k) + spec.beam_width * ((j + 0.5) / spec.rays_per_beam - 0.5);
       const Eigen::Vector3d d_W = X_WS.linear() * Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0);
-      batch.add_ray(p_WS, d_W.normalized().cast<float>(), 0.0f, t_far, static_cast<std::int32_t>(context.own_ray_body()));
+      batch.add_ray(p_WS, d_W.normalized().cast<float>(), 0.0f, t_far,
+                    static_cast<std::int32_t>(context.own_ray_body()));
     }
   }
   return batch;

@@ -158,6 +158,16 @@ class Simulation {
   // vehicle's moving bodies as "B as the body carries it", X_WK X_BK0^-1): what a batch cast against the
   // state's snapshot needs (RayBatch::set_snapshot).
   std::vector<Eigen::Isometry3d> ray_body_poses(const SimState& state) const;
+  // What a captured sensor's capture at the current state takes, for a frame rendered outside the step
+  // (hadal-render, the camera benchmark): the ray bodies' poses, the sensor's mounting in B at the current
+  // joint positions, and the ray body it is mounted on (its rays pass through that one). Throws
+  // std::out_of_range for a vehicle or sensor index that does not exist.
+  struct CaptureMount {
+    std::vector<Eigen::Isometry3d> X_Wb;
+    Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();
+    int ray_body = 0;
+  };
+  CaptureMount capture_mount(int vehicle_index, int sensor_index) const;
 
   // Captures due at a step: waited for (default: lockstep, fast, tests; deterministic), or dropped when
   // their rays are not done yet (real time: the step never waits), counted in dropped_captures().
@@ -190,6 +200,10 @@ class Simulation {
                                                             std::string* reason) const;
   void write_body(int vehicle_index, const VehicleState& vehicle);
   void take_snapshot(double dt);
+  // A sensor's mounting in B at the vehicle's current joint positions; X_WK holds the vehicle's body
+  // poses, computed here on first need (empty: not yet).
+  Eigen::Isometry3d mounting_B(const VehicleRuntime& runtime, int sensor, const VehicleState& vehicle,
+                               std::vector<Eigen::Isometry3d>& X_WK) const;
   void keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle);
   void reset_non_finite_vehicles();
   void sample_sensors(double dt);

@@ -38,7 +38,7 @@ struct PendingCapture {
   double time = 0.0;             // sim time of the snapshot [s]
   std::uint64_t step_count = 0;  // of the snapshot
   std::uint64_t due_step = 0;    // delivered at the end of this step (capture + latency)
-  std::vector<Eigen::Isometry3d> X_WB;  // every body's pose at the snapshot
+  std::vector<Eigen::Isometry3d> X_WB;  // every ray body's pose at the snapshot (Simulation::ray_body_poses)
   Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();  // the sensor's mounting in B then (it may move)
 };
 

@@ -8,8 +8,8 @@
 //   velocity qd*: tau = kd (clamp(qd*, +-velocity_limit) - qd)
 //   effort tau*:  tau = tau*
 // and in every mode |tau| <= effort_limit. A gripper (JointControllerSpec below) drives each finger by the
-// position law, its target the gripper's command times the finger's multiplier. Gains and limits are at the joint (the motor's own times the
-// gear ratio, and its speed divided by it). A saturated servo's torque is constant and damps nothing:
+// position law, its target the gripper's command times the finger's multiplier. Gains and limits are at the
+// joint (the motor's own times the gear ratio, and its speed divided by it). A saturated servo's torque is constant and damps nothing:
 // only the joint's own damping (JointSpec::damping) then settles a swing.
 //
 // The simulation takes the law implicitly over each step (joint_servo_step, solved with the vehicle's
