@@ -1022,6 +1022,11 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   implicit.servo_D.resize(dofs);
   implicit.limit.resize(dofs);
   implicit.damping_D.resize(dofs);
+  implicit.friction.resize(dofs);
+  implicit.lower.resize(dofs);
+  implicit.upper.resize(dofs);
+  implicit.q = Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), dofs);
+  implicit.dt = dt;
   Eigen::VectorXd tau(dofs);  // the explicit part of the damping
   // Trajectories are sampled at the step's end, where the implicit law takes its error.
   follow_joint_trajectories(i, state_.time + dt);
@@ -1033,11 +1038,17 @@ void Simulation::hand_articulated_forces(std::size_t i) {
                                   vehicle.joint_velocities[j], dt, vehicle.joint_target_rates[j]);
     const double limit = std::min(motor.servo.effort_limit, vehicle.joint_effort_caps[j]);  // a gripper's max_effort
     implicit.limit[e] = limit;
-    implicit.servo[e] = std::clamp(step.torque, -limit, limit);
-    implicit.servo_D[e] = std::abs(step.torque) > limit ? 0.0 : step.D;
-    const double damping = a.body(static_cast<int>(j) + 1).joint.damping;
-    tau[e] = -damping * vehicle.joint_velocities[j];
-    implicit.damping_D[e] = damping * dt;
+    // The law at the step's end decides whether it saturates (ArticulatedDynamics::reactions); a constant
+    // torque (D = 0: an effort) is held within the limit here.
+    implicit.servo[e] = step.D > 0.0 ? step.torque : std::clamp(step.torque, -limit, limit);
+    implicit.servo_D[e] = step.D;
+    const JointSpec& joint = a.body(static_cast<int>(j) + 1).joint;
+    tau[e] = -joint.damping * vehicle.joint_velocities[j];
+    implicit.damping_D[e] = joint.damping * dt;
+    implicit.friction[e] = joint.friction;
+    const bool limited = joint.type != JointType::kContinuous;
+    implicit.lower[e] = limited ? joint.lower : -std::numeric_limits<double>::infinity();
+    implicit.upper[e] = limited ? joint.upper : std::numeric_limits<double>::infinity();
   }
   std::vector<physics::ArticulatedDynamics::Wrench> wrenches(runtime.bodies.size());
   for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {

@@ -1,8 +1,10 @@
 #include "hadal/physics/articulated_dynamics.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -16,6 +18,100 @@ Matrix6d block_rotation(const Eigen::Matrix3d& R) {
   R6.topLeftCorner<3, 3>() = R;
   R6.bottomRightCorner<3, 3>() = R;
   return R6;
+}
+
+// What each joint's servo, friction and limits give over the step (ArticulatedDynamics::ImplicitJoints):
+// qdd = qdd0 + S tau. A joint is free (tau = servo - D qdd + its sliding friction), stuck (qd' = 0), on a
+// limit (q' = the bound) or locked there; each pass solves the modes' rows for tau, then moves every joint
+// whose result breaks its mode (a servo past its limit saturates, a stuck joint needing more than its
+// friction slides, a sliding one that would turn back sticks, a step ending past a bound holds there, a
+// limit that would pull lets go). The passes are bounded: a mode set that keeps changing keeps the last.
+struct JointTorques {
+  Eigen::VectorXd total;  // servo + friction + limit
+  Eigen::VectorXd servo;
+};
+
+JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Eigen::Ref<const Eigen::MatrixXd>& S,
+                                 const Eigen::VectorXd& qdd0, const Eigen::VectorXd& qd) {
+  enum class Mode { kFree, kStuck, kLower, kUpper };
+  // A bound is crossed when the step would end beyond it by more than this (rounding of a joint left on it).
+  constexpr double kBoundTolerance = 1e-9;  // [rad] or [m]
+  const Eigen::Index n = qdd0.size();
+  const double dt = in.dt;
+  const auto at = [](const Eigen::VectorXd& v, Eigen::Index j, double none) { return v.size() > j ? v[j] : none; };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<Mode> mode(static_cast<std::size_t>(n), Mode::kFree);
+  Eigen::VectorXd servo = in.servo, D = in.servo_D, sliding = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double lower = at(in.lower, j, -kInf), upper = at(in.upper, j, kInf);
+    if (lower >= upper) {
+      mode[static_cast<std::size_t>(j)] = Mode::kLower;  // locked
+    } else if (at(in.friction, j, 0.0) > 0.0) {
+      mode[static_cast<std::size_t>(j)] = Mode::kStuck;
+    }
+  }
+  Eigen::MatrixXd K(n, n);
+  Eigen::VectorXd r(n), tau = Eigen::VectorXd::Zero(n), qdd = qdd0;
+  const auto held = [&](Eigen::Index j, double bound) { return ((bound - in.q[j]) / dt - qd[j]) / dt; };
+  for (Eigen::Index pass = 0; pass < 4 * n + 4; ++pass) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const Mode m = mode[static_cast<std::size_t>(j)];
+      K.row(j) = S.row(j);
+      if (m == Mode::kFree) {
+        K.row(j) *= D[j];
+        K(j, j) += 1.0;
+        r[j] = servo[j] + sliding[j] - D[j] * qdd0[j];
+      } else {
+        const double target = m == Mode::kStuck   ? -qd[j] / dt
+                              : m == Mode::kLower ? held(j, in.lower[j])
+                                                  : held(j, in.upper[j]);
+        r[j] = target - qdd0[j];
+      }
+    }
+    tau = K.partialPivLu().solve(r);
+    qdd.noalias() = qdd0 + S * tau;
+    bool changed = false;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      Mode& m = mode[static_cast<std::size_t>(j)];
+      // The servo's law at this step's end saturates, or a saturated one whose law has come back within
+      // its limit (a trial mode's acceleration, such as a moving joint stopped in one step, may have
+      // saturated it) takes its law again: each by way of the unsaturated law, never from one limit
+      // straight to the other (the law falls as qdd grows, so that would flip forever).
+      if (in.servo_D[j] > 0.0) {
+        const double law = in.servo[j] - in.servo_D[j] * qdd[j];
+        if (D[j] > 0.0 && std::abs(law) > in.limit[j]) {
+          servo[j] = std::copysign(in.limit[j], law);
+          D[j] = 0.0;
+          changed = true;
+        } else if (D[j] == 0.0 && law * servo[j] < in.limit[j] * in.limit[j]) {
+          servo[j] = in.servo[j];
+          D[j] = in.servo_D[j];
+          changed = true;
+        }
+      }
+      const double lower = at(in.lower, j, -kInf), upper = at(in.upper, j, kInf);
+      const double friction = at(in.friction, j, 0.0);
+      const double other = tau[j] - (servo[j] - D[j] * qdd[j]);  // friction's and the limit's part
+      const double q_end = in.q.size() > j ? in.q[j] + dt * (qd[j] + dt * qdd[j]) : 0.0;
+      const Mode before = m;
+      if (lower >= upper) continue;  // locked
+      if ((m == Mode::kLower && other < 0.0) || (m == Mode::kUpper && other > 0.0)) {
+        m = friction > 0.0 ? Mode::kStuck : Mode::kFree;
+      } else if (m == Mode::kStuck && std::abs(other) > friction) {
+        m = Mode::kFree;
+        sliding[j] = std::copysign(friction, other);
+      } else if (m == Mode::kFree && sliding[j] * (qd[j] + dt * qdd[j]) > 0.0) {
+        m = Mode::kStuck;  // its friction would turn it back
+      } else if (m != Mode::kLower && m != Mode::kUpper) {
+        if (q_end < lower - kBoundTolerance) m = Mode::kLower;
+        if (q_end > upper + kBoundTolerance) m = Mode::kUpper;
+      }
+      if (m != Mode::kFree) sliding[j] = 0.0;
+      changed = changed || m != before;
+    }
+    if (!changed) break;
+  }
+  return {tau, servo - D.cwiseProduct(qdd)};
 }
 
 }  // namespace
@@ -239,30 +335,32 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
   if (implicit == nullptr) {
     u_dot = M.ldlt().solve(rhs);
   } else {
-    // The joints' block of u is its tail.
-    out.servo = implicit->servo;
-    Eigen::VectorXd servo_D = implicit->servo_D;
-    for (int pass = 0; pass <= dofs; ++pass) {
-      Eigen::MatrixXd A = M;
-      A.diagonal().tail(dofs) += servo_D + implicit->damping_D;
-      Eigen::VectorXd b = rhs;
-      b.tail(dofs) += out.servo;
-      u_dot = A.ldlt().solve(b);
-      bool saturated = false;
-      for (int j = 0; j < dofs; ++j) {
-        if (servo_D[j] == 0.0) continue;
-        const double tau = out.servo[j] - servo_D[j] * u_dot[n_ - dofs + j];
-        if (std::abs(tau) > implicit->limit[j]) {
-          out.servo[j] = std::copysign(implicit->limit[j], tau);
-          servo_D[j] = 0.0;
-          saturated = true;
-        }
+    // u_dot = u0 + X tau for the joints' torques tau (the joints' block of u is its tail); their
+    // accelerations qdd = qdd0 + S tau, S the joints' block of the inverse.
+    M.diagonal().tail(dofs) += implicit->damping_D;
+    const Eigen::LLT<Eigen::MatrixXd> llt(M);  // M is symmetric positive definite (masses, inertias > 0)
+    if (llt.info() != Eigen::Success) throw std::runtime_error("articulated dynamics: the mass matrix is singular");
+    u_dot = llt.solve(rhs);
+    // With M = L L^T, the joints' block of M^-1 is Li^T Li, Li = L22^-1 (L's joint block: the joints'
+    // unit vectors, the last rows, stay zero above it under L^-1).
+    const Eigen::MatrixXd Li = llt.matrixLLT()
+                                   .bottomRightCorner(dofs, dofs)
+                                   .triangularView<Eigen::Lower>()
+                                   .solve(Eigen::MatrixXd::Identity(dofs, dofs));
+    const Eigen::MatrixXd S = Li.transpose() * Li;
+    const JointTorques joints = solve_joint_torques(*implicit, S, u_dot.tail(dofs), u_.tail(dofs));
+    rhs.tail(dofs) += joints.total;
+    u_dot = llt.solve(rhs);
+    out.servo = joints.servo;
+    out.held = joints.total - joints.servo;
+    out.joint_torques += joints.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));
+    // A locked joint's lock is the stepper's (physics/multibody.h, make_joint_locks): the motion above has
+    // it, the torques handed over do not (both would hold it, and their sum would drift).
+    for (int j = 0; j < dofs; ++j) {
+      if (implicit->lower.size() > j && implicit->upper.size() > j && implicit->lower[j] >= implicit->upper[j]) {
+        out.joint_torques[j] -= out.held[j];
       }
-      if (!saturated) break;
     }
-    const Eigen::VectorXd qdd = u_dot.tail(dofs);
-    out.servo -= servo_D.cwiseProduct(qdd);
-    out.joint_torques += out.servo - implicit->damping_D.cwiseProduct(qdd);
   }
   for (std::size_t i = 0; i < bodies; ++i) {
     if (MJ[i].size() == 0) continue;

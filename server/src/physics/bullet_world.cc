@@ -94,12 +94,14 @@ struct BulletWorld::Impl {
     bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
     bool is_static = false;     // VehicleSpec::is_static
     // Articulated vehicles only (body is null then): the tree, Bullet's multibody, one collider per body
-    // (body order), the joints' limit and friction constraints, and each body's frame K in W as the last
-    // set_articulated_state wrote it (the poses add_body_force_W takes moments about).
+    // (body order), the locks of its locked joints, and each body's frame K in W as the last
+    // set_articulated_state wrote it (the poses add_body_force_W takes moments about). The joints' other
+    // limits and their friction are not Bullet's: the simulation's implicit joint solve gives them as joint
+    // torques (physics/articulated_dynamics.h).
     std::unique_ptr<Articulation> articulation;
     MultiBodyPtr multibody;
     std::vector<Collider> colliders;
-    std::vector<MultiBodyConstraintPtr> constraints;
+    std::vector<MultiBodyConstraintPtr> locks;
     std::vector<Eigen::Isometry3d> X_WK;
   };
   // The collision group of static vehicles (Bullet's first free custom group after its own five).
@@ -152,7 +154,7 @@ struct BulletWorld::Impl {
       if (v.multibody) {
         multibody_world->addMultiBody(v.multibody.get());
         for (Collider& c : v.colliders) world->addCollisionObject(c.object.get(), c.group, c.mask);
-        for (auto& constraint : v.constraints) multibody_world->addMultiBodyConstraint(constraint.get());
+        for (auto& lock : v.locks) multibody_world->addMultiBodyConstraint(lock.get());
       } else if (v.is_static) {
         // Its own group, so that a vehicle on soil contact (which leaves StaticFilter out) still meets it;
         // never paired with the seabed (or another static body).
@@ -170,7 +172,7 @@ struct BulletWorld::Impl {
   void remove_bodies() {
     for (Vehicle& v : vehicles) {
       if (v.multibody) {
-        for (auto& constraint : v.constraints) multibody_world->removeMultiBodyConstraint(constraint.get());
+        for (auto& lock : v.locks) multibody_world->removeMultiBodyConstraint(lock.get());
         for (Collider& c : v.colliders) world->removeCollisionObject(c.object.get());
         multibody_world->removeMultiBody(v.multibody.get());
       } else {
@@ -182,8 +184,8 @@ struct BulletWorld::Impl {
 
   ~Impl() { remove_bodies(); }
 
-  // The articulated vehicle's multibody, colliders and constraints.
-  void make_articulated(Vehicle& v, const VehicleSpec& spec, double dt) {
+  // The articulated vehicle's multibody, colliders and locks.
+  void make_articulated(Vehicle& v, const VehicleSpec& spec) {
     v.articulation = std::make_unique<Articulation>(spec.links);
     const Articulation& a = *v.articulation;
     v.mass = a.body(0).mass_K;
@@ -222,8 +224,7 @@ struct BulletWorld::Impl {
       }
       v.colliders.push_back(std::move(c));
     }
-    v.constraints = make_joint_limits(*v.multibody, a);
-    for (auto& friction : make_joint_friction(*v.multibody, a, dt)) v.constraints.push_back(std::move(friction));
+    v.locks = make_joint_locks(*v.multibody, a);
   }
 };
 
@@ -265,7 +266,7 @@ BulletWorld::BulletWorld(const Model& model)
     v.soil_contact = spec.seabed_contact == SeabedContact::kSoil;
     v.is_static = spec.is_static;
     if (is_articulated(spec.links)) {
-      w.make_articulated(v, spec, model.world.step_size());
+      w.make_articulated(v, spec);
       w.vehicles.push_back(std::move(v));
       continue;
     }

@@ -1,7 +1,6 @@
 #include "hadal/physics/multibody.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
-#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
 
@@ -120,31 +119,20 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
   return X_WK;
 }
 
-std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& mb, const Articulation& articulation) {
-  std::vector<MultiBodyConstraintPtr> limits;
+std::vector<MultiBodyConstraintPtr> make_joint_locks(btMultiBody& mb, const Articulation& articulation) {
+  std::vector<MultiBodyConstraintPtr> locks;
   for (int k = 1; k < articulation.num_bodies(); ++k) {
     const JointSpec& joint = articulation.body(k).joint;
-    if (joint.type == JointType::kContinuous) continue;
-    if (!std::isfinite(joint.lower) && !std::isfinite(joint.upper)) continue;
-    const double lower = std::max(joint.lower, -kUnclamped), upper = std::min(joint.upper, kUnclamped);
-    limits.emplace_back(new btMultiBodyJointLimitConstraint(&mb, k - 1, lower, upper));
+    if (joint.type == JointType::kContinuous || !std::isfinite(joint.lower) || joint.lower < joint.upper) continue;
+    // A bilateral row (a motor without an impulse bound) holding the rate at zero and the position at
+    // the limit: stiffer against a grasp's contacts than the limit's two one-sided rows.
+    auto lock = std::make_unique<btMultiBodyJointMotor>(&mb, k - 1, /*desiredVelocity=*/0.0, kUnclamped);
+    lock->setVelocityTarget(0.0, /*kd=*/1.0);
+    lock->setPositionTarget(joint.lower, /*kp=*/1.0);
+    locks.emplace_back(lock.release());
   }
-  return limits;
+  return locks;
 }
-
-std::vector<MultiBodyConstraintPtr> make_joint_friction(btMultiBody& mb, const Articulation& articulation,
-                                                        double dt) {
-  std::vector<MultiBodyConstraintPtr> friction;
-  for (int k = 1; k < articulation.num_bodies(); ++k) {
-    const double limit = articulation.body(k).joint.friction;
-    if (!(limit > 0.0)) continue;
-    auto motor = std::make_unique<btMultiBodyJointMotor>(&mb, k - 1, /*desiredVelocity=*/0.0, limit * dt);
-    motor->setVelocityTarget(0.0, /*kd=*/1.0);  // the whole rate error in one step, within the impulse
-    friction.emplace_back(motor.release());
-  }
-  return friction;
-}
-
 
 void add_body_force_W(btMultiBody& mb, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
                       int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W) {

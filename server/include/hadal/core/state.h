@@ -99,9 +99,9 @@ struct VehicleState {
   // Per joint controller (VehicleSpec::joint_controllers' order): the trajectory its position group follows
   // (physics/joint_trajectory.h), or none. Shared, never changed in place: a copied state keeps its own.
   std::vector<std::shared_ptr<const physics::JointTrajectory>> joint_trajectories;
-  // An articulated vehicle: the generalised force Bullet's constraints (contacts, joint limits, joint
-  // friction) applied in the last step, measured from its velocity change, fed into the next step's
-  // generalised solve (implicit joint servos and damping, added mass) as contact_wrench_B is for a rigid
+  // An articulated vehicle: the generalised force Bullet's constraints (contacts, locked joints' locks)
+  // applied in the last step, measured from its velocity change, fed into the next step's generalised
+  // solve (implicit joint servos, friction, limits and damping, added mass) as contact_wrench_B is for a rigid
   // vehicle (physics/articulated_dynamics.h; base centre-of-mass force and moment in W, then the joints)
   // [N, N m]; empty until the first step.
   std::vector<double> constraint_force;

@@ -76,9 +76,9 @@ class ArticulatedDynamics {
   };
   // Each body's added-mass reaction wrench (at its centre of mass, W) for the motion with applied body
   // wrenches `wrenches_W`, gravity and joint torques (above), plus the generalised constraint force
-  // Q_c (contacts, limits, friction: size() entries, or none) that Bullet's solver will add, which the
-  // caller estimates from the step before (Bullet's impulses see the rigid inertia only, so without it
-  // a joint's friction would act as if the water were not there); coriolis: include C_A(nu_r) nu_r.
+  // Q_c (contacts, locks: size() entries, or none) that Bullet's solver will add, which the caller
+  // estimates from the step before (Bullet's impulses see the rigid inertia only, and the joint solve
+  // below would not know a grasp's contacts without it); coriolis: include C_A(nu_r) nu_r.
   std::vector<Wrench> added_mass_reactions(const std::vector<AddedMassBody>& added,
                                            const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
                                            const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
@@ -86,22 +86,37 @@ class ArticulatedDynamics {
     return reactions(added, wrenches_W, g_W, joint_torques, Q_c, coriolis, nullptr).bodies;
   }
 
-  // Joint torques taken implicitly over the step (num_dofs() entries each), solved with the added mass:
-  // each joint's servo torque servo - servo_D qdd, kept within +-limit (a joint that would pass it takes
-  // the limit and loses its servo_D: the solve is repeated until none does), and its viscous damping's
-  // implicit part -damping_D qdd (its explicit part is in joint_torques). Both move to the left like added
-  // mass, (M + sum J^T M_A J + diag(servo_D + damping_D)) u_dot = Q - c - c_A, so a stiff servo on a light
-  // wrist is stable at any step (physics/joint_servo.h).
+  // Joint torques taken implicitly over the step (num_dofs() entries each), solved with the added mass
+  // (docs/ARCHITECTURE.md, "The joint solve"):
+  //  - each joint's servo torque servo - servo_D qdd, kept within +-limit (a joint that would pass it takes
+  //    the limit and loses its servo_D), and its viscous damping's implicit part -damping_D qdd (its explicit
+  //    part is in joint_torques); both move to the left like added mass, so a stiff servo on a light wrist
+  //    is stable at any step (physics/joint_servo.h);
+  //  - its Coulomb friction (|tau_f| <= friction): a joint sticks (qd' = qd + dt qdd = 0) when a friction
+  //    torque within the bound holds it, and otherwise slides with the bound against its motion;
+  //  - its limits, hard stops at the position level: a joint whose step would end past a bound ends on it
+  //    (q + dt qd' = bound) with whatever torque pushes it there, and leaves it when that torque would pull;
+  //    lower == upper locks the joint.
+  // The three meet in one solve over which joints are held (stuck or on a limit), which slide and which
+  // servos saturate, repeated until none changes: the joints' block of (M + ...)^-1 is small (num_dofs()
+  // square), so each pass is a small dense solve.
   struct ImplicitJoints {
     Eigen::VectorXd servo;      // [N m] or [N]
     Eigen::VectorXd servo_D;    // >= 0 [N m s^2/rad] or [N s^2/m]
     Eigen::VectorXd limit;      // > 0 (infinity: none)
     Eigen::VectorXd damping_D;  // >= 0
+    Eigen::VectorXd friction;   // >= 0 [N m] or [N] (empty: none)
+    Eigen::VectorXd lower, upper;  // [rad] or [m] (+-infinity or empty: none)
+    Eigen::VectorXd q;          // the joints' positions at the step's start (with limits)
+    double dt = 0.0;            // [s] the step (with friction or limits)
   };
   struct Reactions {
     std::vector<Wrench> bodies;    // each body's added-mass reaction (at its centre of mass, W)
     Eigen::VectorXd servo;         // with `implicit`: each joint's servo torque over the step
-    Eigen::VectorXd joint_torques;  // the joint torques to apply: joint_torques + servo - damping_D qdd
+    Eigen::VectorXd held;          // with `implicit`: each joint's friction and limit torque over the step
+    // The joint torques to apply: joint_torques + servo + held - damping_D qdd, less a locked joint's held
+    // torque (lower >= upper: the stepper's own lock holds it, physics/multibody.h make_joint_locks).
+    Eigen::VectorXd joint_torques;
   };
   Reactions reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
                       const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,

@@ -45,17 +45,14 @@ void set_multibody_state(btMultiBody& body, const Articulation& articulation, co
 // cached link transforms from its state).
 std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
 
-// Bullet ignores its links' own limit and damping fields (btMultiBodyLink.h: "todo: ... unused"), so:
-// the limits of every revolute and prismatic joint with a finite limit as Bullet constraints (hard
-// stops, solved with the contacts), for the caller to add to its btMultiBodyDynamicsWorld and keep; an
-// infinite side is left open (+-1e30). Bullet solves them only for a multibody with collision objects
-// (the base's and each link's btMultiBodyLinkCollider: only those put it in a simulation island).
-std::vector<MultiBodyConstraintPtr> make_joint_limits(btMultiBody& body, const Articulation& articulation);
-// Each joint's Coulomb friction (JointSpec::friction > 0) as a Bullet motor driving its rate to zero with
-// an impulse of at most friction * dt per step: it holds the joint against smaller loads and opposes its
-// motion with the friction torque (force) otherwise. Solved with the contacts and limits (colliders needed,
-// as for the limits); for the caller to add and keep.
-std::vector<MultiBodyConstraintPtr> make_joint_friction(btMultiBody& body, const Articulation& articulation, double dt);
+// Each locked joint's lock (a revolute or prismatic joint whose limits meet, lower >= upper: the Oberon 7's
+// finger tips) as a Bullet constraint holding it at its lower limit, for the caller to add to its
+// btMultiBodyDynamicsWorld and keep. Bullet must know these: a contact on a locked link meets the link's
+// parent, where a lock Bullet did not know of would let the link give way within the step (the joints'
+// other limits and their friction are joint torques of the simulation's implicit joint solve,
+// physics/articulated_dynamics.h). Bullet solves it only for a multibody with collision objects (the
+// base's and each link's btMultiBodyLinkCollider: only those put it in a simulation island).
+std::vector<MultiBodyConstraintPtr> make_joint_locks(btMultiBody& body, const Articulation& articulation);
 
 // A force f_W [N] acting at the point p_W [m] of body k (both in W), for the next step: Bullet takes a
 // body's force at its centre of mass (from X_WK, multibody_poses_W's poses), so the moment
