@@ -25,6 +25,38 @@ constexpr double kMarginFraction = 0.2;  // of the smallest half extent
 constexpr double kPlaceholderRadius = 0.01;  // [m] the collider of a body without shapes (collides with nothing)
 
 
+// A body whose bounding box (Bullet's, already widened by the contact breaking threshold) stays this far
+// above a flat seabed has no contact with it to find.
+constexpr double kPlaneClearance = 0.05;  // [m]
+
+// Bullet pairs every body with an infinite plane (its bounding box is unbounded), and a compound body's
+// every shape then meets the plane in the narrow phase each step, contact or not (a work-class ROV
+// hovering 0.9 m up: about 8 % of its step). A pair of the flat seabed (a plane, normal +z) and a body
+// whose box is clear of it skips the narrow phase and empties its manifolds, as the narrow phase itself
+// would have (no point within the breaking threshold); every other pair takes Bullet's own.
+void seabed_aware_near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher,
+                                const btDispatcherInfo& info) {
+  const auto* a = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject);
+  const auto* b = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject);
+  const bool a_plane = a->getCollisionShape()->getShapeType() == STATIC_PLANE_PROXYTYPE;
+  const bool b_plane = b->getCollisionShape()->getShapeType() == STATIC_PLANE_PROXYTYPE;
+  if (a_plane != b_plane) {
+    const auto* plane = static_cast<const btStaticPlaneShape*>((a_plane ? a : b)->getCollisionShape());
+    const btBroadphaseProxy* other = a_plane ? pair.m_pProxy1 : pair.m_pProxy0;
+    const btVector3& n = plane->getPlaneNormal();
+    if (n.x() == 0.0 && n.y() == 0.0 && n.z() == 1.0 &&
+        other->m_aabbMin.z() > plane->getPlaneConstant() + kPlaneClearance) {
+      if (pair.m_algorithm != nullptr) {
+        btManifoldArray manifolds;
+        pair.m_algorithm->getAllContactManifolds(manifolds);
+        for (int m = 0; m < manifolds.size(); ++m) manifolds[m]->clearManifold();
+      }
+      return;
+    }
+  }
+  btCollisionDispatcher::defaultNearCallback(pair, dispatcher, info);
+}
+
 btVector3 to_bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
 
 Eigen::Vector3d to_eigen(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
@@ -133,6 +165,7 @@ struct BulletWorld::Impl {
   std::vector<Vehicle> vehicles;
 
   explicit Impl(bool multibodies) {
+    dispatcher.setNearCallback(seabed_aware_near_callback);
     if (multibodies) {
       auto mb_solver = std::make_unique<btMultiBodyConstraintSolver>();
       auto mb_world = std::make_unique<btMultiBodyDynamicsWorld>(&dispatcher, &broadphase, mb_solver.get(),

@@ -252,6 +252,41 @@ TEST(BulletWorldTest, ALinksFrictionTimesTheSeabedsHoldsOrSlidesABox) {
   EXPECT_NEAR((world.body_state(1).X_WB.translation().x() - x0[1]) / (0.5 * (push - 0.2) * kG), 1.0, 0.05);
 }
 
+// A body clear of the flat seabed skips the narrow phase with it (bullet_world.cc, the seabed-aware near
+// callback) and leaves no contact behind: a 20 kg box resting on the plane (contacts), pushed up with
+// 2 m g for 0.3 s, rises 0.5 g t^2 = 0.44 m in free flight (within 5 mm: semi-implicit Euler adds
+// g dt t / 2 = 3 mm) with no contact left; let go, it falls back
+// and rests where it rested before (1e-3 m, the resting test's tolerance), with contacts again; moved 1 m
+// up in one go, it keeps no stale contact (the skipped pair's manifold emptied).
+TEST(BulletWorldTest, ABoxLiftedOffTheSeabedLeavesNoContactAndLandsAgain) {
+  Model model;
+  model.world.water.surface_z = -1000.0;
+  model.world.seabed.z = -50.0;
+  const double m = 20.0;
+  model.vehicles.push_back(box_vehicle(m, Eigen::Vector3d(0.6, 0.4, 0.3), 0.0, Eigen::Vector3d(0, 0, -50.0 + 0.15)));
+  BulletWorld world(model);
+  const double dt = model.world.step_size();
+  for (int k = 0; k < 200; ++k) world.step(dt);
+  const double rest_z = world.body_state(0).X_WB.translation().z();
+  ASSERT_GT(world.num_contact_points(0), 0);
+  const int lift_steps = static_cast<int>(std::lround(0.3 / dt));
+  for (int k = 0; k < lift_steps; ++k) {
+    world.add_force_W(0, Eigen::Vector3d(0.0, 0.0, 2.0 * m * kG), world.body_state(0).X_WB.translation());
+    world.step(dt);
+  }
+  EXPECT_EQ(world.num_contact_points(0), 0);
+  EXPECT_NEAR(world.body_state(0).X_WB.translation().z() - rest_z, 0.5 * kG * 0.3 * 0.3, 5e-3);
+  for (int k = 0; k < static_cast<int>(std::lround(3.0 / dt)); ++k) world.step(dt);
+  EXPECT_NEAR(world.body_state(0).X_WB.translation().z(), rest_z, 1e-3);
+  EXPECT_GT(world.num_contact_points(0), 0);
+  // Moved 1 m up at once (a restored state, a reset), it keeps none of the contact it rested on.
+  RigidBodyState up = world.body_state(0);
+  up.X_WB.translation().z() += 1.0;
+  world.set_body_state(0, up);
+  world.step(dt);
+  EXPECT_EQ(world.num_contact_points(0), 0);
+}
+
 TEST(BulletWorldTest, BoxesRestOnAMeshSeabedAtTheLocalHeight) {
   // A terrace: z = -50 for x <= -2, -48 for x >= 2, a ramp between. Boxes 0.3 m high dropped at
   // x = -6 and x = +6 rest with their bottoms on the local surface. The mesh carries a 1 mm collision
