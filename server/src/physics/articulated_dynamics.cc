@@ -114,6 +114,15 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
   return {tau, servo - D.cwiseProduct(qdd)};
 }
 
+// A body's spatial inertia about W's origin O, in W axes, acting on its twist [v_O; w] (v_O: the velocity
+// of its point at O), from A, its inertia about its centre of mass c in W axes acting on [v_c; w]:
+// T^T A T with T = [1, -[c]; 0, 1] (v_c = v_O - c x w).
+Matrix6d about_origin(const Matrix6d& A, const Eigen::Vector3d& c) {
+  Matrix6d T = Matrix6d::Identity();
+  T.topRightCorner<3, 3>() = -skew(c);
+  return T.transpose() * A * T;
+}
+
 }  // namespace
 
 ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool fixed_base)
@@ -130,7 +139,8 @@ ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool 
   I_W_.assign(bodies, Eigen::Matrix3d::Zero());
   cols_.assign(bodies, 0);
   for (std::size_t k = 0; k < bodies; ++k) cols_[k] = (fixed_base ? 0 : 6) + static_cast<Eigen::Index>(k);
-  IJ_ = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n_);
+  psi_.assign(bodies, Vector6d::Zero());
+  G_.assign(bodies, Matrix6d::Zero());
   u_ = Eigen::VectorXd::Zero(n_);
   M_ = Eigen::MatrixXd::Zero(n_, n_);
   c_ = Eigen::VectorXd::Zero(n_);
@@ -198,6 +208,9 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     J.topLeftCorner(3, parent_cols) =
         J_[p].topLeftCorner(3, parent_cols) - skew(r) * J_[p].bottomLeftCorner(3, parent_cols);
     J.bottomLeftCorner(3, parent_cols) = J_[p].bottomLeftCorner(3, parent_cols);
+    // The joint's column of the twist about W's origin: [o x s; s] (revolute), [s; 0] (prismatic).
+    psi_[i].head<3>() = body.joint.type == JointType::kPrismatic ? s : Eigen::Vector3d(o_k.cross(s));
+    psi_[i].tail<3>() = body.joint.type == JointType::kPrismatic ? Eigen::Vector3d::Zero() : s;
     if (body.joint.type == JointType::kPrismatic) {
       J.block<3, 1>(0, d) = s;
       J.block<3, 1>(3, d).setZero();
@@ -215,22 +228,55 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
   c_.setZero();
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
+    Matrix6d G = Matrix6d::Zero();
+    G.topLeftCorner<3, 3>().diagonal().setConstant(a.body(k).mass_K.mass);
+    G.bottomRightCorner<3, 3>() = I_W_[i];
+    G_[i] = about_origin(G, p_Wcm_[i]);
+  }
+  add_composite(G_, M_);
+  for (int k = 0; k < a.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
     const Eigen::Index cols = cols_[i];
     if (cols == 0) continue;
     const double m = a.body(k).mass_K.mass;
     const auto J_lin = J_[i].topLeftCorner(3, cols);
     const auto J_ang = J_[i].bottomLeftCorner(3, cols);
-    // Coefficient-wise products: these are small (n x 3 by 3 x n), where Eigen's blocked GEMM spends more
-    // on packing than on arithmetic.
-    auto M = M_.topLeftCorner(cols, cols);
-    M.noalias() += (m * J_lin.transpose()).lazyProduct(J_lin);
-    IJ_.leftCols(cols).noalias() = I_W_[i] * J_ang;
-    M.noalias() += J_ang.transpose().lazyProduct(IJ_.leftCols(cols));
     const Eigen::Vector3d w = V_[i].tail<3>();
     auto c = c_.head(cols);
     c.noalias() += J_lin.transpose() * (m * A_[i].head<3>());
     c.noalias() += J_ang.transpose() * (I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w));
   }
+}
+
+// M += sum_k J_k^T A_k J_k by composite bodies (Featherstone's CRBA) over the twists about W's origin:
+// with G_k = A_k about the origin and Gc_k the sum of G over body k's subtree, a joint's column psi_j (and
+// the base's six, Psi_B = [1, [c_0]; 0, 1] for u's [v_c0; w_0]) meets the joints on its path to the base:
+// M_ij = psi_i^T Gc_b(j) psi_j for i on that path, zero between joints on different branches. G is summed
+// in place. O(bodies x depth) where sum_k J_k^T A_k J_k is O(bodies x n^2).
+void ArticulatedDynamics::add_composite(std::vector<Matrix6d>& G, Eigen::MatrixXd& M) const {
+  const Articulation& a = articulation_;
+  const int bodies = a.num_bodies();
+  const int offset = fixed_base_ ? 0 : 6;
+  for (int k = bodies - 1; k >= 1; --k) G[static_cast<std::size_t>(a.body(k).parent)] += G[static_cast<std::size_t>(k)];
+  Matrix6d Psi_B = Matrix6d::Identity();
+  Psi_B.topRightCorner<3, 3>() = skew(p_Wcm_[0]);
+  for (int k = 1; k < bodies; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const Vector6d F = G[i] * psi_[i];
+    const int col = offset + k - 1;
+    M(col, col) += psi_[i].dot(F);
+    for (int p = a.body(k).parent; p >= 1; p = a.body(p).parent) {
+      const double m_pk = psi_[static_cast<std::size_t>(p)].dot(F);
+      M(offset + p - 1, col) += m_pk;
+      M(col, offset + p - 1) += m_pk;
+    }
+    if (!fixed_base_) {
+      const Vector6d m_Bk = Psi_B.transpose() * F;
+      M.block<6, 1>(0, col) += m_Bk;
+      M.block<1, 6>(col, 0) += m_Bk.transpose();
+    }
+  }
+  if (!fixed_base_) M.topLeftCorner<6, 6>() += Psi_B.transpose() * G[0] * Psi_B;
 }
 
 ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
@@ -308,6 +354,7 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
   // Per body: R6 M_A R6^T J (the reaction's part in u_dot) and its velocity-product part, in W.
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> MJ(bodies);  // over J's leading columns
   std::vector<Wrench> bias(bodies, Wrench::Zero());
+  std::vector<Matrix6d> G_added(bodies, Matrix6d::Zero());  // each body's added mass about W's origin
   bool any = false;
   for (std::size_t i = 0; i < bodies; ++i) {
     const Matrix6d& M_A = added.at(i).M_A;
@@ -326,10 +373,12 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
     bias[i] = R6 * tau;
     const auto J = J_[i].leftCols(cols);
-    MJ[i].noalias() = (R6 * M_A * R6.transpose()).lazyProduct(J);
-    M.topLeftCorner(cols, cols).noalias() += J.transpose().lazyProduct(MJ[i]);
+    const Matrix6d A = R6 * M_A * R6.transpose();
+    MJ[i].noalias() = A.lazyProduct(J);
+    G_added[i] = about_origin(A, p_Wcm_[i]);
     rhs.head(cols).noalias() += J.transpose() * bias[i];
   }
+  if (any) add_composite(G_added, M);
   if (!any && implicit == nullptr) return out;
   Eigen::VectorXd u_dot;
   if (implicit == nullptr) {

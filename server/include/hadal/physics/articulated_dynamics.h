@@ -8,7 +8,8 @@
 // acceleration a_k = J_k_dot u. With each body's Newton-Euler equations at its centre of mass in W,
 //   M = sum_k J_k^T diag(m_k 1, I_k) J_k,     c = sum_k J_k^T [m_k a_k_lin; I_k a_k_ang + w_k x I_k w_k],
 // the motion is M u_dot + c = Q: the same equations Bullet's Featherstone step integrates (the test
-// compares the two step by step).
+// compares the two step by step). M (and the added mass's sum below) is summed by composite bodies
+// (add_composite), not body by body over J.
 //
 // Added mass (physics/added_mass.h has the single-body form): body k with M_A about its centre of mass in
 // K axes feels the fluid's reaction, in K axes,
@@ -139,11 +140,13 @@ class ArticulatedDynamics {
   std::vector<Vector6d> V_, A_;
   std::vector<Eigen::Vector3d> p_Wcm_, o_W_;  // centres of mass, K's origins
   std::vector<Eigen::Index> cols_;  // J_k's columns that can be non-zero (the rest stay zero)
-  Eigen::Matrix<double, 3, Eigen::Dynamic> IJ_;  // scratch of update()
   std::vector<Eigen::Matrix3d> R_WK_, I_W_;
   Eigen::VectorXd u_;
   Eigen::MatrixXd M_;
   Eigen::VectorXd c_;
+  std::vector<Vector6d> psi_;  // each moving body's joint column of the twist about W's origin (update())
+  std::vector<Matrix6d> G_;    // scratch of update(): each body's inertia about W's origin
+  void add_composite(std::vector<Matrix6d>& G, Eigen::MatrixXd& M) const;
 };
 
 }  // namespace hadal::physics
