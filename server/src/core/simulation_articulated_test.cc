@@ -824,6 +824,7 @@ TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
   }
   Pendulum locked;
   locked.lower = locked.upper = locked.initial = 0.2;
+  double held_by_lock[2] = {0.0, 0.0};  // Bullet's constraint force on the joint at +-200 N m
   for (const double effort : {200.0, -200.0}) {
     Simulation sim(locked.model());
     ASSERT_EQ(sim.set_joint_efforts(0, {effort}), "");
@@ -833,7 +834,12 @@ TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
       farthest = std::max(farthest, std::abs(joint_q(sim) - 0.2));
     }
     EXPECT_LT(farthest, kTolerance) << "effort " << effort;
+    held_by_lock[effort > 0 ? 0 : 1] = sim.state().vehicles[0].constraint_force.at(0);  // fixed base: the joint
   }
+  // The lock that holds it is Bullet's alone (the joint solve hands Bullet none of a locked joint's held
+  // torque): its constraint force takes the whole effort, so the two differ by the efforts' 400 N m, the
+  // same wet weight's torque in both (to 1e-6 N m: the joint at rest, its balance exact to rounding).
+  EXPECT_NEAR(held_by_lock[0] - held_by_lock[1], -400.0, 1e-6);
 }
 
 // A free-floating vehicle (no gravity; in air above the water, so no fluid forces) swinging a two-joint arm

@@ -29,6 +29,7 @@ Matrix6d block_rotation(const Eigen::Matrix3d& R) {
 struct JointTorques {
   Eigen::VectorXd total;  // servo + friction + limit
   Eigen::VectorXd servo;
+  std::vector<char> locked;  // per joint: its limits meet (lower >= upper), so it stays where it is locked
 };
 
 JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Eigen::Ref<const Eigen::MatrixXd>& S,
@@ -41,13 +42,15 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
   const auto at = [](const Eigen::VectorXd& v, Eigen::Index j, double none) { return v.size() > j ? v[j] : none; };
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<Mode> mode(static_cast<std::size_t>(n), Mode::kFree);
+  std::vector<char> locked(static_cast<std::size_t>(n), 0);
   Eigen::VectorXd servo = in.servo, D = in.servo_D, sliding = Eigen::VectorXd::Zero(n);
   for (Eigen::Index j = 0; j < n; ++j) {
-    const double lower = at(in.lower, j, -kInf), upper = at(in.upper, j, kInf);
-    if (lower >= upper) {
-      mode[static_cast<std::size_t>(j)] = Mode::kLower;  // locked
+    const auto i = static_cast<std::size_t>(j);
+    locked[i] = at(in.lower, j, -kInf) >= at(in.upper, j, kInf);
+    if (locked[i]) {
+      mode[i] = Mode::kLower;
     } else if (at(in.friction, j, 0.0) > 0.0) {
-      mode[static_cast<std::size_t>(j)] = Mode::kStuck;
+      mode[i] = Mode::kStuck;
     }
   }
   Eigen::MatrixXd K(n, n);
@@ -94,7 +97,7 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
       const double other = tau[j] - (servo[j] - D[j] * qdd[j]);  // friction's and the limit's part
       const double q_end = in.q.size() > j ? in.q[j] + dt * (qd[j] + dt * qdd[j]) : 0.0;
       const Mode before = m;
-      if (lower >= upper) continue;  // locked
+      if (locked[static_cast<std::size_t>(j)]) continue;
       if ((m == Mode::kLower && other < 0.0) || (m == Mode::kUpper && other > 0.0)) {
         m = friction > 0.0 ? Mode::kStuck : Mode::kFree;
       } else if (m == Mode::kStuck && std::abs(other) > friction) {
@@ -111,7 +114,7 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
     }
     if (!changed) break;
   }
-  return {tau, servo - D.cwiseProduct(qdd)};
+  return {tau, servo - D.cwiseProduct(qdd), locked};
 }
 
 // A body's spatial inertia about W's origin O, in W axes, acting on its twist [v_O; w] (v_O: the velocity
@@ -406,9 +409,7 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     // A locked joint's lock is the stepper's (physics/multibody.h, make_joint_locks): the motion above has
     // it, the torques handed over do not (both would hold it, and their sum would drift).
     for (int j = 0; j < dofs; ++j) {
-      if (implicit->lower.size() > j && implicit->upper.size() > j && implicit->lower[j] >= implicit->upper[j]) {
-        out.joint_torques[j] -= out.held[j];
-      }
+      if (joints.locked[static_cast<std::size_t>(j)]) out.joint_torques[j] -= out.held[j];
     }
   }
   for (std::size_t i = 0; i < bodies; ++i) {
