@@ -356,7 +356,7 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
     nav_msgs::msg::Odometry msg;
     if ((ok = decode<nav_msgs::msg::OdometryPubSubType>(data, size, &msg))) {
       const double t = stamp_of(msg.header());
-      note_time(t);
+      note_time(topic, t);
       Vehicle& v = vehicles_[vehicle];
       const auto& pose = msg.pose().pose();
       const auto& twist = msg.twist().twist();
@@ -407,7 +407,7 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
   } else if (type == "rosgraph_msgs/msg/Clock") {
     rosgraph_msgs::msg::Clock msg;
     if ((ok = decode<rosgraph_msgs::msg::ClockPubSubType>(data, size, &msg))) {
-      note_time(msg.clock().sec() + 1e-9 * msg.clock().nanosec());
+      note_time(topic, msg.clock().sec() + 1e-9 * msg.clock().nanosec());
     }
   } else if (type == "marine_acoustic_msgs/msg/Dvl") {
     marine_acoustic_msgs::msg::Dvl msg;
@@ -431,7 +431,7 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
     // (the scene's links).
     sensor_msgs::msg::JointState msg;
     if ((ok = decode<sensor_msgs::msg::JointStatePubSubType>(data, size, &msg))) {
-      note_time(stamp_of(msg.header()));
+      note_time(topic, stamp_of(msg.header()));
       Vehicle& v = vehicles_[vehicle];
       for (std::size_t j = 0; j < msg.name().size() && j < msg.position().size(); ++j) {
         v.joints[msg.name()[j]] = msg.position()[j];
@@ -482,16 +482,27 @@ void ViewerState::add_point(const std::string& key, const std::string& plot, con
   series.seq.push_back(next_seq_++);
 }
 
-void ViewerState::note_time(double t) {
-  // A lockstep reset starts over at 0 (the scene comes again too; this catches a bag of several runs).
-  if (t + 1e-6 < sim_time_ - 0.5) start_over();
-  sim_time_ = t;
+void ViewerState::note_time(const std::string& topic, double t) {
+  // A lockstep reset starts over at 0 (the scene comes again too; this catches a bag of several runs): a topic's
+  // stamp half a second before its own last. Each topic against itself: one writer's samples come in order, but
+  // topics do not keep order among themselves (a recorder under load took a run's odometry 0.6 s of sim time
+  // after the /clock that had passed it, and the bag replays them so).
+  auto [last, fresh] = topic_times_.emplace(topic, t);
+  if (!fresh && t + 1e-6 < last->second - 0.5) {
+    start_over();
+    topic_times_[topic] = t;
+    sim_time_ = t;
+    return;
+  }
+  last->second = t;
+  sim_time_ = std::max(sim_time_, t);
 }
 
 void ViewerState::start_over() {
   for (auto& [name, vehicle] : vehicles_) vehicle.trail.clear(), vehicle.trail_total = vehicle.polled_trail = 0;
   series_.clear();
   overlays_.clear();
+  topic_times_.clear();
   sim_time_ = 0.0;
   ++history_generation_;
 }

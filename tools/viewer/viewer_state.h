@@ -118,7 +118,7 @@ class ViewerState {
   void add_point(const std::string& key, const std::string& plot, const std::string& label, const std::string& unit,
                  double t, double value);
   void start_over();  // trails and series (new scene, or time went backwards)
-  void note_time(double t);
+  void note_time(const std::string& topic, double t);
   void add_monitor(const std::string& topic, const unsigned char* data, std::size_t size);
   std::string history_json_locked() const;
   // Series points after since_seq; with trail_points, the trail points not yet polled (else none).
@@ -142,6 +142,7 @@ class ViewerState {
   std::string status_json_;                       // the last SimStatus as JSON
   std::map<std::string, std::string> overlays_;   // "/auv/dvl" -> its JSON (beams, ranges)
   std::map<std::string, std::uint64_t> counts_;   // per topic
+  std::map<std::string, double> topic_times_;  // per topic its latest stamp [s] (note_time)
   std::map<std::string, std::uint64_t> monitor_counts_;  // per topic carried by a monitor: the count last taken
   double sim_time_ = 0.0;
   std::uint64_t samples_ = 0, undecodable_ = 0;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <hadal_msgsPubSubTypes.h>
 #include <nav_msgsPubSubTypes.h>
+#include <rosgraph_msgsPubSubTypes.h>
 #include <sensor_msgsPubSubTypes.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -36,6 +37,14 @@ void add_odometry(ViewerState& state, double t, double x, double z) {
   msg.twist().twist().linear().x(1.0);
   const auto bytes = cdr<nav_msgs::msg::OdometryPubSubType>(msg);
   state.add("/auv/odometry", "nav_msgs/msg/Odometry", bytes.data(), bytes.size());
+}
+
+void add_clock(ViewerState& state, double t) {
+  rosgraph_msgs::msg::Clock msg;
+  msg.clock().sec(static_cast<std::int32_t>(std::floor(t)));
+  msg.clock().nanosec(static_cast<std::uint32_t>(std::llround((t - std::floor(t)) * 1e9)));
+  const auto bytes = cdr<rosgraph_msgs::msg::ClockPubSubType>(msg);
+  state.add("/clock", "rosgraph_msgs/msg/Clock", bytes.data(), bytes.size());
 }
 
 std::size_t count(const std::string& text, const std::string& what) {
@@ -108,6 +117,27 @@ TEST(ViewerStateTest, TimeGoingBackStartsTrailsAndSeriesOver) {
                                   "\"t\":[0],\"v\":[90]}"),
             std::string::npos)
       << out.history_json;
+}
+
+// A bag whose recorder took the odometry late, as one under load does: /clock has reached 1.6 s when the
+// odometry stamped 1.0 s comes. Topics are not in order among themselves, so that is no reset: the trail
+// goes on (one point every 5 cm, the odometry 0.1 m apart), and a topic's own time going back still starts over.
+TEST(ViewerStateTest, ATopicLateAgainstAnotherIsNoReset) {
+  ViewerState state;
+  for (int i = 0; i <= 16; ++i) add_clock(state, 0.1 * i);
+  for (int i = 0; i <= 10; ++i) add_odometry(state, 0.1 * i, 0.1 * i, -96.0);
+  PushOutput out = state.poll(0.0);
+  EXPECT_NE(out.history_json.find("\"auv\":{\"total\":11,"), std::string::npos) << out.history_json;
+  add_clock(state, 1.7);
+  add_odometry(state, 1.1, 1.1, -96.0);
+  out = state.poll(0.0);
+  EXPECT_TRUE(out.history_json.empty()) << out.history_json;
+  EXPECT_NE(out.update_json.find("\"sim_time\":1.7"), std::string::npos) << out.update_json;
+  EXPECT_NE(out.update_json.find("\"trail_from\":11,\"trail\":[1.1"), std::string::npos) << out.update_json;
+  add_clock(state, 0.0);  // a lockstep reset: /clock at 0 again
+  out = state.poll(0.0);
+  EXPECT_FALSE(out.history_json.empty());
+  EXPECT_NE(out.update_json.find("\"sim_time\":0,"), std::string::npos) << out.update_json;
 }
 
 hadal_msgs::msg::Scene scene(float z) {
