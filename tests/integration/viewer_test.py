@@ -332,7 +332,7 @@ def test_a_recorded_bag_replays_and_seeks(browser, tmp_path):
         np.testing.assert_array_equal(pose1["p"], p_1s)
         assert pose1["p"] != pose2["p"]
         assert 0 < wait_until(lambda: browser.evaluate("hadalViewer.state.vehicles.auv.trailCount") < trail2, 10,
-                              "a shorter trail")
+                              f"a trail shorter than the {trail2} points at {stamp_2s} s (stamp {stamp_1s} s)")
         browser.evaluate("(() => { const t = document.getElementById('timeline'); t.value = 2;"
                          " t.dispatchEvent(new Event('input')); })()")
         again = wait_until(lambda: showing(browser, stamp_2s), 30,
