@@ -13,13 +13,6 @@
 namespace hadal::physics {
 namespace {
 
-Matrix6d block_rotation(const Eigen::Matrix3d& R) {
-  Matrix6d R6 = Matrix6d::Zero();
-  R6.topLeftCorner<3, 3>() = R;
-  R6.bottomRightCorner<3, 3>() = R;
-  return R6;
-}
-
 // What each joint's servo, friction and limits give over the step (ArticulatedDynamics::ImplicitJoints):
 // qdd = qdd0 + S tau. A joint is free (tau = servo - D qdd + its sliding friction), stuck (qd' = 0), on a
 // limit (q' = the bound) or locked there; each pass solves the modes' rows for tau, then moves every joint
@@ -119,11 +112,46 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
 
 // A body's spatial inertia about W's origin O, in W axes, acting on its twist [v_O; w] (v_O: the velocity
 // of its point at O), from A, its inertia about its centre of mass c in W axes acting on [v_c; w]:
-// T^T A T with T = [1, -[c]; 0, 1] (v_c = v_O - c x w).
+// T^T A T with T = [1, -[c]; 0, 1] (v_c = v_O - c x w), by blocks:
+// [A11, A12 - A11 [c]; A21 + [c] A11, A22 - A21 [c] + [c] A12 - [c] A11 [c]].
 Matrix6d about_origin(const Matrix6d& A, const Eigen::Vector3d& c) {
-  Matrix6d T = Matrix6d::Identity();
-  T.topRightCorner<3, 3>() = -skew(c);
-  return T.transpose() * A * T;
+  const Eigen::Matrix3d C = skew(c);
+  const Eigen::Matrix3d B12 = A.topRightCorner<3, 3>() - A.topLeftCorner<3, 3>() * C;
+  Matrix6d out;
+  out.topLeftCorner<3, 3>() = A.topLeftCorner<3, 3>();
+  out.topRightCorner<3, 3>() = B12;
+  out.bottomLeftCorner<3, 3>() = A.bottomLeftCorner<3, 3>() + C * A.topLeftCorner<3, 3>();
+  out.bottomRightCorner<3, 3>() = A.bottomRightCorner<3, 3>() - A.bottomLeftCorner<3, 3>() * C + C * B12;
+  return out;
+}
+
+// A rigid body's (mass m, inertia I about its centre c, W axes) the same way: [m, -m [c]; m [c], I - m [c][c]].
+Matrix6d rigid_about_origin(double m, const Eigen::Matrix3d& I, const Eigen::Vector3d& c) {
+  const Eigen::Matrix3d C = skew(c);
+  Matrix6d out;
+  out.topLeftCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
+  out.topRightCorner<3, 3>() = -m * C;
+  out.bottomLeftCorner<3, 3>() = m * C;
+  out.bottomRightCorner<3, 3>() = I - m * C * C;
+  return out;
+}
+
+// R6 A R6^T with R6 = diag(R, R), by blocks.
+Matrix6d rotate(const Matrix6d& A, const Eigen::Matrix3d& R) {
+  Matrix6d out;
+  out.topLeftCorner<3, 3>() = R * A.topLeftCorner<3, 3>() * R.transpose();
+  out.topRightCorner<3, 3>() = R * A.topRightCorner<3, 3>() * R.transpose();
+  out.bottomLeftCorner<3, 3>() = R * A.bottomLeftCorner<3, 3>() * R.transpose();
+  out.bottomRightCorner<3, 3>() = R * A.bottomRightCorner<3, 3>() * R.transpose();
+  return out;
+}
+
+// A wrench at c ([f; tau_c], W) as one about W's origin: [f; tau_c + c x f].
+Vector6d wrench_about_origin(const Vector6d& W, const Eigen::Vector3d& c) {
+  Vector6d out;
+  out.head<3>() = W.head<3>();
+  out.tail<3>() = W.tail<3>() + c.cross(W.head<3>());
+  return out;
 }
 
 }  // namespace
@@ -133,17 +161,15 @@ ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool 
       fixed_base_(fixed_base),
       n_(articulation.num_dofs() + (fixed_base ? 0 : 6)) {
   const auto bodies = static_cast<std::size_t>(articulation.num_bodies());
-  J_.assign(bodies, Eigen::MatrixXd::Zero(6, n_));
   V_.assign(bodies, Vector6d::Zero());
   A_.assign(bodies, Vector6d::Zero());
   p_Wcm_.assign(bodies, Eigen::Vector3d::Zero());
   o_W_.assign(bodies, Eigen::Vector3d::Zero());
   R_WK_.assign(bodies, Eigen::Matrix3d::Identity());
   I_W_.assign(bodies, Eigen::Matrix3d::Zero());
-  cols_.assign(bodies, 0);
-  for (std::size_t k = 0; k < bodies; ++k) cols_[k] = (fixed_base ? 0 : 6) + static_cast<Eigen::Index>(k);
   psi_.assign(bodies, Vector6d::Zero());
   G_.assign(bodies, Matrix6d::Zero());
+  F_.assign(bodies, Wrench::Zero());
   u_ = Eigen::VectorXd::Zero(n_);
   M_ = Eigen::MatrixXd::Zero(n_, n_);
   c_ = Eigen::VectorXd::Zero(n_);
@@ -181,21 +207,13 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
                                  const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
   update_kinematics(X_WK, v_WB, w_WB, qd);
   const Articulation& a = articulation_;
-  const int offset = fixed_base_ ? 0 : 6;
-  // Body k moves with the base and the joints on its path from it, whose columns of u all come before
-  // offset + k (parents before children): J_k's columns from cols_[k] on stay zero and are not touched.
-  for (int k = 0; k < a.num_bodies(); ++k) {
+  // Each joint's column of the twist about W's origin, and each body's bias acceleration from its parent's.
+  A_[0].setZero();
+  for (int k = 1; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     const Articulation::Body& body = a.body(k);
-    Eigen::MatrixXd& J = J_[i];
     Vector6d& A = A_[i];
-    if (k == 0) {
-      if (!fixed_base_) J.leftCols<6>().setIdentity();
-      A.setZero();
-      continue;
-    }
     const auto p = static_cast<std::size_t>(body.parent);
-    const Eigen::Index parent_cols = cols_[p];
     const Eigen::Vector3d& c_k = p_Wcm_[i];
     const Eigen::Vector3d& c_p = p_Wcm_[p];
     const Eigen::Vector3d& o_k = o_W_[i];
@@ -205,24 +223,17 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     const Eigen::Vector3d alpha_p = A_[p].tail<3>();
     const Eigen::Vector3d a_p = A_[p].head<3>();
     const double rate = qd[k - 1];
-    const int d = offset + k - 1;
-    // The parent's motion carried to this centre of mass, then the joint's own.
     const Eigen::Vector3d r = c_k - c_p;
-    J.topLeftCorner(3, parent_cols) =
-        J_[p].topLeftCorner(3, parent_cols) - skew(r) * J_[p].bottomLeftCorner(3, parent_cols);
-    J.bottomLeftCorner(3, parent_cols) = J_[p].bottomLeftCorner(3, parent_cols);
-    // The joint's column of the twist about W's origin: [o x s; s] (revolute), [s; 0] (prismatic).
-    psi_[i].head<3>() = body.joint.type == JointType::kPrismatic ? s : Eigen::Vector3d(o_k.cross(s));
-    psi_[i].tail<3>() = body.joint.type == JointType::kPrismatic ? Eigen::Vector3d::Zero() : s;
+    // [o x s; s] (revolute), [s; 0] (prismatic).
     if (body.joint.type == JointType::kPrismatic) {
-      J.block<3, 1>(0, d) = s;
-      J.block<3, 1>(3, d).setZero();
+      psi_[i].head<3>() = s;
+      psi_[i].tail<3>().setZero();
       A.tail<3>() = alpha_p;
       A.head<3>() = a_p + alpha_p.cross(r) + w_p.cross(w_p.cross(r)) + 2.0 * w_p.cross(s * rate);
     } else {
+      psi_[i].head<3>() = o_k.cross(s);
+      psi_[i].tail<3>() = s;
       const Eigen::Vector3d r1 = o_k - c_p, r2 = c_k - o_k;
-      J.block<3, 1>(0, d) = s.cross(r2);
-      J.block<3, 1>(3, d) = s;
       A.tail<3>() = alpha_p + w_p.cross(s * rate);
       A.head<3>() = a_p + alpha_p.cross(r1) + w_p.cross(w_p.cross(r1)) + A.tail<3>().cross(r2) + w.cross(w.cross(r2));
     }
@@ -231,24 +242,17 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
   c_.setZero();
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
-    Matrix6d G = Matrix6d::Zero();
-    G.topLeftCorner<3, 3>().diagonal().setConstant(a.body(k).mass_K.mass);
-    G.bottomRightCorner<3, 3>() = I_W_[i];
-    G_[i] = about_origin(G, p_Wcm_[i]);
+    const double m = a.body(k).mass_K.mass;
+    G_[i] = rigid_about_origin(m, I_W_[i], p_Wcm_[i]);
+    // c's wrench: each body's Newton-Euler need at its bias acceleration.
+    const Eigen::Vector3d& w = V_[i].tail<3>();
+    Wrench h;
+    h.head<3>() = m * A_[i].head<3>();
+    h.tail<3>() = I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w);
+    F_[i] = wrench_about_origin(h, p_Wcm_[i]);
   }
   add_composite(G_, M_);
-  for (int k = 0; k < a.num_bodies(); ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    const Eigen::Index cols = cols_[i];
-    if (cols == 0) continue;
-    const double m = a.body(k).mass_K.mass;
-    const auto J_lin = J_[i].topLeftCorner(3, cols);
-    const auto J_ang = J_[i].bottomLeftCorner(3, cols);
-    const Eigen::Vector3d w = V_[i].tail<3>();
-    auto c = c_.head(cols);
-    c.noalias() += J_lin.transpose() * (m * A_[i].head<3>());
-    c.noalias() += J_ang.transpose() * (I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w));
-  }
+  project(F_, c_);
 }
 
 // M += sum_k J_k^T A_k J_k by composite bodies (Featherstone's CRBA) over the twists about W's origin:
@@ -282,6 +286,42 @@ void ArticulatedDynamics::add_composite(std::vector<Matrix6d>& G, Eigen::MatrixX
   if (!fixed_base_) M.topLeftCorner<6, 6>() += Psi_B.transpose() * G[0] * Psi_B;
 }
 
+// Q += sum_k J_k^T W_k for wrenches F about W's origin (W_k moved there): the same composite sums, a
+// joint's entry psi_j^T (the sum over its subtree), the base's Psi_B^T (the sum over all: the force and
+// its moment about c_0). F is summed in place.
+void ArticulatedDynamics::project(std::vector<Wrench>& F, Eigen::Ref<Eigen::VectorXd> Q) const {
+  const Articulation& a = articulation_;
+  const int offset = fixed_base_ ? 0 : 6;
+  for (int k = a.num_bodies() - 1; k >= 1; --k) {
+    const auto i = static_cast<std::size_t>(k);
+    F[static_cast<std::size_t>(a.body(k).parent)] += F[i];
+    Q[offset + k - 1] += psi_[i].dot(F[i]);
+  }
+  if (!fixed_base_) {
+    Q.head<3>() += F[0].head<3>();
+    Q.segment<3>(3) += F[0].tail<3>() - p_Wcm_[0].cross(F[0].head<3>());
+  }
+}
+
+// J_k u_dot for every body (its centre of mass's acceleration and its angular one, W) by the same tree: the
+// twist's rate about W's origin is the parent's plus the joint's column times its acceleration, then moved
+// to the centre of mass.
+std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::accelerations(const Eigen::VectorXd& u_dot) const {
+  const Articulation& a = articulation_;
+  const int offset = fixed_base_ ? 0 : 6;
+  std::vector<Vector6d> Z(static_cast<std::size_t>(a.num_bodies()));
+  Z[0].setZero();
+  if (!fixed_base_) {
+    Z[0].head<3>() = u_dot.head<3>() + p_Wcm_[0].cross(u_dot.segment<3>(3));
+    Z[0].tail<3>() = u_dot.segment<3>(3);
+  }
+  for (int k = 1; k < a.num_bodies(); ++k) {
+    Z[static_cast<std::size_t>(k)] = Z[static_cast<std::size_t>(a.body(k).parent)] + psi_[static_cast<std::size_t>(k)] * u_dot[offset + k - 1];
+  }
+  for (std::size_t i = 0; i < Z.size(); ++i) Z[i].head<3>() -= p_Wcm_[i].cross(Z[i].tail<3>());
+  return Z;
+}
+
 ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
   Momentum out;
   for (int k = 0; k < articulation_.num_bodies(); ++k) {
@@ -306,12 +346,13 @@ std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::joint_wrenches(con
                                                                              const Eigen::Vector3d& g_W) const {
   const int bodies = articulation_.num_bodies();
   std::vector<Wrench> out(static_cast<std::size_t>(bodies), Wrench::Zero());
+  const std::vector<Wrench> Ju_dot = accelerations(u_dot);
   // Children come after their parents: from the last body back, each adds its own need to what its
   // children passed it, then passes the sum to its parent (moved to the parent's joint).
   for (int k = bodies - 1; k >= 1; --k) {
     const auto i = static_cast<std::size_t>(k);
     const double m = articulation_.body(k).mass_K.mass;
-    const Vector6d acceleration = J_[i] * u_dot + A_[i];
+    const Vector6d acceleration = Ju_dot[i] + A_[i];
     const Eigen::Vector3d w = V_[i].tail<3>();
     const Eigen::Vector3d F = m * acceleration.head<3>() - external_W.at(i).head<3>() - m * g_W;
     const Eigen::Vector3d N =
@@ -332,12 +373,14 @@ Eigen::VectorXd ArticulatedDynamics::generalized_force(const std::vector<Wrench>
                                                        const Eigen::VectorXd& joint_torques) const {
   Eigen::VectorXd Q = Eigen::VectorXd::Zero(n_);
   Q.tail(articulation_.num_dofs()) = joint_torques;
+  std::vector<Wrench> F(wrenches_W.size());
   for (int k = 0; k < articulation_.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     Wrench W = wrenches_W.at(i);
     W.head<3>() += articulation_.body(k).mass_K.mass * g_W;
-    Q.head(cols_[i]).noalias() += J_[i].leftCols(cols_[i]).transpose() * W;
+    F[i] = wrench_about_origin(W, p_Wcm_[i]);
   }
+  project(F, Q);
   return Q;
 }
 
@@ -352,35 +395,44 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
   out.joint_torques = joint_torques;
   std::vector<Wrench>& reactions = out.bodies;
   Eigen::MatrixXd M = M_;
-  Eigen::VectorXd rhs = generalized_force(wrenches_W, g_W, joint_torques) - c_;
+  // Q: the applied wrenches, gravity and each body's added-mass velocity-product part, all about W's origin.
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
+  rhs.tail(dofs) = joint_torques;
+  rhs -= c_;
   if (Q_c.size() == n_) rhs += Q_c;
-  // Per body: R6 M_A R6^T J (the reaction's part in u_dot) and its velocity-product part, in W.
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> MJ(bodies);  // over J's leading columns
-  std::vector<Wrench> bias(bodies, Wrench::Zero());
+  // Per body: R6 M_A R6^T (the reaction's part in J u_dot) and its velocity-product part, in W.
+  std::vector<Matrix6d> A_added(bodies);
+  std::vector<char> has_added(bodies, 0);
+  std::vector<Wrench> bias(bodies, Wrench::Zero()), F(bodies);
   std::vector<Matrix6d> G_added(bodies, Matrix6d::Zero());  // each body's added mass about W's origin
   bool any = false;
+  const bool moving_base = !fixed_base_;
   for (std::size_t i = 0; i < bodies; ++i) {
+    Wrench W = wrenches_W.at(i);
+    W.head<3>() += articulation_.body(static_cast<int>(i)).mass_K.mass * g_W;
     const Matrix6d& M_A = added.at(i).M_A;
-    const Eigen::Index cols = cols_[i];
-    if (M_A.isZero(0.0) || cols == 0) continue;
-    any = true;
-    const Matrix6d R6 = block_rotation(R_WK_[i]);
-    const Eigen::Matrix3d R_KW = R_WK_[i].transpose();
-    Vector6d nu_r;
-    nu_r.head<3>() = R_KW * (V_[i].head<3>() - added[i].v_water_W);
-    nu_r.tail<3>() = R_KW * V_[i].tail<3>();
-    Vector6d nu_r_dot_bias;
-    nu_r_dot_bias.head<3>() = R_KW * A_[i].head<3>() - nu_r.tail<3>().cross(nu_r.head<3>());
-    nu_r_dot_bias.tail<3>() = R_KW * A_[i].tail<3>();
-    Vector6d tau = -M_A * nu_r_dot_bias;
-    if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
-    bias[i] = R6 * tau;
-    const auto J = J_[i].leftCols(cols);
-    const Matrix6d A = R6 * M_A * R6.transpose();
-    MJ[i].noalias() = A.lazyProduct(J);
-    G_added[i] = about_origin(A, p_Wcm_[i]);
-    rhs.head(cols).noalias() += J.transpose() * bias[i];
+    if (!M_A.isZero(0.0) && (i > 0 || moving_base)) {
+      any = true;
+      has_added[i] = 1;
+      const Eigen::Matrix3d& R = R_WK_[i];
+      const Eigen::Matrix3d R_KW = R.transpose();
+      Vector6d nu_r;
+      nu_r.head<3>() = R_KW * (V_[i].head<3>() - added[i].v_water_W);
+      nu_r.tail<3>() = R_KW * V_[i].tail<3>();
+      Vector6d nu_r_dot_bias;
+      nu_r_dot_bias.head<3>() = R_KW * A_[i].head<3>() - nu_r.tail<3>().cross(nu_r.head<3>());
+      nu_r_dot_bias.tail<3>() = R_KW * A_[i].tail<3>();
+      Vector6d tau = -M_A * nu_r_dot_bias;
+      if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
+      bias[i].head<3>() = R * tau.head<3>();
+      bias[i].tail<3>() = R * tau.tail<3>();
+      W += bias[i];
+      A_added[i] = rotate(M_A, R);
+      G_added[i] = about_origin(A_added[i], p_Wcm_[i]);
+    }
+    F[i] = wrench_about_origin(W, p_Wcm_[i]);
   }
+  project(F, rhs);
   if (any) add_composite(G_added, M);
   if (!any && implicit == nullptr) return out;
   Eigen::VectorXd u_dot;
@@ -412,9 +464,11 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
       if (joints.locked[static_cast<std::size_t>(j)]) out.joint_torques[j] -= out.held[j];
     }
   }
-  for (std::size_t i = 0; i < bodies; ++i) {
-    if (MJ[i].size() == 0) continue;
-    reactions[i] = bias[i] - MJ[i] * u_dot.head(cols_[i]);
+  if (any) {
+    const std::vector<Wrench> Ju_dot = accelerations(u_dot);
+    for (std::size_t i = 0; i < bodies; ++i) {
+      if (has_added[i]) reactions[i] = bias[i] - A_added[i] * Ju_dot[i];
+    }
   }
   return out;
 }

@@ -8,8 +8,9 @@
 // acceleration a_k = J_k_dot u. With each body's Newton-Euler equations at its centre of mass in W,
 //   M = sum_k J_k^T diag(m_k 1, I_k) J_k,     c = sum_k J_k^T [m_k a_k_lin; I_k a_k_ang + w_k x I_k w_k],
 // the motion is M u_dot + c = Q: the same equations Bullet's Featherstone step integrates (the test
-// compares the two step by step). M (and the added mass's sum below) is summed by composite bodies
-// (add_composite), not body by body over J.
+// compares the two step by step). No J_k is formed: M (and the added mass's sum below) is summed by
+// composite bodies (add_composite), every J_k^T W_k by the wrenches about W's origin summed over each
+// joint's subtree (project), and J_k u_dot by the tree from the base out (accelerations), each O(bodies).
 //
 // Added mass (physics/added_mass.h has the single-body form): body k with M_A about its centre of mass in
 // K axes feels the fluid's reaction, in K axes,
@@ -38,12 +39,12 @@ class ArticulatedDynamics {
 
   ArticulatedDynamics(const Articulation& articulation, bool fixed_base);
 
-  // Evaluates J_k, a_k, M and c at the bodies' poses X_WK (Articulation::poses_W) and B's velocity (of B's
+  // Evaluates a_k, M and c at the bodies' poses X_WK (Articulation::poses_W) and B's velocity (of B's
   // origin, in W) and the joint rates.
   void update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
               const Eigen::VectorXd& qd);
   // The kinematic part of update() alone: the bodies' poses, centres of mass, velocities, inertias in W and u
-  // (what momentum() needs). J_k, a_k, M and c keep the values of the last update().
+  // (what momentum() needs). a_k, M and c keep the values of the last update().
   void update_kinematics(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
                          const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd);
 
@@ -51,7 +52,6 @@ class ArticulatedDynamics {
   const Eigen::VectorXd& u() const { return u_; }
   const Eigen::MatrixXd& mass_matrix() const { return M_; }
   const Eigen::VectorXd& bias() const { return c_; }
-  const Eigen::MatrixXd& jacobian(int k) const { return J_[static_cast<std::size_t>(k)]; }
   // Body k's centre of mass in W, its velocity [v; w] in W, and its bias acceleration a_k.
   const Eigen::Vector3d& p_Wcm(int k) const { return p_Wcm_[static_cast<std::size_t>(k)]; }
   const Vector6d& velocity(int k) const { return V_[static_cast<std::size_t>(k)]; }
@@ -136,17 +136,18 @@ class ArticulatedDynamics {
   const Articulation& articulation_;
   bool fixed_base_;
   int n_;
-  std::vector<Eigen::MatrixXd> J_;
   std::vector<Vector6d> V_, A_;
   std::vector<Eigen::Vector3d> p_Wcm_, o_W_;  // centres of mass, K's origins
-  std::vector<Eigen::Index> cols_;  // J_k's columns that can be non-zero (the rest stay zero)
   std::vector<Eigen::Matrix3d> R_WK_, I_W_;
   Eigen::VectorXd u_;
   Eigen::MatrixXd M_;
   Eigen::VectorXd c_;
   std::vector<Vector6d> psi_;  // each moving body's joint column of the twist about W's origin (update())
   std::vector<Matrix6d> G_;    // scratch of update(): each body's inertia about W's origin
+  std::vector<Wrench> F_;      // scratch of update(): each body's bias wrench about W's origin
   void add_composite(std::vector<Matrix6d>& G, Eigen::MatrixXd& M) const;
+  void project(std::vector<Wrench>& F, Eigen::Ref<Eigen::VectorXd> Q) const;
+  std::vector<Wrench> accelerations(const Eigen::VectorXd& u_dot) const;
 };
 
 }  // namespace hadal::physics
