@@ -1046,9 +1046,8 @@ void Simulation::hand_articulated_forces(std::size_t i) {
     tau[e] = -joint.damping * vehicle.joint_velocities[j];
     implicit.damping_D[e] = joint.damping * dt;
     implicit.friction[e] = joint.friction;
-    const bool limited = joint.type != JointType::kContinuous;
-    implicit.lower[e] = limited ? joint.lower : -std::numeric_limits<double>::infinity();
-    implicit.upper[e] = limited ? joint.upper : std::numeric_limits<double>::infinity();
+    implicit.lower[e] = physics::lower_limit(joint);
+    implicit.upper[e] = physics::upper_limit(joint);
   }
   std::vector<physics::ArticulatedDynamics::Wrench> wrenches(runtime.bodies.size());
   for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {

@@ -803,7 +803,7 @@ TEST(SimulationArticulatedTest, AServoAgainstFrictionRunsAtItsRateLimitLessFrict
 // solve ends a step that would pass the bound on it, and Bullet's step follows the solve's motion (the
 // same equations; ArticulatedDynamicsPredictsBulletsStep: 1e-9), so the bound holds to 1e-9 rad, where
 // Bullet's own limit constraint (a soft stop corrected by a fraction per step) overshot by 7-8 mrad. A
-// locked joint (lower = upper = 0.2 rad, held by a Bullet lock with the contacts) stays where it is locked
+// locked joint (lower = upper = 0.2 rad, a fixed link of Bullet's tree) stays where it is locked
 // under the same effort, also to 1e-9 rad.
 TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
   constexpr double kTolerance = 1e-9;  // [rad]

@@ -458,8 +458,9 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     out.servo = joints.servo;
     out.held = joints.total - joints.servo;
     out.joint_torques += joints.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));
-    // A locked joint's lock is the stepper's (physics/multibody.h, make_joint_locks): the motion above has
-    // it, the torques handed over do not (both would hold it, and their sum would drift).
+    // A locked joint's lock is the stepper's (a fixed link, physics/multibody.h): the motion above has
+    // it, the torques handed over do not, so the constraint force read back after the step is the lock's
+    // whole load.
     for (int j = 0; j < dofs; ++j) {
       if (joints.locked[static_cast<std::size_t>(j)]) out.joint_torques[j] -= out.held[j];
     }

@@ -112,6 +112,18 @@ bool is_articulated(const std::vector<LinkSpec>& links) {
   return false;
 }
 
+bool is_locked(const JointSpec& joint) {
+  return joint.type != JointType::kContinuous && std::isfinite(joint.lower) && joint.lower >= joint.upper;
+}
+
+double lower_limit(const JointSpec& joint) {
+  return joint.type == JointType::kContinuous ? -std::numeric_limits<double>::infinity() : joint.lower;
+}
+
+double upper_limit(const JointSpec& joint) {
+  return joint.type == JointType::kContinuous ? std::numeric_limits<double>::infinity() : joint.upper;
+}
+
 std::vector<Eigen::Isometry3d> Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::VectorXd& q) const {
   if (q.size() != num_dofs()) {
     throw std::invalid_argument("articulation: " + std::to_string(q.size()) + " joint coordinates for " +

@@ -126,14 +126,13 @@ struct BulletWorld::Impl {
     bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
     bool is_static = false;     // VehicleSpec::is_static
     // Articulated vehicles only (body is null then): the tree, Bullet's multibody, one collider per body
-    // (body order), the locks of its locked joints, and each body's frame K in W as the last
-    // set_articulated_state wrote it (the poses add_body_force_W takes moments about). The joints' other
-    // limits and their friction are not Bullet's: the simulation's implicit joint solve gives them as joint
-    // torques (physics/articulated_dynamics.h).
+    // (body order), and each body's frame K in W as the last set_articulated_state wrote it (the poses
+    // add_body_force_W takes moments about). A locked joint is a fixed link of the multibody
+    // (physics/multibody.h); the other joints' limits and friction are not Bullet's: the simulation's
+    // implicit joint solve gives them as joint torques (physics/articulated_dynamics.h).
     std::unique_ptr<Articulation> articulation;
     MultiBodyPtr multibody;
     std::vector<Collider> colliders;
-    std::vector<MultiBodyConstraintPtr> locks;
     std::vector<Eigen::Isometry3d> X_WK;
   };
   // The collision group of static vehicles (Bullet's first free custom group after its own five).
@@ -187,7 +186,6 @@ struct BulletWorld::Impl {
       if (v.multibody) {
         multibody_world->addMultiBody(v.multibody.get());
         for (Collider& c : v.colliders) world->addCollisionObject(c.object.get(), c.group, c.mask);
-        for (auto& lock : v.locks) multibody_world->addMultiBodyConstraint(lock.get());
       } else if (v.is_static) {
         // Its own group, so that a vehicle on soil contact (which leaves StaticFilter out) still meets it;
         // never paired with the seabed (or another static body).
@@ -205,7 +203,6 @@ struct BulletWorld::Impl {
   void remove_bodies() {
     for (Vehicle& v : vehicles) {
       if (v.multibody) {
-        for (auto& lock : v.locks) multibody_world->removeMultiBodyConstraint(lock.get());
         for (Collider& c : v.colliders) world->removeCollisionObject(c.object.get());
         multibody_world->removeMultiBody(v.multibody.get());
       } else {
@@ -257,7 +254,6 @@ struct BulletWorld::Impl {
       }
       v.colliders.push_back(std::move(c));
     }
-    v.locks = make_joint_locks(*v.multibody, a);
   }
 };
 

@@ -1,7 +1,6 @@
 #include "hadal/physics/multibody.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
-#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
 
 #include <algorithm>
@@ -38,7 +37,6 @@ const Eigen::Isometry3d& X_KP(const Articulation::Body& body) { return body.mass
 }  // namespace
 
 void MultiBodyDeleter::operator()(btMultiBody* body) const { delete body; }
-void MultiBodyConstraintDeleter::operator()(btMultiBodyConstraint* constraint) const { delete constraint; }
 
 MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base) {
   const Articulation::Body& base = articulation.body(0);
@@ -58,6 +56,16 @@ MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base) {
     const btVector3 parent_com_to_pivot = bt(X_PpK.translation());
     const btVector3 pivot_to_com = bt(R_PK * X_KP(body).translation());
     const btVector3 inertia = bt(body.mass_K.I_principal);
+    if (is_locked(body.joint)) {
+      // Bullet's fixed link at the joint's lock, as its revolute or prismatic link updates itself at
+      // q = lower (btMultibodyLink::updateCacheMultiDof): rotated by -lower about the axis, or moved along it.
+      const double q = body.joint.lower;
+      const bool prismatic = body.joint.type == JointType::kPrismatic;
+      mb->setupFixed(k - 1, body.mass_K.mass, inertia, body.parent - 1,
+                     prismatic ? parent_to_this : btQuaternion(axis_P, -q) * parent_to_this, parent_com_to_pivot,
+                     prismatic ? pivot_to_com + q * axis_P : pivot_to_com);
+      continue;
+    }
     switch (body.joint.type) {
       case JointType::kRevolute:
       case JointType::kContinuous:
@@ -98,6 +106,11 @@ void set_multibody_state(btMultiBody& mb, const Articulation& articulation, cons
   mb.setBaseVel(bt(v_WB + w_WB.cross(X_WP.translation() - X_WB.translation())));
   mb.setBaseOmega(bt(w_WB));
   for (int i = 0; i < articulation.num_dofs(); ++i) {
+    const JointSpec& joint = articulation.body(i + 1).joint;
+    if (is_locked(joint)) {
+      mb.setJointPos(i, joint.lower);  // a fixed link: kept for multibody_joint_positions, moves nothing
+      continue;
+    }
     mb.setJointPos(i, q[i]);
     mb.setJointVel(i, qd[i]);
   }
@@ -117,21 +130,6 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
         eigen(mb.getLink(k - 1).m_cachedWorldTransform) * X_KP(articulation.body(k)).inverse();
   }
   return X_WK;
-}
-
-std::vector<MultiBodyConstraintPtr> make_joint_locks(btMultiBody& mb, const Articulation& articulation) {
-  std::vector<MultiBodyConstraintPtr> locks;
-  for (int k = 1; k < articulation.num_bodies(); ++k) {
-    const JointSpec& joint = articulation.body(k).joint;
-    if (joint.type == JointType::kContinuous || !std::isfinite(joint.lower) || joint.lower < joint.upper) continue;
-    // A bilateral row (a motor without an impulse bound) holding the rate at zero and the position at
-    // the limit: stiffer against a grasp's contacts than the limit's two one-sided rows.
-    auto lock = std::make_unique<btMultiBodyJointMotor>(&mb, k - 1, /*desiredVelocity=*/0.0, kUnclamped);
-    lock->setVelocityTarget(0.0, /*kd=*/1.0);
-    lock->setPositionTarget(joint.lower, /*kp=*/1.0);
-    locks.emplace_back(lock.release());
-  }
-  return locks;
 }
 
 void add_body_force_W(btMultiBody& mb, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
@@ -155,7 +153,10 @@ Eigen::VectorXd multibody_joint_positions(const btMultiBody& mb) {
 
 Eigen::VectorXd multibody_joint_velocities(const btMultiBody& mb) {
   Eigen::VectorXd qd(mb.getNumLinks());
-  for (int i = 0; i < mb.getNumLinks(); ++i) qd[i] = mb.getJointVel(i);
+  for (int i = 0; i < mb.getNumLinks(); ++i) {
+    // A fixed link (a locked joint) has no rate of its own: getJointVel would read the next link's.
+    qd[i] = mb.getLink(i).m_jointType == btMultibodyLink::eFixed ? 0.0 : mb.getJointVel(i);
+  }
   return qd;
 }
 

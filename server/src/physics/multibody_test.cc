@@ -136,6 +136,60 @@ TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
   EXPECT_EQ(multibody_joint_velocities(*mb), qd);
 }
 
+// The same arm with its first revolute joint and its prismatic joint locked (lower == upper, one at an
+// angle and one at a distance that tell a flipped rotation or a lost offset apart; a lock ahead of the
+// free joint, whose rate Bullet's getJointVel would read for it): each is a fixed link
+// of Bullet's tree at its lock, so the multibody has one degree of freedom, its bodies are where the
+// articulation puts them with the locked joints at their locks (whatever rate is written for those), and
+// after a second of swinging under gravity they still are, the locks exactly where they were.
+TEST(MultiBodyTest, ALockedJointIsAFixedLinkAtItsLock) {
+  const std::vector<LinkSpec> links = {
+      link("base", 40.0, at({0, 0, 0}), {0.1, -0.05, -0.2}, {3.0, 4.0, 5.0}),
+      link("shoulder", 3.0, at({0.3, 0.1, 0}, 0.4, {1, 0, 0}), {0.2, 0.03, 0.01}, {0.01, 0.05, 0.04}),
+      link("fore", 2.0, at({0.9, 0.2, 0.1}, -0.3, {0, 1, 1}), {0.25, 0, -0.02}, {0.005, 0.03, 0.02}),
+      link("tool", 0.5, at({1.3, 0.25, 0.1}, 0.2, {0, 0, 1}), {0.02, 0.01, 0}, {0.001, 0.002, 0.003}),
+      link("slider", 0.4, at({1.4, 0.3, 0.0}, 0.6, {1, -1, 0}), {0, 0.01, 0.02}, {0.002, 0.001, 0.003})};
+  JointSpec shoulder = joint(JointType::kRevolute, {0, 0, 1});
+  shoulder.lower = shoulder.upper = 0.4;
+  JointSpec slide = joint(JointType::kPrismatic, {1, 0.3, -0.2});
+  slide.lower = slide.upper = 0.07;
+  const std::vector<LinkJoint> joints = {
+      {-1, {}}, {0, shoulder}, {1, joint(JointType::kRevolute, {0.2, 1, 0})}, {2, {}}, {3, slide}};
+  const Articulation a(links, joints);
+  MultiBodyPtr mb = make_multibody(a, true);
+  EXPECT_EQ(mb->getNumDofs(), 1);
+  const Eigen::Isometry3d X_WB = at({2.0, -3.0, -40.0}, 0.7, {1, 2, -0.5});
+  Eigen::VectorXd q(3), qd(3);
+  q << 0.4, -1.1, 0.07;
+  qd << 0.3, 0.5, -0.2;  // the locks' rates are no rates of Bullet's
+  set_multibody_state(*mb, a, X_WB, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), q, qd);
+  EXPECT_EQ(multibody_joint_positions(*mb), q);
+  EXPECT_EQ(multibody_joint_velocities(*mb), Eigen::Vector3d(0.0, 0.5, 0.0));
+  World world(9.81);
+  Colliders colliders(world.world, *mb);
+  world.world.addMultiBody(mb.get());
+  for (int step = 0; step <= 500; ++step) {
+    if (step == 0 || step == 500) {
+      SCOPED_TRACE("step " + std::to_string(step));
+      const Eigen::VectorXd q_now = multibody_joint_positions(*mb);
+      EXPECT_EQ(q_now[0], 0.4);
+      EXPECT_EQ(q_now[2], 0.07);
+      const std::vector<Eigen::Isometry3d> expected = a.poses_W(X_WB, q_now);
+      const std::vector<Eigen::Isometry3d> bullet = multibody_poses_W(*mb, a);
+      for (int k = 0; k < a.num_bodies(); ++k) {
+        SCOPED_TRACE("body " + std::to_string(k));
+        const auto K = static_cast<std::size_t>(k);
+        // As the test above: 1e-12 m, 1e-13 rad.
+        EXPECT_LT((bullet[K].translation() - expected[K].translation()).norm(), 1e-12);
+        EXPECT_LT((bullet[K].linear() - expected[K].linear()).norm(), 1e-13);
+      }
+    }
+    world.world.stepSimulation(0.002, 0, 0.002);
+  }
+  EXPECT_GT(std::abs(multibody_joint_positions(*mb)[1] + 1.1), 0.01);  // the free joint swung
+  world.world.removeMultiBody(mb.get());
+}
+
 // The arm of the test above (off-axis principal frames, both joint kinds) on a floating base.
 struct Arm {
   std::vector<LinkSpec> links = {

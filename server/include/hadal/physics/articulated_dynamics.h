@@ -116,7 +116,7 @@ class ArticulatedDynamics {
     Eigen::VectorXd servo;         // with `implicit`: each joint's servo torque over the step
     Eigen::VectorXd held;          // with `implicit`: each joint's friction and limit torque over the step
     // The joint torques to apply: joint_torques + servo + held - damping_D qdd, less a locked joint's held
-    // torque (lower >= upper: the stepper's own lock holds it, physics/multibody.h make_joint_locks).
+    // torque (lower >= upper: the stepper's own lock holds it, a fixed link: physics/multibody.h).
     Eigen::VectorXd joint_torques;
   };
   Reactions reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,

@@ -18,7 +18,6 @@
 #include "hadal/physics/articulation.h"
 
 class btMultiBody;
-class btMultiBodyConstraint;
 
 namespace hadal::physics {
 
@@ -26,13 +25,13 @@ struct MultiBodyDeleter {
   void operator()(btMultiBody* body) const;
 };
 using MultiBodyPtr = std::unique_ptr<btMultiBody, MultiBodyDeleter>;
-struct MultiBodyConstraintDeleter {
-  void operator()(btMultiBodyConstraint* constraint) const;
-};
-using MultiBodyConstraintPtr = std::unique_ptr<btMultiBodyConstraint, MultiBodyConstraintDeleter>;
 
 // The articulation's bodies as a btMultiBody (the base fixed in W when fixed_base), at rest with every
-// joint at zero and B at the identity.
+// joint at zero and B at the identity. A locked joint (is_locked: lower == upper, the Oberon 7's finger
+// tips) is a fixed link at its lock: Bullet's tree holds it exactly, against contacts too, with no
+// constraint row. Its coordinate stays in the joint vectors below (the lock's value, rate zero), so joint
+// j is link j whether locked or not. The joints' limits and friction are joint torques of the simulation's
+// implicit joint solve (physics/articulated_dynamics.h), not Bullet's.
 MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base);
 
 // Writes B's pose and velocity (of B's origin, in W) and the joint coordinates and rates into Bullet and
@@ -44,15 +43,6 @@ void set_multibody_state(btMultiBody& body, const Articulation& articulation, co
 // Each body's frame K in W as Bullet holds it (after set_multibody_state or a step; refreshes Bullet's
 // cached link transforms from its state).
 std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
-
-// Each locked joint's lock (a revolute or prismatic joint whose limits meet, lower >= upper: the Oberon 7's
-// finger tips) as a Bullet constraint holding it at its lower limit, for the caller to add to its
-// btMultiBodyDynamicsWorld and keep. Bullet must know these: a contact on a locked link meets the link's
-// parent, where a lock Bullet did not know of would let the link give way within the step (the joints'
-// other limits and their friction are joint torques of the simulation's implicit joint solve,
-// physics/articulated_dynamics.h). Bullet solves it only for a multibody with collision objects (the
-// base's and each link's btMultiBodyLinkCollider: only those put it in a simulation island).
-std::vector<MultiBodyConstraintPtr> make_joint_locks(btMultiBody& body, const Articulation& articulation);
 
 // A force f_W [N] acting at the point p_W [m] of body k (both in W), for the next step: Bullet takes a
 // body's force at its centre of mass (from X_WK, multibody_poses_W's poses), so the moment
