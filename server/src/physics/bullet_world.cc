@@ -391,11 +391,8 @@ void BulletWorld::set_articulated_state(int vehicle, const RigidBodyState& body,
   Impl::Vehicle& v = impl_->vehicles[vehicle];
   set_multibody_state(*v.multibody, *v.articulation, body.X_WB, body.v_WB, body.w_WB, q, qd);
   v.multibody->clearForcesAndTorques();
-  v.X_WK = multibody_poses_W(*v.multibody, *v.articulation);
-  // The colliders' transforms from the new state (Bullet refreshes them only within a step).
-  btAlignedObjectArray<btQuaternion> world_to_local;
-  btAlignedObjectArray<btVector3> local_origin;
-  v.multibody->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+  v.X_WK = cached_poses_W(*v.multibody, *v.articulation);
+  place_colliders(*v.multibody);  // Bullet refreshes them only within a step
 }
 
 Eigen::VectorXd BulletWorld::joint_positions(int vehicle) const {

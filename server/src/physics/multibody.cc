@@ -2,6 +2,7 @@
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include <algorithm>
 #include <cmath>
@@ -123,6 +124,10 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
   mb.forwardKinematics(world_to_local, local_origin);
+  return cached_poses_W(mb, articulation);
+}
+
+std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& mb, const Articulation& articulation) {
   std::vector<Eigen::Isometry3d> X_WK(static_cast<std::size_t>(articulation.num_bodies()));
   X_WK[0] = eigen(mb.getBaseWorldTransform()) * X_KP(articulation.body(0)).inverse();
   for (int k = 1; k < articulation.num_bodies(); ++k) {
@@ -130,6 +135,22 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
         eigen(mb.getLink(k - 1).m_cachedWorldTransform) * X_KP(articulation.body(k)).inverse();
   }
   return X_WK;
+}
+
+void place_colliders(btMultiBody& mb) {
+  // btMultiBody::updateCollisionObjectWorldTransforms builds the same transforms again, by the same
+  // arithmetic as forwardKinematics: the base's from its position and rotation, each link's its cached one.
+  if (btMultiBodyLinkCollider* base = mb.getBaseCollider()) {
+    const btTransform tr = mb.getBaseWorldTransform();
+    base->setWorldTransform(tr);
+    base->setInterpolationWorldTransform(tr);
+  }
+  for (int i = 0; i < mb.getNumLinks(); ++i) {
+    if (btMultiBodyLinkCollider* collider = mb.getLink(i).m_collider) {
+      collider->setWorldTransform(mb.getLink(i).m_cachedWorldTransform);
+      collider->setInterpolationWorldTransform(mb.getLink(i).m_cachedWorldTransform);
+    }
+  }
 }
 
 void add_body_force_W(btMultiBody& mb, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,

@@ -271,18 +271,22 @@ void Ocean::sample(const float* z_W, std::size_t n, float* rho, float* pressure_
   }
 }
 
+bool Ocean::current_varies_in_space() const { return water_.current.shear_surface_W.cwiseAbs().maxCoeff() > 0.0; }
+
 void Ocean::sample_current(const float* /*x_W*/, const float* /*y_W*/, const float* z_W, std::size_t n,
                            double t, float* vx_W, float* vy_W, float* vz_W) const {
   // The current varies with depth and time only; x and y are part of the interface for later fields.
   const CurrentSpec& current = water_.current;
   const Eigen::Vector3d base_W = current.uniform_W + gauss_markov_current_W(t);
-  const bool has_shear = current.shear_surface_W.cwiseAbs().maxCoeff() > 0.0;
+  if (!current_varies_in_space()) {
+    std::fill_n(vx_W, n, static_cast<float>(base_W.x()));
+    std::fill_n(vy_W, n, static_cast<float>(base_W.y()));
+    std::fill_n(vz_W, n, static_cast<float>(base_W.z()));
+    return;
+  }
   for (std::size_t i = 0; i < n; ++i) {
-    Eigen::Vector3d v_W = base_W;
-    if (has_shear) {
-      const double d = std::max(depth(static_cast<double>(z_W[i])), 0.0);
-      v_W += current.shear_surface_W * std::exp(-d / current.shear_decay_depth);
-    }
+    const double d = std::max(depth(static_cast<double>(z_W[i])), 0.0);
+    const Eigen::Vector3d v_W = base_W + current.shear_surface_W * std::exp(-d / current.shear_decay_depth);
     vx_W[i] = static_cast<float>(v_W.x());
     vy_W[i] = static_cast<float>(v_W.y());
     vz_W[i] = static_cast<float>(v_W.z());

@@ -138,6 +138,8 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
       break;
     }
   }
+  // The current at each point, or (the same everywhere) filled in once after the densities.
+  const bool current_varies = ocean_.current_varies_in_space();
   float x[kBlock], y[kBlock], z[kBlock];
   for (std::size_t begin = 0; begin < n; begin += kBlock) {
     const std::size_t count = std::min(n - begin, kBlock);
@@ -153,6 +155,7 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
         ctd_block(ctd, d_origin, p_origin, dz + begin, count, out.rho + begin, out.dp + begin);
         break;
     }
+    if (!current_varies) continue;
     for (std::size_t k = 0; k < count; ++k) {
       const std::size_t i = begin + k;
       x[k] = static_cast<float>(origin_W.x() + dx[i]);
@@ -161,6 +164,7 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
     }
     ocean_.sample_current(x, y, z, count, time_, out.u_x + begin, out.u_y + begin, out.u_z + begin);
   }
+  if (!current_varies) ocean_.sample_current(nullptr, nullptr, nullptr, n, time_, out.u_x, out.u_y, out.u_z);
 }
 
 }  // namespace hadal::physics

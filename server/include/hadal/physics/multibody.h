@@ -43,6 +43,12 @@ void set_multibody_state(btMultiBody& body, const Articulation& articulation, co
 // Each body's frame K in W as Bullet holds it (after set_multibody_state or a step; refreshes Bullet's
 // cached link transforms from its state).
 std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
+// The same from Bullet's cached link transforms as they are (set_multibody_state leaves them current).
+std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& body, const Articulation& articulation);
+
+// Moves the base's and the links' colliders to the cached transforms (Bullet moves them only within a
+// step; btMultiBody::updateCollisionObjectWorldTransforms gives the same, computing them again).
+void place_colliders(btMultiBody& body);
 
 // A force f_W [N] acting at the point p_W [m] of body k (both in W), for the next step: Bullet takes a
 // body's force at its centre of mass (from X_WK, multibody_poses_W's poses), so the moment

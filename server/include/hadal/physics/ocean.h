@@ -89,7 +89,9 @@ class Ocean {
   // rho[i] = density, pressure[i] = p - pressure_offset [Pa] (subtracted in double before rounding to
   // float: pass e.g. p at the body's centre to keep float precision at depth). Either output may be null.
   void sample(const float* z_W, std::size_t n, float* rho, float* pressure, double pressure_offset = 0.0) const;
-  // Currents at n points (x_W, y_W, z_W) and time t into (vx_W, vy_W, vz_W) [m/s].
+  // Currents at n points (x_W, y_W, z_W) and time t into (vx_W, vy_W, vz_W) [m/s]. Where the current is
+  // the same everywhere (current_varies_in_space() false) the points are not read and may be null.
+  bool current_varies_in_space() const;
   void sample_current(const float* x_W, const float* y_W, const float* z_W, std::size_t n, double t,
                       float* vx_W, float* vy_W, float* vz_W) const;
 
