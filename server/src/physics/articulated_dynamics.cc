@@ -110,6 +110,22 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
   return {tau, servo - D.cwiseProduct(qdd), locked};
 }
 
+// L^-1 for a lower-triangular L with a non-zero diagonal, by forward substitution column by column (a few
+// joints: Eigen's blocked triangular solve costs more in set-up than in arithmetic at this size).
+Eigen::MatrixXd lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L) {
+  const Eigen::Index n = L.rows();
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    X(j, j) = 1.0 / L(j, j);
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      double sum = 0.0;
+      for (Eigen::Index k = j; k < i; ++k) sum += L(i, k) * X(k, j);
+      X(i, j) = -sum / L(i, i);
+    }
+  }
+  return X;
+}
+
 // A body's spatial inertia about W's origin O, in W axes, acting on its twist [v_O; w] (v_O: the velocity
 // of its point at O), from A, its inertia about its centre of mass c in W axes acting on [v_c; w]:
 // T^T A T with T = [1, -[c]; 0, 1] (v_c = v_O - c x w), by blocks:
@@ -265,8 +281,7 @@ void ArticulatedDynamics::add_composite(std::vector<Matrix6d>& G, Eigen::MatrixX
   const int bodies = a.num_bodies();
   const int offset = fixed_base_ ? 0 : 6;
   for (int k = bodies - 1; k >= 1; --k) G[static_cast<std::size_t>(a.body(k).parent)] += G[static_cast<std::size_t>(k)];
-  Matrix6d Psi_B = Matrix6d::Identity();
-  Psi_B.topRightCorner<3, 3>() = skew(p_Wcm_[0]);
+  const Eigen::Vector3d& c_0 = p_Wcm_[0];
   for (int k = 1; k < bodies; ++k) {
     const auto i = static_cast<std::size_t>(k);
     const Vector6d F = G[i] * psi_[i];
@@ -278,12 +293,16 @@ void ArticulatedDynamics::add_composite(std::vector<Matrix6d>& G, Eigen::MatrixX
       M(col, offset + p - 1) += m_pk;
     }
     if (!fixed_base_) {
-      const Vector6d m_Bk = Psi_B.transpose() * F;
+      // Psi_B^T F: the force, and its moment about c_0.
+      Vector6d m_Bk;
+      m_Bk.head<3>() = F.head<3>();
+      m_Bk.tail<3>() = F.tail<3>() - c_0.cross(F.head<3>());
       M.block<6, 1>(0, col) += m_Bk;
       M.block<1, 6>(col, 0) += m_Bk.transpose();
     }
   }
-  if (!fixed_base_) M.topLeftCorner<6, 6>() += Psi_B.transpose() * G[0] * Psi_B;
+  // Psi_B^T G Psi_B, Psi_B = [1, [c_0]; 0, 1]: the whole tree's inertia about c_0 (about_origin's T at -c_0).
+  if (!fixed_base_) M.topLeftCorner<6, 6>() += about_origin(G[0], -c_0);
 }
 
 // Q += sum_k J_k^T W_k for wrenches F about W's origin (W_k moved there): the same composite sums, a
@@ -447,11 +466,8 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     u_dot = llt.solve(rhs);
     // With M = L L^T, the joints' block of M^-1 is Li^T Li, Li = L22^-1 (L's joint block: the joints'
     // unit vectors, the last rows, stay zero above it under L^-1).
-    const Eigen::MatrixXd Li = llt.matrixLLT()
-                                   .bottomRightCorner(dofs, dofs)
-                                   .triangularView<Eigen::Lower>()
-                                   .solve(Eigen::MatrixXd::Identity(dofs, dofs));
-    const Eigen::MatrixXd S = Li.transpose() * Li;
+    const Eigen::MatrixXd Li = lower_inverse(llt.matrixLLT().bottomRightCorner(dofs, dofs));
+    const Eigen::MatrixXd S = Li.transpose().lazyProduct(Li);  // small: no blocked product
     const JointTorques joints = solve_joint_torques(*implicit, S, u_dot.tail(dofs), u_.tail(dofs));
     rhs.tail(dofs) += joints.total;
     u_dot = llt.solve(rhs);
