@@ -102,20 +102,39 @@ void release_at(btMultiBody& mb, const Articulation& a, double q0) {
 }
 
 // An arm whose bodies have off-axis principal frames (tilted links, off-centre centres of mass) and both
-// joint kinds: Bullet's poses of every body, after the state is written in, are the articulation's.
-TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
-  const std::vector<LinkSpec> links = {
+// joint kinds.
+struct Arm {
+  std::vector<LinkSpec> links = {
       link("base", 40.0, at({0, 0, 0}), {0.1, -0.05, -0.2}, {3.0, 4.0, 5.0}),
       link("shoulder", 3.0, at({0.3, 0.1, 0}, 0.4, {1, 0, 0}), {0.2, 0.03, 0.01}, {0.01, 0.05, 0.04}),
       link("fore", 2.0, at({0.9, 0.2, 0.1}, -0.3, {0, 1, 1}), {0.25, 0, -0.02}, {0.005, 0.03, 0.02}),
       link("tool", 0.5, at({1.3, 0.25, 0.1}, 0.2, {0, 0, 1}), {0.02, 0.01, 0}, {0.001, 0.002, 0.003}),
       link("slider", 0.4, at({1.4, 0.3, 0.0}, 0.6, {1, -1, 0}), {0, 0.01, 0.02}, {0.002, 0.001, 0.003})};
-  const std::vector<LinkJoint> joints = {{-1, {}},
-                                         {0, joint(JointType::kRevolute, {0, 0, 1})},
-                                         {1, joint(JointType::kRevolute, {0.2, 1, 0})},
-                                         {2, {}},
-                                         {3, joint(JointType::kPrismatic, {1, 0.3, -0.2})}};
-  const Articulation a(links, joints);
+  std::vector<LinkJoint> joints = {{-1, {}},
+                                   {0, joint(JointType::kRevolute, {0, 0, 1})},
+                                   {1, joint(JointType::kRevolute, {0.2, 1, 0})},
+                                   {2, {}},
+                                   {3, joint(JointType::kPrismatic, {1, 0.3, -0.2})}};
+};
+
+// Bullet's pose of every body is the articulation's forward kinematics at B = X_WB and the joints at q:
+// quaternion round trips and Bullet's chained transforms of terms ~ 40 m, 1e-12 m and 1e-13 rad.
+void expect_bullets_poses(btMultiBody& mb, const Articulation& a, const Eigen::Isometry3d& X_WB,
+                          const Eigen::VectorXd& q) {
+  const std::vector<Eigen::Isometry3d> expected = a.poses_W(X_WB, q);
+  const std::vector<Eigen::Isometry3d> bullet = multibody_poses_W(mb, a);
+  for (int k = 0; k < a.num_bodies(); ++k) {
+    SCOPED_TRACE("body " + std::to_string(k));
+    const auto K = static_cast<std::size_t>(k);
+    EXPECT_LT((bullet[K].translation() - expected[K].translation()).norm(), 1e-12);
+    EXPECT_LT((bullet[K].linear() - expected[K].linear()).norm(), 1e-13);
+  }
+}
+
+// The arm, after its state is written in: Bullet's poses of every body are the articulation's.
+TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
+  const Arm arm;
+  const Articulation a(arm.links, arm.joints);
   ASSERT_EQ(a.num_dofs(), 3);
   MultiBodyPtr mb = make_multibody(a, false);
   const Eigen::Isometry3d X_WB = at({2.0, -3.0, -40.0}, 0.7, {1, 2, -0.5});
@@ -123,15 +142,7 @@ TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
   q << 0.4, -1.1, 0.07;
   qd << 0.3, -0.2, 0.1;
   set_multibody_state(*mb, a, X_WB, Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.01, -0.02, 0.03), q, qd);
-  const std::vector<Eigen::Isometry3d> expected = a.poses_W(X_WB, q);
-  const std::vector<Eigen::Isometry3d> bullet = multibody_poses_W(*mb, a);
-  for (int k = 0; k < a.num_bodies(); ++k) {
-    SCOPED_TRACE("body " + std::to_string(k));
-    const auto K = static_cast<std::size_t>(k);
-    // Quaternion round trips and Bullet's chained transforms of terms ~ 40 m: 1e-12 m, 1e-13 rad.
-    EXPECT_LT((bullet[K].translation() - expected[K].translation()).norm(), 1e-12);
-    EXPECT_LT((bullet[K].linear() - expected[K].linear()).norm(), 1e-13);
-  }
+  expect_bullets_poses(*mb, a, X_WB, q);
   EXPECT_EQ(multibody_joint_positions(*mb), q);
   EXPECT_EQ(multibody_joint_velocities(*mb), qd);
 }
@@ -143,19 +154,10 @@ TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
 // articulation puts them with the locked joints at their locks (whatever rate is written for those), and
 // after a second of swinging under gravity they still are, the locks exactly where they were.
 TEST(MultiBodyTest, ALockedJointIsAFixedLinkAtItsLock) {
-  const std::vector<LinkSpec> links = {
-      link("base", 40.0, at({0, 0, 0}), {0.1, -0.05, -0.2}, {3.0, 4.0, 5.0}),
-      link("shoulder", 3.0, at({0.3, 0.1, 0}, 0.4, {1, 0, 0}), {0.2, 0.03, 0.01}, {0.01, 0.05, 0.04}),
-      link("fore", 2.0, at({0.9, 0.2, 0.1}, -0.3, {0, 1, 1}), {0.25, 0, -0.02}, {0.005, 0.03, 0.02}),
-      link("tool", 0.5, at({1.3, 0.25, 0.1}, 0.2, {0, 0, 1}), {0.02, 0.01, 0}, {0.001, 0.002, 0.003}),
-      link("slider", 0.4, at({1.4, 0.3, 0.0}, 0.6, {1, -1, 0}), {0, 0.01, 0.02}, {0.002, 0.001, 0.003})};
-  JointSpec shoulder = joint(JointType::kRevolute, {0, 0, 1});
-  shoulder.lower = shoulder.upper = 0.4;
-  JointSpec slide = joint(JointType::kPrismatic, {1, 0.3, -0.2});
-  slide.lower = slide.upper = 0.07;
-  const std::vector<LinkJoint> joints = {
-      {-1, {}}, {0, shoulder}, {1, joint(JointType::kRevolute, {0.2, 1, 0})}, {2, {}}, {3, slide}};
-  const Articulation a(links, joints);
+  Arm arm;
+  arm.joints[1].joint.lower = arm.joints[1].joint.upper = 0.4;   // the shoulder
+  arm.joints[4].joint.lower = arm.joints[4].joint.upper = 0.07;  // the slider
+  const Articulation a(arm.links, arm.joints);
   MultiBodyPtr mb = make_multibody(a, true);
   EXPECT_EQ(mb->getNumDofs(), 1);
   const Eigen::Isometry3d X_WB = at({2.0, -3.0, -40.0}, 0.7, {1, 2, -0.5});
@@ -174,36 +176,13 @@ TEST(MultiBodyTest, ALockedJointIsAFixedLinkAtItsLock) {
       const Eigen::VectorXd q_now = multibody_joint_positions(*mb);
       EXPECT_EQ(q_now[0], 0.4);
       EXPECT_EQ(q_now[2], 0.07);
-      const std::vector<Eigen::Isometry3d> expected = a.poses_W(X_WB, q_now);
-      const std::vector<Eigen::Isometry3d> bullet = multibody_poses_W(*mb, a);
-      for (int k = 0; k < a.num_bodies(); ++k) {
-        SCOPED_TRACE("body " + std::to_string(k));
-        const auto K = static_cast<std::size_t>(k);
-        // As the test above: 1e-12 m, 1e-13 rad.
-        EXPECT_LT((bullet[K].translation() - expected[K].translation()).norm(), 1e-12);
-        EXPECT_LT((bullet[K].linear() - expected[K].linear()).norm(), 1e-13);
-      }
+      expect_bullets_poses(*mb, a, X_WB, q_now);
     }
     world.world.stepSimulation(0.002, 0, 0.002);
   }
   EXPECT_GT(std::abs(multibody_joint_positions(*mb)[1] + 1.1), 0.01);  // the free joint swung
   world.world.removeMultiBody(mb.get());
 }
-
-// The arm of the test above (off-axis principal frames, both joint kinds) on a floating base.
-struct Arm {
-  std::vector<LinkSpec> links = {
-      link("base", 40.0, at({0, 0, 0}), {0.1, -0.05, -0.2}, {3.0, 4.0, 5.0}),
-      link("shoulder", 3.0, at({0.3, 0.1, 0}, 0.4, {1, 0, 0}), {0.2, 0.03, 0.01}, {0.01, 0.05, 0.04}),
-      link("fore", 2.0, at({0.9, 0.2, 0.1}, -0.3, {0, 1, 1}), {0.25, 0, -0.02}, {0.005, 0.03, 0.02}),
-      link("tool", 0.5, at({1.3, 0.25, 0.1}, 0.2, {0, 0, 1}), {0.02, 0.01, 0}, {0.001, 0.002, 0.003}),
-      link("slider", 0.4, at({1.4, 0.3, 0.0}, 0.6, {1, -1, 0}), {0, 0.01, 0.02}, {0.002, 0.001, 0.003})};
-  std::vector<LinkJoint> joints = {{-1, {}},
-                                   {0, joint(JointType::kRevolute, {0, 0, 1})},
-                                   {1, joint(JointType::kRevolute, {0.2, 1, 0})},
-                                   {2, {}},
-                                   {3, joint(JointType::kPrismatic, {1, 0.3, -0.2})}};
-};
 
 // Bullet's generalised velocity: the base's centre-of-mass velocity and angular velocity in W, the rates.
 Eigen::VectorXd bullet_u(const btMultiBody& mb, bool fixed_base) {
