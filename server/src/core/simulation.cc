@@ -583,6 +583,16 @@ void Simulation::set_state(const SimState& state) {
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     VehicleState& vehicle = state_.vehicles[i];
     if (!is_finite(vehicle)) reset_non_finite(model_.vehicles[i], vehicle);
+    // A locked joint is where its lock is (a fixed link of Bullet's tree, physics/multibody.h), whatever a
+    // state saved elsewhere says: the dynamics and Bullet then start from the same coordinates.
+    if (const physics::Articulation* a = world_->articulation(static_cast<int>(i))) {
+      for (std::size_t j = 0; j < vehicle.joint_positions.size(); ++j) {
+        const JointSpec& joint = a->body(static_cast<int>(j) + 1).joint;
+        if (!physics::is_locked(joint)) continue;
+        vehicle.joint_positions[j] = joint.lower;
+        vehicle.joint_velocities[j] = 0.0;
+      }
+    }
     write_body(static_cast<int>(i), vehicle);
   }
   world_->clear_contacts();

@@ -835,6 +835,15 @@ TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
     }
     EXPECT_LT(farthest, kTolerance) << "effort " << effort;
     held_by_lock[effort > 0 ? 0 : 1] = sim.state().vehicles[0].constraint_force.at(0);  // fixed base: the joint
+    // A state that has the locked joint off its lock (saved elsewhere, or written by hand) is put back on it.
+    SimState off = sim.state();
+    off.vehicles[0].joint_positions[0] = 0.25;
+    off.vehicles[0].joint_velocities[0] = 1.0;
+    sim.set_state(off);
+    EXPECT_EQ(sim.state().vehicles[0].joint_positions[0], 0.2);
+    EXPECT_EQ(sim.state().vehicles[0].joint_velocities[0], 0.0);
+    sim.step();
+    EXPECT_LT(std::abs(joint_q(sim) - 0.2), kTolerance);
   }
   // The lock that holds it is Bullet's alone (the joint solve hands Bullet none of a locked joint's held
   // torque): its constraint force takes the whole effort, so the two differ by the efforts' 400 N m, the

@@ -475,8 +475,8 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     out.held = joints.total - joints.servo;
     out.joint_torques += joints.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));
     // A locked joint's lock is the stepper's (a fixed link, physics/multibody.h): the motion above has
-    // it, the torques handed over do not, so the constraint force read back after the step is the lock's
-    // whole load.
+    // it, the torques handed over do not, so the constraint force read back after the step is what the
+    // lock supplies against everything else on the joint (the efforts and servo handed over included).
     for (int j = 0; j < dofs; ++j) {
       if (joints.locked[static_cast<std::size_t>(j)]) out.joint_torques[j] -= out.held[j];
     }

@@ -370,9 +370,10 @@ TEST(MultiBodyTest, CompoundPendulumSwingsWithTheClosedFormPeriod) {
 // torques after a step: call before every step). Explicit, as Bullet sees it; the simulation takes it
 // implicitly with the added mass (physics/articulated_dynamics.h).
 void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {
+  const Eigen::VectorXd qd = multibody_joint_velocities(mb);  // a locked joint's: zero
   for (int k = 1; k < articulation.num_bodies(); ++k) {
     const double damping = articulation.body(k).joint.damping;
-    if (damping > 0.0) mb.addJointTorque(k - 1, -damping * mb.getJointVel(k - 1));
+    if (damping > 0.0) mb.addJointTorque(k - 1, -damping * qd[k - 1]);
   }
 }
 
