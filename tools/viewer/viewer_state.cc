@@ -485,16 +485,11 @@ void ViewerState::add_point(const std::string& key, const std::string& plot, con
 void ViewerState::note_time(const std::string& topic, double t) {
   // A lockstep reset starts over at 0 (the scene comes again too; this catches a bag of several runs): a topic's
   // stamp half a second before its own last. Each topic against itself: one writer's samples come in order, but
-  // topics do not keep order among themselves (a recorder under load took a run's odometry 0.6 s of sim time
-  // after the /clock that had passed it, and the bag replays them so).
-  auto [last, fresh] = topic_times_.emplace(topic, t);
-  if (!fresh && t + 1e-6 < last->second - 0.5) {
-    start_over();
-    topic_times_[topic] = t;
-    sim_time_ = t;
-    return;
-  }
-  last->second = t;
+  // topics keep no order among themselves (a recorder under load can take a run's odometry after a /clock that
+  // has passed it, and a bag replays them so).
+  const auto last = topic_times_.find(topic);
+  if (last != topic_times_.end() && t + 1e-6 < last->second - 0.5) start_over();  // sim_time_ 0, no topic times
+  topic_times_[topic] = t;
   sim_time_ = std::max(sim_time_, t);
 }
 
