@@ -237,6 +237,16 @@ class Intervention:
         R_WS = rotation(self.odometry.q_WB) @ self.arm.end_effector(self.q)[:3, :3]
         return R_WS @ wrench.force
 
+    def steady_wrist_force_W(self, seconds=1.0):
+        """The wrist's force [N] in W over the next `seconds` of holding still: the median of one reading per
+        period, per axis. A grasp's contacts slip and catch now and then (a reading 2-3 N off for a step);
+        the median leaves those out where one reading or a mean would take them in."""
+        readings = []
+        for _ in range(max(1, round(seconds / self.period))):
+            self.tick()
+            readings.append(self.wrist_force_W())
+        return np.median(readings, axis=0)
+
     def to_body(self, p_W):
         """A world point in B, at the ROV's present pose."""
         return rotation(self.odometry.q_WB).T @ (np.asarray(p_W) - self.odometry.p_WB)
@@ -266,14 +276,14 @@ def pick_and_place(client, vehicle="rov", target="core", report=print):
     # onto it (a slender core standing on the sediment tips over at the first push of a finger).
     grasp_B = job.to_body(job.target_position_W()) + [0.0, 0.0, GRASP_ABOVE_CENTRE]
     job.reach(grasp_B + [0.0, 0.0, 0.25])
-    empty_W = job.wrist_force_W()
+    empty_W = job.steady_wrist_force_W()
     job.reach(grasp_B)
     report(f"t = {job.t:5.1f} s  gripper around the core")
     job.gripper(GRIPPER_SHUT)
     job.reach(grasp_B + [0.0, 0.0, 0.3])
     lifted = job.to_body(job.target_position_W())
     # What the wrist feels of the core: the downward pull it gained since the gripper hung empty.
-    felt = float(empty_W[2] - job.wrist_force_W()[2])
+    felt = float(empty_W[2] - job.steady_wrist_force_W()[2])
     report(f"t = {job.t:5.1f} s  core lifted to {np.round(lifted, 3).tolist()} in B; the wrist feels {felt:.2f} N")
     # Over the basket (configs/vehicles/work_class_rov.yaml: its floor's top 1.09 m below B), then down
     # until the core's bottom is 8 cm above the floor (below the walls' top), and let go.
