@@ -49,8 +49,10 @@ const KeyTable<SensorEntry, VehicleContext>& sensor_entry_keys() {
           const std::string a = std::string("aeiou").find(type.front()) == std::string::npos ? "a " : "an ";
           if (on_joint.at(e.kind)) {
             if (link.joint.type != JointType::kFixed) return "";
-            return "is not on a moving joint: " + a + type + " sensor measures the wrench across its link's joint " +
-                   "(revolute, continuous or prismatic)";
+            return std::string("is not on a moving joint") +
+                   (link.joint.locked_type != JointType::kFixed ? " (its joint's limits meet: it is locked)" : "") +
+                   ": " + a + type + " sensor measures the wrench across its link's joint (revolute, continuous or " +
+                   "prismatic)";
           }
           if (moves && !on_moving_link.at(e.kind)) {
             return "moves on a joint: " + a + type + " sensor reads its vehicle body's motion, which is not its " +
@@ -152,15 +154,17 @@ bool read_actuator_list(const Value& value, VehicleDefinition& d, VehicleContext
   return ok;
 }
 
-// Checks over the whole link list (YAML's and a URDF's): joint names unique among the moving joints, and the
-// tree as the physics builds it (physics/articulation.h: each moving body's mass and inertia, joint axes
-// and limits). `at(l)` is where link l's problems are reported, `whole` where the tree's are.
-bool check_link_tree(const VehicleDefinition& d, const std::function<Value(std::size_t)>& at, const Value& whole) {
+// Checks over the whole link list (YAML's and a URDF's), its locked joints first made fixed at their locks
+// (lock_joints): joint names unique among the reported joints, and the tree as the physics builds it
+// (physics/articulation.h: each moving body's mass and inertia, joint axes and limits). `at(l)` is where link
+// l's problems are reported, `whole` where the tree's are.
+bool check_link_tree(VehicleDefinition& d, const std::function<Value(std::size_t)>& at, const Value& whole) {
   bool ok = true;
-  // Joint names (a link's own unless its joint names itself).
+  lock_joints(d.links);
+  // Joint names (a link's own unless its joint names itself), locked ones too (JointState reports them).
   std::map<std::string, std::string> joint_owner;
   for (std::size_t l = 0; l < d.links.size(); ++l) {
-    if (d.links[l].joint.type == JointType::kFixed) continue;
+    if (!reports_joint(d.links[l])) continue;
     const auto [it, inserted] = joint_owner.emplace(joint_name(d.links[l]), d.links[l].name);
     if (!inserted) {
       at(l).error("joint name " + config::quoted(it->first) + " (link " + config::quoted(d.links[l].name) +

@@ -396,6 +396,13 @@ void validate_articulated(const VehicleSpec& vehicle, const WorldSpec& world) {
   }
 }
 
+// The model with each vehicle's locked joints fixed at their locks (geometry::lock_joints; the loader has done
+// it for a loaded scenario, a model built in code may not have).
+Model with_locked_joints(Model model) {
+  for (VehicleSpec& vehicle : model.vehicles) lock_joints(vehicle.links);
+  return model;
+}
+
 const Model& validated(const Model& model) {
   if (!(model.world.physics_rate_hz > 0.0) || !std::isfinite(model.world.physics_rate_hz)) {
     throw std::invalid_argument("world.physics_rate_hz must be finite and > 0 (got " +
@@ -447,7 +454,7 @@ void remove_cameras(Model& model) {
 }
 
 Simulation::Simulation(Model model)
-    : model_(std::move(model)),
+    : model_(with_locked_joints(std::move(model))),
       world_(std::make_unique<physics::BulletWorld>(validated(model_))),
       ray_bodies_(model_) {
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
@@ -583,16 +590,6 @@ void Simulation::set_state(const SimState& state) {
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     VehicleState& vehicle = state_.vehicles[i];
     if (!is_finite(vehicle)) reset_non_finite(model_.vehicles[i], vehicle);
-    // A locked joint is where its lock is (a fixed link of Bullet's tree, physics/multibody.h), whatever a
-    // state saved elsewhere says: the dynamics and Bullet then start from the same coordinates.
-    if (const physics::Articulation* a = world_->articulation(static_cast<int>(i))) {
-      for (std::size_t j = 0; j < vehicle.joint_positions.size(); ++j) {
-        const JointSpec& joint = a->body(static_cast<int>(j) + 1).joint;
-        if (!physics::is_locked(joint)) continue;
-        vehicle.joint_positions[j] = joint.lower;
-        vehicle.joint_velocities[j] = 0.0;
-      }
-    }
     write_body(static_cast<int>(i), vehicle);
   }
   world_->clear_contacts();

@@ -639,15 +639,16 @@ TEST(SimulationArticulatedTest, RaysMeetAMovingLinkWhereItsJointPutsIt) {
 }
 
 // A light on a moving link follows it: a narrow lamp (2-3 deg) on the pendulum's arm, 0.25 m to its side
-// and pointing along it, held at theta = 0.3 rad (its limits both there), lights the seabed 10 m below the
-// joint where its axis meets it, (-10 tan(theta), 0.25, -60) in W; a camera on the frame looking straight
+// and pointing along it, held at theta = 0.3 rad (its wet weight presses it on its lower limit there), lights
+// the seabed 10 m below the joint where its axis meets it, (-10 tan(theta), 0.25, -60) in W; a camera on the frame looking straight
 // down sees the spot's centroid (pixels above half its peak) at that point's projection (render::project)
 // within 1 px: the spot is some 8 px across, its brightness varies over it by the inverse square and the
 // incidence by a few %, which moves the centroid by a fraction of a pixel. A lamp left at q = 0 would
 // light (0, 0.25, -60), 21 px away.
 TEST(SimulationArticulatedTest, ALightOnAMovingLinkLightsWhereItsJointPointsIt) {
   Pendulum p;
-  p.initial = p.lower = p.upper = 0.3;
+  p.initial = p.lower = 0.3;
+  p.upper = 0.6;
   Model model = p.model();
   model.world.seabed.z = -p.depth - 10.0;
   SensorSpec camera;
@@ -802,9 +803,7 @@ TEST(SimulationArticulatedTest, AServoAgainstFrictionRunsAtItsRateLimitLessFrict
 // pressed against its limit of +-10 degrees for 1 s never passes it and rests on it. The implicit joint
 // solve ends a step that would pass the bound on it, and Bullet's step follows the solve's motion (the
 // same equations; ArticulatedDynamicsPredictsBulletsStep: 1e-9), so the bound holds to 1e-9 rad, where
-// Bullet's own limit constraint (a soft stop corrected by a fraction per step) overshot by 7-8 mrad. A
-// locked joint (lower = upper = 0.2 rad, a fixed link of Bullet's tree) stays where it is locked
-// under the same effort, also to 1e-9 rad.
+// Bullet's own limit constraint (a soft stop corrected by a fraction per step) overshot by 7-8 mrad.
 TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
   constexpr double kTolerance = 1e-9;  // [rad]
   Pendulum p;
@@ -822,33 +821,24 @@ TEST(SimulationArticulatedTest, JointLimitsHoldUnderFullEffort) {
     EXPECT_NEAR(extreme, limit, kTolerance) << "effort " << effort;
     EXPECT_NEAR(joint_q(sim), limit, kTolerance) << "effort " << effort;
   }
+}
+
+// A locked joint (lower = upper = 0.2 rad) is a fixed joint at its lock (geometry::lock_joints; the simulation
+// locks a model built in code as the loader does a scenario's): the pendulum is one rigid body with the sphere
+// turned 0.2 rad about y, so its centre of mass is at m l (-sin 0.2, 0, -cos 0.2) / (m + 10 kg) in B (to
+// rounding, 1e-15 m), and no joint is left to command.
+TEST(SimulationArticulatedTest, ALockedJointIsFixedAtItsLock) {
   Pendulum locked;
   locked.lower = locked.upper = locked.initial = 0.2;
-  double held_by_lock[2] = {0.0, 0.0};  // Bullet's constraint force on the joint at +-200 N m
-  for (const double effort : {200.0, -200.0}) {
-    Simulation sim(locked.model());
-    ASSERT_EQ(sim.set_joint_efforts(0, {effort}), "");
-    double farthest = 0.0;
-    for (int k = 0; k < 500; ++k) {
-      sim.step();
-      farthest = std::max(farthest, std::abs(joint_q(sim) - 0.2));
-    }
-    EXPECT_LT(farthest, kTolerance) << "effort " << effort;
-    held_by_lock[effort > 0 ? 0 : 1] = sim.state().vehicles[0].constraint_force.at(0);  // fixed base: the joint
-    // A state that has the locked joint off its lock (saved elsewhere, or written by hand) is put back on it.
-    SimState off = sim.state();
-    off.vehicles[0].joint_positions[0] = 0.25;
-    off.vehicles[0].joint_velocities[0] = 1.0;
-    sim.set_state(off);
-    EXPECT_EQ(sim.state().vehicles[0].joint_positions[0], 0.2);
-    EXPECT_EQ(sim.state().vehicles[0].joint_velocities[0], 0.0);
-    sim.step();
-    EXPECT_LT(std::abs(joint_q(sim) - 0.2), kTolerance);
-  }
-  // The lock that holds it is Bullet's alone (the joint solve hands Bullet none of a locked joint's held
-  // torque): its constraint force takes the whole effort, so the two differ by the efforts' 400 N m, the
-  // same wet weight's torque in both (to 1e-6 N m: the joint at rest, its balance exact to rounding).
-  EXPECT_NEAR(held_by_lock[0] - held_by_lock[1], -400.0, 1e-6);
+  Simulation sim(locked.model());
+  EXPECT_TRUE(sim.state().vehicles[0].joint_positions.empty());
+  EXPECT_NE(sim.set_joint_efforts(0, {200.0}), "");
+  const double share = locked.m * locked.l / (locked.m + 10.0);
+  const Eigen::Vector3d expected(-share * std::sin(0.2), 0.0, -share * std::cos(0.2));
+  EXPECT_LT((sim.mass_properties(0).p_BBcm - expected).norm(), 1e-15) << sim.mass_properties(0).p_BBcm.transpose();
+  const JointSpec& joint = sim.model().vehicles[0].links[1].joint;
+  EXPECT_EQ(joint.type, JointType::kFixed);
+  EXPECT_EQ(joint.locked_type, JointType::kRevolute);  // JointState reports it (SceneMessageTest)
 }
 
 // A free-floating vehicle (no gravity; in air above the water, so no fluid forces) swinging a two-joint arm

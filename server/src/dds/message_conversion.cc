@@ -36,22 +36,31 @@ void fill_odometry(const std::string& world_frame_id, const std::string& vehicle
   twist.angular().z(o.w_WB_B.z());
 }
 
-std::vector<std::string> joint_names(const VehicleSpec& vehicle) {
-  std::vector<std::string> names;
+JointStateLayout joint_state_layout(const VehicleSpec& vehicle) {
+  JointStateLayout out;
   for (const LinkSpec& link : vehicle.links) {
-    if (link.joint.type != JointType::kFixed) names.push_back(joint_name(link));
+    if (link.joint.type != JointType::kFixed) out.names.push_back(joint_name(link));
   }
-  return names;
+  for (const LinkSpec& link : vehicle.links) {
+    if (link.joint.locked_type == JointType::kFixed) continue;
+    out.names.push_back(joint_name(link));
+    out.locked_positions.push_back(link.joint.lower);
+  }
+  return out;
 }
 
-void fill_joint_state(const std::vector<std::string>& names, const std::string& vehicle_name, double time_s,
+void fill_joint_state(const JointStateLayout& joints, const std::string& vehicle_name, double time_s,
                       const VehicleState& vehicle, sensor_msgs::msg::JointState& msg) {
   msg.header().stamp(to_time_msg(time_s));
   msg.header().frame_id(base_frame_id(vehicle_name));
-  msg.name(names);
-  msg.position(vehicle.joint_positions);
-  msg.velocity(vehicle.joint_velocities);
-  msg.effort(vehicle.joint_efforts);
+  msg.name(joints.names);
+  const std::size_t locked = joints.locked_positions.size();
+  msg.position().assign(vehicle.joint_positions.begin(), vehicle.joint_positions.end());
+  msg.position().insert(msg.position().end(), joints.locked_positions.begin(), joints.locked_positions.end());
+  msg.velocity().assign(vehicle.joint_velocities.begin(), vehicle.joint_velocities.end());
+  msg.velocity().resize(msg.velocity().size() + locked, 0.0);
+  msg.effort().assign(vehicle.joint_efforts.begin(), vehicle.joint_efforts.end());
+  msg.effort().resize(msg.effort().size() + locked, 0.0);
 }
 
 void fill_reply_states(const Model& model, const SimState& state, hadal_msgs::msg::StepReply& msg) {

@@ -28,12 +28,17 @@ OdometryValues odometry_values(const RigidBodyState& body);
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
 
-// The names of a vehicle's moving joints in state order (VehicleState::joint_positions): `joint.name`, else
-// the child link's (configs/REFERENCE.md, `links[].joint`). Empty for a rigid vehicle.
-std::vector<std::string> joint_names(const VehicleSpec& vehicle);
-// sensor_msgs/JointState of the vehicle's joints: positions, velocities and the efforts their motors hold;
-// header.frame_id is the vehicle's base frame. `names` from joint_names().
-void fill_joint_state(const std::vector<std::string>& names, const std::string& vehicle_name, double time_s,
+// A vehicle's joints as JointState reports them: its moving joints in state order (VehicleState::joint_positions),
+// then its locked ones (JointSpec::locked_type: fixed at their locks), each `joint.name`, else the child link's
+// (configs/REFERENCE.md, `links[].joint`). Empty for a vehicle without either.
+struct JointStateLayout {
+  std::vector<std::string> names;
+  std::vector<double> locked_positions;  // the locked joints' (the last names), at their locks [rad] or [m]
+};
+JointStateLayout joint_state_layout(const VehicleSpec& vehicle);
+// sensor_msgs/JointState of the vehicle's joints: positions, velocities and the efforts their motors hold (a
+// locked joint's rate and effort are zero); header.frame_id is the vehicle's base frame.
+void fill_joint_state(const JointStateLayout& joints, const std::string& vehicle_name, double time_s,
                       const VehicleState& vehicle, sensor_msgs::msg::JointState& msg);
 
 // A step reply's ground truth: every vehicle's name, pose (7 numbers) and twist (6), as odometry_values.

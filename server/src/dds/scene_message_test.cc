@@ -97,7 +97,7 @@ TEST(SceneMessageTest, AnArticulatedVehiclesMovingBodiesHaveAMeshAndTheirKinemat
   fill_scene(model, 0.0, msg);
   const physics::Articulation a(rov.links);
   ASSERT_EQ(msg.links().size(), static_cast<std::size_t>(a.num_bodies() - 1));
-  const std::vector<std::string> joints = joint_names(rov);
+  const std::vector<std::string> joints = joint_state_layout(rov).names;
   Eigen::VectorXd q(a.num_dofs());
   for (Eigen::Index j = 0; j < q.size(); ++j) q[j] = 0.1 * static_cast<double>(j + 1) * (j % 2 ? -1.0 : 1.0);
   const std::vector<Eigen::Isometry3d> X_BK = a.poses_W(Eigen::Isometry3d::Identity(), q);
@@ -220,5 +220,40 @@ TEST(SceneMessageTest, LargeSeabedIsResampledOnAGrid) {
   }
 }
 
+
+// The ROV's finger tips (the Oberon 7's zero-range joints) are locked: fixed at 0 in the tree, and reported
+// after the moving joints in JointState at their locks, rate and effort zero (robot_state_publisher needs
+// every non-fixed URDF joint).
+TEST(SceneMessageTest, JointStateReportsTheLockedJointsAtTheirLocks) {
+  const Model model = load("rov_intervention.yaml");
+  const VehicleSpec& rov = model.vehicles.at(0);
+  const JointStateLayout layout = joint_state_layout(rov);
+  const std::vector<std::string> expected = {"azimuth", "shoulder", "elbow", "roll", "pitch", "wrist",
+                                             "finger_left_joint", "finger_right_joint", "finger_tip_left_joint",
+                                             "finger_tip_right_joint"};
+  ASSERT_EQ(layout.names, expected);
+  VehicleState vehicle;
+  for (int j = 0; j < 8; ++j) {
+    vehicle.joint_positions.push_back(0.1 * (j + 1));
+    vehicle.joint_velocities.push_back(-0.01 * (j + 1));
+    vehicle.joint_efforts.push_back(3.0 * (j + 1));
+  }
+  sensor_msgs::msg::JointState msg;
+  fill_joint_state(layout, "rov", 1.5, vehicle, msg);
+  EXPECT_EQ(msg.name(), expected);
+  ASSERT_EQ(msg.position().size(), 10u);
+  ASSERT_EQ(msg.velocity().size(), 10u);
+  ASSERT_EQ(msg.effort().size(), 10u);
+  for (std::size_t j = 0; j < 8; ++j) {
+    EXPECT_EQ(msg.position()[j], vehicle.joint_positions[j]);
+    EXPECT_EQ(msg.velocity()[j], vehicle.joint_velocities[j]);
+    EXPECT_EQ(msg.effort()[j], vehicle.joint_efforts[j]);
+  }
+  for (std::size_t j = 8; j < 10; ++j) {
+    EXPECT_EQ(msg.position()[j], 0.0);
+    EXPECT_EQ(msg.velocity()[j], 0.0);
+    EXPECT_EQ(msg.effort()[j], 0.0);
+  }
+}
 }  // namespace
 }  // namespace hadal::dds

@@ -106,7 +106,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<fdds::DataWriter*> joint_state_writers;
   std::vector<std::size_t> joint_state_slot;
   std::vector<sensor_msgs::msg::JointState> joint_state_msgs;
-  std::vector<std::vector<std::string>> joint_names;
+  std::vector<JointStateLayout> joint_layouts;
   hadal_msgs::msg::StepReply reply_msg;
   hadal_msgs::msg::SimStatus status_msg;
   hadal_msgs::msg::Scene scene_msg;  // written at start and after every reset
@@ -354,9 +354,9 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
         r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), state_history_depth));
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
     d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
-    d.joint_names.push_back(joint_names(model.vehicles[i]));
+    d.joint_layouts.push_back(joint_state_layout(model.vehicles[i]));
     d.joint_state_msgs.emplace_back();
-    if (d.joint_names.back().empty()) {
+    if (d.joint_layouts.back().names.empty()) {
       d.joint_state_writers.push_back(nullptr);
       d.joint_state_slot.push_back(0);
     } else {
@@ -504,7 +504,7 @@ void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state)
 void ServerEndpoints::publish_joint_states(int vehicle_index, const SimState& state) {
   const auto i = static_cast<std::size_t>(vehicle_index);
   if (!impl_->joint_state_writers[i]) return;
-  fill_joint_state(impl_->joint_names[i], impl_->model.vehicles[i].name, state.time, state.vehicles[i],
+  fill_joint_state(impl_->joint_layouts[i], impl_->model.vehicles[i].name, state.time, state.vehicles[i],
                    impl_->joint_state_msgs[i]);
   impl_->write(impl_->joint_state_writers[i], &impl_->joint_state_msgs[i], impl_->joint_state_slot[i]);
 }

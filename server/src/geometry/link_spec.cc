@@ -31,6 +31,40 @@ bool link_moves(const std::vector<LinkSpec>& links, int index) {
   return false;
 }
 
+bool limits_meet(const JointSpec& joint) {
+  return (joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic) && std::isfinite(joint.lower) &&
+         joint.lower >= joint.upper;
+}
+
+void lock_joints(std::vector<LinkSpec>& links) {
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    JointSpec& joint = links[i].joint;
+    if (!limits_meet(joint)) continue;
+    if (joint.lower != 0.0) {
+      // The joint at its lock, in B: X_BL M(lower) X_BL^-1 moves the link and what hangs on it (the axis is in
+      // the link's frame, through its origin).
+      const Eigen::Vector3d axis = joint.axis_L.normalized();
+      Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+      if (joint.type == JointType::kPrismatic) {
+        motion.translation() = joint.lower * axis;
+      } else {
+        motion.linear() = Eigen::AngleAxisd(joint.lower, axis).toRotationMatrix();
+      }
+      const Eigen::Isometry3d to_lock = links[i].X_BL * motion * links[i].X_BL.inverse();
+      std::vector<char> beyond(links.size(), 0);
+      beyond[i] = 1;
+      for (std::size_t j = i; j < links.size(); ++j) {
+        const int parent = links[j].parent;
+        if (j > i) beyond[j] = parent >= static_cast<int>(i) ? beyond[static_cast<std::size_t>(parent)] : 0;
+        if (beyond[j]) links[j].X_BL = to_lock * links[j].X_BL;
+      }
+    }
+    joint.locked_type = joint.type;
+    joint.type = JointType::kFixed;
+    joint.initial = joint.lower;
+  }
+}
+
 std::vector<int> link_bodies(const std::vector<LinkSpec>& links) {
   std::vector<int> body(links.size(), 0);
   int bodies = 1;

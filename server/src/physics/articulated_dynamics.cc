@@ -22,7 +22,6 @@ namespace {
 struct JointTorques {
   Eigen::VectorXd total;  // servo + friction + limit
   Eigen::VectorXd servo;
-  std::vector<char> locked;  // per joint: its limits meet (lower >= upper), so it stays where it is locked
 };
 
 JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Eigen::Ref<const Eigen::MatrixXd>& S,
@@ -107,7 +106,7 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
     }
     if (!changed) break;
   }
-  return {tau, servo - D.cwiseProduct(qdd), locked};
+  return {tau, servo - D.cwiseProduct(qdd)};
 }
 
 // L^-1 for a lower-triangular L with a non-zero diagonal, by forward substitution column by column (a few
@@ -474,12 +473,6 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
     out.servo = joints.servo;
     out.held = joints.total - joints.servo;
     out.joint_torques += joints.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));
-    // A locked joint's lock is the stepper's (a fixed link, physics/multibody.h): the motion above has
-    // it, the torques handed over do not, so the constraint force read back after the step is what the
-    // lock supplies against everything else on the joint (the efforts and servo handed over included).
-    for (int j = 0; j < dofs; ++j) {
-      if (joints.locked[static_cast<std::size_t>(j)]) out.joint_torques[j] -= out.held[j];
-    }
   }
   if (any) {
     const std::vector<Wrench> Ju_dot = accelerations(u_dot);

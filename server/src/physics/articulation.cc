@@ -112,10 +112,6 @@ bool is_articulated(const std::vector<LinkSpec>& links) {
   return false;
 }
 
-bool is_locked(const JointSpec& joint) {
-  return joint.type != JointType::kContinuous && std::isfinite(joint.lower) && joint.lower >= joint.upper;
-}
-
 double lower_limit(const JointSpec& joint) {
   return joint.type == JointType::kContinuous ? -std::numeric_limits<double>::infinity() : joint.lower;
 }

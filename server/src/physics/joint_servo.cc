@@ -112,6 +112,14 @@ bool read_controlled_joints(const config::Value& value, JointControllerSpec& con
       continue;
     }
     const auto found = std::find(names.begin(), names.end(), *name);
+    const auto locked = std::find_if(c.links->begin(), c.links->end(), [&](const LinkSpec& link) {
+      return link.joint.locked_type != JointType::kFixed && joint_name(link) == *name;
+    });
+    if (found == names.end() && locked != c.links->end()) {
+      item.error("joint " + config::quoted(*name) + " is locked (its limits meet): nothing can move it");
+      ok = false;
+      continue;
+    }
     if (found == names.end()) {
       item.error("no moving joint named " + config::quoted(*name) + " in this vehicle" +
                  (names.empty() ? std::string(" (it has none)") : " (joints: " + config::join_names(names) + ")"));

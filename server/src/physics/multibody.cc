@@ -57,16 +57,6 @@ MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base) {
     const btVector3 parent_com_to_pivot = bt(X_PpK.translation());
     const btVector3 pivot_to_com = bt(R_PK * X_KP(body).translation());
     const btVector3 inertia = bt(body.mass_K.I_principal);
-    if (is_locked(body.joint)) {
-      // Bullet's fixed link at the joint's lock, as its revolute or prismatic link updates itself at
-      // q = lower (btMultibodyLink::updateCacheMultiDof): rotated by -lower about the axis, or moved along it.
-      const double q = body.joint.lower;
-      const bool prismatic = body.joint.type == JointType::kPrismatic;
-      mb->setupFixed(k - 1, body.mass_K.mass, inertia, body.parent - 1,
-                     prismatic ? parent_to_this : btQuaternion(axis_P, -q) * parent_to_this, parent_com_to_pivot,
-                     prismatic ? pivot_to_com + q * axis_P : pivot_to_com);
-      continue;
-    }
     switch (body.joint.type) {
       case JointType::kRevolute:
       case JointType::kContinuous:
@@ -107,11 +97,6 @@ void set_multibody_state(btMultiBody& mb, const Articulation& articulation, cons
   mb.setBaseVel(bt(v_WB + w_WB.cross(X_WP.translation() - X_WB.translation())));
   mb.setBaseOmega(bt(w_WB));
   for (int i = 0; i < articulation.num_dofs(); ++i) {
-    const JointSpec& joint = articulation.body(i + 1).joint;
-    if (is_locked(joint)) {
-      mb.setJointPos(i, joint.lower);  // a fixed link: kept for multibody_joint_positions, moves nothing
-      continue;
-    }
     mb.setJointPos(i, q[i]);
     mb.setJointVel(i, qd[i]);
   }
@@ -174,10 +159,7 @@ Eigen::VectorXd multibody_joint_positions(const btMultiBody& mb) {
 
 Eigen::VectorXd multibody_joint_velocities(const btMultiBody& mb) {
   Eigen::VectorXd qd(mb.getNumLinks());
-  for (int i = 0; i < mb.getNumLinks(); ++i) {
-    // A fixed link (a locked joint) has no rate of its own: getJointVel would read the next link's.
-    qd[i] = mb.getLink(i).m_jointType == btMultibodyLink::eFixed ? 0.0 : mb.getJointVel(i);
-  }
+  for (int i = 0; i < mb.getNumLinks(); ++i) qd[i] = mb.getJointVel(i);
   return qd;
 }
 

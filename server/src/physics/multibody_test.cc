@@ -148,40 +148,51 @@ TEST(MultiBodyTest, BulletsBodyPosesAreTheArticulationsForwardKinematics) {
 }
 
 // The same arm with its first revolute joint and its prismatic joint locked (lower == upper, one at an
-// angle and one at a distance that tell a flipped rotation or a lost offset apart; a lock ahead of the
-// free joint, whose rate Bullet's getJointVel would read for it): each is a fixed link
-// of Bullet's tree at its lock, so the multibody has one degree of freedom, its bodies are where the
-// articulation puts them with the locked joints at their locks (whatever rate is written for those), and
-// after a second of swinging under gravity they still are, the locks exactly where they were.
-TEST(MultiBodyTest, ALockedJointIsAFixedLinkAtItsLock) {
-  Arm arm;
-  arm.joints[1].joint.lower = arm.joints[1].joint.upper = 0.4;   // the shoulder
-  arm.joints[4].joint.lower = arm.joints[4].joint.upper = 0.07;  // the slider
-  const Articulation a(arm.links, arm.joints);
-  MultiBodyPtr mb = make_multibody(a, true);
-  EXPECT_EQ(mb->getNumDofs(), 1);
-  const Eigen::Isometry3d X_WB = at({2.0, -3.0, -40.0}, 0.7, {1, 2, -0.5});
-  Eigen::VectorXd q(3), qd(3);
-  q << 0.4, -1.1, 0.07;
-  qd << 0.3, 0.5, -0.2;  // the locks' rates are no rates of Bullet's
-  set_multibody_state(*mb, a, X_WB, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), q, qd);
-  EXPECT_EQ(multibody_joint_positions(*mb), q);
-  EXPECT_EQ(multibody_joint_velocities(*mb), Eigen::Vector3d(0.0, 0.5, 0.0));
-  World world(9.81);
-  Colliders colliders(world.world, *mb);
-  world.world.addMultiBody(mb.get());
-  for (int step = 0; step <= 500; ++step) {
-    if (step == 0 || step == 500) {
-      SCOPED_TRACE("step " + std::to_string(step));
-      const Eigen::VectorXd q_now = multibody_joint_positions(*mb);
-      EXPECT_EQ(q_now[0], 0.4);
-      EXPECT_EQ(q_now[2], 0.07);
-      expect_bullets_poses(*mb, a, X_WB, q_now);
-    }
-    world.world.stepSimulation(0.002, 0, 0.002);
+// angle and one at a distance that tell a flipped rotation or a lost offset apart; the shoulder's lock moves
+// every link beyond it): lock_joints makes each a fixed joint at its lock, so the tree has one joint left,
+// and every link is where the unlocked arm puts it with those joints at their locks (1e-12 m and 1e-13:
+// the same chained products in another order). Bullet's multibody of it has that one degree of freedom and
+// the same poses.
+TEST(MultiBodyTest, ALockedJointIsFixedAtItsLock) {
+  const Arm arm;
+  std::vector<LinkSpec> links = arm.links;
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    links[l].parent = arm.joints[l].parent;
+    links[l].joint = arm.joints[l].joint;
   }
-  EXPECT_GT(std::abs(multibody_joint_positions(*mb)[1] + 1.1), 0.01);  // the free joint swung
-  world.world.removeMultiBody(mb.get());
+  links[1].joint.lower = links[1].joint.upper = 0.4;   // the shoulder
+  links[4].joint.lower = links[4].joint.upper = 0.07;  // the slider
+  lock_joints(links);
+  EXPECT_EQ(links[1].joint.type, JointType::kFixed);
+  EXPECT_EQ(links[1].joint.locked_type, JointType::kRevolute);
+  EXPECT_EQ(links[4].joint.locked_type, JointType::kPrismatic);
+  EXPECT_EQ(links[2].joint.locked_type, JointType::kFixed);  // free: as it was
+  const Articulation locked(links);
+  ASSERT_EQ(locked.num_dofs(), 1);
+  const Articulation free(arm.links, arm.joints);
+  const Eigen::Isometry3d X_WB = at({2.0, -3.0, -40.0}, 0.7, {1, 2, -0.5});
+  Eigen::VectorXd q_free(3), q(1);
+  q_free << 0.4, -1.1, 0.07;
+  q << -1.1;
+  const std::vector<Eigen::Isometry3d> X_WK_free = free.poses_W(X_WB, q_free), X_WK = locked.poses_W(X_WB, q);
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    SCOPED_TRACE(links[l].name);
+    const int il = static_cast<int>(l);
+    const Eigen::Isometry3d expected = X_WK_free[static_cast<std::size_t>(free.body_of_link(il))] * free.X_KL(il);
+    const Eigen::Isometry3d X_WL = X_WK[static_cast<std::size_t>(locked.body_of_link(il))] * locked.X_KL(il);
+    EXPECT_LT((X_WL.translation() - expected.translation()).norm(), 1e-12);
+    EXPECT_LT((X_WL.linear() - expected.linear()).norm(), 1e-13);
+  }
+  MultiBodyPtr mb = make_multibody(locked, false);
+  EXPECT_EQ(mb->getNumDofs(), 1);
+  set_multibody_state(*mb, locked, X_WB, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), q, Eigen::VectorXd::Zero(1));
+  expect_bullets_poses(*mb, locked, X_WB, q);
+  // A lock at zero leaves every pose as it was, to the bit.
+  std::vector<LinkSpec> at_zero = links;
+  at_zero[2].joint.lower = at_zero[2].joint.upper = 0.0;
+  const std::vector<LinkSpec> before = at_zero;
+  lock_joints(at_zero);
+  for (std::size_t l = 0; l < links.size(); ++l) EXPECT_EQ(at_zero[l].X_BL.matrix(), before[l].X_BL.matrix());
 }
 
 // Bullet's generalised velocity: the base's centre-of-mass velocity and angular velocity in W, the rates.
@@ -370,7 +381,7 @@ TEST(MultiBodyTest, CompoundPendulumSwingsWithTheClosedFormPeriod) {
 // torques after a step: call before every step). Explicit, as Bullet sees it; the simulation takes it
 // implicitly with the added mass (physics/articulated_dynamics.h).
 void add_joint_damping(btMultiBody& mb, const Articulation& articulation) {
-  const Eigen::VectorXd qd = multibody_joint_velocities(mb);  // a locked joint's: zero
+  const Eigen::VectorXd qd = multibody_joint_velocities(mb);
   for (int k = 1; k < articulation.num_bodies(); ++k) {
     const double damping = articulation.body(k).joint.damping;
     if (damping > 0.0) mb.addJointTorque(k - 1, -damping * qd[k - 1]);

@@ -100,6 +100,11 @@ struct JointSpec {
   // controller may drive it).
   double effort_limit = std::numeric_limits<double>::infinity();    // [N m] or [N]
   double velocity_limit = std::numeric_limits<double>::infinity();  // [rad/s] or [m/s]
+  // A revolute or prismatic joint whose limits meet (a URDF's zero-range joint: the Oberon 7's finger tips)
+  // is loaded as a fixed joint at its lock (lock_joints): `type` is then kFixed and this is its own type.
+  // Nothing moves it, so its links are part of the parent's rigid body; JointState still reports it, at
+  // `lower`, rate and effort zero. kFixed: not a locked joint.
+  JointType locked_type = JointType::kFixed;
 };
 
 struct LinkSpec {
@@ -136,6 +141,19 @@ struct LinkSpec {
 // A link's joint's name: JointSpec::name, else the link's own.
 inline const std::string& joint_name(const LinkSpec& link) {
   return link.joint.name.empty() ? link.name : link.joint.name;
+}
+
+// A revolute or prismatic joint (not yet locked) whose limits meet: lower == upper, finite.
+bool limits_meet(const JointSpec& joint);
+
+// Each joint whose limits meet becomes a fixed joint at its lock (JointSpec::locked_type): its link, and every
+// link beyond it, moved to where the joint at `lower` puts them (X_BL is at q = 0). Loaders call it on the
+// whole link list, before anything reads the tree (a lock at 0 leaves every pose as it was, to the bit).
+void lock_joints(std::vector<LinkSpec>& links);
+
+// Whether a link's joint is one JointState reports: it moves, or it is locked.
+inline bool reports_joint(const LinkSpec& link) {
+  return link.joint.type != JointType::kFixed || link.joint.locked_type != JointType::kFixed;
 }
 
 // Whether links[index] moves relative to B: it or a link it hangs on has a joint that is not fixed.

@@ -77,7 +77,7 @@ class ArticulatedDynamics {
   };
   // Each body's added-mass reaction wrench (at its centre of mass, W) for the motion with applied body
   // wrenches `wrenches_W`, gravity and joint torques (above), plus the generalised constraint force
-  // Q_c (contacts, locks: size() entries, or none) that Bullet's solver will add, which the caller
+  // Q_c (contacts: size() entries, or none) that Bullet's solver will add, which the caller
   // estimates from the step before (Bullet's impulses see the rigid inertia only, and the joint solve
   // below would not know a grasp's contacts without it); coriolis: include C_A(nu_r) nu_r.
   std::vector<Wrench> added_mass_reactions(const std::vector<AddedMassBody>& added,
@@ -115,8 +115,7 @@ class ArticulatedDynamics {
     std::vector<Wrench> bodies;    // each body's added-mass reaction (at its centre of mass, W)
     Eigen::VectorXd servo;         // with `implicit`: each joint's servo torque over the step
     Eigen::VectorXd held;          // with `implicit`: each joint's friction and limit torque over the step
-    // The joint torques to apply: joint_torques + servo + held - damping_D qdd, less a locked joint's held
-    // torque (lower >= upper: the stepper's own lock holds it, a fixed link: physics/multibody.h).
+    // The joint torques to apply: joint_torques + servo + held - damping_D qdd.
     Eigen::VectorXd joint_torques;
   };
   Reactions reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,

@@ -36,10 +36,6 @@ std::vector<LinkJoint> link_joints(const std::vector<LinkSpec>& links);
 // Whether a vehicle with these links is articulated: some link moves on a joint (link_moves).
 bool is_articulated(const std::vector<LinkSpec>& links);
 
-// A revolute or prismatic joint whose limits meet (lower == upper: the Oberon 7's finger tips): it stays at
-// its lower limit. A continuous joint has no limits, so none is locked.
-bool is_locked(const JointSpec& joint);
-
 // A joint's limits as the joint solve takes them: -+infinity for a continuous joint.
 double lower_limit(const JointSpec& joint);
 double upper_limit(const JointSpec& joint);

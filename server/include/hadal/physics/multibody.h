@@ -27,11 +27,9 @@ struct MultiBodyDeleter {
 using MultiBodyPtr = std::unique_ptr<btMultiBody, MultiBodyDeleter>;
 
 // The articulation's bodies as a btMultiBody (the base fixed in W when fixed_base), at rest with every
-// joint at zero and B at the identity. A locked joint (is_locked: lower == upper, the Oberon 7's finger
-// tips) is a fixed link at its lock: Bullet's tree holds it exactly, against contacts too, with no
-// constraint row. Its coordinate stays in the joint vectors below (the lock's value, rate zero), so joint
-// j is link j whether locked or not. The joints' limits and friction are joint torques of the simulation's
-// implicit joint solve (physics/articulated_dynamics.h), not Bullet's.
+// joint at zero and B at the identity. A loaded vehicle has no locked joint (geometry::lock_joints made it a
+// fixed one, its links part of the parent's body). The joints' limits and friction are joint torques of the
+// simulation's implicit joint solve (physics/articulated_dynamics.h), not Bullet's.
 MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base);
 
 // Writes B's pose and velocity (of B's origin, in W) and the joint coordinates and rates into Bullet and
