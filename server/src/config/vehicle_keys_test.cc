@@ -573,6 +573,46 @@ vehicles:
                                            "`link`: the link on a moving joint whose joint it measures"}));
 }
 
+// A joint whose limits meet is locked: loaded fixed at its lock (10 deg here), its links part of the parent's
+// body. A controller or a force_torque sensor that names it is refused with that reason.
+TEST_F(ScenarioLoaderTest, ALockedJointIsFixedAndCannotBeDriven) {
+  const std::string head = R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
+      - {name: pin, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1}, pose: {position: [1, 0, 0]},
+         joint: {type: revolute, axis: [0, 0, 1], lower_deg: 10, upper_deg: 10}}
+      - {name: tip, parent: pin, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}, pose: {position: [1, 0, 0]},
+         joint: {type: revolute, axis: [0, 0, 1]}}
+)";
+  const std::string path = write("s.yaml", head);
+  const LoadResult result = load_scenario_file(path);
+  for (const Diagnostic& diagnostic : result.errors) ADD_FAILURE() << diagnostic.format();
+  ASSERT_TRUE(result.ok());
+  const std::vector<LinkSpec>& links = result.model->vehicles[0].links;
+  EXPECT_EQ(links[1].joint.type, JointType::kFixed);
+  EXPECT_EQ(links[1].joint.locked_type, JointType::kRevolute);
+  // The tip's origin 1 m along the pin turned 10 deg about z.
+  const double a = 10.0 * M_PI / 180.0;
+  EXPECT_LT((links[2].X_BL.translation() - Eigen::Vector3d(1.0 + std::cos(a), std::sin(a), 0.0)).norm(), 1e-15);
+  // Without `initial_deg` a joint starts at 0, or at the nearer limit when 0 is outside them (here 10 deg: the
+  // lock; it was once a silent failure of the load).
+  EXPECT_EQ(links[1].joint.initial, links[1].joint.lower);
+  const std::string driven = write("d.yaml", head + R"(    joint_controllers:
+      - {name: arm, type: effort, joints: [tip, pin]}
+    sensors:
+      - {name: ft, type: force_torque, link: pin}
+)");
+  EXPECT_EQ(errors_of(driven),
+            (Lines{driven + ":12:49: error: vehicles[0].joint_controllers[0].joints[1]: joint 'pin' is locked (its "
+                            "limits meet): nothing can move it",
+                   driven + ":14:46: error: vehicles[0].sensors[0].link: link 'pin' is not on a moving joint (its "
+                            "joint's limits meet: it is locked): a force_torque sensor measures the wrench across its "
+                            "link's joint (revolute, continuous or prismatic)"}));
+}
+
 // joint_controllers: groups of moving joints by their names (a link's own unless its joint names itself), in
 // command order; gains and the joints' own limits. Two joints of one name are refused.
 TEST_F(ScenarioLoaderTest, JointControllersNameMovingJoints) {

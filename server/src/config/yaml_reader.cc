@@ -577,6 +577,8 @@ void MapReader::error_at_key(const std::string& key, const std::string& message)
   check_allowed(key);
   if (const Entry* entry = find(key)) {
     value_.error_at(entry->key_node.Mark(), entry->value.path(), message);
+  } else {
+    value_.error(key + ": " + message);  // an absent key's check: at the map, never silent
   }
 }
 

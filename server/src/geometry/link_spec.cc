@@ -251,9 +251,9 @@ const KeyTable<JointSpec>& joint_keys() {
     t.number("upper", &JointSpec::upper).only_for({"prismatic"}).unit("m").default_text("unlimited")
         .doc("upper limit of q");
     t.number("initial_deg", &JointSpec::initial).only_for({"revolute", "continuous"}).degrees()
-        .doc("q at the start and after a reset");
+        .default_text("0 (or the nearer limit)").doc("q at the start and after a reset");
     t.number("initial", &JointSpec::initial).only_for({"prismatic"}).unit("m")
-        .doc("q at the start and after a reset");
+        .default_text("0 (or the nearer limit)").doc("q at the start and after a reset");
     t.number("damping", &JointSpec::damping).only_for({"revolute", "continuous", "prismatic"})
         .unit("N m s/rad or N s/m").range(Range::non_negative())
         .doc("viscous: a torque (force) -damping q_dot");
@@ -277,6 +277,11 @@ const KeyTable<JointSpec>& joint_keys() {
       return false;
     });
     t.check([](const KeyReads& reads, JointSpec& joint, NoContext&) {
+      if (joint.lower > joint.upper) return true;  // reported above
+      // Not given: 0, or the nearer limit when both are on one side of it (a URDF mount's rule).
+      if (!reads.has("initial") && !reads.has("initial_deg")) {
+        joint.initial = std::max(joint.lower, std::min(0.0, joint.upper));
+      }
       if (!(joint.initial < joint.lower || joint.initial > joint.upper)) return true;
       reads.error_at_key(reads.has("initial_deg") ? "initial_deg" : "initial", "must be within the joint's limits");
       return false;

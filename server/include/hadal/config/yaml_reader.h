@@ -158,7 +158,8 @@ class MapReader {
   // in parentheses when given.
   std::optional<Value> required(const std::string& key, const std::string& why = "") const;
   std::optional<Value> get(const std::string& key, Need need) const;
-  // Reports `message` at the key node of `key` (which must be present), with path `map.key`.
+  // Reports `message` at the key node of `key`, with path `map.key`; an absent key's at the map, as
+  // "key: message".
   void error_at_key(const std::string& key, const std::string& message) const;
 
   // Shorthands: read `key` into *out (unchanged when an optional key is absent). They return false when
