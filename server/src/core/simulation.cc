@@ -217,6 +217,15 @@ struct Simulation::VehicleRuntime {
   Eigen::VectorXd u0, Q_given;
   Eigen::MatrixXd M0;
   Eigen::VectorXd c0;
+  // What a step of an articulated vehicle works in, kept so that a step allocates nothing.
+  struct Work {
+    physics::ArticulatedDynamics::ImplicitJoints implicit;
+    Eigen::VectorXd joint_torques, u1, u_dot, Q_c;
+    std::vector<physics::ArticulatedDynamics::Wrench> wrenches;
+    std::vector<physics::ArticulatedDynamics::AddedMassBody> added;
+    physics::ArticulatedDynamics::Reactions reactions;
+    std::vector<Eigen::Isometry3d> X_WK_after;  // the bodies' poses after the step (keep_momentum)
+  } work;
 };
 
 namespace {
@@ -930,8 +939,8 @@ void Simulation::apply_forces(double t) {
     runtime.w_WB = body.w_WB;
     if (runtime.articulation) {
       const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
-      runtime.X_WK = runtime.articulation->poses_W(
-          body.X_WB, Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n));
+      runtime.articulation->poses_W(body.X_WB, Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n),
+                                    runtime.X_WK);
       runtime.dynamics->update(runtime.X_WK, body.v_WB, body.w_WB,
                                Eigen::Map<const Eigen::VectorXd>(vehicle.joint_velocities.data(), n));
     }
@@ -1023,7 +1032,8 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   const double dt = model_.world.step_size();
   // Each joint's motor (its controller's law, or the effort it holds) and its viscous damping, taken
   // implicitly over the step with the added mass (physics/joint_servo.h).
-  physics::ArticulatedDynamics::ImplicitJoints implicit;
+  VehicleRuntime::Work& work = runtime.work;
+  physics::ArticulatedDynamics::ImplicitJoints& implicit = work.implicit;
   const auto dofs = static_cast<Eigen::Index>(n);
   implicit.servo.resize(dofs);
   implicit.servo_D.resize(dofs);
@@ -1034,7 +1044,8 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   implicit.upper.resize(dofs);
   implicit.q = Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), dofs);
   implicit.dt = dt;
-  Eigen::VectorXd tau(dofs);  // the explicit part of the damping
+  Eigen::VectorXd& tau = work.joint_torques;  // the explicit part of the damping
+  tau.resize(dofs);
   // Trajectories are sampled at the step's end, where the implicit law takes its error.
   follow_joint_trajectories(i, state_.time + dt);
   for (std::size_t j = 0; j < n; ++j) {
@@ -1056,11 +1067,13 @@ void Simulation::hand_articulated_forces(std::size_t i) {
     implicit.lower[e] = physics::lower_limit(joint);
     implicit.upper[e] = physics::upper_limit(joint);
   }
-  std::vector<physics::ArticulatedDynamics::Wrench> wrenches(runtime.bodies.size());
+  std::vector<physics::ArticulatedDynamics::Wrench>& wrenches = work.wrenches;
+  wrenches.resize(runtime.bodies.size());
   for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {
     wrenches[k] << runtime.bodies[k].wrench.f_W, runtime.bodies[k].wrench.tau_W;
   }
-  std::vector<physics::ArticulatedDynamics::AddedMassBody> added(runtime.bodies.size());
+  std::vector<physics::ArticulatedDynamics::AddedMassBody>& added = work.added;
+  added.resize(runtime.bodies.size());
   if (runtime.has_added_mass) {
     for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {
       const VehicleRuntime::Body& body = runtime.bodies[k];
@@ -1070,10 +1083,10 @@ void Simulation::hand_articulated_forces(std::size_t i) {
     }
   }
   const auto n_c = static_cast<Eigen::Index>(vehicle.constraint_force.size());
-  const Eigen::VectorXd Q_c = Eigen::Map<const Eigen::VectorXd>(vehicle.constraint_force.data(), n_c);
-  const physics::ArticulatedDynamics::Reactions reactions =
-      dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, Q_c,
-                         model_.vehicles[i].fluid.added_mass.coriolis, &implicit);
+  work.Q_c = Eigen::Map<const Eigen::VectorXd>(vehicle.constraint_force.data(), n_c);
+  physics::ArticulatedDynamics::Reactions& reactions = work.reactions;
+  dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, work.Q_c, model_.vehicles[i].fluid.added_mass.coriolis,
+                     &implicit, reactions);
   for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions.bodies[k];
   if (!vehicle.joint_wrenches_L.empty()) runtime.handed_W = wrenches;
   tau = reactions.joint_torques;
@@ -1081,7 +1094,7 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   runtime.u0 = dynamics.u();
   runtime.M0 = dynamics.mass_matrix();
   runtime.c0 = dynamics.bias();
-  runtime.Q_given = dynamics.generalized_force(wrenches, model_.world.gravity_W, tau);
+  dynamics.generalized_force(wrenches, model_.world.gravity_W, tau, runtime.Q_given);
   runtime.target.active = !model_.vehicles[i].is_static;
   if (runtime.target.active) {
     // The whole tree's momentum balance under the external wrenches (the joints' torques are internal).
@@ -1149,15 +1162,20 @@ void Simulation::take_snapshot(double dt) {
       vehicle.joint_velocities.assign(qd.data(), qd.data() + qd.size());
       // What Bullet's constraints added: M u_dot - (Q - c) over the step, at the step's start.
       const auto n_u = runtime.u0.size();
-      Eigen::VectorXd u1(n_u);
+      VehicleRuntime::Work& work = runtime_[i]->work;
+      Eigen::VectorXd& u1 = work.u1;
+      u1.resize(n_u);
       u1.tail(qd.size()) = qd;
       if (n_u > qd.size()) {
         const Eigen::Vector3d p_Wcm = vehicle.body.X_WB * runtime.p_BBcm;
         u1.head<3>() = vehicle.body.v_WB + vehicle.body.w_WB.cross(p_Wcm - vehicle.body.X_WB.translation());
         u1.segment<3>(3) = vehicle.body.w_WB;
       }
-      const Eigen::VectorXd u_dot = (u1 - runtime.u0) / dt;
-      const Eigen::VectorXd Q_c = runtime.M0 * u_dot - (runtime.Q_given - runtime.c0);
+      Eigen::VectorXd& u_dot = work.u_dot;
+      u_dot = (u1 - runtime.u0) / dt;
+      Eigen::VectorXd& Q_c = work.Q_c;
+      Q_c.noalias() = runtime.M0 * u_dot;
+      Q_c -= runtime.Q_given - runtime.c0;
       vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
       if (!vehicle.joint_wrenches_L.empty()) measure_joint_wrenches(i, u_dot, dt);
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
@@ -1223,8 +1241,8 @@ void Simulation::keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle) {
   const Eigen::Map<const Eigen::VectorXd> q(vehicle.joint_positions.data(), n);
   const Eigen::Map<const Eigen::VectorXd> qd(vehicle.joint_velocities.data(), n);
   // The next step's update() starts from this state again; its momentum needs the kinematics alone.
-  dynamics.update_kinematics(runtime.articulation->poses_W(vehicle.body.X_WB, q), vehicle.body.v_WB,
-                             vehicle.body.w_WB, qd);
+  runtime.articulation->poses_W(vehicle.body.X_WB, q, runtime.work.X_WK_after);
+  dynamics.update_kinematics(runtime.work.X_WK_after, vehicle.body.v_WB, vehicle.body.w_WB, qd);
   const physics::ArticulatedDynamics::Momentum after = dynamics.momentum();
   const VehicleRuntime::MomentumTarget& target = runtime.target;
   vehicle.body.X_WB.translation() += target.c_W - after.c_W;

@@ -19,55 +19,66 @@ namespace {
 // whose result breaks its mode (a servo past its limit saturates, a stuck joint needing more than its
 // friction slides, a sliding one that would turn back sticks, a step ending past a bound holds there, a
 // limit that would pull lets go). The passes are bounded: a mode set that keeps changing keeps the last.
-struct JointTorques {
-  Eigen::VectorXd total;  // servo + friction + limit
-  Eigen::VectorXd servo;
-};
-
-JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Eigen::Ref<const Eigen::MatrixXd>& S,
-                                 const Eigen::VectorXd& qdd0, const Eigen::VectorXd& qd) {
-  enum class Mode { kFree, kStuck, kLower, kUpper };
+// Into w.total (servo + friction + limit) and w.servo (each servo's torque over the step).
+void solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Eigen::Ref<const Eigen::MatrixXd>& S,
+                         const Eigen::Ref<const Eigen::VectorXd>& qdd0, const Eigen::Ref<const Eigen::VectorXd>& qd,
+                         ArticulatedDynamics::Scratch& w) {
+  enum Mode : char { kFree, kStuck, kLower, kUpper };
   // A bound is crossed when the step would end beyond it by more than this (rounding of a joint left on it).
   constexpr double kBoundTolerance = 1e-9;  // [rad] or [m]
   const Eigen::Index n = qdd0.size();
   const double dt = in.dt;
   const auto at = [](const Eigen::VectorXd& v, Eigen::Index j, double none) { return v.size() > j ? v[j] : none; };
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<Mode> mode(static_cast<std::size_t>(n), Mode::kFree);
-  std::vector<char> locked(static_cast<std::size_t>(n), 0);
-  Eigen::VectorXd servo = in.servo, D = in.servo_D, sliding = Eigen::VectorXd::Zero(n);
+  std::vector<char>& mode = w.mode;
+  std::vector<char>& locked = w.locked;
+  mode.assign(static_cast<std::size_t>(n), kFree);
+  locked.assign(static_cast<std::size_t>(n), 0);
+  Eigen::VectorXd& servo = w.servo;
+  Eigen::VectorXd& D = w.D;
+  Eigen::VectorXd& sliding = w.sliding;
+  servo = in.servo;
+  D = in.servo_D;
+  sliding.setZero(n);
   for (Eigen::Index j = 0; j < n; ++j) {
     const auto i = static_cast<std::size_t>(j);
     locked[i] = at(in.lower, j, -kInf) >= at(in.upper, j, kInf);
     if (locked[i]) {
-      mode[i] = Mode::kLower;
+      mode[i] = kLower;
     } else if (at(in.friction, j, 0.0) > 0.0) {
-      mode[i] = Mode::kStuck;
+      mode[i] = kStuck;
     }
   }
-  Eigen::MatrixXd K(n, n);
-  Eigen::VectorXd r(n), tau = Eigen::VectorXd::Zero(n), qdd = qdd0;
+  Eigen::MatrixXd& K = w.K;
+  Eigen::VectorXd& r = w.r;
+  Eigen::VectorXd& tau = w.total;
+  Eigen::VectorXd& qdd = w.qdd;
+  K.resize(n, n);
+  r.resize(n);
+  tau.setZero(n);
+  qdd = qdd0;
   const auto held = [&](Eigen::Index j, double bound) { return ((bound - in.q[j]) / dt - qd[j]) / dt; };
   for (Eigen::Index pass = 0; pass < 4 * n + 4; ++pass) {
     for (Eigen::Index j = 0; j < n; ++j) {
-      const Mode m = mode[static_cast<std::size_t>(j)];
+      const char m = mode[static_cast<std::size_t>(j)];
       K.row(j) = S.row(j);
-      if (m == Mode::kFree) {
+      if (m == kFree) {
         K.row(j) *= D[j];
         K(j, j) += 1.0;
         r[j] = servo[j] + sliding[j] - D[j] * qdd0[j];
       } else {
-        const double target = m == Mode::kStuck   ? -qd[j] / dt
-                              : m == Mode::kLower ? held(j, in.lower[j])
+        const double target = m == kStuck   ? -qd[j] / dt
+                              : m == kLower ? held(j, in.lower[j])
                                                   : held(j, in.upper[j]);
         r[j] = target - qdd0[j];
       }
     }
-    tau = K.partialPivLu().solve(r);
+    w.lu.compute(K);
+    tau = w.lu.solve(r);
     qdd.noalias() = qdd0 + S * tau;
     bool changed = false;
     for (Eigen::Index j = 0; j < n; ++j) {
-      Mode& m = mode[static_cast<std::size_t>(j)];
+      char& m = mode[static_cast<std::size_t>(j)];
       // The servo's law at this step's end saturates, or a saturated one whose law has come back within
       // its limit (a trial mode's acceleration, such as a moving joint stopped in one step, may have
       // saturated it) takes its law again: each by way of the unsaturated law, never from one limit
@@ -88,32 +99,32 @@ JointTorques solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, 
       const double friction = at(in.friction, j, 0.0);
       const double other = tau[j] - (servo[j] - D[j] * qdd[j]);  // friction's and the limit's part
       const double q_end = in.q.size() > j ? in.q[j] + dt * (qd[j] + dt * qdd[j]) : 0.0;
-      const Mode before = m;
+      const char before = m;
       if (locked[static_cast<std::size_t>(j)]) continue;
-      if ((m == Mode::kLower && other < 0.0) || (m == Mode::kUpper && other > 0.0)) {
-        m = friction > 0.0 ? Mode::kStuck : Mode::kFree;
-      } else if (m == Mode::kStuck && std::abs(other) > friction) {
-        m = Mode::kFree;
+      if ((m == kLower && other < 0.0) || (m == kUpper && other > 0.0)) {
+        m = friction > 0.0 ? kStuck : kFree;
+      } else if (m == kStuck && std::abs(other) > friction) {
+        m = kFree;
         sliding[j] = std::copysign(friction, other);
-      } else if (m == Mode::kFree && sliding[j] * (qd[j] + dt * qdd[j]) > 0.0) {
-        m = Mode::kStuck;  // its friction would turn it back
-      } else if (m != Mode::kLower && m != Mode::kUpper) {
-        if (q_end < lower - kBoundTolerance) m = Mode::kLower;
-        if (q_end > upper + kBoundTolerance) m = Mode::kUpper;
+      } else if (m == kFree && sliding[j] * (qd[j] + dt * qdd[j]) > 0.0) {
+        m = kStuck;  // its friction would turn it back
+      } else if (m != kLower && m != kUpper) {
+        if (q_end < lower - kBoundTolerance) m = kLower;
+        if (q_end > upper + kBoundTolerance) m = kUpper;
       }
-      if (m != Mode::kFree) sliding[j] = 0.0;
+      if (m != kFree) sliding[j] = 0.0;
       changed = changed || m != before;
     }
     if (!changed) break;
   }
-  return {tau, servo - D.cwiseProduct(qdd)};
+  servo -= D.cwiseProduct(qdd);
 }
 
 // L^-1 for a lower-triangular L with a non-zero diagonal, by forward substitution column by column (a few
 // joints: Eigen's blocked triangular solve costs more in set-up than in arithmetic at this size).
-Eigen::MatrixXd lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L) {
+void lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::MatrixXd& X) {
   const Eigen::Index n = L.rows();
-  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, n);
+  X.setZero(n, n);
   for (Eigen::Index j = 0; j < n; ++j) {
     X(j, j) = 1.0 / L(j, j);
     for (Eigen::Index i = j + 1; i < n; ++i) {
@@ -122,7 +133,6 @@ Eigen::MatrixXd lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L) {
       X(i, j) = -sum / L(i, i);
     }
   }
-  return X;
 }
 
 // A body's spatial inertia about W's origin O, in W axes, acting on its twist [v_O; w] (v_O: the velocity
@@ -191,14 +201,15 @@ ArticulatedDynamics::ArticulatedDynamics(const Articulation& articulation, bool 
 }
 
 void ArticulatedDynamics::update_kinematics(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
-                                            const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
+                                            const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& qd) {
   const Articulation& a = articulation_;
   if (static_cast<int>(X_WK.size()) != a.num_bodies() || qd.size() != a.num_dofs()) {
     throw std::invalid_argument("articulated dynamics: " + std::to_string(X_WK.size()) + " poses and " +
                                 std::to_string(qd.size()) + " joint rates for " + std::to_string(a.num_bodies()) +
                                 " bodies");
   }
-  const std::vector<Articulation::BodyVelocity> velocity = a.velocities_W(X_WK, v_WB, w_WB, qd);
+  std::vector<Articulation::BodyVelocity>& velocity = velocities_;
+  a.velocities_W(X_WK, v_WB, w_WB, qd, velocity);
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     const Articulation::Body& body = a.body(k);
@@ -219,7 +230,7 @@ void ArticulatedDynamics::update_kinematics(const std::vector<Eigen::Isometry3d>
 }
 
 void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
-                                 const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) {
+                                 const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& qd) {
   update_kinematics(X_WK, v_WB, w_WB, qd);
   const Articulation& a = articulation_;
   // Each joint's column of the twist about W's origin, and each body's bias acceleration from its parent's.
@@ -324,10 +335,10 @@ void ArticulatedDynamics::project(std::vector<Wrench>& F, Eigen::Ref<Eigen::Vect
 // J_k u_dot for every body (its centre of mass's acceleration and its angular one, W) by the same tree: the
 // twist's rate about W's origin is the parent's plus the joint's column times its acceleration, then moved
 // to the centre of mass.
-std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::accelerations(const Eigen::VectorXd& u_dot) const {
+void ArticulatedDynamics::accelerations(const Eigen::VectorXd& u_dot, std::vector<Wrench>& Z) const {
   const Articulation& a = articulation_;
   const int offset = fixed_base_ ? 0 : 6;
-  std::vector<Vector6d> Z(static_cast<std::size_t>(a.num_bodies()));
+  Z.resize(static_cast<std::size_t>(a.num_bodies()));
   Z[0].setZero();
   if (!fixed_base_) {
     Z[0].head<3>() = u_dot.head<3>() + p_Wcm_[0].cross(u_dot.segment<3>(3));
@@ -337,7 +348,6 @@ std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::accelerations(cons
     Z[static_cast<std::size_t>(k)] = Z[static_cast<std::size_t>(a.body(k).parent)] + psi_[static_cast<std::size_t>(k)] * u_dot[offset + k - 1];
   }
   for (std::size_t i = 0; i < Z.size(); ++i) Z[i].head<3>() -= p_Wcm_[i].cross(Z[i].tail<3>());
-  return Z;
 }
 
 ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
@@ -364,7 +374,8 @@ std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::joint_wrenches(con
                                                                              const Eigen::Vector3d& g_W) const {
   const int bodies = articulation_.num_bodies();
   std::vector<Wrench> out(static_cast<std::size_t>(bodies), Wrench::Zero());
-  const std::vector<Wrench> Ju_dot = accelerations(u_dot);
+  std::vector<Wrench>& Ju_dot = scratch_.Z;
+  accelerations(u_dot, Ju_dot);
   // Children come after their parents: from the last body back, each adds its own need to what its
   // children passed it, then passes the sum to its parent (moved to the parent's joint).
   for (int k = bodies - 1; k >= 1; --k) {
@@ -389,9 +400,17 @@ std::vector<ArticulatedDynamics::Wrench> ArticulatedDynamics::joint_wrenches(con
 Eigen::VectorXd ArticulatedDynamics::generalized_force(const std::vector<Wrench>& wrenches_W,
                                                        const Eigen::Vector3d& g_W,
                                                        const Eigen::VectorXd& joint_torques) const {
-  Eigen::VectorXd Q = Eigen::VectorXd::Zero(n_);
+  Eigen::VectorXd Q;
+  generalized_force(wrenches_W, g_W, joint_torques, Q);
+  return Q;
+}
+
+void ArticulatedDynamics::generalized_force(const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
+                                            const Eigen::VectorXd& joint_torques, Eigen::VectorXd& Q) const {
+  Q.setZero(n_);
   Q.tail(articulation_.num_dofs()) = joint_torques;
-  std::vector<Wrench> F(wrenches_W.size());
+  std::vector<Wrench>& F = scratch_.F;
+  F.resize(wrenches_W.size());
   for (int k = 0; k < articulation_.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     Wrench W = wrenches_W.at(i);
@@ -399,30 +418,37 @@ Eigen::VectorXd ArticulatedDynamics::generalized_force(const std::vector<Wrench>
     F[i] = wrench_about_origin(W, p_Wcm_[i]);
   }
   project(F, Q);
-  return Q;
 }
 
-ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
-    const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
-    const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c, bool coriolis,
-    const ImplicitJoints* implicit) const {
+void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
+                                    const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques,
+                                    const Eigen::VectorXd& Q_c, bool coriolis, const ImplicitJoints* implicit,
+                                    Reactions& out) const {
   const auto bodies = static_cast<std::size_t>(articulation_.num_bodies());
   const int dofs = articulation_.num_dofs();
-  Reactions out;
+  Scratch& w = scratch_;
   out.bodies.assign(bodies, Wrench::Zero());
   out.joint_torques = joint_torques;
   std::vector<Wrench>& reactions = out.bodies;
-  Eigen::MatrixXd M = M_;
+  Eigen::MatrixXd& M = w.M;
+  M = M_;
   // Q: the applied wrenches, gravity and each body's added-mass velocity-product part, all about W's origin.
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
+  Eigen::VectorXd& rhs = w.rhs;
+  rhs.setZero(n_);
   rhs.tail(dofs) = joint_torques;
   rhs -= c_;
   if (Q_c.size() == n_) rhs += Q_c;
   // Per body: R6 M_A R6^T (the reaction's part in J u_dot) and its velocity-product part, in W.
-  std::vector<Matrix6d> A_added(bodies);
-  std::vector<char> has_added(bodies, 0);
-  std::vector<Wrench> bias(bodies, Wrench::Zero()), F(bodies);
-  std::vector<Matrix6d> G_added(bodies, Matrix6d::Zero());  // each body's added mass about W's origin
+  std::vector<Matrix6d>& A_added = w.A_added;
+  std::vector<char>& has_added = w.has_added;
+  std::vector<Wrench>& bias = w.bias;
+  std::vector<Wrench>& F = w.F;
+  std::vector<Matrix6d>& G_added = w.G_added;  // each body's added mass about W's origin
+  A_added.resize(bodies);
+  has_added.assign(bodies, 0);
+  bias.assign(bodies, Wrench::Zero());
+  F.resize(bodies);
+  G_added.assign(bodies, Matrix6d::Zero());
   bool any = false;
   const bool moving_base = !fixed_base_;
   for (std::size_t i = 0; i < bodies; ++i) {
@@ -452,35 +478,36 @@ ArticulatedDynamics::Reactions ArticulatedDynamics::reactions(
   }
   project(F, rhs);
   if (any) add_composite(G_added, M);
-  if (!any && implicit == nullptr) return out;
-  Eigen::VectorXd u_dot;
+  if (!any && implicit == nullptr) return;
+  Eigen::VectorXd& u_dot = w.u_dot;
   if (implicit == nullptr) {
     u_dot = M.ldlt().solve(rhs);
   } else {
     // u_dot = u0 + X tau for the joints' torques tau (the joints' block of u is its tail); their
     // accelerations qdd = qdd0 + S tau, S the joints' block of the inverse.
     M.diagonal().tail(dofs) += implicit->damping_D;
-    const Eigen::LLT<Eigen::MatrixXd> llt(M);  // M is symmetric positive definite (masses, inertias > 0)
+    Eigen::LLT<Eigen::MatrixXd>& llt = w.llt;
+    llt.compute(M);  // M is symmetric positive definite (masses, inertias > 0)
     if (llt.info() != Eigen::Success) throw std::runtime_error("articulated dynamics: the mass matrix is singular");
     u_dot = llt.solve(rhs);
     // With M = L L^T, the joints' block of M^-1 is Li^T Li, Li = L22^-1 (L's joint block: the joints'
     // unit vectors, the last rows, stay zero above it under L^-1).
-    const Eigen::MatrixXd Li = lower_inverse(llt.matrixLLT().bottomRightCorner(dofs, dofs));
-    const Eigen::MatrixXd S = Li.transpose().lazyProduct(Li);  // small: no blocked product
-    const JointTorques joints = solve_joint_torques(*implicit, S, u_dot.tail(dofs), u_.tail(dofs));
-    rhs.tail(dofs) += joints.total;
+    lower_inverse(llt.matrixLLT().bottomRightCorner(dofs, dofs), w.Li);
+    w.S = w.Li.transpose().lazyProduct(w.Li);  // small: no blocked product
+    solve_joint_torques(*implicit, w.S, u_dot.tail(dofs), u_.tail(dofs), w);
+    rhs.tail(dofs) += w.total;
     u_dot = llt.solve(rhs);
-    out.servo = joints.servo;
-    out.held = joints.total - joints.servo;
-    out.joint_torques += joints.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));
+    out.servo = w.servo;
+    out.held = w.total - w.servo;
+    out.joint_torques += w.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));
   }
   if (any) {
-    const std::vector<Wrench> Ju_dot = accelerations(u_dot);
+    std::vector<Wrench>& Ju_dot = w.Z;
+    accelerations(u_dot, Ju_dot);
     for (std::size_t i = 0; i < bodies; ++i) {
       if (has_added[i]) reactions[i] = bias[i] - A_added[i] * Ju_dot[i];
     }
   }
-  return out;
 }
 
 }  // namespace hadal::physics

@@ -120,31 +120,61 @@ double upper_limit(const JointSpec& joint) {
   return joint.type == JointType::kContinuous ? std::numeric_limits<double>::infinity() : joint.upper;
 }
 
-std::vector<Eigen::Isometry3d> Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::VectorXd& q) const {
+std::vector<Eigen::Isometry3d> Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::Ref<const Eigen::VectorXd>& q) const {
+  std::vector<Eigen::Isometry3d> X_WK;
+  poses_W(X_WB, q, X_WK);
+  return X_WK;
+}
+
+void Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::Ref<const Eigen::VectorXd>& q,
+                           std::vector<Eigen::Isometry3d>& X_WK) const {
   if (q.size() != num_dofs()) {
     throw std::invalid_argument("articulation: " + std::to_string(q.size()) + " joint coordinates for " +
                                 std::to_string(num_dofs()) + " joints");
   }
-  std::vector<Eigen::Isometry3d> X_WK(bodies_.size());
+  X_WK.resize(bodies_.size());
   X_WK[0] = X_WB;
   for (std::size_t k = 1; k < bodies_.size(); ++k) {
     const Body& body = bodies_[k];
-    X_WK[k] = X_WK[static_cast<std::size_t>(body.parent)] * body.X_PK0 *
-              joint_motion(body, q[static_cast<Eigen::Index>(k - 1)]);
+    // X_WP X_PK0 M(q) by 3 x 3 blocks, as Eigen's isometry products take them (the same sums in the same
+    // order), without their general path: A = X_WP X_PK0, then A M(q).
+    const Eigen::Isometry3d& X_WP = X_WK[static_cast<std::size_t>(body.parent)];
+    const Eigen::Matrix3d R_A = X_WP.linear() * body.X_PK0.linear();
+    const Eigen::Vector3d p_A = X_WP.linear() * body.X_PK0.translation() + X_WP.translation();
+    const double q_k = q[static_cast<Eigen::Index>(k - 1)];
+    Eigen::Isometry3d& X = X_WK[k];
+    if (body.joint.type == JointType::kPrismatic) {
+      X.linear() = R_A;
+      X.translation() = R_A * (q_k * body.axis_K) + p_A;
+    } else if (body.joint.type == JointType::kFixed) {
+      X.linear() = R_A;
+      X.translation() = p_A;
+    } else {
+      X.linear() = R_A * Eigen::AngleAxisd(q_k, body.axis_K).toRotationMatrix();
+      X.translation() = p_A;
+    }
+    X.makeAffine();
   }
-  return X_WK;
 }
 
 std::vector<Articulation::BodyVelocity> Articulation::velocities_W(const std::vector<Eigen::Isometry3d>& X_WK,
                                                                    const Eigen::Vector3d& v_WB,
                                                                    const Eigen::Vector3d& w_WB,
-                                                                   const Eigen::VectorXd& qd) const {
+                                                                   const Eigen::Ref<const Eigen::VectorXd>& qd) const {
+  std::vector<BodyVelocity> out;
+  velocities_W(X_WK, v_WB, w_WB, qd, out);
+  return out;
+}
+
+void Articulation::velocities_W(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
+                                const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& qd,
+                                std::vector<BodyVelocity>& out) const {
   if (qd.size() != num_dofs() || X_WK.size() != bodies_.size()) {
     throw std::invalid_argument("articulation: " + std::to_string(qd.size()) + " joint rates and " +
                                 std::to_string(X_WK.size()) + " poses for " + std::to_string(num_dofs()) +
                                 " joints");
   }
-  std::vector<BodyVelocity> out(bodies_.size());
+  out.resize(bodies_.size());
   out[0] = BodyVelocity{v_WB, w_WB};
   for (std::size_t k = 1; k < bodies_.size(); ++k) {
     const Body& body = bodies_[k];
@@ -160,7 +190,6 @@ std::vector<Articulation::BodyVelocity> Articulation::velocities_W(const std::ve
       out[k].w_WK += rate * axis_W;
     }
   }
-  return out;
 }
 
 }  // namespace hadal::physics

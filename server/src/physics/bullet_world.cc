@@ -127,9 +127,8 @@ struct BulletWorld::Impl {
     bool is_static = false;     // VehicleSpec::is_static
     // Articulated vehicles only (body is null then): the tree, Bullet's multibody, one collider per body
     // (body order), and each body's frame K in W as the last set_articulated_state wrote it (the poses
-    // add_body_force_W takes moments about). A locked joint is a fixed link of the multibody
-    // (physics/multibody.h); the other joints' limits and friction are not Bullet's: the simulation's
-    // implicit joint solve gives them as joint torques (physics/articulated_dynamics.h).
+    // add_body_force_W takes moments about). The joints' limits and friction are not Bullet's: the
+    // simulation's implicit joint solve gives them as joint torques (physics/articulated_dynamics.h).
     std::unique_ptr<Articulation> articulation;
     MultiBodyPtr multibody;
     std::vector<Collider> colliders;
@@ -386,8 +385,9 @@ void BulletWorld::set_body_state(int vehicle, const RigidBodyState& body) {
   }
 }
 
-void BulletWorld::set_articulated_state(int vehicle, const RigidBodyState& body, const Eigen::VectorXd& q,
-                                        const Eigen::VectorXd& qd) {
+void BulletWorld::set_articulated_state(int vehicle, const RigidBodyState& body,
+                                        const Eigen::Ref<const Eigen::VectorXd>& q,
+                                        const Eigen::Ref<const Eigen::VectorXd>& qd) {
   Impl::Vehicle& v = impl_->vehicles[vehicle];
   set_multibody_state(*v.multibody, *v.articulation, body.X_WB, body.v_WB, body.w_WB, q, qd);
   v.multibody->clearForcesAndTorques();

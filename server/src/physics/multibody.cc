@@ -85,8 +85,8 @@ MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base) {
 }
 
 void set_multibody_state(btMultiBody& mb, const Articulation& articulation, const Eigen::Isometry3d& X_WB,
-                         const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB, const Eigen::VectorXd& q,
-                         const Eigen::VectorXd& qd) {
+                         const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
+                         const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& qd) {
   if (q.size() != articulation.num_dofs() || qd.size() != articulation.num_dofs()) {
     throw std::invalid_argument("set_multibody_state: " + std::to_string(q.size()) + " coordinates and " +
                                 std::to_string(qd.size()) + " rates for " + std::to_string(articulation.num_dofs()) +

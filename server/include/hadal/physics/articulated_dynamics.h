@@ -22,8 +22,10 @@
 // acceleration is differentiated). Contact and joint-limit impulses see the rigid bodies' inertia only.
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include <vector>
 
@@ -42,11 +44,11 @@ class ArticulatedDynamics {
   // Evaluates a_k, M and c at the bodies' poses X_WK (Articulation::poses_W) and B's velocity (of B's
   // origin, in W) and the joint rates.
   void update(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
-              const Eigen::VectorXd& qd);
+              const Eigen::Ref<const Eigen::VectorXd>& qd);
   // The kinematic part of update() alone: the bodies' poses, centres of mass, velocities, inertias in W and u
   // (what momentum() needs). a_k, M and c keep the values of the last update().
   void update_kinematics(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
-                         const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd);
+                         const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& qd);
 
   int size() const { return n_; }  // of u
   const Eigen::VectorXd& u() const { return u_; }
@@ -70,6 +72,8 @@ class ArticulatedDynamics {
   // Q for body wrenches at the centres of mass (W), gravity g_W on every body, and joint torques.
   Eigen::VectorXd generalized_force(const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
                                     const Eigen::VectorXd& joint_torques) const;
+  void generalized_force(const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
+                         const Eigen::VectorXd& joint_torques, Eigen::VectorXd& Q) const;
 
   struct AddedMassBody {
     Matrix6d M_A = Matrix6d::Zero();                       // about the centre of mass, K axes (scaled)
@@ -84,7 +88,9 @@ class ArticulatedDynamics {
                                            const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
                                            const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
                                            bool coriolis) const {
-    return reactions(added, wrenches_W, g_W, joint_torques, Q_c, coriolis, nullptr).bodies;
+    Reactions out;
+    reactions(added, wrenches_W, g_W, joint_torques, Q_c, coriolis, nullptr, out);
+    return out.bodies;
   }
 
   // Joint torques taken implicitly over the step (num_dofs() entries each), solved with the added mass
@@ -118,9 +124,10 @@ class ArticulatedDynamics {
     // The joint torques to apply: joint_torques + servo + held - damping_D qdd.
     Eigen::VectorXd joint_torques;
   };
-  Reactions reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
-                      const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
-                      bool coriolis, const ImplicitJoints* implicit) const;
+  // Into `out`, whose storage a step's calls reuse (as this object's scratch: not for concurrent calls).
+  void reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
+                 const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
+                 bool coriolis, const ImplicitJoints* implicit, Reactions& out) const;
 
   // The wrench each moving joint transmits over a step with generalised acceleration u_dot (Bullet's
   // (u' - u) / dt, its constraints' and contacts' effects included): for body k >= 1, what its parent
@@ -130,6 +137,18 @@ class ArticulatedDynamics {
   // (fluid, added mass, contacts; not gravity, not joint torques). Element 0 is zero.
   std::vector<Wrench> joint_wrenches(const Eigen::VectorXd& u_dot, const std::vector<Wrench>& external_W,
                                      const Eigen::Vector3d& g_W) const;
+
+  // What reactions() and joint_wrenches() work in, kept from call to call so that a step allocates nothing
+  // (internal: its contents mean nothing between calls).
+  struct Scratch {
+    Eigen::MatrixXd M, K, Li, S;
+    Eigen::VectorXd rhs, u_dot, r, qdd, servo, D, sliding, total;
+    Eigen::LLT<Eigen::MatrixXd> llt;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+    std::vector<Matrix6d> A_added, G_added;
+    std::vector<Wrench> bias, F, Z;
+    std::vector<char> has_added, mode, locked;
+  };
 
  private:
   const Articulation& articulation_;
@@ -144,9 +163,12 @@ class ArticulatedDynamics {
   std::vector<Vector6d> psi_;  // each moving body's joint column of the twist about W's origin (update())
   std::vector<Matrix6d> G_;    // scratch of update(): each body's inertia about W's origin
   std::vector<Wrench> F_;      // scratch of update(): each body's bias wrench about W's origin
+  std::vector<Articulation::BodyVelocity> velocities_;  // scratch of update_kinematics()
+  mutable Scratch scratch_;
   void add_composite(std::vector<Matrix6d>& G, Eigen::MatrixXd& M) const;
   void project(std::vector<Wrench>& F, Eigen::Ref<Eigen::VectorXd> Q) const;
-  std::vector<Wrench> accelerations(const Eigen::VectorXd& u_dot) const;
+  // J_k u_dot for every body into Z.
+  void accelerations(const Eigen::VectorXd& u_dot, std::vector<Wrench>& Z) const;
 };
 
 }  // namespace hadal::physics

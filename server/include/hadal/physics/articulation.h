@@ -74,10 +74,14 @@ class Articulation {
   const Eigen::Isometry3d& X_KL(int link) const { return X_KL_.at(static_cast<std::size_t>(link)); }
 
   // Each body's frame K in W, given B's pose in W and the joint coordinates (num_dofs()).
-  std::vector<Eigen::Isometry3d> poses_W(const Eigen::Isometry3d& X_WB, const Eigen::VectorXd& q) const;
+  std::vector<Eigen::Isometry3d> poses_W(const Eigen::Isometry3d& X_WB, const Eigen::Ref<const Eigen::VectorXd>& q) const;
+  // The same into `X_WK` (resized; a step's calls then allocate nothing).
+  void poses_W(const Eigen::Isometry3d& X_WB, const Eigen::Ref<const Eigen::VectorXd>& q, std::vector<Eigen::Isometry3d>& X_WK) const;
   // Each body's velocity, given B's (v_WB of B's origin) and the joint rates; poses from poses_W.
   std::vector<BodyVelocity> velocities_W(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB,
-                                         const Eigen::Vector3d& w_WB, const Eigen::VectorXd& qd) const;
+                                         const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& qd) const;
+  void velocities_W(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
+                    const Eigen::Ref<const Eigen::VectorXd>& qd, std::vector<BodyVelocity>& out) const;
   // The motion of a joint of this type and axis: K in its q = 0 pose.
   static Eigen::Isometry3d joint_motion(const Body& body, double q);
 

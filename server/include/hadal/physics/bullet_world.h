@@ -78,8 +78,8 @@ class BulletWorld {
 
   // An articulated vehicle's state: B's pose and velocity and the joint coordinates and rates
   // (Articulation::num_dofs() each); like set_body_state otherwise.
-  void set_articulated_state(int vehicle, const RigidBodyState& body, const Eigen::VectorXd& q,
-                             const Eigen::VectorXd& qd);
+  void set_articulated_state(int vehicle, const RigidBodyState& body, const Eigen::Ref<const Eigen::VectorXd>& q,
+                             const Eigen::Ref<const Eigen::VectorXd>& qd);
   // Its joint coordinates and rates as Bullet holds them.
   Eigen::VectorXd joint_positions(int vehicle) const;
   Eigen::VectorXd joint_velocities(int vehicle) const;

@@ -35,8 +35,8 @@ MultiBodyPtr make_multibody(const Articulation& articulation, bool fixed_base);
 // Writes B's pose and velocity (of B's origin, in W) and the joint coordinates and rates into Bullet and
 // updates its cached link transforms.
 void set_multibody_state(btMultiBody& body, const Articulation& articulation, const Eigen::Isometry3d& X_WB,
-                         const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB, const Eigen::VectorXd& q,
-                         const Eigen::VectorXd& qd);
+                         const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& q,
+                         const Eigen::Ref<const Eigen::VectorXd>& qd);
 
 // Each body's frame K in W as Bullet holds it (after set_multibody_state or a step; refreshes Bullet's
 // cached link transforms from its state).
