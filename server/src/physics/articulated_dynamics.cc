@@ -120,6 +120,42 @@ void solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Ei
   servo -= D.cwiseProduct(qdd);
 }
 
+// A = L L^T in place (L in A's lower triangle; the strict upper one is left as it was) for a small symmetric
+// positive definite A (the generalised mass matrix: 6 + a few joints), false when A is not. Plain loops: at
+// this size Eigen's LLT and its triangular solves spend more in set-up and dispatch than in arithmetic.
+bool cholesky_in_place(Eigen::MatrixXd& A) {
+  const Eigen::Index n = A.rows();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double d = A(j, j);
+    for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    A(j, j) = d;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      double sum = A(i, j);
+      for (Eigen::Index k = 0; k < j; ++k) sum -= A(i, k) * A(j, k);
+      A(i, j) = sum / d;
+    }
+  }
+  return true;
+}
+
+// x = (L L^T)^-1 b for L from cholesky_in_place: forward, then backward substitution.
+void cholesky_solve(const Eigen::MatrixXd& L, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  const Eigen::Index n = L.rows();
+  x = b;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double sum = x[i];
+    for (Eigen::Index k = 0; k < i; ++k) sum -= L(i, k) * x[k];
+    x[i] = sum / L(i, i);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    double sum = x[i];
+    for (Eigen::Index k = i + 1; k < n; ++k) sum -= L(k, i) * x[k];
+    x[i] = sum / L(i, i);
+  }
+}
+
 // L^-1 for a lower-triangular L with a non-zero diagonal, by forward substitution column by column (a few
 // joints: Eigen's blocked triangular solve costs more in set-up than in arithmetic at this size).
 void lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::MatrixXd& X) {
@@ -486,17 +522,17 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
     // u_dot = u0 + X tau for the joints' torques tau (the joints' block of u is its tail); their
     // accelerations qdd = qdd0 + S tau, S the joints' block of the inverse.
     M.diagonal().tail(dofs) += implicit->damping_D;
-    Eigen::LLT<Eigen::MatrixXd>& llt = w.llt;
-    llt.compute(M);  // M is symmetric positive definite (masses, inertias > 0)
-    if (llt.info() != Eigen::Success) throw std::runtime_error("articulated dynamics: the mass matrix is singular");
-    u_dot = llt.solve(rhs);
+    // M is symmetric positive definite (masses, inertias > 0); L overwrites its lower triangle.
+    if (!cholesky_in_place(M)) throw std::runtime_error("articulated dynamics: the mass matrix is singular");
+    const Eigen::MatrixXd& L = M;
+    cholesky_solve(L, rhs, u_dot);
     // With M = L L^T, the joints' block of M^-1 is Li^T Li, Li = L22^-1 (L's joint block: the joints'
     // unit vectors, the last rows, stay zero above it under L^-1).
-    lower_inverse(llt.matrixLLT().bottomRightCorner(dofs, dofs), w.Li);
+    lower_inverse(L.bottomRightCorner(dofs, dofs), w.Li);
     w.S = w.Li.transpose().lazyProduct(w.Li);  // small: no blocked product
     solve_joint_torques(*implicit, w.S, u_dot.tail(dofs), u_.tail(dofs), w);
     rhs.tail(dofs) += w.total;
-    u_dot = llt.solve(rhs);
+    cholesky_solve(L, rhs, u_dot);
     out.servo = w.servo;
     out.held = w.total - w.servo;
     out.joint_torques += w.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));

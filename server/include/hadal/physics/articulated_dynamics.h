@@ -22,7 +22,6 @@
 // acceleration is differentiated). Contact and joint-limit impulses see the rigid bodies' inertia only.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -143,7 +142,6 @@ class ArticulatedDynamics {
   struct Scratch {
     Eigen::MatrixXd M, K, Li, S;
     Eigen::VectorXd rhs, u_dot, r, qdd, servo, D, sliding, total;
-    Eigen::LLT<Eigen::MatrixXd> llt;
     Eigen::PartialPivLU<Eigen::MatrixXd> lu;
     std::vector<Matrix6d> A_added, G_added;
     std::vector<Wrench> bias, F, Z;
