@@ -462,17 +462,20 @@ vehicles:
   EXPECT_EQ(links[3].joint.type, JointType::kFixed);
 }
 
-// A parent that is not an earlier link (missing, itself or later: no cycle can be written), a joint on the
-// base link, a zero axis, limits the wrong way round, an inertia that is zero about an axis, and an imu on
-// a moving link: each refused at its key.
-TEST_F(ScenarioLoaderTest, BadJointsAreRefusedAtTheirKeys) {
-  const std::string head = R"(world: {}
+// A scenario's head up to a vehicle's base link (a rigid frame); tests add links after it.
+constexpr const char* kRovFrame = R"(world: {}
 vehicles:
   - name: rov
     type: rov
     links:
       - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
 )";
+
+// A parent that is not an earlier link (missing, itself or later: no cycle can be written), a joint on the
+// base link, a zero axis, limits the wrong way round, an inertia that is zero about an axis, and an imu on
+// a moving link: each refused at its key.
+TEST_F(ScenarioLoaderTest, BadJointsAreRefusedAtTheirKeys) {
+  const std::string head = kRovFrame;
   const std::string missing = write("m.yaml", head + R"(      - {name: arm, parent: elbow, mass: 1,
          inertia: {ixx: 1, iyy: 1, izz: 1}}
       - {name: elbow, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
@@ -576,14 +579,8 @@ vehicles:
 // A joint whose limits meet is locked: loaded fixed at its lock (10 deg here), its links part of the parent's
 // body. A controller or a force_torque sensor that names it is refused with that reason.
 TEST_F(ScenarioLoaderTest, ALockedJointIsFixedAndCannotBeDriven) {
-  const std::string head = R"(world: {}
-vehicles:
-  - name: rov
-    type: rov
-    links:
-      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
-      - {name: pin, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1}, pose: {position: [1, 0, 0]},
-         joint: {type: revolute, axis: [0, 0, 1], lower_deg: 10, upper_deg: 10}}
+  const std::string head = std::string(kRovFrame) + R"(      - {name: pin, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1},
+         pose: {position: [1, 0, 0]}, joint: {type: revolute, axis: [0, 0, 1], lower_deg: 10, upper_deg: 10}}
       - {name: tip, parent: pin, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}, pose: {position: [1, 0, 0]},
          joint: {type: revolute, axis: [0, 0, 1]}}
 )";
@@ -616,13 +613,8 @@ vehicles:
 // joint_controllers: groups of moving joints by their names (a link's own unless its joint names itself), in
 // command order; gains and the joints' own limits. Two joints of one name are refused.
 TEST_F(ScenarioLoaderTest, JointControllersNameMovingJoints) {
-  const std::string head = R"(world: {}
-vehicles:
-  - name: rov
-    type: rov
-    links:
-      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}}
-      - {name: shoulder, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1},
+  const std::string head =
+      std::string(kRovFrame) + R"(      - {name: shoulder, mass: 5, inertia: {ixx: 1, iyy: 1, izz: 1},
          joint: {type: revolute, axis: [0, 1, 0], effort_limit: 80, velocity_limit: 0.5}}
       - {name: camera, parent: shoulder, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}
       - {name: elbow, parent: shoulder, mass: 3, inertia: {ixx: 1, iyy: 1, izz: 1},
