@@ -213,7 +213,7 @@ struct BulletWorld::Impl {
 
   ~Impl() { remove_bodies(); }
 
-  // The articulated vehicle's multibody (a locked joint a fixed link of it) and colliders.
+  // The articulated vehicle's multibody and colliders.
   void make_articulated(Vehicle& v, const VehicleSpec& spec) {
     v.articulation = std::make_unique<Articulation>(spec.links);
     const Articulation& a = *v.articulation;
