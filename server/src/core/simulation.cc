@@ -1083,9 +1083,9 @@ void Simulation::hand_articulated_forces(std::size_t i) {
     }
   }
   const auto n_c = static_cast<Eigen::Index>(vehicle.constraint_force.size());
-  work.Q_c = Eigen::Map<const Eigen::VectorXd>(vehicle.constraint_force.data(), n_c);
+  const Eigen::Map<const Eigen::VectorXd> Q_c(vehicle.constraint_force.data(), n_c);
   physics::ArticulatedDynamics::Reactions& reactions = work.reactions;
-  dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, work.Q_c, model_.vehicles[i].fluid.added_mass.coriolis,
+  dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, Q_c, model_.vehicles[i].fluid.added_mass.coriolis,
                      &implicit, reactions);
   for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions.bodies[k];
   if (!vehicle.joint_wrenches_L.empty()) runtime.handed_W = wrenches;

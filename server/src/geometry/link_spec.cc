@@ -31,6 +31,17 @@ bool link_moves(const std::vector<LinkSpec>& links, int index) {
   return false;
 }
 
+Eigen::Isometry3d joint_motion(JointType type, const Eigen::Vector3d& axis, double q) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  switch (type) {
+    case JointType::kRevolute:
+    case JointType::kContinuous: X.linear() = Eigen::AngleAxisd(q, axis).toRotationMatrix(); break;
+    case JointType::kPrismatic: X.translation() = q * axis; break;
+    case JointType::kFixed: break;
+  }
+  return X;
+}
+
 bool limits_meet(const JointSpec& joint) {
   return (joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic) && std::isfinite(joint.lower) &&
          joint.lower >= joint.upper;
@@ -43,14 +54,8 @@ void lock_joints(std::vector<LinkSpec>& links) {
     if (joint.lower != 0.0) {
       // The joint at its lock, in B: X_BL M(lower) X_BL^-1 moves the link and what hangs on it (the axis is in
       // the link's frame, through its origin).
-      const Eigen::Vector3d axis = joint.axis_L.normalized();
-      Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-      if (joint.type == JointType::kPrismatic) {
-        motion.translation() = joint.lower * axis;
-      } else {
-        motion.linear() = Eigen::AngleAxisd(joint.lower, axis).toRotationMatrix();
-      }
-      const Eigen::Isometry3d to_lock = links[i].X_BL * motion * links[i].X_BL.inverse();
+      const Eigen::Isometry3d to_lock =
+          links[i].X_BL * joint_motion(joint.type, joint.axis_L.normalized(), joint.lower) * links[i].X_BL.inverse();
       std::vector<char> beyond(links.size(), 0);
       beyond[i] = 1;
       for (std::size_t j = i; j < links.size(); ++j) {

@@ -458,8 +458,8 @@ void ArticulatedDynamics::generalized_force(const std::vector<Wrench>& wrenches_
 
 void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
                                     const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques,
-                                    const Eigen::VectorXd& Q_c, bool coriolis, const ImplicitJoints* implicit,
-                                    Reactions& out) const {
+                                    const Eigen::Ref<const Eigen::VectorXd>& Q_c, bool coriolis,
+                                    const ImplicitJoints* implicit, Reactions& out) const {
   const auto bodies = static_cast<std::size_t>(articulation_.num_bodies());
   const int dofs = articulation_.num_dofs();
   Scratch& w = scratch_;

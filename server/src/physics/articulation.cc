@@ -94,17 +94,6 @@ Articulation::Articulation(const std::vector<LinkSpec>& links, const std::vector
   }
 }
 
-Eigen::Isometry3d Articulation::joint_motion(const Body& body, double q) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  switch (body.joint.type) {
-    case JointType::kRevolute:
-    case JointType::kContinuous: X.linear() = Eigen::AngleAxisd(q, body.axis_K).toRotationMatrix(); break;
-    case JointType::kPrismatic: X.translation() = q * body.axis_K; break;
-    case JointType::kFixed: break;
-  }
-  return X;
-}
-
 bool is_articulated(const std::vector<LinkSpec>& links) {
   for (std::size_t i = 0; i < links.size(); ++i) {
     if (link_moves(links, static_cast<int>(i))) return true;
@@ -141,18 +130,10 @@ void Articulation::poses_W(const Eigen::Isometry3d& X_WB, const Eigen::Ref<const
     const Eigen::Isometry3d& X_WP = X_WK[static_cast<std::size_t>(body.parent)];
     const Eigen::Matrix3d R_A = X_WP.linear() * body.X_PK0.linear();
     const Eigen::Vector3d p_A = X_WP.linear() * body.X_PK0.translation() + X_WP.translation();
-    const double q_k = q[static_cast<Eigen::Index>(k - 1)];
+    const Eigen::Isometry3d M = joint_motion(body.joint.type, body.axis_K, q[static_cast<Eigen::Index>(k - 1)]);
     Eigen::Isometry3d& X = X_WK[k];
-    if (body.joint.type == JointType::kPrismatic) {
-      X.linear() = R_A;
-      X.translation() = R_A * (q_k * body.axis_K) + p_A;
-    } else if (body.joint.type == JointType::kFixed) {
-      X.linear() = R_A;
-      X.translation() = p_A;
-    } else {
-      X.linear() = R_A * Eigen::AngleAxisd(q_k, body.axis_K).toRotationMatrix();
-      X.translation() = p_A;
-    }
+    X.linear() = R_A * M.linear();
+    X.translation() = R_A * M.translation() + p_A;
     X.makeAffine();
   }
 }

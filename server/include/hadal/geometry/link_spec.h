@@ -143,6 +143,10 @@ inline const std::string& joint_name(const LinkSpec& link) {
   return link.joint.name.empty() ? link.name : link.joint.name;
 }
 
+// A joint's motion at coordinate q, in its link's frame at q = 0 (URDF's convention): a rotation by q about the
+// unit `axis` (revolute, continuous), a translation by q along it (prismatic), none (fixed).
+Eigen::Isometry3d joint_motion(JointType type, const Eigen::Vector3d& axis, double q);
+
 // A revolute or prismatic joint (not yet locked) whose limits meet: lower == upper, finite.
 bool limits_meet(const JointSpec& joint);
 

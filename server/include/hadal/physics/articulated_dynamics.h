@@ -85,8 +85,8 @@ class ArticulatedDynamics {
   // below would not know a grasp's contacts without it); coriolis: include C_A(nu_r) nu_r.
   std::vector<Wrench> added_mass_reactions(const std::vector<AddedMassBody>& added,
                                            const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
-                                           const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
-                                           bool coriolis) const {
+                                           const Eigen::VectorXd& joint_torques,
+                                           const Eigen::Ref<const Eigen::VectorXd>& Q_c, bool coriolis) const {
     Reactions out;
     reactions(added, wrenches_W, g_W, joint_torques, Q_c, coriolis, nullptr, out);
     return out.bodies;
@@ -125,8 +125,9 @@ class ArticulatedDynamics {
   };
   // Into `out`, whose storage a step's calls reuse (as this object's scratch: not for concurrent calls).
   void reactions(const std::vector<AddedMassBody>& added, const std::vector<Wrench>& wrenches_W,
-                 const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques, const Eigen::VectorXd& Q_c,
-                 bool coriolis, const ImplicitJoints* implicit, Reactions& out) const;
+                 const Eigen::Vector3d& g_W, const Eigen::VectorXd& joint_torques,
+                 const Eigen::Ref<const Eigen::VectorXd>& Q_c, bool coriolis, const ImplicitJoints* implicit,
+                 Reactions& out) const;
 
   // The wrench each moving joint transmits over a step with generalised acceleration u_dot (Bullet's
   // (u' - u) / dt, its constraints' and contacts' effects included): for body k >= 1, what its parent

@@ -82,8 +82,6 @@ class Articulation {
                                          const Eigen::Vector3d& w_WB, const Eigen::Ref<const Eigen::VectorXd>& qd) const;
   void velocities_W(const std::vector<Eigen::Isometry3d>& X_WK, const Eigen::Vector3d& v_WB, const Eigen::Vector3d& w_WB,
                     const Eigen::Ref<const Eigen::VectorXd>& qd, std::vector<BodyVelocity>& out) const;
-  // The motion of a joint of this type and axis: K in its q = 0 pose.
-  static Eigen::Isometry3d joint_motion(const Body& body, double q);
 
  private:
   std::vector<Body> bodies_;
