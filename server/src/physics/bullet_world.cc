@@ -57,6 +57,23 @@ void seabed_aware_near_callback(btBroadphasePair& pair, btCollisionDispatcher& d
   btCollisionDispatcher::defaultNearCallback(pair, dispatcher, info);
 }
 
+// Bullet's broadphase pairs every two colliders whose boxes overlap and leaves it to the narrow phase's
+// needsCollision to drop two bodies of one multibody without self-collision (Hadal's multibodies have
+// none: multibody.h). An arm's links overlap each other's boxes and the vehicle's frame, so a work-class
+// ROV carried ~20 such pairs through the pair cache and the near callback every step. This filter keeps
+// Bullet's own group and mask test and drops those pairs before they are made.
+struct SelfCollisionFilter : btOverlapFilterCallback {
+  bool needBroadphaseCollision(btBroadphaseProxy* p0, btBroadphaseProxy* p1) const override {
+    if ((p0->m_collisionFilterGroup & p1->m_collisionFilterMask) == 0 ||
+        (p1->m_collisionFilterGroup & p0->m_collisionFilterMask) == 0) {
+      return false;
+    }
+    const auto* a = btMultiBodyLinkCollider::upcast(static_cast<const btCollisionObject*>(p0->m_clientObject));
+    const auto* b = btMultiBodyLinkCollider::upcast(static_cast<const btCollisionObject*>(p1->m_clientObject));
+    return a == nullptr || b == nullptr || a->m_multiBody != b->m_multiBody || a->m_multiBody->hasSelfCollision();
+  }
+};
+
 btVector3 to_bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
 
 Eigen::Vector3d to_eigen(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
@@ -149,6 +166,7 @@ struct BulletWorld::Impl {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
+  SelfCollisionFilter self_collision_filter;
   // A multibody world and solver only for a model with an articulated vehicle.
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
   std::unique_ptr<btDiscreteDynamicsWorld> world;
@@ -164,6 +182,7 @@ struct BulletWorld::Impl {
 
   explicit Impl(bool multibodies) {
     dispatcher.setNearCallback(seabed_aware_near_callback);
+    broadphase.getOverlappingPairCache()->setOverlapFilterCallback(&self_collision_filter);
     if (multibodies) {
       auto mb_solver = std::make_unique<btMultiBodyConstraintSolver>();
       auto mb_world = std::make_unique<btMultiBodyDynamicsWorld>(&dispatcher, &broadphase, mb_solver.get(),
@@ -391,7 +410,7 @@ void BulletWorld::set_articulated_state(int vehicle, const RigidBodyState& body,
   Impl::Vehicle& v = impl_->vehicles[vehicle];
   set_multibody_state(*v.multibody, *v.articulation, body.X_WB, body.v_WB, body.w_WB, q, qd);
   v.multibody->clearForcesAndTorques();
-  v.X_WK = cached_poses_W(*v.multibody, *v.articulation);
+  cached_poses_W(*v.multibody, *v.articulation, v.X_WK);
   place_colliders(*v.multibody);  // Bullet refreshes them only within a step
 }
 
@@ -403,6 +422,16 @@ Eigen::VectorXd BulletWorld::joint_positions(int vehicle) const {
 Eigen::VectorXd BulletWorld::joint_velocities(int vehicle) const {
   const Impl::Vehicle& v = impl_->vehicles[vehicle];
   return v.multibody ? multibody_joint_velocities(*v.multibody) : Eigen::VectorXd();
+}
+
+void BulletWorld::joint_state(int vehicle, std::vector<double>& q, std::vector<double>& qd) const {
+  const Impl::Vehicle& v = impl_->vehicles[vehicle];
+  if (v.multibody) {
+    multibody_joint_state(*v.multibody, q, qd);
+  } else {
+    q.clear();
+    qd.clear();
+  }
 }
 
 void BulletWorld::clear_contacts() {

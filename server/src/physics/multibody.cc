@@ -24,14 +24,6 @@ btQuaternion bt_rotation(const Eigen::Matrix3d& R) {
 
 btTransform bt(const Eigen::Isometry3d& X) { return btTransform(bt_rotation(X.linear()), bt(X.translation())); }
 
-Eigen::Isometry3d eigen(const btTransform& t) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  const btQuaternion q = t.getRotation();
-  X.linear() = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).toRotationMatrix();
-  X.translation() = Eigen::Vector3d(t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z());
-  return X;
-}
-
 // The principal frame P of a body in its frame K.
 const Eigen::Isometry3d& X_KP(const Articulation::Body& body) { return body.mass_K.X_BP; }
 
@@ -113,13 +105,30 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
 }
 
 std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& mb, const Articulation& articulation) {
-  std::vector<Eigen::Isometry3d> X_WK(static_cast<std::size_t>(articulation.num_bodies()));
-  X_WK[0] = eigen(mb.getBaseWorldTransform()) * X_KP(articulation.body(0)).inverse();
-  for (int k = 1; k < articulation.num_bodies(); ++k) {
-    X_WK[static_cast<std::size_t>(k)] =
-        eigen(mb.getLink(k - 1).m_cachedWorldTransform) * X_KP(articulation.body(k)).inverse();
-  }
+  std::vector<Eigen::Isometry3d> X_WK;
+  cached_poses_W(mb, articulation, X_WK);
   return X_WK;
+}
+
+void cached_poses_W(const btMultiBody& mb, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK) {
+  // A body's principal frame P in W, as Bullet's transform holds it (its rotation matrix as it is), times X_PK.
+  const auto pose = [&](const btTransform& X_WP, int k) {
+    const btMatrix3x3& basis = X_WP.getBasis();
+    Eigen::Matrix3d R_WP;
+    for (int r = 0; r < 3; ++r) R_WP.row(r) << basis[r].x(), basis[r].y(), basis[r].z();
+    const Eigen::Isometry3d& X_KP_k = X_KP(articulation.body(k));
+    const Eigen::Matrix3d R_WK = R_WP * X_KP_k.linear().transpose();
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = R_WK;
+    X.translation() = Eigen::Vector3d(X_WP.getOrigin().x(), X_WP.getOrigin().y(), X_WP.getOrigin().z()) -
+                      R_WK * X_KP_k.translation();
+    return X;
+  };
+  X_WK.resize(static_cast<std::size_t>(articulation.num_bodies()));
+  X_WK[0] = pose(mb.getBaseWorldTransform(), 0);
+  for (int k = 1; k < articulation.num_bodies(); ++k) {
+    X_WK[static_cast<std::size_t>(k)] = pose(mb.getLink(k - 1).m_cachedWorldTransform, k);
+  }
 }
 
 void place_colliders(btMultiBody& mb) {
@@ -161,6 +170,15 @@ Eigen::VectorXd multibody_joint_velocities(const btMultiBody& mb) {
   Eigen::VectorXd qd(mb.getNumLinks());
   for (int i = 0; i < mb.getNumLinks(); ++i) qd[i] = mb.getJointVel(i);
   return qd;
+}
+
+void multibody_joint_state(const btMultiBody& mb, std::vector<double>& q, std::vector<double>& qd) {
+  q.resize(static_cast<std::size_t>(mb.getNumLinks()));
+  qd.resize(q.size());
+  for (int i = 0; i < mb.getNumLinks(); ++i) {
+    q[static_cast<std::size_t>(i)] = mb.getJointPos(i);
+    qd[static_cast<std::size_t>(i)] = mb.getJointVel(i);
+  }
 }
 
 }  // namespace hadal::physics

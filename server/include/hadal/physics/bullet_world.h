@@ -83,6 +83,8 @@ class BulletWorld {
   // Its joint coordinates and rates as Bullet holds them.
   Eigen::VectorXd joint_positions(int vehicle) const;
   Eigen::VectorXd joint_velocities(int vehicle) const;
+  // Both into `q` and `qd` (resized; empty for a rigid vehicle), without allocating once they have the size.
+  void joint_state(int vehicle, std::vector<double>& q, std::vector<double>& qd) const;
 
   // Drops all contact manifolds and broadphase pairs and re-inserts the bodies in model order, so
   // collision bookkeeping no longer depends on history. Allocates; not for the per-step path.

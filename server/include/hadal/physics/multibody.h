@@ -43,6 +43,7 @@ void set_multibody_state(btMultiBody& body, const Articulation& articulation, co
 std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
 // The same from Bullet's cached link transforms as they are (set_multibody_state leaves them current).
 std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& body, const Articulation& articulation);
+void cached_poses_W(const btMultiBody& body, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK);
 
 // Moves the base's and the links' colliders to the cached transforms (Bullet moves them only within a
 // step; btMultiBody::updateCollisionObjectWorldTransforms gives the same, computing them again).
@@ -57,5 +58,7 @@ void add_body_force_W(btMultiBody& body, const Articulation& articulation, const
 // The joint coordinates and rates Bullet holds.
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& body);
 Eigen::VectorXd multibody_joint_velocities(const btMultiBody& body);
+// Both into `q` and `qd` (resized to the joints' number).
+void multibody_joint_state(const btMultiBody& body, std::vector<double>& q, std::vector<double>& qd);
 
 }  // namespace hadal::physics
