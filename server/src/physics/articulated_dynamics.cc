@@ -1,7 +1,6 @@
 #include "hadal/physics/articulated_dynamics.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 
 #include <cmath>
 #include <limits>
@@ -12,6 +11,40 @@
 
 namespace hadal::physics {
 namespace {
+
+// A's leading n x n block = L L^T in place (L in its lower triangle; the strict upper one is left as it
+// was) for a small symmetric positive definite block (the generalised mass matrix: 6 + a few joints; the
+// joint solve's rows), false when it is not. Plain loops: at this size Eigen's LLT and its triangular solves
+// spend more in set-up and dispatch than in arithmetic.
+bool cholesky_in_place(Eigen::MatrixXd& A, Eigen::Index n) {
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double d = A(j, j);
+    for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    A(j, j) = d;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      double sum = A(i, j);
+      for (Eigen::Index k = 0; k < j; ++k) sum -= A(i, k) * A(j, k);
+      A(i, j) = sum / d;
+    }
+  }
+  return true;
+}
+
+// x = (L L^T)^-1 x in place, for L (n x n) from cholesky_in_place: forward, then backward substitution.
+void cholesky_solve(const Eigen::MatrixXd& L, Eigen::Index n, double* x) {
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double sum = x[i];
+    for (Eigen::Index k = 0; k < i; ++k) sum -= L(i, k) * x[k];
+    x[i] = sum / L(i, i);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    double sum = x[i];
+    for (Eigen::Index k = i + 1; k < n; ++k) sum -= L(k, i) * x[k];
+    x[i] = sum / L(i, i);
+  }
+}
 
 // What each joint's servo, friction and limits give over the step (ArticulatedDynamics::ImplicitJoints):
 // qdd = qdd0 + S tau. A joint is free (tau = servo - D qdd + its sliding friction), stuck (qd' = 0), on a
@@ -53,28 +86,46 @@ void solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Ei
   Eigen::VectorXd& r = w.r;
   Eigen::VectorXd& tau = w.total;
   Eigen::VectorXd& qdd = w.qdd;
+  std::vector<Eigen::Index>& rows = w.rows;
   K.resize(n, n);
   r.resize(n);
   tau.setZero(n);
   qdd = qdd0;
   const auto held = [&](Eigen::Index j, double bound) { return ((bound - in.q[j]) / dt - qd[j]) / dt; };
   for (Eigen::Index pass = 0; pass < 4 * n + 4; ++pass) {
+    // A free joint's row is tau_j = servo_j + sliding_j - D_j (qdd0_j + S_j tau); a held one's is
+    // S_j tau = target_j - qdd0_j. A free joint without D takes its torque as it is; every other free row,
+    // divided by its D, leaves (S + diag(1 / D over the free ones)) over the remaining joints: symmetric
+    // positive definite (S is, as a diagonal block of the inverse of one), so a Cholesky solves it.
+    rows.clear();
     for (Eigen::Index j = 0; j < n; ++j) {
-      const char m = mode[static_cast<std::size_t>(j)];
-      K.row(j) = S.row(j);
-      if (m == kFree) {
-        K.row(j) *= D[j];
-        K(j, j) += 1.0;
-        r[j] = servo[j] + sliding[j] - D[j] * qdd0[j];
+      if (mode[static_cast<std::size_t>(j)] == kFree && D[j] == 0.0) {
+        tau[j] = servo[j] + sliding[j];
       } else {
-        const double target = m == kStuck   ? -qd[j] / dt
-                              : m == kLower ? held(j, in.lower[j])
-                                                  : held(j, in.upper[j]);
-        r[j] = target - qdd0[j];
+        rows.push_back(j);
       }
     }
-    w.lu.compute(K);
-    tau = w.lu.solve(r);
+    const auto count = static_cast<Eigen::Index>(rows.size());
+    for (Eigen::Index a = 0; a < count; ++a) {
+      const Eigen::Index j = rows[static_cast<std::size_t>(a)];
+      const char mj = mode[static_cast<std::size_t>(j)];
+      double rhs;
+      if (mj == kFree) {
+        rhs = (servo[j] + sliding[j]) / D[j] - qdd0[j];
+        K(a, a) = S(j, j) + 1.0 / D[j];
+      } else {
+        rhs = (mj == kStuck ? -qd[j] / dt : mj == kLower ? held(j, in.lower[j]) : held(j, in.upper[j])) - qdd0[j];
+        K(a, a) = S(j, j);
+      }
+      for (Eigen::Index b = 0; b < a; ++b) K(a, b) = S(j, rows[static_cast<std::size_t>(b)]);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        if (mode[static_cast<std::size_t>(k)] == kFree && D[k] == 0.0) rhs -= S(j, k) * tau[k];
+      }
+      r[a] = rhs;
+    }
+    if (!cholesky_in_place(K, count)) throw std::runtime_error("articulated dynamics: the joint solve is singular");
+    cholesky_solve(K, count, r.data());
+    for (Eigen::Index a = 0; a < count; ++a) tau[rows[static_cast<std::size_t>(a)]] = r[a];
     qdd.noalias() = qdd0 + S * tau;
     bool changed = false;
     for (Eigen::Index j = 0; j < n; ++j) {
@@ -120,42 +171,6 @@ void solve_joint_torques(const ArticulatedDynamics::ImplicitJoints& in, const Ei
   servo -= D.cwiseProduct(qdd);
 }
 
-// A = L L^T in place (L in A's lower triangle; the strict upper one is left as it was) for a small symmetric
-// positive definite A (the generalised mass matrix: 6 + a few joints), false when A is not. Plain loops: at
-// this size Eigen's LLT and its triangular solves spend more in set-up and dispatch than in arithmetic.
-bool cholesky_in_place(Eigen::MatrixXd& A) {
-  const Eigen::Index n = A.rows();
-  for (Eigen::Index j = 0; j < n; ++j) {
-    double d = A(j, j);
-    for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
-    if (!(d > 0.0)) return false;
-    d = std::sqrt(d);
-    A(j, j) = d;
-    for (Eigen::Index i = j + 1; i < n; ++i) {
-      double sum = A(i, j);
-      for (Eigen::Index k = 0; k < j; ++k) sum -= A(i, k) * A(j, k);
-      A(i, j) = sum / d;
-    }
-  }
-  return true;
-}
-
-// x = (L L^T)^-1 b for L from cholesky_in_place: forward, then backward substitution.
-void cholesky_solve(const Eigen::MatrixXd& L, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  const Eigen::Index n = L.rows();
-  x = b;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    double sum = x[i];
-    for (Eigen::Index k = 0; k < i; ++k) sum -= L(i, k) * x[k];
-    x[i] = sum / L(i, i);
-  }
-  for (Eigen::Index i = n - 1; i >= 0; --i) {
-    double sum = x[i];
-    for (Eigen::Index k = i + 1; k < n; ++k) sum -= L(k, i) * x[k];
-    x[i] = sum / L(i, i);
-  }
-}
-
 // L^-1 for a lower-triangular L with a non-zero diagonal, by forward substitution column by column (a few
 // joints: Eigen's blocked triangular solve costs more in set-up than in arithmetic at this size).
 void lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::MatrixXd& X) {
@@ -174,14 +189,16 @@ void lower_inverse(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::MatrixXd& 
 // A body's spatial inertia about W's origin O, in W axes, acting on its twist [v_O; w] (v_O: the velocity
 // of its point at O), from A, its inertia about its centre of mass c in W axes acting on [v_c; w]:
 // T^T A T with T = [1, -[c]; 0, 1] (v_c = v_O - c x w), by blocks:
-// [A11, A12 - A11 [c]; A21 + [c] A11, A22 - A21 [c] + [c] A12 - [c] A11 [c]].
+// [A11, A12 - A11 [c]; A21 + [c] A11, A22 - A21 [c] + [c] A12 - [c] A11 [c]]. A is symmetric (a rigid
+// body's, an added mass: physics/fluid_spec.h checks it, or sums of them), so the lower-left block is the
+// upper-right's transpose (A21 + [c] A11 = (A12 - A11 [c])^T as [c]^T = -[c]).
 Matrix6d about_origin(const Matrix6d& A, const Eigen::Vector3d& c) {
   const Eigen::Matrix3d C = skew(c);
   const Eigen::Matrix3d B12 = A.topRightCorner<3, 3>() - A.topLeftCorner<3, 3>() * C;
   Matrix6d out;
   out.topLeftCorner<3, 3>() = A.topLeftCorner<3, 3>();
   out.topRightCorner<3, 3>() = B12;
-  out.bottomLeftCorner<3, 3>() = A.bottomLeftCorner<3, 3>() + C * A.topLeftCorner<3, 3>();
+  out.bottomLeftCorner<3, 3>() = B12.transpose();
   out.bottomRightCorner<3, 3>() = A.bottomRightCorner<3, 3>() - A.bottomLeftCorner<3, 3>() * C + C * B12;
   return out;
 }
@@ -197,13 +214,14 @@ Matrix6d rigid_about_origin(double m, const Eigen::Matrix3d& I, const Eigen::Vec
   return out;
 }
 
-// R6 A R6^T with R6 = diag(R, R), by blocks.
-Matrix6d rotate(const Matrix6d& A, const Eigen::Matrix3d& R) {
+// R6 A R6^T with R6 = diag(R, R), by blocks, for a symmetric A (its lower-left block is the upper-right's
+// transpose; A's own rounding-level asymmetry, within fluid_spec's check, is dropped).
+Matrix6d rotate_symmetric(const Matrix6d& A, const Eigen::Matrix3d& R) {
   Matrix6d out;
-  out.topLeftCorner<3, 3>() = R * A.topLeftCorner<3, 3>() * R.transpose();
-  out.topRightCorner<3, 3>() = R * A.topRightCorner<3, 3>() * R.transpose();
-  out.bottomLeftCorner<3, 3>() = R * A.bottomLeftCorner<3, 3>() * R.transpose();
-  out.bottomRightCorner<3, 3>() = R * A.bottomRightCorner<3, 3>() * R.transpose();
+  out.topLeftCorner<3, 3>().noalias() = R * A.topLeftCorner<3, 3>() * R.transpose();
+  out.topRightCorner<3, 3>().noalias() = R * A.topRightCorner<3, 3>() * R.transpose();
+  out.bottomLeftCorner<3, 3>() = out.topRightCorner<3, 3>().transpose();
+  out.bottomRightCorner<3, 3>().noalias() = R * A.bottomRightCorner<3, 3>() * R.transpose();
   return out;
 }
 
@@ -507,7 +525,7 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
       bias[i].head<3>() = R * tau.head<3>();
       bias[i].tail<3>() = R * tau.tail<3>();
       W += bias[i];
-      A_added[i] = rotate(M_A, R);
+      A_added[i] = rotate_symmetric(M_A, R);
       G_added[i] = about_origin(A_added[i], p_Wcm_[i]);
     }
     F[i] = wrench_about_origin(W, p_Wcm_[i]);
@@ -523,16 +541,18 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
     // accelerations qdd = qdd0 + S tau, S the joints' block of the inverse.
     M.diagonal().tail(dofs) += implicit->damping_D;
     // M is symmetric positive definite (masses, inertias > 0); L overwrites its lower triangle.
-    if (!cholesky_in_place(M)) throw std::runtime_error("articulated dynamics: the mass matrix is singular");
+    if (!cholesky_in_place(M, n_)) throw std::runtime_error("articulated dynamics: the mass matrix is singular");
     const Eigen::MatrixXd& L = M;
-    cholesky_solve(L, rhs, u_dot);
+    u_dot = rhs;
+    cholesky_solve(L, n_, u_dot.data());
     // With M = L L^T, the joints' block of M^-1 is Li^T Li, Li = L22^-1 (L's joint block: the joints'
     // unit vectors, the last rows, stay zero above it under L^-1).
     lower_inverse(L.bottomRightCorner(dofs, dofs), w.Li);
     w.S = w.Li.transpose().lazyProduct(w.Li);  // small: no blocked product
     solve_joint_torques(*implicit, w.S, u_dot.tail(dofs), u_.tail(dofs), w);
     rhs.tail(dofs) += w.total;
-    cholesky_solve(L, rhs, u_dot);
+    u_dot = rhs;
+    cholesky_solve(L, n_, u_dot.data());
     out.servo = w.servo;
     out.held = w.total - w.servo;
     out.joint_torques += w.total - implicit->damping_D.cwiseProduct(u_dot.tail(dofs));

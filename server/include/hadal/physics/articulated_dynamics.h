@@ -24,7 +24,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 
 #include <vector>
 
@@ -143,10 +142,10 @@ class ArticulatedDynamics {
   struct Scratch {
     Eigen::MatrixXd M, K, Li, S;
     Eigen::VectorXd rhs, u_dot, r, qdd, servo, D, sliding, total;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
     std::vector<Matrix6d> A_added, G_added;
     std::vector<Wrench> bias, F, Z;
     std::vector<char> has_added, mode, locked;
+    std::vector<Eigen::Index> rows;
   };
 
  private:
