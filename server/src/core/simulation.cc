@@ -34,6 +34,9 @@
 #include "worker_pool.h"
 
 namespace hadal {
+namespace {
+bool on_joint(const SensorSpec& sensor);  // below
+}  // namespace
 
 // What the step needs per vehicle besides its state: constants derived from the model, and the step's
 // scratch. Holds references into the model: made in place, never moved.
@@ -47,6 +50,7 @@ struct Simulation::VehicleRuntime {
         mass(mass_properties.mass),
         articulation(articulation_of) {
     for (const SensorSpec& sensor : spec.sensors) {
+      if (on_joint(sensor)) joint_sensor_rates_hz.push_back(sensor.rate_hz);
       Sensor& mount = sensors.emplace_back();
       mount.X_BS = spec.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
       mount.period = 1.0 / sensor.rate_hz;
@@ -202,6 +206,13 @@ struct Simulation::VehicleRuntime {
   // Each body's wrench handed to Bullet in the step (at its centre of mass, W; gravity and joint torques
   // apart), for the joints' wrenches (VehicleState::joint_wrenches_L).
   std::vector<physics::ArticulatedDynamics::Wrench> handed_W;
+  // The rates of the sensors that read those wrenches (force_torque): they are worked out only for the
+  // steps at whose end one of them samples.
+  std::vector<double> joint_sensor_rates_hz;
+  bool joint_wrenches_due(std::uint64_t step, double dt) const {
+    return std::any_of(joint_sensor_rates_hz.begin(), joint_sensor_rates_hz.end(),
+                       [&](double rate_hz) { return sample_due(step, dt, rate_hz); });
+  }
   bool has_added_mass = false;
   std::vector<Eigen::Isometry3d> X_WK;
   // A floating articulated vehicle's momentum balance over the step (Simulation::keep_momentum): the
@@ -1088,7 +1099,10 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, Q_c, model_.vehicles[i].fluid.added_mass.coriolis,
                      &implicit, reactions);
   for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions.bodies[k];
-  if (!vehicle.joint_wrenches_L.empty()) runtime.handed_W = wrenches;
+  // The step about to be taken ends at step_count + 1 (take_snapshot counts it).
+  if (!vehicle.joint_wrenches_L.empty() && runtime.joint_wrenches_due(state_.step_count + 1, dt)) {
+    runtime.handed_W = wrenches;
+  }
   tau = reactions.joint_torques;
   for (std::size_t j = 0; j < n; ++j) vehicle.joint_efforts[j] = reactions.servo[static_cast<Eigen::Index>(j)];
   runtime.u0 = dynamics.u();
@@ -1156,10 +1170,9 @@ void Simulation::take_snapshot(double dt) {
     vehicle.body = world_->body_state(static_cast<int>(i));
     const VehicleRuntime& runtime = *runtime_[i];
     if (runtime.articulation) {
-      const Eigen::VectorXd q = world_->joint_positions(static_cast<int>(i));
-      const Eigen::VectorXd qd = world_->joint_velocities(static_cast<int>(i));
-      vehicle.joint_positions.assign(q.data(), q.data() + q.size());
-      vehicle.joint_velocities.assign(qd.data(), qd.data() + qd.size());
+      world_->joint_state(static_cast<int>(i), vehicle.joint_positions, vehicle.joint_velocities);
+      const auto n_q = static_cast<Eigen::Index>(vehicle.joint_velocities.size());
+      const Eigen::Map<const Eigen::VectorXd> qd(vehicle.joint_velocities.data(), n_q);
       // What Bullet's constraints added: M u_dot - (Q - c) over the step, at the step's start.
       const auto n_u = runtime.u0.size();
       VehicleRuntime::Work& work = runtime_[i]->work;
@@ -1177,7 +1190,9 @@ void Simulation::take_snapshot(double dt) {
       Q_c.noalias() = runtime.M0 * u_dot;
       Q_c -= runtime.Q_given - runtime.c0;
       vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
-      if (!vehicle.joint_wrenches_L.empty()) measure_joint_wrenches(i, u_dot, dt);
+      if (!vehicle.joint_wrenches_L.empty() && runtime.joint_wrenches_due(state_.step_count + 1, dt)) {
+        measure_joint_wrenches(i, u_dot, dt);
+      }
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
         keep_momentum(*runtime_[i], vehicle);
       }

@@ -10,6 +10,7 @@
 #include <cfloat>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -482,6 +483,37 @@ TEST(SimulationArticulatedTest, ASwingingPendulumPullsWithItsWetWeightAndItsCent
     }
     EXPECT_LT(worst_axis, 1e-6 * W * p.l) << added_mass << " " << worst_axis;
   }
+}
+
+// The joints' wrenches are worked out only for the steps at whose end a force/torque sensor samples
+// (VehicleState::joint_wrenches_L): a sensor at a fifth of the physics rate reads, at each of its samples,
+// exactly what one sampled every step reads at that step (the same noise-free swing, to the bit).
+TEST(SimulationArticulatedTest, AForceTorqueSensorBelowThePhysicsRateReadsTheStepItSamples) {
+  Pendulum p;
+  p.initial = 40.0 * kPi / 180.0;
+  const auto swinging = [&](double rate_hz) {
+    Model model = p.model();
+    SensorSpec sensor = force_torque_sensor(Eigen::Isometry3d::Identity());
+    sensor.rate_hz = rate_hz;
+    model.vehicles[0].sensors.push_back(sensor);
+    return std::make_unique<Simulation>(std::move(model));
+  };
+  const std::unique_ptr<Simulation> every = swinging(500.0), fifth = swinging(100.0);
+  std::uint64_t seen = 0;
+  int compared = 0;
+  for (int k = 0; k < 500; ++k) {
+    every->step();
+    fifth->step();
+    const SensorState& slow = fifth->state().vehicles[0].sensors.at(0);
+    if (slow.samples == seen) continue;
+    seen = slow.samples;
+    ++compared;
+    const auto& reading = state_of<sensors::ForceTorqueSensor>(slow);
+    EXPECT_EQ(reading.force_S, force_torque(*every).force_S) << "step " << k;
+    EXPECT_EQ(reading.torque_S, force_torque(*every).torque_S) << "step " << k;
+  }
+  EXPECT_EQ(compared, 100);
+  EXPECT_GT(force_torque(*every).force_S.norm(), 1.0);  // it pulls
 }
 
 // A load resting on a tray: the contact carries its wet weight to the tray, and the tray's joint carries

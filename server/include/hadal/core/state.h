@@ -106,7 +106,8 @@ struct VehicleState {
   // [N, N m]; empty until the first step.
   std::vector<double> constraint_force;
   // An articulated vehicle with force_torque sensors: per link (VehicleSpec::links), the wrench its parent
-  // applied on it and on everything beyond it across its joint over the last step, in the link's frame L
+  // applied on it and on everything beyond it across its joint over the last step at whose end one of those
+  // sensors sampled (only they read it, so the steps between leave it as it was), in the link's frame L
   // about L's origin (the joint), force then torque [N; N m] (physics/articulated_dynamics.h); zero for a
   // link on no moving joint. Empty for other vehicles.
   std::vector<Eigen::Matrix<double, 6, 1>> joint_wrenches_L;
