@@ -1194,7 +1194,7 @@ void Simulation::take_snapshot(double dt) {
         measure_joint_wrenches(i, u_dot, dt);
       }
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
-        keep_momentum(*runtime_[i], vehicle);
+        keep_momentum(i);
       }
       continue;
     }
@@ -1250,13 +1250,15 @@ void Simulation::measure_joint_wrenches(std::size_t i, const Eigen::VectorXd& u_
 // moved onto it by a rigid motion of the whole tree (a translation, and a uniform velocity and rotation
 // rate about the centre of mass), a correction of the integrator's own order that leaves the joints as
 // Bullet stepped them (docs/ARCHITECTURE.md, "Articulated vehicles").
-void Simulation::keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle) {
+void Simulation::keep_momentum(std::size_t i) {
+  VehicleRuntime& runtime = *runtime_[i];
+  VehicleState& vehicle = state_.vehicles[i];
   physics::ArticulatedDynamics& dynamics = *runtime.dynamics;
-  const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
-  const Eigen::Map<const Eigen::VectorXd> q(vehicle.joint_positions.data(), n);
+  const auto n = static_cast<Eigen::Index>(vehicle.joint_velocities.size());
   const Eigen::Map<const Eigen::VectorXd> qd(vehicle.joint_velocities.data(), n);
-  // The next step's update() starts from this state again; its momentum needs the kinematics alone.
-  runtime.articulation->poses_W(vehicle.body.X_WB, q, runtime.work.X_WK_after);
+  // The next step's update() starts from this state again; its momentum needs the kinematics alone, at
+  // the bodies' poses Bullet's step ended on.
+  world_->body_poses_W(static_cast<int>(i), runtime.work.X_WK_after);
   dynamics.update_kinematics(runtime.work.X_WK_after, vehicle.body.v_WB, vehicle.body.w_WB, qd);
   const physics::ArticulatedDynamics::Momentum after = dynamics.momentum();
   const VehicleRuntime::MomentumTarget& target = runtime.target;

@@ -424,6 +424,15 @@ Eigen::VectorXd BulletWorld::joint_velocities(int vehicle) const {
   return v.multibody ? multibody_joint_velocities(*v.multibody) : Eigen::VectorXd();
 }
 
+void BulletWorld::body_poses_W(int vehicle, std::vector<Eigen::Isometry3d>& X_WK) const {
+  const Impl::Vehicle& v = impl_->vehicles[vehicle];
+  if (v.multibody) {
+    collider_poses_W(*v.multibody, *v.articulation, X_WK);
+  } else {
+    X_WK.clear();
+  }
+}
+
 void BulletWorld::joint_state(int vehicle, std::vector<double>& q, std::vector<double>& qd) const {
   const Impl::Vehicle& v = impl_->vehicles[vehicle];
   if (v.multibody) {

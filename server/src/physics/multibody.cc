@@ -110,24 +110,36 @@ std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& mb, const Artic
   return X_WK;
 }
 
+namespace {
+// Body k's frame K in W from its principal frame P's as Bullet's transform holds it (its rotation matrix as
+// it is): X_WP X_PK.
+Eigen::Isometry3d pose_of(const btTransform& X_WP, const Articulation::Body& body) {
+  const btMatrix3x3& basis = X_WP.getBasis();
+  Eigen::Matrix3d R_WP;
+  for (int r = 0; r < 3; ++r) R_WP.row(r) << basis[r].x(), basis[r].y(), basis[r].z();
+  const Eigen::Isometry3d& X_KP_k = X_KP(body);
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R_WP * X_KP_k.linear().transpose();
+  X.translation() =
+      Eigen::Vector3d(X_WP.getOrigin().x(), X_WP.getOrigin().y(), X_WP.getOrigin().z()) - X.linear() * X_KP_k.translation();
+  return X;
+}
+}  // namespace
+
 void cached_poses_W(const btMultiBody& mb, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK) {
-  // A body's principal frame P in W, as Bullet's transform holds it (its rotation matrix as it is), times X_PK.
-  const auto pose = [&](const btTransform& X_WP, int k) {
-    const btMatrix3x3& basis = X_WP.getBasis();
-    Eigen::Matrix3d R_WP;
-    for (int r = 0; r < 3; ++r) R_WP.row(r) << basis[r].x(), basis[r].y(), basis[r].z();
-    const Eigen::Isometry3d& X_KP_k = X_KP(articulation.body(k));
-    const Eigen::Matrix3d R_WK = R_WP * X_KP_k.linear().transpose();
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    X.linear() = R_WK;
-    X.translation() = Eigen::Vector3d(X_WP.getOrigin().x(), X_WP.getOrigin().y(), X_WP.getOrigin().z()) -
-                      R_WK * X_KP_k.translation();
-    return X;
-  };
   X_WK.resize(static_cast<std::size_t>(articulation.num_bodies()));
-  X_WK[0] = pose(mb.getBaseWorldTransform(), 0);
+  X_WK[0] = pose_of(mb.getBaseWorldTransform(), articulation.body(0));
   for (int k = 1; k < articulation.num_bodies(); ++k) {
-    X_WK[static_cast<std::size_t>(k)] = pose(mb.getLink(k - 1).m_cachedWorldTransform, k);
+    X_WK[static_cast<std::size_t>(k)] = pose_of(mb.getLink(k - 1).m_cachedWorldTransform, articulation.body(k));
+  }
+}
+
+void collider_poses_W(const btMultiBody& mb, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK) {
+  X_WK.resize(static_cast<std::size_t>(articulation.num_bodies()));
+  for (int k = 0; k < articulation.num_bodies(); ++k) {
+    const btMultiBodyLinkCollider* collider = k == 0 ? mb.getBaseCollider() : mb.getLink(k - 1).m_collider;
+    if (collider == nullptr) throw std::logic_error("collider_poses_W: body " + std::to_string(k) + " has no collider");
+    X_WK[static_cast<std::size_t>(k)] = pose_of(collider->getWorldTransform(), articulation.body(k));
   }
 }
 

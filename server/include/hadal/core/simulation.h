@@ -204,7 +204,7 @@ class Simulation {
   // poses, computed here on first need (empty: not yet).
   Eigen::Isometry3d mounting_B(const VehicleRuntime& runtime, int sensor, const VehicleState& vehicle,
                                std::vector<Eigen::Isometry3d>& X_WK) const;
-  void keep_momentum(VehicleRuntime& runtime, VehicleState& vehicle);
+  void keep_momentum(std::size_t i);
   void reset_non_finite_vehicles();
   void sample_sensors(double dt);
   template <class Kind>

@@ -80,6 +80,9 @@ class BulletWorld {
   // (Articulation::num_dofs() each); like set_body_state otherwise.
   void set_articulated_state(int vehicle, const RigidBodyState& body, const Eigen::Ref<const Eigen::VectorXd>& q,
                              const Eigen::Ref<const Eigen::VectorXd>& qd);
+  // Each body's frame K in W (Articulation's order) where Bullet holds it: after a step, the step's result;
+  // after set_articulated_state, the state written. Empty for a rigid vehicle.
+  void body_poses_W(int vehicle, std::vector<Eigen::Isometry3d>& X_WK) const;
   // Its joint coordinates and rates as Bullet holds them.
   Eigen::VectorXd joint_positions(int vehicle) const;
   Eigen::VectorXd joint_velocities(int vehicle) const;

@@ -44,6 +44,9 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articu
 // The same from Bullet's cached link transforms as they are (set_multibody_state leaves them current).
 std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& body, const Articulation& articulation);
 void cached_poses_W(const btMultiBody& body, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK);
+// The same from the bodies' colliders (every body must have one), which Bullet's step leaves at the step's
+// result (btMultiBody::updateCollisionObjectWorldTransforms; the cached link transforms stay at its start).
+void collider_poses_W(const btMultiBody& body, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK);
 
 // Moves the base's and the links' colliders to the cached transforms (Bullet moves them only within a
 // step; btMultiBody::updateCollisionObjectWorldTransforms gives the same, computing them again).
