@@ -223,10 +223,10 @@ struct Simulation::VehicleRuntime {
     Eigen::Vector3d P_W = Eigen::Vector3d::Zero();
     Eigen::Vector3d L_W = Eigen::Vector3d::Zero();
   } target;
-  // For the constraint force (VehicleState::constraint_force): the step's generalised velocity, mass
-  // matrix, bias and the generalised force Bullet was handed, at the step's start.
+  // For the constraint force (VehicleState::constraint_force): the step's generalised velocity, bias and
+  // the generalised force Bullet was handed, at the step's start (`dynamics` keeps the mass matrix's state
+  // until the next step's update()).
   Eigen::VectorXd u0, Q_given;
-  Eigen::MatrixXd M0;
   Eigen::VectorXd c0;
   // What a step of an articulated vehicle works in, kept so that a step allocates nothing.
   struct Work {
@@ -1106,13 +1106,12 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   tau = reactions.joint_torques;
   for (std::size_t j = 0; j < n; ++j) vehicle.joint_efforts[j] = reactions.servo[static_cast<Eigen::Index>(j)];
   runtime.u0 = dynamics.u();
-  runtime.M0 = dynamics.mass_matrix();
   runtime.c0 = dynamics.bias();
   dynamics.generalized_force(wrenches, model_.world.gravity_W, tau, runtime.Q_given);
   runtime.target.active = !model_.vehicles[i].is_static;
   if (runtime.target.active) {
     // The whole tree's momentum balance under the external wrenches (the joints' torques are internal).
-    const physics::ArticulatedDynamics::Momentum now = dynamics.momentum();
+    const physics::ArticulatedDynamics::Momentum now = dynamics.momentum(/*inertia=*/false);
     const Eigen::Vector3d& g_W = model_.world.gravity_W;
     Eigen::Vector3d F_W = now.mass * g_W, tau_W = Eigen::Vector3d::Zero();  // about the centre of mass
     for (std::size_t k = 0; k < wrenches.size(); ++k) {
@@ -1129,8 +1128,7 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   const int v = static_cast<int>(i);
   for (std::size_t k = 0; k < wrenches.size(); ++k) {
     const int body = static_cast<int>(k);
-    world_->add_body_force_W(v, body, wrenches[k].head<3>(), dynamics.p_Wcm(body));
-    world_->add_body_torque_W(v, body, wrenches[k].tail<3>());
+    world_->add_body_wrench_W(v, body, wrenches[k].head<3>(), wrenches[k].tail<3>());
   }
   for (std::size_t j = 0; j < n; ++j) {
     world_->add_joint_torque(v, static_cast<int>(j), tau[static_cast<Eigen::Index>(j)]);
@@ -1187,7 +1185,7 @@ void Simulation::take_snapshot(double dt) {
       Eigen::VectorXd& u_dot = work.u_dot;
       u_dot = (u1 - runtime.u0) / dt;
       Eigen::VectorXd& Q_c = work.Q_c;
-      Q_c.noalias() = runtime.M0 * u_dot;
+      runtime.dynamics->mass_times(u_dot, Q_c);
       Q_c -= runtime.Q_given - runtime.c0;
       vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
       if (!vehicle.joint_wrenches_L.empty() && runtime.joint_wrenches_due(state_.step_count + 1, dt)) {

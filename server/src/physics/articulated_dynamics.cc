@@ -318,8 +318,8 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
       A.head<3>() = a_p + alpha_p.cross(r1) + w_p.cross(w_p.cross(r1)) + A.tail<3>().cross(r2) + w.cross(w.cross(r2));
     }
   }
-  M_.setZero();
   c_.setZero();
+  mass_matrix_current_ = false;
   for (int k = 0; k < a.num_bodies(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     const double m = a.body(k).mass_K.mass;
@@ -331,8 +331,41 @@ void ArticulatedDynamics::update(const std::vector<Eigen::Isometry3d>& X_WK, con
     h.tail<3>() = I_W_[i] * A_[i].tail<3>() + w.cross(I_W_[i] * w);
     F_[i] = wrench_about_origin(h, p_Wcm_[i]);
   }
-  add_composite(G_, M_);
   project(F_, c_);
+}
+
+const Eigen::MatrixXd& ArticulatedDynamics::mass_matrix() const {
+  if (!mass_matrix_current_) {
+    std::vector<Matrix6d>& G = scratch_.G_total;
+    G = G_;
+    M_.setZero(n_, n_);
+    add_composite(G, M_);
+    mass_matrix_current_ = true;
+  }
+  return M_;
+}
+
+void ArticulatedDynamics::mass_times(const Eigen::VectorXd& u_dot, Eigen::VectorXd& out) const {
+  // Each body's twist rate about W's origin from u_dot alone (the tree from the base out), its inertia
+  // about the origin times it, summed back down the tree by project: sum_k J_k^T A_k J_k u_dot.
+  const Articulation& a = articulation_;
+  const int offset = fixed_base_ ? 0 : 6;
+  std::vector<Wrench>& Z = scratch_.Z;
+  std::vector<Wrench>& F = scratch_.F;
+  Z.resize(static_cast<std::size_t>(a.num_bodies()));
+  F.resize(Z.size());
+  Z[0].setZero();
+  if (!fixed_base_) {
+    Z[0].head<3>() = u_dot.head<3>() + p_Wcm_[0].cross(u_dot.segment<3>(3));
+    Z[0].tail<3>() = u_dot.segment<3>(3);
+  }
+  for (int k = 1; k < a.num_bodies(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    Z[i] = Z[static_cast<std::size_t>(a.body(k).parent)] + psi_[i] * u_dot[offset + k - 1];
+  }
+  for (std::size_t i = 0; i < Z.size(); ++i) F[i].noalias() = G_[i] * Z[i];
+  out.setZero(n_);
+  project(F, out);
 }
 
 // M += sum_k J_k^T A_k J_k by composite bodies (Featherstone's CRBA) over the twists about W's origin:
@@ -404,7 +437,7 @@ void ArticulatedDynamics::accelerations(const Eigen::VectorXd& u_dot, std::vecto
   for (std::size_t i = 0; i < Z.size(); ++i) Z[i].head<3>() -= p_Wcm_[i].cross(Z[i].tail<3>());
 }
 
-ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
+ArticulatedDynamics::Momentum ArticulatedDynamics::momentum(bool inertia) const {
   Momentum out;
   for (int k = 0; k < articulation_.num_bodies(); ++k) {
     const double m = articulation_.body(k).mass_K.mass;
@@ -418,7 +451,7 @@ ArticulatedDynamics::Momentum ArticulatedDynamics::momentum() const {
     const Eigen::Vector3d r = p_Wcm_[i] - out.c_W;
     out.P_W += m * V_[i].head<3>();
     out.L_W += r.cross(m * V_[i].head<3>()) + I_W_[i] * V_[i].tail<3>();
-    out.I_W += I_W_[i] + m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+    if (inertia) out.I_W += I_W_[i] + m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
   }
   return out;
 }
@@ -485,7 +518,6 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
   out.joint_torques = joint_torques;
   std::vector<Wrench>& reactions = out.bodies;
   Eigen::MatrixXd& M = w.M;
-  M = M_;
   // Q: the applied wrenches, gravity and each body's added-mass velocity-product part, all about W's origin.
   Eigen::VectorXd& rhs = w.rhs;
   rhs.setZero(n_);
@@ -497,12 +529,12 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
   std::vector<char>& has_added = w.has_added;
   std::vector<Wrench>& bias = w.bias;
   std::vector<Wrench>& F = w.F;
-  std::vector<Matrix6d>& G_added = w.G_added;  // each body's added mass about W's origin
+  std::vector<Matrix6d>& G_total = w.G_total;  // each body's rigid and added inertia about W's origin
   A_added.resize(bodies);
   has_added.assign(bodies, 0);
   bias.assign(bodies, Wrench::Zero());
   F.resize(bodies);
-  G_added.assign(bodies, Matrix6d::Zero());
+  G_total = G_;
   bool any = false;
   const bool moving_base = !fixed_base_;
   for (std::size_t i = 0; i < bodies; ++i) {
@@ -526,13 +558,14 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
       bias[i].tail<3>() = R * tau.tail<3>();
       W += bias[i];
       A_added[i] = rotate_symmetric(M_A, R);
-      G_added[i] = about_origin(A_added[i], p_Wcm_[i]);
+      G_total[i] += about_origin(A_added[i], p_Wcm_[i]);
     }
     F[i] = wrench_about_origin(W, p_Wcm_[i]);
   }
   project(F, rhs);
-  if (any) add_composite(G_added, M);
   if (!any && implicit == nullptr) return;
+  M.setZero(n_, n_);
+  add_composite(G_total, M);
   Eigen::VectorXd& u_dot = w.u_dot;
   if (implicit == nullptr) {
     u_dot = M.ldlt().solve(rhs);

@@ -485,6 +485,17 @@ void BulletWorld::add_body_torque_W(int vehicle, int body, const Eigen::Vector3d
   }
 }
 
+void BulletWorld::add_body_wrench_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& tau_W) {
+  btMultiBody& mb = *impl_->vehicles[vehicle].multibody;
+  if (body == 0) {
+    mb.addBaseForce(to_bt(f_W));
+    mb.addBaseTorque(to_bt(tau_W));
+  } else {
+    mb.addLinkForce(body - 1, to_bt(f_W));
+    mb.addLinkTorque(body - 1, to_bt(tau_W));
+  }
+}
+
 void BulletWorld::add_joint_torque(int vehicle, int joint, double tau) {
   impl_->vehicles[vehicle].multibody->addJointTorque(joint, tau);
 }

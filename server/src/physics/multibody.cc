@@ -92,8 +92,9 @@ void set_multibody_state(btMultiBody& mb, const Articulation& articulation, cons
     mb.setJointPos(i, q[i]);
     mb.setJointVel(i, qd[i]);
   }
-  btAlignedObjectArray<btQuaternion> world_to_local;
-  btAlignedObjectArray<btVector3> local_origin;
+  // Bullet's scratch for the tree's transforms, kept from call to call (this runs every step).
+  thread_local btAlignedObjectArray<btQuaternion> world_to_local;
+  thread_local btAlignedObjectArray<btVector3> local_origin;
   mb.forwardKinematics(world_to_local, local_origin);
 }
 
@@ -120,8 +121,8 @@ Eigen::Isometry3d pose_of(const btTransform& X_WP, const Articulation::Body& bod
   const Eigen::Isometry3d& X_KP_k = X_KP(body);
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
   X.linear() = R_WP * X_KP_k.linear().transpose();
-  X.translation() =
-      Eigen::Vector3d(X_WP.getOrigin().x(), X_WP.getOrigin().y(), X_WP.getOrigin().z()) - X.linear() * X_KP_k.translation();
+  const btVector3& o = X_WP.getOrigin();
+  X.translation() = Eigen::Vector3d(o.x(), o.y(), o.z()) - X.linear() * X_KP_k.translation();
   return X;
 }
 }  // namespace
@@ -138,7 +139,9 @@ void collider_poses_W(const btMultiBody& mb, const Articulation& articulation, s
   X_WK.resize(static_cast<std::size_t>(articulation.num_bodies()));
   for (int k = 0; k < articulation.num_bodies(); ++k) {
     const btMultiBodyLinkCollider* collider = k == 0 ? mb.getBaseCollider() : mb.getLink(k - 1).m_collider;
-    if (collider == nullptr) throw std::logic_error("collider_poses_W: body " + std::to_string(k) + " has no collider");
+    if (collider == nullptr) {
+      throw std::logic_error("collider_poses_W: body " + std::to_string(k) + " has no collider");
+    }
     X_WK[static_cast<std::size_t>(k)] = pose_of(collider->getWorldTransform(), articulation.body(k));
   }
 }

@@ -50,14 +50,19 @@ class ArticulatedDynamics {
 
   int size() const { return n_; }  // of u
   const Eigen::VectorXd& u() const { return u_; }
-  const Eigen::MatrixXd& mass_matrix() const { return M_; }
+  // M at the last update()'s state, summed on first need (the step itself never forms it: reactions()
+  // sums M with the added mass, mass_times() multiplies by it).
+  const Eigen::MatrixXd& mass_matrix() const;
+  // out = M u_dot (M: the rigid bodies', at the last update()'s state), by the tree without forming M.
+  void mass_times(const Eigen::VectorXd& u_dot, Eigen::VectorXd& out) const;
   const Eigen::VectorXd& bias() const { return c_; }
   // Body k's centre of mass in W, its velocity [v; w] in W, and its bias acceleration a_k.
   const Eigen::Vector3d& p_Wcm(int k) const { return p_Wcm_[static_cast<std::size_t>(k)]; }
   const Vector6d& velocity(int k) const { return V_[static_cast<std::size_t>(k)]; }
   const Vector6d& bias_acceleration(int k) const { return A_[static_cast<std::size_t>(k)]; }
 
-  // The whole tree's mass, centre of mass, momentum, angular momentum and inertia about that centre (W).
+  // The whole tree's mass, centre of mass, momentum, angular momentum and inertia about that centre (W);
+  // without `inertia`, I_W is left zero.
   struct Momentum {
     double mass = 0.0;
     Eigen::Vector3d c_W = Eigen::Vector3d::Zero();
@@ -65,7 +70,7 @@ class ArticulatedDynamics {
     Eigen::Vector3d L_W = Eigen::Vector3d::Zero();
     Eigen::Matrix3d I_W = Eigen::Matrix3d::Zero();
   };
-  Momentum momentum() const;
+  Momentum momentum(bool inertia = true) const;
 
   // Q for body wrenches at the centres of mass (W), gravity g_W on every body, and joint torques.
   Eigen::VectorXd generalized_force(const std::vector<Wrench>& wrenches_W, const Eigen::Vector3d& g_W,
@@ -142,7 +147,7 @@ class ArticulatedDynamics {
   struct Scratch {
     Eigen::MatrixXd M, K, Li, S;
     Eigen::VectorXd rhs, u_dot, r, qdd, servo, D, sliding, total;
-    std::vector<Matrix6d> A_added, G_added;
+    std::vector<Matrix6d> A_added, G_total;
     std::vector<Wrench> bias, F, Z;
     std::vector<char> has_added, mode, locked;
     std::vector<Eigen::Index> rows;
@@ -156,10 +161,11 @@ class ArticulatedDynamics {
   std::vector<Eigen::Vector3d> p_Wcm_, o_W_;  // centres of mass, K's origins
   std::vector<Eigen::Matrix3d> R_WK_, I_W_;
   Eigen::VectorXd u_;
-  Eigen::MatrixXd M_;
+  mutable Eigen::MatrixXd M_;  // mass_matrix()'s, valid while mass_matrix_current_
+  mutable bool mass_matrix_current_ = false;
   Eigen::VectorXd c_;
   std::vector<Vector6d> psi_;  // each moving body's joint column of the twist about W's origin (update())
-  std::vector<Matrix6d> G_;    // scratch of update(): each body's inertia about W's origin
+  std::vector<Matrix6d> G_;    // each body's inertia about W's origin (update())
   std::vector<Wrench> F_;      // scratch of update(): each body's bias wrench about W's origin
   std::vector<Articulation::BodyVelocity> velocities_;  // scratch of update_kinematics()
   mutable Scratch scratch_;

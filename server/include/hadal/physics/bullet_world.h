@@ -106,6 +106,9 @@ class BulletWorld {
   void add_body_force_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WQ);
   void add_body_torque_W(int vehicle, int body, const Eigen::Vector3d& tau_W);
   void add_joint_torque(int vehicle, int joint, double tau);
+  // Body k's force f_W acting at its centre of mass and a moment tau_W (both in W): what the simulation
+  // hands each body every step, with no moment to take.
+  void add_body_wrench_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& tau_W);
 
   // Advances by exactly one step of dt seconds.
   void step(double dt);
