@@ -142,14 +142,12 @@ struct BulletWorld::Impl {
     std::unique_ptr<btRigidBody> body;
     bool soil_contact = false;  // seabed_contact soil: the soil's forces, not Bullet, meet the seabed
     bool is_static = false;     // VehicleSpec::is_static
-    // Articulated vehicles only (body is null then): the tree, Bullet's multibody, one collider per body
-    // (body order), and each body's frame K in W as the last set_articulated_state wrote it (the poses
-    // add_body_force_W takes moments about). The joints' limits and friction are not Bullet's: the
-    // simulation's implicit joint solve gives them as joint torques (physics/articulated_dynamics.h).
+    // Articulated vehicles only (body is null then): the tree, Bullet's multibody and one collider per body
+    // (body order). The joints' limits and friction are not Bullet's: the simulation's implicit joint solve
+    // gives them as joint torques (physics/articulated_dynamics.h).
     std::unique_ptr<Articulation> articulation;
     MultiBodyPtr multibody;
     std::vector<Collider> colliders;
-    std::vector<Eigen::Isometry3d> X_WK;
   };
   // The collision group of static vehicles (Bullet's first free custom group after its own five).
   static constexpr int kStaticVehicleFilter = btBroadphaseProxy::CharacterFilter << 1;
@@ -410,7 +408,6 @@ void BulletWorld::set_articulated_state(int vehicle, const RigidBodyState& body,
   Impl::Vehicle& v = impl_->vehicles[vehicle];
   set_multibody_state(*v.multibody, *v.articulation, body.X_WB, body.v_WB, body.w_WB, q, qd);
   v.multibody->clearForcesAndTorques();
-  cached_poses_W(*v.multibody, *v.articulation, v.X_WK);
   place_colliders(*v.multibody);  // Bullet refreshes them only within a step
 }
 
@@ -472,8 +469,7 @@ void BulletWorld::add_torque_W(int vehicle, const Eigen::Vector3d& tau_W) {
 }
 
 void BulletWorld::add_body_force_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WQ) {
-  Impl::Vehicle& v = impl_->vehicles[vehicle];
-  physics::add_body_force_W(*v.multibody, *v.articulation, v.X_WK, body, f_W, p_WQ);
+  physics::add_body_force_W(*impl_->vehicles[vehicle].multibody, body, f_W, p_WQ);
 }
 
 void BulletWorld::add_body_torque_W(int vehicle, int body, const Eigen::Vector3d& tau_W) {

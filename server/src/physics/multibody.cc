@@ -105,12 +105,6 @@ std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& mb, const Articula
   return cached_poses_W(mb, articulation);
 }
 
-std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& mb, const Articulation& articulation) {
-  std::vector<Eigen::Isometry3d> X_WK;
-  cached_poses_W(mb, articulation, X_WK);
-  return X_WK;
-}
-
 namespace {
 // Body k's frame K in W from its principal frame P's as Bullet's transform holds it (its rotation matrix as
 // it is): X_WP X_PK.
@@ -127,12 +121,13 @@ Eigen::Isometry3d pose_of(const btTransform& X_WP, const Articulation::Body& bod
 }
 }  // namespace
 
-void cached_poses_W(const btMultiBody& mb, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK) {
-  X_WK.resize(static_cast<std::size_t>(articulation.num_bodies()));
+std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& mb, const Articulation& articulation) {
+  std::vector<Eigen::Isometry3d> X_WK(static_cast<std::size_t>(articulation.num_bodies()));
   X_WK[0] = pose_of(mb.getBaseWorldTransform(), articulation.body(0));
   for (int k = 1; k < articulation.num_bodies(); ++k) {
     X_WK[static_cast<std::size_t>(k)] = pose_of(mb.getLink(k - 1).m_cachedWorldTransform, articulation.body(k));
   }
+  return X_WK;
 }
 
 void collider_poses_W(const btMultiBody& mb, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK) {
@@ -162,10 +157,11 @@ void place_colliders(btMultiBody& mb) {
   }
 }
 
-void add_body_force_W(btMultiBody& mb, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
-                      int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W) {
-  const Eigen::Vector3d c_W = X_WK.at(static_cast<std::size_t>(k)) * articulation.body(k).mass_K.p_BBcm;
-  const Eigen::Vector3d moment_W = (p_W - c_W).cross(f_W);
+void add_body_force_W(btMultiBody& mb, int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W) {
+  // Bullet's frame of body k is its principal frame, whose origin is the centre of mass (MassProperties).
+  const btVector3 c =
+      k == 0 ? mb.getBaseWorldTransform().getOrigin() : mb.getLink(k - 1).m_cachedWorldTransform.getOrigin();
+  const Eigen::Vector3d moment_W = (p_W - Eigen::Vector3d(c.x(), c.y(), c.z())).cross(f_W);
   if (k == 0) {
     mb.addBaseForce(bt(f_W));
     mb.addBaseTorque(bt(moment_W));

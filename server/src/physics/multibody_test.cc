@@ -235,7 +235,7 @@ TEST(MultiBodyTest, ArticulatedDynamicsPredictsBulletsStep) {
     for (int k = 0; k < a.num_bodies(); ++k) {
       ArticulatedDynamics::Wrench& W = wrenches[static_cast<std::size_t>(k)];
       W << 3.0 - k, 1.0 + 2.0 * k, -2.0 + k, 0.5 * k, -0.3, 0.2 + 0.1 * k;
-      add_body_force_W(*mb, a, X_WK, k, W.head<3>(), dynamics.p_Wcm(k));
+      add_body_force_W(*mb, k, W.head<3>(), dynamics.p_Wcm(k));
       if (k == 0) {
         mb->addBaseTorque(btVector3(W[3], W[4], W[5]));
       } else {
@@ -349,7 +349,7 @@ TEST(MultiBodyTest, AddedMassReactionsConserveTheImpulseOfBodiesAndFluid) {
             dynamics.added_mass_reactions(added, none, Eigen::Vector3d::Zero(), tau, Eigen::VectorXd(), coriolis);
         for (std::size_t k = 0; k < bodies; ++k) {
           const ArticulatedDynamics::Wrench& W = reactions[k];
-          add_body_force_W(*mb, a, X_WK, static_cast<int>(k), W.head<3>(), dynamics.p_Wcm(static_cast<int>(k)));
+          add_body_force_W(*mb, static_cast<int>(k), W.head<3>(), dynamics.p_Wcm(static_cast<int>(k)));
           if (k == 0) {
             mb->addBaseTorque(btVector3(W[3], W[4], W[5]));
           } else {
@@ -513,7 +513,7 @@ TEST(MultiBodyTest, AForceAtAPointOfALinkIsHeldByItsMomentAboutTheJoint) {
     for (int step = 0; step < static_cast<int>(1.0 / p.dt); ++step) {
       const std::vector<Eigen::Isometry3d> X_WK = multibody_poses_W(*mb, a);
       // The point moves with the bob: its place in the bob's frame K at q = 0 is `point` (K = B = W here).
-      add_body_force_W(*mb, a, X_WK, 1, F, X_WK[1] * point);
+      add_body_force_W(*mb, 1, F, X_WK[1] * point);
       mb->addJointTorque(0, torque);
       world.world.stepSimulation(p.dt, 0, p.dt);
     }

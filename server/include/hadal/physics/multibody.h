@@ -43,7 +43,6 @@ void set_multibody_state(btMultiBody& body, const Articulation& articulation, co
 std::vector<Eigen::Isometry3d> multibody_poses_W(btMultiBody& body, const Articulation& articulation);
 // The same from Bullet's cached link transforms as they are (set_multibody_state leaves them current).
 std::vector<Eigen::Isometry3d> cached_poses_W(const btMultiBody& body, const Articulation& articulation);
-void cached_poses_W(const btMultiBody& body, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK);
 // The same from the bodies' colliders (every body must have one), which Bullet's step leaves at the step's
 // result (btMultiBody::updateCollisionObjectWorldTransforms; the cached link transforms stay at its start).
 void collider_poses_W(const btMultiBody& body, const Articulation& articulation, std::vector<Eigen::Isometry3d>& X_WK);
@@ -53,10 +52,9 @@ void collider_poses_W(const btMultiBody& body, const Articulation& articulation,
 void place_colliders(btMultiBody& body);
 
 // A force f_W [N] acting at the point p_W [m] of body k (both in W), for the next step: Bullet takes a
-// body's force at its centre of mass (from X_WK, multibody_poses_W's poses), so the moment
-// (p_W - c_W) x f_W goes in as a torque. How fluid forces reach each body of an articulated vehicle.
-void add_body_force_W(btMultiBody& body, const Articulation& articulation, const std::vector<Eigen::Isometry3d>& X_WK,
-                      int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W);
+// body's force at its centre of mass (where its cached transforms put it: set_multibody_state's, or the
+// last step's start), so the moment (p_W - c_W) x f_W goes in as a torque.
+void add_body_force_W(btMultiBody& body, int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W);
 
 // The joint coordinates and rates Bullet holds.
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& body);
