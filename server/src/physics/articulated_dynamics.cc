@@ -12,37 +12,48 @@
 namespace hadal::physics {
 namespace {
 
-// A's leading n x n block = L L^T in place (L in its lower triangle; the strict upper one is left as it
-// was) for a small symmetric positive definite block (the generalised mass matrix: 6 + a few joints; the
-// joint solve's rows), false when it is not. Plain loops: at this size Eigen's LLT and its triangular solves
-// spend more in set-up and dispatch than in arithmetic.
+// A's leading n x n block = L L^T in place (L in its lower triangle, read from it; L^T is written into the
+// strict upper triangle as well) for a small symmetric positive definite block (the generalised mass
+// matrix: 6 + a few joints; the joint solve's rows), false when it is not. Plain loops: at this size
+// Eigen's LLT and its triangular solves spend more in set-up and dispatch than in arithmetic. The sums
+// run over rows of L, which are columns of L^T: contiguous in the column-major A.
 bool cholesky_in_place(Eigen::MatrixXd& A, Eigen::Index n) {
+  const Eigen::Index stride = A.outerStride();
+  double* a = A.data();
   for (Eigen::Index j = 0; j < n; ++j) {
-    double d = A(j, j);
-    for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    double* column_j = a + j * stride;  // L^T's column j above the diagonal: L's row j
+    double d = column_j[j];
+    for (Eigen::Index k = 0; k < j; ++k) d -= column_j[k] * column_j[k];
     if (!(d > 0.0)) return false;
     d = std::sqrt(d);
-    A(j, j) = d;
+    column_j[j] = d;
     for (Eigen::Index i = j + 1; i < n; ++i) {
-      double sum = A(i, j);
-      for (Eigen::Index k = 0; k < j; ++k) sum -= A(i, k) * A(j, k);
-      A(i, j) = sum / d;
+      double* column_i = a + i * stride;
+      double sum = column_j[i];  // A(i, j), the lower triangle
+      for (Eigen::Index k = 0; k < j; ++k) sum -= column_i[k] * column_j[k];
+      column_j[i] = sum / d;  // L(i, j)
+      column_i[j] = column_j[i];  // L^T(j, i)
     }
   }
   return true;
 }
 
-// x = (L L^T)^-1 x in place, for L (n x n) from cholesky_in_place: forward, then backward substitution.
+// x = (L L^T)^-1 x in place, for L (n x n) from cholesky_in_place: forward substitution along L's rows (the
+// upper triangle's columns), then backward along L's columns: both contiguous.
 void cholesky_solve(const Eigen::MatrixXd& L, Eigen::Index n, double* x) {
+  const Eigen::Index stride = L.outerStride();
+  const double* l = L.data();
   for (Eigen::Index i = 0; i < n; ++i) {
+    const double* column_i = l + i * stride;
     double sum = x[i];
-    for (Eigen::Index k = 0; k < i; ++k) sum -= L(i, k) * x[k];
-    x[i] = sum / L(i, i);
+    for (Eigen::Index k = 0; k < i; ++k) sum -= column_i[k] * x[k];
+    x[i] = sum / column_i[i];
   }
   for (Eigen::Index i = n - 1; i >= 0; --i) {
+    const double* column_i = l + i * stride;
     double sum = x[i];
-    for (Eigen::Index k = i + 1; k < n; ++k) sum -= L(k, i) * x[k];
-    x[i] = sum / L(i, i);
+    for (Eigen::Index k = i + 1; k < n; ++k) sum -= column_i[k] * x[k];
+    x[i] = sum / column_i[i];
   }
 }
 
