@@ -107,3 +107,13 @@ done
 # 9. Sonars (bench/sonar.cc): a forward-looking sonar ping (256 beams x 512 bins, 10 rays per cell) and a
 #    multibeam ping (256 beams) over the 1M-triangle seabed on one and two threads.
 "$build/bin/hadal_bench_sonar" --repetitions 10
+
+# 10. Articulated vehicles (issue 40): the work-class ROV with its Oberon 7 arm over the push core, and the
+#     two-joint arm on a fixed frame, 500 Hz, every body's fluid model every step, one thread, no cameras
+#     (the physics step's figure). Interleaved, so that the two see the same machine; the arm's step is the
+#     yardstick of how busy the machine was.
+for r in 1 2 3; do
+  for scenario in configs/scenarios/rov_intervention.yaml tests/integration/scenarios/arm.yaml; do
+    "$build/bin/hadal_bench_step_rate" "$scenario" --sim-seconds 10 --repetitions 8 --threads 1 --no-cameras
+  done
+done
