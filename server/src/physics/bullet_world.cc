@@ -482,14 +482,7 @@ void BulletWorld::add_body_torque_W(int vehicle, int body, const Eigen::Vector3d
 }
 
 void BulletWorld::add_body_wrench_W(int vehicle, int body, const Eigen::Vector3d& f_W, const Eigen::Vector3d& tau_W) {
-  btMultiBody& mb = *impl_->vehicles[vehicle].multibody;
-  if (body == 0) {
-    mb.addBaseForce(to_bt(f_W));
-    mb.addBaseTorque(to_bt(tau_W));
-  } else {
-    mb.addLinkForce(body - 1, to_bt(f_W));
-    mb.addLinkTorque(body - 1, to_bt(tau_W));
-  }
+  physics::add_body_wrench_W(*impl_->vehicles[vehicle].multibody, body, f_W, tau_W);
 }
 
 void BulletWorld::add_joint_torque(int vehicle, int joint, double tau) {

@@ -161,13 +161,16 @@ void add_body_force_W(btMultiBody& mb, int k, const Eigen::Vector3d& f_W, const 
   // Bullet's frame of body k is its principal frame, whose origin is the centre of mass (MassProperties).
   const btVector3 c =
       k == 0 ? mb.getBaseWorldTransform().getOrigin() : mb.getLink(k - 1).m_cachedWorldTransform.getOrigin();
-  const Eigen::Vector3d moment_W = (p_W - Eigen::Vector3d(c.x(), c.y(), c.z())).cross(f_W);
+  add_body_wrench_W(mb, k, f_W, (p_W - Eigen::Vector3d(c.x(), c.y(), c.z())).cross(f_W));
+}
+
+void add_body_wrench_W(btMultiBody& mb, int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& tau_W) {
   if (k == 0) {
     mb.addBaseForce(bt(f_W));
-    mb.addBaseTorque(bt(moment_W));
+    mb.addBaseTorque(bt(tau_W));
   } else {
     mb.addLinkForce(k - 1, bt(f_W));
-    mb.addLinkTorque(k - 1, bt(moment_W));
+    mb.addLinkTorque(k - 1, bt(tau_W));
   }
 }
 

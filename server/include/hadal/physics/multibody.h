@@ -55,6 +55,8 @@ void place_colliders(btMultiBody& body);
 // body's force at its centre of mass (where its cached transforms put it: set_multibody_state's, or the
 // last step's start), so the moment (p_W - c_W) x f_W goes in as a torque.
 void add_body_force_W(btMultiBody& body, int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_W);
+// Body k's force f_W at its centre of mass and a moment tau_W (both in W), for the next step.
+void add_body_wrench_W(btMultiBody& body, int k, const Eigen::Vector3d& f_W, const Eigen::Vector3d& tau_W);
 
 // The joint coordinates and rates Bullet holds.
 Eigen::VectorXd multibody_joint_positions(const btMultiBody& body);
