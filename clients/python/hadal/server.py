@@ -18,6 +18,7 @@ newest: each new Server deletes the older logs of servers that have stopped, nev
 
 import atexit
 import fcntl
+import json
 import os
 import re
 import shutil
@@ -123,6 +124,28 @@ def _holder(domain_id):
     return f" (pid {pid})" if pid.isdigit() else ""
 
 
+def override_arguments(overrides):
+    """hadald --set arguments ("KEY.PATH=VALUE") for Server(overrides=...): a dict's items, each value written
+    as YAML in flow style (JSON is that: numbers, lists, dicts, strings, booleans), or a list of strings as they
+    are. None: none."""
+    if overrides is None:
+        return []
+    if isinstance(overrides, dict):
+        out = []
+        for key, value in overrides.items():
+            if not isinstance(key, str) or not key:
+                raise ValueError(f"an override's key must be a non-empty key path string (got {key!r})")
+            try:
+                text = json.dumps(value, allow_nan=False)
+            except (TypeError, ValueError) as e:
+                raise ValueError(f"override {key}: the value {value!r} cannot be written as YAML ({e})") from None
+            out.append(f"{key}={text}")
+        return out
+    if isinstance(overrides, str):
+        raise ValueError("overrides must be a dict or a list of 'KEY.PATH=VALUE' strings, not one string")
+    return [str(item) for item in overrides]
+
+
 class Server:
     """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
 
@@ -137,6 +160,11 @@ class Server:
     `file:line:col: error:` lines, a server that exits first for another reason ServerNotFound with its
     log's end. extra_args go to hadald's command line as they are.
 
+    overrides set keys of the scenario as if its file said so (hadald --set, checked like the file; a bad one
+    raises ScenarioError): a dict {"world.water.current.uniform": [0.4, 0, 0], "vehicles.auv.initial_pose":
+    {"position": [0, 0, -50]}} (values as YAML: numbers, lists, dicts, strings, booleans) or a list of
+    "KEY.PATH=VALUE" strings, in order (a later one wins). Key paths as in docs/configuration.md, "Overrides".
+
     security_file turns DDS Security on (hadald --security: a YAML file with hadald's `security:` block, as
     tools/make-security-demo.sh writes it); client_security_file is then the identity of the clients this
     object makes (its readiness probe, client()), by default the same file.
@@ -144,7 +172,7 @@ class Server:
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
                  extra_args=(), cameras=True, threads=None, cpus=None, sched=None, security_file=None,
-                 client_security_file=None):
+                 client_security_file=None, overrides=None):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
@@ -170,6 +198,8 @@ class Server:
             args += ["--sched", str(sched)]
         if security_file is not None:
             args += ["--security", os.fspath(security_file)]
+        for override in override_arguments(overrides):
+            args += ["--set", override]
         self.client_security_file = client_security_file if client_security_file is not None else security_file
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")

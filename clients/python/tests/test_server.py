@@ -98,6 +98,27 @@ def test_a_malformed_scenario_is_a_clear_error(tmp_path):
         hadal.Server("rov", mode="turbo")
 
 
+def test_overrides_set_keys_as_the_file_would_and_are_checked_like_it():
+    """Server(overrides=...) passes each as hadald --set: the ROV starts where the override puts it (the file
+    says 90 m down); a misspelt key is the file's own error, reported at the override."""
+    moved = {"vehicles.rov.initial_pose": {"position": [5.0, -2.0, -40.0]}, "world.water.current.uniform": [0.2, 0, 0]}
+    with hadal.Server("rov", mode="lockstep", domain_id="free", overrides=moved) as server:
+        client = hadal.Client(domain_id=server.domain_id, name="pytest")
+        assert client.wait_for_server(WAIT_S)
+        t = client.step(10)
+        odometry = client.wait_odometry("rov", min_stamp=t, timeout_s=WAIT_S)
+        assert odometry is not None
+        # Within 0.05 m after a few steps of drifting in its trim and the 0.2 m/s current.
+        assert abs(odometry.p_WB[0] - 5.0) < 0.05 and abs(odometry.p_WB[1] + 2.0) < 0.05
+        assert abs(odometry.p_WB[2] + 40.0) < 0.05
+    with pytest.raises(hadal.ScenarioError) as error:
+        hadal.Server("rov", domain_id="free", overrides=["world.water.current.unifrm=[0.2, 0, 0]"])
+    assert error.value.errors == ["--set world.water.current.unifrm=[0.2, 0, 0]:1:28: error: "
+                                  "world.water.current.unifrm: unknown key 'unifrm'; did you mean 'uniform'?"]
+    with pytest.raises(ValueError, match="not one string"):
+        hadal.Server("rov", overrides="world.seed=3")
+
+
 def test_a_cpu_the_process_may_not_run_on_is_a_clear_error():
     """hadald --cpus refuses a CPU outside the launching process's set before anything starts."""
     missing = max(os.sched_getaffinity(0)) + 1

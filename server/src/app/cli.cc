@@ -45,6 +45,7 @@ std::string usage() {
          "                            [--discovery-wait SECONDS] [--threads N] [--cpus LIST]\n"
          "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
          "                            [--no-cameras] [--asset-root DIR]... [--security FILE]\n"
+         "                            [--set KEY.PATH=VALUE]...\n"
          "                            [--ray-kernels native|portable]\n"
          "       hadald --schema [scenario|vehicle|object]\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
@@ -70,6 +71,10 @@ std::string usage() {
          "                   CPU) or portable (the same ray-cast bits on every x86-64 machine, slower)\n"
          "  --asset-root DIR another directory the scenario's includes, meshes and maps may lie in\n"
          "                   (besides its own tree and hadal's configs; also $HADAL_ASSET_ROOTS, a:b)\n"
+         "  --set K=V        override one key of the scenario as if the file said so, checked like it:\n"
+         "                   world.water.current.uniform=[0.4,0,0], vehicles.auv.initial_pose.position=[0,0,-50]\n"
+         "                   (a list's entry by its name; into a vehicle's included file through its entry;\n"
+         "                   repeatable, the last wins; docs/configuration.md, \"Overrides\")\n"
          "  --security FILE  DDS Security (authentication, encryption, access control) with the files of\n"
          "                   FILE's `security:` block, in place of the scenario's (tools/make-security-demo.sh)\n"
          "  --schema [scenario|vehicle|object]  print the JSON Schema of scenario (default), vehicle or\n"
@@ -179,6 +184,8 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
         o.security_file = value;  // read by hadald_main (config::load_security_file)
       } else if (arg == "--asset-root") {
         o.asset_roots.push_back(value);  // checked by the loader (config::asset_roots)
+      } else if (arg == "--set") {
+        o.overrides.push_back(value);  // KEY.PATH=VALUE, checked by the loader (config::LoadOptions)
       } else if (arg == "--domain-id") {
         if (std::string error = dds::read_domain_id_option(value, &o.domain_id); !error.empty()) {
           parse.error = std::move(error);

@@ -37,6 +37,7 @@ struct CliOptions {
   bool sched_batch = false;    // --sched batch: SCHED_BATCH, wake-ups do not preempt; scheduling.h
   std::string record_dir;      // --record DIR: a rosbag2 bag of every topic (hadal/record/bag_recorder.h)
   std::vector<std::string> asset_roots;  // --asset-root DIR...: config::LoadOptions
+  std::vector<std::string> overrides;    // --set KEY.PATH=VALUE...: config::LoadOptions
   std::string security_file;             // --security FILE: its `security:` block replaces the scenario's
   // Wall seconds to wait after start-up before the first step, so subscribers that are already
   // running are matched before the first samples (a fast run can be over before DDS discovery is).

@@ -43,6 +43,12 @@ TEST(CliTest, DefaultsAndAllOptions) {
   ASSERT_EQ(p.error, "");
   EXPECT_EQ(p.options.asset_roots, (std::vector<std::string>{"/data/meshes", "../maps"}));
   EXPECT_EQ(parse_cli({"s.yaml", "--asset-root"}, nullptr).error, "option --asset-root needs a value");
+  EXPECT_TRUE(p.options.overrides.empty());
+  // Overrides in their order (the loader checks them: a later one wins).
+  EXPECT_EQ(parse_cli({"s.yaml", "--set", "world.seed=3", "--set", "vehicles.auv.command_timeout_s=2"}, nullptr)
+                .options.overrides,
+            (std::vector<std::string>{"world.seed=3", "vehicles.auv.command_timeout_s=2"}));
+  EXPECT_EQ(parse_cli({"s.yaml", "--set"}, nullptr).error, "option --set needs a value");
   EXPECT_EQ(p.options.security_file, "");
   EXPECT_EQ(parse_cli({"s.yaml", "--security", "dds/hadald.yaml"}, nullptr).options.security_file, "dds/hadald.yaml");
   EXPECT_EQ(parse_cli({"s.yaml", "--security"}, nullptr).error, "option --security needs a value");

@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
 
   config::LoadOptions load_options;
   load_options.asset_roots = cli.options.asset_roots;
+  load_options.overrides = cli.options.overrides;
   config::LoadResult loaded = config::load_scenario_file(cli.options.scenario_file, load_options);
   for (const auto& warning : loaded.warnings) std::fprintf(stderr, "%s\n", warning.format().c_str());
   if (!loaded.ok()) {

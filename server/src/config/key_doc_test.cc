@@ -56,7 +56,7 @@ struct Read {
 Read read(const std::string& yaml) {
   DiagnosticSink sink;
   sink.add_file("p.yaml");
-  const auto source = std::make_shared<const Source>(Source{"p.yaml", &sink, nullptr});
+  const auto source = std::make_shared<const Source>(Source{"p.yaml", &sink, nullptr, nullptr, {}});
   Read out;
   out.ok = probe_keys().read(Value::root(YAML::Load(yaml), source), &out.probe);
   for (const Diagnostic& d : sink.sorted()) out.errors.push_back(d.format());

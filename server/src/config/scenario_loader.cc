@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <deque>
 #include <map>
 #include <memory>
 #include <utility>
@@ -61,6 +62,13 @@ class ScenarioLoader {
   // nullopt when the file cannot be opened (reported at `include`) or does not parse.
   const std::optional<VehicleDefinition>& included_definition(const Value& include, const std::string& path,
                                                               bool object);
+  // Parses LoadOptions::overrides and places each where it applies: at the scenario's own paths
+  // (overrides_), or, through a vehicle or object entry with `include`, at the included file's paths for
+  // that entry alone (include_overrides_, by the entry's path).
+  void place_overrides(const std::vector<std::string>& texts, const YAML::Node& root, const std::string& path);
+  // An entry's included definition read again with the overrides that reach into it (never shared).
+  const std::optional<VehicleDefinition>& overridden_definition(const Value& include, const std::string& path,
+                                                                bool object, const std::vector<Override>& overrides);
   void read_schedule(const Value& value, const VehicleDefinition* definition,
                      std::vector<SetpointKeyframe>* schedule);
   VehicleContext vehicle_context() const {
@@ -76,6 +84,9 @@ class ScenarioLoader {
     std::optional<VehicleDefinition> definition;  // nullopt when it cannot be opened or parsed
   };
   std::map<std::pair<std::string, bool>, IncludedFile> includes_;  // by resolved path, and object or not
+  std::vector<Override> overrides_;                               // at the scenario file's paths
+  std::map<std::string, std::vector<Override>> include_overrides_;  // by entry path ("vehicles[1]")
+  std::deque<IncludedFile> overridden_includes_;  // included files read for one entry, with its overrides
   std::shared_ptr<const std::vector<std::filesystem::path>> roots_;  // where the files named may lie
   std::map<std::string, std::string> vehicle_names_;  // name -> path of the entry that used it first
 };
@@ -101,7 +112,8 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
   // Rates are checked against the physics rate once the world gave a valid one.
   context_.physics_rate_hz.reset();
   if (root) {
-    const auto source = std::make_shared<const Source>(Source{path, &sink_, roots_});
+    place_overrides(options.overrides, *root, path);
+    const auto source = std::make_shared<const Source>(Source{path, &sink_, roots_, &overrides_, {}});
     const MapReader map(Value::root(*root, source), scenario_keys().names());
     if (map.ok()) {
       scenario_keys().read_map(map, &model, context_);
@@ -170,7 +182,10 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle, bool
       map.error_at_key("include", "cannot be combined with an inline definition (found " + join_names(inline_keys) +
                                       "; an entry with 'include' may only add 'sensors' and 'lights')");
     } else if (const auto include_path = include->string()) {
-      const auto& included = included_definition(*include, *include_path, object);
+      const auto overridden = include_overrides_.find(value.path());
+      const auto& included = overridden == include_overrides_.end()
+                                 ? included_definition(*include, *include_path, object)
+                                 : overridden_definition(*include, *include_path, object, overridden->second);
       if (included && !object && (map.has("sensors") || map.has("lights"))) {
         inline_definition = *included;  // extended by the entry's own lists
         VehicleContext context = vehicle_context();
@@ -237,7 +252,7 @@ const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(cons
   if (first_use) {
     const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
     if (root) {
-      const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_});
+      const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_, nullptr, {}});
       const auto& table = object ? object_definition_keys() : definition_keys();
       const MapReader map(Value::root(*root, source), table.names());
       if (map.ok()) {
@@ -253,6 +268,159 @@ const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(cons
     include.error("cannot open " + config::quoted(resolved) + " (" + included.open_error + ")");
   }
   return included.definition;
+}
+
+const std::optional<VehicleDefinition>& ScenarioLoader::overridden_definition(const Value& include,
+                                                                              const std::string& path, bool object,
+                                                                              const std::vector<Override>& overrides) {
+  static const std::optional<VehicleDefinition> kRefused;
+  std::string resolved;
+  if (!include.file_path(path, &resolved)) return kRefused;
+  IncludedFile& included = overridden_includes_.emplace_back();
+  const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
+  if (root) {
+    const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_, &overrides, {}});
+    const auto& table = object ? object_definition_keys() : definition_keys();
+    const MapReader map(Value::root(*root, source), table.names());
+    if (map.ok()) {
+      included.definition.emplace();
+      included.definition->source_file = resolved;
+      VehicleContext context = vehicle_context();
+      table.read_map(map, &*included.definition, context);
+    }
+  }
+  if (!included.open_error.empty()) {
+    include.error("cannot open " + config::quoted(resolved) + " (" + included.open_error + ")");
+  }
+  return included.definition;
+}
+
+void ScenarioLoader::place_overrides(const std::vector<std::string>& texts, const YAML::Node& root,
+                                     const std::string& path) {
+  const std::filesystem::path scenario_directory = std::filesystem::path(path).parent_path();
+  for (const std::string& text : texts) {
+    const std::string label = "--set " + text;
+    sink_.add_file(label);
+    const auto at = [&](int column, const std::string& key_path, const std::string& message) {
+      YAML::Mark mark;
+      mark.line = 0;
+      mark.column = column;
+      sink_.report(label, mark, key_path, message);
+    };
+    const std::size_t equals = text.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      at(0, "", "expected KEY.PATH=VALUE, as world.water.current.uniform=[0.4, 0, 0] (got " + quoted(text) + ")");
+      continue;
+    }
+    const std::string key_path = text.substr(0, equals);
+    std::vector<std::string> segments;
+    std::vector<int> columns;
+    bool empty_segment = false;
+    for (std::size_t start = 0;;) {
+      const std::size_t dot = key_path.find('.', start);
+      const std::string segment = key_path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+      if (segment.empty()) {
+        at(static_cast<int>(start), key_path, "an empty key in the path");
+        empty_segment = true;
+        break;
+      }
+      segments.push_back(segment);
+      columns.push_back(static_cast<int>(start));
+      if (dot == std::string::npos) break;
+      start = dot + 1;
+    }
+    if (empty_segment) continue;
+    YAML::Node value;
+    try {
+      // Padded so that the value's marks are columns of the whole argument.
+      value = YAML::Load(std::string(equals + 1, ' ') + text.substr(equals + 1));
+    } catch (const YAML::Exception& e) {
+      // At the parser's mark, or the value's start when it has none (an unclosed list ends the input).
+      at(std::max(e.mark.column, static_cast<int>(equals + 1)), key_path,
+         "the value does not read as YAML (" + e.msg + ")");
+      continue;
+    }
+    // Walk the file's tree by the path: a list's entry by its name (or index); through a vehicle's or
+    // object's entry with `include`, a definition key leads into the included file.
+    YAML::Node node = root;
+    std::string at_path, entry_path;
+    std::filesystem::path directory = scenario_directory;
+    bool refused = false;
+    for (std::size_t i = 0; i < segments.size() && !refused; ++i) {
+      const std::string& segment = segments[i];
+      const YAML::Node here = node;  // const: reading a key never adds it
+      const bool defined = here.IsDefined();  // false for a key the file lacks (calls on it would throw)
+      if (defined && here.IsSequence()) {
+        std::optional<std::size_t> index;
+        std::vector<std::string> names;
+        const bool digits = std::all_of(segment.begin(), segment.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+        for (std::size_t k = 0; k < here.size(); ++k) {
+          const YAML::Node item = here[k];
+          const std::string name = item.IsMap() && item["name"] && item["name"].IsScalar() ? item["name"].Scalar() : "";
+          if (!name.empty()) names.push_back(name);
+          if (!index && !name.empty() && name == segment) index = k;
+        }
+        if (!index && digits && std::stoull(segment) < here.size()) index = std::stoull(segment);
+        if (!index) {
+          at(columns[i], at_path, "no entry " + quoted(segment) + " in " + (at_path.empty() ? "the file" : at_path) +
+                                      (names.empty() ? " (its entries have no names: give an index)"
+                                                     : " (its entries: " + join_names(names) + ")"));
+          refused = true;
+          break;
+        }
+        at_path += "[" + std::to_string(*index) + "]";
+        node.reset(here[*index]);  // reset: a YAML::Node's = would overwrite the node it refers to
+        const bool object = at_path.rfind("objects[", 0) == 0;
+        const YAML::Node entry = node;  // const: reading a key never adds it
+        if (entry_path.empty() && (at_path.rfind("vehicles[", 0) == 0 || object) &&
+            at_path.find('.') == std::string::npos && entry.IsMap() && entry["include"] &&
+            entry["include"].IsScalar() && i + 1 < segments.size()) {
+          const std::string& next = segments[i + 1];
+          const auto& definition_table = object ? object_definition_keys() : definition_keys();
+          const bool own_list = (next == "sensors" || next == "lights") && entry[next] && i + 2 < segments.size() &&
+                                [&] {
+                                  for (const YAML::Node& item : entry[next]) {
+                                    if (item.IsMap() && item["name"] && item["name"].Scalar() == segments[i + 2]) return true;
+                                  }
+                                  return false;
+                                }();
+          const std::vector<std::string> definition_names = definition_table.names();
+          const bool definition_key =
+              std::find(definition_names.begin(), definition_names.end(), next) != definition_names.end();
+          if (definition_key && !own_list) {
+            const std::string& written = entry["include"].Scalar();
+            const std::filesystem::path included = directory / written;
+            DiagnosticSink unused;  // the file's own errors (and a refusal) are the entry's to report
+            const auto scenario = std::make_shared<const Source>(Source{path, &unused, roots_, nullptr, {}});
+            std::string open_error = Value(entry["include"], scenario, "", YAML::Mark()).file_refusal(included, written);
+            const std::optional<YAML::Node> included_root =
+                open_error.empty() ? parse_yaml_file(included.string(), &unused, &open_error) : std::nullopt;
+            if (!included_root) {
+              at(columns[i + 1], child_path(at_path, next),
+                 "cannot reach into " + quoted(entry["include"].Scalar()) + ", the file " + at_path + " includes (" +
+                     (open_error.empty() ? "it does not parse" : open_error) + ")");
+              refused = true;
+              break;
+            }
+            entry_path = at_path;
+            at_path.clear();
+            node.reset(*included_root);
+            directory = included.parent_path();
+          }
+        }
+      } else {
+        at_path = child_path(at_path, segment);
+        const YAML::Node child = defined && here.IsMap() ? here[segment] : YAML::Node(YAML::NodeType::Undefined);
+        // A missing key's node is invalid (reset from it would throw): an undefined one stands for it.
+        node.reset(child.IsDefined() ? child : YAML::Node(YAML::NodeType::Undefined));
+      }
+    }
+    if (refused) continue;
+    std::vector<Override>& destination = entry_path.empty() ? overrides_ : include_overrides_[entry_path];
+    const auto source = std::make_shared<const Source>(Source{label, &sink_, roots_, &destination, directory});
+    const YAML::Mark mark = value.IsNull() ? YAML::Mark() : value.Mark();
+    destination.push_back(Override{at_path, Value(value, source, at_path, mark)});
+  }
 }
 
 void ScenarioLoader::read_schedule(const Value& value, const VehicleDefinition* definition,

@@ -533,5 +533,108 @@ TEST_F(ScenarioLoaderTest, ASecurityBlockNamesSixReadableFiles) {
       << leak_errors[0];
 }
 
+// ---------------------------------------------------------------------------------------------------
+// Command-line overrides (LoadOptions::overrides, hadald --set; docs/configuration.md, "Overrides"): each
+// sets one key as if the file said so, checked by the same keys and messages, reported at the override.
+
+
+// A scenario without world.water.current and with two vehicles: the inline `auv` and `lander`, which
+// includes lander.yaml (a 30 kg box) from beside the scenario.
+constexpr const char* kLander = R"(type: lander
+links:
+  - name: frame
+    mass: 30.0
+    inertia: {ixx: 1, iyy: 1, izz: 1}
+)";
+
+class OverridesTest : public ScenarioLoaderTest {
+ protected:
+  std::string scenario(const std::string& more_vehicles = "") {
+    write("lander.yaml", kLander);
+    return write("s.yaml", std::string("world:\n  seed: 3\nvehicles:") + kInlineVehicle +
+                               "  - name: lander\n    include: lander.yaml\n" + more_vehicles);
+  }
+  static LoadResult load(const std::string& path, const std::vector<std::string>& overrides) {
+    LoadOptions options;
+    options.overrides = overrides;
+    return load_scenario_file(path, options);
+  }
+  static std::vector<std::string> errors(const std::string& path, const std::vector<std::string>& overrides) {
+    const LoadResult result = load(path, overrides);
+    EXPECT_EQ(result.model.has_value(), result.errors.empty());
+    std::vector<std::string> lines;
+    for (const Diagnostic& diagnostic : result.errors) lines.push_back(diagnostic.format());
+    return lines;
+  }
+};
+
+// A key the file has takes the override's value; a key it lacks (world.water and its current are not in
+// the file) is added, maps on the way and all.
+TEST_F(OverridesTest, AnOverrideSetsAKeyTheFileHasAndOneItLacks) {
+  const LoadResult result = load(scenario(), {"world.seed=9", "world.water.current.uniform=[0.4, -0.1, 0]"});
+  ASSERT_TRUE(result.ok()) << (result.errors.empty() ? "" : result.errors[0].format());
+  EXPECT_EQ(result.model->world.seed, 9u);
+  EXPECT_EQ(result.model->world.water.current.uniform_W, Eigen::Vector3d(0.4, -0.1, 0.0));
+  const LoadResult plain = load(scenario(), {});
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain.model->world.seed, 3u);
+  EXPECT_EQ(plain.model->world.water.current.uniform_W, Eigen::Vector3d::Zero());
+}
+
+// A list's entry by its name or by its index; the last of two overrides of one key wins.
+TEST_F(OverridesTest, AListEntryIsNamedOrIndexedAndTheLastOverrideWins) {
+  const LoadResult result = load(scenario(), {"vehicles.auv.initial_pose.position=[1, 2, -3]",
+                                              "vehicles.1.command_timeout_s=2.5", "vehicles.lander.command_timeout_s=4"});
+  ASSERT_TRUE(result.ok()) << (result.errors.empty() ? "" : result.errors[0].format());
+  EXPECT_EQ(result.model->vehicles[0].X_WB_initial.translation(), Eigen::Vector3d(1.0, 2.0, -3.0));
+  EXPECT_EQ(result.model->vehicles[1].command_timeout, 4.0);
+  EXPECT_EQ(result.model->vehicles[0].command_timeout, 1.0);
+}
+
+// Through an entry with `include`, a definition key reaches into the included file, for that entry alone:
+// a second entry including the same file keeps the file's mass.
+TEST_F(OverridesTest, AnOverrideReachesIntoAnIncludedFileForItsEntryAlone) {
+  const std::string path = scenario("  - name: lander2\n    include: lander.yaml\n");
+  const LoadResult result = load(path, {"vehicles.lander.links.frame.mass=40"});
+  ASSERT_TRUE(result.ok()) << (result.errors.empty() ? "" : result.errors[0].format());
+  EXPECT_EQ(result.model->vehicles[1].links.at(0).mass, 40.0);
+  EXPECT_EQ(result.model->vehicles[2].links.at(0).mass, 30.0);
+}
+
+// Every error is the file's own check, reported at the override: "--set TEXT:1:column", the column in
+// TEXT, the path as the file would be read; the load fails and nothing else is reported.
+TEST_F(OverridesTest, ErrorsAreTheFilesChecksReportedAtTheOverride) {
+  const std::string path = scenario();
+  EXPECT_EQ(errors(path, {"world.seed=abc"}),
+            Lines{"--set world.seed=abc:1:12: error: world.seed: expected a non-negative integer (got 'abc')"});
+  EXPECT_EQ(errors(path, {"world.water.current.unifrm=[0.4, 0, 0]"}),
+            Lines{"--set world.water.current.unifrm=[0.4, 0, 0]:1:28: error: world.water.current.unifrm: unknown key "
+                  "'unifrm'; did you mean 'uniform'?"});
+  EXPECT_EQ(errors(path, {"world.water.current.uniform=[0.4, 0]"}),
+            Lines{"--set world.water.current.uniform=[0.4, 0]:1:29: error: world.water.current.uniform: expected a "
+                  "list of 3 numbers (got a list of 2)"});
+  EXPECT_EQ(errors(path, {"vehicles.rov.command_timeout_s=2"}),
+            Lines{"--set vehicles.rov.command_timeout_s=2:1:10: error: vehicles: no entry 'rov' in vehicles (its "
+                  "entries: auv, lander)"});
+  EXPECT_EQ(errors(path, {"vehicles.lander.links.frame.mass=-1"}),
+            Lines{"--set vehicles.lander.links.frame.mass=-1:1:34: error: links[0].mass: must be > 0 (got -1)"});
+  EXPECT_EQ(errors(path, {"world.seed"}),
+            Lines{"--set world.seed:1:1: error: expected KEY.PATH=VALUE, as world.water.current.uniform=[0.4, 0, 0] "
+                  "(got 'world.seed')"});
+  EXPECT_EQ(errors(path, {"world..seed=1"}), Lines{"--set world..seed=1:1:7: error: world..seed: an empty key in the path"});
+  EXPECT_EQ(errors(path, {"world.water.current.uniform=[0.4, 0"}),
+            Lines{"--set world.water.current.uniform=[0.4, 0:1:29: error: world.water.current.uniform: the value does not "
+                  "read as YAML (end of sequence flow not found)"});
+}
+
+// An included file read again for an entry's overrides reports its own errors once, not once per read.
+TEST_F(OverridesTest, AnIncludedFilesOwnErrorIsReportedOnce) {
+  const std::string path = scenario();
+  write("lander.yaml", std::string(kLander) + "    colour: red\n");
+  const std::vector<std::string> found = errors(path, {"vehicles.lander.links.frame.mass=40"});
+  ASSERT_EQ(found.size(), 1u) << ::testing::PrintToString(found);
+  EXPECT_NE(found[0].find("lander.yaml:6:"), std::string::npos) << found[0];
+}
+
 }  // namespace
 }  // namespace hadal::config

@@ -67,7 +67,7 @@ SecurityFiles load_security_file(const std::string& path) {
   std::optional<SecurityFiles> files;
   if (root) {
     // No roots: the file's own directory tree or anywhere, as the operator wrote it.
-    const auto source = std::make_shared<const Source>(Source{path, &sink, nullptr});
+    const auto source = std::make_shared<const Source>(Source{path, &sink, nullptr, nullptr, {}});
     const MapReader map(Value::root(*root, source), {"security"});
     if (const auto block = map.required("security")) files = read_security_block(*block);
   }

@@ -145,6 +145,14 @@ std::vector<Diagnostic> DiagnosticSink::sorted() const {
     if (a.line != b.line) return a.line < b.line;
     return a.column < b.column;
   });
+  // A file read twice (an included vehicle file read again with an entry's overrides) reports its own
+  // problems twice: once is enough.
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const Diagnostic& a, const Diagnostic& b) {
+                          return a.file == b.file && a.line == b.line && a.column == b.column && a.path == b.path &&
+                                 a.message == b.message && a.warning == b.warning;
+                        }),
+            out.end());
   return out;
 }
 
@@ -332,7 +340,9 @@ bool lies_within(const std::filesystem::path& path, const std::filesystem::path&
 }  // namespace
 
 bool Value::file_path(const std::string& written, std::string* path) const {
-  const std::filesystem::path joined = std::filesystem::path(file()).parent_path() / written;
+  const std::filesystem::path directory =
+      source_->directory.empty() ? std::filesystem::path(file()).parent_path() : source_->directory;
+  const std::filesystem::path joined = directory / written;
   *path = joined.string();
   const std::string refusal = file_refusal(joined, written);
   if (!refusal.empty()) error(refusal);
@@ -530,6 +540,45 @@ MapReader::MapReader(Value value, std::vector<std::string> allowed)
         {key, key_node,
          value_.in_same_file(value_node, path, empty_value ? key_node.Mark() : value_node.Mark())});
   }
+  apply_overrides();
+}
+
+void MapReader::apply_overrides() {
+  const std::vector<Override>* overrides = value_.overrides();
+  if (overrides == nullptr) return;
+  const std::string prefix = value_.path().empty() ? "" : value_.path() + ".";
+  for (const Override& o : *overrides) {
+    if (o.path.size() <= prefix.size() || o.path.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = o.path.substr(prefix.size());
+    const std::size_t cut = rest.find_first_of(".[");
+    const std::string key = rest.substr(0, cut);
+    const std::string path = child_path(value_.path(), key);
+    if (!allows(key)) {
+      std::string message = "unknown key " + quoted(key);
+      if (const auto suggestion = closest_match(key, allowed_)) message += "; did you mean " + quoted(*suggestion) + "?";
+      o.value.error_at(o.value.mark(), path, message);
+      continue;
+    }
+    Entry* entry = nullptr;
+    for (Entry& e : entries_) {
+      if (e.key == key) entry = &e;
+    }
+    if (cut == std::string::npos) {
+      // The override's value itself, in place of the file's.
+      Value value(o.value.node(), o.value.source(), path, o.value.mark());
+      if (entry != nullptr) {
+        entry->value = std::move(value);
+        entry->overridden = true;
+      } else {
+        entries_.push_back({key, YAML::Node(), std::move(value), true});
+      }
+    } else if (entry == nullptr) {
+      // A map the file lacks on the way to a deeper key: an empty one, as if written there, that the
+      // override then fills (its own errors at the override).
+      entries_.push_back({key, YAML::Node(), Value(YAML::Node(YAML::NodeType::Map), o.value.source(), path, o.value.mark()),
+                          true});
+    }
+  }
 }
 
 const MapReader::Entry* MapReader::find(const std::string& key) const {
@@ -576,7 +625,11 @@ std::optional<Value> MapReader::get(const std::string& key, Need need) const {
 void MapReader::error_at_key(const std::string& key, const std::string& message) const {
   check_allowed(key);
   if (const Entry* entry = find(key)) {
-    value_.error_at(entry->key_node.Mark(), entry->value.path(), message);
+    if (entry->overridden) {
+      entry->value.error(message);
+    } else {
+      value_.error_at(entry->key_node.Mark(), entry->value.path(), message);
+    }
   } else {
     value_.error(key + ": " + message);  // an absent key's check: at the map, never silent
   }

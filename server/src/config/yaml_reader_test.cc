@@ -12,7 +12,7 @@ namespace {
 
 // Parses `text` as the root of a file "t.yaml"; diagnostics go to `sink`.
 Value parse(const std::string& text, DiagnosticSink* sink) {
-  auto source = std::make_shared<const Source>(Source{"t.yaml", sink, nullptr});
+  auto source = std::make_shared<const Source>(Source{"t.yaml", sink, nullptr, nullptr, {}});
   return Value::root(YAML::Load(text), source);
 }
 

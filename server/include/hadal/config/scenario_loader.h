@@ -31,6 +31,11 @@ struct LoadOptions {
   // Directories, besides the scenario's tree and hadal's configs, the files a scenario names may lie in
   // (hadald --asset-root).
   std::vector<std::string> asset_roots;
+  // Overrides (hadald --set; docs/configuration.md, "Overrides"), each "KEY.PATH=VALUE": a key path as the
+  // file is written (a list's entry by its `name`, or its index), into a vehicle's or object's included file
+  // through its entry; VALUE in YAML (flow style for lists and maps). Checked by the same keys, ranges and
+  // messages as the file; an error in one is reported at "--set KEY.PATH=VALUE:1:column". Later ones win.
+  std::vector<std::string> overrides;
 };
 
 // Files a scenario may reach (docs/ARCHITECTURE.md, "Files a scenario may reach"): every file it or a file

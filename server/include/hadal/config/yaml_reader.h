@@ -62,12 +62,19 @@ std::optional<YAML::Node> parse_yaml_file(const std::string& file, DiagnosticSin
 // 3)); ties go to the earlier candidate.
 std::optional<std::string> closest_match(const std::string& word, const std::vector<std::string>& candidates);
 
+struct Override;
+
 // A source file being read: where its diagnostics go, and where the files it names may lie.
 struct Source {
   std::string file;
   DiagnosticSink* sink = nullptr;
   // The directories (absolute, symlinks resolved) a file this one names must lie in; null: anywhere.
   std::shared_ptr<const std::vector<std::filesystem::path>> roots;
+  // Values that stand in for this file's own (command-line overrides: config/scenario_loader.h), each at its
+  // path in this file; null or empty: none. Owned by whoever reads the file, alive while it is read.
+  const std::vector<Override>* overrides = nullptr;
+  // Where the relative file names this source's values give resolve; empty: the directory of `file`.
+  std::filesystem::path directory;
 };
 
 class Value {
@@ -80,6 +87,7 @@ class Value {
   const std::string& path() const { return path_; }
   const std::string& file() const { return source_->file; }
   const YAML::Mark& mark() const { return mark_; }
+  const std::shared_ptr<const Source>& source() const { return source_; }
   bool is_map() const { return node_.IsMap(); }
 
   // Reports `message` at this node.
@@ -101,6 +109,8 @@ class Value {
   std::string file_refusal(const std::filesystem::path& path, const std::string& written) const;
   // The directories the files this source names must lie in (null: anywhere).
   const std::vector<std::filesystem::path>* roots() const { return source_->roots.get(); }
+  // The overrides standing in for values of this node's file (null: none).
+  const std::vector<Override>* overrides() const { return source_->overrides; }
   // Reports in another file this one led to (a URDF a vehicle names): 1-based line and column (0: none).
   void report_in(const std::string& file, int line, int column, std::string path, std::string message,
                  bool warning = false) const;
@@ -136,6 +146,15 @@ class Value {
   std::shared_ptr<const Source> source_;
   std::string path_;
   YAML::Mark mark_;
+};
+
+// A value standing in for a file's own at `path` (as diagnostics print paths in that file:
+// "world.water.current.uniform", "vehicles[0].initial_pose"): the map holding that key reads `value` in place
+// of the file's, or as if the file had it, creating the maps on the way that the file lacks. `value`'s own
+// source says where its errors are reported.
+struct Override {
+  std::string path;
+  Value value;
 };
 
 enum class Need { kOptional, kRequired };
@@ -182,9 +201,12 @@ class MapReader {
     std::string key;
     YAML::Node key_node;
     Value value;
+    bool overridden = false;  // `value` is an override's (errors at its key are reported at it)
   };
   const Entry* find(const std::string& key) const;
   void check_allowed(const std::string& key) const;
+  // The overrides at or below this map's keys, in their order (a later one wins).
+  void apply_overrides();
 
   Value value_;
   std::vector<std::string> allowed_;
