@@ -58,17 +58,16 @@ class ScenarioLoader {
   // A `vehicles` entry, or (object) an `objects` entry.
   void read_vehicle(const Value& value, VehicleSpec* vehicle, bool object = false);
   void warn_if_above_surface(const MapReader& map, const VehicleSpec& vehicle);
-  // The definition in `include` (a path relative to the including file), loaded once per resolved path.
-  // nullopt when the file cannot be opened (reported at `include`) or does not parse.
+  // The definition in `include` (a path relative to the including file), loaded once per resolved path;
+  // with an entry's `overrides` that reach into it, read again for that entry alone. nullopt when the file
+  // cannot be opened (reported at `include`) or does not parse.
   const std::optional<VehicleDefinition>& included_definition(const Value& include, const std::string& path,
-                                                              bool object);
+                                                              bool object,
+                                                              const std::vector<Override>* overrides = nullptr);
   // Parses LoadOptions::overrides and places each where it applies: at the scenario's own paths
   // (overrides_), or, through a vehicle or object entry with `include`, at the included file's paths for
   // that entry alone (include_overrides_, by the entry's path).
   void place_overrides(const std::vector<std::string>& texts, const YAML::Node& root, const std::string& path);
-  // An entry's included definition read again with the overrides that reach into it (never shared).
-  const std::optional<VehicleDefinition>& overridden_definition(const Value& include, const std::string& path,
-                                                                bool object, const std::vector<Override>& overrides);
   void read_schedule(const Value& value, const VehicleDefinition* definition,
                      std::vector<SetpointKeyframe>* schedule);
   VehicleContext vehicle_context() const {
@@ -183,9 +182,8 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle, bool
                                       "; an entry with 'include' may only add 'sensors' and 'lights')");
     } else if (const auto include_path = include->string()) {
       const auto overridden = include_overrides_.find(value.path());
-      const auto& included = overridden == include_overrides_.end()
-                                 ? included_definition(*include, *include_path, object)
-                                 : overridden_definition(*include, *include_path, object, overridden->second);
+      const auto& included = included_definition(
+          *include, *include_path, object, overridden == include_overrides_.end() ? nullptr : &overridden->second);
       if (included && !object && (map.has("sensors") || map.has("lights"))) {
         inline_definition = *included;  // extended by the entry's own lists
         VehicleContext context = vehicle_context();
@@ -243,56 +241,40 @@ void ScenarioLoader::warn_if_above_surface(const MapReader& map, const VehicleSp
 }
 
 const std::optional<VehicleDefinition>& ScenarioLoader::included_definition(const Value& include,
-                                                                            const std::string& path, bool object) {
+                                                                            const std::string& path, bool object,
+                                                                            const std::vector<Override>* overrides) {
   static const std::optional<VehicleDefinition> kRefused;
   std::string resolved;
   if (!include.file_path(path, &resolved)) return kRefused;
-  auto [it, first_use] = includes_.try_emplace(std::make_pair(resolved, object));
-  IncludedFile& included = it->second;
+  // With overrides, read for this entry alone; otherwise once per file.
+  bool first_use = true;
+  IncludedFile* included = nullptr;
+  if (overrides != nullptr) {
+    included = &overridden_includes_.emplace_back();
+  } else {
+    auto [it, inserted] = includes_.try_emplace(std::make_pair(resolved, object));
+    included = &it->second;
+    first_use = inserted;
+  }
   if (first_use) {
-    const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
+    const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included->open_error);
     if (root) {
-      const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_, nullptr, {}});
+      const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_, overrides, {}});
       const auto& table = object ? object_definition_keys() : definition_keys();
       const MapReader map(Value::root(*root, source), table.names());
       if (map.ok()) {
-        included.definition.emplace();
-        included.definition->source_file = resolved;
+        included->definition.emplace();
+        included->definition->source_file = resolved;
         VehicleContext context = vehicle_context();
-        table.read_map(map, &*included.definition, context);
+        table.read_map(map, &*included->definition, context);
       }
     }
   }
   // Errors inside the file are reported once; a file that cannot be opened at every include naming it.
-  if (!included.open_error.empty()) {
-    include.error("cannot open " + config::quoted(resolved) + " (" + included.open_error + ")");
+  if (!included->open_error.empty()) {
+    include.error("cannot open " + config::quoted(resolved) + " (" + included->open_error + ")");
   }
-  return included.definition;
-}
-
-const std::optional<VehicleDefinition>& ScenarioLoader::overridden_definition(const Value& include,
-                                                                              const std::string& path, bool object,
-                                                                              const std::vector<Override>& overrides) {
-  static const std::optional<VehicleDefinition> kRefused;
-  std::string resolved;
-  if (!include.file_path(path, &resolved)) return kRefused;
-  IncludedFile& included = overridden_includes_.emplace_back();
-  const std::optional<YAML::Node> root = parse_yaml_file(resolved, &sink_, &included.open_error);
-  if (root) {
-    const auto source = std::make_shared<const Source>(Source{resolved, &sink_, roots_, &overrides, {}});
-    const auto& table = object ? object_definition_keys() : definition_keys();
-    const MapReader map(Value::root(*root, source), table.names());
-    if (map.ok()) {
-      included.definition.emplace();
-      included.definition->source_file = resolved;
-      VehicleContext context = vehicle_context();
-      table.read_map(map, &*included.definition, context);
-    }
-  }
-  if (!included.open_error.empty()) {
-    include.error("cannot open " + config::quoted(resolved) + " (" + included.open_error + ")");
-  }
-  return included.definition;
+  return included->definition;
 }
 
 void ScenarioLoader::place_overrides(const std::vector<std::string>& texts, const YAML::Node& root,
