@@ -197,3 +197,72 @@ def test_packet_loss_on_the_link_delays_delivery_but_never_changes_the_simulatio
     assert lossy["stamp_s"] == lossless["stamp_s"] and lossy["main_setpoint"] == 1.0
     assert lossy["pressure_stamp_s"] == lossless["pressure_stamp_s"] == pytest.approx(10.0, abs=1e-9)
     assert lossy["pressure_pa"] == lossless["pressure_pa"]
+
+
+MULTICAST_BLOCKED = """
+table inet hadal_no_multicast {
+  chain input {
+    type filter hook input priority 0; policy accept;
+    ip daddr 224.0.0.0/4 counter drop
+  }
+  chain output {
+    type filter hook output priority 0; policy accept;
+    ip daddr 224.0.0.0/4 counter drop
+  }
+}
+"""
+
+# Waits for the server's status on the domain for a few seconds: whether discovery found it at all.
+FINDS_SERVER = r"""
+import sys
+import hadal
+client = hadal.Client(domain_id=int(sys.argv[1]), name="probe")
+print("found" if client.wait_for_server(float(sys.argv[2])) else "not found", flush=True)
+client.close()
+"""
+
+
+def discovery_env(server):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("ROS_LOCALHOST_ONLY", "ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_STATIC_PEERS")}
+    env["FASTDDS_BUILTIN_TRANSPORTS"] = "UDPv4"
+    if server:
+        env["ROS_DISCOVERY_SERVER"] = server
+    else:
+        env.pop("ROS_DISCOVERY_SERVER", None)
+    return env
+
+
+@needs_nft
+def test_a_client_on_another_host_reaches_hadald_through_a_discovery_server(namespaces, tmp_path):
+    """ROS 2's way across hosts without multicast (ROS_DISCOVERY_SERVER, docs/ros2.md): a Fast DDS discovery
+    server (fastdds discovery) beside hadald, multicast dropped in both namespaces. Without the server's address
+    the client finds nothing; with it, sensors, commands and steps cross as in the HIL run."""
+    server_ns, client_ns, _ = namespaces
+    for ns in (server_ns, client_ns):
+        subprocess.run(["ip", "netns", "exec", ns, "nft", "-f", "-"], input=MULTICAST_BLOCKED, text=True, check=True,
+                       timeout=30)
+    locator = f"{SERVER_ADDRESS}:11811"
+    domain, lock = reserve_domain(range(100, 200))
+    log = open(tmp_path / "hadald.log", "w")
+    discovery = subprocess.Popen(["ip", "netns", "exec", server_ns, "fastdds", "discovery", "-i", "0", "-l",
+                                  SERVER_ADDRESS, "-p", "11811"], stdout=log, stderr=subprocess.STDOUT)
+    server = subprocess.Popen(["ip", "netns", "exec", server_ns, find_hadald(), scenario_path("default"),
+                               "--mode", "lockstep", "--domain-id", str(domain), "--no-cameras", "--no-status-line"],
+                              stdout=log, stderr=subprocess.STDOUT, env=discovery_env(locator))
+    try:
+        alone = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", FINDS_SERVER, str(domain), "5"],
+                               capture_output=True, text=True, timeout=60, env=discovery_env(None))
+        client = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", CLIENT, str(domain)],
+                                capture_output=True, text=True, timeout=240, env=discovery_env(locator))
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
+        discovery.terminate()
+        discovery.wait(timeout=30)
+        log.close()
+        lock.close()
+    assert alone.stdout.strip().endswith("not found"), alone.stdout + alone.stderr
+    assert client.returncode == 0, client.stdout + client.stderr + (tmp_path / "hadald.log").read_text()
+    out = json.loads(client.stdout.strip().splitlines()[-1])
+    assert out["main_setpoint"] == 1.0 and out["pressure_pa"] is not None and out["pressure_pa"] > 5e5, out
