@@ -113,7 +113,7 @@ def test_overrides_set_keys_as_the_file_would_and_are_checked_like_it():
         assert abs(odometry.p_WB[2] + 40.0) < 0.05
     with pytest.raises(hadal.ScenarioError) as error:
         hadal.Server("rov", domain_id="free", overrides=["world.water.current.unifrm=[0.2, 0, 0]"])
-    assert error.value.errors == ["--set world.water.current.unifrm=[0.2, 0, 0]:1:28: error: "
+    assert error.value.errors == ["--set world.water.current.unifrm=[0.2, 0, 0]:1:21: error: "
                                   "world.water.current.unifrm: unknown key 'unifrm'; did you mean 'uniform'?"]
     with pytest.raises(ValueError, match="not one string"):
         hadal.Server("rov", overrides="world.seed=3")

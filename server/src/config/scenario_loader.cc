@@ -327,6 +327,7 @@ void ScenarioLoader::place_overrides(const std::vector<std::string>& texts, cons
     YAML::Node node = root;
     std::string at_path, entry_path;
     std::filesystem::path directory = scenario_directory;
+    std::vector<std::pair<std::string, int>> key_columns;
     bool refused = false;
     for (std::size_t i = 0; i < segments.size() && !refused; ++i) {
       const std::string& segment = segments[i];
@@ -386,12 +387,14 @@ void ScenarioLoader::place_overrides(const std::vector<std::string>& texts, cons
             }
             entry_path = at_path;
             at_path.clear();
+            key_columns.clear();  // paths in the included file from here
             node.reset(*included_root);
             directory = included.parent_path();
           }
         }
       } else {
         at_path = child_path(at_path, segment);
+        key_columns.emplace_back(at_path, columns[i]);
         const YAML::Node child = defined && here.IsMap() ? here[segment] : YAML::Node(YAML::NodeType::Undefined);
         // A missing key's node is invalid (reset from it would throw): an undefined one stands for it.
         node.reset(child.IsDefined() ? child : YAML::Node(YAML::NodeType::Undefined));
@@ -401,7 +404,7 @@ void ScenarioLoader::place_overrides(const std::vector<std::string>& texts, cons
     std::vector<Override>& destination = entry_path.empty() ? overrides_ : include_overrides_[entry_path];
     const auto source = std::make_shared<const Source>(Source{label, &sink_, roots_, &destination, directory});
     const YAML::Mark mark = value.IsNull() ? YAML::Mark() : value.Mark();
-    destination.push_back(Override{at_path, Value(value, source, at_path, mark)});
+    destination.push_back(Override{at_path, Value(value, source, at_path, mark), std::move(key_columns)});
   }
 }
 

@@ -608,7 +608,7 @@ TEST_F(OverridesTest, ErrorsAreTheFilesChecksReportedAtTheOverride) {
   EXPECT_EQ(errors(path, {"world.seed=abc"}),
             Lines{"--set world.seed=abc:1:12: error: world.seed: expected a non-negative integer (got 'abc')"});
   EXPECT_EQ(errors(path, {"world.water.current.unifrm=[0.4, 0, 0]"}),
-            Lines{"--set world.water.current.unifrm=[0.4, 0, 0]:1:28: error: world.water.current.unifrm: unknown key "
+            Lines{"--set world.water.current.unifrm=[0.4, 0, 0]:1:21: error: world.water.current.unifrm: unknown key "
                   "'unifrm'; did you mean 'uniform'?"});
   EXPECT_EQ(errors(path, {"world.water.current.uniform=[0.4, 0]"}),
             Lines{"--set world.water.current.uniform=[0.4, 0]:1:29: error: world.water.current.uniform: expected a "

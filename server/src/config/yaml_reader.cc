@@ -556,7 +556,14 @@ void MapReader::apply_overrides() {
     if (!allows(key)) {
       std::string message = "unknown key " + quoted(key);
       if (const auto suggestion = closest_match(key, allowed_)) message += "; did you mean " + quoted(*suggestion) + "?";
-      o.value.error_at(o.value.mark(), path, message);
+      YAML::Mark at_key = o.value.mark();
+      for (const auto& [key_path, column] : o.key_columns) {
+        if (key_path == path) {
+          at_key.line = 0;
+          at_key.column = column;
+        }
+      }
+      o.value.error_at(at_key, path, message);
       continue;
     }
     Entry* entry = nullptr;

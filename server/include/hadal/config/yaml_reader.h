@@ -155,6 +155,9 @@ class Value {
 struct Override {
   std::string path;
   Value value;
+  // Each key's path on the way and the 0-based column of its name in the override's text (an unknown key is
+  // reported there).
+  std::vector<std::pair<std::string, int>> key_columns;
 };
 
 enum class Need { kOptional, kRequired };
