@@ -885,10 +885,15 @@ ImportResult import_mesh(const std::string& path, const ImportOptions& options) 
         !problem.empty())
       return finish(problem);
     if (std::string problem = check_gltf_uris(json); !problem.empty()) return finish(problem);
-  } else if (ext == ".gltf" || ext == ".obj") {
+  }
+  if (ext == ".glb" || ext == ".gltf" || ext == ".obj") {
+    // A glTF whose JSON assimp's glTF reader refuses is handed to whichever reader recognises its content:
+    // the OBJ reader takes text with OBJ lines in it, mtllib names and all (a fuzzer finding: a broken
+    // .gltf with "mtllib x://" crashed). So the OBJ reader's names are checked in every such file.
     std::string text;
     if (!read_whole_file(path, text)) return finish("cannot read the file");
-    const std::string problem = ext == ".gltf" ? check_gltf_uris(text) : check_obj_mtllibs(text);
+    std::string problem = ext == ".gltf" ? check_gltf_uris(text) : "";
+    if (problem.empty()) problem = check_obj_mtllibs(text);
     if (!problem.empty()) return finish(problem);
   }
   std::string problem;
