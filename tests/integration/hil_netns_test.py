@@ -123,14 +123,19 @@ def udp_env(peer):
     return env
 
 
+def start_hadald(ns, domain, log, env):
+    """A lockstep hadald on the default scenario (no cameras) in namespace ns, its output into log."""
+    return subprocess.Popen(["ip", "netns", "exec", ns, find_hadald(), scenario_path("default"), "--mode", "lockstep",
+                             "--domain-id", str(domain), "--no-cameras", "--no-status-line"],
+                            stdout=log, stderr=subprocess.STDOUT, env=env)
+
+
 def run_hil(namespaces, log_path):
     """hadald lockstep in the server namespace, CLIENT in the client's: what the client saw (a dict)."""
     server_ns, client_ns, client_dev = namespaces
     domain, lock = reserve_domain(range(100, 200))
     log = open(log_path, "w")
-    server = subprocess.Popen(["ip", "netns", "exec", server_ns, find_hadald(), scenario_path("default"),
-                               "--mode", "lockstep", "--domain-id", str(domain), "--no-cameras", "--no-status-line"],
-                              stdout=log, stderr=subprocess.STDOUT, env=udp_env(CLIENT_ADDRESS))
+    server = start_hadald(server_ns, domain, log, udp_env(CLIENT_ADDRESS))
     try:
         client = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", CLIENT, str(domain)],
                                 capture_output=True, text=True, timeout=240, env=udp_env(SERVER_ADDRESS))
@@ -247,9 +252,7 @@ def test_a_client_on_another_host_reaches_hadald_through_a_discovery_server(name
     log = open(tmp_path / "hadald.log", "w")
     discovery = subprocess.Popen(["ip", "netns", "exec", server_ns, "fastdds", "discovery", "-i", "0", "-l",
                                   SERVER_ADDRESS, "-p", "11811"], stdout=log, stderr=subprocess.STDOUT)
-    server = subprocess.Popen(["ip", "netns", "exec", server_ns, find_hadald(), scenario_path("default"),
-                               "--mode", "lockstep", "--domain-id", str(domain), "--no-cameras", "--no-status-line"],
-                              stdout=log, stderr=subprocess.STDOUT, env=discovery_env(locator))
+    server = start_hadald(server_ns, domain, log, discovery_env(locator))
     try:
         alone = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", FINDS_SERVER, str(domain), "5"],
                                capture_output=True, text=True, timeout=60, env=discovery_env(None))
