@@ -130,6 +130,18 @@ def start_hadald(ns, domain, log, env):
                             stdout=log, stderr=subprocess.STDOUT, env=env)
 
 
+def run_python(ns, script, *args, env, timeout=240):
+    """A Python script (a client) in namespace ns: its completed process, output captured."""
+    return subprocess.run(["ip", "netns", "exec", ns, sys.executable, "-c", script, *args], capture_output=True,
+                          text=True, timeout=timeout, env=env)
+
+
+def stop(*processes):
+    for process in processes:
+        process.terminate()
+        process.wait(timeout=30)
+
+
 def run_hil(namespaces, log_path):
     """hadald lockstep in the server namespace, CLIENT in the client's: what the client saw (a dict)."""
     server_ns, client_ns, client_dev = namespaces
@@ -137,11 +149,9 @@ def run_hil(namespaces, log_path):
     log = open(log_path, "w")
     server = start_hadald(server_ns, domain, log, udp_env(CLIENT_ADDRESS))
     try:
-        client = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", CLIENT, str(domain)],
-                                capture_output=True, text=True, timeout=240, env=udp_env(SERVER_ADDRESS))
+        client = run_python(client_ns, CLIENT, str(domain), env=udp_env(SERVER_ADDRESS))
     finally:
-        server.terminate()
-        server.wait(timeout=30)
+        stop(server)
         log.close()
         lock.close()
     assert client.returncode == 0, (client.stdout + client.stderr + log_path.read_text() +
@@ -254,15 +264,10 @@ def test_a_client_on_another_host_reaches_hadald_through_a_discovery_server(name
                                   SERVER_ADDRESS, "-p", "11811"], stdout=log, stderr=subprocess.STDOUT)
     server = start_hadald(server_ns, domain, log, discovery_env(locator))
     try:
-        alone = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", FINDS_SERVER, str(domain), "5"],
-                               capture_output=True, text=True, timeout=60, env=discovery_env(None))
-        client = subprocess.run(["ip", "netns", "exec", client_ns, sys.executable, "-c", CLIENT, str(domain)],
-                                capture_output=True, text=True, timeout=240, env=discovery_env(locator))
+        alone = run_python(client_ns, FINDS_SERVER, str(domain), "5", env=discovery_env(None), timeout=60)
+        client = run_python(client_ns, CLIENT, str(domain), env=discovery_env(locator))
     finally:
-        server.terminate()
-        server.wait(timeout=30)
-        discovery.terminate()
-        discovery.wait(timeout=30)
+        stop(server, discovery)
         log.close()
         lock.close()
     assert alone.stdout.strip().endswith("not found"), alone.stdout + alone.stderr
