@@ -207,12 +207,8 @@ struct Simulation::VehicleRuntime {
   // apart), for the joints' wrenches (VehicleState::joint_wrenches_L).
   std::vector<physics::ArticulatedDynamics::Wrench> handed_W;
   // The rates of the sensors that read those wrenches (force_torque): they are worked out only for the
-  // steps at whose end one of them samples.
+  // steps at whose end one of them samples (Simulation::measures_joint_wrenches).
   std::vector<double> joint_sensor_rates_hz;
-  bool joint_wrenches_due(std::uint64_t step, double dt) const {
-    return std::any_of(joint_sensor_rates_hz.begin(), joint_sensor_rates_hz.end(),
-                       [&](double rate_hz) { return sample_due(step, dt, rate_hz); });
-  }
   bool has_added_mass = false;
   std::vector<Eigen::Isometry3d> X_WK;
   // A floating articulated vehicle's momentum balance over the step (Simulation::keep_momentum): the
@@ -1099,10 +1095,7 @@ void Simulation::hand_articulated_forces(std::size_t i) {
   dynamics.reactions(added, wrenches, model_.world.gravity_W, tau, Q_c, model_.vehicles[i].fluid.added_mass.coriolis,
                      &implicit, reactions);
   for (std::size_t k = 0; k < wrenches.size(); ++k) wrenches[k] += reactions.bodies[k];
-  // The step about to be taken ends at step_count + 1 (take_snapshot counts it).
-  if (!vehicle.joint_wrenches_L.empty() && runtime.joint_wrenches_due(state_.step_count + 1, dt)) {
-    runtime.handed_W = wrenches;
-  }
+  if (measures_joint_wrenches(i)) runtime.handed_W = wrenches;
   tau = reactions.joint_torques;
   for (std::size_t j = 0; j < n; ++j) vehicle.joint_efforts[j] = reactions.servo[static_cast<Eigen::Index>(j)];
   runtime.u0 = dynamics.u();
@@ -1188,9 +1181,7 @@ void Simulation::take_snapshot(double dt) {
       runtime.dynamics->mass_times(u_dot, Q_c);
       Q_c -= runtime.Q_given - runtime.c0;
       vehicle.constraint_force.assign(Q_c.data(), Q_c.data() + Q_c.size());
-      if (!vehicle.joint_wrenches_L.empty() && runtime.joint_wrenches_due(state_.step_count + 1, dt)) {
-        measure_joint_wrenches(i, u_dot, dt);
-      }
+      if (measures_joint_wrenches(i)) measure_joint_wrenches(i, u_dot, dt);
       if (runtime.target.active && world_->num_contact_points(static_cast<int>(i)) == 0) {
         keep_momentum(i);
       }
@@ -1212,6 +1203,16 @@ void Simulation::take_snapshot(double dt) {
   }
   ++state_.step_count;
   state_.time = static_cast<double>(state_.step_count) * dt;
+}
+
+// Whether the step being taken works out vehicle i's joints' wrenches: one of its force_torque sensors
+// samples at the step's end, step_count + 1 (take_snapshot counts the step only after reading them).
+bool Simulation::measures_joint_wrenches(std::size_t i) const {
+  if (state_.vehicles[i].joint_wrenches_L.empty()) return false;
+  const double dt = model_.world.step_size();
+  const std::vector<double>& rates_hz = runtime_[i]->joint_sensor_rates_hz;
+  return std::any_of(rates_hz.begin(), rates_hz.end(),
+                     [&](double rate_hz) { return sample_due(state_.step_count + 1, dt, rate_hz); });
 }
 
 // Each moving joint's wrench over the step just taken (physics/articulated_dynamics.h), from the

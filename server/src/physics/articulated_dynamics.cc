@@ -359,21 +359,10 @@ const Eigen::MatrixXd& ArticulatedDynamics::mass_matrix() const {
 void ArticulatedDynamics::mass_times(const Eigen::VectorXd& u_dot, Eigen::VectorXd& out) const {
   // Each body's twist rate about W's origin from u_dot alone (the tree from the base out), its inertia
   // about the origin times it, summed back down the tree by project: sum_k J_k^T A_k J_k u_dot.
-  const Articulation& a = articulation_;
-  const int offset = fixed_base_ ? 0 : 6;
   std::vector<Wrench>& Z = scratch_.Z;
   std::vector<Wrench>& F = scratch_.F;
-  Z.resize(static_cast<std::size_t>(a.num_bodies()));
+  twist_rates(u_dot, Z);
   F.resize(Z.size());
-  Z[0].setZero();
-  if (!fixed_base_) {
-    Z[0].head<3>() = u_dot.head<3>() + p_Wcm_[0].cross(u_dot.segment<3>(3));
-    Z[0].tail<3>() = u_dot.segment<3>(3);
-  }
-  for (int k = 1; k < a.num_bodies(); ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    Z[i] = Z[static_cast<std::size_t>(a.body(k).parent)] + psi_[i] * u_dot[offset + k - 1];
-  }
   for (std::size_t i = 0; i < Z.size(); ++i) F[i].noalias() = G_[i] * Z[i];
   out.setZero(n_);
   project(F, out);
@@ -434,6 +423,11 @@ void ArticulatedDynamics::project(std::vector<Wrench>& F, Eigen::Ref<Eigen::Vect
 // twist's rate about W's origin is the parent's plus the joint's column times its acceleration, then moved
 // to the centre of mass.
 void ArticulatedDynamics::accelerations(const Eigen::VectorXd& u_dot, std::vector<Wrench>& Z) const {
+  twist_rates(u_dot, Z);
+  for (std::size_t i = 0; i < Z.size(); ++i) Z[i].head<3>() -= p_Wcm_[i].cross(Z[i].tail<3>());
+}
+
+void ArticulatedDynamics::twist_rates(const Eigen::VectorXd& u_dot, std::vector<Wrench>& Z) const {
   const Articulation& a = articulation_;
   const int offset = fixed_base_ ? 0 : 6;
   Z.resize(static_cast<std::size_t>(a.num_bodies()));
@@ -443,9 +437,9 @@ void ArticulatedDynamics::accelerations(const Eigen::VectorXd& u_dot, std::vecto
     Z[0].tail<3>() = u_dot.segment<3>(3);
   }
   for (int k = 1; k < a.num_bodies(); ++k) {
-    Z[static_cast<std::size_t>(k)] = Z[static_cast<std::size_t>(a.body(k).parent)] + psi_[static_cast<std::size_t>(k)] * u_dot[offset + k - 1];
+    const auto i = static_cast<std::size_t>(k);
+    Z[i] = Z[static_cast<std::size_t>(a.body(k).parent)] + psi_[i] * u_dot[offset + k - 1];
   }
-  for (std::size_t i = 0; i < Z.size(); ++i) Z[i].head<3>() -= p_Wcm_[i].cross(Z[i].tail<3>());
 }
 
 ArticulatedDynamics::Momentum ArticulatedDynamics::momentum(bool inertia) const {

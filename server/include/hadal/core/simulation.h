@@ -205,6 +205,7 @@ class Simulation {
   Eigen::Isometry3d mounting_B(const VehicleRuntime& runtime, int sensor, const VehicleState& vehicle,
                                std::vector<Eigen::Isometry3d>& X_WK) const;
   void keep_momentum(std::size_t i);
+  bool measures_joint_wrenches(std::size_t i) const;
   void reset_non_finite_vehicles();
   void sample_sensors(double dt);
   template <class Kind>

@@ -173,6 +173,9 @@ class ArticulatedDynamics {
   void project(std::vector<Wrench>& F, Eigen::Ref<Eigen::VectorXd> Q) const;
   // J_k u_dot for every body into Z.
   void accelerations(const Eigen::VectorXd& u_dot, std::vector<Wrench>& Z) const;
+  // Each body's twist rate about W's origin from u_dot alone (no bias), into Z: the parent's plus the
+  // joint's column times its acceleration (accelerations() and mass_times()).
+  void twist_rates(const Eigen::VectorXd& u_dot, std::vector<Wrench>& Z) const;
 };
 
 }  // namespace hadal::physics
