@@ -19,7 +19,7 @@ PACKAGES=(
   libassimp-dev libembree-dev libopencv-dev libgeographiclib-dev liburdfdom-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev openssl
   libcivetweb-dev libjs-three libjpeg62-turbo-dev
-  python3 python3-dev pybind11-dev python3-numpy python3-yaml python3-matplotlib
+  python3 python3-dev pybind11-dev python3-numpy python3-yaml python3-matplotlib python3-distributed
 )
 # Used by the tests alone: fuzzing (clang), Cyclone DDS interop, GoogleTest, the browser test, the network
 # namespace test, pytest, an independent JSON Schema validator.

@@ -89,6 +89,10 @@ def scenario_path(scenario):
     raise FileNotFoundError(f"no scenario {scenario!r} (neither a file nor a name in configs/scenarios)")
 
 
+# A command prefix that has the kernel SIGKILL the command when the thread that started it ends (util-linux's
+# setpriv, in every Debian): a server of a Dask task dies with a worker killed by kill -9 instead of running on.
+DIE_WITH_PARENT = ("setpriv", "--pdeathsig", "KILL", "--")
+
 FREE_DOMAINS = range(100, 200)  # where domain_id="free" looks for an unused domain
 
 
@@ -146,6 +150,32 @@ def override_arguments(overrides):
     return [str(item) for item in overrides]
 
 
+def _raise_scenario_error(scenario, returncode, output):
+    """ScenarioError when hadald's output says it refused the scenario (its `file:line:col: error:` lines and
+    "nothing started", exit status 1); otherwise returns."""
+    lines = output.splitlines()
+    if returncode != 1 or not any(line.endswith("in the scenario; nothing started") for line in lines):
+        return
+    errors = [line for line in lines if re.match(r".*:\d+:\d+: error: ", line)]
+    if errors:
+        raise ScenarioError(scenario, errors)
+
+
+def check_scenario(scenario, overrides=None, hadald=None, timeout_s=60.0):
+    """Loads and checks a scenario with its overrides as Server would (hadald --check: nothing starts); raises
+    ScenarioError with hadald's `file:line:col: error:` lines if it is refused, returns the scenario's path
+    otherwise."""
+    path = scenario_path(scenario)
+    args = [find_hadald(hadald), path, "--check"]
+    for override in override_arguments(overrides):
+        args += ["--set", override]
+    done = subprocess.run(args, capture_output=True, text=True, timeout=timeout_s)
+    _raise_scenario_error(path, done.returncode, done.stderr)
+    if done.returncode != 0:
+        raise ServerNotFound(f"hadald --check {path} exited with status {done.returncode}:\n{done.stderr[-2000:]}")
+    return path
+
+
 class Server:
     """A hadald process: Server(scenario, mode="lockstep" | "fast" | "realtime", domain_id=None, seed=None).
 
@@ -165,6 +195,10 @@ class Server:
     {"position": [0, 0, -50]}} (values as YAML: numbers, lists, dicts, strings, booleans) or a list of
     "KEY.PATH=VALUE" strings, in order (a later one wins). Key paths as in docs/configuration.md, "Overrides".
 
+    die_with_parent=True has the kernel kill the server when the thread that made this object ends, also by
+    kill -9 of its process (hadal.campaign's tasks: a killed Dask worker leaves no server behind); the thread
+    must then outlive the server.
+
     security_file turns DDS Security on (hadald --security: a YAML file with hadald's `security:` block, as
     tools/make-security-demo.sh writes it); client_security_file is then the identity of the clients this
     object makes (its readiness probe, client()), by default the same file.
@@ -172,7 +206,7 @@ class Server:
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
                  extra_args=(), cameras=True, threads=None, cpus=None, sched=None, security_file=None,
-                 client_security_file=None, overrides=None):
+                 client_security_file=None, overrides=None, die_with_parent=False):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
@@ -184,7 +218,8 @@ class Server:
         self.domain_id = self._reserve(domain_id)
         self._log_dir, self._log_held = _open_log_dir(LOG_ROOT, LOGS_KEPT)
         self.log_path = os.path.join(self._log_dir, "hadald.log")
-        args = [find_hadald(hadald), self.scenario, "--mode", mode, "--domain-id", str(self.domain_id),
+        args = [*(DIE_WITH_PARENT if die_with_parent else ()), find_hadald(hadald), self.scenario, "--mode", mode,
+                "--domain-id", str(self.domain_id),
                 "--no-status-line", *extra_args]
         if seed is not None:
             args += ["--seed", str(int(seed))]
@@ -247,12 +282,7 @@ class Server:
         """ScenarioError when hadald refused the scenario (its `file:line:col: error:` lines and "nothing
         started"); otherwise returns."""
         with open(self.log_path, errors="replace") as log:
-            lines = log.read().splitlines()
-        if self.process.returncode != 1 or not any(line.endswith("in the scenario; nothing started") for line in lines):
-            return
-        errors = [line for line in lines if re.match(r".*:\d+:\d+: error: ", line)]
-        if errors:
-            raise ScenarioError(self.scenario, errors)
+            _raise_scenario_error(self.scenario, self.process.returncode, log.read())
 
     def client(self, name="hadal_python", timeout_s=10.0):
         """A Client on this server's domain that has seen its status (close it, or use it in a `with`)."""

@@ -117,6 +117,11 @@ def test_overrides_set_keys_as_the_file_would_and_are_checked_like_it():
                                   "world.water.current.unifrm: unknown key 'unifrm'; did you mean 'uniform'?"]
     with pytest.raises(ValueError, match="not one string"):
         hadal.Server("rov", overrides="world.seed=3")
+    # The same check without starting anything (hadald --check): what a campaign does before its first case.
+    assert hadal.server.check_scenario("rov", overrides=moved).endswith("configs/scenarios/rov.yaml")
+    with pytest.raises(hadal.ScenarioError) as error:
+        hadal.server.check_scenario("rov", overrides={"vehicles.rov.command_timeout_s": -1})
+    assert len(error.value.errors) == 1 and "vehicles.rov.command_timeout_s=-1:1:" in error.value.errors[0]
 
 
 def test_a_cpu_the_process_may_not_run_on_is_a_clear_error():

@@ -48,6 +48,7 @@ std::string usage() {
          "                            [--set KEY.PATH=VALUE]...\n"
          "                            [--ray-kernels native|portable]\n"
          "       hadald --schema [scenario|vehicle|object]\n"
+         "       hadald SCENARIO.yaml --check [--set KEY.PATH=VALUE]... [--asset-root DIR]...\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
          "  --mode M         realtime (default): hold --rtf; fast: as fast as possible;\n"
          "                   lockstep: advance only on rt/hadal/step_request\n"
@@ -77,6 +78,8 @@ std::string usage() {
          "                   repeatable, the last wins; docs/configuration.md, \"Overrides\")\n"
          "  --security FILE  DDS Security (authentication, encryption, access control) with the files of\n"
          "                   FILE's `security:` block, in place of the scenario's (tools/make-security-demo.sh)\n"
+         "  --check          load and check the scenario with its overrides, print its errors or\n"
+         "                   'ok', exit 1 or 0; nothing starts (no DDS, no physics)\n"
          "  --schema [scenario|vehicle|object]  print the JSON Schema of scenario (default), vehicle or\n"
          "                   object files, for editors (docs/configuration.md), and exit\n"
          "Set ROS_LOCALHOST_ONLY=1 to keep DDS discovery on this machine.\n";
@@ -101,6 +104,10 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
         o.schema = args[++i];
       }
       return parse;
+    }
+    if (arg == "--check") {
+      o.check = true;
+      continue;
     }
     if (arg == "--no-status-line") {
       o.status_line = false;

@@ -51,6 +51,8 @@ struct CliOptions {
   bool help = false;
   // --schema [scenario|vehicle]: print the JSON Schema of scenario (or vehicle) files and exit.
   std::string schema;
+  // --check: load and check the scenario (with its overrides), report, exit; nothing starts.
+  bool check = false;
 };
 
 struct CliParse {

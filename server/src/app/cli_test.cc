@@ -52,6 +52,8 @@ TEST(CliTest, DefaultsAndAllOptions) {
   EXPECT_EQ(p.options.security_file, "");
   EXPECT_EQ(parse_cli({"s.yaml", "--security", "dds/hadald.yaml"}, nullptr).options.security_file, "dds/hadald.yaml");
   EXPECT_EQ(parse_cli({"s.yaml", "--security"}, nullptr).error, "option --security needs a value");
+  EXPECT_FALSE(p.options.check);
+  EXPECT_TRUE(parse_cli({"s.yaml", "--check", "--set", "world.seed=3"}, nullptr).options.check);
 }
 
 TEST(CliTest, CpusAndSchedulingPolicy) {

@@ -92,6 +92,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hadald: %zu error(s) in the scenario; nothing started\n", loaded.errors.size());
     return 1;
   }
+  if (cli.options.check) {
+    std::printf("hadald: %s: ok (%zu vehicle(s), %zu override(s))\n", cli.options.scenario_file.c_str(),
+                loaded.model->vehicles.size(), cli.options.overrides.size());
+    return 0;
+  }
   Model model = std::move(*loaded.model);
   if (!cli.options.security_file.empty()) {
     try {
