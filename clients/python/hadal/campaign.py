@@ -712,8 +712,10 @@ def run(campaign, scheduler=None, workers=None, client=None, progress=sys.stderr
                 attempts[index] = attempts.get(index, 0) + 1
 
         bar.update(0, 0, 0, 0, 0)
-        for future in as_completed(futures):
-            case = futures[future]
+        for future in as_completed(list(futures)):
+            # Once its row is here, the client lets go of the case's result: a worker that dies later holding it
+            # must not have Dask run the case again to recreate it.
+            case = futures.pop(future)
             if future.status == "finished":
                 row = future.result()
             else:
@@ -726,6 +728,7 @@ def run(campaign, scheduler=None, workers=None, client=None, progress=sys.stderr
                        "wall_s": "", "metrics": {}, "error": detail.replace("\n", " | ")}
             row["parameters"] = case.parameters
             rows[case.index] = row
+            future.release()
             drain()
             counts = [sum(1 for r in rows.values() if r["status"] == s)
                       for s in (STATUS_OK, STATUS_FAILED, STATUS_INVALID)]
