@@ -33,6 +33,8 @@ import traceback
 import numpy as np
 import yaml
 
+from .cluster import SchedulerUnreachable, connect
+
 DISTRIBUTIONS = ("uniform", "normal", "loguniform", "integers", "choice")
 MODES = ("lockstep", "fast")
 KEYS = ("name", "scenario", "duration_s", "mode", "seed", "samples", "grid", "parameters", "overrides",
@@ -648,28 +650,6 @@ class _Progress:
             self.last_decile = done * 10 // max(1, self.total)
             self.stream.write(text + "\n")
             self.stream.flush()
-
-
-class SchedulerUnreachable(ConnectionError):
-    """No Dask scheduler answered at the address given."""
-
-
-def connect(scheduler=None, workers=None, connect_timeout_s=10.0):
-    """A distributed.Client: to the scheduler at `scheduler` (tcp://HOST:PORT), else to a new LocalCluster of
-    `workers` single-threaded worker processes (default: one per CPU this process may use). Returns (client,
-    cluster or None). Raises SchedulerUnreachable."""
-    from distributed import Client, LocalCluster
-
-    if scheduler:
-        try:
-            return Client(scheduler, timeout=connect_timeout_s), None
-        except (OSError, TimeoutError) as e:
-            raise SchedulerUnreachable(f"no Dask scheduler answered at {scheduler} within {connect_timeout_s:g} s "
-                                       f"({type(e).__name__}: {e})") from None
-    count = workers or len(os.sched_getaffinity(0))
-    cluster = LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=40)
-    return Client(cluster), cluster
 
 
 START_QUEUE = "hadal-campaign-starts"

@@ -11,6 +11,7 @@
     env.close()
 
     envs = hadal.env.VectorEnv(4, task="waypoint", seed=1)  # 4 servers on 4 DDS domains, stepped concurrently
+    envs = hadal.env.DaskVectorEnv(8, envs_per_worker=4, scheduler="tcp://HOST:8786", task="waypoint", seed=1)
     obs, infos = envs.reset()                                # obs: (4, 12)
     obs, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
 
@@ -278,7 +279,8 @@ class HadalEnv(_Closing, _EnvBase):
     as every Hadal tool), which must run the task's scenario, and leaves it running; scenario, hadald, threads,
     cpus and sched are then refused (they describe a server to start). scenario overrides the task's (a name
     in configs/scenarios or a path); threads, cpus and sched go to its server (hadal.Server: the CPU threads
-    it computes on, the CPUs it runs on, its scheduling policy). Each step applies the action (the vehicle's control vector, clipped to [-1, 1]) for the task's
+    it computes on, the CPUs it runs on, its scheduling policy); die_with_parent=True has its server killed when
+    the thread that made the env ends (hadal.Server: DaskVectorEnv's, whose worker may be killed). Each step applies the action (the vehicle's control vector, clipped to [-1, 1]) for the task's
     control period, then observes. info: sim_time [s], episode_step, and the task's figures.
     """
 
@@ -287,7 +289,8 @@ class HadalEnv(_Closing, _EnvBase):
     spec = None
 
     def __init__(self, task="waypoint", seed=None, scenario=None, attach=False, domain_id=None,
-                 max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None):
+                 max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None,
+                 die_with_parent=False):
         if not isinstance(attach, bool):
             raise TypeError(f"attach must be True or False (got {attach!r})")
         if attach:
@@ -316,7 +319,7 @@ class HadalEnv(_Closing, _EnvBase):
         else:
             self.server = Server(scenario or self.task.scenario, mode="lockstep", hadald=hadald,
                                  domain_id="free" if domain_id is None else domain_id, cameras=self.task.cameras,
-                                 threads=threads, cpus=cpus, sched=sched)
+                                 threads=threads, cpus=cpus, sched=sched, die_with_parent=die_with_parent)
             domain_id = self.server.domain_id
         try:
             self.client = self._connect(domain_id)
@@ -568,6 +571,173 @@ class VectorEnv(_Closing):
         for env in self.envs:
             env.close()
         self.envs = []
+
+
+class _EnvGroup:
+    """A Dask actor (DaskVectorEnv): a VectorEnv of `count` envs in a worker process, env k seeded seed + k, each
+    with its own lockstep hadald on a free domain of the worker's machine (discovery on that machine alone)."""
+
+    def __init__(self, count, task, seed, autoreset, kwargs):
+        os.environ.setdefault("ROS_LOCALHOST_ONLY", "1")
+        self.vector = VectorEnv(count, task=task, seed=seed, autoreset=autoreset, die_with_parent=True, **kwargs)
+
+    def shapes(self):
+        return (self.vector.single_observation_space.shape, self.vector.single_action_space.shape,
+                self.vector.domain_ids)
+
+    def reset(self, seeds, options):
+        return self.vector.reset(seed=seeds, options=options)
+
+    def reset_env(self, index, seed, options):
+        return self.vector.reset_env(index, seed=seed, options=options)
+
+    def step(self, actions):
+        return self.vector.step(actions)
+
+    def step_many(self, action_sequence):
+        """Several steps in one call: the results of step() for each actions array of the sequence."""
+        return [self.vector.step(actions) for actions in action_sequence]
+
+    def ping(self):
+        return None
+
+    def close(self):
+        self.vector.close()
+
+
+class DaskVectorEnv(_Closing):
+    """VectorEnv's API with the envs on the workers of a Dask cluster (Debian's python3-distributed): each worker
+    holds envs_per_worker envs (a Dask actor with a VectorEnv of them, each env with its own lockstep hadald on
+    that worker's machine), so one network round trip per worker carries that many env steps, and the workers'
+    envs step in parallel. Env i is seeded seed + i, as in VectorEnv, and with the same actions gives the
+    same observations, to the bit.
+
+    DaskVectorEnv(num_envs, envs_per_worker=4, scheduler=None, client=None, task="waypoint", seed=None,
+                  autoreset=True, workers=None, **kwargs)
+
+    scheduler: a Dask scheduler's address (tcp://HOST:8786); client: a distributed.Client to use; neither: a
+    LocalCluster of ceil(num_envs / envs_per_worker) single-threaded workers on this machine. The envs are
+    spread over the cluster's workers in turn (at most envs_per_worker on each; `workers`: the addresses to use).
+    kwargs go to each VectorEnv (pin_cpus=False by default: a worker's servers run on any CPU it may use).
+    step_many(action_sequence) runs several steps in one round trip (open-loop actions: a policy evaluated
+    on the worker side, or a replay)."""
+
+    def __init__(self, num_envs, envs_per_worker=4, scheduler=None, client=None, task="waypoint", seed=None,
+                 autoreset=True, workers=None, connect_timeout_s=10.0, **kwargs):
+        from .cluster import connect
+
+        if num_envs < 1 or envs_per_worker < 1:
+            raise ValueError(f"num_envs and envs_per_worker must be >= 1 (got {num_envs}, {envs_per_worker})")
+        self.num_envs, self.autoreset = num_envs, autoreset
+        self.groups, self._actors, self._cluster, self._own_client = [], [], None, None
+        groups = -(-num_envs // envs_per_worker)
+        if client is None:
+            client, self._cluster = connect(scheduler, None if scheduler else groups, connect_timeout_s)
+            self._own_client = client
+        self.client = client
+        try:
+            addresses = list(workers) if workers else sorted(client.scheduler_info()["workers"])
+            if not addresses:
+                raise RuntimeError("the Dask cluster has no workers")
+            if len(addresses) * envs_per_worker < num_envs:
+                raise ValueError(f"{num_envs} envs at {envs_per_worker} per worker need "
+                                 f"{groups} workers; the cluster has {len(addresses)}")
+            kwargs.setdefault("pin_cpus", False)
+            first = 0
+            for g in range(groups):
+                count = min(envs_per_worker, num_envs - first)
+                future = client.submit(_EnvGroup, count, task, None if seed is None else seed + first, autoreset,
+                                       kwargs, actor=True, workers=[addresses[g % len(addresses)]],
+                                       allow_other_workers=False, pure=False)
+                self._actors.append(future)
+                self.groups.append((first, count, addresses[g % len(addresses)]))
+                first += count
+            self.actors = [future.result() for future in self._actors]
+            shapes = [actor.shapes().result() for actor in self.actors]
+        except BaseException:
+            self.close()
+            raise
+        observation_shape, action_shape, _ = shapes[0]
+        self.domain_ids = [d for _, _, ids in shapes for d in ids]
+        self.single_observation_space = _box(-np.inf, np.inf, observation_shape)
+        self.single_action_space = _box(-1.0, 1.0, action_shape)
+        self.observation_space = _box(-np.inf, np.inf, (num_envs, *observation_shape))
+        self.action_space = _box(-1.0, 1.0, (num_envs, *action_shape))
+        self.action_space.seed(
+            None if seed is None else int(np.random.default_rng([seed, 0xAC7, num_envs]).integers(2**31)))
+
+    def _gather(self, futures):
+        """Every actor's result, the first error raised once all have answered (the others stay in step)."""
+        results, error = [], None
+        for future in futures:
+            try:
+                results.append(future.result())
+            except BaseException as raised:
+                results.append(None)
+                error = error or raised
+        if error is not None:
+            raise error
+        return results
+
+    @staticmethod
+    def _joined(parts):
+        """Concatenates per-group (observations, rewards, terminated, truncated, infos) tuples."""
+        return (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
+                np.concatenate([p[2] for p in parts]), np.concatenate([p[3] for p in parts]),
+                [info for p in parts for info in p[4]])
+
+    def reset(self, *, seed=None, options=None):
+        if seed is None or isinstance(seed, (int, np.integer)):
+            seeds = [None if seed is None else int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = [None if s is None else int(s) for s in seed]
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
+        parts = self._gather([actor.reset(seeds[first:first + count], options)
+                              for actor, (first, count, _) in zip(self.actors, self.groups)])
+        return np.concatenate([p[0] for p in parts]), [info for p in parts for info in p[1]]
+
+    def reset_env(self, index, seed=None, options=None):
+        """Resets env `index` alone: (observation, info)."""
+        for actor, (first, count, _) in zip(self.actors, self.groups):
+            if first <= index < first + count:
+                return actor.reset_env(index - first, seed, options).result()
+        raise IndexError(f"env {index} of {self.num_envs}")
+
+    def step(self, actions):
+        actions = np.asarray(actions, dtype=np.float64).reshape(self.action_space.shape)
+        return self._joined(self._gather([actor.step(actions[first:first + count])
+                                          for actor, (first, count, _) in zip(self.actors, self.groups)]))
+
+    def step_many(self, action_sequence):
+        """Steps with each (num_envs, ...) actions array of the sequence in turn, one round trip per worker for
+        them all; returns the list of step() results."""
+        sequence = np.asarray(action_sequence, dtype=np.float64).reshape(-1, *self.action_space.shape)
+        per_group = self._gather([actor.step_many(list(sequence[:, first:first + count]))
+                                  for actor, (first, count, _) in zip(self.actors, self.groups)])
+        return [self._joined([group[k] for group in per_group]) for k in range(len(sequence))]
+
+    def ping(self):
+        """One empty round trip to every worker's actor (what a step costs beyond the envs' own work)."""
+        self._gather([actor.ping() for actor in self.actors])
+
+    def close(self):
+        """Closes every env (stopping its server), the actors, and the cluster this object started. Idempotent."""
+        for actor in getattr(self, "actors", []):
+            try:
+                actor.close().result()
+            except Exception:
+                pass
+        self.actors = []
+        for future in getattr(self, "_actors", []):
+            future.release()
+        self._actors = []
+        if getattr(self, "_own_client", None) is not None:
+            self._own_client.close()
+            self._own_client = None
+        if getattr(self, "_cluster", None) is not None:
+            self._cluster.close()
+            self._cluster = None
 
 
 if gymnasium is not None:  # pragma: no cover - Gymnasium is not a Debian 12 package
