@@ -39,6 +39,9 @@ namespace {
 // RTPS well-known port mapping (DDSI-RTPS 2.x, 9.6.1.1): metatraffic unicast port of participant p
 // in domain d is PB + DG*d + d1 + PG*p with PB=7400, DG=250, d1=10, PG=2.
 constexpr int kMaxLocalParticipants = 32;
+// A participant's first announcements: 20, 0.1 s apart (see create_participant).
+constexpr std::uint32_t kInitialAnnouncements = 20;
+constexpr std::uint32_t kInitialAnnouncementPeriodNs = 100'000'000;
 std::uint32_t metatraffic_unicast_port(int domain_id, int participant_index) {
   return static_cast<std::uint32_t>(7400 + 250 * domain_id + 10 + 2 * participant_index);
 }
@@ -173,6 +176,13 @@ fdds::DomainParticipant* create_participant(int domain_id, const std::string& na
                  name.c_str());
   }
   qos.transport().user_transports.push_back(udp);
+  // Fast DDS sends a participant's first announcements (5, 0.1 s apart) and then one every 3 s. A peer whose
+  // participant appears after the first burst learns of this one only from the next periodic one: a client
+  // made just before the hadald it waits for (hadal.Server's readiness probe, when the two share a CPU and
+  // hadald's start-up stretches past the burst) waited ~3 s for it. 2 s of first announcements cover a
+  // peer that starts beside this one (docs/dds.md, "Discovery").
+  qos.wire_protocol().builtin.discovery_config.initial_announcements.count = kInitialAnnouncements;
+  qos.wire_protocol().builtin.discovery_config.initial_announcements.period = {0, kInitialAnnouncementPeriodNs};
   if (security.enabled()) add_security_properties(security, &qos);
 
   fdds::DomainParticipant* participant =
