@@ -10,8 +10,8 @@ measurement. A dask-scheduler on 127.0.0.1 and dask-workers of one thread each, 
                   against VectorEnv(2k) in this process (its servers pinned to the same two CPUs), k = 1, 2,
                   4, 8, waypoint task (0.1 s = 50 physics steps per env step), random actions; and with
                   step_many (--batch steps per round trip) at k = 4
-  round_trip      DaskVectorEnv.ping(): one empty actor call to each of the two workers, the per-step cost of
-                  the network and Dask beyond the envs' own work
+  round_trip      DaskVectorEnv.ping(): one empty actor call to each worker, with 1 and 2 workers: the per-step
+                  cost of the network and Dask beyond the envs' own work, and its growth with the workers
 
     PYTHONPATH=build/python /usr/bin/python3 bench/dask_scaling.py [--rounds 3] [--seconds 10]
                                                                     [--only campaign,vector_env,round_trip]
@@ -169,22 +169,26 @@ def vector_env(rounds, seconds, batch, work):
 
 
 def round_trip(seconds, work):
-    with dask_cluster([0, 1], work) as address:
-        remote = hadal.env.DaskVectorEnv(2, envs_per_worker=1, scheduler=address, task="waypoint", seed=1,
-                                         pin_cpus=True)
-        try:
-            for _ in range(20):
-                remote.ping()
-            times = []
-            start = time.perf_counter()
-            while time.perf_counter() - start < seconds:
-                t = time.perf_counter()
-                remote.ping()
-                times.append(time.perf_counter() - t)
-        finally:
-            remote.close()
-    yield {"benchmark": "round_trip", "what": "DaskVectorEnv.ping(), 2 workers", "calls": len(times),
-           "median_ms": round(float(np.median(times)) * 1e3, 3), "p90_ms": round(float(np.quantile(times, 0.9)) * 1e3, 3)}
+    """The bare round trip to 1 and to 2 workers: its growth with the workers is the client's own cost per
+    worker per step, which bounds how far one client scales out."""
+    for workers in (1, 2):
+        with dask_cluster(list(range(workers)), work) as address:
+            remote = hadal.env.DaskVectorEnv(workers, envs_per_worker=1, scheduler=address, task="waypoint", seed=1,
+                                             pin_cpus=True)
+            try:
+                for _ in range(20):
+                    remote.ping()
+                times = []
+                start = time.perf_counter()
+                while time.perf_counter() - start < seconds:
+                    t = time.perf_counter()
+                    remote.ping()
+                    times.append(time.perf_counter() - t)
+            finally:
+                remote.close()
+        yield {"benchmark": "round_trip", "what": f"DaskVectorEnv.ping(), {workers} worker(s)", "workers": workers,
+               "calls": len(times), "median_ms": round(float(np.median(times)) * 1e3, 3),
+               "p90_ms": round(float(np.quantile(times, 0.9)) * 1e3, 3)}
 
 
 def main():

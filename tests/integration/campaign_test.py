@@ -31,6 +31,12 @@ METRICS = textwrap.dedent("""
         return {"x_m": odometry.p_WB[0], "y_m": odometry.p_WB[1], "z_m": odometry.p_WB[2], "t_s": t,
                 "current_x_m_s": run.parameters.get("world.water.current.uniform", [0.0])[0]}
 
+    def from_bag(run):
+        from hadal.bag import Bag
+        with Bag(run.bag) as bag:
+            t, odometry = bag.messages("/rov/odometry")[-1]
+        return {"x_m": odometry.p_WB[0], "y_m": odometry.p_WB[1], "z_m": odometry.p_WB[2], "t_s": t}
+
     def fails_on_case_two(run):
         if run.case == 2:
             raise RuntimeError("case two always fails")
@@ -225,3 +231,24 @@ def test_a_drawn_value_the_scenario_refuses_is_an_invalid_case_not_a_retry(tmp_p
             assert "command_timeout_s: must be > 0 (got -1" in row["error"]
         else:
             assert row["status"] == "ok" and row["metrics"]["t_s"] == pytest.approx(0.5)
+
+
+def test_fast_mode_scores_each_case_from_its_recorded_bag_as_lockstep_scores_it_live(tmp_path):
+    """mode: fast runs hadald --mode fast --record for duration_s and hands the metrics function the bag: the
+    ROV's last recorded odometry is, to the bit, what the lockstep client reads for the same cases; keep_bags
+    keeps each case's bag beside the table."""
+    path = write_campaign(tmp_path, SMALL.replace("metrics.py:final_pose", "metrics.py:from_bag")
+                          + "mode: fast\nkeep_bags: true\n")
+    out = tmp_path / "fast.csv"
+    done = subprocess.run([*CAMPAIGN_CLI, "run", path, "--out", str(out), "--workers", "2", "--figure", "none"],
+                          capture_output=True, text=True, timeout=240)
+    assert done.returncode == 0, done.stderr
+    assert f"bags {tmp_path / 'fast.bags'}" in done.stdout
+    fast = read_rows(out)
+    lockstep = campaign.run(campaign.load(write_campaign(tmp_path, SMALL)), workers=2, progress=None)
+    for row, live in zip(fast, lockstep.rows):
+        assert row["status"] == "ok" and live["status"] == "ok"
+        assert [row[k] for k in ("x_m", "y_m", "z_m", "t_s")] == [repr(live["metrics"][k]) for k in ("x_m", "y_m", "z_m", "t_s")]
+    from hadal.bag import Bag
+    with Bag(tmp_path / "fast.bags" / "case-00003") as bag:
+        assert bag.messages("/rov/odometry")[-1][1].p_WB[0] == float(fast[3]["x_m"])

@@ -359,6 +359,22 @@ RawSonarImage from_msg(const marine_acoustic_msgs::msg::RawSonarImage& m) {
   return s;
 }
 
+FluidPressure from_msg(const sensor_msgs::msg::FluidPressure& m) {
+  return FluidPressure{dds::from_time_msg(m.header().stamp()), m.header().frame_id(), m.fluid_pressure(),
+                       m.variance()};
+}
+
+Imu from_msg(const sensor_msgs::msg::Imu& m) {
+  Imu imu;
+  imu.stamp = dds::from_time_msg(m.header().stamp());
+  imu.frame_id = m.header().frame_id();
+  imu.angular_velocity = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
+  imu.linear_acceleration = {m.linear_acceleration().x(), m.linear_acceleration().y(), m.linear_acceleration().z()};
+  return imu;
+}
+
+double from_msg(const rosgraph_msgs::msg::Clock& m) { return dds::from_time_msg(m.clock()); }
+
 SonarDetections from_msg(const marine_acoustic_msgs::msg::SonarDetections& m) {
   SonarDetections s;
   s.stamp = dds::from_time_msg(m.header().stamp());
@@ -594,7 +610,7 @@ std::optional<std::vector<SceneSensor>> Client::scene_sensors() const {
 void Client::on_clock(std::function<void(double)> callback) {
   impl_->subscribe<rosgraph_msgs::msg::ClockPubSubType, rosgraph_msgs::msg::Clock>(
       dds::clock_topic(),
-      [callback = std::move(callback)](const rosgraph_msgs::msg::Clock& m) { callback(dds::from_time_msg(m.clock())); });
+      [callback = std::move(callback)](const rosgraph_msgs::msg::Clock& m) { callback(from_msg(m)); });
 }
 
 void Client::on_status(std::function<void(const SimStatus&)> callback) {
@@ -648,23 +664,14 @@ void Client::on_thruster_state(const std::string& vehicle, std::function<void(co
 void Client::on_fluid_pressure(const std::string& vehicle, const std::string& sensor,
                                std::function<void(const FluidPressure&)> callback) {
   impl_->subscribe<sensor_msgs::msg::FluidPressurePubSubType, sensor_msgs::msg::FluidPressure>(
-      dds::sensor_topic(vehicle, sensor), [callback = std::move(callback)](const sensor_msgs::msg::FluidPressure& m) {
-        callback(FluidPressure{dds::from_time_msg(m.header().stamp()), m.header().frame_id(),
-                               m.fluid_pressure(), m.variance()});
-      });
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const sensor_msgs::msg::FluidPressure& m) { callback(from_msg(m)); });
 }
 
 void Client::on_imu(const std::string& vehicle, const std::string& sensor, std::function<void(const Imu&)> callback) {
   impl_->subscribe<sensor_msgs::msg::ImuPubSubType, sensor_msgs::msg::Imu>(
-      dds::sensor_topic(vehicle, sensor), [callback = std::move(callback)](const sensor_msgs::msg::Imu& m) {
-        Imu imu;
-        imu.stamp = dds::from_time_msg(m.header().stamp());
-        imu.frame_id = m.header().frame_id();
-        imu.angular_velocity = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
-        imu.linear_acceleration = {m.linear_acceleration().x(), m.linear_acceleration().y(),
-                                   m.linear_acceleration().z()};
-        callback(imu);
-      });
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const sensor_msgs::msg::Imu& m) { callback(from_msg(m)); });
 }
 
 void Client::on_magnetic_field(const std::string& vehicle, const std::string& sensor,
@@ -970,6 +977,80 @@ Odometry Client::reply_odometry(const std::string& vehicle) const {
     throw UnknownVehicle(vehicle, "reply_odometry: the last step reply has no vehicle '" + vehicle + "'");
   }
   return found->second;
+}
+
+namespace {
+
+// CDR bytes (with their encapsulation header, as on the wire and in a rosbag2 bag) into the client's value.
+template <class PubSub, class Msg>
+DecodedMessage decode_as(const std::string& type, const std::vector<std::uint8_t>& cdr) {
+  PubSub pub_sub;
+  Msg msg;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(cdr.size()));
+  if (!cdr.empty()) std::memcpy(payload.data, cdr.data(), cdr.size());
+  payload.length = static_cast<std::uint32_t>(cdr.size());
+  bool ok = false;
+  try {
+    ok = cdr.size() >= 4 && pub_sub.deserialize(&payload, &msg);
+  } catch (const std::exception&) {  // fastcdr's exceptions for bytes that run out
+    ok = false;
+  }
+  if (!ok) {
+    throw std::runtime_error("the " + std::to_string(cdr.size()) + " bytes do not decode as " + type);
+  }
+  return DecodedMessage{from_msg(msg)};
+}
+
+using Decoder = DecodedMessage (*)(const std::string&, const std::vector<std::uint8_t>&);
+
+const std::map<std::string, Decoder>& decoders() {
+  static const std::map<std::string, Decoder> table = {
+      {"rosgraph_msgs/msg/Clock", &decode_as<rosgraph_msgs::msg::ClockPubSubType, rosgraph_msgs::msg::Clock>},
+      {"nav_msgs/msg/Odometry", &decode_as<nav_msgs::msg::OdometryPubSubType, nav_msgs::msg::Odometry>},
+      {"hadal_msgs/msg/SimStatus", &decode_as<hadal_msgs::msg::SimStatusPubSubType, hadal_msgs::msg::SimStatus>},
+      {"hadal_msgs/msg/ThrusterState",
+       &decode_as<hadal_msgs::msg::ThrusterStatePubSubType, hadal_msgs::msg::ThrusterState>},
+      {"hadal_msgs/msg/TrackState", &decode_as<hadal_msgs::msg::TrackStatePubSubType, hadal_msgs::msg::TrackState>},
+      {"hadal_msgs/msg/FinState", &decode_as<hadal_msgs::msg::FinStatePubSubType, hadal_msgs::msg::FinState>},
+      {"hadal_msgs/msg/BuoyancyEngineState",
+       &decode_as<hadal_msgs::msg::BuoyancyEngineStatePubSubType, hadal_msgs::msg::BuoyancyEngineState>},
+      {"hadal_msgs/msg/DropWeightState",
+       &decode_as<hadal_msgs::msg::DropWeightStatePubSubType, hadal_msgs::msg::DropWeightState>},
+      {"sensor_msgs/msg/JointState", &decode_as<sensor_msgs::msg::JointStatePubSubType, sensor_msgs::msg::JointState>},
+      {"sensor_msgs/msg/FluidPressure",
+       &decode_as<sensor_msgs::msg::FluidPressurePubSubType, sensor_msgs::msg::FluidPressure>},
+      {"sensor_msgs/msg/Imu", &decode_as<sensor_msgs::msg::ImuPubSubType, sensor_msgs::msg::Imu>},
+      {"sensor_msgs/msg/MagneticField",
+       &decode_as<sensor_msgs::msg::MagneticFieldPubSubType, sensor_msgs::msg::MagneticField>},
+      {"geometry_msgs/msg/WrenchStamped",
+       &decode_as<geometry_msgs::msg::WrenchStampedPubSubType, geometry_msgs::msg::WrenchStamped>},
+      {"sensor_msgs/msg/NavSatFix", &decode_as<sensor_msgs::msg::NavSatFixPubSubType, sensor_msgs::msg::NavSatFix>},
+      {"marine_acoustic_msgs/msg/Dvl", &decode_as<marine_acoustic_msgs::msg::DvlPubSubType, marine_acoustic_msgs::msg::Dvl>},
+      {"sensor_msgs/msg/Range", &decode_as<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>},
+      {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},
+      {"sensor_msgs/msg/CameraInfo", &decode_as<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>},
+      {"marine_acoustic_msgs/msg/SonarDetections",
+       &decode_as<marine_acoustic_msgs::msg::SonarDetectionsPubSubType, marine_acoustic_msgs::msg::SonarDetections>},
+  };
+  return table;
+}
+
+}  // namespace
+
+std::vector<std::string> decodable_message_types() {
+  std::vector<std::string> out;
+  for (const auto& [type, decoder] : decoders()) out.push_back(type);
+  return out;
+}
+
+DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr) {
+  const auto found = decoders().find(type);
+  if (found == decoders().end()) {
+    std::string known;
+    for (const std::string& name : decodable_message_types()) known += (known.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("no decoder for message type '" + type + "' (decoded: " + known + ")");
+  }
+  return found->second(type, cdr);
 }
 
 }  // namespace hadal

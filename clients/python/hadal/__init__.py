@@ -17,6 +17,8 @@
         with hadal.Client(domain_id=server.domain_id) as client:      # left at the end of the block
             client.reset(seed=3, poses={"rov": (0, 0, -50)})          # start over at t = 0, no restart
 
+Recorded runs: hadal.bag.Bag(BAG_DIR).messages("/auv/odometry") -> [(t_s, Odometry)] (hadal.decode_message).
+
 Errors: hadal.ClientError and its subclasses ServerNotFound, ScenarioError, ServerLost, Timeout,
 UnknownVehicle, UnknownSensor, CommandRejected.
 
@@ -25,7 +27,8 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
-                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, Wrench, default_domain_id)
+                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, Wrench, decodable_message_types,
+                     decode_message, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
                      UnknownSensor, UnknownVehicle)
 from . import frames
@@ -35,4 +38,4 @@ __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "Comma
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",
-           "Wrench", "default_domain_id"]
+           "Wrench", "decodable_message_types", "decode_message", "default_domain_id"]

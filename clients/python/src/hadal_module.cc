@@ -565,6 +565,25 @@ PYBIND11_MODULE(_hadal, m) {
   m.def("current_cpu", [] { return sched_getcpu(); },
         "The CPU the calling thread runs on now (sched_getcpu(3)), -1 if unknown; hadal.env.VectorEnv sends the "
         "server pinned there its request last");
+  m.def(
+      "decode_message",
+      [](const std::string& type, const py::bytes& cdr) {
+        const std::string text(cdr);
+        const std::vector<std::uint8_t> bytes(text.begin(), text.end());
+        try {
+          return hadal::decode_message(type, bytes);
+        } catch (const std::invalid_argument&) {
+          throw;
+        } catch (const std::runtime_error& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      py::arg("type"), py::arg("cdr"),
+      "A recorded message (CDR bytes with their encapsulation header, as a rosbag2 bag keeps them) of ROS 2 type "
+      "`type` ('nav_msgs/msg/Odometry') as the client's own readers give it (Odometry, Imu, ...; a float for a "
+      "Clock). ValueError for a type not in decodable_message_types() or bytes that do not decode");
+  m.def("decodable_message_types", &hadal::decodable_message_types,
+        "The ROS 2 type names decode_message reads (images and sonar images are not among them)");
   m.def("default_domain_id", [] { return hadal::resolve_domain_id(std::nullopt); },
         "The DDS domain when none is given, the rule of hadald, its tools, hadal.Client and ROS 2: $ROS_DOMAIN_ID, "
         "else 0 (ValueError for a ROS_DOMAIN_ID that is no id in 0..232)");

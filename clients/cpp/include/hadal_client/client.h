@@ -20,6 +20,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace hadal {
@@ -418,6 +419,18 @@ struct ClientOptions {
   // constructor, `file:line:col: error: ...`; so do files Fast DDS refuses.
   std::string security_file{};
 };
+
+// A recorded message (a rosbag2 bag's, or any CDR bytes with their encapsulation header as on the wire) decoded
+// into the value the client's own reader gives: double for a Clock (sim time [s]), Odometry, SimStatus, and so
+// on. decode_message(type, cdr): type as a bag's topics table names it ("nav_msgs/msg/Odometry");
+// std::invalid_argument for a type not among decodable_message_types() (images and sonar images are not:
+// read them live), std::runtime_error for bytes that do not decode as the type.
+using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates, TrackStates, FinStates,
+                                    BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
+                                    MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
+                                    SonarDetections>;
+DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
+std::vector<std::string> decodable_message_types();
 
 // The DDS domain a client with ClientOptions::domain_id = `domain_id` joins: it, or $ROS_DOMAIN_ID, or 0.
 // std::invalid_argument outside 0..232 (or for a ROS_DOMAIN_ID that is no domain id).
