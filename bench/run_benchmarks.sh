@@ -117,3 +117,7 @@ for r in 1 2 3; do
     "$build/bin/hadal_bench_step_rate" "$scenario" --sim-seconds 10 --repetitions 8 --threads 1 --no-cameras
   done
 done
+
+# 11. Scaling out on Dask (issue 41, bench/dask_scaling.py): campaign throughput with 1 and 2 workers of one
+#     core each, DaskVectorEnv against VectorEnv with 1-8 envs per worker, and the bare round trip.
+PYTHONPATH="$build/python" /usr/bin/python3 bench/dask_scaling.py
