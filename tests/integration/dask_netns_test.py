@@ -22,7 +22,7 @@ import time
 
 import pytest
 
-from hil_netns_test import WAIT_RUNNING, ip
+from hil_netns_test import WAIT_RUNNING, add_namespace_or_skip, ip
 
 pytestmark = pytest.mark.skipif(os.geteuid() != 0 or shutil.which("ip") is None,
                                 reason="needs root and iproute2's ip to make network namespaces (CI runs as root)")
@@ -64,13 +64,7 @@ def cluster_namespaces():
     tag = str(os.getpid())
     scheduler_ns = f"hadal_dask_s{tag}"
     worker_ns = [f"hadal_dask_w{i}{tag}" for i in (1, 2)]
-    try:
-        ip("netns", "add", scheduler_ns)
-    except subprocess.CalledProcessError as e:
-        if "Operation not permitted" in e.stderr or "Permission denied" in e.stderr:
-            pytest.skip(f"cannot make network namespaces here (root without CAP_SYS_ADMIN: a container?): "
-                        f"{e.stderr.strip()}")
-        raise
+    add_namespace_or_skip(scheduler_ns)
     try:
         bridge = f"db{tag}"
         ip("-n", scheduler_ns, "link", "add", bridge, "type", "bridge")

@@ -78,19 +78,24 @@ def ip(*args):
     subprocess.run(["ip", *args], check=True, capture_output=True, text=True, timeout=30)
 
 
-@pytest.fixture
-def namespaces():
-    """Two namespaces (server, client) joined by a veth pair, loopback and link up; removed afterwards."""
-    tag = str(os.getpid())
-    server_ns, client_ns = f"hadal_hil_s{tag}", f"hadal_hil_c{tag}"
+def add_namespace_or_skip(name):
+    """ip netns add NAME; the test is skipped where namespaces cannot be made."""
     try:
-        ip("netns", "add", server_ns)
+        ip("netns", "add", name)
     except subprocess.CalledProcessError as e:
         # Root without CAP_SYS_ADMIN (an unprivileged container): listed as a skip at the end of tools/test.sh.
         if "Operation not permitted" in e.stderr or "Permission denied" in e.stderr:
             pytest.skip(f"cannot make network namespaces here (root without CAP_SYS_ADMIN: a container?): "
                         f"{e.stderr.strip()}")
         raise
+
+
+@pytest.fixture
+def namespaces():
+    """Two namespaces (server, client) joined by a veth pair, loopback and link up; removed afterwards."""
+    tag = str(os.getpid())
+    server_ns, client_ns = f"hadal_hil_s{tag}", f"hadal_hil_c{tag}"
+    add_namespace_or_skip(server_ns)
     try:
         ip("netns", "add", client_ns)
         ip("link", "add", f"hs{tag}", "netns", server_ns, "type", "veth", "peer", "name", f"hc{tag}", "netns", client_ns)

@@ -674,6 +674,8 @@ def run(campaign, scheduler=None, workers=None, client=None, progress=sys.stderr
     queue_name = f"{START_QUEUE}-{os.getpid()}-{time.monotonic_ns()}"
     try:
         starts = Queue(queue_name, client=client)
+        if progress is not None and not client.scheduler_info().get("workers"):
+            progress.write("hadal-campaign: the scheduler has no workers yet; the cases wait for one\n")
         spec = campaign.task_spec()
         spec_future = client.scatter(spec, broadcast=True)
         started = time.monotonic()

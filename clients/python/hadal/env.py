@@ -444,6 +444,17 @@ class HadalEnv(_Closing, _EnvBase):
         return self
 
 
+def _env_seeds(seed, num_envs):
+    """A vector env's reset seeds: an int gives env i seed + i, a list one per env (None: that env's stream goes
+    on), None none."""
+    if seed is None or isinstance(seed, (int, np.integer)):
+        return [None if seed is None else int(seed) + i for i in range(num_envs)]
+    seeds = [None if s is None else int(s) for s in seed]
+    if len(seeds) != num_envs:
+        raise ValueError(f"{len(seeds)} seeds for {num_envs} envs")
+    return seeds
+
+
 class VectorEnv(_Closing):
     """n HadalEnvs, each with its own lockstep hadald on its own DDS domain, stepped concurrently from this
     process: every call sends all n requests before it waits for any reply, so the servers step in parallel
@@ -536,12 +547,7 @@ class VectorEnv(_Closing):
         return results
 
     def reset(self, *, seed=None, options=None):
-        if seed is None or isinstance(seed, (int, np.integer)):
-            seeds = [None if seed is None else int(seed) + i for i in range(self.num_envs)]
-        else:
-            seeds = [None if s is None else int(s) for s in seed]
-            if len(seeds) != self.num_envs:
-                raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
+        seeds = _env_seeds(seed, self.num_envs)
         results = self._all([(env, lambda env=env, s=s: env._begin_reset(s, options))
                               for env, s in zip(self.envs, seeds)])
         return np.stack([r[0] for r in results]), [r[1] for r in results]
@@ -687,12 +693,7 @@ class DaskVectorEnv(_Closing):
                 [info for p in parts for info in p[4]])
 
     def reset(self, *, seed=None, options=None):
-        if seed is None or isinstance(seed, (int, np.integer)):
-            seeds = [None if seed is None else int(seed) + i for i in range(self.num_envs)]
-        else:
-            seeds = [None if s is None else int(s) for s in seed]
-            if len(seeds) != self.num_envs:
-                raise ValueError(f"{len(seeds)} seeds for {self.num_envs} envs")
+        seeds = _env_seeds(seed, self.num_envs)
         parts = self._gather([actor.reset(seeds[first:first + count], options)
                               for actor, (first, count, _) in zip(self.actors, self.groups)])
         return np.concatenate([p[0] for p in parts]), [info for p in parts for info in p[1]]
