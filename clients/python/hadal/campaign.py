@@ -175,11 +175,10 @@ class Campaign:
                  keep_bags, retries, cameras, threads):
         self.path, self.name, self.scenario, self.duration_s, self.mode = path, name, scenario, duration_s, mode
         self.seed, self.samples, self.grid, self.parameters = seed, samples, grid, parameters
-        self.overrides, self.metrics, self.keep_bags = overrides, metrics, keep_bags
+        self.overrides, self.keep_bags = overrides, keep_bags
         self.retries, self.cameras, self.threads = retries, cameras, threads
-        metrics_file, self.metrics_function = metrics
-        self.metrics_file = metrics_file
-        with open(metrics_file) as source:
+        self.metrics_file, self.metrics_function = metrics
+        with open(self.metrics_file) as source:
             self.metrics_source = source.read()
 
     def parameter_keys(self):
@@ -201,7 +200,7 @@ class Campaign:
                 rng = np.random.default_rng(sequence)
                 parameters = dict(zip(self.grid, point))
                 parameters.update({key: _draw(tree, rng) for key, tree in self.parameters.items()})
-                fixed = {**self.overrides, **parameters}
+                fixed = case_overrides(self.overrides, parameters)
                 if "world.seed" in fixed:
                     world_seed = int(fixed["world.seed"])
                 out.append(Case(index, parameters, world_seed))
@@ -213,7 +212,7 @@ class Campaign:
         return {"scenario": self.scenario, "duration_s": self.duration_s, "mode": self.mode,
                 "overrides": self.overrides, "metrics_source": self.metrics_source,
                 "metrics_file": self.metrics_file, "metrics_function": self.metrics_function,
-                "keep_bags": self.keep_bags, "cameras": self.cameras, "threads": self.threads}
+                "cameras": self.cameras, "threads": self.threads}
 
 
 def load(path, scenario_lookup=None):
@@ -368,13 +367,13 @@ def check_cases(campaign, cases, limit=64):
 
     step = max(1, campaign.samples)
     for case in cases[::step][:limit]:
-        check_scenario(campaign.scenario, overrides=case_overrides(campaign.overrides, case))
+        check_scenario(campaign.scenario, overrides=case_overrides(campaign.overrides, case.parameters))
 
 
-def case_overrides(constant, case):
-    """The --set list of a case: the campaign's constant overrides, then the case's parameters (which win)."""
+def case_overrides(constant, parameters):
+    """What a case sets (hadald --set): the campaign's constant overrides, then the case's parameters (which win)."""
     merged = dict(constant)
-    merged.update(case.parameters)
+    merged.update(parameters)
     return merged
 
 
@@ -447,14 +446,13 @@ def run_case(spec, index, parameters, seed, bag_dir=None):
     machine only; returns {"case", "seed", "status", "worker", "wall_s", "metrics", "error"}. A scenario that
     hadald refuses (a value drawn out of range) is status "invalid", not retried; anything else raises, for
     Dask to retry."""
-    import hadal
+    from .errors import ScenarioError
     from .server import Server
 
     os.environ.setdefault("ROS_LOCALHOST_ONLY", "1")  # this task's DDS traffic stays on this machine
     started = time.monotonic()
     row = {"case": index, "seed": seed, "worker": _worker_name(), "metrics": {}, "error": ""}
-    overrides = dict(spec["overrides"])
-    overrides.update(parameters)
+    overrides = case_overrides(spec["overrides"], parameters)
     function = _metrics_function(spec)
     try:
         if spec["mode"] == "lockstep":
@@ -465,7 +463,7 @@ def run_case(spec, index, parameters, seed, bag_dir=None):
                     metrics = function(run)
         else:
             metrics = _run_fast(spec, index, parameters, seed, overrides, function, bag_dir)
-    except hadal.ScenarioError as e:
+    except ScenarioError as e:
         row.update(status=STATUS_INVALID, error="; ".join(e.errors), wall_s=time.monotonic() - started)
         return row
     row.update(status=STATUS_OK, metrics=_checked_metrics(metrics, spec), wall_s=time.monotonic() - started)
@@ -478,23 +476,16 @@ def _run_fast(spec, index, parameters, seed, overrides, function, bag_dir):
     import shutil
     import subprocess
 
-    from .server import (DIE_WITH_PARENT, FREE_DOMAINS, _raise_scenario_error, find_hadald, override_arguments,
-                         reserve_domain)
+    from .server import _raise_scenario_error, hadald_command, reserve_free_domain
 
-    reserved = reserve_domain(FREE_DOMAINS)
-    if reserved is None:
-        raise RuntimeError(f"no free DDS domain id in {FREE_DOMAINS.start}..{FREE_DOMAINS.stop - 1}")
-    domain_id, lock = reserved
+    domain_id, lock = reserve_free_domain()
     work = tempfile.mkdtemp(prefix="hadal-campaign-")
     try:
         bag = os.path.join(work, f"case-{index:05d}")
-        args = [*DIE_WITH_PARENT, find_hadald(), spec["scenario"], "--mode", "fast", "--duration", repr(spec["duration_s"]),
-                "--domain-id", str(domain_id), "--seed", str(seed), "--record", bag, "--no-status-line",
-                "--discovery-wait", "0", "--threads", str(spec["threads"])]
-        if not spec["cameras"]:
-            args.append("--no-cameras")
-        for override in override_arguments(overrides):
-            args += ["--set", override]
+        args = hadald_command(spec["scenario"], "fast", domain_id, seed=seed, cameras=spec["cameras"],
+                              threads=spec["threads"], overrides=overrides, die_with_parent=True,
+                              extra_args=("--duration", repr(spec["duration_s"]), "--record", bag,
+                                          "--discovery-wait", "0"))
         env = dict(os.environ, ROS_LOCALHOST_ONLY="1")
         done = subprocess.run(args, capture_output=True, text=True, env=env)
         _raise_scenario_error(spec["scenario"], done.returncode, done.stderr)
@@ -688,10 +679,14 @@ def run(campaign, scheduler=None, workers=None, client=None, progress=sys.stderr
         rows = {}
         bar = _Progress(len(cases), progress)
         attempts = {}
+        counts = {STATUS_OK: 0, STATUS_FAILED: 0, STATUS_INVALID: 0}
+        retried = 0
 
         def drain():
+            nonlocal retried
             for index in starts.get(batch=True):
                 attempts[index] = attempts.get(index, 0) + 1
+                retried += attempts[index] == 2
 
         bar.update(0, 0, 0, 0, 0)
         for future in as_completed(list(futures)):
@@ -710,11 +705,10 @@ def run(campaign, scheduler=None, workers=None, client=None, progress=sys.stderr
                        "wall_s": "", "metrics": {}, "error": detail.replace("\n", " | ")}
             row["parameters"] = case.parameters
             rows[case.index] = row
+            counts[row["status"]] += 1
             future.release()
             drain()
-            counts = [sum(1 for r in rows.values() if r["status"] == s)
-                      for s in (STATUS_OK, STATUS_FAILED, STATUS_INVALID)]
-            bar.update(len(rows), *counts, sum(1 for n in attempts.values() if n > 1))
+            bar.update(len(rows), counts[STATUS_OK], counts[STATUS_FAILED], counts[STATUS_INVALID], retried)
         drain()
         for index, row in rows.items():
             row["attempts"] = attempts.get(index, 0)

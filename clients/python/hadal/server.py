@@ -118,6 +118,14 @@ def reserve_domain(candidates):
     return None
 
 
+def reserve_free_domain():
+    """reserve_domain(FREE_DOMAINS): (id, lock file handle); ServerNotFound when every one is held."""
+    reserved = reserve_domain(FREE_DOMAINS)
+    if reserved is None:
+        raise ServerNotFound(f"no free DDS domain id in {FREE_DOMAINS.start}..{FREE_DOMAINS.stop - 1}")
+    return reserved
+
+
 def _holder(domain_id):
     """' (pid N)' of the process holding the domain's lock file, or ''."""
     try:
@@ -148,6 +156,28 @@ def override_arguments(overrides):
     if isinstance(overrides, str):
         raise ValueError("overrides must be a dict or a list of 'KEY.PATH=VALUE' strings, not one string")
     return [str(item) for item in overrides]
+
+
+def hadald_command(scenario, mode, domain_id, hadald=None, seed=None, cameras=True, threads=None, cpus=None,
+                   sched=None, security_file=None, overrides=None, die_with_parent=False, extra_args=()):
+    """hadald's command line for a scenario file (Server's options, which see), without a status line."""
+    args = [*(DIE_WITH_PARENT if die_with_parent else ()), find_hadald(hadald), scenario, "--mode", mode,
+            "--domain-id", str(domain_id), "--no-status-line", *extra_args]
+    if seed is not None:
+        args += ["--seed", str(int(seed))]
+    if not cameras:
+        args.append("--no-cameras")
+    if threads is not None:
+        args += ["--threads", str(int(threads))]
+    if cpus is not None:
+        args += ["--cpus", ",".join(str(int(cpu)) for cpu in cpus)]
+    if sched is not None:
+        args += ["--sched", str(sched)]
+    if security_file is not None:
+        args += ["--security", os.fspath(security_file)]
+    for override in override_arguments(overrides):
+        args += ["--set", override]
+    return args
 
 
 def _raise_scenario_error(scenario, returncode, output):
@@ -218,23 +248,9 @@ class Server:
         self.domain_id = self._reserve(domain_id)
         self._log_dir, self._log_held = _open_log_dir(LOG_ROOT, LOGS_KEPT)
         self.log_path = os.path.join(self._log_dir, "hadald.log")
-        args = [*(DIE_WITH_PARENT if die_with_parent else ()), find_hadald(hadald), self.scenario, "--mode", mode,
-                "--domain-id", str(self.domain_id),
-                "--no-status-line", *extra_args]
-        if seed is not None:
-            args += ["--seed", str(int(seed))]
-        if not cameras:
-            args.append("--no-cameras")
-        if threads is not None:
-            args += ["--threads", str(int(threads))]
-        if cpus is not None:
-            args += ["--cpus", ",".join(str(int(cpu)) for cpu in cpus)]
-        if sched is not None:
-            args += ["--sched", str(sched)]
-        if security_file is not None:
-            args += ["--security", os.fspath(security_file)]
-        for override in override_arguments(overrides):
-            args += ["--set", override]
+        args = hadald_command(self.scenario, mode, self.domain_id, hadald=hadald, seed=seed, cameras=cameras,
+                              threads=threads, cpus=cpus, sched=sched, security_file=security_file,
+                              overrides=overrides, die_with_parent=die_with_parent, extra_args=extra_args)
         self.client_security_file = client_security_file if client_security_file is not None else security_file
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")
@@ -249,9 +265,7 @@ class Server:
 
     def _reserve(self, domain_id):
         if isinstance(domain_id, str) and domain_id == "free":
-            reserved = reserve_domain(FREE_DOMAINS)
-            if reserved is None:
-                raise ServerNotFound(f"no free DDS domain id in {FREE_DOMAINS.start}..{FREE_DOMAINS.stop - 1}")
+            reserved = reserve_free_domain()
         else:
             if domain_id is None:
                 domain_id = default_domain_id()
