@@ -14,7 +14,8 @@ IDL_TO_MSG = {"double": "float64", "float": "float32", "boolean": "bool", "octet
 
 
 def msg_type(idl_type):
-    """The .msg spelling of an IDL member type: sequence<T> -> T[], pkg::msg::T -> pkg/T."""
+    """The .msg spelling of an IDL member type: sequence<T> -> T[], pkg::msg::T -> pkg/T (a fixed array, T name[N],
+    is T[N]: idl_messages adds the size)."""
     sequence = re.fullmatch(r"sequence<\s*(.+?)\s*>", idl_type)
     if sequence:
         return msg_type(sequence.group(1)) + "[]"
@@ -28,7 +29,8 @@ def idl_messages(text):
     text = re.sub(r"//[^\n]*", "", text)
     structs, constants = {}, {}
     for name, body in re.findall(r"struct\s+(\w+)\s*\{(.*?)\};", text, re.S):
-        structs[name] = [(msg_type(t.strip()), n) for t, n in re.findall(r"([\w:<>\s]+?)\s+(\w+)\s*;", body)]
+        structs[name] = [(msg_type(t.strip()) + (f"[{size}]" if size else ""), n)
+                         for t, n, size in re.findall(r"([\w:<>\s]+?)\s+(\w+)\s*(?:\[(\d+)\])?\s*;", body)]
     for name, body in re.findall(r"module\s+(\w+)_Constants\s*\{(.*?)\};", text, re.S):
         constants[name] = [(msg_type(t), n, v) for t, n, v in re.findall(r"const\s+(\w+)\s+(\w+)\s*=\s*([^;]+);", body)]
     return structs, constants

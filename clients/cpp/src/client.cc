@@ -272,6 +272,31 @@ Range from_msg(const sensor_msgs::msg::Range& m) {
   return r;
 }
 
+UsblFixes from_msg(const hadal_msgs::msg::UsblFixes& m) {
+  UsblFixes out;
+  out.stamp = dds::from_time_msg(m.header().stamp());
+  out.frame_id = m.header().frame_id();
+  for (const hadal_msgs::msg::UsblFix& f : m.fixes()) {
+    UsblFix& fix = out.fixes.emplace_back();
+    fix.stamp = dds::from_time_msg(f.stamp());
+    fix.interrogation_stamp = dds::from_time_msg(f.interrogation_stamp());
+    fix.target = f.target();
+    fix.interrogation = f.interrogation();
+    fix.travel_time = f.travel_time();
+    fix.range = f.range();
+    fix.bearing = f.bearing();
+    fix.elevation = f.elevation();
+    fix.position = {f.position().x(), f.position().y(), f.position().z()};
+    fix.position_covariance = f.position_covariance();
+    fix.position_world = {f.position_world().x(), f.position_world().y(), f.position_world().z()};
+    fix.latitude = f.latitude();
+    fix.longitude = f.longitude();
+    fix.altitude = f.altitude();
+    fix.snr_db = f.snr_db();
+  }
+  return out;
+}
+
 Image from_msg(const sensor_msgs::msg::Image& m) {
   Image image;
   image.stamp = dds::from_time_msg(m.header().stamp());
@@ -701,6 +726,13 @@ void Client::on_dvl(const std::string& vehicle, const std::string& sensor, std::
       [callback = std::move(callback)](const marine_acoustic_msgs::msg::Dvl& m) { callback(from_msg(m)); });
 }
 
+void Client::on_usbl_fixes(const std::string& vehicle, const std::string& sensor,
+                           std::function<void(const UsblFixes&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::UsblFixesPubSubType, hadal_msgs::msg::UsblFixes>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const hadal_msgs::msg::UsblFixes& m) { callback(from_msg(m)); });
+}
+
 void Client::on_range(const std::string& vehicle, const std::string& sensor,
                       std::function<void(const Range&)> callback) {
   impl_->subscribe<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>(
@@ -1027,6 +1059,7 @@ const std::map<std::string, Decoder>& decoders() {
       {"sensor_msgs/msg/NavSatFix", &decode_as<sensor_msgs::msg::NavSatFixPubSubType, sensor_msgs::msg::NavSatFix>},
       {"marine_acoustic_msgs/msg/Dvl", &decode_as<marine_acoustic_msgs::msg::DvlPubSubType, marine_acoustic_msgs::msg::Dvl>},
       {"sensor_msgs/msg/Range", &decode_as<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>},
+      {"hadal_msgs/msg/UsblFixes", &decode_as<hadal_msgs::msg::UsblFixesPubSubType, hadal_msgs::msg::UsblFixes>},
       {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},
       {"sensor_msgs/msg/CameraInfo", &decode_as<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>},
       {"marine_acoustic_msgs/msg/SonarDetections",

@@ -27,7 +27,8 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
-                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, Wrench, decodable_message_types,
+                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, UsblFix, UsblFixes, Wrench,
+                     decodable_message_types,
                      decode_message, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
                      UnknownSensor, UnknownVehicle)
@@ -38,4 +39,4 @@ __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "Comma
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",
-           "Wrench", "decodable_message_types", "decode_message", "default_domain_id"]
+           "UsblFix", "UsblFixes", "Wrench", "decodable_message_types", "decode_message", "default_domain_id"]

@@ -211,7 +211,7 @@ class PyClient {
         {"nav_sat_fix", "gps"},   {"dvl", "dvl"},                  {"range", "altimeter"},
         {"laser_scan", "profiler"}, {"image", "camera"},           {"depth", "camera"},
         {"camera_info", "camera"}, {"sonar_image", "fls"},         {"sonar_detections", "multibeam"},
-        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}};
+        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}, {"usbl_fixes", "usbl"}};
     const auto it = types.find(kind);
     return it == types.end() ? std::string() : it->second;
   }
@@ -300,6 +300,11 @@ class PyClient {
   std::optional<hadal::Range> wait_range(const std::string& vehicle, const std::string& sensor, double min_stamp,
                                          double timeout_s) {
     return wait_sensor("range", &hadal::Client::on_range, range_, vehicle, sensor, min_stamp, timeout_s);
+  }
+  std::optional<hadal::UsblFixes> wait_usbl_fixes(const std::string& vehicle, const std::string& sensor,
+                                                  double min_stamp, double timeout_s) {
+    return wait_sensor("usbl_fixes", &hadal::Client::on_usbl_fixes, usbl_fixes_, vehicle, sensor, min_stamp,
+                       timeout_s);
   }
   std::optional<hadal::LaserScan> wait_laser_scan(const std::string& vehicle, const std::string& sensor,
                                                   double min_stamp, double timeout_s) {
@@ -547,6 +552,7 @@ class PyClient {
   Latest<hadal::NavSatFix> nav_sat_fix_;
   Latest<hadal::Dvl> dvl_;
   Latest<hadal::Range> range_;
+  Latest<hadal::UsblFixes> usbl_fixes_;
   Latest<hadal::LaserScan> laser_scan_;
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
@@ -832,6 +838,29 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("max_range", &hadal::Range::max_range, "[m]")
       .def_readonly("range", &hadal::Range::range, "[m]");
 
+  py::class_<hadal::UsblFix>(m, "UsblFix",
+                             "One USBL fix: a transponder's reply fixed in the transceiver's frame S and geo-referenced")
+      .def_readonly("stamp", &hadal::UsblFix::stamp, "reception of the reply, sim time [s]")
+      .def_readonly("interrogation_stamp", &hadal::UsblFix::interrogation_stamp, "emission of the interrogation [s]")
+      .def_readonly("target", &hadal::UsblFix::target, "the transponder's vehicle")
+      .def_readonly("interrogation", &hadal::UsblFix::interrogation, "the interrogation's index")
+      .def_readonly("travel_time", &hadal::UsblFix::travel_time, "two-way, turnaround removed [s]")
+      .def_readonly("range", &hadal::UsblFix::range, "slant range [m]")
+      .def_readonly("bearing", &hadal::UsblFix::bearing, "atan2(y_S, x_S) [rad]")
+      .def_readonly("elevation", &hadal::UsblFix::elevation, "asin(z_S / range), negative below [rad]")
+      .def_readonly("position", &hadal::UsblFix::position, "the transponder in S [m]")
+      .def_readonly("position_covariance", &hadal::UsblFix::position_covariance, "in S, row-major [m^2]")
+      .def_readonly("position_world", &hadal::UsblFix::position_world, "the transponder in W (ENU) [m]")
+      .def_readonly("latitude", &hadal::UsblFix::latitude, "WGS84 [deg]")
+      .def_readonly("longitude", &hadal::UsblFix::longitude, "WGS84 [deg]")
+      .def_readonly("altitude", &hadal::UsblFix::altitude, "above the WGS84 ellipsoid [m]")
+      .def_readonly("snr_db", &hadal::UsblFix::snr_db, "the reply's SNR at the transceiver [dB]");
+  py::class_<hadal::UsblFixes>(m, "UsblFixes",
+                               "hadal_msgs/UsblFixes: the USBL fixes whose replies arrived within one physics step")
+      .def_readonly("stamp", &hadal::UsblFixes::stamp, "the last fix's [s]")
+      .def_readonly("frame_id", &hadal::UsblFixes::frame_id, "the transceiver's frame")
+      .def_readonly("fixes", &hadal::UsblFixes::fixes, "list of UsblFix");
+
   py::class_<hadal::LaserScan>(m, "LaserScan",
                                "sensor_msgs/LaserScan of a fan of range beams (a profiler): beam k at "
                                "angle_min + k angle_increment about the sensor frame's z axis; values outside "
@@ -1058,6 +1087,9 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
       .def("wait_range", &PyClient::wait_range, py::arg("vehicle"), py::arg("sensor"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(),
            "Range sample of rt/<vehicle>/<sensor> with stamp >= min_stamp, or None on timeout")
+      .def("wait_usbl_fixes", &PyClient::wait_usbl_fixes, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "UsblFixes sample of rt/<vehicle>/<sensor> (a USBL) with stamp >= min_stamp, or None on timeout")
       .def("wait_laser_scan", &PyClient::wait_laser_scan, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "LaserScan of rt/<vehicle>/<sensor> (a profiler) with stamp >= min_stamp, or None on timeout")

@@ -168,32 +168,42 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle, bool
     }
   }
 
-  // The definition: either `include` (which the entry may extend with more `sensors` and `lights`) or
-  // inline keys, never both.
+  // The definition: either `include` (which the entry may extend with more `sensors` and `lights`, and
+  // give a `transponder`) or inline keys, never both.
+  static const std::vector<std::string> kExtensions = {"sensors", "lights", "transponder"};
+  const auto is_extension = [](const std::string& key) {
+    return std::find(kExtensions.begin(), kExtensions.end(), key) != kExtensions.end();
+  };
+  bool extends = false;
   std::vector<std::string> inline_keys;
   for (const std::string& key : definition_table.names()) {
-    if (map.has(key) && key != "sensors" && key != "lights") inline_keys.push_back(quoted(key));
+    if (!map.has(key)) continue;
+    if (is_extension(key)) {
+      extends = true;
+    } else {
+      inline_keys.push_back(quoted(key));
+    }
   }
   std::optional<VehicleDefinition> inline_definition;
   const VehicleDefinition* definition = nullptr;
   if (const auto include = map.optional("include")) {
     if (!inline_keys.empty()) {
       map.error_at_key("include", "cannot be combined with an inline definition (found " + join_names(inline_keys) +
-                                      "; an entry with 'include' may only add 'sensors' and 'lights')");
+                                      "; an entry with 'include' may only add 'sensors', 'lights' and a 'transponder')");
     } else if (const auto include_path = include->string()) {
       const auto overridden = include_overrides_.find(value.path());
       const auto& included = included_definition(
           *include, *include_path, object, overridden == include_overrides_.end() ? nullptr : &overridden->second);
-      if (included && !object && (map.has("sensors") || map.has("lights"))) {
-        inline_definition = *included;  // extended by the entry's own lists
+      if (included && !object && extends) {
+        inline_definition = *included;  // extended by the entry's own lists and transponder
         VehicleContext context = vehicle_context();
-        definition_table.read_only(map, &*inline_definition, context, {"sensors", "lights"});
+        definition_table.read_only(map, &*inline_definition, context, kExtensions);
         definition = &*inline_definition;
       } else if (included) {
         definition = &*included;
       }
     }
-  } else if (!inline_keys.empty() || (!object && (map.has("sensors") || map.has("lights")))) {
+  } else if (!inline_keys.empty() || (!object && extends)) {
     inline_definition.emplace();
     inline_definition->source_file = map.value().file();
     VehicleContext context = vehicle_context();
@@ -211,6 +221,7 @@ void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle, bool
     vehicle->actuators = definition->actuators;
     vehicle->sensors = definition->sensors;
     vehicle->lights = definition->lights;
+    vehicle->transponder = definition->transponder;
     vehicle->joint_controllers = definition->joint_controllers;
     vehicle->fluid = definition->fluid;
     for (SensorSpec& sensor : vehicle->sensors) {

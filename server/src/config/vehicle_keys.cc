@@ -383,6 +383,8 @@ void declare_definition_keys(KeyTable<VehicleDefinition, VehicleContext>& t, boo
          "", "list of maps")
         .items_of(physics::joint_controller_keys())
         .doc("groups of an articulated vehicle's joints commanded together (position, velocity or effort)");
+    t.map("transponder", &VehicleDefinition::transponder, sensors::transponder_keys())
+        .doc("an acoustic transponder, which USBLs interrogate (none by default)");
   }
   t.map("fluid", &VehicleDefinition::fluid, physics::fluid_keys())
       .unless("include")

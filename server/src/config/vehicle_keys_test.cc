@@ -237,9 +237,60 @@ vehicles:
 )");
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":4:5: error: vehicles[0].include: cannot be combined with an inline definition "
-                          "(found 'type', 'fluid'; an entry with 'include' may only add 'sensors' and 'lights')",
+                          "(found 'type', 'fluid'; an entry with 'include' may only add 'sensors', 'lights' and a 'transponder')",
                    path + ":7:5: error: vehicles[1]: needs either 'include' or an inline definition ('type', "
                           "'links', ...)"}));
+}
+
+// A transponder: in a vehicle file, or given to an included vehicle by its entry (only to that entry), with
+// its keys checked as the file's; a USBL's bandwidth must stay below twice its frequency.
+TEST_F(ScenarioLoaderTest, TransponderInADefinitionOrAddedToAnIncludedVehicle) {
+  write("v.yaml", R"(type: auv
+links:
+  - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+)");
+  const std::string good = write("good.yaml", R"(world: {}
+vehicles:
+  - name: ship
+    type: surface_vessel
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: usbl, type: usbl, rate_hz: 0.5, cone_deg: 80, bearing_stddev_deg: 0.2}
+  - name: a
+    include: v.yaml
+    transponder: {position: [0.1, -0.2, 0.3], turnaround_s: 0.02}
+  - name: b
+    include: v.yaml
+)");
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  const auto& usbl = std::get<sensors::UsblSpec>(loaded.model->vehicles[0].sensors[0].kind);
+  EXPECT_DOUBLE_EQ(usbl.cone_half_angle, 80.0 * kDegToRad);
+  EXPECT_DOUBLE_EQ(usbl.bearing_stddev, 0.2 * kDegToRad);
+  EXPECT_FALSE(loaded.model->vehicles[0].transponder);
+  ASSERT_TRUE(loaded.model->vehicles[1].transponder);
+  EXPECT_EQ(loaded.model->vehicles[1].transponder->p_BT, Eigen::Vector3d(0.1, -0.2, 0.3));
+  EXPECT_DOUBLE_EQ(loaded.model->vehicles[1].transponder->turnaround_s, 0.02);
+  EXPECT_DOUBLE_EQ(loaded.model->vehicles[1].transponder->source_level_db, 185.0);
+  EXPECT_FALSE(loaded.model->vehicles[2].transponder);  // the include itself is unchanged
+  const std::string bad = write("bad.yaml", R"(world: {}
+vehicles:
+  - name: ship
+    type: surface_vessel
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: usbl, type: usbl, frequency_hz: 20000, bandwidth_hz: 45000}
+  - name: a
+    include: v.yaml
+    transponder: {turnaround: 0.02, source_level_db: 300}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":8:55: error: vehicles[0].sensors[0].bandwidth_hz: must be below twice frequency_hz (40000 Hz)",
+                   bad + ":11:19: error: vehicles[1].transponder.turnaround: unknown key 'turnaround'; did you mean "
+                         "'turnaround_s'?",
+                   bad + ":11:54: error: vehicles[1].transponder.source_level_db: must be in [100, 240] (got 300)"}));
 }
 
 TEST_F(ScenarioLoaderTest, ScheduleSetpointCountUsesTheIncludedVehicle) {

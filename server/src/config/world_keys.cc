@@ -131,7 +131,8 @@ const KeyTable<WorldSpec, LoadContext>& world_keys() {
              "depend on it");
     t.map("water", &WorldSpec::water, physics::water_keys()).doc("the water column");
     t.map("optics", &WorldSpec::optics, render::optics_keys()).doc("what cameras see");
-    t.map("acoustics", &WorldSpec::acoustics, render::acoustics_keys()).doc("what sonars hear");
+    t.map("acoustics", &WorldSpec::acoustics, render::acoustics_keys())
+        .doc("what sonars, acoustic positioning and modems hear");
     t.map("seabed", &WorldSpec::seabed, geometry::seabed_keys()).doc("the seabed; a plane at z = -100 m by default");
     t.map("soil", &WorldSpec::soil, physics::soil_keys())
         .doc("the seabed's soil under vehicles with seabed_contact: soil; the deep-sea ooze by default");

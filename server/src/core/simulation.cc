@@ -55,6 +55,9 @@ struct Simulation::VehicleRuntime {
       mount.X_BS = spec.links[static_cast<std::size_t>(sensor.link_index)].X_BL * sensor.X_LS;
       mount.period = 1.0 / sensor.rate_hz;
       mount.latency_steps = sensor.latency_steps(world.physics_rate_hz);
+      mount.by_event = std::visit(
+          [](const auto& kind) { return sensors::SamplesByEvent<sensors::KindOf<std::decay_t<decltype(kind)>>>::value; },
+          sensor.kind);
       // A sensor on a moving link follows its body K (its mounting in B is worked out at each sample).
       if (articulation) {
         mount.body = articulation->body_of_link(sensor.link_index);
@@ -171,6 +174,7 @@ struct Simulation::VehicleRuntime {
     Eigen::Isometry3d X_KS = Eigen::Isometry3d::Identity();  // the mounting in that body's frame K
     double period = 0.0;  // nominal sample period 1 / rate_hz [s]
     std::uint64_t latency_steps = 0;
+    bool by_event = false;  // its kind's samples are events (sensors::SamplesByEvent): advanced every step
     std::deque<InFlight> in_flight;
   };
   std::deque<Sensor> sensors;  // a deque: Sensor holds futures, which do not copy
@@ -1295,7 +1299,7 @@ void Simulation::sample_sensors(double dt) {
     for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
       const bool due = sample_due(state_.step_count, dt, spec.sensors[k].rate_hz);
       SensorState& out = vehicle.sensors[k];
-      if (!due && out.captures.empty()) continue;
+      if (!due && out.captures.empty() && !runtime.sensors[k].by_event) continue;
       VehicleRuntime::Sensor& mount = runtime.sensors[k];
       if (due && mount.body > 0) mount.X_BS = mounting_B(runtime, static_cast<int>(k), vehicle, X_WK);
       const int ray_body = ray_bodies_.of_body(static_cast<int>(i), mount.body);
@@ -1303,7 +1307,7 @@ void Simulation::sample_sensors(double dt) {
         return sensors::SampleContext{state_.time, mount.period,     dt,             model_.world,
                                       *ocean_,     *environment_,    state_,         static_cast<int>(i),
                                       X_BS,        runtime.p_BBcm,   runtime.v_WBcm, runtime.w_WB,
-                                      rays_.get(), &spec.sensors[k], ray_body};
+                                      rays_.get(), &spec.sensors[k], ray_body,       &model_.vehicles};
       };
       const sensors::SampleContext context = context_at(mount.X_BS);
       std::visit(
@@ -1348,6 +1352,12 @@ void Simulation::sample_sensors(double dt) {
                 mount.in_flight.pop_front();
                 out.captures.erase(out.captures.begin());
               }
+            } else if constexpr (sensors::SamplesByEvent<Kind>::value) {
+              if (const std::optional<double> stamp = Kind::advance(context, kind_spec, kind_state)) {
+                out.stamp = *stamp;
+                ++out.samples;
+              }
+              if (due) Kind::sample(context, kind_spec, kind_state);
             } else if (due) {
               Kind::sample(context, kind_spec, kind_state);
               out.stamp = state_.time;

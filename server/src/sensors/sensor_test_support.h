@@ -56,8 +56,16 @@ class SensorTestWorld {
               double rate_hz, int vehicle = 0) {
     const SampleContext context{state.time, 1.0 / rate_hz, step_size, model.world, ocean, environment, state,
                                 vehicle, X_BS, p_BBcm, v_WBcm_step_start, w_WB_step_start, rays.get(),
-                                sensor_spec};
+                                sensor_spec, -1, &model.vehicles};
     K::sample(context, spec, sensor_state);
+  }
+
+  // The context a sample of a sensor mounted at X_BS (kept alive by the caller) on `vehicle` gets, sampling at
+  // rate_hz, at the state's time (for kinds driven step by step: advance() and sample()).
+  SampleContext context(const Eigen::Isometry3d& X_BS, double rate_hz, int vehicle = 0) {
+    return SampleContext{state.time, 1.0 / rate_hz, step_size, model.world, ocean, environment, state,
+                         vehicle, X_BS, p_BBcm, v_WBcm_step_start, w_WB_step_start, rays.get(),
+                         sensor_spec, -1, &model.vehicles};
   }
 
   RigidBodyState& body(int vehicle = 0) { return state.vehicles[static_cast<std::size_t>(vehicle)].body; }

@@ -264,6 +264,31 @@ struct Range {
   double range = 0.0;            // [m]
 };
 
+// hadal_msgs/UsblFixes of a USBL transceiver, rt/<vehicle>/<sensor>: the fixes of the transponders whose
+// replies arrived within one physics step (usually one), each stamped at its reply's reception.
+struct UsblFix {
+  double stamp = 0.0;               // reception of the reply [s]
+  double interrogation_stamp = 0.0; // emission of the interrogation [s]
+  std::string target;               // the transponder's vehicle
+  std::uint64_t interrogation = 0;  // the interrogation's index
+  double travel_time = 0.0;         // two-way, turnaround removed [s]
+  double range = 0.0;               // slant range [m]
+  double bearing = 0.0;             // atan2(y_S, x_S) [rad]
+  double elevation = 0.0;           // asin(z_S / range), negative below [rad]
+  std::array<double, 3> position{};        // the transponder in the transceiver's frame S [m]
+  std::array<double, 9> position_covariance{};  // in S, row-major [m^2]
+  std::array<double, 3> position_world{};  // the same in W (ENU) [m]
+  double latitude = 0.0;            // WGS84 [deg]
+  double longitude = 0.0;           // WGS84 [deg]
+  double altitude = 0.0;            // above the WGS84 ellipsoid [m]
+  double snr_db = 0.0;              // the reply's SNR at the transceiver [dB]
+};
+struct UsblFixes {
+  double stamp = 0.0;               // the last fix's [s]
+  std::string frame_id;             // the transceiver's frame S
+  std::vector<UsblFix> fixes;
+};
+
 // sensor_msgs/LaserScan of a fan of range beams (a profiler), rt/<vehicle>/<sensor>: one range per beam,
 // beam k at angle_min + k angle_increment about the sensor frame's z axis from its x axis. Values
 // outside [range_min, range_max] are not measurements (REP 117: +inf no return, -inf too close). The
@@ -428,7 +453,7 @@ struct ClientOptions {
 using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates, TrackStates, FinStates,
                                     BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
                                     MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
-                                    SonarDetections>;
+                                    SonarDetections, UsblFixes>;
 DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
 std::vector<std::string> decodable_message_types();
 
@@ -552,6 +577,8 @@ class Client {
                       std::function<void(const NavSatFix&)> callback);
   void on_dvl(const std::string& vehicle, const std::string& sensor, std::function<void(const Dvl&)> callback);
   void on_range(const std::string& vehicle, const std::string& sensor, std::function<void(const Range&)> callback);
+  void on_usbl_fixes(const std::string& vehicle, const std::string& sensor,
+                     std::function<void(const UsblFixes&)> callback);
   void on_laser_scan(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const LaserScan&)> callback);
   // A camera's colour (or mono) images, depth images and calibration (its three topics).

@@ -25,6 +25,7 @@ struct VehicleDefinition {
   std::vector<ActuatorSpec> actuators;
   std::vector<SensorSpec> sensors;
   std::vector<LightSpec> lights;
+  std::optional<sensors::TransponderSpec> transponder;
   std::vector<physics::JointControllerSpec> joint_controllers;
   FluidSpec fluid;
   // Length and names of the control vector, or nullopt when an actuator list itself is unusable (not a

@@ -99,6 +99,8 @@ struct VehicleSpec {
   std::vector<ActuatorSpec> actuators;  // their controls form the vehicle's control vector, in order
   std::vector<SensorSpec> sensors;
   std::vector<LightSpec> lights;
+  // Its acoustic transponder, which USBLs interrogate (sensors/usbl_sensor.h); none by default.
+  std::optional<sensors::TransponderSpec> transponder;
   // Groups of an articulated vehicle's joints commanded together (physics/joint_servo.h).
   std::vector<physics::JointControllerSpec> joint_controllers;
   FluidSpec fluid;

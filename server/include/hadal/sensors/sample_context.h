@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include <vector>
+
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
 #include "hadal/sensors/sensor_kind.h"
@@ -41,6 +43,8 @@ struct SampleContext {
   // The ray body the sensor is mounted on (geometry/world_scene.h), which its rays pass through; -1: the
   // vehicle's base body (vehicle_index).
   int ray_body = -1;
+  // Every vehicle's spec, in SimState order (a USBL's transponders); null where a test samples without.
+  const std::vector<VehicleSpec>* vehicles = nullptr;
 
   int own_ray_body() const { return ray_body >= 0 ? ray_body : vehicle_index; }
 

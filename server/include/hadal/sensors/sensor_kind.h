@@ -40,6 +40,14 @@
 // capture() returns the scene work (geometry/raycast_service.h) that fills `out` on the workers; it may
 // read the State's constants (noise keys) but nothing that delivery changes.
 //
+// Samples that are events (an acoustic fix arrives when the transponder's reply does, not on a rate's tick): a
+// kind defines
+//   static std::optional<double> advance(const SampleContext&, const Spec&, State&);
+// which the simulation calls at the end of every step, before a sample due then. It follows what is in
+// flight over the step just taken and returns the time of a sample that arrived within it (its stamp; the
+// publisher sends it), or nullopt. Its sample(), on the rate's ticks, starts what the rate paces (an
+// interrogation) and makes no sample itself.
+//
 // Topics: a kind publishes rt/<vehicle>/<sensor> with Message and fill_message(), or, to publish
 // several topics (a camera's image_raw, depth and camera_info), lists them as
 //   using Topics = TopicList<T...>;
@@ -64,6 +72,7 @@
 
 namespace hadal {
 struct Model;
+struct AcousticsSpec;
 }
 #include "hadal/config/key_table_fwd.h"
 namespace hadal::geometry {
@@ -74,6 +83,7 @@ class Ocean;
 }
 namespace hadal::sensors {
 
+class AcousticChannel;
 class GeomagneticModel;
 class LocalEnuFrame;
 struct GeodeticPosition;
@@ -102,7 +112,8 @@ inline constexpr const char* kRatedPresetDoc =
     "a product (table below): sets the keys the file does not give, and rate_hz unless given";
 
 // Data shared by every sensor of a simulation that needs it, made on first use: the World Magnetic
-// Model and W as a local East-North-Up frame on WGS84 (world.origin; sensors/geodesy.h).
+// Model, W as a local East-North-Up frame on WGS84 (world.origin; sensors/geodesy.h) and the acoustic
+// channel (sensors/acoustic_channel.h).
 class SensorEnvironment {
  public:
   explicit SensorEnvironment(const GeodeticPosition& origin);
@@ -114,9 +125,13 @@ class SensorEnvironment {
   // file cannot be read.
   const GeomagneticModel& geomagnetic();
   const LocalEnuFrame& frame_W() const { return *frame_W_; }
+  // The acoustic channel of this water and these acoustics, made on the first call (its slowness table
+  // takes a few milliseconds); later calls return it whatever they pass.
+  const AcousticChannel& acoustic_channel(const physics::Ocean& ocean, const AcousticsSpec& acoustics);
 
  private:
   std::unique_ptr<GeomagneticModel> geomagnetic_;
+  std::unique_ptr<AcousticChannel> acoustic_channel_;
   std::unique_ptr<LocalEnuFrame> frame_W_;
 };
 
@@ -259,6 +274,12 @@ template <class Kind, class = void>
 struct RendersImages : std::false_type {};
 template <class Kind>
 struct RendersImages<Kind, std::void_t<decltype(Kind::kRendersImages)>> : std::bool_constant<Kind::kRendersImages> {};
+
+// Whether a kind's samples are events (advance(), above).
+template <class Kind, class = void>
+struct SamplesByEvent : std::false_type {};
+template <class Kind>
+struct SamplesByEvent<Kind, std::void_t<decltype(&Kind::advance)>> : std::true_type {};
 
 // Whether a captured kind captures by scene work (defines Capture) rather than by a ray batch.
 template <class Kind, class = void>

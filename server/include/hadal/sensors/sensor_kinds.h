@@ -17,6 +17,7 @@
 #include "hadal/sensors/profiler_sensor.h"
 #include "hadal/sensors/sensor_specs.h"
 #include "hadal/sensors/sidescan_sensor.h"
+#include "hadal/sensors/usbl_sensor.h"
 
 #include <type_traits>
 
@@ -24,7 +25,7 @@ namespace hadal::sensors {
 
 using SensorKinds =
     KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
-             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor, ForceTorqueSensor>;
+             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor, ForceTorqueSensor, UsblSensor>;
 
 // The model's variant of specs (sensors/sensor_specs.h) is this list's.
 static_assert(std::is_same_v<SensorKindSpec, SensorKinds::Specs>, "sensors/sensor_specs.h lists the kinds in this order");

@@ -16,10 +16,12 @@
 #include "hadal/sensors/pressure_spec.h"
 #include "hadal/sensors/profiler_spec.h"
 #include "hadal/sensors/sidescan_spec.h"
+#include "hadal/sensors/usbl_spec.h"
 
 namespace hadal::sensors {
 
 using SensorKindSpec = std::variant<PressureSpec, ImuSpec, MagnetometerSpec, GpsSpec, DvlSpec, AltimeterSpec,
-                                    ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec, ForceTorqueSpec>;
+                                    ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec, ForceTorqueSpec,
+                                    UsblSpec>;
 
 }  // namespace hadal::sensors
