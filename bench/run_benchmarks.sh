@@ -121,3 +121,7 @@ done
 # 11. Scaling out on Dask (issue 41, bench/dask_scaling.py): campaign throughput with 1 and 2 workers of one
 #     core each, DaskVectorEnv against VectorEnv with 1-8 envs per worker, and the bare round trip.
 PYTHONPATH="$build/python" /usr/bin/python3 bench/dask_scaling.py
+
+# 12. Acoustic positioning (issue 42, bench/acoustics.cc): a USBL at 1 Hz and an LBL ranging to four beacons at
+#     1 Hz, against the default scenario's step without its camera and sonar.
+"$build/bin/hadal_bench_acoustics"

@@ -9,6 +9,7 @@
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 #include "hadal/core/units.h"
+#include "step_timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,20 +22,6 @@
 namespace {
 
 constexpr int kCopies = 20;
-
-// Median over `repetitions` of the mean wall time per step of `steps` steps [s].
-double seconds_per_step(const hadal::Model& model, int steps, int repetitions) {
-  std::vector<double> times;
-  for (int r = 0; r < repetitions; ++r) {
-    hadal::Simulation sim(model);
-    for (int k = 0; k < 100; ++k) sim.step();  // warm up
-    const auto start = std::chrono::steady_clock::now();
-    for (int k = 0; k < steps; ++k) sim.step();
-    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps);
-  }
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
-}
 
 }  // namespace
 
@@ -56,7 +43,7 @@ int main(int argc, char** argv) {
   const std::vector<hadal::SensorSpec> sensors = base.vehicles[0].sensors;
   base.vehicles[0].sensors.clear();
   const double physics_hz = base.world.physics_rate_hz;
-  const double without = seconds_per_step(base, steps, repetitions);
+  const double without = hadal::bench::median_seconds_per_step(base, steps, repetitions);
   double load = 0.0;
   for (const hadal::SensorSpec& sensor : sensors) {
     hadal::Model with = base;
@@ -67,7 +54,7 @@ int main(int argc, char** argv) {
       every_step.name = sensor.name + "_" + std::to_string(c);
       with.vehicles[0].sensors.push_back(every_step);
     }
-    const double cost = std::max(seconds_per_step(with, steps, repetitions) - without, 0.0) / kCopies;
+    const double cost = std::max(hadal::bench::median_seconds_per_step(with, steps, repetitions) - without, 0.0) / kCopies;
     load += cost * sensor.rate_hz;
     std::printf("{\"benchmark\": \"sensor_sample_cost\", \"sensor\": \"%s\", \"type\": \"%s\", \"ns_per_sample\": %.0f, "
                 "\"configured_rate_hz\": %.0f, \"core_share_at_rate\": %.3e}\n",
@@ -92,7 +79,7 @@ int main(int argc, char** argv) {
     const hadal::sensors::ProfilerSensor::Spec spec;
     profiler.kind.emplace<hadal::sensors::ProfilerSensor::Spec>(spec);
     with.vehicles[0].sensors.push_back(std::move(profiler));
-    const double per_scan = std::max(seconds_per_step(with, steps, repetitions) - without, 0.0) * 10.0;
+    const double per_scan = std::max(hadal::bench::median_seconds_per_step(with, steps, repetitions) - without, 0.0) * 10.0;
     const double rays = static_cast<double>(spec.beams) * spec.rays_per_beam;
     std::printf("{\"benchmark\": \"captured_sensor_cost\", \"sensor\": \"profiler\", \"rays_per_scan\": %.0f, "
                 "\"ns_per_scan\": %.0f, \"rays_per_s\": %.3e}\n",

@@ -297,6 +297,25 @@ UsblFixes from_msg(const hadal_msgs::msg::UsblFixes& m) {
   return out;
 }
 
+LblRanges from_msg(const hadal_msgs::msg::LblRanges& m) {
+  LblRanges out;
+  out.stamp = dds::from_time_msg(m.header().stamp());
+  out.frame_id = m.header().frame_id();
+  for (const hadal_msgs::msg::LblRange& r : m.ranges()) {
+    LblRange& range = out.ranges.emplace_back();
+    range.stamp = dds::from_time_msg(r.stamp());
+    range.interrogation_stamp = dds::from_time_msg(r.interrogation_stamp());
+    range.beacon = r.beacon();
+    range.interrogation = r.interrogation();
+    range.travel_time = r.travel_time();
+    range.range = r.range();
+    range.range_variance = r.range_variance();
+    range.beacon_position = {r.beacon_position().x(), r.beacon_position().y(), r.beacon_position().z()};
+    range.snr_db = r.snr_db();
+  }
+  return out;
+}
+
 Image from_msg(const sensor_msgs::msg::Image& m) {
   Image image;
   image.stamp = dds::from_time_msg(m.header().stamp());
@@ -733,6 +752,13 @@ void Client::on_usbl_fixes(const std::string& vehicle, const std::string& sensor
       [callback = std::move(callback)](const hadal_msgs::msg::UsblFixes& m) { callback(from_msg(m)); });
 }
 
+void Client::on_lbl_ranges(const std::string& vehicle, const std::string& sensor,
+                           std::function<void(const LblRanges&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::LblRangesPubSubType, hadal_msgs::msg::LblRanges>(
+      dds::sensor_topic(vehicle, sensor),
+      [callback = std::move(callback)](const hadal_msgs::msg::LblRanges& m) { callback(from_msg(m)); });
+}
+
 void Client::on_range(const std::string& vehicle, const std::string& sensor,
                       std::function<void(const Range&)> callback) {
   impl_->subscribe<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>(
@@ -1060,6 +1086,7 @@ const std::map<std::string, Decoder>& decoders() {
       {"marine_acoustic_msgs/msg/Dvl", &decode_as<marine_acoustic_msgs::msg::DvlPubSubType, marine_acoustic_msgs::msg::Dvl>},
       {"sensor_msgs/msg/Range", &decode_as<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>},
       {"hadal_msgs/msg/UsblFixes", &decode_as<hadal_msgs::msg::UsblFixesPubSubType, hadal_msgs::msg::UsblFixes>},
+      {"hadal_msgs/msg/LblRanges", &decode_as<hadal_msgs::msg::LblRangesPubSubType, hadal_msgs::msg::LblRanges>},
       {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},
       {"sensor_msgs/msg/CameraInfo", &decode_as<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>},
       {"marine_acoustic_msgs/msg/SonarDetections",

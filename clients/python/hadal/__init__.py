@@ -26,7 +26,7 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
 from ._hadal import (BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
-                     Image, Imu, LaserScan, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
+                     Image, Imu, LaserScan, LblRange, LblRanges, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
                      SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, UsblFix, UsblFixes, Wrench,
                      decodable_message_types,
                      decode_message, default_domain_id)
@@ -36,7 +36,7 @@ from . import frames
 from .server import Server
 
 __all__ = ["BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
-           "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "MagneticField", "NavSatFix",
+           "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "LblRange", "LblRanges", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",
            "UsblFix", "UsblFixes", "Wrench", "decodable_message_types", "decode_message", "default_domain_id"]

@@ -211,7 +211,7 @@ class PyClient {
         {"nav_sat_fix", "gps"},   {"dvl", "dvl"},                  {"range", "altimeter"},
         {"laser_scan", "profiler"}, {"image", "camera"},           {"depth", "camera"},
         {"camera_info", "camera"}, {"sonar_image", "fls"},         {"sonar_detections", "multibeam"},
-        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}, {"usbl_fixes", "usbl"}};
+        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}, {"usbl_fixes", "usbl"},   {"lbl_ranges", "lbl"}};
     const auto it = types.find(kind);
     return it == types.end() ? std::string() : it->second;
   }
@@ -304,6 +304,11 @@ class PyClient {
   std::optional<hadal::UsblFixes> wait_usbl_fixes(const std::string& vehicle, const std::string& sensor,
                                                   double min_stamp, double timeout_s) {
     return wait_sensor("usbl_fixes", &hadal::Client::on_usbl_fixes, usbl_fixes_, vehicle, sensor, min_stamp,
+                       timeout_s);
+  }
+  std::optional<hadal::LblRanges> wait_lbl_ranges(const std::string& vehicle, const std::string& sensor,
+                                                  double min_stamp, double timeout_s) {
+    return wait_sensor("lbl_ranges", &hadal::Client::on_lbl_ranges, lbl_ranges_, vehicle, sensor, min_stamp,
                        timeout_s);
   }
   std::optional<hadal::LaserScan> wait_laser_scan(const std::string& vehicle, const std::string& sensor,
@@ -553,6 +558,7 @@ class PyClient {
   Latest<hadal::Dvl> dvl_;
   Latest<hadal::Range> range_;
   Latest<hadal::UsblFixes> usbl_fixes_;
+  Latest<hadal::LblRanges> lbl_ranges_;
   Latest<hadal::LaserScan> laser_scan_;
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
@@ -861,6 +867,22 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("frame_id", &hadal::UsblFixes::frame_id, "the transceiver's frame")
       .def_readonly("fixes", &hadal::UsblFixes::fixes, "list of UsblFix");
 
+  py::class_<hadal::LblRange>(m, "LblRange", "One LBL range: a beacon's reply")
+      .def_readonly("stamp", &hadal::LblRange::stamp, "reception of the reply, sim time [s]")
+      .def_readonly("interrogation_stamp", &hadal::LblRange::interrogation_stamp, "emission of the interrogation [s]")
+      .def_readonly("beacon", &hadal::LblRange::beacon, "the beacon's name")
+      .def_readonly("interrogation", &hadal::LblRange::interrogation, "the interrogation's index")
+      .def_readonly("travel_time", &hadal::LblRange::travel_time, "two-way, turnaround removed [s]")
+      .def_readonly("range", &hadal::LblRange::range, "[m]")
+      .def_readonly("range_variance", &hadal::LblRange::range_variance, "[m^2]")
+      .def_readonly("beacon_position", &hadal::LblRange::beacon_position, "in W (ENU) [m]")
+      .def_readonly("snr_db", &hadal::LblRange::snr_db, "the reply's SNR at the transceiver [dB]");
+  py::class_<hadal::LblRanges>(m, "LblRanges",
+                               "hadal_msgs/LblRanges: the LBL ranges whose replies arrived within one physics step")
+      .def_readonly("stamp", &hadal::LblRanges::stamp, "the last range's [s]")
+      .def_readonly("frame_id", &hadal::LblRanges::frame_id, "the transceiver's frame")
+      .def_readonly("ranges", &hadal::LblRanges::ranges, "list of LblRange");
+
   py::class_<hadal::LaserScan>(m, "LaserScan",
                                "sensor_msgs/LaserScan of a fan of range beams (a profiler): beam k at "
                                "angle_min + k angle_increment about the sensor frame's z axis; values outside "
@@ -1090,6 +1112,9 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
       .def("wait_usbl_fixes", &PyClient::wait_usbl_fixes, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "UsblFixes sample of rt/<vehicle>/<sensor> (a USBL) with stamp >= min_stamp, or None on timeout")
+      .def("wait_lbl_ranges", &PyClient::wait_lbl_ranges, py::arg("vehicle"), py::arg("sensor"),
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "LblRanges sample of rt/<vehicle>/<sensor> (an LBL) with stamp >= min_stamp, or None on timeout")
       .def("wait_laser_scan", &PyClient::wait_laser_scan, py::arg("vehicle"), py::arg("sensor"),
            py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "LaserScan of rt/<vehicle>/<sensor> (a profiler) with stamp >= min_stamp, or None on timeout")

@@ -1,5 +1,6 @@
-"""The USBL end to end: configs/scenarios/usbl_survey.yaml (a vessel's transceiver tracking two AUVs at ~1.7 and
-~3.1 km slant range through a thermocline) run by a real hadald. In fast mode hadald records the fixes and the
+"""The USBL and the LBL end to end: configs/scenarios/usbl_survey.yaml (a vessel's transceiver tracking two AUVs at
+~1.7 and ~3.1 km slant range through a thermocline; the first AUV ranging to three seabed beacons) run by a real
+hadald. In fast mode hadald records the fixes and the
 vehicles' odometry; every fix must place its transponder where the AUV was when it replied, within the fix's
 own covariance, and arrive two travel times plus the turnaround after its interrogation. In lockstep a live
 client reads the same fixes over DDS."""
@@ -24,13 +25,15 @@ P_BS = np.array([0.0, 0.0, -0.6])  # the transceiver on the vessel
 
 @pytest.fixture(scope="module")
 def survey_bag(tmp_path_factory):
-    """12 s of the survey in fast mode, recorded by hadald (bag time = sim time)."""
+    """12 s of the survey in fast mode, recorded by hadald (bag time = sim time). With the default discovery wait
+    (2 s in fast mode), so that the recorder has matched every writer before the first step: the test needs the
+    odometry from t = 0 (on a loaded machine a recorder that joins late misses the first samples)."""
     bag = tmp_path_factory.mktemp("bag") / "usbl"
     domain, lock = reserve_domain(range(200, 230))
     try:
         done = subprocess.run([find_hadald(), scenario_path(SCENARIO), "--mode", "fast", "--duration", "12",
-                               "--domain-id", str(domain), "--record", str(bag), "--no-status-line",
-                               "--discovery-wait", "0"], capture_output=True, text=True, timeout=300)
+                               "--domain-id", str(domain), "--record", str(bag), "--no-status-line"],
+                              capture_output=True, text=True, timeout=300)
     finally:
         lock.close()
     assert done.returncode == 0, done.stderr
@@ -96,6 +99,31 @@ def test_fixes_place_each_transponder_within_their_covariance(survey_bag):
     # per fix (16 fixes, seeded). A fix placed at the wrong time (1 m/s x 1 s) or with the S axes swapped
     # is hundreds.
     assert worst < 30.0, worst
+
+
+def test_lbl_ranges_are_the_mean_of_the_two_legs_to_each_beacon(survey_bag):
+    with Bag(survey_bag) as bag:
+        assert bag.topics["/auv/lbl"] == "hadal_msgs/msg/LblRanges"
+        messages = bag.messages("/auv/lbl")
+        odometry = bag.messages("/auv/odometry")
+    ranges = [r for _, m in messages for r in m.ranges]
+    # One interrogation at t = 5 s (0.2 Hz); the beacons 2.0-2.3 km away answer within ~3.2 s.
+    assert sorted(r.beacon for r in ranges) == ["north", "southeast", "southwest"]
+    beacons = {"north": ([0.0, 2000.0, -2980.0], 0.05), "southeast": ([1800.0, -1000.0, -2980.0], 0.1),
+               "southwest": ([-1800.0, -1000.0, -2980.0], 0.15)}
+    p_BS = np.array([0.0, 0.0, -0.12])
+    for r in ranges:
+        position, turnaround = beacons[r.beacon]
+        assert list(r.beacon_position) == position
+        assert r.interrogation == 0 and r.interrogation_stamp == pytest.approx(5.0, abs=1e-9)
+        assert r.stamp - r.interrogation_stamp - r.travel_time == pytest.approx(turnaround, abs=1e-9)
+        assert r.range_variance == pytest.approx(0.01, rel=1e-12) and r.snr_db > 20.0
+        # The AUV moves ~1 m/s: the mean of the leg out (from the interrogation) and the leg back (to the fix).
+        legs = 0.0
+        for t in (r.interrogation_stamp, r.stamp):
+            p_WB, R_WB = pose_at(odometry, t)
+            legs += np.linalg.norm(np.asarray(position) - (p_WB + R_WB @ p_BS))
+        assert abs(r.range - legs / 2) < 5 * 0.1, (r.beacon, r.range - legs / 2)
 
 
 def test_a_live_client_reads_the_fixes():

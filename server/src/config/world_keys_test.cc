@@ -90,6 +90,41 @@ TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {
   EXPECT_EQ(errors_of(negative)[0], negative + ":2:20: error: world.raycast_threads: must be in [0, 256] (got -1)");
 }
 
+// world.acoustics: beacons with their defaults, ambient noise; a repeated beacon name, a missing position and
+// a shipping figure out of [0, 1] are errors at their keys.
+TEST_F(ScenarioLoaderTest, AcousticBeaconsAndAmbientNoise) {
+  const std::string good = write("g.yaml", std::string(R"(world:
+  acoustics:
+    spreading_exponent: 1.5
+    ambient_noise: {shipping: 0.2, wind_speed: 12}
+    beacons:
+      - {name: a, position: [1, 2, -90]}
+      - {name: b, position: [-4, 5, -95], turnaround_s: 0.2, source_level_db: 180}
+vehicles:)") + kInlineVehicle);
+  const LoadResult g = load_scenario_file(good);
+  ASSERT_TRUE(g.ok()) << g.errors.front().format();
+  const AcousticsSpec& acoustics = g.model->world.acoustics;
+  EXPECT_EQ(acoustics.spreading_exponent, 1.5);
+  EXPECT_EQ(acoustics.ambient_noise.shipping, 0.2);
+  EXPECT_EQ(acoustics.ambient_noise.wind_speed, 12.0);
+  ASSERT_EQ(acoustics.beacons.size(), 2u);
+  EXPECT_EQ(acoustics.beacons[0].p_W, Eigen::Vector3d(1, 2, -90));
+  EXPECT_EQ(acoustics.beacons[0].turnaround_s, 0.05);
+  EXPECT_EQ(acoustics.beacons[1].source_level_db, 180.0);
+  const std::string bad = write("b.yaml", std::string(R"(world:
+  acoustics:
+    ambient_noise: {shipping: 2}
+    beacons:
+      - {name: a, position: [1, 2, -90]}
+      - {name: a, position: [1, 2, -80]}
+      - {name: c}
+vehicles:)") + kInlineVehicle);
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":3:31: error: world.acoustics.ambient_noise.shipping: must be in [0, 1] (got 2)",
+                   bad + ":4:5: error: world.acoustics.beacons: duplicate beacon name 'a' (beacons[0] and beacons[1])",
+                   bad + ":7:9: error: world.acoustics.beacons[2]: missing required key 'position'"}));
+}
+
 TEST_F(ScenarioLoaderTest, RatesAboveThePhysicsRate) {
   const std::string path = write("s.yaml", std::string(R"(world:
   physics_rate_hz: 100

@@ -1,6 +1,7 @@
 #include "hadal/render/acoustics_spec.h"
 
 #include "hadal/config/key_table.h"
+#include "hadal/render/responder_keys.h"
 
 namespace hadal::render {
 
@@ -11,6 +12,15 @@ const config::KeyTable<AmbientNoiseSpec>& ambient_noise_keys() {
         .doc("shipping activity, 0 (none) to 1 (heavy); dominates from 10 to 100 Hz");
     t.number("wind_speed", &AmbientNoiseSpec::wind_speed).unit("m/s").range(config::Range::closed(0.0, 50.0))
         .doc("wind speed at the surface; dominates from 100 Hz to 50 kHz (5 m/s is about sea state 3)");
+  });
+}
+
+const config::KeyTable<BeaconSpec>& beacon_keys() {
+  return config::declare_keys<BeaconSpec>([](config::KeyTable<BeaconSpec>& t) {
+    t.describe("world.acoustics.beacons[]", "a long-baseline beacon fixed in W, which LBL sensors interrogate");
+    t.string("name", &BeaconSpec::name).required().doc("unique among the beacons; names its ranges");
+    t.vector("position", &BeaconSpec::p_W).required().unit("m").doc("its position in W (in the water)");
+    declare_responder_keys(t, "LBL");
   });
 }
 
@@ -29,6 +39,20 @@ const config::KeyTable<AcousticsSpec>& acoustics_keys() {
              "cylindrical (positioning and modems; the sonars use their own)");
     t.map("ambient_noise", &AcousticsSpec::ambient_noise, ambient_noise_keys())
         .doc("the ambient noise acoustic receivers hear in their band");
+    t.list("beacons", &AcousticsSpec::beacons, beacon_keys())
+        .doc("long-baseline beacons on the seabed (or anywhere in the water), which LBL sensors interrogate");
+    t.check([](const config::KeyReads& reads, AcousticsSpec& spec, config::NoContext&) {
+      for (std::size_t i = 0; i < spec.beacons.size(); ++i) {
+        for (std::size_t j = 0; j < i; ++j) {
+          if (spec.beacons[i].name != spec.beacons[j].name) continue;
+          reads.error_at_key("beacons", "duplicate beacon name " + config::quoted(spec.beacons[i].name) +
+                                            " (beacons[" + std::to_string(j) + "] and beacons[" + std::to_string(i) +
+                                            "])");
+          return false;
+        }
+      }
+      return true;
+    });
   });
 }
 

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -83,6 +84,25 @@ class SensorTestWorld {
   // The sampled sensor's spec, for kinds that read their link or X_LS (SampleContext::sensor).
   const SensorSpec* sensor_spec = nullptr;
 };
+
+// Steps the world by dt up to `until` as the simulation steps a kind whose samples are events (sensor_kind.h):
+// advance() every step, then sample() every `every` steps from step 0, for a sensor mounted at X_BS on vehicle
+// 0. `move(t)` (if any) places the bodies before each step's sensor work; `arrived(state)` is called after each
+// advance() that returns a sample.
+template <class K>
+void step_events(SensorTestWorld& world, const typename K::Spec& spec, typename K::State& state,
+                 const Eigen::Isometry3d& X_BS, double until, double dt, int every,
+                 const std::function<void(double)>& move, const std::function<void(const typename K::State&)>& arrived) {
+  const double rate_hz = 1.0 / (dt * every);
+  for (std::uint64_t step = 0; static_cast<double>(step) * dt <= until; ++step) {
+    world.state.step_count = step;
+    world.state.time = static_cast<double>(step) * dt;
+    if (move) move(world.state.time);
+    const SampleContext context = world.context(X_BS, rate_hz);
+    if (K::advance(context, spec, state)) arrived(state);
+    if (step % static_cast<std::uint64_t>(every) == 0) K::sample(context, spec, state);
+  }
+}
 
 // One capture of kind K (one that captures by scene work: a camera, a sonar) of the sensor mounted at X_BS on
 // `vehicle`, at the world's state, as the simulation makes it: the kind's work on a 2-worker ray-cast service.

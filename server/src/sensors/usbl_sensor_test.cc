@@ -54,20 +54,13 @@ Eigen::Vector3d transponder_W(const SensorTestWorld& world, int vehicle = 1) {
          world.model.vehicles[static_cast<std::size_t>(vehicle)].transponder->p_BT;
 }
 
-// Steps the world by dt up to `until`, as the simulation does: advance() every step, then sample() when due
-// (every `every` steps from step 0). `move` may change the bodies before each step's sensor work.
+// Every fix of the transceiver at kX_BS on the vessel over the run (testing::step_events).
 std::vector<UsblFix> run(SensorTestWorld& world, const UsblSpec& spec, UsblSensor::State& state, double until,
                          double dt = 0.01, int every = 100, const std::function<void(double)>& move = {}) {
   std::vector<UsblFix> fixes;
-  const double rate_hz = 1.0 / (dt * every);
-  for (std::uint64_t step = 0; world.state.time <= until; ++step) {
-    world.state.step_count = step;
-    world.state.time = static_cast<double>(step) * dt;
-    if (move) move(world.state.time);
-    const SampleContext context = world.context(kX_BS, rate_hz);
-    if (UsblSensor::advance(context, spec, state)) fixes.insert(fixes.end(), state.fixes.begin(), state.fixes.end());
-    if (step % static_cast<std::uint64_t>(every) == 0) UsblSensor::sample(context, spec, state);
-  }
+  testing::step_events<UsblSensor>(world, spec, state, kX_BS, until, dt, every, move, [&](const UsblSensor::State& s) {
+    fixes.insert(fixes.end(), s.fixes.begin(), s.fixes.end());
+  });
   return fixes;
 }
 

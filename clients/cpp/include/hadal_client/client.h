@@ -289,6 +289,25 @@ struct UsblFixes {
   std::vector<UsblFix> fixes;
 };
 
+// hadal_msgs/LblRanges of an LBL transceiver, rt/<vehicle>/<sensor>: the ranges to the beacons whose replies
+// arrived within one physics step, each stamped at its reply's reception.
+struct LblRange {
+  double stamp = 0.0;               // reception of the reply [s]
+  double interrogation_stamp = 0.0; // emission of the interrogation [s]
+  std::string beacon;               // the beacon's name
+  std::uint64_t interrogation = 0;  // the interrogation's index
+  double travel_time = 0.0;         // two-way, turnaround removed [s]
+  double range = 0.0;               // [m]
+  double range_variance = 0.0;      // [m^2]
+  std::array<double, 3> beacon_position{};  // in W (ENU) [m]
+  double snr_db = 0.0;              // the reply's SNR at the transceiver [dB]
+};
+struct LblRanges {
+  double stamp = 0.0;               // the last range's [s]
+  std::string frame_id;             // the transceiver's frame
+  std::vector<LblRange> ranges;
+};
+
 // sensor_msgs/LaserScan of a fan of range beams (a profiler), rt/<vehicle>/<sensor>: one range per beam,
 // beam k at angle_min + k angle_increment about the sensor frame's z axis from its x axis. Values
 // outside [range_min, range_max] are not measurements (REP 117: +inf no return, -inf too close). The
@@ -453,7 +472,7 @@ struct ClientOptions {
 using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates, TrackStates, FinStates,
                                     BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
                                     MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
-                                    SonarDetections, UsblFixes>;
+                                    SonarDetections, UsblFixes, LblRanges>;
 DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
 std::vector<std::string> decodable_message_types();
 
@@ -579,6 +598,8 @@ class Client {
   void on_range(const std::string& vehicle, const std::string& sensor, std::function<void(const Range&)> callback);
   void on_usbl_fixes(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const UsblFixes&)> callback);
+  void on_lbl_ranges(const std::string& vehicle, const std::string& sensor,
+                     std::function<void(const LblRanges&)> callback);
   void on_laser_scan(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const LaserScan&)> callback);
   // A camera's colour (or mono) images, depth images and calibration (its three topics).

@@ -7,6 +7,11 @@
 // (server/src/render/acoustics_spec.cc).
 #pragma once
 
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
 #include "hadal/config/key_table_fwd.h"
 
 namespace hadal {
@@ -17,15 +22,32 @@ struct AmbientNoiseSpec {
   double wind_speed = 5.0;  // at the surface [m/s] (sea state ~3)
 };
 
+// A long-baseline beacon (YAML `world.acoustics.beacons[]`): a transponder fixed in W, which LBL sensors
+// interrogate (sensors/lbl_sensor.h).
+struct BeaconSpec {
+  std::string name;
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // [m]
+  double source_level_db = 185.0;                 // the reply, dB re 1 uPa at 1 m
+  double detection_threshold_db = 10.0;           // SNR an interrogation needs to be heard [dB]
+  double turnaround_s = 0.05;                     // [s]
+};
+
 struct AcousticsSpec {
   double seabed_backscatter_db = -27.0;
   double vehicle_backscatter_db = -10.0;
   double spreading_exponent = 2.0;  // k in TL = k 10 log10 r + alpha r (positioning and modems)
   AmbientNoiseSpec ambient_noise;
+  std::vector<BeaconSpec> beacons;
 };
 
 namespace render {
 const config::KeyTable<AcousticsSpec>& acoustics_keys();
+
+// The keys of what replies to an acoustic interrogation (a beacon, a vehicle's transponder), declared once for
+// a Spec with source_level_db, detection_threshold_db and turnaround_s; `interrogator` names what subtracts
+// the turnaround. Defined in render/responder_keys.h (include it with config/key_table.h).
+template <class Spec, class Ctx>
+void declare_responder_keys(config::KeyTable<Spec, Ctx>& t, const char* interrogator);
 }  // namespace render
 
 }  // namespace hadal

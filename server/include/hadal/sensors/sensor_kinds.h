@@ -11,6 +11,7 @@
 #include "hadal/sensors/fls_sensor.h"
 #include "hadal/sensors/gps_sensor.h"
 #include "hadal/sensors/imu_sensor.h"
+#include "hadal/sensors/lbl_sensor.h"
 #include "hadal/sensors/magnetometer_sensor.h"
 #include "hadal/sensors/multibeam_sensor.h"
 #include "hadal/sensors/pressure_sensor.h"
@@ -25,7 +26,8 @@ namespace hadal::sensors {
 
 using SensorKinds =
     KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
-             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor, ForceTorqueSensor, UsblSensor>;
+             CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor, ForceTorqueSensor, UsblSensor,
+             LblSensor>;
 
 // The model's variant of specs (sensors/sensor_specs.h) is this list's.
 static_assert(std::is_same_v<SensorKindSpec, SensorKinds::Specs>, "sensors/sensor_specs.h lists the kinds in this order");

@@ -11,6 +11,7 @@
 #include "hadal/sensors/force_torque_spec.h"
 #include "hadal/sensors/gps_spec.h"
 #include "hadal/sensors/imu_spec.h"
+#include "hadal/sensors/lbl_spec.h"
 #include "hadal/sensors/magnetometer_spec.h"
 #include "hadal/sensors/multibeam_spec.h"
 #include "hadal/sensors/pressure_spec.h"
@@ -22,6 +23,6 @@ namespace hadal::sensors {
 
 using SensorKindSpec = std::variant<PressureSpec, ImuSpec, MagnetometerSpec, GpsSpec, DvlSpec, AltimeterSpec,
                                     ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec, ForceTorqueSpec,
-                                    UsblSpec>;
+                                    UsblSpec, LblSpec>;
 
 }  // namespace hadal::sensors

@@ -5,7 +5,8 @@
 //
 // One interrogation per sample (rate_hz, the interrogation rate), emitted from p_WS at the sample time t_i.
 // Through the acoustic channel (sensors/acoustic_channel.h: straight rays, harmonic-mean sound speed,
-// spreading + Francois–Garrison absorption, Wenz noise in the band, occlusion by the seabed and bodies):
+// spreading + Francois–Garrison absorption, Wenz noise in the band, occlusion by the seabed and bodies),
+// as every two-way ranging device (sensors/acoustic_interrogation.h):
 //   1. the interrogation reaches transponder T (position p_WT = X_WB p_BT, moving with its vehicle) at t_a,
 //      the time its wavefront meets T's track; T hears it when SL_usbl - TL - NL >= T's threshold and the
 //      path is clear;
@@ -40,6 +41,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hadal/sensors/acoustic_interrogation.h"
 #include "hadal/sensors/noise.h"
 #include "hadal/sensors/sensor_kind.h"
 #include "hadal/sensors/usbl_spec.h"
@@ -77,29 +79,11 @@ struct UsblSensor {
 
   using Spec = UsblSpec;
 
-  // One interrogation's exchange with one transponder, in flight.
-  struct Exchange {
-    enum class Phase { kOutbound, kTurnaround, kInbound };
-    Phase phase = Phase::kOutbound;
-    int target = -1;
-    std::uint64_t interrogation = 0;
-    double t_interrogation = 0.0;
-    Eigen::Vector3d p_Winterrogation = Eigen::Vector3d::Zero();
-    double t_reply = 0.0;  // when the transponder replies (kTurnaround, kInbound)
-    Eigen::Vector3d p_Wreply = Eigen::Vector3d::Zero();  // where it replies from (kInbound)
-  };
-
   struct State {
     RandomStream range_noise;
     RandomStream bearing_noise;
-    std::uint64_t interrogations = 0;
-    std::vector<Exchange> exchanges;  // oldest first
-    std::vector<UsblFix> fixes;       // those of the last step that had any
-    // The transceiver's and every vehicle's transponder position at the end of the previous step.
-    bool has_previous = false;
-    double t_previous = 0.0;
-    Eigen::Vector3d p_WS_previous = Eigen::Vector3d::Zero();
-    std::vector<Eigen::Vector3d> p_WT_previous;
+    InterrogationState interrogation;  // exchanges in flight (sensors/acoustic_interrogation.h)
+    std::vector<UsblFix> fixes;        // those of the last step that had any
   };
 
   // sigma_0 max(1, 10^((SNR_ref - SNR) / 20)).
