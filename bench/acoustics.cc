@@ -38,18 +38,10 @@ hadal::SensorSpec sensor(const std::string& name, hadal::sensors::SensorKindSpec
 
 int main(int argc, char** argv) {
   int steps = 20000, repetitions = 7;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string arg = argv[i];
-    if (arg == "--steps") steps = std::atoi(argv[i + 1]);
-    else if (arg == "--repetitions") repetitions = std::atoi(argv[i + 1]);
-  }
-  const auto loaded =
-      hadal::config::load_scenario_file(std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/default.yaml");
-  if (!loaded.ok()) {
-    for (const auto& e : loaded.errors) std::fprintf(stderr, "%s\n", e.format().c_str());
-    return 1;
-  }
-  hadal::Model model = *loaded.model;
+  hadal::bench::read_step_options(argc, argv, steps, repetitions);
+  const std::optional<hadal::Model> loaded = hadal::bench::load_default_scenario();
+  if (!loaded) return 1;
+  hadal::Model model = *loaded;
   for (hadal::VehicleSpec& vehicle : model.vehicles) {
     std::erase_if(vehicle.sensors, [](const hadal::SensorSpec& s) { return s.type() == "camera" || s.type() == "fls"; });
   }

@@ -2,6 +2,12 @@
 // something (bench/sensors.cc, bench/acoustics.cc).
 #pragma once
 
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <string>
+
+#include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 #include "timing.h"
 
@@ -19,6 +25,25 @@ inline double median_seconds_per_step(const Model& model, int steps, int repetit
     times.push_back(seconds_since(start) / steps);
   }
   return median(std::move(times));
+}
+
+// `--steps N` and `--repetitions R` from the command line, where given.
+inline void read_step_options(int argc, char** argv, int& steps, int& repetitions) {
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string arg = argv[i];
+    if (arg == "--steps") steps = std::atoi(argv[i + 1]);
+    else if (arg == "--repetitions") repetitions = std::atoi(argv[i + 1]);
+  }
+}
+
+// configs/scenarios/default.yaml of the source tree (HADAL_SOURCE_DIR), or nullopt after printing its errors.
+inline std::optional<Model> load_default_scenario() {
+  const auto loaded = config::load_scenario_file(std::string(HADAL_SOURCE_DIR) + "/configs/scenarios/default.yaml");
+  if (!loaded.ok()) {
+    for (const auto& e : loaded.errors) std::fprintf(stderr, "%s\n", e.format().c_str());
+    return std::nullopt;
+  }
+  return *loaded.model;
 }
 
 }  // namespace hadal::bench
