@@ -100,7 +100,8 @@ std::vector<ReceivedReply> advance_interrogations(InterrogationState& state, con
         const double snr = responder.source_level_db -
                            channel.transmission_loss_db(exchange.p_Wreply, p_Wf, acoustics.frequency_hz) - noise_db() +
                            acoustics.directivity_index_db;
-        if (snr >= acoustics.detection_threshold_db && clear(p_Wf, exchange.p_Wreply, responder)) {
+        if (snr >= acoustics.detection_threshold_db && (exchange.p_Wreply - p_Wf).norm() <= acoustics.max_range &&
+            clear(p_Wf, exchange.p_Wreply, responder)) {
           ReceivedReply& reply = received.emplace_back();
           reply.responder = exchange.responder;
           reply.interrogation = exchange.interrogation;
@@ -109,8 +110,8 @@ std::vector<ReceivedReply> advance_interrogations(InterrogationState& state, con
           reply.travel_time = *arrived - exchange.t_interrogation - responder.turnaround_s;
           reply.p_Wreply = exchange.p_Wreply;
           reply.p_Wreceived = p_Wf;
+          reply.range = channel.mean_sound_speed(exchange.p_Wreply, p_Wf) * reply.travel_time / 2.0;
           reply.snr_db = snr;
-          reply.mean_sound_speed = channel.mean_sound_speed(exchange.p_Wreply, p_Wf);
         }
       }
     }

@@ -59,7 +59,6 @@ std::optional<double> LblSensor::advance(const SampleContext& context, const Spe
                              beacons(context), occlusion_of(context));
   bool any = false;
   for (const ReceivedReply& reply : replies) {
-    if ((reply.p_Wreply - reply.p_Wreceived).norm() > spec.max_range) continue;
     if (!any) state.ranges.clear();
     any = true;
     const BeaconSpec& beacon = context.world.acoustics.beacons[static_cast<std::size_t>(reply.responder)];
@@ -73,7 +72,7 @@ std::optional<double> LblSensor::advance(const SampleContext& context, const Spe
     range.travel_time = reply.travel_time;
     range.snr_db = reply.snr_db;
     const double sigma = spec.range_stddev * error_scale(spec, reply.snr_db);
-    range.range = reply.mean_sound_speed * reply.travel_time / 2.0 + sigma * state.range_noise.normal();
+    range.range = reply.range + sigma * state.range_noise.normal();
     range.range_variance = sigma * sigma;
   }
   if (!any) return std::nullopt;

@@ -55,10 +55,7 @@ class SensorTestWorld {
   template <class K>
   void sample(const typename K::Spec& spec, typename K::State& sensor_state, const Eigen::Isometry3d& X_BS,
               double rate_hz, int vehicle = 0) {
-    const SampleContext context{state.time, 1.0 / rate_hz, step_size, model.world, ocean, environment, state,
-                                vehicle, X_BS, p_BBcm, v_WBcm_step_start, w_WB_step_start, rays.get(),
-                                sensor_spec, -1, &model.vehicles};
-    K::sample(context, spec, sensor_state);
+    K::sample(context(X_BS, rate_hz, vehicle), spec, sensor_state);
   }
 
   // The context a sample of a sensor mounted at X_BS (kept alive by the caller) on `vehicle` gets, sampling at

@@ -9,7 +9,6 @@
 #include "hadal/config/key_table.h"
 #include "hadal/render/responder_keys.h"
 #include "hadal/dds/time_msg.h"
-#include "hadal/geometry/scene_rays.h"
 #include "hadal/sensors/acoustic_channel.h"
 #include "hadal/sensors/geodesy.h"
 #include "hadal/sensors/interrogator_keys.h"
@@ -41,8 +40,6 @@ const config::KeyTable<UsblSensor::Spec, SensorReader>& UsblSensor::keys() {
 }
 
 SensorReach UsblSensor::reach(const Spec& spec) { return {spec.max_range, spec.cone_half_angle}; }
-
-double UsblSensor::error_scale(const Spec& spec, double snr_db) { return sensors::error_scale(spec, snr_db); }
 
 UsblSensor::State UsblSensor::initial_state(const Spec&, const SensorSetup& setup) {
   State state;
@@ -87,10 +84,9 @@ std::optional<double> UsblSensor::advance(const SampleContext& context, const Sp
   const Eigen::Matrix3d R_WS = context.R_WS();
   for (const ReceivedReply& reply : replies) {
     const Eigen::Vector3d d_W = reply.p_Wreply - reply.p_Wreceived;
-    const double distance = d_W.norm();
-    const Eigen::Vector3d u_S = R_WS.transpose() * d_W / std::max(distance, 1e-9);
+    const Eigen::Vector3d u_S = R_WS.transpose() * d_W / std::max(d_W.norm(), 1e-9);
     const double off_axis = std::acos(std::clamp(-u_S.z(), -1.0, 1.0));
-    if (off_axis > spec.cone_half_angle || distance > spec.max_range) continue;
+    if (off_axis > spec.cone_half_angle) continue;
     if (!any) state.fixes.clear();
     any = true;
     UsblFix& fix = state.fixes.emplace_back();
@@ -104,7 +100,7 @@ std::optional<double> UsblSensor::advance(const SampleContext& context, const Sp
     const double scale = error_scale(spec, reply.snr_db);
     const double sigma_r = spec.range_stddev * scale;
     const double sigma_b = spec.bearing_stddev * scale;
-    fix.range = reply.mean_sound_speed * reply.travel_time / 2.0 + sigma_r * state.range_noise.normal();
+    fix.range = reply.range + sigma_r * state.range_noise.normal();
     const Eigen::Vector3d axis = std::abs(u_S.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
     const Eigen::Vector3d e1 = u_S.cross(axis).normalized();
     const Eigen::Vector3d e2 = u_S.cross(e1);

@@ -14,6 +14,7 @@
 
 #include "hadal/sensors/acoustic_channel.h"
 #include "hadal/sensors/geodesy.h"
+#include "hadal/sensors/interrogator_keys.h"
 #include "hadal/physics/ocean.h"
 #include "sensor_test_support.h"
 
@@ -172,8 +173,8 @@ TEST(UsblSensorTest, ErrorsGrowAsTheSnrFalls) {
   const std::vector<UsblFix> one = run(world, spec, probe, 3.5, 0.01, 1000);
   ASSERT_EQ(one.size(), 1u);
   spec.reference_snr_db = one[0].snr_db + 12.0;
-  EXPECT_NEAR(UsblSensor::error_scale(spec, one[0].snr_db), std::pow(10.0, 12.0 / 20.0), 1e-12);
-  EXPECT_EQ(UsblSensor::error_scale(spec, spec.reference_snr_db + 5.0), 1.0);
+  EXPECT_NEAR(error_scale(spec, one[0].snr_db), std::pow(10.0, 12.0 / 20.0), 1e-12);
+  EXPECT_EQ(error_scale(spec, spec.reference_snr_db + 5.0), 1.0);
   SensorTestWorld fresh(survey());
   UsblSensor::State state = fresh.initial_state<UsblSensor>(spec, 1.0, "usbl");
   const std::vector<UsblFix> fixes = run(fresh, spec, state, 403.0, 0.02, 50);

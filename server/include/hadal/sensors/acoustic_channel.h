@@ -89,9 +89,6 @@ class AcousticChannel {
   static bool occluded(geometry::SceneRays& rays, const SimState& state, const Eigen::Vector3d& p_Wa, int body_a,
                        const Eigen::Vector3d& p_Wb, int body_b);
 
-  const AcousticsSpec& acoustics() const { return acoustics_; }
-  const physics::Ocean& ocean() const { return ocean_; }
-
   // Depth spacing of the slowness table [m] and the depth it covers.
   static constexpr double kTableStep = 1.0;
   static constexpr double kTableDepth = 11000.0;

@@ -8,10 +8,11 @@
 //      is clear;
 //   2. k replies at t_r = t_a + turnaround_k from where it is then;
 //   3. the reply reaches the interrogator (moving too) at t_f, with SNR = SL_k - TL - NL + DI; a reply below
-//      the interrogator's detection threshold, or blocked, is lost.
-// A received reply reports t_i, t_f, the two-way time tau = t_f - t_i - turnaround_k, where it came from
-// and where it was received, its SNR and the harmonic-mean sound speed of its path; the kind turns it into
-// its measurement (a fix, a range) and applies its own acceptance (a USBL's cone).
+//      the interrogator's detection threshold, blocked, or from farther than its max_range is lost.
+// A received reply reports t_i, t_f, the two-way time tau = t_f - t_i - turnaround_k, the range it gives
+// (c_bar tau / 2, c_bar the harmonic-mean sound speed of the reply's path: the mean of the two legs when
+// either end moves), where it came from and where it was received, and its SNR; the kind turns it into its
+// measurement (a fix, a range) and applies its own acceptance (a USBL's cone).
 #pragma once
 
 #include <Eigen/Core>
@@ -43,7 +44,8 @@ struct InterrogatorAcoustics {
   double source_level_db = 190.0;
   double directivity_index_db = 0.0;
   double detection_threshold_db = 10.0;
-  double max_range = 4000.0;  // [m]: an exchange is given up after the two-way time of this range at 1400 m/s
+  double max_range = 4000.0;  // [m]: no reply from farther; an exchange is given up after the two-way time of
+                              // this range at 1400 m/s
 };
 
 struct ReceivedReply {
@@ -54,8 +56,8 @@ struct ReceivedReply {
   double travel_time = 0.0;         // tau [s]
   Eigen::Vector3d p_Wreply = Eigen::Vector3d::Zero();     // where the responder replied from
   Eigen::Vector3d p_Wreceived = Eigen::Vector3d::Zero();  // the interrogator at t_f
+  double range = 0.0;  // c_bar tau / 2 [m], before the kind's noise
   double snr_db = 0.0;
-  double mean_sound_speed = 0.0;  // of the reply's path [m/s]
 };
 
 struct InterrogationState {

@@ -86,9 +86,6 @@ struct UsblSensor {
     std::vector<UsblFix> fixes;        // those of the last step that had any
   };
 
-  // sigma_0 max(1, 10^((SNR_ref - SNR) / 20)).
-  static double error_scale(const Spec& spec, double snr_db);
-
   static const config::KeyTable<Spec, SensorReader>& keys();
   static SensorReach reach(const Spec& spec);
   static State initial_state(const Spec& spec, const SensorSetup& setup);
