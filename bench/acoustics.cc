@@ -1,11 +1,13 @@
-// Cost of acoustic positioning against the default scenario's step (configs/scenarios/default.yaml without
+// Cost of acoustic positioning and modems against the default scenario's step (configs/scenarios/default.yaml without
 // its camera and sonar, whose captures would swamp the figure). The lander on the seabed carries a USBL
 // interrogating at 1 Hz the AUV's transponder 12 m away, and the AUV an LBL ranging at 1 Hz to four beacons
 // 150-400 m away. A whole step's time varies by ~3 % from run to run, far more than the acoustics cost, so
 // the two are measured apart: the step (median of Simulation runs), and the acoustics alone, run as the
 // simulation runs them (each sensor's advance() at every physics step, sample() once a second) through the
 // real acoustic channel and ray-cast world, over the state of that simulation. Target (issue 42): < 2 % of
-// the step with a USBL at 1 Hz and four modems with traffic. Prints one JSON object per measurement.
+// the step with a USBL at 1 Hz and four modems with traffic: two on each vehicle (EvoLogics S2CR 18/34), each
+// sending a 64-byte packet every 2 s to the other vehicle's modems, staggered so some overlap and collide. Prints
+// one JSON object per measurement.
 //   build/bin/hadal_bench_acoustics [--steps N] [--repetitions R]
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
@@ -14,6 +16,7 @@
 #include "hadal/geometry/world_scene.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/sensors/lbl_sensor.h"
+#include "hadal/sensors/modem_sensor.h"
 #include "hadal/sensors/sample_context.h"
 #include "hadal/sensors/usbl_sensor.h"
 #include "step_timing.h"
@@ -61,6 +64,20 @@ int main(int argc, char** argv) {
   const double dt = 1.0 / model.world.physics_rate_hz;
   while (sim.state().time < 1.0) sim.step();
   hadal::SimState state = sim.state();
+  // Four modems, two per vehicle, added to the model and the state (modems read each other's there).
+  hadal::sensors::ModemSpec modem;
+  hadal::sensors::modem_presets()[2].figures.apply(modem);  // evologics_s2cr_18_34
+  struct Modem {
+    int vehicle = 0, sensor = 0;
+  };
+  std::vector<Modem> modems;
+  for (int v = 0; v < 2; ++v) {
+    for (const char* name : {"modem_a", "modem_b"}) {
+      hadal::VehicleSpec& vehicle = model.vehicles[static_cast<std::size_t>(v)];
+      vehicle.sensors.push_back(sensor(name, modem));
+      modems.push_back({v, static_cast<int>(vehicle.sensors.size()) - 1});
+    }
+  }
   const hadal::physics::Ocean ocean(model.world);
   hadal::sensors::SensorEnvironment environment(model.world.origin);
   hadal::geometry::SceneRays rays(hadal::geometry::build_world_scene(model, "threads=1"));
@@ -75,27 +92,71 @@ int main(int argc, char** argv) {
       usbl, hadal::sensors::SensorSetup{model.world.seed, "lander", "usbl", 1.0, environment});
   hadal::sensors::LblSensor::State lbl_state = hadal::sensors::LblSensor::initial_state(
       lbl, hadal::sensors::SensorSetup{model.world.seed, "auv", "lbl", 1.0, environment});
-  const int per_second = static_cast<int>(model.world.physics_rate_hz);
-  std::uint64_t fixes = 0, ranges = 0;
-  std::vector<double> costs;
-  for (int r = 0; r < repetitions; ++r) {
-    const hadal::bench::Clock::time_point start = hadal::bench::Clock::now();
-    for (int k = 0; k < steps; ++k) {
-      state.time += dt;
-      ++state.step_count;
-      if (hadal::sensors::UsblSensor::advance(context(1, usbl_sensor), usbl, usbl_state)) fixes += usbl_state.fixes.size();
-      if (hadal::sensors::LblSensor::advance(context(0, lbl_sensor), lbl, lbl_state)) ranges += lbl_state.ranges.size();
-      if (k % per_second == 0) {
-        hadal::sensors::UsblSensor::sample(context(1, usbl_sensor), usbl, usbl_state);
-        hadal::sensors::LblSensor::sample(context(0, lbl_sensor), lbl, lbl_state);
-      }
-    }
-    costs.push_back(hadal::bench::seconds_since(start) / steps);
+  for (const Modem& m : modems) {
+    hadal::VehicleSpec& vehicle = model.vehicles[static_cast<std::size_t>(m.vehicle)];
+    hadal::SensorState& out = state.vehicles[static_cast<std::size_t>(m.vehicle)].sensors.emplace_back();
+    out.kind = hadal::sensors::ModemSensor::initial_state(
+        modem, hadal::sensors::SensorSetup{model.world.seed, vehicle.name,
+                                           vehicle.sensors[static_cast<std::size_t>(m.sensor)].name, 1.0, environment});
   }
-  const double cost_s = hadal::bench::median(costs);
-  std::printf("{\"benchmark\": \"acoustic_positioning_step_cost\", \"step_ns\": %.0f, \"acoustics_ns_per_step\": %.1f, "
-              "\"share_of_step\": %.5f, \"usbl_fixes\": %llu, \"lbl_ranges\": %llu, \"target\": 0.02}\n",
-              step_s * 1e9, cost_s * 1e9, cost_s / step_s, static_cast<unsigned long long>(fixes),
-              static_cast<unsigned long long>(ranges));
+  const auto modem_state = [&](const Modem& m) -> hadal::sensors::ModemSensor::State& {
+    return std::get<hadal::sensors::ModemSensor::State>(
+        state.vehicles[static_cast<std::size_t>(m.vehicle)].sensors[static_cast<std::size_t>(m.sensor)].kind);
+  };
+  const int per_second = static_cast<int>(model.world.physics_rate_hz);
+  std::uint64_t packets = 0, refused = 0;  // over every measurement
+  std::uint64_t fixes = 0, ranges = 0;
+  // One measurement: the positioning sensors, the modems or both, from the same state each repetition.
+  const hadal::SimState start_state = state;
+  const hadal::sensors::UsblSensor::State usbl_start = usbl_state;
+  const hadal::sensors::LblSensor::State lbl_start = lbl_state;
+  const auto measure = [&](bool positioning, bool with_modems) {
+    std::vector<double> costs;
+    for (int r = 0; r < repetitions; ++r) {
+      state = start_state;
+      usbl_state = usbl_start;
+      lbl_state = lbl_start;
+      const hadal::bench::Clock::time_point start = hadal::bench::Clock::now();
+      for (int k = 0; k < steps; ++k) {
+        state.time += dt;
+        ++state.step_count;
+        if (positioning) {
+          if (hadal::sensors::UsblSensor::advance(context(1, usbl_sensor), usbl, usbl_state)) fixes += usbl_state.fixes.size();
+          if (hadal::sensors::LblSensor::advance(context(0, lbl_sensor), lbl, lbl_state)) ranges += lbl_state.ranges.size();
+          if (k % per_second == 0) {
+            hadal::sensors::UsblSensor::sample(context(1, usbl_sensor), usbl, usbl_state);
+            hadal::sensors::LblSensor::sample(context(0, lbl_sensor), lbl, lbl_state);
+          }
+        }
+        if (!with_modems) continue;
+        for (std::size_t i = 0; i < modems.size(); ++i) {
+          const Modem& m = modems[i];
+          const hadal::VehicleSpec& vehicle = model.vehicles[static_cast<std::size_t>(m.vehicle)];
+          if (k % (2 * per_second) == static_cast<int>(i) * per_second / 7) {
+            refused += !hadal::sensors::ModemSensor::send(model.vehicles, m.vehicle, m.sensor, modem, modem_state(m),
+                                                          state.time, model.vehicles[1 - m.vehicle].name,
+                                                          std::vector<std::uint8_t>(64, static_cast<std::uint8_t>(k)))
+                            .empty();
+          }
+          if (hadal::sensors::ModemSensor::advance(
+                  context(m.vehicle, vehicle.sensors[static_cast<std::size_t>(m.sensor)]), modem, modem_state(m))) {
+            packets += modem_state(m).delivered.size();
+          }
+        }
+      }
+      costs.push_back(hadal::bench::seconds_since(start) / steps);
+    }
+    return hadal::bench::median(costs);
+  };
+  const double positioning_s = measure(true, false);
+  const double modems_s = measure(false, true);
+  const double cost_s = measure(true, true);
+  std::printf("{\"benchmark\": \"acoustics_step_cost\", \"step_ns\": %.0f, \"positioning_ns_per_step\": %.1f, "
+              "\"modems_ns_per_step\": %.1f, \"acoustics_ns_per_step\": %.1f, \"share_of_step\": %.5f, "
+              "\"usbl_fixes\": %llu, \"lbl_ranges\": %llu, \"modems\": %zu, \"packets_decoded\": %llu, "
+              "\"sends_refused\": %llu, \"target\": 0.02}\n",
+              step_s * 1e9, positioning_s * 1e9, modems_s * 1e9, cost_s * 1e9, cost_s / step_s,
+              static_cast<unsigned long long>(fixes), static_cast<unsigned long long>(ranges), modems.size(),
+              static_cast<unsigned long long>(packets), static_cast<unsigned long long>(refused));
   return 0;
 }

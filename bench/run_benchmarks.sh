@@ -122,6 +122,6 @@ done
 #     core each, DaskVectorEnv against VectorEnv with 1-8 envs per worker, and the bare round trip.
 PYTHONPATH="$build/python" /usr/bin/python3 bench/dask_scaling.py
 
-# 12. Acoustic positioning (issue 42, bench/acoustics.cc): a USBL at 1 Hz and an LBL ranging to four beacons at
-#     1 Hz, against the default scenario's step without its camera and sonar.
+# 12. Acoustic positioning and modems (issue 42, bench/acoustics.cc): a USBL at 1 Hz, an LBL ranging to four
+#     beacons at 1 Hz and four modems with traffic, against the default scenario's step without its camera and sonar.
 "$build/bin/hadal_bench_acoustics"

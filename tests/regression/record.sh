@@ -46,13 +46,18 @@ case "$CASE" in
   two_vehicles)
     SCENARIO=tests/regression/scenarios/two_vehicles_all_sensors.yaml
     # The buoy is commanded from 1 s on (client setpoints; its watchdog of 0.5 s fires between 6 s and
-    # 7.5 s); the AUV leaves its schedule for client setpoints at 14 s.
+    # 7.5 s); the AUV leaves its schedule for client setpoints at 14 s. Modem packets: the buoy to the AUV,
+    # a reply, a broadcast with a packet queued behind it, and two sent at once that neither modem hears
+    # (half-duplex).
     ARGS=(--steps 10000
           --command buoy@500=0.6,0.4 --command buoy@1500=0.8,-0.3 --command buoy@2750=0.2,0.9
           --command buoy@3750=-0.5,-0.5 --command buoy@5000=0.7,0.7
           --command auv@7000=0.9,-0.3,0.5 --command buoy@7000=0.3,0.6
           --command auv@7400=0.6,0.2,-0.2 --command buoy@7400=0.5,0.5
-          --command auv@7800=0.6,0.0,0.0 --command buoy@7800=0.4,0.4)
+          --command auv@7800=0.6,0.0,0.0 --command buoy@7800=0.4,0.4
+          --packet "buoy/modem@1000=auv:fix 12.5 -3.0 -25.1" --packet "auv/modem@2200=buoy/modem:status ok"
+          --packet "buoy/modem@3000=:to all" --packet "buoy/modem@3000=auv:queued behind it"
+          --packet "buoy/modem@4500=auv:crossing" --packet "auv/modem@4500=buoy:crossing")
     ;;
   *) echo "record.sh: unknown case $CASE (default, two_vehicles)" >&2; exit 2 ;;
 esac

@@ -10,11 +10,12 @@
 // refactoring is comparable with one recorded after it.
 //
 //   hadal-record-topics --domain-id D --steps N [--chunk K] [--command VEHICLE@STEP=v1,v2,...]...
-//                       [--exclude TOPIC]... [--out FILE]
+//                       [--packet VEHICLE/MODEM@STEP=DESTINATION:TEXT]... [--exclude TOPIC]... [--out FILE]
 //
 // Steps the server in requests of K steps (default 5: at 500 Hz no topic publishes more than once per
 // request, so the writers' KEEP_LAST histories never overflow). A --command is attached to the request
-// that starts at STEP (hadal::Client::set_commands). rt/hadal/status (wall clock) and
+// that starts at STEP (hadal::Client::set_commands); a --packet is an acoustic modem packet carrying TEXT's bytes, attached to it
+// (hadal::Client::attach_packet). rt/hadal/status (wall clock) and
 // rt/hadal/step_reply (the client's random request ids) are always excluded.
 // Output, one line per topic, sorted: `topic type count hash`. Exit status 0 on success, 1 on a gap, a
 // refused step or a timeout, 2 on a usage error.
@@ -74,12 +75,16 @@ struct Command {
   std::string vehicle;
   std::uint64_t step = 0;
   std::vector<double> setpoints;
+  // A --packet instead: the modem, the destination and the payload.
+  std::string modem, destination, text;
+  bool packet = false;
 };
 
 [[noreturn]] void usage_error(const std::string& message) {
   std::fprintf(stderr,
                "hadal-record-topics: %s\nusage: hadal-record-topics --domain-id D --steps N [--chunk K] "
-               "[--command VEHICLE@STEP=v1,v2,...]... [--exclude TOPIC]... [--out FILE]\n",
+               "[--command VEHICLE@STEP=v1,v2,...]... [--packet VEHICLE/MODEM@STEP=DESTINATION:TEXT]... "
+               "[--exclude TOPIC]... [--out FILE]\n",
                message.c_str());
   std::exit(2);
 }
@@ -93,6 +98,25 @@ Command parse_command(const std::string& text) {
   command.step = std::stoull(text.substr(at + 1, eq - at - 1));
   std::stringstream values(text.substr(eq + 1));
   for (std::string value; std::getline(values, value, ',');) command.setpoints.push_back(std::stod(value));
+  return command;
+}
+
+Command parse_packet(const std::string& text) {
+  const auto slash = text.find('/');
+  const auto at = text.find('@');
+  const auto eq = text.find('=');
+  const auto colon = text.find(':', eq == std::string::npos ? 0 : eq);
+  if (slash == std::string::npos || at == std::string::npos || eq == std::string::npos || colon == std::string::npos ||
+      !(slash < at && at < eq && eq < colon)) {
+    usage_error("bad --packet " + text);
+  }
+  Command command;
+  command.packet = true;
+  command.vehicle = text.substr(0, slash);
+  command.modem = text.substr(slash + 1, at - slash - 1);
+  command.step = std::stoull(text.substr(at + 1, eq - at - 1));
+  command.destination = text.substr(eq + 1, colon - eq - 1);
+  command.text = text.substr(colon + 1);
   return command;
 }
 
@@ -132,6 +156,8 @@ int main(int argc, char** argv) {
       chunk = std::stoull(next());
     } else if (arg == "--command") {
       commands.push_back(parse_command(next()));
+    } else if (arg == "--packet") {
+      commands.push_back(parse_packet(next()));
     } else if (arg == "--exclude") {
       excluded.insert(next());
     } else if (arg == "--out") {
@@ -173,7 +199,13 @@ int main(int argc, char** argv) {
   try {
     for (std::uint64_t step = 0; step < steps;) {
       for (const Command& command : commands) {
-        if (command.step == step) client.set_commands(command.vehicle, command.setpoints);
+        if (command.step != step) continue;
+        if (command.packet) {
+          client.attach_packet(command.vehicle, command.modem, {command.text.begin(), command.text.end()},
+                               command.destination);
+        } else {
+          client.set_commands(command.vehicle, command.setpoints);
+        }
       }
       std::uint64_t n = std::min(chunk, steps - step);
       for (const Command& command : commands) {  // a request ends where the next command starts

@@ -109,6 +109,36 @@ TEST_F(OceanCliTest, DefaultDepthsAndCtdWater) {
   EXPECT_GT(lines[8]["density"].number, lines[4]["density"].number);
 }
 
+// --frequency adds Francois–Garrison absorption at each depth (at 4 degC and S = 35, ~6 dB/km at 25 kHz near the
+// surface, less under pressure, ~1.3 dB/km at 12 kHz); --bandwidth the ambient noise in the band, the same at every
+// depth and higher in a wider band.
+TEST_F(OceanCliTest, AcousticFiguresAtAFrequency) {
+  const std::string scenario = write("acoustic.yaml", std::string(R"(world:
+  water: {density_model: ramp}
+  acoustics: {ambient_noise: {shipping: 0.5, wind_speed: 6.0}}
+)") + kVehicles);
+  const auto run = [&](const std::string& args) {
+    const RunResult r = ocean(scenario + " --depths 0,3000 " + args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return parse_lines(r.out);
+  };
+  const std::vector<Json> plain = run("");
+  ASSERT_EQ(plain.size(), 2u);
+  EXPECT_EQ(plain[0].object.count("absorption_db_per_m"), 0u);
+  const std::vector<Json> at25 = run("--frequency 25000 --bandwidth 4000");
+  const std::vector<Json> at12 = run("--frequency 12000 --bandwidth 4000");
+  const std::vector<Json> wide = run("--frequency 25000 --bandwidth 8000");
+  ASSERT_EQ(at25.size(), 2u);
+  EXPECT_GT(at25[0]["absorption_db_per_m"].number, 0.004);
+  EXPECT_LT(at25[0]["absorption_db_per_m"].number, 0.009);
+  EXPECT_LT(at25[1]["absorption_db_per_m"].number, at25[0]["absorption_db_per_m"].number);
+  EXPECT_LT(at12[0]["absorption_db_per_m"].number, 0.5 * at25[0]["absorption_db_per_m"].number);
+  EXPECT_EQ(at25[0]["noise_level_db"].number, at25[1]["noise_level_db"].number);
+  EXPECT_GT(at25[0]["noise_level_db"].number, 50.0);
+  EXPECT_LT(at25[0]["noise_level_db"].number, 90.0);
+  EXPECT_NEAR(wide[0]["noise_level_db"].number - at25[0]["noise_level_db"].number, 3.0, 1.0);
+}
+
 TEST_F(OceanCliTest, ScenarioErrorsExitOneWithPositions) {
   const std::string scenario = write("bad.yaml", std::string(R"(world:
   water: {density_model: ramp, density: 1030}
@@ -122,7 +152,8 @@ TEST_F(OceanCliTest, ScenarioErrorsExitOneWithPositions) {
 
 TEST_F(OceanCliTest, UsageErrorsExitTwo) {
   for (const std::string args : {"", "a.yaml b.yaml", "s.yaml --depths 1,x", "s.yaml --time -1",
-                                 "s.yaml --time", "s.yaml --bogus"}) {
+                                 "s.yaml --time", "s.yaml --bogus", "s.yaml --bandwidth 100",
+                                 "s.yaml --frequency 1000 --bandwidth 3000"}) {
     const RunResult r = ocean(args);
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_EQ(r.out, "") << args;

@@ -297,6 +297,24 @@ UsblFixes from_msg(const hadal_msgs::msg::UsblFixes& m) {
   return out;
 }
 
+AcousticPackets from_msg(const hadal_msgs::msg::AcousticPackets& m) {
+  AcousticPackets out;
+  out.stamp = dds::from_time_msg(m.header().stamp());
+  out.frame_id = m.header().frame_id();
+  for (const hadal_msgs::msg::AcousticPacket& p : m.packets()) {
+    AcousticPacket& packet = out.packets.emplace_back();
+    packet.transmit_stamp = dds::from_time_msg(p.transmit_stamp());
+    packet.stamp = dds::from_time_msg(p.stamp());
+    packet.source = p.source();
+    packet.destination = p.destination();
+    packet.sequence_number = p.sequence_number();
+    packet.payload = p.payload();
+    packet.travel_time = p.travel_time();
+    packet.snr_db = p.snr_db();
+  }
+  return out;
+}
+
 LblRanges from_msg(const hadal_msgs::msg::LblRanges& m) {
   LblRanges out;
   out.stamp = dds::from_time_msg(m.header().stamp());
@@ -478,6 +496,13 @@ struct Client::Impl {
   // Joint trajectories attached to the next step(), by (vehicle, controller), and their writers.
   std::map<std::pair<std::string, std::string>, trajectory_msgs::msg::JointTrajectory> pending_joint_trajectories;
   std::map<std::pair<std::string, std::string>, fdds::DataWriter*> joint_trajectory_writers;
+  // Modem packets attached to the next step(), in call order, and the tx writers by (vehicle, modem).
+  struct PendingPacket {
+    std::string vehicle, modem;
+    hadal_msgs::msg::AcousticPacket packet;
+  };
+  std::vector<PendingPacket> pending_packets;
+  std::map<std::pair<std::string, std::string>, fdds::DataWriter*> packet_writers;
 
   // Keeps `value` to attach to the next step() (pending[key]) and publishes `msg` on `topic` through
   // writers[key], made on first use (waiting up to 2 s for the server's reader).
@@ -847,6 +872,44 @@ void Client::on_camera_info(const std::string& vehicle, const std::string& camer
       [callback = std::move(callback)](const sensor_msgs::msg::CameraInfo& m) { callback(from_msg(m)); });
 }
 
+void Client::on_modem_packets(const std::string& vehicle, const std::string& modem,
+                              std::function<void(const AcousticPackets&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>(
+      dds::sensor_topic(vehicle, modem) + "/rx",
+      [callback = std::move(callback)](const hadal_msgs::msg::AcousticPackets& m) { callback(from_msg(m)); });
+}
+
+void Client::send_packet(const std::string& vehicle, const std::string& modem, const std::vector<std::uint8_t>& payload,
+                         const std::string& destination) {
+  hadal_msgs::msg::AcousticPacket msg;
+  msg.destination(destination);
+  msg.payload(payload);
+  const auto key = std::make_pair(vehicle, modem);
+  fdds::DataWriter* writer = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    auto found = impl_->packet_writers.find(key);
+    if (found != impl_->packet_writers.end()) writer = found->second;
+  }
+  if (writer == nullptr) {
+    writer = impl_->registry->writer<hadal_msgs::msg::AcousticPacketPubSubType>(dds::modem_tx_topic(vehicle, modem),
+                                                                              kHistoryDepth);
+    wait_for_match(writer, 2.0);
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->packet_writers[key] = writer;
+  }
+  writer->write(&msg);
+}
+
+void Client::attach_packet(const std::string& vehicle, const std::string& modem, const std::vector<std::uint8_t>& payload,
+                           const std::string& destination) {
+  Impl::PendingPacket pending{vehicle, modem, {}};
+  pending.packet.destination(destination);
+  pending.packet.payload(payload);
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->pending_packets.push_back(std::move(pending));
+}
+
 void Client::on_laser_scan(const std::string& vehicle, const std::string& sensor,
                            std::function<void(const LaserScan&)> callback) {
   impl_->subscribe<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>(
@@ -927,6 +990,12 @@ std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double
       request.joint_trajectories().push_back(std::move(trajectory));
     }
     d.pending_joint_trajectories.clear();
+    for (PendingPacket& pending : d.pending_packets) {
+      request.packet_vehicles().push_back(pending.vehicle);
+      request.packet_modems().push_back(pending.modem);
+      request.packets().push_back(std::move(pending.packet));
+    }
+    d.pending_packets.clear();
     d.replies.emplace(id, std::nullopt);
   }
   d.step_writer->write(&request);
@@ -1087,6 +1156,8 @@ const std::map<std::string, Decoder>& decoders() {
       {"sensor_msgs/msg/Range", &decode_as<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>},
       {"hadal_msgs/msg/UsblFixes", &decode_as<hadal_msgs::msg::UsblFixesPubSubType, hadal_msgs::msg::UsblFixes>},
       {"hadal_msgs/msg/LblRanges", &decode_as<hadal_msgs::msg::LblRangesPubSubType, hadal_msgs::msg::LblRanges>},
+      {"hadal_msgs/msg/AcousticPackets",
+       &decode_as<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>},
       {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},
       {"sensor_msgs/msg/CameraInfo", &decode_as<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>},
       {"marine_acoustic_msgs/msg/SonarDetections",

@@ -211,7 +211,8 @@ class PyClient {
         {"nav_sat_fix", "gps"},   {"dvl", "dvl"},                  {"range", "altimeter"},
         {"laser_scan", "profiler"}, {"image", "camera"},           {"depth", "camera"},
         {"camera_info", "camera"}, {"sonar_image", "fls"},         {"sonar_detections", "multibeam"},
-        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}, {"usbl_fixes", "usbl"},   {"lbl_ranges", "lbl"}};
+        {"raw_sonar_image", "sidescan"}, {"wrench", "force_torque"}, {"usbl_fixes", "usbl"},   {"lbl_ranges", "lbl"},
+        {"modem_packets", "modem"}};
     const auto it = types.find(kind);
     return it == types.end() ? std::string() : it->second;
   }
@@ -362,6 +363,42 @@ class PyClient {
       client()->set_commands(vehicle, commands);
     } else {
       client()->attach_commands(vehicle, commands);
+    }
+  }
+  // An acoustic modem's packets: every packet it decodes from the first call on is kept (not only the latest)
+  // until a call takes it.
+  std::vector<hadal::AcousticPacket> receive_packets(const std::string& vehicle, const std::string& modem,
+                                                     double timeout_s) {
+    check_sensor(vehicle, modem, "modem_packets");
+    const std::string key = vehicle + "/" + modem;
+    bool subscribe = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      subscribe = modem_subscribed_.insert(key).second;
+    }
+    if (subscribe) {
+      client()->on_modem_packets(vehicle, modem, [this, key](const hadal::AcousticPackets& packets) {
+        {
+          std::lock_guard<std::mutex> lock(packets_mutex_);
+          auto& queue = packets_[key];
+          queue.insert(queue.end(), packets.packets.begin(), packets.packets.end());
+        }
+        packets_arrived_.notify_all();
+      });
+    }
+    std::unique_lock<std::mutex> lock(packets_mutex_);
+    packets_arrived_.wait_for(lock, std::chrono::duration<double>(std::max(timeout_s, 0.0)),
+                              [&] { return !packets_[key].empty(); });
+    std::vector<hadal::AcousticPacket> out;
+    out.swap(packets_[key]);
+    return out;
+  }
+  void send_packet(const std::string& vehicle, const std::string& modem, const std::vector<std::uint8_t>& payload,
+                   const std::string& destination, bool publish) {
+    if (publish) {
+      client()->send_packet(vehicle, modem, payload, destination);
+    } else {
+      client()->attach_packet(vehicle, modem, payload, destination);
     }
   }
   void set_joint_commands(const std::string& vehicle, const std::string& controller,
@@ -559,6 +596,10 @@ class PyClient {
   Latest<hadal::Range> range_;
   Latest<hadal::UsblFixes> usbl_fixes_;
   Latest<hadal::LblRanges> lbl_ranges_;
+  std::set<std::string> modem_subscribed_;  // "<vehicle>/<modem>" (under mutex_)
+  std::mutex packets_mutex_;
+  std::condition_variable packets_arrived_;
+  std::map<std::string, std::vector<hadal::AcousticPacket>> packets_;  // decoded, not yet taken
   Latest<hadal::LaserScan> laser_scan_;
   Latest<ImagePtr> image_;
   Latest<ImagePtr> depth_;
@@ -861,6 +902,31 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("longitude", &hadal::UsblFix::longitude, "WGS84 [deg]")
       .def_readonly("altitude", &hadal::UsblFix::altitude, "above the WGS84 ellipsoid [m]")
       .def_readonly("snr_db", &hadal::UsblFix::snr_db, "the reply's SNR at the transceiver [dB]");
+  py::class_<hadal::AcousticPacket>(m, "AcousticPacket", "A packet an acoustic modem decoded")
+      .def_readonly("transmit_stamp", &hadal::AcousticPacket::transmit_stamp, "start of its transmission, sim time [s]")
+      .def_readonly("stamp", &hadal::AcousticPacket::stamp, "end of its reception, sim time [s]")
+      .def_readonly("source", &hadal::AcousticPacket::source, "'<vehicle>/<modem>' of the sender")
+      .def_readonly("destination", &hadal::AcousticPacket::destination,
+                    "as sent: '' every modem, '<vehicle>' or '<vehicle>/<modem>'")
+      .def_readonly("sequence_number", &hadal::AcousticPacket::sequence_number, "the sender's packet index")
+      .def_property_readonly(
+          "payload",
+          [](const hadal::AcousticPacket& p) {
+            return py::bytes(reinterpret_cast<const char*>(p.payload.data()), p.payload.size());
+          },
+          "the bytes sent")
+      .def_readonly("travel_time", &hadal::AcousticPacket::travel_time,
+                    "from the start of transmission to the start of reception [s]")
+      .def_readonly("snr_db", &hadal::AcousticPacket::snr_db, "signal to noise and interference over the packet [dB]")
+      .def("__repr__", [](const hadal::AcousticPacket& p) {
+        return "<AcousticPacket " + p.source + " -> '" + p.destination + "' #" + std::to_string(p.sequence_number) +
+               ", " + std::to_string(p.payload.size()) + " bytes, t = " + std::to_string(p.stamp) + " s>";
+      });
+  py::class_<hadal::AcousticPackets>(m, "AcousticPackets",
+                                     "hadal_msgs/AcousticPackets: the packets a modem decoded within one physics step")
+      .def_readonly("stamp", &hadal::AcousticPackets::stamp, "the last packet's [s]")
+      .def_readonly("frame_id", &hadal::AcousticPackets::frame_id, "the modem's frame")
+      .def_readonly("packets", &hadal::AcousticPackets::packets, "list of AcousticPacket");
   py::class_<hadal::UsblFixes>(m, "UsblFixes",
                                "hadal_msgs/UsblFixes: the USBL fixes whose replies arrived within one physics step")
       .def_readonly("stamp", &hadal::UsblFixes::stamp, "the last fix's [s]")
@@ -1137,6 +1203,27 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            py::arg("channel") = "port", py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "RawSonarImage of rt/<vehicle>/<sensor>/<channel> (a side-scan's 'port' or 'starboard') with stamp >= "
            "min_stamp, or None on timeout")
+      .def("receive_packets", &PyClient::receive_packets, py::arg("vehicle"), py::arg("modem"),
+           py::arg("timeout_s") = 0.0, release(),
+           "The packets the acoustic modem rt/<vehicle>/<modem> decoded (list of AcousticPacket, oldest first) since "
+           "the last call: every one from the first call on, which subscribes. Waits up to timeout_s for one when "
+           "none is there")
+      .def(
+          "send_packet",
+          [](PyClient& self, const std::string& vehicle, const std::string& modem, const py::bytes& payload,
+             const std::string& destination, bool publish) {
+            const std::string data = payload;
+            const std::vector<std::uint8_t> bytes(data.begin(), data.end());
+            py::gil_scoped_release unlocked;
+            self.send_packet(vehicle, modem, bytes, destination, publish);
+          },
+          py::arg("vehicle"), py::arg("modem"), py::arg("payload"), py::arg("destination") = "",
+          py::arg("publish") = true,
+          "Gives the acoustic modem a packet (bytes) to send to `destination` ('' every modem, a vehicle's modems, "
+          "or '<vehicle>/<modem>'), published on rt/<vehicle>/<modem>/tx; publish=False: attached to the next "
+          "step()/reset() instead (lockstep: queued exactly before its first step; a refusal raises "
+          "CommandRejected there). The server refuses an empty or oversize payload, an unknown destination or a "
+          "full queue")
       .def("set_joint_commands", &PyClient::set_joint_commands, py::arg("vehicle"), py::arg("controller"),
            py::arg("values"), py::arg("publish") = true, release(),
            "A joint controller's command (the scenario's joint_controllers): one value per joint of the group, in "

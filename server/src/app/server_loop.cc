@@ -166,7 +166,10 @@ class Runner {
       std::string refused;
       for (const auto& command : request->commands) {
         const std::string reason =
-            command.trajectory
+            command.packet
+                ? sim_.check_packet(command.vehicle_index, command.packet->modem, command.packet->destination,
+                                    command.packet->payload.size())
+            : command.trajectory
                 ? sim_.check_joint_trajectory(command.vehicle_index, command.joint_controller, *command.trajectory)
             : command.joint_controller.empty()
                 ? sim_.check_controls(command.vehicle_index, command.setpoints)
@@ -234,6 +237,10 @@ class Runner {
   std::string apply_command(const dds::InboundCommand& command) {
     if (!command.error.empty()) return command.error;
     const auto v = static_cast<std::size_t>(command.vehicle_index);
+    if (command.packet) {  // every packet is sent: none supersedes another
+      dds::InboundCommand::Packet packet = *command.packet;
+      return sim_.send_packet(command.vehicle_index, packet.modem, packet.destination, std::move(packet.payload));
+    }
     if (!command.joint_controller.empty()) {
       // The same staleness rule, per joint controller.
       auto& [source, stamp] = last_joint_command_[{command.vehicle_index, command.joint_controller}];

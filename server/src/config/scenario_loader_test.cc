@@ -444,8 +444,8 @@ TEST(PresetTest, EveryPresetNamesItsProductAndSource) {
           << table->id << " preset " << choice.name << " is not in the reference's preset table";
     }
   }
-  // Soil (the world's and each region's), IMU, DVL, camera and the three sonars.
-  EXPECT_EQ(with_presets.size(), 8u) << ::testing::PrintToString(with_presets);
+  // Soil (the world's and each region's), IMU, DVL, camera, the three sonars and the acoustic modem.
+  EXPECT_EQ(with_presets.size(), 9u) << ::testing::PrintToString(with_presets);
 }
 
 TEST(DiagnosticTest, FormatsPositionAndPath) {

@@ -293,6 +293,51 @@ vehicles:
                    bad + ":11:54: error: vehicles[1].transponder.source_level_db: must be in [100, 240] (got 300)"}));
 }
 
+// An acoustic modem: a preset sets its figures, keys given beside it override them; bad values are refused at
+// their key, as a modulation the curve does not know.
+TEST_F(ScenarioLoaderTest, ModemPresetsAndKeys) {
+  const std::string good = write("good.yaml", R"(world: {}
+vehicles:
+  - name: ship
+    type: surface_vessel
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: modem, type: modem, preset: evologics_s2cr_18_34, source_level_db: 178, queue_length: 0}
+      - {name: slow, type: modem}
+)");
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  const auto& modem = std::get<sensors::ModemSpec>(loaded.model->vehicles[0].sensors[0].kind);
+  EXPECT_DOUBLE_EQ(modem.frequency_hz, 26000.0);
+  EXPECT_DOUBLE_EQ(modem.bandwidth_hz, 16000.0);
+  EXPECT_DOUBLE_EQ(modem.bit_rate_bps, 13900.0);
+  EXPECT_EQ(modem.modulation, sensors::ModemModulation::kPsk);
+  EXPECT_EQ(modem.max_payload_bytes, 1024);
+  EXPECT_DOUBLE_EQ(modem.source_level_db, 178.0);  // the file's, over the preset's 184
+  EXPECT_EQ(modem.queue_length, 0);
+  const auto& slow = std::get<sensors::ModemSpec>(loaded.model->vehicles[0].sensors[1].kind);
+  EXPECT_DOUBLE_EQ(slow.bit_rate_bps, 80.0);  // the defaults: the Micro-Modem's FH-FSK
+  EXPECT_EQ(slow.modulation, sensors::ModemModulation::kFsk);
+  const std::string bad = write("bad.yaml", R"(world: {}
+vehicles:
+  - name: ship
+    type: surface_vessel
+    links:
+      - {name: hull, mass: 30.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+    sensors:
+      - {name: a, type: modem, preset: whoi_micromodem, queue_length: -1}
+      - {name: b, type: modem, modulation: qam, max_payload_bytes: 2.5, bit_rate_bps: 0}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":8:40: error: vehicles[0].sensors[0].preset: unknown modem preset 'whoi_micromodem' "
+                         "(presets: 'whoi_micromodem_fhfsk', 'whoi_micromodem_psk_rate5', 'evologics_s2cr_18_34')",
+                   bad + ":8:71: error: vehicles[0].sensors[0].queue_length: must be in [0, 1024] (got -1)",
+                   bad + ":9:44: error: vehicles[0].sensors[1].modulation: must be one of 'fsk', 'psk' (got 'qam')",
+                   bad + ":9:68: error: vehicles[0].sensors[1].max_payload_bytes: must be a whole number (got 2.5)",
+                   bad + ":9:87: error: vehicles[0].sensors[1].bit_rate_bps: must be > 0 (got 0)"}));
+}
+
 TEST_F(ScenarioLoaderTest, ScheduleSetpointCountUsesTheIncludedVehicle) {
   write("vehicles/v.yaml", R"(type: auv
 links: [{name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]

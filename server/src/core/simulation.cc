@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <thread>
 #include <utility>
+#include <variant>
 
 #include "hadal/core/rate_divider.h"
 #include "hadal/geometry/raycast_service.h"
@@ -673,6 +674,57 @@ std::string Simulation::set_controls(int vehicle_index, const std::vector<double
   vehicle.command_source = CommandSource::kClient;
   vehicle.faults &= ~kFaultCommandTimeout;
   return {};
+}
+
+namespace {
+
+// The vehicle's modem called `name` (its spec and its state in `state`), or the reason there is none.
+struct ModemRef {
+  int sensor = -1;
+  const sensors::ModemSpec* spec = nullptr;
+  std::string refusal;
+};
+ModemRef find_modem(const std::vector<VehicleSpec>& vehicles, int vehicle_index, const std::string& name) {
+  if (vehicle_index < 0 || vehicle_index >= static_cast<int>(vehicles.size())) {
+    return {-1, nullptr, "unknown vehicle index " + std::to_string(vehicle_index)};
+  }
+  const VehicleSpec& vehicle = vehicles[static_cast<std::size_t>(vehicle_index)];
+  std::string modems;
+  for (std::size_t k = 0; k < vehicle.sensors.size(); ++k) {
+    const SensorSpec& sensor = vehicle.sensors[k];
+    const auto* spec = std::get_if<sensors::ModemSpec>(&sensor.kind);
+    if (sensor.name == name) {
+      if (spec) return {static_cast<int>(k), spec, ""};
+      return {-1, nullptr, "sensor '" + name + "' of '" + vehicle.name + "' is a " + std::string(sensor.type()) +
+                               ", not a modem"};
+    }
+    if (spec) modems += (modems.empty() ? "'" : ", '") + sensor.name + "'";
+  }
+  return {-1, nullptr, "vehicle '" + vehicle.name + "' has no modem '" +
+                           (name.size() <= 64 ? name : name.substr(0, 61) + "...") + "' (its modems: " +
+                           (modems.empty() ? "none" : modems) + ")"};
+}
+
+}  // namespace
+
+std::string Simulation::check_packet(int vehicle_index, const std::string& modem, const std::string& destination,
+                                     std::size_t payload_bytes) const {
+  const ModemRef ref = find_modem(model_.vehicles, vehicle_index, modem);
+  if (!ref.spec) return ref.refusal;
+  return sensors::ModemSensor::check_send(
+      model_.vehicles, vehicle_index, ref.sensor, *ref.spec,
+      state_of<sensors::ModemSensor>(state_.vehicles[static_cast<std::size_t>(vehicle_index)].sensors[static_cast<std::size_t>(ref.sensor)]),
+      state_.time, destination, payload_bytes);
+}
+
+std::string Simulation::send_packet(int vehicle_index, const std::string& modem, const std::string& destination,
+                                    std::vector<std::uint8_t> payload) {
+  const ModemRef ref = find_modem(model_.vehicles, vehicle_index, modem);
+  if (!ref.spec) return ref.refusal;
+  auto& state = std::get<sensors::ModemSensor::State>(
+      state_.vehicles[static_cast<std::size_t>(vehicle_index)].sensors[static_cast<std::size_t>(ref.sensor)].kind);
+  return sensors::ModemSensor::send(model_.vehicles, vehicle_index, ref.sensor, *ref.spec, state, state_.time,
+                                    destination, std::move(payload));
 }
 
 std::string Simulation::set_joint_efforts(int vehicle_index, const std::vector<double>& efforts) {

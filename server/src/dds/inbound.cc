@@ -109,6 +109,17 @@ std::string parse_reset(const Model& model, const hadal_msgs::msg::StepRequest& 
 
 }  // namespace
 
+InboundCommand command_from_packet(int vehicle_index, const std::string& modem,
+                                   const hadal_msgs::msg::AcousticPacket& msg, const SourceId& source,
+                                   std::int64_t stamp_ns) {
+  InboundCommand command;
+  command.vehicle_index = vehicle_index;
+  command.source = source;
+  command.source_stamp_ns = stamp_ns;
+  command.packet = InboundCommand::Packet{modem, msg.destination(), msg.payload()};
+  return command;
+}
+
 namespace {
 
 // The joint-controller commands attached to a request: "" when they parse, else the reason.
@@ -154,6 +165,15 @@ std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::Step
                                                      msg.joint_trajectories()[i], source, stamp);
     if (!command.error.empty()) return command.error;
     request.commands.push_back(std::move(command));
+  }
+  const std::size_t packets = msg.packets().size();
+  if (msg.packet_vehicles().size() != packets || msg.packet_modems().size() != packets) {
+    return "packet_vehicles, packet_modems and packets differ in length";
+  }
+  for (std::size_t i = 0; i < packets; ++i) {
+    const int index = named_vehicle(model, msg.packet_vehicles()[i], request, &error);
+    if (index < 0) return error;
+    request.commands.push_back(command_from_packet(index, msg.packet_modems()[i], msg.packets()[i], source, stamp));
   }
   return "";
 }

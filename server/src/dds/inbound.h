@@ -1,4 +1,5 @@
-// What hadald reads from clients, parsed: thruster commands (rt/<vehicle>/actuators/commands) and step
+// What hadald reads from clients, parsed: thruster commands (rt/<vehicle>/actuators/commands), joint commands,
+// modem packets (rt/<vehicle>/<modem>/tx) and step
 // requests (rt/hadal/step_request), checked against the model (vehicle names, lengths, a reset's poses)
 // before anything reaches the simulation. Pure functions of the model and the message, so the DDS
 // listeners (server_endpoints.cc) and the fuzzer (tests/fuzz/command_fuzz.cc) run the same code.
@@ -35,6 +36,14 @@ struct InboundCommand {
   // A trajectory for the position group `joint_controller` (rt/<vehicle>/<controller>/joint_trajectory,
   // Simulation::set_joint_trajectory) instead of setpoints.
   std::optional<physics::JointTrajectoryCommand> trajectory;
+  // A packet for one of the vehicle's acoustic modems (rt/<vehicle>/<modem>/tx, Simulation::send_packet) instead of
+  // setpoints.
+  struct Packet {
+    std::string modem;
+    std::string destination;
+    std::vector<std::uint8_t> payload;
+  };
+  std::optional<Packet> packet;
   SourceId source{};                 // the sending participant
   std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins
   std::string error;                 // non-empty: malformed before it reached the simulation
@@ -66,6 +75,11 @@ InboundCommand command_from_array(int vehicle_index, const std_msgs::msg::Float6
 InboundCommand command_from_trajectory(int vehicle_index, const std::string& controller,
                                        const trajectory_msgs::msg::JointTrajectory& msg, const SourceId& source,
                                        std::int64_t stamp_ns);
+
+// A packet from rt/<vehicle>/<modem>/tx: its destination and payload (the simulation checks them).
+InboundCommand command_from_packet(int vehicle_index, const std::string& modem,
+                                   const hadal_msgs::msg::AcousticPacket& msg, const SourceId& source,
+                                   std::int64_t stamp_ns);
 
 // A step request checked against the model: its commands, its reset, or the error refusing it as a whole.
 InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg::StepRequest& msg,

@@ -90,6 +90,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<std::vector<std::vector<SensorTopic>>> sensors;  // [vehicle][sensor][topic]
   std::vector<fdds::DataReader*> setpoint_readers;
   std::vector<fdds::DataReader*> trajectory_readers;
+  std::vector<fdds::DataReader*> packet_readers;
   fdds::DataReader* step_reader = nullptr;
 
   // Counts indexed like topic_names.
@@ -205,6 +206,22 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   };
   std::vector<std::unique_ptr<TrajectoryListener>> trajectory_listeners;
 
+  // One listener per acoustic modem's tx reader.
+  struct PacketListener : public fdds::DataReaderListener {
+    Impl* owner = nullptr;
+    int vehicle_index = -1;
+    std::string modem;
+    void on_data_available(fdds::DataReader* reader) override {
+      hadal_msgs::msg::AcousticPacket msg;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        owner->enqueue(command_from_packet(vehicle_index, modem, msg, source_of(info), source_stamp_ns(info)));
+      }
+    }
+  };
+  std::vector<std::unique_ptr<PacketListener>> packet_listeners;
+
   struct StepListener : public fdds::DataReaderListener {
     Impl* owner = nullptr;
     void on_data_available(fdds::DataReader* reader) override {
@@ -259,6 +276,14 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     std::string expected_type;
     if (topic == step_request_topic()) {
       expected_type = hadal_msgs::msg::StepRequestPubSubType().getName();
+    } else if (const std::string tx = "/tx"; topic.size() > 3 + tx.size() && topic.compare(0, 3, "rt/") == 0 &&
+                                              topic.compare(topic.size() - tx.size(), tx.size(), tx) == 0) {
+      if (!is_modem_tx_topic(topic)) {
+        report_once(topic, "packets on " + echoed(topic) + " are ignored: no vehicle of the scenario has that modem " +
+                               "(modems: " + modem_names() + ")");
+        return;
+      }
+      expected_type = hadal_msgs::msg::AcousticPacketPubSubType().getName();
     } else {
       const std::string prefix = "rt/";
       const std::string suffix = "/actuators/commands";
@@ -299,6 +324,27 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
                        (other.empty() ? std::string("it does not say which process it is") : other) +
                        "): clients there see both servers' topics, and their commands and step requests reach "
                        "both; stop one, or give each its own --domain-id");
+  }
+
+  bool is_modem_tx_topic(const std::string& topic) const {
+    for (const VehicleSpec& vehicle : model.vehicles) {
+      for (const SensorSpec& sensor : vehicle.sensors) {
+        if (std::holds_alternative<sensors::ModemSpec>(sensor.kind) && topic == modem_tx_topic(vehicle.name, sensor.name)) {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+  std::string modem_names() const {
+    std::string names;
+    for (const VehicleSpec& vehicle : model.vehicles) {
+      for (const SensorSpec& sensor : vehicle.sensors) {
+        if (!std::holds_alternative<sensors::ModemSpec>(sensor.kind)) continue;
+        names += (names.empty() ? "" : ", ") + vehicle.name + "/" + sensor.name;
+      }
+    }
+    return names.empty() ? "none" : names;
   }
 
   void report_once(const std::string& key, const std::string& report) {
@@ -426,6 +472,16 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
       d.trajectory_readers.push_back(r.reader<trajectory_msgs::msg::JointTrajectoryPubSubType>(
           joint_trajectory_topic(name, controller.name), kCommandHistoryDepth, trajectory_listener.get()));
       d.trajectory_listeners.push_back(std::move(trajectory_listener));
+    }
+    for (const SensorSpec& sensor : model.vehicles[i].sensors) {
+      if (!std::holds_alternative<sensors::ModemSpec>(sensor.kind)) continue;
+      auto packet_listener = std::make_unique<Impl::PacketListener>();
+      packet_listener->owner = &d;
+      packet_listener->vehicle_index = static_cast<int>(i);
+      packet_listener->modem = sensor.name;
+      d.packet_readers.push_back(r.reader<hadal_msgs::msg::AcousticPacketPubSubType>(
+          modem_tx_topic(name, sensor.name), kCommandHistoryDepth, packet_listener.get()));
+      d.packet_listeners.push_back(std::move(packet_listener));
     }
   }
   d.step_listener.owner = &d;

@@ -66,7 +66,7 @@ TEST_F(ScenarioLoaderTest, SensorErrors) {
   EXPECT_EQ(errors_of(path),
             (Lines{path + ":8:29: error: vehicles[0].sensors[0].type: must be one of 'pressure', 'imu', "
                           "'magnetometer', 'gps', 'dvl', 'altimeter', 'profiler', 'camera', 'fls', 'multibeam', "
-                          "'sidescan', 'force_torque', 'usbl', 'lbl' (got 'barometer')",
+                          "'sidescan', 'force_torque', 'usbl', 'lbl', 'modem' (got 'barometer')",
                    path + ":9:16: error: vehicles[0].sensors[1].name: duplicate sensor name 'depth' (first "
                           "used by vehicles[0].sensors[0])",
                    path + ":9:45: error: vehicles[0].sensors[1].link: no link named 'fin' in this vehicle "

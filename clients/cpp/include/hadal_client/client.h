@@ -289,6 +289,24 @@ struct UsblFixes {
   std::vector<UsblFix> fixes;
 };
 
+// hadal_msgs/AcousticPackets of an acoustic modem, rt/<vehicle>/<modem>/rx: the packets it decoded within one
+// physics step (usually one), each stamped at the end of its reception.
+struct AcousticPacket {
+  double transmit_stamp = 0.0;      // start of its transmission [s]
+  double stamp = 0.0;               // end of its reception [s]
+  std::string source;               // "<vehicle>/<modem>" of the sender
+  std::string destination;          // as sent: "" every modem, "<vehicle>" or "<vehicle>/<modem>"
+  std::uint64_t sequence_number = 0;  // the sender's packet index
+  std::vector<std::uint8_t> payload;
+  double travel_time = 0.0;         // from the start of transmission to the start of reception [s]
+  double snr_db = 0.0;              // signal to noise and interference over the packet [dB]
+};
+struct AcousticPackets {
+  double stamp = 0.0;               // the last packet's [s]
+  std::string frame_id;             // the modem's
+  std::vector<AcousticPacket> packets;
+};
+
 // hadal_msgs/LblRanges of an LBL transceiver, rt/<vehicle>/<sensor>: the ranges to the beacons whose replies
 // arrived within one physics step, each stamped at its reply's reception.
 struct LblRange {
@@ -472,7 +490,7 @@ struct ClientOptions {
 using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates, TrackStates, FinStates,
                                     BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
                                     MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
-                                    SonarDetections, UsblFixes, LblRanges>;
+                                    SonarDetections, UsblFixes, LblRanges, AcousticPackets>;
 DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
 std::vector<std::string> decodable_message_types();
 
@@ -600,6 +618,9 @@ class Client {
                      std::function<void(const UsblFixes&)> callback);
   void on_lbl_ranges(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const LblRanges&)> callback);
+  // An acoustic modem's decoded packets (rt/<vehicle>/<modem>/rx).
+  void on_modem_packets(const std::string& vehicle, const std::string& modem,
+                        std::function<void(const AcousticPackets&)> callback);
   void on_laser_scan(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const LaserScan&)> callback);
   // A camera's colour (or mono) images, depth images and calibration (its three topics).
@@ -648,6 +669,18 @@ class Client {
   // do not increase, NaN (last_error; in lockstep, CommandRejected from step()).
   void set_joint_trajectory(const std::string& vehicle, const std::string& controller,
                             const JointTrajectory& trajectory);
+  // Gives the vehicle's acoustic modem `modem` a packet to send to `destination` ("" every modem, a vehicle's
+  // modems, or "<vehicle>/<modem>"): published on rt/<vehicle>/<modem>/tx (hadal_msgs/AcousticPacket), waiting up
+  // to 2 s for the server's reader on first use. The server queues it and sends it through the water; it refuses
+  // an empty payload or one longer than the modem's max_payload_bytes, an unknown destination, or a send when the
+  // modem's queue is full (SimStatus::rejected_commands / last_error). Every call is one packet.
+  void send_packet(const std::string& vehicle, const std::string& modem, const std::vector<std::uint8_t>& payload,
+                   const std::string& destination = "");
+  // Lockstep only: the packet is attached to the next step() or reset() request instead of published, so it is
+  // queued exactly before that request's first step (deterministic runs); refused packets make step() throw
+  // CommandRejected (checked before anything is applied). Packets attached to one request go in call order.
+  void attach_packet(const std::string& vehicle, const std::string& modem, const std::vector<std::uint8_t>& payload,
+                     const std::string& destination = "");
   // The names before the control vector drove every actuator kind: refused at compile time, naming the
   // new ones.
   template <class... Args>

@@ -120,6 +120,16 @@ class Simulation {
   // The validation alone: "" if set_controls would accept the command, else the reason.
   std::string check_controls(int vehicle_index, const std::vector<double>& controls) const;
 
+  // Queues a packet on the vehicle's acoustic modem `modem` (sensors/modem_sensor.h) for `destination` ("" every
+  // modem, a vehicle's modems or "<vehicle>/<modem>"), sent from now on. Returns "" when queued, else the reason
+  // (not a modem of the vehicle, an empty or oversize payload, an unknown destination, a full queue) with the
+  // state untouched.
+  std::string send_packet(int vehicle_index, const std::string& modem, const std::string& destination,
+                          std::vector<std::uint8_t> payload);
+  // The validation alone: "" if send_packet would queue the packet now, else the reason.
+  std::string check_packet(int vehicle_index, const std::string& modem, const std::string& destination,
+                           std::size_t payload_bytes) const;
+
   // An articulated vehicle's joint efforts (physics/articulation.h): one torque [N m] or force [N] per
   // moving joint in body order, each finite, held until the next, each within its joint's effort_limit when
   // applied. Only for a vehicle whose joint controllers (if any) are effort groups. Returns "" when accepted,

@@ -30,6 +30,11 @@ inline std::string joint_commands_topic(const std::string& vehicle, const std::s
 inline std::string joint_trajectory_topic(const std::string& vehicle, const std::string& controller) {
   return "rt/" + vehicle + "/" + controller + "/joint_trajectory";
 }
+// What a client gives an acoustic modem to send (hadal_msgs/AcousticPacket); it publishes what it decodes on
+// sensor_topic(vehicle, modem) + "/rx".
+inline std::string modem_tx_topic(const std::string& vehicle, const std::string& modem) {
+  return "rt/" + vehicle + "/" + modem + "/tx";
+}
 inline std::string actuator_commands_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/actuators/commands";
 }

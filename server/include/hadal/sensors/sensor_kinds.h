@@ -13,6 +13,7 @@
 #include "hadal/sensors/imu_sensor.h"
 #include "hadal/sensors/lbl_sensor.h"
 #include "hadal/sensors/magnetometer_sensor.h"
+#include "hadal/sensors/modem_sensor.h"
 #include "hadal/sensors/multibeam_sensor.h"
 #include "hadal/sensors/pressure_sensor.h"
 #include "hadal/sensors/profiler_sensor.h"
@@ -27,7 +28,7 @@ namespace hadal::sensors {
 using SensorKinds =
     KindList<PressureSensor, ImuSensor, MagnetometerSensor, GpsSensor, DvlSensor, AltimeterSensor, ProfilerSensor,
              CameraSensor, FlsSensor, MultibeamSensor, SidescanSensor, ForceTorqueSensor, UsblSensor,
-             LblSensor>;
+             LblSensor, ModemSensor>;
 
 // The model's variant of specs (sensors/sensor_specs.h) is this list's.
 static_assert(std::is_same_v<SensorKindSpec, SensorKinds::Specs>, "sensors/sensor_specs.h lists the kinds in this order");

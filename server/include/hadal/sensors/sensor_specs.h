@@ -13,6 +13,7 @@
 #include "hadal/sensors/imu_spec.h"
 #include "hadal/sensors/lbl_spec.h"
 #include "hadal/sensors/magnetometer_spec.h"
+#include "hadal/sensors/modem_spec.h"
 #include "hadal/sensors/multibeam_spec.h"
 #include "hadal/sensors/pressure_spec.h"
 #include "hadal/sensors/profiler_spec.h"
@@ -23,6 +24,6 @@ namespace hadal::sensors {
 
 using SensorKindSpec = std::variant<PressureSpec, ImuSpec, MagnetometerSpec, GpsSpec, DvlSpec, AltimeterSpec,
                                     ProfilerSpec, CameraSpec, FlsSpec, MultibeamSpec, SidescanSpec, ForceTorqueSpec,
-                                    UsblSpec, LblSpec>;
+                                    UsblSpec, LblSpec, ModemSpec>;
 
 }  // namespace hadal::sensors
