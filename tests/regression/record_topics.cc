@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
     const std::string preview = "/preview";
     const bool is_preview =
         topic.size() >= preview.size() && topic.compare(topic.size() - preview.size(), preview.size(), preview) == 0;
-    return topic != "rt/hadal/monitor" && !is_preview;
+    return topic != "rt/hadal/monitor" && topic != "rt/hadal/acoustic_links" && !is_preview;
   };
   for (const auto& [topic, writer] : tap.writers()) {
     if (recorded(topic, writer)) records[topic].type = writer.type;

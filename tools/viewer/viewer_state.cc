@@ -404,6 +404,29 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
       json += ",\"dropped_captures\":" + std::to_string(msg.dropped_captures()) + '}';
       status_json_ = std::move(json);
     }
+  } else if (type == "hadal_msgs/msg/AcousticLinks") {
+    // Every acoustic signal in flight: [kind, emit xyz, target xyz, emit time, duration, sound speed, source,
+    // target], drawn by the page as its wavefront's progress along the straight path.
+    hadal_msgs::msg::AcousticLinks msg;
+    if ((ok = decode<hadal_msgs::msg::AcousticLinksPubSubType>(data, size, &msg))) {
+      const double t = stamp_of(msg.header());
+      std::string json = "{\"time\":" + json_number(t) + ",\"links\":[";
+      for (std::size_t i = 0; i < msg.links().size(); ++i) {
+        const hadal_msgs::msg::AcousticLink& link = msg.links()[i];
+        const double numbers[9] = {link.emit_position().x(),   link.emit_position().y(),   link.emit_position().z(),
+                                   link.target_position().x(), link.target_position().y(), link.target_position().z(),
+                                   link.emit_stamp().sec() + 1e-9 * link.emit_stamp().nanosec(),
+                                   link.duration(),            link.sound_speed()};
+        json += (i ? ",[" : "[") + std::to_string(link.kind()) + ',';
+        append_numbers(json, numbers, 9);
+        json += ',';
+        append_string(json, link.source());
+        json += ',';
+        append_string(json, link.target());
+        json += ']';
+      }
+      acoustic_json_ = json + "]}";
+    }
   } else if (type == "rosgraph_msgs/msg/Clock") {
     rosgraph_msgs::msg::Clock msg;
     if ((ok = decode<rosgraph_msgs::msg::ClockPubSubType>(data, size, &msg))) {
@@ -497,6 +520,7 @@ void ViewerState::start_over() {
   for (auto& [name, vehicle] : vehicles_) vehicle.trail.clear(), vehicle.trail_total = vehicle.polled_trail = 0;
   series_.clear();
   overlays_.clear();
+  acoustic_json_.clear();
   topic_times_.clear();
   sim_time_ = 0.0;
   ++history_generation_;
@@ -534,6 +558,7 @@ void ViewerState::clear() {
   vehicles_.clear();
   cameras_.clear();
   status_json_.clear();
+  acoustic_json_.clear();
   start_over();
 }
 
@@ -592,6 +617,7 @@ std::string ViewerState::update_json_locked(std::uint64_t since_seq, bool trail_
   std::string json = "{\"type\":\"update\",\"sim_time\":" + json_number(sim_time_) +
                      ",\"samples\":" + std::to_string(samples_) + ",\"undecodable\":" + std::to_string(undecodable_);
   json += ",\"status\":" + (status_json_.empty() ? std::string("null") : status_json_);
+  json += ",\"acoustic\":" + (acoustic_json_.empty() ? std::string("null") : acoustic_json_);
   json += ",\"vehicles\":{";
   bool first = true;
   for (const auto& [name, v] : vehicles_) {

@@ -408,5 +408,34 @@ TEST(ViewerStateTest, AMonitorsSamplesAreTakenOnceEach) {
   EXPECT_EQ(state.undecodable(), 1u);
 }
 
+// The acoustic signals in flight reach the page as they came: per link its kind, where it left and where its
+// receiver is, when it left, its duration and sound speed, its ends' names; none: null.
+TEST(ViewerStateTest, AcousticLinksReachThePage) {
+  ViewerState state;
+  EXPECT_NE(state.poll(0.0).update_json.find("\"acoustic\":null"), std::string::npos);
+  hadal_msgs::msg::AcousticLinks msg;
+  msg.header().stamp().sec(12);
+  msg.header().stamp().nanosec(500000000);
+  hadal_msgs::msg::AcousticLink& link = msg.links().emplace_back();
+  link.kind(2);
+  link.source("auv");
+  link.target("vessel/usbl");
+  link.emit_position().x(600.0);
+  link.emit_position().y(300.0);
+  link.emit_position().z(-1500.0);
+  link.target_position().z(-0.5);
+  link.emit_stamp().sec(11);
+  link.duration(0.0);
+  link.sound_speed(1490.5);
+  const auto bytes = cdr<hadal_msgs::msg::AcousticLinksPubSubType>(msg);
+  state.add("/hadal/acoustic_links", "hadal_msgs/msg/AcousticLinks", bytes.data(), bytes.size());
+  const std::string json = state.poll(0.0).update_json;
+  EXPECT_NE(json.find("\"acoustic\":{\"time\":12.5,\"links\":[[2,[600,300,-1500,0,0,-0.5,11,0,1490.5],\"auv\","
+                      "\"vessel/usbl\"]]}"),
+            std::string::npos)
+      << json;
+  EXPECT_EQ(state.undecodable(), 0u);
+}
+
 }  // namespace
 }  // namespace hadal::viewer

@@ -291,6 +291,7 @@ class Runner {
   void publish_due() {
     const SimState& state = sim_.state();
     if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
+    if (dds_.acoustic_links_due()) dds_.publish_acoustic_links(state.time, sim_.acoustic_links());
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) {
         dds_.publish_odometry(static_cast<int>(i), state);

@@ -30,6 +30,7 @@
 #include "hadal/physics/mass_properties.h"
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/terramechanics.h"
+#include "hadal/sensors/acoustic_channel.h"
 #include "hadal/sensors/sample_context.h"
 #include "hadal/sensors/sensor_kinds.h"
 #include "worker_pool.h"
@@ -725,6 +726,38 @@ std::string Simulation::send_packet(int vehicle_index, const std::string& modem,
       state_.vehicles[static_cast<std::size_t>(vehicle_index)].sensors[static_cast<std::size_t>(ref.sensor)].kind);
   return sensors::ModemSensor::send(model_.vehicles, vehicle_index, ref.sensor, *ref.spec, state, state_.time,
                                     destination, std::move(payload));
+}
+
+std::vector<sensors::AcousticLink> Simulation::acoustic_links() {
+  std::vector<sensors::AcousticLink> links;
+  const double dt = model_.world.step_size();
+  for (std::size_t i = 0; i < runtime_.size(); ++i) {
+    const VehicleSpec& spec = model_.vehicles[i];
+    VehicleRuntime& runtime = *runtime_[i];
+    for (std::size_t k = 0; k < spec.sensors.size(); ++k) {
+      std::visit(
+          [&](const auto& kind_spec) {
+            using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
+            if constexpr (sensors::HasAcousticLinks<Kind>::value) {
+              const VehicleRuntime::Sensor& mount = runtime.sensors[k];
+              const sensors::SampleContext context{
+                  state_.time, mount.period,     dt,             model_.world,
+                  *ocean_,     *environment_,    state_,         static_cast<int>(i),
+                  mount.X_BS,  runtime.p_BBcm,   runtime.v_WBcm, runtime.w_WB,
+                  rays_.get(), &spec.sensors[k], ray_bodies_.of_body(static_cast<int>(i), mount.body),
+                  &model_.vehicles};
+              Kind::acoustic_links(context, kind_spec,
+                                   std::get<typename Kind::State>(state_.vehicles[i].sensors[k].kind), links);
+            }
+          },
+          spec.sensors[k].kind);
+    }
+  }
+  if (!links.empty()) {
+    const sensors::AcousticChannel& channel = environment_->acoustic_channel(*ocean_, model_.world.acoustics);
+    for (sensors::AcousticLink& link : links) link.sound_speed = channel.mean_sound_speed(link.p_Wemit, link.p_Wtarget);
+  }
+  return links;
 }
 
 std::string Simulation::set_joint_efforts(int vehicle_index, const std::vector<double>& efforts) {

@@ -115,6 +115,12 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
 
   // rt/hadal/monitor (dds/monitor.h): the topics it carries, by count slot (-1: not carried).
   fdds::DataWriter* monitor_writer = nullptr;
+  // rt/hadal/acoustic_links: null when the scenario has no acoustic sensor.
+  fdds::DataWriter* links_writer = nullptr;
+  std::size_t links_slot = 0;
+  hadal_msgs::msg::AcousticLinks links_msg;
+  std::chrono::steady_clock::time_point links_at{};
+  bool links_sent_empty = false;
   std::size_t monitor_slot = 0;
   MonitorContent monitor;
   std::vector<long> monitor_index;
@@ -392,6 +398,21 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
   d.write(d.scene_writer, &d.scene_msg, d.scene_slot);
   d.monitor_writer = r.writer<hadal_msgs::msg::MonitorPubSubType>(monitor_topic(), 1);
   d.monitor_slot = d.add_count(monitor_topic());
+  bool acoustic = false;
+  for (const VehicleSpec& vehicle : model.vehicles) {
+    for (const SensorSpec& sensor : vehicle.sensors) {
+      std::visit(
+          [&](const auto& spec) {
+            acoustic |= sensors::HasAcousticLinks<sensors::KindOf<std::decay_t<decltype(spec)>>>::value;
+          },
+          sensor.kind);
+    }
+  }
+  if (acoustic) {
+    d.links_writer = r.writer<hadal_msgs::msg::AcousticLinksPubSubType>(acoustic_links_topic(), 1);
+    d.links_slot = d.add_count(acoustic_links_topic());
+    d.carry_in_monitor(d.links_writer, d.links_slot);
+  }
   d.odometry_msgs.resize(model.vehicles.size());
 
   for (std::size_t i = 0; i < model.vehicles.size(); ++i) {
@@ -646,6 +667,42 @@ void ServerEndpoints::publish_monitor(double sim_time_s) {
   if (d.monitor.fill(sim_time_s, d.model.world.frame_id, &d.monitor_msg)) {
     d.write(d.monitor_writer, &d.monitor_msg, d.monitor_slot);
   }
+}
+
+bool ServerEndpoints::acoustic_links_due() {
+  Impl& d = *impl_;
+  if (d.links_writer == nullptr) return false;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - d.links_at < kMonitorInterval) return false;
+  d.links_at = now;
+  return Impl::has_readers(d.links_writer) || Impl::has_readers(d.monitor_writer);
+}
+
+void ServerEndpoints::publish_acoustic_links(double sim_time_s, const std::vector<sensors::AcousticLink>& links) {
+  Impl& d = *impl_;
+  if (d.links_writer == nullptr || (links.empty() && d.links_sent_empty)) return;
+  d.links_sent_empty = links.empty();
+  hadal_msgs::msg::AcousticLinks& msg = d.links_msg;
+  msg.header().stamp(to_time_msg(sim_time_s));
+  msg.header().frame_id(d.model.world.frame_id);
+  msg.links().resize(links.size());
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const sensors::AcousticLink& in = links[i];
+    hadal_msgs::msg::AcousticLink& out = msg.links()[i];
+    out.kind(static_cast<std::uint8_t>(in.kind));
+    out.source(in.source);
+    out.target(in.target);
+    out.emit_position().x(in.p_Wemit.x());
+    out.emit_position().y(in.p_Wemit.y());
+    out.emit_position().z(in.p_Wemit.z());
+    out.target_position().x(in.p_Wtarget.x());
+    out.target_position().y(in.p_Wtarget.y());
+    out.target_position().z(in.p_Wtarget.z());
+    out.emit_stamp(to_time_msg(in.emit_time));
+    out.duration(in.duration);
+    out.sound_speed(in.sound_speed);
+  }
+  d.write(d.links_writer, &msg, d.links_slot);
 }
 
 void ServerEndpoints::clear_kept_samples() {

@@ -1,10 +1,11 @@
 // hadald's DDS side: every topic the server publishes or subscribes (docs/topics.md).
 //
 // Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/hadal/scene (once, and again after a reset:
-// dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/<vehicle>/odometry,
+// dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/hadal/acoustic_links (while it or the
+// monitor is read), rt/<vehicle>/odometry,
 // rt/<vehicle>/<kind>/state of the actuator kinds and rt/<vehicle>/<sensor> (per sensor, its
 // topics, of ROS types; camera previews while read: dds/image_preview.h); subscribes
-// rt/<vehicle>/actuators/commands and rt/hadal/step_request. Incoming samples are queued by the DDS
+// rt/<vehicle>/actuators/commands, the joint controllers' and modems' topics and rt/hadal/step_request. Incoming samples are queued by the DDS
 // threads and taken by the step loop at step boundaries, so the loop never waits on DDS. Writers to
 // setpoint topics of vehicles that do not exist are reported (a typo in a vehicle name is otherwise silent
 // in DDS).
@@ -12,6 +13,7 @@
 
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
+#include "hadal/sensors/sensor_kind.h"
 #include "inbound.h"
 
 #include <array>
@@ -91,6 +93,11 @@ class ServerEndpoints {
   // time has passed since the last, a reader is matched and a topic was written since. Cheap when not due:
   // call it as often as the loop comes by.
   void publish_monitor(double sim_time_s);
+  // rt/hadal/acoustic_links (hadal_msgs/AcousticLinks): due when the scenario has acoustic sensors (modems, USBLs,
+  // LBLs), kMonitorInterval of wall time has passed since the last and it or the monitor is read; then
+  // publish_acoustic_links() with what is in flight (Simulation::acoustic_links). An empty list is sent once.
+  bool acoustic_links_due();
+  void publish_acoustic_links(double sim_time_s, const std::vector<sensors::AcousticLink>& links);
   // Every vehicle's ground truth rides along (fill_reply_states); unknown_vehicle names the vehicle a
   // request was refused for (else empty).
   void publish_step_reply(std::uint64_t request_id, bool accepted, const std::string& error,

@@ -5,6 +5,7 @@
 
 #include "hadal/sensors/acoustic_channel.h"
 #include "hadal/sensors/sample_context.h"
+#include "hadal/sensors/sensor_kind.h"
 
 namespace hadal::sensors {
 
@@ -121,6 +122,32 @@ std::vector<ReceivedReply> advance_interrogations(InterrogationState& state, con
   state.exchanges.resize(kept);
   remember();
   return received;
+}
+
+void interrogation_links(const InterrogationState& state, const Eigen::Vector3d& p_W, const std::string& self,
+                         const std::vector<Responder>& responders, const std::vector<std::string>& names,
+                         std::vector<AcousticLink>& out) {
+  using Phase = InterrogationState::Exchange::Phase;
+  for (const InterrogationState::Exchange& exchange : state.exchanges) {
+    const auto k = static_cast<std::size_t>(exchange.responder);
+    if (exchange.phase == Phase::kTurnaround || k >= responders.size() || k >= names.size()) continue;
+    AcousticLink& link = out.emplace_back();
+    if (exchange.phase == Phase::kOutbound) {
+      link.kind = AcousticLink::Kind::kInterrogation;
+      link.source = self;
+      link.target = names[k];
+      link.p_Wemit = exchange.p_Winterrogation;
+      link.p_Wtarget = responders[k].p_W;
+      link.emit_time = exchange.t_interrogation;
+    } else {
+      link.kind = AcousticLink::Kind::kReply;
+      link.source = names[k];
+      link.target = self;
+      link.p_Wemit = exchange.p_Wreply;
+      link.p_Wtarget = p_W;
+      link.emit_time = exchange.t_reply;
+    }
+  }
 }
 
 }  // namespace hadal::sensors

@@ -79,6 +79,16 @@ std::optional<double> LblSensor::advance(const SampleContext& context, const Spe
   return state.ranges.back().stamp;
 }
 
+void LblSensor::acoustic_links(const SampleContext& context, const Spec&, const State& state,
+                              std::vector<AcousticLink>& out) {
+  if (context.sensor == nullptr) return;
+  std::vector<std::string> names;
+  for (const BeaconSpec& beacon : context.world.acoustics.beacons) names.push_back(beacon.name);
+  const std::string self = (context.vehicles ? (*context.vehicles)[static_cast<std::size_t>(context.vehicle_index)].name
+                                             : std::string("vehicle")) + "/" + context.sensor->name;
+  interrogation_links(state.interrogation, context.p_WS(), self, beacons(context), names, out);
+}
+
 void LblSensor::fill_message(const Spec&, const State& state, const MessageHeader& header, Message& msg) {
   msg.header().stamp(dds::to_time_msg(header.stamp));
   msg.header().frame_id(header.frame_id);

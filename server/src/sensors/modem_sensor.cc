@@ -381,6 +381,24 @@ std::optional<double> ModemSensor::advance(const SampleContext& context, const S
   return state.delivered.back().stamp;
 }
 
+void ModemSensor::acoustic_links(const SampleContext& context, const Spec&, const State& state,
+                                 std::vector<AcousticLink>& out) {
+  if (context.vehicles == nullptr || context.sensor == nullptr) return;
+  const std::vector<VehicleSpec>& vehicles = *context.vehicles;
+  const std::string self = vehicles[static_cast<std::size_t>(context.vehicle_index)].name + "/" + context.sensor->name;
+  for (const Incoming& in : state.incoming) {
+    if (in.decided) continue;
+    AcousticLink& link = out.emplace_back();
+    const VehicleSpec& sender = vehicles[static_cast<std::size_t>(in.vehicle)];
+    link.source = sender.name + "/" + sender.sensors[static_cast<std::size_t>(in.sensor)].name;
+    link.target = self;
+    link.p_Wemit = in.packet.p_W;
+    link.p_Wtarget = context.p_WS();
+    link.emit_time = in.packet.start;
+    link.duration = in.packet.end - in.packet.start;
+  }
+}
+
 void ModemSensor::fill_message(const Spec&, const State& state, const MessageHeader& header, Rx::Message& msg) {
   msg.header().stamp(dds::to_time_msg(header.stamp));
   msg.header().frame_id(header.frame_id);

@@ -236,7 +236,9 @@ TEST(ModemSensorTest, AModemDoesNotHearWhileItSends) {
     net.step();
     EXPECT_EQ(net.send(0, "auv", bytes("0123456789")), "");  // arrives at the AUV after ~1 s, for 1.3 s
     net.run_until(1.5);
-    if (reply_early) EXPECT_EQ(net.send(1, "vessel", bytes("status")), "");  // sent while it arrives
+    if (reply_early) {
+      EXPECT_EQ(net.send(1, "vessel", bytes("status")), "");  // sent while it arrives
+    }
     net.run_until(4.0);
     return {net.received[1].size(), net.state(1).tally.lost_half_duplex};
   };
@@ -351,6 +353,38 @@ TEST(ModemSensorTest, MessageCarriesThePackets) {
   EXPECT_EQ(msg.packets()[0].transmit_stamp().sec(), 1);
   EXPECT_EQ(msg.packets()[0].transmit_stamp().nanosec(), 250000000u);
   EXPECT_DOUBLE_EQ(msg.packets()[0].snr_db(), 12.5);
+}
+
+// What is in flight, for monitors (acoustic_links): each receiver lists the packet from where it left until it has
+// all arrived, with its duration; then nothing.
+TEST(ModemSensorTest, LinksFollowEachPacketToEachReceiver) {
+  Net net(fleet({{"vessel", {0.0, 0.0, -5.0}}, {"auv", {1500.0, 0.0, -1005.0}}, {"lander", {700.0, 0.0, -2000.0}}}));
+  net.run_until(0.1);
+  const double t_send = net.world.state.time;
+  ASSERT_EQ(net.send(0, "auv", bytes("goto")), "");
+  const auto links = [&](int v) {
+    std::vector<AcousticLink> out;
+    const SensorSpec& sensor = net.world.model.vehicles[static_cast<std::size_t>(v)].sensors[0];
+    net.world.sensor_spec = &sensor;
+    ModemSensor::acoustic_links(net.world.context(sensor.X_LS, 1.0, v), net.spec(v), net.state(v), out);
+    return out;
+  };
+  net.run_until(0.5);
+  for (const int v : {1, 2}) {  // the lander hears it too, though it is not for it
+    const std::vector<AcousticLink> in_flight = links(v);
+    ASSERT_EQ(in_flight.size(), 1u) << v;
+    EXPECT_EQ(in_flight[0].kind, AcousticLink::Kind::kPacket);
+    EXPECT_EQ(in_flight[0].source, "vessel/modem");
+    EXPECT_EQ(in_flight[0].target, v == 1 ? "auv/modem" : "lander/modem");
+    EXPECT_NEAR(in_flight[0].emit_time, t_send, 1e-12);
+    EXPECT_NEAR(in_flight[0].duration, ModemSensor::duration(net.spec(0), 4), 1e-12);
+    EXPECT_TRUE(in_flight[0].p_Wemit.isApprox(net.p_W(0), 1e-12));
+    EXPECT_TRUE(in_flight[0].p_Wtarget.isApprox(net.p_W(v), 1e-12));
+  }
+  EXPECT_TRUE(links(0).empty());
+  net.run_until(4.0);
+  EXPECT_TRUE(links(1).empty());
+  EXPECT_TRUE(links(2).empty());
 }
 
 }  // namespace

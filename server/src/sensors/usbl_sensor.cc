@@ -123,6 +123,16 @@ std::optional<double> UsblSensor::advance(const SampleContext& context, const Sp
   return state.fixes.back().stamp;
 }
 
+void UsblSensor::acoustic_links(const SampleContext& context, const Spec&, const State& state,
+                              std::vector<AcousticLink>& out) {
+  if (context.vehicles == nullptr || context.sensor == nullptr) return;
+  std::vector<std::string> names;
+  for (const VehicleSpec& vehicle : *context.vehicles) names.push_back(vehicle.name);
+  const std::string self = (context.vehicles ? (*context.vehicles)[static_cast<std::size_t>(context.vehicle_index)].name
+                                             : std::string("vehicle")) + "/" + context.sensor->name;
+  interrogation_links(state.interrogation, context.p_WS(), self, transponders(context), names, out);
+}
+
 void UsblSensor::fill_message(const Spec&, const State& state, const MessageHeader& header, Message& msg) {
   msg.header().stamp(dds::to_time_msg(header.stamp));
   msg.header().frame_id(header.frame_id);

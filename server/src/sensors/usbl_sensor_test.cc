@@ -259,5 +259,43 @@ TEST(UsblSensorTest, MessageCarriesTheStepsFixes) {
   EXPECT_EQ(out.latitude(), fixes[0].latitude_deg);
 }
 
+// What is in flight, for monitors (acoustic_links): the interrogation from where the transceiver was at t = 0
+// towards the transponder, then, after the turnaround, the reply from where the transponder replied towards the
+// transceiver; nothing once the fix is in.
+TEST(UsblSensorTest, LinksFollowTheInterrogationAndTheReply) {
+  SensorTestWorld world(survey());
+  const UsblSpec spec = exact();
+  UsblSensor::State state = world.initial_state<UsblSensor>(spec, 1.0, "usbl");
+  const Eigen::Vector3d p_WS = world.body(0).X_WB * kX_BS.translation();
+  const AcousticChannel channel(world.ocean, world.model.world.acoustics);
+  const double one_way = channel.travel_time(p_WS, transponder_W(world));
+  SensorSpec sensor;
+  sensor.name = "usbl";
+  world.sensor_spec = &sensor;
+  const auto links_at = [&](double t) {
+    std::vector<AcousticLink> links;
+    run(world, spec, state, t, 0.01, 100000);
+    UsblSensor::acoustic_links(world.context(kX_BS, 1.0), spec, state, links);
+    return links;
+  };
+  std::vector<AcousticLink> links = links_at(0.5 * one_way);
+  ASSERT_EQ(links.size(), 1u);
+  EXPECT_EQ(links[0].kind, AcousticLink::Kind::kInterrogation);
+  EXPECT_EQ(links[0].source, "vessel/usbl");
+  EXPECT_EQ(links[0].target, "auv");
+  EXPECT_EQ(links[0].emit_time, 0.0);
+  EXPECT_TRUE(links[0].p_Wemit.isApprox(p_WS, 1e-12));
+  EXPECT_TRUE(links[0].p_Wtarget.isApprox(transponder_W(world), 1e-12));
+  state = world.initial_state<UsblSensor>(spec, 1.0, "usbl");
+  links = links_at(1.5 * one_way);
+  ASSERT_EQ(links.size(), 1u);
+  EXPECT_EQ(links[0].kind, AcousticLink::Kind::kReply);
+  EXPECT_EQ(links[0].source, "auv");
+  EXPECT_EQ(links[0].target, "vessel/usbl");
+  EXPECT_NEAR(links[0].emit_time, one_way + 0.05, 0.011);  // heard within a 10 ms step, replied 50 ms later
+  state = world.initial_state<UsblSensor>(spec, 1.0, "usbl");
+  EXPECT_TRUE(links_at(2.0 * one_way + 0.2).empty());
+}
+
 }  // namespace
 }  // namespace hadal::sensors

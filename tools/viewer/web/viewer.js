@@ -17,6 +17,9 @@ const state = {
   frames: {},             // "vehicle/name" -> {frame JSON, object}
   links: {},              // "vehicle/link" -> {link JSON, moving: THREE.Group} (articulated vehicles' moving bodies)
   overlays: {},           // "vehicle/sensor" -> THREE.LineSegments
+  acoustic: null,         // THREE.LineSegments of the acoustic signals in flight
+  acousticLinks: [],      // the last AcousticLinks' links, as drawn
+  acousticFronts: null,   // THREE.Points: each signal's front
   series: {},             // key -> {plot, label, unit, t: [], v: []}
   historySeq: 0,
   cameras: {},            // topic -> {img, caption, frames, url}
@@ -230,6 +233,59 @@ function updateOverlay(o) {
   col.needsUpdate = true;
 }
 
+// Acoustic signals in flight (rt/hadal/acoustic_links): for each, its straight path from where it left to its
+// receiver, dim, and on it, bright, what of it is in the water at the links' sim time: a packet from its tail to
+// its front (sound speed x (t - emit) and that less the packet's duration), a ping from where it left to its
+// front. Orange: modem packets; cyan: interrogations; magenta: replies. Not fogged: they span kilometres.
+const ACOUSTIC_COLORS = [[1.0, 0.62, 0.2], [0.3, 0.9, 1.0], [1.0, 0.4, 0.9]];
+function updateAcoustic(acoustic) {
+  const links = acoustic ? acoustic.links : [];
+  state.acousticLinks = links;
+  if (!state.acoustic) {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * 4 * 256), 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * 4 * 256), 3));
+    state.acoustic = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({vertexColors: THREE.VertexColors, fog: false}));
+    state.acoustic.frustumCulled = false;
+    state.acoustic.userData.kind = 'acoustic';
+    world.add(state.acoustic);
+    const fronts = new THREE.BufferGeometry();  // a dot at each wavefront, visible from kilometres away
+    fronts.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * 256), 3));
+    fronts.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * 256), 3));
+    state.acousticFronts = new THREE.Points(fronts, new THREE.PointsMaterial(
+        {size: 7, sizeAttenuation: false, vertexColors: THREE.VertexColors, fog: false}));
+    state.acousticFronts.frustumCulled = false;
+    world.add(state.acousticFronts);
+  }
+  const dots = state.acousticFronts.geometry.attributes.position, dotColors = state.acousticFronts.geometry.attributes.color;
+  let m = 0;
+  const pos = state.acoustic.geometry.attributes.position, col = state.acoustic.geometry.attributes.color;
+  let n = 0;
+  for (const [kind, v, , ] of links.slice(0, 256)) {
+    const o = new THREE.Vector3(v[0], v[1], v[2]), p = new THREE.Vector3(v[3], v[4], v[5]);
+    const length = p.distanceTo(o);
+    if (!(length > 0)) continue;
+    const u = p.clone().sub(o).divideScalar(length);
+    const elapsed = acoustic.time - v[6];
+    const front = Math.min(v[8] * elapsed, length), tail = Math.max(v[8] * (elapsed - v[7]), 0);
+    const c = ACOUSTIC_COLORS[kind] || ACOUSTIC_COLORS[0];
+    const ends = [[o, p, c.map(x => 0.3 * x)],
+                  [o.clone().addScaledVector(u, v[7] > 0 ? Math.min(tail, front) : 0), o.clone().addScaledVector(u, front), c]];
+    for (const [a, b, color] of ends) {
+      pos.setXYZ(n, a.x, a.y, a.z); col.setXYZ(n++, ...color);
+      pos.setXYZ(n, b.x, b.y, b.z); col.setXYZ(n++, ...color);
+    }
+    const front3 = ends[1][1];
+    dots.setXYZ(m, front3.x, front3.y, front3.z); dotColors.setXYZ(m++, ...c);
+  }
+  state.acousticFronts.geometry.setDrawRange(0, m);
+  dots.needsUpdate = true;
+  dotColors.needsUpdate = true;
+  state.acoustic.geometry.setDrawRange(0, n);
+  pos.needsUpdate = true;
+  col.needsUpdate = true;
+}
+
 // One trail point (the server keeps them 5 cm apart, viewer_state.cc).
 function appendTrail(vehicle, p) {
   const attr = vehicle.trail.geometry.attributes.position;
@@ -308,6 +364,7 @@ function onUpdate(msg) {
     }
   }
   for (const o of msg.overlays) updateOverlay(o);
+  updateAcoustic(msg.acoustic);
   let newSeries = false;
   for (const p of msg.points) {
     const [key, seq, t, v] = p;

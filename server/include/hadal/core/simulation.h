@@ -130,6 +130,11 @@ class Simulation {
   std::string check_packet(int vehicle_index, const std::string& modem, const std::string& destination,
                            std::size_t payload_bytes) const;
 
+  // What the acoustic sensors (modems, USBLs, LBLs) have in flight at the state's time (sensors/sensor_kind.h,
+  // AcousticLink), each with the harmonic-mean sound speed of its path: what monitors draw
+  // (rt/hadal/acoustic_links). Empty without such sensors.
+  std::vector<sensors::AcousticLink> acoustic_links();
+
   // An articulated vehicle's joint efforts (physics/articulation.h): one torque [N m] or force [N] per
   // moving joint in body order, each finite, held until the next, each within its joint's effort_limit when
   // applied. Only for a vehicle whose joint controllers (if any) are effort groups. Returns "" when accepted,

@@ -14,6 +14,8 @@ inline std::string step_reply_topic() { return "rt/hadal/step_reply"; }
 inline std::string scene_topic() { return "rt/hadal/scene"; }
 // The latest sample of each light topic in one message, at most 20 per wall second while read (Monitor).
 inline std::string monitor_topic() { return "rt/hadal/monitor"; }
+// Every acoustic signal in flight (AcousticLinks), at most 20 per wall second while it or the monitor is read.
+inline std::string acoustic_links_topic() { return "rt/hadal/acoustic_links"; }
 inline std::string odometry_topic(const std::string& vehicle) { return "rt/" + vehicle + "/odometry"; }
 // An articulated vehicle's joints (sensor_msgs/JointState), at the odometry rate.
 inline std::string joint_states_topic(const std::string& vehicle) { return "rt/" + vehicle + "/joint_states"; }

@@ -20,10 +20,12 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace hadal::sensors {
 
+struct AcousticLink;
 class AcousticChannel;
 struct SampleContext;
 
@@ -100,5 +102,11 @@ std::vector<ReceivedReply> advance_interrogations(InterrogationState& state, con
                                                   const InterrogatorAcoustics& acoustics, double t1,
                                                   const Eigen::Vector3d& p_W1, const std::vector<Responder>& responders,
                                                   const Occluded& occluded);
+
+// A link per interrogation on its way to a responder and per reply on its way back (sensor_kind.h), `self` and
+// `names` (one per responder) naming the ends.
+void interrogation_links(const InterrogationState& state, const Eigen::Vector3d& p_W, const std::string& self,
+                         const std::vector<Responder>& responders, const std::vector<std::string>& names,
+                         std::vector<AcousticLink>& out);
 
 }  // namespace hadal::sensors

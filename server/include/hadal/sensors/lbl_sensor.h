@@ -67,6 +67,9 @@ struct LblSensor {
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static std::optional<double> advance(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Message& msg);
+  // A link per interrogation and reply in flight (sensor_kind.h).
+  static void acoustic_links(const SampleContext& context, const Spec& spec, const State& state,
+                             std::vector<AcousticLink>& out);
 };
 
 }  // namespace hadal::sensors

@@ -150,6 +150,9 @@ struct ModemSensor {
   static void sample(const SampleContext& context, const Spec& spec, State& state);
   static std::optional<double> advance(const SampleContext& context, const Spec& spec, State& state);
   static void fill_message(const Spec& spec, const State& state, const MessageHeader& header, Rx::Message& msg);
+  // A link per packet travelling towards this modem or arriving at it (sensor_kind.h).
+  static void acoustic_links(const SampleContext& context, const Spec& spec, const State& state,
+                             std::vector<AcousticLink>& out);
 
   // The packet's duration on the water: preamble_s + 8 bytes / bit_rate_bps [s].
   static double duration(const Spec& spec, std::size_t payload_bytes);

@@ -48,6 +48,11 @@
 // publisher sends it), or nullopt. Its sample(), on the rate's ticks, starts what the rate paces (an
 // interrogation) and makes no sample itself.
 //
+// What an acoustic kind has in flight (a modem's packets, a USBL's or an LBL's interrogations and replies), for
+// monitors that draw it (rt/hadal/acoustic_links): a kind may define
+//   static void acoustic_links(const SampleContext&, const Spec&, const State&, std::vector<AcousticLink>&);
+// appending one link per signal travelling from where it was emitted towards one receiver.
+//
 // Topics: a kind publishes rt/<vehicle>/<sensor> with Message and fill_message(), or, to publish
 // several topics (a camera's image_raw, depth and camera_info), lists them as
 //   using Topics = TopicList<T...>;
@@ -169,6 +174,25 @@ struct SensorReach {
   double range_m = 0.0;
   double half_angle_rad = 0.0;
 };
+
+// A signal in the water (above): from its emitter's position when it left, towards a receiver's position now.
+struct AcousticLink {
+  enum class Kind : std::uint8_t { kPacket = 0, kInterrogation = 1, kReply = 2 };
+  Kind kind = Kind::kPacket;
+  std::string source;  // "<vehicle>/<sensor>", a vehicle's transponder ("<vehicle>") or a beacon's name
+  std::string target;  // the same for the receiver
+  Eigen::Vector3d p_Wemit = Eigen::Vector3d::Zero();    // [m]
+  Eigen::Vector3d p_Wtarget = Eigen::Vector3d::Zero();  // [m]
+  double emit_time = 0.0;    // when it left [s]
+  double duration = 0.0;     // how long it lasts (a packet's; 0 for a ping) [s]
+  double sound_speed = 0.0;  // harmonic mean along the path [m/s] (the simulation fills it)
+};
+
+// Whether a kind reports what it has in flight (acoustic_links(), above).
+template <class Kind, class = void>
+struct HasAcousticLinks : std::false_type {};
+template <class Kind>
+struct HasAcousticLinks<Kind, std::void_t<decltype(&Kind::acoustic_links)>> : std::true_type {};
 
 // The header fields of a sensor's message.
 struct MessageHeader {
