@@ -32,6 +32,19 @@ bool clock_sample_ns(const std::vector<unsigned char>& bytes, std::int64_t* ns) 
   return true;
 }
 
+// Whether a hadald type begins with a builtin_interfaces/Time at the start of its CDR body: a std_msgs/Header
+// (every type hadald publishes but the step reply) or a rosgraph_msgs/Clock.
+bool starts_with_stamp(const std::string& dds_type) {
+  if (dds_type == "hadal_msgs::msg::dds_::StepReply_" || dds_type == "hadal_msgs::msg::dds_::StepRequest_") {
+    return false;
+  }
+  for (const char* package : {"sensor_msgs::", "nav_msgs::", "geometry_msgs::", "marine_acoustic_msgs::",
+                              "hadal_msgs::", "rosgraph_msgs::msg::dds_::Clock_"}) {
+    if (dds_type.rfind(package, 0) == 0) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 struct BagRecorder::Impl {
@@ -40,6 +53,7 @@ struct BagRecorder::Impl {
   std::unique_ptr<Rosbag2Writer> bag;
   mutable std::mutex mutex;  // the bag: written from DDS's threads, flushed from the flusher
   std::map<std::string, int> topic_ids;  // DDS topic -> bag topic
+  std::set<std::string> stamped;          // DDS topics whose samples begin with their stamp (starts_with_stamp)
   std::int64_t sim_ns = 0;
   std::string write_error;
   std::thread flusher;
@@ -57,11 +71,15 @@ struct BagRecorder::Impl {
     // A writer keeps its last few samples only: one the recorder had not read before the writer dropped it
     // is missing from the bag, which must be said rather than left for the reader of the bag to find.
     sequences[sample.topic].add(sample.sequence);
-    const std::int64_t stamp = options.use_sim_time
-                                   ? sim_ns
-                                   : std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                         std::chrono::system_clock::now().time_since_epoch())
-                                         .count();
+    // Sim time: a sample's own stamp where it has one, so that its bag time does not depend on the order in which
+    // the recorder happens to receive the topics (a sample repaired after a loss comes after later clocks);
+    // else the latest /clock.
+    std::int64_t own_ns = 0;
+    const std::int64_t stamp = !options.use_sim_time ? std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                           std::chrono::system_clock::now().time_since_epoch())
+                                                           .count()
+                               : stamped.count(sample.topic) && clock_sample_ns(sample.bytes, &own_ns) ? own_ns
+                                                                                                      : sim_ns;
     if (!bag->write(id->second, stamp, sample.bytes.data(), sample.bytes.size()) && write_error.empty()) {
       write_error = bag->error();
     }
@@ -115,6 +133,7 @@ std::string BagRecorder::start() {
     const int id = bag->add_topic({name, type, {writer.reliable, writer.transient_local}});
     if (id < 0) return bag->error();
     topic_ids[dds_topic] = id;
+    if (starts_with_stamp(writer.type)) d.stamped.insert(dds_topic);
   }
   if (topic_ids.empty()) return "none of the server's topics is to be recorded";
   {

@@ -15,7 +15,9 @@ struct BagRecorderOptions {
   int domain_id = 0;
   std::string directory;      // must not exist
   std::set<std::string> topics;  // ROS 2 names to record; empty: every topic of the hadald but /hadal/monitor
-  bool use_sim_time = false;  // bag time = sim time of the latest /clock sample; else receive time
+  // Bag time in sim time: a sample's own header stamp (every type hadald publishes but the step reply has one: a
+  // captured sensor's is its capture time), else the sim time of the latest /clock sample; false: receive time.
+  bool use_sim_time = false;
   double wait_s = 20.0;       // how long to look for the hadald and to match its writers
   std::string participant_name = "hadal_record";
   SecurityFiles security;     // DDS Security of its participant (a secure hadald's domain); empty: off
