@@ -125,3 +125,6 @@ PYTHONPATH="$build/python" /usr/bin/python3 bench/dask_scaling.py
 # 12. Acoustic positioning and modems (issue 42, bench/acoustics.cc): a USBL at 1 Hz, an LBL ranging to four
 #     beacons at 1 Hz and four modems with traffic, against the default scenario's step without its camera and sonar.
 "$build/bin/hadal_bench_acoustics"
+
+# 13. Cables (issue 43, bench/cables.cc): a 300 m, 100-segment tow cable at 500 Hz on one thread.
+"$build/bin/hadal_bench_cables"

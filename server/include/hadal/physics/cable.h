@@ -1,0 +1,110 @@
+// A cable in the water -- a tether, umbilical, lift line or tow cable -- as a lumped-mass chain
+// (docs/ARCHITECTURE.md, "Cables").
+//
+// N segments of rest length L0 = length / N join N + 1 nodes p_i (W, m). A segment s from node a to node b,
+// l = |p_b - p_a|, unit tangent t = (p_b - p_a) / l, carries the axial tension (Kelvin–Voigt, tension only: a
+// cable does not push)
+//   T = max(0, EA (l - L0) / L0 + EA damping_s (dl/dt) / L0)            [N]
+// and the distributed loads over it, half to each of its nodes:
+//   wet weight      (rho_c - rho_w) A L0 g                               A = pi d^2 / 4, rho_w at the node's depth
+//   normal drag     -1/2 rho_w C_dn d L0 |v_n| v_n                       v_n, v_t: the segment's mid velocity
+//   tangential drag -1/2 rho_w C_dt pi d L0 |v_t| v_t                    relative to the current, across and along t
+// Each node has the mass m = rho_c A L0 (half at the ends) and, across its tangent, the added mass
+// m_a = C_an rho_w A L0: the node's acceleration is
+//   a = (I - t t^T) f / (m + m_a) + t t^T f / m.
+// Seabed: a node less than d/2 above it is pushed out by a penalty spring (seabed_stiffness per metre of cable,
+// critically damped for the node) and slowed along it by Coulomb friction (friction x the normal force,
+// regularised below 1 cm/s).
+//
+// Integration: velocity Verlet (kick, drift, kick; symplectic and second order; the damping and drag at the
+// half-kicked velocities), in as many equal sub-steps h of the physics step as the stiffest segment needs:
+// h <= 1/4 of the stability limit 2 / omega (sqrt(1 + zeta^2) - zeta) of a chain's highest axial mode,
+// omega = 2 sqrt(EA / (L0 m)), zeta = omega damping_s / 2, i.e. omega h <= 0.5 undamped. At omega h near 1 the
+// energy of a swinging cable drifts (resonance between its swing and its axial modes: +37 J of 366 J over 60 s at
+// 0.92, seen here); at 0.5 it stays within 0.05 J. So the cable is stable at its physical stiffness at any physics
+// rate and keeps the energy of an undamped, drag-free swing. Stiff damping costs sub-steps: a Kelvin–Voigt time
+// constant near 1 / omega or above multiplies them.
+// The ocean's density and current are sampled at each node once per physics step.
+//
+// Ends: each end node is free, or held (a fixed point, or a point on a body): a held node follows the holder's
+// position, linearly over the step, and the cable pulls the holder with the force it puts on that node (the end
+// segment's tension along it plus the node's share of the loads), averaged over the sub-steps.
+// Deliberately left out (for now): bending stiffness, torsion, the added mass along the cable, vortex-induced
+// vibration, contact with bodies.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <vector>
+
+namespace hadal::physics {
+
+class Ocean;
+
+struct CableSpec {
+  double length = 100.0;                  // unstretched [m]
+  int segments = 20;
+  double diameter = 0.02;                 // [m]
+  double density = 2000.0;                // of the cable (its mass per volume: with diameter, its mass per metre) [kg/m^3]
+  double axial_stiffness = 1.0e6;         // EA [N]
+  double damping_s = 0.0;                 // Kelvin–Voigt time constant: T_damp = EA damping_s strain rate [s]
+  double normal_drag_coefficient = 1.2;   // C_dn, on the diameter
+  double tangential_drag_coefficient = 0.01;  // C_dt, on the circumference
+  double normal_added_mass_coefficient = 1.0;  // C_an
+  double seabed_stiffness = 1.0e5;        // [N/m per metre of cable]
+  double friction = 0.5;                  // Coulomb, on the seabed
+
+  double area() const;             // pi d^2 / 4 [m^2]
+  double mass_per_metre() const;   // rho_c A [kg/m]
+  double rest_segment() const { return length / segments; }  // L0 [m]
+};
+
+// What holds an end: nothing (a free end) or a point it follows.
+struct CableEnd {
+  bool held = false;
+  Eigen::Vector3d p_W0 = Eigen::Vector3d::Zero();  // the holder's point at the step's start [m]
+  Eigen::Vector3d p_W1 = Eigen::Vector3d::Zero();  // and at its end
+};
+
+struct CableState {
+  std::vector<Eigen::Vector3d> p_W;  // nodes 0..N [m]
+  std::vector<Eigen::Vector3d> v_W;  // [m/s]
+};
+
+// The water and the seabed as the cable sees them.
+struct CableWorld {
+  const Ocean* ocean = nullptr;  // null: water of water_density moving at current_W
+  double water_density = 1025.0;  // [kg/m^3], without an ocean
+  Eigen::Vector3d current_W = Eigen::Vector3d::Zero();  // [m/s], without an ocean
+  Eigen::Vector3d gravity_W = Eigen::Vector3d(0.0, 0.0, -9.80665);  // [m/s^2]
+  double time = 0.0;             // sim time at the step's start (the current) [s]
+  // Height of the seabed under (x, y) [m]; empty: no seabed.
+  std::function<double(double, double)> seabed_z;
+};
+
+// What a step gives back: the mean force the cable put on what holds each end [N, W].
+struct CableStepResult {
+  Eigen::Vector3d f_W_end0 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_W_end1 = Eigen::Vector3d::Zero();
+  int substeps = 0;
+};
+
+// A straight cable from a to b, at rest: its nodes evenly spaced (stretched or slack as the distance says).
+CableState straight_cable(const CableSpec& spec, const Eigen::Vector3d& p_Wa, const Eigen::Vector3d& p_Wb);
+
+// The sub-steps a physics step dt needs (above).
+int cable_substeps(const CableSpec& spec, double dt);
+
+// Advances the cable by dt (above).
+CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const CableEnd& end0, const CableEnd& end1,
+                           double dt, CableState& state);
+
+// Axial tension of each segment at the state [N] (without its damping part).
+std::vector<double> cable_tensions(const CableSpec& spec, const CableState& state);
+
+// Kinetic, gravitational (wet weight) and elastic energy [J], in a water of uniform density rho_w: what a cable
+// without damping, drag or added mass conserves.
+double cable_energy(const CableSpec& spec, const CableState& state, double rho_w, const Eigen::Vector3d& gravity_W);
+
+}  // namespace hadal::physics

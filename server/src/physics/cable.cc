@@ -1,0 +1,190 @@
+#include "hadal/physics/cable.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "hadal/physics/ocean.h"
+
+namespace hadal::physics {
+
+double CableSpec::area() const { return 0.25 * std::numbers::pi * diameter * diameter; }
+double CableSpec::mass_per_metre() const { return density * area(); }
+
+CableState straight_cable(const CableSpec& spec, const Eigen::Vector3d& p_Wa, const Eigen::Vector3d& p_Wb) {
+  CableState state;
+  const int n = spec.segments;
+  for (int i = 0; i <= n; ++i) {
+    state.p_W.push_back(p_Wa + (static_cast<double>(i) / n) * (p_Wb - p_Wa));
+    state.v_W.push_back(Eigen::Vector3d::Zero());
+  }
+  return state;
+}
+
+int cable_substeps(const CableSpec& spec, double dt) {
+  const double L0 = spec.rest_segment();
+  const double m = spec.mass_per_metre() * L0;
+  const double omega = 2.0 * std::sqrt(spec.axial_stiffness / (L0 * m));
+  const double zeta = 0.5 * omega * spec.damping_s;
+  const double h_max = 0.25 * 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  return std::max(1, static_cast<int>(std::ceil(dt / h_max)));
+}
+
+namespace {
+
+// Per node, what is sampled once a step: the water's density and current.
+struct NodeWater {
+  double rho = 1025.0;
+  Eigen::Vector3d current_W = Eigen::Vector3d::Zero();
+};
+
+}  // namespace
+
+CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const CableEnd& end0, const CableEnd& end1,
+                           double dt, CableState& state) {
+  CableStepResult result;
+  const int n = spec.segments;
+  const auto nodes = static_cast<std::size_t>(n + 1);
+  const double L0 = spec.rest_segment();
+  const double A = spec.area();
+  const double m_segment = spec.mass_per_metre() * L0;
+  const double k = spec.axial_stiffness / L0;
+  const double c = k * spec.damping_s;
+
+  std::vector<NodeWater> water(nodes);
+  std::vector<double> seabed(nodes, -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < nodes; ++i) {
+    if (world.ocean) {
+      water[i].rho = world.ocean->density(world.ocean->depth(state.p_W[i].z()));
+      water[i].current_W = world.ocean->current_W(state.p_W[i], world.time);
+    } else {
+      water[i].rho = world.water_density;
+      water[i].current_W = world.current_W;
+    }
+    if (world.seabed_z) seabed[i] = world.seabed_z(state.p_W[i].x(), state.p_W[i].y());
+  }
+  // Node masses (half a segment at each end) and added masses across the tangent.
+  std::vector<double> mass(nodes, m_segment), added(nodes);
+  mass.front() = mass.back() = 0.5 * m_segment;
+  for (std::size_t i = 0; i < nodes; ++i) {
+    added[i] = spec.normal_added_mass_coefficient * water[i].rho * A * L0 * ((i == 0 || i + 1 == nodes) ? 0.5 : 1.0);
+  }
+
+  const int substeps = cable_substeps(spec, dt);
+  const double h = dt / substeps;
+  result.substeps = substeps;
+  std::vector<Eigen::Vector3d> force(nodes), tangent(nodes), accel(nodes);
+  const auto place_end = [&](const CableEnd& end, std::size_t node, double s) {
+    if (!end.held) return;
+    state.p_W[node] = end.p_W0 + s * (end.p_W1 - end.p_W0);
+    state.v_W[node] = (end.p_W1 - end.p_W0) / dt;
+  };
+  const auto held = [&](std::size_t i) { return (i == 0 && end0.held) || (i + 1 == nodes && end1.held); };
+  // Every node's force at the state, its acceleration, and what the held ends feel.
+  Eigen::Vector3d f_end0 = Eigen::Vector3d::Zero(), f_end1 = Eigen::Vector3d::Zero();
+  const auto accelerations = [&] {
+    for (std::size_t i = 0; i < nodes; ++i) {
+      force[i] = mass[i] * world.gravity_W - water[i].rho * (mass[i] / spec.density) * world.gravity_W;
+      tangent[i].setZero();
+    }
+    for (std::size_t s = 0; s + 1 < nodes; ++s) {
+      const Eigen::Vector3d d = state.p_W[s + 1] - state.p_W[s];
+      const double l = d.norm();
+      if (!(l > 1e-12)) continue;
+      const Eigen::Vector3d t = d / l;
+      tangent[s] += t;
+      tangent[s + 1] += t;
+      const Eigen::Vector3d dv = state.v_W[s + 1] - state.v_W[s];
+      const double tension = std::max(0.0, k * (l - L0) + c * dv.dot(t));
+      force[s] += tension * t;
+      force[s + 1] -= tension * t;
+      // Drag on the segment's middle, relative to the water there.
+      const double rho = 0.5 * (water[s].rho + water[s + 1].rho);
+      const Eigen::Vector3d v_rel =
+          0.5 * (state.v_W[s] + state.v_W[s + 1]) - 0.5 * (water[s].current_W + water[s + 1].current_W);
+      const Eigen::Vector3d v_t = v_rel.dot(t) * t;
+      const Eigen::Vector3d v_n = v_rel - v_t;
+      const Eigen::Vector3d drag =
+          -0.5 * rho * L0 *
+          (spec.normal_drag_coefficient * spec.diameter * v_n.norm() * v_n +
+           spec.tangential_drag_coefficient * std::numbers::pi * spec.diameter * v_t.norm() * v_t);
+      force[s] += 0.5 * drag;
+      force[s + 1] += 0.5 * drag;
+    }
+    // The seabed.
+    for (std::size_t i = 0; i < nodes; ++i) {
+      const double penetration = seabed[i] + 0.5 * spec.diameter - state.p_W[i].z();
+      if (penetration <= 0.0) continue;
+      const double length_share = (i == 0 || i + 1 == nodes) ? 0.5 * L0 : L0;
+      const double stiffness = spec.seabed_stiffness * length_share;
+      const double normal =
+          std::max(0.0, stiffness * penetration - 2.0 * std::sqrt(stiffness * mass[i]) * state.v_W[i].z());
+      force[i].z() += normal;
+      const Eigen::Vector3d v_h(state.v_W[i].x(), state.v_W[i].y(), 0.0);
+      force[i] -= spec.friction * normal * v_h / std::max(v_h.norm(), 0.01);
+    }
+    f_end0 = force.front();
+    f_end1 = force.back();
+    for (std::size_t i = 0; i < nodes; ++i) {
+      const double tn = tangent[i].norm();
+      accel[i] = force[i] / mass[i];
+      if (tn > 1e-12 && added[i] > 0.0) {  // across the tangent the water moves with the node
+        const Eigen::Vector3d t = tangent[i] / tn;
+        const Eigen::Vector3d along = force[i].dot(t) * t;
+        accel[i] = along / mass[i] + (force[i] - along) / (mass[i] + added[i]);
+      }
+    }
+  };
+  // Velocity Verlet (kick, drift, kick), the velocity-dependent forces at the half-kicked velocities.
+  place_end(end0, 0, 0.0);
+  place_end(end1, nodes - 1, 0.0);
+  accelerations();
+  for (int sub = 0; sub < substeps; ++sub) {
+    const Eigen::Vector3d f0_start = f_end0, f1_start = f_end1;
+    for (std::size_t i = 0; i < nodes; ++i) {
+      if (held(i)) continue;
+      state.v_W[i] += 0.5 * h * accel[i];
+      state.p_W[i] += h * state.v_W[i];
+    }
+    const double s1 = static_cast<double>(sub + 1) / substeps;
+    place_end(end0, 0, s1);
+    place_end(end1, nodes - 1, s1);
+    accelerations();
+    for (std::size_t i = 0; i < nodes; ++i) {
+      if (!held(i)) state.v_W[i] += 0.5 * h * accel[i];
+    }
+    // What the holders feel: the forces on their nodes, averaged over the sub-steps (trapezoidal).
+    if (end0.held) result.f_W_end0 += 0.5 * (f0_start + f_end0) / substeps;
+    if (end1.held) result.f_W_end1 += 0.5 * (f1_start + f_end1) / substeps;
+  }
+  return result;
+}
+
+std::vector<double> cable_tensions(const CableSpec& spec, const CableState& state) {
+  std::vector<double> tensions;
+  const double L0 = spec.rest_segment();
+  for (std::size_t s = 0; s + 1 < state.p_W.size(); ++s) {
+    tensions.push_back(std::max(0.0, spec.axial_stiffness * ((state.p_W[s + 1] - state.p_W[s]).norm() - L0) / L0));
+  }
+  return tensions;
+}
+
+double cable_energy(const CableSpec& spec, const CableState& state, double rho_w, const Eigen::Vector3d& gravity_W) {
+  const std::size_t nodes = state.p_W.size();
+  const double L0 = spec.rest_segment();
+  const double m_segment = spec.mass_per_metre() * L0;
+  double energy = 0.0;
+  for (std::size_t i = 0; i < nodes; ++i) {
+    const double m = (i == 0 || i + 1 == nodes) ? 0.5 * m_segment : m_segment;
+    const double wet = m * (1.0 - rho_w / spec.density);
+    energy += 0.5 * m * state.v_W[i].squaredNorm() - wet * gravity_W.dot(state.p_W[i]);
+  }
+  for (std::size_t s = 0; s + 1 < nodes; ++s) {
+    const double stretch = std::max(0.0, (state.p_W[s + 1] - state.p_W[s]).norm() - L0);
+    energy += 0.5 * spec.axial_stiffness / L0 * stretch * stretch;
+  }
+  return energy;
+}
+
+}  // namespace hadal::physics
