@@ -28,6 +28,8 @@ const KeyTable<Model, LoadContext>& scenario_keys() {
         .doc("the vehicles, each defined inline or by `include`");
     t.list("objects", &Model::vehicles, object_entry_keys()).read_elsewhere()
         .doc("free objects (samples, rocks, crates), each defined inline or by `include`; they follow the vehicles");
+    t.list("cables", &Model::cables, physics::cable_keys())
+        .doc("cables in the water (tethers, umbilicals, lift lines, tow cables), each between two ends");
     t.custom(
          "security",
          [](const Value& value, Model& model, LoadContext&) {
@@ -58,6 +60,8 @@ class ScenarioLoader {
   // A `vehicles` entry, or (object) an `objects` entry.
   void read_vehicle(const Value& value, VehicleSpec* vehicle, bool object = false);
   void warn_if_above_surface(const MapReader& map, const VehicleSpec& vehicle);
+  // Each cable end's vehicle and link, by name, to their indices; unique cable names.
+  void resolve_cables(const Value& cables, Model& model);
   // The definition in `include` (a path relative to the including file), loaded once per resolved path;
   // with an entry's `overrides` that reach into it, read again for that entry alone. nullopt when the file
   // cannot be opened (reported at `include`) or does not parse.
@@ -135,6 +139,7 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
           }
         }
       }
+      if (const auto cables = map.optional("cables")) resolve_cables(*cables, model);
     }
   }
 
@@ -144,6 +149,55 @@ LoadResult ScenarioLoader::load(const std::string& path, const LoadOptions& opti
   }
   if (result.errors.empty()) result.model = std::move(model);
   return result;
+}
+
+void ScenarioLoader::resolve_cables(const Value& cables, Model& model) {
+  const std::optional<std::vector<Value>> items = cables.list();
+  if (!items) return;
+  std::map<std::string, std::string> names;
+  for (std::size_t i = 0; i < items->size() && i < model.cables.size(); ++i) {
+    physics::CableModel& cable = model.cables[i];
+    const MapReader map((*items)[i], physics::cable_keys().names());
+    if (!map.ok()) continue;
+    if (!cable.name.empty() && !names.emplace(cable.name, (*items)[i].path()).second) {
+      map.error_at_key("name", "duplicate cable name " + config::quoted(cable.name) + " (first used by " + names[cable.name] + ")");
+    }
+    for (std::size_t e = 0; e < 2; ++e) {
+      physics::CableEndSpec& end = cable.ends[e];
+      if (!end.on_vehicle()) continue;
+      const std::optional<Value> end_value = map.optional(e == 0 ? "from" : "to");
+      if (!end_value) continue;
+      const MapReader end_map(*end_value, {"vehicle", "link", "position", "free"});
+      end.vehicle_index = model.vehicle_index(end.vehicle);
+      if (end.vehicle_index < 0) {
+        std::string known;
+        for (const VehicleSpec& v : model.vehicles) known += (known.empty() ? "'" : ", '") + v.name + "'";
+        end_map.error_at_key("vehicle", "unknown vehicle " + config::quoted(end.vehicle) + " (vehicles: " + known + ")");
+        continue;
+      }
+      const VehicleSpec& vehicle = model.vehicles[static_cast<std::size_t>(end.vehicle_index)];
+      if (!end.link.empty()) {
+        end.link_index = -1;
+        std::string known;
+        for (std::size_t k = 0; k < vehicle.links.size(); ++k) {
+          known += (known.empty() ? "'" : ", '") + vehicle.links[k].name + "'";
+          if (vehicle.links[k].name == end.link) end.link_index = static_cast<int>(k);
+        }
+        if (end.link_index < 0) {
+          end_map.error_at_key("link", "vehicle " + config::quoted(vehicle.name) + " has no link " + config::quoted(end.link) +
+                                           " (its links: " + known + ")");
+          continue;
+        }
+      }
+      const bool articulated = std::any_of(vehicle.links.begin(), vehicle.links.end(),
+                                           [](const LinkSpec& l) { return l.joint.type != JointType::kFixed; });
+      if (articulated) {
+        end_map.error_at_key(end.link.empty() ? "vehicle" : "link",
+                             "cables on articulated vehicles are not supported yet (issue 43): attach it to a "
+                             "vehicle without moving joints");
+      }
+    }
+  }
 }
 
 void ScenarioLoader::read_vehicle(const Value& value, VehicleSpec* vehicle, bool object) {

@@ -338,6 +338,61 @@ vehicles:
                    bad + ":9:87: error: vehicles[0].sensors[1].bit_rate_bps: must be > 0 (got 0)"}));
 }
 
+// Cables: each end fixed in W, on a vehicle's link (resolved to indices) or free; bad values refused at their key:
+// a length, diameter or EA that is not positive, an end on a vehicle or link the scenario does not have, an end
+// that says nothing, two free ends, a duplicate name.
+TEST_F(ScenarioLoaderTest, CablesAndTheirEnds) {
+  const std::string vehicles = R"(vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100.0, inertia: {ixx: 1, iyy: 1, izz: 1}}
+      - {name: bail, parent: frame, mass: 1.0, inertia: {ixx: 1, iyy: 1, izz: 1}, pose: {position: [0, 0, 0.5]}}
+)";
+  const std::string good = write("good.yaml", "world: {}\n" + vehicles + R"(cables:
+  - name: umbilical
+    length: 120
+    segments: 40
+    diameter: 0.03
+    density: 2500
+    axial_stiffness: 5.0e6
+    from: {position: [0, 0, -5]}
+    to: {vehicle: rov, link: bail, position: [0, 0, 0.1]}
+  - {name: tail, length: 10, diameter: 0.01, density: 1100, axial_stiffness: 1.0e4, from: {vehicle: rov},
+     to: {free: true}}
+)");
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  ASSERT_EQ(loaded.model->cables.size(), 2u);
+  const physics::CableModel& umbilical = loaded.model->cables[0];
+  EXPECT_EQ(umbilical.spec.segments, 40);
+  EXPECT_DOUBLE_EQ(umbilical.spec.axial_stiffness, 5.0e6);
+  EXPECT_FALSE(umbilical.ends[0].on_vehicle());
+  EXPECT_EQ(umbilical.ends[0].position, Eigen::Vector3d(0, 0, -5));
+  EXPECT_EQ(umbilical.ends[1].vehicle_index, 0);
+  EXPECT_EQ(umbilical.ends[1].link_index, 1);
+  EXPECT_EQ(loaded.model->cables[1].ends[0].link_index, 0);  // the base link
+  EXPECT_TRUE(loaded.model->cables[1].ends[1].free);
+  EXPECT_EQ(loaded.model->cables[1].spec.segments, 20);  // the default
+  const std::string bad = write("bad.yaml", "world: {}\n" + vehicles + R"(cables:
+  - {name: a, length: 0, diameter: 0.03, density: 2500, axial_stiffness: -1, from: {position: [0, 0, -5]},
+     to: {vehicle: auv}}
+  - {name: a, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, from: {vehicle: rov, link: arm},
+     to: {link: frame}}
+  - {name: c, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, from: {free: true},
+     to: {free: true}}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":9:23: error: cables[0].length: must be > 0 (got 0)",
+                   bad + ":9:74: error: cables[0].axial_stiffness: must be > 0 (got -1)",
+                   bad + ":10:11: error: cables[0].to.vehicle: unknown vehicle 'auv' (vehicles: 'rov')",
+                   bad + ":11:6: error: cables[1].name: duplicate cable name 'a' (first used by cables[0])",
+                   bad + ":11:102: error: cables[1].from.link: vehicle 'rov' has no link 'arm' (its links: 'frame', "
+                         "'bail')",
+                   bad + ":12:11: error: cables[1].to.link: a link needs its `vehicle`",
+                   bad + ":14:6: error: cables[2].to: a cable needs at least one held end"}));
+}
+
 TEST_F(ScenarioLoaderTest, ScheduleSetpointCountUsesTheIncludedVehicle) {
   write("vehicles/v.yaml", R"(type: auv
 links: [{name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]

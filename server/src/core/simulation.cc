@@ -481,8 +481,8 @@ Simulation::Simulation(Model model)
       ray_bodies_(model_) {
   ocean_ = std::make_unique<physics::Ocean>(model_.world);
   for (const VehicleSpec& spec : model_.vehicles) {
-    const bool needs_seabed =
-        spec.seabed_contact == SeabedContact::kSoil || physics::VehicleActuators::needs_seabed(spec);
+    const bool needs_seabed = spec.seabed_contact == SeabedContact::kSoil ||
+                              physics::VehicleActuators::needs_seabed(spec) || !model_.cables.empty();
     if (!needs_seabed || seabed_height_) continue;
     const SeabedSpec& seabed = model_.world.seabed;
     seabed_height_ = std::make_unique<geometry::SeabedHeight>(
@@ -550,6 +550,17 @@ void Simulation::set_state(const SimState& state) {
   if (state.vehicles.size() != model_.vehicles.size()) {
     throw std::invalid_argument("set_state: expected " + std::to_string(model_.vehicles.size()) +
                                 " vehicles, got " + std::to_string(state.vehicles.size()));
+  }
+  if (state.cables.size() != model_.cables.size()) {
+    throw std::invalid_argument("set_state: expected " + std::to_string(model_.cables.size()) + " cables, got " +
+                                std::to_string(state.cables.size()));
+  }
+  for (std::size_t c = 0; c < model_.cables.size(); ++c) {
+    const auto nodes = static_cast<std::size_t>(model_.cables[c].spec.segments + 1);
+    if (state.cables[c].p_W.size() != nodes || state.cables[c].v_W.size() != nodes) {
+      throw std::invalid_argument("set_state: cable '" + model_.cables[c].name + "': expected " +
+                                  std::to_string(nodes) + " nodes");
+    }
   }
   for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
     const VehicleSpec& spec = model_.vehicles[i];
@@ -635,7 +646,30 @@ SimState Simulation::initial_state(std::uint64_t seed) const {
     }
     state.vehicles.push_back(std::move(vehicle));
   }
+  for (std::size_t c = 0; c < model_.cables.size(); ++c) {
+    const auto ends = cable_ends_W(c, state);
+    state.cables.push_back(physics::straight_cable(model_.cables[c].spec, ends[0], ends[1]));
+  }
   return state;
+}
+
+std::array<Eigen::Vector3d, 2> Simulation::cable_ends_W(std::size_t c, const SimState& state) const {
+  const physics::CableModel& cable = model_.cables[c];
+  std::array<Eigen::Vector3d, 2> p_W;
+  for (std::size_t e = 0; e < 2; ++e) {
+    const physics::CableEndSpec& end = cable.ends[e];
+    if (end.on_vehicle()) {
+      const auto v = static_cast<std::size_t>(end.vehicle_index);
+      p_W[e] = state.vehicles[v].body.X_WB *
+               (model_.vehicles[v].links[static_cast<std::size_t>(end.link_index)].X_BL * end.position);
+    } else {
+      p_W[e] = end.position;
+    }
+  }
+  const Eigen::Vector3d down(0.0, 0.0, -cable.spec.length);
+  if (cable.ends[0].free) p_W[0] = p_W[1] + down;
+  if (cable.ends[1].free) p_W[1] = p_W[0] + down;
+  return p_W;
 }
 
 std::string Simulation::reset(std::uint64_t seed, const std::vector<std::optional<Eigen::Isometry3d>>& X_WB) {
@@ -654,6 +688,10 @@ std::string Simulation::reset(std::uint64_t seed, const std::vector<std::optiona
   SimState state = initial_state(seed);
   for (std::size_t i = 0; i < X_WB.size(); ++i) {
     if (X_WB[i]) state.vehicles[i].body = RigidBodyState{*X_WB[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  }
+  for (std::size_t c = 0; c < model_.cables.size(); ++c) {  // straight between where their ends now are
+    const auto ends = cable_ends_W(c, state);
+    state.cables[c] = physics::straight_cable(model_.cables[c].spec, ends[0], ends[1]);
   }
   set_state(state);
   return "";
@@ -1001,6 +1039,7 @@ void Simulation::step() {
   const double t = state_.time;
   const double dt = model_.world.step_size();
   actuate(t, dt);
+  step_cables(t, dt);
   apply_forces(t);
   world_->step(dt);
   take_snapshot(dt);
@@ -1016,6 +1055,42 @@ void Simulation::actuate(double t, double dt) {
     const physics::VehicleActuators& actuators = runtime_[i]->actuators;
     actuators.command(vehicle.actuators, select_controls(model_.vehicles[i], t, dt, vehicle));
     actuators.actuate(vehicle.actuators);
+  }
+}
+
+void Simulation::step_cables(double t, double dt) {
+  if (model_.cables.empty()) return;
+  cable_loads_.assign(model_.vehicles.size(), {});
+  physics::CableWorld world;
+  world.ocean = ocean_.get();
+  world.gravity_W = model_.world.gravity_W;
+  world.time = t;
+  if (seabed_height_) {
+    world.seabed_z = [this](double x, double y) {
+      geometry::SeabedHeight::Sample below;
+      return seabed_height_->sample(x, y, &below) ? below.height : -std::numeric_limits<double>::infinity();
+    };
+  }
+  for (std::size_t c = 0; c < model_.cables.size(); ++c) {
+    const physics::CableModel& cable = model_.cables[c];
+    const std::array<Eigen::Vector3d, 2> p_W0 = cable_ends_W(c, state_);
+    std::array<physics::CableEnd, 2> ends;
+    for (std::size_t e = 0; e < 2; ++e) {
+      const physics::CableEndSpec& spec = cable.ends[e];
+      ends[e].held = !spec.free;
+      ends[e].p_W0 = ends[e].p_W1 = p_W0[e];
+      if (spec.on_vehicle()) {  // the point moves on with the body's velocity over the step
+        const RigidBodyState& body = state_.vehicles[static_cast<std::size_t>(spec.vehicle_index)].body;
+        ends[e].p_W1 += dt * (body.v_WB + body.w_WB.cross(p_W0[e] - body.X_WB.translation()));
+      }
+    }
+    physics::CableState& state = state_.cables[c];
+    const physics::CableStepResult result = physics::step_cable(cable.spec, world, ends[0], ends[1], dt, state);
+    state.f_W_ends = {result.f_W_end0, result.f_W_end1};
+    for (std::size_t e = 0; e < 2; ++e) {
+      if (!cable.ends[e].on_vehicle()) continue;
+      cable_loads_[static_cast<std::size_t>(cable.ends[e].vehicle_index)].emplace_back(state.f_W_ends[e], p_W0[e]);
+    }
   }
 }
 
@@ -1079,6 +1154,12 @@ void Simulation::apply_forces(double t) {
       continue;
     }
     if (model_.vehicles[i].is_static) continue;
+    if (i < cable_loads_.size()) {  // cables pull at their attachment points
+      for (const auto& [f_W, p_W] : cable_loads_[i]) {
+        runtime.wrench.f_W += f_W;
+        runtime.wrench.tau_W += (p_W - runtime.p_WBcm).cross(f_W);
+      }
+    }
     Eigen::Vector3d f_W = runtime.wrench.f_W;
     Eigen::Vector3d tau_W = runtime.wrench.tau_W;
     if (runtime.added_mass) convert_for_added_mass(runtime, state_.vehicles[i], f_W, tau_W);

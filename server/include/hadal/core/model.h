@@ -15,6 +15,7 @@
 #include "hadal/core/security_files.h"
 #include "hadal/core/vehicle_spec.h"
 #include "hadal/core/world_spec.h"
+#include "hadal/physics/cable.h"
 
 namespace hadal {
 
@@ -22,6 +23,7 @@ struct Model {
   std::string scenario_file;
   WorldSpec world;
   std::vector<VehicleSpec> vehicles;
+  std::vector<physics::CableModel> cables;  // `cables:` (physics/cable.h), their ends resolved to vehicles and links
   // DDS Security of hadald's participant: the scenario's `security:` block or hadald --security FILE
   // (config/security_block.h); all empty: off.
   SecurityFiles security;

@@ -28,6 +28,7 @@
 #include "hadal/core/state.h"
 #include "hadal/geometry/world_scene.h"
 
+#include <array>
 #include <atomic>
 #include <memory>
 #include <optional>
@@ -162,6 +163,10 @@ class Simulation {
   std::string check_joint_trajectory(int vehicle_index, const std::string& controller,
                                      const physics::JointTrajectoryCommand& trajectory) const;
 
+  // Where each end of cable c is held in `state` (a fixed point, a vehicle's link point); a free end hangs the
+  // cable's length below the other.
+  std::array<Eigen::Vector3d, 2> cable_ends_W(std::size_t c, const SimState& state) const;
+
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
 
@@ -199,6 +204,9 @@ class Simulation {
   // The stages of step(), in order.
   void actuate(double t, double dt);
   void apply_forces(double t);
+  // Each cable over the step (physics/cable.h), its held ends following their vehicles' points at the step
+  // start's velocity; the forces on vehicles go into cable_loads_, added to their wrenches by apply_forces.
+  void step_cables(double t, double dt);
   void convert_for_added_mass(VehicleRuntime& runtime, const VehicleState& vehicle, Eigen::Vector3d& f_W,
                               Eigen::Vector3d& tau_W) const;
   void apply_articulated_forces(std::size_t vehicle);
@@ -233,7 +241,9 @@ class Simulation {
   SimState state_;
   std::unique_ptr<physics::BulletWorld> world_;
   std::unique_ptr<physics::Ocean> ocean_;  // the water column
-  std::unique_ptr<geometry::SeabedHeight> seabed_height_;  // for soil contact; null when no vehicle has it
+  std::unique_ptr<geometry::SeabedHeight> seabed_height_;  // for soil contact and cables; null when nothing needs it
+  // Per vehicle, the cables' forces on it this step: (force [N, W], where it acts [m, W]).
+  std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> cable_loads_;
   std::vector<std::unique_ptr<VehicleRuntime>> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;  // force elements in parallel; null when it does not pay
   std::unique_ptr<sensors::SensorEnvironment> environment_;  // WMM, W's geodetic frame (on first use)

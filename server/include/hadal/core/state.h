@@ -2,6 +2,8 @@
 // value: Simulation::state() snapshots it after every step and Simulation::set_state() restores it.
 #pragma once
 
+#include "hadal/physics/cable.h"
+
 #include <Eigen/Geometry>
 
 #include <cstdint>
@@ -117,6 +119,7 @@ struct SimState {
   double time = 0.0;  // sim time [s]
   std::uint64_t step_count = 0;
   std::vector<VehicleState> vehicles;  // one per VehicleSpec, same order
+  std::vector<physics::CableState> cables;  // one per Model::cables entry, same order
 };
 
 }  // namespace hadal

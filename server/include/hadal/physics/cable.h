@@ -35,8 +35,12 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <functional>
+#include <string>
 #include <vector>
+
+#include "hadal/config/key_table_fwd.h"
 
 namespace hadal::physics {
 
@@ -60,6 +64,24 @@ struct CableSpec {
   double rest_segment() const { return length / segments; }  // L0 [m]
 };
 
+// A cable of a scenario (`cables:`; keys: cable_keys(), configs/REFERENCE.md): its spec and what holds each end.
+struct CableEndSpec {
+  bool free = false;           // nothing holds it
+  std::string vehicle;         // "": fixed in W at `position` (unless free)
+  std::string link;            // on a vehicle: its link ("": the base link)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // fixed: p_W; on a vehicle: p_L in the link's frame [m]
+  // Resolved by the loader: the vehicle's index in Model::vehicles and the link's in its links.
+  int vehicle_index = -1;
+  int link_index = 0;
+  bool on_vehicle() const { return !free && !vehicle.empty(); }
+};
+struct CableModel {
+  std::string name;
+  CableSpec spec;
+  std::array<CableEndSpec, 2> ends;  // `from`, `to`
+};
+const config::KeyTable<CableModel>& cable_keys();
+
 // What holds an end: nothing (a free end) or a point it follows.
 struct CableEnd {
   bool held = false;
@@ -70,6 +92,8 @@ struct CableEnd {
 struct CableState {
   std::vector<Eigen::Vector3d> p_W;  // nodes 0..N [m]
   std::vector<Eigen::Vector3d> v_W;  // [m/s]
+  // The mean force the cable put on what holds each end over the last step [N, W] (zero at a free end).
+  std::array<Eigen::Vector3d, 2> f_W_ends{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
 };
 
 // The water and the seabed as the cable sees them.
