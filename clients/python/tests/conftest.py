@@ -33,6 +33,22 @@ def _session_domain():
 os.environ["ROS_DOMAIN_ID"] = _session_domain()
 
 
+def run_example(script, args, timeout=300):
+    """examples/python/<script> run as a user runs it, in a subprocess (it starts its own hadald): its key=value
+    lines as floats (but plot=), after asserting that it exited 0."""
+    env = dict(os.environ)
+    env.setdefault("ROS_LOCALHOST_ONLY", "1")
+    result = subprocess.run([sys.executable, os.path.join(SOURCE_DIR, "examples", "python", script), *args], env=env,
+                            capture_output=True, text=True, timeout=timeout)
+    assert result.returncode == 0, result.stdout + result.stderr
+    figures = {}
+    for line in result.stdout.splitlines():
+        key, _, value = line.partition("=")
+        if value and key != "plot":
+            figures[key] = float(value)
+    return figures
+
+
 def scenario(relative):
     return os.path.join(SOURCE_DIR, relative)
 

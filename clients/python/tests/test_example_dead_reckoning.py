@@ -1,10 +1,8 @@
 """examples/python/dead_reckoning.py, run in a short form as a subprocess that starts its own lockstep hadald."""
 
 import os
-import subprocess
-import sys
 
-from conftest import SOURCE_DIR
+from conftest import SOURCE_DIR, run_example
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -20,18 +18,9 @@ def test_dead_reckoning_drifts_less_than_one_percent_of_distance(tmp_path):
     30 m. So the final horizontal error stays under 1 % of the distance (~0.3 m) and the heading error
     under 0.1 deg. Depth comes from the pressure sensor (50 Pa of noise = 5 mm of water): within 5 cm."""
     plot = tmp_path / "dead_reckoning.png"
-    env = dict(os.environ)
-    env.setdefault("ROS_LOCALHOST_ONLY", "1")
-    result = subprocess.run(
-        [sys.executable, os.path.join(SOURCE_DIR, "examples", "python", "dead_reckoning.py"), "--duration", "30",
-         "--plot", str(plot), "--scenario", os.path.join(SOURCE_DIR, "configs", "scenarios", "default.yaml")],
-        env=env, capture_output=True, text=True, timeout=180)
-    assert result.returncode == 0, result.stdout + result.stderr
-    figures = {}
-    for line in result.stdout.splitlines():
-        key, _, value = line.partition("=")
-        if value and key != "plot":
-            figures[key] = float(value)
+    figures = run_example("dead_reckoning.py", ["--duration", "30", "--plot", str(plot), "--scenario",
+                                                os.path.join(SOURCE_DIR, "configs", "scenarios", "default.yaml")],
+                          timeout=180)
     assert plot.read_bytes()[:8] == PNG_SIGNATURE
     assert figures["duration_s"] == 30.0
     assert figures["distance_travelled_m"] > 20.0  # it moved: ~29 m

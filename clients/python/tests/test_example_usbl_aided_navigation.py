@@ -1,11 +1,7 @@
 """examples/python/usbl_aided_navigation.py, run in a short form as a subprocess that starts its own lockstep hadald:
 two minutes of the AUV's box with USBL fixes sent down through the modems, then the packet-success sweep."""
 
-import os
-import subprocess
-import sys
-
-from conftest import SOURCE_DIR
+from conftest import run_example
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -16,18 +12,7 @@ def test_fixes_reach_the_auv_and_packet_success_follows_the_hand_snr(tmp_path):
     SNRs -8..0 dB) inverted through the error curve lands within 1 dB of the hand SNR wherever the rate is neither
     0 nor 1 (a lockstep run with the scenario's seed: the same numbers every time)."""
     plot = tmp_path / "usbl_aided_navigation.png"
-    env = dict(os.environ)
-    env.setdefault("ROS_LOCALHOST_ONLY", "1")
-    result = subprocess.run(
-        [sys.executable, os.path.join(SOURCE_DIR, "examples", "python", "usbl_aided_navigation.py"), "--duration",
-         "120", "--packets", "60", "--plot", str(plot)],
-        env=env, capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, result.stdout + result.stderr
-    figures = {}
-    for line in result.stdout.splitlines():
-        key, _, value = line.partition("=")
-        if value and key != "plot":
-            figures[key] = float(value)
+    figures = run_example("usbl_aided_navigation.py", ["--duration", "120", "--packets", "60", "--plot", str(plot)])
     assert plot.read_bytes()[:8] == PNG_SIGNATURE
     assert figures["duration_s"] == 120.0
     # Every fix arrives, but the one sent at the last step, still in the water when the run ends.
