@@ -297,6 +297,16 @@ UsblFixes from_msg(const hadal_msgs::msg::UsblFixes& m) {
   return out;
 }
 
+CableShape from_msg(const nav_msgs::msg::Path& m) {
+  CableShape out;
+  out.stamp = dds::from_time_msg(m.header().stamp());
+  out.frame_id = m.header().frame_id();
+  for (const geometry_msgs::msg::PoseStamped& pose : m.poses()) {
+    out.points.push_back({pose.pose().position().x(), pose.pose().position().y(), pose.pose().position().z()});
+  }
+  return out;
+}
+
 AcousticPackets from_msg(const hadal_msgs::msg::AcousticPackets& m) {
   AcousticPackets out;
   out.stamp = dds::from_time_msg(m.header().stamp());
@@ -872,6 +882,22 @@ void Client::on_camera_info(const std::string& vehicle, const std::string& camer
       [callback = std::move(callback)](const sensor_msgs::msg::CameraInfo& m) { callback(from_msg(m)); });
 }
 
+void Client::on_cable_force(const std::string& cable, const std::string& end,
+                            std::function<void(const Wrench&)> callback) {
+  if (end != "from" && end != "to") {
+    throw std::invalid_argument("on_cable_force: end must be 'from' or 'to' (got '" + end + "')");
+  }
+  impl_->subscribe<geometry_msgs::msg::WrenchStampedPubSubType, geometry_msgs::msg::WrenchStamped>(
+      dds::cable_tension_topic(cable, end),
+      [callback = std::move(callback)](const geometry_msgs::msg::WrenchStamped& m) { callback(from_msg(m)); });
+}
+
+void Client::on_cable_shape(const std::string& cable, std::function<void(const CableShape&)> callback) {
+  impl_->subscribe<nav_msgs::msg::PathPubSubType, nav_msgs::msg::Path>(
+      dds::cable_shape_topic(cable),
+      [callback = std::move(callback)](const nav_msgs::msg::Path& m) { callback(from_msg(m)); });
+}
+
 void Client::on_modem_packets(const std::string& vehicle, const std::string& modem,
                               std::function<void(const AcousticPackets&)> callback) {
   impl_->subscribe<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>(
@@ -1156,6 +1182,7 @@ const std::map<std::string, Decoder>& decoders() {
       {"sensor_msgs/msg/Range", &decode_as<sensor_msgs::msg::RangePubSubType, sensor_msgs::msg::Range>},
       {"hadal_msgs/msg/UsblFixes", &decode_as<hadal_msgs::msg::UsblFixesPubSubType, hadal_msgs::msg::UsblFixes>},
       {"hadal_msgs/msg/LblRanges", &decode_as<hadal_msgs::msg::LblRangesPubSubType, hadal_msgs::msg::LblRanges>},
+      {"nav_msgs/msg/Path", &decode_as<nav_msgs::msg::PathPubSubType, nav_msgs::msg::Path>},
       {"hadal_msgs/msg/AcousticPackets",
        &decode_as<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>},
       {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},

@@ -25,7 +25,7 @@ UnknownVehicle, UnknownSensor, CommandRejected.
 Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 """
 
-from ._hadal import (AcousticPacket, AcousticPackets, BuoyancyEngineStates, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
+from ._hadal import (AcousticPacket, AcousticPackets, BuoyancyEngineStates, CableShape, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, LblRange, LblRanges, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
                      SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, UsblFix, UsblFixes, Wrench,
                      decodable_message_types,
@@ -35,7 +35,7 @@ from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, Se
 from . import frames
 from .server import Server
 
-__all__ = ["AcousticPacket", "AcousticPackets", "BuoyancyEngineStates", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
+__all__ = ["AcousticPacket", "AcousticPackets", "BuoyancyEngineStates", "CableShape", "CameraInfo", "Client", "ClientError", "CommandRejected", "DropWeightStates",
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "LblRange", "LblRanges", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",

@@ -365,6 +365,30 @@ class PyClient {
       client()->attach_commands(vehicle, commands);
     }
   }
+  // A cable's end force ("from", "to") or shape: not a vehicle's sensor, so checked by the server's answer only.
+  std::optional<hadal::Wrench> wait_cable_force(const std::string& cable, const std::string& end, double min_stamp,
+                                                double timeout_s) {
+    if (end != "from" && end != "to") {
+      throw std::invalid_argument("wait_cable_force: end must be 'from' or 'to' (got '" + end + "')");
+    }
+    const std::string key = cable + "/" + end;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace("cable_force:" + key, true).second) {
+        client()->on_cable_force(cable, end, [this, key](const hadal::Wrench& m) { cable_forces_.put(key, m); });
+      }
+    }
+    return cable_forces_.wait(key, min_stamp, timeout_s);
+  }
+  std::optional<hadal::CableShape> wait_cable_shape(const std::string& cable, double min_stamp, double timeout_s) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace("cable_shape:" + cable, true).second) {
+        client()->on_cable_shape(cable, [this, cable](const hadal::CableShape& m) { cable_shapes_.put(cable, m); });
+      }
+    }
+    return cable_shapes_.wait(cable, min_stamp, timeout_s);
+  }
   // An acoustic modem's packets: every packet it decodes from the first call on is kept (not only the latest)
   // until a call takes it.
   std::vector<hadal::AcousticPacket> receive_packets(const std::string& vehicle, const std::string& modem,
@@ -596,6 +620,8 @@ class PyClient {
   Latest<hadal::Range> range_;
   Latest<hadal::UsblFixes> usbl_fixes_;
   Latest<hadal::LblRanges> lbl_ranges_;
+  Latest<hadal::Wrench> cable_forces_;      // by "<cable>/<end>"
+  Latest<hadal::CableShape> cable_shapes_;  // by cable
   std::set<std::string> modem_subscribed_;  // "<vehicle>/<modem>" (under mutex_)
   std::mutex packets_mutex_;
   std::condition_variable packets_arrived_;
@@ -902,6 +928,20 @@ PYBIND11_MODULE(_hadal, m) {
       .def_readonly("longitude", &hadal::UsblFix::longitude, "WGS84 [deg]")
       .def_readonly("altitude", &hadal::UsblFix::altitude, "above the WGS84 ellipsoid [m]")
       .def_readonly("snr_db", &hadal::UsblFix::snr_db, "the reply's SNR at the transceiver [dB]");
+  py::class_<hadal::CableShape>(m, "CableShape", "nav_msgs/Path of a cable: its nodes in W")
+      .def_readonly("stamp", &hadal::CableShape::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::CableShape::frame_id, "the world frame")
+      .def_property_readonly(
+          "points",
+          [](const hadal::CableShape& s) {
+            py::array_t<double> out({static_cast<py::ssize_t>(s.points.size()), static_cast<py::ssize_t>(3)});
+            auto view = out.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < s.points.size(); ++i) {
+              for (int k = 0; k < 3; ++k) view(static_cast<py::ssize_t>(i), k) = s.points[i][static_cast<std::size_t>(k)];
+            }
+            return out;
+          },
+          "(N + 1, 3) array of the nodes from the `from` end [m]");
   py::class_<hadal::AcousticPacket>(m, "AcousticPacket", "A packet an acoustic modem decoded")
       .def_readonly("transmit_stamp", &hadal::AcousticPacket::transmit_stamp, "start of its transmission, sim time [s]")
       .def_readonly("stamp", &hadal::AcousticPacket::stamp, "end of its reception, sim time [s]")
@@ -1203,6 +1243,14 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            py::arg("channel") = "port", py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
            "RawSonarImage of rt/<vehicle>/<sensor>/<channel> (a side-scan's 'port' or 'starboard') with stamp >= "
            "min_stamp, or None on timeout")
+      .def("wait_cable_force", &PyClient::wait_cable_force, py::arg("cable"), py::arg("end") = "from",
+           py::arg("min_stamp") = 0.0, py::arg("timeout_s") = 10.0, release(),
+           "Wrench of rt/hadal/cables/<cable>/<end> ('from' or 'to'): the force [N, W] the cable put on what holds "
+           "that end over the last step, with stamp >= min_stamp, or None on timeout")
+      .def("wait_cable_shape", &PyClient::wait_cable_shape, py::arg("cable"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "CableShape of rt/hadal/cables/<cable>/shape (.points: the nodes in W) with stamp >= min_stamp, or None "
+           "on timeout")
       .def("receive_packets", &PyClient::receive_packets, py::arg("vehicle"), py::arg("modem"),
            py::arg("timeout_s") = 0.0, release(),
            "The packets the acoustic modem rt/<vehicle>/<modem> decoded (list of AcousticPacket, oldest first) since "

@@ -62,6 +62,7 @@ class Runner {
     sim_.set_wait_for_captures(options.mode != RunMode::kRealtime);
     clock_divider_ = RateDivider(model.world.clock_rate_hz);
     const std::size_t n = model.vehicles.size();
+    for (const auto& cable : model_.cables) cable_dividers_.emplace_back(cable.rate_hz);
     odometry_dividers_.reserve(n);
     for (const auto& v : model.vehicles) {
       odometry_dividers_.emplace_back(v.odometry_rate_hz);
@@ -217,6 +218,7 @@ class Runner {
     dds_.clear_kept_samples();
     clock_divider_.reset();
     for (auto& divider : odometry_dividers_) divider.reset();
+    for (auto& divider : cable_dividers_) divider.reset();
     for (auto& divider : actuator_state_dividers_) divider.reset();
     for (auto& samples : published_samples_) std::fill(samples.begin(), samples.end(), 0);
     std::fill(last_command_stamp_.begin(), last_command_stamp_.end(), std::numeric_limits<std::int64_t>::min());
@@ -292,6 +294,9 @@ class Runner {
     const SimState& state = sim_.state();
     if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
     if (dds_.acoustic_links_due()) dds_.publish_acoustic_links(state.time, sim_.acoustic_links());
+    for (std::size_t c = 0; c < cable_dividers_.size(); ++c) {
+      if (cable_dividers_[c].due(state.time)) dds_.publish_cable(static_cast<int>(c), state);
+    }
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) {
         dds_.publish_odometry(static_cast<int>(i), state);
@@ -459,6 +464,7 @@ class Runner {
   dds::ServerEndpoints dds_;
   RateDivider clock_divider_;
   std::vector<RateDivider> odometry_dividers_, actuator_state_dividers_;
+  std::vector<RateDivider> cable_dividers_;  // per cable (its rate_hz)
   // The sender and source stamp of the last joint command applied, per (vehicle, joint controller).
   std::map<std::pair<int, std::string>, std::pair<dds::SourceId, std::int64_t>> last_joint_command_;
   std::vector<std::vector<std::uint64_t>> published_samples_;  // per vehicle and sensor

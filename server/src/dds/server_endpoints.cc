@@ -115,6 +115,16 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
 
   // rt/hadal/monitor (dds/monitor.h): the topics it carries, by count slot (-1: not carried).
   fdds::DataWriter* monitor_writer = nullptr;
+  // Per cable: the writers of its two end forces and its shape, their slots and messages.
+  struct CableTopics {
+    std::array<fdds::DataWriter*, 2> ends{};
+    std::array<std::size_t, 2> end_slots{};
+    fdds::DataWriter* shape = nullptr;
+    std::size_t shape_slot = 0;
+    geometry_msgs::msg::WrenchStamped wrench;
+    nav_msgs::msg::Path path;
+  };
+  std::vector<CableTopics> cable_topics;
   // rt/hadal/acoustic_links: null when the scenario has no acoustic sensor.
   fdds::DataWriter* links_writer = nullptr;
   std::size_t links_slot = 0;
@@ -398,6 +408,18 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
   d.write(d.scene_writer, &d.scene_msg, d.scene_slot);
   d.monitor_writer = r.writer<hadal_msgs::msg::MonitorPubSubType>(monitor_topic(), 1);
   d.monitor_slot = d.add_count(monitor_topic());
+  for (const physics::CableModel& cable : model.cables) {
+    Impl::CableTopics& topics = d.cable_topics.emplace_back();
+    for (std::size_t e = 0; e < 2; ++e) {
+      const std::string topic = cable_tension_topic(cable.name, e == 0 ? "from" : "to");
+      topics.ends[e] = r.writer<geometry_msgs::msg::WrenchStampedPubSubType>(topic, state_history_depth);
+      topics.end_slots[e] = d.add_count(topic);
+      d.carry_in_monitor(topics.ends[e], topics.end_slots[e]);
+    }
+    topics.shape = r.writer<nav_msgs::msg::PathPubSubType>(cable_shape_topic(cable.name), state_history_depth);
+    topics.shape_slot = d.add_count(cable_shape_topic(cable.name));
+    d.carry_in_monitor(topics.shape, topics.shape_slot);
+  }
   bool acoustic = false;
   for (const VehicleSpec& vehicle : model.vehicles) {
     for (const SensorSpec& sensor : vehicle.sensors) {
@@ -584,6 +606,34 @@ void ServerEndpoints::publish_joint_states(int vehicle_index, const SimState& st
   fill_joint_state(impl_->joint_layouts[i], impl_->model.vehicles[i].name, state.time, state.vehicles[i],
                    impl_->joint_state_msgs[i]);
   impl_->write(impl_->joint_state_writers[i], &impl_->joint_state_msgs[i], impl_->joint_state_slot[i]);
+}
+
+void ServerEndpoints::publish_cable(int cable_index, const SimState& state) {
+  Impl& d = *impl_;
+  const auto c = static_cast<std::size_t>(cable_index);
+  Impl::CableTopics& topics = d.cable_topics[c];
+  const physics::CableState& cable = state.cables[c];
+  const builtin_interfaces::msg::Time stamp = to_time_msg(state.time);
+  for (std::size_t e = 0; e < 2; ++e) {
+    topics.wrench.header().stamp(stamp);
+    topics.wrench.header().frame_id(d.model.world.frame_id);
+    topics.wrench.wrench().force().x(cable.f_W_ends[e].x());
+    topics.wrench.wrench().force().y(cable.f_W_ends[e].y());
+    topics.wrench.wrench().force().z(cable.f_W_ends[e].z());
+    d.write(topics.ends[e], &topics.wrench, topics.end_slots[e]);
+  }
+  topics.path.header().stamp(stamp);
+  topics.path.header().frame_id(d.model.world.frame_id);
+  topics.path.poses().resize(cable.p_W.size());
+  for (std::size_t i = 0; i < cable.p_W.size(); ++i) {
+    geometry_msgs::msg::PoseStamped& pose = topics.path.poses()[i];
+    pose.header() = topics.path.header();
+    pose.pose().position().x(cable.p_W[i].x());
+    pose.pose().position().y(cable.p_W[i].y());
+    pose.pose().position().z(cable.p_W[i].z());
+    pose.pose().orientation().w(1.0);
+  }
+  d.write(topics.shape, &topics.path, topics.shape_slot);
 }
 
 void ServerEndpoints::publish_actuator_states(int vehicle_index, const SimState& state) {

@@ -86,6 +86,9 @@ class ServerEndpoints {
   // rt/<vehicle>/<kind>/state of each actuator kind the vehicle publishes (thrusters: every vehicle; tracks,
   // fins, buoyancy engines, drop weights: those that have one; dds/actuator_topics.h).
   void publish_actuator_states(int vehicle_index, const SimState& state);
+  // rt/hadal/cables/<name>/from, /to (geometry_msgs/WrenchStamped: the force cable c put on what holds each end
+  // over the last step, in W) and /shape (nav_msgs/Path: its nodes in W).
+  void publish_cable(int cable_index, const SimState& state);
   // The sensor's last sample (state.vehicles[v].sensors[s]).
   void publish_sensor(int vehicle_index, int sensor_index, const SimState& state);
   void publish_status(const StatusReport& report);

@@ -66,6 +66,9 @@ const config::KeyTable<CableModel>& cable_keys() {
         .unit("N/m per m").range(Range::positive()).doc("the seabed's push on a node in it, per metre of cable");
     t.number("friction", [](CableModel& c) -> double& { return c.spec.friction; }).range(Range::closed(0.0, 5.0))
         .doc("Coulomb coefficient on the seabed");
+    t.rate_hz("rate_hz", &CableModel::rate_hz)
+        .doc("samples per second of sim time of its topics: rt/hadal/cables/<name>/from, /to (the force on each end's "
+             "holder, geometry_msgs/WrenchStamped) and /shape (nav_msgs/Path)");
     t.map("from", [](CableModel& c) -> CableEndSpec& { return c.ends[0]; }, cable_end_keys()).required()
         .doc("what holds its first end");
     t.map("to", [](CableModel& c) -> CableEndSpec& { return c.ends[1]; }, cable_end_keys()).required()

@@ -175,6 +175,13 @@ struct Wrench {
   std::array<double, 3> torque{};    // [N m]
 };
 
+// nav_msgs/Path of a cable, rt/hadal/cables/<name>/shape: its nodes in W, from its `from` end to its `to` end.
+struct CableShape {
+  double stamp = 0.0;                          // sim time [s]
+  std::string frame_id;                        // the world frame
+  std::vector<std::array<double, 3>> points;   // [m]
+};
+
 struct MagneticField {
   double stamp = 0.0;                               // sim time of the sample [s]
   std::string frame_id;                             // the sensor's frame
@@ -490,7 +497,7 @@ struct ClientOptions {
 using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates, TrackStates, FinStates,
                                     BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
                                     MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
-                                    SonarDetections, UsblFixes, LblRanges, AcousticPackets>;
+                                    SonarDetections, UsblFixes, LblRanges, AcousticPackets, CableShape>;
 DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
 std::vector<std::string> decodable_message_types();
 
@@ -618,6 +625,10 @@ class Client {
                      std::function<void(const UsblFixes&)> callback);
   void on_lbl_ranges(const std::string& vehicle, const std::string& sensor,
                      std::function<void(const LblRanges&)> callback);
+  // A cable's (the scenario's `cables`): the force it puts on what holds its `end` ("from" or "to"; in W, the
+  // world frame) and its shape, at the cable's rate_hz.
+  void on_cable_force(const std::string& cable, const std::string& end, std::function<void(const Wrench&)> callback);
+  void on_cable_shape(const std::string& cable, std::function<void(const CableShape&)> callback);
   // An acoustic modem's decoded packets (rt/<vehicle>/<modem>/rx).
   void on_modem_packets(const std::string& vehicle, const std::string& modem,
                         std::function<void(const AcousticPackets&)> callback);

@@ -37,6 +37,12 @@ inline std::string joint_trajectory_topic(const std::string& vehicle, const std:
 inline std::string modem_tx_topic(const std::string& vehicle, const std::string& modem) {
   return "rt/" + vehicle + "/" + modem + "/tx";
 }
+// A cable's topics (physics/cable.h): the force it puts on what holds each end (geometry_msgs/WrenchStamped,
+// `end` "from" or "to") and its shape (nav_msgs/Path, its nodes from `from` to `to`), in W.
+inline std::string cable_tension_topic(const std::string& cable, const std::string& end) {
+  return "rt/hadal/cables/" + cable + "/" + end;
+}
+inline std::string cable_shape_topic(const std::string& cable) { return "rt/hadal/cables/" + cable + "/shape"; }
 inline std::string actuator_commands_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/actuators/commands";
 }

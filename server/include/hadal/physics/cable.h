@@ -78,6 +78,7 @@ struct CableEndSpec {
 struct CableModel {
   std::string name;
   CableSpec spec;
+  double rate_hz = 10.0;  // of its topics (end forces, shape)
   std::array<CableEndSpec, 2> ends;  // `from`, `to`
 };
 const config::KeyTable<CableModel>& cable_keys();
