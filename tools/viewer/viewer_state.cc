@@ -404,6 +404,18 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
       json += ",\"dropped_captures\":" + std::to_string(msg.dropped_captures()) + '}';
       status_json_ = std::move(json);
     }
+  } else if (type == "nav_msgs/msg/Path") {
+    // A cable's shape (rt/hadal/cables/<name>/shape): its nodes in W, drawn as a line.
+    nav_msgs::msg::Path msg;
+    if ((ok = decode<nav_msgs::msg::PathPubSubType>(data, size, &msg))) {
+      std::vector<double> points;
+      for (const geometry_msgs::msg::PoseStamped& pose : msg.poses()) {
+        points.insert(points.end(), {pose.pose().position().x(), pose.pose().position().y(), pose.pose().position().z()});
+      }
+      std::string json;
+      append_numbers(json, points.data(), points.size());
+      paths_[topic] = std::move(json);
+    }
   } else if (type == "hadal_msgs/msg/AcousticLinks") {
     // Every acoustic signal in flight: [kind, emit xyz, target xyz, emit time, duration, sound speed, source,
     // target], drawn by the page as its wavefront's progress along the straight path.
@@ -521,6 +533,7 @@ void ViewerState::start_over() {
   series_.clear();
   overlays_.clear();
   acoustic_json_.clear();
+  paths_.clear();
   topic_times_.clear();
   sim_time_ = 0.0;
   ++history_generation_;
@@ -618,6 +631,13 @@ std::string ViewerState::update_json_locked(std::uint64_t since_seq, bool trail_
                      ",\"samples\":" + std::to_string(samples_) + ",\"undecodable\":" + std::to_string(undecodable_);
   json += ",\"status\":" + (status_json_.empty() ? std::string("null") : status_json_);
   json += ",\"acoustic\":" + (acoustic_json_.empty() ? std::string("null") : acoustic_json_);
+  json += ",\"paths\":{";
+  for (auto path = paths_.begin(); path != paths_.end(); ++path) {
+    if (path != paths_.begin()) json += ',';
+    append_string(json, path->first);
+    json += ':' + path->second;
+  }
+  json += '}';
   json += ",\"vehicles\":{";
   bool first = true;
   for (const auto& [name, v] : vehicles_) {

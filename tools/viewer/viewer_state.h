@@ -1,6 +1,6 @@
 // What hadal-viewer shows, kept from the samples it is handed (live from DDS or replayed from a bag):
 // the scene (rt/hadal/scene), each vehicle's latest pose and twist (odometry) and its trail, the status
-// line (rt/hadal/status), DVL beams and altimeter ranges, the acoustic signals in flight (rt/hadal/acoustic_links), the latest camera frame per image topic, and
+// line (rt/hadal/status), DVL beams and altimeter ranges, the acoustic signals in flight (rt/hadal/acoustic_links), cables' shapes (nav_msgs/Path), the latest camera frame per image topic, and
 // time series for the plots (depth, speed, attitude, sensor streams). The push loop polls it at a bounded
 // rate and sends what changed to the page as JSON text and binary blobs (tools/viewer/web/viewer.js
 // reads them; docs/ARCHITECTURE.md, "Viewer").
@@ -141,6 +141,7 @@ class ViewerState {
   std::map<std::string, Camera> cameras_;
   std::string status_json_;                       // the last SimStatus as JSON
   std::string acoustic_json_;                     // the last AcousticLinks as JSON (signals in flight)
+  std::map<std::string, std::string> paths_;      // a cable's shape topic -> its points as a JSON array
   std::map<std::string, std::string> overlays_;   // "/auv/dvl" -> its JSON (beams, ranges)
   std::map<std::string, std::uint64_t> counts_;   // per topic
   std::map<std::string, double> topic_times_;  // per topic its latest stamp [s] (note_time)

@@ -437,5 +437,21 @@ TEST(ViewerStateTest, AcousticLinksReachThePage) {
   EXPECT_EQ(state.undecodable(), 0u);
 }
 
+// A cable's shape reaches the page as its nodes' coordinates, by topic.
+TEST(ViewerStateTest, ACablesShapeReachesThePage) {
+  ViewerState state;
+  nav_msgs::msg::Path msg;
+  for (int i = 0; i < 3; ++i) {
+    geometry_msgs::msg::PoseStamped& pose = msg.poses().emplace_back();
+    pose.pose().position().x(i);
+    pose.pose().position().z(-5.0 - 10.0 * i);
+  }
+  const auto bytes = cdr<nav_msgs::msg::PathPubSubType>(msg);
+  state.add("/hadal/cables/lift_line/shape", "nav_msgs/msg/Path", bytes.data(), bytes.size());
+  const std::string json = state.poll(0.0).update_json;
+  EXPECT_NE(json.find("\"paths\":{\"/hadal/cables/lift_line/shape\":[0,0,-5,1,0,-15,2,0,-25]}"), std::string::npos)
+      << json;
+}
+
 }  // namespace
 }  // namespace hadal::viewer

@@ -20,6 +20,7 @@ const state = {
   acoustic: null,         // THREE.LineSegments of the acoustic signals in flight
   acousticLinks: [],      // the last AcousticLinks' links, as drawn
   acousticFronts: null,   // THREE.Points: each signal's front
+  paths: {},              // a cable's shape topic -> THREE.Line
   series: {},             // key -> {plot, label, unit, t: [], v: []}
   historySeq: 0,
   cameras: {},            // topic -> {img, caption, frames, url}
@@ -286,6 +287,25 @@ function updateAcoustic(acoustic) {
   col.needsUpdate = true;
 }
 
+// A cable's shape (nav_msgs/Path of its nodes in W): a yellow line, not fogged (cables run for hundreds of metres).
+function updatePath(topic, points) {
+  let line = state.paths[topic];
+  const n = points.length / 3;
+  if (!line || line.geometry.attributes.position.count < n) {
+    if (line) world.remove(line);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * Math.max(n, 2)), 3));
+    line = new THREE.Line(geometry, new THREE.LineBasicMaterial({color: 0xffd54a, fog: false}));
+    line.frustumCulled = false;
+    line.userData.kind = 'cable';
+    world.add(line);
+    state.paths[topic] = line;
+  }
+  line.geometry.attributes.position.array.set(points);
+  line.geometry.attributes.position.needsUpdate = true;
+  line.geometry.setDrawRange(0, n);
+}
+
 // One trail point (the server keeps them 5 cm apart, viewer_state.cc).
 function appendTrail(vehicle, p) {
   const attr = vehicle.trail.geometry.attributes.position;
@@ -365,6 +385,7 @@ function onUpdate(msg) {
   }
   for (const o of msg.overlays) updateOverlay(o);
   updateAcoustic(msg.acoustic);
+  for (const [topic, points] of Object.entries(msg.paths || {})) updatePath(topic, points);
   let newSeries = false;
   for (const p of msg.points) {
     const [key, seq, t, v] = p;
