@@ -189,12 +189,10 @@ void ScenarioLoader::resolve_cables(const Value& cables, Model& model) {
           continue;
         }
       }
-      const bool articulated = std::any_of(vehicle.links.begin(), vehicle.links.end(),
-                                           [](const LinkSpec& l) { return l.joint.type != JointType::kFixed; });
-      if (articulated) {
-        end_map.error_at_key(end.link.empty() ? "vehicle" : "link",
-                             "cables on articulated vehicles are not supported yet (issue 43): attach it to a "
-                             "vehicle without moving joints");
+      if (link_moves(vehicle.links, end.link_index)) {
+        end_map.error_at_key("link", "link " + config::quoted(vehicle.links[static_cast<std::size_t>(end.link_index)].name) +
+                                         " moves on a joint: cables on moving links are not supported yet (issue 43); "
+                                         "attach it to a link rigid on the vehicle's base");
       }
     }
   }

@@ -393,6 +393,27 @@ TEST_F(ScenarioLoaderTest, CablesAndTheirEnds) {
                    bad + ":14:6: error: cables[2].to: a cable needs at least one held end"}));
 }
 
+// A cable may hold an articulated vehicle by a link rigid on its base, not (yet) by a link that moves on a joint.
+TEST_F(ScenarioLoaderTest, CablesOnMovingLinksAreRefused) {
+  const std::string path = write("s.yaml", R"(world: {}
+vehicles:
+  - name: rov
+    type: rov
+    links:
+      - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}, collisions: [{shape: box, size: [1, 1, 1]}]}
+      - {name: arm, mass: 5, inertia: {ixx: 0.1, iyy: 0.1, izz: 0.1}, joint: {type: revolute, axis: [0, 1, 0]}}
+    fluid: {model: surface}
+cables:
+  - {name: a, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, from: {position: [0, 0, -5]},
+     to: {vehicle: rov, link: frame}}
+  - {name: b, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, from: {position: [0, 0, -5]},
+     to: {vehicle: rov, link: arm}}
+)");
+  EXPECT_EQ(errors_of(path),
+            (Lines{path + ":13:25: error: cables[1].to.link: link 'arm' moves on a joint: cables on moving links are not "
+                          "supported yet (issue 43); attach it to a link rigid on the vehicle's base"}));
+}
+
 TEST_F(ScenarioLoaderTest, ScheduleSetpointCountUsesTheIncludedVehicle) {
   write("vehicles/v.yaml", R"(type: auv
 links: [{name: hull, mass: 1, inertia: {ixx: 1, iyy: 1, izz: 1}}]

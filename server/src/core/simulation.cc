@@ -1058,6 +1058,14 @@ void Simulation::actuate(double t, double dt) {
   }
 }
 
+void Simulation::add_cable_loads(std::size_t vehicle, const Eigen::Vector3d& p_Wcm, physics::StepWrench& wrench) const {
+  if (vehicle >= cable_loads_.size()) return;
+  for (const auto& [f_W, p_W] : cable_loads_[vehicle]) {  // each cable pulls at its attachment point
+    wrench.f_W += f_W;
+    wrench.tau_W += (p_W - p_Wcm).cross(f_W);
+  }
+}
+
 void Simulation::step_cables(double t, double dt) {
   if (model_.cables.empty()) return;
   cable_loads_.assign(model_.vehicles.size(), {});
@@ -1122,6 +1130,8 @@ void Simulation::apply_forces(double t) {
     runtime.wrench = physics::StepWrench{};
     if (runtime.articulation) {
       apply_articulated_forces(i);
+      add_cable_loads(i, runtime.dynamics->p_Wcm(0), runtime.bodies[0].wrench);  // cables hold its base body
+      runtime.wrench = runtime.bodies[0].wrench;
       return;
     }
     if (model_.vehicles[i].is_static) return;  // nothing moves it
@@ -1154,12 +1164,7 @@ void Simulation::apply_forces(double t) {
       continue;
     }
     if (model_.vehicles[i].is_static) continue;
-    if (i < cable_loads_.size()) {  // cables pull at their attachment points
-      for (const auto& [f_W, p_W] : cable_loads_[i]) {
-        runtime.wrench.f_W += f_W;
-        runtime.wrench.tau_W += (p_W - runtime.p_WBcm).cross(f_W);
-      }
-    }
+    add_cable_loads(i, runtime.p_WBcm, runtime.wrench);
     Eigen::Vector3d f_W = runtime.wrench.f_W;
     Eigen::Vector3d tau_W = runtime.wrench.tau_W;
     if (runtime.added_mass) convert_for_added_mass(runtime, state_.vehicles[i], f_W, tau_W);

@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 
+#include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 #include "hadal/physics/test_models.h"
 
@@ -91,6 +94,49 @@ TEST(SimulationCableTest, ARestoredStateContinuesBitIdentically) {
   EXPECT_EQ(std::memcmp(a.state().vehicles[0].body.X_WB.data(), b.state().vehicles[0].body.X_WB.data(),
                         16 * sizeof(double)),
             0);
+}
+
+// An articulated vehicle (a frame with an arm on a revolute joint, the surface fluid model) hangs on a cable tied to its
+// base: the fixed point carries the frame's, the arm's and the rope's wet weight (1 %, on average over the
+// vehicle's bounce), and the arm hangs on.
+TEST(SimulationCableTest, AnArticulatedVehicleHangsFromItsBase) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hadal_cable_articulated.yaml";
+  std::ofstream(path) << R"(world:
+  water: {density: 1000.0}
+  seabed: {type: plane, z: -200.0}
+vehicles:
+  - name: rov
+    type: rov
+    initial_pose: {position: [0, 0, -30.5]}
+    links:
+      - {name: frame, mass: 600, inertia: {ixx: 60, iyy: 60, izz: 60}, collisions: [{shape: box, size: [1.0, 0.8, 0.6]}]}
+      - {name: arm, pose: {position: [0.6, 0, -0.2]}, mass: 20, inertia: {ixx: 0.5, iyy: 0.5, izz: 0.5},
+         collisions: [{shape: box, size: [0.4, 0.1, 0.1]}],
+         joint: {type: revolute, axis: [0, 1, 0], lower_deg: -90, upper_deg: 90, damping: 20}}
+    fluid: {model: surface}
+cables:
+  - {name: rope, length: 20, segments: 20, diameter: 0.02, density: 3000, axial_stiffness: 1.0e6, damping_s: 0.01,
+     from: {position: [0, 0, -10]}, to: {vehicle: rov, link: frame, position: [0, 0, 0.5]}}
+)";
+  const config::LoadResult loaded = config::load_scenario_file(path.string());
+  std::filesystem::remove(path);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  Simulation sim(*loaded.model);
+  // The vehicle bounces on the rope's stretch (~7 rad/s), damped only by its quadratic drag: the force on the
+  // fixed point is averaged over the last 4 s (several periods).
+  double mean_fz = 0.0;
+  for (int k = 0; k < 10000; ++k) {
+    sim.step();
+    if (k >= 8000) mean_fz += sim.state().cables[0].f_W_ends[0].z() / 2000.0;
+  }
+  const physics::CableSpec& spec = sim.model().cables[0].spec;
+  const double vehicle = (600.0 - 1000.0 * 0.48 + 20.0 - 1000.0 * 0.004) * kG;  // the boxes' displacement
+  const double rope = (spec.density - 1000.0) * spec.area() * kG * spec.length;
+  EXPECT_NEAR(mean_fz, -(vehicle + rope), 0.01 * vehicle);
+  const Eigen::Vector3d p_WB = sim.state().vehicles[0].body.X_WB.translation();
+  EXPECT_LT(p_WB.z(), -30.0);
+  EXPECT_GT(p_WB.z(), -31.0);
+  EXPECT_TRUE(std::isfinite(sim.state().vehicles[0].joint_positions[0]));
 }
 
 }  // namespace

@@ -207,6 +207,8 @@ class Simulation {
   // Each cable over the step (physics/cable.h), its held ends following their vehicles' points at the step
   // start's velocity; the forces on vehicles go into cable_loads_, added to their wrenches by apply_forces.
   void step_cables(double t, double dt);
+  // The cables' forces on a vehicle (on its base body), into `wrench` about p_Wcm.
+  void add_cable_loads(std::size_t vehicle, const Eigen::Vector3d& p_Wcm, physics::StepWrench& wrench) const;
   void convert_for_added_mass(VehicleRuntime& runtime, const VehicleState& vehicle, Eigen::Vector3d& f_W,
                               Eigen::Vector3d& tau_W) const;
   void apply_articulated_forces(std::size_t vehicle);
