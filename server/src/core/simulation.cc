@@ -777,13 +777,7 @@ std::vector<sensors::AcousticLink> Simulation::acoustic_links() {
           [&](const auto& kind_spec) {
             using Kind = sensors::KindOf<std::decay_t<decltype(kind_spec)>>;
             if constexpr (sensors::HasAcousticLinks<Kind>::value) {
-              const VehicleRuntime::Sensor& mount = runtime.sensors[k];
-              const sensors::SampleContext context{
-                  state_.time, mount.period,     dt,             model_.world,
-                  *ocean_,     *environment_,    state_,         static_cast<int>(i),
-                  mount.X_BS,  runtime.p_BBcm,   runtime.v_WBcm, runtime.w_WB,
-                  rays_.get(), &spec.sensors[k], ray_bodies_.of_body(static_cast<int>(i), mount.body),
-                  &model_.vehicles};
+              const sensors::SampleContext context = sensor_context(i, k, runtime.sensors[k].X_BS, dt);
               Kind::acoustic_links(context, kind_spec,
                                    std::get<typename Kind::State>(state_.vehicles[i].sensors[k].kind), links);
             }
@@ -1473,13 +1467,7 @@ void Simulation::sample_sensors(double dt) {
       if (!due && out.captures.empty() && !runtime.sensors[k].by_event) continue;
       VehicleRuntime::Sensor& mount = runtime.sensors[k];
       if (due && mount.body > 0) mount.X_BS = mounting_B(runtime, static_cast<int>(k), vehicle, X_WK);
-      const int ray_body = ray_bodies_.of_body(static_cast<int>(i), mount.body);
-      const auto context_at = [&](const Eigen::Isometry3d& X_BS) {
-        return sensors::SampleContext{state_.time, mount.period,     dt,             model_.world,
-                                      *ocean_,     *environment_,    state_,         static_cast<int>(i),
-                                      X_BS,        runtime.p_BBcm,   runtime.v_WBcm, runtime.w_WB,
-                                      rays_.get(), &spec.sensors[k], ray_body,       &model_.vehicles};
-      };
+      const auto context_at = [&](const Eigen::Isometry3d& X_BS) { return sensor_context(i, k, X_BS, dt); };
       const sensors::SampleContext context = context_at(mount.X_BS);
       std::visit(
           [&](const auto& kind_spec) {
@@ -1538,6 +1526,28 @@ void Simulation::sample_sensors(double dt) {
           spec.sensors[k].kind);
     }
   }
+}
+
+sensors::SampleContext Simulation::sensor_context(std::size_t i, std::size_t k, const Eigen::Isometry3d& X_BS,
+                                                  double dt) {
+  VehicleRuntime& runtime = *runtime_[i];
+  const VehicleRuntime::Sensor& mount = runtime.sensors[k];
+  return sensors::SampleContext{state_.time,
+                                mount.period,
+                                dt,
+                                model_.world,
+                                *ocean_,
+                                *environment_,
+                                state_,
+                                static_cast<int>(i),
+                                X_BS,
+                                runtime.p_BBcm,
+                                runtime.v_WBcm,
+                                runtime.w_WB,
+                                rays_.get(),
+                                &model_.vehicles[i].sensors[k],
+                                ray_bodies_.of_body(static_cast<int>(i), mount.body),
+                                &model_.vehicles};
 }
 
 template <class Kind>

@@ -45,6 +45,7 @@ class WorkerPool;
 
 namespace sensors {
 class SensorEnvironment;
+struct SampleContext;
 }
 namespace geometry {
 class RaycastService;
@@ -233,6 +234,8 @@ class Simulation {
   bool measures_joint_wrenches(std::size_t i) const;
   void reset_non_finite_vehicles();
   void sample_sensors(double dt);
+  // What sensor k of vehicle i sees at the state, mounted at X_BS (which must outlive the context).
+  sensors::SampleContext sensor_context(std::size_t i, std::size_t k, const Eigen::Isometry3d& X_BS, double dt);
   template <class Kind>
   void submit_capture(std::size_t vehicle, std::size_t sensor, const typename Kind::Spec& spec,
                       const PendingCapture& capture);
