@@ -307,6 +307,21 @@ CableShape from_msg(const nav_msgs::msg::Path& m) {
   return out;
 }
 
+WinchState from_msg(const hadal_msgs::msg::WinchState& m) {
+  WinchState out;
+  out.stamp = dds::from_time_msg(m.header().stamp());
+  out.frame_id = m.header().frame_id();
+  out.length = m.length_m();
+  out.speed = m.speed_mps();
+  out.command_speed = m.command_speed_mps();
+  out.target_length = m.target_length_m();
+  out.drum_length = m.drum_length_m();
+  out.min_length = m.min_length_m();
+  out.tension = m.tension_n();
+  out.at_limit = m.at_limit();
+  return out;
+}
+
 AcousticPackets from_msg(const hadal_msgs::msg::AcousticPackets& m) {
   AcousticPackets out;
   out.stamp = dds::from_time_msg(m.header().stamp());
@@ -513,6 +528,9 @@ struct Client::Impl {
   };
   std::vector<PendingPacket> pending_packets;
   std::map<std::pair<std::string, std::string>, fdds::DataWriter*> packet_writers;
+  // Winch commands attached to the next step(), by cable, and their writers.
+  std::map<std::string, hadal_msgs::msg::WinchCommand> pending_winches;
+  std::map<std::string, fdds::DataWriter*> winch_writers;
 
   // Keeps `value` to attach to the next step() (pending[key]) and publishes `msg` on `topic` through
   // writers[key], made on first use (waiting up to 2 s for the server's reader).
@@ -898,6 +916,28 @@ void Client::on_cable_shape(const std::string& cable, std::function<void(const C
       [callback = std::move(callback)](const nav_msgs::msg::Path& m) { callback(from_msg(m)); });
 }
 
+void Client::on_winch_state(const std::string& cable, std::function<void(const WinchState&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::WinchStatePubSubType, hadal_msgs::msg::WinchState>(
+      dds::winch_state_topic(cable),
+      [callback = std::move(callback)](const hadal_msgs::msg::WinchState& m) { callback(from_msg(m)); });
+}
+
+void Client::command_winch(const std::string& cable, double speed_mps, double target_length_m) {
+  hadal_msgs::msg::WinchCommand msg;
+  msg.speed_mps(speed_mps);
+  msg.target_length_m(target_length_m);
+  impl_->publish_and_attach<hadal_msgs::msg::WinchCommandPubSubType>(
+      impl_->pending_winches, impl_->winch_writers, cable, dds::winch_command_topic(cable), msg, msg);
+}
+
+void Client::attach_winch(const std::string& cable, double speed_mps, double target_length_m) {
+  hadal_msgs::msg::WinchCommand msg;
+  msg.speed_mps(speed_mps);
+  msg.target_length_m(target_length_m);
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->pending_winches[cable] = msg;
+}
+
 void Client::on_modem_packets(const std::string& vehicle, const std::string& modem,
                               std::function<void(const AcousticPackets&)> callback) {
   impl_->subscribe<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>(
@@ -1022,6 +1062,11 @@ std::uint64_t Client::Impl::submit(hadal_msgs::msg::StepRequest& request, double
       request.packets().push_back(std::move(pending.packet));
     }
     d.pending_packets.clear();
+    for (const auto& [cable, command] : d.pending_winches) {
+      request.winch_cables().push_back(cable);
+      request.winch_commands().push_back(command);
+    }
+    d.pending_winches.clear();
     d.replies.emplace(id, std::nullopt);
   }
   d.step_writer->write(&request);
@@ -1185,6 +1230,7 @@ const std::map<std::string, Decoder>& decoders() {
       {"nav_msgs/msg/Path", &decode_as<nav_msgs::msg::PathPubSubType, nav_msgs::msg::Path>},
       {"hadal_msgs/msg/AcousticPackets",
        &decode_as<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>},
+      {"hadal_msgs/msg/WinchState", &decode_as<hadal_msgs::msg::WinchStatePubSubType, hadal_msgs::msg::WinchState>},
       {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},
       {"sensor_msgs/msg/CameraInfo", &decode_as<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>},
       {"marine_acoustic_msgs/msg/SonarDetections",

@@ -389,6 +389,22 @@ class PyClient {
     }
     return cable_shapes_.wait(cable, min_stamp, timeout_s);
   }
+  std::optional<hadal::WinchState> wait_winch_state(const std::string& cable, double min_stamp, double timeout_s) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace("winch_state:" + cable, true).second) {
+        client()->on_winch_state(cable, [this, cable](const hadal::WinchState& m) { winch_states_.put(cable, m); });
+      }
+    }
+    return winch_states_.wait(cable, min_stamp, timeout_s);
+  }
+  void command_winch(const std::string& cable, double speed_mps, double target_length_m, bool publish) {
+    if (publish) {
+      client()->command_winch(cable, speed_mps, target_length_m);
+    } else {
+      client()->attach_winch(cable, speed_mps, target_length_m);
+    }
+  }
   // An acoustic modem's packets: every packet it decodes from the first call on is kept (not only the latest)
   // until a call takes it.
   std::vector<hadal::AcousticPacket> receive_packets(const std::string& vehicle, const std::string& modem,
@@ -622,6 +638,7 @@ class PyClient {
   Latest<hadal::LblRanges> lbl_ranges_;
   Latest<hadal::Wrench> cable_forces_;      // by "<cable>/<end>"
   Latest<hadal::CableShape> cable_shapes_;  // by cable
+  Latest<hadal::WinchState> winch_states_;  // by cable
   std::set<std::string> modem_subscribed_;  // "<vehicle>/<modem>" (under mutex_)
   std::mutex packets_mutex_;
   std::condition_variable packets_arrived_;
@@ -942,6 +959,18 @@ PYBIND11_MODULE(_hadal, m) {
             return out;
           },
           "(N + 1, 3) array of the nodes from the `from` end [m]");
+  py::class_<hadal::WinchState>(m, "WinchState", "hadal_msgs/WinchState of a cable's winch")
+      .def_readonly("stamp", &hadal::WinchState::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::WinchState::frame_id, "the world frame")
+      .def_readonly("length", &hadal::WinchState::length, "unstretched cable in the water [m]")
+      .def_readonly("speed", &hadal::WinchState::speed, "line speed, + paying out [m/s]")
+      .def_readonly("command_speed", &hadal::WinchState::command_speed, "what it was last told [m/s]")
+      .def_readonly("target_length", &hadal::WinchState::target_length, "[m]; 0: none")
+      .def_readonly("drum_length", &hadal::WinchState::drum_length, "in the water and on the drum together [m]")
+      .def_readonly("min_length", &hadal::WinchState::min_length, "hauling in stops here [m]")
+      .def_readonly("tension", &hadal::WinchState::tension, "the cable's pull on the winch [N]")
+      .def_readonly("at_limit", &hadal::WinchState::at_limit,
+                    "stopped at min_length or the drum's end while told to go on");
   py::class_<hadal::AcousticPacket>(m, "AcousticPacket", "A packet an acoustic modem decoded")
       .def_readonly("transmit_stamp", &hadal::AcousticPacket::transmit_stamp, "start of its transmission, sim time [s]")
       .def_readonly("stamp", &hadal::AcousticPacket::stamp, "end of its reception, sim time [s]")
@@ -1251,6 +1280,16 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            py::arg("timeout_s") = 10.0, release(),
            "CableShape of rt/hadal/cables/<cable>/shape (.points: the nodes in W) with stamp >= min_stamp, or None "
            "on timeout")
+      .def("wait_winch_state", &PyClient::wait_winch_state, py::arg("cable"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "WinchState of rt/hadal/cables/<cable>/winch/state with stamp >= min_stamp, or None on timeout")
+      .def("command_winch", &PyClient::command_winch, py::arg("cable"), py::arg("speed"),
+           py::arg("target_length") = 0.0, py::arg("publish") = true, release(),
+           "Commands the cable's winch: run at `speed` [m/s] (+ pays out, - hauls in) until told otherwise or a limit; "
+           "with target_length > 0 [m], run at |speed| toward that length in the water and stop there. Published on "
+           "rt/hadal/cables/<cable>/winch/command and attached to the next step()/reset(); publish=False: only "
+           "attached (lockstep). The server refuses a cable without a winch, a speed beyond its max_speed, a target "
+           "beyond its drum_length or below its min_length (CommandRejected in lockstep)")
       .def("receive_packets", &PyClient::receive_packets, py::arg("vehicle"), py::arg("modem"),
            py::arg("timeout_s") = 0.0, release(),
            "The packets the acoustic modem rt/<vehicle>/<modem> decoded (list of AcousticPacket, oldest first) since "

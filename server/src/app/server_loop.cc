@@ -167,7 +167,9 @@ class Runner {
       std::string refused;
       for (const auto& command : request->commands) {
         const std::string reason =
-            command.packet
+            command.winch
+                ? sim_.check_winch_command(command.winch->cable_index, command.winch->speed, command.winch->target_length)
+            : command.packet
                 ? sim_.check_packet(command.vehicle_index, command.packet->modem, command.packet->destination,
                                     command.packet->payload.size())
             : command.trajectory
@@ -175,7 +177,7 @@ class Runner {
             : command.joint_controller.empty()
                 ? sim_.check_controls(command.vehicle_index, command.setpoints)
                 : sim_.check_joint_commands(command.vehicle_index, command.joint_controller, command.setpoints);
-        if (!reason.empty() && refused.empty()) refused = model_.vehicles[command.vehicle_index].name + ": " + reason;
+        if (!reason.empty() && refused.empty()) refused = dds::command_target(model_, command) + ": " + reason;
       }
       if (!refused.empty()) {
         reject("step request " + std::to_string(request->request_id) + ": " + refused);
@@ -238,6 +240,9 @@ class Runner {
   // Returns the rejection reason, or "" when the command was applied or superseded.
   std::string apply_command(const dds::InboundCommand& command) {
     if (!command.error.empty()) return command.error;
+    if (command.winch) {  // the last command wins: each replaces the winch's command
+      return sim_.command_winch(command.winch->cable_index, command.winch->speed, command.winch->target_length);
+    }
     const auto v = static_cast<std::size_t>(command.vehicle_index);
     if (command.packet) {  // every packet is sent: none supersedes another
       dds::InboundCommand::Packet packet = *command.packet;
@@ -273,7 +278,7 @@ class Runner {
   void step_once() {
     for (const auto& command : dds_.take_commands()) {
       const std::string reason = apply_command(command);
-      if (!reason.empty()) reject(model_.vehicles[command.vehicle_index].name + ": " + reason);
+      if (!reason.empty()) reject(dds::command_target(model_, command) + ": " + reason);
     }
     sim_.step();
     const SimState& state = sim_.state();
@@ -295,7 +300,7 @@ class Runner {
     if (clock_divider_.due(state.time)) dds_.publish_clock(state.time);
     if (dds_.acoustic_links_due()) dds_.publish_acoustic_links(state.time, sim_.acoustic_links());
     for (std::size_t c = 0; c < cable_dividers_.size(); ++c) {
-      if (cable_dividers_[c].due(state.time)) dds_.publish_cable(static_cast<int>(c), state);
+      if (cable_dividers_[c].due(state.time)) dds_.publish_cable(static_cast<int>(c), state);  // and its winch's
     }
     for (std::size_t i = 0; i < model_.vehicles.size(); ++i) {
       if (odometry_dividers_[i].due(state.time)) {

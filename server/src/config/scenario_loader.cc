@@ -164,10 +164,22 @@ void ScenarioLoader::resolve_cables(const Value& cables, Model& model) {
     }
     for (std::size_t e = 0; e < 2; ++e) {
       physics::CableEndSpec& end = cable.ends[e];
-      if (!end.on_vehicle()) continue;
       const std::optional<Value> end_value = map.optional(e == 0 ? "from" : "to");
       if (!end_value) continue;
-      const MapReader end_map(*end_value, {"vehicle", "link", "position", "free"});
+      const MapReader end_map(*end_value, {"vehicle", "link", "position", "velocity", "free", "winch"});
+      if (end.winch && end_map.ok()) {  // its drum holds the cable in the water, and it can haul in to min_length
+        if (const std::optional<Value> winch_value = end_map.optional("winch")) {
+          const MapReader winch_map(*winch_value, {"drum_length", "min_length", "max_speed", "max_acceleration"});
+          if (end.winch->drum_length < cable.spec.length) {
+            winch_map.error_at_key("drum_length", "the drum holds less than the cable's length (" +
+                                                      config::format_number(cable.spec.length) + " m in the water)");
+          } else if (end.winch->min_length > cable.spec.length) {
+            winch_map.error_at_key("min_length", "more than the cable's length (" +
+                                                     config::format_number(cable.spec.length) + " m in the water)");
+          }
+        }
+      }
+      if (!end.on_vehicle()) continue;
       end.vehicle_index = model.vehicle_index(end.vehicle);
       if (end.vehicle_index < 0) {
         std::string known;
@@ -188,11 +200,6 @@ void ScenarioLoader::resolve_cables(const Value& cables, Model& model) {
                                            " (its links: " + known + ")");
           continue;
         }
-      }
-      if (link_moves(vehicle.links, end.link_index)) {
-        end_map.error_at_key("link", "link " + config::quoted(vehicle.links[static_cast<std::size_t>(end.link_index)].name) +
-                                         " moves on a joint: cables on moving links are not supported yet (issue 43); "
-                                         "attach it to a link rigid on the vehicle's base");
       }
     }
   }

@@ -393,25 +393,48 @@ TEST_F(ScenarioLoaderTest, CablesAndTheirEnds) {
                    bad + ":14:6: error: cables[2].to: a cable needs at least one held end"}));
 }
 
-// A cable may hold an articulated vehicle by a link rigid on its base, not (yet) by a link that moves on a joint.
-TEST_F(ScenarioLoaderTest, CablesOnMovingLinksAreRefused) {
-  const std::string path = write("s.yaml", R"(world: {}
-vehicles:
+// A cable may hold an articulated vehicle by any link, also one that moves on a joint; a winch holds one end of a
+// cable (at most one), its drum at least the cable's length, and not on a free end.
+TEST_F(ScenarioLoaderTest, CablesOnMovingLinksAndWinches) {
+  const std::string vehicles = R"(vehicles:
   - name: rov
     type: rov
     links:
       - {name: frame, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}, collisions: [{shape: box, size: [1, 1, 1]}]}
       - {name: arm, mass: 5, inertia: {ixx: 0.1, iyy: 0.1, izz: 0.1}, joint: {type: revolute, axis: [0, 1, 0]}}
     fluid: {model: surface}
-cables:
-  - {name: a, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, from: {position: [0, 0, -5]},
-     to: {vehicle: rov, link: frame}}
-  - {name: b, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, from: {position: [0, 0, -5]},
-     to: {vehicle: rov, link: arm}}
+)";
+  const std::string good = write("good.yaml", "world: {}\n" + vehicles + R"(cables:
+  - {name: a, length: 5, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, to: {vehicle: rov, link: arm},
+     from: {position: [0, 0, -5], winch: {drum_length: 300, max_speed: 1.5}}}
 )");
-  EXPECT_EQ(errors_of(path),
-            (Lines{path + ":13:25: error: cables[1].to.link: link 'arm' moves on a joint: cables on moving links are not "
-                          "supported yet (issue 43); attach it to a link rigid on the vehicle's base"}));
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  const physics::CableModel& cable = loaded.model->cables[0];
+  EXPECT_EQ(cable.ends[1].link_index, 1);
+  EXPECT_EQ(cable.winch_end(), 0);
+  EXPECT_DOUBLE_EQ(cable.ends[0].winch->drum_length, 300.0);
+  EXPECT_DOUBLE_EQ(cable.ends[0].winch->max_speed, 1.5);
+  EXPECT_DOUBLE_EQ(cable.ends[0].winch->min_length, 1.0);  // the defaults
+  EXPECT_DOUBLE_EQ(cable.ends[0].winch->max_acceleration, 0.5);
+  const std::string bad = write("bad.yaml", "world: {}\n" + vehicles + R"(cables:
+  - {name: a, length: 50, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, to: {vehicle: rov},
+     from: {position: [0, 0, -5], winch: {drum_length: 40}}}
+  - {name: b, length: 50, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, to: {vehicle: rov},
+     from: {position: [0, 0, -5], winch: {drum_length: 400, min_length: 60}}}
+  - {name: c, length: 50, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, to: {free: true, winch: {drum_length: 60}},
+     from: {position: [0, 0, -5], winch: {drum_length: 100, min_length: 100}}}
+  - {name: d, length: 50, diameter: 0.03, density: 2500, axial_stiffness: 1.0e5, to: {vehicle: rov, winch: {drum_length: 60}},
+     from: {position: [0, 0, -5], winch: {drum_length: 100}}}
+)");
+  EXPECT_EQ(errors_of(bad),
+            (Lines{bad + ":11:43: error: cables[0].from.winch.drum_length: the drum holds less than the cable's length "
+                         "(50 m in the water)",
+                   bad + ":13:61: error: cables[1].from.winch.min_length: more than the cable's length (50 m in the water)",
+                   bad + ":14:87: error: cables[2].to.free: a free end is held by nothing: leave out vehicle, link, "
+                         "position, velocity and winch",
+                   bad + ":15:61: error: cables[2].from.winch.min_length: must be less than drum_length (100 m)",
+                   bad + ":16:82: error: cables[3].to: a cable has at most one winch (`from` has one)"}));
 }
 
 TEST_F(ScenarioLoaderTest, ScheduleSetpointCountUsesTheIncludedVehicle) {

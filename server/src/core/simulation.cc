@@ -653,23 +653,70 @@ SimState Simulation::initial_state(std::uint64_t seed) const {
   return state;
 }
 
+Simulation::HeldPoint Simulation::cable_end_point(const physics::CableEndSpec& end, const SimState& state) const {
+  HeldPoint held;
+  if (!end.on_vehicle()) {
+    held.p_W = end.position + state.time * end.velocity_W;
+    held.v_W = end.velocity_W;
+    return held;
+  }
+  const auto v = static_cast<std::size_t>(end.vehicle_index);
+  const VehicleState& vehicle = state.vehicles[v];
+  const physics::Articulation* articulation = runtime_[v]->articulation;
+  Eigen::Isometry3d X_WK = vehicle.body.X_WB;  // the frame of the body holding it
+  Eigen::Vector3d v_WK = vehicle.body.v_WB, w_WK = vehicle.body.w_WB;
+  Eigen::Vector3d p_K = model_.vehicles[v].links[static_cast<std::size_t>(end.link_index)].X_BL * end.position;
+  if (articulation && articulation->body_of_link(end.link_index) != 0) {  // a link that moves on a joint
+    held.body = articulation->body_of_link(end.link_index);
+    const auto n = static_cast<Eigen::Index>(vehicle.joint_positions.size());
+    const std::vector<Eigen::Isometry3d> poses = articulation->poses_W(
+        vehicle.body.X_WB, Eigen::Map<const Eigen::VectorXd>(vehicle.joint_positions.data(), n));
+    const std::vector<physics::Articulation::BodyVelocity> velocities = articulation->velocities_W(
+        poses, vehicle.body.v_WB, vehicle.body.w_WB, Eigen::Map<const Eigen::VectorXd>(vehicle.joint_velocities.data(), n));
+    const auto k = static_cast<std::size_t>(held.body);
+    X_WK = poses[k];
+    v_WK = velocities[k].v_WK;
+    w_WK = velocities[k].w_WK;
+    p_K = articulation->X_KL(end.link_index) * end.position;
+  }
+  held.p_W = X_WK * p_K;
+  held.v_W = v_WK + w_WK.cross(held.p_W - X_WK.translation());
+  return held;
+}
+
 std::array<Eigen::Vector3d, 2> Simulation::cable_ends_W(std::size_t c, const SimState& state) const {
   const physics::CableModel& cable = model_.cables[c];
   std::array<Eigen::Vector3d, 2> p_W;
-  for (std::size_t e = 0; e < 2; ++e) {
-    const physics::CableEndSpec& end = cable.ends[e];
-    if (end.on_vehicle()) {
-      const auto v = static_cast<std::size_t>(end.vehicle_index);
-      p_W[e] = state.vehicles[v].body.X_WB *
-               (model_.vehicles[v].links[static_cast<std::size_t>(end.link_index)].X_BL * end.position);
-    } else {
-      p_W[e] = end.position;
-    }
-  }
+  for (std::size_t e = 0; e < 2; ++e) p_W[e] = cable_end_point(cable.ends[e], state).p_W;
   const Eigen::Vector3d down(0.0, 0.0, -cable.spec.length);
   if (cable.ends[0].free) p_W[0] = p_W[1] + down;
   if (cable.ends[1].free) p_W[1] = p_W[0] + down;
   return p_W;
+}
+
+int Simulation::cable_index(const std::string& name) const {
+  for (std::size_t c = 0; c < model_.cables.size(); ++c) {
+    if (model_.cables[c].name == name) return static_cast<int>(c);
+  }
+  return -1;
+}
+
+std::string Simulation::check_winch_command(int cable_index, double speed, double target_length) const {
+  if (cable_index < 0 || static_cast<std::size_t>(cable_index) >= model_.cables.size()) return "unknown cable";
+  const physics::CableModel& cable = model_.cables[static_cast<std::size_t>(cable_index)];
+  const int e = cable.winch_end();
+  if (e < 0) return "has no winch";
+  const std::string reason = physics::check_winch_command(*cable.ends[static_cast<std::size_t>(e)].winch, speed, target_length);
+  return reason.empty() ? "" : "winch: " + reason;
+}
+
+std::string Simulation::command_winch(int cable_index, double speed, double target_length) {
+  std::string reason = check_winch_command(cable_index, speed, target_length);
+  if (!reason.empty()) return reason;
+  physics::WinchState& winch = state_.cables[static_cast<std::size_t>(cable_index)].winch;
+  winch.command_speed = speed;
+  winch.target_length = target_length;
+  return "";
 }
 
 std::string Simulation::reset(std::uint64_t seed, const std::vector<std::optional<Eigen::Isometry3d>>& X_WB) {
@@ -1052,11 +1099,13 @@ void Simulation::actuate(double t, double dt) {
   }
 }
 
-void Simulation::add_cable_loads(std::size_t vehicle, const Eigen::Vector3d& p_Wcm, physics::StepWrench& wrench) const {
+void Simulation::add_cable_loads(std::size_t vehicle, int body, const Eigen::Vector3d& p_Wcm,
+                                 physics::StepWrench& wrench) const {
   if (vehicle >= cable_loads_.size()) return;
-  for (const auto& [f_W, p_W] : cable_loads_[vehicle]) {  // each cable pulls at its attachment point
-    wrench.f_W += f_W;
-    wrench.tau_W += (p_W - p_Wcm).cross(f_W);
+  for (const CableLoad& load : cable_loads_[vehicle]) {  // each cable pulls at its attachment point
+    if (load.body != body) continue;
+    wrench.f_W += load.f_W;
+    wrench.tau_W += (load.p_W - p_Wcm).cross(load.f_W);
   }
 }
 
@@ -1075,23 +1124,25 @@ void Simulation::step_cables(double t, double dt) {
   }
   for (std::size_t c = 0; c < model_.cables.size(); ++c) {
     const physics::CableModel& cable = model_.cables[c];
-    const std::array<Eigen::Vector3d, 2> p_W0 = cable_ends_W(c, state_);
+    std::array<HeldPoint, 2> held;
     std::array<physics::CableEnd, 2> ends;
     for (std::size_t e = 0; e < 2; ++e) {
-      const physics::CableEndSpec& spec = cable.ends[e];
-      ends[e].held = !spec.free;
-      ends[e].p_W0 = ends[e].p_W1 = p_W0[e];
-      if (spec.on_vehicle()) {  // the point moves on with the body's velocity over the step
-        const RigidBodyState& body = state_.vehicles[static_cast<std::size_t>(spec.vehicle_index)].body;
-        ends[e].p_W1 += dt * (body.v_WB + body.w_WB.cross(p_W0[e] - body.X_WB.translation()));
-      }
+      held[e] = cable_end_point(cable.ends[e], state_);
+      ends[e].held = !cable.ends[e].free;
+      ends[e].p_W0 = held[e].p_W;
+      ends[e].p_W1 = held[e].p_W + dt * held[e].v_W;  // the point moves on with its body's velocity over the step
     }
     physics::CableState& state = state_.cables[c];
-    const physics::CableStepResult result = physics::step_cable(cable.spec, world, ends[0], ends[1], dt, state);
+    const int winch = cable.winch_end();
+    const double length_rate =
+        winch < 0 ? 0.0 : physics::advance_winch(*cable.ends[static_cast<std::size_t>(winch)].winch, dt, state);
+    const physics::CableStepResult result =
+        physics::step_cable(cable.spec, world, ends[0], ends[1], dt, state, length_rate);
     state.f_W_ends = {result.f_W_end0, result.f_W_end1};
     for (std::size_t e = 0; e < 2; ++e) {
       if (!cable.ends[e].on_vehicle()) continue;
-      cable_loads_[static_cast<std::size_t>(cable.ends[e].vehicle_index)].emplace_back(state.f_W_ends[e], p_W0[e]);
+      cable_loads_[static_cast<std::size_t>(cable.ends[e].vehicle_index)].push_back(
+          CableLoad{state.f_W_ends[e], held[e].p_W, held[e].body});
     }
   }
 }
@@ -1124,7 +1175,10 @@ void Simulation::apply_forces(double t) {
     runtime.wrench = physics::StepWrench{};
     if (runtime.articulation) {
       apply_articulated_forces(i);
-      add_cable_loads(i, runtime.dynamics->p_Wcm(0), runtime.bodies[0].wrench);  // cables hold its base body
+      for (std::size_t k = 0; k < runtime.bodies.size(); ++k) {  // cables hold any of its bodies
+        const int body = static_cast<int>(k);
+        add_cable_loads(i, body, runtime.dynamics->p_Wcm(body), runtime.bodies[k].wrench);
+      }
       runtime.wrench = runtime.bodies[0].wrench;
       return;
     }
@@ -1158,7 +1212,7 @@ void Simulation::apply_forces(double t) {
       continue;
     }
     if (model_.vehicles[i].is_static) continue;
-    add_cable_loads(i, runtime.p_WBcm, runtime.wrench);
+    add_cable_loads(i, 0, runtime.p_WBcm, runtime.wrench);
     Eigen::Vector3d f_W = runtime.wrench.f_W;
     Eigen::Vector3d tau_W = runtime.wrench.tau_W;
     if (runtime.added_mass) convert_for_added_mass(runtime, state_.vehicles[i], f_W, tau_W);

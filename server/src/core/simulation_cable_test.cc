@@ -1,6 +1,6 @@
 // Cables in the simulation (physics/cable.h, Simulation::step_cables): a heavy box hanging on a cable from a fixed
 // point settles where the cable, stretched by the box's and its own weight, puts it, and the fixed point carries
-// both wet weights; a reset lays the cable straight between its ends where they now are; a restored state
+// both wet weights; a cable on an arm's link holds it about its joint; a winch hauls the box up; a reset lays the cable straight between its ends where they now are; a restored state
 // continues bit for bit.
 #include <gtest/gtest.h>
 
@@ -137,6 +137,77 @@ cables:
   EXPECT_LT(p_WB.z(), -30.0);
   EXPECT_GT(p_WB.z(), -31.0);
   EXPECT_TRUE(std::isfinite(sim.state().vehicles[0].joint_positions[0]));
+}
+
+// A boom on a revolute joint (about y) of a fixed crane, held level by a cable from a point above its tip: the cable
+// on the moving link takes the boom's wet weight about the joint, T = W_wet x_cm / x_tip (0.5 m and 0.8 m apart, so a
+// cable acting at the wrong point, or on the base body, or not at all lets the boom fall), and the neutrally buoyant
+// rope passes it to the fixed point whole (1 %, averaged over the last 4 s).
+TEST(SimulationCableTest, ACableHoldsABoomOnAJointAtItsTip) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hadal_cable_boom.yaml";
+  std::ofstream(path) << R"(world:
+  water: {density: 1000.0}
+  seabed: {type: plane, z: -200.0}
+vehicles:
+  - name: crane
+    type: lander
+    static: true
+    initial_pose: {position: [0, 0, -20]}
+    links:
+      - {name: post, mass: 100, inertia: {ixx: 10, iyy: 10, izz: 10}, collisions: [{shape: box, size: [0.2, 0.2, 0.2]}]}
+      - {name: boom, pose: {position: [0.2, 0, 0]}, mass: 30, center_of_mass: [0.5, 0, 0],
+         inertia: {ixx: 0.1, iyy: 2.5, izz: 2.5},
+         collisions: [{shape: box, size: [1.0, 0.1, 0.1], pose: {position: [0.5, 0, 0]}}],
+         joint: {type: revolute, axis: [0, 1, 0], lower_deg: -90, upper_deg: 90, damping: 50}}
+    fluid: {model: surface}
+cables:
+  - {name: stay, length: 5, segments: 10, diameter: 0.01, density: 1000, axial_stiffness: 1.0e5, damping_s: 0.01,
+     from: {position: [1.0, 0, -15]}, to: {vehicle: crane, link: boom, position: [0.8, 0, 0]}}
+)";
+  const config::LoadResult loaded = config::load_scenario_file(path.string());
+  std::filesystem::remove(path);
+  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  Simulation sim(*loaded.model);
+  double mean_fz = 0.0;
+  for (int k = 0; k < 10000; ++k) {
+    sim.step();
+    if (k >= 8000) mean_fz += sim.state().cables[0].f_W_ends[0].z() / 2000.0;
+  }
+  const double boom = (30.0 - 1000.0 * 0.01) * kG;  // its weight and buoyancy both act 0.5 m out
+  const double tension = boom * 0.5 / 0.8;
+  EXPECT_NEAR(mean_fz, -tension, 0.01 * tension);
+  EXPECT_NEAR(sim.state().cables[0].f_W_ends[1].z(), tension, 0.01 * tension);  // it holds the boom up
+  // Level but for the rope's stretch (T L / EA = 6 mm at 0.8 m): a few milliradians down (positive about y).
+  const double q = sim.state().vehicles[0].joint_positions[0];
+  EXPECT_GT(q, 0.0);
+  EXPECT_LT(q, 0.02);
+  const Eigen::Vector3d tip = sim.state().cables[0].p_W.back();
+  EXPECT_NEAR(tip.x(), 1.0, 1e-3);
+  EXPECT_NEAR(tip.z(), -20.0 - 0.8 * std::sin(q), 1e-6);
+}
+
+// A winch at the fixed point hauls the hanging box up from 20 m to 10 m of rope and stops there: the box then hangs
+// 10 m and the stretch below the point (1 cm), the winch at rest. Commands it cannot follow are refused, naming the
+// key, with its state untouched.
+TEST(SimulationCableTest, AWinchHaulsTheBoxUpAndStopsAtItsTarget) {
+  Model model = hanging_box();
+  model.cables[0].ends[0].winch = physics::WinchSpec{50.0, 2.0, 1.0, 0.5};
+  Simulation sim(model);
+  EXPECT_EQ(sim.command_winch(0, 2.0, 0.0), "winch: speed 2 m/s is beyond the winch's max_speed (1 m/s)");
+  EXPECT_EQ(sim.command_winch(0, 0.5, 60.0), "winch: target_length 60 m is beyond the drum (drum_length 50 m)");
+  EXPECT_EQ(sim.command_winch(1, 0.5, 10.0), "unknown cable");
+  EXPECT_EQ(sim.state().cables[0].winch.command_speed, 0.0);
+  ASSERT_EQ(sim.command_winch(sim.cable_index("rope"), 0.5, 10.0), "");
+  for (int k = 0; k < 20000; ++k) sim.step();  // 40 s: ~21 s of hauling, then settling
+  const physics::CableState& cable = sim.state().cables[0];
+  EXPECT_EQ(cable.length, 10.0);
+  EXPECT_EQ(cable.winch.speed, 0.0);
+  const physics::CableSpec& spec = sim.model().cables[0].spec;
+  const double box = (160.0 - 1000.0 * 0.08) * kG;
+  const double rope = (spec.density - 1000.0) * spec.area() * kG;
+  const double stretch = (box * 10.0 + rope * 10.0 * 10.0 / 2.0) / spec.axial_stiffness;
+  EXPECT_NEAR(sim.state().vehicles[0].body.X_WB.translation().z(), -10.0 - 10.0 - stretch - 0.2, 0.01);
+  EXPECT_NEAR(cable.f_W_ends[0].z(), -(box + rope * 10.0), 0.01 * box);
 }
 
 }  // namespace

@@ -120,6 +120,20 @@ InboundCommand command_from_packet(int vehicle_index, const std::string& modem,
   return command;
 }
 
+InboundCommand command_from_winch(int cable_index, const hadal_msgs::msg::WinchCommand& msg, const SourceId& source,
+                                  std::int64_t stamp_ns) {
+  InboundCommand command;
+  command.source = source;
+  command.source_stamp_ns = stamp_ns;
+  command.winch = InboundCommand::Winch{cable_index, msg.speed_mps(), msg.target_length_m()};
+  return command;
+}
+
+std::string command_target(const Model& model, const InboundCommand& command) {
+  if (command.winch) return "cable '" + model.cables.at(static_cast<std::size_t>(command.winch->cable_index)).name + "'";
+  return model.vehicles.at(static_cast<std::size_t>(command.vehicle_index)).name;
+}
+
 namespace {
 
 // The joint-controller commands attached to a request: "" when they parse, else the reason.
@@ -174,6 +188,22 @@ std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::Step
     const int index = named_vehicle(model, msg.packet_vehicles()[i], request, &error);
     if (index < 0) return error;
     request.commands.push_back(command_from_packet(index, msg.packet_modems()[i], msg.packets()[i], source, stamp));
+  }
+  const std::size_t winches = msg.winch_commands().size();
+  if (msg.winch_cables().size() != winches) return "winch_cables and winch_commands differ in length";
+  for (std::size_t i = 0; i < winches; ++i) {
+    const std::string& name = msg.winch_cables()[i];
+    int index = -1;
+    std::string known;
+    for (std::size_t c = 0; c < model.cables.size(); ++c) {
+      if (model.cables[c].name == name) index = static_cast<int>(c);
+      if (model.cables[c].winch_end() >= 0) known += (known.empty() ? "'" : ", '") + model.cables[c].name + "'";
+    }
+    if (index < 0) {
+      return "winch_cables[" + std::to_string(i) + "]: unknown cable '" + echoed(name) + "' (cables with a winch: " +
+             (known.empty() ? "none" : known) + ")";
+    }
+    request.commands.push_back(command_from_winch(index, msg.winch_commands()[i], source, stamp));
   }
   return "";
 }

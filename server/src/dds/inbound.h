@@ -1,5 +1,5 @@
 // What hadald reads from clients, parsed: thruster commands (rt/<vehicle>/actuators/commands), joint commands,
-// modem packets (rt/<vehicle>/<modem>/tx) and step
+// modem packets (rt/<vehicle>/<modem>/tx), winch commands (rt/hadal/cables/<cable>/winch/command) and step
 // requests (rt/hadal/step_request), checked against the model (vehicle names, lengths, a reset's poses)
 // before anything reaches the simulation. Pure functions of the model and the message, so the DDS
 // listeners (server_endpoints.cc) and the fuzzer (tests/fuzz/command_fuzz.cc) run the same code.
@@ -44,6 +44,14 @@ struct InboundCommand {
     std::vector<std::uint8_t> payload;
   };
   std::optional<Packet> packet;
+  // A command for a cable's winch (rt/hadal/cables/<cable>/winch/command, Simulation::command_winch) instead:
+  // vehicle_index is then -1.
+  struct Winch {
+    int cable_index = -1;
+    double speed = 0.0;          // [m/s]
+    double target_length = 0.0;  // [m]; 0: none
+  };
+  std::optional<Winch> winch;
   SourceId source{};                 // the sending participant
   std::int64_t source_stamp_ns = 0;  // its source timestamp: of one sender, the later command wins
   std::string error;                 // non-empty: malformed before it reached the simulation
@@ -80,6 +88,13 @@ InboundCommand command_from_trajectory(int vehicle_index, const std::string& con
 InboundCommand command_from_packet(int vehicle_index, const std::string& modem,
                                    const hadal_msgs::msg::AcousticPacket& msg, const SourceId& source,
                                    std::int64_t stamp_ns);
+
+// A command from rt/hadal/cables/<cable>/winch/command (the simulation checks its numbers).
+InboundCommand command_from_winch(int cable_index, const hadal_msgs::msg::WinchCommand& msg, const SourceId& source,
+                                  std::int64_t stamp_ns);
+
+// Who a command is for, for a message: its vehicle's name, or "cable '<name>'".
+std::string command_target(const Model& model, const InboundCommand& command);
 
 // A step request checked against the model: its commands, its reset, or the error refusing it as a whole.
 InboundStepRequest parse_step_request(const Model& model, const hadal_msgs::msg::StepRequest& msg,

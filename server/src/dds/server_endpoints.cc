@@ -91,6 +91,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<fdds::DataReader*> setpoint_readers;
   std::vector<fdds::DataReader*> trajectory_readers;
   std::vector<fdds::DataReader*> packet_readers;
+  std::vector<fdds::DataReader*> winch_readers;
   fdds::DataReader* step_reader = nullptr;
 
   // Counts indexed like topic_names.
@@ -123,6 +124,10 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     std::size_t shape_slot = 0;
     geometry_msgs::msg::WrenchStamped wrench;
     nav_msgs::msg::Path path;
+    int winch_end = -1;  // its winch's end, or -1
+    fdds::DataWriter* winch = nullptr;
+    std::size_t winch_slot = 0;
+    hadal_msgs::msg::WinchState winch_msg;
   };
   std::vector<CableTopics> cable_topics;
   // rt/hadal/acoustic_links: null when the scenario has no acoustic sensor.
@@ -238,6 +243,21 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   };
   std::vector<std::unique_ptr<PacketListener>> packet_listeners;
 
+  // One listener per winch's command reader.
+  struct WinchListener : public fdds::DataReaderListener {
+    Impl* owner = nullptr;
+    int cable_index = -1;
+    void on_data_available(fdds::DataReader* reader) override {
+      hadal_msgs::msg::WinchCommand msg;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        owner->enqueue(command_from_winch(cable_index, msg, source_of(info), source_stamp_ns(info)));
+      }
+    }
+  };
+  std::vector<std::unique_ptr<WinchListener>> winch_listeners;
+
   struct StepListener : public fdds::DataReaderListener {
     Impl* owner = nullptr;
     void on_data_available(fdds::DataReader* reader) override {
@@ -292,6 +312,21 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
     std::string expected_type;
     if (topic == step_request_topic()) {
       expected_type = hadal_msgs::msg::StepRequestPubSubType().getName();
+    } else if (const std::string winch = "/winch/command"; topic.size() > winch.size() &&
+                                                           topic.compare(topic.size() - winch.size(), winch.size(), winch) == 0) {
+      bool known = false;
+      std::string winches;
+      for (const physics::CableModel& cable : model.cables) {
+        if (cable.winch_end() < 0) continue;
+        known = known || topic == winch_command_topic(cable.name);
+        winches += (winches.empty() ? "" : ", ") + cable.name;
+      }
+      if (!known) {
+        report_once(topic, "winch commands on " + echoed(topic) + " are ignored: no cable of the scenario has that winch " +
+                               "(cables with a winch: " + (winches.empty() ? std::string("none") : winches) + ")");
+        return;
+      }
+      expected_type = hadal_msgs::msg::WinchCommandPubSubType().getName();
     } else if (const std::string tx = "/tx"; topic.size() > 3 + tx.size() && topic.compare(0, 3, "rt/") == 0 &&
                                               topic.compare(topic.size() - tx.size(), tx.size(), tx) == 0) {
       if (!is_modem_tx_topic(topic)) {
@@ -419,6 +454,17 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
     topics.shape = r.writer<nav_msgs::msg::PathPubSubType>(cable_shape_topic(cable.name), state_history_depth);
     topics.shape_slot = d.add_count(cable_shape_topic(cable.name));
     d.carry_in_monitor(topics.shape, topics.shape_slot);
+    topics.winch_end = cable.winch_end();
+    if (topics.winch_end < 0) continue;
+    topics.winch = r.writer<hadal_msgs::msg::WinchStatePubSubType>(winch_state_topic(cable.name), state_history_depth);
+    topics.winch_slot = d.add_count(winch_state_topic(cable.name));
+    d.carry_in_monitor(topics.winch, topics.winch_slot);
+    auto listener = std::make_unique<Impl::WinchListener>();
+    listener->owner = &d;
+    listener->cable_index = static_cast<int>(d.cable_topics.size() - 1);
+    d.winch_readers.push_back(r.reader<hadal_msgs::msg::WinchCommandPubSubType>(
+        winch_command_topic(cable.name), kCommandHistoryDepth, listener.get()));
+    d.winch_listeners.push_back(std::move(listener));
   }
   bool acoustic = false;
   for (const VehicleSpec& vehicle : model.vehicles) {
@@ -634,6 +680,21 @@ void ServerEndpoints::publish_cable(int cable_index, const SimState& state) {
     pose.pose().orientation().w(1.0);
   }
   d.write(topics.shape, &topics.path, topics.shape_slot);
+  if (topics.winch_end < 0) return;
+  const auto e = static_cast<std::size_t>(topics.winch_end);
+  const physics::WinchSpec& spec = *d.model.cables[c].ends[e].winch;
+  hadal_msgs::msg::WinchState& msg = topics.winch_msg;
+  msg.header().stamp(stamp);
+  msg.header().frame_id(d.model.world.frame_id);
+  msg.length_m(cable.length);
+  msg.speed_mps(cable.winch.speed);
+  msg.command_speed_mps(cable.winch.command_speed);
+  msg.target_length_m(cable.winch.target_length);
+  msg.drum_length_m(spec.drum_length);
+  msg.min_length_m(spec.min_length);
+  msg.tension_n(cable.f_W_ends[e].norm());
+  msg.at_limit(cable.winch.at_limit);
+  d.write(topics.winch, &msg, topics.winch_slot);
 }
 
 void ServerEndpoints::publish_actuator_states(int vehicle_index, const SimState& state) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 #include "hadal/physics/ocean.h"
 
@@ -14,6 +16,7 @@ double CableSpec::mass_per_metre() const { return density * area(); }
 
 CableState straight_cable(const CableSpec& spec, const Eigen::Vector3d& p_Wa, const Eigen::Vector3d& p_Wb) {
   CableState state;
+  state.length = spec.length;
   const int n = spec.segments;
   for (int i = 0; i <= n; ++i) {
     state.p_W.push_back(p_Wa + (static_cast<double>(i) / n) * (p_Wb - p_Wa));
@@ -22,8 +25,15 @@ CableState straight_cable(const CableSpec& spec, const Eigen::Vector3d& p_Wa, co
   return state;
 }
 
-int cable_substeps(const CableSpec& spec, double dt) {
-  const double L0 = spec.rest_segment();
+int CableModel::winch_end() const {
+  for (int e = 0; e < 2; ++e) {
+    if (ends[static_cast<std::size_t>(e)].winch) return e;
+  }
+  return -1;
+}
+
+int cable_substeps(const CableSpec& spec, double dt, double length) {
+  const double L0 = (length > 0.0 ? length : spec.length) / spec.segments;
   const double m = spec.mass_per_metre() * L0;
   const double omega = 2.0 * std::sqrt(spec.axial_stiffness / (L0 * m));
   const double zeta = 0.5 * omega * spec.damping_s;
@@ -42,15 +52,21 @@ struct NodeWater {
 }  // namespace
 
 CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const CableEnd& end0, const CableEnd& end1,
-                           double dt, CableState& state) {
+                           double dt, CableState& state, double length_rate) {
   CableStepResult result;
   const int n = spec.segments;
   const auto nodes = static_cast<std::size_t>(n + 1);
-  const double L0 = spec.rest_segment();
   const double A = spec.area();
-  const double m_segment = spec.mass_per_metre() * L0;
-  const double k = spec.axial_stiffness / L0;
-  const double c = k * spec.damping_s;
+  const double length0 = state.length > 0.0 ? state.length : spec.length;
+  // The rest length and what follows from it, at a fraction s of the step.
+  double L0 = 0.0, L0_rate = length_rate / n, m_segment = 0.0, k = 0.0, c = 0.0;
+  const auto set_length = [&](double s) {
+    L0 = (length0 + s * dt * length_rate) / n;
+    m_segment = spec.mass_per_metre() * L0;
+    k = spec.axial_stiffness / L0;
+    c = k * spec.damping_s;
+  };
+  set_length(0.0);
 
   std::vector<NodeWater> water(nodes);
   std::vector<double> seabed(nodes, -std::numeric_limits<double>::infinity());
@@ -64,14 +80,18 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
     }
     if (world.seabed_z) seabed[i] = world.seabed_z(state.p_W[i].x(), state.p_W[i].y());
   }
-  // Node masses (half a segment at each end) and added masses across the tangent.
-  std::vector<double> mass(nodes, m_segment), added(nodes);
-  mass.front() = mass.back() = 0.5 * m_segment;
-  for (std::size_t i = 0; i < nodes; ++i) {
-    added[i] = spec.normal_added_mass_coefficient * water[i].rho * A * L0 * ((i == 0 || i + 1 == nodes) ? 0.5 : 1.0);
-  }
+  // Each node's share of a segment's mass and, across its tangent, added mass (half at each end).
+  const auto share = [&](std::size_t i) { return (i == 0 || i + 1 == nodes) ? 0.5 : 1.0; };
+  std::vector<double> mass(nodes), added(nodes);
+  const auto set_masses = [&] {
+    for (std::size_t i = 0; i < nodes; ++i) {
+      mass[i] = share(i) * m_segment;
+      added[i] = spec.normal_added_mass_coefficient * water[i].rho * A * L0 * share(i);
+    }
+  };
+  set_masses();
 
-  const int substeps = cable_substeps(spec, dt);
+  const int substeps = cable_substeps(spec, dt, std::min(length0, length0 + dt * length_rate));
   const double h = dt / substeps;
   result.substeps = substeps;
   std::vector<Eigen::Vector3d> force(nodes), tangent(nodes), accel(nodes);
@@ -96,7 +116,7 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
       tangent[s] += t;
       tangent[s + 1] += t;
       const Eigen::Vector3d dv = state.v_W[s + 1] - state.v_W[s];
-      const double tension = std::max(0.0, k * (l - L0) + c * dv.dot(t));
+      const double tension = std::max(0.0, k * (l - L0) + c * (dv.dot(t) - L0_rate));
       force[s] += tension * t;
       force[s + 1] -= tension * t;
       // Drag on the segment's middle, relative to the water there.
@@ -116,8 +136,7 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
     for (std::size_t i = 0; i < nodes; ++i) {
       const double penetration = seabed[i] + 0.5 * spec.diameter - state.p_W[i].z();
       if (penetration <= 0.0) continue;
-      const double length_share = (i == 0 || i + 1 == nodes) ? 0.5 * L0 : L0;
-      const double stiffness = spec.seabed_stiffness * length_share;
+      const double stiffness = spec.seabed_stiffness * share(i) * L0;
       const double normal =
           std::max(0.0, stiffness * penetration - 2.0 * std::sqrt(stiffness * mass[i]) * state.v_W[i].z());
       force[i].z() += normal;
@@ -148,6 +167,10 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
       state.p_W[i] += h * state.v_W[i];
     }
     const double s1 = static_cast<double>(sub + 1) / substeps;
+    if (length_rate != 0.0) {
+      set_length(s1);
+      set_masses();
+    }
     place_end(end0, 0, s1);
     place_end(end1, nodes - 1, s1);
     accelerations();
@@ -158,12 +181,13 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
     if (end0.held) result.f_W_end0 += 0.5 * (f0_start + f_end0) / substeps;
     if (end1.held) result.f_W_end1 += 0.5 * (f1_start + f_end1) / substeps;
   }
+  state.length = length0 + dt * length_rate;
   return result;
 }
 
 std::vector<double> cable_tensions(const CableSpec& spec, const CableState& state) {
   std::vector<double> tensions;
-  const double L0 = spec.rest_segment();
+  const double L0 = state.length / spec.segments;
   for (std::size_t s = 0; s + 1 < state.p_W.size(); ++s) {
     tensions.push_back(std::max(0.0, spec.axial_stiffness * ((state.p_W[s + 1] - state.p_W[s]).norm() - L0) / L0));
   }
@@ -172,7 +196,7 @@ std::vector<double> cable_tensions(const CableSpec& spec, const CableState& stat
 
 double cable_energy(const CableSpec& spec, const CableState& state, double rho_w, const Eigen::Vector3d& gravity_W) {
   const std::size_t nodes = state.p_W.size();
-  const double L0 = spec.rest_segment();
+  const double L0 = state.length / spec.segments;
   const double m_segment = spec.mass_per_metre() * L0;
   double energy = 0.0;
   for (std::size_t i = 0; i < nodes; ++i) {
@@ -185,6 +209,65 @@ double cable_energy(const CableSpec& spec, const CableState& state, double rho_w
     energy += 0.5 * spec.axial_stiffness / L0 * stretch * stretch;
   }
   return energy;
+}
+
+double advance_winch(const WinchSpec& winch, double dt, CableState& state) {
+  WinchState& w = state.winch;
+  const double length = state.length;
+  const double a = winch.max_acceleration;
+  // Its way: with a target, toward it at the commanded speed's magnitude, stopping there; without one, at the
+  // commanded speed until the drum's end (paying out) or min_length (hauling in).
+  double speed = w.command_speed;
+  double stop = speed > 0.0 ? winch.drum_length : winch.min_length;
+  if (w.target_length > 0.0) {
+    speed = w.target_length > length ? std::abs(speed) : w.target_length < length ? -std::abs(speed) : 0.0;
+    stop = w.target_length;
+  }
+  // No faster than it can still brake to rest at the stop: the speed v1 at the step's end with v1^2 <= 2 a d1 for
+  // the distance d1 left after the step, d1 = d0 - (v0 + v1) dt / 2 (the trapezoid the length moves by); the speed
+  // changes by at most a dt.
+  const double v0 = w.speed;
+  const double toward = speed > 0.0 ? v0 : -v0;  // v0 toward the stop
+  const double room = std::max(0.0, std::abs(stop - length) - 0.5 * toward * dt);
+  const double reachable = std::max(0.0, 0.5 * (-a * dt + std::sqrt(a * a * dt * dt + 8.0 * a * room)));
+  const double wanted = std::clamp(speed, -reachable, reachable);
+  double v1 = v0 + std::clamp(wanted - v0, -a * dt, a * dt);
+  double next = length + 0.5 * (v0 + v1) * dt;
+  // Never past the stop it is heading for, nor the drum's ends: the last bit is covered exactly and it stops.
+  if ((speed > 0.0 && next > stop) || (speed < 0.0 && next < stop)) next = stop, v1 = 0.0;
+  const double low = std::min(winch.min_length, length), high = std::max(winch.drum_length, length);
+  if (next < low || next > high) next = std::clamp(next, low, high), v1 = 0.0;
+  w.speed = v1;
+  w.at_limit = (next >= winch.drum_length && speed > 0.0) || (next <= winch.min_length && speed < 0.0);
+  return (next - length) / dt;
+}
+
+namespace {
+
+std::string metres(double x, const char* unit) {
+  std::ostringstream out;
+  out << x << ' ' << unit;
+  return out.str();
+}
+
+}  // namespace
+
+std::string check_winch_command(const WinchSpec& winch, double speed, double target_length) {
+  if (!std::isfinite(speed)) return "speed is not finite";
+  if (!std::isfinite(target_length)) return "target_length is not finite";
+  if (std::abs(speed) > winch.max_speed) {
+    return "speed " + metres(speed, "m/s") + " is beyond the winch's max_speed (" + metres(winch.max_speed, "m/s") + ")";
+  }
+  if (target_length < 0.0) return "target_length " + metres(target_length, "m") + " is negative (0: no target)";
+  if (target_length > winch.drum_length) {
+    return "target_length " + metres(target_length, "m") + " is beyond the drum (drum_length " +
+           metres(winch.drum_length, "m") + ")";
+  }
+  if (target_length > 0.0 && target_length < winch.min_length) {
+    return "target_length " + metres(target_length, "m") + " is below the winch's min_length (" +
+           metres(winch.min_length, "m") + ")";
+  }
+  return "";
 }
 
 }  // namespace hadal::physics

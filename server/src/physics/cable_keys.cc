@@ -8,6 +8,29 @@ using config::Range;
 
 namespace {
 
+const config::KeyTable<WinchSpec>& winch_keys() {
+  return config::declare_keys<WinchSpec>([](config::KeyTable<WinchSpec>& t) {
+    t.describe("cables[].from.winch",
+               "a winch holding the end: pays the cable out or hauls it in at a commanded speed (topic "
+               "rt/hadal/cables/<name>/winch/command, or attached to a lockstep step request); its state on "
+               "rt/hadal/cables/<name>/winch/state");
+    t.number("drum_length", &WinchSpec::drum_length).required().unit("m").range(Range::positive())
+        .doc("cable it holds, in the water and on the drum together: at least the cable's `length` (what is in the "
+             "water at the start)");
+    t.number("min_length", &WinchSpec::min_length).unit("m").range(Range::positive())
+        .doc("hauling in stops with this much in the water");
+    t.number("max_speed", &WinchSpec::max_speed).unit("m/s").range(Range::positive())
+        .doc("the fastest line speed it takes a command for");
+    t.number("max_acceleration", &WinchSpec::max_acceleration).unit("m/s^2").range(Range::positive())
+        .doc("how fast its line speed changes (it also brakes at this rate to stop at a target or a limit)");
+    t.check([](const config::KeyReads& reads, WinchSpec& winch, config::NoContext&) {
+      if (winch.min_length < winch.drum_length) return true;
+      reads.error_at_key("min_length", "must be less than drum_length (" + config::format_number(winch.drum_length) + " m)");
+      return false;
+    });
+  });
+}
+
 const config::KeyTable<CableEndSpec>& cable_end_keys() {
   return config::declare_keys<CableEndSpec>([](config::KeyTable<CableEndSpec>& t) {
     t.describe("cables[].from", "what holds an end of a cable: a point fixed in W, a point on a vehicle's link, or nothing");
@@ -15,10 +38,19 @@ const config::KeyTable<CableEndSpec>& cable_end_keys() {
     t.string("link", &CableEndSpec::link).default_text("the base link").doc("the vehicle's link it is attached to");
     t.vector("position", &CableEndSpec::position).unit("m")
         .doc("on a vehicle: in its link's frame; else the fixed point in W");
+    t.vector("velocity", &CableEndSpec::velocity_W).unit("m/s")
+        .doc("fixed in W only: the point moves at this velocity from `position` at t = 0 (a tow point on a ship whose "
+             "course the cable does not change)");
     t.boolean("free", &CableEndSpec::free).doc("true: nothing holds this end (it trails)");
+    t.map("winch", &CableEndSpec::winch, winch_keys()).doc("a winch at this end (at most one per cable)");
     t.check([](const config::KeyReads& reads, CableEndSpec& end, config::NoContext&) {
-      if (end.free && (reads.has("vehicle") || reads.has("link") || reads.has("position"))) {
-        reads.error_at_key("free", "a free end is held by nothing: leave out vehicle, link and position");
+      if (end.free && (reads.has("vehicle") || reads.has("link") || reads.has("position") || reads.has("winch") ||
+                       reads.has("velocity"))) {
+        reads.error_at_key("free", "a free end is held by nothing: leave out vehicle, link, position, velocity and winch");
+        return false;
+      }
+      if (reads.has("velocity") && !end.vehicle.empty()) {
+        reads.error_at_key("velocity", "an end on a vehicle moves with its link: `velocity` is for a point fixed in W");
         return false;
       }
       if (reads.has("link") && end.vehicle.empty()) {
@@ -74,9 +106,15 @@ const config::KeyTable<CableModel>& cable_keys() {
     t.map("to", [](CableModel& c) -> CableEndSpec& { return c.ends[1]; }, cable_end_keys()).required()
         .doc("what holds its other end");
     t.check([](const config::KeyReads& reads, CableModel& cable, config::NoContext&) {
-      if (!cable.ends[0].free || !cable.ends[1].free) return true;
-      reads.error_at_key("to", "a cable needs at least one held end");
-      return false;
+      if (cable.ends[0].free && cable.ends[1].free) {
+        reads.error_at_key("to", "a cable needs at least one held end");
+        return false;
+      }
+      if (cable.ends[0].winch && cable.ends[1].winch) {
+        reads.error_at_key("to", "a cable has at most one winch (`from` has one)");
+        return false;
+      }
+      return true;
     });
   });
 }

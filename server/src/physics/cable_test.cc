@@ -1,12 +1,15 @@
 // The lumped-mass cable alone, against closed forms: a vertical cable's top tension is its wet weight; a cable
 // hung between two points settles to the catenary's sag; in a uniform current with normal drag only it settles at
 // the angle where weight and drag balance across it; an axial step travels at sqrt(EA / m); without damping, drag
-// or added mass a swinging cable keeps its energy; the sub-steps follow the stiffness.
+// or added mass a swinging cable keeps its energy; the sub-steps follow the stiffness. A winch ramps and stops
+// exactly at its target, and a cable it pays out carries the wet weight of what is in the water.
 #include "hadal/physics/cable.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace hadal::physics {
@@ -192,6 +195,100 @@ TEST(CableTest, SubstepsFollowTheStiffness) {
   spec.damping_s = 0.0;
   EXPECT_EQ(cable_substeps(spec, kDt), 1);
 }
+
+// The winch alone: its line speed ramps at max_acceleration to the command, then brakes so that it stops exactly at
+// the target (v^2 = 2 a d); told on without a target it stops at the drum's end or at min_length, saying so.
+TEST(WinchTest, ItRampsToItsSpeedAndStopsExactlyAtItsTarget) {
+  const WinchSpec winch{200.0, 5.0, 1.0, 0.5};  // drum_length, min_length, max_speed, max_acceleration
+  CableState state;
+  state.length = 50.0;
+  state.winch.command_speed = 0.8;
+  state.winch.target_length = 60.0;
+  double t = 0.0, arrived = -1.0, fastest = 0.0, harshest = 0.0;
+  for (int k = 0; k < 10000 && arrived < 0.0; ++k) {
+    const double v0 = state.winch.speed;
+    state.length += advance_winch(winch, kDt, state) * kDt;
+    harshest = std::max(harshest, std::abs(state.winch.speed - v0) / kDt);
+    t += kDt;
+    fastest = std::max(fastest, state.winch.speed);
+    EXPECT_LE(state.length, 60.0);
+    if (std::abs(t - 1.6) < 0.5 * kDt) {
+      EXPECT_NEAR(state.winch.speed, 0.8, 1e-9);  // 0.8 m/s after 0.8 / 0.5 s
+    }
+    if (state.winch.speed == 0.0 && state.length == 60.0) arrived = t;
+  }
+  EXPECT_EQ(state.length, 60.0);
+  EXPECT_NEAR(fastest, 0.8, 1e-12);
+  // Up in 1.6 s over 0.64 m, down the same, 8.72 m at 0.8 m/s between: 14.1 s (within a step), never changing its
+  // speed faster than max_acceleration, also in the last step.
+  EXPECT_NEAR(arrived, 14.1, kDt);
+  EXPECT_LE(harshest, 0.5 + 1e-9);
+  EXPECT_FALSE(state.winch.at_limit);
+  // A target behind it: it runs back at |speed|.
+  state.winch.target_length = 55.0;
+  for (int k = 0; k < 10000; ++k) state.length += advance_winch(winch, kDt, state) * kDt;
+  EXPECT_EQ(state.length, 55.0);
+  // Hauling in without a target stops at min_length; paying out at the drum's end.
+  state.winch = WinchState{0.0, -1.0, 0.0, false};
+  for (int k = 0; k < 60000; ++k) state.length += advance_winch(winch, kDt, state) * kDt;
+  EXPECT_EQ(state.length, 5.0);
+  EXPECT_EQ(state.winch.speed, 0.0);
+  EXPECT_TRUE(state.winch.at_limit);
+  state.winch.command_speed = 1.0;
+  for (int k = 0; k < 120000; ++k) state.length += advance_winch(winch, kDt, state) * kDt;
+  EXPECT_EQ(state.length, 200.0);
+  EXPECT_TRUE(state.winch.at_limit);
+}
+
+TEST(WinchTest, CommandsBeyondItsLimitsAreRefusedNamingTheKey) {
+  const WinchSpec winch{300.0, 2.0, 1.5, 0.5};
+  EXPECT_EQ(check_winch_command(winch, -1.5, 0.0), "");
+  EXPECT_EQ(check_winch_command(winch, 1.0, 300.0), "");
+  EXPECT_EQ(check_winch_command(winch, 1.6, 0.0), "speed 1.6 m/s is beyond the winch's max_speed (1.5 m/s)");
+  EXPECT_EQ(check_winch_command(winch, 1.0, 350.0), "target_length 350 m is beyond the drum (drum_length 300 m)");
+  EXPECT_EQ(check_winch_command(winch, 1.0, 1.0), "target_length 1 m is below the winch's min_length (2 m)");
+  EXPECT_EQ(check_winch_command(winch, 1.0, -3.0), "target_length -3 m is negative (0: no target)");
+  EXPECT_EQ(check_winch_command(winch, std::nan(""), 0.0), "speed is not finite");
+  EXPECT_EQ(check_winch_command(winch, 0.0, std::numeric_limits<double>::infinity()), "target_length is not finite");
+}
+
+// A vertical rope on a fixed winch, paid out from 20 m to 40 m at 0.5 m/s: while it goes out slowly the top
+// tension is the wet weight of what is in the water, w L(t) (2 %: what is left of the start), and the free end
+// hangs L(t) and the stretch w L^2 / 2 EA (3-11 mm) below the winch (2 mm): the axial damping (a stiff 0.05 s here)
+// must not take the payout for a stretch rate, which would shorten the stretch by damping_s x the payout speed,
+// 25 mm. Once it has stopped and settled: 40 m and the stretch (5 mm), the top tension w L (1 %).
+TEST(WinchTest, PayingOutLowersTheEndAndTheTopTensionFollowsTheLength) {
+  CableSpec spec = steel_rope();
+  spec.length = 20.0;
+  spec.damping_s = 0.05;
+  const WinchSpec winch{100.0, 1.0, 1.0, 0.5};
+  const Eigen::Vector3d top(1.0, 2.0, -5.0);
+  CableState state = straight_cable(spec, top, top - Eigen::Vector3d(0.0, 0.0, spec.length));
+  const CableWorld world;
+  CableStepResult result;
+  for (int k = 0; k < 10000; ++k) result = step_cable(spec, world, held_at(top), CableEnd{}, kDt, state);  // settle
+  state.winch.command_speed = 0.5;
+  state.winch.target_length = 40.0;
+  const double w = wet_weight(spec);
+  int checked = 0;
+  for (int k = 0; k < 30000; ++k) {
+    const double rate = advance_winch(winch, kDt, state);
+    result = step_cable(spec, world, held_at(top), CableEnd{}, kDt, state, rate);
+    if (state.length > 25.0 && state.length < 38.0 && k % 500 == 0) {
+      EXPECT_NEAR(-result.f_W_end0.z(), w * state.length, 0.02 * w * state.length) << "at " << state.length << " m";
+      const double stretch = w * state.length * state.length / (2.0 * spec.axial_stiffness);
+      EXPECT_NEAR(state.p_W.back().z(), top.z() - state.length - stretch, 0.002) << "at " << state.length << " m";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 20);
+  EXPECT_EQ(state.length, 40.0);
+  EXPECT_NEAR(-result.f_W_end0.z(), w * 40.0, 0.01 * w * 40.0);
+  const double stretch = w * 40.0 * 40.0 / (2.0 * spec.axial_stiffness);
+  EXPECT_NEAR(state.p_W.back().z(), top.z() - 40.0 - stretch, 0.005) << "stretch " << stretch << " m";
+  EXPECT_NEAR(state.p_W.back().x(), top.x(), 1e-9);
+}
+
 
 }  // namespace
 }  // namespace hadal::physics

@@ -182,6 +182,20 @@ struct CableShape {
   std::vector<std::array<double, 3>> points;   // [m]
 };
 
+// hadal_msgs/WinchState of a cable's winch, rt/hadal/cables/<name>/winch/state, at the cable's rate_hz.
+struct WinchState {
+  double stamp = 0.0;                // sim time [s]
+  std::string frame_id;              // the world frame
+  double length = 0.0;               // unstretched cable in the water [m]
+  double speed = 0.0;                // line speed, + paying out [m/s]
+  double command_speed = 0.0;        // what it was last told [m/s]
+  double target_length = 0.0;        // [m]; 0: none
+  double drum_length = 0.0;          // in the water and on the drum together [m]
+  double min_length = 0.0;           // hauling in stops here [m]
+  double tension = 0.0;              // the cable's pull on the winch [N]
+  bool at_limit = false;             // stopped at min_length or the drum's end while told to go on
+};
+
 struct MagneticField {
   double stamp = 0.0;                               // sim time of the sample [s]
   std::string frame_id;                             // the sensor's frame
@@ -497,7 +511,8 @@ struct ClientOptions {
 using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates, TrackStates, FinStates,
                                     BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
                                     MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
-                                    SonarDetections, UsblFixes, LblRanges, AcousticPackets, CableShape>;
+                                    SonarDetections, UsblFixes, LblRanges, AcousticPackets, CableShape,
+                                    WinchState>;
 DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
 std::vector<std::string> decodable_message_types();
 
@@ -629,6 +644,8 @@ class Client {
   // world frame) and its shape, at the cable's rate_hz.
   void on_cable_force(const std::string& cable, const std::string& end, std::function<void(const Wrench&)> callback);
   void on_cable_shape(const std::string& cable, std::function<void(const CableShape&)> callback);
+  // A cable's winch (a `winch:` at one of its ends), at the cable's rate_hz.
+  void on_winch_state(const std::string& cable, std::function<void(const WinchState&)> callback);
   // An acoustic modem's decoded packets (rt/<vehicle>/<modem>/rx).
   void on_modem_packets(const std::string& vehicle, const std::string& modem,
                         std::function<void(const AcousticPackets&)> callback);
@@ -692,6 +709,15 @@ class Client {
   // CommandRejected (checked before anything is applied). Packets attached to one request go in call order.
   void attach_packet(const std::string& vehicle, const std::string& modem, const std::vector<std::uint8_t>& payload,
                      const std::string& destination = "");
+  // Commands a cable's winch: run at speed_mps (+ pays out, - hauls in) until told otherwise or a limit (its
+  // min_length, the drum's end); with target_length_m > 0, run at |speed_mps| toward that length in the water and
+  // stop there. Published on rt/hadal/cables/<cable>/winch/command (hadal_msgs/WinchCommand) and attached to the
+  // next step() request, like set_commands. The server refuses a cable without a winch, a speed beyond its
+  // max_speed, a target beyond its drum_length or below its min_length, NaN (last_error; in lockstep,
+  // CommandRejected from step()).
+  void command_winch(const std::string& cable, double speed_mps, double target_length_m = 0.0);
+  // Lockstep only: the winch command for the next step() or reset() request, attached and not published.
+  void attach_winch(const std::string& cable, double speed_mps, double target_length_m = 0.0);
   // The names before the control vector drove every actuator kind: refused at compile time, naming the
   // new ones.
   template <class... Args>

@@ -167,6 +167,14 @@ class Simulation {
   // Where each end of cable c is held in `state` (a fixed point, a vehicle's link point); a free end hangs the
   // cable's length below the other.
   std::array<Eigen::Vector3d, 2> cable_ends_W(std::size_t c, const SimState& state) const;
+  // The index of the cable named `name` in model().cables, or -1.
+  int cable_index(const std::string& name) const;
+  // Tells cable `cable_index`'s winch to run at `speed` [m/s, + paying out] or, with a target_length > 0 [m], to
+  // run at |speed| toward that length in the water and stop there (physics::advance_winch). Returns "" or why it
+  // is refused (no such cable, a cable without a winch, physics::check_winch_command; the caller names the cable),
+  // the state untouched.
+  std::string command_winch(int cable_index, double speed, double target_length);
+  std::string check_winch_command(int cable_index, double speed, double target_length) const;
 
   // Advances by one physics step of model().world.step_size() seconds.
   void step();
@@ -208,8 +216,16 @@ class Simulation {
   // Each cable over the step (physics/cable.h), its held ends following their vehicles' points at the step
   // start's velocity; the forces on vehicles go into cable_loads_, added to their wrenches by apply_forces.
   void step_cables(double t, double dt);
-  // The cables' forces on a vehicle (on its base body), into `wrench` about p_Wcm.
-  void add_cable_loads(std::size_t vehicle, const Eigen::Vector3d& p_Wcm, physics::StepWrench& wrench) const;
+  // The cables' forces on a vehicle's body (0: the base), into `wrench` about p_Wcm.
+  void add_cable_loads(std::size_t vehicle, int body, const Eigen::Vector3d& p_Wcm, physics::StepWrench& wrench) const;
+  // A held cable end in a state: its point and velocity [m, m/s, W] and the body of its vehicle holding it
+  // (an arm's link moves with its body; 0: the base body or not on a vehicle).
+  struct HeldPoint {
+    Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
+    int body = 0;
+  };
+  HeldPoint cable_end_point(const physics::CableEndSpec& end, const SimState& state) const;
   void convert_for_added_mass(VehicleRuntime& runtime, const VehicleState& vehicle, Eigen::Vector3d& f_W,
                               Eigen::Vector3d& tau_W) const;
   void apply_articulated_forces(std::size_t vehicle);
@@ -248,7 +264,12 @@ class Simulation {
   std::unique_ptr<physics::Ocean> ocean_;  // the water column
   std::unique_ptr<geometry::SeabedHeight> seabed_height_;  // for soil contact and cables; null when nothing needs it
   // Per vehicle, the cables' forces on it this step: (force [N, W], where it acts [m, W]).
-  std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> cable_loads_;
+  struct CableLoad {
+    Eigen::Vector3d f_W;  // [N]
+    Eigen::Vector3d p_W;  // where it acts [m]
+    int body = 0;         // of the vehicle's bodies
+  };
+  std::vector<std::vector<CableLoad>> cable_loads_;
   std::vector<std::unique_ptr<VehicleRuntime>> runtime_;  // one per VehicleSpec
   std::unique_ptr<WorkerPool> pool_;  // force elements in parallel; null when it does not pay
   std::unique_ptr<sensors::SensorEnvironment> environment_;  // WMM, W's geodetic frame (on first use)

@@ -43,6 +43,11 @@ inline std::string cable_tension_topic(const std::string& cable, const std::stri
   return "rt/hadal/cables/" + cable + "/" + end;
 }
 inline std::string cable_shape_topic(const std::string& cable) { return "rt/hadal/cables/" + cable + "/shape"; }
+// A cable's winch: its commands (hadal_msgs/WinchCommand, read) and its state (hadal_msgs/WinchState).
+inline std::string winch_command_topic(const std::string& cable) {
+  return "rt/hadal/cables/" + cable + "/winch/command";
+}
+inline std::string winch_state_topic(const std::string& cable) { return "rt/hadal/cables/" + cable + "/winch/state"; }
 inline std::string actuator_commands_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/actuators/commands";
 }

@@ -26,6 +26,12 @@
 // constant near 1 / omega or above multiplies them.
 // The ocean's density and current are sampled at each node once per physics step.
 //
+// Length: the cable's unstretched length in the water is state (CableState::length), the spec's at the start; a
+// winch at an end pays it out or hauls it in at a rate, and the N segments share it evenly (L0 = length / N: the
+// variable-length lumped-mass line of MoorDyn, docs/ARCHITECTURE.md "Cables"), so the node masses, stiffness EA / L0
+// and drag lengths follow it within the step, the damping taking the rest-length rate out of the strain rate.
+// The state's size stays N + 1 nodes; the sub-steps are sized for the shortest length over the step.
+//
 // Ends: each end node is free, or held (a fixed point, or a point on a body): a held node follows the holder's
 // position, linearly over the step, and the cable pulls the holder with the force it puts on that node (the end
 // segment's tension along it plus the node's share of the loads), averaged over the sub-steps.
@@ -37,6 +43,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,7 +68,24 @@ struct CableSpec {
 
   double area() const;             // pi d^2 / 4 [m^2]
   double mass_per_metre() const;   // rho_c A [kg/m]
-  double rest_segment() const { return length / segments; }  // L0 [m]
+  double rest_segment() const { return length / segments; }  // L0 at the spec's length [m]
+};
+
+// A winch at a held end (`winch:` of a cable end): a drum that pays the cable out or hauls it in at a commanded
+// speed, within its limits.
+struct WinchSpec {
+  double drum_length = 0.0;        // cable it holds, in the water and on the drum together [m]
+  double min_length = 1.0;         // hauling in stops with this much in the water [m]
+  double max_speed = 1.0;          // [m/s]
+  double max_acceleration = 0.5;   // the drum's speed changes at most this fast [m/s^2]
+};
+
+// A winch's state: its line speed (+ paying out) and what it was last told.
+struct WinchState {
+  double speed = 0.0;              // [m/s]
+  double command_speed = 0.0;      // [m/s], within +-max_speed
+  double target_length = 0.0;      // stop when the length in the water reaches it [m]; 0: no target
+  bool at_limit = false;           // stopped at min_length or the drum's end
 };
 
 // A cable of a scenario (`cables:`; keys: cable_keys(), configs/REFERENCE.md): its spec and what holds each end.
@@ -69,7 +93,10 @@ struct CableEndSpec {
   bool free = false;           // nothing holds it
   std::string vehicle;         // "": fixed in W at `position` (unless free)
   std::string link;            // on a vehicle: its link ("": the base link)
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // fixed: p_W; on a vehicle: p_L in the link's frame [m]
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // fixed: p_W at t = 0; on a vehicle: p_L in the link's frame [m]
+  // Fixed: the point moves at this velocity in W [m/s] (a tow point whose course the cable does not change).
+  Eigen::Vector3d velocity_W = Eigen::Vector3d::Zero();
+  std::optional<WinchSpec> winch;  // a winch holds it (on the fixed point or the vehicle's link)
   // Resolved by the loader: the vehicle's index in Model::vehicles and the link's in its links.
   int vehicle_index = -1;
   int link_index = 0;
@@ -80,6 +107,8 @@ struct CableModel {
   CableSpec spec;
   double rate_hz = 10.0;  // of its topics (end forces, shape)
   std::array<CableEndSpec, 2> ends;  // `from`, `to`
+  // The end with a winch (at most one per cable), or -1.
+  int winch_end() const;
 };
 const config::KeyTable<CableModel>& cable_keys();
 
@@ -91,6 +120,8 @@ struct CableEnd {
 };
 
 struct CableState {
+  double length = 0.0;               // unstretched, in the water [m]
+  WinchState winch;                  // of its winch, if it has one
   std::vector<Eigen::Vector3d> p_W;  // nodes 0..N [m]
   std::vector<Eigen::Vector3d> v_W;  // [m/s]
   // The mean force the cable put on what holds each end over the last step [N, W] (zero at a free end).
@@ -118,12 +149,21 @@ struct CableStepResult {
 // A straight cable from a to b, at rest: its nodes evenly spaced (stretched or slack as the distance says).
 CableState straight_cable(const CableSpec& spec, const Eigen::Vector3d& p_Wa, const Eigen::Vector3d& p_Wb);
 
-// The sub-steps a physics step dt needs (above).
-int cable_substeps(const CableSpec& spec, double dt);
+// The sub-steps a physics step dt needs (above), at an unstretched length (0: the spec's).
+int cable_substeps(const CableSpec& spec, double dt, double length = 0.0);
 
-// Advances the cable by dt (above).
+// Advances the cable by dt (above), its length changing at length_rate [m/s] over the step.
 CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const CableEnd& end0, const CableEnd& end1,
-                           double dt, CableState& state);
+                           double dt, CableState& state, double length_rate = 0.0);
+
+// The winch over a step dt: its speed moves toward the command (or toward stopping at the target, min_length or
+// the drum's end, whichever comes first) within max_acceleration, so that it stops exactly there. Updates
+// state.winch and returns the mean rate of the length over the step [m/s] for step_cable.
+double advance_winch(const WinchSpec& winch, double dt, CableState& state);
+
+// Why a winch command is refused ("" if it is not): a speed or target that is not finite, a speed beyond
+// max_speed, a target beyond the drum (drum_length) or below min_length, each naming its key.
+std::string check_winch_command(const WinchSpec& winch, double speed, double target_length);
 
 // Axial tension of each segment at the state [N] (without its damping part).
 std::vector<double> cable_tensions(const CableSpec& spec, const CableState& state);
