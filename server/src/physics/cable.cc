@@ -35,13 +35,30 @@ int CableModel::winch_end() const {
 int cable_substeps(const CableSpec& spec, double dt, double length) {
   const double L0 = (length > 0.0 ? length : spec.length) / spec.segments;
   const double m = spec.mass_per_metre() * L0;
-  const double omega = 2.0 * std::sqrt(spec.axial_stiffness / (L0 * m));
-  const double zeta = 0.5 * omega * spec.damping_s;
+  const double omega_axial = 2.0 * std::sqrt(spec.axial_stiffness / (L0 * m));
+  const double omega = std::sqrt(omega_axial * omega_axial + 16.0 * spec.bending_stiffness / (m * L0 * L0 * L0));
+  const double zeta = 0.5 * omega_axial * spec.damping_s;
   const double h_max = 0.25 * 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
   return std::max(1, static_cast<int>(std::ceil(dt / h_max)));
 }
 
 namespace {
+
+// The bending forces -dE/dp of E = k_b sum_i (1 - t_a . t_b) over the interior nodes, added into `force`.
+void add_bending(const std::vector<Eigen::Vector3d>& p_W, double k_b, std::vector<Eigen::Vector3d>& force) {
+  for (std::size_t i = 1; i + 1 < p_W.size(); ++i) {
+    const Eigen::Vector3d a = p_W[i] - p_W[i - 1], b = p_W[i + 1] - p_W[i];
+    const double la = a.norm(), lb = b.norm();
+    if (!(la > 1e-12) || !(lb > 1e-12)) continue;
+    const Eigen::Vector3d ta = a / la, tb = b / lb;
+    const double c = ta.dot(tb);
+    const Eigen::Vector3d f_next = k_b * (ta - c * tb) / lb;   // k_b dc/dp_{i+1}
+    const Eigen::Vector3d f_prev = -k_b * (tb - c * ta) / la;  // k_b dc/dp_{i-1}
+    force[i + 1] += f_next;
+    force[i - 1] += f_prev;
+    force[i] -= f_next + f_prev;
+  }
+}
 
 // Per node, what is sampled once a step: the water's density and current.
 struct NodeWater {
@@ -132,6 +149,8 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
       force[s] += 0.5 * drag;
       force[s + 1] += 0.5 * drag;
     }
+    // Bending: at each interior node, the angle between its two segments (the header's E_i).
+    if (spec.bending_stiffness > 0.0) add_bending(state.p_W, spec.bending_stiffness / L0, force);
     // The seabed.
     for (std::size_t i = 0; i < nodes; ++i) {
       const double penetration = seabed[i] + 0.5 * spec.diameter - state.p_W[i].z();
@@ -207,6 +226,10 @@ double cable_energy(const CableSpec& spec, const CableState& state, double rho_w
   for (std::size_t s = 0; s + 1 < nodes; ++s) {
     const double stretch = std::max(0.0, (state.p_W[s + 1] - state.p_W[s]).norm() - L0);
     energy += 0.5 * spec.axial_stiffness / L0 * stretch * stretch;
+  }
+  for (std::size_t i = 1; i + 1 < nodes; ++i) {
+    const Eigen::Vector3d a = state.p_W[i] - state.p_W[i - 1], b = state.p_W[i + 1] - state.p_W[i];
+    if (a.norm() > 1e-12 && b.norm() > 1e-12) energy += spec.bending_stiffness / L0 * (1.0 - a.normalized().dot(b.normalized()));
   }
   return energy;
 }

@@ -84,6 +84,9 @@ const config::KeyTable<CableModel>& cable_keys() {
         .range(Range::positive()).doc("the cable's mass per volume of its outer diameter (its mass per metre / area)");
     t.number("axial_stiffness", [](CableModel& c) -> double& { return c.spec.axial_stiffness; }).required()
         .unit("N").range(Range::positive()).doc("EA");
+    t.number("bending_stiffness", [](CableModel& c) -> double& { return c.spec.bending_stiffness; }).unit("N m^2")
+        .range(Range::non_negative()).doc("EI: a stiff umbilical resists bending; 0 bends freely (a wire rope, a "
+                                         "tether). The ends are pinned: no moment where it is held");
     t.number("damping_s", [](CableModel& c) -> double& { return c.spec.damping_s; }).unit("s")
         .range(Range::closed(0.0, 10.0)).doc("Kelvin-Voigt axial damping: EA x this x the strain rate");
     t.number("normal_drag_coefficient", [](CableModel& c) -> double& { return c.spec.normal_drag_coefficient; })

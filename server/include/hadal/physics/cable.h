@@ -9,6 +9,10 @@
 //   wet weight      (rho_c - rho_w) A L0 g                               A = pi d^2 / 4, rho_w at the node's depth
 //   normal drag     -1/2 rho_w C_dn d L0 |v_n| v_n                       v_n, v_t: the segment's mid velocity
 //   tangential drag -1/2 rho_w C_dt pi d L0 |v_t| v_t                    relative to the current, across and along t
+// Bending (EI > 0): at each interior node i the two segments meeting there, unit tangents t_a and t_b, store
+//   E_i = (EI / L0) (1 - t_a . t_b)            (= EI theta^2 / 2 L0 at small angles: a beam's EI kappa^2 / 2 over L0)
+// and push their three nodes with -dE_i/dp (a conservative force: the swing keeps its energy with it). The ends are
+// pinned (no moment where the cable is held or free).
 // Each node has the mass m = rho_c A L0 (half at the ends) and, across its tangent, the added mass
 // m_a = C_an rho_w A L0: the node's acceleration is
 //   a = (I - t t^T) f / (m + m_a) + t t^T f / m.
@@ -19,7 +23,9 @@
 // Integration: velocity Verlet (kick, drift, kick; symplectic and second order; the damping and drag at the
 // half-kicked velocities), in as many equal sub-steps h of the physics step as the stiffest segment needs:
 // h <= 1/4 of the stability limit 2 / omega (sqrt(1 + zeta^2) - zeta) of a chain's highest axial mode,
-// omega = 2 sqrt(EA / (L0 m)), zeta = omega damping_s / 2, i.e. omega h <= 0.5 undamped. At omega h near 1 the
+// omega = 2 sqrt(EA / (L0 m)), zeta = omega damping_s / 2, i.e. omega h <= 0.5 undamped; with bending, omega^2 also
+// has the zigzag mode's 16 EI / (m L0^3) added (each node between neighbours displaced the other way: a joint angle
+// of 4 delta / L0). At omega h near 1 the
 // energy of a swinging cable drifts (resonance between its swing and its axial modes: +37 J of 366 J over 60 s at
 // 0.92, seen here); at 0.5 it stays within 0.05 J. So the cable is stable at its physical stiffness at any physics
 // rate and keeps the energy of an undamped, drag-free swing. Stiff damping costs sub-steps: a Kelvin–Voigt time
@@ -35,8 +41,8 @@
 // Ends: each end node is free, or held (a fixed point, or a point on a body): a held node follows the holder's
 // position, linearly over the step, and the cable pulls the holder with the force it puts on that node (the end
 // segment's tension along it plus the node's share of the loads), averaged over the sub-steps.
-// Deliberately left out (for now): bending stiffness, torsion, the added mass along the cable, vortex-induced
-// vibration, contact with bodies.
+// Deliberately left out (for now): a bending moment at the ends (clamped ends), torsion, the added mass along the
+// cable, vortex-induced vibration, contact with bodies.
 #pragma once
 
 #include <Eigen/Core>
@@ -59,6 +65,7 @@ struct CableSpec {
   double diameter = 0.02;                 // [m]
   double density = 2000.0;                // of the cable (its mass per volume: with diameter, its mass per metre) [kg/m^3]
   double axial_stiffness = 1.0e6;         // EA [N]
+  double bending_stiffness = 0.0;         // EI [N m^2]; 0: a cable that bends freely
   double damping_s = 0.0;                 // Kelvin–Voigt time constant: T_damp = EA damping_s strain rate [s]
   double normal_drag_coefficient = 1.2;   // C_dn, on the diameter
   double tangential_drag_coefficient = 0.01;  // C_dt, on the circumference
@@ -168,7 +175,7 @@ std::string check_winch_command(const WinchSpec& winch, double speed, double tar
 // Axial tension of each segment at the state [N] (without its damping part).
 std::vector<double> cable_tensions(const CableSpec& spec, const CableState& state);
 
-// Kinetic, gravitational (wet weight) and elastic energy [J], in a water of uniform density rho_w: what a cable
+// Kinetic, gravitational (wet weight), elastic and bending energy [J], in a water of uniform density rho_w: what a cable
 // without damping, drag or added mass conserves.
 double cable_energy(const CableSpec& spec, const CableState& state, double rho_w, const Eigen::Vector3d& gravity_W);
 
