@@ -10,8 +10,9 @@
 #   - every topic but /hadal/step_reply has messages (see the comment at STEP_REPLY below);
 #   - the bag's total is the "recorded N message(s)" hadald reports.
 #
-# usage: run_bag_check.sh HADALD BAG_CHECK REPO_ROOT [SCENARIO]   (relative to REPO_ROOT; default
-#        configs/scenarios/default.yaml)
+# usage: run_bag_check.sh HADALD BAG_CHECK REPO_ROOT [SCENARIO [DURATION [EMPTY,...]]]   (SCENARIO relative to
+#        REPO_ROOT, default configs/scenarios/default.yaml; DURATION sim seconds, default 2; EMPTY: ROS 2 topic names
+#        that may stay empty besides /hadal/step_reply, e.g. a modem's /<vehicle>/<modem>/rx when nobody sends)
 #
 # Discovery stays on loopback (ROS_LOCALHOST_ONLY=1); the run takes its own DDS domain 100..199 by holding
 # /tmp/hadal-dds-domain-<N>.lock (../reserve_domain.sh), so concurrent tests never see each other.
@@ -19,12 +20,13 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/interop_lib.sh"
 INTEROP_NAME="bag check"
 
-(( $# == 3 || $# == 4 )) || usage "HADALD BAG_CHECK REPO_ROOT [SCENARIO]"
+(( $# >= 3 && $# <= 6 )) || usage "HADALD BAG_CHECK REPO_ROOT [SCENARIO [DURATION [EMPTY,...]]]"
 HADALD=$1
 BAG_CHECK=$2
 REPO_ROOT=$3
 SCENARIO=${4:-configs/scenarios/default.yaml}
-DURATION=2
+DURATION=${5:-2}
+export HADAL_BAG_MAY_BE_EMPTY=${6:-}
 PYTHON=/usr/bin/python3
 
 require_executable "$HADALD" hadald
@@ -53,6 +55,7 @@ fi
 
 if ! "$PYTHON" - "$WORK/hadald.out" "$WORK/hadald.err" "$WORK/bag.json" "$CHECK_RC" "$DURATION" <<'EOF'; then
 import json
+import os
 import re
 import sys
 
@@ -95,7 +98,7 @@ if bag.get("decoded") != bag.get("message_count"):
 # STEP_REPLY: /hadal/step_reply answers lockstep step requests; a fast run gets none, so hadald publishes 0
 # replies and the bag holds the topic with 0 messages. That is the only topic allowed to be empty (its
 # count must still equal hadald's 0); every other topic of the default scenario publishes from t = 0 on.
-MAY_BE_EMPTY = {"/hadal/step_reply"}
+MAY_BE_EMPTY = {"/hadal/step_reply"} | {t for t in os.environ.get("HADAL_BAG_MAY_BE_EMPTY", "").split(",") if t}
 # NOT_RECORDED: the monitor carries the other topics' samples again; recorders leave it out unless it is named,
 # so nobody reads it and hadald never writes it (server/src/dds/monitor.h): 0 published, not in the bag.
 NOT_RECORDED = {"/hadal/monitor"}
