@@ -275,6 +275,36 @@ class Runner {
     return reason;
   }
 
+  // hadald --record: a writer keeps its last samples for a reliable reader that falls behind (100 of a state or
+  // sensor topic, 10 of a camera preview), and a fast run outpaced its recorder (writing the bag) by more than that
+  // within seconds (default.yaml, 20 s: a tenth of the IMU's samples lost): every kRecorderCheckSteps steps, the
+  // loop waits until the recorder is within kRecorderLag samples of every topic it records (a topic gains at most
+  // one sample a step: it never falls more than 15 behind), so the bag loses nothing; the run goes as fast as the
+  // recorder. A recorder stuck for 10 s is left
+  // behind, once, with a warning (its losses are reported at the end).
+  static constexpr std::uint64_t kRecorderCheckSteps = 10;
+  static constexpr std::int64_t kRecorderLag = 5;
+  void keep_recorder_up() {
+    if (!recorder_ || recorder_stuck_ || sim_.state().step_count % kRecorderCheckSteps != 0) return;
+    const auto deadline = Clock::now() + std::chrono::seconds(10);
+    for (;;) {
+      const std::map<std::string, std::int64_t> read = recorder_->last_sequences();
+      bool behind = false;
+      for (const dds::TopicCount& count : dds_.published_counts()) {
+        const auto last = read.find(count.topic);
+        if (last != read.end() && static_cast<std::int64_t>(count.samples) - last->second > kRecorderLag) behind = true;
+      }
+      if (!behind) return;
+      if (Clock::now() > deadline) {
+        recorder_stuck_ = true;
+        std::fprintf(stderr, "hadald: warning: --record: the recorder has not kept up for 10 s; the run goes on "
+                             "without waiting for it\n");
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+  }
+
   void step_once() {
     for (const auto& command : dds_.take_commands()) {
       const std::string reason = apply_command(command);
@@ -293,6 +323,7 @@ class Runner {
       }
     }
     publish_due();
+    keep_recorder_up();
   }
 
   void publish_due() {
@@ -462,6 +493,7 @@ class Runner {
   using InboundCommandRef = const dds::InboundCommand&;
 
   std::unique_ptr<record::BagRecorder> recorder_;  // --record
+  bool recorder_stuck_ = false;  // keep_recorder_up gave up waiting
   const Model& model_;
   const CliOptions& options_;
   const std::atomic<bool>& stop_;

@@ -161,6 +161,16 @@ std::string BagRecorder::lost_samples_text() const {
   return text;
 }
 
+std::map<std::string, std::int64_t> BagRecorder::last_sequences() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  std::map<std::string, std::int64_t> last;
+  for (const auto& [topic, id] : impl_->topic_ids) {
+    const auto read = impl_->sequences.find(topic);
+    last[topic] = read == impl_->sequences.end() ? 0 : read->second.last;
+  }
+  return last;
+}
+
 std::size_t BagRecorder::topic_count() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->topic_ids.size();

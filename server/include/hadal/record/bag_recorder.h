@@ -5,6 +5,7 @@
 #include "hadal/core/security_files.h"
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -42,6 +43,9 @@ class BagRecorder {
   // writers' sequence numbers: a writer keeps its last few samples only, and a recorder that falls behind loses
   // the older); "" when the bag is complete.
   std::string lost_samples_text() const;
+  // Per recorded DDS topic, the sequence number of the last sample read (its writer's count of samples written up
+  // to it; 0: none yet): what hadald --record compares with what it published, to wait for the recorder.
+  std::map<std::string, std::int64_t> last_sequences() const;
 
  private:
   struct Impl;
