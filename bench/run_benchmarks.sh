@@ -126,5 +126,11 @@ PYTHONPATH="$build/python" /usr/bin/python3 bench/dask_scaling.py
 #     beacons at 1 Hz and four modems with traffic, against the default scenario's step without its camera and sonar.
 "$build/bin/hadal_bench_acoustics"
 
-# 13. Cables (issue 43, bench/cables.cc): a 300 m, 100-segment tow cable at 500 Hz on one thread.
+# 13. Cables (issue 43, bench/cables.cc): a 300 m, 100-segment tow cable at 500 Hz on one thread; then the
+#     work-class ROV with its arm on its tether under the TMS's umbilical (rov_tether.yaml, 100 Hz) and the towed
+#     side-scan survey (towfish.yaml, 500 Hz, its side-scan included), one thread, no cameras (the physics step's
+#     figure, as in section 10).
 "$build/bin/hadal_bench_cables"
+for scenario in configs/scenarios/rov_tether.yaml configs/scenarios/towfish.yaml; do
+  "$build/bin/hadal_bench_step_rate" "$scenario" --sim-seconds 60 --repetitions 3 --threads 1 --no-cameras
+done
