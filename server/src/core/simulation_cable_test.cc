@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
@@ -44,6 +45,27 @@ Model hanging_box() {
   cable.ends[1].position = Eigen::Vector3d(0.0, 0.0, 0.2);
   model.cables = {cable};
   return model;
+}
+
+// A scenario written to a temporary file and loaded (its errors fail the test).
+std::optional<Model> load_yaml(const std::string& name, const std::string& yaml) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << yaml;
+  const config::LoadResult loaded = config::load_scenario_file(path.string());
+  std::filesystem::remove(path);
+  EXPECT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  return loaded.model;
+}
+
+// Steps the simulation 10000 times and returns the mean z force of cable 0 on its `from` end over the last 2000
+// (several periods of whatever still bounces).
+double mean_fixed_end_fz(Simulation& sim) {
+  double mean_fz = 0.0;
+  for (int k = 0; k < 10000; ++k) {
+    sim.step();
+    if (k >= 8000) mean_fz += sim.state().cables[0].f_W_ends[0].z() / 2000.0;
+  }
+  return mean_fz;
 }
 
 // At rest the fixed point carries the box's and the cable's wet weight, and the box hangs the stretched length
@@ -100,8 +122,7 @@ TEST(SimulationCableTest, ARestoredStateContinuesBitIdentically) {
 // base: the fixed point carries the frame's, the arm's and the rope's wet weight (1 %, on average over the
 // vehicle's bounce), and the arm hangs on.
 TEST(SimulationCableTest, AnArticulatedVehicleHangsFromItsBase) {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hadal_cable_articulated.yaml";
-  std::ofstream(path) << R"(world:
+  const std::optional<Model> model = load_yaml("hadal_cable_articulated.yaml", R"(world:
   water: {density: 1000.0}
   seabed: {type: plane, z: -200.0}
 vehicles:
@@ -117,18 +138,12 @@ vehicles:
 cables:
   - {name: rope, length: 20, segments: 20, diameter: 0.02, density: 3000, axial_stiffness: 1.0e6, damping_s: 0.01,
      from: {position: [0, 0, -10]}, to: {vehicle: rov, link: frame, position: [0, 0, 0.5]}}
-)";
-  const config::LoadResult loaded = config::load_scenario_file(path.string());
-  std::filesystem::remove(path);
-  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
-  Simulation sim(*loaded.model);
+)");
+  ASSERT_TRUE(model);
+  Simulation sim(*model);
   // The vehicle bounces on the rope's stretch (~7 rad/s), damped only by its quadratic drag: the force on the
   // fixed point is averaged over the last 4 s (several periods).
-  double mean_fz = 0.0;
-  for (int k = 0; k < 10000; ++k) {
-    sim.step();
-    if (k >= 8000) mean_fz += sim.state().cables[0].f_W_ends[0].z() / 2000.0;
-  }
+  const double mean_fz = mean_fixed_end_fz(sim);
   const physics::CableSpec& spec = sim.model().cables[0].spec;
   const double vehicle = (600.0 - 1000.0 * 0.48 + 20.0 - 1000.0 * 0.004) * kG;  // the boxes' displacement
   const double rope = (spec.density - 1000.0) * spec.area() * kG * spec.length;
@@ -144,8 +159,7 @@ cables:
 // cable acting at the wrong point, or on the base body, or not at all lets the boom fall), and the neutrally buoyant
 // rope passes it to the fixed point whole (1 %, averaged over the last 4 s).
 TEST(SimulationCableTest, ACableHoldsABoomOnAJointAtItsTip) {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hadal_cable_boom.yaml";
-  std::ofstream(path) << R"(world:
+  const std::optional<Model> model = load_yaml("hadal_cable_boom.yaml", R"(world:
   water: {density: 1000.0}
   seabed: {type: plane, z: -200.0}
 vehicles:
@@ -163,16 +177,10 @@ vehicles:
 cables:
   - {name: stay, length: 5, segments: 10, diameter: 0.01, density: 1000, axial_stiffness: 1.0e5, damping_s: 0.01,
      from: {position: [1.0, 0, -15]}, to: {vehicle: crane, link: boom, position: [0.8, 0, 0]}}
-)";
-  const config::LoadResult loaded = config::load_scenario_file(path.string());
-  std::filesystem::remove(path);
-  ASSERT_TRUE(loaded.model) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
-  Simulation sim(*loaded.model);
-  double mean_fz = 0.0;
-  for (int k = 0; k < 10000; ++k) {
-    sim.step();
-    if (k >= 8000) mean_fz += sim.state().cables[0].f_W_ends[0].z() / 2000.0;
-  }
+)");
+  ASSERT_TRUE(model);
+  Simulation sim(*model);
+  const double mean_fz = mean_fixed_end_fz(sim);
   const double boom = (30.0 - 1000.0 * 0.01) * kG;  // its weight and buoyancy both act 0.5 m out
   const double tension = boom * 0.5 / 0.8;
   EXPECT_NEAR(mean_fz, -tension, 0.01 * tension);
