@@ -130,6 +130,7 @@ const KeyTable<WorldSpec, LoadContext>& world_keys() {
              "workers); 0: one per CPU the process may run on; hadald --threads overrides it. Results do not "
              "depend on it");
     t.map("water", &WorldSpec::water, physics::water_keys()).doc("the water column");
+    t.map("waves", &WorldSpec::waves, physics::wave_keys()).doc("the sea state; a flat surface by default");
     t.map("optics", &WorldSpec::optics, render::optics_keys()).doc("what cameras see");
     t.map("acoustics", &WorldSpec::acoustics, render::acoustics_keys())
         .doc("what sonars, acoustic positioning and modems hear");

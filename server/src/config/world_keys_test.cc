@@ -2,7 +2,9 @@
 // conversions and the errors at file:line:col (config/scenario_test_support.h).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -70,6 +72,55 @@ TEST_F(ScenarioLoaderTest, ImplausibleWaterAndSeabedAreSaidWithTheirKey) {
   const LoadResult ok = load_scenario_file(fine);
   EXPECT_TRUE(ok.ok());
   EXPECT_TRUE(ok.warnings.empty());
+}
+
+// world.waves: a JONSWAP sea, its defaults, degrees to radians; regular components; and what is refused at its key:
+// a negative Hs, a zero Tp, Hs 0 (a spectrum without energy), too many components, components that all have no
+// amplitude, a spectrum's key given to regular waves.
+TEST_F(ScenarioLoaderTest, WavesAndTheirBadValues) {
+  const std::string good = write("good.yaml", R"(world:
+  waves: {spectrum: jonswap, significant_height: 2.0, peak_period: 8.0, direction_deg: 90, spreading: 6}
+vehicles:)" + std::string(kInlineVehicle));
+  const LoadResult loaded = load_scenario_file(good);
+  ASSERT_TRUE(loaded.ok()) << (loaded.errors.empty() ? "" : loaded.errors.front().format());
+  const physics::WaveSpec& waves = loaded.model->world.waves;
+  EXPECT_EQ(waves.spectrum, physics::WaveSpectrum::kJonswap);
+  EXPECT_DOUBLE_EQ(waves.direction, 0.5 * std::numbers::pi);
+  EXPECT_EQ(waves.spreading, 6.0);
+  EXPECT_EQ(waves.components, 128);  // the defaults
+  EXPECT_DOUBLE_EQ(waves.gamma, 3.3);
+  EXPECT_TRUE(std::isinf(waves.depth));
+  const std::string regular = write("regular.yaml", R"(world:
+  waves:
+    spectrum: regular
+    depth: 40
+    regular:
+      - {amplitude: 0.5, period: 6, direction_deg: 180}
+vehicles:)" + std::string(kInlineVehicle));
+  const LoadResult two = load_scenario_file(regular);
+  ASSERT_TRUE(two.ok());
+  ASSERT_EQ(two.model->world.waves.regular.size(), 1u);
+  EXPECT_DOUBLE_EQ(two.model->world.waves.regular[0].direction, std::numbers::pi);
+  EXPECT_DOUBLE_EQ(two.model->world.waves.depth, 40.0);
+  EXPECT_FALSE(load_scenario_file(write("none.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle)).model->world.waves.enabled());
+  const auto first_error = [&](const std::string& name, const std::string& waves_yaml) {
+    const std::vector<std::string> errors = errors_of(write(name, "world:\n  waves: " + waves_yaml + "\nvehicles: []\n"));
+    return errors.empty() ? std::string("(no error)") : errors.front().substr(errors.front().find(':') + 1);
+  };
+  EXPECT_EQ(first_error("a.yaml", "{spectrum: jonswap, significant_height: -1, peak_period: 8}"),
+            "2:50: error: world.waves.significant_height: must be in (0, 30] (got -1)");
+  EXPECT_EQ(first_error("b.yaml", "{spectrum: jonswap, significant_height: 1, peak_period: 0}"),
+            "2:66: error: world.waves.peak_period: must be in (0, 60] (got 0)");
+  EXPECT_EQ(first_error("c.yaml", "{spectrum: pierson_moskowitz, significant_height: 0, peak_period: 8}"),
+            "2:60: error: world.waves.significant_height: must be in (0, 30] (got 0)");
+  EXPECT_EQ(first_error("d.yaml", "{spectrum: jonswap, significant_height: 1, peak_period: 8, components: 5000}"),
+            "2:81: error: world.waves.components: must be in [1, 2048] (got 5000)");
+  EXPECT_EQ(first_error("e.yaml", "{spectrum: regular, regular: [{amplitude: 0, period: 5}]}"),
+            "2:30: error: world.waves.regular: the components have no energy (every amplitude is 0)");
+  EXPECT_EQ(first_error("f.yaml", "{spectrum: regular, peak_period: 8, regular: [{amplitude: 1, period: 5}]}"),
+            "2:30: error: world.waves.peak_period: key 'peak_period' is not used by wave spectrum 'regular'");
+  EXPECT_EQ(first_error("g.yaml", "{spectrum: jonswap, significant_height: 1, peak_period: 8, components: 2.5}"),
+            "2:81: error: world.waves.components: must be a whole number (got 2.5)");
 }
 
 TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {

@@ -1,5 +1,7 @@
 #include "hadal/sensors/gps_sensor.h"
 
+#include "hadal/physics/ocean.h"
+
 #include <sensor_msgs.h>
 #include <sensor_msgsPubSubTypes.h>
 
@@ -44,7 +46,7 @@ void GpsSensor::sample(const SampleContext& context, const Spec& spec, State& st
   const Eigen::Vector3d p_WS = context.p_WS();
   // The noise streams advance with or without a fix, so dives do not shift later fixes.
   const Eigen::Vector3d p_meas = measure(position_noise(spec, context.period), state.noise, p_WS, context.period);
-  state.fix = p_WS.z() > context.world.water.surface_z;
+  state.fix = p_WS.z() > context.ocean.surface_height(p_WS.x(), p_WS.y(), context.time);  // awash: no fix
   if (state.fix) {
     const GeodeticPosition fix = context.environment.frame_W().to_geodetic(p_meas);
     state.latitude_deg = to_degrees(fix.latitude_rad);

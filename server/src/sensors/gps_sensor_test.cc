@@ -49,6 +49,32 @@ TEST(GpsSensorTest, FixesOnlyAboveTheWater) {
   EXPECT_TRUE(std::isnan(state.latitude_deg));
 }
 
+// In regular waves (0.5 m, 6 s) an antenna 0.2 m above the mean surface is awash under every crest: it has a fix
+// exactly when it is above the instantaneous surface there, loses it under a crest and gets it back in the trough.
+TEST(GpsSensorTest, AwashUnderACrestItLosesItsFixAndGetsItBack) {
+  Model model = testing::one_vehicle_world(Eigen::Vector3d(120.0, -40.0, -0.3));
+  model.world.waves.spectrum = physics::WaveSpectrum::kRegular;
+  model.world.waves.regular = {{0.5, 6.0, 0.3, 0.0}};
+  SensorTestWorld world(model);
+  GpsSensor::State state = world.initial_state<GpsSensor>(exact(), 10.0);
+  int fixes = 0, lost = 0, regained = 0;
+  bool before = true;
+  for (int k = 0; k < 120; ++k) {  // 12 s, two periods
+    world.state.time = 0.1 * k;
+    world.sample<GpsSensor>(exact(), state, pose(Eigen::Vector3d(0, 0, 0.5)), 10.0);
+    const double eta = world.ocean.surface_height(120.0, -40.0, world.state.time);
+    EXPECT_EQ(state.fix, 0.2 > eta) << "t = " << world.state.time << " s, surface at " << eta << " m";
+    fixes += state.fix;
+    lost += before && !state.fix;
+    regained += !before && state.fix;
+    before = state.fix;
+  }
+  EXPECT_GT(fixes, 40);
+  EXPECT_LT(fixes, 100);
+  EXPECT_GE(lost, 2);  // once under each crest (and at the start when it begins under one)
+  EXPECT_GE(regained, 2);
+}
+
 // Horizontal noise of 2 m per axis: sample stddev of the east offset over 4000 fixes within
 // 4 sigma / sqrt(2 n) = 4.5 % (plus 0.5 % for the rough metres-per-degree scale); the streams advance
 // under water too, so fixes after a dive are those of a run that never dived.

@@ -43,8 +43,7 @@ PressureSensor::State PressureSensor::initial_state(const Spec& spec, const Sens
 }
 
 void PressureSensor::sample(const SampleContext& context, const Spec& spec, State& state) {
-  const physics::Ocean& ocean = context.ocean;
-  const double ideal = ocean.pressure(std::max(ocean.depth(context.p_WS().z()), 0.0));
+  const double ideal = context.ocean.pressure_at(context.p_WS(), context.time);  // the waves' dynamic pressure too
   state.pressure = measure(channel(spec, context.period), state.noise, ideal, context.period);
 }
 

@@ -14,6 +14,7 @@
 #include "hadal/geometry/ray_kernels.h"
 #include "hadal/geometry/seabed_spec.h"
 #include "hadal/physics/soil_spec.h"
+#include "hadal/physics/waves.h"
 #include "hadal/physics/water_spec.h"
 #include "hadal/render/acoustics_spec.h"
 #include "hadal/render/optics_spec.h"
@@ -43,6 +44,7 @@ struct WorldSpec {
   double physics_rate_hz = 500.0;
   std::uint64_t seed = 0;
   WaterSpec water;
+  physics::WaveSpec waves;  // world.waves: a flat surface by default
   SeabedSpec seabed;
   SoilSpec soil;
   sensors::GeodeticPosition origin;  // of W's origin, WGS84 (YAML: latitude_deg, longitude_deg, altitude)

@@ -35,6 +35,9 @@
 //   asked first. Memory: 24 bytes per grid step, i.e. 24 * 64 / tau bytes per simulated second. t < 0
 //   reads g(0).
 //
+// Waves (YAML `world.waves`, physics/waves.h): the sea state on the surface, built from the world's spec and seed.
+// The properties above are those of the mean surface.
+//
 // YAML keys: physics::water_keys() (server/src/physics/water_spec.cc), shown in
 // configs/REFERENCE.md.
 #pragma once
@@ -47,6 +50,7 @@
 #include <vector>
 
 #include "hadal/core/model.h"
+#include "hadal/physics/waves.h"
 
 namespace hadal::physics {
 
@@ -62,6 +66,16 @@ class Ocean {
   Ocean& operator=(const Ocean&) = delete;
 
   const WaterSpec& spec() const { return water_; }
+  // The sea state (a flat surface unless world.waves says otherwise).
+  const Waves& waves() const { return waves_; }
+  // The instantaneous surface's height at (x, y) and sim time t [m, W]: surface_z without waves.
+  double surface_height(double x, double y, double t) const {
+    return waves_.enabled() ? waves_.surface_height(x, y, t) : water_.surface_z;
+  }
+  // Absolute pressure at p_W and sim time t [Pa]: hydrostatic below the mean surface (pressure(depth)), plus the
+  // waves' dynamic pressure, and between the mean surface and a crest rho(0) g times the height of water above;
+  // atmospheric above the instantaneous surface.
+  double pressure_at(const Eigen::Vector3d& p_W, double t) const;
   double surface_z() const { return water_.surface_z; }
   double gravity() const { return gravity_; }
   double atmospheric_pressure() const { return water_.atmospheric_pressure; }
@@ -117,6 +131,7 @@ class Ocean {
   std::vector<double> table_pressure_;
   std::vector<double> table_density_;
   std::unique_ptr<GaussMarkovTrack> gauss_markov_;  // null when sigma is zero
+  Waves waves_;
 };
 
 }  // namespace hadal::physics
