@@ -19,15 +19,6 @@ namespace {
 
 constexpr double kPascalPerDbar = 1e4;
 
-std::uint64_t fnv1a(std::string_view text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const char c : text) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
 }  // namespace
 
 // Lazily generated Gauss-Markov samples on the grid t_k = k * step (see ocean.h). Chunks are appended in

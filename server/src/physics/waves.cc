@@ -18,15 +18,6 @@ constexpr double kBandLow = 0.5, kBandHigh = 4.0;
 // kh beyond which a component is in deep water (tanh(kh) = 1 to 1e-15; cosh and sinh ratios as exponentials).
 constexpr double kDeepKh = 18.0;
 
-std::uint64_t fnv1a(std::string_view text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const char c : text) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
 // [0, 1) from 53 bits of the generator (std::mt19937_64 is fully specified: the same numbers everywhere).
 double uniform(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
@@ -118,13 +109,14 @@ double Waves::stretched(double z_rel, double eta) const {
   return depth_ * (z_rel - eta) / (depth_ + eta);
 }
 
-Eigen::Vector3d Waves::velocity_W(const Eigen::Vector3d& p_W, double t) const {
-  if (components_.empty()) return Eigen::Vector3d::Zero();
+void Waves::orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const {
+  v_W->setZero();
+  a_W->setZero();
+  if (components_.empty()) return;
   const double eta = surface_height(p_W.x(), p_W.y(), t) - surface_z_;
   const double z_rel = p_W.z() - surface_z_;
-  if (z_rel > eta) return Eigen::Vector3d::Zero();
+  if (z_rel > eta) return;  // in the air
   const double z = stretched(z_rel, eta);
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();
   for (const WaveComponent& c : components_) {
     const double cb = std::cos(c.direction), sb = std::sin(c.direction);
     const double theta = c.k * (p_W.x() * cb + p_W.y() * sb) - c.omega * t + c.phase;
@@ -136,34 +128,24 @@ Eigen::Vector3d Waves::velocity_W(const Eigen::Vector3d& p_W, double t) const {
       horizontal = std::cosh(c.k * (z + depth_)) / s;
       vertical = std::sinh(c.k * (z + depth_)) / s;
     }
-    const double u = c.amplitude * c.omega * horizontal * std::cos(theta);
-    v += Eigen::Vector3d(u * cb, u * sb, c.amplitude * c.omega * vertical * std::sin(theta));
+    const double cos_t = std::cos(theta), sin_t = std::sin(theta), a_omega = c.amplitude * c.omega;
+    const double u = a_omega * horizontal * cos_t;
+    *v_W += Eigen::Vector3d(u * cb, u * sb, a_omega * vertical * sin_t);
+    // d/dt of cos(theta) is omega sin(theta); of sin(theta), -omega cos(theta).
+    const double du = a_omega * c.omega * horizontal * sin_t;
+    *a_W += Eigen::Vector3d(du * cb, du * sb, -a_omega * c.omega * vertical * cos_t);
   }
+}
+
+Eigen::Vector3d Waves::velocity_W(const Eigen::Vector3d& p_W, double t) const {
+  Eigen::Vector3d v, a;
+  orbital(p_W, t, &v, &a);
   return v;
 }
 
 Eigen::Vector3d Waves::acceleration_W(const Eigen::Vector3d& p_W, double t) const {
-  if (components_.empty()) return Eigen::Vector3d::Zero();
-  const double eta = surface_height(p_W.x(), p_W.y(), t) - surface_z_;
-  const double z_rel = p_W.z() - surface_z_;
-  if (z_rel > eta) return Eigen::Vector3d::Zero();
-  const double z = stretched(z_rel, eta);
-  Eigen::Vector3d a = Eigen::Vector3d::Zero();
-  for (const WaveComponent& c : components_) {
-    const double cb = std::cos(c.direction), sb = std::sin(c.direction);
-    const double theta = c.k * (p_W.x() * cb + p_W.y() * sb) - c.omega * t + c.phase;
-    double horizontal = 0.0, vertical = 0.0;
-    if (deep(c.k, depth_)) {
-      horizontal = vertical = std::exp(c.k * z);
-    } else {
-      const double s = std::sinh(c.k * depth_);
-      horizontal = std::cosh(c.k * (z + depth_)) / s;
-      vertical = std::sinh(c.k * (z + depth_)) / s;
-    }
-    // d/dt of cos(theta) is omega sin(theta); of sin(theta), -omega cos(theta).
-    const double du = c.amplitude * c.omega * c.omega * horizontal * std::sin(theta);
-    a += Eigen::Vector3d(du * cb, du * sb, -c.amplitude * c.omega * c.omega * vertical * std::cos(theta));
-  }
+  Eigen::Vector3d v, a;
+  orbital(p_W, t, &v, &a);
   return a;
 }
 

@@ -3,6 +3,7 @@
 // hash of its lattice point (docs/ARCHITECTURE.md, "Noise and random streams").
 //
 //   splitmix64(x)                Steele, Lea & Flood (2014): the finaliser of x + 0x9e3779b97f4a7c15
+//   fnv1a(text)                  FNV-1a 64 of a name, to key a stream by it (the ocean's current, the waves)
 //   mix32(h)                     a 32-bit finaliser for per-pixel hashes (below)
 //   lattice(seed, i, j, octave)  uniform in [-1, 1) at lattice point (i, j) of an octave (ChainedLattice)
 //   value_noise(seed, x, y, o)   the lattice values interpolated across each unit cell with the
@@ -12,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 namespace hadal {
 
@@ -20,6 +22,15 @@ inline std::uint64_t splitmix64(std::uint64_t x) {
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
   return x ^ (x >> 31);
+}
+
+inline std::uint64_t fnv1a(std::string_view text) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : text) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
 }
 
 // murmur3's 32-bit finaliser (Appleby), with Wellons' constants (lowbias32): a bijection of 32-bit keys

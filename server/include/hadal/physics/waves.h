@@ -111,6 +111,8 @@ class Waves {
   // Wheeler's stretched height below the mean level of a point z_rel below the surface eta (relative to the mean
   // level) [m].
   double stretched(double z_rel, double eta) const;
+  // The orbital velocity and acceleration at p_W together (zero above the surface).
+  void orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const;
   std::vector<WaveComponent> components_;
   double surface_z_ = 0.0;
   double density_ = 1025.0;
