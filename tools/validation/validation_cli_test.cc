@@ -102,6 +102,20 @@ TEST_F(ValidationCliTest, TowfishSteadyDepth) {
   EXPECT_EQ(run(HADAL_VALIDATE_TOWFISH, "--slow-kn 5 --fast-kn 3").exit_code, 2);
 }
 
+// The waves figure on a 1 h record: its Hs within 2 % and its (S^4-weighted) peak within one sampling bin of the
+// target's, the Welch spectrum holding nearly the target's m0 (the band 0.02-0.6 Hz, and the record's own scatter).
+TEST_F(ValidationCliTest, WavesSpectrum) {
+  const RunResult r = run(HADAL_VALIDATE_WAVES, "--hours 1 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  expect_outputs("waves_spectrum");
+  EXPECT_LT(std::abs(json["significant_height_relative_difference"].number), 0.02);
+  EXPECT_LT(std::abs(json["peak_frequency_difference_hz"].number), json["sampling_bin_hz"].number);
+  EXPECT_NEAR(json["welch_m0_over_target"].number, 1.0, 0.05);
+  EXPECT_EQ(run(HADAL_VALIDATE_WAVES, "--components 100.5").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_WAVES, "--tp 0").exit_code, 2);
+}
+
 TEST_F(ValidationCliTest, CoriolisShortLeg) {
   const RunResult r = run(HADAL_VALIDATE_CORIOLIS, "--distance 200 --out " + dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
