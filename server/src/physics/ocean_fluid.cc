@@ -104,6 +104,39 @@ void ctd_block(const Ctd& t, double d_origin, double p_origin, const float* __re
 
 }  // namespace
 
+FluidSampler::SurfacePlane OceanFluid::surface_plane(const Eigen::Vector3d& p_W) const {
+  const Waves& waves = ocean_.waves();
+  if (!waves.enabled()) return {ocean_.surface_z(), 0.0, 0.0};
+  const Eigen::Vector2d slope = waves.surface_slope(p_W.x(), p_W.y(), time_);
+  return {waves.surface_height(p_W.x(), p_W.y(), time_), slope.x(), slope.y()};
+}
+
+double OceanFluid::signed_hydrostatic(double depth) const {
+  return depth >= 0.0 ? ocean_.pressure(depth) - ocean_.atmospheric_pressure()
+                      : ocean_.density(0.0) * ocean_.gravity() * depth;
+}
+
+const OceanFluid::WavesAbout& OceanFluid::waves_about(const Eigen::Vector3d& origin_W) const {
+  if (origin_W == about_.origin_W) return about_;
+  const Waves& waves = ocean_.waves();
+  about_.origin_W = origin_W;
+  about_.p_d = waves.dynamic_pressure(origin_W, time_);
+  constexpr double kStep = 0.05;  // [m]: central differences, (k kStep)^2 ~ 1e-5 of the gradient for 10 m waves
+  for (int axis = 0; axis < 3; ++axis) {
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    step[axis] = kStep;
+    about_.grad_p_d[axis] =
+        (waves.dynamic_pressure(origin_W + step, time_) - waves.dynamic_pressure(origin_W - step, time_)) / (2.0 * kStep);
+  }
+  about_.v_orbital_W = waves.velocity_W(origin_W, time_);
+  return about_;
+}
+
+double OceanFluid::gauge_pressure_at(const Eigen::Vector3d& p_W) const {
+  if (!ocean_.waves().enabled()) return gauge_pressure(p_W.z());
+  return signed_hydrostatic(ocean_.depth(p_W.z())) + waves_about(p_W).p_d;
+}
+
 double OceanFluid::gauge_pressure(double z_W) const {
   const double depth = ocean_.depth(z_W);
   return depth > 0.0 ? ocean_.pressure(depth) - ocean_.atmospheric_pressure() : 0.0;
@@ -137,6 +170,37 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
       ctd_at(ctd, d_origin, unused, p_origin);
       break;
     }
+  }
+  const Waves& waves = ocean_.waves();
+  if (waves.enabled()) {  // the waves, linear about the origin (the header): per point, in double
+    const WavesAbout& about = waves_about(origin_W);
+    const double p_origin_signed = signed_hydrostatic(d_origin);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = d_origin - dz[i];
+      out.rho[i] = static_cast<float>(ocean_.density(std::max(d, 0.0)));
+      out.dp[i] = static_cast<float>(signed_hydrostatic(d) - p_origin_signed +
+                                     about.grad_p_d.dot(Eigen::Vector3d(dx[i], dy[i], dz[i])));
+    }
+    if (ocean_.current_varies_in_space()) {
+      float x[kBlock], y[kBlock], z[kBlock];
+      for (std::size_t begin = 0; begin < n; begin += kBlock) {
+        const std::size_t count = std::min(n - begin, kBlock);
+        for (std::size_t k = 0; k < count; ++k) {
+          x[k] = static_cast<float>(origin_W.x() + dx[begin + k]);
+          y[k] = static_cast<float>(origin_W.y() + dy[begin + k]);
+          z[k] = static_cast<float>(origin_W.z() + dz[begin + k]);
+        }
+        ocean_.sample_current(x, y, z, count, time_, out.u_x + begin, out.u_y + begin, out.u_z + begin);
+      }
+    } else {
+      ocean_.sample_current(nullptr, nullptr, nullptr, n, time_, out.u_x, out.u_y, out.u_z);
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // currents and waves add
+      out.u_x[i] += static_cast<float>(about.v_orbital_W.x());
+      out.u_y[i] += static_cast<float>(about.v_orbital_W.y());
+      out.u_z[i] += static_cast<float>(about.v_orbital_W.z());
+    }
+    return;
   }
   // The current at each point, or (the same everywhere) filled in once after the densities.
   const bool current_varies = ocean_.current_varies_in_space();

@@ -240,5 +240,51 @@ TEST(OceanFluidTest, RampAndCtdWrenchesMatchThePointwiseSampler) {
   }
 }
 
+// Waves on a submerged 2 m cube (drag, friction and lift off: the pressure alone, less the calm water's buoyancy),
+// regular deep-water waves of 1 m and 8 s (lambda 99.9 m): the dynamic pressure, linear about the cube's centre,
+// integrates to the Froude-Krylov force -V grad p_d, whose horizontal and vertical amplitudes are rho g a k V e^(k z')
+// (z' = z - eta, Wheeler: between e^(k (z - a)) and e^(k (z + a)) as the surface swings; 1 % for the field's curvature
+// across the cube and float); a wavelength down the wave force is under 1 % of that just below the surface
+// (e^(-k lambda) = 0.19 %).
+TEST(OceanFluidTest, WavesPushASubmergedBodyWithTheirFroudeKrylovForce) {
+  WorldSpec world;
+  world.water.density = kRho;
+  world.waves.spectrum = WaveSpectrum::kRegular;
+  world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
+  const Ocean ocean(world);
+  CollisionShape cube;
+  cube.box_size = Eigen::Vector3d(2.0, 2.0, 2.0);
+  HydrodynamicCoefficients pressure_only;
+  pressure_only.drag = pressure_only.skin_friction = pressure_only.lift = 0.0;
+  SurfaceHydrodynamics hydro(geometry::tessellate(cube), pressure_only);
+  WorldSpec calm_world = world;
+  calm_world.waves = WaveSpec{};
+  const Ocean calm(calm_world);
+  const double omega = 2.0 * M_PI / 8.0, k = omega * omega / kG, lambda = 2.0 * M_PI / k;
+  const auto amplitude = [&](double z) {
+    BodyMotion motion;
+    motion.X_WB.translation() = Eigen::Vector3d(0.0, 0.0, z);
+    motion.p_WBcm = motion.X_WB.translation();
+    const Eigen::Vector3d buoyancy = hydro.compute(motion, OceanFluid(calm, 0.0)).f_W;
+    Eigen::Vector3d largest = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 80; ++i) {
+      const HydrodynamicWrench w = hydro.compute(motion, OceanFluid(ocean, 0.1 * i));
+      largest = largest.cwiseMax((w.f_W - buoyancy).cwiseAbs());
+    }
+    return largest;
+  };
+  const Eigen::Vector3d near = amplitude(-3.0);
+  // The surface over the cube's centre swings by a: z' = z - eta spans e^(k (z - a)) .. e^(k (z + a)); the
+  // amplitude (at the crest or trough where the force peaks) is within that range.
+  const double fk = kRho * kG * 1.0 * k * 8.0 * std::exp(k * -3.0);
+  EXPECT_GT(near.x(), fk * std::exp(-k) * 0.99);
+  EXPECT_LT(near.x(), fk * std::exp(k) * 1.01);
+  EXPECT_GT(near.z(), fk * std::exp(-k) * 0.99);
+  EXPECT_LT(near.z(), fk * std::exp(k) * 1.01);
+  const Eigen::Vector3d deep = amplitude(-3.0 - lambda);
+  EXPECT_LT(deep.norm(), 0.01 * near.norm());
+  EXPECT_GT(deep.norm(), 0.0);
+}
+
 }  // namespace
 }  // namespace hadal::physics

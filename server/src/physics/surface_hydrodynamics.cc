@@ -333,10 +333,8 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
 // Submerged part of each crossing face: the triangle clipped against h <= 0 (Sutherland-Hodgman
 // against one plane gives a triangle or a quadrilateral), its area and area centroid by a fan of
 // triangles, in B, and its second area moment. The normal is the face's.
-void SurfaceHydrodynamics::clip_crossing_faces(const BodyMotion& m, double surface_z) {
+void SurfaceHydrodynamics::clip_crossing_faces(const Eigen::Vector3d& g, double h0) {
   clear(clipped_);
-  const Eigen::Vector3d g = m.X_WB.linear().row(2).transpose();  // h(x_B) = h0 + g . x_B
-  const double h0 = m.X_WB.translation().z() - surface_z;
   for (std::size_t i : crossing_) {
     std::array<Eigen::Vector3d, 3> tri;
     std::array<double, 3> h;
@@ -383,30 +381,36 @@ void SurfaceHydrodynamics::clip_crossing_faces(const BodyMotion& m, double surfa
 HydrodynamicWrench SurfaceHydrodynamics::compute(const BodyMotion& m, const FluidSampler& fluid) {
   HydrodynamicWrench w;
   if (num_faces_ == 0) return w;
-  const double surface_z = fluid.surface_z_W();
-  const double z_center = (m.X_WB * sphere_center_B_).z();
+  // The surface near the body as a plane h(x_W) = q . x_W - c0 (height above it), q = (-s_x, -s_y, 1): flat without
+  // waves. Over the bounding sphere the plane lies within `reach` of its height at the sphere's centre.
+  const Eigen::Vector3d center_W = m.X_WB * sphere_center_B_;
+  const FluidSampler::SurfacePlane plane = fluid.surface_plane(center_W);
+  const Eigen::Vector3d q(-plane.slope_x, -plane.slope_y, 1.0);
+  const double c0 = plane.height - plane.slope_x * center_W.x() - plane.slope_y * center_W.y();
+  const double reach = sphere_radius_ * std::hypot(plane.slope_x, plane.slope_y);
   Accumulator acc;
-  if (z_center + sphere_radius_ <= surface_z) {
+  if (center_W.z() + sphere_radius_ <= plane.height - reach) {
     // Fully submerged (bounding sphere under water): no classification, constant pressure dropped.
     accumulate(faces_, 0, faces_.size(), ones_.data(), m, fluid, 0.0, acc);
     w.fully_submerged = true;
-  } else if (z_center - sphere_radius_ >= surface_z) {
+  } else if (center_W.z() - sphere_radius_ >= plane.height + reach) {
     return w;  // in the air
   } else {
-    const Eigen::Matrix3d& R = m.X_WB.linear();
+    // h(x_B) = h0 + g . x_B in B.
+    const Eigen::Vector3d g = m.X_WB.linear().transpose() * q;
+    const double h0 = q.dot(m.X_WB.translation()) - c0;
     const float* v[9];
     for (int k = 0; k < 9; ++k) v[k] = v_[k].data();
-    classify(v, faces_.size(), static_cast<float>(m.X_WB.translation().z() - surface_z),
-             static_cast<float>(R(2, 0)), static_cast<float>(R(2, 1)), static_cast<float>(R(2, 2)),
-             wet_mask_.data(), crossing_flags_.data());
+    classify(v, faces_.size(), static_cast<float>(h0), static_cast<float>(g.x()), static_cast<float>(g.y()),
+             static_cast<float>(g.z()), wet_mask_.data(), crossing_flags_.data());
     crossing_.clear();
     for (std::size_t i = 0; i < num_faces_; ++i) {
       if (crossing_flags_[i] != 0.0f) crossing_.push_back(i);
     }
     for (std::size_t i = num_faces_; i < faces_.size(); ++i) wet_mask_[i] = 0.0f;
-    const double p_ref = fluid.gauge_pressure(m.p_WBcm.z());
+    const double p_ref = fluid.gauge_pressure_at(m.p_WBcm);
     accumulate(faces_, 0, faces_.size(), wet_mask_.data(), m, fluid, p_ref, acc);
-    clip_crossing_faces(m, surface_z);
+    clip_crossing_faces(g, h0);
     if (clipped_.size() > 0) {
       accumulate(clipped_, 0, clipped_.size(), ones_.data(), m, fluid, p_ref, acc);
     }

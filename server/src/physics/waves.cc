@@ -104,6 +104,16 @@ double Waves::surface_height(double x, double y, double t) const {
   return surface_z_ + eta;
 }
 
+Eigen::Vector2d Waves::surface_slope(double x, double y, double t) const {
+  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
+  for (const WaveComponent& c : components_) {
+    const double cb = std::cos(c.direction), sb = std::sin(c.direction);
+    const double s = -c.amplitude * c.k * std::sin(c.k * (x * cb + y * sb) - c.omega * t + c.phase);
+    slope += Eigen::Vector2d(s * cb, s * sb);
+  }
+  return slope;
+}
+
 double Waves::stretched(double z_rel, double eta) const {
   if (!std::isfinite(depth_)) return z_rel - eta;
   return depth_ * (z_rel - eta) / (depth_ + eta);

@@ -14,8 +14,18 @@
 // point. So they equal the point queries up to double rounding (a few 1e-16 of the absolute pressure)
 // and then one rounding to float; ocean_fluid_test checks this at many depths. Cost of the whole
 // kernel per face (bench/hydrodynamics.cc, 11k faces, submerged): ramp ~1.05x, CTD ~1.4x constant.
+// Waves (Ocean::waves, physics/waves.h): a body sees them as linear about the point it is sampled about (its centre
+// of mass): the surface as the tangent plane under its bounding sphere's centre (surface_plane), the waves' dynamic
+// pressure as its value and gradient there (one evaluation of the components per body and step, not per face), and
+// the orbital velocity there added to the current at every face. The hydrostatic part is then signed (rho(0) g d
+// above the mean surface, d < 0): with the dynamic pressure it is near zero at the moving waterline, and the kernel
+// leaves out the faces above the plane. Exact for waves much longer than the body (a 10 m barge in 100 m waves
+// sees the pressure's curvature across it as a few per cent of its heave force); short waves on a big hull are
+// averaged over it.
 // A view: holds a reference to the Ocean, which must outlive it. Units SI.
 #pragma once
+
+#include <limits>
 
 #include "hadal/physics/ocean.h"
 #include "hadal/physics/surface_hydrodynamics.h"
@@ -27,14 +37,29 @@ class OceanFluid final : public FluidSampler {
   OceanFluid(const Ocean& ocean, double time) : ocean_(ocean), time_(time) {}
 
   double surface_z_W() const override { return ocean_.surface_z(); }
+  SurfacePlane surface_plane(const Eigen::Vector3d& p_W) const override;
   double gauge_pressure(double z_W) const override;
+  double gauge_pressure_at(const Eigen::Vector3d& p_W) const override;
   double gravity_magnitude() const override { return ocean_.gravity(); }
   void sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
               const float* dz, const FluidSamples& out) const override;
 
  private:
+  // The waves about a sampling origin: the dynamic pressure and its gradient there, the orbital velocity (computed
+  // when the origin changes; a view serves one body at a time).
+  struct WavesAbout {
+    Eigen::Vector3d origin_W = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    double p_d = 0.0;
+    Eigen::Vector3d grad_p_d = Eigen::Vector3d::Zero();
+    Eigen::Vector3d v_orbital_W = Eigen::Vector3d::Zero();
+  };
+  const WavesAbout& waves_about(const Eigen::Vector3d& origin_W) const;
+  // Gauge hydrostatic pressure below the mean surface, rho(0) g d above it (signed) [Pa].
+  double signed_hydrostatic(double depth) const;
+
   const Ocean& ocean_;
-  double time_;  // sim time for the currents [s]
+  double time_;  // sim time for the currents and waves [s]
+  mutable WavesAbout about_;
 };
 
 }  // namespace hadal::physics

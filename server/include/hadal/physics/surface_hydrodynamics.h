@@ -105,10 +105,21 @@ struct FluidSamples {
 class FluidSampler {
  public:
   virtual ~FluidSampler() = default;
-  // Height of the (flat) water surface in W [m]; depth d = surface_z_W() - z.
+  // Height of the mean water surface in W [m]; depth d = surface_z_W() - z.
   virtual double surface_z_W() const = 0;
+  // The surface near a body at p_W as a plane: its height at p_W's (x, y) [m, W] and its slopes d/dx, d/dy; by
+  // default the flat mean surface. A body is classified and its faces clipped against this plane (waves much longer
+  // than the body: physics/waves.h).
+  struct SurfacePlane {
+    double height = 0.0;
+    double slope_x = 0.0, slope_y = 0.0;
+  };
+  virtual SurfacePlane surface_plane(const Eigen::Vector3d& /*p_W*/) const { return {surface_z_W(), 0.0, 0.0}; }
   // Gauge pressure p(z) - p_atm at height z [Pa]; 0 at and above the surface.
   virtual double gauge_pressure(double z_W) const = 0;
+  // Gauge pressure at a point [Pa]: gauge_pressure(z) unless the sea state makes it depend on (x, y) too. The
+  // reference of sample()'s dp for a body that crosses the surface.
+  virtual double gauge_pressure_at(const Eigen::Vector3d& p_W) const { return gauge_pressure(p_W.z()); }
   // g [m/s^2]: the hydrostatic gradient dp/dz = -rho g (centre-of-pressure moments).
   virtual double gravity_magnitude() const = 0;
   // Fluid at the n points origin_W + (dx_i, dy_i, dz_i) (offsets in W axes). Called per block of at
@@ -193,7 +204,8 @@ class SurfaceHydrodynamics {
   void accumulate(const HydroFaces& faces, std::size_t begin, std::size_t end, const float* mask,
                   const BodyMotion& motion, const FluidSampler& fluid, double p_ref,
                   Accumulator& acc);
-  void clip_crossing_faces(const BodyMotion& motion, double surface_z);
+  // The crossing faces clipped against h(x_B) = h0 + g . x_B <= 0 (the surface plane's height above a B point).
+  void clip_crossing_faces(const Eigen::Vector3d& g, double h0);
 
   HydrodynamicCoefficients coefficients_;
   HydroFaces faces_;

@@ -101,6 +101,8 @@ class Waves {
 
   // The surface's height at (x, y) and sim time t [m, W].
   double surface_height(double x, double y, double t) const;
+  // Its slopes d eta / dx, d eta / dy there.
+  Eigen::Vector2d surface_slope(double x, double y, double t) const;
   // Orbital velocity and acceleration of the water at p_W [m/s, m/s^2, W]; zero above the surface.
   Eigen::Vector3d velocity_W(const Eigen::Vector3d& p_W, double t) const;
   Eigen::Vector3d acceleration_W(const Eigen::Vector3d& p_W, double t) const;
