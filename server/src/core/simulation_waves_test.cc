@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "hadal/config/scenario_loader.h"
 #include "hadal/core/simulation.h"
 
@@ -22,7 +24,10 @@ constexpr double kG = 9.80665, kRho = 1025.0, kPi = std::numbers::pi;
 // The barge: 10 x 10 x 2 m, 102.5 t (a 1 m draft), its centre of mass 0.5 m below the box's centre, at 200 Hz; `waves`
 // the world.waves map, or "" for calm water; `drop` how far above its floating draft it is let go [m].
 Model barge(const std::string& waves, double drop, const std::string& fluid = "{model: surface}") {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hadal_waves_barge.yaml";
+  // Its own file per test (ctest -j runs the tests of this binary at once).
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("hadal_waves_barge_" + test + "_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << "world:\n  physics_rate_hz: 200\n  water: {density: 1025.0}\n  seabed: {type: plane, z: -500}\n" +
                              (waves.empty() ? std::string() : "  waves: " + waves + "\n") + R"(vehicles:
   - name: barge

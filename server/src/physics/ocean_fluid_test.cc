@@ -286,5 +286,26 @@ TEST(OceanFluidTest, WavesPushASubmergedBodyWithTheirFroudeKrylovForce) {
   EXPECT_GT(deep.norm(), 0.0);
 }
 
+// Under a crest, between the mean level and the surface, the gauge pressure a crossing body is referred to is the
+// signed hydrostatic rho g (surface_z - z) (negative there) plus the wave's dynamic pressure: positive below the
+// moving surface and zero at it (1e-6 of rho g a), as the waves' own pressure_at says.
+TEST(OceanFluidTest, UnderACrestThePressureIsZeroAtTheMovingSurface) {
+  WorldSpec world;
+  world.water.density = kRho;
+  world.waves.spectrum = WaveSpectrum::kRegular;
+  world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
+  const Ocean ocean(world);
+  const OceanFluid fluid(ocean, 0.0);  // a crest at x = 0
+  EXPECT_NEAR(fluid.surface_plane(Eigen::Vector3d::Zero()).height, 1.0, 1e-12);
+  EXPECT_NEAR(fluid.gauge_pressure_at(Eigen::Vector3d(0.0, 0.0, 1.0)), 0.0, 1e-6 * kRho * kG);
+  for (double z : {0.9, 0.5, 0.1, -0.5}) {
+    const Eigen::Vector3d p(0.0, 0.0, z);
+    const double expected = ocean.pressure_at(p, 0.0) - ocean.atmospheric_pressure();
+    EXPECT_NEAR(fluid.gauge_pressure_at(p), expected, 1e-9 * kRho * kG) << z;
+    EXPECT_GT(fluid.gauge_pressure_at(p), 0.0) << z;
+    EXPECT_LT(fluid.gauge_pressure_at(p), kRho * kG * (1.0 - z)) << z;  // less than the still-water column above
+  }
+}
+
 }  // namespace
 }  // namespace hadal::physics
