@@ -13,6 +13,10 @@
 // per measurement. Issue 4's target: >= 1e8 face evaluations per second per core (Stonefish ~3.3e7).
 //   build/bin/hadal_bench_hydrodynamics [--repetitions N] [--segments S] [--profile-steps P]
 // Defaults (128 segments, 22 profile steps) give 11 264 faces.
+// Waves (issue 44): the partial case through OceanFluid in calm constant water and in a JONSWAP sea (Hs 2 m, Tp 8 s,
+// 128 components, spread), a fresh OceanFluid per call as the simulation makes one per body and step (the waves'
+// linearisation about the body, physics/ocean_fluid.h, is then paid every call): "waves_per_call" is the
+// difference, the waves' cost per body and step.
 // Soil contact in the same run ("benchmark": "soil_contact", issue 12): SoilContact::compute for a
 // crawler track's box (1.8 m x 0.3 m x 0.35 m, its faces split to 10 cm: physics/terramechanics.h) sunk
 // 4 cm into the deep-sea ooze preset and driven with a belt, over a plane and over a 2 m height field
@@ -151,6 +155,50 @@ int main(int argc, char** argv) {
         c.name, c.fluid_name, hydro.num_faces(), r.wrench.clipped_faces, r.seconds_per_call,
         1e9 * r.seconds_per_call / faces, faces / r.seconds_per_call, 1.0 / r.seconds_per_call,
         r.wrench.f_W.x(), r.wrench.f_W.y(), r.wrench.f_W.z());
+  }
+  // Waves: the partial case, a fresh OceanFluid per call (as per body and step in the simulation).
+  {
+    hadal::WorldSpec calm_world, sea_world;
+    calm_world.water = constant;
+    sea_world.water = constant;
+    sea_world.waves.spectrum = hadal::physics::WaveSpectrum::kJonswap;
+    sea_world.waves.significant_height = 2.0;
+    sea_world.waves.peak_period = 8.0;
+    sea_world.waves.spreading = 10.0;
+    const Ocean calm_ocean(calm_world), sea_ocean(sea_world);
+    BodyMotion m;
+    m.X_WB.linear() = R;
+    m.X_WB.translation() = Eigen::Vector3d(1200.0, -300.0, 0.0);
+    m.p_WBcm = m.X_WB * Eigen::Vector3d(0.05, 0.0, -0.01);
+    m.v_WBcm = R * Eigen::Vector3d(1.5, 0.1, -0.05);
+    m.w_WB = Eigen::Vector3d(0.02, -0.05, 0.1);
+    const auto per_call = [&](const Ocean& ocean, HydrodynamicWrench* last) {
+      int calls = 1;
+      for (;;) {
+        const auto start = Clock::now();
+        for (int i = 0; i < calls; ++i) *last = hydro.compute(m, OceanFluid(ocean, 3.7 + 1e-6 * i));
+        if (std::chrono::duration<double>(Clock::now() - start).count() > 0.05) break;
+        calls *= 2;
+      }
+      std::vector<double> seconds;
+      for (int r = 0; r < repetitions; ++r) {
+        const auto start = Clock::now();
+        for (int i = 0; i < calls; ++i) *last = hydro.compute(m, OceanFluid(ocean, 3.7 + 1e-6 * i));
+        seconds.push_back(std::chrono::duration<double>(Clock::now() - start).count() / calls);
+      }
+      std::sort(seconds.begin(), seconds.end());
+      return seconds[seconds.size() / 2];
+    };
+    HydrodynamicWrench calm_w, sea_w;
+    const double calm_s = per_call(calm_ocean, &calm_w), sea_s = per_call(sea_ocean, &sea_w);
+    const double faces = static_cast<double>(hydro.num_faces());
+    std::printf(
+        "{\"benchmark\": \"surface_hydrodynamics\", \"case\": \"partial_waves\", \"fluid\": \"constant\", "
+        "\"faces\": %zu, \"clipped_faces\": %zu, \"components\": 128, \"calm_seconds_per_call\": %.4g, "
+        "\"waves_seconds_per_call\": %.4g, \"waves_per_call\": %.4g, \"calm_ns_per_face\": %.3f, "
+        "\"waves_ns_per_face\": %.3f}\n",
+        hydro.num_faces(), sea_w.clipped_faces, calm_s, sea_s, sea_s - calm_s, 1e9 * calm_s / faces,
+        1e9 * sea_s / faces);
   }
   // Soil contact: one track link, its bottom 4 cm into the sediment, driving at 0.3 m/s with 5 % slip.
   hadal::CollisionShape track;
