@@ -59,6 +59,13 @@ int Model::vehicle_index(const std::string& name) const {
   return -1;
 }
 
+int Model::cable_index(const std::string& name) const {
+  for (std::size_t c = 0; c < cables.size(); ++c) {
+    if (cables[c].name == name) return static_cast<int>(c);
+  }
+  return -1;
+}
+
 namespace {
 struct VehicleTypeName {
   VehicleType type;

@@ -646,11 +646,16 @@ SimState Simulation::initial_state(std::uint64_t seed) const {
     }
     state.vehicles.push_back(std::move(vehicle));
   }
+  lay_cables_straight(state);
+  return state;
+}
+
+void Simulation::lay_cables_straight(SimState& state) const {
+  state.cables.resize(model_.cables.size());
   for (std::size_t c = 0; c < model_.cables.size(); ++c) {
     const auto ends = cable_ends_W(c, state);
-    state.cables.push_back(physics::straight_cable(model_.cables[c].spec, ends[0], ends[1]));
+    state.cables[c] = physics::straight_cable(model_.cables[c].spec, ends[0], ends[1]);
   }
-  return state;
 }
 
 Simulation::HeldPoint Simulation::cable_end_point(const physics::CableEndSpec& end, const SimState& state) const {
@@ -694,13 +699,6 @@ std::array<Eigen::Vector3d, 2> Simulation::cable_ends_W(std::size_t c, const Sim
   return p_W;
 }
 
-int Simulation::cable_index(const std::string& name) const {
-  for (std::size_t c = 0; c < model_.cables.size(); ++c) {
-    if (model_.cables[c].name == name) return static_cast<int>(c);
-  }
-  return -1;
-}
-
 std::string Simulation::check_winch_command(int cable_index, double speed, double target_length) const {
   if (cable_index < 0 || static_cast<std::size_t>(cable_index) >= model_.cables.size()) return "unknown cable";
   const physics::CableModel& cable = model_.cables[static_cast<std::size_t>(cable_index)];
@@ -736,10 +734,7 @@ std::string Simulation::reset(std::uint64_t seed, const std::vector<std::optiona
   for (std::size_t i = 0; i < X_WB.size(); ++i) {
     if (X_WB[i]) state.vehicles[i].body = RigidBodyState{*X_WB[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   }
-  for (std::size_t c = 0; c < model_.cables.size(); ++c) {  // straight between where their ends now are
-    const auto ends = cable_ends_W(c, state);
-    state.cables[c] = physics::straight_cable(model_.cables[c].spec, ends[0], ends[1]);
-  }
+  lay_cables_straight(state);  // between where their ends now are
   set_state(state);
   return "";
 }

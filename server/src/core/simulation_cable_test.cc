@@ -205,7 +205,7 @@ TEST(SimulationCableTest, AWinchHaulsTheBoxUpAndStopsAtItsTarget) {
   EXPECT_EQ(sim.command_winch(0, 0.5, 60.0), "winch: target_length 60 m is beyond the drum (drum_length 50 m)");
   EXPECT_EQ(sim.command_winch(1, 0.5, 10.0), "unknown cable");
   EXPECT_EQ(sim.state().cables[0].winch.command_speed, 0.0);
-  ASSERT_EQ(sim.command_winch(sim.cable_index("rope"), 0.5, 10.0), "");
+  ASSERT_EQ(sim.command_winch(sim.model().cable_index("rope"), 0.5, 10.0), "");
   for (int k = 0; k < 20000; ++k) sim.step();  // 40 s: ~21 s of hauling, then settling
   const physics::CableState& cable = sim.state().cables[0];
   EXPECT_EQ(cable.length, 10.0);

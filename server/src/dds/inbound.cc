@@ -193,13 +193,12 @@ std::string parse_joint_commands(const Model& model, const hadal_msgs::msg::Step
   if (msg.winch_cables().size() != winches) return "winch_cables and winch_commands differ in length";
   for (std::size_t i = 0; i < winches; ++i) {
     const std::string& name = msg.winch_cables()[i];
-    int index = -1;
-    std::string known;
-    for (std::size_t c = 0; c < model.cables.size(); ++c) {
-      if (model.cables[c].name == name) index = static_cast<int>(c);
-      if (model.cables[c].winch_end() >= 0) known += (known.empty() ? "'" : ", '") + model.cables[c].name + "'";
-    }
+    const int index = model.cable_index(name);
     if (index < 0) {
+      std::string known;
+      for (const physics::CableModel& cable : model.cables) {
+        if (cable.winch_end() >= 0) known += (known.empty() ? "'" : ", '") + cable.name + "'";
+      }
       return "winch_cables[" + std::to_string(i) + "]: unknown cable '" + echoed(name) + "' (cables with a winch: " +
              (known.empty() ? "none" : known) + ")";
     }

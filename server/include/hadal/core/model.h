@@ -30,6 +30,8 @@ struct Model {
 
   // Index of the vehicle with this name, or -1.
   int vehicle_index(const std::string& name) const;
+  // Index of the cable with this name, or -1.
+  int cable_index(const std::string& name) const;
 };
 
 }  // namespace hadal

@@ -167,8 +167,6 @@ class Simulation {
   // Where each end of cable c is held in `state` (a fixed point, a vehicle's link point); a free end hangs the
   // cable's length below the other.
   std::array<Eigen::Vector3d, 2> cable_ends_W(std::size_t c, const SimState& state) const;
-  // The index of the cable named `name` in model().cables, or -1.
-  int cable_index(const std::string& name) const;
   // Tells cable `cable_index`'s winch to run at `speed` [m/s, + paying out] or, with a target_length > 0 [m], to
   // run at |speed| toward that length in the water and stop there (physics::advance_winch). Returns "" or why it
   // is refused (no such cable, a cable without a winch, physics::check_winch_command; the caller names the cable),
@@ -216,6 +214,8 @@ class Simulation {
   // Each cable over the step (physics/cable.h), its held ends following their vehicles' points at the step
   // start's velocity; the forces on vehicles go into cable_loads_, added to their wrenches by apply_forces.
   void step_cables(double t, double dt);
+  // Each cable of `state` laid straight and at rest between where its ends are in it (physics::straight_cable).
+  void lay_cables_straight(SimState& state) const;
   // The cables' forces on a vehicle's body (0: the base), into `wrench` about p_Wcm.
   void add_cable_loads(std::size_t vehicle, int body, const Eigen::Vector3d& p_Wcm, physics::StepWrench& wrench) const;
   // A held cable end in a state: its point and velocity [m, m/s, W] and the body of its vehicle holding it
