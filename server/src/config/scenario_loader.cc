@@ -166,10 +166,10 @@ void ScenarioLoader::resolve_cables(const Value& cables, Model& model) {
       physics::CableEndSpec& end = cable.ends[e];
       const std::optional<Value> end_value = map.optional(e == 0 ? "from" : "to");
       if (!end_value) continue;
-      const MapReader end_map(*end_value, {"vehicle", "link", "position", "velocity", "free", "winch"});
+      const MapReader end_map(*end_value, physics::cable_end_keys().names());
       if (end.winch && end_map.ok()) {  // its drum holds the cable in the water, and it can haul in to min_length
         if (const std::optional<Value> winch_value = end_map.optional("winch")) {
-          const MapReader winch_map(*winch_value, {"drum_length", "min_length", "max_speed", "max_acceleration"});
+          const MapReader winch_map(*winch_value, physics::winch_keys().names());
           if (end.winch->drum_length < cable.spec.length) {
             winch_map.error_at_key("drum_length", "the drum holds less than the cable's length (" +
                                                       config::format_number(cable.spec.length) + " m in the water)");

@@ -6,8 +6,6 @@ namespace hadal::physics {
 
 using config::Range;
 
-namespace {
-
 const config::KeyTable<WinchSpec>& winch_keys() {
   return config::declare_keys<WinchSpec>([](config::KeyTable<WinchSpec>& t) {
     t.describe("cables[].from.winch",
@@ -66,8 +64,6 @@ const config::KeyTable<CableEndSpec>& cable_end_keys() {
     });
   });
 }
-
-}  // namespace
 
 const config::KeyTable<CableModel>& cable_keys() {
   return config::declare_keys<CableModel>([](config::KeyTable<CableModel>& t) {

@@ -118,6 +118,9 @@ struct CableModel {
   int winch_end() const;
 };
 const config::KeyTable<CableModel>& cable_keys();
+// The keys of one end (`from`, `to`) and of its winch, which the loader reads again to place its own errors.
+const config::KeyTable<CableEndSpec>& cable_end_keys();
+const config::KeyTable<WinchSpec>& winch_keys();
 
 // What holds an end: nothing (a free end) or a point it follows.
 struct CableEnd {
