@@ -117,12 +117,11 @@ Ocean::Ocean(const WaterSpec& water, double gravity, std::uint64_t seed) : water
 }
 
 Ocean::~Ocean() = default;
+
 double Ocean::pressure_at(const Eigen::Vector3d& p_W, double t) const {
   if (!waves_.enabled()) return pressure(std::max(depth(p_W.z()), 0.0));
   if (p_W.z() > waves_.surface_height(p_W.x(), p_W.y(), t)) return water_.atmospheric_pressure;
-  const double d = depth(p_W.z());
-  const double hydrostatic = d >= 0.0 ? pressure(d) : water_.atmospheric_pressure + density(0.0) * gravity_ * d;
-  return hydrostatic + waves_.dynamic_pressure(p_W, t);
+  return signed_pressure(depth(p_W.z())) + waves_.dynamic_pressure(p_W, t);
 }
 
 Ocean::Ocean(Ocean&&) noexcept = default;

@@ -111,11 +111,6 @@ FluidSampler::SurfacePlane OceanFluid::surface_plane(const Eigen::Vector3d& p_W)
   return {waves.surface_height(p_W.x(), p_W.y(), time_), slope.x(), slope.y()};
 }
 
-double OceanFluid::signed_hydrostatic(double depth) const {
-  return depth >= 0.0 ? ocean_.pressure(depth) - ocean_.atmospheric_pressure()
-                      : ocean_.density(0.0) * ocean_.gravity() * depth;
-}
-
 const OceanFluid::WavesAbout& OceanFluid::waves_about(const Eigen::Vector3d& origin_W) const {
   if (origin_W == about_.origin_W) return about_;
   const Waves& waves = ocean_.waves();
@@ -134,7 +129,7 @@ const OceanFluid::WavesAbout& OceanFluid::waves_about(const Eigen::Vector3d& ori
 
 double OceanFluid::gauge_pressure_at(const Eigen::Vector3d& p_W) const {
   if (!ocean_.waves().enabled()) return gauge_pressure(p_W.z());
-  return signed_hydrostatic(ocean_.depth(p_W.z())) + waves_about(p_W).p_d;
+  return ocean_.signed_pressure(ocean_.depth(p_W.z())) - ocean_.atmospheric_pressure() + waves_about(p_W).p_d;
 }
 
 double OceanFluid::gauge_pressure(double z_W) const {
@@ -174,11 +169,11 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
   const Waves& waves = ocean_.waves();
   if (waves.enabled()) {  // the waves, linear about the origin (the header): per point, in double
     const WavesAbout& about = waves_about(origin_W);
-    const double p_origin_signed = signed_hydrostatic(d_origin);
+    const double p_origin_signed = ocean_.signed_pressure(d_origin);
     for (std::size_t i = 0; i < n; ++i) {
       const double d = d_origin - dz[i];
       out.rho[i] = static_cast<float>(ocean_.density(std::max(d, 0.0)));
-      out.dp[i] = static_cast<float>(signed_hydrostatic(d) - p_origin_signed +
+      out.dp[i] = static_cast<float>(ocean_.signed_pressure(d) - p_origin_signed +
                                      about.grad_p_d.dot(Eigen::Vector3d(dx[i], dy[i], dz[i])));
     }
     if (ocean_.current_varies_in_space()) {

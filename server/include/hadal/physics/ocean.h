@@ -76,6 +76,11 @@ class Ocean {
   // waves' dynamic pressure, and between the mean surface and a crest rho(0) g times the height of water above;
   // atmospheric above the instantaneous surface.
   double pressure_at(const Eigen::Vector3d& p_W, double t) const;
+  // Absolute hydrostatic pressure at depth d [Pa], continued above the mean surface (d < 0) with the surface's
+  // gradient, p_atm + rho(0) g d: what the waves' dynamic pressure is added to under a crest.
+  double signed_pressure(double depth) const {
+    return depth >= 0.0 ? pressure(depth) : water_.atmospheric_pressure + density(0.0) * gravity_ * depth;
+  }
   double surface_z() const { return water_.surface_z; }
   double gravity() const { return gravity_; }
   double atmospheric_pressure() const { return water_.atmospheric_pressure; }

@@ -54,8 +54,6 @@ class OceanFluid final : public FluidSampler {
     Eigen::Vector3d v_orbital_W = Eigen::Vector3d::Zero();
   };
   const WavesAbout& waves_about(const Eigen::Vector3d& origin_W) const;
-  // Gauge hydrostatic pressure below the mean surface, rho(0) g d above it (signed) [Pa].
-  double signed_hydrostatic(double depth) const;
 
   const Ocean& ocean_;
   double time_;  // sim time for the currents and waves [s]
