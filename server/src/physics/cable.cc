@@ -44,13 +44,15 @@ int cable_substeps(const CableSpec& spec, double dt, double length) {
 
 namespace {
 
-// The bending forces -dE/dp of E = k_b sum_i (1 - t_a . t_b) over the interior nodes, added into `force`.
-void add_bending(const std::vector<Eigen::Vector3d>& p_W, double k_b, std::vector<Eigen::Vector3d>& force) {
-  for (std::size_t i = 1; i + 1 < p_W.size(); ++i) {
-    const Eigen::Vector3d a = p_W[i] - p_W[i - 1], b = p_W[i + 1] - p_W[i];
-    const double la = a.norm(), lb = b.norm();
-    if (!(la > 1e-12) || !(lb > 1e-12)) continue;
-    const Eigen::Vector3d ta = a / la, tb = b / lb;
+// The bending forces -dE/dp of E = k_b sum_i (1 - t_a . t_b) over the interior nodes, added into `force`, from each
+// segment's unit tangent t[s] and length l[s] (0: a degenerate segment, which bends nothing).
+void add_bending(const std::vector<Eigen::Vector3d>& t, const std::vector<double>& l, double k_b,
+                 std::vector<Eigen::Vector3d>& force) {
+  for (std::size_t i = 1; i < l.size(); ++i) {  // the node between segments i - 1 and i
+    const double la = l[i - 1], lb = l[i];
+    if (!(la > 0.0) || !(lb > 0.0)) continue;
+    const Eigen::Vector3d& ta = t[i - 1];
+    const Eigen::Vector3d& tb = t[i];
     const double c = ta.dot(tb);
     const Eigen::Vector3d f_next = k_b * (ta - c * tb) / lb;   // k_b dc/dp_{i+1}
     const Eigen::Vector3d f_prev = -k_b * (tb - c * ta) / la;  // k_b dc/dp_{i-1}
@@ -112,6 +114,8 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
   const double h = dt / substeps;
   result.substeps = substeps;
   std::vector<Eigen::Vector3d> force(nodes), tangent(nodes), accel(nodes);
+  std::vector<Eigen::Vector3d> segment_t(nodes - 1);  // each segment's unit tangent and length (bending)
+  std::vector<double> segment_l(nodes - 1);
   const auto place_end = [&](const CableEnd& end, std::size_t node, double s) {
     if (!end.held) return;
     state.p_W[node] = end.p_W0 + s * (end.p_W1 - end.p_W0);
@@ -128,8 +132,10 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
     for (std::size_t s = 0; s + 1 < nodes; ++s) {
       const Eigen::Vector3d d = state.p_W[s + 1] - state.p_W[s];
       const double l = d.norm();
+      segment_l[s] = l > 1e-12 ? l : 0.0;
       if (!(l > 1e-12)) continue;
       const Eigen::Vector3d t = d / l;
+      segment_t[s] = t;
       tangent[s] += t;
       tangent[s + 1] += t;
       const Eigen::Vector3d dv = state.v_W[s + 1] - state.v_W[s];
@@ -150,7 +156,7 @@ CableStepResult step_cable(const CableSpec& spec, const CableWorld& world, const
       force[s + 1] += 0.5 * drag;
     }
     // Bending: at each interior node, the angle between its two segments (the header's E_i).
-    if (spec.bending_stiffness > 0.0) add_bending(state.p_W, spec.bending_stiffness / L0, force);
+    if (spec.bending_stiffness > 0.0) add_bending(segment_t, segment_l, spec.bending_stiffness / L0, force);
     // The seabed.
     for (std::size_t i = 0; i < nodes; ++i) {
       const double penetration = seabed[i] + 0.5 * spec.diameter - state.p_W[i].z();
