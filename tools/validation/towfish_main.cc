@@ -3,8 +3,8 @@
 //
 //   hadal-validate-towfish [--slow-kn 3] [--fast-kn 5] [--duration 600] [--out DIR] [--scenario PATH]
 //
-// Default scenario configs/scenarios/towfish.yaml: its first cable with an end on the fish (the vehicle at its other
-// end; "tow"). For each speed U the cable's ship end becomes a tow point moving at U along the ship's heading
+// Default scenario configs/scenarios/towfish.yaml: its first cable between two vehicles ("tow"), towing the one named
+// `fish` (else its `to` end's) from the other. For each speed U the cable's ship end becomes a tow point moving at U along the ship's heading
 // (`velocity` of a fixed end: the ship's own dynamics are not what is measured), the ship is made static and the
 // fish's sensors are left out (its side-scan's rays cost and measure nothing here). The fish, cable and tow point
 // start moving together at U with the cable straight at 30 deg; hadal::Simulation steps for --duration s and the
@@ -247,12 +247,12 @@ int main(int argc, char** argv) {
   Tow tow;
   bool found = false;
   for (std::size_t c = 0; c < model->cables.size() && !found; ++c) {
-    for (std::size_t e = 0; e < 2 && !found; ++e) {
-      const physics::CableModel& cable = model->cables[c];
-      if (!cable.ends[e].on_vehicle() || !cable.ends[1 - e].on_vehicle()) continue;
-      tow = Tow{c, 1 - e, e, cable.ends[1 - e].vehicle_index, cable.ends[e].vehicle_index};
-      found = model->vehicles[static_cast<std::size_t>(tow.fish)].name == "fish" || e == 1;
-    }
+    const physics::CableModel& cable = model->cables[c];
+    if (!cable.ends[0].on_vehicle() || !cable.ends[1].on_vehicle()) continue;
+    // The towed end: the one on a vehicle named "fish", else `to`.
+    const std::size_t fish = model->vehicles[static_cast<std::size_t>(cable.ends[0].vehicle_index)].name == "fish" ? 0 : 1;
+    tow = Tow{c, 1 - fish, fish, cable.ends[1 - fish].vehicle_index, cable.ends[fish].vehicle_index};
+    found = true;
   }
   if (!found) {
     std::fprintf(stderr, "%s: %s: no cable between two vehicles (a ship and what it tows)\n", kTool, scenario.c_str());

@@ -280,8 +280,7 @@ class Runner {
   // within seconds (default.yaml, 20 s: a tenth of the IMU's samples lost): every kRecorderCheckSteps steps, the
   // loop waits until the recorder is within kRecorderLag samples of every topic it records (a topic gains at most
   // one sample a step: it never falls more than 15 behind), so the bag loses nothing; the run goes as fast as the
-  // recorder. A recorder stuck for 10 s is left
-  // behind, once, with a warning (its losses are reported at the end).
+  // recorder. A recorder stuck for 10 s is left behind, once, with a warning (its losses are reported at the end).
   static constexpr std::uint64_t kRecorderCheckSteps = 10;
   static constexpr std::int64_t kRecorderLag = 5;
   void keep_recorder_up() {
