@@ -76,7 +76,7 @@ TEST_F(ScenarioLoaderTest, ImplausibleWaterAndSeabedAreSaidWithTheirKey) {
 
 // world.waves: a JONSWAP sea, its defaults, degrees to radians; regular components; and what is refused at its key:
 // a negative Hs, a zero Tp, Hs 0 (a spectrum without energy), too many components, components that all have no
-// amplitude, a spectrum's key given to regular waves.
+// amplitude, a spectrum's key given to regular waves, a negative build-up time.
 TEST_F(ScenarioLoaderTest, WavesAndTheirBadValues) {
   const std::string good = write("good.yaml", R"(world:
   waves: {spectrum: jonswap, significant_height: 2.0, peak_period: 8.0, direction_deg: 90, spreading: 6}
@@ -90,10 +90,12 @@ vehicles:)" + std::string(kInlineVehicle));
   EXPECT_EQ(waves.components, 128);  // the defaults
   EXPECT_DOUBLE_EQ(waves.gamma, 3.3);
   EXPECT_TRUE(std::isinf(waves.depth));
+  EXPECT_FALSE(waves.ramp_time);  // two peak periods (physics/waves.h)
   const std::string regular = write("regular.yaml", R"(world:
   waves:
     spectrum: regular
     depth: 40
+    ramp_time: 30
     regular:
       - {amplitude: 0.5, period: 6, direction_deg: 180}
 vehicles:)" + std::string(kInlineVehicle));
@@ -102,6 +104,7 @@ vehicles:)" + std::string(kInlineVehicle));
   ASSERT_EQ(two.model->world.waves.regular.size(), 1u);
   EXPECT_DOUBLE_EQ(two.model->world.waves.regular[0].direction, std::numbers::pi);
   EXPECT_DOUBLE_EQ(two.model->world.waves.depth, 40.0);
+  EXPECT_EQ(two.model->world.waves.ramp_time, 30.0);
   EXPECT_FALSE(load_scenario_file(write("none.yaml", std::string("world: {}\nvehicles:") + kInlineVehicle)).model->world.waves.enabled());
   const auto first_error = [&](const std::string& name, const std::string& waves_yaml) {
     const std::vector<std::string> errors = errors_of(write(name, "world:\n  waves: " + waves_yaml + "\nvehicles: []\n"));
@@ -121,6 +124,8 @@ vehicles:)" + std::string(kInlineVehicle));
             "2:30: error: world.waves.peak_period: key 'peak_period' is not used by wave spectrum 'regular'");
   EXPECT_EQ(first_error("g.yaml", "{spectrum: jonswap, significant_height: 1, peak_period: 8, components: 2.5}"),
             "2:81: error: world.waves.components: must be a whole number (got 2.5)");
+  EXPECT_EQ(first_error("h.yaml", "{spectrum: jonswap, significant_height: 1, peak_period: 8, ramp_time: -5}"),
+            "2:80: error: world.waves.ramp_time: must be in [0, 3600] (got -5)");
 }
 
 TEST_F(ScenarioLoaderTest, RaycastThreadsIsAWholeNumberInRange) {

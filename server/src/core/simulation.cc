@@ -1361,6 +1361,12 @@ void Simulation::convert_for_added_mass(VehicleRuntime& runtime, const VehicleSt
   in.nu_r.head<3>() -= R_BW * runtime.wrench.v_water_W;
   in.tau.head<3>() = R_BW * f_W;
   in.tau.tail<3>() = R_BW * tau_W;
+  if (!runtime.wrench.a_water_W.isZero(0.0)) {
+    // Waves: the water's acceleration also accelerates the added mass (Morison's inertia term beyond Froude-Krylov).
+    Vector6d a_water = Vector6d::Zero();
+    a_water.head<3>() = R_BW * runtime.wrench.a_water_W;
+    in.tau += in.kappa * (runtime.added_mass->added_mass_surface() * a_water);
+  }
   in.gravity_B = R_BW * model_.world.gravity_W;
   in.tau_contact = vehicle.contact_wrench_B;
   runtime.tau_bullet_B = runtime.added_mass->bullet_wrench(in);

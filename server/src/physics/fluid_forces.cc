@@ -173,7 +173,12 @@ class SurfaceFluidForce : public ForceElement {
     motion.p_WBcm = in.p_WBcm;
     motion.v_WBcm = in.v_WBcm;
     motion.w_WB = body.w_WB;
-    const HydrodynamicWrench fluid = kernel_.compute(motion, OceanFluid(ocean_, in.time));
+    const OceanFluid water(ocean_, in.time);
+    const HydrodynamicWrench fluid = kernel_.compute(motion, water);
+    // The waves at the centre of mass, for the added mass: relative velocity and the water's acceleration.
+    const FluidSampler::WavesNear waves = water.waves_near(in.p_WBcm);
+    out.v_water_W += waves.velocity_W;
+    out.a_water_W = waves.acceleration_W;
     out.f_W += fluid.f_W;
     out.tau_W += fluid.tau_W;
     out.submerged_fraction = fluid.wetted_area / kernel_.surface_area();

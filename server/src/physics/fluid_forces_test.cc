@@ -1,5 +1,5 @@
 // Force elements alone (no Bullet): the fluid models' wrenches on a submerged box against Archimedes,
-// the current they report for the added mass, the Earth-rotation Coriolis force's closed form, and the
+// the current (and waves) they report for the added mass, the Earth-rotation Coriolis force's closed form, and the
 // errors a vehicle without a hull gets.
 #include "hadal/physics/fluid_forces.h"
 
@@ -80,6 +80,37 @@ TEST(FluidForcesTest, CurrentIsReportedAndDampingActsThroughTheWater) {
   const StepWrench held = add(*fluid.force, body, body.X_WB.translation(), body.v_WB);
   EXPECT_NEAR(held.f_W.x(), 20.0 * 0.4, 1e-12);  // dragged along by the current: -D (v - u)
   EXPECT_NEAR(held.f_W.y(), 50.0 * -0.2, 1e-12);
+}
+
+// In waves the surface model reports the water at the centre of mass as the current plus the orbital velocity, and
+// the orbital acceleration, for the added mass (physics/actuator_kind.h, StepWrench): linear theory's at the box 20 m
+// down in 1 m, 10 s deep-water waves, to rounding. The lumped model does not see waves: the current alone.
+TEST(FluidForcesTest, InWavesTheSurfaceModelReportsTheMovingWater) {
+  Model model = testing::water_model({});
+  model.world.water.current.uniform_W = Eigen::Vector3d(0.4, -0.2, 0.0);
+  model.world.waves.spectrum = WaveSpectrum::kRegular;
+  model.world.waves.regular = {{1.0, 10.0, 0.0, 0.3}};
+  model.world.waves.ramp_time = 0.0;
+  const Ocean ocean(model.world);
+  RigidBodyState body;
+  body.X_WB.translation() = Eigen::Vector3d(3.0, 0.0, -20.0);
+  const double omega = 2.0 * M_PI / 10.0, k = omega * omega / kG;
+  // eta = a cos(k x - omega t + phi) at t = 0; Wheeler's stretched depth z - eta (physics/waves.h).
+  const double theta = k * 3.0 + 0.3, decay = std::exp(k * (-20.0 - std::cos(theta)));
+  const Eigen::Vector3d v_orbital(omega * decay * std::cos(theta), 0.0, omega * decay * std::sin(theta));
+  const Eigen::Vector3d a_orbital(omega * omega * decay * std::sin(theta), 0.0,
+                                  -omega * omega * decay * std::cos(theta));
+  const VehicleFluid surface =
+      make_vehicle_fluid(box_vehicle(FluidModelType::kSurface), model.world, ocean, Eigen::Vector3d::Zero());
+  const StepWrench w = add(*surface.force, body, body.X_WB.translation(), Eigen::Vector3d::Zero());
+  EXPECT_LT((w.v_water_W - model.world.water.current.uniform_W - v_orbital).norm(), 1e-12);
+  EXPECT_LT((w.a_water_W - a_orbital).norm(), 1e-12);
+  EXPECT_GT(v_orbital.norm(), 0.1 * omega * decay);
+  const VehicleFluid lumped =
+      make_vehicle_fluid(box_vehicle(FluidModelType::kLumped), model.world, ocean, Eigen::Vector3d::Zero());
+  const StepWrench l = add(*lumped.force, body, body.X_WB.translation(), Eigen::Vector3d::Zero());
+  EXPECT_EQ(l.v_water_W, model.world.water.current.uniform_W);
+  EXPECT_EQ(l.a_water_W, Eigen::Vector3d::Zero());
 }
 
 // F = -2 m Omega x v with Omega = Omega_E (0, cos lat, sin lat) in ENU. At 30 N (where cos and sin differ,

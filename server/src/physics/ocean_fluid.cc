@@ -123,8 +123,14 @@ const OceanFluid::WavesAbout& OceanFluid::waves_about(const Eigen::Vector3d& ori
     about_.grad_p_d[axis] =
         (waves.dynamic_pressure(origin_W + step, time_) - waves.dynamic_pressure(origin_W - step, time_)) / (2.0 * kStep);
   }
-  about_.v_orbital_W = waves.velocity_W(origin_W, time_);
+  waves.orbital(origin_W, time_, &about_.v_orbital_W, &about_.a_orbital_W);
   return about_;
+}
+
+FluidSampler::WavesNear OceanFluid::waves_near(const Eigen::Vector3d& origin_W) const {
+  if (!ocean_.waves().enabled()) return {};
+  const WavesAbout& about = waves_about(origin_W);
+  return {about.v_orbital_W, about.a_orbital_W, about.grad_p_d, ocean_.waves().density()};
 }
 
 double OceanFluid::gauge_pressure_at(const Eigen::Vector3d& p_W) const {

@@ -60,7 +60,7 @@ struct KernelParams {
   float magnus;   // C_M
   float buoyancy; // 1 or 0
   float g;        // gravity magnitude (0 if buoyancy is off)
-  float up_B[3];  // z_W expressed in B (third row of R_WB)
+  float up_B[3];  // z_W expressed in B (third row of R_WB); with waves z_W - grad p_d / (rho g)
   float p_ref;    // gauge pressure at p_WBcm, or 0 for a fully submerged body [Pa]
 };
 
@@ -309,7 +309,16 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
   k.buoyancy = coefficients_.buoyancy ? 1.0f : 0.0f;
   k.p_ref = static_cast<float>(p_ref);
   k.g = coefficients_.buoyancy ? static_cast<float>(fluid.gravity_magnitude()) : 0.0f;
-  for (int c = 0; c < 3; ++c) k.up_B[c] = static_cast<float>(R(2, c));
+  // The pressure's gradient across a face, per rho g: -z_W, and with waves -(z_W - grad p_d / (rho g)) (the dynamic
+  // pressure's gradient at the centre of mass), for the centre-of-pressure moments.
+  const FluidSampler::WavesNear waves = fluid.waves_near(m.p_WBcm);
+  const Eigen::Vector3d up_W =
+      waves.density > 0.0 && coefficients_.buoyancy
+          ? Eigen::Vector3d(Eigen::Vector3d::UnitZ() -
+                            waves.pressure_gradient_W / (waves.density * fluid.gravity_magnitude()))
+          : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up_B = R.transpose() * up_W;
+  for (int c = 0; c < 3; ++c) k.up_B[c] = static_cast<float>(up_B[c]);
 
   alignas(64) float rx[kBlock], ry[kBlock], rz[kBlock];
   alignas(64) float rho[kBlock], dp[kBlock], ux[kBlock], uy[kBlock], uz[kBlock];

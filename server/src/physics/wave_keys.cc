@@ -57,6 +57,10 @@ const config::KeyTable<WaveSpec>& wave_keys() {
         .min_items(1, "components").doc("the components, instead of a spectrum");
     t.number("depth", &WaveSpec::depth).unit("m").range(Range::positive()).default_text("deep water")
         .doc("the water's depth under the waves, for their dispersion and decay (deep water: kh large)");
+    t.number("ramp_time", &WaveSpec::ramp_time).unit("s").range(Range::closed(0.0, 3600.0))
+        .default_text("two peak periods (regular: two of the longest period)")
+        .doc("the build-up from calm water at t = 0, (1 - cos(pi t / T)) / 2 on every wave quantity, so that floating "
+             "bodies starting at rest are not thrown into a moving sea (0: the full sea from the start)");
     t.check([](const config::KeyReads& reads, WaveSpec& waves, config::NoContext&) {
       if (waves.spectrum != WaveSpectrum::kRegular) return true;
       if (waves.regular.size() > static_cast<std::size_t>(kMaxWaveComponents)) {

@@ -1,6 +1,7 @@
 #include "hadal/physics/waves.h"
 
 #include <cmath>
+#include <algorithm>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -54,12 +55,16 @@ Waves::Waves(const WaveSpec& spec, double surface_z, double density, double g, s
     : surface_z_(surface_z), density_(density), g_(g), depth_(spec.depth) {
   if (!spec.enabled()) return;
   if (spec.spectrum == WaveSpectrum::kRegular) {
+    double longest = 0.0;
+    for (const WaveComponentSpec& c : spec.regular) longest = std::max(longest, c.amplitude > 0.0 ? c.period : 0.0);
+    ramp_time_ = spec.ramp_time.value_or(2.0 * longest);
     for (const WaveComponentSpec& c : spec.regular) {
       const double omega = kTwoPi / c.period;
       components_.push_back({c.amplitude, omega, wave_number(omega, depth_, g_), c.direction, c.phase});
     }
     return;
   }
+  ramp_time_ = spec.ramp_time.value_or(2.0 * spec.peak_period);
   std::mt19937_64 rng(splitmix64(seed ^ fnv1a("waves")));
   const double omega_p = kTwoPi / spec.peak_period;
   const double gamma = spec.spectrum == WaveSpectrum::kPiersonMoskowitz ? 1.0 : spec.gamma;
@@ -96,12 +101,23 @@ double Waves::significant_height() const {
   return 4.0 * std::sqrt(variance);
 }
 
+double Waves::ramp(double t) const {
+  if (t >= ramp_time_) return 1.0;
+  if (t <= 0.0) return 0.0;
+  return 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp_time_));
+}
+
+double Waves::ramp_rate(double t) const {
+  if (t >= ramp_time_ || t <= 0.0) return 0.0;
+  return 0.5 * std::numbers::pi / ramp_time_ * std::sin(std::numbers::pi * t / ramp_time_);
+}
+
 double Waves::surface_height(double x, double y, double t) const {
   double eta = 0.0;
   for (const WaveComponent& c : components_) {
     eta += c.amplitude * std::cos(c.k * (x * std::cos(c.direction) + y * std::sin(c.direction)) - c.omega * t + c.phase);
   }
-  return surface_z_ + eta;
+  return surface_z_ + ramp(t) * eta;
 }
 
 Eigen::Vector2d Waves::surface_slope(double x, double y, double t) const {
@@ -111,7 +127,7 @@ Eigen::Vector2d Waves::surface_slope(double x, double y, double t) const {
     const double s = -c.amplitude * c.k * std::sin(c.k * (x * cb + y * sb) - c.omega * t + c.phase);
     slope += Eigen::Vector2d(s * cb, s * sb);
   }
-  return slope;
+  return ramp(t) * slope;
 }
 
 double Waves::stretched(double z_rel, double eta) const {
@@ -145,6 +161,9 @@ void Waves::orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, 
     const double du = a_omega * c.omega * horizontal * sin_t;
     *a_W += Eigen::Vector3d(du * cb, du * sb, -a_omega * c.omega * vertical * cos_t);
   }
+  const double r = ramp(t);
+  *a_W = r * *a_W + ramp_rate(t) * *v_W;
+  *v_W *= r;
 }
 
 Eigen::Vector3d Waves::velocity_W(const Eigen::Vector3d& p_W, double t) const {
@@ -173,7 +192,7 @@ double Waves::dynamic_pressure(const Eigen::Vector3d& p_W, double t) const {
                                             : std::cosh(c.k * (z + depth_)) / std::cosh(c.k * depth_);
     p += c.amplitude * ratio * std::cos(theta);
   }
-  return density_ * g_ * p;
+  return density_ * g_ * ramp(t) * p;
 }
 
 }  // namespace hadal::physics

@@ -22,6 +22,7 @@ WaveSpec jonswap(double hs, double tp) {
   spec.spectrum = WaveSpectrum::kJonswap;
   spec.significant_height = hs;
   spec.peak_period = tp;
+  spec.ramp_time = 0.0;  // the full sea from t = 0
   return spec;
 }
 
@@ -88,6 +89,7 @@ TEST(WavesTest, PressureAndVelocityDecayAsLinearTheorySays) {
   spec.spectrum = WaveSpectrum::kRegular;
   spec.regular = {{1.0, 8.0, 0.0, 0.0}};
   spec.depth = 30.0;
+  spec.ramp_time = 0.0;
   const Waves waves(spec, 0.0, kRho, kG, 1);
   const WaveComponent& c = waves.components().front();
   const double h = 30.0, a = 1.0, omega = 2.0 * kPi / 8.0, k = c.k;
@@ -155,14 +157,41 @@ TEST(WavesTest, TheAccelerationIsTheVelocitysRate) {
   WaveSpec spec = jonswap(1e-3, 9.0);
   spec.spreading = 10.0;
   spec.depth = 60.0;
+  spec.ramp_time.reset();  // the default build-up, 18 s: its rate is in the acceleration too
   const Waves waves(spec, 0.0, kRho, kG, 11);
   const Eigen::Vector3d p(5.0, -3.0, -6.0);
-  for (double t : {0.0, 3.3, 17.9}) {
+  for (double t : {0.5, 3.3, 17.9, 25.0}) {
     const double h = 1e-4;
     const Eigen::Vector3d rate = (waves.velocity_W(p, t + h) - waves.velocity_W(p, t - h)) / (2.0 * h);
     EXPECT_LT((waves.acceleration_W(p, t) - rate).norm(), 1e-3 * rate.norm()) << t;
     EXPECT_GT(rate.norm(), 0.0);
   }
+}
+
+// The build-up: by default two peak periods (regular waves: two of the longest period); calm at t = 0, half the sea at
+// half the build-up time (r = (1 - cos(pi / 2)) / 2), the full sea, to the bit, from then on.
+TEST(WavesTest, TheSeaBuildsUpFromCalm) {
+  WaveSpec spec = jonswap(2.0, 8.0);
+  const Waves full(spec, 0.0, kRho, kG, 5);
+  spec.ramp_time.reset();
+  const Waves built(spec, 0.0, kRho, kG, 5);
+  EXPECT_EQ(built.ramp_time(), 16.0);
+  const Eigen::Vector3d p(3.0, 4.0, -2.0);
+  EXPECT_EQ(built.surface_height(3.0, 4.0, 0.0), 0.0);
+  EXPECT_EQ(built.velocity_W(p, 0.0), Eigen::Vector3d::Zero());
+  EXPECT_EQ(built.dynamic_pressure(p, 0.0), 0.0);
+  EXPECT_NEAR(built.surface_height(3.0, 4.0, 8.0), 0.5 * full.surface_height(3.0, 4.0, 8.0), 1e-15);
+  EXPECT_NEAR(built.surface_slope(3.0, 4.0, 8.0).x(), 0.5 * full.surface_slope(3.0, 4.0, 8.0).x(), 1e-15);
+  for (double t : {16.0, 16.5, 100.0}) {
+    EXPECT_EQ(built.surface_height(3.0, 4.0, t), full.surface_height(3.0, 4.0, t)) << t;
+    EXPECT_EQ(built.velocity_W(p, t), full.velocity_W(p, t)) << t;
+    EXPECT_EQ(built.acceleration_W(p, t), full.acceleration_W(p, t)) << t;
+    EXPECT_EQ(built.dynamic_pressure(p, t), full.dynamic_pressure(p, t)) << t;
+  }
+  WaveSpec regular;
+  regular.spectrum = WaveSpectrum::kRegular;
+  regular.regular = {{0.5, 6.0, 0.0, 0.0}, {0.2, 11.0, 1.0, 0.0}, {0.0, 30.0, 0.0, 0.0}};
+  EXPECT_EQ(Waves(regular, 0.0, kRho, kG, 1).ramp_time(), 22.0);  // an empty component does not count
 }
 
 // Same seed, same waves to the bit; another seed, other waves of the same height.

@@ -55,6 +55,7 @@ TEST(GpsSensorTest, AwashUnderACrestItLosesItsFixAndGetsItBack) {
   Model model = testing::one_vehicle_world(Eigen::Vector3d(120.0, -40.0, -0.3));
   model.world.waves.spectrum = physics::WaveSpectrum::kRegular;
   model.world.waves.regular = {{0.5, 6.0, 0.3, 0.0}};
+  model.world.waves.ramp_time = 0.0;  // the full sea from t = 0
   SensorTestWorld world(model);
   GpsSensor::State state = world.initial_state<GpsSensor>(exact(), 10.0);
   int fixes = 0, lost = 0, regained = 0;

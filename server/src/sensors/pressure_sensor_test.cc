@@ -47,6 +47,7 @@ TEST(PressureSensorTest, UnderWavesItFeelsTheirDynamicPressure) {
   Model model = one_vehicle_world(Eigen::Vector3d(0, 0, -5.0), -5000.0);
   model.world.waves.spectrum = physics::WaveSpectrum::kRegular;
   model.world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
+  model.world.waves.ramp_time = 0.0;  // the full sea from t = 0
   SensorTestWorld world(model);
   const PressureSensor::Spec spec;
   PressureSensor::State state = world.initial_state<PressureSensor>(spec, 10.0);

@@ -48,7 +48,8 @@ struct StepWrench {
   Eigen::Vector3d f_W = Eigen::Vector3d::Zero();    // [N]
   Eigen::Vector3d tau_W = Eigen::Vector3d::Zero();  // about p_WBcm [N m]
   double submerged_fraction = 0.0;                  // of the vehicle [-]
-  Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();  // current at the centre of mass [m/s]
+  Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();  // current (and the surface model's waves) at the centre of mass [m/s]
+  Eigen::Vector3d a_water_W = Eigen::Vector3d::Zero();  // the waves' orbital acceleration there [m/s^2]
 };
 
 // A normalised setpoint, the control of thrusters and tracks: "" when `value` is finite and in [-1, 1],

@@ -17,9 +17,10 @@
 // Waves (Ocean::waves, physics/waves.h): a body sees them as linear about the point it is sampled about (its centre
 // of mass): the surface as the tangent plane under its bounding sphere's centre (surface_plane), the waves' dynamic
 // pressure as its value and gradient there (one evaluation of the components per body and step, not per face), and
-// the orbital velocity there added to the current at every face. The hydrostatic part is then signed (rho(0) g d
-// above the mean surface, d < 0): with the dynamic pressure it is near zero at the moving waterline, and the kernel
-// leaves out the faces above the plane. Exact for waves much longer than the body (a 10 m barge in 100 m waves
+// the orbital velocity there added to the current at every face (waves_near gives these, and the orbital
+// acceleration, to the kernel's centre-of-pressure moments and the vehicle's added mass). The hydrostatic part is
+// then signed (rho(0) g d above the mean surface, d < 0): with the dynamic pressure it is near zero at the moving
+// waterline, and the kernel leaves out the faces above the plane. Exact for waves much longer than the body (a 10 m barge in 100 m waves
 // sees the pressure's curvature across it as a few per cent of its heave force); short waves on a big hull are
 // averaged over it.
 // A view: holds a reference to the Ocean, which must outlive it. Units SI.
@@ -40,6 +41,7 @@ class OceanFluid final : public FluidSampler {
   SurfacePlane surface_plane(const Eigen::Vector3d& p_W) const override;
   double gauge_pressure(double z_W) const override;
   double gauge_pressure_at(const Eigen::Vector3d& p_W) const override;
+  WavesNear waves_near(const Eigen::Vector3d& origin_W) const override;
   double gravity_magnitude() const override { return ocean_.gravity(); }
   void sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
               const float* dz, const FluidSamples& out) const override;
@@ -52,6 +54,7 @@ class OceanFluid final : public FluidSampler {
     double p_d = 0.0;
     Eigen::Vector3d grad_p_d = Eigen::Vector3d::Zero();
     Eigen::Vector3d v_orbital_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d a_orbital_W = Eigen::Vector3d::Zero();
   };
   const WavesAbout& waves_about(const Eigen::Vector3d& origin_W) const;
 

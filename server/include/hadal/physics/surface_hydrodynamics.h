@@ -120,6 +120,17 @@ class FluidSampler {
   // Gauge pressure at a point [Pa]: gauge_pressure(z) unless the sea state makes it depend on (x, y) too. The
   // reference of sample()'s dp for a body that crosses the surface.
   virtual double gauge_pressure_at(const Eigen::Vector3d& p_W) const { return gauge_pressure(p_W.z()); }
+  // The waves near a body sampled about origin_W, the same for all its faces (zero without waves): the orbital
+  // velocity and acceleration (sample() adds the velocity to the current; a vehicle's added mass feels both), and the
+  // gradient of the dynamic pressure, which the kernel's centre-of-pressure moments add to the hydrostatic one
+  // (docs/ARCHITECTURE.md, "Waves").
+  struct WavesNear {
+    Eigen::Vector3d velocity_W = Eigen::Vector3d::Zero();           // orbital velocity [m/s, W]
+    Eigen::Vector3d acceleration_W = Eigen::Vector3d::Zero();       // its rate [m/s^2, W] (for the added mass)
+    Eigen::Vector3d pressure_gradient_W = Eigen::Vector3d::Zero();  // grad p_d [Pa/m, W]
+    double density = 0.0;  // the density p_d is scaled with [kg/m^3]
+  };
+  virtual WavesNear waves_near(const Eigen::Vector3d& /*origin_W*/) const { return {}; }
   // g [m/s^2]: the hydrostatic gradient dp/dz = -rho g (centre-of-pressure moments).
   virtual double gravity_magnitude() const = 0;
   // Fluid at the n points origin_W + (dx_i, dy_i, dz_i) (offsets in W axes). Called per block of at

@@ -25,6 +25,9 @@
 // with z relative to the mean surface and, above it, Wheeler stretching: the water column [-h, eta] is mapped onto
 // [-h, 0] by z' = h (z - eta) / (h + eta) (deep water: z' = z - eta), so that at the instantaneous surface the
 // kinematics are those linear theory gives at the mean level and the total pressure -rho g z + p_d is zero there.
+// Build-up: every quantity is multiplied by r(t) = (1 - cos(pi t / T_r)) / 2 for t < T_r (`ramp_time`), 1 after (the
+// acceleration also gets r'(t) times the velocity), so that bodies starting at rest in calm water are not thrown into
+// a sea already moving (a floating body let go in full orbital flow keeps the velocity difference as a drift).
 // Above the instantaneous surface there is no water: velocity, acceleration and dynamic pressure are zero. Deep
 // water uses exp(k z') for the ratios. Everything decays with depth as those ratios do: at z < -lambda / 2 a
 // component keeps < 5 % of its surface value, and at z < -lambda less than 0.2 %.
@@ -63,6 +66,8 @@ struct WaveSpec {
   std::vector<WaveComponentSpec> regular;  // spectrum kRegular
   // Water depth for the dispersion relation and the kinematics' decay [m]; infinite: deep water.
   double depth = std::numeric_limits<double>::infinity();
+  // The build-up from calm water at t = 0 [s]; none: two peak periods (two of the longest listed period).
+  std::optional<double> ramp_time;
 
   bool enabled() const { return spectrum != WaveSpectrum::kNone; }
 };
@@ -96,6 +101,11 @@ class Waves {
   const std::vector<WaveComponent>& components() const { return components_; }
   double surface_z() const { return surface_z_; }
   double depth() const { return depth_; }
+  double density() const { return density_; }  // rho of the dynamic pressure rho g ... [kg/m^3]
+  double ramp_time() const { return ramp_time_; }  // T_r [s]
+  // The build-up factor r(t) in [0, 1] and its rate [1/s].
+  double ramp(double t) const;
+  double ramp_rate(double t) const;
   // 4 sqrt(sum a_i^2 / 2): the components' significant height [m].
   double significant_height() const;
 
@@ -106,6 +116,8 @@ class Waves {
   // Orbital velocity and acceleration of the water at p_W [m/s, m/s^2, W]; zero above the surface.
   Eigen::Vector3d velocity_W(const Eigen::Vector3d& p_W, double t) const;
   Eigen::Vector3d acceleration_W(const Eigen::Vector3d& p_W, double t) const;
+  // Both at once (one pass over the components).
+  void orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const;
   // The wave's dynamic pressure at p_W [Pa] (add the hydrostatic rho g (surface_z - z)); zero above the surface.
   double dynamic_pressure(const Eigen::Vector3d& p_W, double t) const;
 
@@ -113,13 +125,12 @@ class Waves {
   // Wheeler's stretched height below the mean level of a point z_rel below the surface eta (relative to the mean
   // level) [m].
   double stretched(double z_rel, double eta) const;
-  // The orbital velocity and acceleration at p_W together (zero above the surface).
-  void orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const;
   std::vector<WaveComponent> components_;
   double surface_z_ = 0.0;
   double density_ = 1025.0;
   double g_ = 9.80665;
   double depth_ = std::numeric_limits<double>::infinity();
+  double ramp_time_ = 0.0;
 };
 
 }  // namespace hadal::physics
