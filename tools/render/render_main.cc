@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
         sim.capture_mount(static_cast<int>(ref.vehicle), static_cast<int>(ref.sensor));
     const auto v = static_cast<int>(ref.vehicle);
     const sensors::CaptureContext context{sim.time(), sim.state().step_count, mount.X_Wb, v,
-                                          mount.X_BS, &sim.model(),           nullptr,    mount.ray_body};
+                                          mount.X_BS, &sim.model(),           &sim.ocean(), mount.ray_body};
     sensors::CameraSensor::Capture frame;
     sim.raycast_service().submit(mount.X_Wb, sensors::CameraSensor::capture(context, spec, state, frame)).get();
 

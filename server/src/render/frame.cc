@@ -163,6 +163,11 @@ struct FrameSetup {
   bool sky = false;
   float floor_z = kInf, surface_z = 0;
   float E0[3] = {0, 0, 0}, Kd[3] = {0, 0, 0};
+  // The surface seen from below (Snell's window): its unit normal in W (tilted by waves) and water's refractive
+  // index; `window` when the camera is under it with daylight above.
+  bool window = false;
+  float surface_n[3] = {0, 0, 1};
+  float refractive_index = 1.34f;
   // Scattered light along the rays.
   bool daylit_water = false;
   float s0 = 0;
@@ -364,6 +369,47 @@ HADAL_VECTOR_KERNEL bool daylight_negligible(const FrameSetup& f, const BandArra
     if (!(bound == 0.0 || bound < f.half_negligible[ch])) return false;  // (NaN: not negligible)
   }
   return true;
+}
+
+// The sea surface seen from below, for the rays that leave the water before they hit anything (render/frame.h):
+// inside Snell's window (the angle theta from the surface's normal below asin(1 / n)) the sky's radiance E0 / pi
+// refracted in, T(theta) n^2 E0 / pi (Fresnel's unpolarised transmittance; n^2: radiance crowds into the narrower
+// cone), plus the reflected share R(theta) of the water's upwelling path radiance under the surface; outside it total
+// internal reflection, that upwelling radiance alone. Both attenuated by exp(-c s) over the ray's path s to the
+// surface. The upwelling radiance is daylight's single scattering below the surface along the mirrored ray, b p(d)
+// E0 / (c + Kd |d_z|) (render/optics.h): no seabed or vehicle is reflected.
+void add_surface_from_below(const FrameSetup& f, const float* dx, const float* dy, const float* dz, const float* t,
+                            std::size_t n, BandArrays& a) {
+  const float mx = f.surface_n[0], my = f.surface_n[1], mz = f.surface_n[2];
+  const float h = f.surface_z * mz;  // the plane m . p = h through (0, 0, surface_z), camera-relative
+  const float n_w = f.refractive_index, sky_scale = n_w * n_w / 3.14159265358979f;
+  const float g = f.phase_g, hg_scale = (1.0f - g * g) / (4.0f * 3.14159265358979f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float cos_w = mx * dx[i] + my * dy[i] + mz * dz[i];  // cos theta, the ray against the normal
+    if (!(cos_w > 0.0f)) continue;
+    const float s = h / cos_w;  // the path to the surface
+    if (!(s < f.far_clip) || t[i] < s) continue;
+    // Fresnel, water (n_w) to air (1): sin theta_air = n_w sin theta.
+    const float sin_air2 = n_w * n_w * (1.0f - cos_w * cos_w);
+    float reflectance = 1.0f;
+    if (sin_air2 < 1.0f) {
+      const float cos_air = std::sqrt(1.0f - sin_air2);
+      const float rs = (n_w * cos_w - cos_air) / (n_w * cos_w + cos_air);
+      const float rp = (cos_w - n_w * cos_air) / (cos_w + n_w * cos_air);
+      reflectance = 0.5f * (rs * rs + rp * rp);
+    }
+    // The mirrored ray's z in W (for the upwelling path radiance): d - 2 (d . m) m.
+    const float z_down = dz[i] - 2.0f * cos_w * mz;
+    const float up_z = z_down < 0.0f ? -z_down : 0.0f;
+    const float denominator = 1.0f + g * g - 2.0f * g * z_down;
+    const float phase = hg_scale / (denominator * std::sqrt(denominator));
+    float* out[3] = {&a.sr[i], &a.sg[i], &a.sb[i]};
+    for (int ch = 0; ch < 3; ++ch) {
+      const float upwelling = f.b[ch] * phase * f.E0[ch] / (f.c[ch] + f.Kd[ch] * up_z);
+      const float below = (1.0f - reflectance) * sky_scale * f.E0[ch] + reflectance * upwelling;
+      *out[ch] += below * std::exp(-f.c[ch] * s);
+    }
+  }
 }
 
 // The band of image rows [row_begin, row_end): its rays, shadow rays and shading. Writes the band's
@@ -658,6 +704,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
       a.sb[i] += weight * w2 * integral(c2 - Kd2 * z, s1, bounded);
     }
   }
+  if (f.window) add_surface_from_below(f, dx, dy, dz, t, n, a);
   Rgbf* radiance = frame.radiance.data() + first;
   for (std::size_t i = 0; i < n; ++i) radiance[i] = Rgbf(a.sr[i], a.sg[i], a.sb[i]);
   return shadows.size();
@@ -734,6 +781,9 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   f.sky = std::isfinite(daylight_floor_z) || daylight_floor_z < 0.0;
   f.floor_z = static_cast<float>(daylight_floor_z - f.p_WC.z());
   f.surface_z = static_cast<float>(daylight.surface_z_m - f.p_WC.z());
+  f.window = f.sky && f.surface_z > 0.0f;
+  for (int k = 0; k < 3; ++k) f.surface_n[k] = static_cast<float>(daylight.surface_normal_W[k]);
+  f.refractive_index = static_cast<float>(daylight.refractive_index);
   for (int ch = 0; ch < 3; ++ch) {
     f.E0[ch] = static_cast<float>(daylight.surface_irradiance_W_per_m2[ch]);
     f.Kd[ch] = static_cast<float>(daylight.Kd_per_m[ch]);

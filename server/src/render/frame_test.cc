@@ -336,6 +336,7 @@ TEST(FrameTest, MatchesThePerPixelPhysicsInDoublePrecision) {
       }
       expected += table->at(u, v, s_end);
       expected += daylight_path_radiance(lighting.water, sun, E_camera, o, d, static_cast<double>(near_clip), s_end);  // s0: the near clip
+      expected += surface_from_below_radiance(lighting.water, sun, o, d, s_end);
       const Rgb got = frame.radiance[i].cast<double>();
       ++checked;
       if (((got - expected).abs() > 1e-4 * expected.abs() + 1e-6 * brightest).any()) ++outliers;
@@ -561,6 +562,95 @@ TEST(FrameTest, KeptBackscatterTableGivesTheSameFrame) {
   // No scattering: no table.
   clearer.water.scattering_per_m = Rgb::Zero();
   EXPECT_EQ(cache.get(clearer, moved, lens, 0.1f, 40.0f, serial_for), nullptr);
+}
+
+
+// The surface seen from below (render/optics.h surface_from_below_radiance): a fisheye looking straight up from 5 m
+// under a flat surface in clear, daylit water sees Snell's window, the bright disc of the sky refracted in, whose edge
+// is at asin(1 / n) from the zenith: 48.6 deg for n = 1.333 (fresh water; seawater's 1.34 gives 48.3). The frame
+// matches the per-ray physics in double precision (1e-4 relative plus 1e-6 of the brightest pixel, as above; not
+// within 0.5 deg of the edge, where the transmittance's slope is unbounded), is over 10x brighter 1 deg inside the edge
+// than 1 deg outside it (measured 15x: Fresnel's transmittance is already down to 0.66 there, and total internal
+// reflection outside shows only the dim upwelling water), and the sky's radiance falls to half the zenith's within
+// 1 deg inside the critical angle.
+// Tilting the surface 10 deg (a wave's slope) tilts the window with it: its brightest point, along the surface's
+// normal (Fresnel's transmittance and the path to the surface are best there), moves 10 deg along the row (within two
+// pixels).
+TEST(FrameTest, UnderTheSurfaceACameraSeesSnellsWindow) {
+  EmbreeScene scene;
+  scene.add_static_mesh(plate(200.0f, 0.0f, 0.0f, 1.0f), 0, "far");  // out of view: the scene needs something
+  scene.build();
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.05, 0.02, 0.03);
+  lighting.water.scattering_per_m = Rgb::Constant(0.01);
+  lighting.water.phase_g = 0.0;  // isotropic: no forward-scattered glow around the zenith (the default's 0.92 has one)
+  lighting.daylight.surface_irradiance_W_per_m2 = Rgb(120.0, 150.0, 140.0);
+  lighting.daylight.Kd_per_m = Rgb(0.04, 0.02, 0.025);  // below c = a + b, as in real water
+  lighting.daylight.surface_z_m = 0.0;
+  lighting.daylight.refractive_index = 1.333;
+  LensSpec spec;  // equidistant, 201 px square, the edge 80 deg off the axis
+  spec.model = LensModel::kEquidistant;
+  spec.width_px = spec.height_px = 201;
+  spec.cx = spec.cy = 100.0;
+  spec.fx = spec.fy = 100.0 / (80.0 * M_PI / 180.0);
+  const Lens lens = make_lens(spec);
+  const auto render = [&](const FrameLighting& l) {
+    Eigen::Isometry3d X_WC = Eigen::Isometry3d::Identity();  // C's axes W's: the optical axis z straight up
+    X_WC.translation() = Eigen::Vector3d(0.0, 0.0, -5.0);
+    return std::make_pair(render_radiance(scene, lens, X_WC, 0.05f, 500.0f, geometry::kNoHit, l,
+                                          [](const SurfacePoint&) { return Rgb(0.5, 0.5, 0.5); }),
+                          X_WC);
+  };
+  const auto [frame, X_WC] = render(lighting);
+  const double critical = std::asin(1.0 / 1.333);
+  EXPECT_NEAR(critical * 180.0 / M_PI, 48.6, 0.05);
+  const Eigen::Vector3d o = X_WC.translation().cast<float>().cast<double>();
+  const Rgb E_camera = lighting.daylight.irradiance_at(static_cast<float>(o.z()));
+  double inside = 0.0, outside = 0.0, zenith = 0.0, half_angle = 0.0;
+  int n_inside = 0, n_outside = 0;
+  float brightest = 0.0f;
+  for (const Rgbf& L : frame.radiance) brightest = std::max(brightest, L.maxCoeff());
+  for (int v = 0; v < 201; ++v) {
+    for (int u = 0; u < 201; ++u) {
+      const Eigen::Vector3f d_f = (X_WC.linear().cast<float>() * lens.ray_C(u, v)).normalized();
+      const Eigen::Vector3d d = d_f.cast<double>();
+      const double angle = std::acos(std::clamp(d.z(), -1.0, 1.0));
+      const Rgb expected = surface_from_below_radiance(lighting.water, lighting.daylight, o, d, 500.0) +
+                           daylight_path_radiance(lighting.water, lighting.daylight, E_camera, o, d, 0.05, 500.0);
+      const Rgb got = frame.radiance[static_cast<std::size_t>(v) * 201 + u].cast<double>();
+      // At the window's edge the transmittance's slope is unbounded (sqrt(1 - n^2 sin^2)): there a single-precision
+      // ray differs more.
+      const bool near_edge = std::abs(angle - critical) < 0.5 * M_PI / 180.0;
+      EXPECT_TRUE(near_edge || ((got - expected).abs() <= 1e-4 * expected.abs() + 1e-6 * brightest).all())
+          << u << ", " << v << ": " << got.transpose() << " vs " << expected.transpose();
+      if (u == 100 && v == 100) zenith = got[1];
+      if (std::abs(angle - (critical - M_PI / 180.0)) < 0.25 * M_PI / 180.0) inside += got[1], ++n_inside;
+      if (std::abs(angle - (critical + M_PI / 180.0)) < 0.25 * M_PI / 180.0) outside += got[1], ++n_outside;
+    }
+  }
+  ASSERT_GT(n_inside, 10);
+  ASSERT_GT(n_outside, 10);
+  EXPECT_GT(inside / n_inside, 10.0 * outside / n_outside);
+  // Where the sky's share falls to half the zenith's: along the image's row through the centre.
+  for (int u = 100; u < 201; ++u) {
+    const Eigen::Vector3d d = (X_WC.linear().cast<float>() * lens.ray_C(u, 100)).normalized().cast<double>();
+    if (frame.radiance[100 * 201 + u][1] >= 0.5 * zenith) half_angle = std::acos(d.z());
+  }
+  EXPECT_LT(half_angle, critical);
+  EXPECT_GT(half_angle, critical - M_PI / 180.0) << half_angle * 180 / M_PI;
+  // A 10 deg slope: the window's centre follows the normal.
+  FrameLighting tilted = lighting;
+  tilted.daylight.surface_normal_W = Eigen::Vector3d(std::sin(0.1745), 0.0, std::cos(0.1745));
+  const RadianceFrame leaning = render(tilted).first;
+  double leaning_peak = 0.0, brightest_angle = 0.0;
+  for (int u = 0; u < 201; ++u) {
+    const Eigen::Vector3d d = (X_WC.linear().cast<float>() * lens.ray_C(u, 100)).normalized().cast<double>();
+    if (leaning.radiance[100 * 201 + u][1] > leaning_peak) {
+      leaning_peak = leaning.radiance[100 * 201 + u][1];
+      brightest_angle = std::atan2(d.x(), d.z());
+    }
+  }
+  EXPECT_NEAR(brightest_angle, 0.1745, 2.0 * 80.0 / 100.0 * M_PI / 180.0);  // two pixels
 }
 
 }  // namespace

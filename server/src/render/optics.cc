@@ -98,6 +98,32 @@ Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, c
   return scale * integral;
 }
 
+double water_to_air_reflectance(double n, double cos_w) {
+  const double sin_air2 = n * n * (1.0 - cos_w * cos_w);
+  if (sin_air2 >= 1.0) return 1.0;
+  const double cos_air = std::sqrt(1.0 - sin_air2);
+  const double rs = (n * cos_w - cos_air) / (n * cos_w + cos_air);
+  const double rp = (cos_w - n * cos_air) / (cos_w + n * cos_air);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+Rgb surface_from_below_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
+                                const Eigen::Vector3d& d_W, double s_end) {
+  const Eigen::Vector3d& m = daylight.surface_normal_W;
+  const double cos_w = m.dot(d_W);
+  const double height = (daylight.surface_z_m - o_W.z()) * m.z();  // m . (surface point - o_W), the point over o_W
+  if (!(cos_w > 0.0) || !(height > 0.0)) return Rgb::Zero();
+  const double s = height / cos_w;
+  if (!(s <= s_end)) return Rgb::Zero();
+  const double n = daylight.refractive_index, R = water_to_air_reflectance(n, cos_w);
+  const Eigen::Vector3d mirrored = d_W - 2.0 * cos_w * m;
+  const Rgb& E0 = daylight.surface_irradiance_W_per_m2;
+  const Rgb c = water.attenuation_per_m();
+  const Rgb upwelling = water.scattering_per_m * henyey_greenstein(water.phase_g, mirrored.z()) * E0 /
+                        (c + daylight.Kd_per_m * std::max(0.0, -mirrored.z()));
+  return ((1.0 - R) * n * n / kPi * E0 + R * upwelling) * (-c * s).exp();
+}
+
 double henyey_greenstein(double g, double cos_psi) {
   const double denominator = 1.0 + g * g - 2.0 * g * cos_psi;
   return (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));

@@ -52,6 +52,10 @@ const KeyTable<OpticsSpec>& daylight_keys() {
         .default_text("`I`")
         .doc("Kd per band by Jerlov water type (`docs/reference/optics/`): I, IA, IB, II, III, 1C, 3C, 5C, 7C, 9C; "
              "below a few hundred metres daylight is black");
+    t.number("refractive_index", [](OpticsSpec& o) -> double& { return o.daylight.refractive_index; })
+        .range(Range::closed(1.0, 2.0))
+        .doc("the water's, for the surface seen from below: Snell's window of half-angle asin(1 / n) (48.3 deg for "
+             "seawater's 1.34; total internal reflection outside it)");
   });
 }
 

@@ -16,6 +16,7 @@
 #include "hadal/geometry/embree_scene.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/world_scene.h"
+#include "hadal/physics/ocean.h"
 #include "hadal/render/camera_presets.h"
 #include "hadal/render/camera_rays.h"
 #include "hadal/render/frame.h"
@@ -331,6 +332,14 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   geometry::RayBodies bodies(*context.model);
   render::FrameLighting lighting = lighting_at(*context.model, bodies, context.X_WB);
   lighting.negligible_radiance_W_per_m2_sr = negligible_radiance(spec.sensor);
+  if (context.ocean != nullptr && context.ocean->waves().enabled()) {
+    // The surface over the camera as the waves have it at the snapshot: its height and tilt (Snell's window moves).
+    const physics::Waves& waves = context.ocean->waves();
+    const Eigen::Vector3d& p_WC = X_WC.translation();
+    const Eigen::Vector2d slope = waves.surface_slope(p_WC.x(), p_WC.y(), context.time);
+    lighting.daylight.surface_z_m = waves.surface_height(p_WC.x(), p_WC.y(), context.time);
+    lighting.daylight.surface_normal_W = Eigen::Vector3d(-slope.x(), -slope.y(), 1.0).normalized();
+  }
   std::optional<std::vector<render::SpotLight>> lights_C =
       own_lights_C(*context.model, bodies, context.vehicle_index, own_body, context.X_BS);
   return [&out, spec, X_WC, own_body, key, frame, model = context.model, bodies = std::move(bodies),

@@ -77,6 +77,20 @@ Rgb daylight_surface_radiance(const Rgb& albedo, const Daylight& daylight, const
 // and b p(d_z) E_d(z_o) (s1 - s0) in the limit k -> 0.
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
                            const Eigen::Vector3d& d_W, double s0, double s1);
+// Fresnel's reflectance of unpolarised light going from water (refractive index n) into air at incidence cos_w (the
+// ray's cosine with the surface's normal, > 0): ((rs^2 + rp^2) / 2, with sin theta_air = n sin theta_w); 1 beyond
+// the critical angle asin(1 / n) (total internal reflection).
+double water_to_air_reflectance(double n, double cos_w);
+
+// The sea surface seen from below along the camera ray o_W + s d_W, when the ray reaches it (the plane through
+// (x, y, daylight.surface_z_m) with normal daylight.surface_normal_W) before s_end (the hit or the far clip):
+//   (T n^2 E0 / pi + R b p(d'_z) E0 / (c + Kd |d'_z|)) exp(-c s_surface),  T = 1 - R = 1 - water_to_air_reflectance
+// the sky's radiance E0 / pi (a uniform sky that gives the surface E0) refracted into Snell's window (n^2: the
+// radiance of a narrowed cone), and the upwelling single-scattered daylight under the surface along the mirrored ray
+// d' reflected (all of it outside the window); zero otherwise. render/frame.h adds it to rays leaving the water.
+Rgb surface_from_below_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
+                                const Eigen::Vector3d& d_W, double s_end);
+
 // The same with E_d(z_o) = daylight.irradiance_at(o_W.z()) given (a camera's rays share their origin).
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Rgb& E_origin,
                            const Eigen::Vector3d& o_W, const Eigen::Vector3d& d_W, double s0, double s1);

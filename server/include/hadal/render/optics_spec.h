@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 
@@ -33,7 +34,11 @@ struct WaterOptics {
 struct Daylight {
   Rgb surface_irradiance_W_per_m2 = Rgb::Zero();  // E0
   Rgb Kd_per_m = Rgb::Zero();
-  double surface_z_m = 0.0;  // z_W of the sea surface [m]
+  double surface_z_m = 0.0;  // z_W of the sea surface over the camera [m]
+  // The surface's unit normal there (tilted by waves: the camera sets it per frame) and the water's refractive
+  // index, for the surface seen from below (Snell's window, render/frame.h).
+  Eigen::Vector3d surface_normal_W = Eigen::Vector3d::UnitZ();
+  double refractive_index = 1.34;
   Rgb irradiance_at(double z_W) const;
 };
 
