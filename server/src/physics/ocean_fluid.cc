@@ -107,23 +107,29 @@ void ctd_block(const Ctd& t, double d_origin, double p_origin, const float* __re
 FluidSampler::SurfacePlane OceanFluid::surface_plane(const Eigen::Vector3d& p_W) const {
   const Waves& waves = ocean_.waves();
   if (!waves.enabled()) return {ocean_.surface_z(), 0.0, 0.0};
-  const Eigen::Vector2d slope = waves.surface_slope(p_W.x(), p_W.y(), time_);
-  return {waves.surface_height(p_W.x(), p_W.y(), time_), slope.x(), slope.y()};
+  double eta = 0.0;
+  Eigen::Vector2d slope;
+  waves.surface(p_W.x(), p_W.y(), time_, &eta, &slope);
+  return {waves.surface_z() + eta, slope.x(), slope.y()};
 }
 
 const OceanFluid::WavesAbout& OceanFluid::waves_about(const Eigen::Vector3d& origin_W) const {
   if (origin_W == about_.origin_W) return about_;
   const Waves& waves = ocean_.waves();
   about_.origin_W = origin_W;
-  about_.p_d = waves.dynamic_pressure(origin_W, time_);
-  constexpr double kStep = 0.05;  // [m]: central differences, (k kStep)^2 ~ 1e-5 of the gradient for 10 m waves
-  for (int axis = 0; axis < 3; ++axis) {
-    Eigen::Vector3d step = Eigen::Vector3d::Zero();
-    step[axis] = kStep;
-    about_.grad_p_d[axis] =
-        (waves.dynamic_pressure(origin_W + step, time_) - waves.dynamic_pressure(origin_W - step, time_)) / (2.0 * kStep);
+  // Expanded about the origin, or, when it is above the surface (a vessel's centre of mass often is), about the
+  // surface under it, and carried linearly up to the origin: the faces under the surface then see the water's
+  // pressure and motion, not the air's zero.
+  WaveKinematics k = waves.kinematics(origin_W, time_);
+  Eigen::Vector3d from = origin_W;
+  if (!k.wet) {
+    from.z() = k.surface_height;
+    k = waves.kinematics(from, time_);
   }
-  waves.orbital(origin_W, time_, &about_.v_orbital_W, &about_.a_orbital_W);
+  about_.grad_p_d = k.pressure_gradient_W;
+  about_.p_d = k.dynamic_pressure + k.pressure_gradient_W.dot(origin_W - from);
+  about_.v_orbital_W = k.velocity_W;
+  about_.a_orbital_W = k.acceleration_W;
   return about_;
 }
 

@@ -316,6 +316,7 @@ TEST(OceanFluidTest, UnderACrestThePressureIsZeroAtTheMovingSurface) {
 //   tau_y = -L rho g a e^(-k d) 2 (sin(k L / 2) - (k L / 2) cos(k L / 2)) / k^2  (the bottom's pressure, bow up)
 // within 1 %: the dynamic pressure is linear about the centre of mass (e^(k 0.5) = 1.005 at the bottom). The moment
 // needs the dynamic pressure's gradient inside each face (the box's bottom is two triangles): without it, it is a third.
+// The same force with the centre of mass in the air above the waterline.
 TEST(OceanFluidTest, AFloatingBoxFeelsTheWaveSlopeAsLinearTheoryIntegrates) {
   WorldSpec world;
   world.water.density = kRho;
@@ -332,6 +333,12 @@ TEST(OceanFluidTest, AFloatingBoxFeelsTheWaveSlopeAsLinearTheoryIntegrates) {
   BodyMotion motion;
   motion.p_WBcm = Eigen::Vector3d(0.0, 0.0, -0.5);
   const HydrodynamicWrench w = hydro.compute(motion, OceanFluid(ocean, 5.0));  // eta = a cos(-omega t) = a sin(k x)
+  // A centre of mass above the water (a vessel's often is): the waves are expanded about the surface under it, so the
+  // force is the same (1e-4: float sums about another point).
+  BodyMotion high = motion;
+  high.p_WBcm.z() = 0.6;
+  const HydrodynamicWrench w_high = hydro.compute(high, OceanFluid(ocean, 5.0));
+  EXPECT_LT((w_high.f_W - w.f_W).norm(), 1e-4 * w.f_W.norm()) << w_high.f_W.transpose() << " vs " << w.f_W.transpose();
   const double f_x = -2.0 * L * kRho * kG * a * std::sin(h) * (1.0 - std::exp(-k * d)) / k;
   const double tau_y = -L * kRho * kG * a * std::exp(-k * d) * 2.0 * (std::sin(h) - h * std::cos(h)) / (k * k);
   EXPECT_NEAR(w.f_W.x() / f_x, 1.0, 0.01) << w.f_W.x() << " vs " << f_x;

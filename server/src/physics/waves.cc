@@ -62,6 +62,7 @@ Waves::Waves(const WaveSpec& spec, double surface_z, double density, double g, s
       const double omega = kTwoPi / c.period;
       components_.push_back({c.amplitude, omega, wave_number(omega, depth_, g_), c.direction, c.phase});
     }
+    derive();
     return;
   }
   ramp_time_ = spec.ramp_time.value_or(2.0 * spec.peak_period);
@@ -93,6 +94,16 @@ Waves::Waves(const WaveSpec& spec, double surface_z, double density, double g, s
   // The sampled spectrum's shape, scaled to the target m0 = (Hs / 4)^2 (alpha).
   const double scale = variance > 0.0 ? 0.25 * spec.significant_height / std::sqrt(variance) : 0.0;
   for (WaveComponent& c : components_) c.amplitude *= scale;
+  derive();
+}
+
+void Waves::derive() {
+  for (WaveComponent& c : components_) {
+    c.cos_b = std::cos(c.direction);
+    c.sin_b = std::sin(c.direction);
+    c.k_x = c.k * c.cos_b;
+    c.k_y = c.k * c.sin_b;
+  }
 }
 
 double Waves::significant_height() const {
@@ -114,20 +125,15 @@ double Waves::ramp_rate(double t) const {
 
 double Waves::surface_height(double x, double y, double t) const {
   double eta = 0.0;
-  for (const WaveComponent& c : components_) {
-    eta += c.amplitude * std::cos(c.k * (x * std::cos(c.direction) + y * std::sin(c.direction)) - c.omega * t + c.phase);
-  }
+  for (const WaveComponent& c : components_) eta += c.amplitude * std::cos(c.k_x * x + c.k_y * y - c.omega * t + c.phase);
   return surface_z_ + ramp(t) * eta;
 }
 
 Eigen::Vector2d Waves::surface_slope(double x, double y, double t) const {
-  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
-  for (const WaveComponent& c : components_) {
-    const double cb = std::cos(c.direction), sb = std::sin(c.direction);
-    const double s = -c.amplitude * c.k * std::sin(c.k * (x * cb + y * sb) - c.omega * t + c.phase);
-    slope += Eigen::Vector2d(s * cb, s * sb);
-  }
-  return ramp(t) * slope;
+  double eta = 0.0;
+  Eigen::Vector2d slope;
+  surface(x, y, t, &eta, &slope);
+  return slope;
 }
 
 double Waves::stretched(double z_rel, double eta) const {
@@ -135,64 +141,90 @@ double Waves::stretched(double z_rel, double eta) const {
   return depth_ * (z_rel - eta) / (depth_ + eta);
 }
 
-void Waves::orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const {
-  v_W->setZero();
-  a_W->setZero();
-  if (components_.empty()) return;
-  const double eta = surface_height(p_W.x(), p_W.y(), t) - surface_z_;
-  const double z_rel = p_W.z() - surface_z_;
-  if (z_rel > eta) return;  // in the air
-  const double z = stretched(z_rel, eta);
+void Waves::surface(double x, double y, double t, double* eta, Eigen::Vector2d* slope) const {
+  double e = 0.0, sx = 0.0, sy = 0.0;
   for (const WaveComponent& c : components_) {
-    const double cb = std::cos(c.direction), sb = std::sin(c.direction);
-    const double theta = c.k * (p_W.x() * cb + p_W.y() * sb) - c.omega * t + c.phase;
-    double horizontal = 0.0, vertical = 0.0;  // cosh(k (z + h)) / sinh(kh), sinh(k (z + h)) / sinh(kh)
+    const double theta = c.k_x * x + c.k_y * y - c.omega * t + c.phase;
+    e += c.amplitude * std::cos(theta);
+    const double s = -c.amplitude * std::sin(theta);  // d/dx of cos(theta) is -k_x sin(theta)
+    sx += s * c.k_x;
+    sy += s * c.k_y;
+  }
+  const double r = ramp(t);
+  *eta = r * e;
+  *slope = r * Eigen::Vector2d(sx, sy);
+}
+
+WaveKinematics Waves::kinematics(const Eigen::Vector3d& p_W, double t) const {
+  WaveKinematics out;
+  out.surface_height = surface_z_;
+  if (components_.empty()) return out;
+  double eta = 0.0;
+  surface(p_W.x(), p_W.y(), t, &eta, &out.slope);
+  out.surface_height = surface_z_ + eta;
+  eta = out.surface_height - surface_z_;  // as rounded in W: a point given at surface_height is at the surface
+  const double z_rel = p_W.z() - surface_z_;
+  if (z_rel > eta) return out;  // in the air
+  out.wet = true;
+  const double z = stretched(z_rel, eta);
+  // Wheeler's z' = h (z - eta) / (h + eta) (deep: z - eta): its derivatives in z and in eta.
+  const bool finite = std::isfinite(depth_);
+  const double dz_dz = finite ? depth_ / (depth_ + eta) : 1.0;
+  const double dz_deta = finite ? -depth_ * (depth_ + z_rel) / ((depth_ + eta) * (depth_ + eta)) : -1.0;
+  double p = 0.0, dp_dzp = 0.0, dp_dx = 0.0, dp_dy = 0.0;  // sums over the components, per rho g r
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), a = Eigen::Vector3d::Zero();
+  for (const WaveComponent& c : components_) {
+    const double theta = c.k_x * p_W.x() + c.k_y * p_W.y() - c.omega * t + c.phase;
+    // horizontal, vertical: cosh(k (z' + h)) / sinh(kh), sinh(k (z' + h)) / sinh(kh); pressure: cosh(k (z' + h)) /
+    // cosh(kh) and its z' derivative k sinh(k (z' + h)) / cosh(kh). Deep water: all exp(k z').
+    double horizontal = 0.0, vertical = 0.0, pressure = 0.0, pressure_dz = 0.0;
     if (deep(c.k, depth_)) {
-      horizontal = vertical = std::exp(c.k * z);
+      horizontal = vertical = pressure = std::exp(c.k * z);
+      pressure_dz = c.k * pressure;
     } else {
-      const double s = std::sinh(c.k * depth_);
-      horizontal = std::cosh(c.k * (z + depth_)) / s;
-      vertical = std::sinh(c.k * (z + depth_)) / s;
+      const double ch = std::cosh(c.k * (z + depth_)), sh = std::sinh(c.k * (z + depth_));
+      const double s = std::sinh(c.k * depth_), cc = std::cosh(c.k * depth_);
+      horizontal = ch / s;
+      vertical = sh / s;
+      pressure = ch / cc;
+      pressure_dz = c.k * sh / cc;
     }
     const double cos_t = std::cos(theta), sin_t = std::sin(theta), a_omega = c.amplitude * c.omega;
     const double u = a_omega * horizontal * cos_t;
-    *v_W += Eigen::Vector3d(u * cb, u * sb, a_omega * vertical * sin_t);
+    v += Eigen::Vector3d(u * c.cos_b, u * c.sin_b, a_omega * vertical * sin_t);
     // d/dt of cos(theta) is omega sin(theta); of sin(theta), -omega cos(theta).
     const double du = a_omega * c.omega * horizontal * sin_t;
-    *a_W += Eigen::Vector3d(du * cb, du * sb, -a_omega * c.omega * vertical * cos_t);
+    a += Eigen::Vector3d(du * c.cos_b, du * c.sin_b, -a_omega * c.omega * vertical * cos_t);
+    p += c.amplitude * pressure * cos_t;
+    dp_dzp += c.amplitude * pressure_dz * cos_t;
+    dp_dx -= c.amplitude * pressure * c.k_x * sin_t;
+    dp_dy -= c.amplitude * pressure * c.k_y * sin_t;
   }
-  const double r = ramp(t);
-  *a_W = r * *a_W + ramp_rate(t) * *v_W;
-  *v_W *= r;
+  const double r = ramp(t), rho_g_r = density_ * g_ * r;
+  out.velocity_W = r * v;
+  out.acceleration_W = r * a + ramp_rate(t) * v;
+  out.dynamic_pressure = rho_g_r * p;
+  // Through z'(z, eta(x, y)): d/dx = d/dx at fixed z' + dp/dz' dz'/deta deta/dx (the slope holds the ramp already).
+  out.pressure_gradient_W = Eigen::Vector3d(rho_g_r * (dp_dx + dp_dzp * dz_deta * out.slope.x()),
+                                            rho_g_r * (dp_dy + dp_dzp * dz_deta * out.slope.y()),
+                                            rho_g_r * dp_dzp * dz_dz);
+  return out;
 }
 
-Eigen::Vector3d Waves::velocity_W(const Eigen::Vector3d& p_W, double t) const {
-  Eigen::Vector3d v, a;
-  orbital(p_W, t, &v, &a);
-  return v;
+void Waves::orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const {
+  const WaveKinematics k = kinematics(p_W, t);
+  *v_W = k.velocity_W;
+  *a_W = k.acceleration_W;
 }
+
+Eigen::Vector3d Waves::velocity_W(const Eigen::Vector3d& p_W, double t) const { return kinematics(p_W, t).velocity_W; }
 
 Eigen::Vector3d Waves::acceleration_W(const Eigen::Vector3d& p_W, double t) const {
-  Eigen::Vector3d v, a;
-  orbital(p_W, t, &v, &a);
-  return a;
+  return kinematics(p_W, t).acceleration_W;
 }
 
 double Waves::dynamic_pressure(const Eigen::Vector3d& p_W, double t) const {
-  if (components_.empty()) return 0.0;
-  const double eta = surface_height(p_W.x(), p_W.y(), t) - surface_z_;
-  const double z_rel = p_W.z() - surface_z_;
-  if (z_rel > eta) return 0.0;
-  const double z = stretched(z_rel, eta);
-  double p = 0.0;
-  for (const WaveComponent& c : components_) {
-    const double theta =
-        c.k * (p_W.x() * std::cos(c.direction) + p_W.y() * std::sin(c.direction)) - c.omega * t + c.phase;
-    const double ratio = deep(c.k, depth_) ? std::exp(c.k * z)
-                                            : std::cosh(c.k * (z + depth_)) / std::cosh(c.k * depth_);
-    p += c.amplitude * ratio * std::cos(theta);
-  }
-  return density_ * g_ * ramp(t) * p;
+  return kinematics(p_W, t).dynamic_pressure;
 }
 
 }  // namespace hadal::physics

@@ -16,7 +16,8 @@
 // kernel per face (bench/hydrodynamics.cc, 11k faces, submerged): ramp ~1.05x, CTD ~1.4x constant.
 // Waves (Ocean::waves, physics/waves.h): a body sees them as linear about the point it is sampled about (its centre
 // of mass): the surface as the tangent plane under its bounding sphere's centre (surface_plane), the waves' dynamic
-// pressure as its value and gradient there (one evaluation of the components per body and step, not per face), and
+// pressure as its value and gradient there (or at the surface under it when the centre of mass is in the air, carried
+// linearly up to it; Waves::kinematics: one evaluation of the components per body and step, not per face), and
 // the orbital velocity there added to the current at every face (waves_near gives these, and the orbital
 // acceleration, to the kernel's centre-of-pressure moments and the vehicle's added mass). The hydrostatic part is
 // then signed (rho(0) g d above the mean surface, d < 0): with the dynamic pressure it is near zero at the moving

@@ -83,6 +83,8 @@ struct WaveComponent {
   double k = 0.0;          // wave number [rad/m]
   double direction = 0.0;  // beta [rad]
   double phase = 0.0;      // phi [rad]
+  // Derived once (Waves' constructor): cos beta, sin beta and the wave vector k (cos beta, sin beta) [rad/m].
+  double cos_b = 1.0, sin_b = 0.0, k_x = 0.0, k_y = 0.0;
 };
 
 // The wave number of frequency omega in water of depth h (infinite: omega^2 / g).
@@ -90,6 +92,18 @@ double wave_number(double omega, double depth, double g);
 
 // The JONSWAP spectral density at omega [m^2 s] for unit alpha (multiply by alpha).
 double jonswap_shape(double omega, double omega_p, double gamma, double g);
+
+// Everything the waves are at one point and instant (Waves::kinematics), from one pass over the components for the
+// surface over the point and one for the water there; zero (and wet false) above the surface.
+struct WaveKinematics {
+  double surface_height = 0.0;                          // eta over the point, W [m]
+  Eigen::Vector2d slope = Eigen::Vector2d::Zero();       // d eta / dx, d eta / dy
+  bool wet = false;                                     // the point is at or below the surface
+  double dynamic_pressure = 0.0;                        // p_d [Pa]
+  Eigen::Vector3d pressure_gradient_W = Eigen::Vector3d::Zero();  // grad p_d, analytic (through Wheeler's z') [Pa/m]
+  Eigen::Vector3d velocity_W = Eigen::Vector3d::Zero();           // orbital velocity [m/s]
+  Eigen::Vector3d acceleration_W = Eigen::Vector3d::Zero();       // its rate [m/s^2]
+};
 
 class Waves {
  public:
@@ -116,8 +130,12 @@ class Waves {
   // Orbital velocity and acceleration of the water at p_W [m/s, m/s^2, W]; zero above the surface.
   Eigen::Vector3d velocity_W(const Eigen::Vector3d& p_W, double t) const;
   Eigen::Vector3d acceleration_W(const Eigen::Vector3d& p_W, double t) const;
-  // Both at once (one pass over the components).
+  // The elevation relative to the mean level and its slopes at (x, y), in one pass.
+  void surface(double x, double y, double t, double* eta, Eigen::Vector2d* slope) const;
+  // Both at once.
   void orbital(const Eigen::Vector3d& p_W, double t, Eigen::Vector3d* v_W, Eigen::Vector3d* a_W) const;
+  // All of it at once, with the dynamic pressure's gradient.
+  WaveKinematics kinematics(const Eigen::Vector3d& p_W, double t) const;
   // The wave's dynamic pressure at p_W [Pa] (add the hydrostatic rho g (surface_z - z)); zero above the surface.
   double dynamic_pressure(const Eigen::Vector3d& p_W, double t) const;
 
@@ -125,6 +143,8 @@ class Waves {
   // Wheeler's stretched height below the mean level of a point z_rel below the surface eta (relative to the mean
   // level) [m].
   double stretched(double z_rel, double eta) const;
+  // Each component's cos_b, sin_b and wave vector from its direction and k.
+  void derive();
   std::vector<WaveComponent> components_;
   double surface_z_ = 0.0;
   double density_ = 1025.0;
