@@ -134,3 +134,15 @@ PYTHONPATH="$build/python" /usr/bin/python3 bench/dask_scaling.py
 for scenario in configs/scenarios/rov_tether.yaml configs/scenarios/towfish.yaml; do
   "$build/bin/hadal_bench_step_rate" "$scenario" --sim-seconds 60 --repetitions 3 --threads 1 --no-cameras
 done
+
+# 14. Waves (issue 44): the catamaran ASV drifting and driving in a JONSWAP sea (vessel_waves.yaml, Hs 2 m, Tp 8 s,
+#     128 components, 100 Hz), the physics step on one thread and the whole server in fast mode, each next to the
+#     same vessel on a calm sea (vessel.yaml); the per-body cost of the waves on the 11k-face hull is section 4's
+#     hadal_bench_hydrodynamics, case partial_waves.
+for scenario in configs/scenarios/vessel_waves.yaml configs/scenarios/vessel.yaml; do
+  "$build/bin/hadal_bench_step_rate" "$scenario" --sim-seconds 60 --repetitions 3 --threads 1 --no-cameras
+  out=$("$build/bin/hadald" "$scenario" --mode fast --duration 600 --domain-id 231 --discovery-wait 0 \
+        --no-status-line 2>/dev/null)
+  summarise hadald_fast_mode - "$out" "$scenario"
+done
+

@@ -116,6 +116,24 @@ TEST_F(ValidationCliTest, WavesSpectrum) {
   EXPECT_EQ(run(HADAL_VALIDATE_WAVES, "--tp 0").exit_code, 2);
 }
 
+// The vessel figure on 6 min: a 2 m catamaran drifting in 100 m waves follows the surface (linear theory for a body
+// much shorter than the waves: response 1): its heave's significant height and its response at the spectrum's peak
+// within 5 % of the sea's at the vessel; its pitch follows the slope along its heading, above it by up to 25 % (its
+// pitch resonance at ~0.8 Hz lifts the spectrum's tail, 1 / (1 - (f / f_n)^2) = 1.1-1.4 above 0.3 Hz; 20 min: 1.09).
+TEST_F(ValidationCliTest, VesselFollowsItsSea) {
+  const RunResult r = run(HADAL_VALIDATE_VESSEL_WAVES, "--minutes 6 --out " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json json = parse(r.out);
+  expect_outputs("vessel_waves");
+  EXPECT_GT(json["sea_significant_height_m"].number, 1.5);
+  EXPECT_NEAR(json["heave_over_sea"].number, 1.0, 0.05);
+  EXPECT_NEAR(json["heave_response_at_peak"].number, 1.0, 0.05);
+  EXPECT_GT(json["pitch_over_slope"].number, 1.0);
+  EXPECT_LT(json["pitch_over_slope"].number, 1.25);
+  EXPECT_EQ(run(HADAL_VALIDATE_VESSEL_WAVES, "--minutes 1").exit_code, 2);
+  EXPECT_EQ(run(HADAL_VALIDATE_VESSEL_WAVES, "--scenario " HADAL_VALIDATION_SCENARIOS "/dvl_static.yaml").exit_code, 1);
+}
+
 TEST_F(ValidationCliTest, CoriolisShortLeg) {
   const RunResult r = run(HADAL_VALIDATE_CORIOLIS, "--distance 200 --out " + dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;

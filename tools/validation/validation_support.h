@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -117,6 +118,36 @@ class HourlyProgress {
   std::chrono::steady_clock::time_point start_;
   double next_hour_ = 1.0;  // [h]
 };
+
+// One-sided Welch power spectral density of the record x (sample interval dt [s]) with Hann segments of `segment`
+// samples overlapping by half, less the record's mean, at the bins b = first..last (frequency b / (segment dt)) by a
+// direct DFT at each: psd[b] in x's unit^2 / Hz (zero below first). `segments` gets how many were averaged.
+inline std::vector<double> welch_psd(const std::vector<double>& x, double dt, int segment, int first, int last,
+                                     int* segments) {
+  double mean = 0.0;
+  for (double v : x) mean += v / static_cast<double>(x.size());
+  std::vector<double> window(static_cast<std::size_t>(segment));
+  double window_power = 0.0;
+  for (int j = 0; j < segment; ++j) {
+    window[j] = 0.5 - 0.5 * std::cos(2.0 * kPi * j / (segment - 1));
+    window_power += window[j] * window[j];
+  }
+  const double fs = 1.0 / dt;
+  std::vector<double> psd(static_cast<std::size_t>(last + 1), 0.0);
+  int count = 0;
+  for (std::size_t start = 0; start + static_cast<std::size_t>(segment) <= x.size(); start += segment / 2, ++count) {
+    for (int b = first; b <= last; ++b) {
+      std::complex<double> sum = 0.0;
+      for (int j = 0; j < segment; ++j) {
+        sum += window[j] * (x[start + j] - mean) * std::polar(1.0, -2.0 * kPi * b * j / segment);
+      }
+      psd[b] += 2.0 * std::norm(sum) / (fs * window_power);
+    }
+  }
+  for (double& p : psd) p /= std::max(count, 1);
+  if (segments != nullptr) *segments = count;
+  return psd;
+}
 
 // The tools' command lines (tools/common/cli_args.h): options "--name value", flags "--name" and -h / --help,
 // no positional arguments ("unknown argument 'x'").

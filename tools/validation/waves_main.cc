@@ -16,7 +16,6 @@
 //
 // Exit status: 0 success; 1 an output cannot be written; 2 usage error.
 #include <cmath>
-#include <complex>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
@@ -75,6 +74,7 @@ int main(int argc, char** argv) {
   spec.peak_period = tp;
   spec.gamma = gamma;
   spec.components = static_cast<int>(components);
+  spec.ramp_time = 0.0;  // the sea itself, not its build-up from calm
   const physics::Waves waves(spec, 0.0, kRho, kG, static_cast<std::uint64_t>(seed));
 
   // The record at W's origin.
@@ -86,26 +86,10 @@ int main(int argc, char** argv) {
   for (double e : eta) variance += (e - mean) * (e - mean) / n;
 
   // Welch, one-sided PSD [m^2/Hz] from 0.02 to 0.6 Hz (direct DFT at those bins).
-  const double fs = 1.0 / kDt, df = fs / kSegment;
+  const double df = 1.0 / (kDt * kSegment);
   const int first = static_cast<int>(0.02 / df), last = static_cast<int>(0.6 / df);
-  std::vector<double> window(kSegment);
-  double window_power = 0.0;
-  for (int j = 0; j < kSegment; ++j) {
-    window[j] = 0.5 - 0.5 * std::cos(2.0 * kPi * j / (kSegment - 1));
-    window_power += window[j] * window[j];
-  }
-  std::vector<double> psd(static_cast<std::size_t>(last + 1), 0.0);
   int segments = 0;
-  for (std::size_t start = 0; start + kSegment <= n; start += kSegment / 2, ++segments) {
-    for (int b = first; b <= last; ++b) {
-      std::complex<double> sum = 0.0;
-      for (int j = 0; j < kSegment; ++j) {
-        sum += window[j] * (eta[start + j] - mean) * std::polar(1.0, -2.0 * kPi * b * j / kSegment);
-      }
-      psd[b] += 2.0 * std::norm(sum) / (fs * window_power);
-    }
-  }
-  for (double& p : psd) p /= std::max(segments, 1);
+  const std::vector<double> psd = welch_psd(eta, kDt, kSegment, first, last, &segments);
 
   // The target: alpha from m0 over the sampled band.
   const double omega_p = 2.0 * kPi / tp;
