@@ -624,6 +624,8 @@ static const known_type KNOWN_TYPES[] = {
     {&hadal_msgs_msg_dds__AcousticLink__desc, STAMP_NONE, NULL, NULL},
     {&hadal_msgs_msg_dds__AcousticLinks__desc, STAMP_HEADER, NULL, NULL},
     {&hadal_msgs_msg_dds__WinchState__desc, STAMP_HEADER, NULL, NULL},
+    {&hadal_msgs_msg_dds__SeaState__desc, STAMP_HEADER, NULL, NULL},
+    {&hadal_msgs_msg_dds__WaveComponent__desc, STAMP_NONE, NULL, NULL},
     {&hadal_msgs_msg_dds__WinchCommand__desc, STAMP_NONE, NULL, NULL},
     {&hadal_msgs_msg_dds__StepRequest__desc, STAMP_NONE, NULL, NULL},
     {&hadal_msgs_msg_dds__StepReply__desc, STAMP_STEP_REPLY, check_step_reply, NULL},

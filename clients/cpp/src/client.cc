@@ -322,6 +322,21 @@ WinchState from_msg(const hadal_msgs::msg::WinchState& m) {
   return out;
 }
 
+SeaState from_msg(const hadal_msgs::msg::SeaState& m) {
+  SeaState out;
+  out.stamp = dds::from_time_msg(m.header().stamp());
+  out.frame_id = m.header().frame_id();
+  out.surface_z = m.surface_z_m();
+  out.surface_slope = {m.surface_slope_x(), m.surface_slope_y()};
+  out.depth = m.depth_m();
+  out.orbital_velocity = {m.orbital_velocity().x(), m.orbital_velocity().y(), m.orbital_velocity().z()};
+  out.significant_height = m.significant_height_m();
+  out.peak_period = m.peak_period_s();
+  out.mean_direction = m.mean_direction_rad();
+  out.build_up = m.build_up();
+  return out;
+}
+
 AcousticPackets from_msg(const hadal_msgs::msg::AcousticPackets& m) {
   AcousticPackets out;
   out.stamp = dds::from_time_msg(m.header().stamp());
@@ -922,6 +937,12 @@ void Client::on_winch_state(const std::string& cable, std::function<void(const W
       [callback = std::move(callback)](const hadal_msgs::msg::WinchState& m) { callback(from_msg(m)); });
 }
 
+void Client::on_sea_state(const std::string& vehicle, std::function<void(const SeaState&)> callback) {
+  impl_->subscribe<hadal_msgs::msg::SeaStatePubSubType, hadal_msgs::msg::SeaState>(
+      dds::sea_state_topic(vehicle),
+      [callback = std::move(callback)](const hadal_msgs::msg::SeaState& m) { callback(from_msg(m)); });
+}
+
 void Client::command_winch(const std::string& cable, double speed_mps, double target_length_m) {
   hadal_msgs::msg::WinchCommand msg;
   msg.speed_mps(speed_mps);
@@ -1231,6 +1252,7 @@ const std::map<std::string, Decoder>& decoders() {
       {"hadal_msgs/msg/AcousticPackets",
        &decode_as<hadal_msgs::msg::AcousticPacketsPubSubType, hadal_msgs::msg::AcousticPackets>},
       {"hadal_msgs/msg/WinchState", &decode_as<hadal_msgs::msg::WinchStatePubSubType, hadal_msgs::msg::WinchState>},
+      {"hadal_msgs/msg/SeaState", &decode_as<hadal_msgs::msg::SeaStatePubSubType, hadal_msgs::msg::SeaState>},
       {"sensor_msgs/msg/LaserScan", &decode_as<sensor_msgs::msg::LaserScanPubSubType, sensor_msgs::msg::LaserScan>},
       {"sensor_msgs/msg/CameraInfo", &decode_as<sensor_msgs::msg::CameraInfoPubSubType, sensor_msgs::msg::CameraInfo>},
       {"marine_acoustic_msgs/msg/SonarDetections",

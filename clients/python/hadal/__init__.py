@@ -27,7 +27,7 @@ Set ROS_LOCALHOST_ONLY=1 (as for hadald) to keep DDS discovery on this machine.
 
 from ._hadal import (AcousticPacket, AcousticPackets, BuoyancyEngineStates, CableShape, CameraInfo, Client, DropWeightStates, Dvl, FinStates, FluidPressure,
                      Image, Imu, LaserScan, LblRange, LblRanges, MagneticField, NavSatFix, Odometry, Range, RawSonarImage, ServerMode,
-                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, UsblFix, UsblFixes, WinchState, Wrench,
+                     SimStatus, SonarDetections, SonarImage, ThrusterStates, TrackStates, UsblFix, UsblFixes, SeaState, WinchState, Wrench,
                      decodable_message_types,
                      decode_message, default_domain_id)
 from .errors import (ClientError, CommandRejected, ScenarioError, ServerLost, ServerNotFound, Timeout,
@@ -39,4 +39,4 @@ __all__ = ["AcousticPacket", "AcousticPackets", "BuoyancyEngineStates", "CableSh
            "Dvl", "FinStates", "FluidPressure", "Image", "Imu", "LaserScan", "LblRange", "LblRanges", "MagneticField", "NavSatFix",
            "Odometry", "Range", "RawSonarImage", "ScenarioError", "Server", "ServerLost", "ServerMode", "ServerNotFound", "SimStatus",
            "SonarDetections", "SonarImage", "ThrusterStates", "Timeout", "TrackStates", "UnknownSensor", "UnknownVehicle",
-           "UsblFix", "UsblFixes", "WinchState", "Wrench", "decodable_message_types", "decode_message", "default_domain_id"]
+           "UsblFix", "UsblFixes", "SeaState", "WinchState", "Wrench", "decodable_message_types", "decode_message", "default_domain_id"]

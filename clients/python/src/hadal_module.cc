@@ -389,6 +389,15 @@ class PyClient {
     }
     return cable_shapes_.wait(cable, min_stamp, timeout_s);
   }
+  std::optional<hadal::SeaState> wait_sea_state(const std::string& vehicle, double min_stamp, double timeout_s) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (subscribed_.emplace("sea_state:" + vehicle, true).second) {
+        client()->on_sea_state(vehicle, [this, vehicle](const hadal::SeaState& m) { sea_states_.put(vehicle, m); });
+      }
+    }
+    return sea_states_.wait(vehicle, min_stamp, timeout_s);
+  }
   std::optional<hadal::WinchState> wait_winch_state(const std::string& cable, double min_stamp, double timeout_s) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -639,6 +648,7 @@ class PyClient {
   Latest<hadal::Wrench> cable_forces_;      // by "<cable>/<end>"
   Latest<hadal::CableShape> cable_shapes_;  // by cable
   Latest<hadal::WinchState> winch_states_;  // by cable
+  Latest<hadal::SeaState> sea_states_;      // by vehicle
   std::set<std::string> modem_subscribed_;  // "<vehicle>/<modem>" (under mutex_)
   std::mutex packets_mutex_;
   std::condition_variable packets_arrived_;
@@ -959,6 +969,20 @@ PYBIND11_MODULE(_hadal, m) {
             return out;
           },
           "(N + 1, 3) array of the nodes from the `from` end [m]");
+  py::class_<hadal::SeaState>(m, "SeaState", "hadal_msgs/SeaState: the sea at a vehicle (world.waves)")
+      .def_readonly("stamp", &hadal::SeaState::stamp, "sim time [s]")
+      .def_readonly("frame_id", &hadal::SeaState::frame_id, "the world frame")
+      .def_readonly("surface_z", &hadal::SeaState::surface_z,
+                    "the instantaneous surface's z over the vehicle's B origin, W [m]")
+      .def_readonly("surface_slope", &hadal::SeaState::surface_slope, "(d eta / dx, d eta / dy) there")
+      .def_readonly("depth", &hadal::SeaState::depth, "of B's origin below the surface [m] (< 0: above it)")
+      .def_readonly("orbital_velocity", &hadal::SeaState::orbital_velocity,
+                    "the waves' water velocity at B's origin, W [m/s]; 0 in the air")
+      .def_readonly("significant_height", &hadal::SeaState::significant_height, "Hs [m]")
+      .def_readonly("peak_period", &hadal::SeaState::peak_period, "Tp [s] (listed waves: the longest period)")
+      .def_readonly("mean_direction", &hadal::SeaState::mean_direction,
+                    "the waves travel toward, from W's x toward y [rad]")
+      .def_readonly("build_up", &hadal::SeaState::build_up, "the sea's build-up factor in [0, 1]");
   py::class_<hadal::WinchState>(m, "WinchState", "hadal_msgs/WinchState of a cable's winch")
       .def_readonly("stamp", &hadal::WinchState::stamp, "sim time [s]")
       .def_readonly("frame_id", &hadal::WinchState::frame_id, "the world frame")
@@ -1280,6 +1304,9 @@ Errors: hadal.ServerNotFound, hadal.ServerLost, hadal.Timeout, hadal.UnknownVehi
            py::arg("timeout_s") = 10.0, release(),
            "CableShape of rt/hadal/cables/<cable>/shape (.points: the nodes in W) with stamp >= min_stamp, or None "
            "on timeout")
+      .def("wait_sea_state", &PyClient::wait_sea_state, py::arg("vehicle"), py::arg("min_stamp") = 0.0,
+           py::arg("timeout_s") = 10.0, release(),
+           "SeaState of rt/<vehicle>/sea_state (a scenario with waves) with stamp >= min_stamp, or None on timeout")
       .def("wait_winch_state", &PyClient::wait_winch_state, py::arg("cable"), py::arg("min_stamp") = 0.0,
            py::arg("timeout_s") = 10.0, release(),
            "WinchState of rt/hadal/cables/<cable>/winch/state with stamp >= min_stamp, or None on timeout")

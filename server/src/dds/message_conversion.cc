@@ -1,5 +1,6 @@
 #include "message_conversion.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "hadal/dds/topic_names.h"
@@ -11,6 +12,32 @@ OdometryValues odometry_values(const RigidBodyState& body) {
   const Eigen::Matrix3d R_WB = body.X_WB.rotation();
   return {body.X_WB.translation(), Eigen::Quaterniond(R_WB), R_WB.transpose() * body.v_WB,
           R_WB.transpose() * body.w_WB};
+}
+
+void fill_sea_state(const std::string& world_frame_id, double time_s, const physics::Waves& waves,
+                    const physics::WaveSpec& spec, const Eigen::Vector3d& p_W, hadal_msgs::msg::SeaState& msg) {
+  msg.header().stamp(to_time_msg(time_s));
+  msg.header().frame_id(world_frame_id);
+  const physics::WaveKinematics k = waves.kinematics(p_W, time_s);
+  msg.surface_z_m(k.surface_height);
+  msg.surface_slope_x(k.slope.x());
+  msg.surface_slope_y(k.slope.y());
+  msg.depth_m(k.surface_height - p_W.z());
+  msg.orbital_velocity().x(k.velocity_W.x());
+  msg.orbital_velocity().y(k.velocity_W.y());
+  msg.orbital_velocity().z(k.velocity_W.z());
+  msg.significant_height_m(waves.significant_height());
+  double period = spec.peak_period, direction = spec.direction, largest = 0.0;
+  if (spec.spectrum == physics::WaveSpectrum::kRegular) {
+    period = 0.0;
+    for (const physics::WaveComponentSpec& c : spec.regular) {
+      if (c.amplitude > 0.0) period = std::max(period, c.period);
+      if (c.amplitude > largest) largest = c.amplitude, direction = c.direction;
+    }
+  }
+  msg.peak_period_s(period);
+  msg.mean_direction_rad(direction);
+  msg.build_up(waves.ramp(time_s));
 }
 
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,

@@ -7,6 +7,7 @@
 
 #include "hadal/core/model.h"
 #include "hadal/core/state.h"
+#include "hadal/physics/waves.h"
 
 #include "hadal/dds/time_msg.h"
 
@@ -27,6 +28,12 @@ OdometryValues odometry_values(const RigidBodyState& body);
 
 void fill_odometry(const std::string& world_frame_id, const std::string& vehicle_name, double time_s,
                    const RigidBodyState& body, nav_msgs::msg::Odometry& msg);
+
+// hadal_msgs/SeaState at p_W (a vehicle's B origin) at time_s: the waves' surface over it, its depth under that, the
+// orbital velocity there, and the sea state's Hs, Tp, mean direction (spec's; listed waves: the longest period and
+// the largest component's direction) and build-up.
+void fill_sea_state(const std::string& world_frame_id, double time_s, const physics::Waves& waves,
+                    const physics::WaveSpec& spec, const Eigen::Vector3d& p_W, hadal_msgs::msg::SeaState& msg);
 
 // A vehicle's joints as JointState reports them: its moving joints in state order (VehicleState::joint_positions),
 // then its locked ones (JointSpec::locked_type: fixed at their locks), each `joint.name`, else the child link's

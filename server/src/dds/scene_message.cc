@@ -4,6 +4,7 @@
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/geometry/seabed_height.h"
 #include "hadal/physics/articulation.h"
+#include "hadal/physics/ocean.h"
 #include "hadal/sensors/sensor_kinds.h"
 
 #include <algorithm>
@@ -153,6 +154,20 @@ void fill_scene(const Model& model, double time_s, hadal_msgs::msg::Scene& msg) 
   msg.meshes().clear();
   msg.frames().clear();
   msg.links().clear();
+  msg.wave_components().clear();
+  msg.wave_ramp_time_s(0.0);
+  if (model.world.waves.enabled()) {  // the simulation's own sea (physics::Ocean builds it from the world)
+    const physics::Ocean ocean(model.world);
+    for (const physics::WaveComponent& c : ocean.waves().components()) {
+      hadal_msgs::msg::WaveComponent& out = msg.wave_components().emplace_back();
+      out.amplitude_m(c.amplitude);
+      out.omega_rad_per_s(c.omega);
+      out.wave_number_rad_per_m(c.k);
+      out.direction_rad(c.direction);
+      out.phase_rad(c.phase);
+    }
+    msg.wave_ramp_time_s(ocean.waves().ramp_time());
+  }
 
   const SeabedSpec& seabed = model.world.seabed;
   msg.seabed_is_plane(seabed.type == SeabedType::kPlane || !seabed.mesh);

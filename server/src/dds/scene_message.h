@@ -8,7 +8,8 @@
 // a mesh each in their frame K ("<vehicle>/<link>", geometry::links_visual_A) and a SceneLink with the
 // kinematics to pose it from rt/<vehicle>/joint_states. Frames: every sensor's X_BS and every
 // light's X_BF, with the reach a viewer draws (beams: the sensor's range limit; a camera: its far plane;
-// a light: kLightReach) and a cone half angle (a light's outer one, a camera's horizontal).
+// a light: kLightReach) and a cone half angle (a light's outer one, a camera's horizontal). With waves, the sea
+// state's components and build-up time, from which a viewer draws the moving surface at any sim time.
 // Units: m, rad.
 #pragma once
 

@@ -6,6 +6,7 @@
 #include "hadal/config/scenario_loader.h"
 #include "hadal/geometry/primitive_mesh.h"
 #include "hadal/physics/articulation.h"
+#include "hadal/physics/ocean.h"
 #include "message_conversion.h"
 
 #include <fastdds/rtps/common/SerializedPayload.h>
@@ -184,6 +185,35 @@ TEST(SceneMessageTest, PlaneSeabedIsASquareAroundTheVehicles) {
   EXPECT_FLOAT_EQ(x_max - x_min, static_cast<float>(kPlaneSide));
   const double x0 = model.vehicles[0].X_WB_initial.translation().x();
   EXPECT_NEAR(0.5 * (x_min + x_max), x0, 1e-3);
+}
+
+// With waves the scene carries the simulation's own sea: the Ocean's components and build-up time, from which
+// eta = r(t) sum a cos(k (x cos b + y sin b) - w t + phi) is the surface the physics sees (to the bit, computed the
+// same way); without waves none. It round-trips through CDR.
+TEST(SceneMessageTest, WithWavesItCarriesTheSeaStateComponents) {
+  const Model model = load("vessel_waves.yaml");
+  hadal_msgs::msg::Scene msg;
+  fill_scene(model, 0.0, msg);
+  const physics::Ocean ocean(model.world);
+  const physics::Waves& waves = ocean.waves();
+  ASSERT_EQ(msg.wave_components().size(), waves.components().size());
+  EXPECT_EQ(msg.wave_components().size(), 128u);
+  EXPECT_EQ(msg.wave_ramp_time_s(), 16.0);
+  for (const double t : {3.0, 40.0}) {
+    const double x = 12.0, y = -7.0, r = waves.ramp(t);
+    double eta = 0.0;
+    for (const hadal_msgs::msg::WaveComponent& c : msg.wave_components()) {
+      eta += c.amplitude_m() * std::cos(c.wave_number_rad_per_m() * std::cos(c.direction_rad()) * x +
+                                        c.wave_number_rad_per_m() * std::sin(c.direction_rad()) * y -
+                                        c.omega_rad_per_s() * t + c.phase_rad());
+    }
+    EXPECT_EQ(msg.water_surface_z() + r * eta, waves.surface_height(x, y, t)) << t;
+  }
+  EXPECT_TRUE(round_trips(msg));
+  hadal_msgs::msg::Scene calm;
+  fill_scene(load("vessel.yaml"), 0.0, calm);
+  EXPECT_TRUE(calm.wave_components().empty());
+  EXPECT_EQ(calm.wave_ramp_time_s(), 0.0);
 }
 
 // A seabed of more than kMaxSeabedTriangles goes as its top surface resampled on a grid: the slope

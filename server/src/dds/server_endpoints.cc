@@ -3,6 +3,7 @@
 #include "hadal/dds/participant.h"
 #include "hadal/dds/topic_names.h"
 #include "hadal/dds/topic_registry.h"
+#include "hadal/physics/ocean.h"
 #include "actuator_topics.h"
 #include "message_conversion.h"
 #include "image_preview.h"
@@ -59,6 +60,11 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   fdds::DataWriter* scene_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
+  // In waves: the sea state per vehicle, from the same waves the simulation builds (physics::Ocean from the world).
+  std::unique_ptr<physics::Ocean> ocean;
+  std::vector<fdds::DataWriter*> sea_state_writers;
+  std::vector<std::size_t> sea_state_slot;
+  hadal_msgs::msg::SeaState sea_state_msg;
   // Per vehicle, a writer per actuator kind with a state topic that the vehicle has (actuator_topics.h).
   struct ActuatorStateWriter {
     virtual ~ActuatorStateWriter() = default;
@@ -489,6 +495,13 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
         r.writer<nav_msgs::msg::OdometryPubSubType>(odometry_topic(name), state_history_depth));
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
     d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
+    if (model.world.waves.enabled()) {
+      if (!d.ocean) d.ocean = std::make_unique<physics::Ocean>(model.world);
+      d.sea_state_writers.push_back(
+          r.writer<hadal_msgs::msg::SeaStatePubSubType>(sea_state_topic(name), state_history_depth));
+      d.sea_state_slot.push_back(d.add_count(sea_state_topic(name)));
+      d.carry_in_monitor(d.sea_state_writers.back(), d.sea_state_slot.back());
+    }
     d.joint_layouts.push_back(joint_state_layout(model.vehicles[i]));
     d.joint_state_msgs.emplace_back();
     if (d.joint_layouts.back().names.empty()) {
@@ -644,6 +657,14 @@ void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state)
   fill_odometry(impl_->model.world.frame_id, impl_->model.vehicles[i].name, state.time,
                 state.vehicles[i].body, impl_->odometry_msgs[i]);
   impl_->write(impl_->odometry_writers[i], &impl_->odometry_msgs[i], impl_->odometry_slot[i]);
+}
+
+void ServerEndpoints::publish_sea_state(int vehicle_index, const SimState& state) {
+  if (impl_->sea_state_writers.empty()) return;
+  const auto i = static_cast<std::size_t>(vehicle_index);
+  fill_sea_state(impl_->model.world.frame_id, state.time, impl_->ocean->waves(), impl_->model.world.waves,
+                 state.vehicles[i].body.X_WB.translation(), impl_->sea_state_msg);
+  impl_->write(impl_->sea_state_writers[i], &impl_->sea_state_msg, impl_->sea_state_slot[i]);
 }
 
 void ServerEndpoints::publish_joint_states(int vehicle_index, const SimState& state) {
@@ -826,6 +847,7 @@ void ServerEndpoints::flush(double timeout_s) {
   std::vector<fdds::DataWriter*> writers = {impl_->clock_writer, impl_->status_writer, impl_->reply_writer,
                                             impl_->scene_writer};
   writers.insert(writers.end(), impl_->odometry_writers.begin(), impl_->odometry_writers.end());
+  writers.insert(writers.end(), impl_->sea_state_writers.begin(), impl_->sea_state_writers.end());
   for (fdds::DataWriter* writer : impl_->joint_state_writers) {
     if (writer) writers.push_back(writer);
   }

@@ -2,7 +2,7 @@
 //
 // Publishes rt/clock, rt/hadal/status, rt/hadal/step_reply, rt/hadal/scene (once, and again after a reset:
 // dds/scene_message.h), rt/hadal/monitor (while read: dds/monitor.h), rt/hadal/acoustic_links (while it or the
-// monitor is read), rt/<vehicle>/odometry,
+// monitor is read), rt/<vehicle>/odometry (and rt/<vehicle>/sea_state in waves),
 // rt/<vehicle>/<kind>/state of the actuator kinds and rt/<vehicle>/<sensor> (per sensor, its
 // topics, of ROS types; camera previews while read: dds/image_preview.h); subscribes
 // rt/<vehicle>/actuators/commands, the joint controllers' and modems' topics and rt/hadal/step_request. Incoming samples are queued by the DDS
@@ -81,6 +81,8 @@ class ServerEndpoints {
 
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);
+  // rt/<vehicle>/sea_state (hadal_msgs/SeaState) when the scenario has waves (nothing otherwise).
+  void publish_sea_state(int vehicle_index, const SimState& state);
   // rt/<vehicle>/joint_states of an articulated vehicle (nothing for a rigid one).
   void publish_joint_states(int vehicle_index, const SimState& state);
   // rt/<vehicle>/<kind>/state of each actuator kind the vehicle publishes (thrusters: every vehicle; tracks,

@@ -196,6 +196,21 @@ struct WinchState {
   bool at_limit = false;             // stopped at min_length or the drum's end while told to go on
 };
 
+// hadal_msgs/SeaState: the sea at a vehicle, rt/<vehicle>/sea_state, at its odometry_rate_hz when the scenario has
+// waves (world.waves). W is the world frame (ENU).
+struct SeaState {
+  double stamp = 0.0;                          // sim time [s]
+  std::string frame_id;                        // the world frame
+  double surface_z = 0.0;                      // the instantaneous surface's z over the vehicle's B origin [m]
+  std::array<double, 2> surface_slope{};       // d eta / dx, d eta / dy there
+  double depth = 0.0;                          // of B's origin below the surface [m] (< 0: above it)
+  std::array<double, 3> orbital_velocity{};    // the waves' water velocity at B's origin, W [m/s]; 0 in the air
+  double significant_height = 0.0;             // Hs [m]
+  double peak_period = 0.0;                    // Tp [s] (listed waves: the longest period)
+  double mean_direction = 0.0;                 // the waves travel toward, from W's x toward y [rad]
+  double build_up = 0.0;                       // the sea's build-up factor in [0, 1]
+};
+
 struct MagneticField {
   double stamp = 0.0;                               // sim time of the sample [s]
   std::string frame_id;                             // the sensor's frame
@@ -512,7 +527,7 @@ using DecodedMessage = std::variant<double, Odometry, SimStatus, ThrusterStates,
                                     BuoyancyEngineStates, DropWeightStates, JointStates, FluidPressure, Imu,
                                     MagneticField, Wrench, NavSatFix, Dvl, Range, LaserScan, CameraInfo,
                                     SonarDetections, UsblFixes, LblRanges, AcousticPackets, CableShape,
-                                    WinchState>;
+                                    WinchState, SeaState>;
 DecodedMessage decode_message(const std::string& type, const std::vector<std::uint8_t>& cdr);
 std::vector<std::string> decodable_message_types();
 
@@ -646,6 +661,8 @@ class Client {
   void on_cable_shape(const std::string& cable, std::function<void(const CableShape&)> callback);
   // A cable's winch (a `winch:` at one of its ends), at the cable's rate_hz.
   void on_winch_state(const std::string& cable, std::function<void(const WinchState&)> callback);
+  // The sea at a vehicle (rt/<vehicle>/sea_state), at its odometry rate, when the scenario has waves.
+  void on_sea_state(const std::string& vehicle, std::function<void(const SeaState&)> callback);
   // An acoustic modem's decoded packets (rt/<vehicle>/<modem>/rx).
   void on_modem_packets(const std::string& vehicle, const std::string& modem,
                         std::function<void(const AcousticPackets&)> callback);

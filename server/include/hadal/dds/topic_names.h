@@ -48,6 +48,8 @@ inline std::string winch_command_topic(const std::string& cable) {
   return "rt/hadal/cables/" + cable + "/winch/command";
 }
 inline std::string winch_state_topic(const std::string& cable) { return "rt/hadal/cables/" + cable + "/winch/state"; }
+// The sea at a vehicle (hadal_msgs/SeaState), when the scenario has waves.
+inline std::string sea_state_topic(const std::string& vehicle) { return "rt/" + vehicle + "/sea_state"; }
 inline std::string actuator_commands_topic(const std::string& vehicle) {
   return "rt/" + vehicle + "/actuators/commands";
 }
