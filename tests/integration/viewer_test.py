@@ -7,6 +7,7 @@ viewer) for a person to look at."""
 
 import contextlib
 import glob
+import math
 import json
 import os
 import re
@@ -220,6 +221,43 @@ def test_the_page_draws_an_arm_where_its_joints_put_it(browser):
                 np.testing.assert_allclose(frame["p"], p + R @ np.asarray(frame["frame"]["link_p"]), rtol=0,
                                            atol=1e-4)
                 browser.screenshot(os.path.join(ARTIFACTS, "rov_arm.png"))
+        finally:
+            stop(viewer)
+
+
+def test_the_page_draws_the_moving_sea(browser):
+    """vessel_waves.yaml (a JONSWAP sea): the scene carries the sea state's components, from which the page draws
+    the surface around the followed vehicle at the latest sim time. Its middle vertex is eta(x, y, t) = r(t) sum a
+    cos(k (x cos b + y sin b) - w t + phi) worked out here from the scene's components (1e-5 m: three.js's float32
+    positions), and the same components give the surface rt/vessel/sea_state reports over the vessel (1e-9 m)."""
+    with hadal.Server("vessel_waves", mode="lockstep", cameras=False) as server:
+        viewer, url = start_viewer("--domain-id", str(server.domain_id))
+        try:
+            browser.open(url)
+            waves = wait_until(lambda: browser.evaluate("hadalViewer.state.scene && hadalViewer.state.scene.waves"),
+                               60, "the scene's waves")
+            assert len(waves["components"]) == 128 and waves["ramp_time"] == 16.0
+            z0 = browser.evaluate("hadalViewer.state.scene.water_surface_z")
+
+            def eta(x, y, t):
+                r = 1.0 if t >= waves["ramp_time"] else 0.5 * (1.0 - math.cos(math.pi * t / waves["ramp_time"]))
+                return z0 + r * sum(a * math.cos(k * (x * math.cos(b) + y * math.sin(b)) - w * t + phi)
+                                    for a, w, k, b, phi in waves["components"])
+
+            with server.client("viewer_waves_test") as client:
+                assert client.wait_sea_state("vessel", timeout_s=0) is None
+                assert client.wait_for_subscriptions(30.0)
+                t = client.step(1000)  # 10 s at 100 Hz: the sea building up
+                sea = client.wait_sea_state("vessel", min_stamp=t - 1e-9, timeout_s=30.0)
+                odometry = client.reply_odometry("vessel")
+                assert abs(eta(odometry.p_WB[0], odometry.p_WB[1], t) - sea.surface_z) < 1e-9
+                drawn = wait_until(lambda: (s := browser.evaluate("hadalViewer.seaSurface()")) and
+                                   abs(s["time"] - t) < 1e-9 and s, 30, "the surface at the last step")
+            x, y, z = drawn["p"]
+            assert abs(x - odometry.p_WB[0]) < 2.5 and abs(y - odometry.p_WB[1]) < 2.5  # snapped to the 2.5 m grid
+            assert abs(z - eta(x, y, t)) < 1e-5, (z, eta(x, y, t))
+            assert abs(eta(x, y, t) - z0) > 1e-3  # a sea, not the mean level
+            browser.screenshot(os.path.join(ARTIFACTS, "vessel_waves.png"))
         finally:
             stop(viewer)
 

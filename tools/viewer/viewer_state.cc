@@ -347,7 +347,19 @@ void ViewerState::add(const std::string& topic, const std::string& type, const u
         append_numbers(json, axis, 3);
         json += '}';
       }
-      json += "]}";
+      json += ']';
+      if (!msg.wave_components().empty()) {  // the sea state: the page draws the moving surface from it
+        json += ",\"waves\":{\"ramp_time\":" + json_number(msg.wave_ramp_time_s()) + ",\"components\":[";
+        for (std::size_t i = 0; i < msg.wave_components().size(); ++i) {
+          const auto& c = msg.wave_components()[i];
+          const double values[5] = {c.amplitude_m(), c.omega_rad_per_s(), c.wave_number_rad_per_m(), c.direction_rad(),
+                                    c.phase_rad()};
+          if (i) json += ',';
+          append_numbers(json, values, 5);
+        }
+        json += "]}";
+      }
+      json += '}';
       scene_json_ = std::move(json);
       ++scene_generation_;
       start_over();  // the server writes the scene at start and after a reset

@@ -21,6 +21,7 @@ const state = {
   acousticLinks: [],      // the last AcousticLinks' links, as drawn
   acousticFronts: null,   // THREE.Points: each signal's front
   paths: {},              // a cable's shape topic -> THREE.Line
+  surface: null,          // the sea surface in a scene with waves: {mesh, components, ramp, time, centre}
   series: {},             // key -> {plot, label, unit, t: [], v: []}
   historySeq: 0,
   cameras: {},            // topic -> {img, caption, frames, url}
@@ -80,6 +81,7 @@ function clearWorld() {
   state.frames = {};
   state.links = {};
   state.overlays = {};
+  state.surface = null;
 }
 
 // A light's cone or a camera's frustum in its frame F (x_F forward for a light, z_C forward for a camera).
@@ -163,8 +165,63 @@ function onScene(msg) {
   follow.innerHTML = '';
   for (const v of msg.vehicles) follow.add(new Option(v.name + ' (' + v.type + ')', v.name));
   state.followed = msg.vehicles.length ? msg.vehicles[0].name : null;
+  state.surface = makeSurface(msg);
+  if (state.surface) world.add(state.surface.mesh);
   rebuildPlots();
   applyToggles();
+}
+
+// The sea surface (a scene with waves): a grid of SURFACE_CELLS^2 cells of SURFACE_SIDE metres around the followed
+// vehicle, its heights eta(x, y, t) = r(t) sum a cos(k (x cos b + y sin b) - w t + phi) from the scene's components at
+// the latest sim time (physics/waves.h, hadal_msgs/Scene), recomputed when the time changes.
+const SURFACE_CELLS = 48, SURFACE_SIDE = 120;
+function makeSurface(msg) {
+  if (!msg.waves) return null;
+  const n = SURFACE_CELLS + 1;
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * n * n), 3));
+  const indices = [];
+  for (let j = 0; j < SURFACE_CELLS; ++j) {
+    for (let i = 0; i < SURFACE_CELLS; ++i) {
+      const a = j * n + i;
+      indices.push(a, a + 1, a + n + 1, a, a + n + 1, a + n);
+    }
+  }
+  geometry.setIndex(indices);
+  const material = new THREE.MeshLambertMaterial({color: 0x2f8fc8, transparent: true, opacity: 0.5,
+                                                  side: THREE.DoubleSide, depthWrite: false});
+  const mesh = new THREE.Mesh(geometry, material);
+  mesh.name = 'sea surface';
+  mesh.frustumCulled = false;
+  mesh.renderOrder = 1;
+  const components = msg.waves.components.map(([a, w, k, b, phi]) => [a, w, k * Math.cos(b), k * Math.sin(b), phi]);
+  return {mesh, components, ramp: msg.waves.ramp_time, time: null, centre: null};
+}
+
+function updateSurface(t, centre) {
+  const s = state.surface;
+  if (!s || t === null) return;
+  const step = SURFACE_SIDE / SURFACE_CELLS;
+  const cx = Math.round(centre[0] / step) * step, cy = Math.round(centre[1] / step) * step;  // the grid stays put
+  if (s.time === t && s.centre && s.centre[0] === cx && s.centre[1] === cy) return;
+  s.time = t;
+  s.centre = [cx, cy];
+  const r = t >= s.ramp ? 1.0 : (t <= 0.0 ? 0.0 : 0.5 * (1.0 - Math.cos(Math.PI * t / s.ramp)));
+  const n = SURFACE_CELLS + 1, z0 = state.scene.water_surface_z;
+  const positions = s.mesh.geometry.attributes.position.array;
+  for (let j = 0; j < n; ++j) {
+    for (let i = 0; i < n; ++i) {
+      const x = cx + (i - SURFACE_CELLS / 2) * step, y = cy + (j - SURFACE_CELLS / 2) * step;
+      let eta = 0.0;
+      for (const [a, w, kx, ky, phi] of s.components) eta += a * Math.cos(kx * x + ky * y - w * t + phi);
+      const o = 3 * (j * n + i);
+      positions[o] = x;
+      positions[o + 1] = y;
+      positions[o + 2] = z0 + r * eta;
+    }
+  }
+  s.mesh.geometry.attributes.position.needsUpdate = true;
+  s.mesh.geometry.computeVertexNormals();
 }
 
 function onMesh(index, positions, indices) {
@@ -382,6 +439,12 @@ function onUpdate(msg) {
         camera.position.add(delta);
       }
     }
+  }
+  if (state.surface) {  // the sea at the latest pose's time, around the followed vehicle
+    let t = null;
+    for (const v of Object.values(msg.vehicles)) if (t === null || v.stamp > t) t = v.stamp;
+    const followed = state.vehicles[state.followed];
+    updateSurface(t, followed && followed.last ? followed.last.p : [0, 0]);
   }
   for (const o of msg.overlays) updateOverlay(o);
   updateAcoustic(msg.acoustic);
@@ -667,6 +730,14 @@ function pixelsOf(source, width, height) {
 // What is drawn, for tests: a vehicle's pose as the 3-D view has it, and a camera pane's mean pixel value.
 window.hadalViewer = {
   state,
+  // The sea surface's middle vertex as drawn (W, float32) and the sim time it is drawn for; null without waves.
+  seaSurface() {
+    const s = state.surface;
+    if (!s || s.time === null) return null;
+    const n = SURFACE_CELLS + 1, o = 3 * ((SURFACE_CELLS / 2) * n + SURFACE_CELLS / 2);
+    const a = s.mesh.geometry.attributes.position.array;
+    return {time: s.time, p: [a[o], a[o + 1], a[o + 2]], vertices: n * n};
+  },
   vehiclePose(name) {
     const v = state.vehicles[name];
     if (!v || !v.group.visible) return null;
