@@ -41,3 +41,30 @@ def test_no_waves_no_sea_state():
         assert client.wait_sea_state("vessel", timeout_s=0) is None
         t = client.step(50)
         assert client.wait_sea_state("vessel", min_stamp=t - 1e-9, timeout_s=2.0) is None
+
+
+def test_a_glider_surfacing_in_waves_gets_fixes_only_between_crests():
+    """configs/scenarios/glider_surfacing.yaml: the glider climbs from 12 m into a swell (Hs 1 m, Tp 10 s) and lies at
+    the surface, B a few decimetres under it, tossed by the waves. Its GPS antenna (0.26 m above B in the tail fin) is
+    in the air only part of the time: from 160 s on, sampled each second, some samples are fixes and some are not, and
+    every fix comes with B within 0.6 m of the surface over it (sea_state) and every sample with B deeper than 1 m is
+    no fix."""
+    with hadal.Server("glider_surfacing", mode="lockstep", domain_id="free") as server, server.client() as client:
+        assert client.wait_sea_state("glider", timeout_s=0) is None
+        assert client.wait_nav_sat_fix("glider", "gps", timeout_s=0) is None
+        assert client.wait_for_subscriptions(WAIT_S)
+        step_size = client.status().step_size
+        t = client.step(round(160.0 / step_size))
+        fixes, no_fixes = 0, 0
+        for _ in range(140):
+            t = client.step(round(1.0 / step_size))
+            fix = client.wait_nav_sat_fix("glider", "gps", min_stamp=t - 1e-9, timeout_s=WAIT_S)
+            sea = client.wait_sea_state("glider", min_stamp=t - 1e-9, timeout_s=WAIT_S)
+            assert fix.stamp == t and sea.stamp == t
+            assert sea.depth < 1.5, (t, sea.depth)  # at the surface
+            if fix.has_fix():
+                fixes += 1
+                assert sea.depth < 0.6, (t, sea.depth)
+            else:
+                no_fixes += 1
+    assert fixes >= 5 and no_fixes >= 5, (fixes, no_fixes)
