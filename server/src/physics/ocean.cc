@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <random>
 #include <shared_mutex>
@@ -117,6 +118,21 @@ Ocean::Ocean(const WaterSpec& water, double gravity, std::uint64_t seed) : water
 }
 
 Ocean::~Ocean() = default;
+
+double Ocean::range_to_surface(const Eigen::Vector3d& p_W, const Eigen::Vector3d& d_W, double t) const {
+  double height = water_.surface_z;
+  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
+  if (waves_.enabled()) {
+    double eta = 0.0;
+    waves_.surface(p_W.x(), p_W.y(), t, &eta, &slope);
+    height = waves_.surface_z() + eta;
+  }
+  // The plane z = height + slope . (x - x_p): with the normal m = (-s_x, -s_y, 1), m . (p_W + s d_W - q) = 0.
+  const double below = height - p_W.z();
+  const double rise = d_W.z() - slope.x() * d_W.x() - slope.y() * d_W.y();
+  if (!(below >= 0.0) || !(rise > 0.0)) return std::numeric_limits<double>::infinity();
+  return below / rise;
+}
 
 double Ocean::pressure_at(const Eigen::Vector3d& p_W, double t) const {
   if (!waves_.enabled()) return pressure(std::max(depth(p_W.z()), 0.0));

@@ -168,6 +168,11 @@ struct FrameSetup {
   bool window = false;
   float surface_n[3] = {0, 0, 1};
   float refractive_index = 1.34f;
+  // A camera in the air (its centre above the surface's plane): the frame is rendered through clear air, and the
+  // surface below it, where a ray reaches it first, is the sky reflected plus the water's upwelling light refracted
+  // out (`water_*`: the water under it); rays that miss going up see the sky.
+  bool above = false;
+  float water_c[3] = {0, 0, 0}, water_b[3] = {0, 0, 0}, water_g = 0;
   // Scattered light along the rays.
   bool daylit_water = false;
   float s0 = 0;
@@ -409,6 +414,48 @@ void add_surface_from_below(const FrameSetup& f, const float* dx, const float* d
       const float below = (1.0f - reflectance) * sky_scale * f.E0[ch] + reflectance * upwelling;
       *out[ch] += below * std::exp(-f.c[ch] * s);
     }
+  }
+}
+
+// The sea surface seen from above (render/optics.h surface_from_above_radiance), for a camera in the air: a ray that
+// reaches the surface's plane before it hits anything sees there the sky's radiance E0 / pi reflected, R(theta) of
+// it (Fresnel, air to water), and the water's upwelling single-scattered daylight under the surface along the
+// refracted ray, transmitted out, T / n^2 of it (n^2: the radiance of a widened cone); whatever the ray would have
+// hit beyond is not seen (the water is not rendered from above) and its depth is the surface's (within the far clip;
+// the sea itself goes on to the horizon). The surface is one plane, the waves' tangent plane under the camera: they
+// tilt it, their crests and troughs are not drawn. A ray that misses going up sees the sky, E0 / pi.
+void add_surface_from_above(const FrameSetup& f, const float* ray_C, const float* dx, const float* dy,
+                            const float* dz, const float* t, std::size_t n, float* depth, BandArrays& a) {
+  const float mx = f.surface_n[0], my = f.surface_n[1], mz = f.surface_n[2];
+  const float h = f.surface_z * mz;  // the plane m . p = h through (0, 0, surface_z), camera-relative (h < 0)
+  const float n_w = f.refractive_index, inv_pi = 1.0f / 3.14159265358979f;
+  const float g = f.water_g, hg_scale = (1.0f - g * g) / (4.0f * 3.14159265358979f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float cos_d = mx * dx[i] + my * dy[i] + mz * dz[i];
+    float* out[3] = {&a.sr[i], &a.sg[i], &a.sb[i]};
+    if (!(cos_d < 0.0f)) {  // rising from the surface's plane: the sky where nothing is in the way
+      if (!(t[i] < kInf)) {
+        for (int ch = 0; ch < 3; ++ch) *out[ch] += f.E0[ch] * inv_pi;
+      }
+      continue;
+    }
+    const float s = h / cos_d;
+    if (t[i] < s) continue;
+    // Fresnel from air (1) into water (n_w): cos_i = -cos_d, sin theta_t = sin theta_i / n_w.
+    const float cos_i = -cos_d, sin_t2 = (1.0f - cos_i * cos_i) / (n_w * n_w), cos_t = std::sqrt(1.0f - sin_t2);
+    const float rs = (cos_i - n_w * cos_t) / (cos_i + n_w * cos_t);
+    const float rp = (n_w * cos_i - cos_t) / (n_w * cos_i + cos_t);
+    const float reflectance = 0.5f * (rs * rs + rp * rp);
+    // The refracted ray's z in W: d_t = d / n + (cos_i / n - cos_t) m.
+    const float z_t = dz[i] / n_w + (cos_i / n_w - cos_t) * mz;
+    const float down = z_t < 0.0f ? -z_t : 0.0f;
+    const float denominator = 1.0f + g * g - 2.0f * g * z_t;
+    const float phase = hg_scale / (denominator * std::sqrt(denominator));
+    for (int ch = 0; ch < 3; ++ch) {
+      const float upwelling = f.water_b[ch] * phase * f.E0[ch] / (f.water_c[ch] + f.Kd[ch] * down);
+      *out[ch] = reflectance * f.E0[ch] * inv_pi + (1.0f - reflectance) / (n_w * n_w) * upwelling;
+    }
+    if (s < f.far_clip) depth[i] = s * ray_C[3 * i + 2];  // the sea goes on beyond the far clip, undepthed
   }
 }
 
@@ -705,6 +752,7 @@ HADAL_VECTOR_KERNEL std::size_t render_band(const FrameSetup& f, int row_begin, 
     }
   }
   if (f.window) add_surface_from_below(f, dx, dy, dz, t, n, a);
+  if (f.above) add_surface_from_above(f, ray_C, dx, dy, dz, t, n, depth, a);
   Rgbf* radiance = frame.radiance.data() + first;
   for (std::size_t i = 0; i < n; ++i) radiance[i] = Rgbf(a.sr[i], a.sg[i], a.sb[i]);
   return shadows.size();
@@ -732,6 +780,18 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
     add_camera_rays(lens, X_WC, near_clip, far_clip, ignore_body, 0, 0, none);
   }
   if (lighting.lights.size() >= 0xffff) throw std::invalid_argument("lights: at most 65534 per frame");
+  // A camera in the air (above the surface's plane) sees through clear air: no attenuation, scattering, backscatter
+  // or marine snow; the surface below it is drawn from above (add_surface_from_above) with the water's optics.
+  const bool above = lighting.daylight.surface_normal_W.z() * (X_WC.translation().z() - lighting.daylight.surface_z_m) > 0.0;
+  FrameLighting air;
+  if (above) {
+    air = lighting;
+    air.water.absorption_per_m = Rgb::Zero();
+    air.water.scattering_per_m = Rgb::Zero();
+    air.backscatter = nullptr;
+    air.marine_snow.density_per_m3 = 0.0;
+  }
+  const FrameLighting& lit = above ? air : lighting;
   const std::size_t n = static_cast<std::size_t>(lens.width_px()) * static_cast<std::size_t>(lens.height_px());
   RadianceFrame frame;
   frame.width_px = lens.width_px();
@@ -748,10 +808,10 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   f.near_clip = near_clip;
   f.far_clip = far_clip;
   f.ignore_body = ignore_body;
-  f.bias_m = lighting.shadow_bias_m;
-  const Rgb c = lighting.water.attenuation_per_m();
+  f.bias_m = lit.shadow_bias_m;
+  const Rgb c = lit.water.attenuation_per_m();
   for (int ch = 0; ch < 3; ++ch) f.c[ch] = static_cast<float>(c[ch]);
-  for (const SpotLight& light : lighting.lights) {
+  for (const SpotLight& light : lit.lights) {
     f.lights.push_back(band_light(light, f.p_WC));
     f.light_xy_W.push_back(light.p_WL.head<2>());
   }
@@ -770,7 +830,7 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
 
   // Daylight: sky rays only above the depth where it falls below e^-87.3 of the surface's in every
   // channel (below floor_z; -inf: daylight everywhere).
-  const Daylight& daylight = lighting.daylight;
+  const Daylight& daylight = lit.daylight;
   double daylight_floor_z = std::numeric_limits<double>::infinity();
   for (int ch = 0; ch < 3; ++ch) {
     if (!(daylight.surface_irradiance_W_per_m2[ch] > 0.0)) continue;
@@ -782,6 +842,13 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   f.floor_z = static_cast<float>(daylight_floor_z - f.p_WC.z());
   f.surface_z = static_cast<float>(daylight.surface_z_m - f.p_WC.z());
   f.window = f.sky && f.surface_z > 0.0f;
+  f.above = above;
+  const Rgb water_c = lighting.water.attenuation_per_m();
+  for (int ch = 0; ch < 3; ++ch) {
+    f.water_c[ch] = static_cast<float>(water_c[ch]);
+    f.water_b[ch] = static_cast<float>(lighting.water.scattering_per_m[ch]);
+  }
+  f.water_g = static_cast<float>(lighting.water.phase_g);
   for (int k = 0; k < 3; ++k) f.surface_n[k] = static_cast<float>(daylight.surface_normal_W[k]);
   f.refractive_index = static_cast<float>(daylight.refractive_index);
   for (int ch = 0; ch < 3; ++ch) {
@@ -793,31 +860,31 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   // daylight's path radiance (closed form).
   const double s0 = backscatter_start_m(near_clip);
   f.s0 = static_cast<float>(s0);
-  const bool scattering = (lighting.water.scattering_per_m > 0.0).any();
+  const bool scattering = (lit.water.scattering_per_m > 0.0).any();
   f.daylit_water = scattering && (daylight.surface_irradiance_W_per_m2 > 0.0).any();
-  const Rgb& negligible = lighting.negligible_radiance_W_per_m2_sr;
+  const Rgb& negligible = lit.negligible_radiance_W_per_m2_sr;
   if (!negligible.allFinite() || (negligible < 0.0).any()) {
     throw std::invalid_argument("negligible radiance: need finite values >= 0");
   }
   for (int ch = 0; ch < 3; ++ch) f.half_negligible[ch] = 0.5 * negligible[ch];
   f.negligible_daylight = (negligible > 0.0).any();
-  f.phase_g = static_cast<float>(lighting.water.phase_g);
+  f.phase_g = static_cast<float>(lit.water.phase_g);
   // Daylight's irradiance at the rays' common origin, the camera's centre (in single precision, as the
   // rays hold it).
   const Rgb E_camera = daylight.irradiance_at(static_cast<float>(f.p_WC.z()));
   for (int ch = 0; ch < 3; ++ch) {
-    f.b[ch] = static_cast<float>(lighting.water.scattering_per_m[ch]);
+    f.b[ch] = static_cast<float>(lit.water.scattering_per_m[ch]);
     f.E_camera[ch] = static_cast<float>(E_camera[ch]);
   }
-  std::shared_ptr<const BackscatterTable> backscatter = lighting.backscatter;
+  std::shared_ptr<const BackscatterTable> backscatter = lit.backscatter;
   if (!backscatter) {
-    backscatter = make_backscatter_table(lighting, lights_in_camera_frame(lighting.lights, X_WC), lens, near_clip, far_clip,
+    backscatter = make_backscatter_table(lighting, lights_in_camera_frame(lit.lights, X_WC), lens, near_clip, far_clip,
                                          parallel);
   }
   f.backscatter = backscatter.get();
   // Forward scatter (render/forward_scatter.h): each surface pixel's radiance times exp(b_f d) - 1,
   // spread over the image after the bands.
-  const Rgb forward_per_m = forward_scattering_per_m(lighting.water);
+  const Rgb forward_per_m = forward_scattering_per_m(lit.water);
   f.forward = (forward_per_m > 0.0).any();
   for (int ch = 0; ch < 3; ++ch) f.forward_per_m[ch] = static_cast<float>(forward_per_m[ch]);
   // R, G, B planes, every pixel written by the bands: kept by the thread that runs frames (a camera's
@@ -838,10 +905,10 @@ RadianceFrame render_radiance(const geometry::EmbreeScene& scene, const Lens& le
   });
   for (std::size_t count : band_shadow_rays) frame.shadow_rays += count;
   if (f.forward) {
-    add_forward_scatter(*forward_scatter_kernel(lighting.water, lens.spec().fx, lens.spec().fy), frame.width_px,
+    add_forward_scatter(*forward_scatter_kernel(lit.water, lens.spec().fx, lens.spec().fy), frame.width_px,
                         frame.height_px, forward_source, frame.radiance, parallel);
   }
-  frame.snow_particles = add_marine_snow(lighting.marine_snow, lens, X_WC, lighting.water, lighting.lights,
+  frame.snow_particles = add_marine_snow(lit.marine_snow, lens, X_WC, lit.water, lit.lights,
                                          frame.depth_m, frame.radiance, parallel);
   return frame;
 }

@@ -653,5 +653,77 @@ TEST(FrameTest, UnderTheSurfaceACameraSeesSnellsWindow) {
   EXPECT_NEAR(brightest_angle, 0.1745, 2.0 * 80.0 / 100.0 * M_PI / 180.0);  // two pixels
 }
 
+// A camera in the air, 3 m above a flat sea, looking 30 deg down: through clear air, the part of a plate standing in
+// the water above the surface is lit by the sky unattenuated (albedo E0 / pi (1 + n_z) / 2, n_z = 0 here), the part
+// below it is hidden by the surface, which shows the sky reflected (Fresnel, air to water) and the water's upwelling
+// light transmitted out; above the horizon the sky, E0 / pi. Each pixel against render/optics.h in double precision
+// (1e-4 relative plus 1e-6 of the brightest), the surface's depth along the optical axis, and the reflectance at
+// normal incidence ((n - 1) / (n + 1))^2 = 2.1 % for n = 1.34.
+TEST(FrameTest, FromTheAirACameraSeesTheSkyLitSurface) {
+  EmbreeScene scene;
+  scene.add_static_mesh(plate(10.0f, 0.0f, 0.5f, 1.0f), 0, "plate");  // x = 10, z from -0.5 to 1.5
+  scene.build();
+  FrameLighting lighting;
+  lighting.water.absorption_per_m = Rgb(0.3, 0.06, 0.03);
+  lighting.water.scattering_per_m = Rgb::Constant(0.05);
+  lighting.daylight.surface_irradiance_W_per_m2 = Rgb(120.0, 150.0, 140.0);
+  lighting.daylight.Kd_per_m = Rgb(0.3, 0.06, 0.04);
+  lighting.daylight.surface_z_m = 0.0;
+  const Lens lens = make_lens(lens_from_horizontal_fov(160, 120, 100.0 * M_PI / 180.0));
+  Eigen::Isometry3d X_WC = Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d z_C(std::cos(M_PI / 6.0), 0.0, -std::sin(M_PI / 6.0)), x_C(0.0, -1.0, 0.0);
+  X_WC.linear().col(0) = x_C;
+  X_WC.linear().col(1) = z_C.cross(x_C);
+  X_WC.linear().col(2) = z_C;
+  X_WC.translation() = Eigen::Vector3d(0.0, 0.0, 3.0);
+  const Rgb albedo(0.6, 0.5, 0.4);
+  const RadianceFrame frame = render_radiance(scene, lens, X_WC, 0.05f, 1000.0f, geometry::kNoHit, lighting,
+                                              [&](const SurfacePoint&) { return albedo; });
+  float brightest = 0.0f;
+  for (const Rgbf& L : frame.radiance) brightest = std::max(brightest, L.maxCoeff());
+  const Eigen::Vector3d o = X_WC.translation().cast<float>().cast<double>();
+  int plate_above = 0, surface = 0, sky = 0;
+  for (int v = 0; v < lens.height_px(); ++v) {
+    for (int u = 0; u < lens.width_px(); ++u) {
+      const Eigen::Vector3f d_f = (X_WC.linear().cast<float>() * lens.ray_C(u, v)).normalized();
+      const Eigen::Vector3d d = d_f.cast<double>();
+      geometry::RayBatch ray;
+      ray.add_ray(o.cast<float>(), d_f, 0.05f, 1000.0f);
+      geometry::RayHits hit;
+      hit.resize(1);
+      scene.intersect(ray, 0, 1, geometry::QueryPath::kSingle, hit);
+      const double s_hit = hit.hit(0) ? hit.distance[0] : std::numeric_limits<double>::infinity();
+      const double to_surface = d.z() < 0.0 ? -o.z() / d.z() : std::numeric_limits<double>::infinity();
+      Rgb expected;
+      if (s_hit < to_surface) {
+        expected = albedo / M_PI * lighting.daylight.surface_irradiance_W_per_m2 * 0.5;  // n_z = 0, no water
+        ++plate_above;
+      } else {
+        expected = surface_from_above_radiance(lighting.water, lighting.daylight, o, d, s_hit);
+        (d.z() < 0.0 ? surface : sky) += 1;
+      }
+      const std::size_t i = static_cast<std::size_t>(v) * lens.width_px() + u;
+      const Rgb got = frame.radiance[i].cast<double>();
+      EXPECT_TRUE(((got - expected).abs() <= 1e-4 * expected.abs() + 1e-6 * brightest).all())
+          << u << ", " << v << ": " << got.transpose() << " vs " << expected.transpose();
+      if (to_surface < 1000.0 && to_surface < s_hit) {  // beyond the far clip the sea shows, without a depth
+        EXPECT_NEAR(frame.depth_m[i], to_surface * lens.ray_C(u, v).normalized().z(), 1e-4 * to_surface);
+      }
+    }
+  }
+  EXPECT_GT(plate_above, 20);
+  EXPECT_GT(surface, 1000);
+  EXPECT_GT(sky, 1000);
+  // Straight down: R = ((n - 1) / (n + 1))^2.
+  const double n = 1.34, R = std::pow((n - 1.0) / (n + 1.0), 2.0);
+  const Rgb& E0 = lighting.daylight.surface_irradiance_W_per_m2;
+  const Rgb c = lighting.water.attenuation_per_m();
+  const Rgb down = R * E0 / M_PI + (1.0 - R) / (n * n) * lighting.water.scattering_per_m *
+                                       henyey_greenstein(lighting.water.phase_g, -1.0) * E0 / (c + lighting.daylight.Kd_per_m);
+  EXPECT_LT((surface_from_above_radiance(lighting.water, lighting.daylight, o, -Eigen::Vector3d::UnitZ(), 1e9) - down)
+                .abs().maxCoeff(), 1e-12 * down.maxCoeff());
+  EXPECT_NEAR(R, 0.0211, 1e-4);
+}
+
 }  // namespace
 }  // namespace hadal::render

@@ -124,6 +124,26 @@ Rgb surface_from_below_radiance(const WaterOptics& water, const Daylight& daylig
   return ((1.0 - R) * n * n / kPi * E0 + R * upwelling) * (-c * s).exp();
 }
 
+Rgb surface_from_above_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
+                                const Eigen::Vector3d& d_W, double s_end) {
+  const Eigen::Vector3d& m = daylight.surface_normal_W;
+  const Rgb& E0 = daylight.surface_irradiance_W_per_m2;
+  const double cos_d = m.dot(d_W);
+  const double height = (daylight.surface_z_m - o_W.z()) * m.z();  // < 0 for a camera above the plane
+  if (!(height < 0.0)) return Rgb::Zero();
+  if (!(cos_d < 0.0)) return std::isinf(s_end) ? Rgb(E0 / kPi) : Rgb::Zero();
+  const double s = height / cos_d;
+  if (!(s <= s_end)) return Rgb::Zero();
+  const double n = daylight.refractive_index, cos_i = -cos_d;
+  const double cos_t = std::sqrt(1.0 - (1.0 - cos_i * cos_i) / (n * n));
+  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+  const double R = 0.5 * (rs * rs + rp * rp);
+  const Eigen::Vector3d refracted = d_W / n + (cos_i / n - cos_t) * m;
+  const Rgb upwelling = water.scattering_per_m * henyey_greenstein(water.phase_g, refracted.z()) * E0 /
+                        (water.attenuation_per_m() + daylight.Kd_per_m * std::max(0.0, -refracted.z()));
+  return R * E0 / kPi + (1.0 - R) / (n * n) * upwelling;
+}
+
 double henyey_greenstein(double g, double cos_psi) {
   const double denominator = 1.0 + g * g - 2.0 * g * cos_psi;
   return (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));

@@ -154,13 +154,22 @@ void DvlSensor::sample(const SampleContext& context, const Spec& spec, State& st
   std::array<Eigen::Vector3d, kDvlBeams> beams_W;
   for (int b = 0; b < kDvlBeams; ++b) beams_W[b] = R_WS * beams_S[b];
   input.slant_range = context.rays->cast(context.state, p_WS, beams_W, context.own_ray_body(), ray_length(spec));
+  // The sea surface reflects too (its tangent plane over the transducer, tilted by waves): a beam that rises to it
+  // before it meets anything else within reach returns from it (an upward-looking DVL tracks the surface).
+  for (int b = 0; b < kDvlBeams; ++b) {
+    const double to_surface = context.ocean.range_to_surface(p_WS, beams_W[b], context.time);
+    if (to_surface <= ray_length(spec) && !(input.slant_range[b] <= to_surface)) input.slant_range[b] = to_surface;
+  }
   if (params.water_track) {
     const int n = spec.water_track_layer_samples;
     for (int b = 0; b < kDvlBeams; ++b) {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (int j = 0; j < n; ++j) {
         const Eigen::Vector3d p_S = water_track_layer_point(params, beams_S[b], j, n);
-        sum += context.ocean.current_W(p_WS + R_WS * p_S, context.time);
+        // The water's velocity there: the current and, under the surface, the waves' orbital motion.
+        const Eigen::Vector3d p_W = p_WS + R_WS * p_S;
+        sum += context.ocean.current_W(p_W, context.time);
+        if (context.ocean.waves().enabled()) sum += context.ocean.waves().velocity_W(p_W, context.time);
       }
       input.v_water_S[b] = R_SW * sum / static_cast<double>(n);
     }

@@ -114,6 +114,78 @@ TEST(DvlSensorTest, WaterTrackMeasuresTheVelocityRelativeToTheCurrent) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(p.velocity[c], expected[c], 1e-12) << c;
 }
 
+// Looking up from under the sea surface (mounted on top, S's axis up), the DVL locks on the surface: over a flat
+// surface 20 m above each beam's range is 20 / cos(tilt) (double precision: the surface is no Embree mesh, 1e-9);
+// under regular waves (1 m, 8 s, deep water, no build-up) at a crest its tangent plane is level, 21 m up; a quarter
+// period later the surface over the DVL is at the mean level with the slope a k, and each beam meets that tilted
+// plane at (0 - z) / (d_z - s_x d_x).
+TEST(DvlSensorTest, LookingUpItLocksOnTheSeaSurface) {
+  const Eigen::Isometry3d X_BS_up = pose(Eigen::Vector3d(0.3, 0.0, 0.19), rpy(0.0, 0.0, 0.0));
+  DvlSensor::Spec spec = ideal_dvl();
+  spec.params.water_track = false;
+  const double cos_tilt = std::cos(spec.params.beam_tilt);
+  for (const bool waves : {false, true}) {
+    Model model = dvl_world(Eigen::Vector3d(-0.3, 0.0, -20.0 - 0.19), Eigen::Matrix3d::Identity(),
+                            Eigen::Vector3d::Zero()).model;
+    model.world.seabed.z = -1000.0;
+    if (waves) {
+      model.world.waves.spectrum = physics::WaveSpectrum::kRegular;
+      model.world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
+      model.world.waves.ramp_time = 0.0;
+    }
+    SensorTestWorld world(model, true);
+    for (const double t : {0.0, 2.0}) {
+      world.state.time = t;
+      DvlSensor::State state = world.initial_state<DvlSensor>(spec, 5.0, "dvl");
+      world.sample<DvlSensor>(spec, state, X_BS_up, 5.0);
+      const DvlPing& p = state.ping;
+      ASSERT_EQ(p.mode, DvlMode::kBottomTrack) << waves << " " << t;
+      const double k = std::pow(2.0 * EIGEN_PI / 8.0, 2) / 9.80665;
+      const double eta = waves ? std::cos(-2.0 * EIGEN_PI / 8.0 * t) : 0.0;
+      const double slope_x = waves ? -k * std::sin(-2.0 * EIGEN_PI / 8.0 * t) : 0.0;  // d/dx of cos(k x - w t)
+      for (int b = 0; b < kDvlBeams; ++b) {
+        const Eigen::Vector3d d_W = p.beam_unit_vec[b];  // S's axes are W's
+        EXPECT_NEAR(p.range[b], (eta + 20.0) / (d_W.z() - slope_x * d_W.x()), 1e-9) << waves << " " << t << " " << b;
+        if (!waves || t == 0.0) {
+          EXPECT_NEAR(p.range[b], (eta + 20.0) / cos_tilt, 1e-9);
+        }
+      }
+    }
+  }
+}
+
+// Under waves, water track measures the velocity through the water's orbital motion too: each beam's reading is
+// d . (v - u_b) with u_b the mean of the current plus the waves' velocity over that beam's layer points (a DVL
+// 10 m under 1 m, 8 s waves, out of bottom range; to rounding).
+TEST(DvlSensorTest, WaterTrackSeesTheWavesOrbitalVelocity) {
+  const Eigen::Vector3d v_W(1.0, 0.2, 0.0);
+  Model model = dvl_world(Eigen::Vector3d(0.0, 0.0, -10.0), rpy(0.0, 0.0, 0.4), v_W).model;
+  model.world.seabed.z = -1000.0;
+  model.world.waves.spectrum = physics::WaveSpectrum::kRegular;
+  model.world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
+  model.world.waves.ramp_time = 0.0;
+  SensorTestWorld world(model, true);
+  world.state.time = 1.3;
+  const DvlSensor::Spec spec = ideal_dvl();
+  const DvlPing p = ping(world, spec).ping;
+  ASSERT_EQ(p.mode, DvlMode::kWaterTrack);
+  const Eigen::Isometry3d X_WS = world.body().X_WB * kX_BS;
+  const Eigen::Matrix3d R_SW = X_WS.linear().transpose();
+  const Eigen::Vector3d v_S = R_SW * v_W;
+  const auto beams_S = dvl_beam_unit_vectors(spec.params);
+  double largest = 0.0;
+  for (int b = 0; b < kDvlBeams; ++b) {
+    Eigen::Vector3d u_W = Eigen::Vector3d::Zero();
+    const int n = spec.water_track_layer_samples;
+    for (int j = 0; j < n; ++j) {
+      u_W += world.ocean.waves().velocity_W(X_WS * water_track_layer_point(spec.params, beams_S[b], j, n), 1.3) / n;
+    }
+    largest = std::max(largest, u_W.norm());
+    EXPECT_NEAR(p.beam_velocity[b], beams_S[b].dot(v_S - R_SW * u_W), 1e-12) << b;
+  }
+  EXPECT_GT(largest, 0.1);  // the orbital velocity is there: a omega e^(k z) ~ 0.3 m/s at 10 m
+}
+
 // A DVL that assumes 1450 m/s where the water's sound speed is c (UNESCO at the transducer's depth)
 // scales every velocity by k = 1450 / c, and the ranges with it.
 TEST(DvlSensorTest, AWrongAssumedSoundSpeedScalesTheVelocity) {

@@ -72,6 +72,10 @@ class Ocean {
   double surface_height(double x, double y, double t) const {
     return waves_.enabled() ? waves_.surface_height(x, y, t) : water_.surface_z;
   }
+  // How far the unit ray p_W + s d_W runs under water before it meets the surface [m]: the instantaneous surface's
+  // tangent plane over p_W (flat without waves). +inf when p_W is above the surface or the ray does not rise toward
+  // the plane. An acoustic beam (a DVL's) reflects there.
+  double range_to_surface(const Eigen::Vector3d& p_W, const Eigen::Vector3d& d_W, double t) const;
   // Absolute pressure at p_W and sim time t [Pa]: hydrostatic below the mean surface (pressure(depth)), plus the
   // waves' dynamic pressure, and between the mean surface and a crest rho(0) g times the height of water above;
   // atmospheric above the instantaneous surface.

@@ -91,6 +91,14 @@ double water_to_air_reflectance(double n, double cos_w);
 Rgb surface_from_below_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
                                 const Eigen::Vector3d& d_W, double s_end);
 
+// The sea surface seen from above along the ray o_W + s d_W of a camera in the air, when the ray goes down to the
+// surface's plane before s_end: R E0 / pi + (1 - R) / n^2 b p(d_t,z) E0 / (c + Kd |d_t,z|), R the air-to-water
+// Fresnel reflectance at its incidence and d_t the refracted ray (the sky reflected and the water's upwelling
+// daylight transmitted out, render/frame.h); E0 / pi (the sky) on a ray that rises from the plane and hits nothing
+// (s_end infinite); zero otherwise. `water` is the water under the surface.
+Rgb surface_from_above_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
+                                const Eigen::Vector3d& d_W, double s_end);
+
 // The same with E_d(z_o) = daylight.irradiance_at(o_W.z()) given (a camera's rays share their origin).
 Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, const Rgb& E_origin,
                            const Eigen::Vector3d& o_W, const Eigen::Vector3d& d_W, double s0, double s1);
