@@ -119,14 +119,19 @@ Ocean::Ocean(const WaterSpec& water, double gravity, std::uint64_t seed) : water
 
 Ocean::~Ocean() = default;
 
+void Ocean::surface_tangent(double x, double y, double t, double* height, Eigen::Vector2d* slope) const {
+  *height = water_.surface_z;
+  slope->setZero();
+  if (!waves_.enabled()) return;
+  double eta = 0.0;
+  waves_.surface(x, y, t, &eta, slope);
+  *height = waves_.surface_z() + eta;
+}
+
 double Ocean::range_to_surface(const Eigen::Vector3d& p_W, const Eigen::Vector3d& d_W, double t) const {
-  double height = water_.surface_z;
-  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
-  if (waves_.enabled()) {
-    double eta = 0.0;
-    waves_.surface(p_W.x(), p_W.y(), t, &eta, &slope);
-    height = waves_.surface_z() + eta;
-  }
+  double height = 0.0;
+  Eigen::Vector2d slope;
+  surface_tangent(p_W.x(), p_W.y(), t, &height, &slope);
   // The plane z = height + slope . (x - x_p): with the normal m = (-s_x, -s_y, 1), m . (p_W + s d_W - q) = 0.
   const double below = height - p_W.z();
   const double rise = d_W.z() - slope.x() * d_W.x() - slope.y() * d_W.y();

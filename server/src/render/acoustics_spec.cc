@@ -31,6 +31,10 @@ const config::KeyTable<AcousticsSpec>& acoustics_keys() {
         .range(config::Range::closed(-80.0, 0.0))
         .doc("the seabed's (Mackenzie 1961, deep-sea bottom); mud is about -40 to -35, sand -30 to -25, rock -15 to "
              "-10 at 100-400 kHz");
+    t.number("surface_backscatter_db", &AcousticsSpec::surface_backscatter_db).unit("dB")
+        .range(config::Range::closed(-80.0, 0.0))
+        .doc("the sea surface's, seen from below by a sonar's beams that rise to it (Chapman and Harris 1962: about "
+             "-50 dB in a calm to -20 dB in a high wind at moderate grazing angles)");
     t.number("vehicle_backscatter_db", &AcousticsSpec::vehicle_backscatter_db).unit("dB")
         .range(config::Range::closed(-80.0, 0.0))
         .doc("hulls (metal, composite); a link's appearance.backscatter_db overrides it");

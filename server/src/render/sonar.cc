@@ -183,6 +183,21 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
     scene.intersect(batch, 0, batch.size(), geometry::QueryPath::kAuto, hits);
     std::vector<float> mu(batch.size(), 0.0f);
     backscatter(hits, batch.size(), mu.data());
+    if (water.surface) {  // the sea surface where a ray rises to it first (SonarWater)
+      const Eigen::Vector3d& m = water.surface_normal_W;
+      const double below = m.dot(water.surface_point_W - p_WS.cast<double>());
+      for (std::size_t n = 0; below > 0.0 && n < batch.size(); ++n) {
+        const double rise = m.x() * batch.d_W_x[n] + m.y() * batch.d_W_y[n] + m.z() * batch.d_W_z[n];
+        if (!(rise > 0.0)) continue;
+        const double s = below / rise;
+        if (!(s < t_far) || (hits.hit(n) && hits.distance[n] <= s)) continue;
+        hits.distance[n] = static_cast<float>(s);
+        hits.n_W_x[n] = static_cast<float>(m.x());
+        hits.n_W_y[n] = static_cast<float>(m.y());
+        hits.n_W_z[n] = static_cast<float>(m.z());
+        mu[n] = static_cast<float>(water.surface_mu);
+      }
+    }
 
     std::vector<double> echo(static_cast<std::size_t>(bins), 0.0), echo_a(static_cast<std::size_t>(bins), 0.0);
     for (std::size_t n = 0; n < batch.size(); ++n) {

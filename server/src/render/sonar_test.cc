@@ -307,6 +307,57 @@ TEST(SonarTest, MultibeamRangesOverAFlatSeabedMatchTheGeometry) {
   }
 }
 
+// The sea surface as a reflector (SonarWater.surface): a multibeam looking up from 20 m under a flat surface, with
+// nothing in the scene within range, detects the surface at h / cos(beam) in each beam (within a bin), and its echoes
+// are those of the same multibeam looking down at an Embree floor 20 m below with the same mu, the mirror image
+// (1e-4 relative: the floor's hit distances are Embree's floats). Without the surface the upward ping is empty.
+TEST(SonarTest, LookingUpItHearsTheSeaSurface) {
+  SonarPingSpec spec;
+  spec.beams = fan(64, 120.0 * kDegToRad, 1.0 * kDegToRad, 2.0 * kDegToRad);
+  spec.min_range = 0.5;
+  spec.max_range = 100.5;
+  spec.bins = 4000;
+  spec.rays_u = 96;
+  spec.rays_v = 4;
+  const double h = 20.0;
+  Eigen::Matrix3d R_down, R_up;  // S: x_S down (up), y_S to port, z_S forward (x_S x y_S)
+  R_down.col(0) = -Eigen::Vector3d::UnitZ();
+  R_down.col(1) = Eigen::Vector3d::UnitY();
+  R_down.col(2) = Eigen::Vector3d::UnitX();
+  R_up.col(0) = Eigen::Vector3d::UnitZ();
+  R_up.col(1) = Eigen::Vector3d::UnitY();
+  R_up.col(2) = -Eigen::Vector3d::UnitX();
+  Eigen::Isometry3d X_down = Eigen::Isometry3d::Identity(), X_up = Eigen::Isometry3d::Identity();
+  X_down.linear() = R_down;
+  X_down.translation() = Eigen::Vector3d(0.0, 0.0, h);
+  X_up.linear() = R_up;
+  X_up.translation() = Eigen::Vector3d(0.0, 0.0, -h);
+  const EmbreeScene floor = scene_of({floor_at(0.0f)}), deep = scene_of({floor_at(-500.0f)});
+  SonarWater sea;
+  sea.surface = true;
+  sea.surface_mu = kMu;
+  const Image up = ping_image(deep, quiet(spec), X_up, sea), down = ping_image(floor, quiet(spec), X_down);
+  double up_sum = 0.0, down_sum = 0.0, empty_sum = 0.0;
+  for (std::size_t i = 0; i < up.intensity.size(); ++i) {
+    up_sum += up.intensity[i];
+    down_sum += down.intensity[i];
+  }
+  EXPECT_GT(up_sum, 0.0);
+  EXPECT_NEAR(up_sum / down_sum, 1.0, 1e-4);
+  for (int k = 0; k < up.beams; ++k) {
+    double peak = 0.0, peak_r = 0.0;
+    for (int b = 0; b < up.bins; ++b) {
+      if (up.at(k, b) > peak) peak = up.at(k, b), peak_r = spec.bin_centre_m(b);
+    }
+    const double cos_beam = (R_up * spec.beams[static_cast<std::size_t>(k)].axis_S).z();
+    if (h / cos_beam > spec.max_range - 2.0) continue;
+    EXPECT_NEAR(peak_r, h / cos_beam, 0.02 * h / cos_beam) << "beam " << k;  // the footprint's spread
+  }
+  const Image calm = ping_image(deep, quiet(spec), X_up);
+  for (float v : calm.intensity) empty_sum += v;
+  EXPECT_EQ(empty_sum, 0.0);
+}
+
 // Speckle and noise from seeded streams: the same ping twice and on two threads is bit-identical; the next
 // ping differs.
 TEST(SonarTest, SameSeedSameEchoWhateverTheThreads) {

@@ -334,10 +334,9 @@ CaptureWork CameraSensor::capture(const CaptureContext& context, const Spec& spe
   lighting.negligible_radiance_W_per_m2_sr = negligible_radiance(spec.sensor);
   if (context.ocean != nullptr && context.ocean->waves().enabled()) {
     // The surface over the camera as the waves have it at the snapshot: its height and tilt (Snell's window moves).
-    const physics::Waves& waves = context.ocean->waves();
     const Eigen::Vector3d& p_WC = X_WC.translation();
-    const Eigen::Vector2d slope = waves.surface_slope(p_WC.x(), p_WC.y(), context.time);
-    lighting.daylight.surface_z_m = waves.surface_height(p_WC.x(), p_WC.y(), context.time);
+    Eigen::Vector2d slope;
+    context.ocean->surface_tangent(p_WC.x(), p_WC.y(), context.time, &lighting.daylight.surface_z_m, &slope);
     lighting.daylight.surface_normal_W = Eigen::Vector3d(-slope.x(), -slope.y(), 1.0).normalized();
   }
   std::optional<std::vector<render::SpotLight>> lights_C =

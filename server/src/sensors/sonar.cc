@@ -87,11 +87,19 @@ void fill_ping_info(const SonarAcoustics& acoustics, double sound_speed_m_per_s,
   }
 }
 
-render::SonarWater sonar_water(const physics::Ocean& ocean, const Eigen::Vector3d& p_WS, double frequency_hz) {
+render::SonarWater sonar_water(const physics::Ocean& ocean, const Eigen::Vector3d& p_WS, double frequency_hz, double t,
+                               double surface_backscatter_db) {
   const double depth = std::max(ocean.depth(p_WS.z()), 0.0);
   render::SonarWater water;
   water.sound_speed_m_per_s = ocean.sound_speed(depth);
   water.absorption_db_per_m = ocean.sound_absorption_db_per_m(depth, frequency_hz);
+  double height = 0.0;
+  Eigen::Vector2d slope;
+  ocean.surface_tangent(p_WS.x(), p_WS.y(), t, &height, &slope);
+  water.surface = true;
+  water.surface_point_W = Eigen::Vector3d(p_WS.x(), p_WS.y(), height);
+  water.surface_normal_W = Eigen::Vector3d(-slope.x(), -slope.y(), 1.0).normalized();
+  water.surface_mu = std::pow(10.0, surface_backscatter_db / 10.0);
   return water;
 }
 
@@ -138,7 +146,8 @@ CaptureWork sonar_ping_work(const CaptureContext& context, std::shared_ptr<const
   }
   if (!ping) throw std::logic_error("sonar capture: the sonar has no ping spec (a failed read)");
   const Eigen::Isometry3d X_WS = context.X_WS();
-  *water = sonar_water(*context.ocean, X_WS.translation(), frequency_hz);
+  *water = sonar_water(*context.ocean, X_WS.translation(), frequency_hz, context.time,
+                       context.model->world.acoustics.surface_backscatter_db);
   const std::int32_t own_body = static_cast<std::int32_t>(context.own_ray_body());
   return [ping = std::move(ping), X_WS, own_body, w = *water, backscatter = model_backscatter(*context.model), noise_key,
           index = context.step_count, sink = std::move(sink)](const geometry::EmbreeScene& scene, const ParallelFor& parallel) {

@@ -72,6 +72,8 @@ class Ocean {
   double surface_height(double x, double y, double t) const {
     return waves_.enabled() ? waves_.surface_height(x, y, t) : water_.surface_z;
   }
+  // The instantaneous surface at (x, y) as its height [m, W] and slopes d eta / dx, d eta / dy (flat without waves).
+  void surface_tangent(double x, double y, double t, double* height, Eigen::Vector2d* slope) const;
   // How far the unit ray p_W + s d_W runs under water before it meets the surface [m]: the instantaneous surface's
   // tangent plane over p_W (flat without waves). +inf when p_W is above the surface or the ray does not rise toward
   // the plane. An acoustic beam (a DVL's) reflects there.

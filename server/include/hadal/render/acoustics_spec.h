@@ -1,7 +1,8 @@
 // The world's acoustics (YAML `world.acoustics`). What sonars hear of the world's surfaces (render/sonar.h,
 // docs/ARCHITECTURE.md "Sonars"): Lambert's backscatter parameter mu [dB], sigma = mu cos^2(incidence) per
 // unit area and steradian. The seabed's default is Mackenzie's (1961) deep-sea value, -27 dB; hulls (metal,
-// GRP) are strong scatterers, -10 dB; a link's appearance.backscatter_db overrides the hulls' value. What
+// GRP) are strong scatterers, -10 dB; a link's appearance.backscatter_db overrides the hulls' value; the sea
+// surface seen from below, -30 dB (a moderate wind, Chapman and Harris 1962). What
 // acoustic positioning and modems hear (sensors/acoustic_channel.h): the spreading law of their
 // transmission loss and the ambient noise (Wenz). Its keys are declared once in render::acoustics_keys()
 // (server/src/render/acoustics_spec.cc).
@@ -35,6 +36,7 @@ struct BeaconSpec {
 struct AcousticsSpec {
   double seabed_backscatter_db = -27.0;
   double vehicle_backscatter_db = -10.0;
+  double surface_backscatter_db = -30.0;  // the sea surface from below
   double spreading_exponent = 2.0;  // k in TL = k 10 log10 r + alpha r (positioning and modems)
   AmbientNoiseSpec ambient_noise;
   std::vector<BeaconSpec> beacons;

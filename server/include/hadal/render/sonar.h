@@ -117,6 +117,13 @@ struct SonarPingSpec {
 struct SonarWater {
   double sound_speed_m_per_s = 1500.0;
   double absorption_db_per_m = 0.0;  // alpha at the sonar's frequency
+  // The sea surface as a reflector (`surface`): the plane through surface_point_W with the unit normal
+  // surface_normal_W (up; the waves' tangent plane over the sonar), Lambert's mu (linear). A ray that rises to it
+  // before it hits anything echoes from it.
+  bool surface = false;
+  Eigen::Vector3d surface_point_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d surface_normal_W = Eigen::Vector3d::UnitZ();
+  double surface_mu = 0.0;
 };
 
 // TL(r) [dB] and TVG(r) [dB] above.

@@ -42,9 +42,11 @@ void fill_sonar_image_data(const SonarImageEncoding& encoding, std::uint32_t bea
 void fill_ping_info(const SonarAcoustics& acoustics, double sound_speed_m_per_s, const render::SonarPingSpec& ping,
                     marine_acoustic_msgs::msg::PingInfo& out);
 
-// The water at the sonar's position p_WS: sound speed and absorption at the sonar's frequency at its depth
-// (physics/ocean.h; straight rays, the water at the sonar for the whole path).
-render::SonarWater sonar_water(const physics::Ocean& ocean, const Eigen::Vector3d& p_WS, double frequency_hz);
+// The water at the sonar's position p_WS at sim time t: sound speed and absorption at the sonar's frequency at its
+// depth (physics/ocean.h; straight rays, the water at the sonar for the whole path), and the sea surface over it (its
+// tangent plane, tilted by waves) as a reflector of Lambert's mu surface_backscatter_db.
+render::SonarWater sonar_water(const physics::Ocean& ocean, const Eigen::Vector3d& p_WS, double frequency_hz, double t,
+                               double surface_backscatter_db);
 
 // Lambert's mu (linear) of each hit from the model: the seabed's world.acoustics.seabed_backscatter_db, a
 // link's appearance.backscatter_db if given, else world.acoustics.vehicle_backscatter_db.
