@@ -1305,6 +1305,7 @@ void Simulation::hand_articulated_forces(std::size_t i) {
       const double depth = std::max(ocean_->depth(dynamics.p_Wcm(static_cast<int>(k)).z()), 0.0);
       added[k].M_A = ocean_->kappa(depth) * body.wrench.submerged_fraction * body.M_A0;
       added[k].v_water_W = body.wrench.v_water_W;
+      added[k].a_water_W = body.wrench.a_water_W;
     }
   }
   const auto n_c = static_cast<Eigen::Index>(vehicle.constraint_force.size());

@@ -558,6 +558,11 @@ void ArticulatedDynamics::reactions(const std::vector<AddedMassBody>& added, con
       nu_r_dot_bias.head<3>() = R_KW * A_[i].head<3>() - nu_r.tail<3>().cross(nu_r.head<3>());
       nu_r_dot_bias.tail<3>() = R_KW * A_[i].tail<3>();
       Vector6d tau = -M_A * nu_r_dot_bias;
+      if (!added[i].a_water_W.isZero(0.0)) {  // waves: the water's acceleration accelerates the added mass too
+        Vector6d a_water = Vector6d::Zero();
+        a_water.head<3>() = R_KW * added[i].a_water_W;
+        tau += M_A * a_water;
+      }
       if (coriolis) tau -= added_mass_coriolis(M_A, nu_r);
       bias[i].head<3>() = R * tau.head<3>();
       bias[i].tail<3>() = R * tau.tail<3>();

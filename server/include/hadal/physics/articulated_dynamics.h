@@ -80,7 +80,8 @@ class ArticulatedDynamics {
 
   struct AddedMassBody {
     Matrix6d M_A = Matrix6d::Zero();                       // about the centre of mass, K axes (scaled)
-    Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();   // the current at the centre of mass
+    Eigen::Vector3d v_water_W = Eigen::Vector3d::Zero();   // the water's velocity at the centre of mass
+    Eigen::Vector3d a_water_W = Eigen::Vector3d::Zero();   // its acceleration (waves), which the added mass feels
   };
   // Each body's added-mass reaction wrench (at its centre of mass, W) for the motion with applied body
   // wrenches `wrenches_W`, gravity and joint torques (above), plus the generalised constraint force
