@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -147,6 +148,26 @@ inline std::vector<double> welch_psd(const std::vector<double>& x, double dt, in
   for (double& p : psd) p /= std::max(count, 1);
   if (segments != nullptr) *segments = count;
   return psd;
+}
+
+// A spectrum's CSV: `header`, then per bin b = first..last the frequency b df [Hz] (%.6f) and each column's value at b
+// (%.9g). Empty on success, else why not.
+inline std::string write_bins_csv(const std::string& path, const std::string& header, double df, int first, int last,
+                                  const std::vector<const std::vector<double>*>& columns) {
+  std::ofstream out(path);
+  out << header << '\n';
+  char cell[32];
+  for (int b = first; b <= last; ++b) {
+    std::snprintf(cell, sizeof(cell), "%.6f", b * df);
+    out << cell;
+    for (const std::vector<double>* column : columns) {
+      std::snprintf(cell, sizeof(cell), ",%.9g", (*column)[static_cast<std::size_t>(b)]);
+      out << cell;
+    }
+    out << '\n';
+  }
+  out.close();
+  return out ? std::string() : path + ": write failed";
 }
 
 // The tools' command lines (tools/common/cli_args.h): options "--name value", flags "--name" and -h / --help,

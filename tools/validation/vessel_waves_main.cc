@@ -23,7 +23,6 @@
 // 2 usage error.
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -182,16 +181,8 @@ int main(int argc, char** argv) {
   const std::string png = join_path(out_dir, "vessel_waves.png"), csv = join_path(out_dir, "vessel_waves.csv");
   std::string error = plot::write_png(figure, png);
   if (error.empty()) {
-    std::ofstream out(csv);
-    out << "f_hz,sea_m2_per_hz,heave_m2_per_hz,slope_rad2_per_hz,pitch_rad2_per_hz\n";
-    char line[160];
-    for (int b = first; b <= last; ++b) {
-      std::snprintf(line, sizeof(line), "%.6f,%.9g,%.9g,%.9g,%.9g\n", b * df, s_sea[b], s_heave[b], s_slope[b],
-                    s_pitch[b]);
-      out << line;
-    }
-    out.close();
-    if (!out) error = csv + ": write failed";
+    error = write_bins_csv(csv, "f_hz,sea_m2_per_hz,heave_m2_per_hz,slope_rad2_per_hz,pitch_rad2_per_hz", df, first,
+                           last, {&s_sea, &s_heave, &s_slope, &s_pitch});
   }
   if (!error.empty()) {
     std::fprintf(stderr, "%s: %s\n", kTool, error.c_str());

@@ -17,7 +17,6 @@
 // Exit status: 0 success; 1 an output cannot be written; 2 usage error.
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -161,15 +160,9 @@ int main(int argc, char** argv) {
   const std::string csv = join_path(out_dir, "waves_spectrum.csv");
   std::string error = plot::write_png(figure, png);
   if (error.empty()) {
-    std::ofstream out(csv);
-    out << "f_hz,welch_m2_per_hz,target_m2_per_hz\n";
-    char line[128];
-    for (int b = first; b <= last; ++b) {
-      std::snprintf(line, sizeof(line), "%.6f,%.9g,%.9g\n", b * df, psd[b], target(b * df));
-      out << line;
-    }
-    out.close();
-    if (!out) error = csv + ": write failed";
+    std::vector<double> target_psd(psd.size(), 0.0);
+    for (int b = first; b <= last; ++b) target_psd[static_cast<std::size_t>(b)] = target(b * df);
+    error = write_bins_csv(csv, "f_hz,welch_m2_per_hz,target_m2_per_hz", df, first, last, {&psd, &target_psd});
   }
   if (!error.empty()) {
     std::fprintf(stderr, "%s: %s\n", kTool, error.c_str());

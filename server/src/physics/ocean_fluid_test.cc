@@ -240,6 +240,25 @@ TEST(OceanFluidTest, RampAndCtdWrenchesMatchThePointwiseSampler) {
   }
 }
 
+// A world of kRho water under one regular deep-water wave (amplitude a [m], period [s]) from t = 0 (no build-up).
+WorldSpec regular_sea(double a, double period) {
+  WorldSpec world;
+  world.water.density = kRho;
+  world.waves.spectrum = WaveSpectrum::kRegular;
+  world.waves.regular = {{a, period, 0.0, 0.0}};
+  world.waves.ramp_time = 0.0;
+  return world;
+}
+
+// A box's faces with the pressure alone (drag, friction and lift off).
+SurfaceHydrodynamics pressure_only_box(const Eigen::Vector3d& size) {
+  CollisionShape box;
+  box.box_size = size;
+  HydrodynamicCoefficients pressure_only;
+  pressure_only.drag = pressure_only.skin_friction = pressure_only.lift = 0.0;
+  return SurfaceHydrodynamics(geometry::tessellate(box), pressure_only);
+}
+
 // Waves on a submerged 2 m cube (drag, friction and lift off: the pressure alone, less the calm water's buoyancy),
 // regular deep-water waves of 1 m and 8 s (lambda 99.9 m): the dynamic pressure, linear about the cube's centre,
 // integrates to the Froude-Krylov force -V grad p_d, whose horizontal and vertical amplitudes are rho g a k V e^(k z')
@@ -247,17 +266,9 @@ TEST(OceanFluidTest, RampAndCtdWrenchesMatchThePointwiseSampler) {
 // across the cube and float); a wavelength down the wave force is under 1 % of that just below the surface
 // (e^(-k lambda) = 0.19 %).
 TEST(OceanFluidTest, WavesPushASubmergedBodyWithTheirFroudeKrylovForce) {
-  WorldSpec world;
-  world.water.density = kRho;
-  world.waves.spectrum = WaveSpectrum::kRegular;
-  world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
-  world.waves.ramp_time = 0.0;  // the full sea from t = 0
+  const WorldSpec world = regular_sea(1.0, 8.0);
   const Ocean ocean(world);
-  CollisionShape cube;
-  cube.box_size = Eigen::Vector3d(2.0, 2.0, 2.0);
-  HydrodynamicCoefficients pressure_only;
-  pressure_only.drag = pressure_only.skin_friction = pressure_only.lift = 0.0;
-  SurfaceHydrodynamics hydro(geometry::tessellate(cube), pressure_only);
+  SurfaceHydrodynamics hydro = pressure_only_box(Eigen::Vector3d(2.0, 2.0, 2.0));
   WorldSpec calm_world = world;
   calm_world.waves = WaveSpec{};
   const Ocean calm(calm_world);
@@ -291,12 +302,7 @@ TEST(OceanFluidTest, WavesPushASubmergedBodyWithTheirFroudeKrylovForce) {
 // signed hydrostatic rho g (surface_z - z) (negative there) plus the wave's dynamic pressure: positive below the
 // moving surface and zero at it (1e-6 of rho g a), as the waves' own pressure_at says.
 TEST(OceanFluidTest, UnderACrestThePressureIsZeroAtTheMovingSurface) {
-  WorldSpec world;
-  world.water.density = kRho;
-  world.waves.spectrum = WaveSpectrum::kRegular;
-  world.waves.regular = {{1.0, 8.0, 0.0, 0.0}};
-  world.waves.ramp_time = 0.0;  // the full sea from t = 0
-  const Ocean ocean(world);
+  const Ocean ocean(regular_sea(1.0, 8.0));
   const OceanFluid fluid(ocean, 0.0);  // a crest at x = 0
   EXPECT_NEAR(fluid.surface_plane(Eigen::Vector3d::Zero()).height, 1.0, 1e-12);
   EXPECT_NEAR(fluid.gauge_pressure_at(Eigen::Vector3d(0.0, 0.0, 1.0)), 0.0, 1e-6 * kRho * kG);
@@ -318,17 +324,8 @@ TEST(OceanFluidTest, UnderACrestThePressureIsZeroAtTheMovingSurface) {
 // needs the dynamic pressure's gradient inside each face (the box's bottom is two triangles): without it, it is a third.
 // The same force with the centre of mass in the air above the waterline.
 TEST(OceanFluidTest, AFloatingBoxFeelsTheWaveSlopeAsLinearTheoryIntegrates) {
-  WorldSpec world;
-  world.water.density = kRho;
-  world.waves.spectrum = WaveSpectrum::kRegular;
-  world.waves.regular = {{0.3, 20.0, 0.0, 0.0}};
-  world.waves.ramp_time = 0.0;
-  const Ocean ocean(world);
-  CollisionShape box;
-  box.box_size = Eigen::Vector3d(10.0, 10.0, 2.0);
-  HydrodynamicCoefficients pressure_only;
-  pressure_only.drag = pressure_only.skin_friction = pressure_only.lift = 0.0;
-  SurfaceHydrodynamics hydro(geometry::tessellate(box), pressure_only);
+  const Ocean ocean(regular_sea(0.3, 20.0));
+  SurfaceHydrodynamics hydro = pressure_only_box(Eigen::Vector3d(10.0, 10.0, 2.0));
   const double a = 0.3, omega = 2.0 * M_PI / 20.0, k = omega * omega / kG, L = 10.0, d = 1.0, h = 0.5 * k * L;
   BodyMotion motion;
   motion.p_WBcm = Eigen::Vector3d(0.0, 0.0, -0.5);
