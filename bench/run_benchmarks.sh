@@ -35,19 +35,23 @@ out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode realtime --rtf 1
       --domain-id 231 --no-status-line 2>/dev/null)
 summarise hadald_realtime_mode 10 "$out"
 
-# 4. The default scenario (surface fluid model, added mass) with an 11 136-face torpedo hull mesh
-#    (generated) in place of the tessellated capsule + fins: forces on every face every step at 500 Hz;
-#    the simulation core alone and the whole server in fast mode.
+# 4. The physics case: the default scenario's AUV alone (its own navigation sensors: IMU, DVL, altimeter, pressure,
+#    GPS, magnetometer; no camera, sonar, lights or lander) with an 11 136-face torpedo hull mesh (generated) in place
+#    of the tessellated capsule + fins: forces on every face every step at 500 Hz, the simulation core on one thread
+#    (issue 45's anchor against Stonefish's Girona 500). Then the default scenario with that hull, its camera, sonar,
+#    lights and lander: the simulation core and the whole server in fast mode (its figure is the camera's).
 # 6 and 7 (at the end): memory over a 1M-triangle seabed; sensors: cost per sample of each of the
 #    default AUV's sensors, their share of a core at the configured rates, and a captured sensor's scan
 #    (bench/sensors.cc).
-# 5. Two such AUVs (20 m apart): their fluid forces run on the worker pool, so with 2 cores the RTF
-#    stays close to the single-vehicle figure instead of halving.
+# 5. Two such physics-case AUVs, the second 20 m to port of the first (moved from wherever the first starts): their
+#    fluid forces run on the worker pool, so with 2 cores the RTF stays close to the single-vehicle figure instead
+#    of halving.
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$build/bin/hadal-make-asset" torpedo "$work/hull.glb" --length 1.6 --radius 0.0775 --segments 232 >/dev/null
 /usr/bin/python3 - "$work" <<'PY'
-import re, sys
+import copy, sys
+import yaml
 work = sys.argv[1]
 vehicle = open("configs/vehicles/torpedo_auv.yaml").read()
 vehicle = vehicle.replace("  - name: hull\n", "  - name: hull\n    mesh: {file: hull.glb}\n", 1)
@@ -55,10 +59,20 @@ open(f"{work}/torpedo_surface.yaml", "w").write(vehicle)
 scenario = open("configs/scenarios/default.yaml").read()
 scenario = scenario.replace("include: ../vehicles/torpedo_auv.yaml", "include: torpedo_surface.yaml")
 open(f"{work}/default_surface.yaml", "w").write(scenario)
-entry = scenario[scenario.index("  - name: auv"):]
-second = entry.replace("name: auv", "name: auv2").replace("position: [0.0, 0.0, -50.0]", "position: [0.0, 20.0, -50.0]")
-open(f"{work}/two_surface.yaml", "w").write(scenario + second)
+# The physics case: the AUV alone, without what default.yaml adds to it (camera, sonar, lights).
+physics = yaml.safe_load(scenario)
+auv = next(v for v in physics["vehicles"] if v["name"] == "auv")
+for key in ("sensors", "lights"):
+    auv.pop(key, None)
+physics["vehicles"] = [auv]
+open(f"{work}/auv_surface.yaml", "w").write(yaml.safe_dump(physics, sort_keys=False))
+second = copy.deepcopy(auv)
+second["name"] = "auv2"
+second["initial_pose"]["position"][1] += 20.0
+physics["vehicles"] = [auv, second]
+open(f"{work}/two_surface.yaml", "w").write(yaml.safe_dump(physics, sort_keys=False))
 PY
+"$build/bin/hadal_bench_step_rate" "$work/auv_surface.yaml" --sim-seconds 20 --repetitions 3 --threads 1
 "$build/bin/hadal_bench_step_rate" "$work/default_surface.yaml" --sim-seconds 20 --repetitions 3
 for r in 1 2 3; do
   out=$("$build/bin/hadald" "$work/default_surface.yaml" --mode fast --duration 60 --domain-id 231 \
