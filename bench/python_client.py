@@ -4,7 +4,8 @@ line per measurement.
 
   lockstep_calls     client.step(k) calls per second against a lockstep hadald on the default scenario
                      without its camera (hadald --no-cameras), k = 1 and 10 physics steps per call,
-                     with the AUV's setpoints attached to every request (as a controller sends them)
+                     with the AUV's setpoints attached to every request (as a controller sends them); then
+                     the same on bench/scenarios/lockstep_auv.yaml (the AUV alone: the round trip's share)
   env_steps          hadal.env steps per second (waypoint task, random actions, 0.1 s = 50 physics steps
                      each) for one HadalEnv (as it comes, and pinned like a VectorEnv's servers) and
                      VectorEnv(n), n = 1, 2, 4 (n servers stepped concurrently; and 2 unpinned), measured
@@ -34,18 +35,22 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def lockstep_calls(seconds):
-    with hadal.Server("default", mode="lockstep", cameras=False) as server, server.client("bench") as client:
-        client.step(1)
-        for steps in (1, 10):
-            calls, start = 0, time.perf_counter()
-            while time.perf_counter() - start < seconds:
-                client.set_commands("auv", [0.5, 0.0, 0.0])
-                client.step(steps)
-                calls += 1
-            wall = time.perf_counter() - start
-            yield {"benchmark": "lockstep_calls", "scenario": "default --no-cameras", "steps_per_call": steps,
-                   "calls": calls, "wall_s": round(wall, 3), "calls_per_s": round(calls / wall, 1),
-                   "physics_steps_per_s": round(calls * steps / wall)}
+    """On the default scenario without its camera (its sonar and lander remain) and on bench/scenarios/lockstep_auv.yaml
+    (the AUV alone, ~5 us of physics a step): the second shows the round trip's own cost."""
+    lean = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios", "lockstep_auv.yaml")
+    for scenario, label in (("default", "default --no-cameras"), (lean, "lockstep_auv")):
+        with hadal.Server(scenario, mode="lockstep", cameras=False) as server, server.client("bench") as client:
+            client.step(1)
+            for steps in (1, 10):
+                calls, start = 0, time.perf_counter()
+                while time.perf_counter() - start < seconds:
+                    client.set_commands("auv", [0.5, 0.0, 0.0])
+                    client.step(steps)
+                    calls += 1
+                wall = time.perf_counter() - start
+                yield {"benchmark": "lockstep_calls", "scenario": label, "steps_per_call": steps,
+                       "calls": calls, "wall_s": round(wall, 3), "calls_per_s": round(calls / wall, 1),
+                       "physics_steps_per_s": round(calls * steps / wall)}
 
 
 def env_steps(seconds, slice_s=0.02, blocks=10):
