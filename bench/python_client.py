@@ -5,7 +5,9 @@ line per measurement.
   lockstep_calls     client.step(k) calls per second against a lockstep hadald on the default scenario
                      without its camera (hadald --no-cameras), k = 1 and 10 physics steps per call,
                      with the AUV's setpoints attached to every request (as a controller sends them); then
-                     the same on bench/scenarios/lockstep_auv.yaml (the AUV alone: the round trip's share)
+                     the same on bench/scenarios/lockstep_auv.yaml (the AUV alone: the round trip's share),
+                     after a bare Fast DDS 1 KB round trip between two processes (hadal_bench_dds_round_trip,
+                     from $HADAL_BUILD/bin, default build/bin)
   env_steps          hadal.env steps per second (waypoint task, random actions, 0.1 s = 50 physics steps
                      each) for one HadalEnv (as it comes, and pinned like a VectorEnv's servers) and
                      VectorEnv(n), n = 1, 2, 4 (n servers stepped concurrently; and 2 unpinned), measured
@@ -23,6 +25,7 @@ import argparse
 import contextlib
 import json
 import os
+import subprocess
 import sys
 import time
 
@@ -37,7 +40,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def lockstep_calls(seconds):
     """On the default scenario without its camera (its sonar and lander remain) and on bench/scenarios/lockstep_auv.yaml
     (the AUV alone, ~5 us of physics a step): the second shows the round trip's own cost."""
-    lean = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios", "lockstep_auv.yaml")
+    here = os.path.dirname(os.path.abspath(__file__))
+    bare = os.path.join(os.environ.get("HADAL_BUILD", os.path.join(os.path.dirname(here), "build")), "bin",
+                        "hadal_bench_dds_round_trip")
+    if os.path.exists(bare):  # the floor: a bare Fast DDS 1 KB round trip between two processes, in the same run
+        out = subprocess.run([bare, "--seconds", str(seconds)], capture_output=True, text=True, check=True).stdout
+        yield json.loads(out)
+    lean = os.path.join(here, "scenarios", "lockstep_auv.yaml")
     for scenario, label in (("default", "default --no-cameras"), (lean, "lockstep_auv")):
         with hadal.Server(scenario, mode="lockstep", cameras=False) as server, server.client("bench") as client:
             client.step(1)
