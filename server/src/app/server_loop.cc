@@ -336,7 +336,7 @@ class Runner {
       if (odometry_dividers_[i].due(state.time)) {
         dds_.publish_odometry(static_cast<int>(i), state);
         dds_.publish_joint_states(static_cast<int>(i), state);
-        dds_.publish_sea_state(static_cast<int>(i), state);
+        dds_.publish_sea_state(static_cast<int>(i), state, sim_.ocean());
       }
       if (actuator_state_dividers_[i].due(state.time)) {
         dds_.publish_actuator_states(static_cast<int>(i), state);

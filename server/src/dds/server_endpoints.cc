@@ -60,8 +60,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   fdds::DataWriter* reply_writer = nullptr;
   fdds::DataWriter* scene_writer = nullptr;
   std::vector<fdds::DataWriter*> odometry_writers;
-  // In waves: the sea state per vehicle, from the same waves the simulation builds (physics::Ocean from the world).
-  std::unique_ptr<physics::Ocean> ocean;
+  // In waves: the sea state per vehicle.
   std::vector<fdds::DataWriter*> sea_state_writers;
   std::vector<std::size_t> sea_state_slot;
   hadal_msgs::msg::SeaState sea_state_msg;
@@ -496,7 +495,6 @@ ServerEndpoints::ServerEndpoints(const Model& model, int domain_id, const std::s
     d.odometry_slot.push_back(d.add_count(odometry_topic(name)));
     d.carry_in_monitor(d.odometry_writers.back(), d.odometry_slot.back());
     if (model.world.waves.enabled()) {
-      if (!d.ocean) d.ocean = std::make_unique<physics::Ocean>(model.world);
       d.sea_state_writers.push_back(
           r.writer<hadal_msgs::msg::SeaStatePubSubType>(sea_state_topic(name), state_history_depth));
       d.sea_state_slot.push_back(d.add_count(sea_state_topic(name)));
@@ -659,10 +657,10 @@ void ServerEndpoints::publish_odometry(int vehicle_index, const SimState& state)
   impl_->write(impl_->odometry_writers[i], &impl_->odometry_msgs[i], impl_->odometry_slot[i]);
 }
 
-void ServerEndpoints::publish_sea_state(int vehicle_index, const SimState& state) {
+void ServerEndpoints::publish_sea_state(int vehicle_index, const SimState& state, const physics::Ocean& ocean) {
   if (impl_->sea_state_writers.empty()) return;
   const auto i = static_cast<std::size_t>(vehicle_index);
-  fill_sea_state(impl_->model.world.frame_id, state.time, impl_->ocean->waves(), impl_->model.world.waves,
+  fill_sea_state(impl_->model.world.frame_id, state.time, ocean.waves(), impl_->model.world.waves,
                  state.vehicles[i].body.X_WB.translation(), impl_->sea_state_msg);
   impl_->write(impl_->sea_state_writers[i], &impl_->sea_state_msg, impl_->sea_state_slot[i]);
 }

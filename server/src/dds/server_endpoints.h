@@ -27,6 +27,10 @@
 #include <string>
 #include <vector>
 
+namespace hadal::physics {
+class Ocean;
+}
+
 namespace hadal::dds {
 
 struct StatusReport {
@@ -81,8 +85,9 @@ class ServerEndpoints {
 
   void publish_clock(double time_s);
   void publish_odometry(int vehicle_index, const SimState& state);
-  // rt/<vehicle>/sea_state (hadal_msgs/SeaState) when the scenario has waves (nothing otherwise).
-  void publish_sea_state(int vehicle_index, const SimState& state);
+  // rt/<vehicle>/sea_state (hadal_msgs/SeaState) when the scenario has waves (nothing otherwise), from the
+  // simulation's ocean.
+  void publish_sea_state(int vehicle_index, const SimState& state, const physics::Ocean& ocean);
   // rt/<vehicle>/joint_states of an articulated vehicle (nothing for a rigid one).
   void publish_joint_states(int vehicle_index, const SimState& state);
   // rt/<vehicle>/<kind>/state of each actuator kind the vehicle publishes (thrusters: every vehicle; tracks,

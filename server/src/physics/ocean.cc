@@ -141,8 +141,9 @@ double Ocean::range_to_surface(const Eigen::Vector3d& p_W, const Eigen::Vector3d
 
 double Ocean::pressure_at(const Eigen::Vector3d& p_W, double t) const {
   if (!waves_.enabled()) return pressure(std::max(depth(p_W.z()), 0.0));
-  if (p_W.z() > waves_.surface_height(p_W.x(), p_W.y(), t)) return water_.atmospheric_pressure;
-  return signed_pressure(depth(p_W.z())) + waves_.dynamic_pressure(p_W, t);
+  const WaveKinematics waves = waves_.kinematics(p_W, t);  // the surface over p_W and p_d there, in one pass
+  if (!waves.wet) return water_.atmospheric_pressure;
+  return signed_pressure(depth(p_W.z())) + waves.dynamic_pressure;
 }
 
 Ocean::Ocean(Ocean&&) noexcept = default;

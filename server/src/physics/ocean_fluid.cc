@@ -105,12 +105,12 @@ void ctd_block(const Ctd& t, double d_origin, double p_origin, const float* __re
 }  // namespace
 
 FluidSampler::SurfacePlane OceanFluid::surface_plane(const Eigen::Vector3d& p_W) const {
-  const Waves& waves = ocean_.waves();
-  if (!waves.enabled()) return {ocean_.surface_z(), 0.0, 0.0};
-  double eta = 0.0;
+  SurfacePlane plane;
   Eigen::Vector2d slope;
-  waves.surface(p_W.x(), p_W.y(), time_, &eta, &slope);
-  return {waves.surface_z() + eta, slope.x(), slope.y()};
+  ocean_.surface_tangent(p_W.x(), p_W.y(), time_, &plane.height, &slope);
+  plane.slope_x = slope.x();
+  plane.slope_y = slope.y();
+  return plane;
 }
 
 const OceanFluid::WavesAbout& OceanFluid::waves_about(const Eigen::Vector3d& origin_W) const {
@@ -149,12 +149,47 @@ double OceanFluid::gauge_pressure(double z_W) const {
   return depth > 0.0 ? ocean_.pressure(depth) - ocean_.atmospheric_pressure() : 0.0;
 }
 
+void OceanFluid::sample_currents(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
+                                 const float* dz, const FluidSamples& out) const {
+  if (!ocean_.current_varies_in_space()) {  // the same everywhere: filled in once
+    ocean_.sample_current(nullptr, nullptr, nullptr, n, time_, out.u_x, out.u_y, out.u_z);
+    return;
+  }
+  float x[kBlock], y[kBlock], z[kBlock];
+  for (std::size_t begin = 0; begin < n; begin += kBlock) {
+    const std::size_t count = std::min(n - begin, kBlock);
+    for (std::size_t k = 0; k < count; ++k) {
+      x[k] = static_cast<float>(origin_W.x() + dx[begin + k]);
+      y[k] = static_cast<float>(origin_W.y() + dy[begin + k]);
+      z[k] = static_cast<float>(origin_W.z() + dz[begin + k]);
+    }
+    ocean_.sample_current(x, y, z, count, time_, out.u_x + begin, out.u_y + begin, out.u_z + begin);
+  }
+}
+
 void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx,
                         const float* dy, const float* dz, const FluidSamples& out) const {
+  const double d_origin = ocean_.depth(origin_W.z());
+  if (ocean_.waves().enabled()) {  // the waves, linear about the origin (the header): per point, in double
+    const WavesAbout& about = waves_about(origin_W);
+    const double p_origin_signed = ocean_.signed_pressure(d_origin);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = d_origin - dz[i];
+      out.rho[i] = static_cast<float>(ocean_.density(std::max(d, 0.0)));
+      out.dp[i] = static_cast<float>(ocean_.signed_pressure(d) - p_origin_signed +
+                                     about.grad_p_d.dot(Eigen::Vector3d(dx[i], dy[i], dz[i])));
+    }
+    sample_currents(origin_W, n, dx, dy, dz, out);
+    for (std::size_t i = 0; i < n; ++i) {  // currents and waves add
+      out.u_x[i] += static_cast<float>(about.v_orbital_W.x());
+      out.u_y[i] += static_cast<float>(about.v_orbital_W.y());
+      out.u_z[i] += static_cast<float>(about.v_orbital_W.z());
+    }
+    return;
+  }
   const WaterSpec& water = ocean_.spec();
   const DensityModel model = water.density_model;
   const double g = ocean_.gravity();
-  const double d_origin = ocean_.depth(origin_W.z());
   const double rho_g = water.density * g;
   Ramp ramp{};
   Ctd ctd{};
@@ -178,40 +213,6 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
       break;
     }
   }
-  const Waves& waves = ocean_.waves();
-  if (waves.enabled()) {  // the waves, linear about the origin (the header): per point, in double
-    const WavesAbout& about = waves_about(origin_W);
-    const double p_origin_signed = ocean_.signed_pressure(d_origin);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double d = d_origin - dz[i];
-      out.rho[i] = static_cast<float>(ocean_.density(std::max(d, 0.0)));
-      out.dp[i] = static_cast<float>(ocean_.signed_pressure(d) - p_origin_signed +
-                                     about.grad_p_d.dot(Eigen::Vector3d(dx[i], dy[i], dz[i])));
-    }
-    if (ocean_.current_varies_in_space()) {
-      float x[kBlock], y[kBlock], z[kBlock];
-      for (std::size_t begin = 0; begin < n; begin += kBlock) {
-        const std::size_t count = std::min(n - begin, kBlock);
-        for (std::size_t k = 0; k < count; ++k) {
-          x[k] = static_cast<float>(origin_W.x() + dx[begin + k]);
-          y[k] = static_cast<float>(origin_W.y() + dy[begin + k]);
-          z[k] = static_cast<float>(origin_W.z() + dz[begin + k]);
-        }
-        ocean_.sample_current(x, y, z, count, time_, out.u_x + begin, out.u_y + begin, out.u_z + begin);
-      }
-    } else {
-      ocean_.sample_current(nullptr, nullptr, nullptr, n, time_, out.u_x, out.u_y, out.u_z);
-    }
-    for (std::size_t i = 0; i < n; ++i) {  // currents and waves add
-      out.u_x[i] += static_cast<float>(about.v_orbital_W.x());
-      out.u_y[i] += static_cast<float>(about.v_orbital_W.y());
-      out.u_z[i] += static_cast<float>(about.v_orbital_W.z());
-    }
-    return;
-  }
-  // The current at each point, or (the same everywhere) filled in once after the densities.
-  const bool current_varies = ocean_.current_varies_in_space();
-  float x[kBlock], y[kBlock], z[kBlock];
   for (std::size_t begin = 0; begin < n; begin += kBlock) {
     const std::size_t count = std::min(n - begin, kBlock);
     switch (model) {
@@ -226,16 +227,8 @@ void OceanFluid::sample(const Eigen::Vector3d& origin_W, std::size_t n, const fl
         ctd_block(ctd, d_origin, p_origin, dz + begin, count, out.rho + begin, out.dp + begin);
         break;
     }
-    if (!current_varies) continue;
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t i = begin + k;
-      x[k] = static_cast<float>(origin_W.x() + dx[i]);
-      y[k] = static_cast<float>(origin_W.y() + dy[i]);
-      z[k] = static_cast<float>(origin_W.z() + dz[i]);
-    }
-    ocean_.sample_current(x, y, z, count, time_, out.u_x + begin, out.u_y + begin, out.u_z + begin);
   }
-  if (!current_varies) ocean_.sample_current(nullptr, nullptr, nullptr, n, time_, out.u_x, out.u_y, out.u_z);
+  sample_currents(origin_W, n, dx, dy, dz, out);
 }
 
 }  // namespace hadal::physics

@@ -376,6 +376,14 @@ HADAL_VECTOR_KERNEL bool daylight_negligible(const FrameSetup& f, const BandArra
   return true;
 }
 
+// Fresnel's unpolarised reflectance of the water-air interface for a ray making cos_w with the normal in the water
+// (refractive index n) and cos_air in the air, either way (render/optics.h, water_to_air_reflectance).
+inline float fresnel_reflectance(float n, float cos_w, float cos_air) {
+  const float rs = (n * cos_w - cos_air) / (n * cos_w + cos_air);
+  const float rp = (cos_w - n * cos_air) / (cos_w + n * cos_air);
+  return 0.5f * (rs * rs + rp * rp);
+}
+
 // The sea surface seen from below, for the rays that leave the water before they hit anything (render/frame.h):
 // inside Snell's window (the angle theta from the surface's normal below asin(1 / n)) the sky's radiance E0 / pi
 // refracted in, T(theta) n^2 E0 / pi (Fresnel's unpolarised transmittance; n^2: radiance crowds into the narrower
@@ -397,12 +405,7 @@ void add_surface_from_below(const FrameSetup& f, const float* dx, const float* d
     // Fresnel, water (n_w) to air (1): sin theta_air = n_w sin theta.
     const float sin_air2 = n_w * n_w * (1.0f - cos_w * cos_w);
     float reflectance = 1.0f;
-    if (sin_air2 < 1.0f) {
-      const float cos_air = std::sqrt(1.0f - sin_air2);
-      const float rs = (n_w * cos_w - cos_air) / (n_w * cos_w + cos_air);
-      const float rp = (cos_w - n_w * cos_air) / (cos_w + n_w * cos_air);
-      reflectance = 0.5f * (rs * rs + rp * rp);
-    }
+    if (sin_air2 < 1.0f) reflectance = fresnel_reflectance(n_w, cos_w, std::sqrt(1.0f - sin_air2));
     // The mirrored ray's z in W (for the upwelling path radiance): d - 2 (d . m) m.
     const float z_down = dz[i] - 2.0f * cos_w * mz;
     const float up_z = z_down < 0.0f ? -z_down : 0.0f;
@@ -443,9 +446,7 @@ void add_surface_from_above(const FrameSetup& f, const float* ray_C, const float
     if (t[i] < s) continue;
     // Fresnel from air (1) into water (n_w): cos_i = -cos_d, sin theta_t = sin theta_i / n_w.
     const float cos_i = -cos_d, sin_t2 = (1.0f - cos_i * cos_i) / (n_w * n_w), cos_t = std::sqrt(1.0f - sin_t2);
-    const float rs = (cos_i - n_w * cos_t) / (cos_i + n_w * cos_t);
-    const float rp = (n_w * cos_i - cos_t) / (n_w * cos_i + cos_t);
-    const float reflectance = 0.5f * (rs * rs + rp * rp);
+    const float reflectance = fresnel_reflectance(n_w, cos_t, cos_i);
     // The refracted ray's z in W: d_t = d / n + (cos_i / n - cos_t) m.
     const float z_t = dz[i] / n_w + (cos_i / n_w - cos_t) * mz;
     const float down = z_t < 0.0f ? -z_t : 0.0f;

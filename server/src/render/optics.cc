@@ -98,13 +98,22 @@ Rgb daylight_path_radiance(const WaterOptics& water, const Daylight& daylight, c
   return scale * integral;
 }
 
-double water_to_air_reflectance(double n, double cos_w) {
-  const double sin_air2 = n * n * (1.0 - cos_w * cos_w);
-  if (sin_air2 >= 1.0) return 1.0;
-  const double cos_air = std::sqrt(1.0 - sin_air2);
+namespace {
+
+// Fresnel's unpolarised reflectance of the water-air interface for a ray making cos_w with the normal in the water
+// (refractive index n) and cos_air in the air: the same whichever way the light goes.
+double fresnel_reflectance(double n, double cos_w, double cos_air) {
   const double rs = (n * cos_w - cos_air) / (n * cos_w + cos_air);
   const double rp = (cos_w - n * cos_air) / (cos_w + n * cos_air);
   return 0.5 * (rs * rs + rp * rp);
+}
+
+}  // namespace
+
+double water_to_air_reflectance(double n, double cos_w) {
+  const double sin_air2 = n * n * (1.0 - cos_w * cos_w);
+  if (sin_air2 >= 1.0) return 1.0;
+  return fresnel_reflectance(n, cos_w, std::sqrt(1.0 - sin_air2));
 }
 
 Rgb surface_from_below_radiance(const WaterOptics& water, const Daylight& daylight, const Eigen::Vector3d& o_W,
@@ -136,8 +145,7 @@ Rgb surface_from_above_radiance(const WaterOptics& water, const Daylight& daylig
   if (!(s <= s_end)) return Rgb::Zero();
   const double n = daylight.refractive_index, cos_i = -cos_d;
   const double cos_t = std::sqrt(1.0 - (1.0 - cos_i * cos_i) / (n * n));
-  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
-  const double R = 0.5 * (rs * rs + rp * rp);
+  const double R = fresnel_reflectance(n, cos_t, cos_i);
   const Eigen::Vector3d refracted = d_W / n + (cos_i / n - cos_t) * m;
   const Rgb upwelling = water.scattering_per_m * henyey_greenstein(water.phase_g, refracted.z()) * E0 /
                         (water.attenuation_per_m() + daylight.Kd_per_m * std::max(0.0, -refracted.z()));

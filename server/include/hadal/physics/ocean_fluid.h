@@ -58,6 +58,9 @@ class OceanFluid final : public FluidSampler {
     Eigen::Vector3d a_orbital_W = Eigen::Vector3d::Zero();
   };
   const WavesAbout& waves_about(const Eigen::Vector3d& origin_W) const;
+  // The current at the n points (sample()'s), into out's u arrays.
+  void sample_currents(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
+                       const float* dz, const FluidSamples& out) const;
 
   const Ocean& ocean_;
   double time_;  // sim time for the currents and waves [s]
