@@ -4,6 +4,8 @@
 //   submerged   30 m deep (bounding sphere under water: the unmasked loop, no classification)
 //   partial     centre on the waterline, pitched and rolled (classification, masked loop, clipping
 //               of the faces that cross the surface)
+// Each is measured with the vectorised loops ("kernel": "vector", the CPU's best clone: src/physics/face_kernel.h);
+// three once more with the unvectorised reference ("scalar"), which gives the same bits.
 // Fluids ("fluid" in the output): uniform (UniformWater, both cases), and the scenario ocean through
 // OceanFluid (submerged case only, at 30 m and at 3000 m): constant (1025 kg/m^3), ramp (the paper's
 // pycnocline defaults, 1025 + 3.075 kg/m^3 over 1000 m) and ctd (a four-row cast to 6000 m, EOS-80,
@@ -129,6 +131,7 @@ int main(int argc, char** argv) {
     const char* fluid_name;
     const FluidSampler* fluid;
     double z;
+    bool scalar = false;  // the unvectorised reference loops (SurfaceHydrodynamics::use_scalar_kernel)
   };
   const Case cases[] = {{"submerged", "uniform", &uniform, -30.0},
                         {"partial", "uniform", &uniform, 0.0},
@@ -137,7 +140,10 @@ int main(int argc, char** argv) {
                         {"submerged", "ctd", &ctd_fluid, -30.0},
                         {"submerged_3000m", "constant", &constant_fluid, -3000.0},
                         {"submerged_3000m", "ramp", &ramp_fluid, -3000.0},
-                        {"submerged_3000m", "ctd", &ctd_fluid, -3000.0}};
+                        {"submerged_3000m", "ctd", &ctd_fluid, -3000.0},
+                        {"submerged", "constant", &constant_fluid, -30.0, true},
+                        {"submerged", "ramp", &ramp_fluid, -30.0, true},
+                        {"partial", "uniform", &uniform, 0.0, true}};
   for (const Case& c : cases) {
     BodyMotion m;
     m.X_WB.linear() = R;
@@ -145,14 +151,16 @@ int main(int argc, char** argv) {
     m.p_WBcm = m.X_WB * Eigen::Vector3d(0.05, 0.0, -0.01);
     m.v_WBcm = R * Eigen::Vector3d(1.5, 0.1, -0.05);
     m.w_WB = Eigen::Vector3d(0.02, -0.05, 0.1);
+    hydro.use_scalar_kernel(c.scalar);
     const Result r = measure(hydro, m, *c.fluid, repetitions);
+    hydro.use_scalar_kernel(false);
     const double faces = static_cast<double>(hydro.num_faces());
     std::printf(
-        "{\"benchmark\": \"surface_hydrodynamics\", \"case\": \"%s\", \"fluid\": \"%s\", "
+        "{\"benchmark\": \"surface_hydrodynamics\", \"case\": \"%s\", \"fluid\": \"%s\", \"kernel\": \"%s\", "
         "\"faces\": %zu, \"clipped_faces\": %zu, \"terms\": \"buoyancy+drag+friction+lift+magnus\", "
         "\"seconds_per_call\": %.4g, \"ns_per_face\": %.3f, \"face_evals_per_s\": %.4g, "
         "\"calls_per_s\": %.1f, \"f_W\": [%.6g, %.6g, %.6g]}\n",
-        c.name, c.fluid_name, hydro.num_faces(), r.wrench.clipped_faces, r.seconds_per_call,
+        c.name, c.fluid_name, c.scalar ? "scalar" : "vector", hydro.num_faces(), r.wrench.clipped_faces, r.seconds_per_call,
         1e9 * r.seconds_per_call / faces, faces / r.seconds_per_call, 1.0 / r.seconds_per_call,
         r.wrench.f_W.x(), r.wrench.f_W.y(), r.wrench.f_W.z());
   }

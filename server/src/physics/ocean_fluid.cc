@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cstdint>
 
-// The density/pressure loops are compiled twice, for x86-64-v3 (AVX2 + FMA) and for the baseline
-// (SSE2), and the loader picks one at run time, as for the face kernel (surface_hydrodynamics.cc).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define HADAL_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define HADAL_HOT_CLONES
-#endif
+#include "hadal/core/vector_kernel.h"
+
+// The density/pressure loops are compiled for AVX-512, AVX2 and the baseline, and the loader picks one at run time,
+// as for the face kernel (src/physics/face_kernel.h); without FMA contraction (server/CMakeLists.txt) they all give
+// the same bits.
+#define HADAL_HOT_CLONES HADAL_VECTOR_KERNEL
 
 namespace hadal::physics {
 
@@ -19,8 +18,7 @@ constexpr std::size_t kBlock = SurfaceHydrodynamics::kBlock;
 
 // Every loop below evaluates rho(d_i) and the pressure p(d_i) in double at the depth
 // d_i = d_origin - dz_i and rounds rho and dp_i = p(d_i) - p_origin to float once; p_origin is the
-// same function at d_origin, so dp at the origin is 0 up to double rounding (the loops' clones may
-// contract to FMA). p is gauge for constant and ramp water, absolute for CTD water (same difference).
+// same function at d_origin, so dp at the origin is 0 up to double rounding. p is gauge for constant and ramp water, absolute for CTD water (same difference).
 // Above the surface (d < 0) the water is that at d = 0: rho(0) and gauge pressure 0. Branch-free, so
 // the loops vectorise.
 
@@ -137,6 +135,14 @@ FluidSampler::WavesNear OceanFluid::waves_near(const Eigen::Vector3d& origin_W) 
   if (!ocean_.waves().enabled()) return {};
   const WavesAbout& about = waves_about(origin_W);
   return {about.v_orbital_W, about.a_orbital_W, about.grad_p_d, ocean_.waves().density()};
+}
+
+std::optional<FluidSampler::Uniform> OceanFluid::uniform() const {
+  if (ocean_.waves().enabled() || ocean_.spec().density_model != DensityModel::kConstant ||
+      ocean_.current_varies_in_space()) {
+    return std::nullopt;
+  }
+  return Uniform{ocean_.spec().density, ocean_.current_W(Eigen::Vector3d::Zero(), time_)};
 }
 
 double OceanFluid::gauge_pressure_at(const Eigen::Vector3d& p_W) const {

@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "hadal/geometry/primitive_mesh.h"
@@ -78,6 +79,46 @@ TEST(OceanFluidTest, ConstantWaterGivesTheUniformWaterWrench) {
   expect_same_wrench(moving_at({10.0, -4.0, -50.0}), current_W);   // fully submerged
   expect_same_wrench(moving_at({10.0, -4.0, 2.1}), current_W);     // crossing the surface
   expect_same_wrench(moving_at({0.0, 0.0, -3000.0}), Eigen::Vector3d::Zero());  // deep
+}
+
+// The kernel's uniform-water path (FluidSampler::uniform) is taken for constant water without waves or shear, and then
+// gives UniformWater's bits; ramp and CTD water, a shear current and waves are sampled face by face.
+TEST(OceanFluidTest, OnlyConstantCalmUnshearedWaterIsUniform) {
+  const Eigen::Vector3d current_W(0.3, 0.5, -0.1);
+  const Ocean constant(constant_water(current_W), kG, 1);
+  const std::optional<FluidSampler::Uniform> uniform = OceanFluid(constant, 3.0).uniform();
+  ASSERT_TRUE(uniform.has_value());
+  EXPECT_EQ(uniform->density, kRho);
+  EXPECT_EQ(uniform->current_W, current_W);
+
+  WaterSpec ramp = constant_water(current_W);
+  ramp.density_model = DensityModel::kRamp;
+  EXPECT_FALSE(OceanFluid(Ocean(ramp, kG, 1), 3.0).uniform().has_value());
+  WaterSpec ctd = constant_water(current_W);
+  ctd.density_model = DensityModel::kCtd;
+  ctd.ctd = {{0.0, 20.0, 35.5}, {1000.0, 4.0, 34.6}};
+  EXPECT_FALSE(OceanFluid(Ocean(ctd, kG, 1), 3.0).uniform().has_value());
+  WaterSpec sheared = constant_water(current_W);
+  sheared.current.shear_surface_W = Eigen::Vector3d(0.2, 0.0, 0.0);
+  EXPECT_FALSE(OceanFluid(Ocean(sheared, kG, 1), 3.0).uniform().has_value());
+  WorldSpec sea;
+  sea.water = constant_water(current_W);
+  sea.waves.spectrum = WaveSpectrum::kJonswap;
+  sea.waves.significant_height = 1.0;
+  sea.waves.peak_period = 6.0;
+  EXPECT_FALSE(OceanFluid(Ocean(sea), 3.0).uniform().has_value());
+
+  // Fully submerged: UniformWater's wrench to the bit (both take the constants' path).
+  UniformWater water;
+  water.density = kRho;
+  water.gravity = kG;
+  water.surface_z = 2.0;
+  water.current_W = current_W;
+  SurfaceHydrodynamics a = box_hydro(), b = box_hydro();
+  const BodyMotion m = moving_at({10.0, -4.0, -50.0});
+  const HydrodynamicWrench expected = a.compute(m, water), got = b.compute(m, OceanFluid(constant, 3.0));
+  EXPECT_EQ(got.f_W, expected.f_W);
+  EXPECT_EQ(got.tau_W, expected.tau_W);
 }
 
 // Both sampling paths against the Ocean's own point queries: the closed-form constant-density path

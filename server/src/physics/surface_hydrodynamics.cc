@@ -5,180 +5,31 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include "hadal/geometry/mesh_properties.h"
 #include "hadal/geometry/triangle_mesh.h"
 
-// The hot loops are compiled twice, for x86-64-v3 (AVX2 + FMA, 8 float lanes) and for the baseline
-// (SSE2, 4 lanes), and the loader picks one at run time (GCC function multiversioning): the build
-// stays portable without -march flags.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define HADAL_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define HADAL_HOT_CLONES
-#endif
+#include "face_kernel.h"
+#include "hadal/core/vector_kernel.h"
 
 namespace hadal::physics {
+
+namespace face_kernel {
+namespace vector {
+#define HADAL_FACE_KERNEL HADAL_VECTOR_KERNEL
+#include "face_kernel.inc"
+#undef HADAL_FACE_KERNEL
+}  // namespace vector
+
+const Kernel& vector_kernel() { return vector::kernel_table(); }
+}  // namespace face_kernel
 
 namespace {
 
 constexpr std::size_t kLanes = SurfaceHydrodynamics::kLanes;
 constexpr std::size_t kBlock = SurfaceHydrodynamics::kBlock;
-
-// 1/sqrt(x) for x >= 0 by the bit-level initial guess and three Newton steps (relative error
-// 3.4e-2 -> 1.8e-3 -> 4.6e-6 -> 3e-11, i.e. float rounding). Plain arithmetic, so it vectorises:
-// std::sqrt does not under the default -fmath-errno (GCC guards it with a branch to the library
-// call, and neither `#pragma GCC optimize` nor the attribute lifts that for a target clone).
-// x = 0 gives a large finite value (~1.3e19), so x * rsqrt(x) = 0 exactly and no NaN appears.
-inline float rsqrt_newton(float x) {
-#if defined(__GNUC__)
-  float y = __builtin_bit_cast(float, 0x5f375a86u - (__builtin_bit_cast(std::uint32_t, x) >> 1));
-#else
-  std::uint32_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  bits = 0x5f375a86u - (bits >> 1);
-  float y;
-  std::memcpy(&y, &bits, sizeof y);
-#endif
-  const float half_x = 0.5f * x;
-  y = y * (1.5f - half_x * y * y);
-  y = y * (1.5f - half_x * y * y);
-  y = y * (1.5f - half_x * y * y);
-  return y;
-}
-
-// Per-step constants of the face loop, in float.
-struct KernelParams {
-  float R[9];     // R_WB, row-major
-  float t[3];     // R_WB p_BBcm offset: r = R c_B + t (offset of a B point from p_WBcm, W axes)
-  float v[3];     // v_WBcm
-  float w[3];     // w_WB
-  float drag;     // 1/2 C_D
-  float friction; // 1/2 C_f
-  float lift;     // 1/2 C_L
-  float magnus;   // C_M
-  float buoyancy; // 1 or 0
-  float g;        // gravity magnitude (0 if buoyancy is off)
-  float up_B[3];  // z_W expressed in B (third row of R_WB); with waves z_W - grad p_d / (rho g)
-  float p_ref;    // gauge pressure at p_WBcm, or 0 for a fully submerged body [Pa]
-};
-
-// Offsets r = R c_B + t of a block of centroids (W axes, from the centre of mass).
-HADAL_HOT_CLONES
-void transform_centroids(const float* __restrict cx, const float* __restrict cy,
-                         const float* __restrict cz, std::size_t n, const KernelParams& k,
-                         float* __restrict rx, float* __restrict ry, float* __restrict rz) {
-  const float R0 = k.R[0], R1 = k.R[1], R2 = k.R[2], R3 = k.R[3], R4 = k.R[4], R5 = k.R[5],
-              R6 = k.R[6], R7 = k.R[7], R8 = k.R[8];
-  const float t0 = k.t[0], t1 = k.t[1], t2 = k.t[2];
-  for (std::size_t i = 0; i < n; ++i) {
-    rx[i] = R0 * cx[i] + R1 * cy[i] + R2 * cz[i] + t0;
-    ry[i] = R3 * cx[i] + R4 * cy[i] + R5 * cz[i] + t1;
-    rz[i] = R6 * cx[i] + R7 * cy[i] + R8 * cz[i] + t2;
-  }
-}
-
-// Sums of one block into kLanes independent float accumulators per wrench component (kept apart so
-// the loop vectorises without reassociating a single sum). mask[i] is 1 (wet) or 0.
-// n is a multiple of kLanes.
-struct LaneSums {
-  alignas(64) float f[6][kLanes];  // fx fy fz tx ty tz
-  alignas(64) float area[kLanes];
-};
-
-HADAL_HOT_CLONES
-void face_forces(const float* __restrict A, const float* __restrict nbx,
-                 const float* __restrict nby, const float* __restrict nbz,
-                 const float* __restrict mask, const float* __restrict exposed,
-                 const float* __restrict rx,
-                 const float* __restrict ry, const float* __restrict rz,
-                 const float* __restrict rho, const float* __restrict dp,
-                 const float* __restrict ux, const float* __restrict uy,
-                 const float* __restrict uz, const float* __restrict sxx,
-                 const float* __restrict syy, const float* __restrict szz,
-                 const float* __restrict sxy, const float* __restrict sxz,
-                 const float* __restrict syz, std::size_t n, const KernelParams& k,
-                 LaneSums& __restrict s) {
-  const float R0 = k.R[0], R1 = k.R[1], R2 = k.R[2], R3 = k.R[3], R4 = k.R[4], R5 = k.R[5],
-              R6 = k.R[6], R7 = k.R[7], R8 = k.R[8];
-  const float vx = k.v[0], vy = k.v[1], vz = k.v[2];
-  const float wx = k.w[0], wy = k.w[1], wz = k.w[2];
-  const float kd = k.drag, kf = k.friction, kl = k.lift, km = k.magnus, kb = k.buoyancy;
-  const float p_ref = k.p_ref;
-  const float gk = k.g, gx = k.up_B[0], gy = k.up_B[1], gz = k.up_B[2];
-  for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
-    for (std::size_t j = 0; j < kLanes; ++j) {
-      const std::size_t i = i0 + j;
-      const float a = A[i] * mask[i];
-      const float nx = R0 * nbx[i] + R1 * nby[i] + R2 * nbz[i];
-      const float ny = R3 * nbx[i] + R4 * nby[i] + R5 * nbz[i];
-      const float nz = R6 * nbx[i] + R7 * nby[i] + R8 * nbz[i];
-      const float px = rx[i], py = ry[i], pz = rz[i];
-      // Relative flow v_c = u - (v + w x r).
-      const float cx = ux[i] - (vx + wy * pz - wz * py);
-      const float cy = uy[i] - (vy + wz * px - wx * pz);
-      const float cz = uz[i] - (vz + wx * py - wy * px);
-      const float cn = nx * cx + ny * cy + nz * cz;
-      const float vv = cx * cx + cy * cy + cz * cz;
-      const float inv_v = rsqrt_newton(vv);  // 1/|v_c| (large and harmless when v_c = 0)
-      const float vmag = vv * inv_v;
-      // |v_t|^2 = |v_c|^2 - c_n^2 >= 0 up to rounding; fabs instead of max(., 0) keeps the loop
-      // free of selects that GCC would turn into branches (it may not speculate FP ops that could
-      // trap under the default -ftrapping-math); the difference is O(eps |v_c|^2).
-      const float vt2 = std::fabs(vv - cn * cn);
-      const float vt = vt2 * rsqrt_newton(vt2);
-      const float cneg = 0.5f * (cn - std::fabs(cn));  // min(c_n, 0): the facing-flow mask
-      const float ra = rho[i] * a;  // ra: rho A for wet faces, 0 otherwise
-      const float re = ra * exposed[i];  // flow terms only on faces the flow reaches
-      // F = n * s_n + v_c * s_v - km rho A |v_c| (w x v_c).
-      const float s_n = -kb * (p_ref + dp[i]) * a + re * (-kd * cneg * cneg - kf * vt * cn +
-                                                          kl * cn * vmag);
-      const float s_v = re * (kf * vt - kl * cn * cn * inv_v);
-      const float s_m = -km * re * vmag;  // Magnus along w x (-v_c): see the header
-      const float fx = nx * s_n + cx * s_v + s_m * (wy * cz - wz * cy);
-      const float fy = ny * s_n + cy * s_v + s_m * (wz * cx - wx * cz);
-      const float fz = nz * s_n + cz * s_v + s_m * (wx * cy - wy * cx);
-      s.f[0][j] += fx;
-      s.f[1][j] += fy;
-      s.f[2][j] += fz;
-      // Centre-of-pressure moment rho g A (C_W z) x n, with C_W z = R (C_B up_B).
-      const float qx = sxx[i] * gx + sxy[i] * gy + sxz[i] * gz;
-      const float qy = sxy[i] * gx + syy[i] * gy + syz[i] * gz;
-      const float qz = sxz[i] * gx + syz[i] * gy + szz[i] * gz;
-      const float Qx = R0 * qx + R1 * qy + R2 * qz;
-      const float Qy = R3 * qx + R4 * qy + R5 * qz;
-      const float Qz = R6 * qx + R7 * qy + R8 * qz;
-      const float kp = gk * ra;
-      s.f[3][j] += py * fz - pz * fy + kp * (Qy * nz - Qz * ny);
-      s.f[4][j] += pz * fx - px * fz + kp * (Qz * nx - Qx * nz);
-      s.f[5][j] += px * fy - py * fx + kp * (Qx * ny - Qy * nx);
-      s.area[j] += a;
-    }
-  }
-}
-
-// Waterline classification: wet[i] = 1 if all three vertices are at or below the surface, else 0;
-// cross[i] = 1 if the face has vertices strictly on both sides (it is clipped). h(x_B) = h0 + g . x_B
-// is the height of a B point above the surface. Float is enough: a body near the surface has small
-// h0, and a body far from it never gets here (bounding-sphere test).
-HADAL_HOT_CLONES
-void classify(const float* const* v, std::size_t n, float h0, float gx, float gy, float gz,
-              float* __restrict wet, float* __restrict cross) {
-  const float *__restrict ax = v[0], *__restrict ay = v[1], *__restrict az = v[2];
-  const float *__restrict bx = v[3], *__restrict by = v[4], *__restrict bz = v[5];
-  const float *__restrict cx = v[6], *__restrict cy = v[7], *__restrict cz = v[8];
-  for (std::size_t i = 0; i < n; ++i) {
-    const float h_a = h0 + gx * ax[i] + gy * ay[i] + gz * az[i];
-    const float h_b = h0 + gx * bx[i] + gy * by[i] + gz * bz[i];
-    const float h_c = h0 + gx * cx[i] + gy * cy[i] + gz * cz[i];
-    const bool all_wet = (h_a <= 0.0f) & (h_b <= 0.0f) & (h_c <= 0.0f);
-    const bool any_wet = (h_a < 0.0f) | (h_b < 0.0f) | (h_c < 0.0f);
-    const bool any_dry = (h_a > 0.0f) | (h_b > 0.0f) | (h_c > 0.0f);
-    wet[i] = all_wet ? 1.0f : 0.0f;
-    cross[i] = any_wet & any_dry ? 1.0f : 0.0f;
-  }
-}
 
 void pad(HydroFaces& f) {
   const std::size_t n = (f.area.size() + kLanes - 1) / kLanes * kLanes;
@@ -292,10 +143,12 @@ SurfaceHydrodynamics::SurfaceHydrodynamics(const geometry::TriangleMesh& mesh,
 
 void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, std::size_t end,
                                       const float* mask, const BodyMotion& m,
-                                      const FluidSampler& fluid, double p_ref, Accumulator& acc) {
+                                      const FluidSampler& fluid, double p_ref,
+                                      const FluidSampler::Uniform* uniform, Accumulator& acc) {
+  const face_kernel::Kernel& kernel = scalar_kernel_ ? face_kernel::scalar_kernel() : face_kernel::vector_kernel();
   const Eigen::Matrix3d R = m.X_WB.linear();
   const Eigen::Vector3d t = m.X_WB.translation() - m.p_WBcm;
-  KernelParams k{};
+  face_kernel::Params k{};
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) k.R[3 * r + c] = static_cast<float>(R(r, c));
     k.t[r] = static_cast<float>(t[r]);
@@ -309,6 +162,11 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
   k.buoyancy = coefficients_.buoyancy ? 1.0f : 0.0f;
   k.p_ref = static_cast<float>(p_ref);
   k.g = coefficients_.buoyancy ? static_cast<float>(fluid.gravity_magnitude()) : 0.0f;
+  if (uniform != nullptr) {
+    k.rho = static_cast<float>(uniform->density);
+    k.rho_g = static_cast<float>(uniform->density * fluid.gravity_magnitude());
+    for (int c = 0; c < 3; ++c) k.u[c] = static_cast<float>(uniform->current_W[c]);
+  }
   // The pressure's gradient across a face, per rho g: -z_W, and with waves -(z_W - grad p_d / (rho g)) (the dynamic
   // pressure's gradient at the centre of mass), for the centre-of-pressure moments.
   const FluidSampler::WavesNear waves = fluid.waves_near(m.p_WBcm);
@@ -323,20 +181,28 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
   alignas(64) float rx[kBlock], ry[kBlock], rz[kBlock];
   alignas(64) float rho[kBlock], dp[kBlock], ux[kBlock], uy[kBlock], uz[kBlock];
   const FluidSamples out{rho, dp, ux, uy, uz};
+  Eigen::Vector3d tau_B = Eigen::Vector3d::Zero();  // centre-of-pressure moments, in B
   for (std::size_t b = begin; b < end; b += kBlock) {
     const std::size_t n = std::min(kBlock, end - b);
-    transform_centroids(&f.c_x[b], &f.c_y[b], &f.c_z[b], n, k, rx, ry, rz);
-    fluid.sample(m.p_WBcm, n, rx, ry, rz, out);
-    LaneSums s{};
-    face_forces(&f.area[b], &f.n_x[b], &f.n_y[b], &f.n_z[b], mask + b, &f.exposed[b], rx, ry, rz,
-                rho, dp, ux, uy, uz, &f.s_xx[b], &f.s_yy[b], &f.s_zz[b], &f.s_xy[b], &f.s_xz[b],
-                &f.s_yz[b], n, k, s);
+    const face_kernel::FaceBlock block{&f.area[b], &f.n_x[b],  &f.n_y[b],  &f.n_z[b],  &f.c_x[b],
+                                       &f.c_y[b],  &f.c_z[b],  &f.s_xx[b], &f.s_yy[b], &f.s_zz[b],
+                                       &f.s_xy[b], &f.s_xz[b], &f.s_yz[b], &f.exposed[b]};
+    face_kernel::LaneSums s{};
+    if (uniform != nullptr) {
+      kernel.face_forces_uniform(block, n, k, s);
+    } else {
+      kernel.transform_centroids(block, n, k, rx, ry, rz);
+      fluid.sample(m.p_WBcm, n, rx, ry, rz, out);
+      kernel.face_forces(block, mask + b, rx, ry, rz, out, n, k, s);
+    }
     for (std::size_t j = 0; j < kLanes; ++j) {
       acc.f += Eigen::Vector3d(s.f[0][j], s.f[1][j], s.f[2][j]);
       acc.tau += Eigen::Vector3d(s.f[3][j], s.f[4][j], s.f[5][j]);
+      tau_B += Eigen::Vector3d(s.f[6][j], s.f[7][j], s.f[8][j]);
       acc.area += s.area[j];
     }
   }
+  acc.tau += R * tau_B;
 }
 
 // Submerged part of each crossing face: the triangle clipped against h <= 0 (Sutherland-Hodgman
@@ -400,7 +266,9 @@ HydrodynamicWrench SurfaceHydrodynamics::compute(const BodyMotion& m, const Flui
   Accumulator acc;
   if (center_W.z() + sphere_radius_ <= plane.height - reach) {
     // Fully submerged (bounding sphere under water): no classification, constant pressure dropped.
-    accumulate(faces_, 0, faces_.size(), ones_.data(), m, fluid, 0.0, acc);
+    // Uniform water: density, current and the pressure's gradient are the kernel's constants.
+    const std::optional<FluidSampler::Uniform> uniform = fluid.uniform();
+    accumulate(faces_, 0, faces_.size(), ones_.data(), m, fluid, 0.0, uniform ? &*uniform : nullptr, acc);
     w.fully_submerged = true;
   } else if (center_W.z() - sphere_radius_ >= plane.height + reach) {
     return w;  // in the air
@@ -410,7 +278,8 @@ HydrodynamicWrench SurfaceHydrodynamics::compute(const BodyMotion& m, const Flui
     const double h0 = q.dot(m.X_WB.translation()) - c0;
     const float* v[9];
     for (int k = 0; k < 9; ++k) v[k] = v_[k].data();
-    classify(v, faces_.size(), static_cast<float>(h0), static_cast<float>(g.x()), static_cast<float>(g.y()),
+    const face_kernel::Kernel& kernel = scalar_kernel_ ? face_kernel::scalar_kernel() : face_kernel::vector_kernel();
+    kernel.classify(v, faces_.size(), static_cast<float>(h0), static_cast<float>(g.x()), static_cast<float>(g.y()),
              static_cast<float>(g.z()), wet_mask_.data(), crossing_flags_.data());
     crossing_.clear();
     for (std::size_t i = 0; i < num_faces_; ++i) {
@@ -418,10 +287,10 @@ HydrodynamicWrench SurfaceHydrodynamics::compute(const BodyMotion& m, const Flui
     }
     for (std::size_t i = num_faces_; i < faces_.size(); ++i) wet_mask_[i] = 0.0f;
     const double p_ref = fluid.gauge_pressure_at(m.p_WBcm);
-    accumulate(faces_, 0, faces_.size(), wet_mask_.data(), m, fluid, p_ref, acc);
+    accumulate(faces_, 0, faces_.size(), wet_mask_.data(), m, fluid, p_ref, nullptr, acc);
     clip_crossing_faces(g, h0);
     if (clipped_.size() > 0) {
-      accumulate(clipped_, 0, clipped_.size(), ones_.data(), m, fluid, p_ref, acc);
+      accumulate(clipped_, 0, clipped_.size(), ones_.data(), m, fluid, p_ref, nullptr, acc);
     }
     w.clipped_faces = crossing_.size();
   }

@@ -44,6 +44,8 @@ class OceanFluid final : public FluidSampler {
   double gauge_pressure_at(const Eigen::Vector3d& p_W) const override;
   WavesNear waves_near(const Eigen::Vector3d& origin_W) const override;
   double gravity_magnitude() const override { return ocean_.gravity(); }
+  // Constant-density water without waves and without a shear current (the Gauss-Markov part is the same everywhere).
+  std::optional<Uniform> uniform() const override;
   void sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
               const float* dz, const FluidSamples& out) const override;
 

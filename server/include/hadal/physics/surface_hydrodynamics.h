@@ -67,10 +67,12 @@
 //
 // Performance. Faces are classified against the waterline only when the body's bounding sphere
 // crosses the surface; the per-face loop has no branches (wet and facing-flow masks are arithmetic:
-// a = A * wet, min(c_n, 0) = (c_n - |c_n|) / 2), 1/|v_c| is a Newton-refined reciprocal square root,
-// and GCC vectorises it at -O3 (compiled for AVX2+FMA and for baseline SSE2, picked at load time).
-// Crossing faces are clipped in a separate scalar pass and run through the same loop. ~4.5 ns per
-// face on one core here (bench/hydrodynamics.cc), all terms on.
+// a = A * wet, min(c_n, 0) a select), and GCC vectorises it, compiled for AVX-512 (16 faces at once),
+// AVX2 (8) and baseline SSE2 (4), picked at load time (src/physics/face_kernel.h). Without FMA
+// contraction and with IEEE sqrt and division, every version gives the bits of the unvectorised loop
+// (use_scalar_kernel). A body wholly under uniform water (FluidSampler::uniform) skips the sampling
+// pass. Crossing faces are clipped in a separate scalar pass and run through the same loop. Cost per
+// face on one core: docs/benchmarks.md, "Surface hydrodynamics" (bench/hydrodynamics.cc), all terms on.
 //
 // Meshes must be closed and oriented outward (geometry::compute_mesh_properties reports `closed`);
 // an open mesh gets no correct buoyancy (thin plates are fine for drag/lift tests).
@@ -81,6 +83,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "hadal/physics/fluid_spec.h"
@@ -131,6 +134,15 @@ class FluidSampler {
     double density = 0.0;  // the density p_d is scaled with [kg/m^3]
   };
   virtual WavesNear waves_near(const Eigen::Vector3d& /*origin_W*/) const { return {}; }
+  // Water that is the same everywhere under the surface: constant density, the hydrostatic pressure alone (no waves)
+  // and one current. When it is, a body wholly under the surface is evaluated without sample(): density and current
+  // are the kernel's constants and the pressure difference to the centre of mass is -rho g dz (the bits sample()
+  // would give in float: UniformWater's formula). Empty otherwise (the default).
+  struct Uniform {
+    double density = 0.0;                                 // [kg/m^3]
+    Eigen::Vector3d current_W = Eigen::Vector3d::Zero();  // [m/s]
+  };
+  virtual std::optional<Uniform> uniform() const { return std::nullopt; }
   // g [m/s^2]: the hydrostatic gradient dp/dz = -rho g (centre-of-pressure moments).
   virtual double gravity_magnitude() const = 0;
   // Fluid at the n points origin_W + (dx_i, dy_i, dz_i) (offsets in W axes). Called per block of at
@@ -155,6 +167,7 @@ class UniformWater final : public FluidSampler {
   double absolute_pressure(double z_W) const { return atmospheric_pressure + gauge_pressure(z_W); }
   void sample(const Eigen::Vector3d& origin_W, std::size_t n, const float* dx, const float* dy,
               const float* dz, const FluidSamples& out) const override;
+  std::optional<Uniform> uniform() const override { return Uniform{density, current_W}; }
 };
 
 // Kinematics of body B at one step.
@@ -209,12 +222,15 @@ class SurfaceHydrodynamics {
   double surface_area() const { return surface_area_; }
   const HydrodynamicCoefficients& coefficients() const { return coefficients_; }
   void set_coefficients(const HydrodynamicCoefficients& c) { coefficients_ = c; }
+  // The loops compiled without vectorisation instead of the CPU's vector clones (face_kernel.h): the reference the
+  // clones are tested against, and the bench's scalar figure. The same bits either way.
+  void use_scalar_kernel(bool on) { scalar_kernel_ = on; }
 
  private:
   struct Accumulator;
   void accumulate(const HydroFaces& faces, std::size_t begin, std::size_t end, const float* mask,
                   const BodyMotion& motion, const FluidSampler& fluid, double p_ref,
-                  Accumulator& acc);
+                  const FluidSampler::Uniform* uniform, Accumulator& acc);
   // The crossing faces clipped against h(x_B) = h0 + g . x_B <= 0 (the surface plane's height above a B point).
   void clip_crossing_faces(const Eigen::Vector3d& g, double h0);
 
@@ -224,6 +240,7 @@ class SurfaceHydrodynamics {
   double surface_area_ = 0.0;
   // Vertices per face in B (a.x a.y a.z b.x ... c.z), for classification and clipping.
   std::vector<float> v_[9];
+  bool scalar_kernel_ = false;
   Eigen::Vector3d sphere_center_B_ = Eigen::Vector3d::Zero();
   double sphere_radius_ = 0.0;
   // Per-step scratch.
