@@ -48,30 +48,7 @@ summarise hadald_realtime_mode 10 "$out"
 #    of halving.
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$build/bin/hadal-make-asset" torpedo "$work/hull.glb" --length 1.6 --radius 0.0775 --segments 232 >/dev/null
-/usr/bin/python3 - "$work" <<'PY'
-import copy, sys
-import yaml
-work = sys.argv[1]
-vehicle = open("configs/vehicles/torpedo_auv.yaml").read()
-vehicle = vehicle.replace("  - name: hull\n", "  - name: hull\n    mesh: {file: hull.glb}\n", 1)
-open(f"{work}/torpedo_surface.yaml", "w").write(vehicle)
-scenario = open("configs/scenarios/default.yaml").read()
-scenario = scenario.replace("include: ../vehicles/torpedo_auv.yaml", "include: torpedo_surface.yaml")
-open(f"{work}/default_surface.yaml", "w").write(scenario)
-# The physics case: the AUV alone, without what default.yaml adds to it (camera, sonar, lights).
-physics = yaml.safe_load(scenario)
-auv = next(v for v in physics["vehicles"] if v["name"] == "auv")
-for key in ("sensors", "lights"):
-    auv.pop(key, None)
-physics["vehicles"] = [auv]
-open(f"{work}/auv_surface.yaml", "w").write(yaml.safe_dump(physics, sort_keys=False))
-second = copy.deepcopy(auv)
-second["name"] = "auv2"
-second["initial_pose"]["position"][1] += 20.0
-physics["vehicles"] = [auv, second]
-open(f"{work}/two_surface.yaml", "w").write(yaml.safe_dump(physics, sort_keys=False))
-PY
+/usr/bin/python3 bench/make_physics_case.py "$work" --build "$build"
 "$build/bin/hadal_bench_step_rate" "$work/auv_surface.yaml" --sim-seconds 20 --repetitions 3 --threads 1
 "$build/bin/hadal_bench_step_rate" "$work/default_surface.yaml" --sim-seconds 20 --repetitions 3
 for r in 1 2 3; do
