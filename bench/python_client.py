@@ -4,7 +4,8 @@ line per measurement.
 
   lockstep_calls     client.step(k) calls per second against a lockstep hadald on the default scenario
                      without its camera (hadald --no-cameras), k = 1 and 10 physics steps per call,
-                     with the AUV's setpoints attached to every request (as a controller sends them); then
+                     with the AUV's setpoints attached to every request (as a controller sends them), and
+                     published on their topic too (set_commands) or not (publish=False); then
                      the same on bench/scenarios/lockstep_auv.yaml (the AUV alone: the round trip's share),
                      after a bare Fast DDS 1 KB round trip between two processes (hadal_bench_dds_round_trip,
                      from $HADAL_BUILD/bin, default build/bin)
@@ -50,16 +51,18 @@ def lockstep_calls(seconds):
     for scenario, label in (("default", "default --no-cameras"), (lean, "lockstep_auv")):
         with hadal.Server(scenario, mode="lockstep", cameras=False) as server, server.client("bench") as client:
             client.step(1)
-            for steps in (1, 10):
+            # The command published on its topic and attached to the request (set_commands), or attached only
+            # (publish=False: one DDS sample less a call, what hadal.env does).
+            for steps, publish in ((1, True), (10, True), (1, False)):
                 calls, start = 0, time.perf_counter()
                 while time.perf_counter() - start < seconds:
-                    client.set_commands("auv", [0.5, 0.0, 0.0])
+                    client.set_commands("auv", [0.5, 0.0, 0.0], publish=publish)
                     client.step(steps)
                     calls += 1
                 wall = time.perf_counter() - start
                 yield {"benchmark": "lockstep_calls", "scenario": label, "steps_per_call": steps,
-                       "calls": calls, "wall_s": round(wall, 3), "calls_per_s": round(calls / wall, 1),
-                       "physics_steps_per_s": round(calls * steps / wall)}
+                       "published": publish, "calls": calls, "wall_s": round(wall, 3),
+                       "calls_per_s": round(calls / wall, 1), "physics_steps_per_s": round(calls * steps / wall)}
 
 
 def env_steps(seconds, slice_s=0.02, blocks=10):

@@ -68,7 +68,7 @@ bare = [r["round_trips_per_s"] for r in rows if r["benchmark"] == "dds_round_tri
 print(f"| bare Fast DDS 1 KB round trip | {span(bare, '{:.0f}')}/s | - |")
 for r in rows:
     if r["benchmark"] == "lockstep_calls" and r["steps_per_call"] == 1:
-        print(f"| step(1) with a command, {r['scenario']}{', published too' if r.get('published') else ''} | "
+        print(f"| step(1) with a command, {r['scenario']}{', published too' if r.get('published') else ', attached only'} | "
               f"{r['calls_per_s']:.0f}/s | >= 8,000/s |")
 fast = [r["rtf"] for r in rows if r["benchmark"] == "hadald_fast_mode"]
 print(f"| hadald default.yaml --mode fast, with its camera | {span(fast)}x | >= 5x |")

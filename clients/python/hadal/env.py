@@ -271,15 +271,16 @@ class HadalEnv(_Closing, _EnvBase):
 
     HadalEnv(task="waypoint" | "station_keeping" | a Task, seed=None, scenario=None, attach=False,
              domain_id=None, max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None,
-             sched=None)
+             sched=None, lockstep_spin_us=None)
 
     attach=False (the default) starts the env's own lockstep server (hadal.Server) on domain_id, by default
     "free" (an id in 100..199 no other hadal.Server holds, so several envs run side by side), and stops it on
     close(). attach=True uses the lockstep hadald already running on domain_id (None: $ROS_DOMAIN_ID, else 0,
     as every Hadal tool), which must run the task's scenario, and leaves it running; scenario, hadald, threads,
-    cpus and sched are then refused (they describe a server to start). scenario overrides the task's (a name
-    in configs/scenarios or a path); threads, cpus and sched go to its server (hadal.Server: the CPU threads
-    it computes on, the CPUs it runs on, its scheduling policy); die_with_parent=True has its server killed when
+    cpus, sched and lockstep_spin_us are then refused (they describe a server to start). scenario overrides the
+    task's (a name in configs/scenarios or a path); threads, cpus, sched and lockstep_spin_us go to its server
+    (hadal.Server: the CPU threads it computes on, the CPUs it runs on, its scheduling policy, how long it
+    polls for the next request); die_with_parent=True has its server killed when
     the thread that made the env ends (hadal.Server: DaskVectorEnv's, whose worker may be killed). Each step applies the action (the vehicle's control vector, clipped to [-1, 1]) for the task's
     control period, then observes. info: sim_time [s], episode_step, and the task's figures.
     """
@@ -290,12 +291,13 @@ class HadalEnv(_Closing, _EnvBase):
 
     def __init__(self, task="waypoint", seed=None, scenario=None, attach=False, domain_id=None,
                  max_episode_steps=None, timeout_s=30.0, hadald=None, threads=None, cpus=None, sched=None,
-                 die_with_parent=False):
+                 die_with_parent=False, lockstep_spin_us=None):
         if not isinstance(attach, bool):
             raise TypeError(f"attach must be True or False (got {attach!r})")
         if attach:
             starts = {name: value for name, value in (("scenario", scenario), ("hadald", hadald),
-                                                      ("threads", threads), ("cpus", cpus), ("sched", sched))
+                                                      ("threads", threads), ("cpus", cpus), ("sched", sched),
+                                                      ("lockstep_spin_us", lockstep_spin_us))
                       if value is not None}
             if starts:
                 raise ValueError(f"attach=True uses a running server: {', '.join(starts)} would describe one to "
@@ -319,7 +321,8 @@ class HadalEnv(_Closing, _EnvBase):
         else:
             self.server = Server(scenario or self.task.scenario, mode="lockstep", hadald=hadald,
                                  domain_id="free" if domain_id is None else domain_id, cameras=self.task.cameras,
-                                 threads=threads, cpus=cpus, sched=sched, die_with_parent=die_with_parent)
+                                 threads=threads, cpus=cpus, sched=sched, die_with_parent=die_with_parent,
+                                 lockstep_spin_us=lockstep_spin_us)
             domain_id = self.server.domain_id
         try:
             self.client = self._connect(domain_id)
@@ -490,6 +493,9 @@ class VectorEnv(_Closing):
         cpus = sorted(os.sched_getaffinity(0))
         share = max(1, len(cpus) // num_envs)
         self.pin_cpus = pin_cpus and "cpus" not in kwargs
+        # Servers sharing cores sleep between requests: polling for the next (hadald --lockstep-spin-us, which
+        # saves a lone server its wake-up) would take a core from the server beside it.
+        kwargs.setdefault("lockstep_spin_us", 0)
         if self.pin_cpus:
             shares = [[cpus[(i * share + k) % len(cpus)] for k in range(share)] for i in range(num_envs)]
             kwargs.setdefault("sched", "batch")

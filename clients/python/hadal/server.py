@@ -159,7 +159,8 @@ def override_arguments(overrides):
 
 
 def hadald_command(scenario, mode, domain_id, hadald=None, seed=None, cameras=True, threads=None, cpus=None,
-                   sched=None, security_file=None, overrides=None, die_with_parent=False, extra_args=()):
+                   sched=None, security_file=None, overrides=None, die_with_parent=False, extra_args=(),
+                   lockstep_spin_us=None):
     """hadald's command line for a scenario file (Server's options, which see), without a status line."""
     args = [*(DIE_WITH_PARENT if die_with_parent else ()), find_hadald(hadald), scenario, "--mode", mode,
             "--domain-id", str(domain_id), "--no-status-line", *extra_args]
@@ -173,6 +174,8 @@ def hadald_command(scenario, mode, domain_id, hadald=None, seed=None, cameras=Tr
         args += ["--cpus", ",".join(str(int(cpu)) for cpu in cpus)]
     if sched is not None:
         args += ["--sched", str(sched)]
+    if lockstep_spin_us is not None:
+        args += ["--lockstep-spin-us", str(int(lockstep_spin_us))]
     if security_file is not None:
         args += ["--security", os.fspath(security_file)]
     for override in override_arguments(overrides):
@@ -215,7 +218,9 @@ class Server:
     the scenario's cameras out (hadald --no-cameras); threads caps the CPU threads it computes on (hadald
     --threads; None: the scenario's world.threads, by default one per CPU it may run on); cpus (a list of CPU
     numbers) keeps all its threads on those CPUs (hadald --cpus); sched="batch" keeps its wake-ups from
-    preempting other threads, such as the client stepping it (hadald --sched batch). ready_timeout_s
+    preempting other threads, such as the client stepping it (hadald --sched batch); lockstep_spin_us is how
+    long a lockstep server polls for the next request after each reply before it sleeps (hadald
+    --lockstep-spin-us; None: hadald's 200, 0: sleep at once, for servers that share cores). ready_timeout_s
     bounds the wait for its first status; a malformed scenario raises ScenarioError with hadald's
     `file:line:col: error:` lines, a server that exits first for another reason ServerNotFound with its
     log's end. extra_args go to hadald's command line as they are.
@@ -236,7 +241,7 @@ class Server:
 
     def __init__(self, scenario, mode="lockstep", domain_id=None, seed=None, hadald=None, ready_timeout_s=30.0,
                  extra_args=(), cameras=True, threads=None, cpus=None, sched=None, security_file=None,
-                 client_security_file=None, overrides=None, die_with_parent=False):
+                 client_security_file=None, overrides=None, die_with_parent=False, lockstep_spin_us=None):
         if mode not in ("lockstep", "fast", "realtime"):
             raise ValueError(f"mode must be 'lockstep', 'fast' or 'realtime' (got {mode!r})")
         self.scenario = scenario_path(scenario)
@@ -250,7 +255,8 @@ class Server:
         self.log_path = os.path.join(self._log_dir, "hadald.log")
         args = hadald_command(self.scenario, mode, self.domain_id, hadald=hadald, seed=seed, cameras=cameras,
                               threads=threads, cpus=cpus, sched=sched, security_file=security_file,
-                              overrides=overrides, die_with_parent=die_with_parent, extra_args=extra_args)
+                              overrides=overrides, die_with_parent=die_with_parent, extra_args=extra_args,
+                              lockstep_spin_us=lockstep_spin_us)
         self.client_security_file = client_security_file if client_security_file is not None else security_file
         env = dict(os.environ)
         env.setdefault("ROS_LOCALHOST_ONLY", "1")

@@ -122,6 +122,10 @@ def test_vector_env_steps_servers_concurrently():
             for tid in tasks:
                 assert os.sched_getaffinity(tid) == mine
                 assert os.sched_getscheduler(tid) == os.SCHED_BATCH
+            # Servers sharing cores sleep at once between requests instead of polling (hadald --lockstep-spin-us).
+            with open(f"/proc/{env.server.process.pid}/cmdline") as cmdline:
+                args = cmdline.read().split("\0")
+            assert args[args.index("--lockstep-spin-us") + 1] == "0"
         if len(cpus) >= 2:  # the server pinned to this thread's CPU is sent its request last
             before = os.sched_getaffinity(0)
             try:

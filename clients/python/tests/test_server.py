@@ -124,6 +124,19 @@ def test_overrides_set_keys_as_the_file_would_and_are_checked_like_it():
     assert len(error.value.errors) == 1 and "vehicles.rov.command_timeout_s=-1:1:" in error.value.errors[0]
 
 
+def test_lockstep_spin_goes_to_hadald_and_is_checked_there():
+    """Server(lockstep_spin_us=...) is hadald --lockstep-spin-us; hadald refuses a value out of range."""
+    with hadal.Server("rov", mode="lockstep", domain_id="free", lockstep_spin_us=0) as server:
+        with open(f"/proc/{server.process.pid}/cmdline") as cmdline:
+            args = cmdline.read().split("\0")
+        assert args[args.index("--lockstep-spin-us") + 1] == "0"
+        client = hadal.Client(domain_id=server.domain_id, name="pytest")
+        assert client.wait_for_server(WAIT_S)
+        assert abs(client.step(5) - 0.05) < 1e-9  # rov.yaml steps at 100 Hz
+    with pytest.raises(hadal.ServerNotFound, match=r"--lockstep-spin-us must be an integer in 0\.\.100000"):
+        hadal.Server("rov", lockstep_spin_us=100001)
+
+
 def test_a_cpu_the_process_may_not_run_on_is_a_clear_error():
     """hadald --cpus refuses a CPU outside the launching process's set before anything starts."""
     missing = max(os.sched_getaffinity(0)) + 1

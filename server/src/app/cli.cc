@@ -46,7 +46,7 @@ std::string usage() {
          "                            [--sched batch|other] [--record DIR] [--no-status-line]\n"
          "                            [--no-cameras] [--asset-root DIR]... [--security FILE]\n"
          "                            [--set KEY.PATH=VALUE]...\n"
-         "                            [--ray-kernels native|portable]\n"
+         "                            [--ray-kernels native|portable] [--lockstep-spin-us US]\n"
          "       hadald --schema [scenario|vehicle|object]\n"
          "       hadald SCENARIO.yaml --check [--set KEY.PATH=VALUE]... [--asset-root DIR]...\n"
          "  --duration S     stop after S seconds of sim time (default: run until Ctrl-C / SIGTERM)\n"
@@ -61,6 +61,9 @@ std::string usage() {
          "                   else one per CPU it may run on); 1 for several servers sharing a machine\n"
          "  --cpus LIST      run all of hadald's threads on these CPUs only, as taskset writes them\n"
          "                   (0 | 0,2 | 1-3); default: any CPU\n"
+         "  --lockstep-spin-us US  lockstep: after each reply, poll for the next request this many\n"
+         "                   microseconds before sleeping, 0..100000 (default 200; 0 for servers that share\n"
+         "                   cores with each other, as hadal.env.VectorEnv's)\n"
          "  --sched P        other (default): the kernel's normal policy; batch: SCHED_BATCH, this\n"
          "                   server's wake-ups do not preempt other threads (a lockstep server sharing\n"
          "                   cores with the client that steps it)\n"
@@ -178,6 +181,13 @@ CliParse parse_cli(const std::vector<std::string>& args, const char* ros_domain_
           parse.error = "--cpus: " + why;
           return parse;
         }
+      } else if (arg == "--lockstep-spin-us") {
+        std::uint64_t spin = 0;
+        if (!parse_uint64(value, spin) || spin > 100000) {
+          parse.error = "--lockstep-spin-us must be an integer in 0..100000 (got '" + value + "')";
+          return parse;
+        }
+        o.lockstep_spin_us = static_cast<int>(spin);
       } else if (arg == "--sched") {
         if (value == "batch") o.sched_batch = true;
         else if (value == "other") o.sched_batch = false;

@@ -2,7 +2,7 @@
 //   hadald SCENARIO.yaml [--duration SIM_SECONDS] [--mode realtime|fast|lockstep] [--rtf FACTOR]
 //          [--seed N] [--domain-id N] [--discovery-wait SECONDS] [--threads N] [--cpus LIST]
 //          [--sched batch|other] [--record DIR] [--no-status-line] [--no-cameras]
-//          [--ray-kernels native|portable]
+//          [--ray-kernels native|portable] [--lockstep-spin-us MICROSECONDS]
 //   hadald --schema [scenario|vehicle]
 // --domain-id defaults to $ROS_DOMAIN_ID (as ROS 2), else 0. --seed overrides world.seed. --no-cameras
 // leaves the scenario's cameras out (learning and benchmark runs that do not look at images).
@@ -35,6 +35,10 @@ struct CliOptions {
   std::optional<int> threads;  // --threads N: overrides world.threads
   std::vector<int> cpus;       // --cpus LIST: the CPUs all of hadald's threads run on (empty: any); scheduling.h
   bool sched_batch = false;    // --sched batch: SCHED_BATCH, wake-ups do not preempt; scheduling.h
+  // --lockstep-spin-us: after each step reply a lockstep server polls for the next request this long before it
+  // sleeps, so that a client stepping in a tight loop does not pay the server's wake-up (docs/benchmarks.md,
+  // "Lockstep round trip and the Python client"). 0: sleep at once (servers sharing cores: hadal.env.VectorEnv).
+  int lockstep_spin_us = 200;
   std::string record_dir;      // --record DIR: a rosbag2 bag of every topic (hadal/record/bag_recorder.h)
   std::vector<std::string> asset_roots;  // --asset-root DIR...: config::LoadOptions
   std::vector<std::string> overrides;    // --set KEY.PATH=VALUE...: config::LoadOptions

@@ -72,6 +72,16 @@ TEST(CliTest, CpusAndSchedulingPolicy) {
             "--cpus: 'x' in '1,x' is not a CPU number (0..1023) or an ascending range of them (as '0-3')");
 }
 
+TEST(CliTest, LockstepSpin) {
+  EXPECT_EQ(parse_cli({"s.yaml"}, nullptr).options.lockstep_spin_us, 200);
+  EXPECT_EQ(parse_cli({"s.yaml", "--lockstep-spin-us", "0"}, nullptr).options.lockstep_spin_us, 0);
+  EXPECT_EQ(parse_cli({"s.yaml", "--lockstep-spin-us", "100000"}, nullptr).options.lockstep_spin_us, 100000);
+  EXPECT_EQ(parse_cli({"s.yaml", "--lockstep-spin-us", "100001"}, nullptr).error,
+            "--lockstep-spin-us must be an integer in 0..100000 (got '100001')");
+  EXPECT_EQ(parse_cli({"s.yaml", "--lockstep-spin-us", "-5"}, nullptr).error,
+            "--lockstep-spin-us must be an integer in 0..100000 (got '-5')");
+}
+
 TEST(CliTest, DiscoveryWaitDefaultsToTwoSecondsInFastMode) {
   EXPECT_DOUBLE_EQ(parse_cli({"s.yaml", "--mode", "fast"}, nullptr).options.effective_discovery_wait(), 2.0);
   EXPECT_DOUBLE_EQ(parse_cli({"s.yaml"}, nullptr).options.effective_discovery_wait(), 0.0);

@@ -154,9 +154,15 @@ class Runner {
   }
 
   void run_lockstep() {
+    // Polls for the next request only right after a reply (a client in a loop sends it within tens of
+    // microseconds), never while idle.
+    bool replied = false;
     while (!stop_.load() && !duration_reached()) {
-      auto request = dds_.wait_step_request(std::chrono::milliseconds(50));
+      auto request = dds_.wait_step_request(
+          std::chrono::milliseconds(50), replied ? std::chrono::microseconds(options_.lockstep_spin_us)
+                                                 : std::chrono::microseconds(0));
       service_wall_clock();
+      replied = request.has_value();
       if (!request) continue;
       if (!request->error.empty()) {
         reject("step request " + std::to_string(request->request_id) + ": " + request->error);

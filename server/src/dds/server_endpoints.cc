@@ -25,6 +25,7 @@
 #include <trajectory_msgsPubSubTypes.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <set>
@@ -178,6 +179,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
   std::vector<InboundCommand> commands;
   std::uint64_t superseded = 0;  // commands dropped from a full queue (kMaxQueuedCommands)
   std::deque<InboundStepRequest> step_requests;
+  std::atomic<bool> step_waiting{false};  // step_requests is not empty (polled without the mutex)
   // The last request id accepted from each writer (its full GUID): ids must increase (no replays).
   std::map<std::array<std::uint8_t, 16>, std::uint64_t> last_request_ids;
   std::vector<std::string> reports;
@@ -279,6 +281,7 @@ struct ServerEndpoints::Impl : public fdds::DomainParticipantListener {
         }
         if (!request.error.empty()) request.commands.clear(), request.reset_X_WB.clear();
         owner->step_requests.push_back(std::move(request));
+        owner->step_waiting.store(true, std::memory_order_release);
         owner->step_ready.notify_all();
       }
     }
@@ -612,16 +615,27 @@ std::vector<InboundStepRequest> ServerEndpoints::take_step_requests() {
   std::vector<InboundStepRequest> taken(std::make_move_iterator(impl_->step_requests.begin()),
                                         std::make_move_iterator(impl_->step_requests.end()));
   impl_->step_requests.clear();
+  impl_->step_waiting.store(false, std::memory_order_release);
   return taken;
 }
 
-std::optional<InboundStepRequest> ServerEndpoints::wait_step_request(std::chrono::milliseconds timeout) {
+std::optional<InboundStepRequest> ServerEndpoints::wait_step_request(std::chrono::milliseconds timeout,
+                                                                     std::chrono::microseconds spin) {
+  if (spin.count() > 0) {
+    const auto end = std::chrono::steady_clock::now() + spin;
+    while (!impl_->step_waiting.load(std::memory_order_acquire) && std::chrono::steady_clock::now() < end) {
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    }
+  }
   std::unique_lock<std::mutex> lock(impl_->mutex);
   impl_->step_ready.wait_for(lock, timeout,
                              [this] { return impl_->interrupted || !impl_->step_requests.empty(); });
   if (impl_->step_requests.empty()) return std::nullopt;
   InboundStepRequest request = std::move(impl_->step_requests.front());
   impl_->step_requests.pop_front();
+  impl_->step_waiting.store(!impl_->step_requests.empty(), std::memory_order_release);
   return request;
 }
 

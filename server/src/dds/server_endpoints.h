@@ -74,8 +74,10 @@ class ServerEndpoints {
   std::uint64_t superseded_commands() const;
   // Step requests received and not yet taken (a server not in lockstep refuses them all).
   std::vector<InboundStepRequest> take_step_requests();
-  // The next step request, waiting up to `timeout` for one.
-  std::optional<InboundStepRequest> wait_step_request(std::chrono::milliseconds timeout);
+  // The next step request, waiting up to `timeout` for one: first polling for up to `spin` (no sleep, so a
+  // request that comes within it costs no wake-up of this thread), then asleep until one comes.
+  std::optional<InboundStepRequest> wait_step_request(std::chrono::milliseconds timeout,
+                                                      std::chrono::microseconds spin = std::chrono::microseconds(0));
   // Wakes a wait_step_request() (used on shutdown).
   void interrupt();
   // Human-readable reports from the DDS threads (e.g. a writer for an unknown vehicle).
