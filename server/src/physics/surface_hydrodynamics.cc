@@ -62,6 +62,8 @@ void push_face(HydroFaces& f, double area, const Eigen::Vector3d& n, const Eigen
 
 }  // namespace
 
+void SurfaceHydrodynamics::use_scalar_kernel(bool on) { kernel_ = on ? &face_kernel::scalar_kernel() : nullptr; }
+
 double UniformWater::gauge_pressure(double z_W) const {
   return density * gravity * std::max(surface_z - z_W, 0.0);
 }
@@ -145,7 +147,7 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
                                       const float* mask, const BodyMotion& m,
                                       const FluidSampler& fluid, double p_ref,
                                       const FluidSampler::Uniform* uniform, Accumulator& acc) {
-  const face_kernel::Kernel& kernel = scalar_kernel_ ? face_kernel::scalar_kernel() : face_kernel::vector_kernel();
+  const face_kernel::Kernel& kernel = kernel_ != nullptr ? *kernel_ : face_kernel::vector_kernel();
   const Eigen::Matrix3d R = m.X_WB.linear();
   const Eigen::Vector3d t = m.X_WB.translation() - m.p_WBcm;
   face_kernel::Params k{};
@@ -278,7 +280,7 @@ HydrodynamicWrench SurfaceHydrodynamics::compute(const BodyMotion& m, const Flui
     const double h0 = q.dot(m.X_WB.translation()) - c0;
     const float* v[9];
     for (int k = 0; k < 9; ++k) v[k] = v_[k].data();
-    const face_kernel::Kernel& kernel = scalar_kernel_ ? face_kernel::scalar_kernel() : face_kernel::vector_kernel();
+    const face_kernel::Kernel& kernel = kernel_ != nullptr ? *kernel_ : face_kernel::vector_kernel();
     kernel.classify(v, faces_.size(), static_cast<float>(h0), static_cast<float>(g.x()), static_cast<float>(g.y()),
              static_cast<float>(g.z()), wet_mask_.data(), crossing_flags_.data());
     crossing_.clear();

@@ -94,6 +94,10 @@ struct TriangleMesh;
 
 namespace hadal::physics {
 
+namespace face_kernel {
+struct Kernel;
+}
+
 // Output of a FluidSampler batch (all arrays hold n floats).
 struct FluidSamples {
   float* rho;  // density [kg/m^3]
@@ -222,9 +226,11 @@ class SurfaceHydrodynamics {
   double surface_area() const { return surface_area_; }
   const HydrodynamicCoefficients& coefficients() const { return coefficients_; }
   void set_coefficients(const HydrodynamicCoefficients& c) { coefficients_ = c; }
-  // The loops compiled without vectorisation instead of the CPU's vector clones (face_kernel.h): the reference the
-  // clones are tested against, and the bench's scalar figure. The same bits either way.
-  void use_scalar_kernel(bool on) { scalar_kernel_ = on; }
+  // The loops compiled without vectorisation instead of the CPU's vector clones (src/physics/face_kernel.h): the
+  // reference the clones are tested against, and the bench's scalar figure. The same bits either way.
+  void use_scalar_kernel(bool on);
+  // Another compilation of the loops (tests: each instruction set's), or null for the CPU's vector clones.
+  void use_kernel(const face_kernel::Kernel* kernel) { kernel_ = kernel; }
 
  private:
   struct Accumulator;
@@ -240,7 +246,7 @@ class SurfaceHydrodynamics {
   double surface_area_ = 0.0;
   // Vertices per face in B (a.x a.y a.z b.x ... c.z), for classification and clipping.
   std::vector<float> v_[9];
-  bool scalar_kernel_ = false;
+  const face_kernel::Kernel* kernel_ = nullptr;  // null: the vector clones
   Eigen::Vector3d sphere_center_B_ = Eigen::Vector3d::Zero();
   double sphere_radius_ = 0.0;
   // Per-step scratch.
