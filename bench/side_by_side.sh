@@ -46,7 +46,7 @@ done
 /usr/bin/python3 - "$out" <<'PY'
 import json, sys
 rows = [json.loads(line) for line in open(sys.argv[1])]
-def span(values, fmt="{:.3g}"):
+def span(values, fmt="{:.4g}"):
     return fmt.format(min(values)) + ("" if len(values) == 1 else "-" + fmt.format(max(values)))
 kernel = {(r["case"], r["fluid"], r.get("kernel", "vector")): r["ns_per_face"] for r in rows
           if r["benchmark"] == "surface_hydrodynamics" and "ns_per_face" in r}

@@ -12,8 +12,10 @@
 // integral), and for CTD water the Ocean's table (Ocean::table_pressure / table_density) with the cubic
 // Hermite of p and linear rho that Ocean::pressure / density use, read at the two nodes around each
 // point. So they equal the point queries up to double rounding (a few 1e-16 of the absolute pressure)
-// and then one rounding to float; ocean_fluid_test checks this at many depths. Cost of the whole
-// kernel per face (bench/hydrodynamics.cc, 11k faces, submerged): ramp ~1.05x, CTD ~1.4x constant.
+// and then one rounding to float; ocean_fluid_test checks this at many depths. Constant water without waves or
+// shear is not sampled at all: uniform() gives the kernel its density and current as constants. Cost of the whole
+// kernel per face (bench/hydrodynamics.cc, 11k faces, submerged; docs/benchmarks.md): ramp ~1.5x, CTD ~2.4x
+// constant.
 // Waves (Ocean::waves, physics/waves.h): a body sees them as linear about the point it is sampled about (its centre
 // of mass): the surface as the tangent plane under its bounding sphere's centre (surface_plane), the waves' dynamic
 // pressure as its value and gradient there (or at the surface under it when the centre of mass is in the air, carried
