@@ -63,6 +63,8 @@ def test_attaching_to_a_running_server_is_asked_for_and_leaves_it_running():
         assert server.running
         with pytest.raises(ValueError, match="attach=True uses a running server: scenario would describe one"):
             hadal.env.HadalEnv(task="waypoint", attach=True, scenario="rov")
+        with pytest.raises(ValueError, match="attach=True uses a running server: lockstep_spin_us would describe one"):
+            hadal.env.HadalEnv(task="waypoint", attach=True, lockstep_spin_us=0)
     domain_id, handle = reserve_domain(SESSION_DOMAINS)  # no other test uses it; the env's server takes it
     handle.close()
     with hadal.env.HadalEnv(task="waypoint", seed=1, domain_id=domain_id) as own:
