@@ -31,7 +31,16 @@ constexpr std::uint64_t kLineV = 0x9e6c63d0676a9a99ull;
 
 void invalid(const std::string& what) { throw std::invalid_argument("sonar: " + what); }
 
+
 }  // namespace
+
+void cos_sin_near(double cos_c, double sin_c, double delta, double& cos_out, double& sin_out) {
+  const double d2 = delta * delta;
+  const double cos_d = 1.0 - d2 * (1.0 / 2.0 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0)));
+  const double sin_d = delta * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0))));
+  cos_out = cos_c * cos_d - sin_c * sin_d;
+  sin_out = sin_c * cos_d + cos_c * sin_d;
+}
 
 Eigen::Vector3d SonarBeam::direction_S(double a, double e) const {
   return std::cos(e) * (std::cos(a) * axis_S + std::sin(a) * u_S) + std::sin(e) * v_S();
@@ -117,12 +126,11 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
   const Eigen::Matrix3d R_WS = X_WS.linear();
   const float t_far = static_cast<float>(spec.max_range);
   const int rays = spec.rays_u * spec.rays_v;
-  // Adds echo e (and e a for the phase) to the bins of the ranges [r0, r1], in proportion to their overlap:
-  // a patch's echo arrives over the range its footprint spans, so every bin it covers gets its share, however
-  // sparse the rays are in range (grazing angles, far bins).
-  const auto spread = [&spec, bin_size, bins](double r0, double r1, double e, double a, std::vector<double>& echo,
-                                               std::vector<double>& echo_a) {
-    const double x0 = (r0 - spec.min_range) / bin_size, x1 = (r1 - spec.min_range) / bin_size;
+  // Adds echo e (and e a for the phase) to the bins of the ranges [x0, x1] (in bins from the window's start), in
+  // proportion to their overlap: a patch's echo arrives over the range its footprint spans, so every bin it covers
+  // gets its share, however sparse the rays are in range (grazing angles, far bins).
+  const auto spread = [bins](double x0, double x1, double e, double a, std::vector<double>& echo,
+                             std::vector<double>& echo_a) {
     const int b0 = std::max(0, static_cast<int>(std::floor(x0))), b1 = std::min(bins - 1, static_cast<int>(std::floor(x1)));
     if (b0 == b1 || !(x1 > x0)) {
       const int b = std::clamp(static_cast<int>(std::floor(0.5 * (x0 + x1))), 0, bins - 1);
@@ -138,6 +146,17 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       echo_a[static_cast<std::size_t>(b)] += per_bin * overlap * a;
     }
   };
+
+  // The vertical grid lines' unjittered centres for the first beam's extent, and their cos and sin.
+  const auto nv_lines = static_cast<std::size_t>(spec.rays_v);
+  const double centre_extent = spec.beams.front().extent_v();
+  std::vector<double> centre_e(nv_lines), centre_cos(nv_lines), centre_sin(nv_lines);
+  for (std::size_t j = 0; j < nv_lines; ++j) {
+    centre_e[j] = -0.5 * centre_extent + (static_cast<double>(j) + 0.5) * (centre_extent / spec.rays_v);
+    centre_cos[j] = std::cos(centre_e[j]);
+    centre_sin[j] = std::sin(centre_e[j]);
+  }
+  const double inv_bin_size = 1.0 / bin_size;
 
   parallel(spec.beams.size(), [&](std::size_t k) {
     const SonarBeam& beam = spec.beams[k];
@@ -160,12 +179,20 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       sin_a[i] = std::sin(a);
       weight_a[i] = beam.pattern(a, 0.0);
     }
+    // The lines' centres are the first beam's (a fan's beams share their vertical extent): their cos and sin are
+    // shared, each line's from its centre's (cos_sin_near) when its jitter is small.
+    const bool shared = beam.extent_v() == centre_extent;
     for (std::size_t j = 0; j < nv; ++j) {
       const double e = line_at(j, beam.extent_v(), dv, kLineV);
       offset_e[j] = e;
-      cos_e[j] = std::cos(e);
-      sin_e[j] = std::sin(e);
-      weight_e[j] = beam.pattern(0.0, e) * std::cos(e) * du * dv;  // with dOmega = cos e da de
+      const double delta = shared ? e - centre_e[j] : 0.0;
+      if (shared && std::abs(delta) <= kSmallAngleRad) {
+        cos_sin_near(centre_cos[j], centre_sin[j], delta, cos_e[j], sin_e[j]);
+      } else {
+        cos_e[j] = std::cos(e);
+        sin_e[j] = std::sin(e);
+      }
+      weight_e[j] = beam.pattern(0.0, e) * cos_e[j] * du * dv;  // with dOmega = cos e da de
     }
     const Eigen::Vector3d axis_W = R_WS * beam.axis_S, u_W = R_WS * beam.u_S, v_W = R_WS * beam.v_S();
     geometry::RayBatch batch;
@@ -203,14 +230,15 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
     for (std::size_t n = 0; n < batch.size(); ++n) {
       if (!hits.hit(n)) continue;
       const double r = hits.distance[n];
-      const int b = spec.bin_of(r);
-      if (b < 0) continue;
+      if (!(r >= spec.min_range && r < spec.max_range)) continue;  // outside the window (SonarPingSpec::bin_of)
+      const double x = (r - spec.min_range) * inv_bin_size;          // in bins from the window's start
+      const int b = std::min(static_cast<int>(x), bins - 1);
       const Eigen::Vector3d n_W(hits.n_W_x[n], hits.n_W_y[n], hits.n_W_z[n]);
       const std::size_t i = n % nu, j = n / nu;
       const double n_axis = n_W.dot(axis_W), n_u = n_W.dot(u_W), n_v = n_W.dot(v_W);
       const double n_d = cos_e[j] * (cos_a[i] * n_axis + sin_a[i] * n_u) + sin_e[j] * n_v;
       const double cos_theta = std::abs(n_d);
-      const double f = (r - spec.min_range) / bin_size - b;
+      const double f = x - b;
       const double loss = loss_at_edge[static_cast<std::size_t>(b)] +
                           f * (loss_at_edge[static_cast<std::size_t>(b) + 1] - loss_at_edge[static_cast<std::size_t>(b)]);
       const double e = weight_a[i] * weight_e[j] * mu[n] * cos_theta * loss;
@@ -239,7 +267,8 @@ void ping(const geometry::EmbreeScene& scene, const SonarPingSpec& spec, const E
       const double along_u = extent(r * std::abs(n_da) * inv_cos, offset_a, i, nu, 1, du);
       const double along_v = extent(r * std::abs(n_de) * inv_cos, offset_e, j, nv, nu, dv);
       const double footprint = std::min(along_u + along_v, kMaxFootprintBins * bin_size);
-      spread(r - 0.5 * footprint, r + 0.5 * footprint, e, offset_a[i], echo, echo_a);
+      const double half_bins = 0.5 * footprint * inv_bin_size;
+      spread(x - half_bins, x + half_bins, e, offset_a[i], echo, echo_a);
     }
 
     std::vector<float> intensity(static_cast<std::size_t>(bins)), mean_a(static_cast<std::size_t>(bins));

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <algorithm>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -393,6 +394,25 @@ TEST(SonarTest, OpenWaterIsReceiverNoise) {
     for (int b = 0; b < image.bins; ++b) sum += image.at(k, b) / std::pow(10.0, tvg_db(spec, water, spec.bin_centre_m(b)) / 10.0);
   }
   EXPECT_NEAR(sum / (image.beams * image.bins) / std::pow(10.0, 7.5), 1.0, 0.04);
+}
+
+// A jittered grid line's cos and sin from its centre's (cos_sin_near) against std::cos and std::sin, over centres
+// across a fan's vertical aperture and offsets up to the series' limit: within 4 ulps of 1 (the identities' few
+// roundings; the series' remainders are below 3e-21).
+TEST(SonarTest, GridLineTrigonometryFromTheCentreIsExactToRounding) {
+  double worst = 0.0;
+  for (double c = -0.6; c <= 0.6; c += 0.0137) {
+    for (double delta = -kSmallAngleRad; delta <= kSmallAngleRad; delta += kSmallAngleRad / 97.0) {
+      double cos_e = 0.0, sin_e = 0.0;
+      cos_sin_near(std::cos(c), std::sin(c), delta, cos_e, sin_e);
+      worst = std::max({worst, std::abs(cos_e - std::cos(c + delta)), std::abs(sin_e - std::sin(c + delta))});
+    }
+  }
+  EXPECT_LT(worst, 4.0 * 2.2e-16) << worst;
+  double cos_e = 0.0, sin_e = 0.0;
+  cos_sin_near(std::cos(0.3), std::sin(0.3), 0.0, cos_e, sin_e);  // no jitter: the centre's values, bit for bit
+  EXPECT_EQ(cos_e, std::cos(0.3));
+  EXPECT_EQ(sin_e, std::sin(0.3));
 }
 
 }  // namespace

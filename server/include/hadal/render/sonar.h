@@ -89,6 +89,13 @@ struct SonarBeam {
 // and width_v across it.
 std::vector<SonarBeam> fan_beams(int count, double fov, double width_u, double width_v);
 
+// cos and sin of c + delta from cos c and sin c, for |delta| <= kSmallAngleRad: the angle-sum identities with
+// cos delta and sin delta by their Taylor series to delta^6 and delta^7 (remainders delta^8 / 8! and delta^9 / 9!,
+// below 2.5e-21 and 2.8e-24 at 0.01 rad, so double rounding decides). ping() takes a jittered grid line's cos and sin
+// from its centre's, which every beam of a fan shares: a multiply-add chain a line instead of sin and cos.
+constexpr double kSmallAngleRad = 0.01;
+void cos_sin_near(double cos_c, double sin_c, double delta, double& cos_out, double& sin_out);
+
 struct SonarPingSpec {
   std::vector<SonarBeam> beams;
   double min_range = 0.5;  // the receive window [m]
