@@ -14,17 +14,7 @@ export ROS_LOCALHOST_ONLY=1
 # 3. Realtime mode holding a requested real-time factor (absolute schedule): 300 s of sim time at
 #    --rtf 10 should take 30 s of wall time; the figure is the achieved RTF.
 summarise() {  # NAME REQUESTED_RTF SUMMARY_TEXT [SCENARIO_LABEL]
-  /usr/bin/python3 - "$1" "$2" "$3" "${4:-configs/scenarios/default.yaml}" <<'PY'
-import json, re, sys
-name, requested, text, scenario = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
-m = re.search(r"sim time ([\d.]+) s in ([\d.]+) s wall, RTF ([\d.]+), (\d+) steps", text)
-sim, wall, rtf, steps = float(m[1]), float(m[2]), float(m[3]), int(m[4])
-row = {"benchmark": name, "scenario": scenario, "sim_s": sim, "wall_s": wall,
-       "steps": steps, "steps_per_s": round(steps / wall), "rtf": round(sim / wall, 3)}
-if requested != "-":
-    row["requested_rtf"] = float(requested)
-print(json.dumps(row))
-PY
+  /usr/bin/python3 bench/summarise_hadald.py "$@"
 }
 for r in 1 2 3; do
   out=$("$build/bin/hadald" configs/scenarios/default.yaml --mode fast --duration 3600 --domain-id 231 \

@@ -34,14 +34,9 @@ done
 PYTHONPATH="$build/python" HADAL_BUILD="$build" HADALD="$build/bin/hadald" \
   /usr/bin/python3 bench/python_client.py --only lockstep_calls --seconds 5 | tee -a "$out"
 for round in 1 2 3; do
-  "$build/bin/hadald" configs/scenarios/default.yaml --mode fast --duration 60 --domain-id 231 --discovery-wait 0 \
-    --no-status-line 2>/dev/null \
-    | /usr/bin/python3 -c '
-import json, re, sys
-m = re.search(r"sim time ([\d.]+) s in ([\d.]+) s wall, RTF ([\d.]+)", sys.stdin.read())
-print(json.dumps({"benchmark": "hadald_fast_mode", "scenario": "configs/scenarios/default.yaml", "cameras": True,
-                  "sim_s": float(m[1]), "wall_s": float(m[2]), "rtf": round(float(m[1]) / float(m[2]), 2)}))' \
-    | tee -a "$out"
+  summary=$("$build/bin/hadald" configs/scenarios/default.yaml --mode fast --duration 60 --domain-id 231 \
+            --discovery-wait 0 --no-status-line 2>/dev/null)
+  /usr/bin/python3 bench/summarise_hadald.py hadald_fast_mode - "$summary" | tee -a "$out"
 done
 /usr/bin/python3 - "$out" <<'PY'
 import json, sys

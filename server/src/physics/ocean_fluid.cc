@@ -5,10 +5,9 @@
 
 #include "hadal/core/vector_kernel.h"
 
-// The density/pressure loops are compiled for AVX-512, AVX2 and the baseline, and the loader picks one at run time,
-// as for the face kernel (src/physics/face_kernel.h); without FMA contraction (server/CMakeLists.txt) they all give
-// the same bits.
-#define HADAL_HOT_CLONES HADAL_VECTOR_KERNEL
+// The density/pressure loops (HADAL_VECTOR_KERNEL) are compiled for AVX-512, AVX2 and the baseline, and the loader
+// picks one at run time, as for the face kernel (src/physics/face_kernel.h); without FMA contraction
+// (server/CMakeLists.txt) they all give the same bits.
 
 namespace hadal::physics {
 
@@ -18,12 +17,13 @@ constexpr std::size_t kBlock = SurfaceHydrodynamics::kBlock;
 
 // Every loop below evaluates rho(d_i) and the pressure p(d_i) in double at the depth
 // d_i = d_origin - dz_i and rounds rho and dp_i = p(d_i) - p_origin to float once; p_origin is the
-// same function at d_origin, so dp at the origin is 0 up to double rounding. p is gauge for constant and ramp water, absolute for CTD water (same difference).
+// same function at d_origin, so dp at the origin is 0 up to double rounding. p is gauge for constant and ramp
+// water, absolute for CTD water (same difference).
 // Above the surface (d < 0) the water is that at d = 0: rho(0) and gauge pressure 0. Branch-free, so
 // the loops vectorise.
 
 // Constant: rho, p_g = rho g max(d, 0).
-HADAL_HOT_CLONES
+HADAL_VECTOR_KERNEL
 void constant_block(double rho, double rho_g, double d_origin, double p_origin, const float* __restrict dz,
                     std::size_t n, float* __restrict rho_out, float* __restrict dp_out) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -48,7 +48,7 @@ inline void ramp_at(const Ramp& r, double d, double& rho, double& p_g) {
   p_g = r.g * (r.rho0 * w + r.drho * (w - m) + r.half_slope * m * m);
 }
 
-HADAL_HOT_CLONES
+HADAL_VECTOR_KERNEL
 void ramp_block(const Ramp& r, double d_origin, double p_origin, const float* __restrict dz, std::size_t n,
                 float* __restrict rho_out, float* __restrict dp_out) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -89,7 +89,7 @@ inline void ctd_at(const Ctd& t, double d, double& rho, double& p) {
   p = p0 + (p1 - p0) * (w * w * (3.0 - 2.0 * w)) + t.gh * (w * v * (r0 * v - r1 * w) + r1 * e);
 }
 
-HADAL_HOT_CLONES
+HADAL_VECTOR_KERNEL
 void ctd_block(const Ctd& t, double d_origin, double p_origin, const float* __restrict dz, std::size_t n,
                float* __restrict rho_out, float* __restrict dp_out) {
   for (std::size_t i = 0; i < n; ++i) {

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 
@@ -63,6 +62,10 @@ void push_face(HydroFaces& f, double area, const Eigen::Vector3d& n, const Eigen
 }  // namespace
 
 void SurfaceHydrodynamics::use_scalar_kernel(bool on) { kernel_ = on ? &face_kernel::scalar_kernel() : nullptr; }
+
+const face_kernel::Kernel& SurfaceHydrodynamics::kernel() const {
+  return kernel_ != nullptr ? *kernel_ : face_kernel::vector_kernel();
+}
 
 double UniformWater::gauge_pressure(double z_W) const {
   return density * gravity * std::max(surface_z - z_W, 0.0);
@@ -147,7 +150,7 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
                                       const float* mask, const BodyMotion& m,
                                       const FluidSampler& fluid, double p_ref,
                                       const FluidSampler::Uniform* uniform, Accumulator& acc) {
-  const face_kernel::Kernel& kernel = kernel_ != nullptr ? *kernel_ : face_kernel::vector_kernel();
+  const face_kernel::Kernel& loops = kernel();
   const Eigen::Matrix3d R = m.X_WB.linear();
   const Eigen::Vector3d t = m.X_WB.translation() - m.p_WBcm;
   face_kernel::Params k{};
@@ -191,11 +194,11 @@ void SurfaceHydrodynamics::accumulate(const HydroFaces& f, std::size_t begin, st
                                        &f.s_xy[b], &f.s_xz[b], &f.s_yz[b], &f.exposed[b]};
     face_kernel::LaneSums s{};
     if (uniform != nullptr) {
-      kernel.face_forces_uniform(block, n, k, s);
+      loops.face_forces_uniform(block, n, k, s);
     } else {
-      kernel.transform_centroids(block, n, k, rx, ry, rz);
+      loops.transform_centroids(block, n, k, rx, ry, rz);
       fluid.sample(m.p_WBcm, n, rx, ry, rz, out);
-      kernel.face_forces(block, mask + b, rx, ry, rz, out, n, k, s);
+      loops.face_forces(block, mask + b, rx, ry, rz, out, n, k, s);
     }
     for (std::size_t j = 0; j < kLanes; ++j) {
       acc.f += Eigen::Vector3d(s.f[0][j], s.f[1][j], s.f[2][j]);
@@ -280,8 +283,8 @@ HydrodynamicWrench SurfaceHydrodynamics::compute(const BodyMotion& m, const Flui
     const double h0 = q.dot(m.X_WB.translation()) - c0;
     const float* v[9];
     for (int k = 0; k < 9; ++k) v[k] = v_[k].data();
-    const face_kernel::Kernel& kernel = kernel_ != nullptr ? *kernel_ : face_kernel::vector_kernel();
-    kernel.classify(v, faces_.size(), static_cast<float>(h0), static_cast<float>(g.x()), static_cast<float>(g.y()),
+    const face_kernel::Kernel& loops = kernel();
+    loops.classify(v, faces_.size(), static_cast<float>(h0), static_cast<float>(g.x()), static_cast<float>(g.y()),
              static_cast<float>(g.z()), wet_mask_.data(), crossing_flags_.data());
     crossing_.clear();
     for (std::size_t i = 0; i < num_faces_; ++i) {

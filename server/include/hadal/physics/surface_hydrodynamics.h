@@ -247,6 +247,7 @@ class SurfaceHydrodynamics {
   // Vertices per face in B (a.x a.y a.z b.x ... c.z), for classification and clipping.
   std::vector<float> v_[9];
   const face_kernel::Kernel* kernel_ = nullptr;  // null: the vector clones
+  const face_kernel::Kernel& kernel() const;     // the loops in use
   Eigen::Vector3d sphere_center_B_ = Eigen::Vector3d::Zero();
   double sphere_radius_ = 0.0;
   // Per-step scratch.
